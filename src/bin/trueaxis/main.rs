@@ -1,0 +1,62 @@
+//! The `trueaxis` command line: parse, call the library, print (DESIGN.md section 4).
+//! Exit status: 0 success, 1 failed computation, 2 bad input.
+
+mod demo;
+mod predict;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "trueaxis",
+    version,
+    about = "Find, explain and remove the quasi-static errors of multi-axis machine tools",
+    after_help = "Units: positions in mm (linear) and deg (rotary); errors in um and urad.\n\
+                  Examples:\n  trueaxis demo --out demo\n  \
+                  trueaxis predict --machine examples/machines/kx8five.toml --errors examples/errors/kx8five.toml --poses examples/poses/kx8five.csv"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    Demo(demo::DemoArgs),
+    Predict(predict::PredictArgs),
+}
+
+/// Why a command failed: bad input (exit 2) or a failed computation (exit 1).
+pub enum Failure {
+    Input(anyhow::Error),
+    Computation(anyhow::Error),
+}
+
+impl Failure {
+    pub fn input(e: impl Into<anyhow::Error>) -> Failure {
+        Failure::Input(e.into())
+    }
+    pub fn computation(e: impl Into<anyhow::Error>) -> Failure {
+        Failure::Computation(e.into())
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Demo(args) => demo::run(args),
+        Command::Predict(args) => predict::run(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Input(e)) => {
+            eprintln!("trueaxis: error: {e:#}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Computation(e)) => {
+            eprintln!("trueaxis: error: {e:#}");
+            ExitCode::from(1)
+        }
+    }
+}

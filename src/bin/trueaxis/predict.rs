@@ -1,0 +1,86 @@
+//! `trueaxis predict`.
+
+use crate::Failure;
+use std::path::PathBuf;
+use trueaxis::data::{predictions_csv, predictions_json, read_poses, write_atomically};
+use trueaxis::errors::ErrorModel;
+use trueaxis::geometry::Vec3;
+use trueaxis::machine::Machine;
+use trueaxis::model::{Frame, Predictor, Setup};
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum FrameArg {
+    Workpiece,
+    Machine,
+}
+
+/// Volumetric error per pose: dx dy dz (um), drx dry drz (urad), dL (um) of the tool point relative
+/// to the workpiece point, actual minus nominal (exact kinematic chain).
+#[derive(clap::Args)]
+#[command(after_help = "Example:\n  trueaxis predict --machine examples/machines/kx8five.toml --errors examples/errors/kx8five.toml \\\n      --poses examples/poses/kx8five.csv --frame machine --json\n\nThe poses CSV has one column per axis, named by letter (X Y Z in mm, A B C in deg).")]
+pub struct PredictArgs {
+    /// Machine description (TOML).
+    #[arg(long)]
+    machine: PathBuf,
+    /// Error values (TOML): [constant], [table.NAME], [polynomial.NAME].
+    #[arg(long)]
+    errors: PathBuf,
+    /// Poses (CSV) with one column per axis.
+    #[arg(long)]
+    poses: PathBuf,
+    /// Tool-side point x,y,z in mm, in M at home (default: the machine's tool point).
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    tool_point: Option<Vec3>,
+    /// Workpiece-side point x,y,z in mm, in M at home (default: 0,0,0).
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    work_point: Option<Vec3>,
+    /// Frame of the error components.
+    #[arg(long, value_enum, default_value = "workpiece")]
+    frame: FrameArg,
+    /// Print one JSON document instead of CSV.
+    #[arg(long)]
+    json: bool,
+    /// Write the result to this file (atomically) instead of stdout.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+fn parse_point(text: &str) -> Result<Vec3, String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let values: Result<Vec<f64>, _> = parts.iter().map(|p| p.parse::<f64>()).collect();
+    match values {
+        Ok(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => Ok(Vec3::new(v[0], v[1], v[2])),
+        _ => Err(format!("`{text}` is not a point x,y,z in mm (three finite numbers separated by commas)")),
+    }
+}
+
+pub fn run(args: PredictArgs) -> Result<(), Failure> {
+    let machine = Machine::load(&args.machine).map_err(Failure::input)?;
+    let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
+    let poses = read_poses(&args.poses, &machine).map_err(Failure::input)?;
+    let mut predictor = Predictor::new(&machine, &errors);
+    predictor.setup = Setup {
+        tool_point: args.tool_point.unwrap_or(machine.tool_point),
+        work_point: args.work_point.unwrap_or_else(Vec3::zeros),
+    };
+    let frame_name = match args.frame {
+        FrameArg::Workpiece => "workpiece",
+        FrameArg::Machine => "machine",
+    };
+    predictor.frame = match args.frame {
+        FrameArg::Workpiece => Frame::Workpiece,
+        FrameArg::Machine => Frame::Machine,
+    };
+    let predictions = predictor.predict_batch(&poses.internal(&machine));
+    let text = if args.json {
+        let doc = predictions_json(&machine, &poses.user, &predictions, frame_name).map_err(Failure::computation)?;
+        format!("{doc}\n")
+    } else {
+        predictions_csv(&machine, &poses.user, &predictions).map_err(Failure::computation)?
+    };
+    match args.out {
+        Some(path) => write_atomically(&path, text.as_bytes()).map_err(Failure::computation)?,
+        None => print!("{text}"),
+    }
+    Ok(())
+}

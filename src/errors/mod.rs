@@ -1,0 +1,39 @@
+//! Parametric error functions and the error-values file (DESIGN.md section 3).
+//!
+//! This first part holds constants, tables with linear interpolation and polynomials of the own
+//! axis position.
+
+mod file;
+mod function;
+mod model;
+
+pub use function::ErrorFunction;
+pub use model::ErrorModel;
+
+use crate::machine::Machine;
+use thiserror::Error;
+
+/// Errors reading an error-values file; every message names the file.
+#[derive(Debug, Error)]
+pub enum ErrorsError {
+    #[error("{path}: cannot read error-values file: {source}")]
+    Read { path: String, source: std::io::Error },
+    #[error("{origin}: {message}")]
+    Syntax { origin: String, message: String },
+    #[error("{origin}: {message}")]
+    Invalid { origin: String, message: String },
+}
+
+impl ErrorModel {
+    /// Parses an error-values TOML for `machine`.
+    pub fn from_toml_str(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, ErrorsError> {
+        file::parse(text, origin, machine)
+    }
+
+    /// Reads an error-values TOML file for `machine`.
+    pub fn load(path: impl AsRef<std::path::Path>, machine: &Machine) -> Result<ErrorModel, ErrorsError> {
+        let path = path.as_ref();
+        let text = std::fs::read_to_string(path).map_err(|source| ErrorsError::Read { path: path.display().to_string(), source })?;
+        Self::from_toml_str(&text, &path.display().to_string(), machine)
+    }
+}

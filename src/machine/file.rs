@@ -1,0 +1,136 @@
+//! The machine TOML of DESIGN.md section 3: parsing and validation.
+
+use super::axis::{Axis, AxisKind, Side};
+use super::error::MachineError;
+use super::parameter::is_rotary_letter;
+use super::structure::Structure;
+use super::Machine;
+use crate::geometry::Vec3;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MachineFile {
+    name: String,
+    structure: String,
+    #[serde(default)]
+    source: Option<String>,
+    axes: BTreeMap<String, AxisFile>,
+    tool: ToolFile,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct AxisFile {
+    kind: KindFile,
+    direction: [f64; 3],
+    #[serde(default)]
+    point: Option<[f64; 3]>,
+    #[serde(default)]
+    range: Option<[f64; 2]>,
+}
+
+#[derive(Deserialize, Clone, Copy)]
+#[serde(rename_all = "lowercase")]
+enum KindFile {
+    Linear,
+    Rotary,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ToolFile {
+    point: [f64; 3],
+}
+
+/// Tolerance on the norm of an axis direction: `|norm - 1| <= 1e-4` is accepted (and normalised),
+/// so that directions written with 5 decimals, such as `[0, 0.70711, 0.70711]`, load.
+pub const DIRECTION_NORM_TOLERANCE: f64 = 1e-4;
+
+pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
+    let file: MachineFile =
+        toml::from_str(text).map_err(|e| MachineError::Syntax { origin: origin.to_string(), message: one_line(&e.to_string()) })?;
+    let invalid = |message: String| MachineError::Invalid { origin: origin.to_string(), message };
+
+    let structure = Structure::parse(&file.structure).map_err(invalid)?;
+    for letter in structure.letters() {
+        if !file.axes.contains_key(&letter.to_string()) {
+            let defined: Vec<&str> = file.axes.keys().map(String::as_str).collect();
+            return Err(invalid(format!(
+                "structure `{}` names axis {letter}, which is not defined under [axes] (defined: {})",
+                file.structure,
+                defined.join(" ")
+            )));
+        }
+    }
+    let mut axes = Vec::new();
+    for (key, spec) in &file.axes {
+        let mut chars = key.chars();
+        let letter = match (chars.next(), chars.next()) {
+            (Some(c), None) if super::parameter::is_axis_letter(c) => c,
+            _ => return Err(invalid(format!("[axes] has an unknown axis `{key}`: axes are named X Y Z U V W A B C"))),
+        };
+        let side = if structure.workpiece_side.contains(&letter) {
+            Side::Workpiece
+        } else if structure.tool_side.contains(&letter) {
+            Side::Tool
+        } else {
+            return Err(invalid(format!("axis {letter} is defined under [axes] but does not appear in structure `{}`", file.structure)));
+        };
+        axes.push(axis(letter, side, spec).map_err(|m| invalid(format!("axis {letter}: {m}")))?);
+    }
+    let tool_point = finite_vector(file.tool.point).ok_or_else(|| invalid("[tool] point must be finite numbers (mm)".into()))?;
+    if file.name.trim().is_empty() {
+        return Err(invalid("`name` must not be empty".into()));
+    }
+    Ok(Machine::assemble(file.name, file.source, structure, axes, tool_point))
+}
+
+fn axis(letter: char, side: Side, spec: &AxisFile) -> Result<Axis, String> {
+    let kind = match spec.kind {
+        KindFile::Linear => AxisKind::Linear,
+        KindFile::Rotary => AxisKind::Rotary,
+    };
+    if is_rotary_letter(letter) != (kind == AxisKind::Rotary) {
+        let expected = if is_rotary_letter(letter) { "rotary" } else { "linear" };
+        return Err(format!("ISO 841 names {letter} a {expected} axis, but kind = \"{}\"", if kind == AxisKind::Rotary { "rotary" } else { "linear" }));
+    }
+    let direction = finite_vector(spec.direction).ok_or("direction must be finite numbers")?;
+    let norm = direction.norm();
+    if norm == 0.0 {
+        return Err("direction is the zero vector; give a unit vector such as [1, 0, 0]".into());
+    }
+    if (norm - 1.0).abs() > DIRECTION_NORM_TOLERANCE {
+        return Err(format!(
+            "direction [{}, {}, {}] is not a unit vector (norm {norm:.6}); divide it by its norm",
+            spec.direction[0], spec.direction[1], spec.direction[2]
+        ));
+    }
+    let point = match (kind, spec.point) {
+        (_, Some(p)) => finite_vector(p).ok_or("point must be finite numbers (mm)")?,
+        (AxisKind::Linear, None) => Vec3::zeros(),
+        (AxisKind::Rotary, None) => return Err("missing field `point`: a rotary axis needs a point on its axis line (mm)".into()),
+    };
+    let range = match (kind, spec.range) {
+        (_, Some([lo, hi])) => {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi) {
+                return Err(format!("range [{lo}, {hi}] must be two finite numbers, the smaller first"));
+            }
+            Some([lo, hi])
+        }
+        (AxisKind::Linear, None) => return Err("missing field `range`: a linear axis needs its travel [min, max] (mm)".into()),
+        (AxisKind::Rotary, None) => None,
+    };
+    Ok(Axis { letter, kind, side, direction: direction / norm, point, range })
+}
+
+fn finite_vector(v: [f64; 3]) -> Option<Vec3> {
+    v.iter().all(|x| x.is_finite()).then(|| Vec3::new(v[0], v[1], v[2]))
+}
+
+/// TOML errors span several lines (with a source excerpt); DESIGN.md asks for one line.
+pub(crate) fn one_line(message: &str) -> String {
+    let is_excerpt = |l: &str| l.trim_start_matches(|c: char| c.is_ascii_digit() || c == ' ').starts_with('|');
+    message.lines().map(str::trim).filter(|l| !l.is_empty() && !is_excerpt(l)).collect::<Vec<_>>().join(": ")
+}

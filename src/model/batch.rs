@@ -1,0 +1,56 @@
+//! Evaluation over many poses: a [`Predictor`] binds a machine, its error model and a setup; batch
+//! functions split the poses over threads with rayon, one workspace per thread.
+
+use super::jacobian::{jacobian, JacobianWorkspace, JACOBIAN_ROWS};
+use super::volumetric::{volumetric_error, Frame, Setup, VolumetricError};
+use crate::errors::ErrorModel;
+use crate::machine::Machine;
+use rayon::prelude::*;
+
+/// Predicts volumetric errors of one machine with one error model.
+pub struct Predictor<'a> {
+    pub machine: &'a Machine,
+    pub errors: &'a ErrorModel,
+    pub setup: Setup,
+    pub frame: Frame,
+}
+
+impl<'a> Predictor<'a> {
+    pub fn new(machine: &'a Machine, errors: &'a ErrorModel) -> Self {
+        Predictor { machine, errors, setup: Setup::of_machine(machine), frame: Frame::Workpiece }
+    }
+
+    /// Exact volumetric error at pose `q` (mm, rad); `values` is a buffer of
+    /// `machine.parameter_count()` reused between calls.
+    pub fn predict_with(&self, q: &[f64], values: &mut [f64]) -> VolumetricError {
+        self.errors.values_at(self.machine, q, values);
+        volumetric_error(self.machine, q, values, &self.setup, self.frame)
+    }
+
+    /// Exact volumetric error at pose `q` (mm, rad).
+    pub fn predict(&self, q: &[f64]) -> VolumetricError {
+        self.predict_with(q, &mut vec![0.0; self.machine.parameter_count()])
+    }
+
+    /// Exact volumetric errors at many poses: `poses` holds `axis_count` positions (mm, rad) per
+    /// pose, in canonical axis order. Parallel over poses.
+    pub fn predict_batch(&self, poses: &[f64]) -> Vec<VolumetricError> {
+        let n_axes = self.machine.axis_count().max(1);
+        poses
+            .par_chunks(n_axes)
+            .map_init(|| vec![0.0; self.machine.parameter_count()], |values, q| self.predict_with(q, values))
+            .collect()
+    }
+}
+
+/// Jacobians of many poses stacked: `7 * n_poses` rows by `machine.parameter_count()` columns,
+/// row-major, the rows of pose `i` at `7 i .. 7 i + 7` (see [`jacobian`]). Parallel over poses.
+pub fn jacobian_batch(machine: &Machine, poses: &[f64], setup: &Setup, frame: Frame) -> Vec<f64> {
+    let n_axes = machine.axis_count().max(1);
+    let block = JACOBIAN_ROWS * machine.parameter_count();
+    let mut out = vec![0.0; block * (poses.len() / n_axes)];
+    out.par_chunks_mut(block)
+        .zip(poses.par_chunks(n_axes))
+        .for_each_init(JacobianWorkspace::default, |ws, (rows, q)| jacobian(machine, q, setup, frame, ws, rows));
+    out
+}

@@ -1,0 +1,55 @@
+//! Nominal and actual forward kinematics of the two serial chains (DESIGN.md section 2):
+//! `A_k(q) = L_k S_k(q) J_k(q)`, products taken from the base outward.
+
+use crate::geometry::{Pose, Vec3};
+use crate::machine::{Axis, Component, Machine};
+
+/// Nominal pose of the end of `chain` (axis indices, base outward) at pose `q` (mm, rad), the
+/// product of the `J_k(q_k)`. `parents`, when given, receives the nominal pose of each axis's
+/// parent body (the frame its errors are stated in).
+pub fn nominal_chain(machine: &Machine, chain: &[usize], q: &[f64], mut parents: Option<&mut Vec<Pose>>) -> Pose {
+    if let Some(p) = parents.as_deref_mut() {
+        p.clear();
+    }
+    let mut t = Pose::IDENTITY;
+    for &k in chain {
+        if let Some(p) = parents.as_deref_mut() {
+            p.push(t);
+        }
+        t = t.then(&machine.axes()[k].nominal_motion(q[k]));
+    }
+    t
+}
+
+/// Actual pose of the end of `chain` at pose `q` with the error parameter vector `params`
+/// (internal units, the layout of [`Machine::parameter_index`]): the exact product of
+/// `L_k S_k(q_k) J_k(q_k)`, each small transform applied exactly (rotation by `exp([eps]x)`).
+pub fn actual_chain(machine: &Machine, chain: &[usize], q: &[f64], params: &[f64]) -> Pose {
+    let mut t = Pose::IDENTITY;
+    for &k in chain {
+        let axis = &machine.axes()[k];
+        let (loc_eps, loc_e) = six(params, machine.location_index(k, Component::X));
+        let (mot_eps, mot_e) = six(params, machine.motion_index(k, Component::X));
+        let location = Pose::small_transform(&loc_eps, &loc_e, &axis.location_error_centre());
+        let motion = Pose::small_transform(&mot_eps, &mot_e, &axis.motion_error_centre(q[k]));
+        t = t.then(&location).then(&motion).then(&axis.nominal_motion(q[k]));
+    }
+    t
+}
+
+/// The rotation vector and translation of the six consecutive components `X Y Z A B C` at `start`.
+#[inline]
+pub(crate) fn six(params: &[f64], start: usize) -> (Vec3, Vec3) {
+    let p = &params[start..start + 6];
+    (Vec3::new(p[3], p[4], p[5]), Vec3::new(p[0], p[1], p[2]))
+}
+
+/// Centre (in the parent frame) of the location error or the motion error of `axis` at `q`.
+#[inline]
+pub(crate) fn error_centre(axis: &Axis, motion: bool, q: f64) -> Vec3 {
+    if motion {
+        axis.motion_error_centre(q)
+    } else {
+        axis.location_error_centre()
+    }
+}

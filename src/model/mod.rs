@@ -1,0 +1,12 @@
+//! Nominal and actual forward kinematics, the exact volumetric error and its first-order Jacobian
+//! (DESIGN.md section 2), with batch evaluation over many poses.
+
+mod batch;
+mod chain;
+mod jacobian;
+mod volumetric;
+
+pub use batch::{jacobian_batch, Predictor};
+pub use chain::{actual_chain, nominal_chain};
+pub use jacobian::{jacobian, JacobianWorkspace, JACOBIAN_ROWS};
+pub use volumetric::{volumetric_error, Frame, Setup, VolumetricError};
