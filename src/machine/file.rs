@@ -53,6 +53,12 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
         toml::from_str(text).map_err(|e| MachineError::Syntax { origin: origin.to_string(), message: one_line(&e.to_string()) })?;
     let invalid = |message: String| MachineError::Invalid { origin: origin.to_string(), message };
 
+    for key in file.axes.keys() {
+        let mut chars = key.chars();
+        if !matches!((chars.next(), chars.next()), (Some(c), None) if super::parameter::is_axis_letter(c)) {
+            return Err(invalid(format!("[axes] has an unknown axis `{key}`: axes are named X Y Z U V W A B C")));
+        }
+    }
     let structure = Structure::parse(&file.structure).map_err(invalid)?;
     for letter in structure.letters() {
         if !file.axes.contains_key(&letter.to_string()) {
@@ -66,11 +72,7 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
     }
     let mut axes = Vec::new();
     for (key, spec) in &file.axes {
-        let mut chars = key.chars();
-        let letter = match (chars.next(), chars.next()) {
-            (Some(c), None) if super::parameter::is_axis_letter(c) => c,
-            _ => return Err(invalid(format!("[axes] has an unknown axis `{key}`: axes are named X Y Z U V W A B C"))),
-        };
+        let letter = key.chars().next().expect("checked above");
         let side = if structure.workpiece_side.contains(&letter) {
             Side::Workpiece
         } else if structure.tool_side.contains(&letter) {

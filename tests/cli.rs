@@ -1,0 +1,186 @@
+//! The command line end to end: `predict` on all five example machines (CSV and JSON agree with the
+//! library), exit status 2 with a one-line message for bad input, `demo` output files.
+
+use std::path::Path;
+use std::process::{Command, Output};
+use trueaxis::data::read_poses;
+use trueaxis::errors::ErrorModel;
+use trueaxis::machine::Machine;
+use trueaxis::model::{Frame, Predictor};
+
+const EXAMPLES: [&str; 5] = ["vmc3", "lathe2", "c600u", "kx8five", "head5"];
+
+fn trueaxis(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
+}
+
+fn example(kind: &str, name: &str, ext: &str) -> String {
+    format!("examples/{kind}/{name}.{ext}")
+}
+
+fn predict(name: &str, extra: &[&str]) -> Output {
+    let (m, e, p) = (example("machines", name, "toml"), example("errors", name, "toml"), example("poses", name, "csv"));
+    let mut args = vec!["predict", "--machine", &m, "--errors", &e, "--poses", &p];
+    args.extend_from_slice(extra);
+    trueaxis(&args)
+}
+
+#[test]
+fn predict_answers_for_every_example_machine_and_matches_the_library() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for name in EXAMPLES {
+        let out = predict(name, &["--json"]);
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(doc["frame"], "workpiece");
+        assert_eq!(doc["units"]["dx"], "um");
+        assert_eq!(doc["units"]["drx"], "urad");
+
+        let machine = Machine::load(root.join(example("machines", name, "toml"))).unwrap();
+        let errors = ErrorModel::load(root.join(example("errors", name, "toml")), &machine).unwrap();
+        let poses = read_poses(root.join(example("poses", name, "csv")), &machine).unwrap();
+        let expected = Predictor::new(&machine, &errors).predict_batch(&poses.internal(&machine));
+        let rows = doc["poses"].as_array().unwrap();
+        assert_eq!(rows.len(), expected.len(), "{name}");
+        let mut largest: f64 = 0.0;
+        for (row, e) in rows.iter().zip(&expected) {
+            for ((key, _), v) in trueaxis::data::PREDICTION_COLUMNS.iter().zip(e.to_user_units()) {
+                let got = row[*key].as_f64().unwrap();
+                // JSON values are rounded to 1e-4 um / urad
+                assert!((got - v).abs() <= 0.6e-4, "{name} {key}: {got} vs {v}");
+                largest = largest.max(v.abs());
+            }
+        }
+        assert!(largest > 1.0, "{name}: the example errors should give a visible prediction (largest {largest})");
+
+        // the CSV carries the same numbers
+        let csv = predict(name, &[]);
+        assert!(csv.status.success());
+        let text = String::from_utf8(csv.stdout).unwrap();
+        let mut lines = text.lines();
+        let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+        assert_eq!(&header[header.len() - 7..], &["dx", "dy", "dz", "drx", "dry", "drz", "dL"]);
+        for (line, e) in lines.zip(&expected) {
+            let fields: Vec<f64> = line.split(',').map(|f| f.parse().unwrap()).collect();
+            for (got, v) in fields[fields.len() - 7..].iter().zip(e.to_user_units()) {
+                assert!((got - v).abs() <= 0.6e-4, "{name} csv: {got} vs {v}");
+            }
+        }
+    }
+}
+
+#[test]
+fn machine_frame_rotates_the_vector_and_keeps_its_length() {
+    let wp: serde_json::Value = serde_json::from_slice(&predict("kx8five", &["--json"]).stdout).unwrap();
+    let mf: serde_json::Value = serde_json::from_slice(&predict("kx8five", &["--json", "--frame", "machine"]).stdout).unwrap();
+    assert_eq!(mf["frame"], "machine");
+    let norm = |r: &serde_json::Value, k: [&str; 3]| k.iter().map(|c| r[*c].as_f64().unwrap().powi(2)).sum::<f64>().sqrt();
+    let mut rotated = false;
+    for (a, b) in wp["poses"].as_array().unwrap().iter().zip(mf["poses"].as_array().unwrap()) {
+        assert!((norm(a, ["dx", "dy", "dz"]) - norm(b, ["dx", "dy", "dz"])).abs() < 1e-3);
+        assert!((norm(a, ["drx", "dry", "drz"]) - norm(b, ["drx", "dry", "drz"])).abs() < 1e-3);
+        assert_eq!(a["dL"], b["dL"]);
+        rotated |= (a["dx"].as_f64().unwrap() - b["dx"].as_f64().unwrap()).abs() > 1e-2;
+    }
+    assert!(rotated, "poses with rotary axes away from zero must differ between frames");
+}
+
+#[test]
+fn tool_and_work_points_change_the_lever_arms() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = predict("vmc3", &["--json", "--tool-point", "0,0,500", "--work-point", "-10,20,5"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let machine = Machine::load(root.join("examples/machines/vmc3.toml")).unwrap();
+    let errors = ErrorModel::load(root.join("examples/errors/vmc3.toml"), &machine).unwrap();
+    let mut p = Predictor::new(&machine, &errors);
+    p.setup.tool_point = nalgebra::Vector3::new(0.0, 0.0, 500.0);
+    p.setup.work_point = nalgebra::Vector3::new(-10.0, 20.0, 5.0);
+    p.frame = Frame::Workpiece;
+    let e = p.predict(&[400.0, 250.0, -400.0]).to_user_units();
+    let row = &doc["poses"][2];
+    assert!((row["dx"].as_f64().unwrap() - e[0]).abs() < 1e-4);
+    assert!((row["dL"].as_f64().unwrap() - e[6]).abs() < 1e-4);
+}
+
+fn assert_bad_input(out: &Output, fragments: &[&str]) {
+    assert_eq!(out.status.code(), Some(2), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+    for f in fragments {
+        assert!(err.contains(f), "expected `{f}` in: {err}");
+    }
+    assert!(out.stdout.is_empty(), "nothing on stdout for a failed command");
+}
+
+#[test]
+fn bad_input_exits_with_status_2_and_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad_machine = dir.path().join("bad.toml");
+    std::fs::write(&bad_machine, "name = \"x\"\nstructure = \"wXbt\"\n[axes]\nX = { kind = \"linear\", direction = [0, 0, 0], range = [0, 1] }\n[tool]\npoint = [0, 0, 0]\n").unwrap();
+    let bad = bad_machine.to_str().unwrap();
+    let out = trueaxis(&["predict", "--machine", bad, "--errors", "examples/errors/vmc3.toml", "--poses", "examples/poses/vmc3.csv"]);
+    assert_bad_input(&out, &["bad.toml", "zero vector"]);
+
+    let out = trueaxis(&["predict", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/kx8five.toml", "--poses", "examples/poses/vmc3.csv"]);
+    assert_bad_input(&out, &["examples/errors/kx8five.toml", "axis C"]);
+
+    let out = trueaxis(&["predict", "--machine", "examples/machines/kx8five.toml", "--errors", "examples/errors/kx8five.toml", "--poses", "examples/poses/vmc3.csv"]);
+    assert_bad_input(&out, &["examples/poses/vmc3.csv", "missing column `A`"]);
+
+    let out = trueaxis(&["predict", "--machine", "missing.toml", "--errors", "examples/errors/vmc3.toml", "--poses", "examples/poses/vmc3.csv"]);
+    assert_bad_input(&out, &["missing.toml", "cannot read"]);
+
+    let out = predict("vmc3", &["--tool-point", "1,2"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not a point x,y,z"));
+}
+
+#[test]
+fn out_file_is_written_whole_and_not_on_failure() {
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("pred.csv");
+    let t = target.to_str().unwrap();
+    let ok = predict("head5", &["--out", t]);
+    assert!(ok.status.success());
+    let text = std::fs::read_to_string(&target).unwrap();
+    assert_eq!(text.lines().count(), 5, "header + 4 poses");
+    let failed = trueaxis(&["predict", "--machine", "examples/machines/head5.toml", "--errors", "examples/errors/head5.toml", "--poses", "examples/poses/vmc3.csv", "--out", t]);
+    assert_eq!(failed.status.code(), Some(2));
+    assert_eq!(std::fs::read_to_string(&target).unwrap(), text, "a failed run leaves the previous file untouched");
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert_eq!(leftovers.len(), 1, "no temporary files left behind");
+}
+
+#[test]
+fn demo_writes_the_map_csv_and_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let out_dir = dir.path().join("demo");
+    let out = trueaxis(&["demo", "--out", out_dir.to_str().unwrap(), "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(summary["poses"], 3 * 21 * 21);
+    let max = summary["max_position_error_um"].as_f64().unwrap();
+    assert!(max > 10.0 && max < 500.0, "max {max}");
+    let svg = std::fs::read_to_string(out_dir.join("volumetric_map.svg")).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert!(svg.contains("XY plane") && svg.contains("XZ plane") && svg.contains("YZ plane") && svg.contains("|d| (um)"));
+    let csv = std::fs::read_to_string(out_dir.join("volumetric_map.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 3 * 21 * 21);
+    // the files the demo writes are valid inputs of `predict`: a round trip through the CLI
+    let m = out_dir.join("machine.toml");
+    let e = out_dir.join("errors.toml");
+    let p = out_dir.join("volumetric_map.csv");
+    let again = trueaxis(&["predict", "--machine", m.to_str().unwrap(), "--errors", e.to_str().unwrap(), "--poses", p.to_str().unwrap(), "--frame", "machine"]);
+    assert!(again.status.success(), "{}", String::from_utf8_lossy(&again.stderr));
+    assert_eq!(String::from_utf8(again.stdout).unwrap(), csv, "predict on the demo files reproduces the demo map");
+}
+
+#[test]
+fn every_command_has_help_with_an_example() {
+    for cmd in [vec!["--help"], vec!["demo", "--help"], vec!["predict", "--help"]] {
+        let out = trueaxis(&cmd);
+        assert!(out.status.success());
+        assert!(String::from_utf8_lossy(&out.stdout).contains("Example"), "{cmd:?}");
+    }
+}
