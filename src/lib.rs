@@ -4,10 +4,10 @@
 //! `machine` -> `model` (with `errors`) -> instruments -> identify -> uncertainty -> compensate -> `report`.
 //! Internal units are mm and rad; files and outputs use mm, deg, um and urad (DESIGN.md section 2).
 
-pub mod geometry;
 pub mod data;
 pub mod demo;
 pub mod errors;
+pub mod geometry;
 pub mod machine;
 pub mod model;
 pub mod report;

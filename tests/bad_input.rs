@@ -42,7 +42,10 @@ fn machine_file_errors_name_the_problem() {
         (with("C = { kind = \"rotary\", direction = [0, 0, 1], point = [0, 0, 0] }\n", ""), &["names axis C", "not defined under [axes]"]),
         (with("structure = \"wCAbYXZt\"", "structure = \"wCbYXZt\""), &["axis A", "does not appear in structure"]),
         (with("direction = [1, 0, 0], range = [-300", "direction = [0, 0, 0], range = [-300"), &["axis X", "zero vector"]),
-        (with("direction = [1, 0, 0], range = [-300", "direction = [1, 1, 0], range = [-300"), &["axis X", "not a unit vector", "1.414214"]),
+        (
+            with("direction = [1, 0, 0], range = [-300", "direction = [1, 1, 0], range = [-300"),
+            &["axis X", "not a unit vector", "1.414214"],
+        ),
         (with("A = { kind = \"rotary\"", "A = { kind = \"linear\""), &["axis A", "rotary axis", "kind = \"linear\""]),
         (with("X = { kind = \"linear\", ", "X = { "), &["missing field `kind`"]),
         (with("X = { kind = \"linear\", direction", "X = { kind = \"linear\", directoin"), &["unknown field `directoin`"]),
@@ -74,7 +77,8 @@ fn a_missing_machine_file_is_named() {
 
 #[test]
 fn nearly_unit_directions_are_accepted_and_normalised() {
-    let m = Machine::from_toml_str(&with("direction = [1, 0, 0], range = [-300", "direction = [1.00005, 0, 0], range = [-300"), "ok.toml").unwrap();
+    let m = Machine::from_toml_str(&with("direction = [1, 0, 0], range = [-300", "direction = [1.00005, 0, 0], range = [-300"), "ok.toml")
+        .unwrap();
     assert!((m.axes()[0].direction.norm() - 1.0).abs() < 1e-15);
 }
 

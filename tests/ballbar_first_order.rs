@@ -287,7 +287,9 @@ fn all_eight_table_3_1_piges_together_follow_the_first_order_relations() {
     let piges = Piges::table_3_1_all();
     for step in STEPS {
         let (deviation, exact_max, model_max) = compare(&m, step, &piges);
-        eprintln!("{step:?} all eight: max |dL| exact {exact_max:8.4} um, first order {model_max:8.4} um, max deviation {deviation:.2e} um");
+        eprintln!(
+            "{step:?} all eight: max |dL| exact {exact_max:8.4} um, first order {model_max:8.4} um, max deviation {deviation:.2e} um"
+        );
         assert!(deviation < FIRST_ORDER_TOLERANCE_UM, "{step:?}, all eight PIGEs: deviation {deviation} um");
         assert!(exact_max > 1.0 && model_max > 1.0, "{step:?}: no signal ({exact_max} um exact, {model_max} um first order)");
     }
@@ -341,7 +343,9 @@ fn fig_3_7_diagnostics() {
     // Thesis section 3.3, Figs. 3.7-3.8 / digest 2.5, 2.8.
     let m = machine();
     let theta = ORIENTATION_URAD * 1e-6;
-    for (name, piges) in [("theta_y0a", Piges { th_y0a: theta, ..Default::default() }), ("theta_z0a", Piges { th_z0a: theta, ..Default::default() })] {
+    for (name, piges) in
+        [("theta_y0a", Piges { th_y0a: theta, ..Default::default() }), ("theta_z0a", Piges { th_z0a: theta, ..Default::default() })]
+    {
         let params = piges.parameters(&m);
         // Fig. 3.7(c),(d): no visible change in A1 (spindle ball on the A axis at O_R).
         let a1 = Step::A1.sweep().into_iter().map(|deg| exact_dl_um(&m, Step::A1, deg, &params).abs()).fold(0.0, f64::max);

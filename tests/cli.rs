@@ -122,13 +122,30 @@ fn bad_input_exits_with_status_2_and_one_line() {
     let out = trueaxis(&["predict", "--machine", bad, "--errors", "examples/errors/vmc3.toml", "--poses", "examples/poses/vmc3.csv"]);
     assert_bad_input(&out, &["bad.toml", "zero vector"]);
 
-    let out = trueaxis(&["predict", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/kx8five.toml", "--poses", "examples/poses/vmc3.csv"]);
+    let out = trueaxis(&[
+        "predict",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--errors",
+        "examples/errors/kx8five.toml",
+        "--poses",
+        "examples/poses/vmc3.csv",
+    ]);
     assert_bad_input(&out, &["examples/errors/kx8five.toml", "axis C"]);
 
-    let out = trueaxis(&["predict", "--machine", "examples/machines/kx8five.toml", "--errors", "examples/errors/kx8five.toml", "--poses", "examples/poses/vmc3.csv"]);
+    let out = trueaxis(&[
+        "predict",
+        "--machine",
+        "examples/machines/kx8five.toml",
+        "--errors",
+        "examples/errors/kx8five.toml",
+        "--poses",
+        "examples/poses/vmc3.csv",
+    ]);
     assert_bad_input(&out, &["examples/poses/vmc3.csv", "missing column `A`"]);
 
-    let out = trueaxis(&["predict", "--machine", "missing.toml", "--errors", "examples/errors/vmc3.toml", "--poses", "examples/poses/vmc3.csv"]);
+    let out =
+        trueaxis(&["predict", "--machine", "missing.toml", "--errors", "examples/errors/vmc3.toml", "--poses", "examples/poses/vmc3.csv"]);
     assert_bad_input(&out, &["missing.toml", "cannot read"]);
 
     let out = predict("vmc3", &["--tool-point", "1,2"]);
@@ -145,7 +162,17 @@ fn out_file_is_written_whole_and_not_on_failure() {
     assert!(ok.status.success());
     let text = std::fs::read_to_string(&target).unwrap();
     assert_eq!(text.lines().count(), 5, "header + 4 poses");
-    let failed = trueaxis(&["predict", "--machine", "examples/machines/head5.toml", "--errors", "examples/errors/head5.toml", "--poses", "examples/poses/vmc3.csv", "--out", t]);
+    let failed = trueaxis(&[
+        "predict",
+        "--machine",
+        "examples/machines/head5.toml",
+        "--errors",
+        "examples/errors/head5.toml",
+        "--poses",
+        "examples/poses/vmc3.csv",
+        "--out",
+        t,
+    ]);
     assert_eq!(failed.status.code(), Some(2));
     assert_eq!(std::fs::read_to_string(&target).unwrap(), text, "a failed run leaves the previous file untouched");
     let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
@@ -171,7 +198,17 @@ fn demo_writes_the_map_csv_and_svg() {
     let m = out_dir.join("machine.toml");
     let e = out_dir.join("errors.toml");
     let p = out_dir.join("volumetric_map.csv");
-    let again = trueaxis(&["predict", "--machine", m.to_str().unwrap(), "--errors", e.to_str().unwrap(), "--poses", p.to_str().unwrap(), "--frame", "machine"]);
+    let again = trueaxis(&[
+        "predict",
+        "--machine",
+        m.to_str().unwrap(),
+        "--errors",
+        e.to_str().unwrap(),
+        "--poses",
+        p.to_str().unwrap(),
+        "--frame",
+        "machine",
+    ]);
     assert!(again.status.success(), "{}", String::from_utf8_lossy(&again.stderr));
     assert_eq!(String::from_utf8(again.stdout).unwrap(), csv, "predict on the demo files reproduces the demo map");
 }

@@ -255,7 +255,10 @@ const POSES: [(f64, f64); 6] = [(-100.0, 50.0), (-100.0, 250.0), (0.0, 50.0), (0
 /// terms (`E^3 L`, about 1e-5 um here) are far inside the slack.
 fn second_order_bound(n: &Nist, x: f64, z: f64) -> f64 {
     let rot = [n.ex_z, n.ey_z, n.ez_z, n.ex_x, n.ey_x, n.ez_x, n.ex_t, n.ey_t, n.ez_t, n.ex_s, n.ey_s];
-    let tra = [n.dx_z, n.dy_z, n.dz_z, n.dx_x, n.dy_x, n.dz_x, n.dx_t, n.dy_t, n.dz_t, n.dx_c, n.dy_c, n.dz_c, n.dx_s, n.dy_s, n.dz_s, n.dx_w, n.dy_w, n.dz_w];
+    let tra = [
+        n.dx_z, n.dy_z, n.dz_z, n.dx_x, n.dy_x, n.dz_x, n.dx_t, n.dy_t, n.dz_t, n.dx_c, n.dy_c, n.dz_c, n.dx_s, n.dy_s, n.dz_s, n.dx_w,
+        n.dy_w, n.dz_w,
+    ];
     let e: f64 = rot.iter().map(|v| v.abs() * 1e-6).sum();
     let d: f64 = tra.iter().map(|v| v.abs() * 1e-3).sum();
     // arms: carriage origin (X1, 0, z), cross slide origin (X1 + x, 0, z), spindle origin to the cutting point
@@ -366,7 +369,11 @@ fn jacobian_reproduces_eqs_2_24_to_2_26_exactly() {
         let rot = tool_rotation(&nist);
         for i in 0..3 {
             let first_order = row(i) * 1e3;
-            assert!((first_order + expected[i]).abs() < 1e-9, "x {x} z {z} component {i}: J p = {first_order} um, -p_E = {} um", -expected[i]);
+            assert!(
+                (first_order + expected[i]).abs() < 1e-9,
+                "x {x} z {z} component {i}: J p = {first_order} um, -p_E = {} um",
+                -expected[i]
+            );
             let rotation = row(3 + i) * 1e6;
             assert!((rotation - rot[i]).abs() < 1e-9, "x {x} z {z} rotation {i}: {rotation} vs {} urad", rot[i]);
         }
@@ -430,7 +437,10 @@ fn each_nist_term_has_its_sign_and_abbe_arm() {
     let mut predictor = Predictor::new(&machine, &errors);
     predictor.setup = cutting_setup(&machine, x, z);
     let got = predictor.predict(&pose(&machine, x, z, 0.0)).to_user_units();
-    assert!((got[0] + 15.5).abs() < 0.005 && got[1].abs() < 0.005 && (got[2] - 2.5).abs() < 0.005, "eps_y(s): {got:?}, expected (-15.5, 0, 2.5) um");
+    assert!(
+        (got[0] + 15.5).abs() < 0.005 && got[1].abs() < 0.005 && (got[2] - 2.5).abs() < 0.005,
+        "eps_y(s): {got:?}, expected (-15.5, 0, 2.5) um"
+    );
 }
 
 /// NIST eq. 2.14 takes the spindle angle as zero "since there is no significance to the angular

@@ -27,7 +27,8 @@ pub fn predictions_csv(machine: &Machine, poses_user: &[f64], errors: &[Volumetr
     out.push_str(&header.join(","));
     out.push('\n');
     for (pose, error) in poses_user.chunks(n).zip(errors) {
-        let fields: Vec<String> = pose.iter().map(|v| format!("{v}")).chain(error.to_user_units().iter().map(|v| format!("{v:.4}"))).collect();
+        let fields: Vec<String> =
+            pose.iter().map(|v| format!("{v}")).chain(error.to_user_units().iter().map(|v| format!("{v:.4}"))).collect();
         out.push_str(&fields.join(","));
         out.push('\n');
     }
@@ -35,7 +36,12 @@ pub fn predictions_csv(machine: &Machine, poses_user: &[f64], errors: &[Volumetr
 }
 
 /// JSON document `{"frame":..,"units":{..},"poses":[{"X":..,"dx":..,..}, ..]}`.
-pub fn predictions_json(machine: &Machine, poses_user: &[f64], errors: &[VolumetricError], frame: &str) -> Result<serde_json::Value, DataError> {
+pub fn predictions_json(
+    machine: &Machine,
+    poses_user: &[f64],
+    errors: &[VolumetricError],
+    frame: &str,
+) -> Result<serde_json::Value, DataError> {
     check_finite(errors)?;
     let n = machine.axis_count().max(1);
     let mut units = serde_json::Map::new();

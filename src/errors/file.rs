@@ -43,7 +43,10 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
     let file: ErrorValuesFile =
         toml::from_str(text).map_err(|e| ErrorsError::Syntax { origin: origin.into(), message: one_line(&e.to_string()) })?;
     let mut model = ErrorModel::zero(machine);
-    let invalid = |section: &str, name: &str, message: String| ErrorsError::Invalid { origin: origin.into(), message: format!("[{section}] {name}: {message}") };
+    let invalid = |section: &str, name: &str, message: String| ErrorsError::Invalid {
+        origin: origin.into(),
+        message: format!("[{section}] {name}: {message}"),
+    };
     let id_of = |section: &str, name: &str| ParameterId::parse(name).map_err(|m| invalid(section, name, m));
     for (name, &value) in &file.constant {
         if !value.is_finite() {

@@ -32,14 +32,20 @@ impl ErrorModel {
                 ErrorFunction::Table { positions, values, period }
             }
             (ParameterId::Motion { .. }, f) | (_, f @ ErrorFunction::Constant(_)) => f,
-            (id, _) => return Err(format!("{id} is a constant (location or setup error); give it under [constant], not as a table or polynomial")),
+            (id, _) => {
+                return Err(format!("{id} is a constant (location or setup error); give it under [constant], not as a table or polynomial"))
+            }
         };
         if self.entries.iter().any(|(i, ..)| *i == index) {
             return Err(format!("{id} is given more than once"));
         }
         self.entries.push((index, id, function));
         self.entries.sort_by_key(|(i, ..)| *i);
-        self.own_axis = self.entries.iter().map(|(_, id, _)| id.axis().filter(|_| matches!(id, ParameterId::Motion { .. })).and_then(|a| machine.axis_index(a))).collect();
+        self.own_axis = self
+            .entries
+            .iter()
+            .map(|(_, id, _)| id.axis().filter(|_| matches!(id, ParameterId::Motion { .. })).and_then(|a| machine.axis_index(a)))
+            .collect();
         Ok(())
     }
 
@@ -70,5 +76,49 @@ impl ErrorModel {
             let position = own_axis.map_or(0.0, |axis| machine.axes()[axis].position_to_user(q[axis]));
             values[*index] = function.evaluate(position) * id.component().to_internal();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MACHINE: &str = r#"
+name = "xc"
+structure = "wCbXt"
+[axes]
+X = { kind = "linear", direction = [1, 0, 0], range = [-100, 100] }
+C = { kind = "rotary", direction = [0, 0, 1], point = [0, 0, 0] }
+[tool]
+point = [0, 0, 0]
+"#;
+
+    #[test]
+    fn parameter_vector_round_trips_through_constants() {
+        let m = Machine::from_toml_str(MACHINE, "xc").unwrap();
+        let values: Vec<f64> = (0..m.parameter_count()).map(|i| if i % 3 == 0 { 1e-3 * i as f64 } else { 0.0 }).collect();
+        let model = ErrorModel::from_parameter_vector(&m, &values);
+        let mut back = vec![0.0; m.parameter_count()];
+        model.values_at(&m, &[50.0, 1.0], &mut back);
+        for (a, b) in values.iter().zip(&back) {
+            assert!((a - b).abs() < 1e-15);
+        }
+        assert_eq!(model.entries().count(), values.iter().filter(|v| **v != 0.0).count());
+    }
+
+    #[test]
+    fn motion_errors_are_evaluated_at_their_own_axis_in_user_units() {
+        let m = Machine::from_toml_str(MACHINE, "xc").unwrap();
+        let mut model = ErrorModel::zero(&m);
+        let exx = ParameterId::parse("EXX").unwrap();
+        let ecc = ParameterId::parse("ECC").unwrap();
+        model.set(&m, exx, ErrorFunction::polynomial(vec![0.0, 0.1]).unwrap()).unwrap(); // 0.1 um per mm
+        model.set(&m, ecc, ErrorFunction::table(vec![0.0, 180.0, 360.0], vec![0.0, 18.0, 0.0], None).unwrap()).unwrap();
+        let mut v = vec![0.0; m.parameter_count()];
+        // X = 50 mm, C = 450 deg (a full turn plus 90 deg): the 360-deg table is periodic
+        model.values_at(&m, &[50.0, 450f64.to_radians()], &mut v);
+        assert!((v[m.parameter_index(&exx).unwrap()] - 5e-3).abs() < 1e-15, "5 um in mm");
+        assert!((v[m.parameter_index(&ecc).unwrap()] - 9e-6).abs() < 1e-12, "9 urad in rad");
+        assert!(model.set(&m, exx, ErrorFunction::Constant(1.0)).unwrap_err().contains("more than once"));
     }
 }

@@ -17,10 +17,8 @@ impl Default for Pose {
 }
 
 impl Pose {
-    pub const IDENTITY: Pose = Pose {
-        rotation: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
-        translation: Vec3::new(0.0, 0.0, 0.0),
-    };
+    pub const IDENTITY: Pose =
+        Pose { rotation: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0), translation: Vec3::new(0.0, 0.0, 0.0) };
 
     /// `Trans(t)`.
     pub fn translation(t: Vec3) -> Self {
@@ -45,10 +43,7 @@ impl Pose {
     /// Composition `self * other` (apply `other` first, then `self`).
     #[inline]
     pub fn then(&self, other: &Pose) -> Pose {
-        Pose {
-            rotation: self.rotation * other.rotation,
-            translation: self.rotation * other.translation + self.translation,
-        }
+        Pose { rotation: self.rotation * other.rotation, translation: self.rotation * other.translation + self.translation }
     }
 
     /// The inverse HTM `[R^T, -R^T t]` (seed 000 eq. 2.5).

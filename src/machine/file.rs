@@ -96,7 +96,10 @@ fn axis(letter: char, side: Side, spec: &AxisFile) -> Result<Axis, String> {
     };
     if is_rotary_letter(letter) != (kind == AxisKind::Rotary) {
         let expected = if is_rotary_letter(letter) { "rotary" } else { "linear" };
-        return Err(format!("ISO 841 names {letter} a {expected} axis, but kind = \"{}\"", if kind == AxisKind::Rotary { "rotary" } else { "linear" }));
+        return Err(format!(
+            "ISO 841 names {letter} a {expected} axis, but kind = \"{}\"",
+            if kind == AxisKind::Rotary { "rotary" } else { "linear" }
+        ));
     }
     let direction = finite_vector(spec.direction).ok_or("direction must be finite numbers")?;
     let norm = direction.norm();

@@ -9,8 +9,8 @@ mod structure;
 
 pub use axis::{Axis, AxisKind, Side};
 pub use error::MachineError;
-pub use file::DIRECTION_NORM_TOLERANCE;
 pub(crate) use file::one_line;
+pub use file::DIRECTION_NORM_TOLERANCE;
 pub use parameter::{is_axis_letter, Component, ParameterId, SetupSide};
 pub use structure::Structure;
 
@@ -112,7 +112,9 @@ impl Machine {
     /// Position of a parameter in the parameter vector; an error names the unknown axis.
     pub fn parameter_index(&self, id: &ParameterId) -> Result<usize, String> {
         let axis_of = |letter: char| {
-            self.axis_index(letter).ok_or_else(|| format!("{id} refers to axis {letter}, which machine `{}` does not have (axes: {})", self.name, self.axis_letters()))
+            self.axis_index(letter).ok_or_else(|| {
+                format!("{id} refers to axis {letter}, which machine `{}` does not have (axes: {})", self.name, self.axis_letters())
+            })
         };
         Ok(match *id {
             ParameterId::Motion { axis, component } => self.motion_index(axis_of(axis)?, component),

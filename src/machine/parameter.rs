@@ -86,9 +86,9 @@ pub enum ParameterId {
 impl ParameterId {
     pub fn component(&self) -> Component {
         match *self {
-            ParameterId::Motion { component, .. }
-            | ParameterId::Location { component, .. }
-            | ParameterId::Setup { component, .. } => component,
+            ParameterId::Motion { component, .. } | ParameterId::Location { component, .. } | ParameterId::Setup { component, .. } => {
+                component
+            }
         }
     }
 
@@ -112,10 +112,9 @@ impl ParameterId {
         let bad = |why: &str| Err(format!("`{name}` is not an ISO 230 parameter name: {why}"));
         match chars.as_slice() {
             [side @ ('T' | 'W'), c] => match Component::from_letter(*c) {
-                Some(component) if !component.is_rotation() => Ok(ParameterId::Setup {
-                    side: if *side == 'T' { SetupSide::Tool } else { SetupSide::Workpiece },
-                    component,
-                }),
+                Some(component) if !component.is_rotation() => {
+                    Ok(ParameterId::Setup { side: if *side == 'T' { SetupSide::Tool } else { SetupSide::Workpiece }, component })
+                }
                 _ => bad("setup errors are TX TY TZ (tool point) and WX WY WZ (workpiece point)"),
             },
             ['E', c, axis] => match Component::from_letter(*c) {

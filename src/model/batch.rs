@@ -36,10 +36,7 @@ impl<'a> Predictor<'a> {
     /// pose, in canonical axis order. Parallel over poses.
     pub fn predict_batch(&self, poses: &[f64]) -> Vec<VolumetricError> {
         let n_axes = self.machine.axis_count().max(1);
-        poses
-            .par_chunks(n_axes)
-            .map_init(|| vec![0.0; self.machine.parameter_count()], |values, q| self.predict_with(q, values))
-            .collect()
+        poses.par_chunks(n_axes).map_init(|| vec![0.0; self.machine.parameter_count()], |values, q| self.predict_with(q, values)).collect()
     }
 }
 

@@ -51,7 +51,8 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
             .margin(12)
             .x_label_area_size(40)
             .y_label_area_size(55)
-            .build_cartesian_2d(x0..x1, y0..y1).map_err(text)?;
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(text)?;
         chart
             .configure_mesh()
             .disable_mesh()
@@ -60,14 +61,17 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(&|v| format!("{v:.0}"))
             .label_style(("sans-serif", 12))
-            .draw().map_err(text)?;
+            .draw()
+            .map_err(text)?;
         let nx = slice.xs.len();
-        chart.draw_series(slice.values.iter().enumerate().map(|(k, v)| {
-            let (i, j) = (k % nx, k / nx);
-            let (xa, xb) = cell(&slice.xs, i);
-            let (ya, yb) = cell(&slice.ys, j);
-            Rectangle::new([(xa, ya), (xb, yb)], ViridisRGB::get_color_normalized(*v, lo, hi).filled())
-        })).map_err(text)?;
+        chart
+            .draw_series(slice.values.iter().enumerate().map(|(k, v)| {
+                let (i, j) = (k % nx, k / nx);
+                let (xa, xb) = cell(&slice.xs, i);
+                let (ya, yb) = cell(&slice.ys, j);
+                Rectangle::new([(xa, ya), (xb, yb)], ViridisRGB::get_color_normalized(*v, lo, hi).filled())
+            }))
+            .map_err(text)?;
     }
     let steps = 50;
     let mut chart = ChartBuilder::on(&bar)
@@ -76,19 +80,23 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
         .margin_right(10)
         .y_label_area_size(55)
         .caption(value_label, ("sans-serif", 14))
-        .build_cartesian_2d(0.0..1.0, lo..hi).map_err(text)?;
+        .build_cartesian_2d(0.0..1.0, lo..hi)
+        .map_err(text)?;
     chart
         .configure_mesh()
         .disable_mesh()
         .disable_x_axis()
         .y_label_formatter(&|v| format!("{v:.1}"))
         .label_style(("sans-serif", 12))
-        .draw().map_err(text)?;
-    chart.draw_series((0..steps).map(|s| {
-        let a = lo + (hi - lo) * s as f64 / steps as f64;
-        let b = lo + (hi - lo) * (s + 1) as f64 / steps as f64;
-        Rectangle::new([(0.0, a), (1.0, b)], ViridisRGB::get_color_normalized(0.5 * (a + b), lo, hi).filled())
-    })).map_err(text)?;
+        .draw()
+        .map_err(text)?;
+    chart
+        .draw_series((0..steps).map(|s| {
+            let a = lo + (hi - lo) * s as f64 / steps as f64;
+            let b = lo + (hi - lo) * (s + 1) as f64 / steps as f64;
+            Rectangle::new([(0.0, a), (1.0, b)], ViridisRGB::get_color_normalized(0.5 * (a + b), lo, hi).filled())
+        }))
+        .map_err(text)?;
     root.present().map_err(text)?;
     Ok(())
 }
@@ -133,7 +141,14 @@ mod tests {
 
     #[test]
     fn non_finite_values_are_refused() {
-        let slice = MapSlice { title: "t".into(), x_label: "".into(), y_label: "".into(), xs: vec![0.0, 1.0], ys: vec![0.0, 1.0], values: vec![0.0, f64::NAN, 1.0, 2.0] };
+        let slice = MapSlice {
+            title: "t".into(),
+            x_label: "".into(),
+            y_label: "".into(),
+            xs: vec![0.0, 1.0],
+            ys: vec![0.0, 1.0],
+            values: vec![0.0, f64::NAN, 1.0, 2.0],
+        };
         assert!(heatmap_svg("m", &[slice], "v").is_err());
     }
 }

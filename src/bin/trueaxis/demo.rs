@@ -7,7 +7,9 @@ use trueaxis::demo::{self, DemoError};
 /// Run the main job on the built-in 5-axis machine (seed 004 KX8-Five) with known errors: a
 /// volumetric error map over the work volume, written as CSV and SVG.
 #[derive(clap::Args)]
-#[command(after_help = "Example:\n  trueaxis demo --out demo\n  then: trueaxis predict --machine demo/machine.toml --errors demo/errors.toml --poses demo/volumetric_map.csv --frame machine")]
+#[command(
+    after_help = "Example:\n  trueaxis demo --out demo\n  then: trueaxis predict --machine demo/machine.toml --errors demo/errors.toml --poses demo/volumetric_map.csv --frame machine"
+)]
 pub struct DemoArgs {
     /// Output directory (created if missing).
     #[arg(long, default_value = "trueaxis-demo")]

@@ -17,7 +17,9 @@ enum FrameArg {
 /// Volumetric error per pose: dx dy dz (um), drx dry drz (urad), dL (um) of the tool point relative
 /// to the workpiece point, actual minus nominal (exact kinematic chain).
 #[derive(clap::Args)]
-#[command(after_help = "Example:\n  trueaxis predict --machine examples/machines/kx8five.toml --errors examples/errors/kx8five.toml \\\n      --poses examples/poses/kx8five.csv --frame machine --json\n\nThe poses CSV has one column per axis, named by letter (X Y Z in mm, A B C in deg).")]
+#[command(
+    after_help = "Example:\n  trueaxis predict --machine examples/machines/kx8five.toml --errors examples/errors/kx8five.toml \\\n      --poses examples/poses/kx8five.csv --frame machine --json\n\nThe poses CSV has one column per axis, named by letter (X Y Z in mm, A B C in deg)."
+)]
 pub struct PredictArgs {
     /// Machine description (TOML).
     #[arg(long)]
@@ -59,10 +61,8 @@ pub fn run(args: PredictArgs) -> Result<(), Failure> {
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
     let poses = read_poses(&args.poses, &machine).map_err(Failure::input)?;
     let mut predictor = Predictor::new(&machine, &errors);
-    predictor.setup = Setup {
-        tool_point: args.tool_point.unwrap_or(machine.tool_point),
-        work_point: args.work_point.unwrap_or_else(Vec3::zeros),
-    };
+    predictor.setup =
+        Setup { tool_point: args.tool_point.unwrap_or(machine.tool_point), work_point: args.work_point.unwrap_or_else(Vec3::zeros) };
     let frame_name = match args.frame {
         FrameArg::Workpiece => "workpiece",
         FrameArg::Machine => "machine",
