@@ -59,6 +59,7 @@ fn machine_file_errors_name_the_problem() {
         (with("[tool]\npoint = [0, 0, 0]", "[tool]\npoint = [0, nan, 0]"), &["[tool] point", "finite"]),
         (with("kind = \"linear\", direction = [1, 0, 0]", "kind = \"prismatic\", direction = [1, 0, 0]"), &["prismatic"]),
         (with("name = \"m\"", "name = \"\""), &["`name` must not be empty"]),
+        ("name = \"m\"\nstructure = \"wbt\"\n[axes]\n[tool]\npoint = [0, 0, 0]\n".to_string(), &["has no axes"]),
         ("this is not toml".to_string(), &["line 1"]),
     ];
     for (text, expected) in cases {

@@ -60,6 +60,9 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
         }
     }
     let structure = Structure::parse(&file.structure).map_err(invalid)?;
+    if structure.letters().next().is_none() {
+        return Err(invalid(format!("structure `{}` has no axes; a machine needs at least one", file.structure)));
+    }
     for letter in structure.letters() {
         if !file.axes.contains_key(&letter.to_string()) {
             let defined: Vec<&str> = file.axes.keys().map(String::as_str).collect();

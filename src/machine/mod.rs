@@ -179,18 +179,7 @@ impl Machine {
 mod tests {
     use super::*;
 
-    const C600U: &str = r#"
-name = "test"
-structure = "wCAbYXZt"
-[axes]
-X = { kind = "linear", direction = [1, 0, 0], range = [-300, 300] }
-Y = { kind = "linear", direction = [0, 1, 0], range = [-250, 250] }
-Z = { kind = "linear", direction = [0, 0, 1], range = [-400, 0] }
-A = { kind = "rotary", direction = [1, 0, 0], point = [0, 0, 0], range = [-20, 70] }
-C = { kind = "rotary", direction = [0, 0, 1], point = [0, 0, 0] }
-[tool]
-point = [0, 0, 0]
-"#;
+    const C600U: &str = include_str!("../../examples/machines/c600u.toml");
 
     #[test]
     fn parameter_indices_round_trip() {

@@ -44,6 +44,17 @@ impl Component {
         Self::ALL.iter().copied().find(|k| k.letter() == c)
     }
 
+    /// The unit small displacement of this component: `(eps, e)`, rotation vector and translation.
+    pub fn unit_displacement(self) -> (crate::geometry::Vec3, crate::geometry::Vec3) {
+        let mut axis = crate::geometry::Vec3::zeros();
+        axis[self.direction()] = 1.0;
+        if self.is_rotation() {
+            (axis, crate::geometry::Vec3::zeros())
+        } else {
+            (crate::geometry::Vec3::zeros(), axis)
+        }
+    }
+
     /// User-facing unit of a value of this component: um for translations, urad for rotations.
     pub fn unit(self) -> &'static str {
         if self.is_rotation() {

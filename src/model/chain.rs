@@ -28,8 +28,8 @@ pub fn actual_chain(machine: &Machine, chain: &[usize], q: &[f64], params: &[f64
     let mut t = Pose::IDENTITY;
     for &k in chain {
         let axis = &machine.axes()[k];
-        let (loc_eps, loc_e) = six(params, machine.location_index(k, Component::X));
-        let (mot_eps, mot_e) = six(params, machine.motion_index(k, Component::X));
+        let (loc_eps, loc_e) = small_displacement(params, machine.location_index(k, Component::X));
+        let (mot_eps, mot_e) = small_displacement(params, machine.motion_index(k, Component::X));
         let location = Pose::small_transform(&loc_eps, &loc_e, &axis.location_error_centre());
         let motion = Pose::small_transform(&mot_eps, &mot_e, &axis.motion_error_centre(q[k]));
         t = t.then(&location).then(&motion).then(&axis.nominal_motion(q[k]));
@@ -37,9 +37,10 @@ pub fn actual_chain(machine: &Machine, chain: &[usize], q: &[f64], params: &[f64
     t
 }
 
-/// The rotation vector and translation of the six consecutive components `X Y Z A B C` at `start`.
+/// The rotation vector `eps` and translation `e` stored as the six consecutive components
+/// `X Y Z A B C` at `start` of a parameter vector.
 #[inline]
-pub(crate) fn six(params: &[f64], start: usize) -> (Vec3, Vec3) {
+pub(crate) fn small_displacement(params: &[f64], start: usize) -> (Vec3, Vec3) {
     let p = &params[start..start + 6];
     (Vec3::new(p[3], p[4], p[5]), Vec3::new(p[0], p[1], p[2]))
 }

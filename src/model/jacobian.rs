@@ -55,9 +55,8 @@ pub fn jacobian(machine: &Machine, q: &[f64], setup: &Setup, frame: Frame, ws: &
             for motion in [false, true] {
                 let centre = error_centre(axis, motion, q[k]);
                 for component in Component::ALL {
-                    let mut unit_error = [Vec3::zeros(), Vec3::zeros()];
-                    unit_error[component.is_rotation() as usize][component.direction()] = 1.0;
-                    let twist = Twist::of_small_transform(parent, &unit_error[1], &unit_error[0], &centre);
+                    let (eps, e) = component.unit_displacement();
+                    let twist = Twist::of_small_transform(parent, &eps, &e, &centre);
                     let column = if motion { machine.motion_index(k, component) } else { machine.location_index(k, component) };
                     write(column, to_output * twist.displacement_of(&tool_point) * sign, to_output * twist.omega * sign);
                 }

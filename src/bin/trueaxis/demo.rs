@@ -2,6 +2,7 @@
 
 use crate::Failure;
 use std::path::PathBuf;
+use trueaxis::data::DataError;
 use trueaxis::demo::{self, DemoError};
 
 /// Run the main job on the built-in 5-axis machine (seed 004 KX8-Five) with known errors: a
@@ -21,7 +22,8 @@ pub struct DemoArgs {
 
 pub fn run(args: DemoArgs) -> Result<(), Failure> {
     let summary = demo::run(&args.out).map_err(|e| match e {
-        DemoError::CreateDir { .. } | DemoError::Data(_) => Failure::computation(e),
+        // an output directory or file that cannot be written is a bad --out
+        DemoError::CreateDir { .. } | DemoError::Data(DataError::Write { .. }) => Failure::input(e),
         other => Failure::computation(other),
     })?;
     let pose: Vec<String> = summary.max_pose.iter().map(|(l, v)| format!("{l}={v}")).collect();

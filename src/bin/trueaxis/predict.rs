@@ -79,7 +79,7 @@ pub fn run(args: PredictArgs) -> Result<(), Failure> {
         predictions_csv(&machine, &poses.user, &predictions).map_err(Failure::computation)?
     };
     match args.out {
-        Some(path) => write_atomically(&path, text.as_bytes()).map_err(Failure::computation)?,
+        Some(path) => write_atomically(&path, text.as_bytes()).map_err(Failure::input)?,
         None => print!("{text}"),
     }
     Ok(())
