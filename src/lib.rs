@@ -7,7 +7,10 @@
 pub mod data;
 pub mod demo;
 pub mod errors;
+pub mod evaluate;
 pub mod geometry;
+pub mod identify;
+pub mod instruments;
 pub mod machine;
 pub mod model;
 pub mod report;

@@ -1,0 +1,1 @@
+//! Identification: least squares, stepwise selection and fitting of error functions to data.
