@@ -1,7 +1,9 @@
 //! The error-values TOML of DESIGN.md section 3:
 //! `[constant]` (um, urad), `[table.NAME]` with `position`/`value`, `[polynomial.NAME]` with
-//! `coefficients` in ascending powers of the own axis position (mm or deg).
+//! `coefficients` in ascending powers of the own axis position (mm or deg), `[basis.NAME]` with a
+//! parametric basis (seed 000 ch. 3) and its `coefficients`.
 
+use super::basis::{Basis, BasisSpec};
 use super::function::ErrorFunction;
 use super::model::ErrorModel;
 use super::ErrorsError;
@@ -23,6 +25,9 @@ struct ErrorValuesFile {
     table: BTreeMap<String, TableFile>,
     #[serde(default)]
     polynomial: BTreeMap<String, PolynomialFile>,
+    /// `[basis.NAME]`: a [`BasisSpec`] and its `coefficients`.
+    #[serde(default)]
+    basis: BTreeMap<String, toml::Table>,
 }
 
 #[derive(Deserialize)]
@@ -67,5 +72,21 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
         let f = ErrorFunction::polynomial(p.coefficients.clone()).map_err(|m| invalid(&section, name, m))?;
         model.set(machine, id, f).map_err(|m| invalid(&section, name, m))?;
     }
+    for (name, table) in &file.basis {
+        let section = format!("basis.{name}");
+        let id = id_of(&section, name)?;
+        let f = basis_function(table.clone()).map_err(|m| invalid(&section, name, m))?;
+        model.set(machine, id, f).map_err(|m| invalid(&section, name, m))?;
+    }
     Ok(model)
+}
+
+/// A `[basis.NAME]` table: the fields of [`BasisSpec`] plus `coefficients`.
+fn basis_function(mut table: toml::Table) -> Result<ErrorFunction, String> {
+    let coefficients: Vec<f64> = match table.remove("coefficients") {
+        Some(v) => v.try_into().map_err(|e: toml::de::Error| format!("`coefficients`: {}", one_line(&e.to_string())))?,
+        None => return Err("missing field `coefficients`".into()),
+    };
+    let spec: BasisSpec = toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| one_line(&e.to_string()))?;
+    ErrorFunction::basis(Basis::new(spec)?, coefficients)
 }

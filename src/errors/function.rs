@@ -2,6 +2,8 @@
 //! polynomials (DESIGN.md section 3, error-values TOML). Values are in user units (um, urad),
 //! positions in mm (linear axes) or deg (rotary axes).
 
+use super::basis::Basis;
+
 /// One parametric error as a function of its own axis position.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ErrorFunction {
@@ -13,6 +15,8 @@ pub enum ErrorFunction {
     Table { positions: Vec<f64>, values: Vec<f64>, period: Option<f64> },
     /// `sum_k coefficients[k] * q^k`, ascending powers of the position.
     Polynomial { coefficients: Vec<f64> },
+    /// `sum_l coefficients[l] p_l(q)` over a parametric basis (seed 000 eq. 3.1).
+    Basis { basis: Basis, coefficients: Vec<f64> },
 }
 
 impl ErrorFunction {
@@ -45,6 +49,22 @@ impl ErrorFunction {
         Ok(ErrorFunction::Polynomial { coefficients })
     }
 
+    /// Builds a basis function after checking the number of coefficients.
+    pub fn basis(basis: Basis, coefficients: Vec<f64>) -> Result<ErrorFunction, String> {
+        if coefficients.len() != basis.len() {
+            return Err(format!(
+                "the basis has {} functions ({}) but {} coefficients are given",
+                basis.len(),
+                basis.names().join(", "),
+                coefficients.len()
+            ));
+        }
+        if coefficients.iter().any(|c| !c.is_finite()) {
+            return Err("`coefficients` must be finite numbers".into());
+        }
+        Ok(ErrorFunction::Basis { basis, coefficients })
+    }
+
     /// Value (um or urad) at position `q` (mm or deg).
     pub fn evaluate(&self, q: f64) -> f64 {
         match self {
@@ -57,6 +77,7 @@ impl ErrorFunction {
                 interpolate(positions, values, q)
             }
             ErrorFunction::Polynomial { coefficients } => coefficients.iter().rev().fold(0.0, |acc, c| acc * q + c),
+            ErrorFunction::Basis { basis, coefficients } => basis.eval(coefficients, q),
         }
     }
 }

@@ -3,12 +3,18 @@
 //! This first part holds constants, tables with linear interpolation and polynomials of the own
 //! axis position.
 
+mod basis;
 mod file;
 mod function;
 mod model;
+mod quadrature;
+mod write;
 
+pub use basis::{Basis, BasisSpec, PeriodicSpec};
 pub use function::ErrorFunction;
 pub use model::ErrorModel;
+pub use quadrature::{gauss_legendre, integrate, legendre};
+pub use write::set_error_function;
 
 use crate::machine::Machine;
 use thiserror::Error;

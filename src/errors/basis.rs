@@ -1,0 +1,439 @@
+//! Basis functions for parametric errors (seed 000 ch. 3): an error is `E(x) = sum_l beta_l p_l(x)`
+//! with `p_l` from
+//! - truncated-power piecewise polynomials with fixed knots and per-knot continuity (eqs. 3.2-3.3),
+//! - Legendre polynomials over the axis range,
+//! - periodic terms of a wavelength, continuous across the period boundary (eqs. 3.11-3.15),
+//!
+//! optionally constrained to have no linear trend over the axis range (straightness, eqs. 3.4-3.8)
+//! or no once-per-revolution term (rotary axes, eqs. 3.9-3.10).
+//!
+//! Positions `x` are in user units (mm, or deg for rotary axes). A basis with its coefficients is an
+//! [`super::ErrorFunction::Basis`].
+
+use super::quadrature::{integrate, legendre};
+use serde::{Deserialize, Serialize};
+
+/// What a basis is made of; stored in error-values files as `[basis.NAME]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BasisSpec {
+    /// `"piecewise"` (truncated powers, the default), `"legendre"`, or `"none"` (periodic terms only).
+    #[serde(default = "default_family")]
+    pub family: String,
+    /// Polynomial degree (piecewise: of each piece; legendre: highest order).
+    #[serde(default = "default_degree")]
+    pub degree: usize,
+    /// Interior knots (mm or deg) of the piecewise family.
+    #[serde(default)]
+    pub knots: Vec<f64>,
+    /// Continuity order at each knot: `c` keeps derivatives up to `c` continuous (so only the terms
+    /// `(x - t)_+^l`, `l > c`, are added). One value for all knots, or one per knot.
+    #[serde(default = "default_continuity")]
+    pub continuity: Vec<usize>,
+    /// Include the constant term (most errors are defined only up to a constant: false).
+    #[serde(default)]
+    pub constant: bool,
+    /// `"none"`, `"straightness"` (no linear trend over `domain`, eqs. 3.4-3.8) or `"revolution"`
+    /// (no once-per-revolution term over `domain` in deg, eqs. 3.9-3.10).
+    #[serde(default = "default_constraint")]
+    pub constraint: String,
+    /// Axis range `[min, max]` the basis is defined on (mm or deg): the Legendre scaling and the
+    /// domain of the constraints.
+    pub domain: [f64; 2],
+    /// Periodic terms (eqs. 3.11-3.15).
+    #[serde(default)]
+    pub periodic: Vec<PeriodicSpec>,
+}
+
+/// One periodic component: a C^(n-1)-continuous piecewise polynomial in the wavelength fraction.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PeriodicSpec {
+    /// Wavelength (mm or deg).
+    pub wavelength: f64,
+    /// Phase (mm or deg): `w = frac((x - phase) / wavelength)`.
+    #[serde(default)]
+    pub phase: f64,
+    /// Degree of the polynomial pieces in `w`.
+    #[serde(default = "default_degree")]
+    pub degree: usize,
+    /// Interior knots in `w`, within (0, 1).
+    #[serde(default)]
+    pub knots: Vec<f64>,
+    /// Continuity order at the knots and across the period boundary.
+    #[serde(default = "default_periodic_continuity")]
+    pub continuity: usize,
+}
+
+fn default_family() -> String {
+    "piecewise".into()
+}
+fn default_degree() -> usize {
+    2
+}
+fn default_continuity() -> Vec<usize> {
+    vec![1]
+}
+fn default_periodic_continuity() -> usize {
+    1
+}
+fn default_constraint() -> String {
+    "none".into()
+}
+
+/// A raw (unconstrained) basis function of the position.
+#[derive(Clone, Debug, PartialEq)]
+enum Raw {
+    /// `x^l`
+    Power(i32),
+    /// `(x - knot)_+^l`
+    Truncated { knot: f64, power: i32 },
+    /// `P_l(u)`, `u = 2 (x - a)/(b - a) - 1`
+    Legendre { order: usize, a: f64, b: f64 },
+    /// `g(w) - alpha_1 w - alpha_2 w^2 - ...`, `w = frac((x - phase)/wavelength)`, `g` a power or a
+    /// truncated power of `w`
+    Periodic { wavelength: f64, phase: f64, g: Box<Raw>, alpha: Vec<f64> },
+}
+
+impl Raw {
+    fn eval(&self, x: f64) -> f64 {
+        match self {
+            Raw::Power(l) => x.powi(*l),
+            Raw::Truncated { knot, power } => {
+                if x > *knot {
+                    (x - knot).powi(*power)
+                } else {
+                    0.0
+                }
+            }
+            Raw::Legendre { order, a, b } => legendre(*order, 2.0 * (x - a) / (b - a) - 1.0).0,
+            Raw::Periodic { wavelength, phase, g, alpha } => {
+                let w = ((x - phase) / wavelength).rem_euclid(1.0);
+                g.eval(w) - alpha.iter().enumerate().map(|(c, a)| a * w.powi(c as i32 + 1)).sum::<f64>()
+            }
+        }
+    }
+
+    /// Derivative of order `k` of a power or truncated power of `w` (periodic construction).
+    fn derivative(&self, w: f64, k: i32) -> f64 {
+        let (base, power) = match self {
+            Raw::Power(l) => (w, *l),
+            Raw::Truncated { knot, power } => (if w > *knot { w - knot } else { return 0.0 }, *power),
+            _ => unreachable!("periodic terms are built from powers"),
+        };
+        if k > power {
+            return 0.0;
+        }
+        let falling: f64 = (0..k).map(|i| (power - i) as f64).product();
+        falling * base.powi(power - k)
+    }
+
+    fn describe(&self) -> String {
+        match self {
+            Raw::Power(l) => format!("x^{l}"),
+            Raw::Truncated { knot, power } => format!("(x-{knot})_+^{power}"),
+            Raw::Legendre { order, .. } => format!("P{order}"),
+            Raw::Periodic { wavelength, g, .. } => format!("periodic[{wavelength}] {}", g.describe().replace('x', "w")),
+        }
+    }
+}
+
+/// A linear correction subtracted from a raw function to satisfy a constraint.
+#[derive(Clone, Debug, PartialEq)]
+enum Correction {
+    None,
+    /// `- a1 - a2 x` (straightness, eq. 3.4)
+    Line(f64, f64),
+    /// `- a1 cos x - a2 sin x`, x in deg (revolution, eq. 3.9)
+    Revolution(f64, f64),
+}
+
+/// An evaluated basis: functions `p_l(x)` (seed 000 eq. 3.1 / 4.2).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Basis {
+    pub spec: BasisSpec,
+    functions: Vec<(Raw, Correction)>,
+}
+
+impl Basis {
+    /// Builds the basis of a spec, checking it (knots inside the domain and increasing, wavelengths
+    /// positive, ...). Functions that vanish identically (a periodic `w` or `w^2` made continuous) are
+    /// dropped.
+    pub fn new(spec: BasisSpec) -> Result<Basis, String> {
+        let [a, b] = spec.domain;
+        if !(a.is_finite() && b.is_finite() && a < b) {
+            return Err(format!("domain [{a}, {b}] must be two finite numbers, the smaller first"));
+        }
+        let mut raws = Vec::new();
+        match spec.family.as_str() {
+            "piecewise" => {
+                if spec.knots.iter().any(|t| !t.is_finite() || *t <= a || *t >= b) {
+                    return Err(format!("knots must lie strictly inside the domain [{a}, {b}]"));
+                }
+                if spec.knots.windows(2).any(|w| w[1] <= w[0]) {
+                    return Err("knots must increase strictly".into());
+                }
+                let continuity = match spec.continuity.len() {
+                    1 => vec![spec.continuity[0]; spec.knots.len()],
+                    n if n == spec.knots.len() => spec.continuity.clone(),
+                    n => return Err(format!("`continuity` has {n} values; give one, or one per knot ({})", spec.knots.len())),
+                };
+                let first = if spec.constant { 0 } else { 1 };
+                raws.extend((first..=spec.degree as i32).map(Raw::Power));
+                for (knot, c) in spec.knots.iter().zip(continuity) {
+                    raws.extend((c as i32 + 1..=spec.degree as i32).map(|power| Raw::Truncated { knot: *knot, power }));
+                }
+            }
+            "legendre" => {
+                let first = if spec.constant { 0 } else { 1 };
+                raws.extend((first..=spec.degree).map(|order| Raw::Legendre { order, a, b }));
+            }
+            "none" => {}
+            other => return Err(format!("unknown basis family `{other}` (piecewise, legendre, none)")),
+        }
+        for p in &spec.periodic {
+            raws.extend(periodic_functions(p)?);
+        }
+        let functions = raws
+            .into_iter()
+            .map(|raw| {
+                let correction = constraint_correction(&spec.constraint, &raw, a, b, &spec.knots)?;
+                Ok((raw, correction))
+            })
+            .collect::<Result<Vec<_>, String>>()?;
+        let basis = Basis { spec, functions };
+        Ok(basis.without_vanishing_functions())
+    }
+
+    fn without_vanishing_functions(mut self) -> Basis {
+        let [a, b] = self.spec.domain;
+        let probe: Vec<f64> = (0..=997).map(|i| a + (b - a) * i as f64 / 997.0).collect();
+        self.functions.retain(|f| probe.iter().any(|x| eval_one(f, *x).abs() > 1e-9));
+        self
+    }
+
+    pub fn len(&self) -> usize {
+        self.functions.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.functions.is_empty()
+    }
+
+    /// Evaluates every basis function at `x` into `out` (length [`Basis::len`]).
+    pub fn eval_into(&self, x: f64, out: &mut [f64]) {
+        for (o, f) in out.iter_mut().zip(&self.functions) {
+            *o = eval_one(f, x);
+        }
+    }
+
+    /// `sum_l coefficients[l] p_l(x)`.
+    pub fn eval(&self, coefficients: &[f64], x: f64) -> f64 {
+        self.functions.iter().zip(coefficients).map(|(f, c)| c * eval_one(f, x)).sum()
+    }
+
+    /// A readable name of each function, e.g. `(x-150)_+^2` or `periodic[0.635025] w^3`.
+    pub fn names(&self) -> Vec<String> {
+        self.functions
+            .iter()
+            .map(|(raw, c)| match c {
+                Correction::None => raw.describe(),
+                Correction::Line(..) => format!("{} (no trend)", raw.describe()),
+                Correction::Revolution(..) => format!("{} (no 1/rev)", raw.describe()),
+            })
+            .collect()
+    }
+
+    /// Keeps only the functions whose indices are listed (stepwise selection).
+    pub fn select(&self, keep: &[usize]) -> Basis {
+        Basis { spec: self.spec.clone(), functions: keep.iter().map(|&i| self.functions[i].clone()).collect() }
+    }
+}
+
+fn eval_one((raw, correction): &(Raw, Correction), x: f64) -> f64 {
+    raw.eval(x)
+        - match correction {
+            Correction::None => 0.0,
+            Correction::Line(a1, a2) => a1 + a2 * x,
+            Correction::Revolution(a1, a2) => a1 * x.to_radians().cos() + a2 * x.to_radians().sin(),
+        }
+}
+
+/// The periodic functions of one spec: powers `w^l` and truncated powers `(w - t)_+^l` made
+/// continuous across the period boundary up to order `continuity` by subtracting
+/// `sum_{c=1..continuity+1} alpha_c w^c` (seed 000 eqs. 3.12-3.15).
+///
+/// ERRATUM (seed 000 eq. 3.14-3.15): the printed system `[[1,1],[1,2]] alpha = [g(1)-g(0); g'(1)-g'(0)]`
+/// omits the derivative of the subtracted polynomial at `w = 0` (`alpha_1`); continuity of the
+/// first derivative requires `2 alpha_2 = g'(1) - g'(0)`. In general, for derivative order `k`,
+/// `sum_c alpha_c (d^k w^c/dw^k)(1) - (d^k w^c/dw^k)(0) = g^(k)(1) - g^(k)(0)`, which is solved here.
+fn periodic_functions(p: &PeriodicSpec) -> Result<Vec<Raw>, String> {
+    if !(p.wavelength.is_finite() && p.wavelength > 0.0) {
+        return Err(format!("periodic wavelength {} must be a positive number", p.wavelength));
+    }
+    if !p.phase.is_finite() {
+        return Err("periodic phase must be a finite number".into());
+    }
+    if p.knots.iter().any(|t| !(*t > 0.0 && *t < 1.0)) || p.knots.windows(2).any(|w| w[1] <= w[0]) {
+        return Err("periodic knots are fractions of the wavelength, increasing, strictly between 0 and 1".into());
+    }
+    if p.continuity >= p.degree {
+        return Err(format!("periodic continuity {} must be below the degree {}", p.continuity, p.degree));
+    }
+    let nc = p.continuity + 1;
+    // matrix M[k][c] = d^k/dw^k (w^(c+1)) at 1 minus at 0, k = 0..nc-1
+    let mut m = nalgebra::DMatrix::<f64>::zeros(nc, nc);
+    for k in 0..nc {
+        for c in 0..nc {
+            let power = c as i32 + 1;
+            let at = |w: f64| Raw::Power(power).derivative(w, k as i32);
+            m[(k, c)] = at(1.0) - at(0.0);
+        }
+    }
+    let lu = m.lu();
+    let mut gs: Vec<Raw> = (1..=p.degree as i32).map(Raw::Power).collect();
+    for &knot in &p.knots {
+        gs.extend((p.continuity as i32 + 1..=p.degree as i32).map(|power| Raw::Truncated { knot, power }));
+    }
+    Ok(gs
+        .into_iter()
+        .map(|g| {
+            let rhs = nalgebra::DVector::from_iterator(nc, (0..nc).map(|k| g.derivative(1.0, k as i32) - g.derivative(0.0, k as i32)));
+            let alpha = lu.solve(&rhs).expect("the continuity system is triangular with a non-zero diagonal");
+            Raw::Periodic { wavelength: p.wavelength, phase: p.phase, g: Box::new(g), alpha: alpha.iter().copied().collect() }
+        })
+        .collect())
+}
+
+/// The correction that removes the linear trend (eq. 3.8) or the once-per-revolution term (eq. 3.9,
+/// the least-squares projection over the domain; eq. 3.10 for a full turn) of `raw` over `[a, b]`.
+fn constraint_correction(constraint: &str, raw: &Raw, a: f64, b: f64, knots: &[f64]) -> Result<Correction, String> {
+    let panels = 64;
+    let (f1, f2): (Box<dyn Fn(f64) -> f64>, Box<dyn Fn(f64) -> f64>) = match constraint {
+        "none" => return Ok(Correction::None),
+        "straightness" => (Box::new(|_| 1.0), Box::new(|x| x)),
+        "revolution" => (Box::new(|x: f64| x.to_radians().cos()), Box::new(|x: f64| x.to_radians().sin())),
+        other => return Err(format!("unknown constraint `{other}` (none, straightness, revolution)")),
+    };
+    let i = |f: &dyn Fn(f64) -> f64| integrate(f, a, b, knots, panels);
+    let g11 = i(&|x| f1(x) * f1(x));
+    let g12 = i(&|x| f1(x) * f2(x));
+    let g22 = i(&|x| f2(x) * f2(x));
+    let r1 = i(&|x| raw.eval(x) * f1(x));
+    let r2 = i(&|x| raw.eval(x) * f2(x));
+    let det = g11 * g22 - g12 * g12;
+    if det.abs() < 1e-12 * (g11 * g22).abs().max(1e-300) {
+        return Err(format!("the `{constraint}` constraint is undefined over the domain [{a}, {b}]"));
+    }
+    let a1 = (g22 * r1 - g12 * r2) / det;
+    let a2 = (g11 * r2 - g12 * r1) / det;
+    Ok(if constraint == "straightness" { Correction::Line(a1, a2) } else { Correction::Revolution(a1, a2) })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn spec(family: &str, constraint: &str) -> BasisSpec {
+        BasisSpec {
+            family: family.into(),
+            degree: 2,
+            knots: vec![-100.0, 50.0],
+            continuity: vec![1],
+            constant: false,
+            constraint: constraint.into(),
+            domain: [-300.0, 300.0],
+            periodic: vec![],
+        }
+    }
+
+    #[test]
+    fn truncated_powers_follow_the_continuity_rule() {
+        // degree 2, C1 at two knots: x, x^2, (x+100)_+^2, (x-50)_+^2 (eq. 3.2 without the constant)
+        let b = Basis::new(spec("piecewise", "none")).unwrap();
+        assert_eq!(b.names(), vec!["x^1", "x^2", "(x--100)_+^2", "(x-50)_+^2"]);
+        let mut s = spec("piecewise", "none");
+        s.continuity = vec![0, 1];
+        assert_eq!(Basis::new(s).unwrap().len(), 5, "C0 at the first knot adds (x+100)_+^1");
+    }
+
+    #[test]
+    fn straightness_basis_has_no_mean_and_no_trend() {
+        // seed 000 eqs. 3.6-3.7: integral p = integral p x = 0 over the domain
+        let b = Basis::new(spec("piecewise", "straightness")).unwrap();
+        assert_eq!(b.len(), 3, "x loses its trend and vanishes; x^2 and the two knot terms stay");
+        for l in 0..b.len() {
+            let f = |x: f64| {
+                let mut w = vec![0.0; b.len()];
+                b.eval_into(x, &mut w);
+                w[l]
+            };
+            let m0 = integrate(f, -300.0, 300.0, &[-100.0, 50.0], 8);
+            let m1 = integrate(|x| f(x) * x, -300.0, 300.0, &[-100.0, 50.0], 8);
+            assert!(m0.abs() < 1e-9 * 300f64.powi(3), "{m0}");
+            assert!(m1.abs() < 1e-9 * 300f64.powi(4), "{m1}");
+        }
+    }
+
+    #[test]
+    fn revolution_basis_has_no_once_per_turn_term() {
+        // seed 000 eq. 3.10 over a full turn
+        let mut s = spec("legendre", "revolution");
+        s.domain = [0.0, 360.0];
+        s.knots = vec![];
+        s.degree = 4;
+        let b = Basis::new(s).unwrap();
+        for l in 0..b.len() {
+            let f = |x: f64| {
+                let mut w = vec![0.0; b.len()];
+                b.eval_into(x, &mut w);
+                w[l]
+            };
+            let c = integrate(|x| f(x) * x.to_radians().cos(), 0.0, 360.0, &[], 32);
+            let s = integrate(|x| f(x) * x.to_radians().sin(), 0.0, 360.0, &[], 32);
+            assert!(c.abs() < 1e-9 && s.abs() < 1e-9, "{c} {s}");
+        }
+    }
+
+    #[test]
+    fn periodic_terms_are_c1_across_the_period_boundary() {
+        // eqs. 3.12-3.15 (corrected): value and slope continuous at w = 0 / 1
+        let p = PeriodicSpec { wavelength: 0.635025, phase: 0.0, degree: 3, knots: vec![0.3, 0.7], continuity: 1 };
+        let mut s = spec("none", "none");
+        s.periodic = vec![p];
+        let b = Basis::new(s).unwrap();
+        assert!(b.len() >= 3);
+        let h = 1e-7;
+        let tau = 0.635025;
+        for l in 0..b.len() {
+            let f = |x: f64| {
+                let mut w = vec![0.0; b.len()];
+                b.eval_into(x, &mut w);
+                w[l]
+            };
+            let x0 = 10.0 * tau; // a period boundary
+            let left = f(x0 - h);
+            let right = f(x0 + h);
+            assert!((left - right).abs() < 1e-5, "value jump {left} {right}");
+            let slope_left = (f(x0 - h) - f(x0 - 2.0 * h)) / h;
+            let slope_right = (f(x0 + 2.0 * h) - f(x0 + h)) / h;
+            assert!((slope_left - slope_right).abs() < 1e-3 * (1.0 + slope_left.abs()) / tau, "slope jump {slope_left} {slope_right}");
+            assert!((f(x0 + 0.3 * tau) - f(x0 + 0.3 * tau + 7.0 * tau)).abs() < 1e-9, "periodic");
+        }
+    }
+
+    #[test]
+    fn bad_specs_are_refused() {
+        let mut s = spec("piecewise", "none");
+        s.knots = vec![400.0];
+        assert!(Basis::new(s).unwrap_err().contains("inside the domain"));
+        let mut s = spec("piecewise", "none");
+        s.continuity = vec![1, 1, 1];
+        assert!(Basis::new(s).unwrap_err().contains("one per knot"));
+        assert!(Basis::new(spec("spline", "none")).unwrap_err().contains("unknown basis family"));
+        assert!(Basis::new(spec("piecewise", "flat")).unwrap_err().contains("unknown constraint"));
+        let mut s = spec("none", "none");
+        s.periodic = vec![PeriodicSpec { wavelength: -1.0, phase: 0.0, degree: 2, knots: vec![], continuity: 1 }];
+        assert!(Basis::new(s).unwrap_err().contains("positive"));
+    }
+}

@@ -1,0 +1,80 @@
+//! Writing error functions into an error-values TOML, keeping the rest of the file (comments
+//! included) as it was.
+
+use super::function::ErrorFunction;
+use crate::machine::ParameterId;
+use toml_edit::{value, Array, ArrayOfTables, DocumentMut, Item, Table};
+
+const SECTIONS: [&str; 4] = ["constant", "table", "polynomial", "basis"];
+
+/// Sets `id` to `function` in the error-values document `text` (empty for a new file): removes the
+/// parameter from every section, then writes it as `[constant]`, `[table.NAME]`, `[polynomial.NAME]`
+/// or `[basis.NAME]`. Returns the new text.
+pub fn set_error_function(text: &str, id: &ParameterId, function: &ErrorFunction) -> Result<String, String> {
+    let mut doc: DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| super::super::machine::one_line(&e.to_string()))?;
+    let name = id.to_string();
+    for section in SECTIONS {
+        if let Some(table) = doc.get_mut(section).and_then(Item::as_table_like_mut) {
+            let keys: Vec<String> = table.iter().map(|(k, _)| k.to_string()).filter(|k| ParameterId::parse(k).ok() == Some(*id)).collect();
+            for k in keys {
+                table.remove(&k);
+            }
+        }
+    }
+    let section = |doc: &mut DocumentMut, s: &str| -> Result<Table, String> {
+        match doc.remove(s) {
+            Some(Item::Table(t)) => Ok(t),
+            None => {
+                let mut t = Table::new();
+                t.set_implicit(s != "constant");
+                Ok(t)
+            }
+            Some(_) => Err(format!("`{s}` is not a table in the existing file")),
+        }
+    };
+    let floats = |v: &[f64]| v.iter().copied().collect::<Array>();
+    let (key, item) = match function {
+        ErrorFunction::Constant(v) => ("constant", value(*v)),
+        ErrorFunction::Table { positions, values, .. } => {
+            let mut t = Table::new();
+            t.insert("position", value(floats(positions)));
+            t.insert("value", value(floats(values)));
+            ("table", Item::Table(t))
+        }
+        ErrorFunction::Polynomial { coefficients } => {
+            let mut t = Table::new();
+            t.insert("coefficients", value(floats(coefficients)));
+            ("polynomial", Item::Table(t))
+        }
+        ErrorFunction::Basis { basis, coefficients } => {
+            let s = &basis.spec;
+            let mut t = Table::new();
+            t.insert("family", value(s.family.as_str()));
+            t.insert("degree", value(s.degree as i64));
+            t.insert("knots", value(floats(&s.knots)));
+            t.insert("continuity", value(s.continuity.iter().map(|c| *c as i64).collect::<Array>()));
+            t.insert("constant", value(s.constant));
+            t.insert("constraint", value(s.constraint.as_str()));
+            t.insert("domain", value(floats(&s.domain)));
+            t.insert("coefficients", value(floats(coefficients)));
+            if !s.periodic.is_empty() {
+                let mut periodic = ArrayOfTables::new();
+                for p in &s.periodic {
+                    let mut pt = Table::new();
+                    pt.insert("wavelength", value(p.wavelength));
+                    pt.insert("phase", value(p.phase));
+                    pt.insert("degree", value(p.degree as i64));
+                    pt.insert("knots", value(floats(&p.knots)));
+                    pt.insert("continuity", value(p.continuity as i64));
+                    periodic.push(pt);
+                }
+                t.insert("periodic", Item::ArrayOfTables(periodic));
+            }
+            ("basis", Item::Table(t))
+        }
+    };
+    let mut table = section(&mut doc, key)?;
+    table.insert(&name, item);
+    doc.insert(key, Item::Table(table));
+    Ok(doc.to_string())
+}
