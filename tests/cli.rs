@@ -215,7 +215,7 @@ fn demo_writes_the_map_csv_and_svg() {
 
 #[test]
 fn every_command_has_help_with_an_example() {
-    for cmd in [vec!["--help"], vec!["demo", "--help"], vec!["predict", "--help"]] {
+    for cmd in [vec!["--help"], vec!["demo", "--help"], vec!["predict", "--help"], vec!["fit", "--help"]] {
         let out = trueaxis(&cmd);
         assert!(out.status.success());
         assert!(String::from_utf8_lossy(&out.stdout).contains("Example"), "{cmd:?}");

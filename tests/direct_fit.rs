@@ -172,9 +172,9 @@ fn drift_removal_then_fit_recovers_the_error() {
             time += 10.0;
         }
     }
-    let (clean, rates) = remove_cycle_drift(&cyc, &t, &val).unwrap();
-    for (_, r) in &rates {
-        assert!((r - 0.4 / 420.0).abs() < 1e-12);
+    let (clean, drifts) = remove_cycle_drift(&cyc, &t, &val, None).unwrap();
+    for d in &drifts {
+        assert!((d.rate - 0.4 / 420.0).abs() < 1e-12);
     }
     let spec = BasisSpec {
         family: "piecewise".into(),
@@ -187,9 +187,10 @@ fn drift_removal_then_fit_recovers_the_error() {
         periodic: vec![],
     };
     let fitted = fit_error_function(&pos, &clean, &FitOptions { spec, stepwise_level: None, prediction_level: 0.95 }).unwrap();
-    // shape recovered (the constant absorbs each cycle's mean drift, identical across the per-run means up to their spread)
+    // the shape is recovered exactly (the drift between runs is removed too: no residual left)
     let c = &fitted.coefficients;
-    assert!((c[1] - 0.02).abs() < 1e-3 && (c[2] + 2e-5).abs() < 2e-6, "{c:?}");
+    assert!((c[1] - 0.02).abs() < 1e-9 && (c[2] + 2e-5).abs() < 1e-12, "{c:?}");
+    assert!(fitted.rms < 1e-9, "{}", fitted.rms);
 }
 
 #[test]

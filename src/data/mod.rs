@@ -1,9 +1,11 @@
 //! Data files: pose CSVs in, prediction tables out, and atomic file writing
 //! (DESIGN.md sections 3-4: never a partially written output).
 
+mod columns;
 mod output;
 mod poses;
 
+pub use columns::CsvTable;
 pub use output::{predictions_csv, predictions_json, write_atomically, PREDICTION_COLUMNS};
 pub use poses::{read_poses, read_poses_from, PoseTable};
 

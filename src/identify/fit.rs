@@ -161,7 +161,9 @@ pub fn fit_error_function(positions: &[f64], values: &[f64], options: &FitOption
     let x = design(&basis, positions);
     let (kept, fit) = match options.stepwise_level {
         Some(level) => {
-            let r = stepwise(&x, values, None, &names, level, &[])?;
+            // a requested constant is never removed (it is the first function of the basis)
+            let forced: Vec<usize> = if options.spec.constant && options.spec.family != "none" { vec![0] } else { vec![] };
+            let r = stepwise(&x, values, None, &names, level, &forced)?;
             (r.kept, r.fit)
         }
         None => ((0..basis.len()).collect(), fit_linear(&x, values, None, &names)?),

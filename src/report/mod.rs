@@ -1,7 +1,9 @@
 //! Plots (SVG) and, later, the HTML report.
 
+mod fit_plot;
 mod heatmap;
 
+pub use fit_plot::{fit_plot_svg, FitPlot};
 pub use heatmap::{heatmap_svg, MapSlice};
 
 use thiserror::Error;

@@ -2,6 +2,7 @@
 //! Exit status: 0 success, 1 failed computation, 2 bad input.
 
 mod demo;
+mod fit;
 mod predict;
 
 use clap::{Parser, Subcommand};
@@ -24,6 +25,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Demo(demo::DemoArgs),
+    Fit(fit::FitArgs),
     Predict(predict::PredictArgs),
 }
 
@@ -46,6 +48,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(args) => demo::run(args),
+        Command::Fit(args) => fit::run(args),
         Command::Predict(args) => predict::run(args),
     };
     match result {

@@ -47,7 +47,7 @@ pub struct PredictArgs {
     out: Option<PathBuf>,
 }
 
-fn parse_point(text: &str) -> Result<Vec3, String> {
+pub fn parse_point(text: &str) -> Result<Vec3, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     let values: Result<Vec<f64>, _> = parts.iter().map(|p| p.parse::<f64>()).collect();
     match values {
