@@ -309,7 +309,8 @@ fn periodic_functions(p: &PeriodicSpec) -> Result<Vec<Raw>, String> {
 /// the least-squares projection over the domain; eq. 3.10 for a full turn) of `raw` over `[a, b]`.
 fn constraint_correction(constraint: &str, raw: &Raw, a: f64, b: f64, knots: &[f64]) -> Result<Correction, String> {
     let panels = 64;
-    let (f1, f2): (Box<dyn Fn(f64) -> f64>, Box<dyn Fn(f64) -> f64>) = match constraint {
+    type Weight = Box<dyn Fn(f64) -> f64>;
+    let (f1, f2): (Weight, Weight) = match constraint {
         "none" => return Ok(Correction::None),
         "straightness" => (Box::new(|_| 1.0), Box::new(|x| x)),
         "revolution" => (Box::new(|x: f64| x.to_radians().cos()), Box::new(|x: f64| x.to_radians().sin())),
