@@ -2,16 +2,23 @@
 //! (`X,Y,Z` in mm, `A,B,C` in deg); other columns are ignored here.
 
 use super::DataError;
+use crate::errors::Direction;
 use crate::machine::Machine;
 use std::io::Read;
 
-/// Axis positions read from a CSV, in the machine's canonical axis order and in user units.
+/// Axis positions read from a CSV, in the machine's canonical axis order and in user units, with
+/// the optional directions of motion (`dir:<axis>` columns, `+`/`-`, empty = at rest) and
+/// temperatures (`T:<sensor>` columns, degC).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PoseTable {
     /// `machine.axis_count()` positions per pose (mm, deg).
     pub user: Vec<f64>,
     /// 1-based line number in the file of each pose, for messages.
     pub lines: Vec<u64>,
+    /// `machine.axis_count()` directions per pose, when any `dir:<axis>` column is present.
+    pub directions: Option<Vec<Option<Direction>>>,
+    /// Temperature columns by name (`T:<sensor>`), one value per pose.
+    pub temperatures: Vec<(String, Vec<f64>)>,
 }
 
 impl PoseTable {
@@ -21,6 +28,22 @@ impl PoseTable {
 
     pub fn is_empty(&self) -> bool {
         self.lines.is_empty()
+    }
+
+    /// Temperatures of `sensors` (names `T:<sensor>`), `sensors.len()` per pose; an error names a
+    /// sensor without a column.
+    pub fn temperatures_of(&self, sensors: &[String]) -> Result<Vec<f64>, String> {
+        let columns = sensors
+            .iter()
+            .map(|s| {
+                self.temperatures
+                    .iter()
+                    .find(|(n, _)| n == s)
+                    .map(|(_, v)| v)
+                    .ok_or_else(|| format!("missing column `{s}` (degC) needed by the error model"))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok((0..self.len()).flat_map(|i| columns.iter().map(move |c| c[i])).collect())
     }
 
     /// Positions in internal units (mm, rad), `axis_count` per pose.
@@ -62,7 +85,20 @@ pub fn read_poses_from(reader: impl Read, origin: &str, machine: &Machine) -> Re
         })?;
         columns.push(column);
     }
-    let mut table = PoseTable { user: Vec::new(), lines: Vec::new() };
+    let dir_columns: Vec<(usize, usize)> = machine
+        .axes()
+        .iter()
+        .enumerate()
+        .filter_map(|(a, axis)| headers.iter().position(|h| h == format!("dir:{}", axis.letter)).map(|c| (a, c)))
+        .collect();
+    let temperature_columns: Vec<(String, usize)> =
+        headers.iter().enumerate().filter(|(_, h)| h.starts_with("T:") && h.len() > 2).map(|(c, h)| (h.to_string(), c)).collect();
+    let mut table = PoseTable {
+        user: Vec::new(),
+        lines: Vec::new(),
+        directions: (!dir_columns.is_empty()).then(Vec::new),
+        temperatures: temperature_columns.iter().map(|(n, _)| (n.clone(), Vec::new())).collect(),
+    };
     for record in csv.records() {
         let record = record.map_err(|e| invalid(one_line_csv(&e)))?;
         let line = record.position().map_or(0, |p| p.line());
@@ -73,6 +109,32 @@ pub fn read_poses_from(reader: impl Read, origin: &str, machine: &Machine) -> Re
             table.user.push(value);
         }
         machine.check_range(&table.user[start..]).map_err(|m| invalid(format!("line {line}: {m}")))?;
+        if let Some(directions) = table.directions.as_mut() {
+            let mut row = vec![None; machine.axis_count()];
+            for (a, c) in &dir_columns {
+                row[*a] = match &record[*c] {
+                    "+" => Some(Direction::Positive),
+                    "-" => Some(Direction::Negative),
+                    "" | "0" => None,
+                    other => {
+                        return Err(invalid(format!(
+                            "line {line}: column dir:{}: `{other}` is not +, - or empty",
+                            machine.axes()[*a].letter
+                        )))
+                    }
+                };
+            }
+            directions.extend(row);
+        }
+        for ((name, c), (_, values)) in temperature_columns.iter().zip(table.temperatures.iter_mut()) {
+            let text = &record[*c];
+            let t: f64 = text
+                .parse()
+                .ok()
+                .filter(|t: &f64| t.is_finite())
+                .ok_or_else(|| invalid(format!("line {line}: column {name}: `{text}` is not a temperature")))?;
+            values.push(t);
+        }
         table.lines.push(line);
     }
     if table.is_empty() {

@@ -5,6 +5,7 @@
 
 use super::basis::{Basis, BasisSpec};
 use super::function::ErrorFunction;
+use super::model::Direction;
 use super::model::ErrorModel;
 use super::ErrorsError;
 use crate::machine::{one_line, Machine, ParameterId};
@@ -28,6 +29,17 @@ struct ErrorValuesFile {
     /// `[basis.NAME]`: a [`BasisSpec`] and its `coefficients`.
     #[serde(default)]
     basis: BTreeMap<String, toml::Table>,
+    /// `[[term.NAME]]`: product terms (cross-coupling, temperature).
+    #[serde(default)]
+    term: BTreeMap<String, Vec<TermFile>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TermFile {
+    coefficient: f64,
+    /// Axis letters and sensor names (`T:<sensor>`) with their powers.
+    factors: BTreeMap<String, i32>,
 }
 
 #[derive(Deserialize)]
@@ -52,32 +64,61 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
         origin: origin.into(),
         message: format!("[{section}] {name}: {message}"),
     };
-    let id_of = |section: &str, name: &str| ParameterId::parse(name).map_err(|m| invalid(section, name, m));
+    // a name may end in + or - : the function of one direction of motion (seed 000 §3.2.5)
+    let id_of = |section: &str, name: &str| -> Result<(ParameterId, Option<Direction>), ErrorsError> {
+        let (stem, direction) = match name.trim().chars().last() {
+            Some('+') => (&name.trim()[..name.trim().len() - 1], Some(Direction::Positive)),
+            Some('-') => (&name.trim()[..name.trim().len() - 1], Some(Direction::Negative)),
+            _ => (name, None),
+        };
+        Ok((ParameterId::parse(stem).map_err(|m| invalid(section, name, m))?, direction))
+    };
+    let mut set = |section: &str, name: &str, f: Result<ErrorFunction, String>| -> Result<(), ErrorsError> {
+        let (id, direction) = id_of(section, name)?;
+        let f = f.map_err(|m| invalid(section, name, m))?;
+        model.set_directional(machine, id, direction, f).map_err(|m| invalid(section, name, m))
+    };
     for (name, &value) in &file.constant {
-        if !value.is_finite() {
-            return Err(invalid("constant", name, "value must be a finite number".into()));
-        }
-        let id = id_of("constant", name)?;
-        model.set(machine, id, ErrorFunction::Constant(value)).map_err(|m| invalid("constant", name, m))?;
+        let f = if value.is_finite() { Ok(ErrorFunction::Constant(value)) } else { Err("value must be a finite number".to_string()) };
+        set("constant", name, f)?;
     }
     for (name, t) in &file.table {
-        let section = format!("table.{name}");
-        let id = id_of(&section, name)?;
-        let f = ErrorFunction::table(t.position.clone(), t.value.clone(), None).map_err(|m| invalid(&section, name, m))?;
-        model.set(machine, id, f).map_err(|m| invalid(&section, name, m))?;
+        set(&format!("table.{name}"), name, ErrorFunction::table(t.position.clone(), t.value.clone(), None))?;
     }
     for (name, p) in &file.polynomial {
-        let section = format!("polynomial.{name}");
-        let id = id_of(&section, name)?;
-        let f = ErrorFunction::polynomial(p.coefficients.clone()).map_err(|m| invalid(&section, name, m))?;
-        model.set(machine, id, f).map_err(|m| invalid(&section, name, m))?;
+        set(&format!("polynomial.{name}"), name, ErrorFunction::polynomial(p.coefficients.clone()))?;
     }
     for (name, table) in &file.basis {
-        let section = format!("basis.{name}");
-        let id = id_of(&section, name)?;
-        let f = basis_function(table.clone()).map_err(|m| invalid(&section, name, m))?;
-        model.set(machine, id, f).map_err(|m| invalid(&section, name, m))?;
+        set(&format!("basis.{name}"), name, basis_function(table.clone()))?;
     }
+    for (name, terms) in &file.term {
+        let section = format!("term.{name}");
+        let id = ParameterId::parse(name).map_err(|m| invalid(&section, name, m))?;
+        for t in terms {
+            let mut axes = Vec::new();
+            let mut sensors = Vec::new();
+            for (factor, power) in &t.factors {
+                match factor.strip_prefix("T:") {
+                    Some(sensor) if !sensor.is_empty() => sensors.push((factor.as_str(), *power)),
+                    _ => {
+                        let mut chars = factor.chars();
+                        match (chars.next(), chars.next()) {
+                            (Some(c), None) => axes.push((c, *power)),
+                            _ => {
+                                return Err(invalid(
+                                    &section,
+                                    name,
+                                    format!("factor `{factor}` is neither an axis letter nor a sensor `T:<name>`"),
+                                ))
+                            }
+                        }
+                    }
+                }
+            }
+            model.add_term(machine, id, t.coefficient, &axes, &sensors).map_err(|m| invalid(&section, name, m))?;
+        }
+    }
+    model.check_directions().map_err(|m| ErrorsError::Invalid { origin: origin.into(), message: m })?;
     Ok(model)
 }
 

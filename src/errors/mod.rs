@@ -12,7 +12,7 @@ mod write;
 
 pub use basis::{Basis, BasisSpec, PeriodicSpec};
 pub use function::ErrorFunction;
-pub use model::ErrorModel;
+pub use model::{Direction, ErrorModel, MachineState, ProductTerm, REFERENCE_TEMPERATURE};
 pub use quadrature::{gauss_legendre, integrate, legendre};
 pub use write::set_error_function;
 

@@ -1,29 +1,104 @@
 //! Error values bound to a machine: which function gives each parameter, and their evaluation at a
-//! pose into the parameter vector of [`crate::machine::Machine`] (internal units mm, rad).
+//! machine state (axis positions, directions of motion, temperatures) into the parameter vector of
+//! [`crate::machine::Machine`] (internal units mm, rad).
 
 use super::function::ErrorFunction;
 use crate::machine::{AxisKind, Machine, ParameterId};
 
-/// The error state of one machine: a function (or nothing, meaning zero) per parameter.
+/// ISO 1 reference temperature (degC): temperature terms use `T - 20`.
+pub const REFERENCE_TEMPERATURE: f64 = 20.0;
+
+/// Direction of motion of an axis, for bidirectional (backlash, hysteresis) models
+/// (seed 000 §3.2.5: separate models for positive and negative motion).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Direction {
+    Positive,
+    Negative,
+}
+
+impl Direction {
+    /// `+` or `-`.
+    pub fn symbol(self) -> char {
+        match self {
+            Direction::Positive => '+',
+            Direction::Negative => '-',
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+struct Entry {
+    index: usize,
+    id: ParameterId,
+    /// `None` for both directions, or the direction this function holds for.
+    direction: Option<Direction>,
+    function: ErrorFunction,
+    /// The axis whose position a motion error depends on.
+    own_axis: Option<usize>,
+}
+
+/// A product term `coefficient * prod (axis position)^p * prod (T_s - 20 degC)^p` added to a
+/// parameter: cross-coupling (seed 000 eq. 3.19, e.g. `e = b x y`) and position-temperature
+/// products (seed 003 §3.6, e.g. scale expansion `alpha (T - 20) x`). Positions in mm or deg,
+/// the value in um or urad.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProductTerm {
+    pub id: ParameterId,
+    pub coefficient: f64,
+    /// `(axis index, power)`.
+    pub axes: Vec<(usize, i32)>,
+    /// `(sensor index into [`ErrorModel::sensors`], power)`.
+    pub sensors: Vec<(usize, i32)>,
+    index: usize,
+}
+
+/// The state of the machine an error model is evaluated at.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct MachineState<'a> {
+    /// Direction of motion per axis (canonical order), or `None` (at rest / unknown: the mean of the
+    /// two directions is used).
+    pub directions: Option<&'a [Option<Direction>]>,
+    /// Temperatures (degC) of the sensors of [`ErrorModel::sensors`], in that order; empty means the
+    /// reference temperature (20 degC) everywhere.
+    pub temperatures: &'a [f64],
+}
+
+/// The error state of one machine: a function (or nothing, meaning zero) per parameter, plus
+/// product terms.
 #[derive(Clone, Debug)]
 pub struct ErrorModel {
-    /// `(parameter index, id, function)` for every non-zero parameter.
-    entries: Vec<(usize, ParameterId, ErrorFunction)>,
-    /// For each entry, the axis whose position a motion error depends on.
-    own_axis: Vec<Option<usize>>,
+    entries: Vec<Entry>,
+    terms: Vec<ProductTerm>,
+    sensors: Vec<String>,
     parameter_count: usize,
 }
 
 impl ErrorModel {
     /// All errors zero.
     pub fn zero(machine: &Machine) -> ErrorModel {
-        ErrorModel { entries: Vec::new(), own_axis: Vec::new(), parameter_count: machine.parameter_count() }
+        ErrorModel { entries: Vec::new(), terms: Vec::new(), sensors: Vec::new(), parameter_count: machine.parameter_count() }
     }
 
-    /// Sets the function of one parameter. Functions of position are only allowed for motion errors;
-    /// a table over a rotary axis that spans exactly 360 deg is made periodic.
+    /// Sets the function of one parameter for both directions. See [`ErrorModel::set_directional`].
     pub fn set(&mut self, machine: &Machine, id: ParameterId, function: ErrorFunction) -> Result<(), String> {
+        self.set_directional(machine, id, None, function)
+    }
+
+    /// Sets the function of one parameter, for one direction of motion of its axis or for both.
+    /// Functions of position and directions are only allowed for motion errors; a table over a
+    /// rotary axis that spans exactly 360 deg is made periodic.
+    pub fn set_directional(
+        &mut self,
+        machine: &Machine,
+        id: ParameterId,
+        direction: Option<Direction>,
+        function: ErrorFunction,
+    ) -> Result<(), String> {
         let index = machine.parameter_index(&id)?;
+        let motion = matches!(id, ParameterId::Motion { .. });
+        if direction.is_some() && !motion {
+            return Err(format!("{id} is a constant (location or setup error); it has no direction of motion"));
+        }
         let function = match (id, function) {
             (ParameterId::Motion { axis, .. }, ErrorFunction::Table { positions, values, .. }) => {
                 let rotary = machine.axes()[machine.axis_index(axis).expect("checked")].kind == AxisKind::Rotary;
@@ -36,16 +111,70 @@ impl ErrorModel {
                 return Err(format!("{id} is a constant (location or setup error); give it under [constant], not as a table or polynomial"))
             }
         };
-        if self.entries.iter().any(|(i, ..)| *i == index) {
-            return Err(format!("{id} is given more than once"));
+        for e in self.entries.iter().filter(|e| e.index == index) {
+            if e.direction == direction {
+                return Err(format!("{id}{} is given more than once", direction.map_or(String::new(), |d| d.symbol().to_string())));
+            }
+            if e.direction.is_none() || direction.is_none() {
+                return Err(format!("{id} is given both for both directions and for one direction ({id}+ / {id}-)"));
+            }
         }
-        self.entries.push((index, id, function));
-        self.entries.sort_by_key(|(i, ..)| *i);
-        self.own_axis = self
-            .entries
-            .iter()
-            .map(|(_, id, _)| id.axis().filter(|_| matches!(id, ParameterId::Motion { .. })).and_then(|a| machine.axis_index(a)))
-            .collect();
+        let own_axis = if motion { id.axis().and_then(|a| machine.axis_index(a)) } else { None };
+        self.entries.push(Entry { index, id, direction, function, own_axis });
+        self.entries.sort_by_key(|e| (e.index, e.direction.map(|d| d.symbol())));
+        Ok(())
+    }
+
+    /// Adds a product term to parameter `id`: `coefficient` (um or urad per unit of the factors)
+    /// times the axis positions (mm, deg) and sensor temperature deviations `T - 20` (K) raised to
+    /// their powers.
+    pub fn add_term(
+        &mut self,
+        machine: &Machine,
+        id: ParameterId,
+        coefficient: f64,
+        axes: &[(char, i32)],
+        sensors: &[(&str, i32)],
+    ) -> Result<(), String> {
+        let index = machine.parameter_index(&id)?;
+        if !coefficient.is_finite() {
+            return Err("`coefficient` must be a finite number".into());
+        }
+        let mut axis_powers = Vec::new();
+        for (letter, power) in axes {
+            let a = machine.axis_index(*letter).ok_or_else(|| {
+                format!("factor {letter}: machine `{}` has no axis {letter} (axes: {})", machine.name, machine.axis_letters())
+            })?;
+            axis_powers.push((a, *power));
+        }
+        let mut sensor_powers = Vec::new();
+        for (name, power) in sensors {
+            let s = match self.sensors.iter().position(|n| n == name) {
+                Some(s) => s,
+                None => {
+                    self.sensors.push(name.to_string());
+                    self.sensors.len() - 1
+                }
+            };
+            sensor_powers.push((s, *power));
+        }
+        if axis_powers.iter().chain(&sensor_powers).any(|(_, p)| *p < 0 || *p > 8) {
+            return Err("factor powers must be integers from 0 to 8".into());
+        }
+        self.terms.push(ProductTerm { id, coefficient, axes: axis_powers, sensors: sensor_powers, index });
+        Ok(())
+    }
+
+    /// Checks that every one-direction function has its counterpart.
+    pub fn check_directions(&self) -> Result<(), String> {
+        for e in &self.entries {
+            if let Some(d) = e.direction {
+                let other = if d == Direction::Positive { Direction::Negative } else { Direction::Positive };
+                if !self.entries.iter().any(|f| f.index == e.index && f.direction == Some(other)) {
+                    return Err(format!("{}{} is given without {}{}", e.id, d.symbol(), e.id, other.symbol()));
+                }
+            }
+        }
         Ok(())
     }
 
@@ -61,20 +190,62 @@ impl ErrorModel {
         model
     }
 
-    /// The parameters that have a function, with it.
+    /// The parameters that have a function for both directions, with it.
     pub fn entries(&self) -> impl Iterator<Item = (&ParameterId, &ErrorFunction)> {
-        self.entries.iter().map(|(_, id, f)| (id, f))
+        self.entries.iter().filter(|e| e.direction.is_none()).map(|e| (&e.id, &e.function))
     }
 
-    /// Evaluates every parameter at the pose `q` (internal units, canonical axis order) into
-    /// `values` (mm for translations, rad for rotations). Motion errors are evaluated at their own
-    /// axis position in user units (mm, deg).
+    /// Every function with its direction (`None` = both).
+    pub fn directional_entries(&self) -> impl Iterator<Item = (&ParameterId, Option<Direction>, &ErrorFunction)> {
+        self.entries.iter().map(|e| (&e.id, e.direction, &e.function))
+    }
+
+    /// The product terms.
+    pub fn terms(&self) -> &[ProductTerm] {
+        &self.terms
+    }
+
+    /// Names of the temperature sensors the model needs (e.g. `T:spindle`), in the order
+    /// [`MachineState::temperatures`] expects.
+    pub fn sensors(&self) -> &[String] {
+        &self.sensors
+    }
+
+    /// Evaluates every parameter at pose `q` (internal units, canonical axis order), at rest (mean
+    /// of the two directions) and at the reference temperature, into `values` (mm, rad).
     pub fn values_at(&self, machine: &Machine, q: &[f64], values: &mut [f64]) {
+        self.values_at_state(machine, q, &MachineState::default(), values)
+    }
+
+    /// Evaluates every parameter at pose `q` (internal units) and `state` into `values` (mm, rad).
+    /// Motion errors are evaluated at their own axis position in user units (mm, deg); a
+    /// bidirectional function uses the function of the axis's direction of motion, or the mean of the
+    /// two when the direction is unknown.
+    pub fn values_at_state(&self, machine: &Machine, q: &[f64], state: &MachineState, values: &mut [f64]) {
         debug_assert_eq!(values.len(), self.parameter_count);
         values.iter_mut().for_each(|v| *v = 0.0);
-        for ((index, id, function), own_axis) in self.entries.iter().zip(&self.own_axis) {
-            let position = own_axis.map_or(0.0, |axis| machine.axes()[axis].position_to_user(q[axis]));
-            values[*index] = function.evaluate(position) * id.component().to_internal();
+        let user = |axis: usize| machine.axes()[axis].position_to_user(q[axis]);
+        for e in &self.entries {
+            let position = e.own_axis.map_or(0.0, user);
+            let weight = match (e.direction, e.own_axis.and_then(|a| state.directions.and_then(|d| d[a]))) {
+                (None, _) => 1.0,
+                (Some(d), Some(actual)) => f64::from(d == actual),
+                (Some(_), None) => 0.5,
+            };
+            if weight != 0.0 {
+                values[e.index] += weight * e.function.evaluate(position) * e.id.component().to_internal();
+            }
+        }
+        for t in &self.terms {
+            let mut v = t.coefficient;
+            for (axis, power) in &t.axes {
+                v *= user(*axis).powi(*power);
+            }
+            for (sensor, power) in &t.sensors {
+                let temperature = state.temperatures.get(*sensor).copied().unwrap_or(REFERENCE_TEMPERATURE);
+                v *= (temperature - REFERENCE_TEMPERATURE).powi(*power);
+            }
+            values[t.index] += v * t.id.component().to_internal();
         }
     }
 }
@@ -120,5 +291,46 @@ point = [0, 0, 0]
         assert!((v[m.parameter_index(&exx).unwrap()] - 5e-3).abs() < 1e-15, "5 um in mm");
         assert!((v[m.parameter_index(&ecc).unwrap()] - 9e-6).abs() < 1e-12, "9 urad in rad");
         assert!(model.set(&m, exx, ErrorFunction::Constant(1.0)).unwrap_err().contains("more than once"));
+    }
+
+    #[test]
+    fn bidirectional_functions_follow_the_direction_of_motion() {
+        // backlash: EXX+ = +0.4 um, EXX- = -0.4 um; the mean (direction unknown) is zero
+        let m = Machine::from_toml_str(MACHINE, "xc").unwrap();
+        let mut model = ErrorModel::zero(&m);
+        let exx = ParameterId::parse("EXX").unwrap();
+        model.set_directional(&m, exx, Some(Direction::Positive), ErrorFunction::Constant(0.4)).unwrap();
+        assert!(model.check_directions().unwrap_err().contains("EXX+ is given without EXX-"));
+        model.set_directional(&m, exx, Some(Direction::Negative), ErrorFunction::Constant(-0.4)).unwrap();
+        model.check_directions().unwrap();
+        assert!(model.set(&m, exx, ErrorFunction::Constant(1.0)).unwrap_err().contains("both directions"));
+        let i = m.parameter_index(&exx).unwrap();
+        let mut v = vec![0.0; m.parameter_count()];
+        for (dir, want) in [(Some(Direction::Positive), 0.4e-3), (Some(Direction::Negative), -0.4e-3), (None, 0.0)] {
+            let directions = [dir, None];
+            model.values_at_state(&m, &[10.0, 0.0], &MachineState { directions: Some(&directions), temperatures: &[] }, &mut v);
+            assert!((v[i] - want).abs() < 1e-15, "{dir:?}");
+        }
+    }
+
+    #[test]
+    fn product_terms_couple_positions_and_temperatures() {
+        // scale expansion 11.5 um/m/K: EXX += 0.0115 um/(mm K) * x * (T - 20); coupling EYX += 2e-4 x
+        let m = Machine::from_toml_str(MACHINE, "xc").unwrap();
+        let mut model = ErrorModel::zero(&m);
+        let exx = ParameterId::parse("EXX").unwrap();
+        let eyx = ParameterId::parse("EYX").unwrap();
+        model.add_term(&m, exx, 0.0115, &[('X', 1)], &[("T:scale", 1)]).unwrap();
+        model.add_term(&m, eyx, 2e-4, &[('X', 1)], &[]).unwrap();
+        assert_eq!(model.sensors(), &["T:scale".to_string()]);
+        let mut v = vec![0.0; m.parameter_count()];
+        model.values_at_state(&m, &[100.0, 0.0], &MachineState { directions: None, temperatures: &[25.0] }, &mut v);
+        // 0.0115 * 100 mm * 5 K = 5.75 um
+        assert!((v[m.parameter_index(&exx).unwrap()] - 5.75e-3).abs() < 1e-15);
+        assert!((v[m.parameter_index(&eyx).unwrap()] - 0.02e-3).abs() < 1e-15);
+        // at the reference temperature the thermal term vanishes
+        model.values_at(&m, &[100.0, 0.0], &mut v);
+        assert_eq!(v[m.parameter_index(&exx).unwrap()], 0.0);
+        assert!(model.add_term(&m, exx, 1.0, &[('Q', 1)], &[]).unwrap_err().contains("no axis Q"));
     }
 }

@@ -3,7 +3,7 @@
 
 use super::jacobian::{jacobian, JacobianWorkspace, JACOBIAN_ROWS};
 use super::volumetric::{volumetric_error, Frame, Setup, VolumetricError};
-use crate::errors::ErrorModel;
+use crate::errors::{Direction, ErrorModel, MachineState};
 use crate::machine::Machine;
 use rayon::prelude::*;
 
@@ -33,10 +33,35 @@ impl<'a> Predictor<'a> {
     }
 
     /// Exact volumetric errors at many poses: `poses` holds `axis_count` positions (mm, rad) per
-    /// pose, in canonical axis order. Parallel over poses.
+    /// pose, in canonical axis order; at rest and at the reference temperature. Parallel over poses.
     pub fn predict_batch(&self, poses: &[f64]) -> Vec<VolumetricError> {
+        self.predict_states(poses, None, &[])
+    }
+
+    /// As [`Predictor::predict_batch`] with, per pose, the directions of motion (`axis_count` per
+    /// pose) and the temperatures of the model's sensors (`errors.sensors().len()` per pose, degC).
+    pub fn predict_states(&self, poses: &[f64], directions: Option<&[Option<Direction>]>, temperatures: &[f64]) -> Vec<VolumetricError> {
         let n_axes = self.machine.axis_count().max(1);
-        poses.par_chunks(n_axes).map_init(|| vec![0.0; self.machine.parameter_count()], |values, q| self.predict_with(q, values)).collect()
+        let n_sensors = self.errors.sensors().len();
+        poses
+            .par_chunks(n_axes)
+            .enumerate()
+            .map_init(
+                || vec![0.0; self.machine.parameter_count()],
+                |values, (i, q)| {
+                    let state = MachineState {
+                        directions: directions.map(|d| &d[i * n_axes..(i + 1) * n_axes]),
+                        temperatures: if n_sensors > 0 && !temperatures.is_empty() {
+                            &temperatures[i * n_sensors..(i + 1) * n_sensors]
+                        } else {
+                            &[]
+                        },
+                    };
+                    self.errors.values_at_state(self.machine, q, &state, values);
+                    volumetric_error(self.machine, q, values, &self.setup, self.frame)
+                },
+            )
+            .collect()
     }
 }
 
