@@ -1,1 +1,28 @@
 //! Standard evaluations: ISO 230-2 positioning accuracy (later: ISO 230-4 circular tests).
+
+pub mod iso230_2;
+
+use crate::data::DataError;
+use crate::report::ReportError;
+use thiserror::Error;
+
+/// Why an evaluation failed. `Data` and `Invalid` are bad input (the message names the file, line and
+/// the offending value); `NotFinite` is a failed computation (e.g. overflow); `Plot` a failed drawing.
+#[derive(Debug, Error)]
+pub enum EvaluateError {
+    #[error(transparent)]
+    Data(#[from] DataError),
+    #[error("{origin}: {message}")]
+    Invalid { origin: String, message: String },
+    #[error("{0}")]
+    NotFinite(String),
+    #[error(transparent)]
+    Plot(#[from] ReportError),
+}
+
+impl EvaluateError {
+    /// True for errors in the input (exit status 2 in the command line), false for failed computations.
+    pub fn is_input(&self) -> bool {
+        matches!(self, EvaluateError::Data(_) | EvaluateError::Invalid { .. })
+    }
+}

@@ -1,2 +1,51 @@
 //! Measurement equations and reductions of instruments: reversal techniques, scale thermal
 //! expansion (later: 3D ball, lengths, probing).
+//!
+//! - [`reversal`]: straightness with an imperfect test arbor by reversal, parallelism from best-fit
+//!   circle radii, and the flat-face disk reversal for straightness and orthogonality (seed 003
+//!   NISTIR 5236 §3.4, eqs. 3.1-3.8).
+//! - [`scale`]: correction of linear-displacement readings to the 20 degC reference temperature
+//!   (ISO 1) for the thermal expansion of the machine scale or of the reference artefact, and the
+//!   apparent expansion coefficient of a scale from two runs at two temperatures (seed 000 §3.2.4,
+//!   §5.1.1).
+//!
+//! Units at this interface are the user-facing ones of DESIGN.md section 2: positions in mm,
+//! readings and deviations in um, slopes and angles in urad, temperatures in degC, expansion
+//! coefficients in um/m/K (= 1e-6 /K).
+
+pub mod reversal;
+pub mod scale;
+
+pub use reversal::{
+    best_fit_radius, flat_face_reversal, parallelism_urad, straightness_reversal, BestFitLine, BestFitRadii, FlatFaceReversal,
+    ReversalError, ReversalOptions, ReversalStraightness,
+};
+pub use scale::{
+    apparent_expansion_coefficient, correct_to_20c, thermal_expansion_um, uniform_expansion_um, ApparentExpansion, ExpandingBody,
+    ScaleError, ScaleTemperature, ThermalCorrection, ThermalRun, REFERENCE_TEMPERATURE_DEGC,
+};
+
+/// Unweighted least-squares line `y = intercept + slope * x`, returned as `(slope, intercept)`.
+/// `None` when all `x` are equal (no line through them is defined). The caller checks lengths and
+/// finiteness. Centred sums, so that large position offsets do not cost precision.
+pub(crate) fn least_squares_line(x: &[f64], y: &[f64]) -> Option<(f64, f64)> {
+    debug_assert_eq!(x.len(), y.len());
+    let first = *x.first()?;
+    if x.iter().all(|&v| v == first) {
+        return None;
+    }
+    let n = x.len() as f64;
+    let x_mean = x.iter().sum::<f64>() / n;
+    let y_mean = y.iter().sum::<f64>() / n;
+    let (mut sxx, mut sxy) = (0.0, 0.0);
+    for (&xi, &yi) in x.iter().zip(y) {
+        let dx = xi - x_mean;
+        sxx += dx * dx;
+        sxy += dx * (yi - y_mean);
+    }
+    if sxx <= 0.0 {
+        return None;
+    }
+    let slope = sxy / sxx;
+    Some((slope, y_mean - slope * x_mean))
+}

@@ -2,9 +2,11 @@
 
 mod fit_plot;
 mod heatmap;
+mod positioning;
 
 pub use fit_plot::{fit_plot_svg, FitPlot};
 pub use heatmap::{heatmap_svg, MapSlice};
+pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
 
 use thiserror::Error;
 

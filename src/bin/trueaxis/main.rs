@@ -3,6 +3,7 @@
 
 mod demo;
 mod fit;
+mod iso230_2;
 mod predict;
 
 use clap::{Parser, Subcommand};
@@ -26,6 +27,8 @@ struct Cli {
 enum Command {
     Demo(demo::DemoArgs),
     Fit(Box<fit::FitArgs>),
+    #[command(name = "iso230-2")]
+    Iso2302(iso230_2::Iso2302Args),
     Predict(predict::PredictArgs),
 }
 
@@ -49,6 +52,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Demo(args) => demo::run(args),
         Command::Fit(args) => fit::run(*args),
+        Command::Iso2302(args) => iso230_2::run(args),
         Command::Predict(args) => predict::run(args),
     };
     match result {

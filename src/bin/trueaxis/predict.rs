@@ -71,7 +71,8 @@ pub fn run(args: PredictArgs) -> Result<(), Failure> {
         FrameArg::Workpiece => Frame::Workpiece,
         FrameArg::Machine => Frame::Machine,
     };
-    let temperatures = poses.temperatures_of(errors.sensors()).map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", args.poses.display())))?;
+    let temperatures =
+        poses.temperatures_of(errors.sensors()).map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", args.poses.display())))?;
     let predictions = predictor.predict_states(&poses.internal(&machine), poses.directions.as_deref(), &temperatures);
     let text = if args.json {
         let doc = predictions_json(&machine, &poses.user, &predictions, frame_name).map_err(Failure::computation)?;
