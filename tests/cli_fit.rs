@@ -21,11 +21,16 @@ fn generated(x: f64) -> f64 {
     e
 }
 
+/// The fitted EXX of the + direction (`[basis."EXX+"]`).
 fn fitted_exx(errors_file: &std::path::Path) -> impl Fn(f64) -> f64 {
+    fitted_exx_of(errors_file, trueaxis::errors::Direction::Positive)
+}
+
+fn fitted_exx_of(errors_file: &std::path::Path, direction: trueaxis::errors::Direction) -> impl Fn(f64) -> f64 {
     let machine = trueaxis::machine::Machine::load(concat!(env!("CARGO_MANIFEST_DIR"), "/examples/machines/vmc3.toml")).unwrap();
     let model = trueaxis::errors::ErrorModel::load(errors_file, &machine).unwrap();
     let exx = trueaxis::machine::ParameterId::parse("EXX").unwrap();
-    let f = model.entries().find(|(id, _)| **id == exx).unwrap().1.clone();
+    let f = model.directional_entries().find(|(id, d, _)| **id == exx && *d == Some(direction)).unwrap().2.clone();
     move |x| f.evaluate(x)
 }
 
@@ -41,7 +46,7 @@ const FIT: [&str; 12] = [
     "0.9999",
     "--drift",
     "--direction",
-    "+",
+    "both",
 ];
 
 #[test]
@@ -55,7 +60,8 @@ fn fit_with_the_machine_recovers_the_error_with_the_sign_of_a_table_axis() {
     args.extend(["--machine", "examples/machines/vmc3.toml", "--at", "Z=-200", "--errors-out", e, "--plot", p, "--json"]);
     let out = trueaxis(&args);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let both: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc = &both["plus"];
     assert_eq!(doc["parameter"], "EXX");
     assert_eq!(doc["unit"], "um");
     assert_eq!(doc["observations"], 205);
@@ -69,12 +75,22 @@ fn fit_with_the_machine_recovers_the_error_with_the_sign_of_a_table_axis() {
         let want = -(generated(x) - generated(0.0));
         assert!((got - want).abs() < 0.25, "at {x}: {got} vs {want}");
     }
+    // bidirectional: the reading of the + approach is 0.8 um above that of the - approach (the
+    // generated backlash), so EXX+ - EXX- = -0.8 um; tolerance 0.2 um = 4.5 standard uncertainties
+    // of the difference of the two fitted constants (0.03 um each)
+    let exx_minus = fitted_exx_of(&errors, trueaxis::errors::Direction::Negative);
+    for x in [-300.0, 0.0, 300.0] {
+        let b = exx(x) - exx_minus(x);
+        assert!((b + 0.8).abs() < 0.2, "EXX+ - EXX- at {x}: {b}");
+    }
     // the file is still a valid error-values file for predict, with the other errors kept
     let text = std::fs::read_to_string(&errors).unwrap();
-    assert!(text.contains("[basis.EXX]") && text.contains("EC0Y = 12.0"), "{text}");
+    assert!(text.contains("[basis.\"EXX+\"]") && text.contains("[basis.EXX-]") && text.contains("EC0Y = 12.0"), "{text}");
     let pred = trueaxis(&["predict", "--machine", "examples/machines/vmc3.toml", "--errors", e, "--poses", "examples/poses/vmc3.csv"]);
     assert!(pred.status.success(), "{}", String::from_utf8_lossy(&pred.stderr));
-    let svg = std::fs::read_to_string(&plot).unwrap();
+    let svg = std::fs::read_to_string(dir.path().join("exx_plus.svg")).unwrap();
+    assert!(!plot.exists(), "with both directions the plots are exx_plus.svg and exx_minus.svg");
+    assert!(dir.path().join("exx_minus.svg").exists());
     assert!(svg.contains("95 % prediction interval") && svg.contains("EXX (um)"));
 }
 
@@ -146,4 +162,26 @@ fn bad_fit_input_is_refused_with_status_2() {
         assert!(err.contains(fragment), "{args:?}: expected `{fragment}` in {err}");
         assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
     }
+}
+
+#[test]
+fn one_direction_alone_is_refused_with_a_hint_and_no_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let errors = dir.path().join("one.toml");
+    let out = trueaxis(&[
+        "fit",
+        "--data",
+        "examples/data/laser_x.csv",
+        "--parameter",
+        "EXX",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--direction=+",
+        "--errors-out",
+        errors.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("EXX+ is given without EXX-") && stderr.contains("--direction both"), "{stderr}");
+    assert!(!errors.exists(), "nothing may be written");
 }

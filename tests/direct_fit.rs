@@ -204,7 +204,7 @@ fn a_fitted_function_round_trips_through_the_error_values_file() {
     let f = ErrorFunction::basis(b.clone(), coefficients[..b.len()].to_vec()).unwrap();
     let original = "# my machine's errors\n[constant]\nEC0Y = 12.0  # squareness\n[polynomial.EXX]\ncoefficients = [0.0, 0.01]\n";
     let exx = ParameterId::parse("EXX").unwrap();
-    let text = set_error_function(original, &exx, &f).unwrap();
+    let text = set_error_function(original, &exx, None, &f).unwrap();
     assert!(text.contains("# my machine's errors") && text.contains("EC0Y = 12.0  # squareness"), "comments kept:\n{text}");
     assert!(!text.contains("[polynomial.EXX]"), "the old EXX is replaced:\n{text}");
     let model = ErrorModel::from_toml_str(&text, "updated.toml", &machine).unwrap();

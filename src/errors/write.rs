@@ -2,20 +2,37 @@
 //! included) as it was.
 
 use super::function::ErrorFunction;
+use super::model::Direction;
 use crate::machine::ParameterId;
 use toml_edit::{value, Array, ArrayOfTables, DocumentMut, Item, Table};
 
 const SECTIONS: [&str; 4] = ["constant", "table", "polynomial", "basis"];
 
-/// Sets `id` to `function` in the error-values document `text` (empty for a new file): removes the
-/// parameter from every section, then writes it as `[constant]`, `[table.NAME]`, `[polynomial.NAME]`
-/// or `[basis.NAME]`. Returns the new text.
-pub fn set_error_function(text: &str, id: &ParameterId, function: &ErrorFunction) -> Result<String, String> {
+/// Sets `id` to `function` in the error-values document `text` (empty for a new file), as
+/// `[constant]`, `[table.NAME]`, `[polynomial.NAME]` or `[basis.NAME]`, and returns the new text.
+/// With a `direction` the function is that of one direction of motion only (`NAME+` / `NAME-`,
+/// seed 000 §3.2.5): the undirected entry and the entry of the same direction are replaced, the
+/// other direction is kept. Without, every entry of the parameter is replaced.
+pub fn set_error_function(text: &str, id: &ParameterId, direction: Option<Direction>, function: &ErrorFunction) -> Result<String, String> {
     let mut doc: DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| super::super::machine::one_line(&e.to_string()))?;
-    let name = id.to_string();
+    let suffix = |d: Option<Direction>| match d {
+        Some(Direction::Positive) => "+",
+        Some(Direction::Negative) => "-",
+        None => "",
+    };
+    let name = format!("{id}{}", suffix(direction));
+    let replaced = |key: &str| {
+        let key = key.trim();
+        let (stem, own) = match key.chars().last() {
+            Some('+') => (&key[..key.len() - 1], Some(Direction::Positive)),
+            Some('-') => (&key[..key.len() - 1], Some(Direction::Negative)),
+            _ => (key, None),
+        };
+        ParameterId::parse(stem).ok() == Some(*id) && (direction.is_none() || own.is_none() || own == direction)
+    };
     for section in SECTIONS {
         if let Some(table) = doc.get_mut(section).and_then(Item::as_table_like_mut) {
-            let keys: Vec<String> = table.iter().map(|(k, _)| k.to_string()).filter(|k| ParameterId::parse(k).ok() == Some(*id)).collect();
+            let keys: Vec<String> = table.iter().map(|(k, _)| k.to_string()).filter(|k| replaced(k)).collect();
             for k in keys {
                 table.remove(&k);
             }

@@ -3,9 +3,9 @@
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::{write_atomically, CsvTable};
-use trueaxis::errors::{set_error_function, BasisSpec, ErrorModel, PeriodicSpec};
+use trueaxis::errors::{set_error_function, BasisSpec, Direction, ErrorModel, PeriodicSpec};
 use trueaxis::geometry::Vec3;
-use trueaxis::identify::{run_direct_fit, DirectFitRequest, DirectModel, FitOptions, IdentifyError};
+use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, IdentifyError};
 use trueaxis::machine::{AxisKind, Machine, ParameterId};
 use trueaxis::model::Setup;
 
@@ -81,9 +81,10 @@ pub struct FitArgs {
     /// Stepwise selection at this confidence (e.g. 0.9999); default keeps every function.
     #[arg(long)]
     stepwise: Option<f64>,
-    /// Use only the rows of one direction (`+` or `-`; needs a `dir` column).
-    #[arg(long, allow_hyphen_values = true)]
-    direction: Option<char>,
+    /// Bidirectional model (needs a `dir` column): `both` fits the `+` and the `-` rows separately and
+    /// writes `EXX+` and `EXX-`; `+` or `-` fits and writes one direction, keeping the other's.
+    #[arg(long, allow_hyphen_values = true, value_parser = ["+", "-", "both"])]
+    direction: Option<String>,
     /// Remove per-cycle linear drift (needs `run` and `t` columns).
     #[arg(long)]
     drift: bool,
@@ -201,47 +202,103 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
         }
         None => None,
     };
-    let request = DirectFitRequest {
-        model,
-        parameter,
-        position_column,
-        value_column: args.value.clone(),
-        direction: args.direction,
-        remove_drift: args.drift,
-        refine_wavelength: args.refine_wavelength,
-        options: FitOptions { spec, stepwise_level: args.stepwise, prediction_level: 0.95 },
+    let directions: Vec<Option<Direction>> = match args.direction.as_deref() {
+        Some("both") => vec![Some(Direction::Positive), Some(Direction::Negative)],
+        Some("+") => vec![Some(Direction::Positive)],
+        Some("-") => vec![Some(Direction::Negative)],
+        _ => vec![None],
     };
-    let report = run_direct_fit(&table, &request).map_err(|e| match e {
-        IdentifyError::RankDeficient { .. } => Failure::computation(e),
-        other => Failure::input(other),
-    })?;
+    let mut reports = Vec::new();
+    for &direction in &directions {
+        let request = DirectFitRequest {
+            model: model.clone(),
+            parameter,
+            position_column: position_column.clone(),
+            value_column: args.value.clone(),
+            direction: direction.map(direction_symbol),
+            remove_drift: args.drift,
+            refine_wavelength: args.refine_wavelength,
+            options: FitOptions { spec: spec.clone(), stepwise_level: args.stepwise, prediction_level: 0.95 },
+        };
+        let report = run_direct_fit(&table, &request).map_err(|e| match e {
+            IdentifyError::RankDeficient { .. } => Failure::computation(e),
+            other => Failure::input(other),
+        })?;
+        reports.push((direction, report));
+    }
 
+    let mut written = Vec::new();
     if let Some(path) = &args.plot {
         let unit = axis.as_ref().map_or("mm", |a| if a.kind == AxisKind::Rotary { "deg" } else { "mm" });
-        let svg = report.plot_svg(unit).map_err(Failure::computation)?;
-        write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
+        for (direction, report) in &reports {
+            let path = if reports.len() > 1 { plot_path_of_direction(path, direction.map(direction_symbol)) } else { path.clone() };
+            let svg = report.plot_svg(unit).map_err(Failure::computation)?;
+            write_atomically(&path, svg.as_bytes()).map_err(Failure::input)?;
+            written.push(path);
+        }
     }
     if let Some(path) = &args.errors_out {
-        let existing = if path.exists() {
+        let mut text = if path.exists() {
             std::fs::read_to_string(path).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", path.display())))?
         } else {
             String::new()
         };
-        let text = set_error_function(&existing, &parameter, &report.fitted.function)
-            .map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", path.display())))?;
+        for (direction, report) in &reports {
+            text = set_error_function(&text, &parameter, *direction, &report.fitted.function)
+                .map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", path.display())))?;
+        }
         if let Some(m) = &machine {
-            ErrorModel::from_toml_str(&text, &path.display().to_string(), m).map_err(Failure::input)?;
+            ErrorModel::from_toml_str(&text, &path.display().to_string(), m).map_err(|e| {
+                let hint = if directions.len() == 1 && directions[0].is_some() {
+                    " (fit the other direction into the same file too, or use --direction both)"
+                } else {
+                    ""
+                };
+                Failure::input(anyhow::anyhow!("{e}{hint}"))
+            })?;
         }
         write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+        written.insert(0, path.clone());
     }
     if args.json {
-        println!("{}", report.to_json());
+        let docs: Vec<_> = reports.iter().map(|(_, r)| r.to_json()).collect();
+        match docs.as_slice() {
+            [one] => println!("{one}"),
+            _ => println!("{}", serde_json::json!({ "plus": docs[0], "minus": docs[1] })),
+        }
         return Ok(());
     }
+    for (direction, report) in &reports {
+        print_fit(&parameter, *direction, report);
+    }
+    for path in written {
+        println!("  wrote {}", path.display());
+    }
+    Ok(())
+}
+
+fn direction_symbol(d: Direction) -> char {
+    match d {
+        Direction::Positive => '+',
+        Direction::Negative => '-',
+    }
+}
+
+/// `exx.svg` -> `exx_plus.svg` / `exx_minus.svg` when both directions are fitted.
+fn plot_path_of_direction(path: &std::path::Path, direction: Option<char>) -> std::path::PathBuf {
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let tag = if direction == Some('-') { "minus" } else { "plus" };
+    let ext = path.extension().map(|e| format!(".{}", e.to_string_lossy())).unwrap_or_default();
+    path.with_file_name(format!("{stem}_{tag}{ext}"))
+}
+
+/// The readable summary of one fit.
+fn print_fit(parameter: &ParameterId, direction: Option<Direction>, report: &DirectFitReport) {
     let f = &report.fitted;
     let unit = parameter.unit();
+    let suffix = direction.map(|d| direction_symbol(d).to_string()).unwrap_or_default();
     println!(
-        "{parameter}: {} observations, {} functions kept ({} removed by stepwise selection)",
+        "{parameter}{suffix}: {} observations, {} functions kept ({} removed by stepwise selection)",
         report.positions.len(),
         f.names.len(),
         f.removed.len()
@@ -261,8 +318,4 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
     if let Some((p, a)) = report.residual_period {
         println!("  strongest periodic residual: period {p:.4}, amplitude {a:.4} {unit}");
     }
-    for path in args.errors_out.iter().chain(args.plot.iter()) {
-        println!("  wrote {}", path.display());
-    }
-    Ok(())
 }
