@@ -91,7 +91,16 @@ fn interpolate(positions: &[f64], values: &[f64], q: f64) -> f64 {
     if q >= positions[n - 1] {
         return values[n - 1];
     }
-    let i = positions.partition_point(|&p| p <= q) - 1;
+    // the interval is first guessed as if the positions were equally spaced (exact for the usual
+    // tables, so no search), then moved to the one that holds q
+    let guess = ((q - positions[0]) / (positions[n - 1] - positions[0]) * (n - 1) as f64) as usize;
+    let mut i = guess.min(n - 2);
+    while i > 0 && positions[i] > q {
+        i -= 1;
+    }
+    while i < n - 2 && positions[i + 1] <= q {
+        i += 1;
+    }
     let t = (q - positions[i]) / (positions[i + 1] - positions[i]);
     values[i] + t * (values[i + 1] - values[i])
 }
@@ -130,5 +139,24 @@ mod tests {
         assert!(ErrorFunction::table(vec![0.0], vec![0.0], None).is_err());
         assert!(ErrorFunction::table(vec![0.0, f64::NAN], vec![0.0, 1.0], None).is_err());
         assert!(ErrorFunction::polynomial(vec![]).is_err());
+    }
+
+    #[test]
+    fn interpolation_finds_the_interval_of_uneven_tables() {
+        // reference: binary search for the interval
+        let positions = [-3.0, 0.0, 0.5, 10.0, 11.0, 50.0];
+        let values = [1.0, -2.0, 4.0, 0.5, 7.0, -1.0];
+        for k in 0..=1060 {
+            let q = -5.0 + 0.05 * k as f64;
+            let want = if q <= positions[0] {
+                values[0]
+            } else if q >= positions[5] {
+                values[5]
+            } else {
+                let i = positions.partition_point(|&p| p <= q) - 1;
+                values[i] + (q - positions[i]) / (positions[i + 1] - positions[i]) * (values[i + 1] - values[i])
+            };
+            assert!((interpolate(&positions, &values, q) - want).abs() < 1e-12, "q = {q}");
+        }
     }
 }

@@ -46,6 +46,12 @@ impl Pose {
         Pose { rotation: self.rotation * other.rotation, translation: self.rotation * other.translation + self.translation }
     }
 
+    /// Composition with a pure translation, `self * Trans(t)`.
+    #[inline]
+    pub fn then_translation(&self, t: &Vec3) -> Pose {
+        Pose { rotation: self.rotation, translation: self.rotation * t + self.translation }
+    }
+
     /// The inverse HTM `[R^T, -R^T t]` (seed 000 eq. 2.5).
     pub fn inverse(&self) -> Pose {
         let rt = self.rotation.transpose();

@@ -1,7 +1,7 @@
 //! The exact volumetric error between a tool-side point and a workpiece-side point
 //! (DESIGN.md section 2, "Volumetric error").
 
-use super::chain::{actual_chain, nominal_chain};
+use super::chain::nominal_and_actual_chain;
 use crate::geometry::{rotation_log, Mat3, Pose, Vec3};
 use crate::machine::{Component, Machine, SetupSide};
 
@@ -73,21 +73,19 @@ impl Relative {
     }
 }
 
-/// Nominal chain evaluation at `q` (mm, rad).
-pub(crate) fn nominal_relative(machine: &Machine, q: &[f64], setup: &Setup) -> Relative {
-    let tool = nominal_chain(machine, machine.tool_chain(), q, None);
-    let work = nominal_chain(machine, machine.work_chain(), q, None);
-    Relative { tool_point: tool.transform_point(&setup.tool_point), work_point: work.transform_point(&setup.work_point), tool, work }
-}
-
 /// Exact volumetric error at pose `q` (mm, rad) for the parameter vector `params` (mm, rad):
 /// the tool point relative to the workpiece point, actual minus nominal, in `frame`
 /// (DESIGN.md section 2; the matrix form of seed 003 eq. 2.9, `E = T_TOOL^-1 T_WORK`, with the sign
 /// of the tool relative to the workpiece).
 pub fn volumetric_error(machine: &Machine, q: &[f64], params: &[f64], setup: &Setup, frame: Frame) -> VolumetricError {
-    let nominal = nominal_relative(machine, q, setup);
-    let tool = actual_chain(machine, machine.tool_chain(), q, params);
-    let work = actual_chain(machine, machine.work_chain(), q, params);
+    let (tool_nominal, tool) = nominal_and_actual_chain(machine, machine.tool_chain(), q, params);
+    let (work_nominal, work) = nominal_and_actual_chain(machine, machine.work_chain(), q, params);
+    let nominal = Relative {
+        tool_point: tool_nominal.transform_point(&setup.tool_point),
+        work_point: work_nominal.transform_point(&setup.work_point),
+        tool: tool_nominal,
+        work: work_nominal,
+    };
     let setup_offset = |side: SetupSide| {
         let i = machine.setup_index(side, Component::X);
         Vec3::new(params[i], params[i + 1], params[i + 2])
