@@ -1,4 +1,6 @@
-//! Plots (SVG) and, later, the HTML report.
+//! Plots (SVG) and the self-contained HTML report.
+
+pub mod html;
 
 mod fit_plot;
 mod heatmap;

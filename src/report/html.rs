@@ -1,0 +1,204 @@
+//! A self-contained HTML report: inline SVG figures, tables and text, no script and no network
+//! access, with print styles so that "Print to PDF" gives a document to hand to a customer.
+
+use std::fmt::Write;
+
+/// One block of a section.
+#[derive(Clone, Debug)]
+pub enum Block {
+    /// A paragraph of plain text (escaped).
+    Paragraph(String),
+    /// A highlighted remark (e.g. an identifiability warning), plain text.
+    Note(String),
+    /// A table with a caption, a header row and body rows (plain text cells, escaped).
+    Table { caption: String, header: Vec<String>, rows: Vec<Vec<String>> },
+    /// An SVG document (as written by the `report` plots) shown inline, with a caption.
+    Figure { caption: String, svg: String },
+    /// A preformatted block (e.g. a command line), escaped.
+    Code(String),
+}
+
+/// A titled section with an anchor for the table of contents.
+#[derive(Clone, Debug)]
+pub struct Section {
+    pub id: String,
+    pub title: String,
+    pub blocks: Vec<Block>,
+}
+
+impl Section {
+    pub fn new(id: &str, title: &str) -> Section {
+        Section { id: id.into(), title: title.into(), blocks: Vec::new() }
+    }
+
+    pub fn paragraph(mut self, text: impl Into<String>) -> Section {
+        self.blocks.push(Block::Paragraph(text.into()));
+        self
+    }
+
+    pub fn note(mut self, text: impl Into<String>) -> Section {
+        self.blocks.push(Block::Note(text.into()));
+        self
+    }
+
+    pub fn table(mut self, caption: impl Into<String>, header: &[&str], rows: Vec<Vec<String>>) -> Section {
+        self.blocks.push(Block::Table { caption: caption.into(), header: header.iter().map(|h| h.to_string()).collect(), rows });
+        self
+    }
+
+    pub fn figure(mut self, caption: impl Into<String>, svg: impl Into<String>) -> Section {
+        self.blocks.push(Block::Figure { caption: caption.into(), svg: svg.into() });
+        self
+    }
+
+    pub fn code(mut self, text: impl Into<String>) -> Section {
+        self.blocks.push(Block::Code(text.into()));
+        self
+    }
+}
+
+/// The whole report.
+#[derive(Clone, Debug)]
+pub struct HtmlReport {
+    pub title: String,
+    /// One line under the title: machine, date, software version.
+    pub subtitle: String,
+    pub sections: Vec<Section>,
+}
+
+const STYLE: &str = "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
+h1{font-size:1.6em;margin-bottom:0.2em}h2{font-size:1.25em;border-bottom:1px solid #bbb;padding-bottom:0.2em;margin-top:2em}\
+.subtitle{color:#555}nav ol{columns:2}table{border-collapse:collapse;margin:0.8em 0;font-size:0.9em}\
+caption{text-align:left;font-weight:bold;padding-bottom:0.3em}th,td{border:1px solid #ccc;padding:0.2em 0.6em}\
+th{background:#f0f0f0}td.num{text-align:right;font-variant-numeric:tabular-nums}\
+figure{margin:1em 0;page-break-inside:avoid;break-inside:avoid}figure svg{max-width:100%;height:auto}\
+figcaption{font-size:0.9em;color:#444}.note{border-left:4px solid #d9822b;background:#fff6ec;padding:0.5em 0.8em}\
+pre{background:#f6f6f6;padding:0.6em;overflow-x:auto}@media print{body{max-width:none;margin:0}nav{display:none}\
+h2{page-break-after:avoid;break-after:avoid}table{page-break-inside:avoid;break-inside:avoid}}";
+
+impl HtmlReport {
+    /// The complete HTML document.
+    pub fn to_html(&self) -> String {
+        let mut out = String::with_capacity(1 << 16);
+        let _ = write!(
+            out,
+            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n",
+            escape(&self.title)
+        );
+        let _ = writeln!(out, "<h1>{}</h1>\n<p class=\"subtitle\">{}</p>", escape(&self.title), escape(&self.subtitle));
+        out.push_str("<nav><ol>\n");
+        for s in &self.sections {
+            let _ = writeln!(out, "<li><a href=\"#{}\">{}</a></li>", escape(&s.id), escape(&s.title));
+        }
+        out.push_str("</ol></nav>\n");
+        for s in &self.sections {
+            let _ = writeln!(out, "<section id=\"{}\">\n<h2>{}</h2>", escape(&s.id), escape(&s.title));
+            for b in &s.blocks {
+                write_block(&mut out, b);
+            }
+            out.push_str("</section>\n");
+        }
+        out.push_str("</body>\n</html>\n");
+        out
+    }
+}
+
+fn write_block(out: &mut String, block: &Block) {
+    match block {
+        Block::Paragraph(t) => {
+            let _ = writeln!(out, "<p>{}</p>", escape(t));
+        }
+        Block::Note(t) => {
+            let _ = writeln!(out, "<p class=\"note\">{}</p>", escape(t));
+        }
+        Block::Code(t) => {
+            let _ = writeln!(out, "<pre>{}</pre>", escape(t));
+        }
+        Block::Table { caption, header, rows } => {
+            let _ = write!(out, "<table>\n<caption>{}</caption>\n<thead><tr>", escape(caption));
+            for h in header {
+                let _ = write!(out, "<th>{}</th>", escape(h));
+            }
+            out.push_str("</tr></thead>\n<tbody>\n");
+            for row in rows {
+                out.push_str("<tr>");
+                for cell in row {
+                    let class = if looks_numeric(cell) { " class=\"num\"" } else { "" };
+                    let _ = write!(out, "<td{class}>{}</td>", escape(cell));
+                }
+                out.push_str("</tr>\n");
+            }
+            out.push_str("</tbody>\n</table>\n");
+        }
+        Block::Figure { caption, svg } => {
+            let _ = writeln!(out, "<figure>\n{}\n<figcaption>{}</figcaption>\n</figure>", inline_svg(svg), escape(caption));
+        }
+    }
+}
+
+/// An SVG document made fit for inline use: the XML declaration and doctype removed, and a
+/// `viewBox` added from `width`/`height` when missing so that the figure scales with the page.
+pub fn inline_svg(svg: &str) -> String {
+    let start = svg.find("<svg").unwrap_or(0);
+    let body = svg[start..].trim_end();
+    let Some(tag_end) = body.find('>') else { return body.to_string() };
+    let tag = &body[..tag_end];
+    if tag.contains("viewBox") {
+        return body.to_string();
+    }
+    let attribute = |name: &str| -> Option<f64> {
+        let key = format!(" {name}=\"");
+        let i = tag.find(&key)? + key.len();
+        let j = tag[i..].find('"')? + i;
+        tag[i..j].trim_end_matches("px").parse().ok()
+    };
+    match (attribute("width"), attribute("height")) {
+        (Some(w), Some(h)) => format!("{tag} viewBox=\"0 0 {w} {h}\"{}", &body[tag_end..]),
+        _ => body.to_string(),
+    }
+}
+
+/// HTML text escaping of `& < > "`.
+pub fn escape(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            _ => out.push(c),
+        }
+    }
+    out
+}
+
+fn looks_numeric(cell: &str) -> bool {
+    let t = cell.trim().trim_start_matches(['+', '-', '\u{2212}']);
+    !t.is_empty() && t.chars().next().is_some_and(|c| c.is_ascii_digit()) && t.parse::<f64>().is_ok()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn report_is_escaped_and_svg_inlined_with_a_view_box() {
+        let svg = "<?xml version=\"1.0\"?>\n<svg width=\"400\" height=\"300\" xmlns=\"http://www.w3.org/2000/svg\"><rect/></svg>\n";
+        let r = HtmlReport {
+            title: "A <b> & C".into(),
+            subtitle: "s".into(),
+            sections: vec![Section::new("one", "One")
+                .paragraph("x < y")
+                .table("t", &["a", "b"], vec![vec!["1.5".into(), "EX0C".into()]])
+                .figure("f", svg)],
+        };
+        let html = r.to_html();
+        assert!(html.contains("<title>A &lt;b&gt; &amp; C</title>"));
+        assert!(html.contains("<p>x &lt; y</p>"));
+        assert!(html.contains("<td class=\"num\">1.5</td><td>EX0C</td>"));
+        assert!(html.contains("<svg width=\"400\" height=\"300\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 400 300\"><rect/></svg>"));
+        assert!(!html.contains("<?xml"));
+        assert!(html.contains("<a href=\"#one\">One</a>"));
+    }
+}
