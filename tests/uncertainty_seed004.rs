@@ -117,8 +117,8 @@ fn seed_004_statistical_versus_cyclic_drift() {
     assert_eq!(map.design.observations(), 3 * 807);
     assert!(map.condition_number < 200.0, "condition number {}", map.condition_number);
     let s = settings();
-    let stat = run_budget(&map, &sources(false), &s, Evaluation::Reduced, &mut |_, _, _| {}).unwrap();
-    let cyc = run_budget(&map, &sources(true), &s, Evaluation::Reduced, &mut |_, _, _| {}).unwrap();
+    let stat = run_budget(&map, &sources(false), &s, Evaluation::Reduced, true, &mut |_, _, _| {}).unwrap();
+    let cyc = run_budget(&map, &sources(true), &s, Evaluation::Reduced, true, &mut |_, _, _| {}).unwrap();
     let k = stat.gum_coverage_factor;
     for j in 0..14 {
         let (st, cy) = (&stat.total.outputs[j], &cyc.total.outputs[j]);
@@ -211,3 +211,14 @@ fn iso_names_of_the_example_error_file_are_not_all_identifiable_from_one_ball() 
 }
 
 
+
+#[test]
+fn shipped_example_design_is_this_design() {
+    // examples/uncertainty/kx8five_design.csv holds this design rounded to 1e-6
+    let shipped = DesignMatrix::read_csv("examples/uncertainty/kx8five_design.csv").unwrap();
+    let built = kx8five_design();
+    assert_eq!(shipped.parameters, built.parameters);
+    assert_eq!(shipped.channel, built.channel);
+    assert!(shipped.time.iter().zip(&built.time).all(|(a, b)| (a - b).abs() < 1e-12));
+    assert!((&shipped.x - &built.x).abs().max() < 5.1e-7);
+}

@@ -14,9 +14,10 @@ use nalgebra::DMatrix;
 pub struct BudgetRow {
     pub parameter: String,
     pub unit: String,
-    /// Width of the coverage interval with each source alone (parameter unit), in source order.
+    /// Width of the coverage interval with each source alone (parameter unit), in source order;
+    /// empty when the sources were not run alone.
     pub widths: Vec<f64>,
-    /// `sqrt(sum width^2)`.
+    /// `sqrt(sum width^2)` (0 when `widths` is empty).
     pub rss: f64,
     /// Width with all sources together.
     pub total: f64,
@@ -45,13 +46,14 @@ pub struct Budget {
 /// A stage of the budget for progress reports: the source run alone, or `None` for all together.
 pub type Stage<'a> = Option<&'a str>;
 
-/// Runs the adaptive Monte Carlo for each source alone (when there are several) and for all
-/// sources together, with the same settings, and assembles seed 004 Table 5.
+/// Runs the adaptive Monte Carlo for each source alone (when there are several and `alone` is
+/// set) and for all sources together, with the same settings, and assembles seed 004 Table 5.
 pub fn run_budget(
     map: &IdentificationMap,
     sources: &[Source],
     settings: &McSettings,
     evaluation: Evaluation,
+    alone: bool,
     progress: &mut dyn FnMut(Stage, usize, Option<&ControlVariables>),
 ) -> Result<Budget, UncertaintyError> {
     if sources.is_empty() {
@@ -63,7 +65,7 @@ pub fn run_budget(
         IntervalKind::Shortest => r.outputs[j].shortest.width(),
     };
     let mut per_source = Vec::new();
-    if sources.len() > 1 {
+    if alone && sources.len() > 1 {
         for s in sources {
             let model = map.model(&[s], evaluation)?;
             per_source.push(run_adaptive(&model, settings, &mut |h, c| progress(Some(&s.name), h, c))?);
@@ -74,7 +76,9 @@ pub fn run_budget(
     let n = map.parameter_count();
     let gum_covariance = gum_each.iter().fold(DMatrix::zeros(n, n), |acc, c| acc + c);
     let alone = |j: usize| -> Vec<f64> {
-        if per_source.is_empty() {
+        if !alone {
+            Vec::new()
+        } else if per_source.is_empty() {
             vec![width(&total, j)]
         } else {
             per_source.iter().map(|r| width(r, j)).collect()
