@@ -98,7 +98,10 @@ fn bad_input_exits_2_with_one_line_naming_the_problem() {
         (design.clone(), write("s7.toml", "seed = 1\n"), "no [[source]] given"),
         (
             design.clone(),
-            write("s8.toml", "[[source]]\nname = \"d\"\nkind = \"drift_cyclic\"\nperiod_s = 10\nchannels.x = { peak_to_valley = 1, samples = [1, 2] }\n"),
+            write(
+                "s8.toml",
+                "[[source]]\nname = \"d\"\nkind = \"drift_cyclic\"\nperiod_s = 10\nchannels.x = { peak_to_valley = 1, samples = [1, 2] }\n",
+            ),
             "give exactly one of",
         ),
         ("missing.csv".to_string(), write("s9.toml", good), "missing.csv"),

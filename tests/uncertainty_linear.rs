@@ -4,8 +4,9 @@
 use nalgebra::{DMatrix, DVector};
 use rand_chacha::ChaCha8Rng;
 use trueaxis::uncertainty::{
-    confidence_ellipsoid, propagate, Ellipsoid, run_adaptive, run_sequences, CyclicDrift, DesignMatrix, Distribution, Evaluation, IdentificationMap,
-    McResult, McSettings, MultivariateNormal, PeriodicDrift, Source, SourceKind, StartPhase, TrialModel, UncertaintyError,
+    confidence_ellipsoid, propagate, run_adaptive, run_sequences, CyclicDrift, DesignMatrix, Distribution, Ellipsoid, Evaluation,
+    IdentificationMap, McResult, McSettings, MultivariateNormal, PeriodicDrift, Source, SourceKind, StartPhase, TrialModel,
+    UncertaintyError,
 };
 
 /// 40 poses x 3 channels, 4 parameters: a small "3D ball" design with lever arms and times
@@ -41,11 +42,7 @@ fn noise(name: &str, channels: &[(&str, Distribution)]) -> Source {
 fn cyclic(start_phase: StartPhase) -> Source {
     let x = PeriodicDrift::harmonics(37.0, &[(2.0, 10.0), (0.7, 80.0)]).unwrap();
     let y = PeriodicDrift::sine(37.0, 1.5, -40.0).unwrap();
-    let kind = SourceKind::CyclicDrift(CyclicDrift {
-        channels: vec![("x".into(), x), ("y".into(), y)],
-        run_duration: None,
-        start_phase,
-    });
+    let kind = SourceKind::CyclicDrift(CyclicDrift { channels: vec![("x".into(), x), ("y".into(), y)], run_duration: None, start_phase });
     Source { name: "drift".into(), kind }
 }
 
@@ -132,7 +129,12 @@ fn reduced_and_per_observation_paths_give_the_same_distribution() {
     assert!(reduced.converged && per_obs.converged);
     for (j, (a, b)) in reduced.outputs.iter().zip(&per_obs.outputs).enumerate() {
         // each result is within delta/2 (one standard deviation) of its limit: 3 delta is > 4 sigma
-        for (x, y) in [(a.mean, b.mean), (a.std_uncertainty, b.std_uncertainty), (a.symmetric.low, b.symmetric.low), (a.symmetric.high, b.symmetric.high)] {
+        for (x, y) in [
+            (a.mean, b.mean),
+            (a.std_uncertainty, b.std_uncertainty),
+            (a.symmetric.low, b.symmetric.low),
+            (a.symmetric.high, b.symmetric.high),
+        ] {
             assert!((x - y).abs() < 3.0 * delta, "parameter {j}: {x} vs {y}");
         }
     }
@@ -286,4 +288,3 @@ fn bad_designs_and_sources_are_reported() {
     let err = DesignMatrix::from_csv_reader("channel,t,a,b\nx,0,1,2\nx,1,zz,2\nx,2,1,3\n".as_bytes(), "d.csv").unwrap_err();
     assert!(err.to_string().contains("d.csv: line 3: column a: `zz`"), "{err}");
 }
-

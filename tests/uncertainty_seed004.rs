@@ -11,8 +11,8 @@ use trueaxis::geometry::Vec3;
 use trueaxis::machine::Machine;
 use trueaxis::model::{jacobian_batch, nominal_chain, Frame, Setup, JACOBIAN_ROWS};
 use trueaxis::uncertainty::{
-    run_adaptive, run_budget, CyclicDrift, DesignMatrix, Distribution, Evaluation, IdentificationMap, McSettings, PeriodicDrift, Source, SourceKind,
-    StartPhase,
+    run_adaptive, run_budget, CyclicDrift, DesignMatrix, Distribution, Evaluation, IdentificationMap, McSettings, PeriodicDrift, Source,
+    SourceKind, StartPhase,
 };
 
 /// The 14 parameters of seed 004 eq. 1 with ISO names: the 8 link errors (tilts of A and the C
@@ -92,7 +92,8 @@ const PERIOD: f64 = 1000.0;
 
 fn sources(cyclic: bool) -> Vec<Source> {
     let drift = if cyclic {
-        let channels = ["x", "y", "z"].iter().zip(E_VE).map(|(c, e)| (c.to_string(), PeriodicDrift::sine(PERIOD, e, 0.0).unwrap())).collect();
+        let channels =
+            ["x", "y", "z"].iter().zip(E_VE).map(|(c, e)| (c.to_string(), PeriodicDrift::sine(PERIOD, e, 0.0).unwrap())).collect();
         SourceKind::CyclicDrift(CyclicDrift { channels, run_duration: None, start_phase: StartPhase::Sequence })
     } else {
         SourceKind::StatisticalDrift { channels: ["x", "y", "z"].iter().zip(E_VE).map(|(c, e)| (c.to_string(), e)).collect() }
@@ -120,9 +121,8 @@ fn seed_004_statistical_versus_cyclic_drift() {
     let stat = run_budget(&map, &sources(false), &s, Evaluation::Reduced, true, &mut |_, _, _| {}).unwrap();
     let cyc = run_budget(&map, &sources(true), &s, Evaluation::Reduced, true, &mut |_, _, _| {}).unwrap();
     let k = stat.gum_coverage_factor;
-    for j in 0..14 {
+    for (j, name) in PARAMETERS.iter().enumerate() {
         let (st, cy) = (&stat.total.outputs[j], &cyc.total.outputs[j]);
-        let name = PARAMETERS[j];
         eprintln!(
             "{name}: statistical width {:.3} (u {:.3}, kurt {:.3}) cyclic width {:.3} (u {:.3}, kurt {:.3}, half/u {:.3}); budget drift {:.3} sensors {:.3} trans {:.3} rss {:.3} total {:.3}",
             st.symmetric.width(),
@@ -202,15 +202,17 @@ fn iso_names_of_the_example_error_file_are_not_all_identifiable_from_one_ball() 
     // EY0C. With A tilted 45 deg in the Y-Z plane, EB0A and EC0A together hold a zero offset of A,
     // which for one ball is a tilt of C plus a workpiece shift; and EY0C's part along A is a
     // translation (user guide). The test set uses EA0A and EX0C instead (both normal to A).
-    let err = IdentificationMap::new(design_with(&["EC0Y", "EA0Z", "EB0Z", "EB0A", "EC0A", "EA0C", "EB0C", "EX0C", "TX", "TY", "TZ", "WX", "WY", "WZ"]))
-        .unwrap_err();
+    let err = IdentificationMap::new(design_with(&[
+        "EC0Y", "EA0Z", "EB0Z", "EB0A", "EC0A", "EA0C", "EB0C", "EX0C", "TX", "TY", "TZ", "WX", "WY", "WZ",
+    ]))
+    .unwrap_err();
     assert!(err.to_string().contains("cannot be separated") && err.to_string().contains("EB0A, EC0A, EB0C"), "{err}");
-    let err = IdentificationMap::new(design_with(&["EC0Y", "EA0Z", "EB0Z", "EB0A", "EA0A", "EA0C", "EB0C", "EY0C", "TX", "TY", "TZ", "WX", "WY", "WZ"]))
-        .unwrap_err();
+    let err = IdentificationMap::new(design_with(&[
+        "EC0Y", "EA0Z", "EB0Z", "EB0A", "EA0A", "EA0C", "EB0C", "EY0C", "TX", "TY", "TZ", "WX", "WY", "WZ",
+    ]))
+    .unwrap_err();
     assert!(err.to_string().contains("WZ cannot be separated from EY0C, TY, TZ"), "{err}");
 }
-
-
 
 #[test]
 fn shipped_example_design_is_this_design() {

@@ -49,7 +49,11 @@ pub fn histograms_svg(title: &str, panels: &[HistogramPanel], bins: usize) -> Re
     Ok(svg)
 }
 
-fn panel_chart<DB: DrawingBackend>(area: &DrawingArea<DB, plotters::coord::Shift>, panel: &HistogramPanel, bins: usize) -> Result<(), ReportError>
+fn panel_chart<DB: DrawingBackend>(
+    area: &DrawingArea<DB, plotters::coord::Shift>,
+    panel: &HistogramPanel,
+    bins: usize,
+) -> Result<(), ReportError>
 where
     DB::ErrorType: 'static,
 {
@@ -63,12 +67,7 @@ where
     let n = panel.values.len() as f64;
     let density: Vec<f64> = counts.iter().map(|c| *c as f64 / (n * width)).collect();
     let gauss = |x: f64, (m, u): (f64, f64)| (-0.5 * ((x - m) / u).powi(2)).exp() / (u * (2.0 * std::f64::consts::PI).sqrt());
-    let top = density
-        .iter()
-        .copied()
-        .chain(panel.gaussian.filter(|g| g.1 > 0.0).map(|g| gauss(g.0, g)))
-        .fold(0.0, f64::max)
-        * 1.1;
+    let top = density.iter().copied().chain(panel.gaussian.filter(|g| g.1 > 0.0).map(|g| gauss(g.0, g))).fold(0.0, f64::max) * 1.1;
     let mut chart = ChartBuilder::on(area)
         .caption(&panel.title, ("sans-serif", 14))
         .margin(8)

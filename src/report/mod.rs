@@ -2,13 +2,13 @@
 
 mod fit_plot;
 mod heatmap;
-mod positioning;
 mod histogram;
+mod positioning;
 
 pub use fit_plot::{fit_plot_svg, FitPlot};
 pub use heatmap::{heatmap_svg, MapSlice};
-pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
 pub use histogram::{convergence_svg, histograms_svg, ConvergenceSeries, HistogramPanel};
+pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
 
 use thiserror::Error;
 

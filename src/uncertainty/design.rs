@@ -114,7 +114,8 @@ impl DesignMatrix {
     pub fn from_csv_reader(reader: impl std::io::Read, origin: &str) -> Result<DesignMatrix, UncertaintyError> {
         let fail = |m: String| UncertaintyError::Input(format!("{origin}: {m}"));
         let mut csv = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(reader);
-        let headers: Vec<String> = csv.headers().map_err(|e| fail(format!("cannot read the header line: {e}")))?.iter().map(String::from).collect();
+        let headers: Vec<String> =
+            csv.headers().map_err(|e| fail(format!("cannot read the header line: {e}")))?.iter().map(String::from).collect();
         let column = |name: &str| headers.iter().position(|h| h == name);
         let (Some(i_channel), Some(i_t)) = (column("channel"), column("t")) else {
             return Err(fail(format!("the header needs the columns `channel` and `t`; it has: {}", headers.join(","))));

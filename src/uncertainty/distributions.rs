@@ -53,7 +53,9 @@ impl Distribution {
         }
         match self {
             Distribution::Normal { u, .. } if u < 0.0 => bad("a standard uncertainty cannot be negative"),
-            Distribution::Rectangular { low, high } | Distribution::Arcsine { low, high } if high < low => bad("high must not be below low"),
+            Distribution::Rectangular { low, high } | Distribution::Arcsine { low, high } if high < low => {
+                bad("high must not be below low")
+            }
             Distribution::Triangular { low, mode, high } if !(low <= mode && mode <= high) => bad("need low <= mode <= high"),
             Distribution::StudentT { scale, dof, .. } if scale < 0.0 || dof <= 2.0 => {
                 bad("a Student t input needs scale >= 0 and more than 2 degrees of freedom (finite variance)")
@@ -77,7 +79,9 @@ impl Distribution {
             Distribution::Normal { u, .. } => u,
             Distribution::Rectangular { low, high } => (high - low) / (2.0 * 3f64.sqrt()),
             Distribution::Arcsine { low, high } => (high - low) / (2.0 * 2f64.sqrt()),
-            Distribution::Triangular { low: a, mode: c, high: b } => ((a * a + b * b + c * c - a * b - a * c - b * c) / 18.0).max(0.0).sqrt(),
+            Distribution::Triangular { low: a, mode: c, high: b } => {
+                ((a * a + b * b + c * c - a * b - a * c - b * c) / 18.0).max(0.0).sqrt()
+            }
             Distribution::StudentT { scale, dof, .. } => scale * (dof / (dof - 2.0)).sqrt(),
         }
     }

@@ -107,10 +107,15 @@ impl PeriodicDrift {
     /// `D(t)` in um at time `t` in s.
     pub fn value(&self, t: f64) -> f64 {
         let w = self.omega() * t;
-        self.cos.iter().zip(&self.sin).enumerate().map(|(i, (a, b))| {
-            let kw = (i + 1) as f64 * w;
-            a * kw.cos() + b * kw.sin()
-        }).sum()
+        self.cos
+            .iter()
+            .zip(&self.sin)
+            .enumerate()
+            .map(|(i, (a, b))| {
+                let kw = (i + 1) as f64 * w;
+                a * kw.cos() + b * kw.sin()
+            })
+            .sum()
     }
 
     /// Variance of `D` at a uniformly random time: `sum_k (a_k^2 + b_k^2) / 2`.

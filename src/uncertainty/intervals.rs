@@ -27,7 +27,7 @@ pub fn coverage_count(m: usize, p: f64) -> usize {
 pub fn symmetric_interval(sorted: &[f64], p: f64) -> CoverageInterval {
     let m = sorted.len();
     let q = coverage_count(m, p);
-    let r = ((m - q + 1) / 2).clamp(1, m - q);
+    let r = (m - q).div_ceil(2).clamp(1, m - q);
     CoverageInterval { low: sorted[r - 1], high: sorted[r + q - 1] }
 }
 

@@ -163,7 +163,10 @@ impl IdentificationMap {
 #[derive(Clone, Debug)]
 enum CompiledSource {
     /// An independent draw per observation (`None`: the source does not act on it).
-    PerObservation { rows: Vec<Option<Distribution>>, all_normal: bool },
+    PerObservation {
+        rows: Vec<Option<Distribution>>,
+        all_normal: bool,
+    },
     Cyclic(CyclicMap),
 }
 
@@ -190,9 +193,9 @@ impl CompiledSource {
     fn new(map: &IdentificationMap, source: &Source) -> Result<CompiledSource, UncertaintyError> {
         let design = &map.design;
         let channel_of = |name: &str| {
-            design.channel_index(name).ok_or_else(|| {
-                UncertaintyError::Input(format!("source `{}`: channel `{name}` is not in the design", source.name))
-            })
+            design
+                .channel_index(name)
+                .ok_or_else(|| UncertaintyError::Input(format!("source `{}`: channel `{name}` is not in the design", source.name)))
         };
         let per_channel = |list: Vec<(usize, Distribution)>| {
             let rows: Vec<Option<Distribution>> =
@@ -285,22 +288,18 @@ impl<'a> LinearModel<'a> {
         let mut constant = map.estimate.clone();
         let mut gaussian = None;
         if evaluation == Evaluation::Reduced {
-            let mut cov = DMatrix::zeros(n, n);
-            let mut any = false;
-            for (source, c) in sources.iter().zip(&compiled) {
-                if let CompiledSource::PerObservation { all_normal: true, .. } = c {
-                    cov += map.gum_covariance(source)?;
-                    any = true;
-                }
-            }
-            let normal_sources: Vec<&Source> = sources
+            let normal: Vec<&Source> = sources
                 .iter()
                 .zip(&compiled)
                 .filter(|(_, c)| matches!(c, CompiledSource::PerObservation { all_normal: true, .. }))
                 .map(|(s, _)| *s)
                 .collect();
-            constant = map.gum_estimate(&normal_sources)?;
-            if any {
+            constant = map.gum_estimate(&normal)?;
+            if !normal.is_empty() {
+                let mut cov = DMatrix::zeros(n, n);
+                for s in &normal {
+                    cov += map.gum_covariance(s)?;
+                }
                 gaussian = Some(MultivariateNormal::new(DVector::zeros(n), &cov)?);
             }
         }

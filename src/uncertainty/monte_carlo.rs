@@ -7,7 +7,7 @@
 //! `block = i / BLOCK`; blocks run in parallel (rayon) into fixed slots and every sum runs in a
 //! fixed order, so a seed gives the same result on any number of threads.
 
-use super::intervals::{symmetric_interval, shortest_interval, SampleSummary};
+use super::intervals::{shortest_interval, symmetric_interval, SampleSummary};
 use super::UncertaintyError;
 use nalgebra::DMatrix;
 use rand::SeedableRng;

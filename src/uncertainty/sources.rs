@@ -103,9 +103,21 @@ enum RawInterval {
 #[derive(Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 enum RawSource {
-    Noise { name: String, channels: BTreeMap<String, RawDistribution> },
-    DriftStatistical { name: String, e_ve: BTreeMap<String, f64> },
-    DriftCyclic { name: String, period_s: f64, run_duration_s: Option<f64>, start_phase: Option<StartPhase>, channels: BTreeMap<String, RawCycle> },
+    Noise {
+        name: String,
+        channels: BTreeMap<String, RawDistribution>,
+    },
+    DriftStatistical {
+        name: String,
+        e_ve: BTreeMap<String, f64>,
+    },
+    DriftCyclic {
+        name: String,
+        period_s: f64,
+        run_duration_s: Option<f64>,
+        start_phase: Option<StartPhase>,
+        channels: BTreeMap<String, RawCycle>,
+    },
 }
 
 #[derive(Deserialize)]
@@ -144,11 +156,15 @@ impl RawDistribution {
         let half = |h: f64| if h >= 0.0 { Ok(h) } else { Err(UncertaintyError::Input(format!("half_width {h} must not be negative"))) };
         match self {
             RawDistribution::Normal { u, mean } => Distribution::Normal { mean, u },
-            RawDistribution::Rectangular { half_width, mean } => Distribution::Rectangular { low: mean - half(half_width)?, high: mean + half_width },
+            RawDistribution::Rectangular { half_width, mean } => {
+                Distribution::Rectangular { low: mean - half(half_width)?, high: mean + half_width }
+            }
             RawDistribution::Triangular { half_width, mean } => {
                 Distribution::Triangular { low: mean - half(half_width)?, mode: mean, high: mean + half_width }
             }
-            RawDistribution::Arcsine { half_width, mean } => Distribution::Arcsine { low: mean - half(half_width)?, high: mean + half_width },
+            RawDistribution::Arcsine { half_width, mean } => {
+                Distribution::Arcsine { low: mean - half(half_width)?, high: mean + half_width }
+            }
             RawDistribution::StudentT { scale, dof, mean } => Distribution::StudentT { mean, scale, dof },
         }
         .validated()
@@ -183,8 +199,8 @@ impl Sources {
     /// Reads a sources file.
     pub fn load(path: impl AsRef<std::path::Path>) -> Result<Sources, UncertaintyError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path)
-            .map_err(|source| crate::data::DataError::Read { path: path.display().to_string(), source })?;
+        let text =
+            std::fs::read_to_string(path).map_err(|source| crate::data::DataError::Read { path: path.display().to_string(), source })?;
         Self::from_toml_str(&text, &path.display().to_string())
     }
 
@@ -269,7 +285,11 @@ fn build_source(raw: RawSource) -> Result<Source, (String, UncertaintyError)> {
             if built.is_empty() {
                 return Err((name, input("no channels given".into())));
             }
-            let kind = SourceKind::CyclicDrift(CyclicDrift { channels: built, run_duration: run_duration_s, start_phase: start_phase.unwrap_or_default() });
+            let kind = SourceKind::CyclicDrift(CyclicDrift {
+                channels: built,
+                run_duration: run_duration_s,
+                start_phase: start_phase.unwrap_or_default(),
+            });
             Ok(Source { name, kind })
         }
     }

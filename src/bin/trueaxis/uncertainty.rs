@@ -61,7 +61,9 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
     let settings = &sources.settings;
     let mut report = |stage: Option<&str>, h: usize, c: Option<&trueaxis::uncertainty::ControlVariables>| {
         let what = stage.map_or("all sources".to_string(), |s| format!("source `{s}` alone"));
-        let control = c.map_or(String::new(), |c| format!(", largest 2s = {:.4} (tolerance {})", 2.0 * c.max.iter().fold(0.0f64, |a, b| a.max(*b)), settings.tolerance));
+        let control = c.map_or(String::new(), |c| {
+            format!(", largest 2s = {:.4} (tolerance {})", 2.0 * c.max.iter().fold(0.0f64, |a, b| a.max(*b)), settings.tolerance)
+        });
         bar.set_message(format!("{what}: sequence {h}{control}"));
         bar.tick();
     };
@@ -77,11 +79,7 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
             settings.tolerance, settings.max_sequences
         );
     }
-    let text = if args.json {
-        format!("{}\n", to_json(&args, &map, &budget, &sources))
-    } else {
-        table(&args, &map, &budget, &sources)
-    };
+    let text = if args.json { format!("{}\n", to_json(&args, &map, &budget, &sources)) } else { table(&args, &map, &budget, &sources) };
     print(&text)
 }
 
@@ -185,7 +183,17 @@ fn table(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sourc
         IntervalKind::Symmetric => "symmetric",
         IntervalKind::Shortest => "shortest",
     };
-    let _ = writeln!(out, "\n{:<8} {:>5} {:>10} {:>9} {:>9}   {:<24} {:<24}", "param", "unit", "estimate", "u (MC)", "u (GUM)", format!("{pct} % {kind}"), "GUM interval");
+    let _ = writeln!(
+        out,
+        "\n{:<8} {:>5} {:>10} {:>9} {:>9}   {:<24} {:<24}",
+        "param",
+        "unit",
+        "estimate",
+        "u (MC)",
+        "u (GUM)",
+        format!("{pct} % {kind}"),
+        "GUM interval"
+    );
     let k = budget.gum_coverage_factor;
     for (j, row) in budget.rows.iter().enumerate() {
         let o = &budget.total.outputs[j];
@@ -240,7 +248,11 @@ fn write_plots(dir: &std::path::Path, map: &IdentificationMap, budget: &Budget, 
             gaussian: Some((budget.gum_estimate[j], row.gum_total_u)),
         })
         .collect();
-    let title = format!("Monte Carlo distributions of the {} parameters, {} % intervals (red), GUM (black)", map.design.parameter_count(), 100.0 * s.coverage);
+    let title = format!(
+        "Monte Carlo distributions of the {} parameters, {} % intervals (red), GUM (black)",
+        map.design.parameter_count(),
+        100.0 * s.coverage
+    );
     let svg = histograms_svg(&title, &panels, 60)?;
     write_atomically(&dir.join("histograms.svg"), svg.as_bytes())?;
     let history = &budget.total.history;
@@ -248,7 +260,11 @@ fn write_plots(dir: &std::path::Path, map: &IdentificationMap, budget: &Budget, 
         let names = ["s_y", "s_u", "s_low", "s_high"];
         let series = ConvergenceSeries {
             sequences: history.iter().map(|c| c.sequence).collect(),
-            series: names.iter().enumerate().map(|(k, n)| (n.to_string(), history.iter().map(|c| c.max[k].max(1e-300)).collect())).collect(),
+            series: names
+                .iter()
+                .enumerate()
+                .map(|(k, n)| (n.to_string(), history.iter().map(|c| c.max[k].max(1e-300)).collect()))
+                .collect(),
             tolerance: s.tolerance,
             unit: "parameter units".into(),
         };
