@@ -4,10 +4,12 @@ pub mod html;
 
 mod fit_plot;
 mod heatmap;
+mod histogram;
 mod positioning;
 
 pub use fit_plot::{fit_plot_svg, FitPlot};
 pub use heatmap::{heatmap_svg, MapSlice};
+pub use histogram::{convergence_svg, histograms_svg, ConvergenceSeries, HistogramPanel};
 pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
 
 use thiserror::Error;

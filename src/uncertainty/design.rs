@@ -1,0 +1,177 @@
+//! The design matrix of a linear identification (seed 004 eqs. 3-4, `d_chi = J_id d_p`) with what
+//! the uncertainty sources need per observation: its channel, its measurement time and its weight.
+//!
+//! File form (CSV, `#` comments): one row per observation; columns `channel` (text, e.g. `x`, `y`,
+//! `z` of a 3D-ball head, or `s1.x`), `t` (s, measurement time within the run), optional `y`
+//! (um, the measured value; default 0), optional `weight` (`1/sigma^2`; default 1), and one column per
+//! parameter with the sensitivities in um per parameter unit (um or urad for ISO 230 names).
+
+use super::UncertaintyError;
+use crate::data::DataError;
+use crate::machine::ParameterId;
+use nalgebra::DMatrix;
+
+/// Columns of the design file that are not parameters.
+pub const RESERVED_COLUMNS: [&str; 4] = ["channel", "t", "y", "weight"];
+
+/// An immutable linear measurement model `y = X p + e`.
+#[derive(Clone, Debug)]
+pub struct DesignMatrix {
+    /// Parameter names, in column order.
+    pub parameters: Vec<String>,
+    /// Unit of each parameter: `um`/`urad` for ISO 230 names, `unit` otherwise.
+    pub units: Vec<String>,
+    /// Distinct channel names, in order of first appearance.
+    pub channels: Vec<String>,
+    /// Channel of each observation (index into `channels`).
+    pub channel: Vec<usize>,
+    /// Measurement time of each observation within one run (s).
+    pub time: Vec<f64>,
+    /// Weight of each observation, `1/sigma^2` (relative weights suffice).
+    pub weight: Vec<f64>,
+    /// Measured value of each observation (um); zeros when unknown.
+    pub measured: Vec<f64>,
+    /// `n_obs x n_par`, um per parameter unit.
+    pub x: DMatrix<f64>,
+}
+
+impl DesignMatrix {
+    /// Builds and checks a design: one channel name, time, weight and measured value per row;
+    /// finite numbers; positive weights; distinct parameter names; more rows than parameters.
+    pub fn new(
+        parameters: Vec<String>,
+        channel_names: &[String],
+        time: Vec<f64>,
+        weight: Option<Vec<f64>>,
+        measured: Option<Vec<f64>>,
+        x: DMatrix<f64>,
+    ) -> Result<DesignMatrix, UncertaintyError> {
+        let (n, p) = x.shape();
+        let bad = |m: String| Err(UncertaintyError::Input(m));
+        if parameters.len() != p || channel_names.len() != n || time.len() != n {
+            return bad(format!(
+                "design matrix {n}x{p} with {} parameter names, {} channels and {} times",
+                parameters.len(),
+                channel_names.len(),
+                time.len()
+            ));
+        }
+        if n <= p {
+            return bad(format!("{n} observations cannot determine {p} parameters"));
+        }
+        for (i, name) in parameters.iter().enumerate() {
+            if parameters[..i].contains(name) {
+                return bad(format!("parameter `{name}` appears twice"));
+            }
+        }
+        let weight = weight.unwrap_or_else(|| vec![1.0; n]);
+        let measured = measured.unwrap_or_else(|| vec![0.0; n]);
+        if weight.len() != n || measured.len() != n {
+            return bad("one weight and one measured value per observation are needed".into());
+        }
+        if let Some(i) = weight.iter().position(|w| !(*w > 0.0 && w.is_finite())) {
+            return bad(format!("observation {}: weight {} must be a positive number", i + 1, weight[i]));
+        }
+        if x.iter().chain(&time).chain(&measured).any(|v| !v.is_finite()) {
+            return bad("the design contains numbers that are not finite".into());
+        }
+        let mut channels: Vec<String> = Vec::new();
+        let channel = channel_names
+            .iter()
+            .map(|c| match channels.iter().position(|k| k == c) {
+                Some(i) => i,
+                None => {
+                    channels.push(c.clone());
+                    channels.len() - 1
+                }
+            })
+            .collect();
+        let units = parameters.iter().map(|name| ParameterId::parse(name).map_or("unit", |id| id.unit()).to_string()).collect();
+        Ok(DesignMatrix { parameters, units, channels, channel, time, weight, measured, x })
+    }
+
+    pub fn observations(&self) -> usize {
+        self.x.nrows()
+    }
+
+    pub fn parameter_count(&self) -> usize {
+        self.x.ncols()
+    }
+
+    /// Index of a channel by name.
+    pub fn channel_index(&self, name: &str) -> Option<usize> {
+        self.channels.iter().position(|c| c == name)
+    }
+
+    /// Reads the CSV form described in the module documentation.
+    pub fn read_csv(path: impl AsRef<std::path::Path>) -> Result<DesignMatrix, UncertaintyError> {
+        let path = path.as_ref();
+        let file = std::fs::File::open(path).map_err(|source| DataError::Read { path: path.display().to_string(), source })?;
+        Self::from_csv_reader(file, &path.display().to_string())
+    }
+
+    /// Reads CSV text; `origin` names it in messages.
+    pub fn from_csv_reader(reader: impl std::io::Read, origin: &str) -> Result<DesignMatrix, UncertaintyError> {
+        let fail = |m: String| UncertaintyError::Input(format!("{origin}: {m}"));
+        let mut csv = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(reader);
+        let headers: Vec<String> =
+            csv.headers().map_err(|e| fail(format!("cannot read the header line: {e}")))?.iter().map(String::from).collect();
+        let column = |name: &str| headers.iter().position(|h| h == name);
+        let (Some(i_channel), Some(i_t)) = (column("channel"), column("t")) else {
+            return Err(fail(format!("the header needs the columns `channel` and `t`; it has: {}", headers.join(","))));
+        };
+        let (i_y, i_w) = (column("y"), column("weight"));
+        let parameter_columns: Vec<usize> = (0..headers.len()).filter(|i| !RESERVED_COLUMNS.contains(&headers[*i].as_str())).collect();
+        if parameter_columns.is_empty() {
+            return Err(fail("no parameter columns: add one column of sensitivities per parameter".into()));
+        }
+        let (mut channels, mut time, mut weight, mut measured, mut values) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for record in csv.records() {
+            let record = record.map_err(|e| fail(e.to_string().replace('\n', " ")))?;
+            let line = record.position().map_or(0, |p| p.line());
+            let number = |i: usize| -> Result<f64, UncertaintyError> {
+                let text = record.get(i).unwrap_or("");
+                text.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| fail(format!("line {line}: column {}: `{text}` is not a finite number", headers[i])))
+            };
+            let name = record.get(i_channel).unwrap_or("").to_string();
+            if name.is_empty() {
+                return Err(fail(format!("line {line}: empty channel name")));
+            }
+            channels.push(name);
+            time.push(number(i_t)?);
+            if let Some(i) = i_w {
+                weight.push(number(i)?);
+            }
+            if let Some(i) = i_y {
+                measured.push(number(i)?);
+            }
+            for &i in &parameter_columns {
+                values.push(number(i)?);
+            }
+        }
+        let n = channels.len();
+        if n == 0 {
+            return Err(fail("no data: the file has a header but no rows".into()));
+        }
+        let names: Vec<String> = parameter_columns.iter().map(|&i| headers[i].clone()).collect();
+        let x = DMatrix::from_row_slice(n, names.len(), &values);
+        Self::new(names, &channels, time, i_w.map(|_| weight), i_y.map(|_| measured), x).map_err(|e| fail(e.to_string()))
+    }
+
+    /// The CSV form (the inverse of [`DesignMatrix::from_csv_reader`]).
+    pub fn to_csv(&self) -> String {
+        use std::fmt::Write;
+        let mut out = format!("channel,t,y,weight,{}\n", self.parameters.join(","));
+        for i in 0..self.observations() {
+            let _ = write!(out, "{},{},{},{}", self.channels[self.channel[i]], self.time[i], self.measured[i], self.weight[i]);
+            for j in 0..self.parameter_count() {
+                let _ = write!(out, ",{}", self.x[(i, j)]);
+            }
+            out.push('\n');
+        }
+        out
+    }
+}

@@ -1,0 +1,296 @@
+//! The uncertainty-sources file (TOML): Monte Carlo settings and a list of sources, each acting on
+//! the observations of named channels (see docs/uncertainty.md for the full format):
+//!
+//! ```toml
+//! coverage = 0.95          # coverage probability p
+//! tolerance = 0.05         # numerical tolerance delta (um, urad)
+//! seed = 4
+//! [[source]]
+//! name = "sensors"
+//! kind = "noise"           # independent per observation (seed 004 §4.2, §4.3)
+//! channels.x = { distribution = "normal", u = 0.28 }
+//! [[source]]
+//! name = "drift"
+//! kind = "drift_cyclic"    # or "drift_statistical" with e_ve = { x = 6.95 }
+//! period_s = 1000
+//! channels.x = { peak_to_valley = 6.95 }
+//! ```
+
+use super::distributions::Distribution;
+use super::drift::{PeriodicDrift, StartPhase};
+use super::monte_carlo::{IntervalKind, McSettings};
+use super::{DesignMatrix, UncertaintyError};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// One source of uncertainty.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Source {
+    pub name: String,
+    pub kind: SourceKind,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum SourceKind {
+    /// An error drawn independently for every observation of a channel from the channel's
+    /// distribution (um): sensor output noise (seed 004 Table 3), or the sensor-to-machine frame
+    /// transformation modelled per point as in seed 004 §4.3.
+    Noise { channels: Vec<(String, Distribution)> },
+    /// Drift by the statistical method of ISO/TR 230-9 (seed 004 §4.4.1): a Gaussian error with
+    /// `u = E_VE / (2 sqrt 3)`, independent per observation; `E_VE` in um per channel.
+    StatisticalDrift { channels: Vec<(String, f64)> },
+    /// Drift by the cyclic method (seed 004 §4.4.2).
+    CyclicDrift(CyclicDrift),
+}
+
+/// The cyclic drift: a periodic function of time per channel, subtracted from the simulated
+/// measurement at `t0 + (n - 1) t_m + t_k` (seed 004 eq. 12) with `t0` uniform over one period.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CyclicDrift {
+    /// Drift function of each channel; all share the period and the random start time.
+    pub channels: Vec<(String, PeriodicDrift)>,
+    /// Duration of one run `t_m` (s); `None`: the largest observation time of the design
+    /// (`t_m = 807 t_i` when point `k` is measured at `k t_i`, eq. 13).
+    pub run_duration: Option<f64>,
+    pub start_phase: StartPhase,
+}
+
+impl CyclicDrift {
+    /// The common period of the channels' drift functions (s).
+    pub fn period(&self) -> f64 {
+        self.channels.first().map_or(1.0, |(_, d)| d.period())
+    }
+}
+
+impl Source {
+    /// The channel names this source refers to.
+    pub fn channel_names(&self) -> Vec<&str> {
+        match &self.kind {
+            SourceKind::Noise { channels } => channels.iter().map(|(c, _)| c.as_str()).collect(),
+            SourceKind::StatisticalDrift { channels } => channels.iter().map(|(c, _)| c.as_str()).collect(),
+            SourceKind::CyclicDrift(c) => c.channels.iter().map(|(c, _)| c.as_str()).collect(),
+        }
+    }
+}
+
+/// The sources file: Monte Carlo settings and the sources.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sources {
+    pub settings: McSettings,
+    pub sources: Vec<Source>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFile {
+    coverage: Option<f64>,
+    tolerance: Option<f64>,
+    trials_per_sequence: Option<usize>,
+    max_sequences: Option<usize>,
+    seed: Option<u64>,
+    interval: Option<RawInterval>,
+    #[serde(default)]
+    source: Vec<RawSource>,
+}
+
+#[derive(Deserialize)]
+#[serde(rename_all = "snake_case")]
+enum RawInterval {
+    Symmetric,
+    Shortest,
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+enum RawSource {
+    Noise {
+        name: String,
+        channels: BTreeMap<String, RawDistribution>,
+    },
+    DriftStatistical {
+        name: String,
+        e_ve: BTreeMap<String, f64>,
+    },
+    DriftCyclic {
+        name: String,
+        period_s: f64,
+        run_duration_s: Option<f64>,
+        start_phase: Option<StartPhase>,
+        channels: BTreeMap<String, RawCycle>,
+    },
+}
+
+#[derive(Deserialize)]
+#[serde(tag = "distribution", rename_all = "snake_case", deny_unknown_fields)]
+enum RawDistribution {
+    Normal {
+        u: f64,
+        #[serde(default)]
+        mean: f64,
+    },
+    Rectangular {
+        half_width: f64,
+        #[serde(default)]
+        mean: f64,
+    },
+    Triangular {
+        half_width: f64,
+        #[serde(default)]
+        mean: f64,
+    },
+    Arcsine {
+        half_width: f64,
+        #[serde(default)]
+        mean: f64,
+    },
+    StudentT {
+        scale: f64,
+        dof: f64,
+        #[serde(default)]
+        mean: f64,
+    },
+}
+
+impl RawDistribution {
+    fn build(self) -> Result<Distribution, UncertaintyError> {
+        let half = |h: f64| if h >= 0.0 { Ok(h) } else { Err(UncertaintyError::Input(format!("half_width {h} must not be negative"))) };
+        match self {
+            RawDistribution::Normal { u, mean } => Distribution::Normal { mean, u },
+            RawDistribution::Rectangular { half_width, mean } => {
+                Distribution::Rectangular { low: mean - half(half_width)?, high: mean + half_width }
+            }
+            RawDistribution::Triangular { half_width, mean } => {
+                Distribution::Triangular { low: mean - half(half_width)?, mode: mean, high: mean + half_width }
+            }
+            RawDistribution::Arcsine { half_width, mean } => {
+                Distribution::Arcsine { low: mean - half(half_width)?, high: mean + half_width }
+            }
+            RawDistribution::StudentT { scale, dof, mean } => Distribution::StudentT { mean, scale, dof },
+        }
+        .validated()
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCycle {
+    peak_to_valley: Option<f64>,
+    phase_deg: Option<f64>,
+    harmonics: Option<Vec<[f64; 2]>>,
+    samples: Option<Vec<f64>>,
+}
+
+impl RawCycle {
+    fn build(self, period: f64) -> Result<PeriodicDrift, UncertaintyError> {
+        match (self.peak_to_valley, self.harmonics, self.samples) {
+            (Some(pv), None, None) => PeriodicDrift::sine(period, pv, self.phase_deg.unwrap_or(0.0)),
+            (None, Some(h), None) if self.phase_deg.is_none() && !h.is_empty() => {
+                PeriodicDrift::harmonics(period, &h.iter().map(|[a, p]| (*a, *p)).collect::<Vec<_>>())
+            }
+            (None, None, Some(s)) if self.phase_deg.is_none() => PeriodicDrift::from_samples(period, &s),
+            _ => Err(UncertaintyError::Input(
+                "give exactly one of peak_to_valley (with optional phase_deg), harmonics = [[amplitude, phase_deg], ...] or samples = [...]".into(),
+            )),
+        }
+    }
+}
+
+impl Sources {
+    /// Reads a sources file.
+    pub fn load(path: impl AsRef<std::path::Path>) -> Result<Sources, UncertaintyError> {
+        let path = path.as_ref();
+        let text =
+            std::fs::read_to_string(path).map_err(|source| crate::data::DataError::Read { path: path.display().to_string(), source })?;
+        Self::from_toml_str(&text, &path.display().to_string())
+    }
+
+    /// Parses the TOML text; `origin` names it in messages.
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Sources, UncertaintyError> {
+        let fail = |m: String| UncertaintyError::Input(format!("{origin}: {m}"));
+        let raw: RawFile = toml::from_str(text).map_err(|e| fail(e.to_string().trim().replace('\n', " ")))?;
+        let coverage = raw.coverage.unwrap_or(0.95);
+        let mut settings = McSettings::new(coverage, raw.tolerance.unwrap_or(0.05));
+        if let Some(m) = raw.trials_per_sequence {
+            settings.trials_per_sequence = m;
+        }
+        if let Some(h) = raw.max_sequences {
+            settings.max_sequences = h;
+        }
+        if let Some(seed) = raw.seed {
+            settings.seed = seed;
+        }
+        settings.interval = match raw.interval {
+            Some(RawInterval::Shortest) => IntervalKind::Shortest,
+            _ => IntervalKind::Symmetric,
+        };
+        settings.validate().map_err(|e| fail(e.to_string()))?;
+        let mut sources = Vec::new();
+        for raw_source in raw.source {
+            let source = build_source(raw_source).map_err(|(name, e)| fail(format!("source `{name}`: {e}")))?;
+            if sources.iter().any(|s: &Source| s.name == source.name) {
+                return Err(fail(format!("two sources are named `{}`", source.name)));
+            }
+            sources.push(source);
+        }
+        if sources.is_empty() {
+            return Err(fail("no [[source]] given".into()));
+        }
+        Ok(Sources { settings, sources })
+    }
+
+    /// Checks that every channel a source names exists in the design (channels a source does not
+    /// name receive nothing from it).
+    pub fn check_channels(&self, design: &DesignMatrix) -> Result<(), UncertaintyError> {
+        for source in &self.sources {
+            for name in source.channel_names() {
+                if design.channel_index(name).is_none() {
+                    return Err(UncertaintyError::Input(format!(
+                        "source `{}`: channel `{name}` is not in the design (channels: {})",
+                        source.name,
+                        design.channels.join(", ")
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+fn build_source(raw: RawSource) -> Result<Source, (String, UncertaintyError)> {
+    let input = |m: String| UncertaintyError::Input(m);
+    match raw {
+        RawSource::Noise { name, channels } => {
+            let mut built = Vec::new();
+            for (channel, d) in channels {
+                let d = d.build().map_err(|e| (name.clone(), input(format!("channel `{channel}`: {e}"))))?;
+                built.push((channel, d));
+            }
+            Ok(Source { name, kind: SourceKind::Noise { channels: built } })
+        }
+        RawSource::DriftStatistical { name, e_ve } => {
+            if let Some((c, v)) = e_ve.iter().find(|(_, v)| !(**v >= 0.0 && v.is_finite())) {
+                return Err((name, input(format!("channel `{c}`: E_VE {v} must be a non-negative number (um)"))));
+            }
+            Ok(Source { name, kind: SourceKind::StatisticalDrift { channels: e_ve.into_iter().collect() } })
+        }
+        RawSource::DriftCyclic { name, period_s, run_duration_s, start_phase, channels } => {
+            if let Some(t) = run_duration_s.filter(|t| !(*t > 0.0 && t.is_finite())) {
+                return Err((name, input(format!("run_duration_s {t} must be a positive number"))));
+            }
+            let mut built = Vec::new();
+            for (channel, c) in channels {
+                let d = c.build(period_s).map_err(|e| (name.clone(), input(format!("channel `{channel}`: {e}"))))?;
+                built.push((channel, d));
+            }
+            if built.is_empty() {
+                return Err((name, input("no channels given".into())));
+            }
+            let kind = SourceKind::CyclicDrift(CyclicDrift {
+                channels: built,
+                run_duration: run_duration_s,
+                start_phase: start_phase.unwrap_or_default(),
+            });
+            Ok(Source { name, kind })
+        }
+    }
+}
