@@ -138,6 +138,20 @@ fn axis_sample(theta: f64, phase: f64, rotation: Rotation, radius: f64, centre: 
     AxisSample { offset, position: centre + offset, sign, since_reversal, velocity }
 }
 
+/// Whether the unit-scaled columns `cols` are linearly independent (smallest singular value above
+/// 1e-6 of the largest).
+fn independent(columns: &[Column], cols: &[usize]) -> bool {
+    let n = columns[cols[0]].values.len();
+    let mut m = DMatrix::from_fn(n, cols.len(), |i, k| columns[cols[k]].values[i]);
+    for mut col in m.column_iter_mut() {
+        let norm = col.norm();
+        col /= norm;
+    }
+    let s = m.svd(false, false).singular_values;
+    let max = s.iter().copied().fold(0.0, f64::max);
+    s.iter().all(|v| *v > 1e-6 * max)
+}
+
 /// Fits the diagnostics to `runs` on `machine` (all runs in the same plane, radius and centre).
 pub fn diagnose(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOptions) -> Result<Diagnostics, IdentifyError> {
     let (a_letter, b_letter, _) = options.plane.letters();
@@ -251,11 +265,20 @@ pub fn diagnose(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOpt
     if options.pitch.is_none() {
         omitted.push("cyclic error: give the ball-screw pitch".to_string());
     }
-    // Columns without signal (an axis that never reverses on a partial arc) are left out.
-    let keep: Vec<usize> = (0..columns.len()).filter(|&c| columns[c].values.iter().any(|v| v.abs() > 1e-9)).collect();
+    // Columns without signal (an axis that never reverses on a partial arc), or that the data cannot
+    // separate from those already kept (in the order above: nuisance terms first), are left out.
+    let mut keep: Vec<usize> = Vec::new();
     for c in 0..columns.len() {
-        if !keep.contains(&c) {
+        if !columns[c].values.iter().any(|v| v.abs() > 1e-9) {
             omitted.push(format!("{}: no signal in this test", columns[c].name));
+            continue;
+        }
+        let mut trial = keep.clone();
+        trial.push(c);
+        if independent(&columns, &trial) {
+            keep = trial;
+        } else {
+            omitted.push(format!("{}: not separable from the other terms with these data", columns[c].name));
         }
     }
     let n = y.len();

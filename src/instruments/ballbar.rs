@@ -463,6 +463,61 @@ pub fn jiang_step(machine: &Machine, pair: RotaryPair, step: JiangStep, bars: Ba
     Ok(test)
 }
 
+/// Bar readings read from a CSV: the swept angle (deg), `dL` (um) and the run number of each row.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceFile {
+    pub angles_deg: Vec<f64>,
+    pub dl_um: Vec<f64>,
+    /// `run` column, or 1 for every row.
+    pub runs: Vec<i64>,
+}
+
+impl TraceFile {
+    /// The distinct run numbers, in order of first appearance.
+    pub fn run_numbers(&self) -> Vec<i64> {
+        let mut out: Vec<i64> = Vec::new();
+        for r in &self.runs {
+            if !out.contains(r) {
+                out.push(*r);
+            }
+        }
+        out
+    }
+
+    /// Angles (rad) and readings (mm) of run `run`.
+    pub fn run(&self, run: i64) -> (Vec<f64>, Vec<f64>) {
+        let rows = (0..self.runs.len()).filter(|&i| self.runs[i] == run);
+        rows.map(|i| (self.angles_deg[i].to_radians(), self.dl_um[i] * 1e-3)).unzip()
+    }
+}
+
+/// Reads a bar trace: the first of `angle_columns` present (e.g. `C`, then `angle`; deg), `dL` (um),
+/// optional integer `run`. Errors name the file, line and column.
+pub fn read_trace(path: impl AsRef<std::path::Path>, angle_columns: &[&str]) -> Result<TraceFile, crate::data::DataError> {
+    let path = path.as_ref();
+    let table = crate::data::CsvTable::read(path)?;
+    let origin = path.display().to_string();
+    let Some(column) = angle_columns.iter().find(|c| table.has_column(c)) else {
+        return Err(crate::data::DataError::Invalid {
+            origin,
+            message: format!("needs an angle column ({}, deg) and `dL` (um)", angle_columns.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(" or ")),
+        });
+    };
+    let angles_deg = table.numbers(column)?;
+    let dl_um = table.numbers("dL")?;
+    let runs = if table.has_column("run") {
+        table
+            .numbers("run")?
+            .iter()
+            .enumerate()
+            .map(|(i, v)| if v.fract() == 0.0 && v.abs() < 1e15 { Ok(*v as i64) } else { Err(table.row_error(i, &format!("column run: `{v}` is not an integer"))) })
+            .collect::<Result<_, _>>()?
+    } else {
+        vec![1; dl_um.len()]
+    };
+    Ok(TraceFile { angles_deg, dl_um, runs })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -2,11 +2,13 @@
 
 mod fit_plot;
 mod heatmap;
+mod polar;
 mod positioning;
 
 pub use fit_plot::{fit_plot_svg, FitPlot};
 pub use heatmap::{heatmap_svg, MapSlice};
 pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
+pub use polar::{auto_scale, polar_svg, PolarPlot, PolarSeries};
 
 use thiserror::Error;
 
