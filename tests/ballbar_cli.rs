@@ -19,8 +19,19 @@ fn identify_recovers_the_piges_the_examples_were_simulated_with() {
     // position PIGEs come back within 0.5 um, the orientation PIGEs within 5 urad (about 1 arcsec;
     // the A-axis ones from a 90 deg arc are the weakest).
     let out = trueaxis(&[
-        "ballbar", "identify", "--machine", "examples/machines/c600u.toml", "--a1", "examples/ballbar/A1.csv", "--a2",
-        "examples/ballbar/A2.csv", "--c1", "examples/ballbar/C1.csv", "--c2", "examples/ballbar/C2.csv", "--json",
+        "ballbar",
+        "identify",
+        "--machine",
+        "examples/machines/c600u.toml",
+        "--a1",
+        "examples/ballbar/A1.csv",
+        "--a2",
+        "examples/ballbar/A2.csv",
+        "--c1",
+        "examples/ballbar/C1.csv",
+        "--c2",
+        "examples/ballbar/C2.csv",
+        "--json",
     ]);
     let doc = json(&out);
     let truth = [
@@ -47,12 +58,26 @@ fn identify_recovers_the_piges_the_examples_were_simulated_with() {
 fn iso230_4_example_gives_the_simulated_diagnostics() {
     // examples/ballbar/vmc3_xy.csv: simulated from vmc3_circle.toml with 0.1 um noise.
     let out = trueaxis(&[
-        "ballbar", "iso230-4", "examples/ballbar/vmc3_xy.csv", "--machine", "examples/machines/vmc3.toml", "--radius", "100",
-        "--centre", "0,0,-200", "--feed", "1000", "--pitch", "10", "--json",
+        "ballbar",
+        "iso230-4",
+        "examples/ballbar/vmc3_xy.csv",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--radius",
+        "100",
+        "--centre",
+        "0,0,-200",
+        "--feed",
+        "1000",
+        "--pitch",
+        "10",
+        "--json",
     ]);
     let doc = json(&out);
     let value = |name: &str| {
-        doc["diagnostics"].as_array().unwrap().iter().find(|d| d["name"] == name).unwrap_or_else(|| panic!("{name}"))["value"].as_f64().unwrap()
+        doc["diagnostics"].as_array().unwrap().iter().find(|d| d["name"] == name).unwrap_or_else(|| panic!("{name}"))["value"]
+            .as_f64()
+            .unwrap()
     };
     for (name, truth, tol) in [
         ("squareness", 25.0, 0.5),
@@ -71,7 +96,15 @@ fn iso230_4_example_gives_the_simulated_diagnostics() {
 
 #[test]
 fn tmbb_example_recovers_table_5_2_values() {
-    let doc = json(&trueaxis(&["ballbar", "tmbb", "--short", "examples/ballbar/tmbb_L1.csv", "--long", "examples/ballbar/tmbb_L2.csv", "--json"]));
+    let doc = json(&trueaxis(&[
+        "ballbar",
+        "tmbb",
+        "--short",
+        "examples/ballbar/tmbb_L1.csv",
+        "--long",
+        "examples/ballbar/tmbb_L2.csv",
+        "--json",
+    ]));
     for fit in ["l2", "linf"] {
         assert!((doc[fit]["E_x"]["value"].as_f64().unwrap() - 7.93).abs() < 0.05);
         assert!((doc[fit]["E_y"]["value"].as_f64().unwrap() - 7.38).abs() < 0.05);
@@ -87,7 +120,20 @@ fn simulate_writes_a_trace_that_identify_reads() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("c1.csv");
     let p = path.to_str().unwrap();
-    let out = trueaxis(&["ballbar", "simulate", "--machine", "examples/machines/c600u.toml", "--errors", "examples/ballbar/c600u_piges.toml", "--test", "c1", "--step", "5", "--out", p]);
+    let out = trueaxis(&[
+        "ballbar",
+        "simulate",
+        "--machine",
+        "examples/machines/c600u.toml",
+        "--errors",
+        "examples/ballbar/c600u_piges.toml",
+        "--test",
+        "c1",
+        "--step",
+        "5",
+        "--out",
+        p,
+    ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = std::fs::read_to_string(&path).unwrap();
     assert_eq!(text.lines().nth(1).unwrap(), "X,Y,Z,A,C,angle,dir,dL");

@@ -18,7 +18,14 @@ fn vmc3() -> Machine {
 }
 
 fn options() -> DiagnosticOptions {
-    DiagnosticOptions { plane: Plane::Xy, radius: R, centre: [CENTRE[0], CENTRE[1]], pitch: None, spike_width: 3f64.to_radians(), feed: None }
+    DiagnosticOptions {
+        plane: Plane::Xy,
+        radius: R,
+        centre: [CENTRE[0], CENTRE[1]],
+        pitch: None,
+        spike_width: 3f64.to_radians(),
+        feed: None,
+    }
 }
 
 fn run(m: &Machine, rotation: Rotation, errors: &ErrorModel) -> CircularRun {
@@ -128,7 +135,7 @@ coefficients = [0.8, 0.0, -8.0e-5]
     let width = 3f64.to_radians();
     let cyclic = (0.7, -0.4); // um, cos and sin of 2 pi Y / 10 mm
     let lag = 40e-6; // rad of path angle, X behind Y
-    // samples half a degree off the reversal points, where the direction of motion is defined
+                     // samples half a degree off the reversal points, where the direction of motion is defined
     let mut runs = vec![run_from(&m, Rotation::Ccw, &e, 0.5), run_from(&m, Rotation::Cw, &e, 0.5)];
     for r in &mut runs {
         add_geometric(r, |t, rot| {
@@ -146,7 +153,10 @@ coefficients = [0.8, 0.0, -8.0e-5]
     let opts = DiagnosticOptions { pitch: Some(10.0), ..options() };
     let d = diagnose(&m, &runs, &opts).unwrap();
     for item in &d.items {
-        eprintln!("{:<22} {:>10} {:+9.4} ± {:.4} {:<5} effect {:7.3} um {:5.1} %", item.name, item.parameter, item.value, item.std_uncertainty, item.unit, item.effect_um, item.share_percent);
+        eprintln!(
+            "{:<22} {:>10} {:+9.4} ± {:.4} {:<5} effect {:7.3} um {:5.1} %",
+            item.name, item.parameter, item.value, item.std_uncertainty, item.unit, item.effect_um, item.share_percent
+        );
     }
     eprintln!("residual RMS {:.2e} um over {} samples; omitted {:?}", d.residual_rms_um, d.samples, d.omitted);
     let expect = [

@@ -8,9 +8,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use trueaxis::geometry::Vec3;
-use trueaxis::identify::pige::{
-    compensation_residual, identify_piges, kasa_fit, repeatability, start_angle_error, DbbTrace, Piges,
-};
+use trueaxis::identify::pige::{compensation_residual, identify_piges, kasa_fit, repeatability, start_angle_error, DbbTrace, Piges};
 use trueaxis::instruments::ballbar::{jiang_spec, jiang_step, rotary_test, sweep_angles, BallbarTest, BarLengths, JiangStep, RotaryPair};
 use trueaxis::machine::Machine;
 
@@ -18,16 +16,8 @@ use trueaxis::machine::Machine;
 const POSITION: f64 = 0.010;
 const ORIENTATION: f64 = 0.01 * std::f64::consts::PI / 180.0;
 /// The eight PIGEs in the thesis order with whether each is a rotation.
-const NAMES: [(&str, bool); 8] = [
-    ("EY0A", false),
-    ("EZ0A", false),
-    ("EB0A", true),
-    ("EC0A", true),
-    ("EX0C", false),
-    ("EY0C", false),
-    ("EA0C", true),
-    ("EB0C", true),
-];
+const NAMES: [(&str, bool); 8] =
+    [("EY0A", false), ("EZ0A", false), ("EB0A", true), ("EC0A", true), ("EX0C", false), ("EY0C", false), ("EA0C", true), ("EB0C", true)];
 /// Noise-free recovery tolerances. The thesis's method is first order: the bar readings also carry
 /// second-order terms such as `t^2 / (2 L)` of a displacement `t` of the pivot across the bar (up to
 /// |e| + R theta + D theta ~ 50 um with Table 3.1: (0.05 mm)^2 / 300 mm ~ 0.008 um), which a 90 deg

@@ -28,7 +28,13 @@ fn simulate(m: &Machine, setup: &TmbbSetup, errors: &[(&str, f64)]) -> (Vec<f64>
     let mut angles = sweep_angles(0.0, 360.0, 10.0);
     angles.push(360.0);
     let trace = |h: f64| {
-        let spec = RotarySpec { axis: 'C', radial: trueaxis::geometry::Vec3::x(), radius: setup.rx, pivot_position: setup.rz, spindle_position: h };
+        let spec = RotarySpec {
+            axis: 'C',
+            radial: trueaxis::geometry::Vec3::x(),
+            radius: setup.rx,
+            pivot_position: setup.rz,
+            spindle_position: h,
+        };
         let test = rotary_test(m, &spec, &angles, &[0.0; 5]).unwrap();
         test.simulate_params(m, &p)
     };
@@ -115,7 +121,14 @@ fn noisy_readings_l2_and_linf() {
     let l2 = fit_l2(&setup, &angles, &delta).unwrap();
     let linf = fit_linf(&setup, &angles, &delta).unwrap();
     for (name, f) in [("l2", &l2), ("linf", &linf)] {
-        eprintln!("{name}: E_x {:.3}\", E_y {:.3}\", D_z {:.3} um, max|e| {:.4}, rms {:.4} mm^2", f.ex / ARCSEC, f.ey / ARCSEC, f.dz * 1e3, f.max_abs, f.rms);
+        eprintln!(
+            "{name}: E_x {:.3}\", E_y {:.3}\", D_z {:.3} um, max|e| {:.4}, rms {:.4} mm^2",
+            f.ex / ARCSEC,
+            f.ey / ARCSEC,
+            f.dz * 1e3,
+            f.max_abs,
+            f.rms
+        );
         let tol = if name == "l2" { 2.0 } else { 3.0 };
         assert!((f.ex / ARCSEC - 7.93).abs() < tol && (f.ey / ARCSEC - 7.38).abs() < tol && (f.dz * 1e3 - 2.68).abs() < 0.5, "{name}");
     }

@@ -196,7 +196,8 @@ pub fn diagnose(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOpt
     let c_r = add("radius change".into(), String::new(), "um", um, false);
     let c_sq = add("squareness".into(), sq_name.into(), "urad", 1e6, true);
     let c_scale = add("scale mismatch".into(), format!("{aa}-{bb}"), "um/m", 1e6, true);
-    let c_back = [add(format!("backlash {a_letter}"), aa.clone(), "um", um, true), add(format!("backlash {b_letter}"), bb.clone(), "um", um, true)];
+    let c_back =
+        [add(format!("backlash {a_letter}"), aa.clone(), "um", um, true), add(format!("backlash {b_letter}"), bb.clone(), "um", um, true)];
     let c_play = [
         add(format!("lateral play {a_letter}"), ba.clone(), "um", um, true),
         add(format!("lateral play {b_letter}"), ab.clone(), "um", um, true),
@@ -212,8 +213,14 @@ pub fn diagnose(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOpt
     let c_servo = both.then(|| add("servo mismatch".into(), format!("{aa}-{bb}"), "urad", 1e6, true));
     let c_cyclic = options.pitch.map(|_| {
         [
-            [add(format!("cyclic error {a_letter} cos"), aa.clone(), "um", um, true), add(format!("cyclic error {a_letter} sin"), aa.clone(), "um", um, true)],
-            [add(format!("cyclic error {b_letter} cos"), bb.clone(), "um", um, true), add(format!("cyclic error {b_letter} sin"), bb.clone(), "um", um, true)],
+            [
+                add(format!("cyclic error {a_letter} cos"), aa.clone(), "um", um, true),
+                add(format!("cyclic error {a_letter} sin"), aa.clone(), "um", um, true),
+            ],
+            [
+                add(format!("cyclic error {b_letter} cos"), bb.clone(), "um", um, true),
+                add(format!("cyclic error {b_letter} sin"), bb.clone(), "um", um, true),
+            ],
         ]
     });
 
@@ -325,7 +332,15 @@ pub fn diagnose(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOpt
             }
         }
         let effect_um = if col.ranked { range(&effect(k)) * um } else { 0.0 };
-        items.push(Diagnostic { name: col.name.clone(), parameter: col.parameter.clone(), value, std_uncertainty, unit, effect_um, share_percent: 0.0 });
+        items.push(Diagnostic {
+            name: col.name.clone(),
+            parameter: col.parameter.clone(),
+            value,
+            std_uncertainty,
+            unit,
+            effect_um,
+            share_percent: 0.0,
+        });
         k += 1;
     }
     let total: f64 = items.iter().map(|d| d.effect_um).sum();

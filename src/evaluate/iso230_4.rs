@@ -128,10 +128,7 @@ pub fn evaluate(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOpt
     if runs.is_empty() {
         return Err(EvaluateError::Invalid { origin: "circular test".into(), message: "no runs".into() });
     }
-    let values = runs
-        .iter()
-        .map(|r| circular_values(r.rotation, &r.test.angles, &r.dl, options.radius))
-        .collect::<Result<Vec<_>, _>>()?;
+    let values = runs.iter().map(|r| circular_values(r.rotation, &r.test.angles, &r.dl, options.radius)).collect::<Result<Vec<_>, _>>()?;
     let ccw = runs.iter().find(|r| r.rotation == Rotation::Ccw);
     let cw = runs.iter().find(|r| r.rotation == Rotation::Cw);
     let hysteresis_um = match (ccw, cw) {
@@ -169,13 +166,18 @@ pub fn read_circular_table(
     radius: f64,
     centre: &[f64],
 ) -> Result<Vec<CircularRun>, EvaluateError> {
-    if !(radius > 0.0) || !radius.is_finite() {
+    if !(radius.is_finite() && radius > 0.0) {
         return Err(invalid(origin, format!("the radius must be a positive number of mm, got {radius}")));
     }
     let (a, b, _) = plane.letters();
     let (ia, ib) = match (machine.axis_index(a), machine.axis_index(b)) {
         (Some(ia), Some(ib)) => (ia, ib),
-        _ => return Err(invalid(origin, format!("plane {} needs axes {a} and {b}; the machine has {}", plane.name(), machine.axis_letters()))),
+        _ => {
+            return Err(invalid(
+                origin,
+                format!("plane {} needs axes {a} and {b}; the machine has {}", plane.name(), machine.axis_letters()),
+            ))
+        }
     };
     let angles: Vec<f64> = if table.has_column("angle") {
         table.numbers("angle")?.iter().map(|d| d.to_radians()).collect()
@@ -184,7 +186,11 @@ pub fn read_circular_table(
         let xb = table.numbers(&b.to_string())?;
         xa.iter().zip(&xb).map(|(p, q)| (q - centre[ib]).atan2(p - centre[ia])).collect()
     } else {
-        return Err(DataError::Invalid { origin: origin.to_string(), message: format!("needs a column `angle` (deg) or the columns `{a}` and `{b}` (mm)") }.into());
+        return Err(DataError::Invalid {
+            origin: origin.to_string(),
+            message: format!("needs a column `angle` (deg) or the columns `{a}` and `{b}` (mm)"),
+        }
+        .into());
     };
     let dl: Vec<f64> = table.numbers("dL")?.iter().map(|v| v * 1e-3).collect();
     let dirs: Option<Vec<Rotation>> = if table.has_column("dir") {
@@ -217,7 +223,10 @@ pub fn read_circular_table(
             continue;
         }
         if rows.len() < 8 {
-            return Err(invalid(origin, format!("the {} run has {} samples; a circular test needs at least 8", rotation.name(), rows.len())));
+            return Err(invalid(
+                origin,
+                format!("the {} run has {} samples; a circular test needs at least 8", rotation.name(), rows.len()),
+            ));
         }
         let run_angles: Vec<f64> = rows.iter().map(|&i| angles[i]).collect();
         let spec = CircleSpec { plane, centre: centre.to_vec(), radius, angles: run_angles, rotation };

@@ -1,8 +1,8 @@
 //! Standard evaluations: ISO 230-2 positioning accuracy, ISO 230-4 circular tests with ballbar
 //! diagnostics.
 
-pub mod iso230_2;
 pub mod ballbar_diagnostics;
+pub mod iso230_2;
 pub mod iso230_4;
 
 use crate::data::DataError;

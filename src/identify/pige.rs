@@ -70,7 +70,7 @@ pub fn kasa_fit(points: &[[f64; 2]]) -> Result<CircleFit, IdentifyError> {
     };
     let (a, b, c) = (abc[0], abc[1], abc[2]);
     let r2 = a * a + b * b - 4.0 * c;
-    if !(r2 > 0.0) {
+    if r2.is_nan() || r2 <= 0.0 {
         return Err(IdentifyError::RankDeficient { message: "the circle-fit points do not determine a circle".into() });
     }
     let centre = [my - a / 2.0, mz - b / 2.0];
@@ -124,7 +124,7 @@ impl DbbTrace {
             .map(|(&t, &dl)| {
                 let l = self.bar_length + dl;
                 let r2 = l * l - d2;
-                if !(r2 > 0.0) {
+                if r2.is_nan() || r2 <= 0.0 {
                     return Err(IdentifyError::Input(format!(
                         "bar length {l} mm is not longer than the axial offset {} mm of the spindle ball",
                         self.geometry.axial_separation.abs()
@@ -218,9 +218,9 @@ impl Piges {
 
 /// Index (0, 1, 2) of the coordinate axis `d` lies along; PIGE names need one.
 fn coordinate_axis(d: &Vec3, letter: char) -> Result<usize, IdentifyError> {
-    (0..3).find(|&j| (d[j].abs() - 1.0).abs() < 1e-9).ok_or_else(|| {
-        IdentifyError::Input(format!("axis {letter}: the PIGE names need a rotary axis along X, Y or Z (direction {d:?})"))
-    })
+    (0..3)
+        .find(|&j| (d[j].abs() - 1.0).abs() < 1e-9)
+        .ok_or_else(|| IdentifyError::Input(format!("axis {letter}: the PIGE names need a rotary axis along X, Y or Z (direction {d:?})")))
 }
 
 /// The two translation and two rotation components of `v`/`w` perpendicular to coordinate axis
@@ -298,7 +298,8 @@ pub fn repeatability(runs: &[Piges], position_tol: f64, orientation_tol: f64) ->
         let values: Vec<f64> = runs.iter().map(|r| r.values[k].1).collect();
         let mean = values.iter().sum::<f64>() / n;
         let sd = if runs.len() > 1 { (values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt() } else { 0.0 };
-        let tol = if matches!(id, ParameterId::Location { component, .. } if component.is_rotation()) { orientation_tol } else { position_tol };
+        let tol =
+            if matches!(id, ParameterId::Location { component, .. } if component.is_rotation()) { orientation_tol } else { position_tol };
         ok &= sd <= tol;
         parameters.push((*id, mean, sd));
     }

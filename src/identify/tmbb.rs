@@ -138,7 +138,7 @@ pub fn differenced(setup: &TmbbSetup, dl1: &[f64], dl2: &[f64]) -> Result<Vec<f6
 /// Column norms of the design matrix, for scaling.
 fn column_scales(j: &DMatrix<f64>) -> Result<[f64; 3], IdentifyError> {
     let s = [0, 1, 2].map(|k| j.column(k).norm());
-    if s.iter().any(|v| !(*v > 0.0)) {
+    if s.iter().any(|v| v.is_nan() || *v <= 0.0) {
         return Err(IdentifyError::RankDeficient { message: "the table angles do not excite E_x, E_y and D_z".into() });
     }
     Ok(s)
@@ -163,8 +163,8 @@ pub fn fit_l2(setup: &TmbbSetup, angles: &[f64], delta: &[f64]) -> Result<TmbbEs
     let j = setup.design_matrix(angles, 1.0)?;
     let s = column_scales(&j)?;
     let mut scaled = j.clone();
-    for k in 0..3 {
-        scaled.column_mut(k).unscale_mut(s[k]);
+    for (mut col, scale) in scaled.column_iter_mut().zip(s) {
+        col.unscale_mut(scale);
     }
     let y = scaled
         .svd(true, true)

@@ -196,9 +196,9 @@ pub struct CircleSpec {
 }
 
 fn axis_of(machine: &Machine, letter: char) -> Result<usize, BallbarError> {
-    machine.axis_index(letter).ok_or_else(|| {
-        BallbarError::Setup(format!("machine `{}` has no axis {letter} (axes: {})", machine.name, machine.axis_letters()))
-    })
+    machine
+        .axis_index(letter)
+        .ok_or_else(|| BallbarError::Setup(format!("machine `{}` has no axis {letter} (axes: {})", machine.name, machine.axis_letters())))
 }
 
 /// A planar circular test on `machine`: the pivot ball sits where the nominal tool point is at the
@@ -299,15 +299,13 @@ pub fn rotary_test(machine: &Machine, spec: &RotarySpec, angles_deg: &[f64], bas
     }
     let d = axis.direction;
     let radial = spec.radial - d * spec.radial.dot(&d);
-    if radial.norm() < 1e-9 || !(spec.radius > 0.0) {
+    if radial.norm() < 1e-9 || spec.radius.is_nan() || spec.radius <= 0.0 {
         return Err(BallbarError::Setup(format!("the pivot must lie at a positive radius off the {} axis", spec.axis)));
     }
     let u1 = radial.normalize();
     let u2 = d.cross(&u1);
-    let setup = Setup {
-        tool_point: axis.point + d * spec.spindle_position,
-        work_point: axis.point + d * spec.pivot_position + u1 * spec.radius,
-    };
+    let setup =
+        Setup { tool_point: axis.point + d * spec.spindle_position, work_point: axis.point + d * spec.pivot_position + u1 * spec.radius };
     let mut poses = Vec::with_capacity(angles_deg.len() * n_axes);
     let mut user = base.to_vec();
     let mut q = vec![0.0; n_axes];
@@ -424,7 +422,13 @@ impl RotaryPair {
 /// ball on the axis under test, moved by `-D` (outer) or `+D` (inner) for the extended steps.
 /// `outer_offset` moves both balls of the outer-axis steps along the outer axis (ch. 4: the pivot
 /// away from the inner table centre; 0 for ch. 5).
-pub fn jiang_spec(machine: &Machine, pair: RotaryPair, step: JiangStep, bars: BarLengths, outer_offset: f64) -> Result<RotarySpec, BallbarError> {
+pub fn jiang_spec(
+    machine: &Machine,
+    pair: RotaryPair,
+    step: JiangStep,
+    bars: BarLengths,
+    outer_offset: f64,
+) -> Result<RotarySpec, BallbarError> {
     let outer = &machine.axes()[axis_of(machine, pair.outer)?];
     let inner = &machine.axes()[axis_of(machine, pair.inner)?];
     let d = bars.extended_offset();
@@ -451,7 +455,13 @@ pub fn sweep_angles(start: f64, span: f64, step: f64) -> Vec<f64> {
 
 /// A step of seed 001 ch. 5 on `machine` (all other axes at 0), swept every `step_deg`: the outer
 /// axis over its range (-20 ... 70 deg on the C600U), the inner axis over 0 ... 360 deg.
-pub fn jiang_step(machine: &Machine, pair: RotaryPair, step: JiangStep, bars: BarLengths, step_deg: f64) -> Result<BallbarTest, BallbarError> {
+pub fn jiang_step(
+    machine: &Machine,
+    pair: RotaryPair,
+    step: JiangStep,
+    bars: BarLengths,
+    step_deg: f64,
+) -> Result<BallbarTest, BallbarError> {
     let spec = jiang_spec(machine, pair, step, bars, 0.0)?;
     let axis = &machine.axes()[axis_of(machine, spec.axis)?];
     let angles = match axis.range {
@@ -500,7 +510,10 @@ pub fn read_trace(path: impl AsRef<std::path::Path>, angle_columns: &[&str]) -> 
     let Some(column) = angle_columns.iter().find(|c| table.has_column(c)) else {
         return Err(crate::data::DataError::Invalid {
             origin,
-            message: format!("needs an angle column ({}, deg) and `dL` (um)", angle_columns.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(" or ")),
+            message: format!(
+                "needs an angle column ({}, deg) and `dL` (um)",
+                angle_columns.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(" or ")
+            ),
         });
     };
     let angles_deg = table.numbers(column)?;
@@ -510,7 +523,13 @@ pub fn read_trace(path: impl AsRef<std::path::Path>, angle_columns: &[&str]) -> 
             .numbers("run")?
             .iter()
             .enumerate()
-            .map(|(i, v)| if v.fract() == 0.0 && v.abs() < 1e15 { Ok(*v as i64) } else { Err(table.row_error(i, &format!("column run: `{v}` is not an integer"))) })
+            .map(|(i, v)| {
+                if v.fract() == 0.0 && v.abs() < 1e15 {
+                    Ok(*v as i64)
+                } else {
+                    Err(table.row_error(i, &format!("column run: `{v}` is not an integer")))
+                }
+            })
             .collect::<Result<_, _>>()?
     } else {
         vec![1; dl_um.len()]

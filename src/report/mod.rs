@@ -7,8 +7,8 @@ mod positioning;
 
 pub use fit_plot::{fit_plot_svg, FitPlot};
 pub use heatmap::{heatmap_svg, MapSlice};
-pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
 pub use polar::{auto_scale, polar_svg, PolarPlot, PolarSeries};
+pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
 
 use thiserror::Error;
 

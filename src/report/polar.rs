@@ -68,8 +68,12 @@ fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), String> {
     let root = SVGBackend::with_string(svg, (WIDTH, HEIGHT)).into_drawing_area();
     root.fill(&WHITE).map_err(text)?;
     let (head, body) = root.split_vertically(40);
-    head.draw(&Text::new(plot.title, (WIDTH as i32 / 2, 10), TextStyle::from(("sans-serif", 18).into_font()).pos(Pos::new(HPos::Center, VPos::Top))))
-        .map_err(text)?;
+    head.draw(&Text::new(
+        plot.title,
+        (WIDTH as i32 / 2, 10),
+        TextStyle::from(("sans-serif", 18).into_font()).pos(Pos::new(HPos::Center, VPos::Top)),
+    ))
+    .map_err(text)?;
     let (left, right) = body.split_horizontally(HEIGHT - 40);
     let extent = NOMINAL + 3.6;
     let mut chart = ChartBuilder::on(&left).margin(20).build_cartesian_2d(-extent..extent, -extent..extent).map_err(text)?;
@@ -82,15 +86,24 @@ fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), String> {
         let t = f64::from(i * 30).to_radians();
         let (c, s) = (t.cos(), t.sin());
         chart
-            .draw_series(std::iter::once(PathElement::new(vec![(2.0 * c, 2.0 * s), ((NOMINAL + 3.0) * c, (NOMINAL + 3.0) * s)], RGBColor(220, 220, 220))))
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(2.0 * c, 2.0 * s), ((NOMINAL + 3.0) * c, (NOMINAL + 3.0) * s)],
+                RGBColor(220, 220, 220),
+            )))
             .map_err(text)?;
     }
-    let label = |s: &str, x: f64, y: f64| Text::new(s.to_string(), (x, y), TextStyle::from(("sans-serif", 14).into_font()).pos(Pos::new(HPos::Center, VPos::Center)));
+    let label = |s: &str, x: f64, y: f64| {
+        Text::new(s.to_string(), (x, y), TextStyle::from(("sans-serif", 14).into_font()).pos(Pos::new(HPos::Center, VPos::Center)))
+    };
     chart.draw_series([label(plot.axes.0, NOMINAL + 3.4, 0.0), label(plot.axes.1, 0.0, NOMINAL + 3.4)]).map_err(text)?;
     for (k, series) in plot.series.iter().enumerate() {
         let colour = COLOURS[k % COLOURS.len()];
-        let points: Vec<(f64, f64)> =
-            series.angles.iter().zip(series.dl_um).map(|(t, d)| ((NOMINAL + d / scale) * t.cos(), (NOMINAL + d / scale) * t.sin())).collect();
+        let points: Vec<(f64, f64)> = series
+            .angles
+            .iter()
+            .zip(series.dl_um)
+            .map(|(t, d)| ((NOMINAL + d / scale) * t.cos(), (NOMINAL + d / scale) * t.sin()))
+            .collect();
         chart
             .draw_series(std::iter::once(PathElement::new(points, colour.stroke_width(2))))
             .map_err(text)?

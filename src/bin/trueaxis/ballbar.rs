@@ -80,9 +80,11 @@ enum DirArg {
 /// Simulated bar readings on the exact kinematic chain: a step of the seed 001 5-axis test (A1 A2
 /// C1 C2 on the machine's two workpiece-side rotary axes) or an ISO 230-4 circle.
 #[derive(clap::Args)]
-#[command(after_help = "Examples:\n  trueaxis ballbar simulate --machine examples/machines/c600u.toml --errors examples/ballbar/c600u_piges.toml --test c2 --out c2.csv\n  \
+#[command(
+    after_help = "Examples:\n  trueaxis ballbar simulate --machine examples/machines/c600u.toml --errors examples/ballbar/c600u_piges.toml --test c2 --out c2.csv\n  \
 trueaxis ballbar simulate --machine examples/machines/vmc3.toml --errors examples/ballbar/vmc3_circle.toml --test circle --plane xy --radius 100 --centre 0,0,-200 --dir both\n\n\
-Output CSV: the axis columns (mm, deg), angle (deg, in the plane of the test), dir (ccw/cw), dL (um).")]
+Output CSV: the axis columns (mm, deg), angle (deg, in the plane of the test), dir (ccw/cw), dL (um)."
+)]
 pub struct SimulateArgs {
     #[arg(long)]
     machine: PathBuf,
@@ -155,7 +157,7 @@ fn noise(seed: u64, n: usize, sigma: f64) -> Vec<f64> {
 
 fn simulate(a: SimulateArgs) -> Result<(), Failure> {
     let (m, e) = load(&a.machine, a.errors.as_deref())?;
-    if !(a.step > 0.0 && a.step <= 90.0) || !(a.noise >= 0.0) {
+    if !(a.step > 0.0 && a.step <= 90.0 && a.noise >= 0.0) {
         return Err(Failure::input(anyhow!("--step must be in (0, 90] deg and --noise >= 0 um")));
     }
     let mut tests: Vec<(Rotation, BallbarTest)> = Vec::new();
@@ -190,7 +192,8 @@ fn simulate(a: SimulateArgs) -> Result<(), Failure> {
         let dl = test.simulate(&m, &e);
         let extra = noise(a.seed.wrapping_add(stream + k as u64), dl.len(), a.noise);
         for i in 0..test.len() {
-            let user: Vec<String> = m.axes().iter().zip(test.pose(i)).map(|(ax, q)| format!("{}", round(ax.position_to_user(*q), 9))).collect();
+            let user: Vec<String> =
+                m.axes().iter().zip(test.pose(i)).map(|(ax, q)| format!("{}", round(ax.position_to_user(*q), 9))).collect();
             let v = dl[i] * 1e3 + extra[i];
             if !v.is_finite() {
                 return Err(Failure::computation(anyhow!("the reading at sample {} is not a finite number", i + 1)));
@@ -227,11 +230,13 @@ fn print(text: &str) -> Result<(), Failure> {
 /// algebraic circle fits, the extended-bar orientation method, the start-angle correction (Eq. 4.1),
 /// repeatability over runs, and the simulated compensation residual.
 #[derive(clap::Args)]
-#[command(after_help = "Example:\n  trueaxis ballbar identify --machine examples/machines/c600u.toml --a1 examples/ballbar/A1.csv \\\n      \
+#[command(
+    after_help = "Example:\n  trueaxis ballbar identify --machine examples/machines/c600u.toml --a1 examples/ballbar/A1.csv \\\n      \
 --a2 examples/ballbar/A2.csv --c1 examples/ballbar/C1.csv --c2 examples/ballbar/C2.csv --plot-dir out\n\n\
 Each CSV holds the swept axis position (column A or C, or angle; deg) and dL (um, the bar reading\n\
 relative to the bar length); an optional integer column `run` holds repeated runs (mean and standard\n\
-deviation are then reported). Results: EY0A EZ0A EX0C EY0C in um, EB0A EC0A EA0C EB0C in urad and arcsec.")]
+deviation are then reported). Results: EY0A EZ0A EX0C EY0C in um, EB0A EC0A EA0C EB0C in urad and arcsec."
+)]
 pub struct IdentifyArgs {
     #[arg(long)]
     machine: PathBuf,
@@ -259,7 +264,11 @@ pub struct IdentifyArgs {
 }
 
 fn parse_pair(text: &str) -> Result<[f64; 2], String> {
-    let v: Vec<f64> = text.split(',').map(|s| s.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| format!("`{text}` is not two numbers a,b"))?;
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("`{text}` is not two numbers a,b"))?;
     match v.as_slice() {
         [a, b] if a.is_finite() && b.is_finite() => Ok([*a, *b]),
         _ => Err(format!("`{text}` is not two numbers a,b")),
@@ -303,7 +312,11 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
             if t.angles.len() < 3 {
                 return Err(Failure::input(anyhow!("{}: run {run} has {} readings; a circle fit needs 3", path.display(), t.angles.len())));
             }
-            if step.is_outer() { outer.push(t) } else { inner.push(t) }
+            if step.is_outer() {
+                outer.push(t)
+            } else {
+                inner.push(t)
+            }
         }
         results.push(identify_piges(&m, pair, &outer, &inner).map_err(Failure::computation)?);
     }
@@ -357,7 +370,8 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
             let mean = stats.parameters.iter().find(|p| p.0 == *id).map_or(*v, |p| p.1);
             params.insert(id.to_string(), json!({"value": round(u, 4), "unit": unit, "mean": round(user_value(id, mean).0, 4), "std": round(user_value(id, *sd).0, 4)}));
         }
-        let comp: Vec<_> = residuals.iter().map(|(s, rms, band)| json!({"step": s, "rms_um": round(*rms, 4), "band_um": round(*band, 4)})).collect();
+        let comp: Vec<_> =
+            residuals.iter().map(|(s, rms, band)| json!({"step": s, "rms_um": round(*rms, 4), "band_um": round(*band, 4)})).collect();
         let doc = json!({"machine": m.name, "runs": runs.len(), "parameters": params, "repeatability_ok": stats.within_tolerance, "compensation_residual": comp});
         return print(&format!("{doc}\n"));
     }
@@ -390,11 +404,13 @@ fn plane_labels(g: &trueaxis::instruments::ballbar::RotaryGeometry) -> (String, 
 /// ISO 230-4 circular test: least-squares centre, circular deviation G, radial deviation F,
 /// hysteresis H, and diagnostics fitted on the machine's kinematic model.
 #[derive(clap::Args)]
-#[command(after_help = "Example:\n  trueaxis ballbar iso230-4 examples/ballbar/vmc3_xy.csv --machine examples/machines/vmc3.toml \\\n      \
+#[command(
+    after_help = "Example:\n  trueaxis ballbar iso230-4 examples/ballbar/vmc3_xy.csv --machine examples/machines/vmc3.toml \\\n      \
 --radius 100 --centre 0,0,-200 --feed 1000 --pitch 10 --plot xy.svg\n\n\
 The CSV has `angle` (deg, from the plane's first axis toward its second) or the plane's two axis\n\
 columns (mm), `dL` (um) and optionally `dir` (ccw/cw) to hold both runs. Without --machine a plain\n\
-Cartesian machine (all three slides carry the tool) is used.")]
+Cartesian machine (all three slides carry the tool) is used."
+)]
 pub struct Iso2304Args {
     file: PathBuf,
     #[arg(long)]
@@ -442,16 +458,33 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
         }
     }
     let centre = centre_pose(&m, a.centre);
-    let runs = read_circular(&a.file, &m, a.plane, a.radius, &centre).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
+    let runs = read_circular(&a.file, &m, a.plane, a.radius, &centre).map_err(|e| {
+        if e.is_input() {
+            Failure::input(e)
+        } else {
+            Failure::computation(e)
+        }
+    })?;
     let (ia, ib, _) = a.plane.letters();
     let ca = m.axis_index(ia).map_or(0.0, |k| centre[k]);
     let cb = m.axis_index(ib).map_or(0.0, |k| centre[k]);
-    let options = DiagnosticOptions { plane: a.plane, radius: a.radius, centre: [ca, cb], pitch: a.pitch, spike_width: a.spike_width.to_radians(), feed: a.feed };
+    let options = DiagnosticOptions {
+        plane: a.plane,
+        radius: a.radius,
+        centre: [ca, cb],
+        pitch: a.pitch,
+        spike_width: a.spike_width.to_radians(),
+        feed: a.feed,
+    };
     let result = evaluate(&m, &runs, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
     let lines = result.summary_lines();
     if let Some(path) = &a.plot {
         let dl_um: Vec<Vec<f64>> = runs.iter().map(|r| r.dl.iter().map(|v| v * 1e3).collect()).collect();
-        let series = runs.iter().zip(&dl_um).map(|(r, d)| PolarSeries { label: r.rotation.name().to_uppercase(), angles: &r.test.angles, dl_um: d }).collect();
+        let series = runs
+            .iter()
+            .zip(&dl_um)
+            .map(|(r, d)| PolarSeries { label: r.rotation.name().to_uppercase(), angles: &r.test.angles, dl_um: d })
+            .collect();
         let svg = polar_svg(&PolarPlot {
             title: &format!("ISO 230-4 circular test, {} plane, R {} mm: {}", a.plane.name(), a.radius, a.file.display()),
             axes: (&format!("+{ia}"), &format!("+{ib}")),
@@ -509,7 +542,11 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
     let short = read_trace(&a.short, &["C", "angle"]).map_err(Failure::input)?;
     let long = read_trace(&a.long, &["C", "angle"]).map_err(Failure::input)?;
     if short.angles_deg.len() != long.angles_deg.len() || short.angles_deg.iter().zip(&long.angles_deg).any(|(x, y)| (x - y).abs() > 1e-6) {
-        return Err(Failure::input(anyhow!("{} and {}: the two bars must be read at the same table angles", a.short.display(), a.long.display())));
+        return Err(Failure::input(anyhow!(
+            "{} and {}: the two bars must be read at the same table angles",
+            a.short.display(),
+            a.long.display()
+        )));
     }
     let angles: Vec<f64> = short.angles_deg.iter().map(|d| d.to_radians()).collect();
     let mm = |t: &trueaxis::instruments::ballbar::TraceFile| t.dl_um.iter().map(|v| v * 1e-3).collect::<Vec<f64>>();
@@ -539,7 +576,11 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
     let (h1, h2) = setup.heights().map_err(Failure::input)?;
     let mut out = format!(
         "Two-length TMBB test of a rotary table (seed 002 ch. 5): R_x = {} mm, L1 = {} mm, L2 = {} mm, H2 - H1 = {:.3} mm, {} angles\n",
-        a.rx, a.l1, a.l2, h2 - h1, angles.len()
+        a.rx,
+        a.l1,
+        a.l2,
+        h2 - h1,
+        angles.len()
     );
     out.push_str(&format!("{:>16} {:>12} {:>12}\n", "", "l2", "l-infinity"));
     out.push_str(&format!("{:>16} {:>12.3} {:>12.3}\n", "E_x (arcsec)", arcsec(l2.ex), arcsec(linf.ex)));
