@@ -1,6 +1,9 @@
-//! Standard evaluations: ISO 230-2 positioning accuracy (later: ISO 230-4 circular tests).
+//! Standard evaluations: ISO 230-2 positioning accuracy, ISO 230-4 circular tests with ballbar
+//! diagnostics.
 
+pub mod ballbar_diagnostics;
 pub mod iso230_2;
+pub mod iso230_4;
 
 use crate::data::DataError;
 use crate::report::ReportError;

@@ -5,7 +5,9 @@ mod direct;
 mod drift;
 mod fit;
 mod least_squares;
+pub mod pige;
 mod stepwise;
+pub mod tmbb;
 
 pub use direct::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel};
 pub use drift::{remove_cycle_drift, CycleDrift};

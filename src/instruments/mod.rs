@@ -4,6 +4,8 @@
 //! - [`reversal`]: straightness with an imperfect test arbor by reversal, parallelism from best-fit
 //!   circle radii, and the flat-face disk reversal for straightness and orthogonality (seed 003
 //!   NISTIR 5236 §3.4, eqs. 3.1-3.8).
+//! - [`ballbar`]: ballbar (DBB) setups and bar readings simulated on the exact chain: ISO 230-4
+//!   planar circles and the rotary-axis tests of seed 001 (ch. 4, 5, 6).
 //! - [`scale`]: correction of linear-displacement readings to the 20 degC reference temperature
 //!   (ISO 1) for the thermal expansion of the machine scale or of the reference artefact, and the
 //!   apparent expansion coefficient of a scale from two runs at two temperatures (seed 000 §3.2.4,
@@ -13,6 +15,7 @@
 //! readings and deviations in um, slopes and angles in urad, temperatures in degC, expansion
 //! coefficients in um/m/K (= 1e-6 /K).
 
+pub mod ballbar;
 pub mod reversal;
 pub mod scale;
 

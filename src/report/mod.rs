@@ -5,11 +5,13 @@ pub mod html;
 mod fit_plot;
 mod heatmap;
 mod histogram;
+mod polar;
 mod positioning;
 
 pub use fit_plot::{fit_plot_svg, FitPlot};
 pub use heatmap::{heatmap_svg, MapSlice};
 pub use histogram::{convergence_svg, histograms_svg, ConvergenceSeries, HistogramPanel};
+pub use polar::{auto_scale, polar_svg, PolarPlot, PolarSeries};
 pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
 
 use thiserror::Error;

@@ -1,6 +1,7 @@
 //! The `trueaxis` command line: parse, call the library, print (DESIGN.md section 4).
 //! Exit status: 0 success, 1 failed computation, 2 bad input.
 
+mod ballbar;
 mod demo;
 mod fit;
 mod iso230_2;
@@ -26,6 +27,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    Ballbar(ballbar::BallbarArgs),
     Demo(demo::DemoArgs),
     Fit(Box<fit::FitArgs>),
     #[command(name = "iso230-2")]
@@ -52,6 +54,7 @@ impl Failure {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Ballbar(args) => ballbar::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Fit(args) => fit::run(*args),
         Command::Iso2302(args) => iso230_2::run(args),
