@@ -1,9 +1,11 @@
 //! The `trueaxis` command line: parse, call the library, print (DESIGN.md section 4).
 //! Exit status: 0 success, 1 failed computation, 2 bad input.
 
+mod compensate;
 mod demo;
 mod fit;
 mod iso230_2;
+mod nc;
 mod predict;
 
 use clap::{Parser, Subcommand};
@@ -30,6 +32,8 @@ enum Command {
     #[command(name = "iso230-2")]
     Iso2302(iso230_2::Iso2302Args),
     Predict(predict::PredictArgs),
+    Compensate(Box<compensate::CompensateArgs>),
+    Nc(Box<nc::NcArgs>),
 }
 
 /// Why a command failed: bad input (exit 2) or a failed computation (exit 1).
@@ -54,6 +58,8 @@ fn main() -> ExitCode {
         Command::Fit(args) => fit::run(*args),
         Command::Iso2302(args) => iso230_2::run(args),
         Command::Predict(args) => predict::run(args),
+        Command::Compensate(args) => compensate::run(*args),
+        Command::Nc(args) => nc::run(*args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
