@@ -56,6 +56,10 @@ pub struct CorrectionOptions {
     /// Singular values of the scaled joint Jacobian below this (mm per mm; for a rotary joint the
     /// lever arm divided by 1000 mm) count as zero: such directions are not corrected.
     pub singular_threshold: f64,
+    /// The same for the orientation task (default 0.1): near a 5-axis singularity (a rotary axis
+    /// nearly parallel to the tool axis) a tilt of the tool would need a rotary correction more
+    /// than ten times its size; it is left uncorrected and reported instead.
+    pub orientation_threshold: f64,
 }
 
 impl Default for CorrectionOptions {
@@ -65,6 +69,7 @@ impl Default for CorrectionOptions {
             max_iterations: 20,
             orientation: OrientationTarget::ToolAxis(Vec3::z()),
             singular_threshold: 1e-3,
+            orientation_threshold: 0.1,
         }
     }
 }
@@ -309,7 +314,7 @@ impl<'a> Corrector<'a> {
         let step1 = jp_pinv * (-position);
         let b = -(projector * orientation) * CHARACTERISTIC_LENGTH_MM - a * step1;
         let a_null = a - (a * jp_pinv) * jp;
-        let step2 = pseudo_inverse(&a_null, threshold) * b;
+        let step2 = pseudo_inverse(&a_null, self.options.orientation_threshold) * b;
         let unreached = (b - a_null * step2) / CHARACTERISTIC_LENGTH_MM;
         (step1 + step2, -unreached)
     }

@@ -37,7 +37,7 @@ pub fn export(input: &ExportInput) -> Result<Vec<ExportedFile>, CompensateError>
         }
         let _ = writeln!(text, "{header} {:>12}", "BACKLASH");
         for (i, x) in own.positions.iter().enumerate() {
-            let _ = write!(text, "{i:<5} {:>12}", signed(*x, 4));
+            let _ = write!(text, "{i:<5} {:>12}", signed(*x, 6));
             for t in &columns {
                 let _ = write!(text, " {:>12}", signed(t.forward[i], 6));
             }
