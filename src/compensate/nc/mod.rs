@@ -84,12 +84,13 @@ struct Context<'a, 'b> {
 }
 
 impl Context<'_, '_> {
-    /// Correction (mm, deg per axis) at parameter `t` of move `m`.
-    fn correction(&mut self, m: &Move, arc: Option<&ArcGeometry>, t: f64) -> Result<(Vec<f64>, Vec<f64>), String> {
+    /// Correction (mm, deg per axis) at parameter `t` of move `m`, with the directions of motion at
+    /// parameter `t_direction` (constant over a piece between direction reversals).
+    fn correction(&mut self, m: &Move, arc: Option<&ArcGeometry>, t: f64, t_direction: f64) -> Result<(Vec<f64>, Vec<f64>), String> {
         let n = self.machine.axis_count();
         let mut p = vec![0.0; n];
         point_at(m, arc, t, &mut p);
-        directions_at(m, arc, t, &self.previous_directions, &mut self.directions);
+        directions_at(m, arc, t_direction, &self.previous_directions, &mut self.directions);
         self.machine.pose_to_internal(&p, &mut self.q);
         let state = MachineState { directions: Some(&self.directions), temperatures: &self.temperatures };
         let c = self.corrector.correct_state(&self.q, &state, &mut self.ws);
@@ -150,20 +151,41 @@ pub fn correct_program(
         let block = &blocks[m.block];
         cx.line = block.line;
         let arc = arc_geometry(m);
-        let pieces = match m.kind {
-            MoveKind::Rapid => vec![1.0],
+        // pieces as (t, t_direction): the directions of motion are constant between reversals (the
+        // quadrant points of an arc), so each stretch is split on its own
+        let mut pieces: Vec<(f64, f64)> = Vec::new();
+        match m.kind {
+            MoveKind::Rapid => pieces.push((1.0, 1.0)),
             _ => {
                 let tolerance = |k: usize| match machine.axes()[k].kind {
                     AxisKind::Linear => options.tolerance_mm,
                     AxisKind::Rotary => options.rotary_tolerance_deg,
                 };
-                let mut f = |t: f64| cx.correction(m, arc.as_ref(), t).map(|(_, c)| c);
-                split_points(&mut f, &tolerance, options.max_pieces).map_err(|e| input(format!("line {}: {e}", block.line)))?
+                // one piece when the correction along the whole move (directions as they come)
+                // stays within the tolerance of the blend of its end values; otherwise split
+                // between reversals
+                let mut whole = |t: f64| cx.correction(m, arc.as_ref(), t, t).map(|(_, c)| c);
+                let bounds = match split_points(&mut whole, &tolerance, 64) {
+                    Ok(p) if p.len() == 1 => vec![0.0, 1.0],
+                    _ => reversals(arc.as_ref()),
+                };
+                if bounds.len() == 2 && arc.is_some() {
+                    pieces.push((1.0, 1.0));
+                } else {
+                    for w in bounds.windows(2) {
+                        let (a, b) = (w[0], w[1]);
+                        let t_direction = 0.5 * (a + b);
+                        let mut f = |u: f64| cx.correction(m, arc.as_ref(), a + u * (b - a), t_direction).map(|(_, c)| c);
+                        let stretch = split_points(&mut f, &tolerance, options.max_pieces).map_err(|e| input(format!("line {}: {e}", block.line)))?;
+                        pieces.extend(stretch.into_iter().map(|u| (a + u * (b - a), t_direction)));
+                    }
+                }
             }
-        };
-        let mut c_prev = cx.correction(m, arc.as_ref(), 0.0).map_err(CompensateError::Computation)?.1;
-        for (i, &t) in pieces.iter().enumerate() {
-            let (p, c) = cx.correction(m, arc.as_ref(), t).map_err(CompensateError::Computation)?;
+        }
+        let t0_direction = if pieces.len() == 1 && pieces[0] == (1.0, 1.0) { 0.0 } else { pieces[0].1 };
+        let mut c_prev = cx.correction(m, arc.as_ref(), 0.0, t0_direction).map_err(CompensateError::Computation)?.1;
+        for (i, &(t, t_direction)) in pieces.iter().enumerate() {
+            let (p, c) = cx.correction(m, arc.as_ref(), t, t_direction).map_err(CompensateError::Computation)?;
             let target: Vec<f64> = p.iter().zip(&c).map(|(a, b)| a + b).collect();
             let centre = match (m.kind, arc.as_ref()) {
                 (MoveKind::Arc { plane, centre, .. }, Some(_)) => {
@@ -196,6 +218,28 @@ pub fn correct_program(
     }
     cx.result.text = text_out;
     Ok(cx.result)
+}
+
+/// Parameters `0 = t_0 < ... < t_k = 1` between which no axis reverses: for an arc, the points
+/// where its angle crosses a multiple of 90 degrees (a plane axis turns around there).
+fn reversals(arc: Option<&ArcGeometry>) -> Vec<f64> {
+    let mut out = vec![0.0];
+    if let Some(g) = arc {
+        let quarter = std::f64::consts::FRAC_PI_2;
+        let (a0, a1) = (g.start_angle, g.start_angle + g.sweep);
+        let (lo, hi) = (a0.min(a1), a0.max(a1));
+        let mut k = (lo / quarter).floor() + 1.0;
+        while k * quarter < hi - 1e-12 {
+            let t = (k * quarter - a0) / g.sweep;
+            if t > 1e-9 && t < 1.0 - 1e-9 {
+                out.push(t);
+            }
+            k += 1.0;
+        }
+        out.sort_by(|a, b| a.total_cmp(b));
+    }
+    out.push(1.0);
+    out
 }
 
 /// Number text with `decimals` digits, trailing zeros removed (`12.5`, `-3`, `0.0012`).
