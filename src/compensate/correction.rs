@@ -189,13 +189,17 @@ impl<'a> Corrector<'a> {
         let mut dq = Joints::zeros();
         let (mut position, mut orientation) = self.residual(&qc[..n], &target, state, ws);
         let (original_position, original_orientation) = (position, orientation);
+        // the joint Jacobian of the nominal chain at q serves every iteration (chord method): it
+        // differs from the actual one by the size of the errors (~1e-4), so the iteration contracts
+        // by that factor per step
+        let (jp, jo, tool_axis) = self.joint_jacobian(&qc[..n], ws);
+        let solver = self.prepare(&jp, &jo, &tool_axis);
         let mut iterations = 0;
         let mut uncorrectable;
         loop {
-            let (jp, jo, tool_axis) = self.joint_jacobian(&qc[..n], ws);
-            let (step, unreached) = self.solve(&jp, &jo, &position, &orientation, &tool_axis);
+            let (step, unreached) = solver.step(&position, &orientation);
             uncorrectable = unreached;
-            let small_step = step.norm_squared().sqrt() < self.options.tolerance_mm;
+            let small_step = step.norm() < self.options.tolerance_mm;
             if (position.norm() < self.options.tolerance_mm && small_step) || iterations >= self.options.max_iterations {
                 break;
             }
@@ -296,11 +300,10 @@ impl<'a> Corrector<'a> {
         Joints::from_fn(|k, _| u[k] * self.weight(k))
     }
 
-    /// One prioritised least-squares step in scaled joint units: position first (minimum-norm
-    /// solution over all joints), then the targeted orientation in the null space of the position
-    /// task. Returns the step and the part of the targeted orientation residual it cannot reach (rad).
-    fn solve(&self, jp: &Block, jo: &Block, position: &Vec3, orientation: &Vec3, tool_axis: &Vec3) -> (Joints, Vec3) {
-        let threshold = self.options.singular_threshold;
+    /// The prioritised least-squares solve for one Jacobian, in scaled joint units: position first
+    /// (minimum-norm solution over all joints), then the targeted orientation in the null space of
+    /// the position task.
+    fn prepare(&self, jp: &Block, jo: &Block, tool_axis: &Vec3) -> Solver {
         let w = Joints::from_fn(|k, _| self.weight(k));
         let scale = |b: &Block| Block::from_fn(|i, k| b[(i, k)] * w[k]);
         let jp = scale(jp);
@@ -310,12 +313,30 @@ impl<'a> Corrector<'a> {
             OrientationTarget::Full => Mat3::identity(),
         };
         let a = projector * scale(jo) * CHARACTERISTIC_LENGTH_MM;
-        let jp_pinv = pseudo_inverse(&jp, threshold);
-        let step1 = jp_pinv * (-position);
-        let b = -(projector * orientation) * CHARACTERISTIC_LENGTH_MM - a * step1;
+        let jp_pinv = pseudo_inverse(&jp, self.options.singular_threshold);
         let a_null = a - (a * jp_pinv) * jp;
-        let step2 = pseudo_inverse(&a_null, self.options.orientation_threshold) * b;
-        let unreached = (b - a_null * step2) / CHARACTERISTIC_LENGTH_MM;
+        let a_null_pinv = pseudo_inverse(&a_null, self.options.orientation_threshold);
+        Solver { jp_pinv, a, a_null, a_null_pinv, projector }
+    }
+}
+
+/// The linear operators of one prioritised least-squares solve.
+struct Solver {
+    jp_pinv: SMatrix<f64, MAX_AXES, 3>,
+    a: Block,
+    a_null: Block,
+    a_null_pinv: SMatrix<f64, MAX_AXES, 3>,
+    projector: Mat3,
+}
+
+impl Solver {
+    /// The step (scaled joint units) that cancels the residual, and the part of the targeted
+    /// orientation residual it cannot reach (rad).
+    fn step(&self, position: &Vec3, orientation: &Vec3) -> (Joints, Vec3) {
+        let step1 = self.jp_pinv * (-position);
+        let b = -(self.projector * orientation) * CHARACTERISTIC_LENGTH_MM - self.a * step1;
+        let step2 = self.a_null_pinv * b;
+        let unreached = (b - self.a_null * step2) / CHARACTERISTIC_LENGTH_MM;
         (step1 + step2, -unreached)
     }
 }
@@ -323,7 +344,17 @@ impl<'a> Corrector<'a> {
 /// Moore-Penrose pseudo-inverse `M^T (M M^T)^+` of a 3 x n block, singular values of `M` below
 /// `threshold` treated as zero. Allocation-free (3 x 3 symmetric eigenproblem).
 fn pseudo_inverse(m: &Block, threshold: f64) -> SMatrix<f64, MAX_AXES, 3> {
-    let eigen = (m * m.transpose()).symmetric_eigen();
+    let gram = m * m.transpose();
+    // fast path: the smallest eigenvalue of the Gram matrix is at least det / (trace / 2)^2 (the
+    // product of the two largest is at most (trace / 2)^2); when det > threshold^2 trace^2 / 3
+    // it clears threshold^2, and the plain inverse is the pseudo-inverse
+    let trace = gram.trace();
+    if gram.determinant() > threshold * threshold * trace * trace / 3.0 {
+        if let Some(inverse) = gram.try_inverse() {
+            return m.transpose() * inverse;
+        }
+    }
+    let eigen = gram.symmetric_eigen();
     let mut gram_pinv = Mat3::zeros();
     for i in 0..3 {
         let lambda = eigen.eigenvalues[i];
