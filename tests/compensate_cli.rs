@@ -20,8 +20,22 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     ] {
         let out = dir.path().join(format);
         let (code, stdout, stderr) = trueaxis(&[
-            "compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3_backlash.toml",
-            "--format", format, "--out", out.to_str().unwrap(), "--points", "21", "--grid", "5,5,3", "--temperature", "T:column=22", "--json",
+            "compensate",
+            "--machine",
+            "examples/machines/vmc3.toml",
+            "--errors",
+            "examples/errors/vmc3_backlash.toml",
+            "--format",
+            format,
+            "--out",
+            out.to_str().unwrap(),
+            "--points",
+            "21",
+            "--grid",
+            "5,5,3",
+            "--temperature",
+            "T:column=22",
+            "--json",
         ]);
         assert_eq!(code, 0, "{format}: {stderr}");
         let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
@@ -35,8 +49,18 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     // a 5-axis machine with per-pose corrections
     let out = dir.path().join("c600u");
     let (code, stdout, stderr) = trueaxis(&[
-        "compensate", "--machine", "examples/machines/c600u.toml", "--errors", "examples/errors/c600u.toml", "--format", "csv",
-        "--poses", "examples/poses/c600u.csv", "--out", out.to_str().unwrap(), "--json",
+        "compensate",
+        "--machine",
+        "examples/machines/c600u.toml",
+        "--errors",
+        "examples/errors/c600u.toml",
+        "--format",
+        "csv",
+        "--poses",
+        "examples/poses/c600u.csv",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
     ]);
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
@@ -46,15 +70,33 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     // beyond the user's limit: refused, exit 2, nothing written
     let out = dir.path().join("limited");
     let (code, _, stderr) = trueaxis(&[
-        "compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "--format", "linuxcnc",
-        "--limit-um", "5", "--out", out.to_str().unwrap(),
+        "compensate",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--errors",
+        "examples/errors/vmc3.toml",
+        "--format",
+        "linuxcnc",
+        "--limit-um",
+        "5",
+        "--out",
+        out.to_str().unwrap(),
     ]);
     assert_eq!(code, 2);
     assert!(stderr.contains("beyond the limit of 5 um"), "{stderr}");
     assert!(!out.exists());
     let (code, _, stderr) = trueaxis(&[
-        "compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "--format", "csv",
-        "--reference", "Q=1", "--out", out.to_str().unwrap(),
+        "compensate",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--errors",
+        "examples/errors/vmc3.toml",
+        "--format",
+        "csv",
+        "--reference",
+        "Q=1",
+        "--out",
+        out.to_str().unwrap(),
     ]);
     assert_eq!(code, 2);
     assert!(stderr.contains("no axis Q"), "{stderr}");
@@ -65,8 +107,15 @@ fn nc_corrects_a_program_and_names_bad_lines() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pocket_corrected.ngc");
     let (code, stdout, stderr) = trueaxis(&[
-        "nc", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "examples/nc/pocket.ngc",
-        "--out", out.to_str().unwrap(), "--json",
+        "nc",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--errors",
+        "examples/errors/vmc3.toml",
+        "examples/nc/pocket.ngc",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
     ]);
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
@@ -76,13 +125,20 @@ fn nc_corrects_a_program_and_names_bad_lines() {
     assert!(text.contains("N40 G1 Z-250.") && text.contains("(plunge)"));
     let bad = dir.path().join("bad.ngc");
     std::fs::write(&bad, "G21 G90\nG0 X1\nG43 H1 Z5\n").unwrap();
-    let (code, _, stderr) = trueaxis(&["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", bad.to_str().unwrap()]);
+    let (code, _, stderr) =
+        trueaxis(&["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", bad.to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(stderr.contains("bad.ngc: line 3: tool length compensation"), "{stderr}");
     // with a work offset of 200 mm the program's X300 is X500 on the machine: beyond the travel
     let (code, _, stderr) = trueaxis(&[
-        "nc", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "examples/nc/pocket.ngc",
-        "--offset", "G54=X200",
+        "nc",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--errors",
+        "examples/errors/vmc3.toml",
+        "examples/nc/pocket.ngc",
+        "--offset",
+        "G54=X200",
     ]);
     assert_eq!(code, 2);
     assert!(stderr.contains("line 7: the end point leaves the machine's travel: axis X at 500 mm"), "{stderr}");

@@ -131,7 +131,12 @@ fn five_axis_machines_also_correct_the_tool_axis() {
             }
             let c = corrector.correct(&q, &mut ws);
             assert!(c.converged);
-            assert!(c.uncorrectable_orientation.norm() < 1e-10, "{name}: {} urad left at {:?} deg", c.uncorrectable_orientation.norm() * 1e6, q.iter().map(|v| v.to_degrees()).collect::<Vec<_>>());
+            assert!(
+                c.uncorrectable_orientation.norm() < 1e-10,
+                "{name}: {} urad left at {:?} deg",
+                c.uncorrectable_orientation.norm() * 1e6,
+                q.iter().map(|v| v.to_degrees()).collect::<Vec<_>>()
+            );
             assert!(c.uncorrectable(1e-5, 1e-9).is_empty());
             checked += 1;
         }

@@ -47,9 +47,15 @@ fn tables_sum_to_the_correction_along_every_axis_line() {
                     // own-axis table of `corrected` at its reference position (or at x) plus every
                     // cross-axis table into `corrected` at the pose
                     let own = tables.table(corrected, corrected).unwrap().mean_at(pose[corrected]);
-                    let cross: f64 = (0..m.axis_count()).filter(|&k| k != corrected).map(|k| tables.table(k, corrected).unwrap().mean_at(pose[k])).sum();
+                    let cross: f64 =
+                        (0..m.axis_count()).filter(|&k| k != corrected).map(|k| tables.table(k, corrected).unwrap().mean_at(pose[k])).sum();
                     // additive up to second order in the errors (0.01 deg PIGEs: picometres)
-                    assert!((own + cross - direct[corrected]).abs() < 1e-7, "{machine}: {driver}->{corrected} at {x}: {} vs {}", own + cross, direct[corrected]);
+                    assert!(
+                        (own + cross - direct[corrected]).abs() < 1e-7,
+                        "{machine}: {driver}->{corrected} at {x}: {} vs {}",
+                        own + cross,
+                        direct[corrected]
+                    );
                 }
             }
         }
@@ -80,12 +86,18 @@ fn grid_compensation_leaves_less_than_one_percent_of_the_volumetric_error() {
     // nodes reproduce the sampled corrections exactly
     let node = grid.node_position(3, 4, 5);
     let direct = correction_at(&corrector, &node);
-    for a in 0..3 {
-        assert!((grid.interpolate(node, a) - direct[a]).abs() < 1e-12);
+    for (a, d) in direct.iter().enumerate().take(3) {
+        assert!((grid.interpolate(node, a) - d).abs() < 1e-12);
     }
 }
 
-fn export_input<'a>(m: &'a Machine, e: &'a ErrorModel, tables: &'a TableSet, grid: Option<&'a trueaxis::compensate::VolumetricGrid>, limits: Limits) -> ExportInput<'a> {
+fn export_input<'a>(
+    m: &'a Machine,
+    e: &'a ErrorModel,
+    tables: &'a TableSet,
+    grid: Option<&'a trueaxis::compensate::VolumetricGrid>,
+    limits: Limits,
+) -> ExportInput<'a> {
     ExportInput { machine: m, errors: e, tables, grid, limits }
 }
 
@@ -152,7 +164,8 @@ fn heidenhain_tables_have_equidistant_columns_per_axis() {
         let header: Vec<&str> = lines.next().unwrap().split_whitespace().collect();
         assert_eq!(header[..2], ["NR", "AXISPOS"]);
         assert_eq!(*header.last().unwrap(), "BACKLASH");
-        let rows: Vec<Vec<f64>> = lines.take_while(|l| *l != "[END]").map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect()).collect();
+        let rows: Vec<Vec<f64>> =
+            lines.take_while(|l| *l != "[END]").map(|l| l.split_whitespace().map(|v| v.parse().unwrap()).collect()).collect();
         assert_eq!(rows.len(), 37);
         let step = (rows[36][1] - rows[0][1]) / 36.0;
         for (i, row) in rows.iter().enumerate() {
@@ -217,6 +230,7 @@ fn isg_csv_holds_the_error_parameters_with_iso_names() {
 }
 
 #[test]
+#[allow(clippy::needless_range_loop)]
 fn fanuc_lattice_interpolates_as_the_library_grid() {
     let (m, e) = load("vmc3", "vmc3");
     let corrector = Corrector::new(&m, &e);

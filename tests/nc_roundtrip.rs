@@ -72,7 +72,12 @@ fn every_programmed_point_moves_by_its_correction() {
         // every move skipped on the way is a piece of this one: its end is on the corrected path
         for piece in &corrected[k..j] {
             let off_path = distance_to_corrected_path(&m, &corrector, o, &piece.end);
-            assert!(off_path < 1e-3 + 2.0 * tolerance, "line {}: piece {:?} is {off_path} mm off the corrected path", o.block + 1, piece.end);
+            assert!(
+                off_path < 1e-3 + 2.0 * tolerance,
+                "line {}: piece {:?} is {off_path} mm off the corrected path",
+                o.block + 1,
+                piece.end
+            );
         }
         k = j + 1;
     }
@@ -102,7 +107,8 @@ fn distance_to_corrected_path(m: &Machine, corrector: &Corrector, o: &Move, p: &
         m.pose_to_internal(&x, &mut q);
         for d in [trueaxis::errors::Direction::Positive, trueaxis::errors::Direction::Negative] {
             let dirs = vec![Some(d); m.axis_count()];
-            let c = corrector.correct_state(&q, &trueaxis::errors::MachineState { directions: Some(&dirs), temperatures: &[23.0] }, &mut ws);
+            let c =
+                corrector.correct_state(&q, &trueaxis::errors::MachineState { directions: Some(&dirs), temperatures: &[23.0] }, &mut ws);
             let dist = (0..3).map(|k| (x[k] + c.dq[k] - p[k]).powi(2)).sum::<f64>().sqrt();
             best = best.min(dist);
         }
@@ -120,7 +126,13 @@ fn incremental_inch_and_work_offsets_are_honoured() {
     let r = correct_program(&corrector, text, "t.ngc", &options, &[]).unwrap();
     let moves = moves_of(&m, &r.text, &options);
     let ends = [[110.0, 70.0, -195.0], [80.0, 70.0, -195.0], [125.4, 70.0, -195.0]];
-    let expected = expected_corrections(&m, &corrector, &ends.iter().map(|e| SeenMove { end: e.to_vec(), arc: None }).collect::<Vec<_>>(), &[0.0; 3], &[]);
+    let expected = expected_corrections(
+        &m,
+        &corrector,
+        &ends.iter().map(|e| SeenMove { end: e.to_vec(), arc: None }).collect::<Vec<_>>(),
+        &[0.0; 3],
+        &[],
+    );
     for (i, (mv, (end, c))) in moves.iter().zip(ends.iter().zip(&expected)).enumerate() {
         let tol = if i == 2 { 0.6e-5 * 25.4 } else { 0.6e-4 };
         for a in 0..3 {

@@ -45,7 +45,9 @@ fn canon(output: &str) -> Vec<Canon> {
         let moved = match name {
             "STRAIGHT_TRAVERSE" | "STRAIGHT_FEED" => SeenMove { end: vec![args[0] * k, args[1] * k, args[2] * k], arc: None },
             // ARC_FEED(first_end, second_end, first_axis, second_axis, rotation, axis_end_point, a, b, c)
-            "ARC_FEED" => SeenMove { end: vec![args[0] * k, args[1] * k, args[5] * k], arc: Some(([args[2] * k, args[3] * k], args[4].signum())) },
+            "ARC_FEED" => {
+                SeenMove { end: vec![args[0] * k, args[1] * k, args[5] * k], arc: Some(([args[2] * k, args[3] * k], args[4].signum())) }
+            }
             _ => continue,
         };
         moves.push(Canon { moved, inch });

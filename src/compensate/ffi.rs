@@ -120,5 +120,6 @@ pub unsafe extern "C" fn trueaxis_correct(
     let out = std::slice::from_raw_parts_mut(corrections, n);
     let temperatures: &[f64] = if temperatures.is_null() { &[] } else { std::slice::from_raw_parts(temperatures, c.sensor_count()) };
     let directions: &[i8] = if directions.is_null() { &[] } else { std::slice::from_raw_parts(directions, n) };
-    catch_unwind(AssertUnwindSafe(|| c.correct(positions, temperatures, directions, out) as i32)).unwrap_or(RealtimeStatus::NotConverged as i32)
+    catch_unwind(AssertUnwindSafe(|| c.correct(positions, temperatures, directions, out) as i32))
+        .unwrap_or(RealtimeStatus::NotConverged as i32)
 }

@@ -44,7 +44,14 @@ impl RealtimeCorrector {
             return Err(CompensateError::Input(format!("machine `{}` has more than {MAX_AXES} axes", machine.name)));
         }
         let workspace = CorrectionWorkspace::new(&machine);
-        Ok(RealtimeCorrector { setup: Setup::of_machine(&machine), machine, errors, options: CorrectionOptions::default(), workspace, last: None })
+        Ok(RealtimeCorrector {
+            setup: Setup::of_machine(&machine),
+            machine,
+            errors,
+            options: CorrectionOptions::default(),
+            workspace,
+            last: None,
+        })
     }
 
     /// Changes the solve options (tolerance, iterations, orientation target).

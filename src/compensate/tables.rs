@@ -110,9 +110,7 @@ pub fn reference_pose(machine: &Machine, given: Option<&[f64]>) -> Result<Vec<f6
             machine.check_range(r).map_err(|m| CompensateError::Input(format!("reference pose: {m}")))?;
             Ok(r.to_vec())
         }
-        None => (0..machine.axis_count())
-            .map(|k| Ok(machine.axes()[k].range.map_or(0.0, |[lo, hi]| 0.0f64.clamp(lo, hi))))
-            .collect(),
+        None => (0..machine.axis_count()).map(|k| Ok(machine.axes()[k].range.map_or(0.0, |[lo, hi]| 0.0f64.clamp(lo, hi)))).collect(),
     }
 }
 
@@ -192,7 +190,13 @@ pub fn axis_tables(corrector: &Corrector, spec: &TableSpec) -> Result<TableSet, 
             let axis = &m.axes()[corrected];
             let offset = if corrected == driver { 0.0 } else { reference_dq[corrected] };
             let column = |cs: &[Correction]| cs.iter().map(|c| axis.position_to_user(c.dq[corrected]) - offset).collect::<Vec<f64>>();
-            tables.push(AxisTable { driver, corrected, positions: positions.clone(), forward: column(&forward), reverse: column(&reverse) });
+            tables.push(AxisTable {
+                driver,
+                corrected,
+                positions: positions.clone(),
+                forward: column(&forward),
+                reverse: column(&reverse),
+            });
         }
     }
     Ok(TableSet { reference, tables, worst_residual_position: worst_p, worst_uncorrectable_orientation: worst_o })

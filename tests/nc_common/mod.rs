@@ -15,7 +15,13 @@ pub struct SeenMove {
 
 /// Directions of motion at the end of each move (an axis that does not move keeps its last
 /// direction; along an arc the sign of the tangent at the end), then the correction there (mm, deg).
-pub fn expected_corrections(machine: &Machine, corrector: &Corrector, moves: &[SeenMove], start: &[f64], temperatures: &[f64]) -> Vec<Vec<f64>> {
+pub fn expected_corrections(
+    machine: &Machine,
+    corrector: &Corrector,
+    moves: &[SeenMove],
+    start: &[f64],
+    temperatures: &[f64],
+) -> Vec<Vec<f64>> {
     let n = machine.axis_count();
     let mut ws = CorrectionWorkspace::new(machine);
     let mut dirs: Vec<Option<Direction>> = vec![None; n];

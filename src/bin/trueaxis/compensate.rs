@@ -28,11 +28,13 @@ enum Format {
 /// predicted error of the tool point relative to the workpiece, solved on the exact chain (seed 000
 /// §2.3.5), sampled as own-axis / cross-axis tables (both directions of motion) and a volumetric grid.
 #[derive(clap::Args)]
-#[command(after_help = "Examples:\n  trueaxis compensate --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      --format linuxcnc --limit-um 50 --out comp\n  \
+#[command(
+    after_help = "Examples:\n  trueaxis compensate --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      --format linuxcnc --limit-um 50 --out comp\n  \
 trueaxis compensate --machine examples/machines/c600u.toml --errors examples/errors/c600u.toml \\\n      --poses examples/poses/c600u.csv --format csv --out comp5\n\n\
 Corrections are in um (linear axes) and urad (rotary axes) in CSV/JSON, in machine units (mm, deg) in\n\
 controller files. A correction beyond --limit-um / --limit-urad, a table longer than the controller\n\
-accepts, unequal spacing or a rotary table that does not close over a turn refuses the export (exit 2).")]
+accepts, unequal spacing or a rotary table that does not close over a turn refuses the export (exit 2)."
+)]
 pub struct CompensateArgs {
     /// Machine description (TOML).
     #[arg(long)]
@@ -79,7 +81,8 @@ pub struct CompensateArgs {
 }
 
 fn parse_counts(text: &str) -> Result<[usize; 3], String> {
-    let v: Vec<usize> = text.split(',').map(|p| p.trim().parse::<usize>()).collect::<Result<_, _>>().map_err(|_| format!("`{text}` is not NX,NY,NZ"))?;
+    let v: Vec<usize> =
+        text.split(',').map(|p| p.trim().parse::<usize>()).collect::<Result<_, _>>().map_err(|_| format!("`{text}` is not NX,NY,NZ"))?;
     <[usize; 3]>::try_from(v).map_err(|_| format!("`{text}` is not three counts NX,NY,NZ"))
 }
 
@@ -105,9 +108,17 @@ pub fn parse_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<f
     for g in given {
         let (name, value) = g.rsplit_once('=').ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}` is not T:name=degC")))?;
         let i = errors.sensors().iter().position(|s| s == name).ok_or_else(|| {
-            Failure::input(anyhow::anyhow!("--temperature: the error model has no sensor `{name}` (sensors: {})", errors.sensors().join(", ")))
+            Failure::input(anyhow::anyhow!(
+                "--temperature: the error model has no sensor `{name}` (sensors: {})",
+                errors.sensors().join(", ")
+            ))
         })?;
-        values[i] = value.trim().parse().ok().filter(|v: &f64| v.is_finite()).ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}`: not a number")))?;
+        values[i] = value
+            .trim()
+            .parse()
+            .ok()
+            .filter(|v: &f64| v.is_finite())
+            .ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}`: not a number")))?;
     }
     Ok(values)
 }
@@ -136,14 +147,21 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
     let wants_grid = matches!(args.format, Format::Fanuc3d) || (matches!(args.format, Format::Csv | Format::Json) && has_xyz);
     let grid = if wants_grid { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
-    let input = ExportInput { machine: &machine, errors: &errors, tables: &tables, grid: grid.as_ref(), limits: Limits { max_um: args.limit_um, max_urad: args.limit_urad } };
+    let input = ExportInput {
+        machine: &machine,
+        errors: &errors,
+        tables: &tables,
+        grid: grid.as_ref(),
+        limits: Limits { max_um: args.limit_um, max_urad: args.limit_urad },
+    };
     let mut files: Vec<ExportedFile> = match args.format {
         Format::Linuxcnc => export::linuxcnc::export(&input, if args.comp_type == 0 { CompType::Positions } else { CompType::Trims }),
         Format::Isg => export::isg::export(&input),
         Format::Heidenhain => export::heidenhain::export(&input),
         Format::Fanuc3d => export::fanuc3d::export(&input, args.max_lattice_points),
         Format::Csv => export::plain::export_csv(&input),
-        Format::Json => export::plain::to_json(&input).map(|doc| vec![ExportedFile { name: "compensation.json".into(), contents: format!("{doc:#}\n") }]),
+        Format::Json => export::plain::to_json(&input)
+            .map(|doc| vec![ExportedFile { name: "compensation.json".into(), contents: format!("{doc:#}\n") }]),
     }
     .map_err(failure)?;
     let mut pose_summary = None;
@@ -152,14 +170,17 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
         files.push(file);
         pose_summary = Some(summary);
     }
-    std::fs::create_dir_all(&args.out).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create the output directory: {e}", args.out.display())))?;
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create the output directory: {e}", args.out.display())))?;
     for f in &files {
         write_atomically(&args.out.join(&f.name), f.contents.as_bytes()).map_err(Failure::input)?;
     }
     let largest = |rotary: bool| {
-        tables.tables.iter().filter(|t| (machine.axes()[t.corrected].kind == trueaxis::machine::AxisKind::Rotary) == rotary).fold(0.0f64, |m, t| {
-            m.max(export::to_micro(&machine, t.corrected, t.max_abs()))
-        })
+        tables
+            .tables
+            .iter()
+            .filter(|t| (machine.axes()[t.corrected].kind == trueaxis::machine::AxisKind::Rotary) == rotary)
+            .fold(0.0f64, |m, t| m.max(export::to_micro(&machine, t.corrected, t.max_abs())))
     };
     let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
     if args.json {
@@ -202,7 +223,12 @@ fn round(v: f64) -> f64 {
 
 /// Corrections of every pose of a CSV: `corrections.csv` with the axis columns, `d<axis>` (um or
 /// urad), the error before and the residual after (um), the uncorrectable orientation (urad).
-fn correct_poses(machine: &Machine, corrector: &Corrector, path: &Path, temperatures: &[f64]) -> Result<(ExportedFile, serde_json::Value), Failure> {
+fn correct_poses(
+    machine: &Machine,
+    corrector: &Corrector,
+    path: &Path,
+    temperatures: &[f64],
+) -> Result<(ExportedFile, serde_json::Value), Failure> {
     let poses = read_poses(path, machine).map_err(Failure::input)?;
     let n = machine.axis_count();
     let internal = poses.internal(machine);
@@ -216,7 +242,11 @@ fn correct_poses(machine: &Machine, corrector: &Corrector, path: &Path, temperat
         let directions = poses.directions.as_ref().map(|d| &d[i * n..(i + 1) * n]);
         let c = corrector.correct_state(q, &MachineState { directions, temperatures }, &mut ws);
         if !c.converged {
-            return Err(Failure::computation(anyhow::anyhow!("{}: line {}: the correction did not converge", path.display(), poses.lines[i])));
+            return Err(Failure::computation(anyhow::anyhow!(
+                "{}: line {}: the correction did not converge",
+                path.display(),
+                poses.lines[i]
+            )));
         }
         let mut row: Vec<String> = poses.user[i * n..(i + 1) * n].iter().map(|v| format!("{v}")).collect();
         row.extend((0..n).map(|k| format!("{:.4}", export::to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])))));

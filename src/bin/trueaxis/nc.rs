@@ -13,11 +13,13 @@ use trueaxis::machine::Machine;
 /// that cancels the predicted error there (exact chain), moves along which the correction varies
 /// more than the tolerance are split, and only the numbers that must change are rewritten.
 #[derive(clap::Args)]
-#[command(after_help = "Example:\n  trueaxis nc --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      examples/nc/pocket.ngc --out pocket_corrected.ngc\n\n\
+#[command(
+    after_help = "Example:\n  trueaxis nc --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      examples/nc/pocket.ngc --out pocket_corrected.ngc\n\n\
 Supported: G0 G1 G2 G3 (IJK or R), G17-G19, G20/G21, G90/G91, G53, G54-G59 (offsets from --offset),\n\
 comments, line numbers, F S T M words. Refused with a message naming the line: parameters and\n\
 expressions, O-word subroutines, cutter and tool-length compensation (G41/G42/G43), G10, G28, G92,\n\
-canned cycles, G93. Machine position = program coordinate + work offset (mm, deg).")]
+canned cycles, G93. Machine position = program coordinate + work offset (mm, deg)."
+)]
 pub struct NcArgs {
     /// Machine description (TOML).
     #[arg(long)]
@@ -54,13 +56,16 @@ pub struct NcArgs {
 
 /// `X100,Y50` into `X=100,Y=50`.
 fn letter_values(text: &str) -> String {
-    text.split(',').map(|p| {
-        let p = p.trim();
-        match p.char_indices().nth(1) {
-            Some((i, _)) if !p.contains('=') => format!("{}={}", &p[..i], &p[i..]),
-            _ => p.to_string(),
-        }
-    }).collect::<Vec<_>>().join(",")
+    text.split(',')
+        .map(|p| {
+            let p = p.trim();
+            match p.char_indices().nth(1) {
+                Some((i, _)) if !p.contains('=') => format!("{}={}", &p[..i], &p[i..]),
+                _ => p.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 pub fn run(args: NcArgs) -> Result<(), Failure> {

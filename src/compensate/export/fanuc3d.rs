@@ -20,9 +20,9 @@ pub fn export(input: &ExportInput, max_points: Option<usize>) -> Result<Vec<Expo
     let m = input.machine;
     let g = input.grid.ok_or_else(|| CompensateError::Input("the Fanuc 3D lattice needs a volumetric grid".into()))?;
     let letters = g.axes.map(|a| m.axes()[a].letter);
-    for d in 0..3 {
+    for (d, letter) in letters.iter().enumerate() {
         let positions: Vec<f64> = (0..g.counts[d]).map(|i| g.start[d] + g.step[d] * i as f64).collect();
-        check_equal_spacing(&positions, &format!("3D lattice along {}", letters[d]))?;
+        check_equal_spacing(&positions, &format!("3D lattice along {letter}"))?;
     }
     if let Some(max) = max_points {
         check_count(g.counts.iter().product(), max, "the 3D lattice")?;

@@ -8,7 +8,9 @@
 //! Values are trueaxis corrections (added to the position) in mm, deg for rotary axes; the header
 //! unit is `MM`. Cross-axis columns are zero at the reference pose (see `tables`).
 
-use super::{check_count, check_equal_spacing, check_rotary_closure, check_user_limits, closure_tolerance, signed, ExportInput, ExportedFile};
+use super::{
+    check_count, check_equal_spacing, check_rotary_closure, check_user_limits, closure_tolerance, signed, ExportInput, ExportedFile,
+};
 use crate::compensate::CompensateError;
 use std::fmt::Write;
 

@@ -37,7 +37,8 @@ pub fn export(input: &ExportInput) -> Result<Vec<ExportedFile>, CompensateError>
     for (k, axis) in m.axes().iter().enumerate() {
         let table = input.tables.table(k, k).expect("own-axis table of every axis");
         check_equal_spacing(&table.positions, &format!("ISG GRID block of axis {}", axis.letter))?;
-        let names: Vec<String> = Component::ALL.iter().map(|c| ParameterId::Motion { axis: axis.letter, component: *c }.to_string()).collect();
+        let names: Vec<String> =
+            Component::ALL.iter().map(|c| ParameterId::Motion { axis: axis.letter, component: *c }.to_string()).collect();
         let _ = writeln!(text, "#\n{} {}", axis.letter, names.join(" "));
         for &x in &table.positions {
             let mut pose = reference.clone();

@@ -59,7 +59,12 @@ pub fn export(input: &ExportInput, comp_type: CompType) -> Result<Vec<ExportedFi
         .filter(|t| !t.is_own_axis() && t.max_abs() > 0.0)
         .map(|t| {
             let c = m.axes()[t.corrected].letter;
-            format!("#   {c} as a function of {}: up to {:.3} {}", m.axes()[t.driver].letter, super::to_micro(m, t.corrected, t.max_abs()), super::micro_unit(m, t.corrected))
+            format!(
+                "#   {c} as a function of {}: up to {:.3} {}",
+                m.axes()[t.driver].letter,
+                super::to_micro(m, t.corrected, t.max_abs()),
+                super::micro_unit(m, t.corrected)
+            )
         })
         .collect();
     if !dropped.is_empty() {

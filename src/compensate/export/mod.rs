@@ -77,7 +77,16 @@ pub fn check_user_limits(input: &ExportInput) -> Result<(), CompensateError> {
     };
     for t in &input.tables.tables {
         for (i, (&f, &r)) in t.forward.iter().zip(&t.reverse).enumerate() {
-            let place = || format!("{} = {} {} (table {} -> {})", letter(m, t.driver), t.positions[i], unit(m, t.driver), letter(m, t.driver), letter(m, t.corrected));
+            let place = || {
+                format!(
+                    "{} = {} {} (table {} -> {})",
+                    letter(m, t.driver),
+                    t.positions[i],
+                    unit(m, t.driver),
+                    letter(m, t.driver),
+                    letter(m, t.corrected)
+                )
+            };
             check(t.corrected, f, &place)?;
             check(t.corrected, r, &place)?;
         }

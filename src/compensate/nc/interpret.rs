@@ -96,8 +96,7 @@ struct Modal {
 
 /// The moves of a program; an error names the line.
 pub fn interpret(machine: &Machine, blocks: &[Block], setup: &ProgramSetup) -> Result<Vec<Move>, String> {
-    let mut state =
-        Modal { motion: None, incremental: false, inch: false, plane: 17, offset: 0, position: setup.start.clone() };
+    let mut state = Modal { motion: None, incremental: false, inch: false, plane: 17, offset: 0, position: setup.start.clone() };
     let mut moves = Vec::new();
     for (index, block) in blocks.iter().enumerate() {
         let line = block.line;
@@ -115,7 +114,7 @@ pub fn interpret(machine: &Machine, blocks: &[Block], setup: &ProgramSetup) -> R
                 530 => g53 = true,
                 540 | 550 | 560 | 570 | 580 | 590 => state.offset = (code as usize - 540) / 10,
                 410 | 420 | 411 | 421 => return Err(format!("line {line}: cutter radius compensation (G{}) is not supported; program the tool centre path", w.value)),
-                430 | 431 | 432 => return Err(format!("line {line}: tool length compensation (G{}) is not supported; put the tool point in the machine file instead", w.value)),
+                430..=432 => return Err(format!("line {line}: tool length compensation (G{}) is not supported; put the tool point in the machine file instead", w.value)),
                 901 => return Err(format!("line {line}: absolute arc centres (G90.1) are not supported; use the default incremental IJK (G91.1)")),
                 930 => return Err(format!("line {line}: inverse-time feed (G93) is not supported: splitting moves would change their times")),
                 _ => return Err(format!("line {line}: G{} is not supported by the NC corrector (supported: G0 G1 G2 G3 G17-G19 G20 G21 G40 G49 G53 G54-G59 G61 G64 G80 G90 G91 G91.1 G94)", w.value)),
@@ -174,7 +173,9 @@ fn plane_of(machine: &Machine, plane: u32, line: usize) -> Result<Plane, String>
         18 => (['Z', 'X', 'Y'], ['K', 'I']),
         _ => (['Y', 'Z', 'X'], ['J', 'K']),
     };
-    let idx = |c: char| machine.axis_index(c).ok_or_else(|| format!("line {line}: an arc in G{plane} needs axis {c}, which the machine does not have"));
+    let idx = |c: char| {
+        machine.axis_index(c).ok_or_else(|| format!("line {line}: an arc in G{plane} needs axis {c}, which the machine does not have"))
+    };
     Ok(Plane { first: idx(letters[0])?, second: idx(letters[1])?, normal: idx(letters[2])?, centre_letters })
 }
 

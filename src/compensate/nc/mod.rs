@@ -176,7 +176,8 @@ pub fn correct_program(
                         let (a, b) = (w[0], w[1]);
                         let t_direction = 0.5 * (a + b);
                         let mut f = |u: f64| cx.correction(m, arc.as_ref(), a + u * (b - a), t_direction).map(|(_, c)| c);
-                        let stretch = split_points(&mut f, &tolerance, options.max_pieces).map_err(|e| input(format!("line {}: {e}", block.line)))?;
+                        let stretch =
+                            split_points(&mut f, &tolerance, options.max_pieces).map_err(|e| input(format!("line {}: {e}", block.line)))?;
                         pieces.extend(stretch.into_iter().map(|u| (a + u * (b - a), t_direction)));
                     }
                 }
@@ -188,9 +189,10 @@ pub fn correct_program(
             let (p, c) = cx.correction(m, arc.as_ref(), t, t_direction).map_err(CompensateError::Computation)?;
             let target: Vec<f64> = p.iter().zip(&c).map(|(a, b)| a + b).collect();
             let centre = match (m.kind, arc.as_ref()) {
-                (MoveKind::Arc { plane, centre, .. }, Some(_)) => {
-                    Some([centre[0] + 0.5 * (c_prev[plane.first] + c[plane.first]), centre[1] + 0.5 * (c_prev[plane.second] + c[plane.second])])
-                }
+                (MoveKind::Arc { plane, centre, .. }, Some(_)) => Some([
+                    centre[0] + 0.5 * (c_prev[plane.first] + c[plane.first]),
+                    centre[1] + 0.5 * (c_prev[plane.second] + c[plane.second]),
+                ]),
                 _ => None,
             };
             if i == 0 {
@@ -271,7 +273,15 @@ fn decimals_of(options: &NcOptions, inch: bool) -> usize {
 /// what it holds now (`written`, machine units) and the word of the original block, if any; `None`
 /// when the original text (or the absence of a word) already gives the target to the written
 /// resolution. Updates `written`.
-fn axis_value(machine: &Machine, options: &NcOptions, m: &Move, axis: usize, target: f64, original: Option<f64>, written: &mut [f64]) -> Option<String> {
+fn axis_value(
+    machine: &Machine,
+    options: &NcOptions,
+    m: &Move,
+    axis: usize,
+    target: f64,
+    original: Option<f64>,
+    written: &mut [f64],
+) -> Option<String> {
     let decimals = decimals_of(options, m.inch);
     let half = 0.5 * 10f64.powi(-(decimals as i32));
     let to_prog = |v: f64| to_program_units(machine, axis, v, m.inch);
@@ -305,7 +315,15 @@ fn centre_values(machine: &Machine, options: &NcOptions, m: &Move, centre: [f64;
 }
 
 /// The block with its numbers replaced and missing words added; everything else as written.
-fn rewrite_block(machine: &Machine, options: &NcOptions, block: &Block, m: &Move, target: &[f64], centre: Option<[f64; 2]>, written: &mut [f64]) -> String {
+fn rewrite_block(
+    machine: &Machine,
+    options: &NcOptions,
+    block: &Block,
+    m: &Move,
+    target: &[f64],
+    centre: Option<[f64; 2]>,
+    written: &mut [f64],
+) -> String {
     let start = written.to_vec();
     let mut edits: Vec<(std::ops::Range<usize>, String)> = Vec::new();
     let mut appended: Vec<String> = Vec::new();
