@@ -2,9 +2,11 @@
 //! Exit status: 0 success, 1 failed computation, 2 bad input.
 
 mod ballbar;
+mod compensate;
 mod demo;
 mod fit;
 mod iso230_2;
+mod nc;
 mod predict;
 mod uncertainty;
 
@@ -34,6 +36,8 @@ enum Command {
     Iso2302(iso230_2::Iso2302Args),
     Predict(predict::PredictArgs),
     Uncertainty(Box<uncertainty::UncertaintyArgs>),
+    Compensate(Box<compensate::CompensateArgs>),
+    Nc(Box<nc::NcArgs>),
 }
 
 /// Why a command failed: bad input (exit 2) or a failed computation (exit 1).
@@ -60,6 +64,8 @@ fn main() -> ExitCode {
         Command::Iso2302(args) => iso230_2::run(args),
         Command::Predict(args) => predict::run(args),
         Command::Uncertainty(args) => uncertainty::run(*args),
+        Command::Compensate(args) => compensate::run(*args),
+        Command::Nc(args) => nc::run(*args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

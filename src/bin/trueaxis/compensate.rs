@@ -1,0 +1,267 @@
+//! `trueaxis compensate`.
+
+use crate::Failure;
+use std::path::{Path, PathBuf};
+use trueaxis::compensate::export::{self, linuxcnc::CompType, ExportInput, ExportedFile, Limits};
+use trueaxis::compensate::{axis_tables, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, TableSpec};
+use trueaxis::data::{read_poses, write_atomically};
+use trueaxis::errors::{ErrorModel, MachineState};
+use trueaxis::machine::Machine;
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Format {
+    /// LinuxCNC joint compensation files, COMP_FILE_TYPE 1 (trims); `--comp-type 0` for positions.
+    Linuxcnc,
+    /// ISG / Beckhoff TF5280 volumetric CSV (error parameters with ISO 230-1 names).
+    Isg,
+    /// Heidenhain .COM tables and a .CMA assignment.
+    Heidenhain,
+    /// Fanuc-style 3D lattice (needs axes X, Y, Z).
+    Fanuc3d,
+    /// Plain CSV: tables.csv (and grid.csv when the machine has X, Y, Z).
+    Csv,
+    /// Plain JSON: compensation.json.
+    Json,
+}
+
+/// Compensation tables for a controller: corrections (added to the axis set-points) that cancel the
+/// predicted error of the tool point relative to the workpiece, solved on the exact chain (seed 000
+/// §2.3.5), sampled as own-axis / cross-axis tables (both directions of motion) and a volumetric grid.
+#[derive(clap::Args)]
+#[command(
+    after_help = "Examples:\n  trueaxis compensate --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      --format linuxcnc --limit-um 50 --out comp\n  \
+trueaxis compensate --machine examples/machines/c600u.toml --errors examples/errors/c600u.toml \\\n      --poses examples/poses/c600u.csv --format csv --out comp5\n\n\
+Corrections are in um (linear axes) and urad (rotary axes) in CSV/JSON, in machine units (mm, deg) in\n\
+controller files. A correction beyond --limit-um / --limit-urad, a table longer than the controller\n\
+accepts, unequal spacing or a rotary table that does not close over a turn refuses the export (exit 2)."
+)]
+pub struct CompensateArgs {
+    /// Machine description (TOML).
+    #[arg(long)]
+    machine: PathBuf,
+    /// Error values (TOML).
+    #[arg(long)]
+    errors: PathBuf,
+    /// Output format.
+    #[arg(long, value_enum)]
+    format: Format,
+    /// Output directory (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+    /// Refuse corrections of a linear axis larger than this (um).
+    #[arg(long)]
+    limit_um: Option<f64>,
+    /// Refuse corrections of a rotary axis larger than this (urad).
+    #[arg(long)]
+    limit_urad: Option<f64>,
+    /// Points per own-axis / cross-axis table (equally spaced over the travel).
+    #[arg(long, default_value_t = 41)]
+    points: usize,
+    /// Volumetric grid nodes along X, Y, Z (fanuc3d, csv, json).
+    #[arg(long, value_parser = parse_counts, default_value = "9,9,9")]
+    grid: [usize; 3],
+    /// Reference pose of the tables, e.g. `X=0,Y=0,Z=-200,A=0,C=0` (default: home clamped into the travel).
+    #[arg(long)]
+    reference: Option<String>,
+    /// LinuxCNC COMP_FILE_TYPE: 1 (trims, default) or 0 (positions).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(0..=1))]
+    comp_type: u8,
+    /// Largest number of lattice points the controller accepts (fanuc3d).
+    #[arg(long)]
+    max_lattice_points: Option<usize>,
+    /// Temperature of a sensor of the error model, `T:name=degC` (repeatable; default 20 degC).
+    #[arg(long = "temperature")]
+    temperatures: Vec<String>,
+    /// Also correct the poses of this CSV (axis columns) and write corrections.csv.
+    #[arg(long)]
+    poses: Option<PathBuf>,
+    /// Print one JSON summary instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_counts(text: &str) -> Result<[usize; 3], String> {
+    let v: Vec<usize> =
+        text.split(',').map(|p| p.trim().parse::<usize>()).collect::<Result<_, _>>().map_err(|_| format!("`{text}` is not NX,NY,NZ"))?;
+    <[usize; 3]>::try_from(v).map_err(|_| format!("`{text}` is not three counts NX,NY,NZ"))
+}
+
+/// `X=1,Y=2` into a full pose (mm, deg) of `machine`, unspecified axes 0.
+pub fn parse_axis_values(machine: &Machine, text: &str, what: &str) -> Result<Vec<f64>, Failure> {
+    let mut pose = vec![0.0; machine.axis_count()];
+    for part in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
+        let bad = || Failure::input(anyhow::anyhow!("{what}: `{part}` is not AXIS=VALUE (e.g. X=10)"));
+        let (letter, value) = part.split_once('=').ok_or_else(bad)?;
+        let letter = letter.trim().chars().next().filter(|_| letter.trim().len() == 1).ok_or_else(bad)?.to_ascii_uppercase();
+        let value: f64 = value.trim().parse().ok().filter(|v: &f64| v.is_finite()).ok_or_else(bad)?;
+        let axis = machine.axis_index(letter).ok_or_else(|| {
+            Failure::input(anyhow::anyhow!("{what}: machine `{}` has no axis {letter} (axes: {})", machine.name, machine.axis_letters()))
+        })?;
+        pose[axis] = value;
+    }
+    Ok(pose)
+}
+
+/// Sensor temperatures from `T:name=value` options, in the model's order (20 degC when not given).
+pub fn parse_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<f64>, Failure> {
+    let mut values = vec![20.0; errors.sensors().len()];
+    for g in given {
+        let (name, value) = g.rsplit_once('=').ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}` is not T:name=degC")))?;
+        let i = errors.sensors().iter().position(|s| s == name).ok_or_else(|| {
+            Failure::input(anyhow::anyhow!(
+                "--temperature: the error model has no sensor `{name}` (sensors: {})",
+                errors.sensors().join(", ")
+            ))
+        })?;
+        values[i] = value
+            .trim()
+            .parse()
+            .ok()
+            .filter(|v: &f64| v.is_finite())
+            .ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}`: not a number")))?;
+    }
+    Ok(values)
+}
+
+pub fn failure(e: CompensateError) -> Failure {
+    if e.is_input() {
+        Failure::input(e)
+    } else {
+        Failure::computation(e)
+    }
+}
+
+pub fn run(args: CompensateArgs) -> Result<(), Failure> {
+    let machine = Machine::load(&args.machine).map_err(Failure::input)?;
+    let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
+    let temperatures = parse_temperatures(&errors, &args.temperatures)?;
+    let reference = args.reference.as_deref().map(|r| parse_axis_values(&machine, r, "--reference")).transpose()?;
+    for (name, v) in [("--limit-um", args.limit_um), ("--limit-urad", args.limit_urad)] {
+        if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
+            return Err(Failure::input(anyhow::anyhow!("{name} must be a positive number")));
+        }
+    }
+    let corrector = Corrector::new(&machine, &errors);
+    let spec = TableSpec { points: args.points, reference, temperatures: temperatures.clone() };
+    let tables = axis_tables(&corrector, &spec).map_err(failure)?;
+    let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
+    let wants_grid = matches!(args.format, Format::Fanuc3d) || (matches!(args.format, Format::Csv | Format::Json) && has_xyz);
+    let grid = if wants_grid { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
+    let input = ExportInput {
+        machine: &machine,
+        errors: &errors,
+        tables: &tables,
+        grid: grid.as_ref(),
+        limits: Limits { max_um: args.limit_um, max_urad: args.limit_urad },
+    };
+    let mut files: Vec<ExportedFile> = match args.format {
+        Format::Linuxcnc => export::linuxcnc::export(&input, if args.comp_type == 0 { CompType::Positions } else { CompType::Trims }),
+        Format::Isg => export::isg::export(&input),
+        Format::Heidenhain => export::heidenhain::export(&input),
+        Format::Fanuc3d => export::fanuc3d::export(&input, args.max_lattice_points),
+        Format::Csv => export::plain::export_csv(&input),
+        Format::Json => export::plain::to_json(&input)
+            .map(|doc| vec![ExportedFile { name: "compensation.json".into(), contents: format!("{doc:#}\n") }]),
+    }
+    .map_err(failure)?;
+    let mut pose_summary = None;
+    if let Some(path) = &args.poses {
+        let (file, summary) = correct_poses(&machine, &corrector, path, &temperatures)?;
+        files.push(file);
+        pose_summary = Some(summary);
+    }
+    std::fs::create_dir_all(&args.out)
+        .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create the output directory: {e}", args.out.display())))?;
+    for f in &files {
+        write_atomically(&args.out.join(&f.name), f.contents.as_bytes()).map_err(Failure::input)?;
+    }
+    let largest = |rotary: bool| {
+        tables
+            .tables
+            .iter()
+            .filter(|t| (machine.axes()[t.corrected].kind == trueaxis::machine::AxisKind::Rotary) == rotary)
+            .fold(0.0f64, |m, t| m.max(export::to_micro(&machine, t.corrected, t.max_abs())))
+    };
+    let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
+    if args.json {
+        let doc = serde_json::json!({
+            "out": args.out.display().to_string(),
+            "files": names,
+            "tables": tables.tables.len(),
+            "points": args.points,
+            "max_correction_um": round(largest(false)),
+            "max_correction_urad": round(largest(true)),
+            "worst_residual_um": round(tables.worst_residual_position * 1e3),
+            "worst_uncorrectable_urad": round(tables.worst_uncorrectable_orientation * 1e6),
+            "poses": pose_summary,
+        });
+        println!("{doc}");
+    } else {
+        println!("wrote {} file(s) to {}: {}", files.len(), args.out.display(), names.join(" "));
+        println!(
+            "{} tables of {} points; largest correction {:.3} um (linear axes), {:.3} urad (rotary axes)",
+            tables.tables.len(),
+            args.points,
+            largest(false),
+            largest(true)
+        );
+        println!(
+            "after correction on the exact chain: position residual <= {:.4} um; orientation the joints cannot correct <= {:.3} urad",
+            tables.worst_residual_position * 1e3,
+            tables.worst_uncorrectable_orientation * 1e6
+        );
+        if let Some(s) = pose_summary {
+            println!("poses: {s}");
+        }
+    }
+    Ok(())
+}
+
+fn round(v: f64) -> f64 {
+    (v * 1e4).round() / 1e4
+}
+
+/// Corrections of every pose of a CSV: `corrections.csv` with the axis columns, `d<axis>` (um or
+/// urad), the error before and the residual after (um), the uncorrectable orientation (urad).
+fn correct_poses(
+    machine: &Machine,
+    corrector: &Corrector,
+    path: &Path,
+    temperatures: &[f64],
+) -> Result<(ExportedFile, serde_json::Value), Failure> {
+    let poses = read_poses(path, machine).map_err(Failure::input)?;
+    let n = machine.axis_count();
+    let internal = poses.internal(machine);
+    let mut ws = CorrectionWorkspace::new(machine);
+    let mut header: Vec<String> = machine.axes().iter().map(|a| a.letter.to_string()).collect();
+    header.extend(machine.axes().iter().map(|a| format!("d{}", a.letter)));
+    header.extend(["error_um", "residual_um", "uncorrectable_urad"].map(String::from));
+    let mut text = header.join(",") + "\n";
+    let (mut worst_error, mut worst_residual, mut worst_orientation) = (0.0f64, 0.0f64, 0.0f64);
+    for (i, q) in internal.chunks(n).enumerate() {
+        let directions = poses.directions.as_ref().map(|d| &d[i * n..(i + 1) * n]);
+        let c = corrector.correct_state(q, &MachineState { directions, temperatures }, &mut ws);
+        if !c.converged {
+            return Err(Failure::computation(anyhow::anyhow!(
+                "{}: line {}: the correction did not converge",
+                path.display(),
+                poses.lines[i]
+            )));
+        }
+        let mut row: Vec<String> = poses.user[i * n..(i + 1) * n].iter().map(|v| format!("{v}")).collect();
+        row.extend((0..n).map(|k| format!("{:.4}", export::to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])))));
+        let (e, r, o) = (c.original_position.norm() * 1e3, c.residual_position.norm() * 1e3, c.uncorrectable_orientation.norm() * 1e6);
+        row.extend([format!("{e:.4}"), format!("{r:.6}"), format!("{o:.3}")]);
+        text += &(row.join(",") + "\n");
+        worst_error = worst_error.max(e);
+        worst_residual = worst_residual.max(r);
+        worst_orientation = worst_orientation.max(o);
+    }
+    let summary = serde_json::json!({
+        "count": poses.len(),
+        "max_error_um": round(worst_error),
+        "max_residual_um": round(worst_residual),
+        "max_uncorrectable_urad": round(worst_orientation),
+    });
+    Ok((ExportedFile { name: "corrections.csv".into(), contents: text }, summary))
+}

@@ -1,0 +1,176 @@
+//! Controller exporters (specs/anchors.md §2-§3): LinuxCNC joint compensation files, the ISG /
+//! Beckhoff volumetric CSV, Heidenhain `.COM` / `.CMA` tables, a Fanuc-style 3D lattice, and plain
+//! CSV / JSON. Every exporter checks the controller's limits (point counts, equal spacing, closure
+//! of rotary-axis tables over a turn) and the user's correction limit, and refuses rather than
+//! writing a table the controller would reject or that would move an axis further than allowed.
+
+pub mod fanuc3d;
+pub mod heidenhain;
+pub mod isg;
+pub mod linuxcnc;
+pub mod plain;
+
+use super::tables::{AxisTable, TableSet, VolumetricGrid};
+use super::CompensateError;
+use crate::errors::ErrorModel;
+use crate::machine::{AxisKind, Machine};
+
+/// One output file: a name (relative to the output directory) and its text.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ExportedFile {
+    pub name: String,
+    pub contents: String,
+}
+
+/// The user's limits on corrections: the export is refused when a correction exceeds them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Limits {
+    /// Largest allowed correction of a linear axis (um).
+    pub max_um: Option<f64>,
+    /// Largest allowed correction of a rotary axis (urad).
+    pub max_urad: Option<f64>,
+}
+
+/// Everything an exporter may use.
+pub struct ExportInput<'a> {
+    pub machine: &'a Machine,
+    pub errors: &'a ErrorModel,
+    pub tables: &'a TableSet,
+    pub grid: Option<&'a VolumetricGrid>,
+    pub limits: Limits,
+}
+
+/// A correction of `axis` in user units (mm, deg) as um or urad.
+pub fn to_micro(machine: &Machine, axis: usize, value: f64) -> f64 {
+    let a = &machine.axes()[axis];
+    a.position_to_internal(value) * if a.kind == AxisKind::Rotary { 1e6 } else { 1e3 }
+}
+
+/// Unit of [`to_micro`] for `axis`.
+pub fn micro_unit(machine: &Machine, axis: usize) -> &'static str {
+    if machine.axes()[axis].kind == AxisKind::Rotary {
+        "urad"
+    } else {
+        "um"
+    }
+}
+
+/// Refuses corrections beyond the user's limits, in any table (both directions) or grid node.
+pub fn check_user_limits(input: &ExportInput) -> Result<(), CompensateError> {
+    let m = input.machine;
+    let check = |axis: usize, value: f64, place: &dyn Fn() -> String| -> Result<(), CompensateError> {
+        let micro = to_micro(m, axis, value);
+        let limit = match m.axes()[axis].kind {
+            AxisKind::Rotary => input.limits.max_urad,
+            AxisKind::Linear => input.limits.max_um,
+        };
+        match limit {
+            Some(l) if micro.abs() > l => Err(CompensateError::Limit(format!(
+                "the correction of axis {} is {micro:.3} {} at {}, beyond the limit of {l} {}; nothing was written",
+                m.axes()[axis].letter,
+                micro_unit(m, axis),
+                place(),
+                micro_unit(m, axis)
+            ))),
+            _ => Ok(()),
+        }
+    };
+    for t in &input.tables.tables {
+        for (i, (&f, &r)) in t.forward.iter().zip(&t.reverse).enumerate() {
+            let place = || {
+                format!(
+                    "{} = {} {} (table {} -> {})",
+                    letter(m, t.driver),
+                    t.positions[i],
+                    unit(m, t.driver),
+                    letter(m, t.driver),
+                    letter(m, t.corrected)
+                )
+            };
+            check(t.corrected, f, &place)?;
+            check(t.corrected, r, &place)?;
+        }
+    }
+    if let Some(g) = input.grid {
+        for (node, values) in g.values.chunks(g.axis_count).enumerate() {
+            for (axis, &v) in values.iter().enumerate() {
+                let (i, j, k) = (node % g.counts[0], (node / g.counts[0]) % g.counts[1], node / (g.counts[0] * g.counts[1]));
+                check(axis, v, &|| format!("grid node {:?} mm", g.node_position(i, j, k)))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+fn letter(m: &Machine, axis: usize) -> char {
+    m.axes()[axis].letter
+}
+
+fn unit(m: &Machine, axis: usize) -> &'static str {
+    m.axes()[axis].position_unit()
+}
+
+/// Refuses more than `max` points in a table (`what` names it).
+pub fn check_count(points: usize, max: usize, what: &str) -> Result<(), CompensateError> {
+    if points > max {
+        return Err(CompensateError::Limit(format!("{what} has {points} points; the controller accepts at most {max}")));
+    }
+    Ok(())
+}
+
+/// Refuses positions that are not increasing with equal spacing (relative tolerance 1e-9).
+pub fn check_equal_spacing(positions: &[f64], what: &str) -> Result<(), CompensateError> {
+    if positions.len() < 2 {
+        return Err(CompensateError::Limit(format!("{what} needs at least 2 points")));
+    }
+    let step = (positions[positions.len() - 1] - positions[0]) / (positions.len() - 1) as f64;
+    for (i, w) in positions.windows(2).enumerate() {
+        if step.is_nan() || step <= 0.0 || ((w[1] - w[0]) - step).abs() > 1e-9 * step.abs().max(1.0) {
+            return Err(CompensateError::Limit(format!(
+                "{what}: the controller needs equally spaced, increasing points, but points {} and {} are {} apart (expected {step})",
+                i + 1,
+                i + 2,
+                w[1] - w[0]
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// A table over one full turn of a rotary axis must close: its increments sum to zero over the
+/// revolution, i.e. the first value equals the last (Fanuc pitch-error compensation rule,
+/// specs/anchors.md §3; the same holds for any controller that wraps the table).
+pub fn check_rotary_closure(machine: &Machine, table: &AxisTable, tolerance: f64) -> Result<(), CompensateError> {
+    let axis = &machine.axes()[table.driver];
+    let span = table.positions[table.positions.len() - 1] - table.positions[0];
+    if axis.kind != AxisKind::Rotary || (span - 360.0).abs() > 1e-9 {
+        return Ok(());
+    }
+    for (values, name) in [(&table.forward, "forward"), (&table.reverse, "reverse")] {
+        let gap = values[values.len() - 1] - values[0];
+        if gap.abs() > tolerance {
+            return Err(CompensateError::Limit(format!(
+                "table {} -> {} ({name}) over one turn of {} does not close: the increments sum to {} {} instead of 0 \
+                 (the error model is not periodic in {})",
+                axis.letter,
+                machine.axes()[table.corrected].letter,
+                axis.letter,
+                gap,
+                machine.axes()[table.corrected].position_unit(),
+                axis.letter
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Tolerance of the closure check in user units of the corrected axis: 1 nm or 1 nrad.
+pub fn closure_tolerance(machine: &Machine, corrected: usize) -> f64 {
+    machine.axes()[corrected].position_to_user(1e-6)
+}
+
+/// Fixed-point text of a number with `decimals` digits and an explicit sign.
+pub fn signed(value: f64, decimals: usize) -> String {
+    let v = if value.abs() < 0.5 * 10f64.powi(-(decimals as i32)) { 0.0 } else { value };
+    format!("{v:+.decimals$}")
+}

@@ -1,0 +1,131 @@
+//! Points and directions of motion along a programmed move (straight line in axis space, or a
+//! circular / helical arc in its plane with the other axes interpolated linearly), and the choice of
+//! split points where the correction varies along the move more than a tolerance.
+
+use super::interpret::{Move, MoveKind};
+use crate::errors::Direction;
+use std::f64::consts::TAU;
+
+/// Start angle, sweep (signed, rad; counterclockwise positive in the plane's first/second axes),
+/// start and end radii of an arc move.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArcGeometry {
+    pub start_angle: f64,
+    pub sweep: f64,
+    pub start_radius: f64,
+    pub end_radius: f64,
+}
+
+/// The geometry of an arc move (`None` for lines). Start = end in the plane is a full circle.
+pub fn arc_geometry(m: &Move) -> Option<ArcGeometry> {
+    let MoveKind::Arc { clockwise, plane, centre, .. } = m.kind else { return None };
+    let rel = |p: &[f64]| (p[plane.first] - centre[0], p[plane.second] - centre[1]);
+    let (sx, sy) = rel(&m.start);
+    let (ex, ey) = rel(&m.end);
+    let (a0, a1) = (sy.atan2(sx), ey.atan2(ex));
+    let closed = (m.start[plane.first] - m.end[plane.first]).abs() < 1e-9 && (m.start[plane.second] - m.end[plane.second]).abs() < 1e-9;
+    let ccw = if closed { TAU } else { (a1 - a0).rem_euclid(TAU) };
+    let sweep = if clockwise { -(if closed { TAU } else { (a0 - a1).rem_euclid(TAU) }) } else { ccw };
+    Some(ArcGeometry { start_angle: a0, sweep, start_radius: sx.hypot(sy), end_radius: ex.hypot(ey) })
+}
+
+/// Machine position at parameter `t` in [0, 1] along the move (mm, deg), into `out`.
+pub fn point_at(m: &Move, arc: Option<&ArcGeometry>, t: f64, out: &mut [f64]) {
+    for (k, o) in out.iter_mut().enumerate() {
+        *o = m.start[k] + t * (m.end[k] - m.start[k]);
+    }
+    if let (Some(g), MoveKind::Arc { plane, centre, .. }) = (arc, m.kind) {
+        if t >= 1.0 {
+            out.copy_from_slice(&m.end);
+            return;
+        }
+        let angle = g.start_angle + t * g.sweep;
+        let r = g.start_radius + t * (g.end_radius - g.start_radius);
+        out[plane.first] = centre[0] + r * angle.cos();
+        out[plane.second] = centre[1] + r * angle.sin();
+    }
+}
+
+/// Directions of motion at parameter `t`: the sign of the velocity of each axis; an axis that does
+/// not move keeps `previous` (the direction it last moved in, which fixes its backlash side).
+pub fn directions_at(m: &Move, arc: Option<&ArcGeometry>, t: f64, previous: &[Option<Direction>], out: &mut [Option<Direction>]) {
+    for k in 0..out.len() {
+        let velocity = m.end[k] - m.start[k];
+        out[k] = crate::compensate::direction_of(velocity).or(previous[k]);
+    }
+    if let (Some(g), MoveKind::Arc { plane, .. }) = (arc, m.kind) {
+        let angle = g.start_angle + t * g.sweep;
+        let r = g.start_radius + t * (g.end_radius - g.start_radius);
+        let dr = g.end_radius - g.start_radius;
+        // d/dt (r cos a, r sin a) with a' = sweep
+        let v_first = dr * angle.cos() - r * g.sweep * angle.sin();
+        let v_second = dr * angle.sin() + r * g.sweep * angle.cos();
+        let tiny = 1e-12 * (r * g.sweep.abs()).max(1.0);
+        for (axis, v) in [(plane.first, v_first), (plane.second, v_second)] {
+            out[axis] = if v.abs() > tiny { crate::compensate::direction_of(v) } else { previous[axis] };
+        }
+    }
+}
+
+/// Parameters `0 < t_1 < ... < t_k = 1` of the pieces such that, on every piece, the correction
+/// `correction(t)` (one value per axis, mm or deg) departs from the straight blend of its values at
+/// the piece ends by at most `tolerance(axis)`, checked at the quarter points of each piece
+/// (recursive bisection). `Err` when more than `max_pieces` would be needed.
+pub fn split_points(
+    correction: &mut dyn FnMut(f64) -> Result<Vec<f64>, String>,
+    tolerance: &dyn Fn(usize) -> f64,
+    max_pieces: usize,
+) -> Result<Vec<f64>, String> {
+    let c0 = correction(0.0)?;
+    let c1 = correction(1.0)?;
+    let mut out = Vec::new();
+    let mut stack = vec![(0.0, 1.0, c0, c1)];
+    // depth-first, right half pushed first so pieces come out in order
+    while let Some((a, b, ca, cb)) = stack.pop() {
+        let mut worst: f64 = 0.0;
+        let mut mid = None;
+        for f in [0.25, 0.5, 0.75] {
+            let t = a + f * (b - a);
+            let c = correction(t)?;
+            for k in 0..c.len() {
+                let blend = ca[k] + f * (cb[k] - ca[k]);
+                worst = worst.max((c[k] - blend).abs() / tolerance(k));
+            }
+            if f == 0.5 {
+                mid = Some(c);
+            }
+        }
+        if worst <= 1.0 {
+            out.push(b);
+        } else {
+            if out.len() + stack.len() + 2 > max_pieces {
+                return Err(format!("the correction varies so much along the move that it needs more than {max_pieces} pieces"));
+            }
+            let cm = mid.expect("mid point sampled");
+            let t = 0.5 * (a + b);
+            stack.push((t, b, cm.clone(), cb));
+            stack.push((a, t, ca, cm));
+        }
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bisection_meets_the_tolerance_of_a_quadratic() {
+        // c(t) = t^2 (mm): the deviation from the chord over a piece of length h is h^2 / 4 at its
+        // middle, so a tolerance of 1e-3 needs h <= 0.0632: 16 pieces of 1/16
+        let mut f = |t: f64| Ok(vec![t * t]);
+        let pieces = split_points(&mut f, &|_| 1e-3, 1000).unwrap();
+        assert_eq!(pieces.len(), 16);
+        assert!((pieces[0] - 1.0 / 16.0).abs() < 1e-15);
+        assert_eq!(*pieces.last().unwrap(), 1.0);
+        let mut g = |t: f64| Ok(vec![t * t]);
+        assert!(split_points(&mut g, &|_| 1e-9, 50).unwrap_err().contains("50 pieces"));
+        let mut line = |t: f64| Ok(vec![3.0 * t - 1.0]);
+        assert_eq!(split_points(&mut line, &|_| 1e-12, 10).unwrap(), vec![1.0]);
+    }
+}

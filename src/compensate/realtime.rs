@@ -1,0 +1,118 @@
+//! The real-time corrector: from axis positions (and temperatures, directions of motion) to axis
+//! corrections, for a controller's servo cycle (seed 003 section 4, "way of the future": the model
+//! computed by an open-architecture controller and passed to the position loop; seed 000 §2.3.5,
+//! real-time use). Owns its machine, error model and buffers; a call allocates nothing. The C ABI
+//! is in [`super::ffi`].
+
+use super::correction::{Correction, CorrectionOptions, CorrectionWorkspace, Corrector, MAX_AXES};
+use super::CompensateError;
+use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::machine::Machine;
+use crate::model::Setup;
+
+/// Outcome of one real-time call (also the C return codes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(i32)]
+pub enum RealtimeStatus {
+    /// Corrections written.
+    Ok = 0,
+    /// A slice has the wrong length (positions, temperatures, directions or output).
+    BadLength = -1,
+    /// A position or temperature is not a finite number.
+    NotFinite = -2,
+    /// The solve did not reach the position tolerance (corrections written, zeroed).
+    NotConverged = -3,
+    /// A null pointer was passed (C ABI only).
+    NullPointer = -4,
+}
+
+/// A corrector bound to one machine and error model, with its own buffers.
+#[derive(Clone, Debug)]
+pub struct RealtimeCorrector {
+    machine: Machine,
+    errors: ErrorModel,
+    setup: Setup,
+    options: CorrectionOptions,
+    workspace: CorrectionWorkspace,
+    last: Option<Correction>,
+}
+
+impl RealtimeCorrector {
+    /// Binds a machine and error model (the tool point of the machine, the workpiece origin).
+    pub fn new(machine: Machine, errors: ErrorModel) -> Result<RealtimeCorrector, CompensateError> {
+        if machine.axis_count() > MAX_AXES {
+            return Err(CompensateError::Input(format!("machine `{}` has more than {MAX_AXES} axes", machine.name)));
+        }
+        let workspace = CorrectionWorkspace::new(&machine);
+        Ok(RealtimeCorrector {
+            setup: Setup::of_machine(&machine),
+            machine,
+            errors,
+            options: CorrectionOptions::default(),
+            workspace,
+            last: None,
+        })
+    }
+
+    /// Changes the solve options (tolerance, iterations, orientation target).
+    pub fn with_options(mut self, options: CorrectionOptions) -> RealtimeCorrector {
+        self.options = options;
+        self
+    }
+
+    pub fn machine(&self) -> &Machine {
+        &self.machine
+    }
+
+    pub fn axis_count(&self) -> usize {
+        self.machine.axis_count()
+    }
+
+    /// Number of temperatures a call expects (the error model's sensors, in its order).
+    pub fn sensor_count(&self) -> usize {
+        self.errors.sensors().len()
+    }
+
+    /// The full result of the last successful call (residuals, iterations).
+    pub fn last(&self) -> Option<&Correction> {
+        self.last.as_ref()
+    }
+
+    /// Corrections (mm, deg; added to the set-points) of the axis positions `positions` (mm, deg,
+    /// canonical axis order). `temperatures`: one per sensor (degC), or empty for 20 degC;
+    /// `directions`: one per axis (+1, -1, 0 at rest), or empty for all at rest. Allocation-free.
+    pub fn correct(&mut self, positions: &[f64], temperatures: &[f64], directions: &[i8], out: &mut [f64]) -> RealtimeStatus {
+        let n = self.machine.axis_count();
+        if positions.len() != n || out.len() != n || (!temperatures.is_empty() && temperatures.len() != self.sensor_count()) {
+            return RealtimeStatus::BadLength;
+        }
+        if !directions.is_empty() && directions.len() != n {
+            return RealtimeStatus::BadLength;
+        }
+        if positions.iter().chain(temperatures).any(|v| !v.is_finite()) {
+            return RealtimeStatus::NotFinite;
+        }
+        let mut q = [0.0; MAX_AXES];
+        self.machine.pose_to_internal(positions, &mut q[..n]);
+        let mut dirs = [None; MAX_AXES];
+        for (d, &s) in dirs.iter_mut().zip(directions) {
+            *d = match s {
+                1.. => Some(Direction::Positive),
+                ..=-1 => Some(Direction::Negative),
+                0 => None,
+            };
+        }
+        let state = MachineState { directions: (!directions.is_empty()).then_some(&dirs[..n]), temperatures };
+        let corrector = Corrector { machine: &self.machine, errors: &self.errors, setup: self.setup, options: self.options };
+        let c = corrector.correct_state(&q[..n], &state, &mut self.workspace);
+        if !c.converged || c.dq[..n].iter().any(|v| !v.is_finite()) {
+            out.iter_mut().for_each(|o| *o = 0.0);
+            return RealtimeStatus::NotConverged;
+        }
+        for ((o, axis), d) in out.iter_mut().zip(self.machine.axes()).zip(&c.dq) {
+            *o = axis.position_to_user(*d);
+        }
+        self.last = Some(c);
+        RealtimeStatus::Ok
+    }
+}

@@ -1,0 +1,62 @@
+//! Shared by the NC tests: the expected correction of a programmed point, computed directly with the
+//! pose corrector and directions of motion derived here from the moves.
+
+use trueaxis::compensate::{CorrectionWorkspace, Corrector};
+use trueaxis::errors::{Direction, MachineState};
+use trueaxis::machine::Machine;
+
+/// A move as a consumer sees it: end point (mm, deg) and, for an arc in the XY plane, its centre
+/// (mm) and sense (+1 counterclockwise, -1 clockwise).
+#[derive(Clone, Debug)]
+pub struct SeenMove {
+    pub end: Vec<f64>,
+    pub arc: Option<([f64; 2], f64)>,
+}
+
+/// Directions of motion at the end of each move (an axis that does not move keeps its last
+/// direction; along an arc the sign of the tangent at the end), then the correction there (mm, deg).
+pub fn expected_corrections(
+    machine: &Machine,
+    corrector: &Corrector,
+    moves: &[SeenMove],
+    start: &[f64],
+    temperatures: &[f64],
+) -> Vec<Vec<f64>> {
+    let n = machine.axis_count();
+    let mut ws = CorrectionWorkspace::new(machine);
+    let mut dirs: Vec<Option<Direction>> = vec![None; n];
+    let mut previous = start.to_vec();
+    let sign = |v: f64| {
+        if v > 1e-12 {
+            Some(Direction::Positive)
+        } else if v < -1e-12 {
+            Some(Direction::Negative)
+        } else {
+            None
+        }
+    };
+    let mut out = Vec::new();
+    for mv in moves {
+        for k in 0..n {
+            if let Some(d) = sign(mv.end[k] - previous[k]) {
+                dirs[k] = Some(d);
+            }
+        }
+        if let Some((centre, sense)) = mv.arc {
+            let (rx, ry) = (mv.end[0] - centre[0], mv.end[1] - centre[1]);
+            // tangent of a counterclockwise arc at angle a is (-sin a, cos a)
+            for (k, v) in [(0, -ry * sense), (1, rx * sense)] {
+                if let Some(d) = sign(v) {
+                    dirs[k] = Some(d);
+                }
+            }
+        }
+        let mut q = vec![0.0; n];
+        machine.pose_to_internal(&mv.end, &mut q);
+        let c = corrector.correct_state(&q, &MachineState { directions: Some(&dirs), temperatures }, &mut ws);
+        assert!(c.converged);
+        out.push(c.dq_user(machine));
+        previous = mv.end.clone();
+    }
+    out
+}
