@@ -2,7 +2,9 @@
 //! Exit status: 0 success, 1 failed computation, 2 bad input.
 
 mod demo;
+mod design;
 mod fit;
+mod identify;
 mod iso230_2;
 mod predict;
 
@@ -26,7 +28,9 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Demo(demo::DemoArgs),
+    Design(design::DesignArgs),
     Fit(Box<fit::FitArgs>),
+    Identify(identify::IdentifyArgs),
     #[command(name = "iso230-2")]
     Iso2302(iso230_2::Iso2302Args),
     Predict(predict::PredictArgs),
@@ -51,7 +55,9 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Demo(args) => demo::run(args),
+        Command::Design(args) => design::run(args),
         Command::Fit(args) => fit::run(*args),
+        Command::Identify(args) => identify::run(args),
         Command::Iso2302(args) => iso230_2::run(args),
         Command::Predict(args) => predict::run(args),
     };
