@@ -117,5 +117,4 @@ fn ballbar_gauge_and_hole_plate_round_trip() {
     assert!(v > 0.0 && v < 0.5 * 0.5, "prediction variance {v} um^2 below the single-reading noise");
     let cov = result.volumetric_covariance(&campaign, &m, &[100.0, 50.0, -100.0], &ballbar, trueaxis::model::Frame::Workpiece);
     assert!(cov[(0, 0)] > 0.0 && cov[(2, 2)] > 0.0);
-
 }

@@ -116,8 +116,7 @@ fn separable_set_recovers_table_1_within_three_uncertainties_and_the_noise() {
     let (c14, _) = campaign(dir14.path(), PAPER14, "", &truth, 11);
     let options = IndirectOptions { allow_rank_deficient: true, ..IndirectOptions::default() };
     let report = identify(&c14, &m, &ErrorModel::zero(&m), &options).unwrap().identifiability;
-    let mut equivalent: Vec<(String, f64)> =
-        c14.unknowns.iter().map(|u| (u.name.clone(), value_of(&truth, &u.name))).collect();
+    let mut equivalent: Vec<(String, f64)> = c14.unknowns.iter().map(|u| (u.name.clone(), value_of(&truth, &u.name))).collect();
     for (combination, zeroed) in report.unidentifiable.iter().zip(["EC0A", "EY0C"]) {
         let at = |name: &str| combination.parameters.iter().position(|p| p == name).unwrap();
         let t = equivalent.iter().find(|(n, _)| n == zeroed).unwrap().1 / combination.coefficients[at(zeroed)];

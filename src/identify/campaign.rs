@@ -188,13 +188,7 @@ impl Campaign {
             }
             measurements.push(measurement);
         }
-        Ok(Campaign {
-            origin,
-            name: file.name,
-            unknowns,
-            nominal_errors: file.nominal_errors.map(|p| dir.join(p)),
-            measurements,
-        })
+        Ok(Campaign { origin, name: file.name, unknowns, nominal_errors: file.nominal_errors.map(|p| dir.join(p)), measurements })
     }
 
     /// The known errors (`nominal_errors`), or all zero.
@@ -242,7 +236,10 @@ impl Campaign {
         let mut channel_base = 0;
         for (mi, m) in self.measurements.iter().enumerate() {
             let readings_of = m.readings.as_ref().ok_or_else(|| {
-                input(&m.data.display().to_string(), format!("no reading columns ({}): measure them or simulate them first", m.instrument.channels().join(", ")))
+                input(
+                    &m.data.display().to_string(),
+                    format!("no reading columns ({}): measure them or simulate them first", m.instrument.channels().join(", ")),
+                )
             })?;
             let (setup, frame) = (m.instrument.setup(), m.instrument.frame());
             let k = m.instrument.poses_per_record();
@@ -321,7 +318,6 @@ impl Campaign {
         let mut params = vec![0.0; 2 * n_params];
         let mut value = [0.0; 3];
         for (mi, m) in self.measurements.iter().enumerate() {
-            
             let k = m.instrument.poses_per_record();
             let nc = m.instrument.channels().len();
             for r in 0..m.records() {
@@ -423,7 +419,10 @@ fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, mac
             None => Ok(default),
         }
     };
-    let setup = Setup { tool_point: point(m.tool_point, machine.tool_point, "tool_point")?, work_point: point(m.work_point, Vec3::zeros(), "work_point")? };
+    let setup = Setup {
+        tool_point: point(m.tool_point, machine.tool_point, "tool_point")?,
+        work_point: point(m.work_point, Vec3::zeros(), "work_point")?,
+    };
     let frame = match m.frame.as_deref() {
         None | Some("workpiece") => Frame::Workpiece,
         Some("machine") => Frame::Machine,
@@ -437,7 +436,10 @@ fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, mac
         other => return Err(at(format!("instrument `{other}`: expected ball3d, length, point_length or probe"))),
     };
     if m.frame.is_some() && !matches!(instrument, Instrument::Ball3d(_)) {
-        return Err(at(format!("`frame` applies to ball3d only ({} readings are frame-free or in the workpiece frame)", instrument.kind())));
+        return Err(at(format!(
+            "`frame` applies to ball3d only ({} readings are frame-free or in the workpiece frame)",
+            instrument.kind()
+        )));
     }
     if m.length_offset && !matches!(instrument, Instrument::Length(_) | Instrument::PointLength(_)) {
         return Err(at("`length_offset` applies to length and point_length measurements only".into()));
@@ -449,7 +451,9 @@ fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, mac
     let sigma_um = match &m.sigma_um {
         SigmaFile::One(s) => vec![*s; nc],
         SigmaFile::PerChannel(v) if v.len() == nc => v.clone(),
-        SigmaFile::PerChannel(v) => return Err(at(format!("`sigma_um` has {} values for {nc} channels ({})", v.len(), instrument.channels().join(", ")))),
+        SigmaFile::PerChannel(v) => {
+            return Err(at(format!("`sigma_um` has {} values for {nc} channels ({})", v.len(), instrument.channels().join(", "))))
+        }
     };
     if sigma_um.iter().any(|s| !s.is_finite() || *s <= 0.0) {
         return Err(at("`sigma_um` must be positive (um)".into()));
@@ -460,7 +464,11 @@ fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, mac
     let poses = if instrument.poses_per_record() == 2 {
         let mut second = Vec::with_capacity(first.user.len());
         for axis in machine.axes() {
-            second.push(table.numbers(&format!("{}2", axis.letter)).map_err(|e| at(format!("{e} (the second end of a point_length has columns X2, Y2, ...)")))?);
+            second.push(
+                table
+                    .numbers(&format!("{}2", axis.letter))
+                    .map_err(|e| at(format!("{e} (the second end of a point_length has columns X2, Y2, ...)")))?,
+            );
         }
         let mut both = Vec::with_capacity(2 * first.user.len());
         for r in 0..first.len() {

@@ -137,6 +137,17 @@ impl CandidateSet {
         Some(DesignCriteria { d, a, e, g, average_variance: if rows > 0 { total / rows as f64 } else { 0.0 } })
     }
 
+    /// One criterion of the information matrix `m` of `n` blocks (D by a Cholesky factor only).
+    fn value_of(&self, m: &DMatrix<f64>, n: usize, criterion: Criterion) -> Option<f64> {
+        if criterion == Criterion::D {
+            let cholesky = m.clone().cholesky()?;
+            let log_det: f64 = 2.0 * cholesky.l_dirty().diagonal().iter().map(|v| v.ln()).sum::<f64>();
+            let d = n as f64 * (-log_det / self.p as f64).exp();
+            return d.is_finite().then_some(d);
+        }
+        self.criteria_of(m, n, criterion == Criterion::G).map(|c| c.value(criterion))
+    }
+
     /// Exchange algorithm (seed 000 §4.3: random start, excursions, until no improvement): from
     /// `starts` random designs of `n` candidates (seeded), repeatedly apply the single exchange
     /// (design point out, candidate in) that improves `criterion` most, until none does; returns the
@@ -146,9 +157,10 @@ impl CandidateSet {
         let with_g = criterion == Criterion::G;
         let mut best: Option<(Vec<usize>, f64)> = None;
         for _ in 0..starts.max(1) {
-            let Some(mut design) = (0..100).map(|_| (0..n).map(|_| rng.gen_range(0..self.len())).collect::<Vec<_>>()).find(|d| {
-                self.criteria_of(&self.information_of(d), n, false).is_some()
-            }) else {
+            let Some(mut design) = (0..100)
+                .map(|_| (0..n).map(|_| rng.gen_range(0..self.len())).collect::<Vec<_>>())
+                .find(|d| self.criteria_of(&self.information_of(d), n, false).is_some())
+            else {
                 continue;
             };
             let mut m = self.information_of(&design);
@@ -162,8 +174,7 @@ impl CandidateSet {
                             continue;
                         }
                         let trial = &without + &self.information[j];
-                        if let Some(c) = self.criteria_of(&trial, n, with_g) {
-                            let v = c.value(criterion);
+                        if let Some(v) = self.value_of(&trial, n, criterion) {
                             if v < value * (1.0 - 1e-10) && improvement.is_none_or(|(_, _, b)| v < b) {
                                 improvement = Some((i, j, v));
                             }

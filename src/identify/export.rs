@@ -14,7 +14,12 @@ use std::collections::BTreeMap;
 /// `nominal_errors` file, its comments kept; empty for none) with every identified parameter
 /// replaced. Constants go to `[constant]`; identified powers of a motion error make it a
 /// `[polynomial.NAME]` whose other coefficients come from the nominal errors.
-pub fn error_values_text(result: &Identification, campaign: &Campaign, nominal: &ErrorModel, nominal_text: &str) -> Result<String, IdentifyError> {
+pub fn error_values_text(
+    result: &Identification,
+    campaign: &Campaign,
+    nominal: &ErrorModel,
+    nominal_text: &str,
+) -> Result<String, IdentifyError> {
     let mut by_id: BTreeMap<ParameterId, Vec<(u32, f64)>> = BTreeMap::new();
     for (u, value) in campaign.unknowns.iter().zip(&result.values) {
         if let UnknownKind::Model { id, power, .. } = u.kind {
@@ -99,8 +104,9 @@ pub fn identification_json(result: &Identification, campaign: &Campaign) -> Valu
         .iter()
         .map(|c| json!({"name": c.name, "count": c.count, "mean_um": number(c.mean), "rms_um": number(c.rms), "max_abs_um": number(c.max_abs), "sigma_um": number(c.sigma)}))
         .collect();
-    let correlation_matrix: Vec<Vec<Value>> =
-        (0..report.correlation.nrows()).map(|i| (0..report.correlation.ncols()).map(|j| number(report.correlation[(i, j)])).collect()).collect();
+    let correlation_matrix: Vec<Vec<Value>> = (0..report.correlation.nrows())
+        .map(|i| (0..report.correlation.ncols()).map(|j| number(report.correlation[(i, j)])).collect())
+        .collect();
     json!({
         "parameters": parameters,
         "nuisance": nuisance,

@@ -209,10 +209,8 @@ fn name_null_space(null: &DMatrix<f64>, scale: &[f64], names: &[String], units: 
     let mut rows = null.transpose();
     let mut pivots = Vec::new();
     for r in 0..k {
-        let Some((pivot, value)) = (0..p)
-            .filter(|c| !pivots.contains(c))
-            .map(|c| (c, rows[(r, c)]))
-            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        let Some((pivot, value)) =
+            (0..p).filter(|c| !pivots.contains(c)).map(|c| (c, rows[(r, c)])).max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
         else {
             break;
         };

@@ -124,7 +124,12 @@ impl Identification {
 }
 
 /// Identifies the unknowns of `campaign` starting from the known errors `nominal`.
-pub fn identify(campaign: &Campaign, machine: &Machine, nominal: &ErrorModel, options: &IndirectOptions) -> Result<Identification, IdentifyError> {
+pub fn identify(
+    campaign: &Campaign,
+    machine: &Machine,
+    nominal: &ErrorModel,
+    options: &IndirectOptions,
+) -> Result<Identification, IdentifyError> {
     let design = campaign.design_matrix(machine, nominal)?;
     let start = campaign.nominal_values(nominal)?;
     let mut result = solve(&design, &start, options)?;

@@ -12,7 +12,12 @@ use rand_distr::{Distribution, StandardNormal};
 
 /// Readings (um, `channels` per record) of every measurement, with the errors `truth`; with
 /// `seed`, noise `N(0, sigma_um^2)` per channel is added (ChaCha8, reproducible).
-pub fn simulate_campaign(campaign: &Campaign, machine: &Machine, truth: &ErrorModel, seed: Option<u64>) -> Result<Vec<Vec<f64>>, IdentifyError> {
+pub fn simulate_campaign(
+    campaign: &Campaign,
+    machine: &Machine,
+    truth: &ErrorModel,
+    seed: Option<u64>,
+) -> Result<Vec<Vec<f64>>, IdentifyError> {
     let zero = vec![0.0; campaign.unknowns.len()];
     let exact = campaign.predict(machine, truth, &zero)?;
     let mut rng = seed.map(ChaCha8Rng::seed_from_u64);

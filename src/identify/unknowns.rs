@@ -52,14 +52,20 @@ impl Unknown {
         let (id, index) = machine.parse_parameter(stem)?;
         let own_axis = match id {
             ParameterId::Motion { axis, .. } => machine.axis_index(axis),
-            _ if power > 0 => return Err(format!("`{text}`: only motion errors (EXX, EBC, ...) are functions of a position; {id} is a constant")),
+            _ if power > 0 => {
+                return Err(format!("`{text}`: only motion errors (EXX, EBC, ...) are functions of a position; {id} is a constant"))
+            }
             _ => None,
         };
         let unit = match (power, own_axis) {
             (0, _) => id.unit().to_string(),
             (k, Some(a)) => {
                 let per = machine.axes()[a].position_unit();
-                if k == 1 { format!("{}/{per}", id.unit()) } else { format!("{}/{per}^{k}", id.unit()) }
+                if k == 1 {
+                    format!("{}/{per}", id.unit())
+                } else {
+                    format!("{}/{per}^{k}", id.unit())
+                }
             }
             _ => unreachable!("power > 0 only for motion errors"),
         };
@@ -108,7 +114,10 @@ impl Unknown {
     pub fn nominal_value(&self, nominal: &ErrorModel) -> Result<f64, String> {
         let UnknownKind::Model { id, power, .. } = self.kind else { return Ok(0.0) };
         if nominal.directional_entries().any(|(i, d, _)| *i == id && d.is_some()) {
-            return Err(format!("{}: the nominal errors give {id} per direction of motion; it cannot be identified as one function", self.name));
+            return Err(format!(
+                "{}: the nominal errors give {id} per direction of motion; it cannot be identified as one function",
+                self.name
+            ));
         }
         match nominal.entries().find(|(i, _)| **i == id).map(|(_, f)| f) {
             None => Ok(0.0),

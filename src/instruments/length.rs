@@ -39,9 +39,8 @@ impl PointLength {
     /// the nominal positions while the artefact sits where the actual tip touched it).
     pub fn exact(&self, machine: &Machine, poses: [&[f64]; 2], params: [&[f64]; 2]) -> f64 {
         let nominal = poses.map(|q| nominal_vector(machine, q, &self.setup));
-        let actual: Vec<Vec3> = (0..2)
-            .map(|i| nominal[i] + volumetric_error(machine, poses[i], params[i], &self.setup, Frame::Workpiece).position)
-            .collect();
+        let actual: Vec<Vec3> =
+            (0..2).map(|i| nominal[i] + volumetric_error(machine, poses[i], params[i], &self.setup, Frame::Workpiece).position).collect();
         (nominal[1] - nominal[0]).norm() - (actual[1] - actual[0]).norm()
     }
 

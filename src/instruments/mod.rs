@@ -13,14 +13,18 @@
 //! readings and deviations in um, slopes and angles in urad, temperatures in degC, expansion
 //! coefficients in um/m/K (= 1e-6 /K).
 
-pub mod reversal;
-pub mod scale;
 pub mod ball3d;
 pub mod length;
 pub mod measurement;
 pub mod probe;
+pub mod reversal;
+pub mod scale;
 pub mod trajectory;
 
+pub use ball3d::{Ball3d, SensorCalibration, SensorCalibrationError};
+pub use length::{Length, PointLength};
+pub use measurement::{nominal_vector, Instrument};
+pub use probe::{plate_displacement, plate_rows, Probe};
 pub use reversal::{
     best_fit_radius, flat_face_reversal, parallelism_urad, straightness_reversal, BestFitLine, BestFitRadii, FlatFaceReversal,
     ReversalError, ReversalOptions, ReversalStraightness,
@@ -29,10 +33,6 @@ pub use scale::{
     apparent_expansion_coefficient, correct_to_20c, thermal_expansion_um, uniform_expansion_um, ApparentExpansion, ExpandingBody,
     ScaleError, ScaleTemperature, ThermalCorrection, ThermalRun, REFERENCE_TEMPERATURE_DEGC,
 };
-pub use ball3d::{Ball3d, SensorCalibration, SensorCalibrationError};
-pub use length::{Length, PointLength};
-pub use measurement::{nominal_vector, Instrument};
-pub use probe::{plate_displacement, plate_rows, Probe};
 pub use trajectory::{ball_trajectory, Sweep, TrajectoryError};
 
 /// Unweighted least-squares line `y = intercept + slope * x`, returned as `(slope, intercept)`.

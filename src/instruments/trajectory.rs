@@ -49,7 +49,13 @@ impl Sweep {
 /// axes stay at 0, and the linear axes keep the nominal vector from `setup.work_point` to
 /// `setup.tool_point` equal to `offset` (mm, workpiece frame; zero for a ball test). Every pose is
 /// checked against the axis ranges.
-pub fn ball_trajectory(machine: &Machine, setup: &Setup, sweeps: &[Sweep], count: usize, offset: Vec3) -> Result<Vec<f64>, TrajectoryError> {
+pub fn ball_trajectory(
+    machine: &Machine,
+    setup: &Setup,
+    sweeps: &[Sweep],
+    count: usize,
+    offset: Vec3,
+) -> Result<Vec<f64>, TrajectoryError> {
     let n = machine.axis_count();
     let linear: Vec<usize> = (0..n).filter(|&k| machine.axes()[k].kind == AxisKind::Linear).collect();
     if count == 0 {
@@ -57,7 +63,12 @@ pub fn ball_trajectory(machine: &Machine, setup: &Setup, sweeps: &[Sweep], count
     }
     for s in sweeps {
         let k = machine.axis_index(s.axis).ok_or_else(|| {
-            TrajectoryError::Input(format!("sweep of axis {}: machine `{}` has no such axis (axes: {})", s.axis, machine.name, machine.axis_letters()))
+            TrajectoryError::Input(format!(
+                "sweep of axis {}: machine `{}` has no such axis (axes: {})",
+                s.axis,
+                machine.name,
+                machine.axis_letters()
+            ))
         })?;
         if machine.axes()[k].kind == AxisKind::Linear {
             return Err(TrajectoryError::Input(format!("sweep of axis {}: linear axes follow the ball; sweep rotary axes only", s.axis)));
@@ -88,7 +99,8 @@ pub fn ball_trajectory(machine: &Machine, setup: &Setup, sweeps: &[Sweep], count
             return Err(TrajectoryError::Input("the linear axes of this machine cannot move the tool point in three directions".into()));
         }
         let target = offset - base;
-        let solution = svd.solve(&DMatrix::from_column_slice(3, 1, target.as_slice()), 1e-9).map_err(|e| TrajectoryError::Input(e.to_string()))?;
+        let solution =
+            svd.solve(&DMatrix::from_column_slice(3, 1, target.as_slice()), 1e-9).map_err(|e| TrajectoryError::Input(e.to_string()))?;
         for (c, &k) in linear.iter().enumerate() {
             pose[k] = solution[(c, 0)];
         }

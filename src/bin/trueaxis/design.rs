@@ -186,7 +186,11 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     let all: Vec<usize> = (0..set.len()).collect();
     let full = set.criteria(&all);
     let (chosen, criteria) = set.exchange(args.count, args.criterion, args.starts, args.seed).ok_or_else(|| {
-        Failure::computation(anyhow::anyhow!("no design of {} records determines the {} unknowns (choose more records or check identifiability)", args.count, design.names.len()))
+        Failure::computation(anyhow::anyhow!(
+            "no design of {} records determines the {} unknowns (choose more records or check identifiability)",
+            args.count,
+            design.names.len()
+        ))
     })?;
     if let Some(path) = &args.out {
         let letters: Vec<String> = machine.axes().iter().map(|a| a.letter.to_string()).collect();
@@ -201,9 +205,7 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
         }
         write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
     }
-    let criteria_json = |c: &trueaxis::identify::DesignCriteria| {
-        serde_json::json!({"d": c.d, "a": c.a, "e": c.e, "g": c.g, "average_variance": c.average_variance})
-    };
+    let criteria_json = |c: &trueaxis::identify::DesignCriteria| serde_json::json!({"d": c.d, "a": c.a, "e": c.e, "g": c.g, "average_variance": c.average_variance});
     let records: Vec<serde_json::Value> = chosen
         .iter()
         .map(|&c| {
@@ -232,7 +234,15 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     );
     text += &format!("  chosen:     D {:.4e}  A {:.4e}  E {:.4e}  G {:.4}\n", criteria.d, criteria.a, criteria.e, criteria.g);
     if let Some(c) = full {
-        text += &format!("  all {:>5}:  D {:.4e}  A {:.4e}  E {:.4e}  G {:.4}  (per record, n = {})\n", set.len(), c.d, c.a, c.e, c.g, set.len());
+        text += &format!(
+            "  all {:>5}:  D {:.4e}  A {:.4e}  E {:.4e}  G {:.4}  (per record, n = {})\n",
+            set.len(),
+            c.d,
+            c.a,
+            c.e,
+            c.g,
+            set.len()
+        );
     }
     text += "records (measurement:line):";
     for r in &records {

@@ -3,7 +3,9 @@
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
-use trueaxis::identify::{error_values_text, identification_json, identify, Campaign, Identification, IdentifyError, IndirectOptions, Solver};
+use trueaxis::identify::{
+    error_values_text, identification_json, identify, Campaign, Identification, IdentifyError, IndirectOptions, Solver,
+};
 use trueaxis::machine::Machine;
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -110,7 +112,14 @@ fn table(campaign: &Campaign, result: &Identification, out: Option<&PathBuf>) ->
     use std::fmt::Write;
     let report = &result.identifiability;
     let mut s = String::new();
-    let _ = writeln!(s, "Identification: {} ({} readings, {} unknowns, solver {})", campaign.origin, result.residuals.len(), result.names.len(), result.solver.name());
+    let _ = writeln!(
+        s,
+        "Identification: {} ({} readings, {} unknowns, solver {})",
+        campaign.origin,
+        result.residuals.len(),
+        result.names.len(),
+        result.solver.name()
+    );
     let _ = writeln!(s, "\n{:<16} {:>12} {:>10} {:<8} {:>11} {:>12}", "parameter", "value", "u (k=1)", "unit", "indep.", "sens. um/u");
     for (j, name) in result.names.iter().enumerate() {
         let u = result.std_uncertainty[j].map_or("   n/a".to_string(), |u| format!("{u:.4}"));
@@ -120,12 +129,25 @@ fn table(campaign: &Campaign, result: &Identification, out: Option<&PathBuf>) ->
             name, result.values[j], u, result.units[j], report.independence[j], report.sensitivity[j]
         );
     }
-    let _ = writeln!(s, "\nresidual RMS {:.4} um; s0 = {:.3} (1 when the residuals match the stated noise)", result.residual_rms_um, result.sigma0);
+    let _ = writeln!(
+        s,
+        "\nresidual RMS {:.4} um; s0 = {:.3} (1 when the residuals match the stated noise)",
+        result.residual_rms_um, result.sigma0
+    );
     for c in &result.channels {
-        let _ = writeln!(s, "  {:<24} n {:>6}  mean {:>8.4}  rms {:>8.4}  max {:>8.4}  sigma {:.3} um", c.name, c.count, c.mean, c.rms, c.max_abs, c.sigma);
+        let _ = writeln!(
+            s,
+            "  {:<24} n {:>6}  mean {:>8.4}  rms {:>8.4}  max {:>8.4}  sigma {:.3} um",
+            c.name, c.count, c.mean, c.rms, c.max_abs, c.sigma
+        );
     }
     let k = report.condition_number.map_or("infinite".to_string(), |k| format!("{k:.4e}"));
-    let _ = writeln!(s, "\nidentifiability: rank {} of {}, condition number {k} (rows / sigma, unit-length columns)", report.rank, result.names.len());
+    let _ = writeln!(
+        s,
+        "\nidentifiability: rank {} of {}, condition number {k} (rows / sigma, unit-length columns)",
+        report.rank,
+        result.names.len()
+    );
     let sv: Vec<String> = report.singular_values.iter().map(|v| format!("{v:.3e}")).collect();
     let _ = writeln!(s, "singular values: {}", sv.join(" "));
     for c in &report.unidentifiable {
