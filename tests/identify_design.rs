@@ -95,7 +95,8 @@ fn table_4_1_designs_reproduce_det_and_maximum_variance() {
     let (_, x, _) = design();
     let set = CandidateSet::new((0..x.nrows()).map(|i| x.rows(i, 1).into_owned()).collect()).unwrap();
     // (design, det^(1/3) of Table 4.1, max variance, covariance x 2 L^2 / sigma^2)
-    let cases: [(&[usize], f64, f64, [[f64; 3]; 3]); 3] = [
+    type Case<'a> = (&'a [usize], f64, f64, [[f64; 3]; 3]);
+    let cases: [Case; 3] = [
         (&[0, 0, 1, 1, 2, 2], 2.98e-5, 9.0, [[6.0, 1.0, 1.0], [1.0, 1.0, 0.0], [1.0, 0.0, 1.0]]),
         (&[0, 0, 1, 3, 2, 2], 2.60e-5, 4.0, [[4.0, 0.0, 0.0], [0.0, 0.83, -0.17], [0.0, -0.17, 0.83]]),
         (&[4, 4, 5, 5, 6, 6], 2.50e-5, 3.0, [[2.67, 0.0, 0.0], [0.0, 1.0, -0.33], [0.0, -0.33, 1.0]]),

@@ -167,10 +167,10 @@ impl CandidateSet {
             let mut value = self.criteria_of(&m, n, with_g).expect("regular start").value(criterion);
             loop {
                 let mut improvement: Option<(usize, usize, f64)> = None;
-                for i in 0..n {
-                    let without = &m - &self.information[design[i]];
+                for (i, &out) in design.iter().enumerate() {
+                    let without = &m - &self.information[out];
                     for j in 0..self.len() {
-                        if j == design[i] {
+                        if j == out {
                             continue;
                         }
                         let trial = &without + &self.information[j];

@@ -82,7 +82,7 @@ impl ScaledSvd {
         let mut c = DMatrix::zeros(p, p);
         for k in 0..self.rank {
             let v = self.v.column(k);
-            c += (&v * v.transpose()) / (self.singular_values[k] * self.singular_values[k]);
+            c += (v * v.transpose()) / (self.singular_values[k] * self.singular_values[k]);
         }
         for i in 0..p {
             for j in 0..p {
@@ -281,6 +281,6 @@ mod tests {
         assert!((ratio - 3.0).abs() < 1e-9, "{ratio}");
         assert!(c.message.contains("A and C cannot be separated"), "{}", c.message);
         assert_eq!(report.identifiable, vec![false, true, false]);
-        assert!(report.condition_number.map_or(true, |k| k > 1e8));
+        assert!(report.condition_number.is_none_or(|k| k > 1e8));
     }
 }

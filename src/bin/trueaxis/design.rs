@@ -226,8 +226,8 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
         return crate::identify::print(&format!("{doc}\n"));
     }
     let mut text = format!(
-        "{}-optimal design of {} records out of {} candidates, {} unknowns\n",
-        format!("{:?}", args.criterion),
+        "{:?}-optimal design of {} records out of {} candidates, {} unknowns\n",
+        args.criterion,
         args.count,
         set.len(),
         design.names.len()
