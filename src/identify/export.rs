@@ -31,7 +31,7 @@ pub fn error_values_text(
         by_id.keys().map(ToString::to_string).collect::<Vec<_>>().join(" "),
         campaign.origin
     );
-    let mut text = if nominal_text.trim().is_empty() { header } else { format!("{header}{nominal_text}") };
+    let mut text = nominal_text.to_string();
     for (id, powers) in by_id {
         let existing = nominal.entries().find(|(i, _)| **i == id).map(|(_, f)| f.clone());
         let function = if powers.iter().all(|(k, _)| *k == 0) && !matches!(existing, Some(ErrorFunction::Polynomial { .. })) {
@@ -52,7 +52,7 @@ pub fn error_values_text(
         };
         text = set_error_function(&text, &id, &function).map_err(|m| IdentifyError::Input(format!("nominal errors file: {m}")))?;
     }
-    Ok(text)
+    Ok(format!("{header}{text}"))
 }
 
 fn number(v: f64) -> Value {
