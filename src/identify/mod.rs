@@ -1,19 +1,33 @@
 //! Identification: least squares by QR with unit-length scaling, stepwise selection, drift
 //! removal, and fitting of parametric error functions to direct measurements (seed 000 §3.2).
 
+pub mod campaign;
+pub mod design;
 mod direct;
 mod drift;
+pub mod export;
 mod fit;
+pub mod identifiability;
+pub mod indirect;
 mod least_squares;
 pub mod pige;
+pub mod simulate;
 mod stepwise;
 pub mod tmbb;
+pub mod unknowns;
 
+pub use campaign::{Campaign, DesignMatrix, Measurement};
+pub use design::{CandidateSet, Criterion, DesignCriteria};
 pub use direct::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel};
 pub use drift::{remove_cycle_drift, CycleDrift};
+pub use export::{error_values_text, identification_json};
 pub use fit::{alias_wavelength, dominant_period, fit_error_function, refine_wavelength, FitOptions, FittedFunction};
+pub use identifiability::{Combination, IdentifiabilityReport, ScaledSvd};
+pub use indirect::{identify, solve, ChannelStatistics, Identification, IndirectOptions, Refinement, Solver};
 pub use least_squares::{fit_linear, t_quantile, LinearFit, RANK_TOLERANCE};
+pub use simulate::{measurement_csv, simulate_campaign};
 pub use stepwise::{f_critical, stepwise, StepwiseResult};
+pub use unknowns::{Unknown, UnknownKind};
 
 use thiserror::Error;
 

@@ -16,9 +16,18 @@
 //! coefficients in um/m/K (= 1e-6 /K).
 
 pub mod ballbar;
+pub mod ball3d;
+pub mod length;
+pub mod measurement;
+pub mod probe;
 pub mod reversal;
 pub mod scale;
+pub mod trajectory;
 
+pub use ball3d::{Ball3d, SensorCalibration, SensorCalibrationError};
+pub use length::{Length, PointLength};
+pub use measurement::{nominal_vector, Instrument};
+pub use probe::{plate_displacement, plate_rows, Probe};
 pub use reversal::{
     best_fit_radius, flat_face_reversal, parallelism_urad, straightness_reversal, BestFitLine, BestFitRadii, FlatFaceReversal,
     ReversalError, ReversalOptions, ReversalStraightness,
@@ -27,6 +36,7 @@ pub use scale::{
     apparent_expansion_coefficient, correct_to_20c, thermal_expansion_um, uniform_expansion_um, ApparentExpansion, ExpandingBody,
     ScaleError, ScaleTemperature, ThermalCorrection, ThermalRun, REFERENCE_TEMPERATURE_DEGC,
 };
+pub use trajectory::{ball_trajectory, Sweep, TrajectoryError};
 
 /// Unweighted least-squares line `y = intercept + slope * x`, returned as `(slope, intercept)`.
 /// `None` when all `x` are equal (no line through them is defined). The caller checks lengths and

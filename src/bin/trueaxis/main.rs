@@ -4,7 +4,9 @@
 mod ballbar;
 mod compensate;
 mod demo;
+mod design;
 mod fit;
+mod identify;
 mod iso230_2;
 mod nc;
 mod predict;
@@ -31,7 +33,9 @@ struct Cli {
 enum Command {
     Ballbar(ballbar::BallbarArgs),
     Demo(demo::DemoArgs),
+    Design(design::DesignArgs),
     Fit(Box<fit::FitArgs>),
+    Identify(identify::IdentifyArgs),
     #[command(name = "iso230-2")]
     Iso2302(iso230_2::Iso2302Args),
     Predict(predict::PredictArgs),
@@ -60,7 +64,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Ballbar(args) => ballbar::run(args),
         Command::Demo(args) => demo::run(args),
+        Command::Design(args) => design::run(args),
         Command::Fit(args) => fit::run(*args),
+        Command::Identify(args) => identify::run(args),
         Command::Iso2302(args) => iso230_2::run(args),
         Command::Predict(args) => predict::run(args),
         Command::Uncertainty(args) => uncertainty::run(*args),

@@ -1,0 +1,253 @@
+//! `trueaxis design trajectory|simulate|optimal`: planning indirect measurements.
+
+use crate::predict::parse_point;
+use crate::Failure;
+use std::path::PathBuf;
+use trueaxis::data::write_atomically;
+use trueaxis::errors::ErrorModel;
+use trueaxis::geometry::Vec3;
+use trueaxis::identify::{measurement_csv, simulate_campaign, Campaign, CandidateSet, Criterion, IdentifyError};
+use trueaxis::instruments::{ball_trajectory, Sweep, TrajectoryError};
+use trueaxis::machine::Machine;
+use trueaxis::model::Setup;
+
+/// Plan indirect measurements: 3D-ball trajectories, simulated campaign data, optimal designs.
+#[derive(clap::Args)]
+pub struct DesignArgs {
+    #[command(subcommand)]
+    command: DesignCommand,
+}
+
+#[derive(clap::Subcommand)]
+enum DesignCommand {
+    Trajectory(TrajectoryArgs),
+    Simulate(SimulateArgs),
+    Optimal(OptimalArgs),
+}
+
+/// Poses of a 3D-ball test: the rotary axes sweep, the linear axes keep the tool point on the ball
+/// (seed 004 Fig. 2). Writes a pose CSV (axis columns, mm and deg).
+#[derive(clap::Args)]
+#[command(after_help = "Example (the seed 004 identification trajectory of the shipped campaign):\n  \
+trueaxis design trajectory --machine examples/machines/kx8five.toml --work-point 150,0,100 \\\n      \
+--sweep A=0:120 --sweep C=0:1440 --count 807 --out capball.csv\n\n\
+Every swept axis moves linearly from FROM to TO (deg) over the COUNT poses, simultaneously; axes not\n\
+swept stay at 0. Poses outside an axis range are refused (exit 2).")]
+struct TrajectoryArgs {
+    #[arg(long)]
+    machine: PathBuf,
+    /// Ball centre at home, x,y,z in mm in M.
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    work_point: Vec3,
+    /// Sensing-head centre at home, x,y,z in mm in M (default: the machine's tool point).
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    tool_point: Option<Vec3>,
+    /// A rotary sweep AXIS=FROM:TO in deg (repeat for several axes).
+    #[arg(long = "sweep", value_parser = Sweep::parse, required = true, allow_hyphen_values = true)]
+    sweeps: Vec<Sweep>,
+    /// Number of poses.
+    #[arg(long)]
+    count: usize,
+    /// Output CSV (written atomically); stdout if absent.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+/// Simulated readings of every measurement of a campaign: the exact chain with known errors plus
+/// Gaussian noise of each channel's sigma_um. Rewrites each data file with its reading columns.
+#[derive(clap::Args)]
+#[command(after_help = "Example:\n  \
+trueaxis design simulate --machine examples/machines/kx8five.toml \\\n      \
+--campaign examples/campaigns/kx8five/campaign.toml --errors examples/errors/kx8five_table1.toml --seed 4\n\n\
+The data files must exist and hold the poses (axis columns); reading columns are added or replaced.\n\
+With --noise-free no noise is added.")]
+struct SimulateArgs {
+    #[arg(long)]
+    machine: PathBuf,
+    #[arg(long)]
+    campaign: PathBuf,
+    /// The true errors (error-values TOML).
+    #[arg(long)]
+    errors: PathBuf,
+    /// Seed of the noise generator (ChaCha8).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Do not add noise.
+    #[arg(long)]
+    noise_free: bool,
+}
+
+/// Choose N records of a campaign (the candidate set) that minimise a design criterion, by an
+/// exchange algorithm (seed 000 §4.3-4.4).
+#[derive(clap::Args)]
+#[command(after_help = "Example:\n  \
+trueaxis design optimal --machine examples/machines/kx8five.toml \\\n      \
+--campaign examples/campaigns/kx8five/campaign.toml --count 40 --criterion d --json\n\n\
+Criteria (all minimised, sigma-weighted rows, n = count): d = det(n M^-1)^(1/p), a = trace(n M^-1)/p,\n\
+e = largest eigenvalue of n M^-1, g = largest n g^T M^-1 g over the candidate rows.")]
+struct OptimalArgs {
+    #[arg(long)]
+    machine: PathBuf,
+    #[arg(long)]
+    campaign: PathBuf,
+    /// Number of records to choose (repetitions allowed).
+    #[arg(long)]
+    count: usize,
+    /// d, a, e or g.
+    #[arg(long, default_value = "d", value_parser = Criterion::parse)]
+    criterion: Criterion,
+    /// Random starts of the exchange algorithm.
+    #[arg(long, default_value_t = 5)]
+    starts: usize,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Write the chosen records (poses, with a `measurement` column) to this CSV.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: DesignArgs) -> Result<(), Failure> {
+    match args.command {
+        DesignCommand::Trajectory(a) => trajectory(a),
+        DesignCommand::Simulate(a) => simulate(a),
+        DesignCommand::Optimal(a) => optimal(a),
+    }
+}
+
+fn trajectory(args: TrajectoryArgs) -> Result<(), Failure> {
+    let machine = Machine::load(&args.machine).map_err(Failure::input)?;
+    let setup = Setup { tool_point: args.tool_point.unwrap_or(machine.tool_point), work_point: args.work_point };
+    let poses = ball_trajectory(&machine, &setup, &args.sweeps, args.count, Vec3::zeros()).map_err(|e| match e {
+        TrajectoryError::Input(_) | TrajectoryError::Unreachable(_) => Failure::input(e),
+    })?;
+    let mut text = format!(
+        "# 3D-ball trajectory on `{}`: ball at {:?} mm, head at {:?} mm (in M at home), sweeps {}\n{}\n",
+        machine.name,
+        setup.work_point.as_slice(),
+        setup.tool_point.as_slice(),
+        args.sweeps.iter().map(|s| format!("{}={}:{}", s.axis, s.from, s.to)).collect::<Vec<_>>().join(" "),
+        machine.axis_letters().chars().map(String::from).collect::<Vec<_>>().join(",")
+    );
+    for pose in poses.chunks(machine.axis_count()) {
+        text += &pose.iter().map(|v| format!("{}", (v * 1e9).round() / 1e9 + 0.0)).collect::<Vec<_>>().join(",");
+        text.push('\n');
+    }
+    match args.out {
+        Some(path) => write_atomically(&path, text.as_bytes()).map_err(Failure::input),
+        None => crate::identify::print(&text),
+    }
+}
+
+fn identify_failure(e: IdentifyError) -> Failure {
+    crate::identify::failure(e)
+}
+
+fn simulate(args: SimulateArgs) -> Result<(), Failure> {
+    let machine = Machine::load(&args.machine).map_err(Failure::input)?;
+    let truth = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
+    let campaign = Campaign::load(&args.campaign, &machine).map_err(identify_failure)?;
+    let readings = simulate_campaign(&campaign, &machine, &truth, (!args.noise_free).then_some(args.seed)).map_err(identify_failure)?;
+    let mut text = String::new();
+    for (m, r) in campaign.measurements.iter().zip(&readings) {
+        write_atomically(&m.data, measurement_csv(&machine, m, r).as_bytes()).map_err(Failure::input)?;
+        text += &format!("wrote {} ({} records, {})\n", m.data.display(), m.records(), m.instrument.channels().join(" "));
+    }
+    crate::identify::print(&text)
+}
+
+fn optimal(args: OptimalArgs) -> Result<(), Failure> {
+    let machine = Machine::load(&args.machine).map_err(Failure::input)?;
+    let campaign = Campaign::load(&args.campaign, &machine).map_err(identify_failure)?;
+    let nominal = campaign.nominal_errors(&machine).map_err(identify_failure)?;
+    // the design matrix needs readings only for its observations; planned campaigns have none yet
+    let mut planned = campaign.clone();
+    for m in &mut planned.measurements {
+        if m.readings.is_none() {
+            m.readings = Some(vec![0.0; m.records() * m.instrument.channels().len()]);
+        }
+    }
+    let design = planned.design_matrix(&machine, &nominal).map_err(identify_failure)?;
+    let mut blocks: Vec<(usize, usize, Vec<usize>)> = Vec::new();
+    for (row, record) in design.records.iter().enumerate() {
+        match blocks.last_mut() {
+            Some((m, r, rows)) if (*m, *r) == *record => rows.push(row),
+            _ => blocks.push((record.0, record.1, vec![row])),
+        }
+    }
+    let candidates = blocks
+        .iter()
+        .map(|(_, _, rows)| {
+            nalgebra::DMatrix::from_fn(rows.len(), design.matrix.ncols(), |i, j| design.matrix[(rows[i], j)] / design.sigma_um[rows[i]])
+        })
+        .collect();
+    let set = CandidateSet::new(candidates).map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", args.campaign.display())))?;
+    let all: Vec<usize> = (0..set.len()).collect();
+    let full = set.criteria(&all);
+    let (chosen, criteria) = set.exchange(args.count, args.criterion, args.starts, args.seed).ok_or_else(|| {
+        Failure::computation(anyhow::anyhow!(
+            "no design of {} records determines the {} unknowns (choose more records or check identifiability)",
+            args.count,
+            design.names.len()
+        ))
+    })?;
+    if let Some(path) = &args.out {
+        let letters: Vec<String> = machine.axes().iter().map(|a| a.letter.to_string()).collect();
+        let mut text = format!("measurement,line,{}\n", letters.join(","));
+        for &c in &chosen {
+            let (mi, r, _) = &blocks[c];
+            let m = &campaign.measurements[*mi];
+            let k = m.instrument.poses_per_record();
+            let n = machine.axis_count();
+            let pose = &m.poses[r * k * n..r * k * n + n];
+            text += &format!("{},{},{}\n", m.name, m.lines[*r], pose.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(","));
+        }
+        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+    }
+    let criteria_json = |c: &trueaxis::identify::DesignCriteria| serde_json::json!({"d": c.d, "a": c.a, "e": c.e, "g": c.g, "average_variance": c.average_variance});
+    let records: Vec<serde_json::Value> = chosen
+        .iter()
+        .map(|&c| {
+            let (mi, r, _) = &blocks[c];
+            serde_json::json!({"measurement": campaign.measurements[*mi].name, "line": campaign.measurements[*mi].lines[*r]})
+        })
+        .collect();
+    if args.json {
+        let doc = serde_json::json!({
+            "criterion": format!("{:?}", args.criterion).to_lowercase(),
+            "count": args.count,
+            "parameters": design.names,
+            "chosen": records,
+            "criteria": criteria_json(&criteria),
+            "all_candidates": full.map(|c| criteria_json(&c)),
+            "candidates": set.len(),
+        });
+        return crate::identify::print(&format!("{doc}\n"));
+    }
+    let mut text = format!(
+        "{:?}-optimal design of {} records out of {} candidates, {} unknowns\n",
+        args.criterion,
+        args.count,
+        set.len(),
+        design.names.len()
+    );
+    text += &format!("  chosen:     D {:.4e}  A {:.4e}  E {:.4e}  G {:.4}\n", criteria.d, criteria.a, criteria.e, criteria.g);
+    if let Some(c) = full {
+        text += &format!(
+            "  all {:>5}:  D {:.4e}  A {:.4e}  E {:.4e}  G {:.4}  (per record, n = {})\n",
+            set.len(),
+            c.d,
+            c.a,
+            c.e,
+            c.g,
+            set.len()
+        );
+    }
+    text += "records (measurement:line):";
+    for r in &records {
+        text += &format!(" {}:{}", r["measurement"].as_str().unwrap_or(""), r["line"]);
+    }
+    text.push('\n');
+    crate::identify::print(&text)
+}

@@ -1,0 +1,180 @@
+//! `trueaxis identify`: parameters from indirect measurements (3D ball, lengths, probing).
+
+use crate::Failure;
+use std::path::PathBuf;
+use trueaxis::data::write_atomically;
+use trueaxis::identify::{
+    error_values_text, identification_json, identify, Campaign, Identification, IdentifyError, IndirectOptions, Solver,
+};
+use trueaxis::machine::Machine;
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum SolverArg {
+    Qr,
+    Svd,
+}
+
+/// Identify error parameters from a measurement campaign (3D ball, ballbar / laser lengths, probed
+/// points): weighted least squares, identifiability report, uncertainties, residuals per channel.
+#[derive(clap::Args)]
+#[command(after_help = "Example (seed 004, the 14 KX8-Five parameters from 807 CapBall poses):\n  \
+trueaxis identify --machine examples/machines/kx8five.toml \\\n      \
+--campaign examples/campaigns/kx8five/campaign.toml --out identified.toml\n\n\
+Values are in um (translations), urad (rotations) or um per mm^k (polynomial powers). A parameter\n\
+set the measurements cannot separate is an error (exit 1) naming the inseparable combination,\n\
+unless --allow-rank-deficient is given. --out writes an error-values file that predict accepts.")]
+pub struct IdentifyArgs {
+    /// Machine description (TOML).
+    #[arg(long)]
+    machine: PathBuf,
+    /// Measurement campaign (TOML, DESIGN.md section 3).
+    #[arg(long)]
+    campaign: PathBuf,
+    /// Print one JSON document.
+    #[arg(long)]
+    json: bool,
+    /// Solve a rank-deficient set anyway (minimum-norm SVD solution; the unidentifiable
+    /// combinations get no uncertainty).
+    #[arg(long)]
+    allow_rank_deficient: bool,
+    /// Linear solver.
+    #[arg(long, value_enum, default_value = "qr")]
+    solver: SolverArg,
+    /// Refine by Levenberg-Marquardt on the exact kinematic chain.
+    #[arg(long)]
+    refine: bool,
+    /// Write the identified values as an error-values TOML (the campaign's nominal errors with the
+    /// identified parameters replaced), atomically.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Write the residuals per row (CSV: measurement, line, channel, residual_um), atomically.
+    #[arg(long)]
+    residuals: Option<PathBuf>,
+}
+
+pub fn failure(e: IdentifyError) -> Failure {
+    match e {
+        IdentifyError::Input(_) | IdentifyError::Data(_) => Failure::input(e),
+        IdentifyError::RankDeficient { .. } => Failure::computation(e),
+    }
+}
+
+pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
+    let machine = Machine::load(&args.machine).map_err(Failure::input)?;
+    let campaign = Campaign::load(&args.campaign, &machine).map_err(failure)?;
+    let nominal = campaign.nominal_errors(&machine).map_err(failure)?;
+    let options = IndirectOptions {
+        solver: match args.solver {
+            SolverArg::Qr => Solver::Qr,
+            SolverArg::Svd => Solver::Svd,
+        },
+        allow_rank_deficient: args.allow_rank_deficient,
+        refine: args.refine,
+        ..IndirectOptions::default()
+    };
+    let result = identify(&campaign, &machine, &nominal, &options).map_err(failure)?;
+    if result.values.iter().chain(&result.residuals).any(|v| !v.is_finite()) {
+        return Err(Failure::computation(anyhow::anyhow!("the identification produced numbers that are not finite")));
+    }
+    if let Some(path) = &args.out {
+        let nominal_text = match &campaign.nominal_errors {
+            Some(p) => std::fs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", p.display())))?,
+            None => String::new(),
+        };
+        let text = error_values_text(&result, &campaign, &nominal, &nominal_text).map_err(failure)?;
+        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+    }
+    if let Some(path) = &args.residuals {
+        write_atomically(path, residuals_csv(&campaign, &result).as_bytes()).map_err(Failure::input)?;
+    }
+    if args.json {
+        return print(&format!("{}\n", identification_json(&result, &campaign)));
+    }
+    print(&table(&campaign, &result, args.out.as_ref()))
+}
+
+fn residuals_csv(campaign: &Campaign, result: &Identification) -> String {
+    let mut text = String::from("measurement,line,channel,residual_um\n");
+    let mut row = 0;
+    for m in &campaign.measurements {
+        for r in 0..m.records() {
+            for c in m.instrument.channels() {
+                text += &format!("{},{},{},{:.4}\n", m.name, m.lines[r], c, result.residuals[row]);
+                row += 1;
+            }
+        }
+    }
+    text
+}
+
+/// The readable report.
+fn table(campaign: &Campaign, result: &Identification, out: Option<&PathBuf>) -> String {
+    use std::fmt::Write;
+    let report = &result.identifiability;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "Identification: {} ({} readings, {} unknowns, solver {})",
+        campaign.origin,
+        result.residuals.len(),
+        result.names.len(),
+        result.solver.name()
+    );
+    let _ = writeln!(s, "\n{:<16} {:>12} {:>10} {:<8} {:>11} {:>12}", "parameter", "value", "u (k=1)", "unit", "indep.", "sens. um/u");
+    for (j, name) in result.names.iter().enumerate() {
+        let u = result.std_uncertainty[j].map_or("   n/a".to_string(), |u| format!("{u:.4}"));
+        let _ = writeln!(
+            s,
+            "{:<16} {:>12.4} {:>10} {:<8} {:>11.3} {:>12.4}",
+            name, result.values[j], u, result.units[j], report.independence[j], report.sensitivity[j]
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nresidual RMS {:.4} um; s0 = {:.3} (1 when the residuals match the stated noise)",
+        result.residual_rms_um, result.sigma0
+    );
+    for c in &result.channels {
+        let _ = writeln!(
+            s,
+            "  {:<24} n {:>6}  mean {:>8.4}  rms {:>8.4}  max {:>8.4}  sigma {:.3} um",
+            c.name, c.count, c.mean, c.rms, c.max_abs, c.sigma
+        );
+    }
+    let k = report.condition_number.map_or("infinite".to_string(), |k| format!("{k:.4e}"));
+    let _ = writeln!(
+        s,
+        "\nidentifiability: rank {} of {}, condition number {k} (rows / sigma, unit-length columns)",
+        report.rank,
+        result.names.len()
+    );
+    let sv: Vec<String> = report.singular_values.iter().map(|v| format!("{v:.3e}")).collect();
+    let _ = writeln!(s, "singular values: {}", sv.join(" "));
+    for c in &report.unidentifiable {
+        let _ = writeln!(s, "NOT IDENTIFIABLE: {}", c.message);
+    }
+    for (i, j, r) in report.strong_correlations(0.9) {
+        let _ = writeln!(s, "strongly correlated: {} and {} (r = {r:+.3})", result.names[i], result.names[j]);
+    }
+    if let Some(r) = &result.refinement {
+        let _ = writeln!(
+            s,
+            "refined on the exact chain: {} iterations, weighted RMS {:.5} -> {:.5}, largest change {:.3} u",
+            r.iterations, r.initial_weighted_rms, r.final_weighted_rms, r.largest_change_in_u
+        );
+    }
+    if let Some(path) = out {
+        let _ = writeln!(s, "\nwrote {}", path.display());
+    }
+    s
+}
+
+/// Writes to stdout; a closed pipe (`| head`) is not an error.
+pub fn print(text: &str) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::computation(anyhow::anyhow!("cannot write to stdout: {e}"))),
+        _ => Ok(()),
+    }
+}

@@ -1,0 +1,514 @@
+//! The measurement campaign of DESIGN.md section 3: the parameters to identify and the
+//! measurements (instrument, data file, the points it relates, its frame and noise), turned into the
+//! stacked linear problem of seed 004 eqs. 3-4 / seed 000 eq. 4.9:
+//! `observations = design_matrix * unknowns + noise`.
+//!
+//! ```text
+//! let campaign = Campaign::load("campaign.toml", &machine)?;
+//! let nominal = campaign.nominal_errors(&machine)?;           // known errors (or all zero)
+//! let design = campaign.design_matrix(&machine, &nominal)?;   // rows, weights, channels
+//! ```
+//!
+//! Units: observations and residuals in um; each column in um of reading per user unit of its
+//! unknown (um, urad, um/mm, ...).
+
+use super::unknowns::{Unknown, UnknownKind};
+use super::IdentifyError;
+use crate::data::{read_poses, CsvTable};
+use crate::errors::ErrorModel;
+use crate::geometry::Vec3;
+use crate::instruments::{nominal_vector, plate_displacement, plate_rows, Ball3d, Instrument, Length, PointLength, Probe};
+use crate::machine::{one_line, Machine};
+use crate::model::{jacobian, Frame, JacobianWorkspace, Setup, JACOBIAN_ROWS};
+use nalgebra::DMatrix;
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CampaignFile {
+    #[serde(default)]
+    name: Option<String>,
+    #[serde(default)]
+    source: Option<String>,
+    parameters: Vec<String>,
+    #[serde(default)]
+    nominal_errors: Option<String>,
+    #[serde(default)]
+    measurement: Vec<MeasurementFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum SigmaFile {
+    One(f64),
+    PerChannel(Vec<f64>),
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MeasurementFile {
+    instrument: String,
+    data: String,
+    #[serde(default)]
+    name: Option<String>,
+    #[serde(default)]
+    tool_point: Option<[f64; 3]>,
+    #[serde(default)]
+    work_point: Option<[f64; 3]>,
+    #[serde(default)]
+    frame: Option<String>,
+    sigma_um: SigmaFile,
+    #[serde(default)]
+    length_offset: bool,
+    #[serde(default)]
+    plate: bool,
+}
+
+/// One measurement of a campaign with its data.
+#[derive(Clone, Debug)]
+pub struct Measurement {
+    /// `name` from the file, or the data file's stem.
+    pub name: String,
+    pub instrument: Instrument,
+    /// The data file (resolved against the campaign file's folder).
+    pub data: PathBuf,
+    /// Standard deviation of the noise of each channel (um).
+    pub sigma_um: Vec<f64>,
+    /// Whether the gauge length is unknown (an offset unknown is added).
+    pub length_offset: bool,
+    /// For a probed plate: the centre of its misalignment rotations (mean of the nominal points,
+    /// workpiece frame, mm).
+    pub plate_centre: Option<Vec3>,
+    /// Axis positions in user units: `axis_count * poses_per_record` per record.
+    pub poses: Vec<f64>,
+    /// File line of each record.
+    pub lines: Vec<u64>,
+    /// Readings (um), `channels` per record; `None` when the data file has no reading columns yet
+    /// (a planned measurement, see [`super::simulate_campaign`]).
+    pub readings: Option<Vec<f64>>,
+}
+
+impl Measurement {
+    pub fn records(&self) -> usize {
+        self.lines.len()
+    }
+
+    /// The internal-unit poses of record `r` (one or two).
+    fn record_poses(&self, machine: &Machine, r: usize, buffer: &mut [f64]) {
+        let n = machine.axis_count();
+        let k = self.instrument.poses_per_record();
+        for i in 0..k {
+            machine.pose_to_internal(&self.poses[(r * k + i) * n..(r * k + i + 1) * n], &mut buffer[i * n..(i + 1) * n]);
+        }
+    }
+}
+
+/// A campaign: unknowns and measurements, bound to one machine.
+#[derive(Clone, Debug)]
+pub struct Campaign {
+    /// The campaign file, for messages.
+    pub origin: String,
+    pub name: Option<String>,
+    /// The error parameters named in `parameters` (in that order), then the nuisance unknowns of
+    /// the measurements (gauge offsets, plate misalignments).
+    pub unknowns: Vec<Unknown>,
+    /// Known errors the identification starts from (`nominal_errors`), resolved path.
+    pub nominal_errors: Option<PathBuf>,
+    pub measurements: Vec<Measurement>,
+}
+
+/// The stacked linear problem of a campaign.
+#[derive(Clone, Debug)]
+pub struct DesignMatrix {
+    /// Names and units of the columns (the campaign's unknowns).
+    pub names: Vec<String>,
+    pub units: Vec<String>,
+    /// `rows x unknowns`, um of reading per user unit of each unknown (first order about zero
+    /// errors, seed 000 eq. 2.24 / seed 004 eq. 2).
+    pub matrix: DMatrix<f64>,
+    /// Readings minus the exact prediction with the nominal errors (um): what the unknowns must
+    /// explain.
+    pub observations: Vec<f64>,
+    /// Noise standard deviation of each row (um) and the weight `1 / sigma^2`.
+    pub sigma_um: Vec<f64>,
+    pub weights: Vec<f64>,
+    /// Channel of each row (index into `channel_names`, e.g. `capball:dx`).
+    pub channels: Vec<usize>,
+    pub channel_names: Vec<String>,
+    /// Measurement index and record index of each row.
+    pub records: Vec<(usize, usize)>,
+}
+
+impl DesignMatrix {
+    pub fn rows(&self) -> usize {
+        self.matrix.nrows()
+    }
+}
+
+fn input(origin: &str, message: impl std::fmt::Display) -> IdentifyError {
+    IdentifyError::Input(format!("{origin}: {message}"))
+}
+
+impl Campaign {
+    /// Reads a campaign TOML and its data files for `machine`. Every error names the file (and the
+    /// line or key).
+    pub fn load(path: impl AsRef<Path>, machine: &Machine) -> Result<Campaign, IdentifyError> {
+        let path = path.as_ref();
+        let origin = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| input(&origin, format!("cannot read campaign file: {e}")))?;
+        let file: CampaignFile = toml::from_str(&text).map_err(|e| input(&origin, one_line(&e.to_string())))?;
+        let _ = &file.source;
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let mut unknowns = Vec::new();
+        for name in &file.parameters {
+            let u = Unknown::parse(machine, name).map_err(|m| input(&origin, format!("parameters: {m}")))?;
+            if unknowns.iter().any(|v: &Unknown| v.name == u.name) {
+                return Err(input(&origin, format!("parameters: {} is listed twice", u.name)));
+            }
+            unknowns.push(u);
+        }
+        if unknowns.is_empty() {
+            return Err(input(&origin, "parameters: the list is empty; name the parameters to identify"));
+        }
+        if file.measurement.is_empty() {
+            return Err(input(&origin, "no [[measurement]]: a campaign needs at least one"));
+        }
+        let mut measurements = Vec::new();
+        for (i, m) in file.measurement.iter().enumerate() {
+            let measurement = load_measurement(m, i, &dir, &origin, machine)?;
+            if measurements.iter().any(|o: &Measurement| o.name == measurement.name) {
+                return Err(input(&origin, format!("measurement {}: the name `{}` is used twice; give `name`", i + 1, measurement.name)));
+            }
+            if measurement.length_offset {
+                unknowns.push(Unknown::length_offset(i, &measurement.name));
+            }
+            if measurement.plate_centre.is_some() {
+                unknowns.extend(Unknown::plate(i, &measurement.name));
+            }
+            measurements.push(measurement);
+        }
+        Ok(Campaign { origin, name: file.name, unknowns, nominal_errors: file.nominal_errors.map(|p| dir.join(p)), measurements })
+    }
+
+    /// The known errors (`nominal_errors`), or all zero.
+    pub fn nominal_errors(&self, machine: &Machine) -> Result<ErrorModel, IdentifyError> {
+        match &self.nominal_errors {
+            Some(path) => ErrorModel::load(path, machine).map_err(|e| IdentifyError::Input(e.to_string())),
+            None => Ok(ErrorModel::zero(machine)),
+        }
+    }
+
+    /// Values (user units) of the unknowns in `nominal` (zero for nuisances).
+    pub fn nominal_values(&self, nominal: &ErrorModel) -> Result<Vec<f64>, IdentifyError> {
+        self.unknowns.iter().map(|u| u.nominal_value(nominal).map_err(|m| input(&self.origin, m))).collect()
+    }
+
+    /// Channel names `measurement:channel` and the row count.
+    fn channel_layout(&self) -> (Vec<String>, usize) {
+        let mut names = Vec::new();
+        let mut rows = 0;
+        for m in &self.measurements {
+            names.extend(m.instrument.channels().iter().map(|c| format!("{}:{c}", m.name)));
+            rows += m.records() * m.instrument.channels().len();
+        }
+        (names, rows)
+    }
+
+    /// The stacked design matrix (first order about zero errors) and the observations (readings
+    /// minus the exact prediction with `nominal`). Seed 004 eqs. 3-4; seed 000 eqs. 4.1-4.9.
+    pub fn design_matrix(&self, machine: &Machine, nominal: &ErrorModel) -> Result<DesignMatrix, IdentifyError> {
+        let (channel_names, n_rows) = self.channel_layout();
+        let p = self.unknowns.len();
+        let mut matrix = DMatrix::zeros(n_rows, p);
+        let mut sigma_um = Vec::with_capacity(n_rows);
+        let mut channels = Vec::with_capacity(n_rows);
+        let mut records = Vec::with_capacity(n_rows);
+        let mut readings = Vec::with_capacity(n_rows);
+        let n_axes = machine.axis_count();
+        let n_params = machine.parameter_count();
+        let mut ws = JacobianWorkspace::default();
+        let mut full = vec![0.0; JACOBIAN_ROWS * n_params];
+        let mut q = vec![0.0; 2 * n_axes];
+        let mut reduced = vec![0.0; 2 * JACOBIAN_ROWS * p];
+        let mut rows = vec![0.0; 3 * p];
+        let mut row = 0;
+        let mut channel_base = 0;
+        for (mi, m) in self.measurements.iter().enumerate() {
+            let readings_of = m.readings.as_ref().ok_or_else(|| {
+                input(
+                    &m.data.display().to_string(),
+                    format!("no reading columns ({}): measure them or simulate them first", m.instrument.channels().join(", ")),
+                )
+            })?;
+            let (setup, frame) = (m.instrument.setup(), m.instrument.frame());
+            let k = m.instrument.poses_per_record();
+            let nc = m.instrument.channels().len();
+            for r in 0..m.records() {
+                m.record_poses(machine, r, &mut q);
+                let mut nominal_vectors = [Vec3::zeros(); 2];
+                for i in 0..k {
+                    let qi = &q[i * n_axes..(i + 1) * n_axes];
+                    jacobian(machine, qi, &setup, frame, &mut ws, &mut full);
+                    nominal_vectors[i] = nominal_vector(machine, qi, &setup);
+                    reduce_columns(machine, &self.unknowns, qi, &full, &mut reduced[i * JACOBIAN_ROWS * p..(i + 1) * JACOBIAN_ROWS * p]);
+                }
+                let blocks: Vec<&[f64]> = (0..k).map(|i| &reduced[i * JACOBIAN_ROWS * p..(i + 1) * JACOBIAN_ROWS * p]).collect();
+                m.instrument.linear_rows(&blocks, &nominal_vectors[..k], p, &mut rows[..nc * p]);
+                for c in 0..nc {
+                    for j in 0..p {
+                        matrix[(row + c, j)] = rows[c * p + j] * 1e3;
+                    }
+                    sigma_um.push(m.sigma_um[c]);
+                    channels.push(channel_base + c);
+                    records.push((mi, r));
+                    readings.push(readings_of[r * nc + c]);
+                }
+                self.nuisance_columns(mi, m, &nominal_vectors[0], row, &mut matrix);
+                row += nc;
+            }
+            channel_base += nc;
+        }
+        let predicted = self.predict(machine, nominal, &vec![0.0; p])?;
+        let observations: Vec<f64> = readings.iter().zip(&predicted).map(|(a, b)| a - b).collect();
+        let weights = sigma_um.iter().map(|s| 1.0 / (s * s)).collect();
+        Ok(DesignMatrix {
+            names: self.unknowns.iter().map(|u| u.name.clone()).collect(),
+            units: self.unknowns.iter().map(|u| u.unit.clone()).collect(),
+            matrix,
+            observations,
+            sigma_um,
+            weights,
+            channels,
+            channel_names,
+            records,
+        })
+    }
+
+    /// Columns of the nuisance unknowns of measurement `mi` at the rows of one record starting at
+    /// `row` (um per um or urad).
+    fn nuisance_columns(&self, mi: usize, m: &Measurement, nominal: &Vec3, row: usize, matrix: &mut DMatrix<f64>) {
+        for (j, u) in self.unknowns.iter().enumerate() {
+            match u.kind {
+                UnknownKind::LengthOffset { measurement } if measurement == mi => matrix[(row, j)] = 1.0,
+                UnknownKind::Plate { measurement, component } if measurement == mi => {
+                    let centre = m.plate_centre.expect("plate unknowns only with a centre");
+                    let rows = plate_rows(nominal, &centre);
+                    let to_internal = if component < 3 { 1e-3 } else { 1e-6 };
+                    for c in 0..3 {
+                        matrix[(row + c, j)] = rows[c * 6 + component] * to_internal * 1e3;
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    /// Exact readings (um) of every row, on the kinematic chain with the errors of `nominal` plus the
+    /// unknowns `theta` (user units) added: the forward model of the Levenberg-Marquardt refinement
+    /// and of simulation.
+    pub fn predict(&self, machine: &Machine, nominal: &ErrorModel, theta: &[f64]) -> Result<Vec<f64>, IdentifyError> {
+        if theta.len() != self.unknowns.len() || theta.iter().any(|t| !t.is_finite()) {
+            return Err(input(&self.origin, "the unknowns must be finite numbers, one per unknown"));
+        }
+        let n_axes = machine.axis_count();
+        let n_params = machine.parameter_count();
+        let mut out = Vec::new();
+        let mut q = vec![0.0; 2 * n_axes];
+        let mut params = vec![0.0; 2 * n_params];
+        let mut value = [0.0; 3];
+        for (mi, m) in self.measurements.iter().enumerate() {
+            let k = m.instrument.poses_per_record();
+            let nc = m.instrument.channels().len();
+            for r in 0..m.records() {
+                m.record_poses(machine, r, &mut q);
+                for i in 0..k {
+                    let qi = &q[i * n_axes..(i + 1) * n_axes];
+                    let pi = &mut params[i * n_params..(i + 1) * n_params];
+                    nominal.values_at(machine, qi, pi);
+                    add_unknowns(machine, &self.unknowns, theta, qi, pi);
+                }
+                let poses: Vec<&[f64]> = (0..k).map(|i| &q[i * n_axes..(i + 1) * n_axes]).collect();
+                let ps: Vec<&[f64]> = (0..k).map(|i| &params[i * n_params..(i + 1) * n_params]).collect();
+                m.instrument.exact(machine, &poses, &ps, &mut value[..nc]);
+                let mut v: Vec<f64> = value[..nc].iter().map(|x| x * 1e3).collect();
+                self.add_nuisances(mi, m, machine, &poses, theta, &mut v);
+                out.extend(v);
+            }
+        }
+        Ok(out)
+    }
+
+    fn add_nuisances(&self, mi: usize, m: &Measurement, machine: &Machine, poses: &[&[f64]], theta: &[f64], v: &mut [f64]) {
+        let mut t = Vec3::zeros();
+        let mut w = Vec3::zeros();
+        let mut plate = false;
+        for (u, value) in self.unknowns.iter().zip(theta) {
+            match u.kind {
+                UnknownKind::LengthOffset { measurement } if measurement == mi => v[0] += value,
+                UnknownKind::Plate { measurement, component } if measurement == mi => {
+                    plate = true;
+                    if component < 3 {
+                        t[component] = value * 1e-3;
+                    } else {
+                        w[component - 3] = value * 1e-6;
+                    }
+                }
+                _ => {}
+            }
+        }
+        if plate {
+            let centre = m.plate_centre.expect("plate unknowns only with a centre");
+            let point = nominal_vector(machine, poses[0], &m.instrument.setup());
+            let d = plate_displacement(&point, &centre, &t, &w);
+            for c in 0..3 {
+                v[c] += d[c] * 1e3;
+            }
+        }
+    }
+
+    /// The `7 x p` first-order effect (mm or rad per user unit, rows `dx dy dz drx dry drz dL`) of
+    /// the model unknowns on the volumetric error at pose `q` (mm, rad) between the points of
+    /// `setup` in `frame`; nuisance columns are zero. For propagating the covariance of the
+    /// identified parameters to predictions (seed 000 eq. 4.12, App. A eq. A.4).
+    pub fn unknown_jacobian(&self, machine: &Machine, q: &[f64], setup: &Setup, frame: Frame) -> DMatrix<f64> {
+        let p = self.unknowns.len();
+        let mut full = vec![0.0; JACOBIAN_ROWS * machine.parameter_count()];
+        jacobian(machine, q, setup, frame, &mut JacobianWorkspace::default(), &mut full);
+        let mut reduced = vec![0.0; JACOBIAN_ROWS * p];
+        reduce_columns(machine, &self.unknowns, q, &full, &mut reduced);
+        DMatrix::from_row_slice(JACOBIAN_ROWS, p, &reduced)
+    }
+}
+
+/// From the full `7 x P` Jacobian at pose `q` to the `7 x p` Jacobian of the model unknowns
+/// (nuisance columns zero).
+fn reduce_columns(machine: &Machine, unknowns: &[Unknown], q: &[f64], full: &[f64], out: &mut [f64]) {
+    let n_params = machine.parameter_count();
+    let p = unknowns.len();
+    for (j, u) in unknowns.iter().enumerate() {
+        let (index, factor) = match u.kind {
+            UnknownKind::Model { index, .. } => (Some(index), u.parameter_factor(machine, q)),
+            _ => (None, 0.0),
+        };
+        for r in 0..JACOBIAN_ROWS {
+            out[r * p + j] = index.map_or(0.0, |i| full[r * n_params + i] * factor);
+        }
+    }
+}
+
+/// Adds the model unknowns `theta` (user units) to the parameter vector `params` (mm, rad) at pose
+/// `q`.
+fn add_unknowns(machine: &Machine, unknowns: &[Unknown], theta: &[f64], q: &[f64], params: &mut [f64]) {
+    for (u, t) in unknowns.iter().zip(theta) {
+        if let UnknownKind::Model { index, .. } = u.kind {
+            params[index] += t * u.parameter_factor(machine, q);
+        }
+    }
+}
+
+fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, machine: &Machine) -> Result<Measurement, IdentifyError> {
+    let at = |message: String| input(origin, format!("measurement {}: {message}", i + 1));
+    let data = dir.join(&m.data);
+    let data_name = data.display().to_string();
+    let name = m.name.clone().unwrap_or_else(|| data.file_stem().map_or(format!("m{}", i + 1), |s| s.to_string_lossy().into_owned()));
+    let point = |p: Option<[f64; 3]>, default: Vec3, key: &str| -> Result<Vec3, IdentifyError> {
+        match p {
+            Some(v) if v.iter().all(|x| x.is_finite()) => Ok(Vec3::new(v[0], v[1], v[2])),
+            Some(_) => Err(at(format!("`{key}` must be three finite numbers (mm)"))),
+            None => Ok(default),
+        }
+    };
+    let setup = Setup {
+        tool_point: point(m.tool_point, machine.tool_point, "tool_point")?,
+        work_point: point(m.work_point, Vec3::zeros(), "work_point")?,
+    };
+    let frame = match m.frame.as_deref() {
+        None | Some("workpiece") => Frame::Workpiece,
+        Some("machine") => Frame::Machine,
+        Some(other) => return Err(at(format!("frame `{other}`: expected \"workpiece\" or \"machine\""))),
+    };
+    let instrument = match m.instrument.as_str() {
+        "ball3d" => Instrument::Ball3d(Ball3d { setup, frame }),
+        "length" => Instrument::Length(Length { setup }),
+        "point_length" => Instrument::PointLength(PointLength { setup }),
+        "probe" => Instrument::Probe(Probe { setup }),
+        other => return Err(at(format!("instrument `{other}`: expected ball3d, length, point_length or probe"))),
+    };
+    if m.frame.is_some() && !matches!(instrument, Instrument::Ball3d(_)) {
+        return Err(at(format!(
+            "`frame` applies to ball3d only ({} readings are frame-free or in the workpiece frame)",
+            instrument.kind()
+        )));
+    }
+    if m.length_offset && !matches!(instrument, Instrument::Length(_) | Instrument::PointLength(_)) {
+        return Err(at("`length_offset` applies to length and point_length measurements only".into()));
+    }
+    if m.plate && !matches!(instrument, Instrument::Probe(_)) {
+        return Err(at("`plate` applies to probe measurements only".into()));
+    }
+    let nc = instrument.channels().len();
+    let sigma_um = match &m.sigma_um {
+        SigmaFile::One(s) => vec![*s; nc],
+        SigmaFile::PerChannel(v) if v.len() == nc => v.clone(),
+        SigmaFile::PerChannel(v) => {
+            return Err(at(format!("`sigma_um` has {} values for {nc} channels ({})", v.len(), instrument.channels().join(", "))))
+        }
+    };
+    if sigma_um.iter().any(|s| !s.is_finite() || *s <= 0.0) {
+        return Err(at("`sigma_um` must be positive (um)".into()));
+    }
+    let table = CsvTable::read(&data).map_err(|e| at(e.to_string()))?;
+    let first = read_poses(&data, machine).map_err(|e| at(e.to_string()))?;
+    let n = machine.axis_count();
+    let poses = if instrument.poses_per_record() == 2 {
+        let mut second = Vec::with_capacity(first.user.len());
+        for axis in machine.axes() {
+            second.push(
+                table
+                    .numbers(&format!("{}2", axis.letter))
+                    .map_err(|e| at(format!("{e} (the second end of a point_length has columns X2, Y2, ...)")))?,
+            );
+        }
+        let mut both = Vec::with_capacity(2 * first.user.len());
+        for r in 0..first.len() {
+            both.extend_from_slice(&first.user[r * n..(r + 1) * n]);
+            let pose: Vec<f64> = second.iter().map(|c| c[r]).collect();
+            machine.check_range(&pose).map_err(|e| at(format!("{data_name}: line {}: second end: {e}", first.lines[r])))?;
+            both.extend(pose);
+        }
+        both
+    } else {
+        first.user.clone()
+    };
+    let channels = instrument.channels();
+    let readings = if channels.iter().all(|c| table.has_column(c)) {
+        let columns: Vec<Vec<f64>> = channels.iter().map(|c| table.numbers(c)).collect::<Result<_, _>>().map_err(|e| at(e.to_string()))?;
+        Some((0..table.len()).flat_map(|r| columns.iter().map(move |c| c[r])).collect())
+    } else if channels.iter().any(|c| table.has_column(c)) {
+        return Err(at(format!("{data_name}: has some but not all of the reading columns {}", channels.join(", "))));
+    } else {
+        None
+    };
+    let mut measurement = Measurement {
+        name,
+        instrument,
+        data,
+        sigma_um,
+        length_offset: m.length_offset,
+        plate_centre: None,
+        poses,
+        lines: first.lines,
+        readings,
+    };
+    if m.plate {
+        let mut q = vec![0.0; n];
+        let mut centre = Vec3::zeros();
+        for r in 0..measurement.records() {
+            measurement.record_poses(machine, r, &mut q);
+            centre += nominal_vector(machine, &q, &setup);
+        }
+        measurement.plate_centre = Some(centre / measurement.records() as f64);
+    }
+    Ok(measurement)
+}

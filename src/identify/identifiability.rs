@@ -1,0 +1,286 @@
+//! Identifiability of a linear problem `y = X theta + noise` with weights `W`: singular values and
+//! condition number of the scaled design matrix, rank, the parameter combinations the data cannot
+//! see (the null space, named in ISO terms), correlations, and a per-parameter sensitivity index.
+//!
+//! Scaling (stated because a condition number means nothing without it): the rows are multiplied by
+//! `sqrt(w_i)` and every column is then divided by its norm ("unit-length scaling", seed 000
+//! §3.2.2), so the singular values are dimensionless and independent of the parameter units.
+//! Seed 000 §4.3: `lambda^T theta` is estimable iff `lambda` lies in the row space of `X`.
+
+use nalgebra::{DMatrix, DVector};
+
+/// Default relative threshold: singular values below `RANK_TOLERANCE * largest` are zero.
+pub const RANK_TOLERANCE: f64 = 1e-8;
+
+/// The SVD of the weighted, unit-length scaled design matrix `W^(1/2) X S^-1`.
+#[derive(Clone, Debug)]
+pub struct ScaledSvd {
+    /// Column norms `s_j` of `W^(1/2) X` (the scaling `S`).
+    pub scale: Vec<f64>,
+    /// Singular values, descending.
+    pub singular_values: Vec<f64>,
+    /// Left singular vectors (`n x p`), columns in the order of `singular_values`.
+    pub u: DMatrix<f64>,
+    /// Right singular vectors (`p x p`), columns in the order of `singular_values`.
+    pub v: DMatrix<f64>,
+    /// Number of singular values above the tolerance.
+    pub rank: usize,
+    pub tolerance: f64,
+}
+
+impl ScaledSvd {
+    /// Scales and decomposes. A column that is zero everywhere keeps scale 1 (and gives a zero
+    /// singular value).
+    pub fn new(matrix: &DMatrix<f64>, weights: &[f64], tolerance: f64) -> ScaledSvd {
+        let (n, p) = matrix.shape();
+        let mut x = matrix.clone();
+        for (i, w) in weights.iter().enumerate().take(n) {
+            x.row_mut(i).scale_mut(w.sqrt());
+        }
+        let scale: Vec<f64> = (0..p).map(|j| x.column(j).norm()).map(|s| if s > 0.0 { s } else { 1.0 }).collect();
+        for (j, s) in scale.iter().enumerate() {
+            x.column_mut(j).unscale_mut(*s);
+        }
+        let svd = x.svd(true, true);
+        let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
+        order.sort_by(|a, b| svd.singular_values[*b].total_cmp(&svd.singular_values[*a]));
+        let u_all = svd.u.expect("requested");
+        let v_t = svd.v_t.expect("requested");
+        let singular_values: Vec<f64> = order.iter().map(|&k| svd.singular_values[k]).collect();
+        let u = DMatrix::from_fn(n, order.len(), |r, c| u_all[(r, order[c])]);
+        let mut v = DMatrix::from_fn(p, order.len(), |r, c| v_t[(order[c], r)]);
+        // thin SVD of a wide matrix: complete the right basis with the missing null directions
+        if order.len() < p {
+            let mut full = DMatrix::zeros(p, p);
+            full.columns_mut(0, order.len()).copy_from(&v);
+            let complement = orthogonal_complement(&v, p);
+            full.columns_mut(order.len(), p - order.len()).copy_from(&complement);
+            v = full;
+        }
+        let largest = singular_values.first().copied().unwrap_or(0.0);
+        let rank = singular_values.iter().filter(|s| **s > tolerance * largest && **s > 0.0).count();
+        ScaledSvd { scale, singular_values, u, v, rank, tolerance }
+    }
+
+    /// Singular values padded with zeros to the number of parameters.
+    pub fn all_singular_values(&self) -> Vec<f64> {
+        let p = self.scale.len();
+        let mut s = self.singular_values.clone();
+        s.resize(p, 0.0);
+        s
+    }
+
+    /// Right singular vectors of the null space (scaled units), `p x (p - rank)`.
+    pub fn null_space(&self) -> DMatrix<f64> {
+        let p = self.scale.len();
+        self.v.columns(self.rank, p - self.rank).into_owned()
+    }
+
+    /// `(X^T W X)^+` in the units of the parameters, from the retained singular values.
+    pub fn pseudo_inverse_normal(&self) -> DMatrix<f64> {
+        let p = self.scale.len();
+        let mut c = DMatrix::zeros(p, p);
+        for k in 0..self.rank {
+            let v = self.v.column(k);
+            c += (v * v.transpose()) / (self.singular_values[k] * self.singular_values[k]);
+        }
+        for i in 0..p {
+            for j in 0..p {
+                c[(i, j)] /= self.scale[i] * self.scale[j];
+            }
+        }
+        c
+    }
+
+    /// Minimum-norm (in scaled units) least-squares solution of `W^(1/2) X theta = W^(1/2) y`.
+    pub fn solve(&self, y: &[f64], weights: &[f64]) -> Vec<f64> {
+        let b = DVector::from_iterator(y.len(), y.iter().zip(weights).map(|(v, w)| v * w.sqrt()));
+        let mut beta = DVector::zeros(self.scale.len());
+        for k in 0..self.rank {
+            let coefficient = self.u.column(k).dot(&b) / self.singular_values[k];
+            beta += self.v.column(k) * coefficient;
+        }
+        beta.iter().zip(&self.scale).map(|(b, s)| b / s).collect()
+    }
+}
+
+fn orthogonal_complement(v: &DMatrix<f64>, p: usize) -> DMatrix<f64> {
+    let projector = DMatrix::identity(p, p) - v * v.transpose();
+    let svd = projector.svd(true, false);
+    let u = svd.u.expect("requested");
+    let mut order: Vec<usize> = (0..p).collect();
+    order.sort_by(|a, b| svd.singular_values[*b].total_cmp(&svd.singular_values[*a]));
+    DMatrix::from_fn(p, p - v.ncols(), |r, c| u[(r, order[c])])
+}
+
+/// A combination of parameters the measurements do not see: changing the parameters by
+/// `coefficients` (user units) leaves every reading unchanged to first order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Combination {
+    pub parameters: Vec<String>,
+    pub coefficients: Vec<f64>,
+    pub units: Vec<String>,
+    /// e.g. "EZ0C and WZ cannot be separated: changing EZ0C by +1 um and WZ by -1 um leaves every
+    /// reading unchanged".
+    pub message: String,
+}
+
+/// The identifiability report of one design.
+#[derive(Clone, Debug)]
+pub struct IdentifiabilityReport {
+    /// Singular values of the scaled design matrix (dimensionless), descending.
+    pub singular_values: Vec<f64>,
+    /// Largest over smallest singular value, `None` when the smallest is exactly zero.
+    pub condition_number: Option<f64>,
+    pub rank: usize,
+    /// The null space as named combinations (empty when every parameter is identifiable).
+    pub unidentifiable: Vec<Combination>,
+    /// Parameter correlation matrix from `(X^T W X)^+`.
+    pub correlation: DMatrix<f64>,
+    /// RMS change of the readings per unit of each parameter (um per user unit), unweighted.
+    pub sensitivity: Vec<f64>,
+    /// Independence index in [0, 1]: `1 / sqrt(VIF)`, the fraction of a parameter's effect that no
+    /// combination of the others reproduces (1: orthogonal to all others; 0: inseparable).
+    pub independence: Vec<f64>,
+    /// Whether each parameter is estimable on its own (outside every null combination).
+    pub identifiable: Vec<bool>,
+}
+
+impl IdentifiabilityReport {
+    /// Builds the report of design `matrix` (unweighted, `n x p`) from its scaled SVD.
+    pub fn new(matrix: &DMatrix<f64>, svd: &ScaledSvd, names: &[String], units: &[String]) -> IdentifiabilityReport {
+        let (n, p) = matrix.shape();
+        let singular_values = svd.all_singular_values();
+        let smallest = singular_values.last().copied().unwrap_or(0.0);
+        let condition_number = (smallest > 0.0).then(|| singular_values[0] / smallest).filter(|c| c.is_finite());
+        let null = svd.null_space();
+        let identifiable: Vec<bool> = (0..p).map(|j| (0..null.ncols()).all(|k| null[(j, k)].abs() < 1e-6)).collect();
+        let unidentifiable = name_null_space(&null, &svd.scale, names, units);
+        let normal_inverse = svd.pseudo_inverse_normal();
+        let correlation = DMatrix::from_fn(p, p, |i, j| {
+            let d = (normal_inverse[(i, i)] * normal_inverse[(j, j)]).sqrt();
+            if d > 0.0 {
+                normal_inverse[(i, j)] / d
+            } else {
+                f64::from(u8::from(i == j))
+            }
+        });
+        let sensitivity = (0..p).map(|j| matrix.column(j).norm() / (n.max(1) as f64).sqrt()).collect();
+        let independence = (0..p)
+            .map(|j| {
+                let scaled = normal_inverse[(j, j)] * svd.scale[j] * svd.scale[j];
+                if identifiable[j] && scaled > 0.0 {
+                    (1.0 / scaled.sqrt()).min(1.0)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        IdentifiabilityReport {
+            singular_values,
+            condition_number,
+            rank: svd.rank,
+            unidentifiable,
+            correlation,
+            sensitivity,
+            independence,
+            identifiable,
+        }
+    }
+
+    /// Pairs of parameters with `|correlation| >= threshold`, strongest first.
+    pub fn strong_correlations(&self, threshold: f64) -> Vec<(usize, usize, f64)> {
+        let p = self.correlation.nrows();
+        let mut pairs: Vec<(usize, usize, f64)> = (0..p)
+            .flat_map(|i| (i + 1..p).map(move |j| (i, j)))
+            .map(|(i, j)| (i, j, self.correlation[(i, j)]))
+            .filter(|(i, j, r)| r.abs() >= threshold && self.identifiable[*i] && self.identifiable[*j])
+            .collect();
+        pairs.sort_by(|a, b| b.2.abs().total_cmp(&a.2.abs()));
+        pairs
+    }
+}
+
+/// A readable basis of the null space: reduced row echelon form of its transpose (in scaled units,
+/// where coefficients are comparable), so each combination has one pivot parameter not shared with
+/// the others; then converted to user units with the pivot coefficient 1.
+fn name_null_space(null: &DMatrix<f64>, scale: &[f64], names: &[String], units: &[String]) -> Vec<Combination> {
+    let (p, k) = null.shape();
+    let mut rows = null.transpose();
+    let mut pivots = Vec::new();
+    for r in 0..k {
+        let Some((pivot, value)) =
+            (0..p).filter(|c| !pivots.contains(c)).map(|c| (c, rows[(r, c)])).max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+        else {
+            break;
+        };
+        if value.abs() < 1e-12 {
+            continue;
+        }
+        let row = rows.row(r) / value;
+        rows.set_row(r, &row);
+        for o in 0..k {
+            if o != r {
+                let f = rows[(o, pivot)];
+                let sub = rows.row(r) * f;
+                let new = rows.row(o) - sub;
+                rows.set_row(o, &new);
+            }
+        }
+        pivots.push(pivot);
+    }
+    let mut combos = Vec::new();
+    for (r, &pivot) in pivots.iter().enumerate() {
+        let largest = rows.row(r).amax();
+        let members: Vec<usize> = (0..p).filter(|&c| rows[(r, c)].abs() > 1e-6 * largest).collect();
+        let user: Vec<f64> = members.iter().map(|&c| rows[(r, c)] / scale[c]).collect();
+        let at_pivot = user[members.iter().position(|&c| c == pivot).expect("pivot is a member")];
+        let coefficients: Vec<f64> = user.iter().map(|v| v / at_pivot).collect();
+        let parameters: Vec<String> = members.iter().map(|&c| names[c].clone()).collect();
+        let member_units: Vec<String> = members.iter().map(|&c| units[c].clone()).collect();
+        let message = describe(&parameters, &coefficients, &member_units);
+        combos.push(Combination { parameters, coefficients, units: member_units, message });
+    }
+    combos
+}
+
+fn describe(parameters: &[String], coefficients: &[f64], units: &[String]) -> String {
+    if parameters.len() == 1 {
+        return format!("{} is not seen by these measurements (it changes no reading)", parameters[0]);
+    }
+    let list = match parameters {
+        [a, b] => format!("{a} and {b}"),
+        _ => format!("{} and {}", parameters[..parameters.len() - 1].join(", "), parameters[parameters.len() - 1]),
+    };
+    let changes: Vec<String> = parameters.iter().zip(coefficients).zip(units).map(|((n, c), u)| format!("{n} by {c:+.4} {u}")).collect();
+    format!("{list} cannot be separated: changing {} leaves every reading unchanged", changes.join(", "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_duplicated_column_is_named_with_its_ratio() {
+        // column 2 = -3 * column 0: the unseen change is (1, 0, 1/3) in user units
+        let x = DMatrix::from_fn(8, 3, |i, j| match j {
+            0 => 1.0 + i as f64,
+            1 => ((i * i) as f64).sin(),
+            _ => -3.0 * (1.0 + i as f64),
+        });
+        let names: Vec<String> = ["A", "B", "C"].iter().map(|s| s.to_string()).collect();
+        let units: Vec<String> = ["um", "um", "urad"].iter().map(|s| s.to_string()).collect();
+        let svd = ScaledSvd::new(&x, &[1.0; 8], RANK_TOLERANCE);
+        assert_eq!(svd.rank, 2);
+        let report = IdentifiabilityReport::new(&x, &svd, &names, &units);
+        assert_eq!(report.unidentifiable.len(), 1);
+        let c = &report.unidentifiable[0];
+        assert_eq!(c.parameters, vec!["A", "C"]);
+        // pivot is the member with the largest scaled entry; either way A = 3 C in the unseen change
+        let ratio = c.coefficients[0] / c.coefficients[1];
+        assert!((ratio - 3.0).abs() < 1e-9, "{ratio}");
+        assert!(c.message.contains("A and C cannot be separated"), "{}", c.message);
+        assert_eq!(report.identifiable, vec![false, true, false]);
+        assert!(report.condition_number.is_none_or(|k| k > 1e8));
+    }
+}

@@ -1,0 +1,155 @@
+//! 3D ball instruments (R-test, CapBall): the three components of the position of a tool-side
+//! point (sensing-head centre `P_t`) relative to a workpiece-side point (master-ball centre `P_w`),
+//! actual minus nominal (seed 004 §3.1, eq. 2), and the sensor-frame calibration of a 3D head from a
+//! programmed cube (seed 004 §3.3, eqs. 6-10).
+
+use crate::geometry::Vec3;
+use crate::machine::Machine;
+use crate::model::{volumetric_error, Frame, Setup};
+use nalgebra::{DMatrix, Matrix4};
+use thiserror::Error;
+
+/// A 3D ball measurement setup.
+///
+/// - `frame = Machine`: CapBall, the sensing head in the spindle keeps its orientation relative to
+///   M, the readings are in M (after the sensor-frame calibration).
+/// - `frame = Workpiece`: R-test, the sensors sit on the table and turn with the workpiece.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ball3d {
+    pub setup: Setup,
+    pub frame: Frame,
+}
+
+impl Ball3d {
+    /// Exact reading `dx dy dz` (mm) at pose `q` (mm, rad) with the parameter vector `params`
+    /// (mm, rad): the volumetric error of `P_t` relative to `P_w` in the instrument's frame. The
+    /// sensing frame is taken as the nominal one; its own rotation by the machine's angular errors
+    /// changes a reading by (angular error) x (reading), below 1e-8 mm for 100 urad and 100 um.
+    pub fn exact(&self, machine: &Machine, q: &[f64], params: &[f64]) -> [f64; 3] {
+        let p = volumetric_error(machine, q, params, &self.setup, self.frame).position;
+        [p.x, p.y, p.z]
+    }
+}
+
+/// Errors of the sensor-frame calibration.
+#[derive(Debug, Error, PartialEq)]
+pub enum SensorCalibrationError {
+    #[error("sensor calibration: {0}")]
+    Input(String),
+}
+
+/// The affine map from sensor readings to machine-frame displacements of a 3D head:
+/// `M_s->t = [e1 e2 e3 d; 0 0 0 1]` (seed 004 eq. 10), fitted as `M = Delta_t Delta_s^+`
+/// (eq. 9) from programmed displacements `Delta_t` and readings `Delta_s` in homogeneous form
+/// (eqs. 6-7). Readings and displacements share one unit (um in the seed); `d` is in that unit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensorCalibration {
+    pub matrix: Matrix4<f64>,
+}
+
+impl SensorCalibration {
+    /// The programmed points of the calibration cube: `per_edge^3` points on a regular mesh of a
+    /// cube of edge `side` centred on `centre`, x fastest (seed 004: 0.2 mm, 5 per edge, 125 points).
+    pub fn cube(centre: Vec3, side: f64, per_edge: usize) -> Vec<Vec3> {
+        let step = if per_edge > 1 { side / (per_edge - 1) as f64 } else { 0.0 };
+        let offset = |i: usize| -0.5 * side + step * i as f64;
+        let mut points = Vec::with_capacity(per_edge.pow(3));
+        for k in 0..per_edge {
+            for j in 0..per_edge {
+                for i in 0..per_edge {
+                    points.push(centre + Vec3::new(offset(i), offset(j), offset(k)));
+                }
+            }
+        }
+        points
+    }
+
+    /// `M_s->t = Delta_t Delta_s^+` (seed 004 eqs. 6-9). `programmed[i]` is the displacement
+    /// commanded in M, `readings[i]` what the sensors read. Needs at least 4 points not in a plane.
+    pub fn fit(programmed: &[Vec3], readings: &[Vec3]) -> Result<SensorCalibration, SensorCalibrationError> {
+        let n = programmed.len();
+        if readings.len() != n {
+            return Err(SensorCalibrationError::Input(format!("{n} programmed points but {} readings", readings.len())));
+        }
+        if programmed.iter().chain(readings).any(|v| !v.iter().all(|x| x.is_finite())) {
+            return Err(SensorCalibrationError::Input("points and readings must be finite numbers".into()));
+        }
+        let homogeneous = |v: &[Vec3]| DMatrix::from_fn(4, n, |r, c| if r < 3 { v[c][r] } else { 1.0 });
+        let delta_t = homogeneous(programmed);
+        let delta_s = homogeneous(readings);
+        let svd = delta_s.clone().svd(true, true);
+        let largest = svd.singular_values.max();
+        if n < 4 || svd.singular_values.min() <= 1e-12 * largest {
+            return Err(SensorCalibrationError::Input(format!(
+                "the {n} readings do not span three dimensions (a cube of at least 2 x 2 x 2 points is needed)"
+            )));
+        }
+        let pinv = svd.pseudo_inverse(1e-12 * largest).map_err(|e| SensorCalibrationError::Input(e.to_string()))?;
+        let m = delta_t * pinv;
+        Ok(SensorCalibration { matrix: Matrix4::from_fn(|r, c| m[(r, c)]) })
+    }
+
+    /// Machine-frame displacement of a sensor reading: `M [s; 1]`.
+    pub fn apply(&self, reading: &Vec3) -> Vec3 {
+        let h = self.matrix * nalgebra::Vector4::new(reading.x, reading.y, reading.z, 1.0);
+        Vec3::new(h.x, h.y, h.z)
+    }
+
+    /// The columns `e1 e2 e3`.
+    pub fn axis(&self, i: usize) -> Vec3 {
+        Vec3::new(self.matrix[(0, i)], self.matrix[(1, i)], self.matrix[(2, i)])
+    }
+
+    /// Norms of `e1 e2 e3` (seed 004 Table 2: 0.998 / 0.996 / 0.996): sensor gain errors.
+    pub fn column_norms(&self) -> [f64; 3] {
+        [self.axis(0).norm(), self.axis(1).norm(), self.axis(2).norm()]
+    }
+
+    /// Projections `e1.e2, e1.e3, e2.e3` (seed 004 Table 2: -0.030 / -0.029 / -0.021): lack of
+    /// orthogonality of the sensor axes and the local squareness of the machine.
+    pub fn projections(&self) -> [f64; 3] {
+        [self.axis(0).dot(&self.axis(1)), self.axis(0).dot(&self.axis(2)), self.axis(1).dot(&self.axis(2))]
+    }
+
+    /// The offset `d` (reading offsets of the sensors).
+    pub fn offset(&self) -> Vec3 {
+        Vec3::new(self.matrix[(0, 3)], self.matrix[(1, 3)], self.matrix[(2, 3)])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Matrix3;
+
+    #[test]
+    fn cube_recovers_a_known_sensor_map_exactly() {
+        // sensors with gains 0.998 / 0.996 / 0.996, skewed axes and offsets (um): readings
+        // s = A^-1 (t - d); the fit must return [A d] to rounding
+        let a = Matrix3::new(0.998, -0.030, -0.029, 0.0, 0.996, -0.021, 0.0, 0.0, 0.996);
+        let d = Vec3::new(4.0, -7.5, 9.0);
+        let programmed = SensorCalibration::cube(Vec3::zeros(), 200.0, 5);
+        assert_eq!(programmed.len(), 125);
+        let inverse = a.try_inverse().unwrap();
+        let readings: Vec<Vec3> = programmed.iter().map(|t| inverse * (t - d)).collect();
+        let cal = SensorCalibration::fit(&programmed, &readings).unwrap();
+        for r in 0..3 {
+            for c in 0..3 {
+                assert!((cal.matrix[(r, c)] - a[(r, c)]).abs() < 1e-12);
+            }
+        }
+        assert!((cal.offset() - d).norm() < 1e-10);
+        assert!((cal.matrix[(3, 3)] - 1.0).abs() < 1e-12 && cal.matrix[(3, 0)].abs() < 1e-12);
+        assert!((cal.column_norms()[0] - 0.998).abs() < 1e-12);
+        assert!((cal.projections()[0] - 0.998 * -0.030).abs() < 1e-12);
+        let s = readings[17];
+        assert!((cal.apply(&s) - programmed[17]).norm() < 1e-10);
+    }
+
+    #[test]
+    fn flat_readings_are_refused() {
+        let programmed = SensorCalibration::cube(Vec3::zeros(), 0.2, 2);
+        let flat: Vec<Vec3> = programmed.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect();
+        assert!(SensorCalibration::fit(&programmed, &flat).unwrap_err().to_string().contains("three dimensions"));
+    }
+}
