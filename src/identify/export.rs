@@ -50,7 +50,7 @@ pub fn error_values_text(
             }
             ErrorFunction::Polynomial { coefficients }
         };
-        text = set_error_function(&text, &id, &function).map_err(|m| IdentifyError::Input(format!("nominal errors file: {m}")))?;
+        text = set_error_function(&text, &id, None, &function).map_err(|m| IdentifyError::Input(format!("nominal errors file: {m}")))?;
     }
     Ok(format!("{header}{text}"))
 }
