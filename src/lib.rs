@@ -14,3 +14,4 @@ pub mod instruments;
 pub mod machine;
 pub mod model;
 pub mod report;
+pub mod thermal;
