@@ -12,22 +12,22 @@ pub mod assembly;
 // pub mod levenberg_marquardt;
 pub mod lanczos;
 // pub mod links;
-// pub mod matrix_market;
+pub mod matrix_market;
 pub mod mesh;
 pub mod modal;
-// pub mod model_file;
+pub mod model_file;
 // pub mod placement;
 // pub mod regression;
-// pub mod response;
+pub mod response;
 // pub mod state_space;
 // pub mod time_constants;
 // pub mod validation;
-// pub mod weights;
+pub mod weights;
 
 pub use assembly::{assemble, Boundary, Material, Section, ThermalSystem};
 pub use mesh::StructuredMesh;
 pub use modal::{modal_analysis, ModalBasis, ModalOptions, SpectrumMethod};
-// pub use weights::{mode_weights, ModeWeight};
+pub use weights::{dominant_modes, mode_weights, ModeWeight, DEFAULT_SHARE};
 
 use thiserror::Error;
 

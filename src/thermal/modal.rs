@@ -75,7 +75,8 @@ impl ModalBasis {
     }
 }
 
-/// The modes of `system`. Each shape's largest entry is made positive (a deterministic sign).
+/// The modes of `system`, each with a deterministic sign (its first entry of at least half the
+/// largest magnitude is positive).
 /// A model that loses no heat (no convection anywhere) has a mode with an infinite time constant
 /// and is refused.
 pub fn modal_analysis(system: &ThermalSystem, options: &ModalOptions) -> Result<ModalBasis, ThermalError> {
@@ -104,17 +105,14 @@ pub fn modal_analysis(system: &ThermalSystem, options: &ModalOptions) -> Result<
             lambda[i]
         )));
     }
+    // deterministic sign: the first node reaching half the largest magnitude is positive
     for i in 0..lambda.len() {
-        let (mut big, mut sign) = (0.0f64, 1.0);
-        for r in 0..n {
-            if shapes[(r, i)].abs() > big + 1e-12 * big {
-                big = shapes[(r, i)].abs();
-                sign = shapes[(r, i)].signum();
-            }
-        }
-        if sign < 0.0 {
-            for r in 0..n {
-                shapes[(r, i)] = -shapes[(r, i)];
+        let big = (0..n).fold(0.0f64, |a, r| a.max(shapes[(r, i)].abs()));
+        if let Some(r) = (0..n).find(|&r| shapes[(r, i)].abs() >= 0.5 * big) {
+            if shapes[(r, i)] < 0.0 {
+                for r in 0..n {
+                    shapes[(r, i)] = -shapes[(r, i)];
+                }
             }
         }
     }
