@@ -8,20 +8,20 @@
 //! in mm or deg, as everywhere in trueaxis (DESIGN.md section 2).
 
 pub mod assembly;
-// pub mod campaign;
-// pub mod levenberg_marquardt;
+pub mod campaign;
+pub mod levenberg_marquardt;
 pub mod lanczos;
-// pub mod links;
+pub mod links;
 pub mod matrix_market;
 pub mod mesh;
 pub mod modal;
 pub mod model_file;
-// pub mod placement;
-// pub mod regression;
+pub mod placement;
+pub mod regression;
 pub mod response;
-// pub mod state_space;
-// pub mod time_constants;
-// pub mod validation;
+pub mod state_space;
+pub mod time_constants;
+pub mod validation;
 pub mod weights;
 
 pub use assembly::{assemble, Boundary, Material, Section, ThermalSystem};
