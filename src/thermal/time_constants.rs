@@ -103,8 +103,10 @@ pub fn fit_time_constants(series: &[Series], count: usize, offset: bool) -> Resu
         offsets.push(if offset { coef[0] } else { 0.0 });
         amplitudes.push(coef[usize::from(offset)..].to_vec());
     }
-    if tau.iter().any(|t| !t.is_finite()) {
-        return Err(computation("the time-constant fit did not converge"));
+    if tau.iter().any(|t| !t.is_finite()) || tau.windows(2).any(|w| w[1] > 0.99 * w[0]) {
+        return Err(computation(format!(
+            "the {count} time constants are not separable in these records (the fit merges them); fit fewer, or only the response to a step"
+        )));
     }
     Ok(TimeConstantFit { tau_s: tau, amplitudes, offsets, residual_rms: (lm.cost / samples as f64).sqrt() })
 }

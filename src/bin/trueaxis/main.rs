@@ -5,6 +5,7 @@ mod demo;
 mod fit;
 mod iso230_2;
 mod predict;
+mod thermal;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -30,6 +31,7 @@ enum Command {
     #[command(name = "iso230-2")]
     Iso2302(iso230_2::Iso2302Args),
     Predict(predict::PredictArgs),
+    Thermal(thermal::ThermalArgs),
 }
 
 /// Why a command failed: bad input (exit 2) or a failed computation (exit 1).
@@ -54,6 +56,7 @@ fn main() -> ExitCode {
         Command::Fit(args) => fit::run(*args),
         Command::Iso2302(args) => iso230_2::run(args),
         Command::Predict(args) => predict::run(args),
+        Command::Thermal(args) => thermal::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
