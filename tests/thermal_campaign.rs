@@ -35,7 +35,9 @@ fn simulate() -> String {
     let modes = modal_analysis(&sys, &ModalOptions::default()).unwrap();
     let nodes: Vec<usize> = (0..=ELEMENTS).collect();
     let h = 1.0 / ELEMENTS as f64;
-    let mut csv = String::from("# simulated campaign: seed 002 §3.4 elongation element, 100 W at the fixed end, 20 degC ambient\nrun,t,T:p1,T:p5,dz\n");
+    let mut csv = String::from(
+        "# simulated campaign: seed 002 §3.4 elongation element, 100 W at the fixed end, 20 degC ambient\nrun,t,T:p1,T:p5,dz\n",
+    );
     let mut k = 0;
     let on = |run: &str, t: f64| -> f64 {
         match run {

@@ -85,7 +85,8 @@ fn sodick_models_evaluate_as_printed_and_through_the_chain() {
     assert!((dz.evaluate(-100.0, &[t1, t3, t5]) - want_z).abs() < 1e-12);
     assert!((want_z - 12.495).abs() < 1e-9);
     let (t7, t8, t10, t13) = (21.0, 21.5, 22.0, 20.5);
-    let want_x = (103.68 - 13.08 * t7 - 12.48 * t8 + 27.77 * t10 - 6.64 * t13) + (-0.18 - 0.17 * t7 - 0.02 * t8 + 0.26 * t10 + 0.02 * t13) * 200.0;
+    let want_x =
+        (103.68 - 13.08 * t7 - 12.48 * t8 + 27.77 * t10 - 6.64 * t13) + (-0.18 - 0.17 * t7 - 0.02 * t8 + 0.26 * t10 + 0.02 * t13) * 200.0;
     assert!((dx.evaluate(200.0, &[t7, t8, t10, t13]) - want_x).abs() < 1e-10);
     let (t6, t16, t17) = (20.8, 21.2, 23.0);
     let want_y = (28.01 - 7.64 * t6 - 10.20 * t16 + 1.22 * t17) + (-0.05 - 0.01 * t6 + 0.03 * t16 - 0.19 * t17) * -150.0;
@@ -181,7 +182,8 @@ fn state_space_rates_and_outputs_are_recovered() {
     };
     let record = |period: f64, n: usize| {
         let times: Vec<f64> = (0..n).map(|k| 60.0 * k as f64 + 20.0 * noise(k).abs()).collect();
-        let u: Vec<Vec<f64>> = times.iter().map(|t| vec![if (t / period) as usize % 2 == 0 { 5.0 } else { 0.5 }, 1.0 + (t / 1800.0).sin()]).collect();
+        let u: Vec<Vec<f64>> =
+            times.iter().map(|t| vec![if (t / period) as usize % 2 == 0 { 5.0 } else { 0.5 }, 1.0 + (t / 1800.0).sin()]).collect();
         let y = truth.simulate(&times, &u);
         (times, u, y)
     };

@@ -124,7 +124,18 @@ fn modal_superposition_equals_time_stepping_and_reaches_the_steady_state() {
     let nodes = [0, 11, 22];
     // warm-up 2 h at the full flux, 1 h at half, 2 h off, sampled every 5 min
     let times: Vec<f64> = (0..=60).map(|k| 300.0 * k as f64).collect();
-    let inputs: Vec<Vec<f64>> = times.iter().map(|t| vec![if *t < 7200.0 { 1.0 } else if *t < 10800.0 { 0.5 } else { 0.0 }]).collect();
+    let inputs: Vec<Vec<f64>> = times
+        .iter()
+        .map(|t| {
+            vec![if *t < 7200.0 {
+                1.0
+            } else if *t < 10800.0 {
+                0.5
+            } else {
+                0.0
+            }]
+        })
+        .collect();
     let history = LoadHistory { loads: vec![sys.load.clone()], times_s: times.clone(), inputs };
     let modal = modal_history(&modes, &history, &nodes).unwrap();
     let stepped = time_stepping(&sys, &history, &nodes, 0.5, 20).unwrap();

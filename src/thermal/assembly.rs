@@ -236,9 +236,9 @@ pub fn assemble(problem: &ThermalProblem) -> Result<ThermalSystem, ThermalError>
             for b in 0..local {
                 c_trip.push(Triplet::new(nodes[a], nodes[b], ce[a][b]));
                 let mut k = ke[a][b];
-                for d in 0..dim {
+                for (d, (&g, &cells_d)) in grid.iter().zip(mesh.cells()).enumerate() {
                     for side in 0..2 {
-                        let on_face = if side == 0 { grid[d] == 0 } else { grid[d] + 1 == mesh.cells()[d] };
+                        let on_face = if side == 0 { g == 0 } else { g + 1 == cells_d };
                         if !on_face || bit(a, d) != side || bit(b, d) != side {
                             continue;
                         }

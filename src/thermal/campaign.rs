@@ -39,9 +39,11 @@ impl Campaign {
                 if h == "run" {
                     runs.push(field.to_string());
                 } else {
-                    let v = field.parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| {
-                        input(format!("{origin}: line {line}: column {h}: `{field}` is not a finite number"))
-                    })?;
+                    let v = field
+                        .parse::<f64>()
+                        .ok()
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| input(format!("{origin}: line {line}: column {h}: `{field}` is not a finite number")))?;
                     columns.get_mut(h).expect("named").push(v);
                 }
             }
@@ -65,9 +67,10 @@ impl Campaign {
 
     /// A numeric column.
     pub fn column(&self, name: &str) -> Result<&[f64], ThermalError> {
-        self.columns.get(name).map(Vec::as_slice).ok_or_else(|| {
-            input(format!("{}: missing column `{name}`; the header has: {}", self.origin, self.names.join(",")))
-        })
+        self.columns
+            .get(name)
+            .map(Vec::as_slice)
+            .ok_or_else(|| input(format!("{}: missing column `{name}`; the header has: {}", self.origin, self.names.join(","))))
     }
 
     /// The temperature columns `T:<sensor>`, in file order.

@@ -63,7 +63,7 @@ pub fn smallest_eigenpairs(
     }
     // shift below the spectrum: a small fraction of the smallest diagonal ratio K_ii / C_ii
     let (kd, cd) = (diagonal(k), diagonal(c));
-    if cd.iter().any(|v| !(*v > 0.0)) {
+    if cd.iter().any(|v| v.is_nan() || *v <= 0.0) {
         return Err(input("the capacity matrix C has a diagonal entry that is not positive"));
     }
     let ratio = kd.iter().zip(&cd).map(|(a, b)| a / b).filter(|r| *r > 0.0).fold(f64::INFINITY, f64::min);
@@ -78,9 +78,9 @@ pub fn smallest_eigenpairs(
         }
     }
     let shifted = from_triplets(n, &triplets)?;
-    let llt = shifted
-        .sp_cholesky(Side::Lower)
-        .map_err(|e| computation(format!("K - sigma C is not positive definite ({e:?}): K must be positive semi-definite and C positive definite")))?;
+    let llt = shifted.sp_cholesky(Side::Lower).map_err(|e| {
+        computation(format!("K - sigma C is not positive definite ({e:?}): K must be positive semi-definite and C positive definite"))
+    })?;
     let mut basis: Vec<Vec<f64>> = Vec::with_capacity(max_basis + p);
     // T = V^T C Op V, stored by columns with the coefficients on the next block
     let mut t_cols: Vec<Vec<f64>> = Vec::new();
@@ -253,8 +253,8 @@ mod tests {
         let sys = assemble(&problem).unwrap();
         let (lambda, phi) = smallest_eigenpairs(&sys.conductivity, &sys.capacity, 12, &LanczosOptions::default()).unwrap();
         let dense = crate::thermal::modal::dense_eigenpairs(&sys).unwrap();
-        for i in 0..12 {
-            assert!((lambda[i] - dense.0[i]).abs() < 1e-9 * dense.0[i], "mode {i}: {} vs {}", lambda[i], dense.0[i]);
+        for (i, l) in lambda.iter().enumerate() {
+            assert!((l - dense.0[i]).abs() < 1e-9 * dense.0[i], "mode {i}: {l} vs {}", dense.0[i]);
         }
         // C-orthonormal and K phi = lambda C phi
         let c = to_dense(&sys.capacity);

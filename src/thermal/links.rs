@@ -56,7 +56,12 @@ pub fn model_terms(parameter: &str, model: &RegressionModel, scale: f64) -> Resu
         }
         for (s, c) in model.sensors.iter().zip(&row[1..]) {
             if *c != 0.0 {
-                terms.push(ErrorTerm { parameter: parameter.into(), coefficient: scale * c, axes: axes.clone(), sensors: vec![(s.clone(), 1)] });
+                terms.push(ErrorTerm {
+                    parameter: parameter.into(),
+                    coefficient: scale * c,
+                    axes: axes.clone(),
+                    sensors: vec![(s.clone(), 1)],
+                });
             }
         }
     }
@@ -144,7 +149,7 @@ pub fn link_terms(link: &ThermalLink, machine: &Machine) -> Result<Vec<ErrorTerm
         }
     }
     for t in &terms {
-        machine.parse_parameter(&t.parameter).map_err(|m| bad(m))?;
+        machine.parse_parameter(&t.parameter).map_err(&bad)?;
     }
     Ok(terms)
 }
@@ -163,12 +168,8 @@ pub fn add_terms(model: &mut ErrorModel, machine: &Machine, terms: &[ErrorTerm])
 pub fn terms_toml(terms: &[ErrorTerm]) -> String {
     let mut out = String::new();
     for t in terms {
-        let factors: Vec<String> = t
-            .axes
-            .iter()
-            .map(|(a, p)| format!("{a} = {p}"))
-            .chain(t.sensors.iter().map(|(s, p)| format!("\"{s}\" = {p}")))
-            .collect();
+        let factors: Vec<String> =
+            t.axes.iter().map(|(a, p)| format!("{a} = {p}")).chain(t.sensors.iter().map(|(s, p)| format!("\"{s}\" = {p}"))).collect();
         let _ = writeln!(out, "[[term.{}]]\ncoefficient = {:e}\nfactors = {{ {} }}\n", t.parameter, t.coefficient, factors.join(", "));
     }
     out

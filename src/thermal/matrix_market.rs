@@ -36,9 +36,11 @@ pub fn read_matrix(text: &str, origin: &str) -> Result<SparseColMat<usize, f64>,
             return Err(input(format!("{origin}: line {line_no}: expected `row column value`")));
         }
         let (i, j) = (index(parts[0], rows, origin, line_no)?, index(parts[1], cols, origin, line_no)?);
-        let v: f64 = parts[2].parse().ok().filter(|v: &f64| v.is_finite()).ok_or_else(|| {
-            input(format!("{origin}: line {line_no}: `{}` is not a finite number", parts[2]))
-        })?;
+        let v: f64 = parts[2]
+            .parse()
+            .ok()
+            .filter(|v: &f64| v.is_finite())
+            .ok_or_else(|| input(format!("{origin}: line {line_no}: `{}` is not a finite number", parts[2])))?;
         triplets.push(Triplet::new(i, j, v));
         if symmetric && i != j {
             triplets.push(Triplet::new(j, i, v));
@@ -112,9 +114,11 @@ fn header<'a>(text: &'a str, origin: &str) -> Result<(&'a str, Lines<'a>), Therm
 }
 
 fn numbers<T: std::str::FromStr>(line: &str, count: usize, origin: &str, line_no: usize) -> Result<Vec<T>, ThermalError> {
-    let v: Vec<T> = line.split_whitespace().map(|w| w.parse::<T>()).collect::<Result<_, _>>().map_err(|_| {
-        input(format!("{origin}: line {line_no}: `{line}` is not {count} number(s)"))
-    })?;
+    let v: Vec<T> = line
+        .split_whitespace()
+        .map(|w| w.parse::<T>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| input(format!("{origin}: line {line_no}: `{line}` is not {count} number(s)")))?;
     if v.len() != count {
         return Err(input(format!("{origin}: line {line_no}: expected {count} number(s), found {}", v.len())));
     }
@@ -144,6 +148,9 @@ mod tests {
         assert_eq!(read_vector(&write_vector(&[1.0, -2.5]), "q").unwrap(), vec![1.0, -2.5]);
         let e = read_matrix("%%MatrixMarket matrix coordinate real general\n2 2 1\n3 1 1.0\n", "bad.mtx").unwrap_err().to_string();
         assert!(e.contains("bad.mtx: line 3: index `3` is not in 1..2"), "{e}");
-        assert!(read_matrix("%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 1.0\n", "short.mtx").unwrap_err().to_string().contains("announces 2"));
+        assert!(read_matrix("%%MatrixMarket matrix coordinate real general\n2 2 2\n1 1 1.0\n", "short.mtx")
+            .unwrap_err()
+            .to_string()
+            .contains("announces 2"));
     }
 }

@@ -110,12 +110,7 @@ impl StructuredMesh {
     /// The `2^dim` nodes of cell `cell`, local node `a` having grid offset bit d = `(a >> d) & 1`.
     pub fn cell_nodes(&self, cell: usize, nodes: &mut [usize; 8]) {
         let dim = self.dimensions();
-        let mut base = [0usize; 3];
-        let mut c = cell;
-        for d in 0..dim {
-            base[d] = c % self.cells[d];
-            c /= self.cells[d];
-        }
+        let base = self.cell_grid(cell);
         for (a, node) in nodes.iter_mut().enumerate().take(1 << dim) {
             let mut ijk = [0usize; 3];
             for d in 0..dim {
@@ -128,9 +123,9 @@ impl StructuredMesh {
     /// Grid indices of the first node of cell `cell`.
     pub fn cell_grid(&self, mut cell: usize) -> [usize; 3] {
         let mut ijk = [0; 3];
-        for d in 0..self.dimensions() {
-            ijk[d] = cell % self.cells[d];
-            cell /= self.cells[d];
+        for (g, c) in ijk.iter_mut().zip(&self.cells) {
+            *g = cell % c;
+            cell /= c;
         }
         ijk
     }

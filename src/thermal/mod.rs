@@ -9,8 +9,8 @@
 
 pub mod assembly;
 pub mod campaign;
-pub mod levenberg_marquardt;
 pub mod lanczos;
+pub mod levenberg_marquardt;
 pub mod links;
 pub mod matrix_market;
 pub mod mesh;

@@ -98,7 +98,7 @@ pub fn modal_analysis(system: &ThermalSystem, options: &ModalOptions) -> Result<
         smallest_eigenpairs(&system.conductivity, &system.capacity, count, &options.lanczos)?
     };
     let largest = lambda.iter().fold(0.0f64, |a, b| a.max(b.abs()));
-    if let Some(i) = lambda.iter().position(|l| !(*l > 1e-12 * largest)) {
+    if let Some(i) = lambda.iter().position(|l| l.is_nan() || *l <= 1e-12 * largest) {
         return Err(input(format!(
             "mode {} has eigenvalue {:.3e} 1/s: the model loses no heat (add convection), so its time constant is infinite",
             i + 1,

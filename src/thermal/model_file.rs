@@ -127,7 +127,8 @@ pub fn parse_model(text: &str, origin: &str, dir: &Path) -> Result<ThermalModel,
                         return Err(bad(format!("`size_m` and `cells` need {dim} entries for kind = \"{kind}\"")));
                     }
                     let mesh = StructuredMesh::new(cells, size).map_err(|e| bad(e.to_string()))?;
-                    let section = if dim == 2 { Section::Plate { thickness_m: need("thickness_m", f.thickness_m)? } } else { Section::Solid };
+                    let section =
+                        if dim == 2 { Section::Plate { thickness_m: need("thickness_m", f.thickness_m)? } } else { Section::Solid };
                     (mesh, section, faces(f.boundary.as_ref(), dim, origin)?)
                 }
             };
@@ -152,7 +153,10 @@ pub fn parse_model(text: &str, origin: &str, dir: &Path) -> Result<ThermalModel,
                 std::fs::read_to_string(&p).map_err(|e| bad(format!("`{key}`: cannot read {}: {e}", p.display())))
             };
             let c = read_matrix(&read("capacity", &f.capacity)?, &dir.join(f.capacity.as_deref().unwrap_or("")).display().to_string())?;
-            let k = read_matrix(&read("conductivity", &f.conductivity)?, &dir.join(f.conductivity.as_deref().unwrap_or("")).display().to_string())?;
+            let k = read_matrix(
+                &read("conductivity", &f.conductivity)?,
+                &dir.join(f.conductivity.as_deref().unwrap_or("")).display().to_string(),
+            )?;
             let n = c.nrows();
             let (load, flux_nodes) = match (&f.load, &f.flux_node) {
                 (Some(_), _) => {

@@ -44,7 +44,9 @@ pub fn modal_rule(
         if best <= 1e-6 * overall {
             continue; // every candidate lies in the nodal region of this mode
         }
-        if let Some(s) = placed.iter_mut().filter(|s| magnitude(s.node) >= reuse * best).max_by(|a, b| magnitude(a.node).total_cmp(&magnitude(b.node))) {
+        if let Some(s) =
+            placed.iter_mut().filter(|s| magnitude(s.node) >= reuse * best).max_by(|a, b| magnitude(a.node).total_cmp(&magnitude(b.node)))
+        {
             s.modes.push(mode);
             continue;
         }
@@ -62,7 +64,11 @@ pub fn modal_rule(
 /// Effective independence: keeps `count` of `candidates` for the modes `modes`.
 pub fn effective_independence(basis: &ModalBasis, modes: &[usize], candidates: &[usize], count: usize) -> Result<Vec<usize>, ThermalError> {
     if count < modes.len() || count > candidates.len() {
-        return Err(input(format!("effective independence needs between {} (the modes) and {} (the candidates) sensors", modes.len(), candidates.len())));
+        return Err(input(format!(
+            "effective independence needs between {} (the modes) and {} (the candidates) sensors",
+            modes.len(),
+            candidates.len()
+        )));
     }
     let mut kept = candidates.to_vec();
     while kept.len() > count {

@@ -46,7 +46,12 @@ impl RegressionModel {
             return Err("`coefficients` must have at least one row".into());
         }
         if let Some(k) = self.coefficients.iter().position(|row| row.len() != self.sensors.len() + 1) {
-            return Err(format!("coefficient row {} has {} entries; expected 1 + {} sensors", k + 1, self.coefficients[k].len(), self.sensors.len()));
+            return Err(format!(
+                "coefficient row {} has {} entries; expected 1 + {} sensors",
+                k + 1,
+                self.coefficients[k].len(),
+                self.sensors.len()
+            ));
         }
         if self.coefficients.iter().flatten().any(|c| !c.is_finite()) {
             return Err("coefficients must be finite numbers".into());
@@ -85,7 +90,9 @@ impl RegressionModel {
         if file.kind != "regression" {
             return Err(input(format!("{origin}: kind `{}` is not a thermal error model (kind = \"regression\")", file.kind)));
         }
-        let model: RegressionModel = toml::Value::Table(file.model).try_into().map_err(|e: toml::de::Error| input(format!("{origin}: {}", one_line(&e.to_string()))))?;
+        let model: RegressionModel = toml::Value::Table(file.model)
+            .try_into()
+            .map_err(|e: toml::de::Error| input(format!("{origin}: {}", one_line(&e.to_string()))))?;
         model.validate().map_err(|m| input(format!("{origin}: {m}")))?;
         Ok(model)
     }
@@ -174,7 +181,13 @@ fn model_from_columns(
             row
         })
         .collect();
-    RegressionModel { error: error_name.into(), sensors: sensors.to_vec(), position: position.map(String::from), intercept, coefficients: rows }
+    RegressionModel {
+        error: error_name.into(),
+        sensors: sensors.to_vec(),
+        position: position.map(String::from),
+        intercept,
+        coefficients: rows,
+    }
 }
 
 /// Pearson correlation of each sensor series with the error, and the range of each series.
@@ -225,7 +238,8 @@ pub fn fit_stepwise(
     let per = sensors.len() + usize::from(intercept);
     let forced: Vec<usize> = if intercept { (0..=degree).map(|k| k * per).collect() } else { Vec::new() };
     let result = stepwise(&design, error, None, &names, level, &forced).map_err(|e| input(format!("{error_name}: {e}")))?;
-    let model = model_from_columns(error_name, sensors, position.map(|p| p.0), degree, intercept, &result.fit.coefficients, Some(&result.kept));
+    let model =
+        model_from_columns(error_name, sensors, position.map(|p| p.0), degree, intercept, &result.fit.coefficients, Some(&result.kept));
     let kept = result.kept.iter().map(|&c| names[c].clone()).collect();
     Ok((model, result.fit, kept))
 }

@@ -29,7 +29,7 @@ impl LoadHistory {
         if self.times_s.is_empty() || self.inputs.len() != self.times_s.len() {
             return Err(input("a load history needs one input row per time"));
         }
-        if self.times_s.windows(2).any(|w| !(w[1] > w[0])) || self.times_s.iter().any(|t| !t.is_finite()) {
+        if self.times_s.windows(2).any(|w| w[1].is_nan() || w[1] <= w[0]) || self.times_s.iter().any(|t| !t.is_finite()) {
             return Err(input("the times of a load history must be finite and increase strictly"));
         }
         if self.loads.iter().any(|q| q.len() != nodes) || self.inputs.iter().any(|u| u.len() != self.loads.len()) {
@@ -62,7 +62,8 @@ pub fn modal_history(basis: &ModalBasis, history: &LoadHistory, nodes: &[usize])
     let xis: Vec<Vec<f64>> = history.loads.iter().map(|q| basis.modal_load(q)).collect();
     let mut theta = vec![0.0; basis.len()];
     let mut out = Vec::with_capacity(history.times_s.len());
-    let at_nodes = |theta: &[f64]| -> Vec<f64> { nodes.iter().map(|&r| (0..theta.len()).map(|i| basis.shape(r, i) * theta[i]).sum()).collect() };
+    let at_nodes =
+        |theta: &[f64]| -> Vec<f64> { nodes.iter().map(|&r| (0..theta.len()).map(|i| basis.shape(r, i) * theta[i]).sum()).collect() };
     out.push(at_nodes(&theta));
     for k in 1..history.times_s.len() {
         let dt = history.times_s[k] - history.times_s[k - 1];

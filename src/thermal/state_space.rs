@@ -62,14 +62,13 @@ impl StateSpaceModel {
     }
 }
 
+/// One experiment: times (s), inputs `u[sample][input]`, outputs `y[sample][output]`.
+pub type Record = (Vec<f64>, Vec<Vec<f64>>, Vec<Vec<f64>>);
+
 /// Identifies `m` shared decay rates and C from records `(times_s, u[k][i], y[k][o])` (several
 /// experiments, each from the zero state). `initial_tau_s` gives the start (m values), or `None`
 /// for a log-spaced grid search.
-pub fn identify_state_space(
-    records: &[(Vec<f64>, Vec<Vec<f64>>, Vec<Vec<f64>>)],
-    m: usize,
-    initial_tau_s: Option<&[f64]>,
-) -> Result<(StateSpaceModel, f64), ThermalError> {
+pub fn identify_state_space(records: &[Record], m: usize, initial_tau_s: Option<&[f64]>) -> Result<(StateSpaceModel, f64), ThermalError> {
     let first = records.first().ok_or_else(|| input("no records to identify a state-space model"))?;
     let inputs = first.1.first().map_or(0, Vec::len);
     let outputs = first.2.first().map_or(0, Vec::len);
@@ -81,7 +80,7 @@ pub fn identify_state_space(
         if t.len() != u.len() || t.len() != y.len() || u.iter().any(|r| r.len() != inputs) || y.iter().any(|r| r.len() != outputs) {
             return Err(input("every record needs one input row and one output row per time, all of the same widths"));
         }
-        if t.windows(2).any(|w| !(w[1] > w[0])) {
+        if t.windows(2).any(|w| w[1].is_nan() || w[1] <= w[0]) {
             return Err(input("times must increase strictly within a record"));
         }
         samples += t.len();

@@ -116,13 +116,7 @@ pub fn fit_time_constants(series: &[Series], count: usize, offset: bool) -> Resu
 fn project(s: &Series, tau: &[f64], offset: bool) -> Option<(Vec<f64>, Vec<f64>)> {
     let n = s.values.len();
     let p = tau.len() + usize::from(offset);
-    let x = DMatrix::from_fn(n, p, |i, j| {
-        if offset && j == 0 {
-            1.0
-        } else {
-            1.0 - (-s.times_s[i] / tau[j - usize::from(offset)]).exp()
-        }
-    });
+    let x = DMatrix::from_fn(n, p, |i, j| if offset && j == 0 { 1.0 } else { 1.0 - (-s.times_s[i] / tau[j - usize::from(offset)]).exp() });
     let y = DVector::from_column_slice(&s.values);
     let svd = x.clone().svd(true, true);
     let smax = svd.singular_values.max();

@@ -14,7 +14,9 @@ use trueaxis::thermal::placement::{condition_number, effective_independence, exh
 use trueaxis::thermal::regression::{fit_regression, fit_stepwise, select_by_correlation, RegressionModel};
 use trueaxis::thermal::time_constants::{fit_time_constants, Series};
 use trueaxis::thermal::validation::residual_stats;
-use trueaxis::thermal::{dominant_modes, modal_analysis, mode_weights, ModalBasis, ModalOptions, SpectrumMethod, ThermalError, DEFAULT_SHARE};
+use trueaxis::thermal::{
+    dominant_modes, modal_analysis, mode_weights, ModalBasis, ModalOptions, SpectrumMethod, ThermalError, DEFAULT_SHARE,
+};
 
 /// Thermal modal analysis, sensor placement and thermal error models (seed 002 ch. 3-4).
 #[derive(clap::Args)]
@@ -27,7 +29,7 @@ pub struct ThermalArgs {
 enum ThermalCommand {
     Modes(ModesArgs),
     Place(PlaceArgs),
-    Fit(FitArgs),
+    Fit(Box<FitArgs>),
     Predict(PredictArgs),
 }
 
@@ -97,8 +99,10 @@ struct PlaceArgs {
 /// the runs not trained on; or, with --time-constants N, the eq. 3.17 fit of shared time constants
 /// to the temperature records of every run.
 #[derive(clap::Args)]
-#[command(after_help = "Examples:\n  trueaxis thermal fit --data examples/thermal/campaign.csv --error dz --train-runs warmup --out dz_model.toml\n  \
-trueaxis thermal fit --data examples/thermal/campaign.csv --time-constants 2 --train-runs warmup --until 14400 --json")]
+#[command(
+    after_help = "Examples:\n  trueaxis thermal fit --data examples/thermal/campaign.csv --error dz --train-runs warmup --out dz_model.toml\n  \
+trueaxis thermal fit --data examples/thermal/campaign.csv --time-constants 2 --train-runs warmup --until 14400 --json"
+)]
 struct FitArgs {
     /// Campaign (CSV).
     #[arg(long)]
@@ -175,7 +179,7 @@ pub fn run(args: ThermalArgs) -> Result<(), Failure> {
     match args.command {
         ThermalCommand::Modes(a) => modes(a),
         ThermalCommand::Place(a) => place(a),
-        ThermalCommand::Fit(a) => fit(a),
+        ThermalCommand::Fit(a) => fit(*a),
         ThermalCommand::Predict(a) => predict(a),
     }
 }
@@ -238,7 +242,8 @@ fn modes(args: ModesArgs) -> Result<(), Failure> {
             if dominant.contains(&w.mode) { "yes" } else { "" }
         );
     }
-    out += &format!("{} dominant modes carry {:.0} % of the weight of the {} computed\n", dominant.len(), 100.0 * args.share, weights.len());
+    out +=
+        &format!("{} dominant modes carry {:.0} % of the weight of the {} computed\n", dominant.len(), 100.0 * args.share, weights.len());
     print(&out)
 }
 
@@ -305,7 +310,8 @@ fn place(args: PlaceArgs) -> Result<(), Failure> {
         model.name
     );
     for (n, m) in sensors.iter().zip(&served) {
-        let at = position(*n).map_or(String::new(), |p| format!(" at {:?} m", p.iter().map(|v| (v * 1e4).round() / 1e4).collect::<Vec<_>>()));
+        let at =
+            position(*n).map_or(String::new(), |p| format!(" at {:?} m", p.iter().map(|v| (v * 1e4).round() / 1e4).collect::<Vec<_>>()));
         let modes = if m.is_empty() { String::new() } else { format!(", serves modes {:?}", m.iter().map(|i| i + 1).collect::<Vec<_>>()) };
         out += &format!("  node {n}{at}{modes}\n");
     }
@@ -345,7 +351,8 @@ fn fit(args: FitArgs) -> Result<(), Failure> {
             (m, f, Some(k))
         }
         Some(s) if s.starts_with("correlation:") => {
-            let n: usize = s["correlation:".len()..].parse().map_err(|_| Failure::input(anyhow::anyhow!("--select {s}: expected correlation:N")))?;
+            let n: usize =
+                s["correlation:".len()..].parse().map_err(|_| Failure::input(anyhow::anyhow!("--select {s}: expected correlation:N")))?;
             let chosen = select_by_correlation(&temps, &measured, n, 0.0);
             let names: Vec<String> = chosen.iter().map(|&i| sensors[i].clone()).collect();
             let t: Vec<Vec<f64>> = chosen.iter().map(|&i| temps[i].clone()).collect();
@@ -374,7 +381,10 @@ fn fit(args: FitArgs) -> Result<(), Failure> {
             let machine = Machine::load(machine).map_err(Failure::input)?;
             add_terms(&mut ErrorModel::zero(&machine), &machine, &terms).map_err(failure)?;
         }
-        let text = format!("# thermal error model of `{error}` as error terms (factors T - 20 degC), from trueaxis thermal fit\n{}", terms_toml(&terms));
+        let text = format!(
+            "# thermal error model of `{error}` as error terms (factors T - 20 degC), from trueaxis thermal fit\n{}",
+            terms_toml(&terms)
+        );
         write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
     }
     if args.json {
@@ -389,13 +399,17 @@ fn fit(args: FitArgs) -> Result<(), Failure> {
             (1, Some(a)) => format!(" * {a}"),
             (k, Some(a)) => format!(" * {a}^{k}"),
         };
-        let terms: Vec<String> =
-            std::iter::once(format!("{:+.5}", row[0])).chain(model.sensors.iter().zip(&row[1..]).map(|(s, c)| format!("{c:+.5} {s}"))).collect();
+        let terms: Vec<String> = std::iter::once(format!("{:+.5}", row[0]))
+            .chain(model.sensors.iter().zip(&row[1..]).map(|(s, c)| format!("{c:+.5} {s}")))
+            .collect();
         out += &format!("  [{}]{p}\n", terms.join(" "));
     }
     let line = |name: &str, s: &Option<trueaxis::thermal::validation::ResidualStats>| {
         s.map_or(String::new(), |s| {
-            format!("  {name:<12} RMS {:.3}  max {:.3}  range {:.3}  band [{:.3}, {:.3}] um ({} samples)\n", s.rms, s.max_abs, s.range, s.min, s.max, s.samples)
+            format!(
+                "  {name:<12} RMS {:.3}  max {:.3}  range {:.3}  band [{:.3}, {:.3}] um ({} samples)\n",
+                s.rms, s.max_abs, s.range, s.min, s.max, s.samples
+            )
         })
     };
     out += "residuals (measured - predicted):\n";
@@ -417,7 +431,8 @@ fn fit_taus(campaign: &Campaign, rows: &[usize], sensors: &[String], n: usize, u
         let run_rows: Vec<usize> = run_rows.into_iter().filter(|&i| until.is_none_or(|u| t[i] - t0 <= u)).collect();
         for s in sensors {
             let v = campaign.column(s).map_err(failure)?;
-            series.push(Series { times_s: run_rows.iter().map(|&i| t[i] - t0).collect(), values: run_rows.iter().map(|&i| v[i]).collect() });
+            series
+                .push(Series { times_s: run_rows.iter().map(|&i| t[i] - t0).collect(), values: run_rows.iter().map(|&i| v[i]).collect() });
             labels.push((run.clone(), s.clone()));
         }
     }
@@ -457,12 +472,17 @@ fn evaluate(campaign: &Campaign, model: &RegressionModel, rows: &[usize]) -> Res
             model.evaluate(positions.as_ref().map_or(0.0, |p| p[i]), &t)
         })
         .collect();
-    let measured = if campaign.names.contains(&model.error) { Some(campaign.select(std::slice::from_ref(&model.error), rows)?.remove(0)) } else { None };
+    let measured = if campaign.names.contains(&model.error) {
+        Some(campaign.select(std::slice::from_ref(&model.error), rows)?.remove(0))
+    } else {
+        None
+    };
     Ok((measured, predicted))
 }
 
 fn predict(args: PredictArgs) -> Result<(), Failure> {
-    let text = std::fs::read_to_string(&args.model).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.model.display())))?;
+    let text =
+        std::fs::read_to_string(&args.model).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.model.display())))?;
     let model = RegressionModel::from_toml_str(&text, &args.model.display().to_string()).map_err(failure)?;
     let campaign = Campaign::read(&args.data).map_err(failure)?;
     let rows: Vec<usize> = (0..campaign.len()).collect();
@@ -494,7 +514,11 @@ fn predict(args: PredictArgs) -> Result<(), Failure> {
         let stats: serde_json::Map<String, Value> = per_run.iter().map(|(r, s)| (r.clone(), json!(s))).collect();
         format!("{}\n", json!({"error": model.error, "unit": "um", "samples": samples, "residuals": stats}))
     } else {
-        let mut out = format!("run,t,{}_predicted{}\n", model.error, if measured.is_some() { format!(",{0},{0}_residual", model.error) } else { String::new() });
+        let mut out = format!(
+            "run,t,{}_predicted{}\n",
+            model.error,
+            if measured.is_some() { format!(",{0},{0}_residual", model.error) } else { String::new() }
+        );
         for &i in &rows {
             let t = times.map_or(String::new(), |t| t[i].to_string());
             out += &format!("{},{t},{:.4}", campaign.runs[i], predicted[i]);
@@ -505,7 +529,10 @@ fn predict(args: PredictArgs) -> Result<(), Failure> {
         }
         for (run, s) in &per_run {
             if let Some(s) = s {
-                out += &format!("# {run}: residual RMS {:.3} max {:.3} range {:.3} band [{:.3}, {:.3}] um\n", s.rms, s.max_abs, s.range, s.min, s.max);
+                out += &format!(
+                    "# {run}: residual RMS {:.3} max {:.3} range {:.3} band [{:.3}, {:.3}] um\n",
+                    s.rms, s.max_abs, s.range, s.min, s.max
+                );
             }
         }
         out
