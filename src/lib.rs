@@ -16,3 +16,4 @@ pub mod machine;
 pub mod model;
 pub mod report;
 pub mod uncertainty;
+pub mod thermal;

@@ -11,6 +11,7 @@ mod iso230_2;
 mod nc;
 mod predict;
 mod uncertainty;
+mod thermal;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -42,6 +43,7 @@ enum Command {
     Uncertainty(Box<uncertainty::UncertaintyArgs>),
     Compensate(Box<compensate::CompensateArgs>),
     Nc(Box<nc::NcArgs>),
+    Thermal(thermal::ThermalArgs),
 }
 
 /// Why a command failed: bad input (exit 2) or a failed computation (exit 1).
@@ -72,6 +74,7 @@ fn main() -> ExitCode {
         Command::Uncertainty(args) => uncertainty::run(*args),
         Command::Compensate(args) => compensate::run(*args),
         Command::Nc(args) => nc::run(*args),
+        Command::Thermal(args) => thermal::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

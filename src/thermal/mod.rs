@@ -1,0 +1,53 @@
+//! Thermal errors (seed 002 ch. 3-4, seed 000 §3.4, seed 003 §3.5-3.6): transient heat-conduction
+//! finite elements, thermal modal analysis, mode weights and truncation, temperature-sensor
+//! placement, time-constant fits, regression (PITE/PDTE) and state-space thermal error models,
+//! their validation, and thermal links expressed as error terms of the kinematic chain.
+//!
+//! Units: SI inside this module (m, s, W, J, K) for the heat-conduction model; temperatures in
+//! degC, time in s (minutes only where named `_min`); thermal errors in um and urad, axis positions
+//! in mm or deg, as everywhere in trueaxis (DESIGN.md section 2).
+
+pub mod assembly;
+pub mod campaign;
+pub mod lanczos;
+pub mod levenberg_marquardt;
+pub mod links;
+pub mod matrix_market;
+pub mod mesh;
+pub mod modal;
+pub mod model_file;
+pub mod placement;
+pub mod regression;
+pub mod response;
+pub mod state_space;
+pub mod time_constants;
+pub mod validation;
+pub mod weights;
+
+pub use assembly::{assemble, Boundary, Material, Section, ThermalSystem};
+pub use mesh::StructuredMesh;
+pub use modal::{modal_analysis, ModalBasis, ModalOptions, SpectrumMethod};
+pub use weights::{dominant_modes, mode_weights, ModeWeight, DEFAULT_SHARE};
+
+use thiserror::Error;
+
+/// Errors of the thermal module; every message is one line and names what is wrong.
+#[derive(Debug, Error)]
+pub enum ThermalError {
+    /// Bad input: a file, a key, a column, a parameter.
+    #[error("{0}")]
+    Input(String),
+    /// A computation that failed on valid input (no convergence, singular matrix).
+    #[error("{0}")]
+    Computation(String),
+    #[error(transparent)]
+    Data(#[from] crate::data::DataError),
+}
+
+pub(crate) fn input(message: impl Into<String>) -> ThermalError {
+    ThermalError::Input(message.into())
+}
+
+pub(crate) fn computation(message: impl Into<String>) -> ThermalError {
+    ThermalError::Computation(message.into())
+}

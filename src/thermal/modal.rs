@@ -1,0 +1,144 @@
+//! Thermal modal analysis (seed 002 §3.2.1, eqs. 3.2-3.10): the generalised symmetric eigenproblem
+//! `K phi = C phi lambda` with C-orthonormal modes (`Phi^T C Phi = I`, `Phi^T K Phi = Lambda`;
+//! the seed's eq. 3.7 prints `[A]` for `Lambda`), time constants `tau = 1/lambda` (eq. 3.3), and the
+//! modal load `xi = Phi^T Q` (eq. 3.8).
+//!
+//! Small models: dense Cholesky `C = L L^T` and the symmetric eigendecomposition of
+//! `L^-1 K L^-T` (faer). Large sparse models: the partial spectrum by shift-invert block Lanczos
+//! ([`super::lanczos`]).
+
+use super::assembly::{to_dense, ThermalSystem};
+use super::lanczos::{smallest_eigenpairs, LanczosOptions};
+use super::{computation, input, ThermalError};
+use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
+use faer::{Mat, Par, Side};
+
+/// Which eigensolver.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpectrumMethod {
+    /// Dense up to [`DENSE_LIMIT`] nodes, shift-invert Lanczos above.
+    Auto,
+    /// Full spectrum, dense.
+    Dense,
+    /// Partial spectrum, sparse shift-invert block Lanczos.
+    Lanczos,
+}
+
+/// Largest model solved densely by [`SpectrumMethod::Auto`].
+pub const DENSE_LIMIT: usize = 1500;
+
+/// Options of [`modal_analysis`].
+#[derive(Clone, Copy, Debug)]
+pub struct ModalOptions {
+    /// Number of modes (lowest first); `None` = all (dense only).
+    pub count: Option<usize>,
+    pub method: SpectrumMethod,
+    pub lanczos: LanczosOptions,
+}
+
+impl Default for ModalOptions {
+    fn default() -> Self {
+        ModalOptions { count: None, method: SpectrumMethod::Auto, lanczos: LanczosOptions::default() }
+    }
+}
+
+/// Eigenvalues `lambda` (1/s, ascending) and C-orthonormal mode shapes (columns, K^(-1/2)... units
+/// of `1/sqrt(J/K)`), so that temperatures are `T = Phi theta` (eq. 3.4).
+#[derive(Clone, Debug)]
+pub struct ModalBasis {
+    pub lambda: Vec<f64>,
+    pub shapes: Mat<f64>,
+}
+
+impl ModalBasis {
+    pub fn len(&self) -> usize {
+        self.lambda.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.lambda.is_empty()
+    }
+
+    /// Time constant of mode i in s (eq. 3.3).
+    pub fn tau_s(&self, i: usize) -> f64 {
+        1.0 / self.lambda[i]
+    }
+
+    /// Modal load `xi = Phi^T Q` (eq. 3.8), Q in W.
+    pub fn modal_load(&self, q: &[f64]) -> Vec<f64> {
+        (0..self.len()).map(|i| (0..q.len()).map(|r| self.shapes[(r, i)] * q[r]).sum()).collect()
+    }
+
+    /// Value of mode i at node r.
+    pub fn shape(&self, r: usize, i: usize) -> f64 {
+        self.shapes[(r, i)]
+    }
+}
+
+/// The modes of `system`, each with a deterministic sign (its first entry of at least half the
+/// largest magnitude is positive).
+/// A model that loses no heat (no convection anywhere) has a mode with an infinite time constant
+/// and is refused.
+pub fn modal_analysis(system: &ThermalSystem, options: &ModalOptions) -> Result<ModalBasis, ThermalError> {
+    let n = system.node_count();
+    if n == 0 {
+        return Err(input("the thermal model has no nodes"));
+    }
+    let dense = match options.method {
+        SpectrumMethod::Dense => true,
+        SpectrumMethod::Lanczos => false,
+        SpectrumMethod::Auto => n <= DENSE_LIMIT || options.count.is_none_or(|c| 2 * (c + 2 * options.lanczos.block) >= n),
+    };
+    let (mut lambda, mut shapes) = if dense {
+        let (l, s) = dense_eigenpairs(system)?;
+        let keep = options.count.unwrap_or(n).min(n);
+        (l[..keep].to_vec(), s.subcols(0, keep).to_owned())
+    } else {
+        let count = options.count.ok_or_else(|| input("the sparse solver needs a number of modes"))?;
+        smallest_eigenpairs(&system.conductivity, &system.capacity, count, &options.lanczos)?
+    };
+    let largest = lambda.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+    if let Some(i) = lambda.iter().position(|l| l.is_nan() || *l <= 1e-12 * largest) {
+        return Err(input(format!(
+            "mode {} has eigenvalue {:.3e} 1/s: the model loses no heat (add convection), so its time constant is infinite",
+            i + 1,
+            lambda[i]
+        )));
+    }
+    // deterministic sign: the first node reaching half the largest magnitude is positive
+    for i in 0..lambda.len() {
+        let big = (0..n).fold(0.0f64, |a, r| a.max(shapes[(r, i)].abs()));
+        if let Some(r) = (0..n).find(|&r| shapes[(r, i)].abs() >= 0.5 * big) {
+            if shapes[(r, i)] < 0.0 {
+                for r in 0..n {
+                    shapes[(r, i)] = -shapes[(r, i)];
+                }
+            }
+        }
+    }
+    lambda.iter_mut().for_each(|l| *l = l.max(0.0));
+    Ok(ModalBasis { lambda, shapes })
+}
+
+/// All eigenpairs (ascending) by dense Cholesky of C and the eigendecomposition of `L^-1 K L^-T`.
+pub fn dense_eigenpairs(system: &ThermalSystem) -> Result<(Vec<f64>, Mat<f64>), ThermalError> {
+    let n = system.node_count();
+    if n > 20_000 {
+        return Err(input(format!("{n} nodes are too many for the dense eigensolver: ask for a number of modes")));
+    }
+    let c = to_dense(&system.capacity);
+    let k = to_dense(&system.conductivity);
+    let llt = c.llt(Side::Lower).map_err(|_| input("the capacity matrix C is not positive definite"))?;
+    let l = llt.L();
+    // A = L^-1 K L^-T: X = L^-1 K, then A = L^-1 X^T (= A^T = A)
+    let mut x = k;
+    solve_lower_triangular_in_place(l, x.as_mut(), Par::Seq);
+    let mut a = x.transpose().to_owned();
+    solve_lower_triangular_in_place(l, a.as_mut(), Par::Seq);
+    let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
+    let evd = a.self_adjoint_eigen(Side::Lower).map_err(|e| computation(format!("the eigensolver failed: {e:?}")))?;
+    let lambda: Vec<f64> = (0..n).map(|i| evd.S().column_vector()[i]).collect();
+    let mut phi = evd.U().to_owned();
+    solve_upper_triangular_in_place(l.transpose(), phi.as_mut(), Par::Seq);
+    Ok((lambda, phi))
+}

@@ -1,0 +1,122 @@
+//! `trueaxis thermal` end to end: the JSON contract of `modes` (DESIGN.md section 4), placement,
+//! fit -> model file -> predict, error terms read by `trueaxis predict`, and bad input.
+
+use std::process::{Command, Output};
+
+fn trueaxis(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn modes_json_is_sorted_by_decreasing_time_constant() {
+    let doc = json(&trueaxis(&["thermal", "modes", "--model", "examples/thermal/fin.toml", "--count", "5", "--json"]));
+    let modes = doc["modes"].as_array().unwrap();
+    assert_eq!(modes.len(), 5);
+    let taus: Vec<f64> = modes.iter().map(|m| m["tau_min"].as_f64().unwrap()).collect();
+    assert!(taus.windows(2).all(|w| w[0] > w[1]));
+    // tau_1 of the fin with insulated ends: 1 / (h P / (rho c_p A)) = 140.98 min
+    assert!((taus[0] - 140.978).abs() < 0.01, "{}", taus[0]);
+    let shares: f64 = modes.iter().map(|m| m["share"].as_f64().unwrap()).sum();
+    assert!((shares - 1.0).abs() < 1e-12 && modes.iter().all(|m| m["weight"].as_f64().unwrap() > 0.0));
+    // the sparse solver gives the same numbers
+    let sparse =
+        json(&trueaxis(&["thermal", "modes", "--model", "examples/thermal/plate.toml", "--count", "4", "--method", "lanczos", "--json"]));
+    let dense =
+        json(&trueaxis(&["thermal", "modes", "--model", "examples/thermal/plate.toml", "--count", "4", "--method", "dense", "--json"]));
+    for (a, b) in sparse["modes"].as_array().unwrap().iter().zip(dense["modes"].as_array().unwrap()) {
+        let (a, b) = (a["tau_min"].as_f64().unwrap(), b["tau_min"].as_f64().unwrap());
+        assert!((a - b).abs() < 1e-8 * b);
+    }
+}
+
+#[test]
+fn place_reproduces_the_thesis_positions() {
+    let doc =
+        json(&trueaxis(&["thermal", "place", "--model", "examples/thermal/elongation.toml", "--count", "3", "--share", "1", "--json"]));
+    let sensors = doc["sensors"].as_array().unwrap();
+    // Position 5 (the middle, node 12) serves modes I and III, Position 1 (node 0) mode II
+    assert_eq!(sensors[0]["node"], 12);
+    assert_eq!(sensors[0]["modes"], serde_json::json!([1, 3]));
+    assert_eq!(sensors[1]["node"], 0);
+    assert_eq!(sensors[1]["modes"], serde_json::json!([2]));
+}
+
+#[test]
+fn fit_writes_a_model_that_predict_and_the_chain_evaluate() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("dz.toml");
+    let terms = dir.path().join("terms.toml");
+    let doc = json(&trueaxis(&[
+        "thermal",
+        "fit",
+        "--data",
+        "examples/thermal/campaign.csv",
+        "--error",
+        "dz",
+        "--train-runs",
+        "warmup",
+        "--out",
+        model.to_str().unwrap(),
+        "--parameter",
+        "EZZ",
+        "--terms-out",
+        terms.to_str().unwrap(),
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--json",
+    ]));
+    // validated on the three other runs, RMS below 4 % of the 63 um peak
+    for run in ["short", "long", "cycle"] {
+        assert!(doc["validation"][run]["rms"].as_f64().unwrap() < 2.5, "{run}");
+    }
+    let c = doc["model"]["coefficients"][0].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect::<Vec<_>>();
+    let pred =
+        json(&trueaxis(&["thermal", "predict", "--model", model.to_str().unwrap(), "--data", "examples/thermal/campaign.csv", "--json"]));
+    let first_cycle = pred["samples"].as_array().unwrap().iter().find(|s| s["run"] == "cycle" && s["t"] == 3600.0).unwrap();
+    assert!((pred["residuals"]["short"]["rms"].as_f64().unwrap() - doc["validation"]["short"]["rms"].as_f64().unwrap()).abs() < 1e-12);
+    // the error terms give the same dz through the kinematic chain (Z carries the tool: dz = EZZ)
+    let poses = dir.path().join("poses.csv");
+    std::fs::write(&poses, "X,Y,Z,T:p1,T:p5\n10,20,-100,31.5,24.25\n").unwrap();
+    let out = trueaxis(&[
+        "predict",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--errors",
+        terms.to_str().unwrap(),
+        "--poses",
+        poses.to_str().unwrap(),
+        "--json",
+    ]);
+    let dz = json(&out)["poses"][0]["dz"].as_f64().unwrap();
+    let want = c[0] + c[1] * 31.5 + c[2] * 24.25;
+    assert!((dz - want).abs() < 1e-4, "{dz} vs {want}");
+    assert!(first_cycle["predicted"].as_f64().is_some());
+}
+
+#[test]
+fn bad_input_is_reported_with_exit_status_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "kind = \"bar1d\"\nlength_m = 1.0\n").unwrap();
+    let out = trueaxis(&["thermal", "modes", "--model", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.toml") && err.contains("missing key `conductivity_w_mk`"), "{err}");
+    // a model without heat loss has an infinite time constant
+    std::fs::write(
+        &bad,
+        std::fs::read_to_string("examples/thermal/fin.toml").unwrap().replace("convection_w_m2k = 20.0", "convection_w_m2k = 0.0"),
+    )
+    .unwrap();
+    let out = trueaxis(&["thermal", "modes", "--model", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("loses no heat"));
+    let out = trueaxis(&["thermal", "fit", "--data", "examples/thermal/campaign.csv", "--error", "dq"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing column `dq`"));
+}
