@@ -15,5 +15,5 @@ pub mod instruments;
 pub mod machine;
 pub mod model;
 pub mod report;
-pub mod uncertainty;
 pub mod thermal;
+pub mod uncertainty;

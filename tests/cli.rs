@@ -180,40 +180,6 @@ fn out_file_is_written_whole_and_not_on_failure() {
 }
 
 #[test]
-fn demo_writes_the_map_csv_and_svg() {
-    let dir = tempfile::tempdir().unwrap();
-    let out_dir = dir.path().join("demo");
-    let out = trueaxis(&["demo", "--out", out_dir.to_str().unwrap(), "--json"]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let summary: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(summary["poses"], 3 * 21 * 21);
-    let max = summary["max_position_error_um"].as_f64().unwrap();
-    assert!(max > 10.0 && max < 500.0, "max {max}");
-    let svg = std::fs::read_to_string(out_dir.join("volumetric_map.svg")).unwrap();
-    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
-    assert!(svg.contains("XY plane") && svg.contains("XZ plane") && svg.contains("YZ plane") && svg.contains("|d| (um)"));
-    let csv = std::fs::read_to_string(out_dir.join("volumetric_map.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 1 + 3 * 21 * 21);
-    // the files the demo writes are valid inputs of `predict`: a round trip through the CLI
-    let m = out_dir.join("machine.toml");
-    let e = out_dir.join("errors.toml");
-    let p = out_dir.join("volumetric_map.csv");
-    let again = trueaxis(&[
-        "predict",
-        "--machine",
-        m.to_str().unwrap(),
-        "--errors",
-        e.to_str().unwrap(),
-        "--poses",
-        p.to_str().unwrap(),
-        "--frame",
-        "machine",
-    ]);
-    assert!(again.status.success(), "{}", String::from_utf8_lossy(&again.stderr));
-    assert_eq!(String::from_utf8(again.stdout).unwrap(), csv, "predict on the demo files reproduces the demo map");
-}
-
-#[test]
 fn every_command_has_help_with_an_example() {
     for cmd in [vec!["--help"], vec!["demo", "--help"], vec!["predict", "--help"], vec!["fit", "--help"]] {
         let out = trueaxis(&cmd);

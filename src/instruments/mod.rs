@@ -15,8 +15,8 @@
 //! readings and deviations in um, slopes and angles in urad, temperatures in degC, expansion
 //! coefficients in um/m/K (= 1e-6 /K).
 
-pub mod ballbar;
 pub mod ball3d;
+pub mod ballbar;
 pub mod length;
 pub mod measurement;
 pub mod probe;

@@ -66,7 +66,8 @@ pub struct HtmlReport {
     pub sections: Vec<Section>,
 }
 
-const STYLE: &str = "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
+const STYLE: &str =
+    "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
 h1{font-size:1.6em;margin-bottom:0.2em}h2{font-size:1.25em;border-bottom:1px solid #bbb;padding-bottom:0.2em;margin-top:2em}\
 .subtitle{color:#555}nav ol{columns:2}table{border-collapse:collapse;margin:0.8em 0;font-size:0.9em}\
 caption{text-align:left;font-weight:bold;padding-bottom:0.3em}th,td{border:1px solid #ccc;padding:0.2em 0.6em}\
@@ -197,7 +198,9 @@ mod tests {
         assert!(html.contains("<title>A &lt;b&gt; &amp; C</title>"));
         assert!(html.contains("<p>x &lt; y</p>"));
         assert!(html.contains("<td class=\"num\">1.5</td><td>EX0C</td>"));
-        assert!(html.contains("<svg width=\"400\" height=\"300\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 400 300\"><rect/></svg>"));
+        assert!(
+            html.contains("<svg width=\"400\" height=\"300\" xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 400 300\"><rect/></svg>")
+        );
         assert!(!html.contains("<?xml"));
         assert!(html.contains("<a href=\"#one\">One</a>"));
     }

@@ -1,15 +1,18 @@
 //! `trueaxis demo`.
 
 use crate::Failure;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use trueaxis::data::DataError;
 use trueaxis::demo::{self, DemoError};
 
-/// Run the main job on the built-in 5-axis machine (seed 004 KX8-Five) with known errors: a
-/// volumetric error map over the work volume, written as CSV and SVG.
+/// Run the main job on the built-in 5-axis machine (seed 004 KX8-Five) with known errors: simulate
+/// a 3D-ball campaign with noise and cyclic drift and ballbar circles, identify, Monte Carlo
+/// uncertainty, volumetric error before and after compensation, compensation tables, HTML report.
 #[derive(clap::Args)]
 #[command(
-    after_help = "Example:\n  trueaxis demo --out demo\n  then: trueaxis predict --machine demo/machine.toml --errors demo/errors.toml --poses demo/volumetric_map.csv --frame machine"
+    after_help = "Example:\n  trueaxis demo --out demo\n  then open demo/report.html; every step can be repeated with the commands in its last section."
 )]
 pub struct DemoArgs {
     /// Output directory (created if missing).
@@ -21,7 +24,24 @@ pub struct DemoArgs {
 }
 
 pub fn run(args: DemoArgs) -> Result<(), Failure> {
-    let summary = demo::run(&args.out).map_err(|e| match e {
+    let bar = if !args.json && std::io::stderr().is_terminal() {
+        let bar = ProgressBar::with_draw_target(Some(demo::STEPS as u64), ProgressDrawTarget::stderr());
+        bar.set_style(ProgressStyle::with_template("{pos}/{len} [{bar:20}] {msg}").expect("a valid template").progress_chars("=> "));
+        Some(bar)
+    } else {
+        None
+    };
+    let mut progress = |step: usize, _total: usize, message: &str| {
+        if let Some(b) = &bar {
+            b.set_position(step as u64 - 1);
+            b.set_message(message.to_string());
+        }
+    };
+    let result = demo::run(&args.out, &mut progress);
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let summary = result.map_err(|e| match e {
         // an output directory or file that cannot be written is a bad --out
         DemoError::CreateDir { .. } | DemoError::Data(DataError::Write { .. }) => Failure::input(e),
         other => Failure::computation(other),
@@ -29,18 +49,56 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
     let pose: Vec<String> = summary.max_pose.iter().map(|(l, v)| format!("{l}={v}")).collect();
     if args.json {
         let files: Vec<String> = summary.files.iter().map(|p| p.display().to_string()).collect();
+        let parameters: serde_json::Map<String, serde_json::Value> = summary
+            .parameters
+            .iter()
+            .map(|p| {
+                (
+                    p.name.clone(),
+                    serde_json::json!({"unit": p.unit, "true": p.truth, "value": p.value,
+                        "std_uncertainty": p.std_uncertainty, "interval95": [p.interval.0, p.interval.1]}),
+                )
+            })
+            .collect();
         let doc = serde_json::json!({
             "machine": summary.machine, "poses": summary.poses,
             "max_position_error_um": summary.max_um, "max_at": pose.join(" "),
-            "rms_position_error_um": summary.rms_um, "files": files,
+            "rms_position_error_um": summary.rms_um,
+            "max_position_error_after_compensation_um": summary.max_after_um,
+            "rms_position_error_after_compensation_um": summary.rms_after_um,
+            "residual_rms_um": summary.residual_rms_um,
+            "monte_carlo_sequences": summary.monte_carlo_sequences,
+            "ballbar_G_um": summary.ballbar_g_um,
+            "parameters": parameters, "files": files,
         });
         println!("{doc}");
         return Ok(());
     }
     println!("trueaxis demo: {}", summary.machine);
-    println!("  volumetric error map over the XY, XZ and YZ mid-planes: {} poses (machine frame)", summary.poses);
-    println!("  largest position error |d| = {:.2} um at {}", summary.max_um, pose.join(" "));
-    println!("  RMS of |d| over the map   = {:.2} um", summary.rms_um);
+    println!("  identification: {} parameters, residual RMS {:.3} um", summary.parameters.len(), summary.residual_rms_um);
+    println!("  {:<6} {:>5} {:>10} {:>12} {:>8} {:>24}", "param", "unit", "true", "identified", "u (LS)", "95 % interval (MC)");
+    for p in &summary.parameters {
+        println!(
+            "  {:<6} {:>5} {:>10.2} {:>12.2} {:>8} {:>24}",
+            p.name,
+            p.unit,
+            p.truth,
+            p.value,
+            p.std_uncertainty.map_or("-".to_string(), |u| format!("{u:.2}")),
+            format!("[{:.2}, {:.2}]", p.interval.0, p.interval.1)
+        );
+    }
+    println!("  Monte Carlo: {} sequences", summary.monte_carlo_sequences);
+    let g: Vec<String> = summary.ballbar_g_um.iter().map(|g| format!("{g:.2}")).collect();
+    println!("  ballbar XY circle: G = {} um (CCW, CW)", g.join(", "));
+    println!(
+        "  volumetric error over {} poses: largest |d| {:.2} um at {}, RMS {:.2} um",
+        summary.poses,
+        summary.max_um,
+        pose.join(" "),
+        summary.rms_um
+    );
+    println!("  after compensation with the identified errors: largest {:.2} um, RMS {:.2} um", summary.max_after_um, summary.rms_after_um);
     for f in &summary.files {
         println!("  wrote {}", f.display());
     }

@@ -10,8 +10,8 @@ mod identify;
 mod iso230_2;
 mod nc;
 mod predict;
-mod uncertainty;
 mod thermal;
+mod uncertainty;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -6,7 +6,7 @@ use serde_json::{json, Map, Value};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
-use trueaxis::report::{convergence_svg, histograms_svg, ConvergenceSeries, HistogramPanel};
+use trueaxis::report::{interval_of, uncertainty_figures};
 use trueaxis::uncertainty::{run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, IntervalKind, Sources, UncertaintyError};
 
 /// Uncertainty of identified parameters: GUM propagation and adaptive Monte Carlo (JCGM 101
@@ -71,7 +71,7 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
     bar.finish_and_clear();
     let budget = budget.map_err(failure)?;
     if let Some(dir) = &args.plots {
-        write_plots(dir, &map, &budget, &sources).map_err(Failure::input)?;
+        write_plots(dir, &budget, &sources).map_err(Failure::input)?;
     }
     if !budget.total.converged {
         eprintln!(
@@ -90,13 +90,6 @@ fn progress_bar(json: bool) -> ProgressBar {
     let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
     bar.set_style(ProgressStyle::with_template("{spinner} {elapsed} {msg}").unwrap_or_else(|_| ProgressStyle::default_spinner()));
     bar
-}
-
-fn interval_of(kind: IntervalKind, o: &trueaxis::uncertainty::OutputResult) -> (f64, f64) {
-    match kind {
-        IntervalKind::Symmetric => (o.symmetric.low, o.symmetric.high),
-        IntervalKind::Shortest => (o.shortest.low, o.shortest.high),
-    }
 }
 
 fn to_json(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sources: &Sources) -> Value {
@@ -234,41 +227,11 @@ fn table(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sourc
     out
 }
 
-fn write_plots(dir: &std::path::Path, map: &IdentificationMap, budget: &Budget, sources: &Sources) -> anyhow::Result<()> {
+fn write_plots(dir: &std::path::Path, budget: &Budget, sources: &Sources) -> anyhow::Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: cannot create directory: {e}", dir.display()))?;
-    let s = &sources.settings;
-    let panels: Vec<HistogramPanel> = budget
-        .rows
-        .iter()
-        .enumerate()
-        .map(|(j, row)| HistogramPanel {
-            title: format!("{} ({})", row.parameter, row.unit),
-            values: budget.total.samples[j].clone(),
-            interval: interval_of(s.interval, &budget.total.outputs[j]),
-            gaussian: Some((budget.gum_estimate[j], row.gum_total_u)),
-        })
-        .collect();
-    let title = format!(
-        "Monte Carlo distributions of the {} parameters, {} % intervals (red), GUM (black)",
-        map.design.parameter_count(),
-        100.0 * s.coverage
-    );
-    let svg = histograms_svg(&title, &panels, 60)?;
-    write_atomically(&dir.join("histograms.svg"), svg.as_bytes())?;
-    let history = &budget.total.history;
-    if !history.is_empty() {
-        let names = ["s_y", "s_u", "s_low", "s_high"];
-        let series = ConvergenceSeries {
-            sequences: history.iter().map(|c| c.sequence).collect(),
-            series: names
-                .iter()
-                .enumerate()
-                .map(|(k, n)| (n.to_string(), history.iter().map(|c| c.max[k].max(1e-300)).collect()))
-                .collect(),
-            tolerance: s.tolerance,
-            unit: "parameter units".into(),
-        };
-        let svg = convergence_svg("Adaptive Monte Carlo: control variables (largest over the parameters)", &series)?;
+    let (histograms, convergence) = uncertainty_figures(budget, &sources.settings)?;
+    write_atomically(&dir.join("histograms.svg"), histograms.as_bytes())?;
+    if let Some(svg) = convergence {
         write_atomically(&dir.join("convergence.svg"), svg.as_bytes())?;
     }
     Ok(())
