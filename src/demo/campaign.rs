@@ -9,7 +9,7 @@ use crate::errors::ErrorModel;
 use crate::identify::{self, error_values_text, measurement_csv, simulate_campaign, Campaign, Identification, IndirectOptions};
 use crate::machine::Machine;
 use crate::report::uncertainty_figures;
-use crate::uncertainty::{run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, McSettings, SourceKind, Sources};
+use crate::uncertainty::{from_identification, run_budget, Budget, Evaluation, IdentificationMap, McSettings, SourceKind, Sources};
 use std::path::PathBuf;
 
 /// Seed of the simulated noise (ChaCha8) and start phase of the simulated drift.
@@ -118,24 +118,10 @@ pub fn identify(machine: &Machine, truth: &ErrorModel, simulated: &Simulated, ou
     Ok(Identified { campaign, design, result, errors, equivalent_truth })
 }
 
-/// The identification's design for the uncertainty module: the channels named `x`, `y`, `z` as in
-/// the sources file, point `k` measured at `k POINT_TIME_S`.
-fn uncertainty_design(identified: &Identified) -> Result<DesignMatrix, DemoError> {
-    let d = &identified.design;
-    let channel = |row: usize| -> String {
-        let name = &d.channel_names[d.channels[row]];
-        name.rsplit(':').next().unwrap_or(name).trim_start_matches('d').to_string()
-    };
-    let rows = d.rows();
-    let channels: Vec<String> = (0..rows).map(channel).collect();
-    let time: Vec<f64> = d.records.iter().map(|(_, r)| *r as f64 * POINT_TIME_S).collect();
-    Ok(DesignMatrix::new(d.names.clone(), &channels, time, Some(d.weights.clone()), Some(d.observations.clone()), d.matrix.clone())?)
-}
-
 /// Adaptive Monte Carlo with all sources and each alone (seed 004 Table 5), and its figures.
 pub fn uncertainty(identified: &Identified, out: &mut Output) -> Result<UncertaintyOutcome, DemoError> {
     let sources = sources()?;
-    let design = uncertainty_design(identified)?;
+    let design = from_identification(&identified.design, POINT_TIME_S)?;
     sources.check_channels(&design)?;
     out.write("uncertainty/design.csv", design.to_csv().as_bytes())?;
     out.write("uncertainty/sources.toml", SOURCES_TOML.as_bytes())?;

@@ -175,3 +175,34 @@ impl DesignMatrix {
         out
     }
 }
+
+/// The design of a campaign identification (`trueaxis identify`'s stacked Jacobian, observations
+/// and weights) as the linear model of the uncertainty sources (seed 004 eqs. 3-4): record `k` of a
+/// measurement is taken at `k point_time_s` (seed 004 eq. 12 with `t_i = point_time_s`). Channels
+/// are named by the reading without its `d` (`x`, `y`, `z`, `L`) when the campaign has one
+/// measurement, else `<measurement>:<x>` — the names the sources file uses.
+pub fn from_identification(design: &crate::identify::DesignMatrix, point_time_s: f64) -> Result<DesignMatrix, UncertaintyError> {
+    if !(point_time_s.is_finite() && point_time_s >= 0.0) {
+        return Err(UncertaintyError::Input(format!("the time per point must be a non-negative number of seconds, got {point_time_s}")));
+    }
+    let single = design.records.iter().all(|(m, _)| *m == design.records.first().map_or(0, |r| r.0));
+    let short = |name: &str| -> String {
+        let (measurement, channel) = name.rsplit_once(':').unwrap_or(("", name));
+        let channel = channel.strip_prefix('d').unwrap_or(channel);
+        if single || measurement.is_empty() {
+            channel.to_string()
+        } else {
+            format!("{measurement}:{channel}")
+        }
+    };
+    let channels: Vec<String> = design.channels.iter().map(|&c| short(&design.channel_names[c])).collect();
+    let time = design.records.iter().map(|(_, r)| *r as f64 * point_time_s).collect();
+    DesignMatrix::new(
+        design.names.clone(),
+        &channels,
+        time,
+        Some(design.weights.clone()),
+        Some(design.observations.clone()),
+        design.matrix.clone(),
+    )
+}

@@ -22,7 +22,7 @@ mod monte_carlo;
 mod sources;
 
 pub use budget::{run_budget, Budget, BudgetRow, Stage};
-pub use design::DesignMatrix;
+pub use design::{from_identification, DesignMatrix};
 pub use distributions::{Distribution, MultivariateNormal};
 pub use drift::{measurement_time, statistical_drift_uncertainty, PeriodicDrift, StartPhase};
 pub use gum::{confidence_ellipsoid, normal_coverage_factor, principal_axes, propagate, Ellipsoid, PrincipalAxes};

@@ -14,16 +14,29 @@ use trueaxis::uncertainty::{run_budget, Budget, DesignMatrix, Evaluation, Identi
 /// transformation, drift by the statistical or the cyclic method), and the budget per source
 /// (seed 004 Table 5).
 #[derive(clap::Args)]
-#[command(after_help = "Example:\n  trueaxis uncertainty --design examples/uncertainty/kx8five_design.csv \\\n      \
---sources examples/uncertainty/kx8five_cyclic.toml --plots kx8five-uncertainty\n\n\
+#[command(after_help = "Examples:\n  trueaxis uncertainty --design examples/uncertainty/kx8five_design.csv \\\n      \
+--sources examples/uncertainty/kx8five_cyclic.toml --plots kx8five-uncertainty\n  \
+trueaxis uncertainty --machine examples/machines/kx8five.toml --campaign examples/campaigns/kx8five/campaign.toml \\\n      \
+--sources examples/uncertainty/kx8five_cyclic.toml\n\n\
+With --machine and --campaign the design is the campaign's identification (as `trueaxis identify`),\n\
+record k measured at k * --point-time s, channels named x, y, z (one measurement) or measurement:x.\n\
 The design CSV has one row per observation: channel (text), t (s), optional y (um, measured value)\n\
 and weight (1/sigma^2), and one column per parameter with the sensitivities (um per um or urad).\n\
 The sources TOML lists the sources and the Monte Carlo settings; see docs/uncertainty.md.\n\
 Estimates, uncertainties and intervals are in the parameter units (um, urad).")]
 pub struct UncertaintyArgs {
     /// Design matrix (CSV): channel, t, [y], [weight], one column per parameter.
-    #[arg(long)]
-    design: PathBuf,
+    #[arg(long, required_unless_present = "campaign", conflicts_with_all = ["campaign", "machine"])]
+    design: Option<PathBuf>,
+    /// Machine description, with --campaign: the design of the campaign's identification.
+    #[arg(long, requires = "campaign")]
+    machine: Option<PathBuf>,
+    /// Measurement campaign (TOML), with --machine.
+    #[arg(long, requires = "machine")]
+    campaign: Option<PathBuf>,
+    /// Time per measured point of a campaign (s), for the drift sources.
+    #[arg(long, default_value_t = 0.75)]
+    point_time: f64,
     /// Uncertainty sources and Monte Carlo settings (TOML).
     #[arg(long)]
     sources: PathBuf,
@@ -41,6 +54,28 @@ pub struct UncertaintyArgs {
     json: bool,
 }
 
+/// The design of a campaign's identification (the same as `trueaxis identify` solves).
+fn campaign_design(machine: &std::path::Path, campaign: &std::path::Path, point_time: f64) -> Result<DesignMatrix, Failure> {
+    let identify_failure = |e: trueaxis::identify::IdentifyError| match e {
+        trueaxis::identify::IdentifyError::RankDeficient { .. } => Failure::computation(e),
+        other => Failure::input(other),
+    };
+    let machine = trueaxis::machine::Machine::load(machine).map_err(Failure::input)?;
+    let campaign = trueaxis::identify::Campaign::load(campaign, &machine).map_err(identify_failure)?;
+    let nominal = campaign.nominal_errors(&machine).map_err(identify_failure)?;
+    let design = campaign.design_matrix(&machine, &nominal).map_err(identify_failure)?;
+    trueaxis::uncertainty::from_identification(&design, point_time).map_err(failure)
+}
+
+/// Where the design came from, for the outputs.
+fn design_origin(args: &UncertaintyArgs) -> String {
+    match (&args.design, &args.campaign) {
+        (Some(d), _) => d.display().to_string(),
+        (None, Some(c)) => c.display().to_string(),
+        _ => String::new(),
+    }
+}
+
 fn failure(e: UncertaintyError) -> Failure {
     if e.is_input() {
         Failure::input(e)
@@ -50,7 +85,11 @@ fn failure(e: UncertaintyError) -> Failure {
 }
 
 pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
-    let design = DesignMatrix::read_csv(&args.design).map_err(failure)?;
+    let design = match (&args.design, &args.machine, &args.campaign) {
+        (Some(path), _, _) => DesignMatrix::read_csv(path).map_err(failure)?,
+        (None, Some(machine), Some(campaign)) => campaign_design(machine, campaign, args.point_time)?,
+        _ => return Err(Failure::input(anyhow::anyhow!("give --design, or --machine and --campaign"))),
+    };
     let mut sources = Sources::load(&args.sources).map_err(failure)?;
     if let Some(seed) = args.seed {
         sources.settings.seed = seed;
@@ -130,7 +169,7 @@ fn to_json(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sou
         .map(|c| json!({"sequence": c.sequence, "s_estimate": c.max[0], "s_std_uncertainty": c.max[1], "s_low": c.max[2], "s_high": c.max[3]}))
         .collect();
     json!({
-        "design": args.design.display().to_string(),
+        "design": design_origin(args),
         "observations": map.design.observations(),
         "parameter_order": map.design.parameters,
         "parameters": parameters,
@@ -159,7 +198,7 @@ fn table(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sourc
         "Uncertainty of {} parameters identified from {} observations ({}); condition number {:.1}",
         map.design.parameter_count(),
         map.design.observations(),
-        args.design.display(),
+        design_origin(args),
         map.condition_number
     );
     let _ = writeln!(out, "sources: {}", budget.source_names.join(", "));
