@@ -8,7 +8,7 @@ use crate::evaluate::ballbar_diagnostics::{CircularRun, DiagnosticOptions};
 use crate::evaluate::iso230_4::{evaluate, Iso2304Result};
 use crate::instruments::ballbar::{circle_test, CircleSpec, Plane, Rotation};
 use crate::machine::Machine;
-use crate::report::{polar_svg, PolarPlot, PolarSeries};
+use crate::report::circular_runs_svg;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
@@ -53,19 +53,7 @@ pub fn run(machine: &Machine, truth: &ErrorModel, out: &mut Output) -> Result<Ci
     };
     let result = evaluate(machine, &runs, &options)?;
     let lines = result.summary_lines();
-    let dl_um: Vec<Vec<f64>> = runs.iter().map(|r| r.dl.iter().map(|v| v * 1e3).collect()).collect();
-    let series = runs
-        .iter()
-        .zip(&dl_um)
-        .map(|(r, d)| PolarSeries { label: r.rotation.name().to_uppercase(), angles: &r.test.angles, dl_um: d })
-        .collect();
-    let svg = polar_svg(&PolarPlot {
-        title: "ISO 230-4 circular test, XY plane, R 150 mm (simulated)",
-        axes: ("+X", "+Y"),
-        series,
-        um_per_division: None,
-        lines: &lines,
-    })?;
+    let svg = circular_runs_svg("ISO 230-4 circular test, XY plane, R 150 mm (simulated)", ("+X", "+Y"), &runs, None, &lines)?;
     out.write("ballbar/xy_circle.csv", csv.as_bytes())?;
     out.write("ballbar/xy_circle.svg", svg.as_bytes())?;
     Ok(Circles { result, centre, svg, lines })

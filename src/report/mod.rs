@@ -13,7 +13,7 @@ mod uncertainty_figures;
 pub use fit_plot::{fit_plot_svg, FitPlot};
 pub use heatmap::{heatmap_svg, MapSlice};
 pub use histogram::{convergence_svg, histograms_svg, ConvergenceSeries, HistogramPanel};
-pub use polar::{auto_scale, polar_svg, PolarPlot, PolarSeries};
+pub use polar::{auto_scale, circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
 pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
 pub use residuals::residuals_svg;
 pub use uncertainty_figures::{interval_of, uncertainty_figures};

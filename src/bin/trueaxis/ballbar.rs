@@ -15,7 +15,7 @@ use trueaxis::instruments::ballbar::{
     circle_test, jiang_step, read_trace, sweep_angles, BallbarTest, BarLengths, CircleSpec, JiangStep, Plane, RotaryPair, Rotation,
 };
 use trueaxis::machine::{Component, Machine, ParameterId};
-use trueaxis::report::{polar_svg, PolarPlot, PolarSeries};
+use trueaxis::report::{circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
 
 #[derive(clap::Args)]
 pub struct BallbarArgs {
@@ -479,20 +479,8 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
     let result = evaluate(&m, &runs, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
     let lines = result.summary_lines();
     if let Some(path) = &a.plot {
-        let dl_um: Vec<Vec<f64>> = runs.iter().map(|r| r.dl.iter().map(|v| v * 1e3).collect()).collect();
-        let series = runs
-            .iter()
-            .zip(&dl_um)
-            .map(|(r, d)| PolarSeries { label: r.rotation.name().to_uppercase(), angles: &r.test.angles, dl_um: d })
-            .collect();
-        let svg = polar_svg(&PolarPlot {
-            title: &format!("ISO 230-4 circular test, {} plane, R {} mm: {}", a.plane.name(), a.radius, a.file.display()),
-            axes: (&format!("+{ia}"), &format!("+{ib}")),
-            series,
-            um_per_division: a.scale,
-            lines: &lines,
-        })
-        .map_err(Failure::input)?;
+        let title = format!("ISO 230-4 circular test, {} plane, R {} mm: {}", a.plane.name(), a.radius, a.file.display());
+        let svg = circular_runs_svg(&title, (&format!("+{ia}"), &format!("+{ib}")), &runs, a.scale, &lines).map_err(Failure::input)?;
         write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
     }
     if a.json {
