@@ -18,6 +18,8 @@
 //!   lists the files (e.g. `fit --direction both --plot exx.svg` writes `exx_plus.svg` and
 //!   `exx_minus.svg`), those.
 //!
+//! - With `--json`, what it prints on stdout must be one JSON document.
+//!
 //! Blocks that are not meant to run (file excerpts, outputs) use other fence languages (`toml`, `csv`,
 //! `text`, `json`, `c`); a fence without a language is refused.
 
@@ -208,7 +210,11 @@ fn run_file(examples: &[Example], root: &Path) -> Vec<String> {
             Ok((code, _, stderr)) if code != Some(ex.exit) => {
                 failures.push(format!("{place}: exit status {code:?}, documented {}; stderr:\n{stderr}", ex.exit))
             }
-            Ok(_) if ex.exit == 0 => {
+            Ok((_, stdout, _)) if ex.exit == 0 => {
+                let json = ex.command.split_whitespace().any(|w| w == "--json");
+                if json && !stdout.trim().is_empty() && serde_json::from_str::<serde_json::Value>(&stdout).is_err() {
+                    failures.push(format!("{place}: --json did not print one JSON document:\n{stdout}"));
+                }
                 for w in &ex.writes {
                     if let Err(e) = non_empty(&work.path().join(w)) {
                         failures.push(format!("{place}: {e}"));
@@ -288,4 +294,57 @@ fn commands_are_parsed_as_documented() {
     let blocks = fenced_blocks("text\n```sh\na \\\n  b\n```\n  ```toml\nx = 1\n  ```\n");
     assert_eq!(blocks.len(), 2);
     assert_eq!((blocks[0].1.as_str(), blocks[1].1.as_str()), ("sh", "toml"));
+}
+
+/// GitHub's anchor of a heading: lower case, punctuation dropped, spaces to hyphens.
+fn slug(heading: &str) -> String {
+    let kept: String = heading.to_lowercase().chars().filter(|c| c.is_alphanumeric() || *c == ' ' || *c == '-' || *c == '_').collect();
+    kept.trim().replace(' ', "-")
+}
+
+fn anchors(text: &str) -> Vec<String> {
+    let mut inside = false;
+    let mut out = Vec::new();
+    for line in text.lines() {
+        if line.trim_start().starts_with("```") {
+            inside = !inside;
+        } else if !inside && line.starts_with('#') {
+            out.push(slug(line.trim_start_matches('#')));
+        }
+    }
+    out
+}
+
+#[test]
+fn every_link_between_the_pages_resolves() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut broken = Vec::new();
+    for file in documentation_files(root) {
+        let text = std::fs::read_to_string(&file).unwrap();
+        let dir = file.parent().unwrap();
+        let mut rest = text.as_str();
+        while let Some(i) = rest.find("](") {
+            rest = &rest[i + 2..];
+            let Some(end) = rest.find(')') else { break };
+            let target = &rest[..end];
+            if target.starts_with("http") || target.contains(' ') {
+                continue;
+            }
+            let (path, anchor) = target.split_once('#').unwrap_or((target, ""));
+            let linked = if path.is_empty() { file.clone() } else { dir.join(path) };
+            if !linked.exists() {
+                broken.push(format!("{}: {target}: no such file", file.display()));
+                continue;
+            }
+            if !anchor.is_empty() && linked.extension().is_some_and(|x| x == "md") {
+                let headings = anchors(&std::fs::read_to_string(&linked).unwrap());
+                if !headings.iter().any(|h| h == anchor) {
+                    broken.push(format!("{}: {target}: no such heading", file.display()));
+                }
+            }
+        }
+    }
+    assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
+    assert_eq!(slug("## `trueaxis predict`"), "trueaxis-predict");
+    assert_eq!(slug(" Scale temperature: correction to 20 degC (seed 000 §3.2.4, §5.1.1; ISO 1)"), "scale-temperature-correction-to-20-degc-seed-000-324-511-iso-1");
 }
