@@ -77,9 +77,28 @@ fn every_command_has_help_with_an_example() {
     let names: Vec<String> = tree.iter().map(|p| p.join(" ")).collect();
     // the commands of DESIGN.md section 4 that exist, and their sub-commands: the walk found them
     for expected in [
-        "ballbar", "ballbar identify", "ballbar iso230-4", "ballbar simulate", "ballbar tmbb", "compensate", "demo", "design",
-        "design optimal", "design simulate", "design trajectory", "fit", "identify", "iso230-2", "nc", "predict", "thermal",
-        "thermal fit", "thermal modes", "thermal place", "thermal predict", "uncertainty",
+        "ballbar",
+        "ballbar identify",
+        "ballbar iso230-4",
+        "ballbar simulate",
+        "ballbar tmbb",
+        "compensate",
+        "demo",
+        "design",
+        "design optimal",
+        "design simulate",
+        "design trajectory",
+        "fit",
+        "identify",
+        "iso230-2",
+        "nc",
+        "predict",
+        "thermal",
+        "thermal fit",
+        "thermal modes",
+        "thermal place",
+        "thermal predict",
+        "uncertainty",
     ] {
         assert!(names.iter().any(|n| n == expected), "`trueaxis {expected}` not found in the help tree {names:?}");
     }

@@ -43,10 +43,13 @@ struct Example {
     writes: Vec<String>,
 }
 
-/// The fences of a Markdown file: (line number of the opening fence, language, body lines with their numbers).
-fn fenced_blocks(text: &str) -> Vec<(usize, String, Vec<(usize, String)>)> {
+/// A fenced block: the line number of its opening fence, its language, its body lines with their numbers.
+type Block = (usize, String, Vec<(usize, String)>);
+
+/// The fences of a Markdown file.
+fn fenced_blocks(text: &str) -> Vec<Block> {
     let mut blocks = Vec::new();
-    let mut open: Option<(usize, String, Vec<(usize, String)>)> = None;
+    let mut open: Option<Block> = None;
     for (i, line) in text.lines().enumerate() {
         let trimmed = line.trim_start();
         if let Some(rest) = trimmed.strip_prefix("```") {
@@ -244,11 +247,7 @@ fn every_shell_example_of_the_documentation_runs() {
     let files = documentation_files(root);
     let per_file: Vec<Vec<Example>> = files.iter().map(|f| examples_of(f)).collect();
     for (f, ex) in files.iter().zip(&per_file) {
-        assert!(
-            ex.iter().any(|e| e.command.starts_with("trueaxis ")),
-            "{} has no runnable trueaxis example in a ```sh block",
-            f.display()
-        );
+        assert!(ex.iter().any(|e| e.command.starts_with("trueaxis ")), "{} has no runnable trueaxis example in a ```sh block", f.display());
     }
     let total: usize = per_file.iter().map(Vec::len).sum();
     assert!(total >= 40, "only {total} documented commands found");
@@ -346,5 +345,8 @@ fn every_link_between_the_pages_resolves() {
     }
     assert!(broken.is_empty(), "broken links:\n{}", broken.join("\n"));
     assert_eq!(slug("## `trueaxis predict`"), "trueaxis-predict");
-    assert_eq!(slug(" Scale temperature: correction to 20 degC (seed 000 §3.2.4, §5.1.1; ISO 1)"), "scale-temperature-correction-to-20-degc-seed-000-324-511-iso-1");
+    assert_eq!(
+        slug(" Scale temperature: correction to 20 degC (seed 000 §3.2.4, §5.1.1; ISO 1)"),
+        "scale-temperature-correction-to-20-degc-seed-000-324-511-iso-1"
+    );
 }
