@@ -23,6 +23,8 @@
 //! Blocks that are not meant to run (file excerpts, outputs) use other fence languages (`toml`, `csv`,
 //! `text`, `json`, `c`); a fence without a language is refused.
 
+#![cfg(unix)]
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
