@@ -17,7 +17,14 @@ use trueaxis::instruments::ballbar::{
 use trueaxis::machine::{Component, Machine, ParameterId};
 use trueaxis::report::{circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
 
+/// Ballbar tests: simulated readings, the PIGEs of two rotary axes (seed 001), ISO 230-4 circular
+/// tests with diagnostics, the two-length rotary-table test (seed 002 ch. 5).
 #[derive(clap::Args)]
+#[command(after_help = "Examples (see `trueaxis ballbar <command> --help`):\n  \
+trueaxis ballbar iso230-4 examples/ballbar/vmc3_xy.csv --machine examples/machines/vmc3.toml --radius 100 --centre 0,0,-200\n  \
+trueaxis ballbar identify --machine examples/machines/c600u.toml --a1 examples/ballbar/A1.csv --a2 examples/ballbar/A2.csv \\\n      \
+--c1 examples/ballbar/C1.csv --c2 examples/ballbar/C2.csv\n  \
+trueaxis ballbar tmbb --short examples/ballbar/tmbb_L1.csv --long examples/ballbar/tmbb_L2.csv")]
 pub struct BallbarArgs {
     #[command(subcommand)]
     command: BallbarCommand,

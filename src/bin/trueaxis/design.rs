@@ -13,6 +13,9 @@ use trueaxis::model::Setup;
 
 /// Plan indirect measurements: 3D-ball trajectories, simulated campaign data, optimal designs.
 #[derive(clap::Args)]
+#[command(after_help = "Examples (see `trueaxis design <command> --help`):\n  \
+trueaxis design trajectory --machine examples/machines/kx8five.toml --work-point 150,0,100 --sweep A=0:120 --sweep C=0:1440 --count 807\n  \
+trueaxis design optimal --machine examples/machines/kx8five.toml --campaign examples/campaigns/kx8five/campaign.toml --count 20 --starts 1")]
 pub struct DesignArgs {
     #[command(subcommand)]
     command: DesignCommand,
@@ -75,6 +78,9 @@ struct SimulateArgs {
     /// Do not add noise.
     #[arg(long)]
     noise_free: bool,
+    /// Print one JSON document: {"files": [{"path", "records", "channels"}]}.
+    #[arg(long)]
+    json: bool,
 }
 
 /// Choose N records of a campaign (the candidate set) that minimise a design criterion, by an
@@ -150,9 +156,14 @@ fn simulate(args: SimulateArgs) -> Result<(), Failure> {
     let campaign = Campaign::load(&args.campaign, &machine).map_err(identify_failure)?;
     let readings = simulate_campaign(&campaign, &machine, &truth, (!args.noise_free).then_some(args.seed)).map_err(identify_failure)?;
     let mut text = String::new();
+    let mut files = Vec::new();
     for (m, r) in campaign.measurements.iter().zip(&readings) {
         write_atomically(&m.data, measurement_csv(&machine, m, r).as_bytes()).map_err(Failure::input)?;
         text += &format!("wrote {} ({} records, {})\n", m.data.display(), m.records(), m.instrument.channels().join(" "));
+        files.push(serde_json::json!({"path": m.data.display().to_string(), "records": m.records(), "channels": m.instrument.channels()}));
+    }
+    if args.json {
+        text = format!("{}\n", serde_json::json!({ "files": files }));
     }
     crate::identify::print(&text)
 }

@@ -20,6 +20,11 @@ use trueaxis::thermal::{
 
 /// Thermal modal analysis, sensor placement and thermal error models (seed 002 ch. 3-4).
 #[derive(clap::Args)]
+#[command(after_help = "Examples (see `trueaxis thermal <command> --help`):\n  \
+trueaxis thermal modes --model examples/thermal/fin.toml --count 6\n  \
+trueaxis thermal place --model examples/thermal/elongation.toml --count 3 --share 1\n  \
+trueaxis thermal fit --data examples/thermal/campaign.csv --error dz --train-runs warmup --out dz_model.toml\n  \
+trueaxis thermal predict --model dz_model.toml --data examples/thermal/campaign.csv")]
 pub struct ThermalArgs {
     #[command(subcommand)]
     command: ThermalCommand,
