@@ -67,10 +67,16 @@ pub fn directions_at(m: &Move, arc: Option<&ArcGeometry>, t: f64, previous: &[Op
     }
 }
 
+/// Shortest piece, as a fraction of the move, that is still split.
+pub const MIN_PIECE: f64 = 1e-6;
+
 /// Parameters `0 < t_1 < ... < t_k = 1` of the pieces such that, on every piece, the correction
 /// `correction(t)` (one value per axis, mm or deg) departs from the straight blend of its values at
 /// the piece ends by at most `tolerance(axis)`, checked at the quarter points of each piece
-/// (recursive bisection). `Err` when more than `max_pieces` would be needed.
+/// (recursive bisection). A piece shorter than [`MIN_PIECE`] of the move is accepted as it is: the
+/// correction jumps there (e.g. where the tool-axis correction of a 5-axis machine switches on
+/// leaving a singularity), and the jump becomes a short piece of its own instead of endless
+/// splitting. `Err` when more than `max_pieces` would be needed.
 pub fn split_points(
     correction: &mut dyn FnMut(f64) -> Result<Vec<f64>, String>,
     tolerance: &dyn Fn(usize) -> f64,
@@ -95,7 +101,7 @@ pub fn split_points(
                 mid = Some(c);
             }
         }
-        if worst <= 1.0 {
+        if worst <= 1.0 || b - a < MIN_PIECE {
             out.push(b);
         } else {
             if out.len() + stack.len() + 2 > max_pieces {
@@ -127,5 +133,16 @@ mod tests {
         assert!(split_points(&mut g, &|_| 1e-9, 50).unwrap_err().contains("50 pieces"));
         let mut line = |t: f64| Ok(vec![3.0 * t - 1.0]);
         assert_eq!(split_points(&mut line, &|_| 1e-12, 10).unwrap(), vec![1.0]);
+    }
+
+    #[test]
+    fn a_jump_of_the_correction_is_isolated_in_a_short_piece() {
+        // a step of 1 mm at t = 0.3: bisection narrows it down to a piece shorter than MIN_PIECE
+        let mut step = |t: f64| Ok(vec![if t < 0.3 { 0.0 } else { 1.0 }]);
+        let pieces = split_points(&mut step, &|_| 1e-3, 1000).unwrap();
+        assert!(pieces.len() < 2 * 22, "{} pieces", pieces.len());
+        let jump = pieces.windows(2).find(|w| w[0] < 0.3 && w[1] >= 0.3).expect("a piece holds the step");
+        assert!(jump[1] - jump[0] < MIN_PIECE);
+        assert_eq!(*pieces.last().unwrap(), 1.0);
     }
 }
