@@ -83,7 +83,7 @@ impl ErrorFunction {
 }
 
 /// Piecewise-linear interpolation, end values held outside `[positions[0], positions[n-1]]`.
-fn interpolate(positions: &[f64], values: &[f64], q: f64) -> f64 {
+pub(crate) fn interpolate(positions: &[f64], values: &[f64], q: f64) -> f64 {
     let n = positions.len();
     if q <= positions[0] {
         return values[0];

@@ -4,6 +4,7 @@
 //! axis position.
 
 mod basis;
+mod evaluator;
 mod file;
 mod function;
 mod model;

@@ -2,6 +2,7 @@
 //! machine state (axis positions, directions of motion, temperatures) into the parameter vector of
 //! [`crate::machine::Machine`] (internal units mm, rad).
 
+use super::evaluator::{Evaluator, TableEvaluator};
 use super::function::ErrorFunction;
 use crate::machine::{AxisKind, Machine, ParameterId};
 
@@ -33,6 +34,8 @@ struct Entry {
     /// `None` for both directions, or the direction this function holds for.
     direction: Option<Direction>,
     function: ErrorFunction,
+    /// `function` prepared for evaluation in internal units.
+    evaluator: Evaluator,
     /// The axis whose position a motion error depends on.
     own_axis: Option<usize>,
 }
@@ -71,12 +74,41 @@ pub struct ErrorModel {
     terms: Vec<ProductTerm>,
     sensors: Vec<String>,
     parameter_count: usize,
+    /// Evaluation plan, derived from `entries`: every constant for both directions summed into one
+    /// parameter vector (internal units); the tables for both directions as `(parameter index, own
+    /// axis, table)`; the indices of the other entries.
+    constants: Vec<f64>,
+    tables: Vec<(usize, usize, TableEvaluator)>,
+    varying: Vec<usize>,
 }
 
 impl ErrorModel {
     /// All errors zero.
     pub fn zero(machine: &Machine) -> ErrorModel {
-        ErrorModel { entries: Vec::new(), terms: Vec::new(), sensors: Vec::new(), parameter_count: machine.parameter_count() }
+        let parameter_count = machine.parameter_count();
+        ErrorModel {
+            entries: Vec::new(),
+            terms: Vec::new(),
+            sensors: Vec::new(),
+            parameter_count,
+            constants: vec![0.0; parameter_count],
+            tables: Vec::new(),
+            varying: Vec::new(),
+        }
+    }
+
+    /// Rebuilds the evaluation plan after a change of `entries`.
+    fn plan(&mut self) {
+        self.constants.fill(0.0);
+        self.tables.clear();
+        self.varying.clear();
+        for (k, e) in self.entries.iter().enumerate() {
+            match (&e.evaluator, e.direction, e.own_axis) {
+                (Evaluator::Constant(v), None, _) => self.constants[e.index] += v,
+                (Evaluator::Table(t), None, Some(axis)) => self.tables.push((e.index, axis, t.clone())),
+                _ => self.varying.push(k),
+            }
+        }
     }
 
     /// Sets the function of one parameter for both directions. See [`ErrorModel::set_directional`].
@@ -120,8 +152,11 @@ impl ErrorModel {
             }
         }
         let own_axis = if motion { id.axis().and_then(|a| machine.axis_index(a)) } else { None };
-        self.entries.push(Entry { index, id, direction, function, own_axis });
+        let position_scale = own_axis.map_or(1.0, |a| machine.axes()[a].position_to_user(1.0));
+        let evaluator = Evaluator::new(&function, position_scale, id.component().to_internal());
+        self.entries.push(Entry { index, id, direction, function, evaluator, own_axis });
         self.entries.sort_by_key(|e| (e.index, e.direction.map(|d| d.symbol())));
+        self.plan();
         Ok(())
     }
 
@@ -223,17 +258,19 @@ impl ErrorModel {
     /// two when the direction is unknown.
     pub fn values_at_state(&self, machine: &Machine, q: &[f64], state: &MachineState, values: &mut [f64]) {
         debug_assert_eq!(values.len(), self.parameter_count);
-        values.iter_mut().for_each(|v| *v = 0.0);
+        values.copy_from_slice(&self.constants);
+        for (index, axis, table) in &self.tables {
+            values[*index] += table.value(q[*axis]);
+        }
         let user = |axis: usize| machine.axes()[axis].position_to_user(q[axis]);
-        for e in &self.entries {
-            let position = e.own_axis.map_or(0.0, user);
+        for e in self.varying.iter().map(|&k| &self.entries[k]) {
             let weight = match (e.direction, e.own_axis.and_then(|a| state.directions.and_then(|d| d[a]))) {
                 (None, _) => 1.0,
                 (Some(d), Some(actual)) => f64::from(d == actual),
                 (Some(_), None) => 0.5,
             };
             if weight != 0.0 {
-                values[e.index] += weight * e.function.evaluate(position) * e.id.component().to_internal();
+                values[e.index] += weight * e.evaluator.value(&e.function, e.own_axis.map_or(0.0, |a| q[a]));
             }
         }
         for t in &self.terms {

@@ -7,11 +7,25 @@ pub fn skew(v: &Vec3) -> Mat3 {
     Mat3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
-/// Rotation by `angle` (rad) about the unit vector `axis`, right-hand rule (Rodrigues' formula).
+/// Rotation by `angle` (rad) about the unit vector `axis`, right-hand rule: Rodrigues' formula
+/// `R = I + sin(a) [d]x + (1 - cos(a)) [d]x^2`, written with `[d]x^2 = d d^T - I` for a unit `d`
+/// as `R = cos(a) I + sin(a) [d]x + (1 - cos(a)) d d^T` (no matrix product: this is the nominal
+/// motion of every rotary axis at every pose).
 pub fn rotation_about_axis(axis: &Vec3, angle: f64) -> Mat3 {
     let (s, c) = angle.sin_cos();
-    let k = skew(axis);
-    Mat3::identity() + k * s + k * k * (1.0 - c)
+    let v = 1.0 - c;
+    let (x, y, z) = (axis.x, axis.y, axis.z);
+    Mat3::new(
+        c + v * x * x,
+        v * x * y - s * z,
+        v * x * z + s * y,
+        v * y * x + s * z,
+        c + v * y * y,
+        v * y * z - s * x,
+        v * z * x - s * y,
+        v * z * y + s * x,
+        c + v * z * z,
+    )
 }
 
 /// Exact rotation for a rotation vector `eps` (rad): `exp([eps]x)`, by Rodrigues' formula

@@ -7,59 +7,73 @@
 //! §3.2.2), so the singular values are dimensionless and independent of the parameter units.
 //! Seed 000 §4.3: `lambda^T theta` is estimable iff `lambda` lies in the row space of `X`.
 
+use super::least_squares::column_norm;
+use super::reduction::{reduce, ReducedProblem};
+use faer::Mat;
 use nalgebra::{DMatrix, DVector};
 
 /// Default relative threshold: singular values below `RANK_TOLERANCE * largest` are zero.
 pub const RANK_TOLERANCE: f64 = 1e-8;
 
-/// The SVD of the weighted, unit-length scaled design matrix `W^(1/2) X S^-1`.
+/// The SVD of the weighted, unit-length scaled design matrix `A = W^(1/2) X S^-1`, computed from its
+/// QR reduction (`A = Q R`, see [`super::reduction`]): `R = U_r Sigma V^T`, so `A` and `R` share the
+/// singular values and right singular vectors, and the left singular vectors of `A` are never
+/// formed (they would be `n x p`).
 #[derive(Clone, Debug)]
 pub struct ScaledSvd {
     /// Column norms `s_j` of `W^(1/2) X` (the scaling `S`).
     pub scale: Vec<f64>,
-    /// Singular values, descending.
+    /// Singular values, descending (`min(n, p)` of them).
     pub singular_values: Vec<f64>,
-    /// Left singular vectors (`n x p`), columns in the order of `singular_values`.
-    pub u: DMatrix<f64>,
-    /// Right singular vectors (`p x p`), columns in the order of `singular_values`.
+    /// Right singular vectors (`p x p`): the columns of `singular_values` in their order, then an
+    /// orthonormal basis of the remaining (null) directions of a wide matrix.
     pub v: DMatrix<f64>,
     /// Number of singular values above the tolerance.
     pub rank: usize,
     pub tolerance: f64,
+    /// The reduced problem `R theta ~ Q^T b` (scaled units).
+    reduced: ReducedProblem,
+    /// `U_r^T Q^T b`: the observations in the left singular basis.
+    observations_in_singular_basis: DVector<f64>,
 }
 
 impl ScaledSvd {
-    /// Scales and decomposes. A column that is zero everywhere keeps scale 1 (and gives a zero
-    /// singular value).
+    /// Scales and decomposes (no observations: the solutions are zero). A column that is zero
+    /// everywhere keeps scale 1 (and gives a zero singular value).
     pub fn new(matrix: &DMatrix<f64>, weights: &[f64], tolerance: f64) -> ScaledSvd {
-        let (n, p) = matrix.shape();
-        let mut x = matrix.clone();
-        for (i, w) in weights.iter().enumerate().take(n) {
-            x.row_mut(i).scale_mut(w.sqrt());
-        }
-        let scale: Vec<f64> = (0..p).map(|j| x.column(j).norm()).map(|s| if s > 0.0 { s } else { 1.0 }).collect();
-        for (j, s) in scale.iter().enumerate() {
-            x.column_mut(j).unscale_mut(*s);
-        }
-        let svd = x.svd(true, true);
-        let mut order: Vec<usize> = (0..svd.singular_values.len()).collect();
-        order.sort_by(|a, b| svd.singular_values[*b].total_cmp(&svd.singular_values[*a]));
-        let u_all = svd.u.expect("requested");
-        let v_t = svd.v_t.expect("requested");
-        let singular_values: Vec<f64> = order.iter().map(|&k| svd.singular_values[k]).collect();
-        let u = DMatrix::from_fn(n, order.len(), |r, c| u_all[(r, order[c])]);
-        let mut v = DMatrix::from_fn(p, order.len(), |r, c| v_t[(order[c], r)]);
-        // thin SVD of a wide matrix: complete the right basis with the missing null directions
-        if order.len() < p {
-            let mut full = DMatrix::zeros(p, p);
-            full.columns_mut(0, order.len()).copy_from(&v);
-            let complement = orthogonal_complement(&v, p);
-            full.columns_mut(order.len(), p - order.len()).copy_from(&complement);
-            v = full;
-        }
+        Self::with_observations(matrix, weights, &vec![0.0; matrix.nrows()], tolerance)
+    }
+
+    /// Scales and decomposes `W^(1/2) X S^-1` together with the weighted observations
+    /// `W^(1/2) y` (um), so that [`ScaledSvd::solve_minimum_norm`] and
+    /// [`ScaledSvd::solve_triangular`] give the least-squares solution.
+    pub fn with_observations(matrix: &DMatrix<f64>, weights: &[f64], observations: &[f64], tolerance: f64) -> ScaledSvd {
+        let p = matrix.ncols();
+        let sqrt_w: Vec<f64> = weights.iter().map(|w| w.sqrt()).collect();
+        let scale: Vec<f64> = (0..p)
+            .map(|j| column_norm(DVector::from_fn(matrix.nrows(), |i, _| matrix[(i, j)] * sqrt_w[i]).column(0)))
+            .map(|s| if s > 0.0 && s.is_finite() { s } else { 1.0 })
+            .collect();
+        let reduced = reduce(matrix, observations, &sqrt_w, &scale);
+        let m = reduced.r.nrows();
+        let svd = Mat::from_fn(m, p, |i, j| reduced.r[(i, j)]).svd();
+        let (singular_values, v, observations_in_singular_basis) = match svd {
+            Ok(svd) => {
+                let sigma = svd.S().column_vector();
+                let (u, v) = (svd.U(), svd.V());
+                let k = m.min(p);
+                (
+                    (0..k).map(|i| sigma[i]).collect::<Vec<f64>>(),
+                    DMatrix::from_fn(p, p, |r, c| v[(r, c)]),
+                    DVector::from_fn(k, |i, _| (0..m).map(|r| u[(r, i)] * reduced.qtb[r]).sum()),
+                )
+            }
+            // no convergence (only for non-finite input): every direction is reported unseen
+            Err(_) => (vec![0.0; m.min(p)], DMatrix::identity(p, p), DVector::zeros(m.min(p))),
+        };
         let largest = singular_values.first().copied().unwrap_or(0.0);
         let rank = singular_values.iter().filter(|s| **s > tolerance * largest && **s > 0.0).count();
-        ScaledSvd { scale, singular_values, u, v, rank, tolerance }
+        ScaledSvd { scale, singular_values, v, rank, tolerance, reduced, observations_in_singular_basis }
     }
 
     /// Singular values padded with zeros to the number of parameters.
@@ -84,6 +98,35 @@ impl ScaledSvd {
             let v = self.v.column(k);
             c += (v * v.transpose()) / (self.singular_values[k] * self.singular_values[k]);
         }
+        self.unscale_covariance(c)
+    }
+
+    /// Minimum-norm (in scaled units) least-squares solution of `W^(1/2) X theta = W^(1/2) y`
+    /// (seed 004 eq. 5, the pseudo-inverse), from the retained singular values.
+    pub fn solve_minimum_norm(&self) -> Vec<f64> {
+        let mut beta = DVector::zeros(self.scale.len());
+        for k in 0..self.rank {
+            beta += self.v.column(k) * (self.observations_in_singular_basis[k] / self.singular_values[k]);
+        }
+        beta.iter().zip(&self.scale).map(|(b, s)| b / s).collect()
+    }
+
+    /// The least-squares solution by back substitution `R theta = Q^T b` (QR, seed 000 §3.2.2) and
+    /// its unscaled covariance `(X^T W X)^-1 = S^-1 R^-1 R^-T S^-1`; `None` unless of full rank.
+    pub fn solve_triangular(&self) -> Option<(Vec<f64>, DMatrix<f64>)> {
+        let p = self.scale.len();
+        if self.rank < p || self.reduced.r.nrows() < p {
+            return None;
+        }
+        let beta = self.reduced.r.solve_upper_triangular(&self.reduced.qtb)?;
+        let r_inv = self.reduced.r.solve_upper_triangular(&DMatrix::identity(p, p))?;
+        let solution = beta.iter().zip(&self.scale).map(|(b, s)| b / s).collect();
+        Some((solution, self.unscale_covariance(&r_inv * r_inv.transpose())))
+    }
+
+    /// A covariance in scaled units converted to parameter units: `S^-1 C S^-1`.
+    fn unscale_covariance(&self, mut c: DMatrix<f64>) -> DMatrix<f64> {
+        let p = self.scale.len();
         for i in 0..p {
             for j in 0..p {
                 c[(i, j)] /= self.scale[i] * self.scale[j];
@@ -91,26 +134,6 @@ impl ScaledSvd {
         }
         c
     }
-
-    /// Minimum-norm (in scaled units) least-squares solution of `W^(1/2) X theta = W^(1/2) y`.
-    pub fn solve(&self, y: &[f64], weights: &[f64]) -> Vec<f64> {
-        let b = DVector::from_iterator(y.len(), y.iter().zip(weights).map(|(v, w)| v * w.sqrt()));
-        let mut beta = DVector::zeros(self.scale.len());
-        for k in 0..self.rank {
-            let coefficient = self.u.column(k).dot(&b) / self.singular_values[k];
-            beta += self.v.column(k) * coefficient;
-        }
-        beta.iter().zip(&self.scale).map(|(b, s)| b / s).collect()
-    }
-}
-
-fn orthogonal_complement(v: &DMatrix<f64>, p: usize) -> DMatrix<f64> {
-    let projector = DMatrix::identity(p, p) - v * v.transpose();
-    let svd = projector.svd(true, false);
-    let u = svd.u.expect("requested");
-    let mut order: Vec<usize> = (0..p).collect();
-    order.sort_by(|a, b| svd.singular_values[*b].total_cmp(&svd.singular_values[*a]));
-    DMatrix::from_fn(p, p - v.ncols(), |r, c| u[(r, order[c])])
 }
 
 /// A combination of parameters the measurements do not see: changing the parameters by
@@ -165,7 +188,7 @@ impl IdentifiabilityReport {
                 f64::from(u8::from(i == j))
             }
         });
-        let sensitivity = (0..p).map(|j| matrix.column(j).norm() / (n.max(1) as f64).sqrt()).collect();
+        let sensitivity = (0..p).map(|j| column_norm(matrix.column(j)) / (n.max(1) as f64).sqrt()).collect();
         let independence = (0..p)
             .map(|j| {
                 let scaled = normal_inverse[(j, j)] * svd.scale[j] * svd.scale[j];
@@ -209,8 +232,11 @@ fn name_null_space(null: &DMatrix<f64>, scale: &[f64], names: &[String], units: 
     let mut rows = null.transpose();
     let mut pivots = Vec::new();
     for r in 0..k {
+        // the largest entry; among entries equal to it up to rounding, the first parameter, so that
+        // the wording does not depend on the last bits of the decomposition
+        let largest = (0..p).filter(|c| !pivots.contains(c)).map(|c| rows[(r, c)].abs()).fold(0.0, f64::max);
         let Some((pivot, value)) =
-            (0..p).filter(|c| !pivots.contains(c)).map(|c| (c, rows[(r, c)])).max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            (0..p).filter(|c| !pivots.contains(c)).map(|c| (c, rows[(r, c)])).find(|(_, v)| v.abs() >= (1.0 - 1e-9) * largest)
         else {
             break;
         };

@@ -11,7 +11,6 @@
 
 use super::campaign::{Campaign, DesignMatrix};
 use super::identifiability::{IdentifiabilityReport, ScaledSvd, RANK_TOLERANCE};
-use super::least_squares::fit_linear;
 use super::IdentifyError;
 use crate::errors::ErrorModel;
 use crate::machine::Machine;
@@ -146,7 +145,7 @@ pub fn solve(design: &DesignMatrix, start: &[f64], options: &IndirectOptions) ->
     if n <= p {
         return Err(IdentifyError::Input(format!("{n} readings cannot determine {p} unknowns and a residual variance; measure more")));
     }
-    let svd = ScaledSvd::new(&design.matrix, &design.weights, options.rank_tolerance);
+    let svd = ScaledSvd::with_observations(&design.matrix, &design.weights, &design.observations, options.rank_tolerance);
     let report = IdentifiabilityReport::new(&design.matrix, &svd, &design.names, &design.units);
     let deficient = svd.rank < p;
     if deficient && !options.allow_rank_deficient {
@@ -157,11 +156,10 @@ pub fn solve(design: &DesignMatrix, start: &[f64], options: &IndirectOptions) ->
     }
     let solver = if deficient { Solver::Svd } else { options.solver };
     let (delta, unscaled) = match solver {
-        Solver::Qr => {
-            let fit = fit_linear(&design.matrix, &design.observations, Some(&design.weights), &design.names)?;
-            (fit.coefficients, fit.unscaled_covariance)
-        }
-        Solver::Svd => (svd.solve(&design.observations, &design.weights), svd.pseudo_inverse_normal()),
+        Solver::Qr => svd.solve_triangular().ok_or_else(|| IdentifyError::RankDeficient {
+            message: "the triangular factor of the scaled design matrix is singular".into(),
+        })?,
+        Solver::Svd => (svd.solve_minimum_norm(), svd.pseudo_inverse_normal()),
     };
     let fitted = &design.matrix * DVector::from_column_slice(&delta);
     let residuals: Vec<f64> = design.observations.iter().zip(fitted.iter()).map(|(y, f)| y - f).collect();

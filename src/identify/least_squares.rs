@@ -88,23 +88,28 @@ pub fn fit_linear(design: &DMatrix<f64>, y: &[f64], weights: Option<&[f64]>, nam
         x.row_mut(i).scale_mut(*w);
     }
     // unit-length scaling: every column to norm 1
-    let scale: Vec<f64> = (0..p).map(|j| x.column(j).norm()).collect();
+    let scale: Vec<f64> = (0..p).map(|j| column_norm(x.column(j))).collect();
     for (j, s) in scale.iter().enumerate() {
         if *s == 0.0 {
             return Err(IdentifyError::RankDeficient { message: format!("{} is zero at every observation", name(names, j)) });
+        }
+        if !s.is_finite() {
+            return Err(IdentifyError::Input(format!("{}: the weighted sensitivities are too large to scale", name(names, j))));
         }
         x.column_mut(j).unscale_mut(*s);
     }
     let qr = x.clone().qr();
     let r = qr.r();
     let rmax = (0..p).map(|i| r[(i, i)].abs()).fold(0.0, f64::max);
-    if let Some(j) = (0..p).find(|&i| r[(i, i)].abs() < RANK_TOLERANCE * rmax) {
+    // a NaN diagonal (from non-finite input) counts as dependent too
+    if let Some(j) = (0..p).find(|&i| r[(i, i)].abs() < RANK_TOLERANCE * rmax || r[(i, i)].is_nan()) {
         return Err(IdentifyError::RankDeficient { message: dependent_message(&x, j, names) });
     }
     let q = qr.q();
     let qtb = q.transpose() * &b;
-    let beta_scaled = r.solve_upper_triangular(&qtb).expect("full rank checked");
-    let r_inv = r.solve_upper_triangular(&DMatrix::identity(p, p)).expect("full rank checked");
+    let singular = || IdentifyError::RankDeficient { message: "the scaled design matrix is singular".into() };
+    let beta_scaled = r.solve_upper_triangular(&qtb).ok_or_else(singular)?;
+    let r_inv = r.solve_upper_triangular(&DMatrix::identity(p, p)).ok_or_else(singular)?;
     let mut unscaled = &r_inv * r_inv.transpose();
     for i in 0..p {
         for j in 0..p {
@@ -129,6 +134,16 @@ pub fn fit_linear(design: &DMatrix<f64>, y: &[f64], weights: Option<&[f64]>, nam
         dof,
         leverage,
     })
+}
+
+/// Euclidean norm of a column without overflow or underflow of the squares: `m |x / m|` with
+/// `m = max |x_i|` (a column of sensitivities of 1e200 has a norm, not infinity).
+pub(crate) fn column_norm(x: nalgebra::DVectorView<f64>) -> f64 {
+    let m = x.amax();
+    if m == 0.0 || !m.is_finite() {
+        return m;
+    }
+    m * x.iter().map(|v| (v / m) * (v / m)).sum::<f64>().sqrt()
 }
 
 fn name(names: &[String], j: usize) -> String {
@@ -197,5 +212,18 @@ mod tests {
         let names: Vec<String> = ["slope", "offset", "combo"].iter().map(|s| s.to_string()).collect();
         let e = fit_linear(&design, &[1.0, 2.0, 3.0, 4.0, 5.0, 6.5], None, &names).unwrap_err().to_string();
         assert!(e.contains("combo cannot be separated from slope, offset"), "{e}");
+    }
+
+    #[test]
+    fn huge_sensitivities_are_scaled_without_overflow() {
+        // a column of 1e200 (its square overflows): the rank check must not see infinity, and the
+        // fit of y = beta x through (1e200, 0), (1, 1), (1, 1) is beta = 2 / (1e400 + 2) ~ 0
+        let design = DMatrix::from_column_slice(3, 1, &[1e200, 1.0, 1.0]);
+        let fit = fit_linear(&design, &[0.0, 1.0, 1.0], None, &[]).unwrap();
+        assert!(fit.coefficients[0].abs() < 1e-300 && fit.covariance.iter().all(|v| v.is_finite()), "{fit:?}");
+        let col = DMatrix::from_column_slice(3, 1, &[3e200, 4e200, 0.0]);
+        assert!((column_norm(col.column(0)) - 5e200).abs() < 1e186);
+        let tiny = DMatrix::from_column_slice(2, 1, &[3e-200, 4e-200]);
+        assert!((column_norm(tiny.column(0)) - 5e-200).abs() < 1e-214);
     }
 }

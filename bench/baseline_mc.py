@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""Straightforward NumPy implementation of the seed 004 adaptive Monte Carlo (JCGM 101 §7.9.4 with
+several outputs), written for the side-by-side comparison of bench/compare.sh (issue 8). Not part
+of trueaxis. It does what a careful NumPy user writes: the pseudo-inverse P of the weighted design
+matrix once, then per sequence all M x n observation errors drawn at once (vectorised, no Python
+loop per trial), the parameters as one matrix product E P^T, sorting for the intervals.
+
+  python3 bench/baseline_mc.py check    # u and 95 % intervals against `trueaxis uncertainty --json`
+  python3 bench/baseline_mc.py time     # timings as JSON (seconds), keys = criterion benchmark ids
+
+Model (docs/uncertainty.md, src/uncertainty): observation errors e = noise - D(t0 + (n-1) t_m + t_i)
+per channel, parameters p = p0 + P e with P = (X^T W X)^-1 X^T W; cyclic drift
+D(t) = E_VE/2 sin(2 pi t / T + phase), one uniform start time t0 per sequence (seed 004 eq. 12).
+"""
+import io
+import json
+import pathlib
+import subprocess
+import sys
+import time
+import tomllib
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+DESIGN = ROOT / "examples/uncertainty/kx8five_design.csv"
+SOURCES = ROOT / "examples/uncertainty/kx8five_cyclic.toml"
+
+
+def load_design(path):
+    lines = [l for l in path.read_text().splitlines() if l.strip() and not l.lstrip().startswith("#")]
+    header = lines[0].split(",")
+    body = [l.split(",") for l in lines[1:]]
+    col = {h: i for i, h in enumerate(header)}
+    channel = np.array([r[col["channel"]] for r in body])
+    t = np.array([float(r[col["t"]]) for r in body])
+    y = np.array([float(r[col["y"]]) for r in body]) if "y" in col else np.zeros(len(body))
+    w = np.array([float(r[col["weight"]]) for r in body]) if "weight" in col else np.ones(len(body))
+    names = [h for h in header if h not in ("channel", "t", "y", "weight")]
+    x = np.array([[float(r[col[h]]) for h in names] for r in body])
+    return names, channel, t, y, w, x
+
+
+def pseudo_inverse(x, w):
+    sw = np.sqrt(w)
+    return np.linalg.pinv(x * sw[:, None]) * sw[None, :]
+
+
+def sequence(p_matrix, estimate, channel, t, sources, trials, rng):
+    """M trials of one sequence: (M, p) parameter values."""
+    n = len(t)
+    e = np.zeros((trials, n))
+    for s in sources:
+        if s["kind"] == "noise":
+            for c, d in s["channels"].items():
+                rows = channel == c
+                e[:, rows] += rng.normal(0.0, d["u"], (trials, rows.sum()))
+        elif s["kind"] == "drift_statistical":
+            for c, d in s["channels"].items():
+                rows = channel == c
+                e[:, rows] += rng.normal(0.0, d["peak_to_valley"] / (2 * np.sqrt(3)), (trials, rows.sum()))
+        elif s["kind"] == "drift_cyclic":
+            period = s["period_s"]
+            run = s.get("run_duration_s", t.max())
+            t0 = rng.uniform(0.0, period)
+            tau = (t0 + np.arange(trials) * run) % period
+            for c, d in s["channels"].items():
+                rows = channel == c
+                phase = np.radians(d.get("phase_deg", 0.0))
+                e[:, rows] -= 0.5 * d["peak_to_valley"] * np.sin(2 * np.pi * (tau[:, None] + t[None, rows]) / period + phase)
+        else:
+            raise SystemExit(f"source kind {s['kind']} not in this baseline")
+    return estimate[None, :] + e @ p_matrix.T
+
+
+def statistics(values, coverage):
+    """Per output: mean, u, symmetric interval endpoints (JCGM 101 §7.7.1) of one sequence."""
+    v = np.sort(values, axis=0)
+    m = len(v)
+    q = int((1 - coverage) / 2 * m + 0.5)
+    return np.stack([v.mean(0), v.std(0, ddof=1), v[max(q - 1, 0)], v[min(m - q, m - 1)]], -1)
+
+
+def adaptive(design, sources_path, max_sequences=None, seed=4):
+    names, channel, t, y, w, x = design
+    cfg = tomllib.loads(sources_path.read_text())
+    p_matrix = pseudo_inverse(x, w)
+    estimate = p_matrix @ y
+    trials, coverage, delta = cfg.get("trials_per_sequence", 10_000), cfg.get("coverage", 0.95), cfg["tolerance"]
+    rng = np.random.default_rng(seed)
+    per_sequence, samples, h = [], [], 0
+    while True:
+        values = sequence(p_matrix, estimate, channel, t, cfg["source"], trials, rng)
+        samples.append(values)
+        per_sequence.append(statistics(values, coverage))
+        h += 1
+        if max_sequences is not None and h >= max_sequences:
+            break
+        if max_sequences is None and h >= 2:
+            s = np.stack(per_sequence).std(0, ddof=1) / np.sqrt(h)  # (p, 4)
+            if (2 * s <= delta).all() or h >= cfg.get("max_sequences", 1000):
+                break
+    all_values = np.concatenate(samples)
+    return names, h, statistics(all_values, coverage)
+
+
+def best(f, repeat):
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        f()
+        times.append(time.perf_counter() - t0)
+    return min(times)
+
+
+def main():
+    design = load_design(DESIGN)
+    if sys.argv[1:] == ["check"]:
+        names, h, stats = adaptive(design, SOURCES)
+        out = subprocess.run([str(pathlib.Path(__import__("os").environ.get("TRUEAXIS", ROOT / "target/release/trueaxis"))), "uncertainty", "--design", str(DESIGN), "--sources", str(SOURCES),
+                              "--no-budget", "--json"], cwd=ROOT, check=True, capture_output=True, text=True).stdout
+        theirs = json.loads(out)
+        worst = 0.0
+        for j, name in enumerate(names):
+            u = theirs["parameters"][name]["std_uncertainty"]
+            worst = max(worst, abs(stats[j, 1] / u - 1))
+        print(f"NumPy Monte Carlo ({h} sequences) vs trueaxis uncertainty: largest relative difference of u {worst:.2%}")
+        sys.exit(0 if worst < 0.02 else 1)
+    results = {
+        "uncertainty/seed004_cyclic/one_sequence": best(lambda: adaptive(design, SOURCES, max_sequences=1), 3),
+        "uncertainty/seed004_cyclic/adaptive": best(lambda: adaptive(design, SOURCES), 1),
+    }
+    print(json.dumps(results, indent=1))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,77 @@
+//! Identification hot paths (DESIGN.md section 5): the linear solve of the seed 004 identification
+//! (807 poses x 3 channels = 2421 readings, 14 parameters; target < 1 ms), the whole campaign
+//! (design matrix from the exact chain and its Jacobians, then the solve), and a large dense solve
+//! of 10^5 readings x 500 parameters (piecewise-polynomial error maps; target < 2 s).
+//!
+//! Run: `cargo bench --bench identify`. The NumPy/SciPy baselines of the same solves are
+//! `identify/lstsq_*` and `identify/qr_*` in bench/baseline.py.
+
+use criterion::{black_box, criterion_group, criterion_main, Criterion};
+use nalgebra::DMatrix;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use trueaxis::identify::{identify, solve, Campaign, DesignMatrix, IndirectOptions};
+use trueaxis::machine::Machine;
+
+fn root() -> &'static str {
+    env!("CARGO_MANIFEST_DIR")
+}
+
+/// The seed 004 design of examples/uncertainty/kx8five_design.csv as an identification problem.
+fn seed004_design() -> DesignMatrix {
+    let d = trueaxis::uncertainty::DesignMatrix::read_csv(format!("{}/examples/uncertainty/kx8five_design.csv", root())).expect("design");
+    let n = d.observations();
+    DesignMatrix {
+        names: d.parameters.clone(),
+        units: d.units.clone(),
+        matrix: d.x.clone(),
+        observations: d.measured.clone(),
+        sigma_um: d.weight.iter().map(|w| 1.0 / w.sqrt()).collect(),
+        weights: d.weight.clone(),
+        channels: d.channel.clone(),
+        channel_names: d.channels.clone(),
+        records: (0..n).map(|i| (0, i / 3)).collect(),
+    }
+}
+
+/// A dense `rows x cols` problem with independent standard normal entries (seeded), as the
+/// NumPy baseline draws it: the cost of a dense solve does not depend on the structure.
+fn random_design(rows: usize, cols: usize) -> DesignMatrix {
+    let mut rng = ChaCha8Rng::seed_from_u64(500);
+    let normal = rand_distr::StandardNormal;
+    DesignMatrix {
+        names: (0..cols).map(|j| format!("c{j}")).collect(),
+        units: vec!["um".into(); cols],
+        matrix: DMatrix::from_fn(rows, cols, |_, _| rng.sample::<f64, _>(normal)),
+        observations: (0..rows).map(|_| rng.sample::<f64, _>(normal)).collect(),
+        sigma_um: vec![1.0; rows],
+        weights: vec![1.0; rows],
+        channels: vec![0; rows],
+        channel_names: vec!["x".into()],
+        records: (0..rows).map(|i| (0, i)).collect(),
+    }
+}
+
+fn solves(c: &mut Criterion) {
+    let mut group = c.benchmark_group("identify");
+    let options = IndirectOptions::default();
+    let design = seed004_design();
+    let start = vec![0.0; design.names.len()];
+    group.bench_function("solve_2421x14", |b| b.iter(|| solve(black_box(&design), &start, &options).expect("full rank")));
+
+    let machine = Machine::load(format!("{}/examples/machines/kx8five.toml", root())).expect("machine");
+    let campaign = Campaign::load(format!("{}/examples/campaigns/kx8five/campaign.toml", root()), &machine).expect("campaign");
+    let nominal = campaign.nominal_errors(&machine).expect("nominal errors");
+    group.bench_function("campaign_kx8five_807", |b| {
+        b.iter(|| identify(black_box(&campaign), &machine, &nominal, &options).expect("identifiable"))
+    });
+
+    let large = random_design(100_000, 500);
+    let start = vec![0.0; 500];
+    group.sample_size(10);
+    group.bench_function("solve_100000x500", |b| b.iter(|| solve(black_box(&large), &start, &options).expect("full rank")));
+    group.finish();
+}
+
+criterion_group!(benches, solves);
+criterion_main!(benches);
