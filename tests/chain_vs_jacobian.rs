@@ -173,3 +173,48 @@ fn jacobian_batch_stacks_the_single_pose_jacobians() {
         assert_eq!(&batch[i * JACOBIAN_ROWS * n..(i + 1) * JACOBIAN_ROWS * n], &single[..], "pose {i}");
     }
 }
+
+/// The three squareness errors of vmc3 (`wXYbZt`: X rides on Y, Z on the base), each alone at
+/// s = 12 urad, against the closed form `s * lever` (DESIGN.md section 2: the error of the carried
+/// body relative to its parent, tool relative to workpiece in the workpiece frame):
+/// - `EC0X`: X (with the table) turned by s about z relative to Y. The X motion stays along the
+///   table's x; the Y motion is seen turned by -s in the table frame: `dx = s * Y`, `dy = 0`.
+/// - `EA0Z`: Z turned about x through the origin (table surface); the tool point is at height
+///   `h = 400 + Z` mm: `dy = -s h`, `dx = 0`.
+/// - `EB0Z`: Z turned about y: `dx = +s h`, `dy = 0`.
+/// `EC0Y` turns Y with everything it carries (the whole table stack) and is no squareness: no
+/// position error at any pose. Tolerance 1e-4 um (second-order terms are s^2 * 500 mm = 7e-5 um).
+#[test]
+fn vmc3_squareness_errors_give_s_times_lever() {
+    use trueaxis::errors::{ErrorFunction, ErrorModel};
+    use trueaxis::machine::ParameterId;
+    use trueaxis::model::Predictor;
+    let m = machine(0);
+    let s = 12.0; // urad
+    let poses = [[0.0, 0.0, 0.0], [300.0, 200.0, -100.0], [-400.0, -250.0, -400.0], [150.0, -120.0, -250.0]];
+    for (name, expected) in [
+        ("EC0X", (|q: [f64; 3], s: f64| [s * q[1], 0.0, 0.0]) as fn([f64; 3], f64) -> [f64; 3]),
+        ("EA0Z", |q, s| [0.0, -s * (400.0 + q[2]), 0.0]),
+        ("EB0Z", |q, s| [s * (400.0 + q[2]), 0.0, 0.0]),
+        ("EC0Y", |_, _| [0.0; 3]),
+    ] {
+        let mut errors = ErrorModel::zero(&m);
+        errors.set(&m, ParameterId::parse(name).unwrap(), ErrorFunction::Constant(s)).unwrap();
+        for frame in [Frame::Workpiece, Frame::Machine] {
+            let mut predictor = Predictor::new(&m, &errors);
+            predictor.frame = frame;
+            for q in poses {
+                let got = predictor.predict(&q).to_user_units();
+                // urad * mm = 1e-3 um
+                let want = expected(q, s * 1e-3);
+                for i in 0..3 {
+                    assert!((got[i] - want[i]).abs() < 1e-4, "{name} at {q:?} ({frame:?}): d{} = {} um, expected {}", ["x", "y", "z"][i], got[i], want[i]);
+                }
+            }
+        }
+    }
+    // and the non-zero ones are visible: 12 urad over a 300 mm lever is 3.6 um
+    let mut errors = ErrorModel::zero(&m);
+    errors.set(&m, ParameterId::parse("EC0X").unwrap(), ErrorFunction::Constant(s)).unwrap();
+    assert!((Predictor::new(&m, &errors).predict(&[0.0, 300.0, 0.0]).to_user_units()[0] - 3.6).abs() < 1e-4);
+}

@@ -85,7 +85,7 @@ fn fit_with_the_machine_recovers_the_error_with_the_sign_of_a_table_axis() {
     }
     // the file is still a valid error-values file for predict, with the other errors kept
     let text = std::fs::read_to_string(&errors).unwrap();
-    assert!(text.contains("[basis.\"EXX+\"]") && text.contains("[basis.EXX-]") && text.contains("EC0Y = 12.0"), "{text}");
+    assert!(text.contains("[basis.\"EXX+\"]") && text.contains("[basis.EXX-]") && text.contains("EC0X = 12.0"), "{text}");
     let pred = trueaxis(&["predict", "--machine", "examples/machines/vmc3.toml", "--errors", e, "--poses", "examples/poses/vmc3.csv"]);
     assert!(pred.status.success(), "{}", String::from_utf8_lossy(&pred.stderr));
     let svg = std::fs::read_to_string(dir.path().join("exx_plus.svg")).unwrap();

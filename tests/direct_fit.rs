@@ -202,10 +202,10 @@ fn a_fitted_function_round_trips_through_the_error_values_file() {
     spec.knots = vec![-100.0, 200.0];
     let b = Basis::new(spec).unwrap();
     let f = ErrorFunction::basis(b.clone(), coefficients[..b.len()].to_vec()).unwrap();
-    let original = "# my machine's errors\n[constant]\nEC0Y = 12.0  # squareness\n[polynomial.EXX]\ncoefficients = [0.0, 0.01]\n";
+    let original = "# my machine's errors\n[constant]\nEC0X = 12.0  # squareness\n[polynomial.EXX]\ncoefficients = [0.0, 0.01]\n";
     let exx = ParameterId::parse("EXX").unwrap();
     let text = set_error_function(original, &exx, None, &f).unwrap();
-    assert!(text.contains("# my machine's errors") && text.contains("EC0Y = 12.0  # squareness"), "comments kept:\n{text}");
+    assert!(text.contains("# my machine's errors") && text.contains("EC0X = 12.0  # squareness"), "comments kept:\n{text}");
     assert!(!text.contains("[polynomial.EXX]"), "the old EXX is replaced:\n{text}");
     let model = ErrorModel::from_toml_str(&text, "updated.toml", &machine).unwrap();
     let (_, back) = model.entries().find(|(id, _)| **id == exx).unwrap();
@@ -213,6 +213,6 @@ fn a_fitted_function_round_trips_through_the_error_values_file() {
         assert!((back.evaluate(x) - f.evaluate(x)).abs() < 1e-12, "at {x}");
     }
     // and the constant is untouched
-    let ec0y = ParameterId::parse("EC0Y").unwrap();
-    assert_eq!(model.entries().find(|(id, _)| **id == ec0y).unwrap().1, &ErrorFunction::Constant(12.0));
+    let ec0x = ParameterId::parse("EC0X").unwrap();
+    assert_eq!(model.entries().find(|(id, _)| **id == ec0x).unwrap().1, &ErrorFunction::Constant(12.0));
 }
