@@ -8,11 +8,12 @@ use proptest::test_runner::RngSeed;
 use trueaxis::machine::{AxisKind, Machine, SetupSide};
 use trueaxis::model::{jacobian, volumetric_error, Frame, JacobianWorkspace, Setup, VolumetricError, JACOBIAN_ROWS};
 
-const MACHINES: [(&str, &str); 4] = [
+const MACHINES: [(&str, &str); 5] = [
     ("vmc3", include_str!("../examples/machines/vmc3.toml")),
     ("kx8five", include_str!("../examples/machines/kx8five.toml")),
     ("head5", include_str!("../examples/machines/head5.toml")),
     ("c600u", include_str!("../examples/machines/c600u.toml")),
+    ("lathe2", include_str!("../examples/machines/lathe2.toml")),
 ];
 
 fn machine(i: usize) -> Machine {
@@ -56,7 +57,7 @@ proptest! {
     /// for every row group, every example machine, both frames.
     #[test]
     fn exact_minus_first_order_is_second_order(
-        which in 0usize..4,
+        which in 0usize..MACHINES.len(),
         draws in proptest::collection::vec(0.0f64..1.0, 5),
         u in proptest::collection::vec(-1.0f64..1.0, 66),
         tool in proptest::collection::vec(-200.0f64..200.0, 3),
@@ -135,7 +136,7 @@ proptest! {
     /// to 1e-9 um, for errors up to 1 mrad / 1 mm per parameter.
     #[test]
     fn exact_chain_matches_plain_homogeneous_matrices(
-        which in 0usize..4,
+        which in 0usize..MACHINES.len(),
         draws in proptest::collection::vec(0.0f64..1.0, 5),
         u in proptest::collection::vec(-1e-3f64..1e-3, 66),
         work in proptest::collection::vec(-100.0f64..100.0, 3),
@@ -182,6 +183,7 @@ fn jacobian_batch_stacks_the_single_pose_jacobians() {
 /// - `EA0Z`: Z turned about x through the origin (table surface); the tool point is at height
 ///   `h = 400 + Z` mm: `dy = -s h`, `dx = 0`.
 /// - `EB0Z`: Z turned about y: `dx = +s h`, `dy = 0`.
+///
 /// `EC0Y` turns Y with everything it carries (the whole table stack) and is no squareness: no
 /// position error at any pose. Tolerance 1e-4 um (second-order terms are s^2 * 500 mm = 7e-5 um).
 #[test]
@@ -208,7 +210,13 @@ fn vmc3_squareness_errors_give_s_times_lever() {
                 // urad * mm = 1e-3 um
                 let want = expected(q, s * 1e-3);
                 for i in 0..3 {
-                    assert!((got[i] - want[i]).abs() < 1e-4, "{name} at {q:?} ({frame:?}): d{} = {} um, expected {}", ["x", "y", "z"][i], got[i], want[i]);
+                    assert!(
+                        (got[i] - want[i]).abs() < 1e-4,
+                        "{name} at {q:?} ({frame:?}): d{} = {} um, expected {}",
+                        ["x", "y", "z"][i],
+                        got[i],
+                        want[i]
+                    );
                 }
             }
         }
