@@ -57,6 +57,23 @@ fn machine_file_errors_name_the_problem() {
         (with("structure = \"wCAbYXZt\"", "structure = \"CAbYXZ\""), &["must read workpiece to tool"]),
         (with("[tool]\npoint = [0, 0, 0]\n", ""), &["missing field `tool`"]),
         (with("[tool]\npoint = [0, 0, 0]", "[tool]\npoint = [0, nan, 0]"), &["[tool] point", "finite"]),
+        (
+            with("direction = [1, 0, 0], range = [-300", "direction = [1, nan, 0], range = [-300"),
+            &["axis X", "direction must be finite numbers"],
+        ),
+        (
+            with("direction = [0, 0, 1], point = [0, 0, 0] }", "direction = [0, 0, 1], point = [0, inf, 0] }"),
+            &["axis C", "point must be finite numbers (mm)"],
+        ),
+        (
+            with("structure = \"wCAbYXZt\"", "structure = \"WCAYXZT\""),
+            &["structure `WCAYXZT` must contain exactly one `F` (frame) between `W` and `T`"],
+        ),
+        (with("structure = \"wCAbYXZt\"", "structure = \"WCAFYFXZT\""), &["exactly one `F`"]),
+        (
+            with("structure = \"wCAbYXZt\"", "structure = \"wCAbYXZQt\""),
+            &["structure `wCAbYXZQt`: `Q` is not an axis letter (X Y Z U V W A B C)"],
+        ),
         (with("kind = \"linear\", direction = [1, 0, 0]", "kind = \"prismatic\", direction = [1, 0, 0]"), &["prismatic"]),
         (with("name = \"m\"", "name = \"\""), &["`name` must not be empty"]),
         ("name = \"m\"\nstructure = \"wbt\"\n[axes]\n[tool]\npoint = [0, 0, 0]\n".to_string(), &["has no axes"]),
@@ -107,6 +124,10 @@ fn error_values_file_errors_name_the_parameter() {
         ("[constant]\nEXX = nan\n", &["EXX", "finite"]),
         ("[constants]\nEXX = 1.0\n", &["unknown field `constants`"]),
         ("[constant]\nEXX = \"five\"\n", &["line 2"]),
+        (
+            "[[term.\"EXX+\"]]\ncoefficient = 0.01\nfactors = { X = 1 }\n",
+            &["[term.EXX+] EXX+", "product terms hold for both directions", "[[term.EXX]]", "[table.\"EXX+\"]"],
+        ),
     ];
     for (text, expected) in cases {
         let e = errors_error(text);
@@ -134,6 +155,7 @@ fn pose_file_errors_name_line_and_column() {
         ("X,Y,Z,A,C\n", &["no poses"]),
         ("X,Y,Z,A,C\n0,0,0,0\n", &["line 2"]),
         ("X,Y,Z,A,C\n0,0,0,0,NaN\n", &["axis C", "not a finite number"]),
+        ("X,Y,Z,A,C,T:spindle\n0,0,0,0,0,21.5\n0,0,0,0,0,warm\n", &["line 3", "column T:spindle", "`warm` is not a temperature"]),
     ];
     for (text, expected) in cases {
         let e = poses_error(text);

@@ -8,11 +8,12 @@ use proptest::test_runner::RngSeed;
 use trueaxis::machine::{AxisKind, Machine, SetupSide};
 use trueaxis::model::{jacobian, volumetric_error, Frame, JacobianWorkspace, Setup, VolumetricError, JACOBIAN_ROWS};
 
-const MACHINES: [(&str, &str); 4] = [
+const MACHINES: [(&str, &str); 5] = [
     ("vmc3", include_str!("../examples/machines/vmc3.toml")),
     ("kx8five", include_str!("../examples/machines/kx8five.toml")),
     ("head5", include_str!("../examples/machines/head5.toml")),
     ("c600u", include_str!("../examples/machines/c600u.toml")),
+    ("lathe2", include_str!("../examples/machines/lathe2.toml")),
 ];
 
 fn machine(i: usize) -> Machine {
@@ -56,7 +57,7 @@ proptest! {
     /// for every row group, every example machine, both frames.
     #[test]
     fn exact_minus_first_order_is_second_order(
-        which in 0usize..4,
+        which in 0usize..MACHINES.len(),
         draws in proptest::collection::vec(0.0f64..1.0, 5),
         u in proptest::collection::vec(-1.0f64..1.0, 66),
         tool in proptest::collection::vec(-200.0f64..200.0, 3),
@@ -135,7 +136,7 @@ proptest! {
     /// to 1e-9 um, for errors up to 1 mrad / 1 mm per parameter.
     #[test]
     fn exact_chain_matches_plain_homogeneous_matrices(
-        which in 0usize..4,
+        which in 0usize..MACHINES.len(),
         draws in proptest::collection::vec(0.0f64..1.0, 5),
         u in proptest::collection::vec(-1e-3f64..1e-3, 66),
         work in proptest::collection::vec(-100.0f64..100.0, 3),
@@ -172,4 +173,56 @@ fn jacobian_batch_stacks_the_single_pose_jacobians() {
         jacobian(&m, q, &setup, Frame::Machine, &mut ws, &mut single);
         assert_eq!(&batch[i * JACOBIAN_ROWS * n..(i + 1) * JACOBIAN_ROWS * n], &single[..], "pose {i}");
     }
+}
+
+/// The three squareness errors of vmc3 (`wXYbZt`: X rides on Y, Z on the base), each alone at
+/// s = 12 urad, against the closed form `s * lever` (DESIGN.md section 2: the error of the carried
+/// body relative to its parent, tool relative to workpiece in the workpiece frame):
+/// - `EC0X`: X (with the table) turned by s about z relative to Y. The X motion stays along the
+///   table's x; the Y motion is seen turned by -s in the table frame: `dx = s * Y`, `dy = 0`.
+/// - `EA0Z`: Z turned about x through the origin (table surface); the tool point is at height
+///   `h = 400 + Z` mm: `dy = -s h`, `dx = 0`.
+/// - `EB0Z`: Z turned about y: `dx = +s h`, `dy = 0`.
+///
+/// `EC0Y` turns Y with everything it carries (the whole table stack) and is no squareness: no
+/// position error at any pose. Tolerance 1e-4 um (second-order terms are s^2 * 500 mm = 7e-5 um).
+#[test]
+fn vmc3_squareness_errors_give_s_times_lever() {
+    use trueaxis::errors::{ErrorFunction, ErrorModel};
+    use trueaxis::machine::ParameterId;
+    use trueaxis::model::Predictor;
+    let m = machine(0);
+    let s = 12.0; // urad
+    let poses = [[0.0, 0.0, 0.0], [300.0, 200.0, -100.0], [-400.0, -250.0, -400.0], [150.0, -120.0, -250.0]];
+    for (name, expected) in [
+        ("EC0X", (|q: [f64; 3], s: f64| [s * q[1], 0.0, 0.0]) as fn([f64; 3], f64) -> [f64; 3]),
+        ("EA0Z", |q, s| [0.0, -s * (400.0 + q[2]), 0.0]),
+        ("EB0Z", |q, s| [s * (400.0 + q[2]), 0.0, 0.0]),
+        ("EC0Y", |_, _| [0.0; 3]),
+    ] {
+        let mut errors = ErrorModel::zero(&m);
+        errors.set(&m, ParameterId::parse(name).unwrap(), ErrorFunction::Constant(s)).unwrap();
+        for frame in [Frame::Workpiece, Frame::Machine] {
+            let mut predictor = Predictor::new(&m, &errors);
+            predictor.frame = frame;
+            for q in poses {
+                let got = predictor.predict(&q).to_user_units();
+                // urad * mm = 1e-3 um
+                let want = expected(q, s * 1e-3);
+                for i in 0..3 {
+                    assert!(
+                        (got[i] - want[i]).abs() < 1e-4,
+                        "{name} at {q:?} ({frame:?}): d{} = {} um, expected {}",
+                        ["x", "y", "z"][i],
+                        got[i],
+                        want[i]
+                    );
+                }
+            }
+        }
+    }
+    // and the non-zero ones are visible: 12 urad over a 300 mm lever is 3.6 um
+    let mut errors = ErrorModel::zero(&m);
+    errors.set(&m, ParameterId::parse("EC0X").unwrap(), ErrorFunction::Constant(s)).unwrap();
+    assert!((Predictor::new(&m, &errors).predict(&[0.0, 300.0, 0.0]).to_user_units()[0] - 3.6).abs() < 1e-4);
 }

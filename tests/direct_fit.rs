@@ -2,7 +2,10 @@
 //! parametric form plus noise, fit it, recover it.
 
 use trueaxis::errors::{integrate, set_error_function, Basis, BasisSpec, ErrorFunction, ErrorModel, PeriodicSpec};
-use trueaxis::identify::{alias_wavelength, dominant_period, fit_error_function, refine_wavelength, remove_cycle_drift, FitOptions};
+use trueaxis::identify::{
+    alias_wavelength, dominant_period, fit_error_function, refine_wavelength, remove_cycle_drift, residual_period, sampling_step,
+    FitOptions,
+};
 use trueaxis::machine::{Machine, ParameterId};
 
 /// Deterministic standard-normal noise (Box-Muller on a fixed LCG), so the tests are reproducible.
@@ -202,10 +205,10 @@ fn a_fitted_function_round_trips_through_the_error_values_file() {
     spec.knots = vec![-100.0, 200.0];
     let b = Basis::new(spec).unwrap();
     let f = ErrorFunction::basis(b.clone(), coefficients[..b.len()].to_vec()).unwrap();
-    let original = "# my machine's errors\n[constant]\nEC0Y = 12.0  # squareness\n[polynomial.EXX]\ncoefficients = [0.0, 0.01]\n";
+    let original = "# my machine's errors\n[constant]\nEC0X = 12.0  # squareness\n[polynomial.EXX]\ncoefficients = [0.0, 0.01]\n";
     let exx = ParameterId::parse("EXX").unwrap();
     let text = set_error_function(original, &exx, None, &f).unwrap();
-    assert!(text.contains("# my machine's errors") && text.contains("EC0Y = 12.0  # squareness"), "comments kept:\n{text}");
+    assert!(text.contains("# my machine's errors") && text.contains("EC0X = 12.0  # squareness"), "comments kept:\n{text}");
     assert!(!text.contains("[polynomial.EXX]"), "the old EXX is replaced:\n{text}");
     let model = ErrorModel::from_toml_str(&text, "updated.toml", &machine).unwrap();
     let (_, back) = model.entries().find(|(id, _)| **id == exx).unwrap();
@@ -213,6 +216,45 @@ fn a_fitted_function_round_trips_through_the_error_values_file() {
         assert!((back.evaluate(x) - f.evaluate(x)).abs() < 1e-12, "at {x}");
     }
     // and the constant is untouched
-    let ec0y = ParameterId::parse("EC0Y").unwrap();
-    assert_eq!(model.entries().find(|(id, _)| **id == ec0y).unwrap().1, &ErrorFunction::Constant(12.0));
+    let ec0x = ParameterId::parse("EC0X").unwrap();
+    assert_eq!(model.entries().find(|(id, _)| **id == ec0x).unwrap().1, &ErrorFunction::Constant(12.0));
+}
+
+#[test]
+fn residual_periods_are_searched_from_twice_the_sampling_step() {
+    // a rotary axis every 5 deg over a turn, 3 runs: the shortest period that can be seen is 10 deg
+    // (the old bound, span / readings = 360 / 219 deg, reported 3.97 deg)
+    let positions: Vec<f64> = (0..3).flat_map(|_| (0..=72).map(|i| 5.0 * i as f64)).collect();
+    assert_eq!(sampling_step(&positions), Some(5.0));
+    let e = noise(positions.len(), 0.5, 17);
+    let r = residual_period(&positions, &e, 0.5).unwrap();
+    assert_eq!(r.limit, 10.0);
+    assert!(r.period >= 10.0 && r.period <= 360.0, "period {}", r.period);
+    // white noise: not significant (1 % false alarms)
+    assert!(!r.significant, "amplitude {}", r.amplitude);
+    // a 24 deg wave of 1 urad is found and significant; its aliases lie below 10 deg
+    let wave: Vec<f64> = positions.iter().zip(&e).map(|(x, n)| (2.0 * std::f64::consts::PI * x / 24.0).sin() + n).collect();
+    let r = residual_period(&positions, &wave, 0.5).unwrap();
+    assert!((r.period - 24.0).abs() < 0.1 && r.significant, "{r:?}");
+    assert!((r.amplitude - 1.0).abs() < 0.15, "{r:?}");
+    let aliases = r.aliases(3);
+    assert!((aliases[0] - 1.0 / (0.2 - 1.0 / 24.0)).abs() < 0.01 && aliases.iter().all(|a| *a < 10.0), "{aliases:?}");
+    // irregular sampling has no exact alias family
+    let irregular: Vec<f64> = (0..100).map(|i| 3.6 * i as f64 + 1.7 * ((i * 7919) % 13) as f64 / 13.0).collect();
+    let r = residual_period(&irregular, &noise(100, 1.0, 3), 1.0).unwrap();
+    assert!(r.uniform_step.is_none() && r.aliases(3).is_empty());
+}
+
+#[test]
+fn a_screw_wave_sampled_every_10_mm_is_reported_with_the_true_pitch_in_its_alias_family() {
+    // seed 000 §3.2.4: the 0.635025 mm scale error sampled every 10 mm shows at 39.59 mm; the report
+    // marks it significant and gives the family 1/|k/10 +- 1/39.59|, which holds the true pitch at k = 16
+    let positions: Vec<f64> = (0..=50).map(|i| 10.0 * i as f64 + 0.37).collect();
+    let values: Vec<f64> = positions.iter().map(|x| 0.8 * (2.0 * std::f64::consts::PI * x / SCALE_PITCH).sin()).collect();
+    let r = residual_period(&positions, &values, 0.57).unwrap();
+    let alias = alias_wavelength(SCALE_PITCH, 10.0).unwrap();
+    assert!((r.period - alias).abs() < 0.01 * alias && r.significant, "{r:?}");
+    assert_eq!(r.uniform_step, Some(10.0));
+    let family = r.aliases(16);
+    assert!(family.iter().any(|w| (w - SCALE_PITCH).abs() < 0.01 * SCALE_PITCH), "{family:?}");
 }

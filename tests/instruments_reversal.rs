@@ -471,3 +471,107 @@ fn scale_errors() {
     let e = apparent_expansion_coefficient(&x, &run(&d, 25.0), &run(&[0.0, f64::NAN, 1.0], 20.0), 0.0, 0.0).unwrap_err();
     assert_eq!(e.to_string(), "apparent expansion coefficient: run 2 deviations[1] is not a finite number (NaN)");
 }
+
+// ---- the `trueaxis reversal` command on the shipped examples (examples/data/reversal_*.csv, whose
+// comment lines give the simulated truth), against the closed forms and the library ----
+
+fn trueaxis(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
+}
+
+fn json_of(args: &[&str]) -> serde_json::Value {
+    let out = trueaxis(args);
+    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+fn numbers(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
+}
+
+/// The position, m1, m2 columns of a shipped example.
+fn scans(path: &str) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let t = trueaxis::data::CsvTable::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path)).unwrap();
+    (t.numbers("position").unwrap(), t.numbers("m1").unwrap(), t.numbers("m2").unwrap())
+}
+
+#[test]
+fn reversal_arbor_command_gives_the_simulated_straightness() {
+    let doc = json_of(&["reversal", "arbor", "examples/data/reversal_arbor.csv", "--remove-line", "--json"]);
+    let (z, m1, m2) = scans("examples/data/reversal_arbor.csv");
+    // s = (m2 - m1) / 2 (eq. 3.3) minus its line: the simulated bow 6e-5 (z - 150)^2 minus its mean
+    // (its line has zero slope on the symmetric grid); the readings are rounded to 1e-4 um
+    let s = numbers(&doc["straightness_um"]);
+    let mean_bow = z.iter().map(|z| 6e-5 * (z - 150.0).powi(2)).sum::<f64>() / z.len() as f64;
+    for (i, z) in z.iter().enumerate() {
+        assert_close(s[i], 6e-5 * (z - 150.0).powi(2) - mean_bow, 1e-4, "straightness");
+        assert_close(numbers(&doc["arbor_form_um"])[i], 0.5 * (m1[i] + m2[i]), 1e-12, "arbor form = (m1 + m2) / 2");
+    }
+    assert_close(doc["line"]["slope_urad"].as_f64().unwrap(), 4.0, 1e-3, "slope (urad)");
+    assert_close(doc["straightness_deviation_um"].as_f64().unwrap(), 6e-5 * (150f64.powi(2) - 10f64.powi(2)), 2e-4, "deviation");
+    // the same as the library
+    let lib = straightness_reversal(&z, &m1, &m2, ReversalOptions { remove_line: true }).unwrap();
+    assert_all_close(&s, &lib.straightness_um, 1e-12, "command = library");
+    // without --remove-line: s = (m2 - m1) / 2 itself, and no line
+    let raw = json_of(&["reversal", "arbor", "examples/data/reversal_arbor.csv", "--json"]);
+    let expected: Vec<f64> = m1.iter().zip(&m2).map(|(a, b)| 0.5 * (b - a)).collect();
+    assert_all_close(&numbers(&raw["straightness_um"]), &expected, 1e-12, "s = (m2 - m1) / 2");
+    assert!(raw["line"].is_null());
+}
+
+#[test]
+fn reversal_parallelism_and_disk_commands_give_the_simulated_values() {
+    let doc = json_of(&["reversal", "parallelism", "examples/data/reversal_parallelism.csv", "--dz", "200", "--json"]);
+    // runout and out-of-roundness average out over the 512 readings of a revolution (to 1e-6 um rounding)
+    for (key, want) in [("R11", 20.0), ("R21", 22.5), ("R12", 18.0), ("R22", 15.5)] {
+        assert_close(doc["radii_um"][key].as_f64().unwrap(), want, 1e-6, key);
+    }
+    // alpha_p = [(22.5 - 20) - (15.5 - 18)] / (2 * 200) um/mm = 12.5 urad (eq. 3.5)
+    assert_close(doc["parallelism_urad"].as_f64().unwrap(), 12.5, 1e-5, "alpha_p");
+    let reversed = json_of(&["reversal", "parallelism", "examples/data/reversal_parallelism.csv", "--dz", "-200", "--json"]);
+    assert_close(reversed["parallelism_urad"].as_f64().unwrap(), -12.5, 1e-5, "alpha_p with dz reversed");
+
+    let disk = json_of(&["reversal", "disk", "examples/data/reversal_disk.csv", "--json"]);
+    let (x, m1, m2) = scans("examples/data/reversal_disk.csv");
+    assert_close(disk["orthogonality_urad"].as_f64().unwrap(), 8.0, 1e-3, "orthogonality (eq. 3.8 line)");
+    assert_close(disk["straightness_deviation_um"].as_f64().unwrap(), 0.675, 2e-4, "straightness deviation");
+    let dz = numbers(&disk["delta_z_um"]);
+    let e = numbers(&disk["face_error_um"]);
+    for i in 0..x.len() {
+        assert_close(dz[i], -0.5 * (m1[i] + m2[i]), 1e-12, "delta_z = -(m1 + m2) / 2");
+        assert_close(e[i], 0.5 + 0.02 * x[i], 1e-4, "face error");
+    }
+}
+
+#[test]
+fn reversal_command_text_plot_and_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let plot = dir.path().join("arbor.svg");
+    let out = trueaxis(&["reversal", "arbor", "examples/data/reversal_arbor.csv", "--remove-line", "--plot", plot.to_str().unwrap()]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("slope 4.000 urad") && text.contains("straightness deviation"), "{text}");
+    let svg = std::fs::read_to_string(&plot).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("straightness s"));
+
+    let bad = dir.path().join("bad.csv");
+    std::fs::write(&bad, "position,m1\n0,1\n10,2\n").unwrap();
+    let huge = dir.path().join("huge.csv");
+    std::fs::write(&huge, "position,m1,m2\n0,1e308,-1e308\n10,-1e308,1e308\n").unwrap();
+    let cases: Vec<(Vec<&str>, i32, &str)> = vec![
+        (vec!["reversal", "arbor", bad.to_str().unwrap()], 2, "missing column `m2`"),
+        (vec!["reversal", "disk", "examples/data/reversal_arbor.csv", "--position", "x"], 2, "missing column `x`"),
+        (vec!["reversal", "parallelism", "examples/data/reversal_parallelism.csv", "--dz", "0"], 2, "distance dz"),
+        (vec!["reversal", "parallelism", "examples/data/reversal_arbor.csv", "--dz", "10"], 2, "missing column `probe1_location1`"),
+        (vec!["reversal", "arbor", huge.to_str().unwrap(), "--json"], 1, "overflowed"),
+        (vec!["reversal", "disk", "missing.csv"], 2, "missing.csv"),
+    ];
+    for (args, code, fragment) in cases {
+        let out = trueaxis(&args);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(code), "{args:?}: {err}");
+        assert!(err.contains(fragment), "{args:?}: expected `{fragment}` in {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+        assert!(out.stdout.is_empty(), "nothing printed on failure");
+    }
+}

@@ -344,3 +344,72 @@ fn plot_is_written_with_axis_labels() {
     // nothing else left in the directory (written atomically)
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
 }
+
+/// `--scale-temperature` / `--scale-expansion` correct every deviation by `-alpha (T - 20) x / 1000`
+/// (machine scale, seed 000 §3.2.4) before the evaluation: the results equal those of the
+/// hand-corrected file; with a temperature column, point by point; an artefact corrects the other way.
+#[test]
+fn temperature_options_correct_the_deviations_to_20c() {
+    let dir = tempfile::tempdir().unwrap();
+    let data = read_runs(Path::new(env!("CARGO_MANIFEST_DIR")).join(EXAMPLE)).unwrap();
+    // hand corrections: uniform 23.4 degC, and a per-reading temperature 21 + 0.001 * run * target
+    let write = |name: &str, body: String| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, body).unwrap();
+        path
+    };
+    let mut uniform = String::from("target,dev,dir,run\n");
+    let mut per_point = String::from("target,dev,dir,run\n");
+    let mut with_column = String::from("target,dev,dir,run,T:scale\n");
+    for r in &data.readings {
+        let t = 21.0 + 0.001 * r.run as f64 * r.target;
+        let dir = r.direction.symbol();
+        uniform += &format!("{},{},{dir},{}\n", r.target, r.dev - 11.5 * 3.4 * r.target * 1e-3, r.run);
+        per_point += &format!("{},{},{dir},{}\n", r.target, r.dev - 11.5 * (t - 20.0) * r.target * 1e-3, r.run);
+        with_column += &format!("{},{},{dir},{},{t}\n", r.target, r.dev, r.run);
+    }
+    let json = |args: &[&str]| -> serde_json::Value {
+        let out = trueaxis(args);
+        assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let same = |a: &serde_json::Value, b: &serde_json::Value| {
+        for key in ["A", "A_plus", "A_minus", "B", "E", "E_plus", "E_minus", "M", "R", "R_plus", "R_minus"] {
+            close(key, a[key].as_f64().unwrap(), b[key].as_f64().unwrap(), 1e-9);
+        }
+    };
+    let (u, p, c) = (write("u.csv", uniform), write("p.csv", per_point), write("c.csv", with_column));
+    same(
+        &json(&["iso230-2", EXAMPLE, "--json", "--scale-temperature", "23.4", "--scale-expansion", "11.5"]),
+        &json(&["iso230-2", u.to_str().unwrap(), "--json"]),
+    );
+    same(
+        &json(&["iso230-2", c.to_str().unwrap(), "--json", "--scale-temperature", "T:scale", "--scale-expansion", "11.5"]),
+        &json(&["iso230-2", p.to_str().unwrap(), "--json"]),
+    );
+    // a warm step gauge instead of a warm scale: the opposite sign, so both together cancel
+    let both = json(&[
+        "iso230-2",
+        EXAMPLE,
+        "--json",
+        "--scale-temperature",
+        "23.4",
+        "--scale-expansion",
+        "11.5",
+        "--artefact-temperature",
+        "23.4",
+        "--artefact-expansion",
+        "11.5",
+    ]);
+    same(&both, &json(&["iso230-2", EXAMPLE, "--json"]));
+    // the correction changes the result: 11.5 * 3.4 um/m over 500 mm is 19.55 um of slope
+    let raw = json(&["iso230-2", EXAMPLE, "--json"]);
+    let corrected = json(&["iso230-2", u.to_str().unwrap(), "--json"]);
+    assert!((raw["E"].as_f64().unwrap() - corrected["E"].as_f64().unwrap()).abs() > 5.0);
+    // bad input: a missing column, an expansion without a temperature
+    let out = trueaxis(&["iso230-2", EXAMPLE, "--scale-temperature", "T:scale", "--scale-expansion", "11.5"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("missing column `T:scale`"));
+    let out = trueaxis(&["iso230-2", EXAMPLE, "--scale-expansion", "11.5"]);
+    assert_eq!(out.status.code(), Some(2));
+}

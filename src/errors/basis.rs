@@ -131,6 +131,7 @@ impl Raw {
     fn describe(&self) -> String {
         match self {
             Raw::Power(l) => format!("x^{l}"),
+            Raw::Truncated { knot, power } if *knot < 0.0 => format!("(x+{})_+^{power}", -knot),
             Raw::Truncated { knot, power } => format!("(x-{knot})_+^{power}"),
             Raw::Legendre { order, .. } => format!("P{order}"),
             Raw::Periodic { wavelength, g, .. } => format!("periodic[{wavelength}] {}", g.describe().replace('x', "w")),
@@ -352,7 +353,7 @@ mod tests {
     fn truncated_powers_follow_the_continuity_rule() {
         // degree 2, C1 at two knots: x, x^2, (x+100)_+^2, (x-50)_+^2 (eq. 3.2 without the constant)
         let b = Basis::new(spec("piecewise", "none")).unwrap();
-        assert_eq!(b.names(), vec!["x^1", "x^2", "(x--100)_+^2", "(x-50)_+^2"]);
+        assert_eq!(b.names(), vec!["x^1", "x^2", "(x+100)_+^2", "(x-50)_+^2"]);
         let mut s = spec("piecewise", "none");
         s.continuity = vec![0, 1];
         assert_eq!(Basis::new(s).unwrap().len(), 5, "C0 at the first knot adds (x+100)_+^1");

@@ -93,6 +93,19 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
     }
     for (name, terms) in &file.term {
         let section = format!("term.{name}");
+        // product terms hold for both directions of motion (the model has no directional terms)
+        if let (_, Some(d)) = id_of(&section, name)? {
+            let stem = name.trim().trim_end_matches(['+', '-']);
+            return Err(invalid(
+                &section,
+                name,
+                format!(
+                    "product terms hold for both directions of motion; a term of the {s} direction only is not supported: give it \
+                     under [[term.{stem}]], or put the direction's difference into [table.\"{stem}{s}\"] / [basis.\"{stem}{s}\"]",
+                    s = d.symbol()
+                ),
+            ));
+        }
         let id = ParameterId::parse(name).map_err(|m| invalid(&section, name, m))?;
         for t in terms {
             let mut axes = Vec::new();

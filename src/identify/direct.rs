@@ -3,12 +3,12 @@
 //! with stepwise selection, refine periodic wavelengths, and report (seed 000 §3.2).
 
 use super::drift::{remove_cycle_drift, CycleDrift};
-use super::fit::{dominant_period, fit_error_function, refine_wavelength, FitOptions, FittedFunction};
+use super::fit::{fit_error_function, refine_wavelength, residual_period, FitOptions, FittedFunction, ResidualPeriod};
 use super::IdentifyError;
 use crate::data::CsvTable;
-use crate::errors::ErrorModel;
+use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::instruments::{motion_error_axis, DirectInstrument, TableCorrection, TableCorrectionError};
 use crate::machine::{Machine, ParameterId};
-use crate::model::{jacobian, Frame, JacobianWorkspace, Setup, JACOBIAN_ROWS};
 use crate::report::{fit_plot_svg, FitPlot, ReportError};
 use serde_json::json;
 
@@ -30,44 +30,50 @@ pub struct DirectFitRequest {
     /// The measurement equation through the kinematic model; without it the readings are taken as
     /// the parameter values themselves.
     pub model: Option<DirectModel>,
+    /// Corrections of positioning readings to 20 degC (machine scale, reference artefact), applied
+    /// first (seed 000 §3.2.4).
+    pub corrections: Vec<TableCorrection>,
 }
 
 /// The measurement equation of a direct instrument (laser linear / straightness / angular optics,
-/// level) through the kinematic model (seed 000 §3.2.2, sequential estimation): the reading is the
-/// component of the volumetric error (machine frame) that corresponds to the parameter (`EXX` ->
-/// `dx`, `EBX` -> `dry`, ...) between the instrument's tool-side and workpiece-side points, with the
-/// other axes at fixed positions. Each reading `m` gives the parameter value
-/// `(m - sum_{k != p} J_k E_k) / J_p`: known errors `E_k` (e.g. the angular errors fitted first)
-/// have their Abbe contributions removed, and `J_p` (e.g. -1 for a slide that carries the
-/// workpiece) fixes the sign.
+/// level) on the exact kinematic chain (seed 000 §3.2.2, sequential estimation), with the other
+/// axes at fixed positions. Each reading `m` at position `x` gives the value `v` of the parameter
+/// that solves `reading(known errors, parameter = v; x) = m` on the exact chain: the errors already
+/// known (e.g. the angular errors fitted first) enter with their Abbe effect through the chain at
+/// the optics' positions, and the sensitivity of the reading to the parameter (e.g. -1 for a
+/// slide that carries the workpiece) fixes the sign.
 #[derive(Clone, Debug)]
 pub struct DirectModel {
     pub machine: Machine,
-    /// Errors already known (zero where unknown).
+    /// Errors already known (zero where unknown); the fitted parameter's own entry is ignored.
     pub known: ErrorModel,
     /// Positions of all axes (user units, canonical order); the measured axis's entry is replaced
     /// by each observation's position.
     pub fixed_pose: Vec<f64>,
-    pub setup: Setup,
+    pub instrument: DirectInstrument,
 }
 
 impl DirectModel {
-    /// Converts readings (um or urad) at axis positions (mm or deg) into values of `parameter`.
-    pub fn parameter_values(&self, parameter: &ParameterId, positions: &[f64], readings: &[f64]) -> Result<Vec<f64>, IdentifyError> {
+    /// Converts readings (um or urad) at axis positions (mm or deg), approached in `direction`
+    /// (`None`: unknown, the mean of a bidirectional known error is used), into values of
+    /// `parameter` (um or urad). Two Newton steps on the exact chain: the reading is linear in
+    /// the parameter to within its square times a lever (below 1e-9 um here).
+    pub fn parameter_values(
+        &self,
+        parameter: &ParameterId,
+        positions: &[f64],
+        readings: &[f64],
+        direction: Option<Direction>,
+    ) -> Result<Vec<f64>, IdentifyError> {
         let m = &self.machine;
+        let axis = motion_error_axis(m, parameter).map_err(|e| IdentifyError::Input(e.to_string()))?;
         let p = m.parameter_index(parameter).map_err(IdentifyError::Input)?;
-        let axis = parameter
-            .axis()
-            .and_then(|a| m.axis_index(a))
-            .ok_or_else(|| IdentifyError::Input(format!("{parameter} is not a motion error of an axis")))?;
-        let row = parameter.component().index();
-        let n = m.parameter_count();
-        let to_user = 1.0 / parameter.component().to_internal();
-        let mut jac = vec![0.0; JACOBIAN_ROWS * n];
-        let mut ws = JacobianWorkspace::default();
-        let mut known = vec![0.0; n];
+        let to_internal = parameter.component().to_internal();
+        let mut values = vec![0.0; m.parameter_count()];
         let mut q = vec![0.0; m.axis_count()];
         let mut user = self.fixed_pose.clone();
+        let mut directions = vec![None; m.axis_count()];
+        directions[axis] = direction;
         positions
             .iter()
             .zip(readings)
@@ -75,17 +81,28 @@ impl DirectModel {
                 user[axis] = *x;
                 m.check_range(&user).map_err(IdentifyError::Input)?;
                 m.pose_to_internal(&user, &mut q);
-                jacobian(m, &q, &self.setup, Frame::Machine, &mut ws, &mut jac);
-                self.known.values_at(m, &q, &mut known);
-                let r = &jac[row * n..(row + 1) * n];
-                if r[p].abs() < 0.5 {
+                self.known.values_at_state(m, &q, &MachineState { directions: Some(&directions), temperatures: &[] }, &mut values);
+                let mut at = |v: f64| {
+                    values[p] = v * to_internal;
+                    self.instrument.reading_user(m, &q, &values)
+                };
+                let base = at(0.0);
+                let sensitivity = at(1.0) - base;
+                if sensitivity.abs() < 0.5 {
                     return Err(IdentifyError::Input(format!(
-                        "at {x}: the reading does not see {parameter} (sensitivity {:.3}); check the instrument points and the parameter",
-                        r[p]
+                        "at {x}: the instrument does not see {parameter} (sensitivity {sensitivity:.3}); check the instrument, its points and \
+                         the parameter"
                     )));
                 }
-                let abbe: f64 = r.iter().zip(&known).enumerate().filter(|(k, _)| *k != p).map(|(_, (j, e))| j * e).sum::<f64>() * to_user;
-                Ok((reading - abbe) / r[p])
+                let mut v = (reading - base) / sensitivity;
+                for _ in 0..2 {
+                    // a reading far beyond any machine error (1e300) stays at its linear value
+                    let next = v + (reading - at(v)) / sensitivity;
+                    if next.is_finite() {
+                        v = next;
+                    }
+                }
+                Ok(v)
             })
             .collect()
     }
@@ -103,14 +120,26 @@ pub struct DirectFitReport {
     pub drift: Vec<CycleDrift>,
     /// The periodic wavelengths finally used.
     pub wavelengths: Vec<f64>,
-    /// Strongest sinusoid left in the residuals: period (mm or deg) and amplitude.
-    pub residual_period: Option<(f64, f64)>,
+    /// Strongest sinusoid left in the residuals, above the sampling limit.
+    pub residual_period: Option<ResidualPeriod>,
 }
 
 /// Runs the workflow on a table.
 pub fn run_direct_fit(table: &CsvTable, request: &DirectFitRequest) -> Result<DirectFitReport, IdentifyError> {
     let mut positions = table.numbers(&request.position_column)?;
     let mut values = table.numbers(&request.value_column)?;
+    if !request.corrections.is_empty() {
+        let p = request.parameter;
+        if !matches!(p, ParameterId::Motion { axis, component } if component.letter() == axis) {
+            return Err(IdentifyError::Input(format!(
+                "a correction to 20 degC applies to positioning readings along the axis (EXX, EYY, EZZ), not to {p}"
+            )));
+        }
+        values = TableCorrection::apply_all(&request.corrections, table, &positions, &values).map_err(|e| match e {
+            TableCorrectionError::Data(d) => IdentifyError::Data(d),
+            TableCorrectionError::Scale(s) => IdentifyError::Input(s.to_string()),
+        })?;
+    }
     // drift removal works on whole back-and-forth cycles, before one direction is selected
     let dirs = if table.has_column("dir") { Some(table.texts("dir")?) } else { None };
     let sign: Option<Vec<f64>> = match &dirs {
@@ -146,7 +175,8 @@ pub fn run_direct_fit(table: &CsvTable, request: &DirectFitRequest) -> Result<Di
     positions = keep.iter().map(|&i| positions[i]).collect();
     values = keep.iter().map(|&i| values[i]).collect();
     if let Some(model) = &request.model {
-        values = model.parameter_values(&request.parameter, &positions, &values)?;
+        let direction = request.direction.map(|d| if d == '+' { Direction::Positive } else { Direction::Negative });
+        values = model.parameter_values(&request.parameter, &positions, &values, direction)?;
     }
     let mut options = request.options.clone();
     if let Some(rel) = request.refine_wavelength {
@@ -155,14 +185,39 @@ pub fn run_direct_fit(table: &CsvTable, request: &DirectFitRequest) -> Result<Di
         }
     }
     let fitted = fit_error_function(&positions, &values, &options)?;
-    let (lo, hi) = options.spec.domain.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(*x), b.max(*x)));
-    let spacing = (hi - lo) / positions.len().max(2) as f64;
-    let residual_period = dominant_period(&positions, &fitted.fit.residuals, (2.0 * spacing).max(1e-9), hi - lo);
+    let residual_period = residual_period(&positions, &fitted.fit.residuals, fitted.fit.sigma);
     let wavelengths = options.spec.periodic.iter().map(|p| p.wavelength).collect();
     Ok(DirectFitReport { parameter: request.parameter, fitted, positions, values, drift, wavelengths, residual_period })
 }
 
 impl DirectFitReport {
+    /// The first result of the fit that is not a finite number, named, or `None`. A fit whose
+    /// numbers overflowed (e.g. readings near 1e300) must be refused, not printed or written.
+    pub fn non_finite(&self) -> Option<String> {
+        let f = &self.fitted;
+        let named = [
+            ("the residual standard deviation", f.fit.sigma),
+            ("the residual RMS", f.rms),
+            ("the largest residual", f.max_abs_residual),
+            ("the largest Cook's distance", f.max_cooks_distance.1),
+            ("the prediction interval", f.max_prediction_half_width),
+        ];
+        let groups = [("a coefficient", &f.coefficients), ("a standard uncertainty", &f.std_uncertainties)];
+        named
+            .iter()
+            .find(|(_, v)| !v.is_finite())
+            .map(|(n, _)| n.to_string())
+            .or_else(|| groups.iter().find(|(_, v)| v.iter().any(|x| !x.is_finite())).map(|(n, _)| n.to_string()))
+            .or_else(|| self.drift.iter().any(|d| !(d.rate.is_finite() && d.offset.is_finite())).then(|| "a drift".to_string()))
+            .or_else(|| self.values.iter().any(|v| !v.is_finite()).then(|| "a converted reading".to_string()))
+            .or_else(|| {
+                self.residual_period
+                    .as_ref()
+                    .is_some_and(|r| !(r.period.is_finite() && r.amplitude.is_finite()))
+                    .then(|| "the periodic residual".to_string())
+            })
+    }
+
     /// The JSON document of `trueaxis fit --json` (values in the parameter's unit, um or urad).
     pub fn to_json(&self) -> serde_json::Value {
         let f = &self.fitted;
@@ -187,7 +242,14 @@ impl DirectFitReport {
             "max_prediction_half_width_95": f.max_prediction_half_width,
             "wavelengths": self.wavelengths,
             "drift": self.drift.iter().map(|d| json!({"run": d.cycle, "rate_per_s": d.rate, "offset": d.offset})).collect::<Vec<_>>(),
-            "residual_period": self.residual_period.map(|(p, a)| json!({"period": p, "amplitude": a})),
+            "residual_period": self.residual_period.as_ref().map(|r| json!({
+                "period": r.period,
+                "amplitude": r.amplitude,
+                "significant": r.significant,
+                "sampling_limit": r.limit,
+                "sampling_step": r.uniform_step,
+                "aliases": r.aliases(2),
+            })),
         })
     }
 

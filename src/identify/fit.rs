@@ -107,6 +107,76 @@ pub fn dominant_period(positions: &[f64], values: &[f64], min_period: f64, max_p
     best
 }
 
+/// The typical sampling step of `positions`: the median gap between distinct sorted positions
+/// (same units), or `None` with fewer than two distinct positions.
+pub fn sampling_step(positions: &[f64]) -> Option<f64> {
+    let mut xs = positions.to_vec();
+    xs.sort_by(f64::total_cmp);
+    xs.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    let mut gaps: Vec<f64> = xs.windows(2).map(|w| w[1] - w[0]).collect();
+    if gaps.is_empty() {
+        return None;
+    }
+    gaps.sort_by(f64::total_cmp);
+    Some(gaps[gaps.len() / 2])
+}
+
+/// The strongest sinusoid left in the residuals of a fit, with what it can and cannot mean.
+///
+/// Periods are searched from the sampling limit (twice the typical sampling step, the Nyquist
+/// period) to the span of the data. A sinusoid found there may also be the alias of a shorter
+/// period: with samples every `step`, the periods `1 / |1/period ± k/step|` (k = 1, 2, ...), all
+/// below the limit, give the same samples (seed 000 §3.2.4: a 0.635025 mm scale error sampled every
+/// 10 mm appears at 39.59 mm). The data cannot tell them apart; only knowing the wavelength (a
+/// `--periodic` term, refused with its alias when unresolvable) or sampling at finer or random
+/// intervals can.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ResidualPeriod {
+    /// Period (mm or deg) and amplitude (units of the data) of the best-fitting sinusoid.
+    pub period: f64,
+    pub amplitude: f64,
+    /// The amplitude exceeds the 1 % false-alarm level of white noise of the residual standard
+    /// deviation over the frequencies searched.
+    pub significant: bool,
+    /// Shortest period searched: twice the typical sampling step.
+    pub limit: f64,
+    /// The sampling step when the positions are equally spaced (then the aliases are exact).
+    pub uniform_step: Option<f64>,
+}
+
+impl ResidualPeriod {
+    /// The periods (below the sampling limit) that equally spaced samples cannot tell from
+    /// [`ResidualPeriod::period`]: `1 / |k/step -+ 1/period|` for k = 1 ..= `orders`, longest
+    /// first; empty for irregular sampling.
+    pub fn aliases(&self, orders: usize) -> Vec<f64> {
+        let Some(step) = self.uniform_step else { return Vec::new() };
+        let (f, fs) = (1.0 / self.period, 1.0 / step);
+        let mut out: Vec<f64> =
+            (1..=orders).flat_map(|k| [k as f64 * fs - f, k as f64 * fs + f]).filter(|g| *g > 0.0).map(|g| 1.0 / g).collect();
+        out.sort_by(|a, b| b.total_cmp(a));
+        out
+    }
+}
+
+/// The strongest periodic component of `residuals` at `positions` (see [`ResidualPeriod`]), with
+/// `sigma` the residual standard deviation for the significance test: a sinusoid of amplitude `A`
+/// fitted to white noise has a periodogram ordinate `z = n A^2 / (4 sigma^2)` distributed as
+/// Exp(1); over `M` independent frequencies (half the distinct positions) the 1 % false-alarm
+/// level is `z > ln(100 M)`.
+pub fn residual_period(positions: &[f64], residuals: &[f64], sigma: f64) -> Option<ResidualPeriod> {
+    let step = sampling_step(positions)?;
+    let (lo, hi) = positions.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(*x), b.max(*x)));
+    let limit = 2.0 * step;
+    let (period, amplitude) = dominant_period(positions, residuals, limit, hi - lo)?;
+    let mut distinct = positions.to_vec();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    let frequencies = (distinct.len() as f64 / 2.0).max(1.0);
+    let z = residuals.len() as f64 * amplitude * amplitude / (4.0 * sigma * sigma);
+    let significant = sigma > 0.0 && z > (100.0 * frequencies).ln();
+    Some(ResidualPeriod { period, amplitude, significant, limit, uniform_step: uniform_spacing(positions) })
+}
+
 fn uniform_spacing(positions: &[f64]) -> Option<f64> {
     let mut xs = positions.to_vec();
     xs.sort_by(f64::total_cmp);

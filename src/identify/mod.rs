@@ -22,7 +22,10 @@ pub use design::{CandidateSet, Criterion, DesignCriteria};
 pub use direct::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel};
 pub use drift::{remove_cycle_drift, CycleDrift};
 pub use export::{error_values_text, identification_json};
-pub use fit::{alias_wavelength, dominant_period, fit_error_function, refine_wavelength, FitOptions, FittedFunction};
+pub use fit::{
+    alias_wavelength, dominant_period, fit_error_function, refine_wavelength, residual_period, sampling_step, FitOptions, FittedFunction,
+    ResidualPeriod,
+};
 pub use identifiability::{Combination, IdentifiabilityReport, ScaledSvd};
 pub use indirect::{identify, solve, ChannelStatistics, Identification, IndirectOptions, Refinement, Solver};
 pub use least_squares::{fit_linear, t_quantile, LinearFit, RANK_TOLERANCE};

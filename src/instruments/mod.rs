@@ -1,6 +1,8 @@
-//! Measurement equations and reductions of instruments: reversal techniques, scale thermal
-//! expansion (later: 3D ball, lengths, probing).
+//! Measurement equations and reductions of instruments.
 //!
+//! - [`laser`], [`level`], [`direct`]: direct instruments on the exact chain: laser linear,
+//!   straightness and angular optics with the Abbe effect of their position, electronic levels
+//!   (single or differential), the instrument that measures a given motion error, simulation.
 //! - [`reversal`]: straightness with an imperfect test arbor by reversal, parallelism from best-fit
 //!   circle radii, and the flat-face disk reversal for straightness and orthogonality (seed 003
 //!   NISTIR 5236 §3.4, eqs. 3.1-3.8).
@@ -17,7 +19,10 @@
 
 pub mod ball3d;
 pub mod ballbar;
+pub mod direct;
+pub mod laser;
 pub mod length;
+pub mod level;
 pub mod measurement;
 pub mod probe;
 pub mod reversal;
@@ -25,7 +30,10 @@ pub mod scale;
 pub mod trajectory;
 
 pub use ball3d::{Ball3d, SensorCalibration, SensorCalibrationError};
+pub use direct::{motion_error_axis, DirectError, DirectInstrument, DirectKind, DirectSetup};
+pub use laser::{Laser, LaserError, LaserOptics};
 pub use length::{Length, PointLength};
+pub use level::{Level, LevelBody, LevelError};
 pub use measurement::{nominal_vector, Instrument};
 pub use probe::{plate_displacement, plate_rows, Probe};
 pub use reversal::{
@@ -34,7 +42,8 @@ pub use reversal::{
 };
 pub use scale::{
     apparent_expansion_coefficient, correct_to_20c, thermal_expansion_um, uniform_expansion_um, ApparentExpansion, ExpandingBody,
-    ScaleError, ScaleTemperature, ThermalCorrection, ThermalRun, REFERENCE_TEMPERATURE_DEGC,
+    ScaleError, ScaleTemperature, TableCorrection, TableCorrectionError, TemperatureSource, ThermalCorrection, ThermalRun,
+    REFERENCE_TEMPERATURE_DEGC,
 };
 pub use trajectory::{ball_trajectory, Sweep, TrajectoryError};
 

@@ -208,6 +208,64 @@ pub fn apparent_expansion_coefficient(
     })
 }
 
+/// Where the temperature of a body comes from in a data file.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TemperatureSource {
+    /// One temperature for the whole run, degC.
+    Uniform(f64),
+    /// A column of the data file (e.g. `T:scale`), one temperature per reading, degC
+    /// ([`ScaleTemperature::PerPoint`]).
+    Column(String),
+}
+
+/// A correction to 20 degC of the deviations in a data file (the owned form of
+/// [`ThermalCorrection`], with the temperature from the file or given).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TableCorrection {
+    pub body: ExpandingBody,
+    /// um/m/K.
+    pub alpha_um_per_m_k: f64,
+    pub temperature: TemperatureSource,
+    /// The body's fixed point (mm).
+    pub datum_mm: f64,
+}
+
+/// Why a data file cannot be corrected: a bad column, or bad values.
+#[derive(Debug, Error)]
+pub enum TableCorrectionError {
+    #[error(transparent)]
+    Data(#[from] crate::data::DataError),
+    #[error(transparent)]
+    Scale(#[from] ScaleError),
+}
+
+impl TableCorrection {
+    /// The deviations (um) of `table`'s rows at `positions_mm` corrected to 20 degC by
+    /// [`correct_to_20c`], each correction of `corrections` in turn (seed 000 §3.2.4; ISO 230-2
+    /// asks for results at 20 degC).
+    pub fn apply_all(
+        corrections: &[TableCorrection],
+        table: &crate::data::CsvTable,
+        positions_mm: &[f64],
+        deviations_um: &[f64],
+    ) -> Result<Vec<f64>, TableCorrectionError> {
+        let mut out = deviations_um.to_vec();
+        for c in corrections {
+            let column;
+            let temperature = match &c.temperature {
+                TemperatureSource::Uniform(t) => ScaleTemperature::Uniform(*t),
+                TemperatureSource::Column(name) => {
+                    column = table.numbers(name)?;
+                    ScaleTemperature::PerPoint(&column)
+                }
+            };
+            let correction = ThermalCorrection { body: c.body, alpha_um_per_m_k: c.alpha_um_per_m_k, temperature, datum_mm: c.datum_mm };
+            out = correct_to_20c(positions_mm, &out, &correction)?;
+        }
+        Ok(out)
+    }
+}
+
 fn expansion(
     what: &'static str,
     positions_mm: &[f64],

@@ -7,6 +7,7 @@ mod heatmap;
 mod histogram;
 mod polar;
 mod positioning;
+mod profiles;
 mod residuals;
 mod uncertainty_figures;
 
@@ -15,6 +16,7 @@ pub use heatmap::{heatmap_svg, MapSlice};
 pub use histogram::{convergence_svg, histograms_svg, ConvergenceSeries, HistogramPanel};
 pub use polar::{auto_scale, circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
 pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
+pub use profiles::{profiles_svg, Profiles};
 pub use residuals::residuals_svg;
 pub use uncertainty_figures::{interval_of, uncertainty_figures};
 

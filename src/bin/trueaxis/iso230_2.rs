@@ -2,9 +2,10 @@
 
 use crate::Failure;
 use std::path::PathBuf;
-use trueaxis::data::write_atomically;
+use trueaxis::data::{write_atomically, CsvTable};
 use trueaxis::evaluate::iso230_2::{evaluate, read_runs, Iso2302Result};
 use trueaxis::evaluate::EvaluateError;
+use trueaxis::instruments::{TableCorrection, TableCorrectionError};
 
 /// Accuracy and repeatability of positioning of an axis after ISO 230-2:2014 (A, R, E, M, B and
 /// their unidirectional values, coverage factor 2) from bidirectional runs, e.g. laser readings.
@@ -12,7 +13,8 @@ use trueaxis::evaluate::EvaluateError;
 #[command(after_help = "Example:\n  trueaxis iso230-2 examples/data/iso230_2_x.csv --plot x_positioning.svg\n\n\
 The CSV has the columns target (mm), dev (um, actual minus target), dir (+ or -) and run (integer);\n\
 other columns are ignored, `#` starts a comment line. Every target needs at least 2 runs in each\n\
-direction (ISO 230-2 tests use 5). Results are in um.")]
+direction (ISO 230-2 tests use 5). Results are in um. With --scale-temperature and --scale-expansion the\n\
+deviations are first corrected to 20 degC (e.g. --scale-temperature 23.4 --scale-expansion 11.5).")]
 pub struct Iso2302Args {
     /// Readings (CSV) with the columns target, dev, dir, run.
     file: PathBuf,
@@ -22,6 +24,8 @@ pub struct Iso2302Args {
     /// Write an SVG plot of the readings, the mean deviations and the 2s bands (atomically).
     #[arg(long)]
     plot: Option<PathBuf>,
+    #[command(flatten)]
+    temperature: crate::temperature::TemperatureArgs,
 }
 
 fn failure(e: EvaluateError) -> Failure {
@@ -33,7 +37,21 @@ fn failure(e: EvaluateError) -> Failure {
 }
 
 pub fn run(args: Iso2302Args) -> Result<(), Failure> {
-    let data = read_runs(&args.file).map_err(failure)?;
+    let mut data = read_runs(&args.file).map_err(failure)?;
+    let corrections = args.temperature.corrections();
+    if !corrections.is_empty() {
+        // the readings are the table's rows in order
+        let table = CsvTable::read(&args.file).map_err(Failure::input)?;
+        let targets: Vec<f64> = data.readings.iter().map(|r| r.target).collect();
+        let devs: Vec<f64> = data.readings.iter().map(|r| r.dev).collect();
+        let corrected = TableCorrection::apply_all(&corrections, &table, &targets, &devs).map_err(|e| match e {
+            TableCorrectionError::Data(d) => Failure::input(d),
+            TableCorrectionError::Scale(s) => Failure::input(anyhow::anyhow!("{}: {s}", args.file.display())),
+        })?;
+        for (r, dev) in data.readings.iter_mut().zip(corrected) {
+            r.dev = dev;
+        }
+    }
     let result = evaluate(&data).map_err(failure)?;
     let name = args.file.display().to_string();
     if let Some(path) = &args.plot {

@@ -10,6 +10,8 @@ mod identify;
 mod iso230_2;
 mod nc;
 mod predict;
+mod reversal;
+mod temperature;
 mod thermal;
 mod uncertainty;
 
@@ -40,6 +42,7 @@ enum Command {
     #[command(name = "iso230-2")]
     Iso2302(iso230_2::Iso2302Args),
     Predict(predict::PredictArgs),
+    Reversal(reversal::ReversalArgs),
     Uncertainty(Box<uncertainty::UncertaintyArgs>),
     Compensate(Box<compensate::CompensateArgs>),
     Nc(Box<nc::NcArgs>),
@@ -71,6 +74,7 @@ fn main() -> ExitCode {
         Command::Identify(args) => identify::run(args),
         Command::Iso2302(args) => iso230_2::run(args),
         Command::Predict(args) => predict::run(args),
+        Command::Reversal(args) => reversal::run(args),
         Command::Uncertainty(args) => uncertainty::run(*args),
         Command::Compensate(args) => compensate::run(*args),
         Command::Nc(args) => nc::run(*args),
