@@ -1,9 +1,10 @@
 //! Motion errors as parametric functions in a campaign (`[basis.NAME]`, seed 000 ch. 3 and eq. 4.2):
-//! known piecewise-polynomial, Legendre and periodic motion errors of vmc3 simulated on the exact
-//! chain for a laser multilateration campaign (lengths from four stations), identified back within
-//! 3 standard uncertainties; the written `[basis.NAME]` error-values file reproduces the readings
-//! through `predict` (library and command line). The campaign builder of `support/basis_campaign.rs`
-//! (also the way to build the 10^5 x 500 problem) is checked on piecewise bases with 60 unknowns.
+//! the shipped `examples/campaigns/vmc3_tracer` campaign, whose readings were simulated on the exact
+//! chain with known piecewise-polynomial, Legendre and periodic motion errors of vmc3 (laser
+//! multilateration: lengths from four stations), is identified back within 3 standard
+//! uncertainties; the written `[basis.NAME]` error-values file reproduces the readings through
+//! `predict` (library and command line). The campaign builder of `support/basis_campaign.rs` (also
+//! the way to build the 10^5 x 500 problem) is checked on piecewise bases with 60 unknowns.
 
 #[path = "support/basis_campaign.rs"]
 mod basis_campaign;
@@ -11,104 +12,54 @@ mod basis_campaign;
 use basis_campaign::{piecewise_bases, random_poses, simulate_into, write_campaign, SQUARENESS, STATIONS};
 use std::path::PathBuf;
 use std::process::Command;
-use trueaxis::errors::{Basis, BasisSpec, ErrorFunction, ErrorModel};
+use trueaxis::errors::{ErrorFunction, ErrorModel};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{error_values_text, identify, Campaign, IndirectOptions};
 use trueaxis::machine::{Machine, ParameterId};
 use trueaxis::model::{Predictor, Setup};
 
-const BASES: &str = r#"
-[basis.EXX]                 # positioning of X: piecewise cubic, C2 at three knots
-family = "piecewise"
-degree = 3
-knots = [-200, 0, 200]
-continuity = [2]
-domain = [-400, 400]
+const EXAMPLE: &str = "examples/campaigns/vmc3_tracer";
 
-[basis.EYX]                 # straightness of X in y: piecewise quadratic, no linear trend
-degree = 2
-knots = [0]
-continuity = [1]
-constraint = "straightness"
-domain = [-400, 400]
-
-[basis.EZZ]                 # positioning of Z: Legendre polynomials P1..P4
-family = "legendre"
-degree = 4
-domain = [-400, 0]
-
-[basis.EYY]                 # positioning of Y: a 50 mm periodic error (a pitch error of the screw)
-family = "none"
-domain = [-250, 250]
-[[basis.EYY.periodic]]
-wavelength = 50
-degree = 3
-knots = [0.5]
-continuity = 1
-"#;
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
 
 fn machine() -> Machine {
-    Machine::load(PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/machines/vmc3.toml")).unwrap()
-}
-
-/// The bases of `BASES`, by parameter name.
-fn bases() -> Vec<(String, Basis)> {
-    let file: toml::Table = toml::from_str(BASES).unwrap();
-    file["basis"]
-        .as_table()
-        .unwrap()
-        .iter()
-        .map(|(name, spec)| (name.clone(), Basis::new(spec.clone().try_into::<BasisSpec>().unwrap()).unwrap()))
-        .collect()
-}
-
-/// The truth: every basis function with an amplitude of 2..5 um (alternating signs) over its
-/// domain, and the squareness errors (urad).
-fn truth(m: &Machine) -> (ErrorModel, Vec<(String, f64)>) {
-    let mut model = ErrorModel::zero(m);
-    let mut values = Vec::new();
-    for (name, basis) in bases() {
-        let [a, b] = basis.spec.domain;
-        let mut largest = vec![0.0f64; basis.len()];
-        let mut v = vec![0.0; basis.len()];
-        for i in 0..=2000 {
-            basis.eval_into(a + (b - a) * i as f64 / 2000.0, &mut v);
-            largest.iter_mut().zip(&v).for_each(|(l, x)| *l = l.max(x.abs()));
-        }
-        let coefficients: Vec<f64> =
-            (0..basis.len()).map(|l| (2.0 + (l % 4) as f64) * if l % 2 == 0 { 1.0 } else { -1.0 } / largest[l]).collect();
-        for (l, c) in coefficients.iter().enumerate() {
-            values.push((format!("{name}#{}", l + 1), *c));
-        }
-        model.set(m, ParameterId::parse(&name).unwrap(), ErrorFunction::basis(basis, coefficients).unwrap()).unwrap();
-    }
-    for (name, v) in [("EC0X", 25.0), ("EB0Z", -12.0), ("EA0Z", 18.0)] {
-        model.set(m, ParameterId::parse(name).unwrap(), ErrorFunction::Constant(v)).unwrap();
-        values.push((name.to_string(), v));
-    }
-    (model, values)
+    Machine::load(root().join("examples/machines/vmc3.toml")).unwrap()
 }
 
 #[test]
 fn piecewise_legendre_and_periodic_motion_errors_round_trip() {
+    // the shipped campaign: piecewise EXX and EYX (straightness), periodic EYY, Legendre EZZ and
+    // three squareness errors; readings simulated on the exact chain with truth.toml and 0.2 um noise
     let m = machine();
+    let zero = ErrorModel::zero(&m);
+    let path = root().join(EXAMPLE).join("campaign.toml");
+    let campaign = Campaign::load(&path, &m).unwrap();
+    let truth = ErrorModel::load(root().join(EXAMPLE).join("truth.toml"), &m).unwrap();
+    // the shipped readings are what its comment says: `design simulate --seed 5` with truth.toml
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let (truth, true_values) = truth(&m);
-    let path = write_campaign(d, &m, &SQUARENESS, BASES, &random_poses(&m, 300, 7), 0.2);
-    let campaign = simulate_into(&path, &m, &truth, 5);
+    for file in ["campaign.toml", "station1.csv", "station2.csv", "station3.csv", "station4.csv"] {
+        std::fs::copy(root().join(EXAMPLE).join(file), d.join(file)).unwrap();
+    }
+    let again = simulate_into(&d.join("campaign.toml"), &m, &truth, 5);
+    for (a, b) in campaign.measurements.iter().zip(&again.measurements) {
+        assert_eq!(a.readings, b.readings, "{}", a.name);
+    }
     // 3 squareness, then the coefficients by parameter name: EXX 6, EYX 2, EYY 3, EZZ 4
     assert_eq!(campaign.unknowns.len(), 18);
     assert_eq!(campaign.unknowns[3].name, "EXX#1");
     assert_eq!(campaign.unknowns[3].unit, "um/mm");
     assert_eq!(campaign.unknowns[6].function.as_deref(), Some("(x--200)_+^3"));
-    let zero = ErrorModel::zero(&m);
+    // the true value of every unknown: the truth's constants and basis coefficients
+    let true_values = campaign.nominal_values(&truth).unwrap();
+    assert!((true_values[3] - 5.0e-3).abs() < 1e-15 && (true_values[17] + 5.0).abs() < 1e-12);
     let result = identify(&campaign, &m, &zero, &IndirectOptions::default()).unwrap();
     assert_eq!(result.identifiability.rank, 18, "{:?}", result.identifiability.unidentifiable);
-    for (name, want) in &true_values {
-        let j = result.names.iter().position(|n| n == name).unwrap_or_else(|| panic!("{name}"));
+    for (j, name) in result.names.iter().enumerate() {
         let u = result.std_uncertainty[j].unwrap();
-        assert!((result.values[j] - want).abs() < 3.0 * u, "{name}: {} vs {want} (u {u})", result.values[j]);
+        assert!((result.values[j] - true_values[j]).abs() < 3.0 * u, "{name}: {} vs {} (u {u})", result.values[j], true_values[j]);
     }
     assert!((result.sigma0 - 1.0).abs() < 0.1, "s0 {}", result.sigma0);
 
@@ -144,7 +95,7 @@ fn piecewise_legendre_and_periodic_motion_errors_round_trip() {
     let out = Command::new(bin)
         .args(["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", path.to_str().unwrap(), "--json", "--out"])
         .arg(d.join("cli.toml"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(root())
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -156,9 +107,9 @@ fn piecewise_legendre_and_periodic_motion_errors_round_trip() {
         .args(["predict", "--machine", "examples/machines/vmc3.toml", "--errors"])
         .arg(d.join("cli.toml"))
         .arg("--poses")
-        .arg(d.join("station1.csv"))
+        .arg(root().join(EXAMPLE).join("station1.csv"))
         .args(["--work-point", &station, "--json"])
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(root())
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));

@@ -30,6 +30,7 @@ use nalgebra::{DMatrix, Matrix3};
 use rayon::prelude::*;
 use serde::Deserialize;
 use std::collections::BTreeMap;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 #[derive(Deserialize)]
@@ -290,12 +291,7 @@ impl Campaign {
                 rows.par_chunks_mut(nc * p)
                     .enumerate()
                     .for_each_init(|| Workspace::new(machine, p), |ws, (i, out)| self.record_rows(machine, mi, start + i, ws, out));
-                for j in 0..p {
-                    let mut column = matrix.column_mut(j);
-                    for (i, v) in rows.iter().skip(j).step_by(p).enumerate() {
-                        column[row + i] = *v;
-                    }
-                }
+                copy_rows(rows, p, &mut matrix, row);
                 for r in start..start + count {
                     for c in 0..nc {
                         sigma_um.push(m.sigma_um[c]);
@@ -338,7 +334,8 @@ impl Campaign {
             jacobian(machine, qi, &setup, frame, &mut ws.jacobian, &mut ws.full);
             nominal_vectors[i] = nominal_vector(machine, qi, &setup);
             parameter_factors(&self.unknowns, &self.bases, machine, qi, &mut ws.factors);
-            self.reduce_columns(machine, &ws.full, &ws.factors, &mut ws.reduced[i * JACOBIAN_ROWS * p..(i + 1) * JACOBIAN_ROWS * p]);
+            let reduced = &mut ws.reduced[i * JACOBIAN_ROWS * p..(i + 1) * JACOBIAN_ROWS * p];
+            self.reduce_columns(machine, &ws.full, &ws.factors, jacobian_rows_read(&m.instrument), reduced);
         }
         let (first, second) = ws.reduced.split_at(JACOBIAN_ROWS * p);
         let jacobians: [&[f64]; 2] = [first, second];
@@ -348,13 +345,16 @@ impl Campaign {
     }
 
     /// From the full `7 x P` Jacobian at a pose and the factors of the unknowns there to the
-    /// `7 x p` Jacobian of the unknowns (mm or rad per user unit; nuisance columns zero).
-    fn reduce_columns(&self, machine: &Machine, full: &[f64], factors: &[f64], out: &mut [f64]) {
+    /// `7 x p` Jacobian of the unknowns (mm or rad per user unit), in the Jacobian rows `rows` only.
+    /// Nuisance columns are left as they are (zero: nothing writes them).
+    fn reduce_columns(&self, machine: &Machine, full: &[f64], factors: &[f64], rows: Range<usize>, out: &mut [f64]) {
         let (n_params, p) = (machine.parameter_count(), self.unknowns.len());
-        for (j, u) in self.unknowns.iter().enumerate() {
-            let index = u.parameter().map(|(_, i)| i);
-            for r in 0..JACOBIAN_ROWS {
-                out[r * p + j] = index.map_or(0.0, |i| full[r * n_params + i] * factors[j]);
+        for r in rows {
+            let (source, target) = (&full[r * n_params..(r + 1) * n_params], &mut out[r * p..(r + 1) * p]);
+            for ((t, u), f) in target.iter_mut().zip(&self.unknowns).zip(factors) {
+                if let Some((_, index)) = u.parameter() {
+                    *t = source[index] * f;
+                }
             }
         }
     }
@@ -363,7 +363,8 @@ impl Campaign {
     /// `channels x p`) of one record whose nominal vector is `nominal` (um per um or urad).
     fn nuisance_columns(&self, mi: usize, nominal: &Vec3, out: &mut [f64]) {
         let p = self.unknowns.len();
-        for (j, u) in self.unknowns.iter().enumerate() {
+        // the nuisance unknowns are the last ones
+        for (j, u) in self.unknowns.iter().enumerate().rev().take_while(|(_, u)| !u.is_model()) {
             match u.kind {
                 UnknownKind::LengthOffset { measurement } if measurement == mi => out[j] = 1.0,
                 UnknownKind::Plate { measurement, component } if measurement == mi => {
@@ -389,20 +390,31 @@ impl Campaign {
         let (_, n_rows) = self.channel_layout();
         let mut out = vec![0.0; n_rows];
         let mut row = 0;
+        let unknowns = theta.iter().any(|t| *t != 0.0).then_some(theta);
         for (mi, m) in self.measurements.iter().enumerate() {
             let nc = m.instrument.channels().len();
             out[row..row + m.records() * nc].par_chunks_mut(nc).enumerate().for_each_init(
                 || Workspace::new(machine, self.unknowns.len()),
-                |ws, (r, v)| self.record_exact(machine, nominal, theta, mi, r, ws, v),
+                |ws, (r, v)| self.record_exact(machine, nominal, unknowns, mi, r, ws, v),
             );
             row += m.records() * nc;
         }
         Ok(out)
     }
 
-    /// The exact reading (um) of record `r` of measurement `mi` into `v`.
+    /// The exact reading (um) of record `r` of measurement `mi` into `v`, with the unknowns `theta`
+    /// (`None`: all zero).
     #[allow(clippy::too_many_arguments)]
-    fn record_exact(&self, machine: &Machine, nominal: &ErrorModel, theta: &[f64], mi: usize, r: usize, ws: &mut Workspace, v: &mut [f64]) {
+    fn record_exact(
+        &self,
+        machine: &Machine,
+        nominal: &ErrorModel,
+        theta: Option<&[f64]>,
+        mi: usize,
+        r: usize,
+        ws: &mut Workspace,
+        v: &mut [f64],
+    ) {
         let m = &self.measurements[mi];
         let (n_axes, n_params) = (machine.axis_count(), machine.parameter_count());
         let k = m.instrument.poses_per_record();
@@ -411,10 +423,12 @@ impl Campaign {
             let qi = &ws.q[i * n_axes..(i + 1) * n_axes];
             let pi = &mut ws.params[i * n_params..(i + 1) * n_params];
             nominal.values_at(machine, qi, pi);
-            parameter_factors(&self.unknowns, &self.bases, machine, qi, &mut ws.factors);
-            for ((u, t), f) in self.unknowns.iter().zip(theta).zip(&ws.factors) {
-                if let Some((_, index)) = u.parameter() {
-                    pi[index] += t * f;
+            if let Some(theta) = theta {
+                parameter_factors(&self.unknowns, &self.bases, machine, qi, &mut ws.factors);
+                for ((u, t), f) in self.unknowns.iter().zip(theta).zip(&ws.factors) {
+                    if let Some((_, index)) = u.parameter() {
+                        pi[index] += t * f;
+                    }
                 }
             }
         }
@@ -423,7 +437,9 @@ impl Campaign {
         let (poses, params): ([&[f64]; 2], [&[f64]; 2]) = ([q0, q1], [p0, p1]);
         m.instrument.exact(machine, &poses[..k], &params[..k], v);
         v.iter_mut().for_each(|x| *x *= 1e3);
-        self.add_nuisances(mi, m, machine, q0, theta, v);
+        if let Some(theta) = theta {
+            self.add_nuisances(mi, m, machine, q0, theta, v);
+        }
     }
 
     fn add_nuisances(&self, mi: usize, m: &Measurement, machine: &Machine, pose: &[f64], theta: &[f64], v: &mut [f64]) {
@@ -463,8 +479,34 @@ impl Campaign {
         let mut ws = Workspace::new(machine, p);
         jacobian(machine, q, setup, frame, &mut ws.jacobian, &mut ws.full);
         parameter_factors(&self.unknowns, &self.bases, machine, q, &mut ws.factors);
-        self.reduce_columns(machine, &ws.full, &ws.factors, &mut ws.reduced[..JACOBIAN_ROWS * p]);
+        self.reduce_columns(machine, &ws.full, &ws.factors, 0..JACOBIAN_ROWS, &mut ws.reduced[..JACOBIAN_ROWS * p]);
         DMatrix::from_row_slice(JACOBIAN_ROWS, p, &ws.reduced[..JACOBIAN_ROWS * p])
+    }
+}
+
+/// The rows of the Jacobian (`dx dy dz drx dry drz dL`) that [`Instrument::linear_rows`] reads:
+/// the position rows for 3D balls, probes and probed lengths, the `dL` row for lengths.
+fn jacobian_rows_read(instrument: &Instrument) -> Range<usize> {
+    match instrument {
+        Instrument::Length(_) => 6..7,
+        Instrument::Ball3d(_) | Instrument::Probe(_) | Instrument::PointLength(_) => 0..3,
+    }
+}
+
+/// Copies `rows` (row-major, `p` columns) into `matrix` from row `first` on, in tiles of 64 x 64
+/// so that both the reads and the column-major writes stay in cache.
+fn copy_rows(rows: &[f64], p: usize, matrix: &mut DMatrix<f64>, first: usize) {
+    const TILE: usize = 64;
+    let n = rows.len() / p.max(1);
+    for i0 in (0..n).step_by(TILE) {
+        for j0 in (0..p).step_by(TILE) {
+            for j in j0..(j0 + TILE).min(p) {
+                let mut column = matrix.column_mut(j);
+                for i in i0..(i0 + TILE).min(n) {
+                    column[first + i] = rows[i * p + j];
+                }
+            }
+        }
     }
 }
 
