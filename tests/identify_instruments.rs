@@ -1,8 +1,9 @@
 //! Round trips through the length and probing instruments on the 3-axis machine (vmc3): a
 //! calibrated ballbar at several pivots, a machine checking gauge of unknown length (seed 000
-//! §5.2.2: the length appended to the parameters), and a hole plate whose misalignment is removed
-//! by fitting it with the machine parameters. Squareness and scale errors (polynomial powers) are
-//! recovered within 3 standard uncertainties, and so are the gauge offset and the plate pose.
+//! §5.2.2: the length appended to the parameters), a hole plate whose misalignment is removed
+//! by fitting it with the machine parameters, and bars probed at both ends (`point_length`, seed 000
+//! eq. 4.5), one of them uncalibrated. Squareness and scale errors (polynomial powers) are recovered
+//! within 3 standard uncertainties, and so are the gauge and bar offsets and the plate pose.
 
 use std::fmt::Write;
 use std::path::Path;

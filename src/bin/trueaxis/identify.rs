@@ -20,7 +20,8 @@ enum SolverArg {
 #[command(after_help = "Example (seed 004, the 14 KX8-Five parameters from 807 CapBall poses):\n  \
 trueaxis identify --machine examples/machines/kx8five.toml \\\n      \
 --campaign examples/campaigns/kx8five/campaign.toml --out identified.toml\n\n\
-Values are in um (translations), urad (rotations) or um per mm^k (polynomial powers). A parameter\n\
+Values are in um (translations), urad (rotations) or um per mm^k (polynomial powers, basis\n\
+coefficients NAME#l of a campaign [basis.NAME], printed with the function they multiply). A parameter\n\
 set the measurements cannot separate is an error (exit 1) naming the inseparable combination,\n\
 unless --allow-rank-deficient is given. --out writes an error-values file that predict accepts.")]
 pub struct IdentifyArgs {
