@@ -329,10 +329,10 @@ impl Campaign {
         let k = m.instrument.poses_per_record();
         m.record_poses(machine, r, &mut ws.q);
         let mut nominal_vectors = [Vec3::zeros(); 2];
-        for i in 0..k {
+        for (i, nominal) in nominal_vectors.iter_mut().enumerate().take(k) {
             let qi = &ws.q[i * n_axes..(i + 1) * n_axes];
             jacobian(machine, qi, &setup, frame, &mut ws.jacobian, &mut ws.full);
-            nominal_vectors[i] = nominal_vector(machine, qi, &setup);
+            *nominal = nominal_vector(machine, qi, &setup);
             parameter_factors(&self.unknowns, &self.bases, machine, qi, &mut ws.factors);
             let reduced = &mut ws.reduced[i * JACOBIAN_ROWS * p..(i + 1) * JACOBIAN_ROWS * p];
             self.reduce_columns(machine, &ws.full, &ws.factors, jacobian_rows_read(&m.instrument), reduced);
