@@ -171,3 +171,79 @@ fn trajectory_simulate_identify_and_predict_from_the_command_line() {
     // per-record D of the chosen 30 is better than that of all 200 poses taken together
     assert!(chosen < all, "{chosen} vs {all}");
 }
+
+#[test]
+fn design_optimal_refuses_designs_that_cannot_determine_the_unknowns() {
+    // 3 records of 3 readings for 12 unknowns: bad input naming --count
+    let out = trueaxis(&["design", "optimal", "--machine", MACHINE, "--campaign", CAMPAIGN, "--count", "3"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--count 3") && err.contains("9 readings for 12 unknowns") && err.contains("at least 4"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1);
+    assert!(out.stdout.is_empty());
+    // a candidate set that cannot separate two combinations: exit 1, named as `identify` names them
+    let paper = "examples/campaigns/kx8five/paper14.toml";
+    let out = trueaxis(&["design", "optimal", "--machine", MACHINE, "--campaign", paper, "--count", "30", "--starts", "1"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("paper14.toml") && err.contains("12 of 14"), "{err}");
+    assert!(
+        err.contains("EB0A, EC0A, EB0C and WY cannot be separated") && err.contains("EY0C, TY, TZ and WZ cannot be separated"),
+        "{err}"
+    );
+    assert_eq!(err.trim().lines().count(), 1);
+    for (count, starts) in [("0", "1"), ("20", "0")] {
+        let out = trueaxis(&["design", "optimal", "--machine", MACHINE, "--campaign", CAMPAIGN, "--count", count, "--starts", starts]);
+        assert_eq!(out.status.code(), Some(2), "--count {count} --starts {starts}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("at least 1"), "--count {count} --starts {starts}");
+    }
+}
+
+/// The body lines of the ```text block that follows the first line containing `marker` in the guide.
+fn documented_block(marker: &str) -> Vec<String> {
+    let guide = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/identification.md")).unwrap();
+    let after = &guide[guide.find(marker).unwrap_or_else(|| panic!("`{marker}` not in the guide"))..];
+    let body = &after[after.find("```text\n").unwrap() + 8..];
+    body[..body.find("```").unwrap()].lines().map(str::to_string).collect()
+}
+
+#[test]
+fn the_documented_outputs_come_from_real_runs() {
+    for (marker, campaign, machine) in [
+        ("(without `--refine`;", CAMPAIGN, MACHINE),
+        ("The output lists the coefficients", "examples/campaigns/vmc3_tracer/campaign.toml", "examples/machines/vmc3.toml"),
+    ] {
+        let out = trueaxis(&["identify", "--machine", machine, "--campaign", campaign]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8_lossy(&out.stdout);
+        let lines: Vec<&str> = text.lines().map(str::trim_end).collect();
+        let block = documented_block(marker);
+        assert!(block.len() >= 3);
+        for line in block.iter().filter(|l| l.trim() != "...") {
+            assert!(lines.contains(&line.trim_end()), "docs line not in the output of {campaign}:\n{line}\n---\n{text}");
+        }
+    }
+    // walkthrough step 6 (D-optimal 20 of the 807 records) and what the guide says about its G:
+    // G >= p for any design, near p (Kiefer-Wolfowitz) for a D-optimal one; one reading's variance less
+    let doc = json(&trueaxis(&[
+        "design",
+        "optimal",
+        "--machine",
+        MACHINE,
+        "--campaign",
+        CAMPAIGN,
+        "--count",
+        "20",
+        "--starts",
+        "1",
+        "--criterion",
+        "d",
+        "--json",
+    ]));
+    let (g, reading) = (doc["criteria"]["g"].as_f64().unwrap(), doc["criteria"]["max_reading_variance"].as_f64().unwrap());
+    assert!((12.0..12.0 * 1.05).contains(&g), "G {g} for p = 12");
+    assert!(reading < g / 2.0, "single reading {reading}");
+    let guide = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/identification.md")).unwrap();
+    let sentence = format!("have G = {g:.2} for `p = 12` and a largest single-reading variance of {reading:.2}");
+    assert!(guide.contains(&sentence), "the guide should say: {sentence}");
+}

@@ -1,8 +1,9 @@
 //! Round trips through the length and probing instruments on the 3-axis machine (vmc3): a
 //! calibrated ballbar at several pivots, a machine checking gauge of unknown length (seed 000
-//! §5.2.2: the length appended to the parameters), and a hole plate whose misalignment is removed
-//! by fitting it with the machine parameters. Squareness and scale errors (polynomial powers) are
-//! recovered within 3 standard uncertainties, and so are the gauge offset and the plate pose.
+//! §5.2.2: the length appended to the parameters), a hole plate whose misalignment is removed
+//! by fitting it with the machine parameters, and bars probed at both ends (`point_length`, seed 000
+//! eq. 4.5), one of them uncalibrated. Squareness and scale errors (polynomial powers) are recovered
+//! within 3 standard uncertainties, and so are the gauge and bar offsets and the plate pose.
 
 use std::fmt::Write;
 use std::path::Path;
@@ -117,4 +118,75 @@ fn ballbar_gauge_and_hole_plate_round_trip() {
     assert!(v > 0.0 && v < 0.5 * 0.5, "prediction variance {v} um^2 below the single-reading noise");
     let cov = result.volumetric_covariance(&campaign, &m, &[100.0, 50.0, -100.0], &ballbar, trueaxis::model::Frame::Workpiece);
     assert!(cov[(0, 0)] > 0.0 && cov[(2, 2)] > 0.0);
+}
+
+/// Bars probed at both ends (`point_length`, seed 000 eq. 4.5): `length` mm long along the 13
+/// directions of the axes, face and body diagonals, centred at four places in the work volume.
+fn bars_csv(m: &Machine, probe: &Setup, length: f64) -> String {
+    let mut csv = String::from("X,Y,Z,X2,Y2,Z2\n");
+    let directions = [
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [1.0, 0.0, 1.0],
+        [1.0, 0.0, -1.0],
+        [0.0, 1.0, 1.0],
+        [0.0, 1.0, -1.0],
+        [1.0, 1.0, 1.0],
+        [1.0, 1.0, -1.0],
+        [1.0, -1.0, 1.0],
+        [-1.0, 1.0, 1.0],
+    ];
+    for centre in [[0.0, 0.0, 200.0], [-100.0, 50.0, 150.0], [120.0, -60.0, 250.0], [50.0, 80.0, 200.0]] {
+        for d in directions {
+            let u = Vec3::from(d).normalize();
+            let c = Vec3::from(centre);
+            if let (Some(a), Some(b)) = (pose_at(m, probe, c - u * (0.5 * length)), pose_at(m, probe, c + u * (0.5 * length))) {
+                let _ = writeln!(csv, "{},{},{},{},{},{}", a[0], a[1], a[2], b[0], b[1], b[2]);
+            }
+        }
+    }
+    csv
+}
+
+#[test]
+fn probed_bars_round_trip() {
+    // a calibrated 300 mm bar and a 450 mm bar of unknown length (offset), probed at both ends on
+    // vmc3 used as a measuring machine: squareness and scale errors within 3 u, and the bar offset
+    let m = machine();
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let probe = Setup { tool_point: m.tool_point, work_point: Vec3::zeros() };
+    std::fs::write(d.join("bar300.csv"), bars_csv(&m, &probe, 300.0)).unwrap();
+    std::fs::write(d.join("bar450.csv"), bars_csv(&m, &probe, 450.0)).unwrap();
+    let list = PARAMETERS.iter().map(|p| format!("\"{p}\"")).collect::<Vec<_>>().join(", ");
+    let toml = format!(
+        "parameters = [{list}]\n\
+         [[measurement]]\ninstrument = \"point_length\"\ndata = \"bar300.csv\"\nsigma_um = 0.3\n\
+         [[measurement]]\ninstrument = \"point_length\"\ndata = \"bar450.csv\"\nsigma_um = 0.3\nlength_offset = true\n"
+    );
+    std::fs::write(d.join("campaign.toml"), toml).unwrap();
+    let planned = Campaign::load(d.join("campaign.toml"), &m).unwrap();
+    let truth = ErrorModel::from_toml_str(TRUTH, "truth", &m).unwrap();
+    let mut readings = simulate_campaign(&planned, &m, &truth, Some(17)).unwrap();
+    // the 450 mm bar is not calibrated: its assumed length is off, which shifts every reading by
+    // the same GAUGE_OFFSET_UM
+    readings[1].iter_mut().for_each(|r| *r += GAUGE_OFFSET_UM);
+    for (meas, r) in planned.measurements.iter().zip(&readings) {
+        assert!(meas.records() >= 35, "{}: {} bars in the work volume", meas.name, meas.records());
+        std::fs::write(&meas.data, measurement_csv(&m, meas, r)).unwrap();
+    }
+    let campaign = Campaign::load(d.join("campaign.toml"), &m).unwrap();
+    let result = identify(&campaign, &m, &ErrorModel::zero(&m), &IndirectOptions::default()).unwrap();
+    assert_eq!(result.identifiability.rank, 7);
+    let mut expected = TRUE_VALUES.to_vec();
+    expected.push(GAUGE_OFFSET_UM);
+    for (j, name) in result.names.iter().enumerate() {
+        let u = result.std_uncertainty[j].unwrap();
+        assert!((result.values[j] - expected[j]).abs() < 3.0 * u, "{name}: {} vs {} (u {u})", result.values[j], expected[j]);
+    }
+    assert_eq!(result.names[6], "offset:bar450");
+    assert!((result.sigma0 - 1.0).abs() < 0.25, "s0 {}", result.sigma0);
 }

@@ -11,17 +11,26 @@
 //!
 //! Units: observations and residuals in um; each column in um of reading per user unit of its
 //! unknown (um, urad, um/mm, ...).
+//!
+//! Large problems (10^5 readings, hundreds of basis coefficients): the rows are computed in
+//! parallel over records (rayon, one workspace per thread, no allocation per record) in blocks of
+//! about a megabyte, then copied into the column-major matrix.
 
-use super::unknowns::{Unknown, UnknownKind};
+use super::unknowns::{parameter_factors, BasisParameter, Unknown, UnknownKind};
 use super::IdentifyError;
 use crate::data::{read_poses, CsvTable};
-use crate::errors::ErrorModel;
+use crate::errors::{Basis, BasisSpec, ErrorModel};
 use crate::geometry::Vec3;
-use crate::instruments::{nominal_vector, plate_displacement, plate_rows, Ball3d, Instrument, Length, PointLength, Probe};
+use crate::instruments::{
+    nominal_vector, plate_displacement, plate_rows, Ball3d, Instrument, Length, PointLength, Probe, SensorCalibration,
+};
 use crate::machine::{one_line, Machine};
 use crate::model::{jacobian, Frame, JacobianWorkspace, Setup, JACOBIAN_ROWS};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, Matrix3};
+use rayon::prelude::*;
 use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 #[derive(Deserialize)]
@@ -34,8 +43,24 @@ struct CampaignFile {
     parameters: Vec<String>,
     #[serde(default)]
     nominal_errors: Option<String>,
+    /// `[basis.NAME]`: motion error NAME identified as a parametric function of its own axis (the
+    /// fields of the error-values file's `[basis.NAME]` without `coefficients`).
+    #[serde(default)]
+    basis: BTreeMap<String, BasisSpec>,
     #[serde(default)]
     measurement: Vec<MeasurementFile>,
+}
+
+/// `calibration = { cube = "cube.csv" }` or `calibration = { matrix = [[..], [..], [..]], offset_um = [..] }`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CalibrationFile {
+    #[serde(default)]
+    cube: Option<String>,
+    #[serde(default)]
+    matrix: Option<[[f64; 3]; 3]>,
+    #[serde(default)]
+    offset_um: Option<[f64; 3]>,
 }
 
 #[derive(Deserialize)]
@@ -63,6 +88,8 @@ struct MeasurementFile {
     length_offset: bool,
     #[serde(default)]
     plate: bool,
+    #[serde(default)]
+    calibration: Option<CalibrationFile>,
 }
 
 /// One measurement of a campaign with its data.
@@ -84,9 +111,13 @@ pub struct Measurement {
     pub poses: Vec<f64>,
     /// File line of each record.
     pub lines: Vec<u64>,
-    /// Readings (um), `channels` per record; `None` when the data file has no reading columns yet
-    /// (a planned measurement, see [`super::simulate_campaign`]).
+    /// Readings (um), `channels` per record, after the sensor calibration if there is one; `None`
+    /// when the data file has no reading columns yet (a planned measurement, see
+    /// [`super::simulate_campaign`]).
     pub readings: Option<Vec<f64>>,
+    /// The sensor-frame calibration of a 3D head (seed 004 eqs. 6-10) applied to the raw readings
+    /// of the data file: `reading = M [raw; 1]`.
+    pub calibration: Option<SensorCalibration>,
 }
 
 impl Measurement {
@@ -110,9 +141,12 @@ pub struct Campaign {
     /// The campaign file, for messages.
     pub origin: String,
     pub name: Option<String>,
-    /// The error parameters named in `parameters` (in that order), then the nuisance unknowns of
-    /// the measurements (gauge offsets, plate misalignments).
+    /// The error parameters named in `parameters` (in that order), then the coefficients of every
+    /// `[basis.NAME]` (by name), then the nuisance unknowns of the measurements (gauge offsets,
+    /// plate misalignments).
     pub unknowns: Vec<Unknown>,
+    /// The motion errors identified as basis functions, with the position of their coefficients.
+    pub bases: Vec<BasisParameter>,
     /// Known errors the identification starts from (`nominal_errors`), resolved path.
     pub nominal_errors: Option<PathBuf>,
     pub measurements: Vec<Measurement>,
@@ -168,8 +202,20 @@ impl Campaign {
             }
             unknowns.push(u);
         }
+        let mut bases = Vec::new();
+        for (name, spec) in &file.basis {
+            let at = |m: String| input(&origin, format!("[basis.{name}]: {m}"));
+            let basis = Basis::new(spec.clone()).map_err(at)?;
+            let (coefficients, mut parameter) = Unknown::basis(machine, name, basis, bases.len()).map_err(at)?;
+            if let Some(u) = unknowns.iter().find(|u| u.parameter().map(|(id, _)| id) == Some(parameter.id)) {
+                return Err(at(format!("{} is also in `parameters` ({}); identify it one way", parameter.id, u.name)));
+            }
+            parameter.first = unknowns.len();
+            unknowns.extend(coefficients);
+            bases.push(parameter);
+        }
         if unknowns.is_empty() {
-            return Err(input(&origin, "parameters: the list is empty; name the parameters to identify"));
+            return Err(input(&origin, "parameters: the list is empty and there is no [basis.NAME]; name the parameters to identify"));
         }
         if file.measurement.is_empty() {
             return Err(input(&origin, "no [[measurement]]: a campaign needs at least one"));
@@ -188,7 +234,7 @@ impl Campaign {
             }
             measurements.push(measurement);
         }
-        Ok(Campaign { origin, name: file.name, unknowns, nominal_errors: file.nominal_errors.map(|p| dir.join(p)), measurements })
+        Ok(Campaign { origin, name: file.name, unknowns, bases, nominal_errors: file.nominal_errors.map(|p| dir.join(p)), measurements })
     }
 
     /// The known errors (`nominal_errors`), or all zero.
@@ -201,7 +247,7 @@ impl Campaign {
 
     /// Values (user units) of the unknowns in `nominal` (zero for nuisances).
     pub fn nominal_values(&self, nominal: &ErrorModel) -> Result<Vec<f64>, IdentifyError> {
-        self.unknowns.iter().map(|u| u.nominal_value(nominal).map_err(|m| input(&self.origin, m))).collect()
+        self.unknowns.iter().map(|u| u.nominal_value(nominal, &self.bases).map_err(|m| input(&self.origin, m))).collect()
     }
 
     /// Channel names `measurement:channel` and the row count.
@@ -220,52 +266,40 @@ impl Campaign {
     pub fn design_matrix(&self, machine: &Machine, nominal: &ErrorModel) -> Result<DesignMatrix, IdentifyError> {
         let (channel_names, n_rows) = self.channel_layout();
         let p = self.unknowns.len();
-        let mut matrix = DMatrix::zeros(n_rows, p);
-        let mut sigma_um = Vec::with_capacity(n_rows);
-        let mut channels = Vec::with_capacity(n_rows);
-        let mut records = Vec::with_capacity(n_rows);
         let mut readings = Vec::with_capacity(n_rows);
-        let n_axes = machine.axis_count();
-        let n_params = machine.parameter_count();
-        let mut ws = JacobianWorkspace::default();
-        let mut full = vec![0.0; JACOBIAN_ROWS * n_params];
-        let mut q = vec![0.0; 2 * n_axes];
-        let mut reduced = vec![0.0; 2 * JACOBIAN_ROWS * p];
-        let mut rows = vec![0.0; 3 * p];
-        let mut row = 0;
-        let mut channel_base = 0;
-        for (mi, m) in self.measurements.iter().enumerate() {
-            let readings_of = m.readings.as_ref().ok_or_else(|| {
+        for m in &self.measurements {
+            readings.extend_from_slice(m.readings.as_ref().ok_or_else(|| {
                 input(
                     &m.data.display().to_string(),
                     format!("no reading columns ({}): measure them or simulate them first", m.instrument.channels().join(", ")),
                 )
-            })?;
-            let (setup, frame) = (m.instrument.setup(), m.instrument.frame());
-            let k = m.instrument.poses_per_record();
+            })?);
+        }
+        let mut matrix = DMatrix::zeros(n_rows, p);
+        let mut sigma_um = Vec::with_capacity(n_rows);
+        let mut channels = Vec::with_capacity(n_rows);
+        let mut records = Vec::with_capacity(n_rows);
+        let (mut row, mut channel_base) = (0, 0);
+        for (mi, m) in self.measurements.iter().enumerate() {
             let nc = m.instrument.channels().len();
-            for r in 0..m.records() {
-                m.record_poses(machine, r, &mut q);
-                let mut nominal_vectors = [Vec3::zeros(); 2];
-                for i in 0..k {
-                    let qi = &q[i * n_axes..(i + 1) * n_axes];
-                    jacobian(machine, qi, &setup, frame, &mut ws, &mut full);
-                    nominal_vectors[i] = nominal_vector(machine, qi, &setup);
-                    reduce_columns(machine, &self.unknowns, qi, &full, &mut reduced[i * JACOBIAN_ROWS * p..(i + 1) * JACOBIAN_ROWS * p]);
-                }
-                let blocks: Vec<&[f64]> = (0..k).map(|i| &reduced[i * JACOBIAN_ROWS * p..(i + 1) * JACOBIAN_ROWS * p]).collect();
-                m.instrument.linear_rows(&blocks, &nominal_vectors[..k], p, &mut rows[..nc * p]);
-                for c in 0..nc {
-                    for j in 0..p {
-                        matrix[(row + c, j)] = rows[c * p + j] * 1e3;
+            // about 1 MB of rows per parallel block
+            let block = (131_072 / (nc * p).max(1)).max(1);
+            let mut buffer = vec![0.0; block.min(m.records()) * nc * p];
+            for start in (0..m.records()).step_by(block) {
+                let count = block.min(m.records() - start);
+                let rows = &mut buffer[..count * nc * p];
+                rows.par_chunks_mut(nc * p)
+                    .enumerate()
+                    .for_each_init(|| Workspace::new(machine, p), |ws, (i, out)| self.record_rows(machine, mi, start + i, ws, out));
+                copy_rows(rows, p, &mut matrix, row);
+                for r in start..start + count {
+                    for c in 0..nc {
+                        sigma_um.push(m.sigma_um[c]);
+                        channels.push(channel_base + c);
+                        records.push((mi, r));
                     }
-                    sigma_um.push(m.sigma_um[c]);
-                    channels.push(channel_base + c);
-                    records.push((mi, r));
-                    readings.push(readings_of[r * nc + c]);
                 }
-                self.nuisance_columns(mi, m, &nominal_vectors[0], row, &mut matrix);
-                row += nc;
+                row += count * nc;
             }
             channel_base += nc;
         }
@@ -285,18 +319,60 @@ impl Campaign {
         })
     }
 
-    /// Columns of the nuisance unknowns of measurement `mi` at the rows of one record starting at
-    /// `row` (um per um or urad).
-    fn nuisance_columns(&self, mi: usize, m: &Measurement, nominal: &Vec3, row: usize, matrix: &mut DMatrix<f64>) {
-        for (j, u) in self.unknowns.iter().enumerate() {
+    /// The `channels x p` rows (row-major, um per user unit) of record `r` of measurement `mi`:
+    /// the instrument's combination of the Jacobians of its poses, reduced to the unknowns, and the
+    /// nuisance columns.
+    fn record_rows(&self, machine: &Machine, mi: usize, r: usize, ws: &mut Workspace, out: &mut [f64]) {
+        let m = &self.measurements[mi];
+        let (n_axes, p) = (machine.axis_count(), self.unknowns.len());
+        let (setup, frame) = (m.instrument.setup(), m.instrument.frame());
+        let k = m.instrument.poses_per_record();
+        m.record_poses(machine, r, &mut ws.q);
+        let mut nominal_vectors = [Vec3::zeros(); 2];
+        for (i, nominal) in nominal_vectors.iter_mut().enumerate().take(k) {
+            let qi = &ws.q[i * n_axes..(i + 1) * n_axes];
+            jacobian(machine, qi, &setup, frame, &mut ws.jacobian, &mut ws.full);
+            *nominal = nominal_vector(machine, qi, &setup);
+            parameter_factors(&self.unknowns, &self.bases, machine, qi, &mut ws.factors);
+            let reduced = &mut ws.reduced[i * JACOBIAN_ROWS * p..(i + 1) * JACOBIAN_ROWS * p];
+            self.reduce_columns(machine, &ws.full, &ws.factors, jacobian_rows_read(&m.instrument), reduced);
+        }
+        let (first, second) = ws.reduced.split_at(JACOBIAN_ROWS * p);
+        let jacobians: [&[f64]; 2] = [first, second];
+        m.instrument.linear_rows(&jacobians[..k], &nominal_vectors[..k], p, out);
+        out.iter_mut().for_each(|v| *v *= 1e3);
+        self.nuisance_columns(mi, &nominal_vectors[0], out);
+    }
+
+    /// From the full `7 x P` Jacobian at a pose and the factors of the unknowns there to the
+    /// `7 x p` Jacobian of the unknowns (mm or rad per user unit), in the Jacobian rows `rows` only.
+    /// Nuisance columns are left as they are (zero: nothing writes them).
+    fn reduce_columns(&self, machine: &Machine, full: &[f64], factors: &[f64], rows: Range<usize>, out: &mut [f64]) {
+        let (n_params, p) = (machine.parameter_count(), self.unknowns.len());
+        for r in rows {
+            let (source, target) = (&full[r * n_params..(r + 1) * n_params], &mut out[r * p..(r + 1) * p]);
+            for ((t, u), f) in target.iter_mut().zip(&self.unknowns).zip(factors) {
+                if let Some((_, index)) = u.parameter() {
+                    *t = source[index] * f;
+                }
+            }
+        }
+    }
+
+    /// Columns of the nuisance unknowns of measurement `mi` in the rows `out` (row-major,
+    /// `channels x p`) of one record whose nominal vector is `nominal` (um per um or urad).
+    fn nuisance_columns(&self, mi: usize, nominal: &Vec3, out: &mut [f64]) {
+        let p = self.unknowns.len();
+        // the nuisance unknowns are the last ones
+        for (j, u) in self.unknowns.iter().enumerate().rev().take_while(|(_, u)| !u.is_model()) {
             match u.kind {
-                UnknownKind::LengthOffset { measurement } if measurement == mi => matrix[(row, j)] = 1.0,
+                UnknownKind::LengthOffset { measurement } if measurement == mi => out[j] = 1.0,
                 UnknownKind::Plate { measurement, component } if measurement == mi => {
-                    let centre = m.plate_centre.expect("plate unknowns only with a centre");
+                    let centre = self.measurements[mi].plate_centre.expect("plate unknowns only with a centre");
                     let rows = plate_rows(nominal, &centre);
                     let to_internal = if component < 3 { 1e-3 } else { 1e-6 };
                     for c in 0..3 {
-                        matrix[(row + c, j)] = rows[c * 6 + component] * to_internal * 1e3;
+                        out[c * p + j] = rows[c * 6 + component] * to_internal * 1e3;
                     }
                 }
                 _ => {}
@@ -306,40 +382,67 @@ impl Campaign {
 
     /// Exact readings (um) of every row, on the kinematic chain with the errors of `nominal` plus the
     /// unknowns `theta` (user units) added: the forward model of the Levenberg-Marquardt refinement
-    /// and of simulation.
+    /// and of simulation. Parallel over records.
     pub fn predict(&self, machine: &Machine, nominal: &ErrorModel, theta: &[f64]) -> Result<Vec<f64>, IdentifyError> {
         if theta.len() != self.unknowns.len() || theta.iter().any(|t| !t.is_finite()) {
             return Err(input(&self.origin, "the unknowns must be finite numbers, one per unknown"));
         }
-        let n_axes = machine.axis_count();
-        let n_params = machine.parameter_count();
-        let mut out = Vec::new();
-        let mut q = vec![0.0; 2 * n_axes];
-        let mut params = vec![0.0; 2 * n_params];
-        let mut value = [0.0; 3];
+        let (_, n_rows) = self.channel_layout();
+        let mut out = vec![0.0; n_rows];
+        let mut row = 0;
+        let unknowns = theta.iter().any(|t| *t != 0.0).then_some(theta);
         for (mi, m) in self.measurements.iter().enumerate() {
-            let k = m.instrument.poses_per_record();
             let nc = m.instrument.channels().len();
-            for r in 0..m.records() {
-                m.record_poses(machine, r, &mut q);
-                for i in 0..k {
-                    let qi = &q[i * n_axes..(i + 1) * n_axes];
-                    let pi = &mut params[i * n_params..(i + 1) * n_params];
-                    nominal.values_at(machine, qi, pi);
-                    add_unknowns(machine, &self.unknowns, theta, qi, pi);
-                }
-                let poses: Vec<&[f64]> = (0..k).map(|i| &q[i * n_axes..(i + 1) * n_axes]).collect();
-                let ps: Vec<&[f64]> = (0..k).map(|i| &params[i * n_params..(i + 1) * n_params]).collect();
-                m.instrument.exact(machine, &poses, &ps, &mut value[..nc]);
-                let mut v: Vec<f64> = value[..nc].iter().map(|x| x * 1e3).collect();
-                self.add_nuisances(mi, m, machine, &poses, theta, &mut v);
-                out.extend(v);
-            }
+            out[row..row + m.records() * nc].par_chunks_mut(nc).enumerate().for_each_init(
+                || Workspace::new(machine, self.unknowns.len()),
+                |ws, (r, v)| self.record_exact(machine, nominal, unknowns, mi, r, ws, v),
+            );
+            row += m.records() * nc;
         }
         Ok(out)
     }
 
-    fn add_nuisances(&self, mi: usize, m: &Measurement, machine: &Machine, poses: &[&[f64]], theta: &[f64], v: &mut [f64]) {
+    /// The exact reading (um) of record `r` of measurement `mi` into `v`, with the unknowns `theta`
+    /// (`None`: all zero).
+    #[allow(clippy::too_many_arguments)]
+    fn record_exact(
+        &self,
+        machine: &Machine,
+        nominal: &ErrorModel,
+        theta: Option<&[f64]>,
+        mi: usize,
+        r: usize,
+        ws: &mut Workspace,
+        v: &mut [f64],
+    ) {
+        let m = &self.measurements[mi];
+        let (n_axes, n_params) = (machine.axis_count(), machine.parameter_count());
+        let k = m.instrument.poses_per_record();
+        m.record_poses(machine, r, &mut ws.q);
+        for i in 0..k {
+            let qi = &ws.q[i * n_axes..(i + 1) * n_axes];
+            let pi = &mut ws.params[i * n_params..(i + 1) * n_params];
+            nominal.values_at(machine, qi, pi);
+            if let Some(theta) = theta {
+                parameter_factors(&self.unknowns, &self.bases, machine, qi, &mut ws.factors);
+                for ((u, t), f) in self.unknowns.iter().zip(theta).zip(&ws.factors) {
+                    if let Some((_, index)) = u.parameter() {
+                        pi[index] += t * f;
+                    }
+                }
+            }
+        }
+        let (q0, q1) = ws.q.split_at(n_axes);
+        let (p0, p1) = ws.params.split_at(n_params);
+        let (poses, params): ([&[f64]; 2], [&[f64]; 2]) = ([q0, q1], [p0, p1]);
+        m.instrument.exact(machine, &poses[..k], &params[..k], v);
+        v.iter_mut().for_each(|x| *x *= 1e3);
+        if let Some(theta) = theta {
+            self.add_nuisances(mi, m, machine, q0, theta, v);
+        }
+    }
+
+    fn add_nuisances(&self, mi: usize, m: &Measurement, machine: &Machine, pose: &[f64], theta: &[f64], v: &mut [f64]) {
         let mut t = Vec3::zeros();
         let mut w = Vec3::zeros();
         let mut plate = false;
@@ -359,7 +462,7 @@ impl Campaign {
         }
         if plate {
             let centre = m.plate_centre.expect("plate unknowns only with a centre");
-            let point = nominal_vector(machine, poses[0], &m.instrument.setup());
+            let point = nominal_vector(machine, pose, &m.instrument.setup());
             let d = plate_displacement(&point, &centre, &t, &w);
             for c in 0..3 {
                 v[c] += d[c] * 1e3;
@@ -373,36 +476,65 @@ impl Campaign {
     /// identified parameters to predictions (seed 000 eq. 4.12, App. A eq. A.4).
     pub fn unknown_jacobian(&self, machine: &Machine, q: &[f64], setup: &Setup, frame: Frame) -> DMatrix<f64> {
         let p = self.unknowns.len();
-        let mut full = vec![0.0; JACOBIAN_ROWS * machine.parameter_count()];
-        jacobian(machine, q, setup, frame, &mut JacobianWorkspace::default(), &mut full);
-        let mut reduced = vec![0.0; JACOBIAN_ROWS * p];
-        reduce_columns(machine, &self.unknowns, q, &full, &mut reduced);
-        DMatrix::from_row_slice(JACOBIAN_ROWS, p, &reduced)
+        let mut ws = Workspace::new(machine, p);
+        jacobian(machine, q, setup, frame, &mut ws.jacobian, &mut ws.full);
+        parameter_factors(&self.unknowns, &self.bases, machine, q, &mut ws.factors);
+        self.reduce_columns(machine, &ws.full, &ws.factors, 0..JACOBIAN_ROWS, &mut ws.reduced[..JACOBIAN_ROWS * p]);
+        DMatrix::from_row_slice(JACOBIAN_ROWS, p, &ws.reduced[..JACOBIAN_ROWS * p])
     }
 }
 
-/// From the full `7 x P` Jacobian at pose `q` to the `7 x p` Jacobian of the model unknowns
-/// (nuisance columns zero).
-fn reduce_columns(machine: &Machine, unknowns: &[Unknown], q: &[f64], full: &[f64], out: &mut [f64]) {
-    let n_params = machine.parameter_count();
-    let p = unknowns.len();
-    for (j, u) in unknowns.iter().enumerate() {
-        let (index, factor) = match u.kind {
-            UnknownKind::Model { index, .. } => (Some(index), u.parameter_factor(machine, q)),
-            _ => (None, 0.0),
-        };
-        for r in 0..JACOBIAN_ROWS {
-            out[r * p + j] = index.map_or(0.0, |i| full[r * n_params + i] * factor);
+/// The rows of the Jacobian (`dx dy dz drx dry drz dL`) that [`Instrument::linear_rows`] reads:
+/// the position rows for 3D balls, probes and probed lengths, the `dL` row for lengths.
+fn jacobian_rows_read(instrument: &Instrument) -> Range<usize> {
+    match instrument {
+        Instrument::Length(_) => 6..7,
+        Instrument::Ball3d(_) | Instrument::Probe(_) | Instrument::PointLength(_) => 0..3,
+    }
+}
+
+/// Copies `rows` (row-major, `p` columns) into `matrix` from row `first` on, in tiles of 64 x 64
+/// so that both the reads and the column-major writes stay in cache.
+fn copy_rows(rows: &[f64], p: usize, matrix: &mut DMatrix<f64>, first: usize) {
+    const TILE: usize = 64;
+    let n = rows.len() / p.max(1);
+    for i0 in (0..n).step_by(TILE) {
+        for j0 in (0..p).step_by(TILE) {
+            for j in j0..(j0 + TILE).min(p) {
+                let mut column = matrix.column_mut(j);
+                for i in i0..(i0 + TILE).min(n) {
+                    column[first + i] = rows[i * p + j];
+                }
+            }
         }
     }
 }
 
-/// Adds the model unknowns `theta` (user units) to the parameter vector `params` (mm, rad) at pose
-/// `q`.
-fn add_unknowns(machine: &Machine, unknowns: &[Unknown], theta: &[f64], q: &[f64], params: &mut [f64]) {
-    for (u, t) in unknowns.iter().zip(theta) {
-        if let UnknownKind::Model { index, .. } = u.kind {
-            params[index] += t * u.parameter_factor(machine, q);
+/// Buffers of one thread for the rows and exact readings of records (up to two poses each).
+struct Workspace {
+    jacobian: JacobianWorkspace,
+    /// Axis positions of the record's poses (mm, rad).
+    q: Vec<f64>,
+    /// The full `7 x P` Jacobian of one pose.
+    full: Vec<f64>,
+    /// Parameter vectors of the record's poses (mm, rad).
+    params: Vec<f64>,
+    /// `d params / d theta` of every unknown at one pose.
+    factors: Vec<f64>,
+    /// The `7 x p` Jacobians of the unknowns at the record's poses.
+    reduced: Vec<f64>,
+}
+
+impl Workspace {
+    fn new(machine: &Machine, p: usize) -> Workspace {
+        let n_params = machine.parameter_count();
+        Workspace {
+            jacobian: JacobianWorkspace::default(),
+            q: vec![0.0; 2 * machine.axis_count()],
+            full: vec![0.0; JACOBIAN_ROWS * n_params],
+            params: vec![0.0; 2 * n_params],
+            factors: vec![0.0; p],
+            reduced: vec![0.0; 2 * JACOBIAN_ROWS * p],
         }
     }
 }
@@ -447,6 +579,13 @@ fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, mac
     if m.plate && !matches!(instrument, Instrument::Probe(_)) {
         return Err(at("`plate` applies to probe measurements only".into()));
     }
+    let calibration = match &m.calibration {
+        None => None,
+        Some(_) if !matches!(instrument, Instrument::Ball3d(_)) => {
+            return Err(at("`calibration` (a sensor-frame calibration) applies to ball3d measurements only".into()))
+        }
+        Some(c) => Some(calibration(c, dir).map_err(|e| at(format!("calibration: {e}")))?),
+    };
     let nc = instrument.channels().len();
     let sigma_um = match &m.sigma_um {
         SigmaFile::One(s) => vec![*s; nc],
@@ -484,7 +623,14 @@ fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, mac
     let channels = instrument.channels();
     let readings = if channels.iter().all(|c| table.has_column(c)) {
         let columns: Vec<Vec<f64>> = channels.iter().map(|c| table.numbers(c)).collect::<Result<_, _>>().map_err(|e| at(e.to_string()))?;
-        Some((0..table.len()).flat_map(|r| columns.iter().map(move |c| c[r])).collect())
+        let mut readings: Vec<f64> = (0..table.len()).flat_map(|r| columns.iter().map(move |c| c[r])).collect();
+        if let Some(cal) = &calibration {
+            for record in readings.chunks_mut(3) {
+                let v = cal.apply(&Vec3::new(record[0], record[1], record[2]));
+                record.copy_from_slice(v.as_slice());
+            }
+        }
+        Some(readings)
     } else if channels.iter().any(|c| table.has_column(c)) {
         return Err(at(format!("{data_name}: has some but not all of the reading columns {}", channels.join(", "))));
     } else {
@@ -500,6 +646,7 @@ fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, mac
         poses,
         lines: first.lines,
         readings,
+        calibration,
     };
     if m.plate {
         let mut q = vec![0.0; n];
@@ -511,4 +658,21 @@ fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, mac
         measurement.plate_centre = Some(centre / measurement.records() as f64);
     }
     Ok(measurement)
+}
+
+/// The sensor-frame calibration of a ball3d measurement: a cube data file (relative to the campaign
+/// file) or a given matrix and offset.
+fn calibration(c: &CalibrationFile, dir: &Path) -> Result<SensorCalibration, String> {
+    match (&c.cube, &c.matrix) {
+        (Some(cube), None) if c.offset_um.is_none() => SensorCalibration::from_cube_file(&dir.join(cube)).map_err(|e| e.to_string()),
+        (None, Some(rows)) => {
+            let a = Matrix3::from_fn(|r, col| rows[r][col]);
+            let d = Vec3::from(c.offset_um.unwrap_or([0.0; 3]));
+            SensorCalibration::from_matrix(a, d).map_err(|e| e.to_string())
+        }
+        _ => Err(
+            "give either `cube` (a data file with tx,ty,tz,sx,sy,sz in um) or `matrix` (rows of [e1 e2 e3]) with an optional `offset_um`"
+                .into(),
+        ),
+    }
 }

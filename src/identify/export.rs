@@ -13,7 +13,9 @@ use std::collections::BTreeMap;
 /// The error-values TOML with the identified values set: `nominal_text` (the campaign's
 /// `nominal_errors` file, its comments kept; empty for none) with every identified parameter
 /// replaced. Constants go to `[constant]`; identified powers of a motion error make it a
-/// `[polynomial.NAME]` whose other coefficients come from the nominal errors.
+/// `[polynomial.NAME]` whose other coefficients come from the nominal errors; a motion error
+/// identified as a basis is written as `[basis.NAME]` with the campaign's basis and the identified
+/// coefficients.
 pub fn error_values_text(
     result: &Identification,
     campaign: &Campaign,
@@ -26,12 +28,16 @@ pub fn error_values_text(
             by_id.entry(id).or_default().push((power, *value));
         }
     }
-    let header = format!(
-        "# Parameters {} identified by `trueaxis identify` from {}\n",
-        by_id.keys().map(ToString::to_string).collect::<Vec<_>>().join(" "),
-        campaign.origin
-    );
+    let mut names: Vec<String> = by_id.keys().chain(campaign.bases.iter().map(|b| &b.id)).map(ToString::to_string).collect();
+    names.sort();
+    let header = format!("# Parameters {} identified by `trueaxis identify` from {}\n", names.join(" "), campaign.origin);
     let mut text = nominal_text.to_string();
+    let nominal_file = |m: String| IdentifyError::Input(format!("nominal errors file: {m}"));
+    for b in &campaign.bases {
+        let coefficients = result.values[b.first..b.first + b.basis.len()].to_vec();
+        let function = ErrorFunction::basis(b.basis.clone(), coefficients).map_err(nominal_file)?;
+        text = set_error_function(&text, &b.id, None, &function).map_err(nominal_file)?;
+    }
     for (id, powers) in by_id {
         let existing = nominal.entries().find(|(i, _)| **i == id).map(|(_, f)| f.clone());
         let function = if powers.iter().all(|(k, _)| *k == 0) && !matches!(existing, Some(ErrorFunction::Polynomial { .. })) {
@@ -50,7 +56,7 @@ pub fn error_values_text(
             }
             ErrorFunction::Polynomial { coefficients }
         };
-        text = set_error_function(&text, &id, None, &function).map_err(|m| IdentifyError::Input(format!("nominal errors file: {m}")))?;
+        text = set_error_function(&text, &id, None, &function).map_err(nominal_file)?;
     }
     Ok(format!("{header}{text}"))
 }
@@ -70,7 +76,7 @@ pub fn identification_json(result: &Identification, campaign: &Campaign) -> Valu
     let mut parameters = Map::new();
     let mut nuisance = Map::new();
     for (j, u) in campaign.unknowns.iter().enumerate() {
-        let entry = json!({
+        let mut entry = json!({
             "value": number(result.values[j]),
             "unit": u.unit,
             "std_uncertainty": result.std_uncertainty[j].map_or(Value::Null, number),
@@ -80,6 +86,9 @@ pub fn identification_json(result: &Identification, campaign: &Campaign) -> Valu
             "sensitivity_um": number(report.sensitivity[j]),
             "independence": number(report.independence[j]),
         });
+        if let Some(function) = &u.function {
+            entry["function"] = json!(function);
+        }
         if u.is_model() {
             parameters.insert(u.name.clone(), entry);
         } else {

@@ -5,13 +5,16 @@
 use super::campaign::{Campaign, Measurement};
 use super::IdentifyError;
 use crate::errors::ErrorModel;
+use crate::geometry::Vec3;
 use crate::machine::Machine;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, StandardNormal};
 
 /// Readings (um, `channels` per record) of every measurement, with the errors `truth`; with
-/// `seed`, noise `N(0, sigma_um^2)` per channel is added (ChaCha8, reproducible).
+/// `seed`, noise `N(0, sigma_um^2)` per channel is added (ChaCha8, reproducible). A measurement
+/// with a sensor-frame calibration gets the raw sensor readings that its calibration maps to these
+/// values (`sigma_um` is the noise of the calibrated readings), as its data file holds them.
 pub fn simulate_campaign(
     campaign: &Campaign,
     machine: &Machine,
@@ -34,6 +37,11 @@ pub fn simulate_campaign(
                     v += z * m.sigma_um[c];
                 }
                 readings.push(v);
+            }
+            if let Some(calibration) = &m.calibration {
+                let record = readings.len() - nc;
+                let raw = calibration.reading_of(&Vec3::new(readings[record], readings[record + 1], readings[record + 2]));
+                readings[record..].copy_from_slice(raw.as_slice());
             }
         }
         out.push(readings);

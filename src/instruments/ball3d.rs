@@ -1,12 +1,14 @@
 //! 3D ball instruments (R-test, CapBall): the three components of the position of a tool-side
 //! point (sensing-head centre `P_t`) relative to a workpiece-side point (master-ball centre `P_w`),
 //! actual minus nominal (seed 004 §3.1, eq. 2), and the sensor-frame calibration of a 3D head from a
-//! programmed cube (seed 004 §3.3, eqs. 6-10).
+//! programmed cube (seed 004 §3.3, eqs. 6-10), given as a matrix or fitted from a cube data file.
 
+use crate::data::CsvTable;
 use crate::geometry::Vec3;
 use crate::machine::Machine;
 use crate::model::{volumetric_error, Frame, Setup};
-use nalgebra::{DMatrix, Matrix4};
+use nalgebra::{DMatrix, Matrix3, Matrix4};
+use std::path::Path;
 use thiserror::Error;
 
 /// A 3D ball measurement setup.
@@ -86,7 +88,64 @@ impl SensorCalibration {
         }
         let pinv = svd.pseudo_inverse(1e-12 * largest).map_err(|e| SensorCalibrationError::Input(e.to_string()))?;
         let m = delta_t * pinv;
-        Ok(SensorCalibration { matrix: Matrix4::from_fn(|r, c| m[(r, c)]) })
+        SensorCalibration { matrix: Matrix4::from_fn(|r, c| m[(r, c)]) }.checked()
+    }
+
+    /// From a given sensor map: the columns `e1 e2 e3` of `a` (machine-frame displacement per unit
+    /// of each sensor reading) and the offset `d` (um): `M = [a d; 0 1]` (seed 004 eq. 10).
+    pub fn from_matrix(a: Matrix3<f64>, d: Vec3) -> Result<SensorCalibration, SensorCalibrationError> {
+        let mut matrix = Matrix4::identity();
+        matrix.fixed_view_mut::<3, 3>(0, 0).copy_from(&a);
+        matrix.fixed_view_mut::<3, 1>(0, 3).copy_from(&d);
+        SensorCalibration { matrix }.checked()
+    }
+
+    /// Fitted from a cube data file (CSV, `#` comments): one row per programmed point with the
+    /// programmed displacement `tx,ty,tz` and the sensor readings `sx,sy,sz`, all in um (seed 004:
+    /// 125 points on a 0.2 mm cube). Errors name the file.
+    pub fn from_cube_file(path: &Path) -> Result<SensorCalibration, SensorCalibrationError> {
+        let origin = path.display().to_string();
+        let table = CsvTable::read(path).map_err(|e| SensorCalibrationError::Input(e.to_string()))?;
+        let column = |name: &str| {
+            table.numbers(name).map_err(|e| SensorCalibrationError::Input(format!("{e} (a cube file has columns tx,ty,tz,sx,sy,sz in um)")))
+        };
+        let points = |x: &str, y: &str, z: &str| -> Result<Vec<Vec3>, SensorCalibrationError> {
+            let (x, y, z) = (column(x)?, column(y)?, column(z)?);
+            Ok((0..x.len()).map(|i| Vec3::new(x[i], y[i], z[i])).collect())
+        };
+        let programmed = points("tx", "ty", "tz")?;
+        let readings = points("sx", "sy", "sz")?;
+        SensorCalibration::fit(&programmed, &readings)
+            .map_err(|SensorCalibrationError::Input(m)| SensorCalibrationError::Input(format!("{origin}: {m}")))
+    }
+
+    /// Refuses a map that is not finite or whose sensor axes are (nearly) dependent, so that
+    /// [`SensorCalibration::reading_of`] exists.
+    fn checked(self) -> Result<SensorCalibration, SensorCalibrationError> {
+        if self.matrix.iter().any(|v| !v.is_finite()) {
+            return Err(SensorCalibrationError::Input("the sensor map must be finite numbers".into()));
+        }
+        let singular = self.linear().singular_values();
+        if singular.min() <= 1e-6 * singular.max() {
+            return Err(SensorCalibrationError::Input(format!(
+                "the sensor axes e1 e2 e3 are (nearly) dependent (singular values {:.3e} .. {:.3e})",
+                singular.min(),
+                singular.max()
+            )));
+        }
+        Ok(self)
+    }
+
+    /// The 3x3 part `[e1 e2 e3]`.
+    pub fn linear(&self) -> Matrix3<f64> {
+        self.matrix.fixed_view::<3, 3>(0, 0).into_owned()
+    }
+
+    /// The sensor reading that [`SensorCalibration::apply`] maps to `displacement`:
+    /// `[e1 e2 e3]^-1 (displacement - d)` (for simulating raw sensor readings).
+    pub fn reading_of(&self, displacement: &Vec3) -> Vec3 {
+        let inverse = self.linear().try_inverse().expect("checked on construction: the sensor axes are independent");
+        inverse * (displacement - self.offset())
     }
 
     /// Machine-frame displacement of a sensor reading: `M [s; 1]`.
@@ -120,7 +179,6 @@ impl SensorCalibration {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::Matrix3;
 
     #[test]
     fn cube_recovers_a_known_sensor_map_exactly() {
@@ -144,6 +202,30 @@ mod tests {
         assert!((cal.projections()[0] - 0.998 * -0.030).abs() < 1e-12);
         let s = readings[17];
         assert!((cal.apply(&s) - programmed[17]).norm() < 1e-10);
+    }
+
+    #[test]
+    fn a_given_matrix_and_a_cube_file_give_the_same_map() {
+        let a = Matrix3::new(0.998, -0.030, -0.029, 0.004, 0.996, -0.021, -0.002, 0.003, 0.996);
+        let d = Vec3::new(4.0, -7.5, 9.0);
+        let given = SensorCalibration::from_matrix(a, d).unwrap();
+        let dir = tempfile::tempdir().unwrap();
+        let mut csv = String::from("# programmed (um), readings (um)\ntx,ty,tz,sx,sy,sz\n");
+        for t in SensorCalibration::cube(Vec3::zeros(), 200.0, 3) {
+            let s = given.reading_of(&t);
+            csv += &format!("{},{},{},{},{},{}\n", t.x, t.y, t.z, s.x, s.y, s.z);
+        }
+        let path = dir.path().join("cube.csv");
+        std::fs::write(&path, csv).unwrap();
+        let fitted = SensorCalibration::from_cube_file(&path).unwrap();
+        assert!((fitted.matrix - given.matrix).amax() < 1e-9, "{}", fitted.matrix - given.matrix);
+        let t = Vec3::new(12.0, -30.0, 7.0);
+        assert!((given.apply(&given.reading_of(&t)) - t).norm() < 1e-12);
+        std::fs::write(&path, "tx,ty,tz,sx,sy\n0,0,0,0,0\n").unwrap();
+        let e = SensorCalibration::from_cube_file(&path).unwrap_err().to_string();
+        assert!(e.contains("cube.csv") && e.contains("sz"), "{e}");
+        let flat = Matrix3::new(1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0);
+        assert!(SensorCalibration::from_matrix(flat, d).unwrap_err().to_string().contains("dependent"));
     }
 
     #[test]

@@ -90,20 +90,23 @@ struct SimulateArgs {
 trueaxis design optimal --machine examples/machines/kx8five.toml \\\n      \
 --campaign examples/campaigns/kx8five/campaign.toml --count 40 --criterion d --json\n\n\
 Criteria (all minimised, sigma-weighted rows, n = count): d = det(n M^-1)^(1/p), a = trace(n M^-1)/p,\n\
-e = largest eigenvalue of n M^-1, g = largest n g^T M^-1 g over the candidate rows.")]
+e = largest eigenvalue of n M^-1, g = largest n trace(X_r M^-1 X_r^T) over the candidate records r\n\
+(the summed prediction variance of a record's readings; p at a D-optimal approximate design).\n\
+A candidate set or a design that cannot determine every unknown is an error naming the unseen\n\
+combinations (exit 1); --count too small to hold p readings is bad input (exit 2).")]
 struct OptimalArgs {
     #[arg(long)]
     machine: PathBuf,
     #[arg(long)]
     campaign: PathBuf,
-    /// Number of records to choose (repetitions allowed).
-    #[arg(long)]
+    /// Number of records to choose (repetitions allowed), at least 1.
+    #[arg(long, value_parser = at_least_one)]
     count: usize,
     /// d, a, e or g.
     #[arg(long, default_value = "d", value_parser = Criterion::parse)]
     criterion: Criterion,
-    /// Random starts of the exchange algorithm.
-    #[arg(long, default_value_t = 5)]
+    /// Random starts of the exchange algorithm, at least 1.
+    #[arg(long, default_value_t = 5, value_parser = at_least_one)]
     starts: usize,
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -112,6 +115,14 @@ struct OptimalArgs {
     out: Option<PathBuf>,
     #[arg(long)]
     json: bool,
+}
+
+/// A count of at least 1.
+fn at_least_one(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(n) if n >= 1 => Ok(n),
+        _ => Err(format!("`{text}`: expected a whole number of at least 1")),
+    }
 }
 
 pub fn run(args: DesignArgs) -> Result<(), Failure> {
@@ -193,16 +204,21 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
             nalgebra::DMatrix::from_fn(rows.len(), design.matrix.ncols(), |i, j| design.matrix[(rows[i], j)] / design.sigma_um[rows[i]])
         })
         .collect();
-    let set = CandidateSet::new(candidates).map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", args.campaign.display())))?;
+    let set = CandidateSet::new(candidates)
+        .map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", args.campaign.display())))?
+        .with_names(&design.names, &design.units);
+    // a design that cannot determine every unknown is a failed computation (exit 1), named like
+    // `identify` names it; a --count too small for the unknowns is bad input (exit 2)
+    let in_campaign = |e: IdentifyError| match e {
+        IdentifyError::RankDeficient { message } => {
+            Failure::computation(anyhow::anyhow!("{}: rank deficient: {message}", args.campaign.display()))
+        }
+        IdentifyError::Input(message) => Failure::input(anyhow::anyhow!("--count {}: {message}", args.count)),
+        other => identify_failure(other),
+    };
+    let (chosen, criteria) = set.exchange(args.count, args.criterion, args.starts, args.seed).map_err(in_campaign)?;
     let all: Vec<usize> = (0..set.len()).collect();
-    let full = set.criteria(&all);
-    let (chosen, criteria) = set.exchange(args.count, args.criterion, args.starts, args.seed).ok_or_else(|| {
-        Failure::computation(anyhow::anyhow!(
-            "no design of {} records determines the {} unknowns (choose more records or check identifiability)",
-            args.count,
-            design.names.len()
-        ))
-    })?;
+    let full = set.criteria(&all).map_err(in_campaign)?;
     if let Some(path) = &args.out {
         let letters: Vec<String> = machine.axes().iter().map(|a| a.letter.to_string()).collect();
         let mut text = format!("measurement,line,{}\n", letters.join(","));
@@ -216,7 +232,10 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
         }
         write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
     }
-    let criteria_json = |c: &trueaxis::identify::DesignCriteria| serde_json::json!({"d": c.d, "a": c.a, "e": c.e, "g": c.g, "average_variance": c.average_variance});
+    let criteria_json = |c: &trueaxis::identify::DesignCriteria| {
+        serde_json::json!({"d": c.d, "a": c.a, "e": c.e, "g": c.g, "average_variance": c.average_variance,
+                           "max_reading_variance": c.max_reading_variance})
+    };
     let records: Vec<serde_json::Value> = chosen
         .iter()
         .map(|&c| {
@@ -231,7 +250,7 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
             "parameters": design.names,
             "chosen": records,
             "criteria": criteria_json(&criteria),
-            "all_candidates": full.map(|c| criteria_json(&c)),
+            "all_candidates": criteria_json(&full),
             "candidates": set.len(),
         });
         return crate::identify::print(&format!("{doc}\n"));
@@ -243,18 +262,15 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
         set.len(),
         design.names.len()
     );
-    text += &format!("  chosen:     D {:.4e}  A {:.4e}  E {:.4e}  G {:.4}\n", criteria.d, criteria.a, criteria.e, criteria.g);
-    if let Some(c) = full {
-        text += &format!(
-            "  all {:>5}:  D {:.4e}  A {:.4e}  E {:.4e}  G {:.4}  (per record, n = {})\n",
-            set.len(),
-            c.d,
-            c.a,
-            c.e,
-            c.g,
-            set.len()
-        );
-    }
+    let line = |c: &trueaxis::identify::DesignCriteria| {
+        format!("D {:.4e}  A {:.4e}  E {:.4e}  G {:.4}  (max reading variance {:.4})", c.d, c.a, c.e, c.g, c.max_reading_variance)
+    };
+    text += &format!("  chosen:     {}\n", line(&criteria));
+    text += &format!("  all {:>5}:  {}  (n = {})\n", set.len(), line(&full), set.len());
+    text += &format!(
+        "  (G: largest summed prediction variance of one record's readings over the candidates; p = {} at a D-optimal design)\n",
+        design.names.len()
+    );
     text += "records (measurement:line):";
     for r in &records {
         text += &format!(" {}:{}", r["measurement"].as_str().unwrap_or(""), r["line"]);

@@ -20,7 +20,8 @@ enum SolverArg {
 #[command(after_help = "Example (seed 004, the 14 KX8-Five parameters from 807 CapBall poses):\n  \
 trueaxis identify --machine examples/machines/kx8five.toml \\\n      \
 --campaign examples/campaigns/kx8five/campaign.toml --out identified.toml\n\n\
-Values are in um (translations), urad (rotations) or um per mm^k (polynomial powers). A parameter\n\
+Values are in um (translations), urad (rotations) or um per mm^k (polynomial powers, basis\n\
+coefficients NAME#l of a campaign [basis.NAME], printed with the function they multiply). A parameter\n\
 set the measurements cannot separate is an error (exit 1) naming the inseparable combination,\n\
 unless --allow-rank-deficient is given. --out writes an error-values file that predict accepts.")]
 pub struct IdentifyArgs {
@@ -122,11 +123,17 @@ fn table(campaign: &Campaign, result: &Identification, out: Option<&PathBuf>) ->
     );
     let _ = writeln!(s, "\n{:<16} {:>12} {:>10} {:<8} {:>11} {:>12}", "parameter", "value", "u (k=1)", "unit", "indep.", "sens. um/u");
     for (j, name) in result.names.iter().enumerate() {
-        let u = result.std_uncertainty[j].map_or("   n/a".to_string(), |u| format!("{u:.4}"));
+        let (value, u) = value_and_uncertainty(result.values[j], result.std_uncertainty[j]);
+        let function = campaign.unknowns[j].function.as_ref().map_or(String::new(), |f| format!("  {f}"));
         let _ = writeln!(
             s,
-            "{:<16} {:>12.4} {:>10} {:<8} {:>11.3} {:>12.4}",
-            name, result.values[j], u, result.units[j], report.independence[j], report.sensitivity[j]
+            "{:<16} {:>12} {:>10} {:<8} {:>11.3} {:>12}{function}",
+            name,
+            value,
+            u,
+            result.units[j],
+            report.independence[j],
+            significant(report.sensitivity[j])
         );
     }
     let _ = writeln!(
@@ -167,6 +174,27 @@ fn table(campaign: &Campaign, result: &Identification, out: Option<&PathBuf>) ->
         let _ = writeln!(s, "\nwrote {}", path.display());
     }
     s
+}
+
+/// A value and its standard uncertainty with the same decimals: 4, or more so that the uncertainty
+/// shows two significant digits (up to 8); in scientific notation when both are below 1e-4 (powers
+/// and basis coefficients of high order, um/mm^k).
+fn value_and_uncertainty(value: f64, u: Option<f64>) -> (String, String) {
+    let size = value.abs().max(u.unwrap_or(0.0));
+    if size > 0.0 && size < 1e-4 {
+        return (format!("{value:.4e}"), u.map_or("n/a".into(), |u| format!("{u:.3e}")));
+    }
+    let decimals = u.filter(|u| *u > 0.0).map_or(4, |u| (1 - u.log10().floor() as i32).clamp(4, 8) as usize);
+    (format!("{value:.decimals$}"), u.map_or("n/a".into(), |u| format!("{u:.decimals$}")))
+}
+
+/// Four decimals between 0.01 and 1e6, else scientific.
+fn significant(v: f64) -> String {
+    if v == 0.0 || (0.01..1e6).contains(&v.abs()) {
+        format!("{v:.4}")
+    } else {
+        format!("{v:.4e}")
+    }
 }
 
 /// Writes to stdout; a closed pipe (`| head`) is not an error.
