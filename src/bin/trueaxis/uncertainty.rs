@@ -169,6 +169,9 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
         (Some(machine), Some(campaign)) if args.design.is_none() => Some(campaign_context(machine, campaign, args.point_time)?),
         _ => None,
     };
+    if args.poses.is_some() && context.is_none() {
+        return Err(Failure::input(anyhow::anyhow!("--poses needs --machine and --campaign (the parameters' effect on dx dy dz)")));
+    }
     let design = match (&args.design, &context) {
         (Some(path), _) => DesignMatrix::read_csv(path).map_err(failure)?,
         (None, Some(ctx)) => ctx.design.clone(),
