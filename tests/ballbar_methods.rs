@@ -29,7 +29,8 @@ fn round_trip(dir: &Path, machine: &str, errors: &str, method: &[&str], noise: &
     let mut files = Vec::new();
     for step in ["a1", "a2", "c1", "c2"] {
         let path = dir.join(format!("{step}.csv")).to_str().unwrap().to_string();
-        let mut args = vec!["ballbar", "simulate", "--machine", machine, "--errors", errors, "--test", step, "--noise", noise, "--out", &path];
+        let mut args =
+            vec!["ballbar", "simulate", "--machine", machine, "--errors", errors, "--test", step, "--noise", noise, "--out", &path];
         args.extend_from_slice(method);
         let out = trueaxis(&args);
         assert!(out.status.success(), "{step}: {}", String::from_utf8_lossy(&out.stderr));
@@ -56,16 +57,8 @@ fn assert_truth(doc: &serde_json::Value, truth: &[(&str, f64)], what: &str) {
     }
 }
 
-const C600U_TRUTH: [(&str, f64); 8] = [
-    ("EY0A", 35.3),
-    ("EZ0A", -33.4),
-    ("EB0A", -6.25),
-    ("EC0A", 5.8),
-    ("EX0C", 1.3),
-    ("EY0C", -52.9),
-    ("EA0C", -108.0),
-    ("EB0C", 21.7),
-];
+const C600U_TRUTH: [(&str, f64); 8] =
+    [("EY0A", 35.3), ("EZ0A", -33.4), ("EB0A", -6.25), ("EC0A", 5.8), ("EX0C", 1.3), ("EY0C", -52.9), ("EA0C", -108.0), ("EB0C", 21.7)];
 
 #[test]
 fn the_three_methods_round_trip_on_the_c600u() {
@@ -91,8 +84,11 @@ fn a_spindle_tilting_head_and_a_tilted_axis_round_trip() {
     let dir = tempfile::tempdir().unwrap();
     // head5 (wXYbZCBt): C carries B on the tool side; the spindle ball rides at the radius.
     let head = dir.path().join("head.toml");
-    std::fs::write(&head, "[constant]\nEX0C = 12.0\nEY0C = -8.0\nEA0C = 30.0\nEB0C = -20.0\nEX0B = 5.0\nEZ0B = -7.0\nEA0B = 15.0\nEC0B = 25.0\n")
-        .unwrap();
+    std::fs::write(
+        &head,
+        "[constant]\nEX0C = 12.0\nEY0C = -8.0\nEA0C = 30.0\nEB0C = -20.0\nEX0B = 5.0\nEZ0B = -7.0\nEA0B = 15.0\nEC0B = 25.0\n",
+    )
+    .unwrap();
     let doc = round_trip(dir.path(), "examples/machines/head5.toml", head.to_str().unwrap(), &[], "0");
     let truth =
         [("EX0C", 12.0), ("EY0C", -8.0), ("EA0C", 30.0), ("EB0C", -20.0), ("EX0B", 5.0), ("EZ0B", -7.0), ("EA0B", 15.0), ("EC0B", 25.0)];
@@ -262,11 +258,25 @@ fn simulate_bounds_its_inputs() {
     bad(&circle(&["--step", "1e-9"]), &["--step", "at most 1000000"]);
     bad(&circle(&["--noise", "inf"]), &["--noise"]);
     bad(&circle(&["--radius", "0"]), &["--radius"]);
-    bad(&trueaxis(&["ballbar", "simulate", "--machine", "examples/machines/vmc3.toml", "--test", "a1"]), &["rotary axes", "need exactly two"]);
+    bad(
+        &trueaxis(&["ballbar", "simulate", "--machine", "examples/machines/vmc3.toml", "--test", "a1"]),
+        &["rotary axes", "need exactly two"],
+    );
 }
 
 fn iso(file: &str) -> serde_json::Value {
-    json(&trueaxis(&["ballbar", "iso230-4", file, "--machine", "examples/machines/vmc3.toml", "--radius", "100", "--centre", "0,0,-200", "--json"]))
+    json(&trueaxis(&[
+        "ballbar",
+        "iso230-4",
+        file,
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--radius",
+        "100",
+        "--centre",
+        "0,0,-200",
+        "--json",
+    ]))
 }
 
 #[test]

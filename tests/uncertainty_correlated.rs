@@ -52,16 +52,20 @@ fn correlated_channels_against_the_sum_of_correlated_normals() {
 
 #[test]
 fn correlated_sources_are_checked() {
-    let bad = |body: &str| Sources::from_toml_str(&format!("[[source]]\nname = \"h\"\nkind = \"correlated\"\n{body}"), "s.toml").unwrap_err().to_string();
+    let bad = |body: &str| {
+        Sources::from_toml_str(&format!("[[source]]\nname = \"h\"\nkind = \"correlated\"\n{body}"), "s.toml").unwrap_err().to_string()
+    };
     assert!(bad("channels = [\"x\", \"y\"]\nu = [1, 1]\ncorrelation = [[1, 1.5], [1.5, 1]]").contains("within [-1, 1]"));
-    assert!(bad("channels = [\"x\", \"y\", \"z\"]\ncovariance = [[1, 0.9, 0.9], [0.9, 1, -0.9], [0.9, -0.9, 1]]").contains("not positive semidefinite"));
+    assert!(bad("channels = [\"x\", \"y\", \"z\"]\ncovariance = [[1, 0.9, 0.9], [0.9, 1, -0.9], [0.9, -0.9, 1]]")
+        .contains("not positive semidefinite"));
     assert!(bad("channels = [\"x\", \"y\"]\ncovariance = [[1, 0], [0.5, 1]]").contains("symmetric"));
     assert!(bad("channels = [\"x\", \"y\"]\ncovariance = [[1, 0, 0], [0, 1, 0]]").contains("2 x 2"));
     assert!(bad("channels = [\"x\", \"y\"]\nu = [1, 1]").contains("either covariance"));
     assert!(bad("channels = [\"x\", \"x\"]\ncovariance = [[1, 0], [0, 1]]").contains("twice"));
     // two observations of one channel at one time cannot be one joint draw
     let channels: Vec<String> = ["x", "x", "y", "x"].iter().map(|c| c.to_string()).collect();
-    let design = DesignMatrix::new(vec!["a".into()], &channels, vec![1.0, 1.0, 1.0, 2.0], None, None, DMatrix::from_element(4, 1, 1.0)).unwrap();
+    let design =
+        DesignMatrix::new(vec!["a".into()], &channels, vec![1.0, 1.0, 1.0, 2.0], None, None, DMatrix::from_element(4, 1, 1.0)).unwrap();
     let map = IdentificationMap::new(design).unwrap();
     let err = map.gum_covariance(&sources(0.0).sources[0]).unwrap_err().to_string();
     assert!(err.contains("two observations at t = 1"), "{err}");
@@ -112,13 +116,17 @@ fn volumetric_uncertainty_at_poses_gum_and_monte_carlo() {
         let c = doc["covariance"][kind].as_array().unwrap();
         assert_eq!(c.len(), n);
         for (i, row) in c.iter().enumerate() {
-            let u = doc["parameters"][doc["parameter_order"][i].as_str().unwrap()][if kind == "gum" { "gum" } else { "std_uncertainty" }].clone();
+            let u = doc["parameters"][doc["parameter_order"][i].as_str().unwrap()][if kind == "gum" { "gum" } else { "std_uncertainty" }]
+                .clone();
             let u = if kind == "gum" { u["std_uncertainty"].as_f64().unwrap() } else { u.as_f64().unwrap() };
             assert!((row[i].as_f64().unwrap().sqrt() - u).abs() < 1e-9 * u.max(1.0), "{kind} diagonal {i}");
         }
     }
     let poses = doc["poses"].as_array().unwrap();
-    assert_eq!(poses.len(), std::fs::read_to_string("examples/poses/kx8five.csv").unwrap().lines().filter(|l| !l.starts_with('#')).count() - 1);
+    assert_eq!(
+        poses.len(),
+        std::fs::read_to_string("examples/poses/kx8five.csv").unwrap().lines().filter(|l| !l.starts_with('#')).count() - 1
+    );
     let mut compared = 0;
     for p in poses {
         let (g, m) = (&p["gum"], &p["monte_carlo"]);
@@ -130,8 +138,12 @@ fn volumetric_uncertainty_at_poses_gum_and_monte_carlo() {
             }
         }
         for v in [g, m] {
-            let c: Vec<Vec<f64>> =
-                v["covariance_um2"].as_array().unwrap().iter().map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()).collect();
+            let c: Vec<Vec<f64>> = v["covariance_um2"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|r| r.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect())
+                .collect();
             let cm = nalgebra::Matrix3::from_fn(|i, j| c[i][j]);
             let axes: Vec<f64> = v["ellipsoid"]["axes"].as_array().unwrap().iter().map(|a| a["semi_axis_um"].as_f64().unwrap()).collect();
             assert_eq!(axes.len(), 3);
@@ -146,6 +158,14 @@ fn volumetric_uncertainty_at_poses_gum_and_monte_carlo() {
     }
     assert!(compared >= 3, "{compared}");
     // --poses needs the campaign
-    let out = trueaxis(&["uncertainty", "--design", "examples/uncertainty/kx8five_design.csv", "--sources", "examples/uncertainty/kx8five_cyclic.toml", "--poses", "examples/poses/kx8five.csv"]);
+    let out = trueaxis(&[
+        "uncertainty",
+        "--design",
+        "examples/uncertainty/kx8five_design.csv",
+        "--sources",
+        "examples/uncertainty/kx8five_cyclic.toml",
+        "--poses",
+        "examples/poses/kx8five.csv",
+    ]);
     assert_eq!(out.status.code(), Some(2));
 }

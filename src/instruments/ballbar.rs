@@ -476,7 +476,13 @@ impl Method {
 }
 
 /// The placement of one step of `method` (see [`Method`]; built on [`jiang_spec`]).
-pub fn method_spec(machine: &Machine, pair: RotaryPair, method: Method, step: JiangStep, bars: BarLengths) -> Result<RotarySpec, BallbarError> {
+pub fn method_spec(
+    machine: &Machine,
+    pair: RotaryPair,
+    method: Method,
+    step: JiangStep,
+    bars: BarLengths,
+) -> Result<RotarySpec, BallbarError> {
     let bad = |what: &str, v: f64| -> Result<(), BallbarError> {
         if v.is_finite() {
             Ok(())

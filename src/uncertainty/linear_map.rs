@@ -181,7 +181,10 @@ enum CompiledSource {
     Cyclic(CyclicMap),
     /// Joint Gaussian draws over groups of observations (the rows of one point, in the order of
     /// the source's channels; `None` where the point lacks a channel).
-    Correlated { groups: Vec<Vec<Option<usize>>>, normal: MultivariateNormal },
+    Correlated {
+        groups: Vec<Vec<Option<usize>>>,
+        normal: MultivariateNormal,
+    },
 }
 
 /// The cyclic drift of one source: per observation its drift function (index) and time.

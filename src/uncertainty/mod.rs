@@ -30,8 +30,8 @@ pub use gum::{confidence_ellipsoid, normal_coverage_factor, principal_axes, prop
 pub use intervals::{coverage_count, shortest_interval, symmetric_interval, CoverageInterval, SampleSummary};
 pub use linear_map::{Evaluation, IdentificationMap, LinearModel, LinearWorkspace};
 pub use monte_carlo::{
-    minimum_trials, run_adaptive, MAX_KEPT_VALUES, MAX_TRIALS_PER_SEQUENCE, run_sequences, trial_rng, ControlVariables, IntervalKind, McResult, McSettings, OutputResult, TrialModel,
-    BLOCK,
+    minimum_trials, run_adaptive, run_sequences, trial_rng, ControlVariables, IntervalKind, McResult, McSettings, OutputResult, TrialModel,
+    BLOCK, MAX_KEPT_VALUES, MAX_TRIALS_PER_SEQUENCE,
 };
 pub use prediction::VolumetricUncertainty;
 pub use sources::{CyclicDrift, Source, SourceKind, Sources};

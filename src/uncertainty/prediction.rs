@@ -36,7 +36,12 @@ impl VolumetricUncertainty {
 
     /// `F Cov F^T` for `F` the `3 x p` effect of the parameters on `dx dy dz` (um per parameter
     /// unit) and `cov` their `p x p` covariance (parameter units squared).
-    pub fn propagated(f: &DMatrix<f64>, cov: &DMatrix<f64>, centre: [f64; 3], level: f64) -> Result<VolumetricUncertainty, UncertaintyError> {
+    pub fn propagated(
+        f: &DMatrix<f64>,
+        cov: &DMatrix<f64>,
+        centre: [f64; 3],
+        level: f64,
+    ) -> Result<VolumetricUncertainty, UncertaintyError> {
         if f.nrows() != 3 {
             return Err(UncertaintyError::Input(format!("the sensitivity of dx dy dz has {} rows, not 3", f.nrows())));
         }
@@ -52,8 +57,8 @@ mod tests {
     #[test]
     fn ellipsoid_of_a_diagonal_covariance() {
         // variances 9, 4, 1 um^2: semi-axes sqrt(7.814728 * (9, 4, 1)) = 8.386, 5.591, 2.795 um
-        let v = VolumetricUncertainty::from_covariance(Matrix3::from_diagonal(&nalgebra::Vector3::new(4.0, 9.0, 1.0)), [0.0; 3], 0.95)
-            .unwrap();
+        let v =
+            VolumetricUncertainty::from_covariance(Matrix3::from_diagonal(&nalgebra::Vector3::new(4.0, 9.0, 1.0)), [0.0; 3], 0.95).unwrap();
         assert_eq!(v.std_uncertainty, [2.0, 3.0, 1.0]);
         for (a, l) in v.ellipsoid.semi_axes.iter().zip([9.0, 4.0, 1.0]) {
             assert!((a - (7.814728f64 * l).sqrt()).abs() < 1e-5, "{a}");

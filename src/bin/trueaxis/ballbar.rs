@@ -16,9 +16,9 @@ use trueaxis::identify::tmbb::{conditioning, differenced, fit_l2, fit_linf, obse
 use trueaxis::instruments::ballbar::{
     circle_test, method_step, read_trace, sweep_angles, BallbarTest, BarLengths, CircleSpec, JiangStep, Method, Plane, RotaryPair, Rotation,
 };
-use trueaxis::uncertainty::{trial_rng, Distribution};
 use trueaxis::machine::{Component, Machine, ParameterId};
 use trueaxis::report::{circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
+use trueaxis::uncertainty::{trial_rng, Distribution};
 
 /// Ballbar tests: simulated readings, the PIGEs of two rotary axes (seed 001), ISO 230-4 circular
 /// tests with diagnostics, the two-length rotary-table test (seed 002 ch. 5).
@@ -103,7 +103,9 @@ impl MethodArgs {
         let need = |what: &str| Failure::input(anyhow!("this --method needs {what}"));
         Ok(match self.method {
             MethodKind::ExtendedBar => Method::ExtendedBar,
-            MethodKind::TwoPivot => Method::TwoPivot { outer_offset: self.outer_offset.ok_or_else(|| need("--outer-offset MM (two-pivot)"))? },
+            MethodKind::TwoPivot => {
+                Method::TwoPivot { outer_offset: self.outer_offset.ok_or_else(|| need("--outer-offset MM (two-pivot)"))? }
+            }
             MethodKind::FourSetup => Method::FourSetup {
                 outer: self.outer_positions.ok_or_else(|| need("--outer-positions P1,P2 (four-setup, mm)"))?,
                 inner: self.inner_positions.ok_or_else(|| need("--inner-positions P1,P2 (four-setup, mm)"))?,
@@ -414,9 +416,8 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         for (step, path, trace, test) in &steps {
             let (angles, dl) = trace.run(run);
             let axis = if step.is_outer() { pair.outer } else { pair.inner };
-            check_trace(&angles).map_err(|why| {
-                Failure::input(anyhow!("{}: step {} (axis {axis}), run {run}: {why}", path.display(), step.name()))
-            })?;
+            check_trace(&angles)
+                .map_err(|why| Failure::input(anyhow!("{}: step {} (axis {axis}), run {run}: {why}", path.display(), step.name())))?;
             let geometry = test.rotary.expect("rotary test");
             let offset = if step.is_outer() { a.pivot_offset_a } else { a.pivot_offset_c };
             let start_angle = offset.map_or(0.0, |o| start_angle_error(o[0], o[1], bars.normal));
@@ -495,7 +496,8 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         for ((id, v), (_, mean, sd)) in last.values.iter().zip(&stats.parameters) {
             let (u, unit) = user_value(id, *v);
             let sd = repeated.then(|| round(user_value(id, *sd).0, 4));
-            params.insert(id.to_string(), json!({"value": round(u, 4), "unit": unit, "mean": round(user_value(id, *mean).0, 4), "std": sd}));
+            params
+                .insert(id.to_string(), json!({"value": round(u, 4), "unit": unit, "mean": round(user_value(id, *mean).0, 4), "std": sd}));
         }
         let comp: Vec<_> =
             residuals.iter().map(|(s, rms, band)| json!({"step": s, "rms_um": round(*rms, 4), "band_um": round(*band, 4)})).collect();

@@ -1,18 +1,18 @@
 //! `trueaxis uncertainty`.
 
+use crate::predict::parse_point;
 use crate::Failure;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Map, Value};
 use std::io::IsTerminal;
 use std::path::PathBuf;
-use trueaxis::data::write_atomically;
-use trueaxis::report::{interval_of, uncertainty_figures};
-use crate::predict::parse_point;
 use trueaxis::data::read_poses;
+use trueaxis::data::write_atomically;
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{solve, Campaign, Identification, IdentifyError, IndirectOptions};
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Setup};
+use trueaxis::report::{interval_of, uncertainty_figures};
 use trueaxis::uncertainty::{
     run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, IntervalKind, Sources, UncertaintyError, VolumetricUncertainty,
 };
@@ -138,8 +138,12 @@ fn pose_uncertainties(
     let internal = poses.internal(m);
     let mut out = Vec::new();
     for (user, q) in poses.user.chunks(n).zip(internal.chunks(n)) {
-        let gum = VolumetricUncertainty::from_covariance(gum_identification.volumetric_covariance(&ctx.campaign, m, q, &setup, frame), [0.0; 3], level)
-            .map_err(failure)?;
+        let gum = VolumetricUncertainty::from_covariance(
+            gum_identification.volumetric_covariance(&ctx.campaign, m, q, &setup, frame),
+            [0.0; 3],
+            level,
+        )
+        .map_err(failure)?;
         let f = ctx.campaign.unknown_jacobian(m, q, &setup, frame).rows(0, 3) * 1e3;
         let monte_carlo = VolumetricUncertainty::propagated(&f, &budget.total.covariance, [0.0; 3], level).map_err(failure)?;
         out.push(PoseUncertainty { user: m.axes().iter().map(|a| a.letter).zip(user.iter().copied()).collect(), gum, monte_carlo });
