@@ -198,50 +198,24 @@ fn identify_refuses_what_it_cannot_fit() {
     std::fs::write(&three, "X,Y,Z,A,C,angle,dir,dL\n0,0,0,-20,0,-20,ccw,-8.3\n0,0,0,-10,0,-10,ccw,-9.0\n0,0,0,0,0,0,ccw,-9.5\n").unwrap();
     let empty = dir.path().join("empty.csv");
     std::fs::write(&empty, "").unwrap();
-    let steps = |a1: &str| {
-        trueaxis(&[
-            "ballbar",
-            "identify",
-            "--machine",
-            m,
-            "--a1",
-            a1,
-            "--a2",
-            "examples/ballbar/A2.csv",
-            "--c1",
-            "examples/ballbar/C1.csv",
-            "--c2",
-            "examples/ballbar/C2.csv",
-        ])
+    // identify on the c600u with the given step files and extra options
+    let identify = |files: [&str; 4], extra: &[&str]| {
+        let mut args = vec!["ballbar", "identify", "--machine", m];
+        for (flag, f) in ["--a1", "--a2", "--c1", "--c2"].iter().zip(files) {
+            args.extend_from_slice(&[flag, f]);
+        }
+        args.extend_from_slice(extra);
+        trueaxis(&args)
     };
+    let [a1, a2, c1, c2] = ["A1", "A2", "C1", "C2"].map(|s| format!("examples/ballbar/{s}.csv"));
+    let steps = |first: &str| identify([first, &a2, &c1, &c2], &[]);
     bad(&steps(three.to_str().unwrap()), &["a1_3.csv", "step A1", "3 readings over 20.0 deg", "at least 8 readings over at least 45 deg"]);
-    bad(&steps("examples/ballbar/C1.csv"), &["C1.csv", "step A1", "over 0.0 deg"]);
+    bad(&steps(&c1), &["C1.csv", "step A1", "over 0.0 deg"]);
     bad(&steps(empty.to_str().unwrap()), &["empty.csv", "the file is empty"]);
-    let mut with_offset = vec!["ballbar", "identify", "--machine", m, "--pivot-offset-a", "0,100"];
-    for (f, p) in [("--a1", "A1"), ("--a2", "A2"), ("--c1", "C1"), ("--c2", "C2")] {
-        with_offset.push(f);
-        with_offset.push(Box::leak(format!("examples/ballbar/{p}.csv").into_boxed_str()));
-    }
-    bad(&trueaxis(&with_offset), &["--pivot-offset-a", "100.000 mm", "below 10 mm"]);
-    let mut two_pivot = with_offset.clone();
-    two_pivot.splice(4..6, ["--method", "two-pivot"]);
-    bad(&trueaxis(&two_pivot), &["--outer-offset"]);
+    bad(&identify([&a1, &a2, &c1, &c2], &["--pivot-offset-a", "0,100"]), &["--pivot-offset-a", "100.000 mm", "below 10 mm"]);
+    bad(&identify([&a1, &a2, &c1, &c2], &["--method", "two-pivot"]), &["--outer-offset"]);
     // swapped C files: accepted (each is a full circle) but warned about, with the residual
-    let swapped = trueaxis(&[
-        "ballbar",
-        "identify",
-        "--machine",
-        m,
-        "--a1",
-        "examples/ballbar/A1.csv",
-        "--a2",
-        "examples/ballbar/A2.csv",
-        "--c1",
-        "examples/ballbar/C2.csv",
-        "--c2",
-        "examples/ballbar/C1.csv",
-        "--json",
-    ]);
+    let swapped = identify([&a1, &a2, &c2, &c1], &["--json"]);
     let doc = json(&swapped);
     let warnings = doc["warnings"].as_array().unwrap();
     assert!(warnings.iter().any(|w| w.as_str().unwrap().contains("step C1 (examples/ballbar/C2.csv)")), "{warnings:?}");

@@ -132,7 +132,6 @@ fn trim(v: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
-
 /// The polar plot of the runs of an ISO 230-4 circular test (one trace per run, labelled CCW / CW),
 /// with `lines` (the evaluation's summary) beside it; `um_per_division` as in [`PolarPlot`].
 pub fn circular_runs_svg(
