@@ -118,6 +118,35 @@ fn a_spindle_tilting_head_and_a_tilted_axis_round_trip() {
     assert_truth(&doc, &truth, "kx8five");
 }
 
+#[test]
+fn one_rotary_axis_on_each_side_simulates_but_is_not_identified() {
+    // wCXYbZAt (swivelling head A, rotary table C): the steps simulate; identify refuses with the
+    // reason (a common shift of both axis lines moves tool and workpiece together).
+    let dir = tempfile::tempdir().unwrap();
+    let machine = dir.path().join("mixed.toml");
+    std::fs::write(
+        &machine,
+        "name = \"head A + table C\"\nstructure = \"wCXYbZAt\"\n[axes]\n\
+         X = { kind = \"linear\", direction = [-1, 0, 0], range = [-500, 500] }\n\
+         Y = { kind = \"linear\", direction = [0, -1, 0], range = [-300, 300] }\n\
+         Z = { kind = \"linear\", direction = [0, 0, 1], range = [-450, 0] }\n\
+         A = { kind = \"rotary\", direction = [1, 0, 0], point = [0, 0, 400], range = [-100, 100] }\n\
+         C = { kind = \"rotary\", direction = [0, 0, 1], point = [0, 0, 0] }\n[tool]\npoint = [0, 0, 200]\n",
+    )
+    .unwrap();
+    let m = machine.to_str().unwrap();
+    let mut files = Vec::new();
+    for step in ["a1", "a2", "c1", "c2"] {
+        let path = dir.path().join(format!("{step}.csv")).to_str().unwrap().to_string();
+        let out = trueaxis(&["ballbar", "simulate", "--machine", m, "--test", step, "--out", &path]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        files.push(path);
+    }
+    let out =
+        trueaxis(&["ballbar", "identify", "--machine", m, "--a1", &files[0], "--a2", &files[1], "--c1", &files[2], "--c2", &files[3]]);
+    bad(&out, &["different sides of the chain", "changes no bar length", "wCAbYXZt", "wXYbZCBt"]);
+}
+
 /// Pearson correlation of two equally long series.
 fn correlation(a: &[f64], b: &[f64]) -> f64 {
     let n = a.len() as f64;

@@ -267,7 +267,9 @@ fn perpendicular(v: &Vec3, d: &Vec3) -> Vec3 {
 }
 
 /// Identifies the 8 PIGEs of `pair` from traces of both axes (seed 001 ch. 4, 5 or 6): `outer`
-/// traces sweep the outer axis, `inner` traces the inner one (with the outer axis at 0). Each axis
+/// traces sweep the outer axis, `inner` traces the inner one (with the outer axis at 0). Both axes
+/// must be on the same side of the chain (the outer carrying the inner): with one on each side a
+/// common shift of both lines changes no bar length, and the error says so. Each axis
 /// needs traces at two different spindle positions for its orientation PIGEs; with one position
 /// the orientation is reported as 0 and not corrected for.
 pub fn identify_piges(machine: &Machine, pair: RotaryPair, outer: &[DbbTrace], inner: &[DbbTrace]) -> Result<Piges, IdentifyError> {
@@ -278,20 +280,24 @@ pub fn identify_piges(machine: &Machine, pair: RotaryPair, outer: &[DbbTrace], i
             return Err(IdentifyError::Input(format!("a trace given for axis {letter} sweeps another axis")));
         }
     }
+    if !pair.inner_carried_by_outer(machine) {
+        return Err(IdentifyError::Input(format!(
+            "machine `{}`: the rotary axes {} and {} are on different sides of the chain (one carries the tool, the other the workpiece); \
+             a shift of both axis lines by one displacement moves the tool and the workpiece together and changes no bar length, so their \
+             PIGEs cannot be separated by these tests. Identification supports two rotary axes on the same side (a tilting table such as \
+             wCAbYXZt, a tilting head such as wXYbZCBt), in any direction; `simulate` works on any machine",
+            machine.name, pair.outer, pair.inner
+        )));
+    }
     let (ax_o, ax_i) = (&machine.axes()[o], &machine.axes()[i]);
     let outer_line = axis_line(machine, outer)?;
     let inner_line = axis_line(machine, inner)?;
     let tilt_o = outer_line.tilt.unwrap_or_else(Vec3::zeros);
     let di = ax_i.direction;
-    // Table 5.1: when the outer axis carries the inner one, remove the outer's offset and tilt
-    // (an axis on the other side of the chain is not moved by them).
-    let (offset_i, tilt_i) = if pair.inner_carried_by_outer(machine) {
-        let carried = outer_line.offset + tilt_o.cross(&(ax_i.point - ax_o.point));
-        (inner_line.offset - perpendicular(&carried, &di), inner_line.tilt.map(|t| t - perpendicular(&tilt_o, &di)))
-    } else {
-        (inner_line.offset, inner_line.tilt)
-    };
-    let tilt_i = tilt_i.unwrap_or_else(Vec3::zeros);
+    // Table 5.1: the inner axis is carried by the outer; remove the outer's offset and tilt.
+    let carried = outer_line.offset + tilt_o.cross(&(ax_i.point - ax_o.point));
+    let offset_i = inner_line.offset - perpendicular(&carried, &di);
+    let tilt_i = inner_line.tilt.map(|t| t - perpendicular(&tilt_o, &di)).unwrap_or_else(Vec3::zeros);
     let mut values = named(pair.outer, &ax_o.direction, &outer_line.offset, &tilt_o);
     values.extend(named(pair.inner, &di, &offset_i, &tilt_i));
     Ok(Piges { values, outer: outer_line, inner: inner_line })
