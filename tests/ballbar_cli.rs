@@ -16,8 +16,10 @@ fn json(out: &Output) -> serde_json::Value {
 #[test]
 fn identify_recovers_the_piges_the_examples_were_simulated_with() {
     // examples/ballbar/A1..C2.csv: simulated from c600u_piges.toml with 0.3 um noise (seed 7). The
-    // position PIGEs come back within 0.5 um, the orientation PIGEs within 5 urad (about 1 arcsec;
-    // the A-axis ones from a 90 deg arc are the weakest).
+    // tolerances are 3 standard deviations of each PIGE at 0.3 um noise: 0.3 x the 1 um standard
+    // deviations of the Monte Carlo in tests/ballbar_pige.rs (EY0A 0.99, EZ0A 0.51, EX0C 0.08,
+    // EY0C 0.99 um; EB0A 8.5, EC0A 16.5, EA0C 1.24, EB0C 8.7 urad): the A-axis orientation from a
+    // 90 deg arc is the weakest value, as the thesis found.
     let out = trueaxis(&[
         "ballbar",
         "identify",
@@ -34,24 +36,31 @@ fn identify_recovers_the_piges_the_examples_were_simulated_with() {
         "--json",
     ]);
     let doc = json(&out);
-    let truth = [
-        ("EY0A", 35.3, 0.5),
-        ("EZ0A", -33.4, 0.5),
-        ("EX0C", 1.3, 0.5),
-        ("EY0C", -52.9, 0.5),
-        ("EB0A", -6.25, 5.0),
-        ("EC0A", 5.8, 5.0),
-        ("EA0C", -108.0, 5.0),
-        ("EB0C", 21.7, 5.0),
+    let sd_at_1_um = [
+        ("EY0A", 35.3, 0.99),
+        ("EZ0A", -33.4, 0.51),
+        ("EX0C", 1.3, 0.08),
+        ("EY0C", -52.9, 0.99),
+        ("EB0A", -6.25, 8.5),
+        ("EC0A", 5.8, 16.5),
+        ("EA0C", -108.0, 1.24),
+        ("EB0C", 21.7, 8.7),
     ];
+    let truth = sd_at_1_um.map(|(name, value, sd)| (name, value, 3.0 * 0.3 * sd));
     for (name, value, tol) in truth {
         let got = doc["parameters"][name]["value"].as_f64().unwrap();
         assert!((got - value).abs() < tol, "{name}: {got} vs {value}");
     }
+    // The normal-bar steps leave the 0.3 um noise; the extended-bar ones also the error of the
+    // identified orientation times D = 111.8 mm (the PIGEs are two circle centres, not a fit of
+    // each trace): below the warning threshold of identify (3 x --noise, 1 um by default).
     for step in doc["compensation_residual"].as_array().unwrap() {
         let rms = step["rms_um"].as_f64().unwrap();
-        assert!((0.2..0.45).contains(&rms), "{step}: the residual is the 0.3 um noise");
+        let extended = step["step"] == "A2" || step["step"] == "C2";
+        let range = if extended { 0.2..1.0 } else { 0.2..0.45 };
+        assert!(range.contains(&rms), "{step}: the residual is the 0.3 um noise");
     }
+    assert!(doc["warnings"].as_array().unwrap().is_empty());
 }
 
 #[test]
@@ -74,10 +83,14 @@ fn iso230_4_example_gives_the_simulated_diagnostics() {
         "--json",
     ]);
     let doc = json(&out);
-    let value = |name: &str| {
-        doc["diagnostics"].as_array().unwrap().iter().find(|d| d["name"] == name).unwrap_or_else(|| panic!("{name}"))["value"]
-            .as_f64()
-            .unwrap()
+    // a term refitted out as not significant (listed in "omitted") counts as 0
+    let value = |name: &str| match doc["diagnostics"].as_array().unwrap().iter().find(|d| d["name"] == name) {
+        Some(d) => d["value"].as_f64().unwrap(),
+        None => {
+            let omitted = doc["omitted"].as_array().unwrap();
+            assert!(omitted.iter().any(|o| o.as_str().unwrap().starts_with(&format!("{name}: not significant"))), "{name}: {omitted:?}");
+            0.0
+        }
     };
     for (name, truth, tol) in [
         ("squareness", 25.0, 0.5),

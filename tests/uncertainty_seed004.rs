@@ -164,34 +164,78 @@ fn seed_004_statistical_versus_cyclic_drift() {
 
 #[test]
 fn adaptive_loop_converges_like_seed_004_fig_13() {
-    // seed 004 §5.2: M = 10^4, delta = 0.05, convergence after h = 17..24 sequences, the interval
-    // endpoints converging last. With the timing of eq. 12 (one random t0 per sequence, trials
-    // following each other) each sequence sweeps the drift cycle, so the sequence means agree
-    // closely and the endpoints limit; with a random phase in every trial the means limit.
+    // Seed 004 §5.2: M = 10^4, delta = 0.05 um or urad, convergence after h = 17..24 sequences.
+    //
+    // Why the timing of eq. 12 converges at once here: point k of trial n is measured at
+    // t0 + (n - 1) t_m + k t_i, so the drift phase of trial n is t0 + n t_m (mod T). With
+    // t_m = 807 x 0.75 s = 605.25 s and T = 1000 s, t_m / T = 2421/4000: the 10^4 trials of a
+    // sequence visit 4000 evenly spaced phases 2 or 3 times each, whatever t0 is, so the drift part
+    // of every sequence is nearly the same sample (a quasi-random, low-discrepancy sweep of the cycle):
+    // only the Gaussian sources vary between sequences and h = 2 or 3 (h >= 2 is the least the
+    // procedure allows, JCGM 101 §7.9.4 e).
+    //
+    // The paper's 17..24 needs sequences that differ like independent samples: a random phase per
+    // trial. Then the sequence mean of output j has the standard deviation u_j / sqrt(M); the
+    // stopping rule 2 s_y <= delta with s_y^2 = var / h gives h* = 4 u_max^2 / (M delta^2), the
+    // control variables of the standard uncertainty and the endpoints being smaller for these
+    // arc-sine-like outputs (sd of a 2.5 % endpoint ~ 0.05 u / sqrt(M)). With this design the largest
+    // u is 15.6 (the drift, about twice the paper's largest Table 5 values), so h* = 39; h scatters
+    // about h* because s_y is estimated from h sequences (a chi distribution with h - 1 degrees of
+    // freedom: +-2 of its standard deviations 1 / sqrt(2 (h - 1)) ~ +-23 % in s, +-37 % in h). The
+    // paper's 17..24 with its endpoints limiting fits neither case exactly: its drift period is not
+    // given, and a period that leaves a sequence's phases unevenly spread (t_m / T near a simple
+    // fraction) gives sequences between the two cases. The adaptive procedure can also stop early by
+    // chance (6 seeds: one stopped at h = 4, its s_y from 4 sequences being small): JCGM 101
+    // §7.9.4 has no guard against it; the test allows one such stop in six.
     let map = IdentificationMap::new(kx8five_design()).unwrap();
-    for (phase, low, high) in [(StartPhase::Sequence, 2, 24), (StartPhase::Trial, 17, 60)] {
+    let s = settings();
+    for phase in [StartPhase::Sequence, StartPhase::Trial] {
         let mut src = sources(true);
         if let SourceKind::CyclicDrift(c) = &mut src[0].kind {
             c.start_phase = phase;
         }
         let refs: Vec<&Source> = src.iter().collect();
         let model = map.model(&refs, Evaluation::Reduced).unwrap();
-        for seed in 1..=3 {
-            let mut s = settings();
+        let mut hs = Vec::new();
+        let mut early = 0;
+        for seed in 1..=6 {
+            let mut s = s.clone();
             s.seed = seed;
             let mut seen = 0;
             let r = run_adaptive(&model, &s, &mut |h, _| seen = h).unwrap();
             let last = r.history.last().unwrap();
-            eprintln!("{phase:?} seed {seed}: h = {}, control variables {:?}", r.sequences, last.max);
             assert!(r.converged && seen == r.sequences && r.history.len() == r.sequences - 1);
-            assert!((low..=high).contains(&r.sequences), "{phase:?}: h = {}", r.sequences);
             assert!(last.max.iter().all(|v| 2.0 * v <= 0.05));
+            let u_max = r.outputs.iter().map(|o| o.std_uncertainty).fold(0.0, f64::max);
+            let h_star = 4.0 * u_max * u_max / (s.trials_per_sequence as f64 * 0.05 * 0.05);
+            eprintln!("{phase:?} seed {seed}: h = {}, h* = {h_star:.1} (u_max {u_max:.3}), control variables {:?}", r.sequences, last.max);
             let endpoints = last.max[2].max(last.max[3]);
-            if phase == StartPhase::Sequence {
-                assert!(endpoints > last.max[0] && endpoints > last.max[1], "endpoints limit: {:?}", last.max);
-            } else {
-                assert!(last.max[0] > endpoints, "the means limit: {:?}", last.max);
+            match phase {
+                StartPhase::Sequence => {
+                    // the 4000-phase grid: done at once, the endpoints limiting (as in the paper's Fig. 13)
+                    assert!((2..=4).contains(&r.sequences), "h = {}", r.sequences);
+                    assert!(endpoints > last.max[0] && endpoints > last.max[1], "endpoints limit: {:?}", last.max);
+                }
+                StartPhase::Trial => {
+                    assert!((15.0..17.0).contains(&u_max), "u_max = {u_max}");
+                    let h = r.sequences as f64;
+                    if h >= 0.63 * h_star {
+                        assert!(h <= 1.37 * h_star + 1.0, "h = {h} vs h* = {h_star}");
+                        assert!(last.max[0] > endpoints && last.max[0] > last.max[1], "the means limit: {:?}", last.max);
+                    } else {
+                        // a premature stop: s_y estimated from very few sequences came out small
+                        early += 1;
+                    }
+                }
             }
+            hs.push(r.sequences as f64);
+        }
+        hs.sort_by(f64::total_cmp);
+        let median = 0.5 * (hs[2] + hs[3]);
+        eprintln!("{phase:?}: h = {hs:?}, median {median}");
+        if phase == StartPhase::Trial {
+            assert!(early <= 1, "{early} premature stops in 6");
+            assert!((median / 38.9 - 1.0).abs() < 0.15, "median h = {median}");
         }
     }
 }

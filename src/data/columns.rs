@@ -32,7 +32,8 @@ impl CsvTable {
             table.rows.push(record.iter().map(String::from).collect());
         }
         if table.rows.is_empty() {
-            return Err(invalid("no data: the file has a header but no rows".into()));
+            let empty = table.headers.iter().all(|h| h.is_empty());
+            return Err(invalid(if empty { "no data: the file is empty" } else { "no data: the file has a header but no rows" }.into()));
         }
         Ok(table)
     }

@@ -61,7 +61,8 @@ pub struct DiagnosticOptions {
     pub feed: Option<f64>,
 }
 
-/// One identified diagnostic.
+/// One identified diagnostic: a term of the fit whose value is at least its standard
+/// uncertainty (weaker terms are refitted out and listed in [`Diagnostics::omitted`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Diagnostic {
     /// e.g. `squareness`, `backlash X`.
@@ -71,7 +72,8 @@ pub struct Diagnostic {
     pub value: f64,
     pub std_uncertainty: f64,
     pub unit: &'static str,
-    /// Peak-to-valley of its fitted effect on the bar reading (um) and its share of the sum (%).
+    /// Peak-to-valley of its fitted effect on the bar reading (um) and its share of the sum of the
+    /// effects of at least [`RESOLUTION_UM`] (%; 0 below it).
     pub effect_um: f64,
     pub share_percent: f64,
 }
@@ -136,6 +138,23 @@ fn axis_sample(theta: f64, phase: f64, rotation: Rotation, radius: f64, centre: 
     // reversals at theta - phase = 0, pi; angle travelled since the last one
     let since_reversal = (sigma * (theta - phase)).rem_euclid(std::f64::consts::PI);
     AxisSample { offset, position: centre + offset, sign, since_reversal, velocity }
+}
+
+/// Effects (peak to valley on the trace) below this (um) get no share: the resolution of a
+/// ballbar (0.1 um for the QC20-W, seed 001 Table 4.1).
+pub const RESOLUTION_UM: f64 = 0.1;
+
+/// Value and standard uncertainty of a term from its fitted coefficients: one coefficient, or the
+/// amplitude `sqrt(c^2 + s^2)` of a cos/sin pair (first-order propagation).
+fn term_value(coefficients: &[f64], u: &[f64]) -> (f64, f64) {
+    match (coefficients, u) {
+        ([c, s], [uc, us]) => {
+            let amp = c.hypot(*s);
+            let ua = if amp > 0.0 { ((c * uc).powi(2) + (s * us).powi(2)).sqrt() / amp } else { uc.max(*us) };
+            (amp, ua)
+        }
+        _ => (coefficients[0].abs(), u[0]),
+    }
 }
 
 /// Whether the unit-scaled columns `cols` are linearly independent (smallest singular value above
@@ -289,10 +308,42 @@ pub fn diagnose(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOpt
         }
     }
     let n = y.len();
-    let design = DMatrix::from_fn(n, keep.len(), |i, k| columns[keep[k]].values[i]);
-    let names: Vec<String> = keep.iter().map(|&c| columns[c].name.clone()).collect();
-    let fit = fit_linear(&design, &y, None, &names)?;
-    let u = fit.standard_uncertainties();
+    // Terms whose standard uncertainty exceeds their value cannot be told from noise or from the
+    // other terms with these data (a partial arc): the worst is dropped and the rest refitted,
+    // until every ranked term is at least its uncertainty.
+    let (design, fit, u) = loop {
+        let design = DMatrix::from_fn(n, keep.len(), |i, k| columns[keep[k]].values[i]);
+        let names: Vec<String> = keep.iter().map(|&c| columns[c].name.clone()).collect();
+        let fit = fit_linear(&design, &y, None, &names)?;
+        let u = fit.standard_uncertainties();
+        // (position in keep, columns of the term, |value| / u); a cyclic pair is one term
+        let mut worst: Option<(Vec<usize>, f64, f64, f64)> = None;
+        let mut k = 0;
+        while k < keep.len() {
+            let pair = columns[keep[k]].name.ends_with(" cos") && k + 1 < keep.len() && columns[keep[k + 1]].name.ends_with(" sin");
+            let width = if pair { 2 } else { 1 };
+            if columns[keep[k]].ranked {
+                let (value, sd) = term_value(&fit.coefficients[k..k + width], &u[k..k + width]);
+                let ratio = if sd > 0.0 { value / sd } else { f64::INFINITY };
+                if ratio < 1.0 && worst.as_ref().is_none_or(|w| ratio < w.1 / w.2.max(f64::MIN_POSITIVE)) {
+                    worst = Some(((k..k + width).collect(), value, sd, columns[keep[k]].to_user.abs()));
+                }
+            }
+            k += width;
+        }
+        let Some((drop, value, sd, to_user)) = worst else { break (design, fit, u) };
+        let col = &columns[keep[drop[0]]];
+        omitted.push(format!(
+            "{}: not significant (|value| {:.3} < its standard uncertainty {:.3} {}); refitted without it",
+            col.name.trim_end_matches(" cos"),
+            value * to_user,
+            sd * to_user,
+            col.unit
+        ));
+        for &d in drop.iter().rev() {
+            keep.remove(d);
+        }
+    };
 
     // Fitted effects (mm) of each kept column.
     let effect = |k: usize| -> Vec<f64> { design.column(k).iter().map(|v| v * fit.coefficients[k]).collect() };
@@ -303,9 +354,7 @@ pub fn diagnose(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOpt
         let col = &columns[keep[k]];
         // the cos/sin pair of a cyclic error is reported as one amplitude
         if col.name.ends_with(" cos") && k + 1 < keep.len() && columns[keep[k + 1]].name.ends_with(" sin") {
-            let (c, s) = (fit.coefficients[k], fit.coefficients[k + 1]);
-            let amp = c.hypot(s);
-            let ua = if amp > 0.0 { ((c * u[k]).powi(2) + (s * u[k + 1]).powi(2)).sqrt() / amp } else { u[k].max(u[k + 1]) };
+            let (amp, ua) = term_value(&fit.coefficients[k..k + 2], &u[k..k + 2]);
             let e: Vec<f64> = effect(k).iter().zip(effect(k + 1)).map(|(a, b)| a + b).collect();
             items.push(Diagnostic {
                 name: col.name.trim_end_matches(" cos").to_string(),
@@ -343,9 +392,12 @@ pub fn diagnose(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOpt
         });
         k += 1;
     }
-    let total: f64 = items.iter().map(|d| d.effect_um).sum();
+    // Shares only among effects the bar resolves: an error-free trace has rounding-level effects
+    // whose shares would be noise.
+    let resolved = |d: &Diagnostic| d.effect_um >= RESOLUTION_UM;
+    let total: f64 = items.iter().filter(|d| resolved(d)).map(|d| d.effect_um).sum();
     for d in &mut items {
-        d.share_percent = if total > 0.0 { 100.0 * d.effect_um / total } else { 0.0 };
+        d.share_percent = if resolved(d) && total > 0.0 { 100.0 * d.effect_um / total } else { 0.0 };
     }
     // nuisance terms first, then by decreasing effect
     items.sort_by(|a, b| (a.effect_um > 0.0).cmp(&(b.effect_um > 0.0)).then(b.effect_um.total_cmp(&a.effect_um)));

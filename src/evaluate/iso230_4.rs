@@ -12,7 +12,7 @@
 //! The LSC is the algebraic circle fit of seed 001 §4.2 on the points `(R + dL_i) (cos t, sin t)`,
 //! equal to the geometric LSC to first order in `dL / R`.
 
-use super::ballbar_diagnostics::{diagnose, CircularRun, DiagnosticOptions, Diagnostics};
+use super::ballbar_diagnostics::{diagnose, CircularRun, DiagnosticOptions, Diagnostics, RESOLUTION_UM};
 use super::EvaluateError;
 use crate::data::{CsvTable, DataError};
 use crate::identify::pige::kasa_fit;
@@ -297,8 +297,14 @@ impl Iso2304Result {
         if let Some(h) = self.hysteresis_um {
             out.push(format!("H = {h:.2} um"));
         }
-        for d in self.diagnostics.items.iter().filter(|d| d.effect_um > 0.0) {
+        let (resolved, small): (Vec<_>, Vec<_>) =
+            self.diagnostics.items.iter().filter(|d| d.effect_um > 0.0).partition(|d| d.effect_um >= RESOLUTION_UM);
+        for d in resolved {
             out.push(format!("{}: {:+.2} ± {:.2} {} ({:.0} %)", d.name, d.value, d.std_uncertainty, d.unit, d.share_percent));
+        }
+        if !small.is_empty() {
+            let names: Vec<&str> = small.iter().map(|d| d.name.as_str()).collect();
+            out.push(format!("effects below the {RESOLUTION_UM} um bar resolution (no share): {}", names.join(", ")));
         }
         out.push(format!("fit residual RMS {:.3} um", self.diagnostics.residual_rms_um));
         out

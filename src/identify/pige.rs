@@ -81,6 +81,24 @@ pub fn kasa_fit(points: &[[f64; 2]]) -> Result<CircleFit, IdentifyError> {
     Ok(CircleFit { centre, radius, residual_rms: rms, residual_range: hi - lo })
 }
 
+/// Fewest readings of one step accepted for identification.
+pub const MIN_READINGS: usize = 8;
+/// Smallest rotation (deg) of one step accepted for identification. The Kåsa centre's noise grows
+/// fast as the arc shrinks: relative to a full circle with as many points, its worst component's
+/// standard deviation is 2.3 x on 180 deg, 5.7 x on the thesis's 90 deg A arc, 28 x on 45 deg and
+/// 150 x on 20 deg (first-order least squares of `dL = c1 cos t + c2 sin t + dr`).
+pub const MIN_SPAN_DEG: f64 = 45.0;
+
+/// The rotation covered by axis positions `angles` (rad), in deg, at most 360.
+pub fn angle_span_deg(angles: &[f64]) -> f64 {
+    let (lo, hi) = angles.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &a| (lo.min(a), hi.max(a)));
+    if angles.is_empty() {
+        0.0
+    } else {
+        (hi - lo).to_degrees().min(360.0)
+    }
+}
+
 /// Start-angle error of seed 001 Eq. 4.1: `delta_e = atan((P0P0'.j) / (P0P0'.i + R))` (rad), where
 /// `P0P0'` is the displacement (mm) of the actual start point of the pivot from the ideal one, `i`
 /// along the bar (radial) and `j` along the path (tangential), from a conventional centring test; the
@@ -192,7 +210,8 @@ pub fn axis_line(machine: &Machine, traces: &[DbbTrace]) -> Result<AxisLine, Ide
 #[derive(Clone, Debug, PartialEq)]
 pub struct Piges {
     /// ISO names and values (mm, rad), in the thesis order: outer translations, outer rotations,
-    /// inner translations, inner rotations (C600U: EY0A EZ0A EB0A EC0A EX0C EY0C EA0C EB0C).
+    /// inner translations, inner rotations (C600U: EY0A EZ0A EB0A EC0A EX0C EY0C EA0C EB0C); six
+    /// per axis for an axis not along X, Y or Z (see `named`).
     pub values: Vec<(ParameterId, f64)>,
     pub outer: AxisLine,
     pub inner: AxisLine,
@@ -216,17 +235,23 @@ impl Piges {
     }
 }
 
-/// Index (0, 1, 2) of the coordinate axis `d` lies along; PIGE names need one.
-fn coordinate_axis(d: &Vec3, letter: char) -> Result<usize, IdentifyError> {
-    (0..3)
-        .find(|&j| (d[j].abs() - 1.0).abs() < 1e-9)
-        .ok_or_else(|| IdentifyError::Input(format!("axis {letter}: the PIGE names need a rotary axis along X, Y or Z (direction {d:?})")))
+/// Index (0, 1, 2) of the coordinate axis `d` lies along, if it lies along one.
+fn coordinate_axis(d: &Vec3) -> Option<usize> {
+    (0..3).find(|&j| (d[j].abs() - 1.0).abs() < 1e-9)
 }
 
-/// The two translation and two rotation components of `v`/`w` perpendicular to coordinate axis
-/// `j` as ISO location errors of `letter`.
-fn named(letter: char, j: usize, offset: &Vec3, tilt: &Vec3) -> Vec<(ParameterId, f64)> {
-    let others: Vec<usize> = (0..3).filter(|&k| k != j).collect();
+/// The offset `offset` and tilt `tilt` (both perpendicular to the axis, M) as ISO location errors
+/// of `letter`. An axis along coordinate `j` (X, Y or Z) has the four PIGEs of the thesis: the two
+/// translation and two rotation components perpendicular to it (A: EY0A EZ0A EB0A EC0A). An axis
+/// in any other direction (the KX8-Five's A, tilted 45 deg) has no such pair of names: it gets all
+/// three translation and three rotation components in M (EX0A ... EC0A); their components along
+/// the axis are zero, which is the axis line's own convention (a shift along the axis or a turn
+/// about it does not move the line), so the chain reproduces the identified line with them.
+fn named(letter: char, direction: &Vec3, offset: &Vec3, tilt: &Vec3) -> Vec<(ParameterId, f64)> {
+    let others: Vec<usize> = match coordinate_axis(direction) {
+        Some(j) => (0..3).filter(|&k| k != j).collect(),
+        None => (0..3).collect(),
+    };
     let mut out = Vec::with_capacity(4);
     for &k in &others {
         out.push((ParameterId::Location { axis: letter, component: Component::from_index(k) }, offset[k]));
@@ -242,7 +267,9 @@ fn perpendicular(v: &Vec3, d: &Vec3) -> Vec3 {
 }
 
 /// Identifies the 8 PIGEs of `pair` from traces of both axes (seed 001 ch. 4, 5 or 6): `outer`
-/// traces sweep the outer axis, `inner` traces the inner one (with the outer axis at 0). Each axis
+/// traces sweep the outer axis, `inner` traces the inner one (with the outer axis at 0). Both axes
+/// must be on the same side of the chain (the outer carrying the inner): with one on each side a
+/// common shift of both lines changes no bar length, and the error says so. Each axis
 /// needs traces at two different spindle positions for its orientation PIGEs; with one position
 /// the orientation is reported as 0 and not corrected for.
 pub fn identify_piges(machine: &Machine, pair: RotaryPair, outer: &[DbbTrace], inner: &[DbbTrace]) -> Result<Piges, IdentifyError> {
@@ -253,8 +280,16 @@ pub fn identify_piges(machine: &Machine, pair: RotaryPair, outer: &[DbbTrace], i
             return Err(IdentifyError::Input(format!("a trace given for axis {letter} sweeps another axis")));
         }
     }
+    if !pair.inner_carried_by_outer(machine) {
+        return Err(IdentifyError::Input(format!(
+            "machine `{}`: the rotary axes {} and {} are on different sides of the chain (one carries the tool, the other the workpiece); \
+             a shift of both axis lines by one displacement moves the tool and the workpiece together and changes no bar length, so their \
+             PIGEs cannot be separated by these tests. Identification supports two rotary axes on the same side (a tilting table such as \
+             wCAbYXZt, a tilting head such as wXYbZCBt), in any direction; `simulate` works on any machine",
+            machine.name, pair.outer, pair.inner
+        )));
+    }
     let (ax_o, ax_i) = (&machine.axes()[o], &machine.axes()[i]);
-    let (jo, ji) = (coordinate_axis(&ax_o.direction, pair.outer)?, coordinate_axis(&ax_i.direction, pair.inner)?);
     let outer_line = axis_line(machine, outer)?;
     let inner_line = axis_line(machine, inner)?;
     let tilt_o = outer_line.tilt.unwrap_or_else(Vec3::zeros);
@@ -263,8 +298,8 @@ pub fn identify_piges(machine: &Machine, pair: RotaryPair, outer: &[DbbTrace], i
     let carried = outer_line.offset + tilt_o.cross(&(ax_i.point - ax_o.point));
     let offset_i = inner_line.offset - perpendicular(&carried, &di);
     let tilt_i = inner_line.tilt.map(|t| t - perpendicular(&tilt_o, &di)).unwrap_or_else(Vec3::zeros);
-    let mut values = named(pair.outer, jo, &outer_line.offset, &tilt_o);
-    values.extend(named(pair.inner, ji, &offset_i, &tilt_i));
+    let mut values = named(pair.outer, &ax_o.direction, &outer_line.offset, &tilt_o);
+    values.extend(named(pair.inner, &di, &offset_i, &tilt_i));
     Ok(Piges { values, outer: outer_line, inner: inner_line })
 }
 

@@ -285,8 +285,12 @@ pub struct RotarySpec {
 }
 
 /// A rotary-axis test: only `spec.axis` moves, over `angles_deg` (deg); every other axis stays at
-/// `base` (user units). Pivot at `p + pivot_position d + radius radial`, spindle ball at
-/// `p + spindle_position d` (`p`, `d`: the axis point and direction at home).
+/// `base` (user units). The ball carried by the axis at `p + pivot_position d + radius radial`, the
+/// other on the axis at `p + spindle_position d` (`p`, `d`: the axis point and direction at home).
+/// For a workpiece-side axis (a table) the carried ball is the pivot and the spindle ball is on the
+/// axis, as in seed 001; for a tool-side axis (a head) the roles swap: the spindle ball is carried at
+/// the radius and the table ball sits on the axis. The bar reading depends only on the distance, so
+/// the identification of [`crate::identify::pige`] is the same for both.
 pub fn rotary_test(machine: &Machine, spec: &RotarySpec, angles_deg: &[f64], base: &[f64]) -> Result<BallbarTest, BallbarError> {
     let k = axis_of(machine, spec.axis)?;
     let axis = &machine.axes()[k];
@@ -304,8 +308,15 @@ pub fn rotary_test(machine: &Machine, spec: &RotarySpec, angles_deg: &[f64], bas
     }
     let u1 = radial.normalize();
     let u2 = d.cross(&u1);
-    let setup =
-        Setup { tool_point: axis.point + d * spec.spindle_position, work_point: axis.point + d * spec.pivot_position + u1 * spec.radius };
+    let on_axis = axis.point + d * spec.spindle_position;
+    let carried = axis.point + d * spec.pivot_position + u1 * spec.radius;
+    // The ball at the radius rides on the swept axis: the pivot on the table for a workpiece-side
+    // axis, the spindle ball for a tool-side (head) axis; the other ball stays on the axis.
+    let setup = if machine.tool_chain().contains(&k) {
+        Setup { tool_point: carried, work_point: on_axis }
+    } else {
+        Setup { tool_point: on_axis, work_point: carried }
+    };
     let mut poses = Vec::with_capacity(angles_deg.len() * n_axes);
     let mut user = base.to_vec();
     let mut q = vec![0.0; n_axes];
@@ -393,7 +404,10 @@ impl BarLengths {
     }
 }
 
-/// The two rotary axes of a table-tilting machine: `outer` carries `inner` (A and C of the C600U).
+/// The two rotary axes of a five-axis machine, tested as seed 001 tests A (`outer`) and C
+/// (`inner`). On a table-tilting machine (`wCAbYXZt`) or a spindle-tilting one (`wXYbZCBt`) both
+/// are on one side and `outer` (the one nearer the base) carries `inner`; on a machine with one
+/// rotary axis on each side (`wCXYbZAt`) neither carries the other and `outer` is the tool-side one.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct RotaryPair {
     pub outer: char,
@@ -401,17 +415,106 @@ pub struct RotaryPair {
 }
 
 impl RotaryPair {
-    /// The two workpiece-side rotary axes of `machine`, base first (`wCAbYXZt`: A then C).
+    /// The two rotary axes of `machine`: both workpiece-side, both tool-side (base first), or one
+    /// on each side (tool side first). Errors name the rotary axes the machine has.
     pub fn of_machine(machine: &Machine) -> Result<RotaryPair, BallbarError> {
-        let rotary: Vec<char> =
-            machine.work_chain().iter().map(|&k| &machine.axes()[k]).filter(|a| a.kind == AxisKind::Rotary).map(|a| a.letter).collect();
-        match rotary.as_slice() {
-            [outer, inner] => Ok(RotaryPair { outer: *outer, inner: *inner }),
+        let rotary = |chain: &[usize]| -> Vec<char> {
+            chain.iter().map(|&k| &machine.axes()[k]).filter(|a| a.kind == AxisKind::Rotary).map(|a| a.letter).collect()
+        };
+        let (work, tool) = (rotary(machine.work_chain()), rotary(machine.tool_chain()));
+        match (work.as_slice(), tool.as_slice()) {
+            ([outer, inner], []) | ([], [outer, inner]) | ([inner], [outer]) => Ok(RotaryPair { outer: *outer, inner: *inner }),
             _ => Err(BallbarError::Setup(format!(
-                "machine `{}` needs exactly two rotary axes on the workpiece side for the 5-axis ballbar tests (it has {})",
+                "machine `{}` has {} rotary axes ({}); the 5-axis ballbar tests need exactly two",
                 machine.name,
-                rotary.len()
+                work.len() + tool.len(),
+                work.iter().chain(&tool).collect::<String>()
             ))),
+        }
+    }
+
+    /// True when `outer` carries `inner` (both on the same side of the chain): then the inner axis
+    /// is seen through the outer's location errors (seed 001 Table 5.1).
+    pub fn inner_carried_by_outer(&self, machine: &Machine) -> bool {
+        let side = |letter: char| machine.axis_index(letter).map(|k| machine.tool_chain().contains(&k));
+        side(self.outer) == side(self.inner)
+    }
+}
+
+/// Which four steps measure the PIGEs (seed 001): the steps are always called A1 A2 (the outer
+/// axis) and C1 C2 (the inner axis).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Method {
+    /// Ch. 5, one pivot setup: normal bar (A1, C1) and extended bar (A2, C2), [`jiang_spec`].
+    ExtendedBar,
+    /// Ch. 4, two pivot placements: as ch. 5 with both balls of the outer-axis steps moved by
+    /// `outer_offset` (mm) along the outer axis (the pivot off the inner table centre).
+    TwoPivot { outer_offset: f64 },
+    /// Ch. 6 (Lee & Yang 2013), normal bar only: the outer axis at two positions along it
+    /// (A1, A2; mm from the outer axis point) and the inner axis at two (C1, C2; mm from the plane
+    /// through the outer axis point).
+    FourSetup { outer: [f64; 2], inner: [f64; 2] },
+}
+
+impl Method {
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::ExtendedBar => "extended-bar",
+            Method::TwoPivot { .. } => "two-pivot",
+            Method::FourSetup { .. } => "four-setup",
+        }
+    }
+
+    /// The seed 001 chapter of the method.
+    pub fn chapter(&self) -> u8 {
+        match self {
+            Method::ExtendedBar => 5,
+            Method::TwoPivot { .. } => 4,
+            Method::FourSetup { .. } => 6,
+        }
+    }
+}
+
+/// The placement of one step of `method` (see [`Method`]; built on [`jiang_spec`]).
+pub fn method_spec(
+    machine: &Machine,
+    pair: RotaryPair,
+    method: Method,
+    step: JiangStep,
+    bars: BarLengths,
+) -> Result<RotarySpec, BallbarError> {
+    let bad = |what: &str, v: f64| -> Result<(), BallbarError> {
+        if v.is_finite() {
+            Ok(())
+        } else {
+            Err(BallbarError::Setup(format!("{what} {v} is not a finite number of mm")))
+        }
+    };
+    match method {
+        Method::ExtendedBar => jiang_spec(machine, pair, step, bars, 0.0),
+        Method::TwoPivot { outer_offset } => {
+            bad("the outer-axis pivot offset", outer_offset)?;
+            jiang_spec(machine, pair, step, bars, if step.is_outer() { outer_offset } else { 0.0 })
+        }
+        Method::FourSetup { outer, inner } => {
+            let normal = if step.is_outer() { JiangStep::A1 } else { JiangStep::C1 };
+            let positions = if step.is_outer() { outer } else { inner };
+            for v in positions {
+                bad("a four-setup position", v)?;
+            }
+            if (positions[0] - positions[1]).abs() < 1.0 {
+                return Err(BallbarError::Setup(format!(
+                    "the two positions along the {} axis must differ by at least 1 mm (the tilt is their centres' difference over their distance), got {} and {}",
+                    if step.is_outer() { pair.outer } else { pair.inner },
+                    positions[0],
+                    positions[1]
+                )));
+            }
+            let mut spec = jiang_spec(machine, pair, normal, bars, 0.0)?;
+            let at = positions[usize::from(step.is_extended())];
+            spec.pivot_position += at;
+            spec.spindle_position += at;
+            Ok(spec)
         }
     }
 }
@@ -462,11 +565,25 @@ pub fn jiang_step(
     bars: BarLengths,
     step_deg: f64,
 ) -> Result<BallbarTest, BallbarError> {
-    let spec = jiang_spec(machine, pair, step, bars, 0.0)?;
+    method_step(machine, pair, Method::ExtendedBar, step, bars, step_deg)
+}
+
+/// A step of `method` on `machine` (all other axes at 0), swept every `step_deg` over the axis
+/// range, or one turn (0 ... 360 deg, or from the range start) when the range is a turn or more.
+pub fn method_step(
+    machine: &Machine,
+    pair: RotaryPair,
+    method: Method,
+    step: JiangStep,
+    bars: BarLengths,
+    step_deg: f64,
+) -> Result<BallbarTest, BallbarError> {
+    let spec = method_spec(machine, pair, method, step, bars)?;
     let axis = &machine.axes()[axis_of(machine, spec.axis)?];
     let angles = match axis.range {
-        Some([lo, hi]) => sweep_angles(lo, hi - lo, step_deg),
-        None => sweep_angles(0.0, 360.0, step_deg),
+        Some([lo, hi]) if hi - lo < 360.0 => sweep_angles(lo, hi - lo, step_deg),
+        Some([lo, hi]) if lo > 0.0 || hi < 360.0 => sweep_angles(lo, 360.0, step_deg),
+        _ => sweep_angles(0.0, 360.0, step_deg),
     };
     let mut test = rotary_test(machine, &spec, &angles, &vec![0.0; machine.axis_count()])?;
     test.name = format!("{} ({})", step.name(), test.name);

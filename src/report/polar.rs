@@ -132,6 +132,24 @@ fn trim(v: f64) -> String {
     s.trim_end_matches('0').trim_end_matches('.').to_string()
 }
 
+/// The polar plot of the runs of an ISO 230-4 circular test (one trace per run, labelled CCW / CW),
+/// with `lines` (the evaluation's summary) beside it; `um_per_division` as in [`PolarPlot`].
+pub fn circular_runs_svg(
+    title: &str,
+    axes: (&str, &str),
+    runs: &[crate::evaluate::ballbar_diagnostics::CircularRun],
+    um_per_division: Option<f64>,
+    lines: &[String],
+) -> Result<String, ReportError> {
+    let dl_um: Vec<Vec<f64>> = runs.iter().map(|r| r.dl.iter().map(|v| v * 1e3).collect()).collect();
+    let series = runs
+        .iter()
+        .zip(&dl_um)
+        .map(|(r, d)| PolarSeries { label: r.rotation.name().to_uppercase(), angles: &r.test.angles, dl_um: d })
+        .collect();
+    polar_svg(&PolarPlot { title, axes, series, um_per_division, lines })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -169,22 +187,4 @@ mod tests {
         });
         assert!(err.is_err());
     }
-}
-
-/// The polar plot of the runs of an ISO 230-4 circular test (one trace per run, labelled CCW / CW),
-/// with `lines` (the evaluation's summary) beside it; `um_per_division` as in [`PolarPlot`].
-pub fn circular_runs_svg(
-    title: &str,
-    axes: (&str, &str),
-    runs: &[crate::evaluate::ballbar_diagnostics::CircularRun],
-    um_per_division: Option<f64>,
-    lines: &[String],
-) -> Result<String, ReportError> {
-    let dl_um: Vec<Vec<f64>> = runs.iter().map(|r| r.dl.iter().map(|v| v * 1e3).collect()).collect();
-    let series = runs
-        .iter()
-        .zip(&dl_um)
-        .map(|(r, d)| PolarSeries { label: r.rotation.name().to_uppercase(), angles: &r.test.angles, dl_um: d })
-        .collect();
-    polar_svg(&PolarPlot { title, axes, series, um_per_division, lines })
 }

@@ -138,6 +138,17 @@ impl IdentificationMap {
                 }
                 cov
             }
+            CompiledSource::Correlated { groups, normal } => {
+                // sum over points of B_g V B_g^T, B_g the columns of P of the point's rows
+                let v = normal.covariance();
+                let n = self.parameter_count();
+                let mut cov = DMatrix::zeros(n, n);
+                for group in groups {
+                    let b = DMatrix::from_fn(n, group.len(), |i, k| group[k].map_or(0.0, |row| self.pseudo_inverse[(i, row)]));
+                    cov += &b * &v * b.transpose();
+                }
+                cov
+            }
         })
     }
 
@@ -168,6 +179,12 @@ enum CompiledSource {
         all_normal: bool,
     },
     Cyclic(CyclicMap),
+    /// Joint Gaussian draws over groups of observations (the rows of one point, in the order of
+    /// the source's channels; `None` where the point lacks a channel).
+    Correlated {
+        groups: Vec<Vec<Option<usize>>>,
+        normal: MultivariateNormal,
+    },
 }
 
 /// The cyclic drift of one source: per observation its drift function (index) and time.
@@ -214,6 +231,31 @@ impl CompiledSource {
                     .map(|(c, e)| Ok((channel_of(c)?, Distribution::Normal { mean: 0.0, u: statistical_drift_uncertainty(*e) })))
                     .collect::<Result<Vec<_>, UncertaintyError>>()?;
                 Ok(per_channel(list))
+            }
+            SourceKind::Correlated { channels, covariance } => {
+                let index = channels.iter().map(|c| channel_of(c)).collect::<Result<Vec<_>, _>>()?;
+                // rows of the source's channels grouped by measurement time, in order of appearance
+                let mut groups: Vec<(f64, Vec<Option<usize>>)> = Vec::new();
+                for (row, (&c, &t)) in design.channel.iter().zip(&design.time).enumerate() {
+                    let Some(k) = index.iter().position(|&i| i == c) else { continue };
+                    let slot = match groups.iter().position(|(time, _)| *time == t) {
+                        Some(g) => g,
+                        None => {
+                            groups.push((t, vec![None; channels.len()]));
+                            groups.len() - 1
+                        }
+                    };
+                    if groups[slot].1[k].replace(row).is_some() {
+                        return Err(UncertaintyError::Input(format!(
+                            "source `{}`: channel `{}` has two observations at t = {t} s; a correlated source draws one value per channel and point \
+                             (give each point its own time)",
+                            source.name, channels[k]
+                        )));
+                    }
+                }
+                let normal = MultivariateNormal::new(DVector::zeros(channels.len()), covariance)
+                    .map_err(|e| UncertaintyError::Input(format!("source `{}`: {e}", source.name)))?;
+                Ok(CompiledSource::Correlated { groups: groups.into_iter().map(|g| g.1).collect(), normal })
             }
             SourceKind::CyclicDrift(cyclic) => {
                 let period = cyclic.period();
@@ -291,7 +333,7 @@ impl<'a> LinearModel<'a> {
             let normal: Vec<&Source> = sources
                 .iter()
                 .zip(&compiled)
-                .filter(|(_, c)| matches!(c, CompiledSource::PerObservation { all_normal: true, .. }))
+                .filter(|(_, c)| matches!(c, CompiledSource::PerObservation { all_normal: true, .. } | CompiledSource::Correlated { .. }))
                 .map(|(s, _)| *s)
                 .collect();
             constant = map.gum_estimate(&normal)?;
@@ -319,6 +361,18 @@ impl<'a> LinearModel<'a> {
                         }
                     }
                 }
+                CompiledSource::Correlated { groups, normal } => {
+                    let mut draw = vec![0.0; normal.dimension()];
+                    for group in groups {
+                        draw.fill(0.0);
+                        normal.add_centred_sample(rng, &mut draw);
+                        for (row, v) in group.iter().zip(&draw) {
+                            if let Some(row) = row {
+                                e[*row] += v;
+                            }
+                        }
+                    }
+                }
                 CompiledSource::Cyclic(c) => {
                     let tau = c.tau(start_time(c, t0[cyclic], rng), trial);
                     cyclic += 1;
@@ -340,7 +394,7 @@ impl<'a> LinearModel<'a> {
         let mut cyclic = 0;
         for source in &self.sources {
             match source {
-                CompiledSource::PerObservation { all_normal: true, .. } => {}
+                CompiledSource::PerObservation { all_normal: true, .. } | CompiledSource::Correlated { .. } => {}
                 CompiledSource::PerObservation { rows, .. } => {
                     for (i, d) in rows.iter().enumerate() {
                         if let Some(d) = d {
@@ -395,7 +449,7 @@ impl TrialModel for LinearModel<'_> {
             .iter()
             .filter_map(|s| match s {
                 CompiledSource::Cyclic(c) => Some(c.period * rng.gen::<f64>()),
-                CompiledSource::PerObservation { .. } => None,
+                CompiledSource::PerObservation { .. } | CompiledSource::Correlated { .. } => None,
             })
             .collect()
     }

@@ -19,6 +19,7 @@ mod gum;
 mod intervals;
 mod linear_map;
 mod monte_carlo;
+mod prediction;
 mod sources;
 
 pub use budget::{run_budget, Budget, BudgetRow, Stage};
@@ -30,8 +31,9 @@ pub use intervals::{coverage_count, shortest_interval, symmetric_interval, Cover
 pub use linear_map::{Evaluation, IdentificationMap, LinearModel, LinearWorkspace};
 pub use monte_carlo::{
     minimum_trials, run_adaptive, run_sequences, trial_rng, ControlVariables, IntervalKind, McResult, McSettings, OutputResult, TrialModel,
-    BLOCK,
+    BLOCK, MAX_KEPT_VALUES, MAX_TRIALS_PER_SEQUENCE,
 };
+pub use prediction::VolumetricUncertainty;
 pub use sources::{CyclicDrift, Source, SourceKind, Sources};
 
 use thiserror::Error;

@@ -96,12 +96,25 @@ impl McSettings {
                 self.trials_per_sequence, self.coverage
             ));
         }
+        if self.trials_per_sequence > MAX_TRIALS_PER_SEQUENCE {
+            return bad(format!(
+                "trials_per_sequence = {} is more than {MAX_TRIALS_PER_SEQUENCE}: every trial value is kept (8 bytes per output), \
+                 use more sequences of fewer trials instead",
+                self.trials_per_sequence
+            ));
+        }
         if self.max_sequences < 2 {
             return bad("max_sequences must be at least 2 (the adaptive test compares sequences)".into());
         }
         Ok(())
     }
 }
+
+/// Largest `M` accepted: 10^6 trials, 100 times the JCGM 101 default of 10^4.
+pub const MAX_TRIALS_PER_SEQUENCE: usize = 1_000_000;
+/// Largest number of trial values a run may keep (`M x max_sequences x outputs`, 8 bytes each:
+/// 2 GB), checked before the first trial.
+pub const MAX_KEPT_VALUES: usize = 250_000_000;
 
 /// `J = ceil(100 / (1 - p))` (JCGM 101 §7.9.4 b).
 pub fn minimum_trials(coverage: f64) -> usize {
@@ -176,6 +189,13 @@ fn run<M: TrialModel>(
     }
     let m = settings.trials_per_sequence;
     let limit = fixed.unwrap_or(settings.max_sequences);
+    let kept = m.saturating_mul(limit).saturating_mul(n_out);
+    if kept > MAX_KEPT_VALUES {
+        return Err(UncertaintyError::Input(format!(
+            "trials_per_sequence {m} x max_sequences {limit} x {n_out} outputs = {kept} trial values to keep, more than {MAX_KEPT_VALUES} \
+             (2 GB): lower max_sequences or trials_per_sequence"
+        )));
+    }
     let mut columns: Vec<Vec<f64>> = vec![Vec::new(); n_out];
     let mut sequence_values: Vec<Vec<[f64; 4]>> = vec![Vec::new(); n_out];
     let mut history = Vec::new();

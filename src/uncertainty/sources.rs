@@ -14,6 +14,12 @@
 //! kind = "drift_cyclic"    # or "drift_statistical" with e_ve = { x = 6.95 }
 //! period_s = 1000
 //! channels.x = { peak_to_valley = 6.95 }
+//! [[source]]
+//! name = "frame"
+//! kind = "correlated"      # x, y, z of one point drawn jointly (JCGM 101 §6.4.8)
+//! channels = ["x", "y", "z"]
+//! u = [0.56, 0.27, 0.69]
+//! correlation = [[1, 0.5, 0], [0.5, 1, 0], [0, 0, 1]]
 //! ```
 
 use super::distributions::Distribution;
@@ -36,6 +42,11 @@ pub enum SourceKind {
     /// distribution (um): sensor output noise (seed 004 Table 3), or the sensor-to-machine frame
     /// transformation modelled per point as in seed 004 §4.3.
     Noise { channels: Vec<(String, Distribution)> },
+    /// Gaussian errors correlated across channels (JCGM 101 §6.4.8, JCGM 102 §6.3): the
+    /// observations of `channels` taken at the same time `t` (one point of a 3D-ball head: its x, y
+    /// and z) get one joint draw from N(0, `covariance`) (um^2, in the order of `channels`);
+    /// points are independent of each other.
+    Correlated { channels: Vec<String>, covariance: nalgebra::DMatrix<f64> },
     /// Drift by the statistical method of ISO/TR 230-9 (seed 004 §4.4.1): a Gaussian error with
     /// `u = E_VE / (2 sqrt 3)`, independent per observation; `E_VE` in um per channel.
     StatisticalDrift { channels: Vec<(String, f64)> },
@@ -69,6 +80,7 @@ impl Source {
             SourceKind::Noise { channels } => channels.iter().map(|(c, _)| c.as_str()).collect(),
             SourceKind::StatisticalDrift { channels } => channels.iter().map(|(c, _)| c.as_str()).collect(),
             SourceKind::CyclicDrift(c) => c.channels.iter().map(|(c, _)| c.as_str()).collect(),
+            SourceKind::Correlated { channels, .. } => channels.iter().map(String::as_str).collect(),
         }
     }
 }
@@ -110,6 +122,13 @@ enum RawSource {
     DriftStatistical {
         name: String,
         e_ve: BTreeMap<String, f64>,
+    },
+    Correlated {
+        name: String,
+        channels: Vec<String>,
+        u: Option<Vec<f64>>,
+        correlation: Option<Vec<Vec<f64>>>,
+        covariance: Option<Vec<Vec<f64>>>,
     },
     DriftCyclic {
         name: String,
@@ -273,6 +292,10 @@ fn build_source(raw: RawSource) -> Result<Source, (String, UncertaintyError)> {
             }
             Ok(Source { name, kind: SourceKind::StatisticalDrift { channels: e_ve.into_iter().collect() } })
         }
+        RawSource::Correlated { name, channels, u, correlation, covariance } => {
+            let covariance = correlated_covariance(&channels, u, correlation, covariance).map_err(|m| (name.clone(), input(m)))?;
+            Ok(Source { name, kind: SourceKind::Correlated { channels, covariance } })
+        }
         RawSource::DriftCyclic { name, period_s, run_duration_s, start_phase, channels } => {
             if let Some(t) = run_duration_s.filter(|t| !(*t > 0.0 && t.is_finite())) {
                 return Err((name, input(format!("run_duration_s {t} must be a positive number"))));
@@ -293,4 +316,54 @@ fn build_source(raw: RawSource) -> Result<Source, (String, UncertaintyError)> {
             Ok(Source { name, kind })
         }
     }
+}
+
+/// The covariance (um^2) of a `correlated` source: `covariance` directly, or `V_ij = r_ij u_i u_j`
+/// from the standard uncertainties `u` (um) and the correlation matrix `correlation`; symmetric,
+/// positive semidefinite, one row per channel, distinct channels.
+fn correlated_covariance(
+    channels: &[String],
+    u: Option<Vec<f64>>,
+    correlation: Option<Vec<Vec<f64>>>,
+    covariance: Option<Vec<Vec<f64>>>,
+) -> Result<nalgebra::DMatrix<f64>, String> {
+    let n = channels.len();
+    if n == 0 {
+        return Err("no channels given".into());
+    }
+    if let Some(c) = channels.iter().enumerate().find(|(i, c)| channels[..*i].contains(c)).map(|(_, c)| c) {
+        return Err(format!("channel `{c}` appears twice"));
+    }
+    let square = |what: &str, m: &[Vec<f64>]| -> Result<nalgebra::DMatrix<f64>, String> {
+        if m.len() != n || m.iter().any(|row| row.len() != n) {
+            return Err(format!("{what} must be {n} x {n} (one row and column per channel: {})", channels.join(", ")));
+        }
+        if m.iter().flatten().any(|v| !v.is_finite()) {
+            return Err(format!("{what} holds a number that is not finite"));
+        }
+        Ok(nalgebra::DMatrix::from_fn(n, n, |i, j| m[i][j]))
+    };
+    let v = match (u, correlation, covariance) {
+        (None, None, Some(c)) => square("covariance", &c)?,
+        (Some(u), Some(r), None) => {
+            if u.len() != n || u.iter().any(|v| !(*v >= 0.0 && v.is_finite())) {
+                return Err(format!("u must hold {n} non-negative standard uncertainties (um), one per channel"));
+            }
+            let r = square("correlation", &r)?;
+            if (0..n).any(|i| (r[(i, i)] - 1.0).abs() > 1e-12) || r.iter().any(|v| v.abs() > 1.0 + 1e-12) {
+                return Err("a correlation matrix has 1 on its diagonal and coefficients within [-1, 1]".into());
+            }
+            nalgebra::DMatrix::from_fn(n, n, |i, j| r[(i, j)] * u[i] * u[j])
+        }
+        _ => return Err("give either covariance = [[...]] (um^2) or u = [...] (um) with correlation = [[...]]".into()),
+    };
+    if (&v - v.transpose()).abs().max() > 1e-12 * v.abs().max().max(1e-300) {
+        return Err("the matrix must be symmetric".into());
+    }
+    let eigen = v.clone().symmetric_eigen();
+    let largest = eigen.eigenvalues.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
+    if eigen.eigenvalues.iter().any(|&l| l < -1e-10 * largest) {
+        return Err("the covariance is not positive semidefinite (no such joint distribution exists)".into());
+    }
+    Ok(v)
 }

@@ -9,13 +9,16 @@ use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::evaluate::ballbar_diagnostics::DiagnosticOptions;
 use trueaxis::evaluate::iso230_4::{evaluate, read_circular};
-use trueaxis::identify::pige::{compensation_residual, identify_piges, repeatability, start_angle_error, DbbTrace, Piges};
+use trueaxis::identify::pige::{
+    angle_span_deg, compensation_residual, identify_piges, repeatability, start_angle_error, DbbTrace, Piges, MIN_READINGS, MIN_SPAN_DEG,
+};
 use trueaxis::identify::tmbb::{conditioning, differenced, fit_l2, fit_linf, observability, TmbbEstimate, TmbbSetup, UNIDENTIFIABLE};
 use trueaxis::instruments::ballbar::{
-    circle_test, jiang_step, read_trace, sweep_angles, BallbarTest, BarLengths, CircleSpec, JiangStep, Plane, RotaryPair, Rotation,
+    circle_test, method_step, read_trace, sweep_angles, BallbarTest, BarLengths, CircleSpec, JiangStep, Method, Plane, RotaryPair, Rotation,
 };
 use trueaxis::machine::{Component, Machine, ParameterId};
 use trueaxis::report::{circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
+use trueaxis::uncertainty::{trial_rng, Distribution};
 
 /// Ballbar tests: simulated readings, the PIGEs of two rotary axes (seed 001), ISO 230-4 circular
 /// tests with diagnostics, the two-length rotary-table test (seed 002 ch. 5).
@@ -69,6 +72,49 @@ impl BarArgs {
 }
 
 #[derive(Clone, Copy, clap::ValueEnum, PartialEq)]
+enum MethodKind {
+    /// seed 001 ch. 5: one pivot setup, normal and extended bar on each axis.
+    ExtendedBar,
+    /// seed 001 ch. 4: as ch. 5 with the outer-axis pivot moved along the outer axis (--outer-offset).
+    TwoPivot,
+    /// seed 001 ch. 6 (Lee & Yang): normal bar only, each axis at two positions (--outer-positions, --inner-positions).
+    FourSetup,
+}
+
+/// The method of the four rotary-axis steps and its geometry.
+#[derive(clap::Args, Clone, Copy)]
+struct MethodArgs {
+    /// Which four steps: A1 A2 (outer axis) and C1 C2 (inner axis) of seed 001 ch. 5, 4 or 6.
+    #[arg(long, value_enum, default_value = "extended-bar")]
+    method: MethodKind,
+    /// two-pivot: both balls of the outer-axis steps moved this far along the outer axis (mm).
+    #[arg(long, allow_hyphen_values = true)]
+    outer_offset: Option<f64>,
+    /// four-setup: positions p1,p2 along the outer axis of steps A1 and A2 (mm from its point).
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    outer_positions: Option<[f64; 2]>,
+    /// four-setup: positions p1,p2 along the inner axis of steps C1 and C2 (mm).
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    inner_positions: Option<[f64; 2]>,
+}
+
+impl MethodArgs {
+    fn method(self) -> Result<Method, Failure> {
+        let need = |what: &str| Failure::input(anyhow!("this --method needs {what}"));
+        Ok(match self.method {
+            MethodKind::ExtendedBar => Method::ExtendedBar,
+            MethodKind::TwoPivot => {
+                Method::TwoPivot { outer_offset: self.outer_offset.ok_or_else(|| need("--outer-offset MM (two-pivot)"))? }
+            }
+            MethodKind::FourSetup => Method::FourSetup {
+                outer: self.outer_positions.ok_or_else(|| need("--outer-positions P1,P2 (four-setup, mm)"))?,
+                inner: self.inner_positions.ok_or_else(|| need("--inner-positions P1,P2 (four-setup, mm)"))?,
+            },
+        })
+    }
+}
+
+#[derive(Clone, Copy, clap::ValueEnum, PartialEq)]
 enum TestKind {
     A1,
     A2,
@@ -85,10 +131,12 @@ enum DirArg {
 }
 
 /// Simulated bar readings on the exact kinematic chain: a step of the seed 001 5-axis test (A1 A2
-/// C1 C2 on the machine's two workpiece-side rotary axes) or an ISO 230-4 circle.
+/// C1 C2 on the machine's two rotary axes: table, head or one of each) or an ISO 230-4 circle.
 #[derive(clap::Args)]
 #[command(
     after_help = "Examples:\n  trueaxis ballbar simulate --machine examples/machines/c600u.toml --errors examples/ballbar/c600u_piges.toml --test c2 --out c2.csv\n  \
+trueaxis ballbar simulate --machine examples/machines/c600u.toml --errors examples/ballbar/c600u_piges.toml --test a1 \\\n      \
+--method four-setup --outer-positions -200,250 --inner-positions 0,78 --out a1.csv\n  \
 trueaxis ballbar simulate --machine examples/machines/vmc3.toml --errors examples/ballbar/vmc3_circle.toml --test circle --plane xy --radius 100 --centre 0,0,-200 --dir both\n\n\
 Output CSV: the axis columns (mm, deg), angle (deg, in the plane of the test), dir (ccw/cw), dL (um)."
 )]
@@ -102,6 +150,8 @@ pub struct SimulateArgs {
     test: TestKind,
     #[command(flatten)]
     bars: BarArgs,
+    #[command(flatten)]
+    method: MethodArgs,
     /// Circle: plane (xy, yz, zx).
     #[arg(long, default_value = "xy", value_parser = parse_plane)]
     plane: Plane,
@@ -149,27 +199,43 @@ fn centre_pose(machine: &Machine, centre: Option<trueaxis::geometry::Vec3>) -> V
     machine.axes().iter().map(|a| "XYZ".find(a.letter).map_or(0.0, |k| c[k])).collect()
 }
 
-/// Deterministic Gaussian noise (Box-Muller on a splitmix64 stream), um.
-fn noise(seed: u64, n: usize, sigma: f64) -> Vec<f64> {
-    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(1);
-    let mut uniform = move || {
-        state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..n).map(|_| sigma * (-2.0 * (1.0 - uniform()).ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos()).collect()
+/// Gaussian noise (um, standard deviation `sigma`) of one run: the ChaCha8 generator of `seed` on
+/// its own stream (the project's seeded stream-splittable generator, `uncertainty::trial_rng`),
+/// so different seeds, tests and runs (CW, CCW) draw independent numbers.
+fn noise(seed: u64, stream: u64, n: usize, sigma: f64) -> Vec<f64> {
+    let mut rng = trial_rng(seed, stream, 0);
+    let normal = Distribution::Normal { mean: 0.0, u: sigma };
+    (0..n).map(|_| normal.sample(&mut rng)).collect()
 }
+
+/// Most samples one simulated run may have (1 deg steps give 360; 0.001 deg 360 000).
+const MAX_SAMPLES: f64 = 1e6;
 
 fn simulate(a: SimulateArgs) -> Result<(), Failure> {
     let (m, e) = load(&a.machine, a.errors.as_deref())?;
-    if !(a.step > 0.0 && a.step <= 90.0 && a.noise >= 0.0) {
-        return Err(Failure::input(anyhow!("--step must be in (0, 90] deg and --noise >= 0 um")));
+    if !(a.step > 0.0 && a.step <= 90.0) {
+        return Err(Failure::input(anyhow!("--step must be in (0, 90] deg, got {}", a.step)));
+    }
+    if 360.0 / a.step > MAX_SAMPLES {
+        return Err(Failure::input(anyhow!(
+            "--step {} deg gives {:.0} samples per turn; at most {MAX_SAMPLES:.0} are simulated (use --step >= {} deg)",
+            a.step,
+            360.0 / a.step,
+            360.0 / MAX_SAMPLES
+        )));
+    }
+    if !(a.noise >= 0.0 && a.noise.is_finite()) {
+        return Err(Failure::input(anyhow!("--noise must be a finite standard deviation >= 0 um, got {}", a.noise)));
+    }
+    if !(a.radius > 0.0 && a.radius.is_finite()) {
+        return Err(Failure::input(anyhow!("--radius must be a positive number of mm, got {}", a.radius)));
+    }
+    if !a.start.is_finite() {
+        return Err(Failure::input(anyhow!("--start must be a finite angle (deg), got {}", a.start)));
     }
     let mut tests: Vec<(Rotation, BallbarTest)> = Vec::new();
-    // each test kind draws its own noise stream from the seed
-    let stream = a.test as u64 * 1000;
+    // each test kind and run draws its own noise stream from the seed
+    let stream = a.test as u64 * 2;
     if a.test == TestKind::Circle {
         let dirs = match a.dir {
             DirArg::Ccw => vec![Rotation::Ccw],
@@ -189,7 +255,8 @@ fn simulate(a: SimulateArgs) -> Result<(), Failure> {
             _ => JiangStep::C2,
         };
         let pair = RotaryPair::of_machine(&m).map_err(Failure::input)?;
-        tests.push((Rotation::Ccw, jiang_step(&m, pair, step, a.bars.lengths()?, a.step).map_err(Failure::input)?));
+        let method = a.method.method()?;
+        tests.push((Rotation::Ccw, method_step(&m, pair, method, step, a.bars.lengths()?, a.step).map_err(Failure::input)?));
     }
     let mut out = String::new();
     let letters: Vec<String> = m.axes().iter().map(|x| x.letter.to_string()).collect();
@@ -197,7 +264,7 @@ fn simulate(a: SimulateArgs) -> Result<(), Failure> {
     out.push_str(&format!("{},angle,dir,dL\n", letters.join(",")));
     for (k, (rotation, test)) in tests.iter().enumerate() {
         let dl = test.simulate(&m, &e);
-        let extra = noise(a.seed.wrapping_add(stream + k as u64), dl.len(), a.noise);
+        let extra = noise(a.seed, stream + k as u64, dl.len(), a.noise);
         for i in 0..test.len() {
             let user: Vec<String> =
                 m.axes().iter().zip(test.pose(i)).map(|(ax, q)| format!("{}", round(ax.position_to_user(*q), 9))).collect();
@@ -233,16 +300,20 @@ fn print(text: &str) -> Result<(), Failure> {
     }
 }
 
-/// The 8 PIGEs of the two rotary axes from the four steps of seed 001 ch. 5 (one pivot setup):
-/// algebraic circle fits, the extended-bar orientation method, the start-angle correction (Eq. 4.1),
-/// repeatability over runs, and the simulated compensation residual.
+/// The 8 PIGEs of the two rotary axes from the four steps of seed 001 (ch. 5 one pivot setup by
+/// default, ch. 4 two pivots, ch. 6 four setups): algebraic circle fits, the axis lines, the
+/// start-angle correction (Eq. 4.1), repeatability over runs, and the simulated compensation residual.
 #[derive(clap::Args)]
 #[command(
-    after_help = "Example:\n  trueaxis ballbar identify --machine examples/machines/c600u.toml --a1 examples/ballbar/A1.csv \\\n      \
---a2 examples/ballbar/A2.csv --c1 examples/ballbar/C1.csv --c2 examples/ballbar/C2.csv --plot-dir out\n\n\
+    after_help = "Examples:\n  trueaxis ballbar identify --machine examples/machines/c600u.toml --a1 examples/ballbar/A1.csv \\\n      \
+--a2 examples/ballbar/A2.csv --c1 examples/ballbar/C1.csv --c2 examples/ballbar/C2.csv --plot-dir out\n  \
+trueaxis ballbar identify --machine examples/machines/c600u.toml --method four-setup --outer-positions -200,250 \\\n      \
+--inner-positions 0,78 --a1 A1.csv --a2 A2.csv --c1 C1.csv --c2 C2.csv\n\n\
 Each CSV holds the swept axis position (column A or C, or angle; deg) and dL (um, the bar reading\n\
 relative to the bar length); an optional integer column `run` holds repeated runs (mean and standard\n\
-deviation are then reported). Results: EY0A EZ0A EX0C EY0C in um, EB0A EC0A EA0C EB0C in urad and arcsec."
+deviation are then reported). Each step needs at least 8 readings over at least 45 deg. Results:\n\
+EY0A EZ0A EX0C EY0C in um, EB0A EC0A EA0C EB0C in urad and arcsec (an axis not along X, Y or Z gets\n\
+all three translations and rotations, their components along the axis zero)."
 )]
 pub struct IdentifyArgs {
     #[arg(long)]
@@ -257,15 +328,25 @@ pub struct IdentifyArgs {
     c2: PathBuf,
     #[command(flatten)]
     bars: BarArgs,
+    #[command(flatten)]
+    method: MethodArgs,
     /// Misplacement of the outer-axis pivot from a centring test: radial,tangential (mm), Eq. 4.1.
     #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
     pivot_offset_a: Option<[f64; 2]>,
     /// Misplacement of the inner-axis pivot: radial,tangential (mm), Eq. 4.1.
     #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
     pivot_offset_c: Option<[f64; 2]>,
+    /// Expected noise of the bar readings (um, standard deviation): a step whose compensation
+    /// residual RMS exceeds 3 times it is reported with a warning. Default: 1 um, the accuracy of a
+    /// QC20-W (seed 001 Table 4.1).
+    #[arg(long, default_value_t = 1.0)]
+    noise: f64,
     /// Write polar plots (raw vs compensated) of the four steps into this directory.
     #[arg(long)]
     plot_dir: Option<PathBuf>,
+    /// Scale of the plots (um per division); default: automatic.
+    #[arg(long)]
+    scale: Option<f64>,
     #[arg(long)]
     json: bool,
 }
@@ -290,16 +371,38 @@ fn user_value(id: &ParameterId, v: f64) -> (f64, &'static str) {
     }
 }
 
+/// A misplaced pivot (Eq. 4.1) must be small against the bar: the correction is an angle about the
+/// nominal centre, meaningless once the pivot is a sizeable part of the radius away.
+const MAX_PIVOT_OFFSET: f64 = 0.1;
+
 fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     let (m, _) = load(&a.machine, None)?;
     let pair = RotaryPair::of_machine(&m).map_err(Failure::input)?;
     let bars = a.bars.lengths()?;
+    let method = a.method.method()?;
+    if !(a.noise > 0.0 && a.noise.is_finite()) {
+        return Err(Failure::input(anyhow!("--noise must be a positive number of um, got {}", a.noise)));
+    }
+    if let Some(s) = a.scale.filter(|s| !(*s > 0.0 && s.is_finite())) {
+        return Err(Failure::input(anyhow!("--scale must be a positive number of um per division, got {s}")));
+    }
+    for (flag, offset) in [("--pivot-offset-a", a.pivot_offset_a), ("--pivot-offset-c", a.pivot_offset_c)] {
+        if let Some([r, t]) = offset.filter(|[r, t]| r.hypot(*t) >= MAX_PIVOT_OFFSET * bars.normal) {
+            return Err(Failure::input(anyhow!(
+                "{flag} {r},{t}: the pivot is {:.3} mm from its nominal place; the start-angle correction (Eq. 4.1) is for a misplacement below {} mm ({} % of R = {} mm)",
+                r.hypot(t),
+                MAX_PIVOT_OFFSET * bars.normal,
+                MAX_PIVOT_OFFSET * 100.0,
+                bars.normal
+            )));
+        }
+    }
     let files = [(JiangStep::A1, &a.a1), (JiangStep::A2, &a.a2), (JiangStep::C1, &a.c1), (JiangStep::C2, &a.c2)];
     let mut steps = Vec::new();
     for (step, path) in files {
         let axis = if step.is_outer() { pair.outer } else { pair.inner };
         let trace = read_trace(path, &[&axis.to_string(), "angle"]).map_err(Failure::input)?;
-        let test = jiang_step(&m, pair, step, bars, 1.0).map_err(Failure::input)?;
+        let test = method_step(&m, pair, method, step, bars, 1.0).map_err(Failure::input)?;
         steps.push((step, path, trace, test));
     }
     let runs = steps[0].2.run_numbers();
@@ -312,25 +415,30 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         let mut inner = Vec::new();
         for (step, path, trace, test) in &steps {
             let (angles, dl) = trace.run(run);
+            let axis = if step.is_outer() { pair.outer } else { pair.inner };
+            check_trace(&angles)
+                .map_err(|why| Failure::input(anyhow!("{}: step {} (axis {axis}), run {run}: {why}", path.display(), step.name())))?;
             let geometry = test.rotary.expect("rotary test");
             let offset = if step.is_outer() { a.pivot_offset_a } else { a.pivot_offset_c };
             let start_angle = offset.map_or(0.0, |o| start_angle_error(o[0], o[1], bars.normal));
             let t = DbbTrace { geometry, angles, dl, bar_length: test.nominal_length, start_angle };
-            if t.angles.len() < 3 {
-                return Err(Failure::input(anyhow!("{}: run {run} has {} readings; a circle fit needs 3", path.display(), t.angles.len())));
-            }
             if step.is_outer() {
                 outer.push(t)
             } else {
                 inner.push(t)
             }
         }
-        results.push(identify_piges(&m, pair, &outer, &inner).map_err(Failure::computation)?);
+        let piges = identify_piges(&m, pair, &outer, &inner).map_err(|e| match e {
+            trueaxis::identify::IdentifyError::Input(_) => Failure::input(e),
+            _ => Failure::computation(e),
+        })?;
+        results.push(piges);
     }
     let last = results.last().expect("at least one run");
     let stats = repeatability(&results, 1e-3, (1.0f64 / 3600.0).to_radians()).map_err(Failure::computation)?;
     // Compensation residual of the last run, per step.
     let mut residuals = Vec::new();
+    let mut warnings = Vec::new();
     for (step, path, trace, test) in &steps {
         let (angles, dl) = trace.run(*runs.last().expect("a run"));
         let mut t = test.clone();
@@ -341,6 +449,15 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         let r = compensation_residual(&m, &t, &dl, last);
         let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len() as f64).sqrt() * 1e3;
         let band = (r.iter().copied().fold(f64::NEG_INFINITY, f64::max) - r.iter().copied().fold(f64::INFINITY, f64::min)) * 1e3;
+        if rms > 3.0 * a.noise {
+            warnings.push(format!(
+                "step {} ({}): the compensation residual RMS {rms:.2} um is more than 3 x the expected bar noise {} um (--noise): \
+                 the trace is not the circle of an axis line (wrong file or step, motion errors of the axis, or a loose setup)",
+                step.name(),
+                path.display(),
+                a.noise
+            ));
+        }
         if let Some(dir) = &a.plot_dir {
             std::fs::create_dir_all(dir).map_err(|e| Failure::input(anyhow!("{}: cannot create: {e}", dir.display())))?;
             let raw: Vec<f64> = dl.iter().map(|v| v * 1e3).collect();
@@ -362,7 +479,7 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
                     PolarSeries { label: "raw".into(), angles: &angles, dl_um: &raw },
                     PolarSeries { label: "compensated (identified PIGEs removed)".into(), angles: &angles, dl_um: &comp },
                 ],
-                um_per_division: None,
+                um_per_division: a.scale,
                 lines: &lines,
             })
             .map_err(Failure::computation)?;
@@ -370,27 +487,40 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         }
         residuals.push((step.name(), rms, band));
     }
+    for w in &warnings {
+        eprintln!("trueaxis: warning: {w}");
+    }
+    let repeated = runs.len() > 1;
     if a.json {
         let mut params = serde_json::Map::new();
-        for ((id, v), (_, _, sd)) in last.values.iter().zip(&stats.parameters) {
+        for ((id, v), (_, mean, sd)) in last.values.iter().zip(&stats.parameters) {
             let (u, unit) = user_value(id, *v);
-            let mean = stats.parameters.iter().find(|p| p.0 == *id).map_or(*v, |p| p.1);
-            params.insert(id.to_string(), json!({"value": round(u, 4), "unit": unit, "mean": round(user_value(id, mean).0, 4), "std": round(user_value(id, *sd).0, 4)}));
+            let sd = repeated.then(|| round(user_value(id, *sd).0, 4));
+            params
+                .insert(id.to_string(), json!({"value": round(u, 4), "unit": unit, "mean": round(user_value(id, *mean).0, 4), "std": sd}));
         }
         let comp: Vec<_> =
             residuals.iter().map(|(s, rms, band)| json!({"step": s, "rms_um": round(*rms, 4), "band_um": round(*band, 4)})).collect();
-        let doc = json!({"machine": m.name, "runs": runs.len(), "parameters": params, "repeatability_ok": stats.within_tolerance, "compensation_residual": comp});
+        let doc = json!({"machine": m.name, "method": method.name(), "runs": runs.len(), "parameters": params,
+            "repeatability_ok": repeated.then_some(stats.within_tolerance), "compensation_residual": comp, "warnings": warnings});
         return print(&format!("{doc}\n"));
     }
-    let mut out = format!("PIGEs of {} (seed 001 ch. 5, {} run(s)); D = {:.3} mm\n", m.name, runs.len(), bars.extended_offset());
+    let mut out = format!(
+        "PIGEs of {} (seed 001 ch. {}, {} method, {} run(s)); D = {:.3} mm\n",
+        m.name,
+        method.chapter(),
+        method.name(),
+        runs.len(),
+        bars.extended_offset()
+    );
     for (id, mean, sd) in &stats.parameters {
         let (u, unit) = user_value(id, *mean);
         let (s, _) = user_value(id, *sd);
         let arcsec = if unit == "urad" { format!("  ({:+.2}\")", u / 1e6 * 180.0 / std::f64::consts::PI * 3600.0) } else { String::new() };
-        let spread = if runs.len() > 1 { format!(" ± {s:.3} (sd)") } else { String::new() };
+        let spread = if repeated { format!(" ± {s:.3} (sd)") } else { String::new() };
         out.push_str(&format!("  {id}  {u:+10.3} {unit}{spread}{arcsec}\n"));
     }
-    if runs.len() > 1 {
+    if repeated {
         out.push_str(&format!("repeatability within 1 um / 1 arcsec: {}\n", if stats.within_tolerance { "yes" } else { "no" }));
     }
     out.push_str("simulated compensation residual (last run):\n");
@@ -398,6 +528,20 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         out.push_str(&format!("  {s}: RMS {rms:.3} um, band {band:.3} um\n"));
     }
     print(&out)
+}
+
+/// A step's trace must hold enough of a circle for the fit: `MIN_READINGS` readings over at least
+/// `MIN_SPAN_DEG` of rotation (`identify::pige`).
+fn check_trace(angles: &[f64]) -> Result<(), String> {
+    let span = angle_span_deg(angles);
+    if angles.len() < MIN_READINGS || span < MIN_SPAN_DEG {
+        return Err(format!(
+            "{} readings over {span:.1} deg of rotation; a circle fit needs at least {MIN_READINGS} readings over at least {MIN_SPAN_DEG} deg \
+             (is this the file of this step?)",
+            angles.len()
+        ));
+    }
+    Ok(())
 }
 
 fn plane_labels(g: &trueaxis::instruments::ballbar::RotaryGeometry) -> (String, String) {

@@ -1,13 +1,21 @@
 //! `trueaxis uncertainty`.
 
+use crate::predict::parse_point;
 use crate::Failure;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Map, Value};
 use std::io::IsTerminal;
 use std::path::PathBuf;
+use trueaxis::data::read_poses;
 use trueaxis::data::write_atomically;
+use trueaxis::geometry::Vec3;
+use trueaxis::identify::{solve, Campaign, Identification, IdentifyError, IndirectOptions};
+use trueaxis::machine::Machine;
+use trueaxis::model::{Frame, Setup};
 use trueaxis::report::{interval_of, uncertainty_figures};
-use trueaxis::uncertainty::{run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, IntervalKind, Sources, UncertaintyError};
+use trueaxis::uncertainty::{
+    run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, IntervalKind, Sources, UncertaintyError, VolumetricUncertainty,
+};
 
 /// Uncertainty of identified parameters: GUM propagation and adaptive Monte Carlo (JCGM 101
 /// §7.9, several outputs per JCGM 102) with the sources of a sources file (sensor noise, frame
@@ -34,6 +42,19 @@ pub struct UncertaintyArgs {
     /// Measurement campaign (TOML), with --machine.
     #[arg(long, requires = "machine")]
     campaign: Option<PathBuf>,
+    /// Poses (CSV, one column per axis) at which to give the uncertainty of the predicted
+    /// volumetric error dx dy dz (GUM and Monte Carlo); needs --machine and --campaign.
+    #[arg(long, requires = "campaign")]
+    poses: Option<PathBuf>,
+    /// With --poses: tool-side point x,y,z in mm, in M at home (default: the machine's tool point).
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true, requires = "poses")]
+    tool_point: Option<Vec3>,
+    /// With --poses: workpiece-side point x,y,z in mm, in M at home (default: 0,0,0).
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true, requires = "poses")]
+    work_point: Option<Vec3>,
+    /// With --poses: frame of dx dy dz.
+    #[arg(long, value_enum, default_value = "workpiece")]
+    frame: FrameArg,
     /// Time per measured point of a campaign (s), for the drift sources.
     #[arg(long, default_value_t = 0.75)]
     point_time: f64,
@@ -54,17 +75,80 @@ pub struct UncertaintyArgs {
     json: bool,
 }
 
-/// The design of a campaign's identification (the same as `trueaxis identify` solves).
-fn campaign_design(machine: &std::path::Path, campaign: &std::path::Path, point_time: f64) -> Result<DesignMatrix, Failure> {
-    let identify_failure = |e: trueaxis::identify::IdentifyError| match e {
-        trueaxis::identify::IdentifyError::RankDeficient { .. } => Failure::computation(e),
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum FrameArg {
+    Workpiece,
+    Machine,
+}
+
+fn identify_failure(e: IdentifyError) -> Failure {
+    match e {
+        IdentifyError::RankDeficient { .. } => Failure::computation(e),
         other => Failure::input(other),
-    };
-    let machine = trueaxis::machine::Machine::load(machine).map_err(Failure::input)?;
-    let campaign = trueaxis::identify::Campaign::load(campaign, &machine).map_err(identify_failure)?;
+    }
+}
+
+/// A campaign and its identification (the same as `trueaxis identify` solves).
+struct CampaignContext {
+    machine: Machine,
+    campaign: Campaign,
+    identification: Identification,
+    design: DesignMatrix,
+}
+
+fn campaign_context(machine: &std::path::Path, campaign: &std::path::Path, point_time: f64) -> Result<CampaignContext, Failure> {
+    let machine = Machine::load(machine).map_err(Failure::input)?;
+    let campaign = Campaign::load(campaign, &machine).map_err(identify_failure)?;
     let nominal = campaign.nominal_errors(&machine).map_err(identify_failure)?;
     let design = campaign.design_matrix(&machine, &nominal).map_err(identify_failure)?;
-    trueaxis::uncertainty::from_identification(&design, point_time).map_err(failure)
+    let start = campaign.nominal_values(&nominal).map_err(identify_failure)?;
+    let identification = solve(&design, &start, &IndirectOptions::default()).map_err(identify_failure)?;
+    let design = trueaxis::uncertainty::from_identification(&design, point_time).map_err(failure)?;
+    Ok(CampaignContext { machine, campaign, identification, design })
+}
+
+/// The uncertainty of the predicted volumetric error at one pose, GUM and Monte Carlo.
+struct PoseUncertainty {
+    /// Axis letter and position (mm, deg).
+    user: Vec<(char, f64)>,
+    gum: VolumetricUncertainty,
+    monte_carlo: VolumetricUncertainty,
+}
+
+/// Seed 000 App. A eq. A.4 at every pose of `path`: the GUM covariance of the parameters (all
+/// sources) through `Identification::volumetric_covariance`, and the Monte Carlo covariance of
+/// the parameter trials through the same `F` (the prediction is linear in the parameters).
+fn pose_uncertainties(
+    args: &UncertaintyArgs,
+    path: &std::path::Path,
+    ctx: &CampaignContext,
+    budget: &Budget,
+    level: f64,
+) -> Result<Vec<PoseUncertainty>, Failure> {
+    let m = &ctx.machine;
+    let poses = read_poses(path, m).map_err(Failure::input)?;
+    let setup = Setup { tool_point: args.tool_point.unwrap_or(m.tool_point), work_point: args.work_point.unwrap_or_else(Vec3::zeros) };
+    let frame = match args.frame {
+        FrameArg::Workpiece => Frame::Workpiece,
+        FrameArg::Machine => Frame::Machine,
+    };
+    let mut gum_identification = ctx.identification.clone();
+    gum_identification.covariance = budget.gum_covariance.clone();
+    let n = m.axis_count().max(1);
+    let internal = poses.internal(m);
+    let mut out = Vec::new();
+    for (user, q) in poses.user.chunks(n).zip(internal.chunks(n)) {
+        let gum = VolumetricUncertainty::from_covariance(
+            gum_identification.volumetric_covariance(&ctx.campaign, m, q, &setup, frame),
+            [0.0; 3],
+            level,
+        )
+        .map_err(failure)?;
+        let f = ctx.campaign.unknown_jacobian(m, q, &setup, frame).rows(0, 3) * 1e3;
+        let monte_carlo = VolumetricUncertainty::propagated(&f, &budget.total.covariance, [0.0; 3], level).map_err(failure)?;
+        out.push(PoseUncertainty { user: m.axes().iter().map(|a| a.letter).zip(user.iter().copied()).collect(), gum, monte_carlo });
+    }
+    Ok(out)
 }
 
 /// Where the design came from, for the outputs.
@@ -85,9 +169,16 @@ fn failure(e: UncertaintyError) -> Failure {
 }
 
 pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
-    let design = match (&args.design, &args.machine, &args.campaign) {
-        (Some(path), _, _) => DesignMatrix::read_csv(path).map_err(failure)?,
-        (None, Some(machine), Some(campaign)) => campaign_design(machine, campaign, args.point_time)?,
+    let context = match (&args.machine, &args.campaign) {
+        (Some(machine), Some(campaign)) if args.design.is_none() => Some(campaign_context(machine, campaign, args.point_time)?),
+        _ => None,
+    };
+    if args.poses.is_some() && context.is_none() {
+        return Err(Failure::input(anyhow::anyhow!("--poses needs --machine and --campaign (the parameters' effect on dx dy dz)")));
+    }
+    let design = match (&args.design, &context) {
+        (Some(path), _) => DesignMatrix::read_csv(path).map_err(failure)?,
+        (None, Some(ctx)) => ctx.design.clone(),
         _ => return Err(Failure::input(anyhow::anyhow!("give --design, or --machine and --campaign"))),
     };
     let mut sources = Sources::load(&args.sources).map_err(failure)?;
@@ -109,6 +200,10 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
     let budget = run_budget(&map, &sources.sources, settings, Evaluation::Reduced, !args.no_budget, &mut report);
     bar.finish_and_clear();
     let budget = budget.map_err(failure)?;
+    let poses = match (&args.poses, &context) {
+        (Some(path), Some(ctx)) => pose_uncertainties(&args, path, ctx, &budget, settings.coverage)?,
+        _ => Vec::new(),
+    };
     if let Some(dir) = &args.plots {
         write_plots(dir, &budget, &sources).map_err(Failure::input)?;
     }
@@ -118,7 +213,11 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
             settings.tolerance, settings.max_sequences
         );
     }
-    let text = if args.json { format!("{}\n", to_json(&args, &map, &budget, &sources)) } else { table(&args, &map, &budget, &sources) };
+    let text = if args.json {
+        format!("{}\n", to_json(&args, &map, &budget, &sources, &poses))
+    } else {
+        table(&args, &map, &budget, &sources) + &poses_table(&args, &poses, &sources)
+    };
     print(&text)
 }
 
@@ -131,7 +230,67 @@ fn progress_bar(json: bool) -> ProgressBar {
     bar
 }
 
-fn to_json(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sources: &Sources) -> Value {
+/// JSON of one pose's volumetric uncertainty (um, um^2).
+fn volumetric_json(v: &VolumetricUncertainty) -> Value {
+    let e = &v.ellipsoid;
+    let axes: Vec<Value> = e
+        .semi_axes
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            json!({"semi_axis_um": a, "std_uncertainty_um": e.axes.variances[i].sqrt(),
+                   "direction": e.axes.directions.column(i).iter().copied().collect::<Vec<f64>>()})
+        })
+        .collect();
+    json!({
+        "std_uncertainty_um": v.std_uncertainty,
+        "covariance_um2": (0..3).map(|i| (0..3).map(|j| v.covariance[(i, j)]).collect::<Vec<f64>>()).collect::<Vec<_>>(),
+        "ellipsoid": {"level": e.level, "dof": e.dof, "chi2": e.chi2, "axes": axes},
+    })
+}
+
+/// Rows of a square matrix as JSON arrays.
+fn matrix_json(m: &nalgebra::DMatrix<f64>) -> Value {
+    json!((0..m.nrows()).map(|i| m.row(i).iter().copied().collect::<Vec<f64>>()).collect::<Vec<_>>())
+}
+
+fn poses_table(args: &UncertaintyArgs, poses: &[PoseUncertainty], sources: &Sources) -> String {
+    use std::fmt::Write;
+    let Some(path) = &args.poses else { return String::new() };
+    let mut out = String::new();
+    let pct = 100.0 * sources.settings.coverage;
+    let frame = match args.frame {
+        FrameArg::Workpiece => "workpiece",
+        FrameArg::Machine => "machine",
+    };
+    let _ = writeln!(
+        out,
+        "\nuncertainty of the predicted volumetric error dx dy dz ({}, {frame} frame): standard uncertainties (um) and the {pct} % \
+         confidence ellipsoid (semi-axes sqrt(chi2_3 lambda_i), um, along unit directions), GUM (F Cov F^T) and Monte Carlo (F Cov_MC F^T)",
+        path.display()
+    );
+    for (k, p) in poses.iter().enumerate() {
+        let pose: Vec<String> = p.user.iter().map(|(a, v)| format!("{a}={v}")).collect();
+        let _ = writeln!(out, "pose {} ({}):", k + 1, pose.join(" "));
+        for (name, v) in [("GUM", &p.gum), ("MC ", &p.monte_carlo)] {
+            let axes: Vec<String> = v
+                .ellipsoid
+                .semi_axes
+                .iter()
+                .enumerate()
+                .map(|(i, a)| {
+                    let d = v.ellipsoid.axes.directions.column(i);
+                    format!("{a:.3} along ({:+.3} {:+.3} {:+.3})", d[0], d[1], d[2])
+                })
+                .collect();
+            let u = v.std_uncertainty;
+            let _ = writeln!(out, "  {name} u(dx dy dz) = {:.3} {:.3} {:.3} um; ellipsoid {}", u[0], u[1], u[2], axes.join(", "));
+        }
+    }
+    out
+}
+
+fn to_json(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sources: &Sources, poses: &[PoseUncertainty]) -> Value {
     let s = &sources.settings;
     let k = budget.gum_coverage_factor;
     let mut parameters = Map::new();
@@ -185,6 +344,9 @@ fn to_json(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sou
         "budget_sequences": budget.per_source.iter().map(|r| r.sequences).collect::<Vec<_>>(),
         "condition_number": map.condition_number,
         "history": history,
+        "covariance": {"parameter_order": map.design.parameters, "units": map.design.units,
+                       "gum": matrix_json(&budget.gum_covariance), "monte_carlo": matrix_json(&budget.total.covariance)},
+        "poses": poses.iter().map(|p| json!({"pose": p.user.iter().map(|(a, v)| (a.to_string(), json!(v))).collect::<Map<_, _>>(), "gum": volumetric_json(&p.gum), "monte_carlo": volumetric_json(&p.monte_carlo)})).collect::<Vec<_>>(),
     })
 }
 
