@@ -207,7 +207,7 @@ fn build<'a>(
     let (errors, origin): (&ErrorModel, String) = match (&args.errors, &identification) {
         (Some(path), _) => {
             loaded = ErrorModel::load(path, machine).map_err(Failure::input)?;
-            (&loaded, path.display().to_string())
+            (&loaded, format!("the error values of {}", path.display()))
         }
         (None, Some(id)) => (&id.errors, format!("the errors identified from {}", id.campaign.origin)),
         (None, None) => return Err(bad("give --errors or --campaign".into())),
@@ -216,7 +216,7 @@ fn build<'a>(
     let compensation = CompensationPart::compute(machine, errors, &origin, args.points, GRID_NODES).map_err(failure)?;
     let volume = VolumePart::compute(machine, errors, errors, &compensation).map_err(failure)?.map(|mut v| {
         v.description.push(format!(
-            "The machine is taken to have the errors of {origin}, and the corrections are computed from them: after the exact correction what remains is the orientation the joints cannot correct (on machines with fewer than five axes); how well the errors are known is the uncertainty of the identification."
+            "The machine is taken to have {origin}, and the corrections are computed from them: the exact correction leaves the corrector's tolerance; how well the errors themselves are known is the uncertainty of their measurement or identification."
         ));
         v
     });

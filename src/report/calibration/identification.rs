@@ -167,7 +167,7 @@ impl IdentificationPart {
         let mut s = Section::new("identification", "Identified parameters")
             .paragraph(format!(
                 "Weighted least squares ({}) on the first-order Jacobian of the exact chain (seed 000 eq. 2.24, seed 004 eq. 2): {} unknowns from {} readings, rank {}, condition number {} (unit-length scaled columns), residual RMS {:.3} um, standard deviation of unit weight s0 = {:.2} (1 when the residuals match the stated noise).",
-                r.solver.name(),
+                r.solver.name().to_uppercase(),
                 r.names.len(),
                 r.residuals.len(),
                 ident.rank,

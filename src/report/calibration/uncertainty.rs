@@ -18,6 +18,8 @@ pub struct UncertaintyPart {
     pub convergence_svg: Option<String>,
     /// Where the sources came from (a file name).
     pub origin: String,
+    /// Time between two records of the campaign (s), for the drift sources.
+    pub point_time_s: f64,
 }
 
 impl UncertaintyPart {
@@ -36,7 +38,7 @@ impl UncertaintyPart {
         let mut report = |stage: Option<&str>, sequence: usize, _: Option<&ControlVariables>| progress(stage, sequence);
         let budget = run_budget(&map, &sources.sources, &sources.settings, Evaluation::Reduced, true, &mut report)?;
         let (histograms_svg, convergence_svg) = uncertainty_figures(&budget, &sources.settings)?;
-        Ok(UncertaintyPart { sources, design, budget, histograms_svg, convergence_svg, origin: origin.into() })
+        Ok(UncertaintyPart { sources, design, budget, histograms_svg, convergence_svg, origin: origin.into(), point_time_s })
     }
 
     /// The coverage interval of a parameter with all sources, if it is one of the outputs.
@@ -64,9 +66,10 @@ impl UncertaintyPart {
         let header_refs: Vec<&str> = header.iter().map(String::as_str).collect();
         let mut s = Section::new("uncertainty", "Uncertainty (adaptive Monte Carlo, JCGM 101/102)")
             .paragraph(format!(
-                "Sources of {}: {}. Each trial draws every source and maps the disturbed readings to the parameters through the identification's precomputed pseudo-inverse. Adaptive loop of JCGM 101 §7.9: sequences of {} trials until the means, standard uncertainties and interval endpoints are stable to {} (parameter units); {} sequences, {} trials{}. Seed {}: the same numbers on any number of threads.",
+                "Sources of {}: {} (record k of the campaign read at k x {} s). Each trial draws every source and maps the disturbed readings to the parameters through the identification's precomputed pseudo-inverse. Adaptive loop of JCGM 101 §7.9: sequences of {} trials until the means, standard uncertainties and interval endpoints are stable to {} (parameter units); {} sequences, {} trials{}. Seed {}: the same numbers on any number of threads.",
                 self.origin,
                 b.source_names.join(", "),
+                self.point_time_s,
                 settings.trials_per_sequence,
                 settings.tolerance,
                 b.total.sequences,
