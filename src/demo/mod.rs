@@ -74,7 +74,8 @@ pub struct DemoSummary {
     pub max_um: f64,
     pub max_pose: Vec<(char, f64)>,
     pub rms_um: f64,
-    /// The same after compensation with the tables of the identified errors.
+    /// The same after compensation: the true machine at the set-points corrected for the identified
+    /// errors on the exact chain.
     pub max_after_um: f64,
     pub rms_after_um: f64,
     /// Identified parameters with their true values, least-squares standard uncertainties and
