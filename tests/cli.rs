@@ -187,3 +187,116 @@ fn every_command_has_help_with_an_example() {
         assert!(String::from_utf8_lossy(&out.stdout).contains("Example"), "{cmd:?}");
     }
 }
+
+/// Runs trueaxis with its stdout a pipe whose reader takes `keep` bytes (0: closes it at once) and
+/// then closes it, as `| head -c N` does: (status, stderr).
+#[cfg(unix)]
+fn with_closed_pipe(args: &[&str], dir: &Path, keep: usize) -> (std::process::ExitStatus, String) {
+    use std::io::Read;
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_trueaxis"))
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdout = child.stdout.take().unwrap();
+    let mut head = vec![0u8; keep];
+    stdout.read_exact(&mut head).unwrap();
+    drop(stdout);
+    let out = child.wait_with_output().unwrap();
+    (out.status, String::from_utf8_lossy(&out.stderr).into_owned())
+}
+
+/// A closed pipe ends the process quietly (SIGPIPE, as other Unix tools), never with a panic (exit
+/// 101); files written before are whole and no temporary file is left.
+#[cfg(unix)]
+#[test]
+fn a_closed_pipe_ends_the_command_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    let dir = tempfile::tempdir().unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // 20000 poses: far more output than a pipe holds, so the writer meets the closed pipe
+    let mut poses = String::from("X,Y,Z\n");
+    for i in 0..20000 {
+        poses.push_str(&format!("{},{},{}\n", (i % 800) as f64 - 400.0, (i % 500) as f64 - 250.0, -((i % 400) as f64)));
+    }
+    std::fs::write(dir.path().join("poses.csv"), poses).unwrap();
+    let machine = root.join("examples/machines/vmc3.toml");
+    let errors = root.join("examples/errors/vmc3.toml");
+    let (m, e) = (machine.to_str().unwrap(), errors.to_str().unwrap());
+    let quiet = |status: std::process::ExitStatus, stderr: &str, what: &str| {
+        assert!(!stderr.contains("panicked") && !stderr.contains("Broken pipe"), "{what}: {stderr}");
+        assert_ne!(status.code(), Some(101), "{what}");
+        assert!(status.success() || status.signal() == Some(13), "{what}: {status:?}");
+    };
+    let (status, stderr) = with_closed_pipe(&["predict", "--machine", m, "--errors", e, "--poses", "poses.csv"], dir.path(), 100);
+    quiet(status, &stderr, "predict | head -c 100");
+    assert_eq!(status.signal(), Some(13), "predict ended by SIGPIPE");
+    let (status, stderr) =
+        with_closed_pipe(&["compensate", "--machine", m, "--errors", e, "--format", "csv", "--out", "comp"], dir.path(), 0);
+    quiet(status, &stderr, "compensate | head -0");
+    let (status, stderr) = with_closed_pipe(&["demo", "--out", "demo"], dir.path(), 0);
+    quiet(status, &stderr, "demo | head -0");
+    // everything was written before the output: whole files, no temporary files
+    let report = std::fs::read_to_string(dir.path().join("demo/report.html")).unwrap();
+    assert!(report.trim_end().ends_with("</html>"));
+    let tables = std::fs::read_to_string(dir.path().join("comp/tables.csv")).unwrap();
+    assert!(tables.lines().count() > 40);
+    for folder in ["demo", "demo/compensation", "comp"] {
+        for entry in std::fs::read_dir(dir.path().join(folder)).unwrap() {
+            let name = entry.unwrap().file_name().to_string_lossy().into_owned();
+            assert!(!name.starts_with(".tmp"), "temporary file {folder}/{name} left behind");
+        }
+    }
+}
+
+/// Output files get the usual mode (0666 minus the umask, what `touch` gives) and a replaced file
+/// keeps its own.
+#[cfg(unix)]
+#[test]
+fn output_files_have_the_usual_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    // what this process's umask makes of 0666 (the child inherits it)
+    let probe = dir.path().join("probe");
+    std::fs::File::create(&probe).unwrap();
+    let usual = mode(&probe);
+    let target = dir.path().join("pred.csv");
+    assert!(predict("vmc3", &["--out", target.to_str().unwrap()]).status.success());
+    assert_eq!(mode(&target), usual, "a new file: {:o} vs {:o}", mode(&target), usual);
+    std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o640)).unwrap();
+    assert!(predict("vmc3", &["--out", target.to_str().unwrap()]).status.success());
+    assert_eq!(mode(&target), 0o640, "a replaced file keeps its mode");
+}
+
+/// Each message says the system's reason once, and never the name of a temporary file.
+#[test]
+fn error_messages_name_the_cause_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = trueaxis(&[
+        "predict",
+        "--machine",
+        "/nonexistent.toml",
+        "--errors",
+        "examples/errors/vmc3.toml",
+        "--poses",
+        "examples/poses/vmc3.csv",
+    ]);
+    assert_bad_input(&out, &["/nonexistent.toml: cannot read machine file: "]);
+    assert_eq!(String::from_utf8_lossy(&out.stderr).matches("(os error 2)").count(), 1, "{}", String::from_utf8_lossy(&out.stderr));
+
+    let missing = dir.path().join("no/folder/pred.csv");
+    let out = predict("vmc3", &["--out", missing.to_str().unwrap()]);
+    assert_bad_input(&out, &["no/folder/pred.csv: cannot write: "]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!err.contains("at path") && err.matches("(os error 2)").count() == 1, "no temporary file named: {err}");
+
+    let afile = dir.path().join("afile");
+    std::fs::write(&afile, "x").unwrap();
+    let out = trueaxis(&["demo", "--out", afile.to_str().unwrap()]);
+    assert_bad_input(&out, &["afile: cannot create output directory: "]);
+    assert_eq!(String::from_utf8_lossy(&out.stderr).matches("(os error 17)").count(), 1, "{}", String::from_utf8_lossy(&out.stderr));
+}

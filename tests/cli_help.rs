@@ -1,6 +1,7 @@
 //! The command line is consistent: every command and sub-command (found by walking `trueaxis --help`)
 //! has `--help` with an example, `--json` where it prints results, and exit status 2 with a one-line
-//! message naming the file when its input file does not exist (DESIGN.md section 4).
+//! message naming the file (and the system's reason once) when its input file does not exist
+//! (DESIGN.md section 4).
 
 use std::process::{Command, Output};
 
@@ -93,6 +94,7 @@ fn every_command_has_help_with_an_example() {
         "iso230-2",
         "nc",
         "predict",
+        "report",
         "thermal",
         "thermal fit",
         "thermal modes",
@@ -140,6 +142,7 @@ fn missing_input_invocation(name: &str) -> Option<Vec<&'static str>> {
     let c = "no_such_file.csv";
     Some(match name {
         "predict" => vec!["predict", "--machine", m, "--errors", m, "--poses", c],
+        "report" => vec!["report", "--machine", m, "--errors", m, "--out", "report.html"],
         "fit" => vec!["fit", "--data", c, "--parameter", "EXX"],
         "identify" => vec!["identify", "--machine", m, "--campaign", m],
         "iso230-2" => vec!["iso230-2", c],
@@ -185,6 +188,7 @@ fn a_missing_input_file_is_bad_input_with_exit_2() {
         assert!(stderr.starts_with("trueaxis: error: "), "`{name}`: {stderr}");
         assert_eq!(stderr.trim_end().lines().count(), 1, "`{name}`: one line expected: {stderr}");
         assert!(stderr.contains("no_such_file"), "`{name}`: the message does not name the file: {stderr}");
+        assert!(stderr.matches("(os error").count() <= 1, "`{name}`: the system's reason repeated: {stderr}");
         assert!(out.stdout.is_empty(), "`{name}` printed on stdout");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "`{name}` wrote a file");
     }

@@ -1,5 +1,6 @@
 //! Plots (SVG) and the self-contained HTML report.
 
+pub mod calibration;
 pub mod html;
 
 mod fit_plot;

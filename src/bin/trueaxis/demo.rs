@@ -1,8 +1,6 @@
 //! `trueaxis demo`.
 
 use crate::Failure;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use trueaxis::data::DataError;
 use trueaxis::demo::{self, DemoError};
@@ -24,23 +22,13 @@ pub struct DemoArgs {
 }
 
 pub fn run(args: DemoArgs) -> Result<(), Failure> {
-    let bar = if !args.json && std::io::stderr().is_terminal() {
-        let bar = ProgressBar::with_draw_target(Some(demo::STEPS as u64), ProgressDrawTarget::stderr());
-        bar.set_style(ProgressStyle::with_template("{pos}/{len} [{bar:20}] {msg}").expect("a valid template").progress_chars("=> "));
-        Some(bar)
-    } else {
-        None
-    };
+    let bar = crate::progress::steps(demo::STEPS, args.json);
     let mut progress = |step: usize, _total: usize, message: &str| {
-        if let Some(b) = &bar {
-            b.set_position(step as u64 - 1);
-            b.set_message(message.to_string());
-        }
+        bar.set_position(step as u64 - 1);
+        bar.set_message(message.to_string());
     };
     let result = demo::run(&args.out, &mut progress);
-    if let Some(b) = &bar {
-        b.finish_and_clear();
-    }
+    bar.finish_and_clear();
     let summary = result.map_err(|e| match e {
         // an output directory or file that cannot be written is a bad --out
         DemoError::CreateDir { .. } | DemoError::Data(DataError::Write { .. }) => Failure::input(e),
@@ -56,7 +44,7 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
                 (
                     p.name.clone(),
                     serde_json::json!({"unit": p.unit, "true": p.truth, "value": p.value,
-                        "std_uncertainty": p.std_uncertainty, "interval95": [p.interval.0, p.interval.1]}),
+                        "std_uncertainty": p.std_uncertainty, "interval95": p.interval.map(|(lo, hi)| [lo, hi])}),
                 )
             })
             .collect();
@@ -79,13 +67,13 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
     println!("  {:<6} {:>5} {:>10} {:>12} {:>8} {:>24}", "param", "unit", "true", "identified", "u (LS)", "95 % interval (MC)");
     for p in &summary.parameters {
         println!(
-            "  {:<6} {:>5} {:>10.2} {:>12.2} {:>8} {:>24}",
+            "  {:<6} {:>5} {:>10} {:>12.2} {:>8} {:>24}",
             p.name,
             p.unit,
-            p.truth,
+            p.truth.map_or("-".to_string(), |t| format!("{t:.2}")),
             p.value,
             p.std_uncertainty.map_or("-".to_string(), |u| format!("{u:.2}")),
-            format!("[{:.2}, {:.2}]", p.interval.0, p.interval.1)
+            p.interval.map_or("-".to_string(), |(lo, hi)| format!("[{lo:.2}, {hi:.2}]"))
         );
     }
     println!("  Monte Carlo: {} sequences", summary.monte_carlo_sequences);

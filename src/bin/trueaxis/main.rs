@@ -12,6 +12,8 @@ mod nc;
 mod predict;
 mod reversal;
 mod temperature;
+mod progress;
+mod report;
 mod thermal;
 mod uncertainty;
 
@@ -25,7 +27,8 @@ use std::process::ExitCode;
     about = "Find, explain and remove the quasi-static errors of multi-axis machine tools",
     after_help = "Units: positions in mm (linear) and deg (rotary); errors in um and urad.\n\
                   Examples:\n  trueaxis demo --out demo\n  \
-                  trueaxis predict --machine examples/machines/kx8five.toml --errors examples/errors/kx8five.toml --poses examples/poses/kx8five.csv"
+                  trueaxis predict --machine examples/machines/kx8five.toml --errors examples/errors/kx8five.toml --poses examples/poses/kx8five.csv\n  \
+                  trueaxis report --machine examples/machines/kx8five.toml --campaign examples/campaigns/kx8five/campaign.toml --out report.html"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -43,6 +46,7 @@ enum Command {
     Iso2302(iso230_2::Iso2302Args),
     Predict(predict::PredictArgs),
     Reversal(reversal::ReversalArgs),
+    Report(Box<report::ReportArgs>),
     Uncertainty(Box<uncertainty::UncertaintyArgs>),
     Compensate(Box<compensate::CompensateArgs>),
     Nc(Box<nc::NcArgs>),
@@ -64,7 +68,43 @@ impl Failure {
     }
 }
 
+/// Restores the default action of SIGPIPE (end the process quietly), which the Rust runtime sets to
+/// "ignore" before `main`: with it ignored, a write to a closed pipe (`trueaxis predict ... | head`)
+/// returns an error and `println!` panics. With the default, the process ends like other Unix tools
+/// when the reader goes away; every output file is written to a temporary file and renamed
+/// (`data::write_atomically`), so an early end leaves no half-written file.
+#[cfg(unix)]
+fn restore_default_sigpipe() {
+    extern "C" {
+        fn signal(signum: std::ffi::c_int, handler: usize) -> usize;
+    }
+    const SIGPIPE: std::ffi::c_int = 13; // the same number on Linux, macOS and the BSDs
+    const SIG_DFL: usize = 0;
+    // SAFETY: `signal` from the C library with a valid signal number and the default handler; called
+    // first thing in `main`, before any other thread exists.
+    unsafe {
+        signal(SIGPIPE, SIG_DFL);
+    }
+}
+
+/// The one-line message of an error: its own text followed by each cause in its chain that the text
+/// does not already contain. Error types that print their cause in their message (`{path}: cannot
+/// read: {source}`) and also return it as `source()` would otherwise show it twice, as `{:#}` does.
+fn message(error: &anyhow::Error) -> String {
+    let mut text = error.to_string();
+    for cause in error.chain().skip(1) {
+        let cause = cause.to_string();
+        if !text.contains(&cause) {
+            text.push_str(": ");
+            text.push_str(&cause);
+        }
+    }
+    text
+}
+
 fn main() -> ExitCode {
+    #[cfg(unix)]
+    restore_default_sigpipe();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Ballbar(args) => ballbar::run(args),
@@ -75,6 +115,7 @@ fn main() -> ExitCode {
         Command::Iso2302(args) => iso230_2::run(args),
         Command::Predict(args) => predict::run(args),
         Command::Reversal(args) => reversal::run(args),
+        Command::Report(args) => report::run(*args),
         Command::Uncertainty(args) => uncertainty::run(*args),
         Command::Compensate(args) => compensate::run(*args),
         Command::Nc(args) => nc::run(*args),
@@ -83,11 +124,11 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(Failure::Input(e)) => {
-            eprintln!("trueaxis: error: {e:#}");
+            eprintln!("trueaxis: error: {}", message(&e));
             ExitCode::from(2)
         }
         Err(Failure::Computation(e)) => {
-            eprintln!("trueaxis: error: {e:#}");
+            eprintln!("trueaxis: error: {}", message(&e));
             ExitCode::from(1)
         }
     }

@@ -1,11 +1,10 @@
-//! Volumetric error maps of the demo: the exact volumetric error over the three mid-planes of the
-//! linear-axis travel (rotary axes at 0, machine frame), as CSV and SVG heat maps.
+//! The poses of a volumetric error map: grids over the mid-planes of the linear-axis travel (rotary
+//! axes at 0), and their heat maps (SVG) and tables (the `predict` CSV).
 
-use super::DemoError;
+use super::CalibrationError;
 use crate::data::predictions_csv;
-use crate::errors::ErrorModel;
 use crate::machine::{AxisKind, Machine};
-use crate::model::{Frame, Predictor, VolumetricError};
+use crate::model::VolumetricError;
 use crate::report::{heatmap_svg, MapSlice};
 
 /// Nodes per axis of each plane.
@@ -15,39 +14,36 @@ pub const GRID: usize = 21;
 pub struct VolumeMap {
     planes: Vec<Grid>,
     pub poses_user: Vec<f64>,
-    poses_internal: Vec<f64>,
+    pub poses_internal: Vec<f64>,
 }
 
 impl VolumeMap {
-    pub fn new(machine: &Machine) -> VolumeMap {
+    /// The map of a machine with at least two linear axes with a travel; `None` otherwise.
+    pub fn new(machine: &Machine) -> Option<VolumeMap> {
         let planes = mid_plane_grids(machine, GRID);
+        if planes.is_empty() {
+            return None;
+        }
         let poses_user: Vec<f64> = planes.iter().flat_map(|(_, _, _, p)| p.iter().copied()).collect();
         let mut poses_internal = poses_user.clone();
         let n = machine.axis_count();
         for (u, q) in poses_user.chunks(n).zip(poses_internal.chunks_mut(n)) {
             machine.pose_to_internal(u, q);
         }
-        VolumeMap { planes, poses_user, poses_internal }
+        Some(VolumeMap { planes, poses_user, poses_internal })
     }
 
     pub fn len(&self, machine: &Machine) -> usize {
         self.poses_user.len() / machine.axis_count()
     }
 
-    /// The exact volumetric error of `errors` at every pose (machine frame).
-    pub fn predict(&self, machine: &Machine, errors: &ErrorModel) -> Vec<VolumetricError> {
-        let mut predictor = Predictor::new(machine, errors);
-        predictor.frame = Frame::Machine;
-        predictor.predict_batch(&self.poses_internal)
-    }
-
     /// CSV of the poses and predictions (the `predict` output format).
-    pub fn csv(&self, machine: &Machine, predictions: &[VolumetricError]) -> Result<String, DemoError> {
+    pub fn csv(&self, machine: &Machine, predictions: &[VolumetricError]) -> Result<String, CalibrationError> {
         Ok(predictions_csv(machine, &self.poses_user, predictions)?)
     }
 
     /// Heat maps of `|d|` (um) over the planes, one colour scale.
-    pub fn heatmap(&self, title: &str, magnitudes_um: &[f64]) -> Result<String, DemoError> {
+    pub fn heatmap(&self, title: &str, magnitudes_um: &[f64]) -> Result<String, CalibrationError> {
         let mut maps = Vec::new();
         let mut offset = 0;
         for (plane, (xa, xs), (ya, ys), _) in &self.planes {
@@ -83,8 +79,11 @@ type Grid = (String, (char, Vec<f64>), (char, Vec<f64>), Vec<f64>);
 /// Grids over the three mid-planes of the linear-axis travel (XY at mid Z, XZ at mid Y, YZ at mid
 /// X), rotary axes at 0: title, the two varied axes with their nodes, and the poses (user units).
 fn mid_plane_grids(machine: &Machine, nodes: usize) -> Vec<Grid> {
-    let linear: Vec<usize> = (0..machine.axis_count()).filter(|&i| machine.axes()[i].kind == AxisKind::Linear).take(3).collect();
-    let range = |i: usize| machine.axes()[i].range.expect("linear axes have a range");
+    let linear: Vec<usize> = (0..machine.axis_count())
+        .filter(|&i| machine.axes()[i].kind == AxisKind::Linear && machine.axes()[i].range.is_some())
+        .take(3)
+        .collect();
+    let range = |i: usize| machine.axes()[i].range.unwrap_or([0.0, 0.0]);
     let mid = |i: usize| 0.5 * (range(i)[0] + range(i)[1]);
     let nodes_of = |i: usize| -> Vec<f64> {
         let [lo, hi] = range(i);
