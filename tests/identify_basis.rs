@@ -51,7 +51,7 @@ fn piecewise_legendre_and_periodic_motion_errors_round_trip() {
     assert_eq!(campaign.unknowns.len(), 18);
     assert_eq!(campaign.unknowns[3].name, "EXX#1");
     assert_eq!(campaign.unknowns[3].unit, "um/mm");
-    assert_eq!(campaign.unknowns[6].function.as_deref(), Some("(x--200)_+^3"));
+    assert_eq!(campaign.unknowns[6].function.as_deref(), Some("(x+200)_+^3"));
     // the true value of every unknown: the truth's constants and basis coefficients
     let true_values = campaign.nominal_values(&truth).unwrap();
     assert!((true_values[3] - 5.0e-3).abs() < 1e-15 && (true_values[17] + 5.0).abs() < 1e-12);

@@ -245,6 +245,19 @@ impl Basis {
             .collect()
     }
 
+    /// For each function, the power of the position (mm or deg) its value carries: `x^l` and
+    /// `(x - t)_+^l` are in position units to the `l`; Legendre and periodic functions (of the
+    /// scaled position, of the wavelength fraction) are dimensionless.
+    pub fn position_powers(&self) -> Vec<i32> {
+        self.functions
+            .iter()
+            .map(|(raw, _)| match raw {
+                Raw::Power(l) | Raw::Truncated { power: l, .. } => *l,
+                Raw::Legendre { .. } | Raw::Periodic { .. } => 0,
+            })
+            .collect()
+    }
+
     /// Keeps only the functions whose indices are listed (stepwise selection).
     pub fn select(&self, keep: &[usize]) -> Basis {
         Basis { spec: self.spec.clone(), functions: keep.iter().map(|&i| self.functions[i].clone()).collect() }

@@ -39,7 +39,11 @@ pub fn rotation_about_axis(axis: &Vec3, angle: f64) -> Mat3 {
 pub fn rotation_exp(eps: &Vec3) -> Mat3 {
     let t2 = eps.norm_squared();
     let (a, b) = if t2 < 1e-4 {
-        (1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0)), 0.5 * (1.0 - t2 / 12.0 * (1.0 - t2 / 30.0 * (1.0 - t2 / 56.0))))
+        // a = 1 - t^2/3! + t^4/5! - t^6/7!, b = 1/2! - t^2/4! + t^4/6! - t^6/8!, by Horner with the
+        // reciprocal factorials as constants (multiplications, no divisions)
+        const A: [f64; 3] = [1.0 / 6.0, 1.0 / 120.0, 1.0 / 5040.0];
+        const B: [f64; 3] = [1.0 / 24.0, 1.0 / 720.0, 1.0 / 40320.0];
+        (1.0 - t2 * (A[0] - t2 * (A[1] - t2 * A[2])), 0.5 - t2 * (B[0] - t2 * (B[1] - t2 * B[2])))
     } else {
         let theta = t2.sqrt();
         let h = (0.5 * theta).sin() / theta;

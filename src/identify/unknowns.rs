@@ -104,13 +104,14 @@ impl Unknown {
             return Err(format!("{id}: the basis has no functions"));
         }
         let position = machine.axes()[own_axis].position_unit();
+        let powers = basis.position_powers();
         let unknowns = basis
             .names()
             .into_iter()
             .enumerate()
             .map(|(function, description)| Unknown {
                 name: format!("{id}#{}", function + 1),
-                unit: basis_unit(id.unit(), position, &description),
+                unit: per_position(id.unit(), position, powers[function].max(0) as u32),
                 kind: UnknownKind::Basis { id, index, basis: basis_index, function },
                 function: Some(description),
             })
@@ -190,17 +191,6 @@ fn per_position(unit: &str, position: &str, k: u32) -> String {
         1 => format!("{unit}/{position}"),
         k => format!("{unit}/{position}^{k}"),
     }
-}
-
-/// The unit of the coefficient of a basis function described as in [`Basis::names`]: a power
-/// `x^k` or truncated power `(x-t)_+^k` of the position is per position unit to the `k`; Legendre
-/// and periodic functions (of the scaled position or of the wavelength fraction) are dimensionless.
-fn basis_unit(unit: &str, position: &str, description: &str) -> String {
-    if !(description.starts_with("x^") || description.starts_with("(x-")) {
-        return unit.to_string();
-    }
-    let power = description.split_whitespace().next().and_then(|f| f.rsplit('^').next()).and_then(|k| k.parse().ok()).unwrap_or(0);
-    per_position(unit, position, power)
 }
 
 /// The factors `d params[index_j] / d theta_j` (internal units per user unit) of every unknown at

@@ -145,7 +145,13 @@ fn table(campaign: &Campaign, result: &Identification, out: Option<&PathBuf>) ->
         let _ = writeln!(
             s,
             "  {:<24} n {:>6}  mean {:>8.4}  rms {:>8.4}  max {:>8.4}  sigma {:.3} um",
-            c.name, c.count, c.mean, c.rms, c.max_abs, c.sigma
+            c.name,
+            c.count,
+            // a mean that rounds to zero is printed as 0.0000, whatever the sign of its rounding error
+            if c.mean.abs() < 5e-5 { 0.0 } else { c.mean },
+            c.rms,
+            c.max_abs,
+            c.sigma
         );
     }
     let k = report.condition_number.map_or("infinite".to_string(), |k| format!("{k:.4e}"));

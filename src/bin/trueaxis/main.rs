@@ -10,10 +10,10 @@ mod identify;
 mod iso230_2;
 mod nc;
 mod predict;
-mod reversal;
-mod temperature;
 mod progress;
 mod report;
+mod reversal;
+mod temperature;
 mod thermal;
 mod uncertainty;
 
