@@ -1,15 +1,22 @@
 #!/usr/bin/env bash
-# Side-by-side: trueaxis (criterion) and straightforward NumPy/SciPy baselines (bench/baseline.py),
+# Side-by-side: trueaxis (criterion) and straightforward NumPy/SciPy baselines (bench/baseline*.py),
 # in one run on the same machine, printing the ratios. Usage: bash bench/compare.sh [criterion filter]
 # Needs python3 with numpy and scipy (installed with pip if missing).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python3 -c "import numpy, scipy" 2>/dev/null || python3 -m pip install --quiet numpy scipy
 cargo build --release --quiet
-python3 bench/baseline.py check
-cargo bench --quiet --bench kinematics -- --noplot "${1:-}" >/dev/null
-for b in $(sed -n 's/^name = "\(.*\)"$/\1/p' Cargo.toml | grep -v '^trueaxis$' | grep -v '^kinematics$'); do
+# each baseline first checks that it computes what trueaxis computes
+for baseline in bench/baseline*.py; do
+    python3 "$baseline" check
+done
+for b in $(sed -n 's/^name = "\(.*\)"$/\1/p' Cargo.toml | grep -v '^trueaxis$'); do
     cargo bench --quiet --bench "$b" -- --noplot "${1:-}" >/dev/null
 done
-python3 bench/baseline.py time > target/baseline_times.json
+for baseline in bench/baseline*.py; do
+    python3 "$baseline" time
+done | python3 -c "import json, sys; d = json.JSONDecoder(); text = sys.stdin.read(); out = {}
+while text.strip():
+    obj, end = d.raw_decode(text.lstrip()); out.update(obj); text = text.lstrip()[end:]
+print(json.dumps(out, indent=1))" > target/baseline_times.json
 python3 bench/report.py target/baseline_times.json

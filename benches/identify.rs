@@ -1,7 +1,9 @@
 //! Identification hot paths (DESIGN.md section 5): the linear solve of the seed 004 identification
 //! (807 poses x 3 channels = 2421 readings, 14 parameters; target < 1 ms), the whole campaign
-//! (design matrix from the exact chain and its Jacobians, then the solve), and a large dense solve
-//! of 10^5 readings x 500 parameters (piecewise-polynomial error maps; target < 2 s).
+//! (design matrix from the exact chain and its Jacobians, then the solve), a large dense solve of
+//! 10^5 readings x 500 parameters (target < 2 s), and the whole identification of piecewise-cubic
+//! error maps of the 3-axis vmc3 from 10^5 laser-tracer lengths (501 basis and squareness
+//! coefficients, tests/support/basis_campaign.rs).
 //!
 //! Run: `cargo bench --bench identify`. The NumPy/SciPy baselines of the same solves are
 //! `identify/lstsq_*` and `identify/qr_*` in bench/baseline.py.
@@ -10,8 +12,12 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use trueaxis::errors::ErrorModel;
 use trueaxis::identify::{identify, solve, Campaign, DesignMatrix, IndirectOptions};
 use trueaxis::machine::Machine;
+
+#[path = "../tests/support/basis_campaign.rs"]
+mod basis_campaign;
 
 fn root() -> &'static str {
     env!("CARGO_MANIFEST_DIR")
@@ -70,6 +76,18 @@ fn solves(c: &mut Criterion) {
     let start = vec![0.0; 500];
     group.sample_size(10);
     group.bench_function("solve_100000x500", |b| b.iter(|| solve(black_box(&large), &start, &options).expect("full rank")));
+    drop(large);
+
+    let vmc3 = Machine::load(format!("{}/examples/machines/vmc3.toml", root())).expect("machine");
+    let dir = tempfile::tempdir().expect("temporary folder");
+    let bases = basis_campaign::piecewise_bases(&vmc3, 53);
+    let poses = basis_campaign::random_poses(&vmc3, 25_000, 1);
+    let path = basis_campaign::write_campaign(dir.path(), &vmc3, &basis_campaign::SQUARENESS, &bases, &poses, 0.2);
+    let zero = ErrorModel::zero(&vmc3);
+    let maps = basis_campaign::simulate_into(&path, &vmc3, &zero, 1);
+    group.bench_function("campaign_vmc3_basis_100000x501", |b| {
+        b.iter(|| identify(black_box(&maps), &vmc3, &zero, &options).expect("identifiable"))
+    });
     group.finish();
 }
 

@@ -7,7 +7,7 @@
 //! §3.2.2), so the singular values are dimensionless and independent of the parameter units.
 //! Seed 000 §4.3: `lambda^T theta` is estimable iff `lambda` lies in the row space of `X`.
 
-use super::least_squares::column_norm;
+use super::least_squares::{column_norm, weighted_column_norm};
 use super::reduction::{reduce, ReducedProblem};
 use faer::Mat;
 use nalgebra::{DMatrix, DVector};
@@ -51,7 +51,7 @@ impl ScaledSvd {
         let p = matrix.ncols();
         let sqrt_w: Vec<f64> = weights.iter().map(|w| w.sqrt()).collect();
         let scale: Vec<f64> = (0..p)
-            .map(|j| column_norm(DVector::from_fn(matrix.nrows(), |i, _| matrix[(i, j)] * sqrt_w[i]).column(0)))
+            .map(|j| weighted_column_norm(matrix.column(j).as_slice(), &sqrt_w))
             .map(|s| if s > 0.0 && s.is_finite() { s } else { 1.0 })
             .collect();
         let reduced = reduce(matrix, observations, &sqrt_w, &scale);
@@ -92,13 +92,12 @@ impl ScaledSvd {
 
     /// `(X^T W X)^+` in the units of the parameters, from the retained singular values.
     pub fn pseudo_inverse_normal(&self) -> DMatrix<f64> {
-        let p = self.scale.len();
-        let mut c = DMatrix::zeros(p, p);
-        for k in 0..self.rank {
-            let v = self.v.column(k);
-            c += (v * v.transpose()) / (self.singular_values[k] * self.singular_values[k]);
+        // V_r S_r^-2 V_r^T as W W^T with W = V_r S_r^-1 (one matrix product)
+        let mut w = self.v.columns(0, self.rank).into_owned();
+        for (k, mut column) in w.column_iter_mut().enumerate() {
+            column /= self.singular_values[k];
         }
-        self.unscale_covariance(c)
+        self.unscale_covariance(&w * w.transpose())
     }
 
     /// Minimum-norm (in scaled units) least-squares solution of `W^(1/2) X theta = W^(1/2) y`

@@ -139,11 +139,25 @@ pub fn fit_linear(design: &DMatrix<f64>, y: &[f64], weights: Option<&[f64]>, nam
 /// Euclidean norm of a column without overflow or underflow of the squares: `m |x / m|` with
 /// `m = max |x_i|` (a column of sensitivities of 1e200 has a norm, not infinity).
 pub(crate) fn column_norm(x: nalgebra::DVectorView<f64>) -> f64 {
-    let m = x.amax();
+    weighted_column_norm(x.as_slice(), &[])
+}
+
+/// `|diag(w) x|` as [`column_norm`], `w` the row factors (`sqrt` of the weights; empty: all 1).
+pub(crate) fn weighted_column_norm(x: &[f64], w: &[f64]) -> f64 {
+    if w.is_empty() {
+        scaled_norm(x.iter().copied())
+    } else {
+        scaled_norm(x.iter().zip(w).map(|(v, w)| v * w))
+    }
+}
+
+fn scaled_norm(values: impl Iterator<Item = f64> + Clone) -> f64 {
+    let m = values.clone().fold(0.0, |m: f64, v| m.max(v.abs()));
     if m == 0.0 || !m.is_finite() {
         return m;
     }
-    m * x.iter().map(|v| (v / m) * (v / m)).sum::<f64>().sqrt()
+    let inverse = 1.0 / m;
+    m * values.map(|v| (v * inverse) * (v * inverse)).sum::<f64>().sqrt()
 }
 
 fn name(names: &[String], j: usize) -> String {

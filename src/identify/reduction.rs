@@ -9,7 +9,7 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::qr::no_pivoting::factor::{qr_in_place, qr_in_place_scratch, recommended_block_size};
-use faer::{get_global_parallelism, Mat};
+use faer::{get_global_parallelism, Mat, Par};
 use nalgebra::{DMatrix, DVector};
 
 /// The reduced problem `R theta ~ Q^T b`.
@@ -25,15 +25,22 @@ pub struct ReducedProblem {
 /// `column_divisor[j]`, and `b_i = row_factor[i] y_i`, to its triangular form.
 pub fn reduce(x: &DMatrix<f64>, y: &[f64], row_factor: &[f64], column_divisor: &[f64]) -> ReducedProblem {
     let (n, p) = x.shape();
-    let scaled = |i: usize, j: usize| if j < p { x[(i, j)] * row_factor[i] / column_divisor[j] } else { y[i] * row_factor[i] };
-    if n < p {
-        return ReducedProblem { r: DMatrix::from_fn(n, p, scaled), qtb: DVector::from_fn(n, |i, _| scaled(i, p)) };
-    }
-    let mut augmented = Mat::from_fn(n, p + 1, scaled);
     let size = p + 1;
+    // [A | b] column by column (column-major on both sides)
+    let mut augmented = Mat::<f64>::zeros(n, size);
+    for j in 0..size {
+        let (source, factor) = if j < p { (&x.as_slice()[j * n..(j + 1) * n], 1.0 / column_divisor[j]) } else { (y, 1.0) };
+        for ((a, v), w) in augmented.col_mut(j).iter_mut().zip(source).zip(row_factor) {
+            *a = v * w * factor;
+        }
+    }
+    if n < p {
+        return ReducedProblem { r: DMatrix::from_fn(n, p, |i, j| augmented[(i, j)]), qtb: DVector::from_fn(n, |i, _| augmented[(i, p)]) };
+    }
     let block = recommended_block_size::<f64>(n, size).max(1);
     let mut householder = Mat::<f64>::zeros(block, n.min(size));
-    let par = get_global_parallelism();
+    // threads pay off only for large matrices (below ~10^6 entries the synchronisation dominates)
+    let par = if n * size < 1 << 20 { Par::Seq } else { get_global_parallelism() };
     let mut buffer = MemBuffer::new(qr_in_place_scratch::<f64>(n, size, block, par, Default::default()));
     qr_in_place(augmented.as_mut(), householder.as_mut(), par, MemStack::new(&mut buffer), Default::default());
     // the upper triangle of the first p rows holds [R | Q^T b]
