@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use trueaxis::compensate::realtime::RealtimeStatus;
 use trueaxis::compensate::{CorrectionWorkspace, Corrector, RealtimeCorrector};
 use trueaxis::errors::ErrorModel;
-use trueaxis::machine::Machine;
+use trueaxis::machine::{AxisKind, Machine};
 
 struct Counting;
 static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
@@ -85,8 +85,15 @@ fn a_call_allocates_nothing_and_matches_the_pose_corrector() {
                 &trueaxis::errors::MachineState { directions: Some(&dirs), temperatures: &temperatures },
                 &mut ws,
             );
-            for (a, b) in c.dq_user(&m).iter().zip(r) {
-                assert!((a - b).abs() < 1e-15, "{machine}: {a} vs {b}");
+            // the real-time call starts from the previous one (warm start); both stop within the
+            // step tolerances of the same fixed point: 0.01 um of a linear axis, 0.1 urad of a
+            // rotary one
+            for ((a, b), axis) in c.dq_user(&m).iter().zip(r).zip(m.axes()) {
+                let tolerance = match axis.kind {
+                    AxisKind::Linear => 2e-5,
+                    AxisKind::Rotary => 2e-7f64.to_degrees(),
+                };
+                assert!((a - b).abs() < tolerance, "{machine}: {a} vs {b}");
             }
             assert!(c.residual_position.norm() < 1e-5);
         }
