@@ -7,6 +7,13 @@ fn trueaxis(args: &[&str]) -> (i32, String, String) {
     (out.status.code().unwrap(), String::from_utf8(out.stdout).unwrap(), String::from_utf8(out.stderr).unwrap())
 }
 
+/// `trueaxis COMMAND --machine examples/machines/vmc3.toml --errors ERRORS REST...`
+fn on_vmc3(command: &str, errors: &str, rest: &[&str]) -> (i32, String, String) {
+    let mut args = vec![command, "--machine", "examples/machines/vmc3.toml", "--errors", errors];
+    args.extend(rest);
+    trueaxis(&args)
+}
+
 #[test]
 fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     let dir = tempfile::tempdir().unwrap();
@@ -150,18 +157,8 @@ fn the_summary_covers_what_is_written() {
     // along the axis lines through home are smaller, 13.4 um)
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("fanuc");
-    let (code, stdout, stderr) = trueaxis(&[
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--format",
-        "fanuc3d",
-        "--out",
-        out.to_str().unwrap(),
-        "--json",
-    ]);
+    let (code, stdout, stderr) =
+        on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "fanuc3d", "--out", out.to_str().unwrap(), "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     let lattice = std::fs::read_to_string(out.join("lattice3d.txt")).unwrap();
@@ -178,16 +175,7 @@ fn the_summary_covers_what_is_written() {
 fn an_output_directory_with_other_files_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("comp");
-    let args = |format: &'static str| {
-        let mut a = vec!["compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml"];
-        a.extend(["--format", format, "--out"]);
-        a
-    };
-    let run = |format: &'static str| {
-        let mut a = args(format);
-        a.push(out.to_str().unwrap());
-        trueaxis(&a)
-    };
+    let run = |format: &str| on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", format, "--out", out.to_str().unwrap()]);
     assert_eq!(run("linuxcnc").0, 0);
     // the same run again overwrites its own files
     assert_eq!(run("linuxcnc").0, 0);
@@ -212,33 +200,13 @@ fn compensate_poses_uses_the_temperature_columns_and_cancels_what_predict_report
     let dir = tempfile::tempdir().unwrap();
     let errors = gt_model(dir.path());
     let poses = "examples/thermal/poses_with_T.csv";
-    let (code, stdout, stderr) = trueaxis(&[
-        "predict",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        errors.to_str().unwrap(),
-        "--poses",
-        poses,
-        "--json",
-    ]);
+    let errors = errors.to_str().unwrap();
+    let (code, stdout, stderr) = on_vmc3("predict", errors, &["--poses", poses, "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let predicted: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     let out = dir.path().join("comp");
-    let (code, stdout, stderr) = trueaxis(&[
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        errors.to_str().unwrap(),
-        "--poses",
-        poses,
-        "--format",
-        "csv",
-        "--out",
-        out.to_str().unwrap(),
-        "--json",
-    ]);
+    let (code, stdout, stderr) =
+        on_vmc3("compensate", errors, &["--poses", poses, "--format", "csv", "--out", out.to_str().unwrap(), "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert!(doc["poses"]["max_residual_um"].as_f64().unwrap() < 0.01);
@@ -275,19 +243,8 @@ fn compensate_poses_uses_the_temperature_columns_and_cancels_what_predict_report
         .collect();
     std::fs::write(&cold, rewritten.join("\n") + "\n").unwrap();
     let out_cold = dir.path().join("comp_cold");
-    let (code, _, stderr) = trueaxis(&[
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        errors.to_str().unwrap(),
-        "--poses",
-        cold.to_str().unwrap(),
-        "--format",
-        "csv",
-        "--out",
-        out_cold.to_str().unwrap(),
-    ]);
+    let (code, _, stderr) =
+        on_vmc3("compensate", errors, &["--poses", cold.to_str().unwrap(), "--format", "csv", "--out", out_cold.to_str().unwrap()]);
     assert_eq!(code, 0, "{stderr}");
     let csv = std::fs::read_to_string(out_cold.join("corrections.csv")).unwrap();
     let dz_cold: f64 = csv.lines().nth(3).unwrap().split(',').nth(5).unwrap().parse().unwrap();
@@ -296,22 +253,10 @@ fn compensate_poses_uses_the_temperature_columns_and_cancels_what_predict_report
 
 #[test]
 fn compensate_poses_without_a_needed_temperature_column_is_refused() {
-    let base = [
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3_backlash.toml",
-        "--poses",
-        "examples/poses/vmc3.csv",
-        "--format",
-        "csv",
-    ];
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("comp");
-    let mut args = base.to_vec();
-    args.extend(["--out", out.to_str().unwrap()]);
-    let (code, _, stderr) = trueaxis(&args);
+    let mut args = vec!["--poses", "examples/poses/vmc3.csv", "--format", "csv", "--out", out.to_str().unwrap()];
+    let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3_backlash.toml", &args);
     assert_eq!(code, 2);
     assert!(
         stderr.contains("examples/poses/vmc3.csv: missing column `T:column` (degC) needed by the error model; add it or give --temperature T:column=degC"),
@@ -320,7 +265,7 @@ fn compensate_poses_without_a_needed_temperature_column_is_refused() {
     assert!(!out.exists());
     // a temperature given on the command line serves every pose
     args.extend(["--temperature", "T:column=22"]);
-    let (code, _, stderr) = trueaxis(&args);
+    let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3_backlash.toml", &args);
     assert_eq!(code, 0, "{stderr}");
 }
 
@@ -328,11 +273,12 @@ fn compensate_poses_without_a_needed_temperature_column_is_refused() {
 fn nc_refuses_corrections_beyond_the_limit_and_a_start_outside_the_travel() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("pocket.ngc");
-    let base =
-        ["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "examples/nc/pocket.ngc", "--out"];
-    let mut args = base.to_vec();
-    args.extend([out.to_str().unwrap(), "--limit-um", "5"]);
-    let (code, _, stderr) = trueaxis(&args);
+    let nc = |rest: &[&str]| {
+        let mut args = vec!["examples/nc/pocket.ngc"];
+        args.extend(rest);
+        on_vmc3("nc", "examples/errors/vmc3.toml", &args)
+    };
+    let (code, _, stderr) = nc(&["--out", out.to_str().unwrap(), "--limit-um", "5"]);
     assert_eq!(code, 2);
     assert!(
         stderr.contains("examples/nc/pocket.ngc: line 4: the correction of axis X is -5.151 um at the machine position X0 Y0 Z-10"),
@@ -340,22 +286,11 @@ fn nc_refuses_corrections_beyond_the_limit_and_a_start_outside_the_travel() {
     );
     assert!(stderr.contains("beyond the limit of 5 um; nothing was written"), "{stderr}");
     assert!(!out.exists());
-    let mut args = base.to_vec();
-    args.extend([out.to_str().unwrap(), "--limit-um", "50", "--json"]);
-    let (code, stdout, stderr) = trueaxis(&args);
+    let (code, stdout, stderr) = nc(&["--out", out.to_str().unwrap(), "--limit-um", "50", "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert!(doc["max_correction_um"].as_f64().unwrap() < 50.0 && out.exists());
-    let (code, _, stderr) = trueaxis(&[
-        "nc",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "examples/nc/pocket.ngc",
-        "--start",
-        "X500",
-    ]);
+    let (code, _, stderr) = nc(&["--start", "X500"]);
     assert_eq!(code, 2);
     assert!(stderr.contains("--start: the start point leaves the machine's travel: axis X at 500 mm"), "{stderr}");
 }

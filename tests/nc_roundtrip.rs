@@ -78,9 +78,9 @@ fn parameter_of(o: &Move, x: &[f64]) -> f64 {
         }
         _ => {
             let (mut along, mut length) = (0.0, 0.0);
-            for k in 0..x.len() {
-                along += (x[k] - o.start[k]) * (o.end[k] - o.start[k]);
-                length += (o.end[k] - o.start[k]).powi(2);
+            for ((x, s), e) in x.iter().zip(&o.start).zip(&o.end) {
+                along += (x - s) * (e - s);
+                length += (e - s).powi(2);
             }
             (along / length).clamp(0.0, 1.0)
         }
