@@ -190,3 +190,78 @@ fn bidirectional_and_thermal_terms_enter_the_correction() {
         assert!(c.residual_position.norm() < 1e-5);
     }
 }
+
+#[test]
+fn the_five_axis_correction_is_continuous_through_the_singularity() {
+    // c600u at X0 Y0 Z-50 C0 (tool point on the C axis): at A = 0 the C axis is parallel to the tool
+    // axis. The tilt of the tool about y that only C can correct is t(A) = EB0C + EB0A cos A
+    // (examples/errors/c600u.toml: both 174.533 urad); C corrects it with the gain 1 / sin A, faded
+    // out below sin A = eps = 0.1 as g = 2 sin A / (sin^2 A + eps^2), leaving the fraction
+    // (eps^2 - sin^2 A) / (eps^2 + sin^2 A) uncorrected (src/compensate/solve.rs). The former hard
+    // cut-off made dX jump by 17 um and dC by 3469 urad between A = 5.735 and 5.76 deg.
+    let (m, e) = load("c600u");
+    let corrector = Corrector::new(&m, &e);
+    let mut ws = CorrectionWorkspace::new(&m);
+    let eps: f64 = 0.1;
+    let at = |a_deg: f64, ws: &mut CorrectionWorkspace| {
+        let mut q = vec![0.0; 5];
+        m.pose_to_internal(&[0.0, 0.0, -50.0, a_deg, 0.0], &mut q);
+        let c = corrector.correct(&q, ws);
+        (q, c)
+    };
+    let step_deg = 0.002;
+    let mut previous: Option<Correction> = None;
+    let (mut worst_linear, mut worst_rotary, mut worst_left_change) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut worst_gain_error, mut worst_left_error) = (0.0f64, 0.0f64);
+    for i in 0..=6000 {
+        let a = -1.0 + i as f64 * step_deg;
+        let (q, c) = at(a, &mut ws);
+        assert!(c.converged, "A = {a}");
+        let residual = residual_by_model(&m, &e, &q, &c, &MachineState::default());
+        assert!(residual.norm() < 1e-5, "A = {a}: residual {} um", residual.norm() * 1e3);
+        if let Some(p) = &previous {
+            for k in 0..5 {
+                let change = (c.dq[k] - p.dq[k]).abs();
+                if k < 3 {
+                    worst_linear = worst_linear.max(change);
+                } else {
+                    worst_rotary = worst_rotary.max(change);
+                }
+            }
+            worst_left_change = worst_left_change.max((c.uncorrectable_orientation - p.uncorrectable_orientation).norm());
+        }
+        // closed forms of the damped solve
+        let s = a.to_radians().sin();
+        let tilt = 174.533e-6 * (1.0 + a.to_radians().cos());
+        let (gain, left) =
+            if s.abs() >= eps { (1.0 / s, 0.0) } else { (2.0 * s / (s * s + eps * eps), (eps * eps - s * s) / (eps * eps + s * s)) };
+        worst_gain_error = worst_gain_error.max((c.dq[4] - tilt * gain).abs());
+        worst_left_error = worst_left_error.max((c.uncorrectable_orientation.norm() - tilt * left).abs());
+        previous = Some(c);
+    }
+    eprintln!(
+        "per {step_deg} deg of A: |d dq| <= {:.2e} um, {:.2e} urad, uncorrected orientation changes <= {:.2e} urad; \
+         closed forms within {:.2e} urad (dC), {:.2e} urad (left)",
+        worst_linear * 1e3,
+        worst_rotary * 1e6,
+        worst_left_change * 1e6,
+        worst_gain_error * 1e6,
+        worst_left_error * 1e6
+    );
+    // continuous: bounded change per 0.002 deg step (the largest slope, dC/dA = 2 t / eps^2 = 0.07,
+    // gives 2.4 urad per step)
+    assert!(worst_linear < 0.02e-3, "{} um per step", worst_linear * 1e3);
+    assert!(worst_rotary < 3e-6, "{} urad per step", worst_rotary * 1e6);
+    assert!(worst_left_change < 0.5e-6, "{} urad per step", worst_left_change * 1e6);
+    // and equal to the closed forms: exact least squares beyond the fade, the damped gain inside
+    assert!(worst_gain_error < 0.05e-6 && worst_left_error < 0.05e-6, "{worst_gain_error} {worst_left_error}");
+    // the two poses of the former jump, 0.025 deg apart: changes of the size of 12.5 steps
+    let (_, before) = at(5.735, &mut ws);
+    let (_, after) = at(5.76, &mut ws);
+    let (dx, dc) = ((after.dq[0] - before.dq[0]).abs(), (after.dq[4] - before.dq[4]).abs());
+    assert!(dx < 0.2e-3 && dc < 40e-6, "dX changes by {} um, dC by {} urad", dx * 1e3, dc * 1e6);
+    // at the singularity the whole C tilt is left uncorrected (and reported), none of it beyond
+    let (_, at_zero) = at(0.0, &mut ws);
+    assert!((at_zero.uncorrectable_orientation.norm() - 2.0 * 174.533e-6).abs() < 1e-9);
+    assert!(at_zero.dq[4].abs() < 1e-12);
+}

@@ -2,35 +2,47 @@
 //! point relative to the workpiece (seed 000 §2.3.5; seed 003 section 4).
 //!
 //! Seed 000 §2.3.5 adds an unknown correction to each joint and chooses the corrections by linear
-//! least squares on the kinematic model. Here the linear step is iterated on the exact chain
-//! (Gauss-Newton with the nominal joint Jacobian) until the position residual is below
-//! [`CorrectionOptions::tolerance_mm`] (default 0.01 um), so that the result holds for errors of any
-//! size the exact chain can represent.
+//! least squares on the kinematic model. Here the linear solve ([`super::solve`]) is iterated on the
+//! exact chain until the position residual is below [`CorrectionOptions::tolerance_mm`] (default
+//! 0.01 um), so that the result holds for errors of any size the exact chain can represent:
+//!
+//! ```text
+//! dq_{k+1} = S( J dq_k - r(dq_k) )
+//! ```
+//!
+//! with `r(dq)` the exact residual at the set-points `q + dq` (actual chain minus the nominal target at
+//! `q`), `J` the joint Jacobian of the nominal chain at `q` (taken once per call: a chord method that
+//! contracts by the size of the errors, ~1e-4, per step) and `S` the linear solve. Written for the
+//! total correction rather than the step, the iteration has a fixed point also where the solve damps
+//! an ill-conditioned orientation direction (near a 5-axis singularity), and there the fixed point is
+//! the damped least-squares solution, continuous in the pose.
+//!
+//! Cost per call: one nominal chain pass with the Jacobian, and the exact chain (error values plus
+//! the actual chains) once per iterate: 2 evaluations for a cold start (the error, then the check of
+//! the first-order correction), typically 1 along a path with [`Corrector::correct_along`], which
+//! starts from the previous correction and reuses the previous linearisation nearby.
 //!
 //! Priorities: the position of the tool point is corrected first (a least-squares solve over all
 //! joints); the orientation is corrected in the null space of the position task, as far as the
 //! machine's joints allow. By default only the direction of the tool axis counts (a spin about the
 //! spindle axis does not change the cut); what no joint can correct (orientation on a 3-axis machine,
-//! a tool point on the axis of the only rotary joint) stays in the residual and is reported.
+//! the tilt near a 5-axis singularity, where the correction fades out) stays in the residual and is
+//! reported.
 
+pub use super::solve::MAX_AXES;
+use super::solve::{Block, Joints, OrientationRows, Solver, CHARACTERISTIC_LENGTH_MM};
 use crate::errors::{Direction, ErrorModel, MachineState};
 use crate::geometry::{rotation_log, Mat3, Pose, Twist, Vec3};
 use crate::machine::{AxisKind, Component, Machine, SetupSide};
 use crate::model::{actual_chain, nominal_chain, Setup};
-use nalgebra::{SMatrix, SVector};
 
-/// Most axes a machine can have (X Y Z U V W A B C).
-pub const MAX_AXES: usize = 9;
-
-/// A 3 x `MAX_AXES` block of the joint Jacobian (unused columns zero).
-type Block = SMatrix<f64, 3, MAX_AXES>;
-/// Joint-space vector (unused entries zero).
-type Joints = SVector<f64, MAX_AXES>;
-
-/// Characteristic length (mm) that makes rotary joints and orientation errors comparable with
-/// linear ones in the least-squares solve: 1 rad of a rotary joint costs as much as 1000 mm of a
-/// linear one, and 1 urad of orientation error weighs as 1 um of position error.
-const CHARACTERISTIC_LENGTH_MM: f64 = 1000.0;
+/// A linearisation taken at one pose is reused for another (by [`Corrector::correct_along`]) while
+/// no rotary axis moved more than this (rad) ...
+const RELINEARISE_RAD: f64 = 1e-2;
+/// ... and no linear axis more than this (mm), and only where it is well conditioned
+/// ([`Solver::reusable`]): the fixed point of the iteration is then the same, the older Jacobian
+/// only slows the contraction of a step that is itself tiny along a path.
+const RELINEARISE_MM: f64 = 10.0;
 
 /// Which part of the orientation error the correction cancels.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,18 +59,26 @@ pub enum OrientationTarget {
 /// Options of the correction solve.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CorrectionOptions {
-    /// Stop when the position residual is below this (mm); default 1e-5 mm = 0.01 um.
+    /// Stop when the position residual is below this (mm; default 1e-5 mm = 0.01 um) and the next
+    /// step would move no linear axis by more than it ...
     pub tolerance_mm: f64,
-    /// Most Gauss-Newton iterations on the exact chain.
+    /// ... and no rotary axis by more than this (rad; default 1e-7 rad = 0.1 urad, a fifth of the
+    /// resolution of a fine rotary encoder; its effect on the position is in the position residual).
+    pub rotary_tolerance_rad: f64,
+    /// Most linear steps on the exact chain.
     pub max_iterations: usize,
     /// Orientation part to correct (default: the tool axis along +z).
     pub orientation: OrientationTarget,
-    /// Singular values of the scaled joint Jacobian below this (mm per mm; for a rotary joint the
+    /// Singular values of the scaled position Jacobian below this (mm per mm; for a rotary joint the
     /// lever arm divided by 1000 mm) count as zero: such directions are not corrected.
     pub singular_threshold: f64,
-    /// The same for the orientation task (default 0.1): near a 5-axis singularity (a rotary axis
-    /// nearly parallel to the tool axis) a tilt of the tool would need a rotary correction more
-    /// than ten times its size; it is left uncorrected and reported instead.
+    /// Fade-out of the orientation task (`eps`, default 0.1, must be > 0): an orientation direction
+    /// whose singular value `sigma` (rad of tool tilt per rad of rotary correction: `sin A` for the C
+    /// axis of a table-tilting machine, zero at the singularity) is below it is corrected with the
+    /// gain `2 sigma / (sigma^2 + eps^2)` instead of `1 / sigma`: near a 5-axis singularity the
+    /// rotary correction never exceeds `1 / eps` times the tilt, falls continuously to zero at the
+    /// singularity, and the fraction `(eps^2 - sigma^2) / (eps^2 + sigma^2)` of the tilt in that
+    /// direction is left and reported as uncorrectable ([`super::solve`]).
     pub orientation_threshold: f64,
 }
 
@@ -66,6 +86,7 @@ impl Default for CorrectionOptions {
     fn default() -> Self {
         CorrectionOptions {
             tolerance_mm: 1e-5,
+            rotary_tolerance_rad: 1e-7,
             max_iterations: 20,
             orientation: OrientationTarget::ToolAxis(Vec3::z()),
             singular_threshold: 1e-3,
@@ -81,17 +102,23 @@ pub struct Correction {
     pub dq: [f64; MAX_AXES],
     pub axis_count: usize,
     /// Error before correction: tool point relative to the workpiece point, actual minus nominal,
-    /// in the workpiece frame (mm), and the orientation error (rad).
+    /// in the workpiece frame (mm), and the orientation error (rad). Exact for a cold start; with a
+    /// warm start ([`Corrector::correct_along`]) extrapolated to first order from the first
+    /// evaluated set-points (relative error of the order of the error gradients, ~1e-4).
     pub original_position: Vec3,
     pub original_orientation: Vec3,
     /// What remains after correction, on the exact chain (mm, rad).
     pub residual_position: Vec3,
     pub residual_orientation: Vec3,
-    /// The part of `residual_orientation` that the correction targets but the joints cannot reach
-    /// (rad): with [`OrientationTarget::ToolAxis`], the tilt of the tool axis; with `Full`, all of it.
+    /// The part of `residual_orientation` that the correction targets but does not remove (rad), as
+    /// the linear model predicts it: with [`OrientationTarget::ToolAxis`] the tilt of the tool axis
+    /// that no joint can correct (3-axis machines) or that fades out near a singularity; with
+    /// `Full`, all three components.
     pub uncorrectable_orientation: Vec3,
-    /// Gauss-Newton iterations used.
+    /// Linear steps taken (exact-chain evaluations minus one).
     pub iterations: usize,
+    /// Exact-chain evaluations (error values plus actual chains) used.
+    pub evaluations: usize,
     /// Whether the position residual reached the tolerance.
     pub converged: bool,
 }
@@ -149,6 +176,44 @@ impl CorrectionWorkspace {
     }
 }
 
+/// What a call along a path carries to the next one ([`Corrector::correct_along`]): the last two
+/// converged corrections, from which the next solve starts (extrapolated along the path), and the
+/// last linearisation, reused while the pose stays close to where it was taken. Results agree with
+/// a cold solve to within the tolerance.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct WarmStart {
+    /// The last and the one before: pose in scaled joint units (mm; rotary rad x L) and the
+    /// converged correction (scaled joint units).
+    last: Option<(Joints, Joints)>,
+    before: Option<(Joints, Joints)>,
+    /// Pose (mm, rad) and solver of the last linearisation.
+    linearisation: Option<(Joints, Solver)>,
+}
+
+impl WarmStart {
+    /// Forgets the last corrections and linearisation (the next call starts cold).
+    pub fn reset(&mut self) {
+        *self = WarmStart::default();
+    }
+
+    /// The start of the solve at the scaled pose `x`: the last correction, moved on by the last
+    /// change of correction times the projection `s` of this pose step on the last one, clamped to
+    /// [-2, 2] (`s = 1` for a servo loop at constant speed, 0 at rest); `None` without history.
+    fn start(&self, x: &Joints) -> Option<Joints> {
+        let (x1, u1) = self.last?;
+        let Some((x0, u0)) = self.before else { return Some(u1) };
+        let (d_now, d_last) = (x - x1, x1 - x0);
+        let squared = d_last.norm_squared();
+        let s = if squared > 0.0 { (d_now.dot(&d_last) / squared).clamp(-2.0, 2.0) } else { 0.0 };
+        Some(u1 + (u1 - u0) * s)
+    }
+
+    fn remember(&mut self, x: Joints, u: Joints) {
+        self.before = self.last;
+        self.last = Some((x, u));
+    }
+}
+
 /// Corrects poses of one machine with one error model and setup (the tool point relative to the
 /// workpiece point, as in [`crate::model::Predictor`]).
 #[derive(Clone, Copy)]
@@ -165,6 +230,21 @@ struct Target {
     rotation: Mat3,
 }
 
+impl Target {
+    /// The part of an orientation residual (rad) that the correction targets, with the tool axis of
+    /// this pose: the tilt (the residual minus its spin about the tool axis), all of it, or none.
+    fn targeted(&self, orientation: &Vec3, target: OrientationTarget) -> Vec3 {
+        match target {
+            OrientationTarget::None => Vec3::zeros(),
+            OrientationTarget::ToolAxis(a) => {
+                let t = self.rotation * a.normalize();
+                orientation - t * t.dot(orientation)
+            }
+            OrientationTarget::Full => *orientation,
+        }
+    }
+}
+
 impl<'a> Corrector<'a> {
     /// The machine's tool point relative to the workpiece origin, default options.
     pub fn new(machine: &'a Machine, errors: &'a ErrorModel) -> Corrector<'a> {
@@ -179,41 +259,85 @@ impl<'a> Corrector<'a> {
     /// The correction of pose `q` (mm, rad) in machine state `state` (directions of motion,
     /// temperatures): finds `dq` such that the actual chain at `q + dq` puts the tool point where the
     /// nominal chain at `q` puts it, relative to the workpiece (seed 000 §2.3.5, iterated on the exact
-    /// chain). The error model is evaluated at the corrected set-points `q + dq`. Allocation-free.
+    /// chain). The error model is evaluated at the corrected set-points `q + dq`. A cold start
+    /// (`dq = 0`): the result depends on `q` and `state` only. Allocation-free.
     pub fn correct_state(&self, q: &[f64], state: &MachineState, ws: &mut CorrectionWorkspace) -> Correction {
+        self.solve(q, state, ws, None)
+    }
+
+    /// The same along a path (a servo loop, the points of an NC program): starts from the corrections
+    /// of the previous calls extrapolated along the path ([`WarmStart`]) and reuses the linearisation
+    /// while the pose is within 1e-3 rad / 1 mm of where it was taken, so that a call along a smooth
+    /// path typically costs one exact-chain evaluation. The residual is
+    /// still checked on the exact chain; the result differs from [`Self::correct_state`] by less than
+    /// the tolerance. `warm` is updated (reset when the solve does not converge). Allocation-free.
+    pub fn correct_along(&self, q: &[f64], state: &MachineState, ws: &mut CorrectionWorkspace, warm: &mut WarmStart) -> Correction {
+        let c = self.solve(q, state, ws, Some(warm));
+        if !c.converged {
+            warm.reset();
+        }
+        c
+    }
+
+    fn solve(&self, q: &[f64], state: &MachineState, ws: &mut CorrectionWorkspace, warm: Option<&mut WarmStart>) -> Correction {
         let n = self.machine.axis_count();
         assert!(n <= MAX_AXES && q.len() >= n, "pose of {} positions for {n} axes", q.len());
-        let target = self.target(q);
+        let q_joints = Joints::from_fn(|k, _| if k < n { q[k] } else { 0.0 });
+        let along = warm.is_some();
+        let mut cold = WarmStart::default();
+        let warm = warm.unwrap_or(&mut cold);
+        let target = match &warm.linearisation {
+            Some((at, solver)) if solver.reusable && self.is_near(at, &q_joints) => self.target(q),
+            _ => {
+                let (target, solver) = self.linearise(q, ws);
+                warm.linearisation = Some((q_joints, solver));
+                target
+            }
+        };
+        let solver = &warm.linearisation.as_ref().expect("linearised above").1;
+        let x = Joints::from_fn(|k, _| if k < n { q[k] / self.weight(k) } else { 0.0 });
+        let start = if along { warm.start(&x) } else { None };
+        let mut u = start.unwrap_or_else(Joints::zeros);
         let mut qc = [0.0; MAX_AXES];
-        qc[..n].copy_from_slice(&q[..n]);
-        let mut dq = Joints::zeros();
-        let (mut position, mut orientation) = self.residual(&qc[..n], &target, state, ws);
-        let (original_position, original_orientation) = (position, orientation);
-        // the joint Jacobian of the nominal chain at q serves every iteration (chord method): it
-        // differs from the actual one by the size of the errors (~1e-4), so the iteration contracts
-        // by that factor per step
-        let (jp, jo, tool_axis) = self.joint_jacobian(&qc[..n], ws);
-        let solver = self.prepare(&jp, &jo, &tool_axis);
-        let mut iterations = 0;
-        let mut uncorrectable;
-        loop {
-            let (step, unreached) = solver.step(&position, &orientation);
-            uncorrectable = unreached;
-            let small_step = step.norm() < self.options.tolerance_mm;
-            if (position.norm() < self.options.tolerance_mm && small_step) || iterations >= self.options.max_iterations {
-                break;
-            }
-            dq += self.unscale(&step);
+        let mut evaluate = |u: &Joints, ws: &mut CorrectionWorkspace| {
             for k in 0..n {
-                qc[k] = q[k] + dq[k];
+                qc[k] = q[k] + u[k] * self.weight(k);
             }
-            (position, orientation) = self.residual(&qc[..n], &target, state, ws);
+            self.residual(&qc[..n], &target, state, ws)
+        };
+        let (mut position, mut orientation) = evaluate(&u, ws);
+        let (mut original_position, mut original_orientation) = (position, orientation);
+        let (mut iterations, mut evaluations) = (0, 1);
+        // the result is the last checked iterate `u`; the warm start remembers the solve from it,
+        // `next`, the better estimate of the fixed point, so that the next call starts closer
+        let (uncorrectable, next) = loop {
+            // the spin is removed with this pose's tool axis, so that a linearisation reused from a
+            // nearby pose does not see it
+            let step = solver.solve(&u, &position, &target.targeted(&orientation, self.options.orientation));
+            if iterations == 0 && start.is_some() {
+                // the error at q, to first order from the warm start
+                original_position -= step.position_change;
+                original_orientation -= step.orientation_change;
+            }
+            let small_step = self.is_small(&(step.u - u));
+            if (position.norm() < self.options.tolerance_mm && small_step) || iterations >= self.options.max_iterations {
+                break (step.left, step.u);
+            }
+            u = step.u;
+            (position, orientation) = evaluate(&u, ws);
             iterations += 1;
+            evaluations += 1;
+        };
+        let converged = position.norm() < self.options.tolerance_mm;
+        if along && converged {
+            warm.remember(x, next);
         }
-        let mut out = [0.0; MAX_AXES];
-        out[..n].copy_from_slice(&dq.as_slice()[..n]);
+        let mut dq = [0.0; MAX_AXES];
+        for (k, d) in dq.iter_mut().enumerate().take(n) {
+            *d = u[k] * self.weight(k);
+        }
         Correction {
-            dq: out,
+            dq,
             axis_count: n,
             original_position,
             original_orientation,
@@ -221,8 +345,31 @@ impl<'a> Corrector<'a> {
             residual_orientation: orientation,
             uncorrectable_orientation: uncorrectable,
             iterations,
-            converged: position.norm() < self.options.tolerance_mm,
+            evaluations,
+            converged,
         }
+    }
+
+    /// Whether a step (scaled joint units) moves the linear axes by less than the tolerance (mm) and
+    /// the rotary axes by less than the rotary tolerance (rad).
+    fn is_small(&self, step: &Joints) -> bool {
+        let (mut linear, mut rotary) = (0.0, 0.0);
+        for (k, axis) in self.machine.axes().iter().enumerate() {
+            let d = step[k] * self.weight(k);
+            match axis.kind {
+                AxisKind::Linear => linear += d * d,
+                AxisKind::Rotary => rotary += d * d,
+            }
+        }
+        linear < self.options.tolerance_mm.powi(2) && rotary < self.options.rotary_tolerance_rad.powi(2)
+    }
+
+    /// Whether a linearisation taken at `at` serves pose `q` (see [`RELINEARISE_RAD`]).
+    fn is_near(&self, at: &Joints, q: &Joints) -> bool {
+        self.machine.axes().iter().enumerate().all(|(k, axis)| {
+            let limit = if axis.kind == AxisKind::Rotary { RELINEARISE_RAD } else { RELINEARISE_MM };
+            (at[k] - q[k]).abs() <= limit
+        })
     }
 
     /// Nominal tool point relative to the workpiece point (workpiece frame) and relative rotation.
@@ -230,15 +377,19 @@ impl<'a> Corrector<'a> {
         let m = self.machine;
         let tool = nominal_chain(m, m.tool_chain(), q, None);
         let work = nominal_chain(m, m.work_chain(), q, None);
+        Self::relative(&tool, &work, &self.setup)
+    }
+
+    fn relative(tool: &Pose, work: &Pose, setup: &Setup) -> Target {
         let rt = work.rotation.transpose();
         Target {
-            position: rt * (tool.transform_point(&self.setup.tool_point) - work.transform_point(&self.setup.work_point)),
+            position: rt * (tool.transform_point(&setup.tool_point) - work.transform_point(&setup.work_point)),
             rotation: rt * tool.rotation,
         }
     }
 
     /// Actual relative position and rotation at the set-points `qc`, minus the target: position
-    /// (mm, workpiece frame) and rotation vector (rad).
+    /// (mm, workpiece frame) and rotation vector (rad). One exact-chain evaluation.
     fn residual(&self, qc: &[f64], target: &Target, state: &MachineState, ws: &mut CorrectionWorkspace) -> (Vec3, Vec3) {
         let m = self.machine;
         self.errors.values_at_state(m, qc, state, &mut ws.values);
@@ -257,11 +408,12 @@ impl<'a> Corrector<'a> {
         (position, orientation)
     }
 
+    /// One pass of the nominal chains at `q`: the target, and the solver of the joint Jacobian.
     /// Derivatives of the relative tool position (mm per mm or rad) and orientation (rad per mm or
-    /// rad) with respect to each joint, in the workpiece frame, on the nominal chain at `q`; and the
-    /// tool axis in the workpiece frame. Tool-side joints move the tool point, workpiece-side joints
-    /// move the workpiece, so their effect on the relative position has the opposite sign.
-    fn joint_jacobian(&self, q: &[f64], ws: &mut CorrectionWorkspace) -> (Block, Block, Vec3) {
+    /// rad) with respect to each joint, in the workpiece frame: tool-side joints move the tool point,
+    /// workpiece-side joints move the workpiece, so their effect on the relative position has the
+    /// opposite sign. Columns are scaled to joint units `u` ([`super::solve`]).
+    fn linearise(&self, q: &[f64], ws: &mut CorrectionWorkspace) -> (Target, Solver) {
         let m = self.machine;
         let tool = nominal_chain(m, m.tool_chain(), q, Some(&mut ws.tool_parents));
         let work = nominal_chain(m, m.work_chain(), q, Some(&mut ws.work_parents));
@@ -276,15 +428,18 @@ impl<'a> Corrector<'a> {
                     AxisKind::Linear => Twist::of_small_transform(parent, &Vec3::zeros(), &axis.direction, &Vec3::zeros()),
                     AxisKind::Rotary => Twist::of_small_transform(parent, &axis.direction, &Vec3::zeros(), &axis.point),
                 };
-                jp.set_column(k, &(rt * twist.displacement_of(&tool_point) * sign));
-                jo.set_column(k, &(rt * twist.omega * sign));
+                let w = sign * self.weight(k);
+                jp.set_column(k, &(rt * twist.displacement_of(&tool_point) * w));
+                jo.set_column(k, &(rt * twist.omega * w));
             }
         }
-        let tool_axis = match self.options.orientation {
-            OrientationTarget::ToolAxis(a) => rt * tool.rotation * a.normalize(),
-            _ => Vec3::zeros(),
+        let rows = match self.options.orientation {
+            OrientationTarget::None => OrientationRows::none(),
+            OrientationTarget::ToolAxis(a) => OrientationRows::tilt_of(&(rt * tool.rotation * a.normalize())),
+            OrientationTarget::Full => OrientationRows::full(),
         };
-        (jp, jo, tool_axis)
+        let solver = Solver::new(&jp, &jo, rows, self.options.singular_threshold, self.options.orientation_threshold.max(1e-9));
+        (Self::relative(&tool, &work, &self.setup), solver)
     }
 
     /// Weight of each joint in the scaled solve: 1 (linear), 1/L (rotary).
@@ -295,75 +450,6 @@ impl<'a> Corrector<'a> {
             None => 0.0,
         }
     }
-
-    fn unscale(&self, u: &Joints) -> Joints {
-        Joints::from_fn(|k, _| u[k] * self.weight(k))
-    }
-
-    /// The prioritised least-squares solve for one Jacobian, in scaled joint units: position first
-    /// (minimum-norm solution over all joints), then the targeted orientation in the null space of
-    /// the position task.
-    fn prepare(&self, jp: &Block, jo: &Block, tool_axis: &Vec3) -> Solver {
-        let w = Joints::from_fn(|k, _| self.weight(k));
-        let scale = |b: &Block| Block::from_fn(|i, k| b[(i, k)] * w[k]);
-        let jp = scale(jp);
-        let projector = match self.options.orientation {
-            OrientationTarget::None => Mat3::zeros(),
-            OrientationTarget::ToolAxis(_) => Mat3::identity() - tool_axis * tool_axis.transpose(),
-            OrientationTarget::Full => Mat3::identity(),
-        };
-        let a = projector * scale(jo) * CHARACTERISTIC_LENGTH_MM;
-        let jp_pinv = pseudo_inverse(&jp, self.options.singular_threshold);
-        let a_null = a - (a * jp_pinv) * jp;
-        let a_null_pinv = pseudo_inverse(&a_null, self.options.orientation_threshold);
-        Solver { jp_pinv, a, a_null, a_null_pinv, projector }
-    }
-}
-
-/// The linear operators of one prioritised least-squares solve.
-struct Solver {
-    jp_pinv: SMatrix<f64, MAX_AXES, 3>,
-    a: Block,
-    a_null: Block,
-    a_null_pinv: SMatrix<f64, MAX_AXES, 3>,
-    projector: Mat3,
-}
-
-impl Solver {
-    /// The step (scaled joint units) that cancels the residual, and the part of the targeted
-    /// orientation residual it cannot reach (rad).
-    fn step(&self, position: &Vec3, orientation: &Vec3) -> (Joints, Vec3) {
-        let step1 = self.jp_pinv * (-position);
-        let b = -(self.projector * orientation) * CHARACTERISTIC_LENGTH_MM - self.a * step1;
-        let step2 = self.a_null_pinv * b;
-        let unreached = (b - self.a_null * step2) / CHARACTERISTIC_LENGTH_MM;
-        (step1 + step2, -unreached)
-    }
-}
-
-/// Moore-Penrose pseudo-inverse `M^T (M M^T)^+` of a 3 x n block, singular values of `M` below
-/// `threshold` treated as zero. Allocation-free (3 x 3 symmetric eigenproblem).
-fn pseudo_inverse(m: &Block, threshold: f64) -> SMatrix<f64, MAX_AXES, 3> {
-    let gram = m * m.transpose();
-    // fast path: the smallest eigenvalue of the Gram matrix is at least det / (trace / 2)^2 (the
-    // product of the two largest is at most (trace / 2)^2); when det > threshold^2 trace^2 / 3
-    // it clears threshold^2, and the plain inverse is the pseudo-inverse
-    let trace = gram.trace();
-    if gram.determinant() > threshold * threshold * trace * trace / 3.0 {
-        if let Some(inverse) = gram.try_inverse() {
-            return m.transpose() * inverse;
-        }
-    }
-    let eigen = gram.symmetric_eigen();
-    let mut gram_pinv = Mat3::zeros();
-    for i in 0..3 {
-        let lambda = eigen.eigenvalues[i];
-        if lambda > threshold * threshold {
-            let v = eigen.eigenvectors.column(i);
-            gram_pinv += v * v.transpose() / lambda;
-        }
-    }
-    m.transpose() * gram_pinv
 }
 
 /// Direction of motion from a signed increment (`None` when the axis does not move).

@@ -69,6 +69,17 @@ pub unsafe extern "C" fn trueaxis_corrector_free(corrector: *mut RealtimeCorrect
     }
 }
 
+/// Forgets the previous call: the next call starts cold (NULL is ignored).
+///
+/// # Safety
+/// `corrector` must be NULL or a live corrector.
+#[no_mangle]
+pub unsafe extern "C" fn trueaxis_corrector_reset(corrector: *mut RealtimeCorrector) {
+    if let Some(c) = corrector.as_mut() {
+        c.reset();
+    }
+}
+
 /// Number of axes (length of the position and correction arrays); -4 for NULL.
 ///
 /// # Safety
@@ -98,7 +109,8 @@ pub unsafe extern "C" fn trueaxis_corrector_axis_letter(corrector: *const Realti
 
 /// Corrections (mm, deg; added to the set-points) for the axis positions `positions` (mm, deg).
 /// `temperatures` (degC, one per sensor) and `directions` (+1, -1, 0 per axis) may be NULL (20 degC,
-/// at rest). Returns 0, or a negative `RealtimeStatus` code. Allocation-free.
+/// at rest). Returns 0, or a negative `RealtimeStatus` code; on every code but 0 the corrections are
+/// all zero (when `corrector` and `corrections` are not NULL). Allocation-free.
 ///
 /// # Safety
 /// `positions` and `corrections` must hold `axis_count` doubles, `temperatures` `sensor_count`
@@ -112,14 +124,24 @@ pub unsafe extern "C" fn trueaxis_correct(
     corrections: *mut f64,
 ) -> i32 {
     let Some(c) = corrector.as_mut() else { return RealtimeStatus::NullPointer as i32 };
-    if positions.is_null() || corrections.is_null() {
+    if corrections.is_null() {
         return RealtimeStatus::NullPointer as i32;
     }
     let n = c.axis_count();
-    let positions = std::slice::from_raw_parts(positions, n);
     let out = std::slice::from_raw_parts_mut(corrections, n);
+    if positions.is_null() {
+        out.fill(0.0);
+        return RealtimeStatus::NullPointer as i32;
+    }
+    let positions = std::slice::from_raw_parts(positions, n);
     let temperatures: &[f64] = if temperatures.is_null() { &[] } else { std::slice::from_raw_parts(temperatures, c.sensor_count()) };
     let directions: &[i8] = if directions.is_null() { &[] } else { std::slice::from_raw_parts(directions, n) };
-    catch_unwind(AssertUnwindSafe(|| c.correct(positions, temperatures, directions, out) as i32))
-        .unwrap_or(RealtimeStatus::NotConverged as i32)
+    match catch_unwind(AssertUnwindSafe(|| c.correct(positions, temperatures, directions, out) as i32)) {
+        Ok(status) => status,
+        Err(_) => {
+            c.reset();
+            std::slice::from_raw_parts_mut(corrections, n).fill(0.0);
+            RealtimeStatus::NotConverged as i32
+        }
+    }
 }

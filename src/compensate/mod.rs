@@ -11,9 +11,10 @@ pub mod export;
 pub mod ffi;
 pub mod nc;
 pub mod realtime;
+mod solve;
 pub mod tables;
 
-pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, MAX_AXES};
+pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, WarmStart, MAX_AXES};
 pub use realtime::RealtimeCorrector;
 pub use tables::{axis_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};
 

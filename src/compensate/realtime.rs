@@ -3,14 +3,19 @@
 //! computed by an open-architecture controller and passed to the position loop; seed 000 §2.3.5,
 //! real-time use). Owns its machine, error model and buffers; a call allocates nothing. The C ABI
 //! is in [`super::ffi`].
+//!
+//! Consecutive calls of a servo loop are close together, so each call starts from the previous
+//! correction and reuses the previous linearisation nearby ([`Corrector::correct_along`]): typically
+//! one exact-chain evaluation per call; the residual is checked on the exact chain every call.
 
-use super::correction::{Correction, CorrectionOptions, CorrectionWorkspace, Corrector, MAX_AXES};
+use super::correction::{Correction, CorrectionOptions, CorrectionWorkspace, Corrector, WarmStart, MAX_AXES};
 use super::CompensateError;
 use crate::errors::{Direction, ErrorModel, MachineState};
 use crate::machine::Machine;
 use crate::model::Setup;
 
-/// Outcome of one real-time call (also the C return codes).
+/// Outcome of one real-time call (also the C return codes). Every status but `Ok` leaves the output
+/// all zeros (no correction), never stale values.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(i32)]
 pub enum RealtimeStatus {
@@ -20,7 +25,7 @@ pub enum RealtimeStatus {
     BadLength = -1,
     /// A position or temperature is not a finite number.
     NotFinite = -2,
-    /// The solve did not reach the position tolerance (corrections written, zeroed).
+    /// The solve did not reach the position tolerance.
     NotConverged = -3,
     /// A null pointer was passed (C ABI only).
     NullPointer = -4,
@@ -34,6 +39,7 @@ pub struct RealtimeCorrector {
     setup: Setup,
     options: CorrectionOptions,
     workspace: CorrectionWorkspace,
+    warm: WarmStart,
     last: Option<Correction>,
 }
 
@@ -50,6 +56,7 @@ impl RealtimeCorrector {
             errors,
             options: CorrectionOptions::default(),
             workspace,
+            warm: WarmStart::default(),
             last: None,
         })
     }
@@ -73,15 +80,30 @@ impl RealtimeCorrector {
         self.errors.sensors().len()
     }
 
-    /// The full result of the last successful call (residuals, iterations).
+    /// Forgets the previous call: the next one starts cold (e.g. after a jump of the axes).
+    pub fn reset(&mut self) {
+        self.warm.reset();
+        self.last = None;
+    }
+
+    /// The full result of the last successful call (residuals, iterations, evaluations).
     pub fn last(&self) -> Option<&Correction> {
         self.last.as_ref()
     }
 
     /// Corrections (mm, deg; added to the set-points) of the axis positions `positions` (mm, deg,
     /// canonical axis order). `temperatures`: one per sensor (degC), or empty for 20 degC;
-    /// `directions`: one per axis (+1, -1, 0 at rest), or empty for all at rest. Allocation-free.
+    /// `directions`: one per axis (+1, -1, 0 at rest), or empty for all at rest. Any status but
+    /// `Ok` zeroes `out`. Allocation-free.
     pub fn correct(&mut self, positions: &[f64], temperatures: &[f64], directions: &[i8], out: &mut [f64]) -> RealtimeStatus {
+        let status = self.correct_into(positions, temperatures, directions, out);
+        if status != RealtimeStatus::Ok {
+            out.iter_mut().for_each(|o| *o = 0.0);
+        }
+        status
+    }
+
+    fn correct_into(&mut self, positions: &[f64], temperatures: &[f64], directions: &[i8], out: &mut [f64]) -> RealtimeStatus {
         let n = self.machine.axis_count();
         if positions.len() != n || out.len() != n || (!temperatures.is_empty() && temperatures.len() != self.sensor_count()) {
             return RealtimeStatus::BadLength;
@@ -104,9 +126,9 @@ impl RealtimeCorrector {
         }
         let state = MachineState { directions: (!directions.is_empty()).then_some(&dirs[..n]), temperatures };
         let corrector = Corrector { machine: &self.machine, errors: &self.errors, setup: self.setup, options: self.options };
-        let c = corrector.correct_state(&q[..n], &state, &mut self.workspace);
+        let c = corrector.correct_along(&q[..n], &state, &mut self.workspace, &mut self.warm);
         if !c.converged || c.dq[..n].iter().any(|v| !v.is_finite()) {
-            out.iter_mut().for_each(|o| *o = 0.0);
+            self.warm.reset();
             return RealtimeStatus::NotConverged;
         }
         for ((o, axis), d) in out.iter_mut().zip(self.machine.axes()).zip(&c.dq) {

@@ -218,6 +218,9 @@ pub struct VolumetricGrid {
     /// `((k * ny + j) * nx + i) * axis_count`.
     pub values: Vec<f64>,
     pub axis_count: usize,
+    /// The largest position residual and uncorrected orientation of any node (mm, rad).
+    pub worst_residual_position: f64,
+    pub worst_uncorrectable_orientation: f64,
 }
 
 impl VolumetricGrid {
@@ -297,5 +300,16 @@ pub fn volumetric_grid(corrector: &Corrector, counts: [usize; 3], spec: &TableSp
     let results = corrections(corrector, &poses, None, &spec.temperatures);
     check_converged(m, &poses, &results)?;
     let values = results.iter().flat_map(|c| c.dq_user(m)).collect();
-    Ok(VolumetricGrid { axes, start, step, counts, reference, values, axis_count: n })
+    let worst = |f: &dyn Fn(&Correction) -> f64| results.iter().map(f).fold(0.0, f64::max);
+    Ok(VolumetricGrid {
+        axes,
+        start,
+        step,
+        counts,
+        reference,
+        values,
+        axis_count: n,
+        worst_residual_position: worst(&|c| c.residual_position.norm()),
+        worst_uncorrectable_orientation: worst(&|c| c.uncorrectable_orientation.norm()),
+    })
 }

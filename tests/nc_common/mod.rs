@@ -5,12 +5,22 @@ use trueaxis::compensate::{CorrectionWorkspace, Corrector};
 use trueaxis::errors::{Direction, MachineState};
 use trueaxis::machine::Machine;
 
-/// A move as a consumer sees it: end point (mm, deg) and, for an arc in the XY plane, its centre
-/// (mm) and sense (+1 counterclockwise, -1 clockwise).
+/// A move as a consumer sees it: end point (mm, deg, machine axis order) and, for an arc, its plane
+/// and centre.
 #[derive(Clone, Debug)]
 pub struct SeenMove {
     pub end: Vec<f64>,
-    pub arc: Option<([f64; 2], f64)>,
+    pub arc: Option<SeenArc>,
+}
+
+/// An arc: the machine axes of its plane's first and second coordinates (X Y for G17, Z X for G18,
+/// Y Z for G19), the centre in them (mm) and the sense (+1 counterclockwise in that plane, -1
+/// clockwise).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeenArc {
+    pub axes: [usize; 2],
+    pub centre: [f64; 2],
+    pub sense: f64,
 }
 
 /// Directions of motion at the end of each move (an axis that does not move keeps its last
@@ -42,10 +52,10 @@ pub fn expected_corrections(
                 dirs[k] = Some(d);
             }
         }
-        if let Some((centre, sense)) = mv.arc {
-            let (rx, ry) = (mv.end[0] - centre[0], mv.end[1] - centre[1]);
-            // tangent of a counterclockwise arc at angle a is (-sin a, cos a)
-            for (k, v) in [(0, -ry * sense), (1, rx * sense)] {
+        if let Some(SeenArc { axes: [a, b], centre, sense }) = mv.arc {
+            let (rx, ry) = (mv.end[a] - centre[0], mv.end[b] - centre[1]);
+            // tangent of a counterclockwise arc at angle t is (-sin t, cos t)
+            for (k, v) in [(a, -ry * sense), (b, rx * sense)] {
                 if let Some(d) = sign(v) {
                     dirs[k] = Some(d);
                 }

@@ -2,9 +2,9 @@
 
 use crate::Failure;
 use std::path::{Path, PathBuf};
-use trueaxis::compensate::export::{self, linuxcnc::CompType, ExportInput, ExportedFile, Limits};
+use trueaxis::compensate::export::{self, linuxcnc::CompType, Coverage, ExportInput, ExportedFile, Limits};
 use trueaxis::compensate::{axis_tables, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, TableSpec};
-use trueaxis::data::{read_poses, write_atomically};
+use trueaxis::data::{read_poses, write_atomically, PoseTable};
 use trueaxis::errors::{ErrorModel, MachineState};
 use trueaxis::machine::Machine;
 
@@ -33,7 +33,9 @@ enum Format {
 trueaxis compensate --machine examples/machines/c600u.toml --errors examples/errors/c600u.toml \\\n      --poses examples/poses/c600u.csv --format csv --out comp5\n\n\
 Corrections are in um (linear axes) and urad (rotary axes) in CSV/JSON, in machine units (mm, deg) in\n\
 controller files. A correction beyond --limit-um / --limit-urad, a table longer than the controller\n\
-accepts, unequal spacing or a rotary table that does not close over a turn refuses the export (exit 2)."
+accepts, unequal spacing or a rotary table that does not close over a turn refuses the export (exit 2).\n\
+--out must not hold files this run does not write (tables of different runs never mix).\n\
+--poses: the poses are corrected at the temperatures of the file's T:<sensor> columns (else --temperature)."
 )]
 pub struct CompensateArgs {
     /// Machine description (TOML).
@@ -72,7 +74,8 @@ pub struct CompensateArgs {
     /// Temperature of a sensor of the error model, `T:name=degC` (repeatable; default 20 degC).
     #[arg(long = "temperature")]
     temperatures: Vec<String>,
-    /// Also correct the poses of this CSV (axis columns) and write corrections.csv.
+    /// Also correct the poses of this CSV (axis columns; `dir:<axis>` and `T:<sensor>` columns are
+    /// used per pose) and write corrections.csv.
     #[arg(long)]
     poses: Option<PathBuf>,
     /// Print one JSON summary instead of text.
@@ -104,7 +107,12 @@ pub fn parse_axis_values(machine: &Machine, text: &str, what: &str) -> Result<Ve
 
 /// Sensor temperatures from `T:name=value` options, in the model's order (20 degC when not given).
 pub fn parse_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<f64>, Failure> {
-    let mut values = vec![20.0; errors.sensors().len()];
+    Ok(given_temperatures(errors, given)?.into_iter().map(|t| t.unwrap_or(20.0)).collect())
+}
+
+/// Sensor temperatures from `T:name=value` options, in the model's order (`None`: not given).
+fn given_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<Option<f64>>, Failure> {
+    let mut values = vec![None; errors.sensors().len()];
     for g in given {
         let (name, value) = g.rsplit_once('=').ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}` is not T:name=degC")))?;
         let i = errors.sensors().iter().position(|s| s == name).ok_or_else(|| {
@@ -113,14 +121,26 @@ pub fn parse_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<f
                 errors.sensors().join(", ")
             ))
         })?;
-        values[i] = value
-            .trim()
-            .parse()
-            .ok()
-            .filter(|v: &f64| v.is_finite())
-            .ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}`: not a number")))?;
+        values[i] = Some(
+            value
+                .trim()
+                .parse()
+                .ok()
+                .filter(|v: &f64| v.is_finite())
+                .ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}`: not a number")))?,
+        );
     }
     Ok(values)
+}
+
+/// The user's correction limits (um, urad), each positive when given.
+pub fn limits(max_um: Option<f64>, max_urad: Option<f64>) -> Result<Limits, Failure> {
+    for (name, v) in [("--limit-um", max_um), ("--limit-urad", max_urad)] {
+        if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
+            return Err(Failure::input(anyhow::anyhow!("{name} must be a positive number")));
+        }
+    }
+    Ok(Limits { max_um, max_urad })
 }
 
 pub fn failure(e: CompensateError) -> Failure {
@@ -134,26 +154,17 @@ pub fn failure(e: CompensateError) -> Failure {
 pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
-    let temperatures = parse_temperatures(&errors, &args.temperatures)?;
+    let given = given_temperatures(&errors, &args.temperatures)?;
+    let temperatures: Vec<f64> = given.iter().map(|t| t.unwrap_or(20.0)).collect();
     let reference = args.reference.as_deref().map(|r| parse_axis_values(&machine, r, "--reference")).transpose()?;
-    for (name, v) in [("--limit-um", args.limit_um), ("--limit-urad", args.limit_urad)] {
-        if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
-            return Err(Failure::input(anyhow::anyhow!("{name} must be a positive number")));
-        }
-    }
+    let limits = limits(args.limit_um, args.limit_urad)?;
     let corrector = Corrector::new(&machine, &errors);
     let spec = TableSpec { points: args.points, reference, temperatures: temperatures.clone() };
     let tables = axis_tables(&corrector, &spec).map_err(failure)?;
     let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
     let wants_grid = matches!(args.format, Format::Fanuc3d) || (matches!(args.format, Format::Csv | Format::Json) && has_xyz);
     let grid = if wants_grid { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
-    let input = ExportInput {
-        machine: &machine,
-        errors: &errors,
-        tables: &tables,
-        grid: grid.as_ref(),
-        limits: Limits { max_um: args.limit_um, max_urad: args.limit_urad },
-    };
+    let input = ExportInput { machine: &machine, errors: &errors, tables: &tables, grid: grid.as_ref(), limits };
     let mut files: Vec<ExportedFile> = match args.format {
         Format::Linuxcnc => export::linuxcnc::export(&input, if args.comp_type == 0 { CompType::Positions } else { CompType::Trims }),
         Format::Isg => export::isg::export(&input),
@@ -166,23 +177,27 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     .map_err(failure)?;
     let mut pose_summary = None;
     if let Some(path) = &args.poses {
-        let (file, summary) = correct_poses(&machine, &corrector, path, &temperatures)?;
+        let (file, summary) = correct_poses(&machine, &corrector, path, &given)?;
         files.push(file);
         pose_summary = Some(summary);
     }
+    let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
+    refuse_foreign_files(&args.out, &names)?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create the output directory: {e}", args.out.display())))?;
     for f in &files {
         write_atomically(&args.out.join(&f.name), f.contents.as_bytes()).map_err(Failure::input)?;
     }
-    let largest = |rotary: bool| {
-        tables
-            .tables
-            .iter()
-            .filter(|t| (machine.axes()[t.corrected].kind == trueaxis::machine::AxisKind::Rotary) == rotary)
-            .fold(0.0f64, |m, t| m.max(export::to_micro(&machine, t.corrected, t.max_abs())))
+    // the summary covers what the format writes: LinuxCNC the own-axis tables, Fanuc the lattice,
+    // CSV / JSON tables and grid, ISG (implied corrections) and Heidenhain all tables
+    let coverage = match args.format {
+        Format::Linuxcnc => Coverage::OWN_AXIS_TABLES,
+        Format::Isg | Format::Heidenhain => Coverage::TABLES,
+        Format::Fanuc3d => Coverage::GRID,
+        Format::Csv | Format::Json => Coverage::TABLES_AND_GRID,
     };
-    let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
+    let extent = export::largest_corrections(&input, coverage);
+    let largest = |rotary: bool| if rotary { extent.max_urad } else { extent.max_um };
     if args.json {
         let doc = serde_json::json!({
             "out": args.out.display().to_string(),
@@ -191,24 +206,25 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
             "points": args.points,
             "max_correction_um": round(largest(false)),
             "max_correction_urad": round(largest(true)),
-            "worst_residual_um": round(tables.worst_residual_position * 1e3),
-            "worst_uncorrectable_urad": round(tables.worst_uncorrectable_orientation * 1e6),
+            "worst_residual_um": round(extent.worst_residual_mm * 1e3),
+            "worst_uncorrectable_urad": round(extent.worst_uncorrectable_rad * 1e6),
             "poses": pose_summary,
         });
         println!("{doc}");
     } else {
         println!("wrote {} file(s) to {}: {}", files.len(), args.out.display(), names.join(" "));
         println!(
-            "{} tables of {} points; largest correction {:.3} um (linear axes), {:.3} urad (rotary axes)",
+            "{} tables of {} points{}; largest correction written {:.3} um (linear axes), {:.3} urad (rotary axes)",
             tables.tables.len(),
             args.points,
+            grid.as_ref().map_or(String::new(), |g| format!(", grid of {}x{}x{} nodes", g.counts[0], g.counts[1], g.counts[2])),
             largest(false),
             largest(true)
         );
         println!(
-            "after correction on the exact chain: position residual <= {:.4} um; orientation the joints cannot correct <= {:.3} urad",
-            tables.worst_residual_position * 1e3,
-            tables.worst_uncorrectable_orientation * 1e6
+            "after correction on the exact chain: position residual <= {:.4} um; orientation not corrected <= {:.3} urad",
+            extent.worst_residual_mm * 1e3,
+            extent.worst_uncorrectable_rad * 1e6
         );
         if let Some(s) = pose_summary {
             println!("poses: {s}");
@@ -221,15 +237,58 @@ fn round(v: f64) -> f64 {
     (v * 1e4).round() / 1e4
 }
 
-/// Corrections of every pose of a CSV: `corrections.csv` with the axis columns, `d<axis>` (um or
-/// urad), the error before and the residual after (um), the uncorrectable orientation (urad).
+/// Refuses to write into `out` when it holds files other than `names` (a run with another format or
+/// without `--poses` would otherwise leave stale tables next to the new ones).
+fn refuse_foreign_files(out: &Path, names: &[&str]) -> Result<(), Failure> {
+    let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
+    let mut foreign: Vec<String> = entries
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| !names.contains(&n.as_str()))
+        .collect();
+    if foreign.is_empty() {
+        return Ok(());
+    }
+    foreign.sort();
+    Err(Failure::input(anyhow::anyhow!(
+        "{}: the output directory holds files this run does not write ({}); use an empty or new directory so that tables of \
+         different runs do not mix; nothing was written",
+        out.display(),
+        foreign.join(" ")
+    )))
+}
+
+/// Temperatures of every pose (degC, the model's sensors per pose): a sensor's `T:<name>` column of
+/// the poses file, else its `--temperature` value; an error names a sensor that has neither.
+fn pose_temperatures(errors: &ErrorModel, poses: &PoseTable, given: &[Option<f64>], path: &Path) -> Result<Vec<f64>, Failure> {
+    let columns = errors
+        .sensors()
+        .iter()
+        .zip(given)
+        .map(|(sensor, given)| match (poses.temperatures.iter().find(|(name, _)| name == sensor), given) {
+            (Some((_, column)), _) => Ok(column.clone()),
+            (None, Some(t)) => Ok(vec![*t; poses.len()]),
+            (None, None) => Err(Failure::input(anyhow::anyhow!(
+                "{}: missing column `{sensor}` (degC) needed by the error model; add it or give --temperature {sensor}=degC",
+                path.display()
+            ))),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((0..poses.len()).flat_map(|i| columns.iter().map(move |c| c[i])).collect())
+}
+
+/// Corrections of every pose of a CSV, each in its state (the `dir:<axis>` and `T:<sensor>` columns):
+/// `corrections.csv` with the axis columns, `d<axis>` (um or urad), the error before and the residual
+/// after (um), the orientation not corrected (urad).
 fn correct_poses(
     machine: &Machine,
     corrector: &Corrector,
     path: &Path,
-    temperatures: &[f64],
+    given_temperatures: &[Option<f64>],
 ) -> Result<(ExportedFile, serde_json::Value), Failure> {
     let poses = read_poses(path, machine).map_err(Failure::input)?;
+    let temperatures = pose_temperatures(corrector.errors, &poses, given_temperatures, path)?;
+    let sensors = corrector.errors.sensors().len();
     let n = machine.axis_count();
     let internal = poses.internal(machine);
     let mut ws = CorrectionWorkspace::new(machine);
@@ -240,7 +299,8 @@ fn correct_poses(
     let (mut worst_error, mut worst_residual, mut worst_orientation) = (0.0f64, 0.0f64, 0.0f64);
     for (i, q) in internal.chunks(n).enumerate() {
         let directions = poses.directions.as_ref().map(|d| &d[i * n..(i + 1) * n]);
-        let c = corrector.correct_state(q, &MachineState { directions, temperatures }, &mut ws);
+        let state = MachineState { directions, temperatures: &temperatures[i * sensors..(i + 1) * sensors] };
+        let c = corrector.correct_state(q, &state, &mut ws);
         if !c.converged {
             return Err(Failure::computation(anyhow::anyhow!(
                 "{}: line {}: the correction did not converge",

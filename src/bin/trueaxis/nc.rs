@@ -14,7 +14,7 @@ use trueaxis::machine::Machine;
 /// more than the tolerance are split, and only the numbers that must change are rewritten.
 #[derive(clap::Args)]
 #[command(
-    after_help = "Example:\n  trueaxis nc --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      examples/nc/pocket.ngc --out pocket_corrected.ngc\n\n\
+    after_help = "Example:\n  trueaxis nc --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      examples/nc/pocket.ngc --limit-um 50 --out pocket_corrected.ngc\n\n\
 Supported: G0 G1 G2 G3 (IJK or R), G17-G19, G20/G21, G90/G91, G53, G54-G59 (offsets from --offset),\n\
 comments, line numbers, F S T M words. Refused with a message naming the line: parameters and\n\
 expressions, O-word subroutines, cutter and tool-length compensation (G41/G42/G43), G10, G28, G92,\n\
@@ -49,6 +49,12 @@ pub struct NcArgs {
     /// Temperature of a sensor of the error model, `T:name=degC` (repeatable).
     #[arg(long = "temperature")]
     temperatures: Vec<String>,
+    /// Refuse the program (exit 2, nothing written) when a correction of a linear axis exceeds this (um).
+    #[arg(long)]
+    limit_um: Option<f64>,
+    /// The same for a rotary axis (urad).
+    #[arg(long)]
+    limit_urad: Option<f64>,
     /// Print a JSON summary (with the program text when --out is not given).
     #[arg(long)]
     json: bool,
@@ -80,7 +86,9 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     if args.decimals > 9 {
         return Err(Failure::input(anyhow::anyhow!("--decimals must be at most 9")));
     }
+    let limits = crate::compensate::limits(args.limit_um, args.limit_urad)?;
     let mut options = NcOptions::new(&machine);
+    options.limits = limits;
     options.tolerance_mm = args.tolerance_um * 1e-3;
     options.rotary_tolerance_deg = (args.tolerance_um * 1e-6).to_degrees();
     options.decimals = args.decimals;
@@ -100,6 +108,9 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     }
     if let Some(s) = &args.start {
         options.setup.start = parse_axis_values(&machine, &letter_values(s), "--start")?;
+        machine
+            .check_range(&options.setup.start)
+            .map_err(|m| Failure::input(anyhow::anyhow!("--start: the start point leaves the machine's travel: {m}")))?;
     }
     let corrector = Corrector::new(&machine, &errors);
     let origin = args.program.display().to_string();

@@ -40,6 +40,66 @@ pub struct ExportInput<'a> {
     pub limits: Limits,
 }
 
+/// Which corrections a format writes (for its summary).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Coverage {
+    pub own_axis_tables: bool,
+    pub cross_axis_tables: bool,
+    pub grid: bool,
+}
+
+impl Coverage {
+    pub const OWN_AXIS_TABLES: Coverage = Coverage { own_axis_tables: true, cross_axis_tables: false, grid: false };
+    pub const TABLES: Coverage = Coverage { own_axis_tables: true, cross_axis_tables: true, grid: false };
+    pub const GRID: Coverage = Coverage { own_axis_tables: false, cross_axis_tables: false, grid: true };
+    pub const TABLES_AND_GRID: Coverage = Coverage { own_axis_tables: true, cross_axis_tables: true, grid: true };
+}
+
+/// The extent of what a format writes: the largest |correction| of a linear axis (um) and of a
+/// rotary axis (urad), and the largest residual (mm) and uncorrected orientation (rad) of the poses
+/// they were sampled at. The residuals of the tables count whenever any table is written.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Extent {
+    pub max_um: f64,
+    pub max_urad: f64,
+    pub worst_residual_mm: f64,
+    pub worst_uncorrectable_rad: f64,
+}
+
+/// The [`Extent`] of the tables and grid of `input` that `coverage` selects.
+pub fn largest_corrections(input: &ExportInput, coverage: Coverage) -> Extent {
+    let m = input.machine;
+    let mut e = Extent::default();
+    let mut add = |axis: usize, value: f64| {
+        let micro = to_micro(m, axis, value).abs();
+        match m.axes()[axis].kind {
+            AxisKind::Rotary => e.max_urad = e.max_urad.max(micro),
+            AxisKind::Linear => e.max_um = e.max_um.max(micro),
+        }
+    };
+    for t in &input.tables.tables {
+        if (t.is_own_axis() && coverage.own_axis_tables) || (!t.is_own_axis() && coverage.cross_axis_tables) {
+            add(t.corrected, t.max_abs());
+        }
+    }
+    if let (true, Some(g)) = (coverage.grid, input.grid) {
+        for node in g.values.chunks(g.axis_count) {
+            node.iter().enumerate().for_each(|(axis, &v)| add(axis, v));
+        }
+    }
+    let mut worst = |residual: f64, orientation: f64| {
+        e.worst_residual_mm = e.worst_residual_mm.max(residual);
+        e.worst_uncorrectable_rad = e.worst_uncorrectable_rad.max(orientation);
+    };
+    if coverage.own_axis_tables || coverage.cross_axis_tables {
+        worst(input.tables.worst_residual_position, input.tables.worst_uncorrectable_orientation);
+    }
+    if let (true, Some(g)) = (coverage.grid, input.grid) {
+        worst(g.worst_residual_position, g.worst_uncorrectable_orientation);
+    }
+    e
+}
+
 /// A correction of `axis` in user units (mm, deg) as um or urad.
 pub fn to_micro(machine: &Machine, axis: usize, value: f64) -> f64 {
     let a = &machine.axes()[axis];
@@ -55,26 +115,30 @@ pub fn micro_unit(machine: &Machine, axis: usize) -> &'static str {
     }
 }
 
+/// Refuses the correction `value` (user units, mm or deg) of `axis` when it exceeds the user's
+/// limit; `place` says where it occurs (for the message).
+pub fn check_limit(machine: &Machine, limits: &Limits, axis: usize, value: f64, place: &dyn Fn() -> String) -> Result<(), CompensateError> {
+    let micro = to_micro(machine, axis, value);
+    let limit = match machine.axes()[axis].kind {
+        AxisKind::Rotary => limits.max_urad,
+        AxisKind::Linear => limits.max_um,
+    };
+    match limit {
+        Some(l) if micro.abs() > l => Err(CompensateError::Limit(format!(
+            "the correction of axis {} is {micro:.3} {} at {}, beyond the limit of {l} {}; nothing was written",
+            machine.axes()[axis].letter,
+            micro_unit(machine, axis),
+            place(),
+            micro_unit(machine, axis)
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// Refuses corrections beyond the user's limits, in any table (both directions) or grid node.
 pub fn check_user_limits(input: &ExportInput) -> Result<(), CompensateError> {
     let m = input.machine;
-    let check = |axis: usize, value: f64, place: &dyn Fn() -> String| -> Result<(), CompensateError> {
-        let micro = to_micro(m, axis, value);
-        let limit = match m.axes()[axis].kind {
-            AxisKind::Rotary => input.limits.max_urad,
-            AxisKind::Linear => input.limits.max_um,
-        };
-        match limit {
-            Some(l) if micro.abs() > l => Err(CompensateError::Limit(format!(
-                "the correction of axis {} is {micro:.3} {} at {}, beyond the limit of {l} {}; nothing was written",
-                m.axes()[axis].letter,
-                micro_unit(m, axis),
-                place(),
-                micro_unit(m, axis)
-            ))),
-            _ => Ok(()),
-        }
-    };
+    let check = |axis: usize, value: f64, place: &dyn Fn() -> String| check_limit(m, &input.limits, axis, value, place);
     for t in &input.tables.tables {
         for (i, (&f, &r)) in t.forward.iter().zip(&t.reverse).enumerate() {
             let place = || {

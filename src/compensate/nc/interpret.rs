@@ -96,6 +96,7 @@ struct Modal {
 
 /// The moves of a program; an error names the line.
 pub fn interpret(machine: &Machine, blocks: &[Block], setup: &ProgramSetup) -> Result<Vec<Move>, String> {
+    machine.check_range(&setup.start).map_err(|m| format!("the start point (before the first move) leaves the machine's travel: {m}"))?;
     let mut state = Modal { motion: None, incremental: false, inch: false, plane: 17, offset: 0, position: setup.start.clone() };
     let mut moves = Vec::new();
     for (index, block) in blocks.iter().enumerate() {

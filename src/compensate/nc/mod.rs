@@ -13,14 +13,15 @@ pub mod interpret;
 pub mod parse;
 pub mod path;
 
-use super::correction::{CorrectionWorkspace, Corrector};
+use super::correction::{CorrectionWorkspace, Corrector, WarmStart};
+use super::export::{check_limit, Limits};
 use super::CompensateError;
 use crate::errors::{Direction, MachineState};
 use crate::machine::{AxisKind, Machine};
 use interpret::{interpret, to_machine_units, to_program_units, Move, MoveKind};
 pub use interpret::{ProgramSetup, MM_PER_INCH};
 use parse::Block;
-use path::{arc_geometry, directions_at, point_at, split_points, ArcGeometry};
+use path::{arc_geometry, directions_at, point_at, split_points, ArcGeometry, Pieces};
 
 /// Options of the NC correction.
 #[derive(Clone, Debug, PartialEq)]
@@ -37,11 +38,13 @@ pub struct NcOptions {
     pub max_pieces: usize,
     /// Start position and work offsets.
     pub setup: ProgramSetup,
+    /// Refuse the program when a correction exceeds these (um, urad).
+    pub limits: Limits,
 }
 
 impl NcOptions {
     /// Defaults: split tolerance 1 um (and 1 urad expressed in deg), 4 decimals (5 in inch),
-    /// at most 10000 pieces per move, start at 0 and zero work offsets.
+    /// at most 10000 pieces per move, start at 0, zero work offsets, no correction limit.
     pub fn new(machine: &Machine) -> NcOptions {
         NcOptions {
             tolerance_mm: 1e-3,
@@ -50,6 +53,7 @@ impl NcOptions {
             decimals_inch: 5,
             max_pieces: 10_000,
             setup: ProgramSetup::zero(machine),
+            limits: Limits::default(),
         }
     }
 }
@@ -60,6 +64,8 @@ pub struct NcResult {
     pub text: String,
     /// Programmed moves corrected.
     pub moves: usize,
+    /// Poses corrected on the way (end points, split checks, pieces).
+    pub corrected_points: usize,
     /// Lines whose text changed and lines added by splitting.
     pub changed_lines: usize,
     pub inserted_lines: usize,
@@ -74,7 +80,10 @@ pub struct NcResult {
 struct Context<'a, 'b> {
     corrector: &'a Corrector<'b>,
     machine: &'a Machine,
+    origin: &'a str,
+    limits: Limits,
     ws: CorrectionWorkspace,
+    warm: WarmStart,
     q: Vec<f64>,
     directions: Vec<Option<Direction>>,
     previous_directions: Vec<Option<Direction>>,
@@ -86,18 +95,38 @@ struct Context<'a, 'b> {
 impl Context<'_, '_> {
     /// Correction (mm, deg per axis) at parameter `t` of move `m`, with the directions of motion at
     /// parameter `t_direction` (constant over a piece between direction reversals).
-    fn correction(&mut self, m: &Move, arc: Option<&ArcGeometry>, t: f64, t_direction: f64) -> Result<(Vec<f64>, Vec<f64>), String> {
+    fn correction(
+        &mut self,
+        m: &Move,
+        arc: Option<&ArcGeometry>,
+        t: f64,
+        t_direction: f64,
+    ) -> Result<(Vec<f64>, Vec<f64>), CompensateError> {
         let n = self.machine.axis_count();
         let mut p = vec![0.0; n];
         point_at(m, arc, t, &mut p);
         directions_at(m, arc, t_direction, &self.previous_directions, &mut self.directions);
         self.machine.pose_to_internal(&p, &mut self.q);
         let state = MachineState { directions: Some(&self.directions), temperatures: &self.temperatures };
-        let c = self.corrector.correct_state(&self.q, &state, &mut self.ws);
+        let c = self.corrector.correct_along(&self.q, &state, &mut self.ws, &mut self.warm);
         if !c.converged || c.dq[..n].iter().any(|v| !v.is_finite()) {
-            return Err(format!("line {}: the correction did not converge at {:?}", self.line, p));
+            return Err(CompensateError::Computation(format!(
+                "{}: line {}: the correction did not converge at {p:?}",
+                self.origin, self.line
+            )));
+        }
+        let dq = c.dq_user(self.machine);
+        for (k, &d) in dq.iter().enumerate() {
+            let place = || {
+                let words: Vec<String> =
+                    self.machine.axes().iter().zip(&p).map(|(a, v)| format!("{}{}", a.letter, number(*v, 4))).collect();
+                format!("the machine position {}", words.join(" "))
+            };
+            check_limit(self.machine, &self.limits, k, d, &place)
+                .map_err(|e| CompensateError::Limit(format!("{}: line {}: {e}", self.origin, self.line)))?;
         }
         let r = &mut self.result;
+        r.corrected_points += 1;
         r.max_residual_um = r.max_residual_um.max(c.residual_position.norm() * 1e3);
         r.max_uncorrectable_urad = r.max_uncorrectable_urad.max(c.uncorrectable_orientation.norm() * 1e6);
         for (k, axis) in self.machine.axes().iter().enumerate() {
@@ -106,7 +135,47 @@ impl Context<'_, '_> {
                 AxisKind::Rotary => r.max_correction_urad = r.max_correction_urad.max(c.dq[k].abs() * 1e6),
             }
         }
-        Ok((p, c.dq_user(self.machine)))
+        Ok((p, dq))
+    }
+
+    /// The pieces of move `m`: per piece, the parameter of its end and the correction there. G0: one piece (only the end point matters).
+    /// G1: split where the correction departs from the straight blend by more than the tolerance
+    /// (its directions of motion are constant). G2/G3: one piece when the correction along the whole
+    /// arc (directions as they come) stays within the tolerance; otherwise split between the
+    /// reversals (the quadrant points), each stretch with its own constant directions.
+    fn pieces(&mut self, m: &Move, arc: Option<&ArcGeometry>, options: &NcOptions) -> Result<Pieces, CompensateError> {
+        let (machine, origin, line) = (self.machine, self.origin, self.line);
+        let tolerance = |k: usize| match machine.axes()[k].kind {
+            AxisKind::Linear => options.tolerance_mm,
+            AxisKind::Rotary => options.rotary_tolerance_deg,
+        };
+        let too_many = || {
+            CompensateError::Input(format!(
+                "{origin}: line {line}: the correction varies so much along the move that it needs more than {} pieces",
+                options.max_pieces
+            ))
+        };
+        if m.kind == MoveKind::Rapid {
+            let (_, c) = self.correction(m, arc, 1.0, 1.0)?;
+            return Ok(vec![(1.0, c)]);
+        }
+        let limit = if arc.is_some() { 64 } else { options.max_pieces };
+        let mut whole = |t: f64| self.correction(m, arc, t, t).map(|(_, c)| c);
+        match (split_points(&mut whole, &tolerance, limit)?, arc) {
+            (Some(pieces), None) => return Ok(pieces),
+            (None, None) => return Err(too_many()),
+            (Some(pieces), Some(_)) if pieces.len() == 1 => return Ok(pieces),
+            _ => {}
+        }
+        let mut pieces = Vec::new();
+        for w in reversals(arc).windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let t_direction = 0.5 * (a + b);
+            let mut f = |u: f64| self.correction(m, arc, a + u * (b - a), t_direction).map(|(_, c)| c);
+            let stretch = split_points(&mut f, &tolerance, options.max_pieces)?.ok_or_else(too_many)?;
+            pieces.extend(stretch.into_iter().map(|(u, c)| (a + u * (b - a), c)));
+        }
+        Ok(pieces)
     }
 }
 
@@ -127,7 +196,10 @@ pub fn correct_program(
     let mut cx = Context {
         corrector,
         machine,
+        origin,
+        limits: options.limits,
         ws: CorrectionWorkspace::new(machine),
+        warm: WarmStart::default(),
         q: vec![0.0; n],
         directions: vec![None; n],
         previous_directions: vec![None; n],
@@ -135,6 +207,7 @@ pub fn correct_program(
         result: NcResult {
             text: String::new(),
             moves: moves.len(),
+            corrected_points: 0,
             changed_lines: 0,
             inserted_lines: 0,
             max_correction_um: 0.0,
@@ -151,42 +224,13 @@ pub fn correct_program(
         let block = &blocks[m.block];
         cx.line = block.line;
         let arc = arc_geometry(m);
-        // pieces as (t, t_direction): the directions of motion are constant between reversals (the
-        // quadrant points of an arc), so each stretch is split on its own
-        let mut pieces: Vec<(f64, f64)> = Vec::new();
-        match m.kind {
-            MoveKind::Rapid => pieces.push((1.0, 1.0)),
-            _ => {
-                let tolerance = |k: usize| match machine.axes()[k].kind {
-                    AxisKind::Linear => options.tolerance_mm,
-                    AxisKind::Rotary => options.rotary_tolerance_deg,
-                };
-                // one piece when the correction along the whole move (directions as they come)
-                // stays within the tolerance of the blend of its end values; otherwise split
-                // between reversals
-                let mut whole = |t: f64| cx.correction(m, arc.as_ref(), t, t).map(|(_, c)| c);
-                let bounds = match split_points(&mut whole, &tolerance, 64) {
-                    Ok(p) if p.len() == 1 => vec![0.0, 1.0],
-                    _ => reversals(arc.as_ref()),
-                };
-                if bounds.len() == 2 && arc.is_some() {
-                    pieces.push((1.0, 1.0));
-                } else {
-                    for w in bounds.windows(2) {
-                        let (a, b) = (w[0], w[1]);
-                        let t_direction = 0.5 * (a + b);
-                        let mut f = |u: f64| cx.correction(m, arc.as_ref(), a + u * (b - a), t_direction).map(|(_, c)| c);
-                        let stretch =
-                            split_points(&mut f, &tolerance, options.max_pieces).map_err(|e| input(format!("line {}: {e}", block.line)))?;
-                        pieces.extend(stretch.into_iter().map(|u| (a + u * (b - a), t_direction)));
-                    }
-                }
-            }
-        }
-        let t0_direction = if pieces.len() == 1 && pieces[0] == (1.0, 1.0) { 0.0 } else { pieces[0].1 };
-        let mut c_prev = cx.correction(m, arc.as_ref(), 0.0, t0_direction).map_err(CompensateError::Computation)?.1;
-        for (i, &(t, t_direction)) in pieces.iter().enumerate() {
-            let (p, c) = cx.correction(m, arc.as_ref(), t, t_direction).map_err(CompensateError::Computation)?;
+        let pieces = cx.pieces(m, arc.as_ref(), options)?;
+        // the shift of the start is what the controller holds there: the written end of the move
+        // before (arc centres move by the mean shift of their ends)
+        let mut c_prev: Vec<f64> = written.iter().zip(&m.start).map(|(w, s)| w - s).collect();
+        for (i, (t, c)) in pieces.into_iter().enumerate() {
+            let mut p = vec![0.0; machine.axis_count()];
+            point_at(m, arc.as_ref(), t, &mut p);
             let target: Vec<f64> = p.iter().zip(&c).map(|(a, b)| a + b).collect();
             let centre = match (m.kind, arc.as_ref()) {
                 (MoveKind::Arc { plane, centre, .. }, Some(_)) => Some([
@@ -201,11 +245,14 @@ pub fn correct_program(
                     cx.result.changed_lines += 1;
                 }
                 out_lines[m.block] = new;
-            } else {
-                inserted[m.block].push(piece_line(machine, options, m, &target, centre, &mut written));
+                c_prev = c;
+            } else if let Some(line) = piece_line(machine, options, m, &target, centre, &mut written) {
+                inserted[m.block].push(line);
                 cx.result.inserted_lines += 1;
+                c_prev = c;
             }
-            c_prev = c;
+            // a piece that moves no axis at the written resolution is left out (no bare `G1`);
+            // the next piece starts where the controller is, with the correction there
         }
         directions_at(m, arc.as_ref(), 1.0, &cx.previous_directions.clone(), &mut cx.previous_directions);
     }
@@ -369,8 +416,16 @@ fn rewrite_block(
     text
 }
 
-/// A new line for a piece of a split move: the motion word and the words that must change.
-fn piece_line(machine: &Machine, options: &NcOptions, m: &Move, target: &[f64], centre: Option<[f64; 2]>, written: &mut [f64]) -> String {
+/// A new line for a piece of a split move: the motion word and the words that must change;
+/// `None` (nothing written, `written` unchanged) when no axis moves at the written resolution.
+fn piece_line(
+    machine: &Machine,
+    options: &NcOptions,
+    m: &Move,
+    target: &[f64],
+    centre: Option<[f64; 2]>,
+    written: &mut [f64],
+) -> Option<String> {
     let start = written.to_vec();
     let mut words = vec![match m.kind {
         MoveKind::Rapid => "G0".to_string(),
@@ -384,10 +439,14 @@ fn piece_line(machine: &Machine, options: &NcOptions, m: &Move, target: &[f64], 
             words.push(format!("{}{text}", a.letter));
         }
     }
+    if words.len() == 1 {
+        written.copy_from_slice(&start);
+        return None;
+    }
     if let Some(c) = centre {
         for (letter, _, text) in centre_values(machine, options, m, c, &start) {
             words.push(format!("{letter}{text}"));
         }
     }
-    words.join(" ")
+    Some(words.join(" "))
 }

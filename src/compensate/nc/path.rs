@@ -70,21 +70,26 @@ pub fn directions_at(m: &Move, arc: Option<&ArcGeometry>, t: f64, previous: &[Op
 /// Shortest piece, as a fraction of the move, that is still split.
 pub const MIN_PIECE: f64 = 1e-6;
 
+/// The pieces of a move: the parameter of each piece's end and the correction there (mm or deg per
+/// axis).
+pub type Pieces = Vec<(f64, Vec<f64>)>;
+
 /// Parameters `0 < t_1 < ... < t_k = 1` of the pieces such that, on every piece, the correction
 /// `correction(t)` (one value per axis, mm or deg) departs from the straight blend of its values at
 /// the piece ends by at most `tolerance(axis)`, checked at the quarter points of each piece
-/// (recursive bisection). A piece shorter than [`MIN_PIECE`] of the move is accepted as it is: the
-/// correction jumps there (e.g. where the tool-axis correction of a 5-axis machine switches on
-/// leaving a singularity), and the jump becomes a short piece of its own instead of endless
-/// splitting. `Err` when more than `max_pieces` would be needed.
-pub fn split_points(
-    correction: &mut dyn FnMut(f64) -> Result<Vec<f64>, String>,
+/// (recursive bisection); each with the correction at its end. A piece shorter than
+/// [`MIN_PIECE`] of the move is accepted as it is: the correction jumps there (a discontinuous
+/// error model; the pose correction itself is continuous, also through 5-axis singularities), and
+/// the jump becomes a short piece of its own instead of endless splitting. `Ok(None)` when more than
+/// `max_pieces` would be needed; an error of `correction` is passed on.
+pub fn split_points<E>(
+    correction: &mut dyn FnMut(f64) -> Result<Vec<f64>, E>,
     tolerance: &dyn Fn(usize) -> f64,
     max_pieces: usize,
-) -> Result<Vec<f64>, String> {
+) -> Result<Option<Pieces>, E> {
     let c0 = correction(0.0)?;
     let c1 = correction(1.0)?;
-    let mut out = Vec::new();
+    let mut pieces = Vec::new();
     let mut stack = vec![(0.0, 1.0, c0, c1)];
     // depth-first, right half pushed first so pieces come out in order
     while let Some((a, b, ca, cb)) = stack.pop() {
@@ -102,10 +107,10 @@ pub fn split_points(
             }
         }
         if worst <= 1.0 || b - a < MIN_PIECE {
-            out.push(b);
+            pieces.push((b, cb));
         } else {
-            if out.len() + stack.len() + 2 > max_pieces {
-                return Err(format!("the correction varies so much along the move that it needs more than {max_pieces} pieces"));
+            if pieces.len() + stack.len() + 2 > max_pieces {
+                return Ok(None);
             }
             let cm = mid.expect("mid point sampled");
             let t = 0.5 * (a + b);
@@ -113,7 +118,7 @@ pub fn split_points(
             stack.push((a, t, ca, cm));
         }
     }
-    Ok(out)
+    Ok(Some(pieces))
 }
 
 #[cfg(test)]
@@ -124,22 +129,27 @@ mod tests {
     fn bisection_meets_the_tolerance_of_a_quadratic() {
         // c(t) = t^2 (mm): the deviation from the chord over a piece of length h is h^2 / 4 at its
         // middle, so a tolerance of 1e-3 needs h <= 0.0632: 16 pieces of 1/16
-        let mut f = |t: f64| Ok(vec![t * t]);
-        let pieces = split_points(&mut f, &|_| 1e-3, 1000).unwrap();
+        let mut f = |t: f64| Ok::<_, ()>(vec![t * t]);
+        let split = split_points(&mut f, &|_| 1e-3, 1000).unwrap().unwrap();
+        let pieces: Vec<f64> = split.iter().map(|p| p.0).collect();
         assert_eq!(pieces.len(), 16);
         assert!((pieces[0] - 1.0 / 16.0).abs() < 1e-15);
         assert_eq!(*pieces.last().unwrap(), 1.0);
-        let mut g = |t: f64| Ok(vec![t * t]);
-        assert!(split_points(&mut g, &|_| 1e-9, 50).unwrap_err().contains("50 pieces"));
-        let mut line = |t: f64| Ok(vec![3.0 * t - 1.0]);
-        assert_eq!(split_points(&mut line, &|_| 1e-12, 10).unwrap(), vec![1.0]);
+        // the correction at every piece end is the function there
+        assert!(split.iter().all(|(t, c)| c[0] == t * t));
+        let mut g = |t: f64| Ok::<_, ()>(vec![t * t]);
+        assert_eq!(split_points(&mut g, &|_| 1e-9, 50), Ok(None));
+        let mut line = |t: f64| Ok::<_, ()>(vec![3.0 * t - 1.0]);
+        assert_eq!(split_points(&mut line, &|_| 1e-12, 10), Ok(Some(vec![(1.0, vec![2.0])])));
+        let mut failing = |t: f64| if t > 0.6 { Err("beyond") } else { Ok(vec![t]) };
+        assert_eq!(split_points(&mut failing, &|_| 1e-3, 10), Err("beyond"));
     }
 
     #[test]
     fn a_jump_of_the_correction_is_isolated_in_a_short_piece() {
         // a step of 1 mm at t = 0.3: bisection narrows it down to a piece shorter than MIN_PIECE
-        let mut step = |t: f64| Ok(vec![if t < 0.3 { 0.0 } else { 1.0 }]);
-        let pieces = split_points(&mut step, &|_| 1e-3, 1000).unwrap();
+        let mut step = |t: f64| Ok::<_, ()>(vec![if t < 0.3 { 0.0 } else { 1.0 }]);
+        let pieces: Vec<f64> = split_points(&mut step, &|_| 1e-3, 1000).unwrap().unwrap().iter().map(|p| p.0).collect();
         assert!(pieces.len() < 2 * 22, "{} pieces", pieces.len());
         let jump = pieces.windows(2).find(|w| w[0] < 0.3 && w[1] >= 0.3).expect("a piece holds the step");
         assert!(jump[1] - jump[0] < MIN_PIECE);
