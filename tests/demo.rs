@@ -186,18 +186,20 @@ fn check_predict(html: &str, stdout: &str) {
 fn check_compensate(html: &str, stdout: &str) {
     let rows = table(section(html, "compensation"), "Summary");
     let value = |quantity: &str| rows.iter().find(|r| r[0].starts_with(quantity)).unwrap()[1].clone();
+    let grid = value("grid nodes");
     let expected = format!(
-        "{} tables of {} points; largest correction {} um (linear axes), {} urad (rotary axes)",
+        "{} tables of {} points{}; largest correction written {} um (linear axes), {} urad (rotary axes)",
         value("tables"),
         value("points per table"),
-        value("largest correction, linear"),
-        value("largest correction, rotary")
+        if grid == "none" { String::new() } else { format!(", grid of {grid} nodes") },
+        value("largest correction written, linear"),
+        value("largest correction written, rotary")
     );
     assert!(stdout.contains(&expected), "`{expected}` not in:\n{stdout}");
     let residual = format!(
-        "position residual <= {} um; orientation the joints cannot correct <= {} urad",
+        "position residual <= {} um; orientation not corrected <= {} urad",
         value("position residual"),
-        value("orientation the joints")
+        value("orientation not corrected")
     );
     assert!(stdout.contains(&residual), "`{residual}` not in:\n{stdout}");
 }

@@ -262,6 +262,6 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
     json!({
         "out": out.display().to_string(), "bytes": bytes, "sections": sections, "inputs": inputs,
         "parameters": parameters, "volumetric": volumetric, "ballbar": ballbar,
-        "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.max_um, "max_correction_urad": c.max_urad})),
+        "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.extent.max_um, "max_correction_urad": c.extent.max_urad})),
     })
 }

@@ -4,10 +4,10 @@
 
 use super::super::html::Section;
 use super::CalibrationError;
-use crate::compensate::export::{self, ExportInput, ExportedFile, Limits};
+use crate::compensate::export::{self, Coverage, ExportInput, ExportedFile, Extent, Limits};
 use crate::compensate::{axis_tables, volumetric_grid, Corrector, TableSet, TableSpec, VolumetricGrid};
 use crate::errors::ErrorModel;
-use crate::machine::{AxisKind, Machine};
+use crate::machine::Machine;
 
 /// Points per table and grid nodes: the defaults of `trueaxis compensate` (`--points 41 --grid 9,9,9`).
 pub const POINTS: usize = 41;
@@ -20,9 +20,9 @@ pub struct CompensationPart {
     pub grid: Option<VolumetricGrid>,
     pub points: usize,
     pub grid_nodes: [usize; 3],
-    /// Largest correction of a linear axis (um) and of a rotary axis (urad) in the tables.
-    pub max_um: f64,
-    pub max_urad: f64,
+    /// Largest corrections written (um, urad) and what is left after correction, over the tables
+    /// and the grid.
+    pub extent: Extent,
     /// Where the error model came from (a file, "the identification").
     pub origin: String,
     /// Files written with the tables (names), if any.
@@ -42,15 +42,10 @@ impl CompensationPart {
         let tables = axis_tables(&corrector, &spec)?;
         let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
         let grid = if has_xyz { Some(volumetric_grid(&corrector, grid_nodes, &spec)?) } else { None };
-        let largest = |rotary: bool| {
-            tables
-                .tables
-                .iter()
-                .filter(|t| (machine.axes()[t.corrected].kind == AxisKind::Rotary) == rotary)
-                .fold(0.0f64, |m, t| m.max(export::to_micro(machine, t.corrected, t.max_abs())))
-        };
-        let (max_um, max_urad) = (largest(false), largest(true));
-        Ok(CompensationPart { tables, grid, points, grid_nodes, max_um, max_urad, origin: origin.into(), files: Vec::new() })
+        // what the CSV export (tables and grid) writes, as `trueaxis compensate --format csv` sums it up
+        let input = ExportInput { machine, errors, tables: &tables, grid: grid.as_ref(), limits: Limits::default() };
+        let extent = export::largest_corrections(&input, Coverage::TABLES_AND_GRID);
+        Ok(CompensationPart { tables, grid, points, grid_nodes, extent, origin: origin.into(), files: Vec::new() })
     }
 
     /// The plain CSV export (`trueaxis compensate --format csv`): tables.csv, and grid.csv.
@@ -85,13 +80,14 @@ impl CompensationPart {
             vec![
                 vec!["tables".into(), self.tables.tables.len().to_string()],
                 vec!["points per table".into(), self.points.to_string()],
-                vec!["largest correction, linear axes (um)".into(), format!("{:.3}", self.max_um)],
-                vec!["largest correction, rotary axes (urad)".into(), format!("{:.3}", self.max_urad)],
-                vec!["position residual after correction (um)".into(), format!("{:.4}", self.tables.worst_residual_position * 1e3)],
                 vec![
-                    "orientation the joints cannot correct (urad)".into(),
-                    format!("{:.3}", self.tables.worst_uncorrectable_orientation * 1e6),
+                    "grid nodes".into(),
+                    self.grid.as_ref().map_or("none".into(), |g| format!("{}x{}x{}", g.counts[0], g.counts[1], g.counts[2])),
                 ],
+                vec!["largest correction written, linear axes (um)".into(), format!("{:.3}", self.extent.max_um)],
+                vec!["largest correction written, rotary axes (urad)".into(), format!("{:.3}", self.extent.max_urad)],
+                vec!["position residual after correction (um)".into(), format!("{:.4}", self.extent.worst_residual_mm * 1e3)],
+                vec!["orientation not corrected (urad)".into(), format!("{:.3}", self.extent.worst_uncorrectable_rad * 1e6)],
             ],
         );
         if !self.files.is_empty() {
