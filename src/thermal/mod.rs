@@ -15,10 +15,12 @@ pub mod links;
 pub mod matrix_market;
 pub mod mesh;
 pub mod modal;
+pub mod ordering;
 pub mod model_file;
 pub mod placement;
 pub mod regression;
 pub mod response;
+pub mod sparse_cholesky;
 pub mod state_space;
 pub mod time_constants;
 pub mod validation;
@@ -26,7 +28,8 @@ pub mod weights;
 
 pub use assembly::{assemble, Boundary, Material, Section, ThermalSystem};
 pub use mesh::StructuredMesh;
-pub use modal::{modal_analysis, ModalBasis, ModalOptions, SpectrumMethod};
+pub use lanczos::LanczosProgress;
+pub use modal::{modal_analysis, modal_analysis_with_progress, ModalBasis, ModalOptions, SpectrumMethod};
 pub use weights::{dominant_modes, mode_weights, ModeWeight, DEFAULT_SHARE};
 
 use thiserror::Error;
