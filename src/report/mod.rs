@@ -8,6 +8,8 @@ mod histogram;
 mod polar;
 mod positioning;
 mod residuals;
+mod thermal;
+mod thermal_figures;
 mod uncertainty_figures;
 
 pub use fit_plot::{fit_plot_svg, FitPlot};
@@ -16,6 +18,11 @@ pub use histogram::{convergence_svg, histograms_svg, ConvergenceSeries, Histogra
 pub use polar::{auto_scale, circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
 pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
 pub use residuals::residuals_svg;
+pub use thermal::{
+    drift_svg, mode_shapes_svg, modes_svg, time_constants_svg, DriftPlot, DriftRun, ModeBar, ModeShapeCurve, ModeShapesPlot, RunRole,
+    TimeConstantsPlot,
+};
+pub use thermal_figures::{drift_plot, mode_shapes_plot, profile_line, step_fit_plot, time_constants_plot, CampaignPart};
 pub use uncertainty_figures::{interval_of, uncertainty_figures};
 
 use thiserror::Error;

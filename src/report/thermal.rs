@@ -111,6 +111,8 @@ pub struct DriftPlot {
     pub title: String,
     /// Name and unit of the modelled quantity, e.g. `dz (um)`.
     pub quantity: String,
+    /// Legend of the model curve, e.g. `predicted` or `eq. 3.17 fit`.
+    pub model_label: String,
     pub runs: Vec<DriftRun>,
 }
 
@@ -169,10 +171,10 @@ pub fn drift_svg(plot: &DriftPlot) -> Result<String, ReportError> {
             match &run.measured {
                 Some(measured) => {
                     let (left, right) = row.split_horizontally(WIDTH * 3 / 5);
-                    drift_chart(&left, run, Some(measured), &plot.quantity)?;
+                    drift_chart(&left, run, Some(measured), plot)?;
                     residual_chart(&right, run, measured, &plot.quantity)?;
                 }
-                None => drift_chart(row, run, None, &plot.quantity)?,
+                None => drift_chart(row, run, None, plot)?,
             }
         }
         Ok(())
@@ -217,6 +219,7 @@ fn mode_shapes_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &ModeShapesPlo
         .configure_mesh()
         .x_desc(plot.x_label.as_str())
         .y_desc("mode shape / largest |value|")
+        .y_label_formatter(&|v: &f64| format!("{:.1}", v + 0.0))
         .label_style(("sans-serif", 12))
         .draw()
         .map_err(draw)?;
@@ -229,15 +232,18 @@ fn mode_shapes_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &ModeShapesPlo
             .draw_series([Text::new(label.clone(), (*position, 1.05), ("sans-serif", 12).into_font().color(&MEASURED))])
             .map_err(draw)?;
     }
+    // earlier modes drawn wider, so that curves that coincide on this line (modes varying across
+    // it) stay visible
     for (k, mode) in plot.modes.iter().enumerate() {
         let largest = mode.values.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let scale = if largest > 0.0 { 1.0 / largest } else { 0.0 };
         let colour = COLOURS[k % COLOURS.len()];
+        let width = (1 + plot.modes.len() - k) as u32;
         chart
-            .draw_series(LineSeries::new(plot.positions.iter().zip(&mode.values).map(|(x, v)| (*x, v * scale)), colour.stroke_width(2)))
+            .draw_series(LineSeries::new(plot.positions.iter().zip(&mode.values).map(|(x, v)| (*x, v * scale)), colour.stroke_width(width)))
             .map_err(draw)?
             .label(mode.label.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(width)));
     }
     chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(draw)
 }
@@ -263,6 +269,8 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
     chart
         .configure_mesh()
         .x_desc("time constant tau (min)")
+        .x_labels(6)
+        .x_label_formatter(&|v: &f64| format!("{}", (v * 100.0).round() / 100.0))
         .y_desc("weight |xi tau| / sum")
         .label_style(("sans-serif", 12))
         .draw()
@@ -334,7 +342,7 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
         .map_err(draw)
 }
 
-fn drift_chart(area: &DrawingArea<SVGBackend, Shift>, run: &DriftRun, measured: Option<&Vec<f64>>, quantity: &str) -> Result<(), ReportError> {
+fn drift_chart(area: &DrawingArea<SVGBackend, Shift>, run: &DriftRun, measured: Option<&Vec<f64>>, plot: &DriftPlot) -> Result<(), ReportError> {
     let minutes: Vec<f64> = run.times_s.iter().map(|t| t / 60.0).collect();
     let (x0, x1) = span(minutes.iter().copied());
     let (y0, y1) = span(run.predicted.iter().chain(measured.into_iter().flatten()).copied());
@@ -346,7 +354,14 @@ fn drift_chart(area: &DrawingArea<SVGBackend, Shift>, run: &DriftRun, measured: 
         .y_label_area_size(60)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(draw)?;
-    chart.configure_mesh().x_desc("t (min)").y_desc(quantity).label_style(("sans-serif", 11)).draw().map_err(draw)?;
+    chart
+        .configure_mesh()
+        .x_desc("t (min)")
+        .y_desc(plot.quantity.as_str())
+        .x_label_formatter(&|v: &f64| format!("{v:.0}"))
+        .label_style(("sans-serif", 11))
+        .draw()
+        .map_err(draw)?;
     if let Some(m) = measured {
         chart
             .draw_series(minutes.iter().zip(m).map(|(t, v)| Circle::new((*t, *v), 2, MEASURED.filled())))
@@ -357,7 +372,10 @@ fn drift_chart(area: &DrawingArea<SVGBackend, Shift>, run: &DriftRun, measured: 
     chart
         .draw_series(LineSeries::new(minutes.iter().copied().zip(run.predicted.iter().copied()), colour.stroke_width(2)))
         .map_err(draw)?
-        .label(format!("predicted ({})", run.role.name()))
+        .label(match run.role {
+            RunRole::Prediction => plot.model_label.clone(),
+            role => format!("{} ({})", plot.model_label, role.name()),
+        })
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
     chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(draw)
 }
@@ -378,21 +396,15 @@ fn residual_chart(area: &DrawingArea<SVGBackend, Shift>, run: &DriftRun, measure
     chart
         .configure_mesh()
         .x_desc("t (min)")
-        .y_desc(format!("residual {quantity}"))
+        .y_desc(format!("measured - predicted {quantity}"))
+        .x_label_formatter(&|v: &f64| format!("{v:.0}"))
+        .y_label_formatter(&|v: &f64| format!("{}", (v * 1e6).round() / 1e6 + 0.0))
         .label_style(("sans-serif", 11))
         .draw()
         .map_err(draw)?;
-    chart
-        .draw_series([Rectangle::new([(x0, lo), (x1, hi)], BAND.mix(0.25).filled())])
-        .map_err(draw)?
-        .label("residual band")
-        .legend(|(x, y)| Rectangle::new([(x, y - 5), (x + 18, y + 5)], BAND.mix(0.25).filled()));
+    chart.draw_series([Rectangle::new([(x0, lo), (x1, hi)], BAND.mix(0.25).filled())]).map_err(draw)?;
     chart.draw_series(LineSeries::new([(x0, 0.0), (x1, 0.0)], BLACK.stroke_width(1))).map_err(draw)?;
     let colour = run.role.colour();
-    chart
-        .draw_series(LineSeries::new(minutes.iter().copied().zip(residual.iter().copied()), colour.stroke_width(1)))
-        .map_err(draw)?
-        .label("measured - predicted")
-        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(1)));
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(draw)
+    chart.draw_series(LineSeries::new(minutes.iter().copied().zip(residual.iter().copied()), colour.stroke_width(1))).map_err(draw)?;
+    Ok(())
 }

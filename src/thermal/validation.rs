@@ -2,6 +2,9 @@
 //! `e = measured - predicted`, its band (min, max), RMS, max |e|, range, mean and standard
 //! deviation; the time split of one record into training and verification parts.
 
+use super::campaign::Campaign;
+use super::regression::RegressionModel;
+use super::{computation, ThermalError};
 use serde::Serialize;
 
 /// Statistics of the residuals `measured - predicted` (units of the error, um).
@@ -47,6 +50,41 @@ pub fn time_split(times: &[f64], fraction: f64) -> usize {
     let (t0, t1) = (times.iter().copied().fold(f64::INFINITY, f64::min), times.iter().copied().fold(f64::NEG_INFINITY, f64::max));
     let cut = t0 + fraction * (t1 - t0);
     times.iter().take_while(|t| **t < cut).count()
+}
+
+/// The model's prediction (um) at `rows` of a campaign, and the measured error column when the
+/// campaign has it (the regression of seed 002 eqs. 3.12-3.15 evaluated on the sensor columns and,
+/// for PDTE, the position column). A prediction that is not a finite number (coefficients too large
+/// for the temperatures) is a failed computation.
+pub fn evaluate_rows(campaign: &Campaign, model: &RegressionModel, rows: &[usize]) -> Result<(Option<Vec<f64>>, Vec<f64>), ThermalError> {
+    let temps = campaign.select(&model.sensors, rows)?;
+    let positions = match &model.position {
+        Some(p) => Some(campaign.select(std::slice::from_ref(p), rows)?.remove(0)),
+        None => None,
+    };
+    let mut t = vec![0.0; model.sensors.len()];
+    let predicted = (0..rows.len())
+        .map(|i| {
+            t.iter_mut().zip(&temps).for_each(|(x, col)| *x = col[i]);
+            model.evaluate(positions.as_ref().map_or(0.0, |p| p[i]), &t)
+        })
+        .collect::<Vec<f64>>();
+    if let Some(i) = predicted.iter().position(|v| !v.is_finite()) {
+        let run = &campaign.runs[rows[i]];
+        return Err(computation(format!(
+            "{}: the prediction of `{}` at data row {}{} is not a finite number: the model's coefficients are too large for these temperatures",
+            campaign.origin,
+            model.error,
+            rows[i] + 1,
+            if run.is_empty() { String::new() } else { format!(" (run {run})") }
+        )));
+    }
+    let measured = if campaign.names.contains(&model.error) {
+        Some(campaign.select(std::slice::from_ref(&model.error), rows)?.remove(0))
+    } else {
+        None
+    };
+    Ok((measured, predicted))
 }
 
 #[cfg(test)]
