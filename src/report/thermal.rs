@@ -219,7 +219,7 @@ fn mode_shapes_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &ModeShapesPlo
         .configure_mesh()
         .x_desc(plot.x_label.as_str())
         .y_desc("mode shape / largest |value|")
-        .y_label_formatter(&|v: &f64| format!("{:.1}", v + 0.0))
+        .y_label_formatter(&|v: &f64| format!("{:.1}", if v.abs() < 1e-9 { 0.0 } else { *v }))
         .label_style(("sans-serif", 12))
         .draw()
         .map_err(draw)?;
@@ -398,7 +398,7 @@ fn residual_chart(area: &DrawingArea<SVGBackend, Shift>, run: &DriftRun, measure
         .x_desc("t (min)")
         .y_desc(format!("measured - predicted {quantity}"))
         .x_label_formatter(&|v: &f64| format!("{v:.0}"))
-        .y_label_formatter(&|v: &f64| format!("{}", (v * 1e6).round() / 1e6 + 0.0))
+        .y_label_formatter(&|v: &f64| format!("{}", if v.abs() < 1e-9 { 0.0 } else { (v * 1e6).round() / 1e6 }))
         .label_style(("sans-serif", 11))
         .draw()
         .map_err(draw)?;
