@@ -202,7 +202,7 @@ fn non_finite_predictions_and_rank_deficient_fits_are_failed_computations() {
     ]);
     let (code, err) = failed(&out);
     assert_eq!(code, Some(1));
-    assert!(err.contains("not a finite number") && err.contains("run warmup"), "{err}");
+    assert!(err.contains("not a finite number") && err.contains("data row 1 in warmup"), "{err}");
     assert!(!out_file.exists() && out.stdout.is_empty());
     // a sensor that reads a constant cannot be separated from the intercept: exit 1, as identify
     let text = std::fs::read_to_string("examples/thermal/campaign.csv").unwrap();

@@ -22,7 +22,7 @@ pub use thermal::{
     drift_svg, mode_shapes_svg, modes_svg, time_constants_svg, DriftPlot, DriftRun, ModeBar, ModeShapeCurve, ModeShapesPlot, RunRole,
     TimeConstantsPlot,
 };
-pub use thermal_figures::{drift_plot, mode_shapes_plot, profile_line, step_fit_plot, time_constants_plot, CampaignPart};
+pub use thermal_figures::{drift_plot, mode_shapes_plot, profile_line, step_fit_plot, time_constants_plot};
 pub use uncertainty_figures::{interval_of, uncertainty_figures};
 
 use thiserror::Error;

@@ -3,12 +3,10 @@
 //! time constants with weights, and drift against prediction per run of a campaign.
 
 use super::{DriftPlot, DriftRun, ModeBar, ModeShapeCurve, ModeShapesPlot, RunRole, TimeConstantsPlot};
-use crate::thermal::campaign::Campaign;
 use crate::thermal::model_file::ThermalModel;
-use crate::thermal::regression::RegressionModel;
 use crate::thermal::time_constants::{Series, TimeConstantFit};
-use crate::thermal::validation::evaluate_rows;
-use crate::thermal::{ModalBasis, ModeWeight, ThermalError};
+use crate::thermal::validation::{Evaluated, Role};
+use crate::thermal::{ModalBasis, ModeWeight};
 
 /// At most this many mode shapes in one plot.
 pub const MAX_SHAPES: usize = 6;
@@ -80,32 +78,29 @@ pub fn time_constants_plot(model_name: &str, weights: &[ModeWeight], dominant: &
     }
 }
 
-/// Rows of a campaign drawn as one run of a drift plot: a run, or the training or verification part
-/// of a time split.
-#[derive(Clone, Debug)]
-pub struct CampaignPart {
-    pub name: String,
-    pub role: RunRole,
-    pub rows: Vec<usize>,
-}
-
-/// The drift plot of a regression model on parts of a campaign, times as in its `t` column.
-pub fn drift_plot(campaign: &Campaign, model: &RegressionModel, parts: &[CampaignPart]) -> Result<DriftPlot, ThermalError> {
-    let t = campaign.column("t")?;
-    let runs = parts
+/// The drift plot of a thermal error model `error` (the column name) on evaluated segments of a
+/// campaign ([`evaluate_segments`](crate::thermal::validation::evaluate_segments)).
+pub fn drift_plot(error: &str, evaluated: &[Evaluated]) -> DriftPlot {
+    let runs = evaluated
         .iter()
-        .map(|part| {
-            let (measured, predicted) = evaluate_rows(campaign, model, &part.rows)?;
-            let times_s = part.rows.iter().map(|&i| t[i]).collect();
-            Ok(DriftRun { name: part.name.clone(), role: part.role, times_s, measured, predicted })
+        .map(|e| DriftRun {
+            name: e.segment.name.clone(),
+            role: match e.segment.role {
+                Role::Training => RunRole::Training,
+                Role::Validation => RunRole::Validation,
+                Role::Prediction => RunRole::Prediction,
+            },
+            times_s: e.times_s.clone(),
+            measured: e.measured.clone(),
+            predicted: e.predicted.clone(),
         })
-        .collect::<Result<Vec<_>, ThermalError>>()?;
-    Ok(DriftPlot {
-        title: format!("thermal error `{}`: measured and predicted, residual band (measured - predicted)", model.error),
-        quantity: format!("{} (um)", model.error),
+        .collect();
+    DriftPlot {
+        title: format!("thermal error `{error}`: measured and predicted, residual band (measured - predicted)"),
+        quantity: format!("{error} (um)"),
         model_label: "predicted".into(),
         runs,
-    })
+    }
 }
 
 /// Each temperature record of an eq. 3.17 fit (seed 002 §3.5) and its fitted curve

@@ -9,6 +9,8 @@
 
 pub mod assembly;
 pub mod campaign;
+pub mod drift_model;
+pub mod error_model;
 pub mod lanczos;
 pub mod levenberg_marquardt;
 pub mod links;

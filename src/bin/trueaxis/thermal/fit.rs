@@ -9,20 +9,25 @@ use std::path::PathBuf;
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
-use trueaxis::report::{drift_plot, drift_svg, step_fit_plot, CampaignPart, RunRole};
+use trueaxis::report::{drift_plot, drift_svg, step_fit_plot};
 use trueaxis::thermal::campaign::Campaign;
+use trueaxis::thermal::drift_model::{fit_drift_model, record};
+use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::links::{add_terms, model_terms, terms_toml};
-use trueaxis::thermal::regression::{fit_regression, fit_stepwise, select_by_correlation};
+use trueaxis::thermal::regression::{fit_regression, fit_stepwise, select_by_correlation, RegressionModel};
 use trueaxis::thermal::time_constants::{fit_time_constants, Series};
-use trueaxis::thermal::validation::{evaluate_rows, residual_stats, ResidualStats};
+use trueaxis::thermal::validation::{evaluate_segments, residual_stats, segments, ResidualStats, Role, Segment};
 
 /// Fits a thermal error model to a campaign CSV (columns t, run, T:<sensor>, the error in um):
-/// PITE/PDTE regression (seed 002 eqs. 3.12-3.15 with intercepts as eqs. 4.3-4.5), validated on
-/// the runs not trained on; or, with --time-constants N, the eq. 3.17 fit of shared time constants
-/// to the temperature records of every run.
+/// PITE/PDTE regression (seed 002 eqs. 3.12-3.15 with intercepts as eqs. 4.3-4.5) or the
+/// state-space drift model (seed 000 §3.4.4), validated on the runs not trained on or on the later
+/// part of each training run; or, with --time-constants N, the eq. 3.17 fit of shared time
+/// constants to the temperature records of every run.
 #[derive(clap::Args)]
 #[command(
     after_help = "Examples:\n  trueaxis thermal fit --data examples/thermal/campaign.csv --error dz --train-runs warmup --out dz_model.toml --plot dz_fit.svg\n  \
+trueaxis thermal fit --data examples/thermal/campaign.csv --error dz --model state-space --rates 2 --train-runs warmup --out dz_drift.toml\n  \
+trueaxis thermal fit --data examples/thermal/campaign.csv --error dz --train-runs long --validate time-split:0.5\n  \
 trueaxis thermal fit --data examples/thermal/campaign.csv --time-constants 2 --train-runs warmup --until 14400 --json"
 )]
 pub struct FitArgs {
@@ -32,6 +37,17 @@ pub struct FitArgs {
     /// Error column (um) to model.
     #[arg(long, required_unless_present = "time_constants")]
     error: Option<String>,
+    /// Model form: regression (static, seed 002 eqs. 3.12-3.15) or state-space (seed 000 §3.4.4:
+    /// the drift as a sum of first-order lags of the sensors' rises since the start of each run).
+    #[arg(long, value_enum, default_value = "regression")]
+    model: ModelForm,
+    /// State-space model: number of time constants shared by the sensors (1 to 4).
+    #[arg(long, default_value_t = 2)]
+    rates: usize,
+    /// Validation: the runs not in --train-runs (default), or `time-split:F`: each training run
+    /// trains on the first fraction F (0 < F < 1) of its time span and verifies on the rest.
+    #[arg(long, value_name = "time-split:F")]
+    validate: Option<String>,
     /// Fit N shared time constants (eq. 3.17) to the temperature columns instead.
     #[arg(long)]
     time_constants: Option<usize>,
@@ -79,6 +95,12 @@ pub struct FitArgs {
     json: bool,
 }
 
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum ModelForm {
+    Regression,
+    StateSpace,
+}
+
 pub fn fit(args: FitArgs) -> Result<(), Failure> {
     let campaign = Campaign::read(&args.data).map_err(failure)?;
     let rows: Vec<usize> = match &args.train_runs {
@@ -93,22 +115,105 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
         return fit_taus(&args, &campaign, &rows, &sensors, n);
     }
     let error = args.error.clone().expect("clap requires --error");
-    let temps = campaign.select(&sensors, &rows).map_err(failure)?;
-    let measured = campaign.select(std::slice::from_ref(&error), &rows).map_err(failure)?.remove(0);
+    let split = match args.validate.as_deref() {
+        None => None,
+        Some(v) => match v.strip_prefix("time-split:").map(str::parse::<f64>) {
+            Some(Ok(f)) if f > 0.0 && f < 1.0 => Some(f),
+            _ => return Err(Failure::input(anyhow::anyhow!("--validate {v}: expected time-split:F with 0 < F < 1"))),
+        },
+    };
+    let segments = segments(&campaign, args.train_runs.as_deref(), split).map_err(failure)?;
+    let training: Vec<&Segment> = segments.iter().filter(|s| s.role == Role::Training).collect();
+    let rows: Vec<usize> = training.iter().flat_map(|s| s.rows.iter().copied()).collect();
+    let (model, kept) = match args.model {
+        ModelForm::Regression => {
+            let (model, kept) = fit_regression_model(&args, &campaign, &rows, &sensors, &error)?;
+            (ThermalErrorModel::Regression(model), kept)
+        }
+        ModelForm::StateSpace => {
+            if args.select.is_some() || args.position.is_some() || args.no_intercept || args.terms_out.is_some() {
+                return Err(Failure::input(anyhow::anyhow!(
+                    "--select, --position, --no-intercept and --terms-out apply to regression models, not to --model state-space"
+                )));
+            }
+            let records =
+                training.iter().map(|s| record(&campaign, &sensors, Some(&error), &s.rows)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
+            (ThermalErrorModel::Drift(fit_drift_model(&error, &sensors, &records, args.rates).map_err(failure)?.0), None)
+        }
+    };
+    let evaluated = evaluate_segments(&campaign, &model, &segments).map_err(failure)?;
+    let (measured, predicted): (Vec<f64>, Vec<f64>) = evaluated
+        .iter()
+        .filter(|e| e.segment.role == Role::Training)
+        .flat_map(|e| e.measured.clone().unwrap_or_default().into_iter().zip(e.predicted.clone()))
+        .unzip();
+    let training_stats = residual_stats(&measured, &predicted);
+    let validation: Vec<(String, Option<ResidualStats>)> =
+        evaluated.iter().filter(|e| e.segment.role == Role::Validation).map(|e| (e.segment.name.clone(), e.stats())).collect();
+    if let Some(path) = &args.out {
+        write_atomically(path, model.to_toml().as_bytes()).map_err(Failure::input)?;
+    }
+    if let (Some(path), Some(parameter), ThermalErrorModel::Regression(regression)) = (&args.terms_out, &args.parameter, &model) {
+        let terms = model_terms(parameter, regression, 1.0).map_err(failure)?;
+        if let Some(machine) = &args.machine {
+            let machine = Machine::load(machine).map_err(Failure::input)?;
+            add_terms(&mut ErrorModel::zero(&machine), &machine, &terms).map_err(failure)?;
+        }
+        let text = format!(
+            "# thermal error model of `{error}` as error terms (factors T - 20 degC), from trueaxis thermal fit\n{}",
+            terms_toml(&terms)
+        );
+        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+    }
+    if let Some(path) = &args.plot {
+        write_plot(path, drift_svg(&drift_plot(&error, &evaluated)))?;
+    }
+    if args.json {
+        let doc = json!({"model": model, "kept": kept, "training": training_stats,
+                         "validation": validation.iter().map(|(r, s)| (r.clone(), json!(s))).collect::<serde_json::Map<_, _>>()});
+        return print(&format!("{doc}\n"));
+    }
+    let mut out = format!("thermal error model of `{error}` (um) from {} rows of {}\n", rows.len(), args.data.display());
+    match &model {
+        ThermalErrorModel::Regression(m) => out += &regression_text(m),
+        ThermalErrorModel::Drift(m) => {
+            let taus: Vec<String> = m.time_constants_s.iter().map(|t| format!("{:.2}", t / 60.0)).collect();
+            out += &format!("  state space (seed 000 §3.4.4), time constants {} min; gains (um/degC) per time constant:\n", taus.join(", "));
+            for (s, g) in m.sensors.iter().zip(&m.gains_um_per_degc) {
+                out += &format!("  {s:<10} {}\n", g.iter().map(|v| format!("{v:+.5}")).collect::<Vec<_>>().join(" "));
+            }
+        }
+    }
+    out += "residuals (measured - predicted):\n";
+    out += &stats_line("training", &training_stats);
+    for (run, s) in &validation {
+        out += &stats_line(run, s);
+    }
+    print(&out)
+}
+
+/// The PITE/PDTE regression on the training rows, with the sensor selection of --select; the
+/// names of the kept terms or sensors when selected.
+fn fit_regression_model(
+    args: &FitArgs,
+    campaign: &Campaign,
+    rows: &[usize],
+    sensors: &[String],
+    error: &str,
+) -> Result<(RegressionModel, Option<Vec<String>>), Failure> {
+    let temps = campaign.select(sensors, rows).map_err(failure)?;
+    let measured = campaign.select(&[error.to_string()], rows).map_err(failure)?.remove(0);
     let positions = match &args.position {
-        Some(p) => Some(campaign.select(std::slice::from_ref(p), &rows).map_err(failure)?.remove(0)),
+        Some(p) => Some(campaign.select(std::slice::from_ref(p), rows).map_err(failure)?.remove(0)),
         None => None,
     };
     let position = args.position.as_deref().zip(positions.as_deref());
     let intercept = !args.no_intercept;
-    let (model, fit, kept) = match args.select.as_deref() {
-        None => {
-            let (m, f) = fit_regression(&error, &sensors, &temps, position, args.degree, intercept, &measured).map_err(failure)?;
-            (m, f, None)
-        }
+    match args.select.as_deref() {
+        None => Ok((fit_regression(error, sensors, &temps, position, args.degree, intercept, &measured).map_err(failure)?.0, None)),
         Some("stepwise") => {
-            let (m, f, k) = fit_stepwise(&error, &sensors, &temps, position, args.degree, intercept, &measured, 0.9999).map_err(failure)?;
-            (m, f, Some(k))
+            let (m, _, k) = fit_stepwise(error, sensors, &temps, position, args.degree, intercept, &measured, 0.9999).map_err(failure)?;
+            Ok((m, Some(k)))
         }
         Some(s) if s.starts_with("correlation:") => {
             let n = match s["correlation:".len()..].parse::<usize>() {
@@ -123,51 +228,16 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
             let chosen = select_by_correlation(&temps, &measured, n, 0.0);
             let names: Vec<String> = chosen.iter().map(|&i| sensors[i].clone()).collect();
             let t: Vec<Vec<f64>> = chosen.iter().map(|&i| temps[i].clone()).collect();
-            let (m, f) = fit_regression(&error, &names, &t, position, args.degree, intercept, &measured).map_err(failure)?;
-            (m, f, Some(names))
+            let (m, _) = fit_regression(error, &names, &t, position, args.degree, intercept, &measured).map_err(failure)?;
+            Ok((m, Some(names)))
         }
-        Some(other) => return Err(Failure::input(anyhow::anyhow!("--select {other}: expected correlation:N or stepwise"))),
-    };
-    let training = residual_stats(&measured, &measured.iter().zip(&fit.residuals).map(|(m, r)| m - r).collect::<Vec<_>>());
-    let is_training = |run: &String| args.train_runs.as_ref().is_none_or(|t| t.contains(run));
-    let mut parts = Vec::new();
-    let mut validation = Vec::new();
-    for run in campaign.run_names() {
-        let run_rows = campaign.rows_of(std::slice::from_ref(&run)).map_err(failure)?;
-        let role = if is_training(&run) { RunRole::Training } else { RunRole::Validation };
-        if role == RunRole::Validation {
-            let (m, p) = evaluate_rows(&campaign, &model, &run_rows).map_err(failure)?;
-            if let Some(m) = m {
-                validation.push((run.clone(), residual_stats(&m, &p)));
-            }
-        }
-        let name = if run.is_empty() { "all rows".to_string() } else { run };
-        parts.push(CampaignPart { name, role, rows: run_rows });
+        Some(other) => Err(Failure::input(anyhow::anyhow!("--select {other}: expected correlation:N or stepwise"))),
     }
-    if let Some(path) = &args.out {
-        write_atomically(path, model.to_toml().as_bytes()).map_err(Failure::input)?;
-    }
-    if let (Some(path), Some(parameter)) = (&args.terms_out, &args.parameter) {
-        let terms = model_terms(parameter, &model, 1.0).map_err(failure)?;
-        if let Some(machine) = &args.machine {
-            let machine = Machine::load(machine).map_err(Failure::input)?;
-            add_terms(&mut ErrorModel::zero(&machine), &machine, &terms).map_err(failure)?;
-        }
-        let text = format!(
-            "# thermal error model of `{error}` as error terms (factors T - 20 degC), from trueaxis thermal fit\n{}",
-            terms_toml(&terms)
-        );
-        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
-    }
-    if let Some(path) = &args.plot {
-        write_plot(path, drift_svg(&drift_plot(&campaign, &model, &parts).map_err(failure)?))?;
-    }
-    if args.json {
-        let doc = json!({"model": model, "kept": kept, "training": training,
-                         "validation": validation.iter().map(|(r, s)| (r.clone(), json!(s))).collect::<serde_json::Map<_, _>>()});
-        return print(&format!("{doc}\n"));
-    }
-    let mut out = format!("thermal error model of `{error}` (um) from {} rows of {}\n", rows.len(), args.data.display());
+}
+
+/// The coefficients, one line per power of the position.
+fn regression_text(model: &RegressionModel) -> String {
+    let mut out = String::new();
     for (k, row) in model.coefficients.iter().enumerate() {
         let p = match (k, &model.position) {
             (0, _) | (_, None) => String::new(),
@@ -179,12 +249,7 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
             .collect();
         out += &format!("  [{}]{p}\n", terms.join(" "));
     }
-    out += "residuals (measured - predicted):\n";
-    out += &stats_line("training", &training);
-    for (run, s) in &validation {
-        out += &stats_line(run, s);
-    }
-    print(&out)
+    out
 }
 
 fn stats_line(name: &str, s: &Option<ResidualStats>) -> String {
