@@ -136,16 +136,8 @@ fn out_of_range_options_are_refused_naming_the_option() {
         assert_eq!(code, Some(2), "--reuse {reuse}");
         assert!(err.contains("--reuse") && err.contains("(0, 1]"), "{err}");
     }
-    let (code, err) = failed(&trueaxis(&[
-        "thermal",
-        "fit",
-        "--data",
-        "examples/thermal/campaign.csv",
-        "--time-constants",
-        "2",
-        "--until",
-        "nan",
-    ]));
+    let (code, err) =
+        failed(&trueaxis(&["thermal", "fit", "--data", "examples/thermal/campaign.csv", "--time-constants", "2", "--until", "nan"]));
     assert_eq!(code, Some(2));
     assert!(err.contains("--until NaN"), "{err}");
     let (code, err) =
@@ -208,7 +200,15 @@ fn non_finite_predictions_and_rank_deficient_fits_are_failed_computations() {
     let text = std::fs::read_to_string("examples/thermal/campaign.csv").unwrap();
     let constant: String = text
         .lines()
-        .map(|l| if l.starts_with('#') { l.to_string() } else if l.starts_with("run") { format!("{l},T:c") } else { format!("{l},21.5") })
+        .map(|l| {
+            if l.starts_with('#') {
+                l.to_string()
+            } else if l.starts_with("run") {
+                format!("{l},T:c")
+            } else {
+                format!("{l},21.5")
+            }
+        })
         .collect::<Vec<_>>()
         .join("\n");
     let data = dir.path().join("constant.csv");

@@ -10,10 +10,13 @@ use trueaxis::report::{
     TimeConstantsPlot,
 };
 
-/// Texts (trimmed) and polylines `(stroke, stroke-width, points)` of an SVG document.
+/// A polyline: stroke colour, stroke width, points (px).
+type Polyline = (String, String, Vec<(f64, f64)>);
+
+/// Texts (trimmed) and polylines of an SVG document.
 struct Svg {
     texts: Vec<String>,
-    polylines: Vec<(String, String, Vec<(f64, f64)>)>,
+    polylines: Vec<Polyline>,
     circles: usize,
 }
 

@@ -225,12 +225,8 @@ fn mode_shapes_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &ModeShapesPlo
         .map_err(draw)?;
     chart.draw_series(LineSeries::new([(x0, 0.0), (x1, 0.0)], BLACK.stroke_width(1))).map_err(draw)?;
     for (position, label) in &plot.markers {
-        chart
-            .draw_series(LineSeries::new([(*position, -1.1), (*position, 1.1)], MEASURED.stroke_width(1)))
-            .map_err(draw)?;
-        chart
-            .draw_series([Text::new(label.clone(), (*position, 1.05), ("sans-serif", 12).into_font().color(&MEASURED))])
-            .map_err(draw)?;
+        chart.draw_series(LineSeries::new([(*position, -1.1), (*position, 1.1)], MEASURED.stroke_width(1))).map_err(draw)?;
+        chart.draw_series([Text::new(label.clone(), (*position, 1.05), ("sans-serif", 12).into_font().color(&MEASURED))]).map_err(draw)?;
     }
     // earlier modes drawn wider, so that curves that coincide on this line (modes varying across
     // it) stay visible
@@ -275,7 +271,10 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
         .label_style(("sans-serif", 12))
         .draw()
         .map_err(draw)?;
-    for (dominant, colour, label) in [(true, COLOURS[0], format!("dominant (first {:.0} % of the weight)", 100.0 * plot.share)), (false, TRUNCATED, "truncated".to_string())] {
+    for (dominant, colour, label) in [
+        (true, COLOURS[0], format!("dominant (first {:.0} % of the weight)", 100.0 * plot.share)),
+        (false, TRUNCATED, "truncated".to_string()),
+    ] {
         let modes: Vec<&ModeBar> = plot.modes.iter().filter(|m| m.dominant == dominant).collect();
         if modes.is_empty() {
             continue;
@@ -287,9 +286,12 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(3)));
         chart.draw_series(modes.iter().map(|m| Circle::new((m.tau_min, m.share), 3, colour.filled()))).map_err(draw)?;
         chart
-            .draw_series(modes.iter().filter(|m| m.dominant).map(|m| {
-                Text::new(format!("{}", m.mode), (m.tau_min, m.share + 0.04 * top), ("sans-serif", 11).into_font())
-            }))
+            .draw_series(
+                modes
+                    .iter()
+                    .filter(|m| m.dominant)
+                    .map(|m| Text::new(format!("{}", m.mode), (m.tau_min, m.share + 0.04 * top), ("sans-serif", 11).into_font())),
+            )
             .map_err(draw)?;
     }
     chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(draw)?;
@@ -297,8 +299,9 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
     let mut shares: Vec<f64> = plot.modes.iter().map(|m| m.share).collect();
     shares.sort_by(|a, b| b.total_cmp(a));
     let total: f64 = shares.iter().sum::<f64>().max(f64::MIN_POSITIVE);
-    let cumulative: Vec<(f64, f64)> =
-        shares.iter().scan(0.0, |acc, s| {
+    let cumulative: Vec<(f64, f64)> = shares
+        .iter()
+        .scan(0.0, |acc, s| {
             *acc += s / total;
             Some(*acc)
         })
@@ -342,7 +345,12 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
         .map_err(draw)
 }
 
-fn drift_chart(area: &DrawingArea<SVGBackend, Shift>, run: &DriftRun, measured: Option<&Vec<f64>>, plot: &DriftPlot) -> Result<(), ReportError> {
+fn drift_chart(
+    area: &DrawingArea<SVGBackend, Shift>,
+    run: &DriftRun,
+    measured: Option<&Vec<f64>>,
+    plot: &DriftPlot,
+) -> Result<(), ReportError> {
     let minutes: Vec<f64> = run.times_s.iter().map(|t| t / 60.0).collect();
     let (x0, x1) = span(minutes.iter().copied());
     let (y0, y1) = span(run.predicted.iter().chain(measured.into_iter().flatten()).copied());

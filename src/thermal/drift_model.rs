@@ -127,11 +127,7 @@ pub fn fit_drift_model(error: &str, sensors: &[String], records: &[Record], rate
     let m = model.gammas.len();
     // decreasing time constants: gammas are increasing
     let gains = (0..sensors.len()).map(|i| (0..m).map(|j| model.c[(0, i * m + j)] / model.gammas[j]).collect()).collect();
-    let drift = DriftModel {
-        error: error.into(),
-        sensors: sensors.to_vec(),
-        time_constants_s: model.time_constants_s(),
-        gains_um_per_degc: gains,
-    };
+    let drift =
+        DriftModel { error: error.into(), sensors: sensors.to_vec(), time_constants_s: model.time_constants_s(), gains_um_per_degc: gains };
     Ok((drift, rms))
 }

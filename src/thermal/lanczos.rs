@@ -30,8 +30,8 @@ use super::sparse_cholesky::SparseCholesky;
 use super::{computation, input, ThermalError};
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
-use faer::sparse::{SparseColMat, Triplet};
 use faer::prelude::{Reborrow, ReborrowMut};
+use faer::sparse::{SparseColMat, Triplet};
 use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 /// Options of [`smallest_eigenpairs`].
@@ -320,7 +320,7 @@ fn orthonormalize_block(
             return false;
         };
         let r = llt.L().transpose().to_owned();
-        if (0..p).any(|i| !(r[(i, i)] > 1e-10 * original[i].max(f64::MIN_POSITIVE))) {
+        if (0..p).any(|i| r[(i, i)].is_nan() || r[(i, i)] <= 1e-10 * original[i].max(f64::MIN_POSITIVE)) {
             orthonormalize_columns(block, projected.as_ref(), basis, c, &original, seed, coefficients);
             return false;
         }

@@ -17,8 +17,8 @@ pub mod links;
 pub mod matrix_market;
 pub mod mesh;
 pub mod modal;
-pub mod ordering;
 pub mod model_file;
+pub mod ordering;
 pub mod placement;
 pub mod regression;
 pub mod response;
@@ -29,8 +29,8 @@ pub mod validation;
 pub mod weights;
 
 pub use assembly::{assemble, Boundary, Material, Section, ThermalSystem};
-pub use mesh::StructuredMesh;
 pub use lanczos::LanczosProgress;
+pub use mesh::StructuredMesh;
 pub use modal::{modal_analysis, modal_analysis_with_progress, ModalBasis, ModalOptions, SpectrumMethod};
 pub use weights::{dominant_modes, mode_weights, ModeWeight, DEFAULT_SHARE};
 

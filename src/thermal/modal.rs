@@ -106,14 +106,7 @@ pub fn modal_analysis_with_progress(
         (l[..keep].to_vec(), s.subcols(0, keep).to_owned())
     } else {
         let count = options.count.ok_or_else(|| input("the sparse solver needs a number of modes"))?;
-        smallest_eigenpairs_with(
-            &system.conductivity,
-            &system.capacity,
-            system.coordinates.as_deref(),
-            count,
-            &options.lanczos,
-            progress,
-        )?
+        smallest_eigenpairs_with(&system.conductivity, &system.capacity, system.coordinates.as_deref(), count, &options.lanczos, progress)?
     };
     let largest = lambda.iter().fold(0.0f64, |a, b| a.max(b.abs()));
     if let Some(i) = lambda.iter().position(|l| l.is_nan() || *l <= 1e-12 * largest) {

@@ -160,10 +160,7 @@ pub fn conditioning(basis: &ModalBasis, modes: &[usize], sensors: &[usize]) -> C
     let largest = sv.iter().copied().fold(0.0f64, f64::max);
     let threshold = sensors.len().max(modes.len()) as f64 * f64::EPSILON * largest;
     let rank = sv.iter().filter(|s| **s > threshold && **s > 0.0).count();
-    let condition_number = if rank == modes.len() && rank > 0 {
-        Some(largest / sv.iter().copied().fold(f64::INFINITY, f64::min))
-    } else {
-        None
-    };
+    let condition_number =
+        if rank == modes.len() && rank > 0 { Some(largest / sv.iter().copied().fold(f64::INFINITY, f64::min)) } else { None };
     Conditioning { sensors: sensors.len(), modes: modes.len(), rank, condition_number }
 }

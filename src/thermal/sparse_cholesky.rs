@@ -7,9 +7,7 @@ use super::ordering::nested_dissection;
 use super::{computation, input, ThermalError};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
-use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering,
-};
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky, SymmetricOrdering};
 use faer::sparse::SparseColMat;
 use faer::{Conj, MatMut, Par, Side};
 
@@ -39,9 +37,9 @@ impl SparseCholesky {
         let symbolic = factorize_symbolic_cholesky(a.symbolic(), Side::Lower, ordering, CholeskySymbolicParams::default())
             .map_err(|e| computation(format!("symbolic Cholesky factorisation failed: {e:?}")))?;
         let mut values = Vec::new();
-        values.try_reserve_exact(symbolic.len_val()).map_err(|_| {
-            input(format!("the Cholesky factor needs {} nonzeros, more than this machine's memory", symbolic.len_val()))
-        })?;
+        values
+            .try_reserve_exact(symbolic.len_val())
+            .map_err(|_| input(format!("the Cholesky factor needs {} nonzeros, more than this machine's memory", symbolic.len_val())))?;
         values.resize(symbolic.len_val(), 0.0);
         let par = Par::rayon(0);
         let mut scratch = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()))

@@ -136,8 +136,11 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
                     "--select, --position, --no-intercept and --terms-out apply to regression models, not to --model state-space"
                 )));
             }
-            let records =
-                training.iter().map(|s| record(&campaign, &sensors, Some(&error), &s.rows)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
+            let records = training
+                .iter()
+                .map(|s| record(&campaign, &sensors, Some(&error), &s.rows))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(failure)?;
             (ThermalErrorModel::Drift(fit_drift_model(&error, &sensors, &records, args.rates).map_err(failure)?.0), None)
         }
     };
@@ -178,7 +181,8 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
         ThermalErrorModel::Regression(m) => out += &regression_text(m),
         ThermalErrorModel::Drift(m) => {
             let taus: Vec<String> = m.time_constants_s.iter().map(|t| format!("{:.2}", t / 60.0)).collect();
-            out += &format!("  state space (seed 000 §3.4.4), time constants {} min; gains (um/degC) per time constant:\n", taus.join(", "));
+            out +=
+                &format!("  state space (seed 000 §3.4.4), time constants {} min; gains (um/degC) per time constant:\n", taus.join(", "));
             for (s, g) in m.sensors.iter().zip(&m.gains_um_per_degc) {
                 out += &format!("  {s:<10} {}\n", g.iter().map(|v| format!("{v:+.5}")).collect::<Vec<_>>().join(" "));
             }

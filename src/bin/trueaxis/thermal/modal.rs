@@ -11,8 +11,7 @@ use trueaxis::report::{mode_shapes_plot, mode_shapes_svg, modes_svg, time_consta
 use trueaxis::thermal::model_file::{load_model, ThermalModel};
 use trueaxis::thermal::placement::{conditioning, effective_independence, exhaustive, log_det_information, modal_rule};
 use trueaxis::thermal::{
-    dominant_modes, modal_analysis_with_progress, mode_weights, LanczosProgress, ModalBasis, ModalOptions, SpectrumMethod,
-    DEFAULT_SHARE,
+    dominant_modes, modal_analysis_with_progress, mode_weights, LanczosProgress, ModalBasis, ModalOptions, SpectrumMethod, DEFAULT_SHARE,
 };
 
 #[derive(Clone, Copy, clap::ValueEnum)]

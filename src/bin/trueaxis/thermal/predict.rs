@@ -84,11 +84,8 @@ pub fn predict(args: PredictArgs) -> Result<(), Failure> {
         let stats: serde_json::Map<String, Value> = per_run.iter().map(|(r, s)| (r.clone(), json!(s))).collect();
         format!("{}\n", json!({"error": error, "unit": "um", "samples": samples, "residuals": stats}))
     } else {
-        let mut out = format!(
-            "run,t,{}_predicted{}\n",
-            error,
-            if measured.is_some() { format!(",{0},{0}_residual", error) } else { String::new() }
-        );
+        let mut out =
+            format!("run,t,{}_predicted{}\n", error, if measured.is_some() { format!(",{0},{0}_residual", error) } else { String::new() });
         for &i in &rows {
             let t = times.map_or(String::new(), |t| t[i].to_string());
             out += &format!("{},{t},{:.4}", campaign.runs[i], predicted[i]);
@@ -98,7 +95,10 @@ pub fn predict(args: PredictArgs) -> Result<(), Failure> {
             out.push('\n');
         }
         for (run, s) in &per_run {
-            out += &format!("# {run}: residual RMS {:.3} max {:.3} range {:.3} band [{:.3}, {:.3}] um\n", s.rms, s.max_abs, s.range, s.min, s.max);
+            out += &format!(
+                "# {run}: residual RMS {:.3} max {:.3} range {:.3} band [{:.3}, {:.3}] um\n",
+                s.rms, s.max_abs, s.range, s.min, s.max
+            );
         }
         out
     };
