@@ -18,11 +18,12 @@ import pathlib
 import subprocess
 import sys
 import tempfile
-import time
 
 import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as sla
+
+from baseline import best  # bench/baseline.py: the best of `repeat` timed calls
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 SIZE_M = (0.5, 0.4, 0.3)
@@ -101,15 +102,6 @@ def check():
             print(f"{nodes} nodes: tau_1 {mine[0] / 60:.4f} min, tau_20 {mine[-1] / 60:.4f} min; "
                   f"largest relative difference to trueaxis {diff.max():.1e}")
     sys.exit(0 if worst < 1e-8 else 1)
-
-
-def best(f, repeat):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def main():

@@ -1,16 +1,10 @@
 //! `trueaxis thermal` end to end: the JSON contract of `modes` (DESIGN.md section 4), placement,
 //! fit -> model file -> predict, error terms read by `trueaxis predict`, and bad input.
 
-use std::process::{Command, Output};
+mod thermal_common;
 
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
-}
-
-fn json(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
+use std::process::Output;
+use thermal_common::{json, trueaxis};
 
 #[test]
 fn modes_json_is_sorted_by_decreasing_time_constant() {

@@ -4,7 +4,9 @@
 //! that predicts the 20-min duty cycle of the shipped campaign better than the static regression,
 //! the model file read back, and bad input.
 
-use std::process::{Command, Output};
+mod thermal_common;
+
+use thermal_common::{json, trueaxis};
 use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::drift_model::{fit_drift_model, record, DriftModel};
 use trueaxis::thermal::error_model::ThermalErrorModel;
@@ -86,15 +88,6 @@ fn time_split_segments_train_on_the_first_part_of_each_training_run() {
     let whole = model.predict(&c, &s[2].run_rows).unwrap();
     assert_eq!(parts[3].predicted, whole[120..].to_vec());
     assert_eq!(parts[2].predicted, whole[..120].to_vec());
-}
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
-}
-
-fn json(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
 }
 
 #[test]

@@ -3,8 +3,10 @@
 //! `matrix_market::write_symmetric`; its modes equal those of the bar it came from, through the
 //! command line.
 
+mod thermal_common;
+
 use std::path::Path;
-use std::process::Command;
+use thermal_common::{json, trueaxis};
 use trueaxis::thermal::matrix_market::write_symmetric;
 use trueaxis::thermal::model_file::load_model;
 
@@ -25,12 +27,7 @@ fn shipped_matrices_are_those_of_the_fin() {
 }
 
 fn modes_json(model: &str) -> serde_json::Value {
-    let out = Command::new(env!("CARGO_BIN_EXE_trueaxis"))
-        .args(["thermal", "modes", "--model", example(model).to_str().unwrap(), "--count", "12", "--json"])
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
+    json(&trueaxis(&["thermal", "modes", "--model", example(model).to_str().unwrap(), "--count", "12", "--json"]))
 }
 
 #[test]

@@ -3,8 +3,10 @@
 //! stems and the truncation share, measured and predicted drift with the residual band, training
 //! and validation told apart; non-finite data refused; `--plot` on the `thermal` commands.
 
+mod thermal_common;
+
 use roxmltree::Document;
-use std::process::{Command, Output};
+use thermal_common::{ok, trueaxis};
 use trueaxis::report::{
     drift_svg, mode_shapes_svg, time_constants_svg, DriftPlot, DriftRun, ModeBar, ModeShapeCurve, ModeShapesPlot, RunRole,
     TimeConstantsPlot,
@@ -167,14 +169,6 @@ fn drift_plot_tells_training_from_validation_and_draws_the_residual_band() {
     let mut bad = plot;
     bad.runs[1].predicted[2] = f64::INFINITY;
     assert!(drift_svg(&bad).is_err());
-}
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
-}
-
-fn ok(out: &Output) {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
 #[test]

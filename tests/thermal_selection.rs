@@ -3,8 +3,10 @@
 //! noise. Correlation ranking and stepwise regression (partial F at 99.99 %) each pick exactly
 //! T1 and T3, and the coefficients are recovered; the same through `thermal fit --select`.
 
+mod thermal_common;
+
 use std::f64::consts::PI;
-use std::process::Command;
+use thermal_common::{json, trueaxis};
 use trueaxis::thermal::regression::{correlation_ranking, fit_regression, fit_stepwise, select_by_correlation};
 
 const SAMPLES: usize = 1200;
@@ -76,14 +78,8 @@ fn thermal_fit_select_picks_the_driving_sensors() {
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("five.csv");
     std::fs::write(&data, csv).unwrap();
-    let run = |select: &str| -> serde_json::Value {
-        let out = Command::new(env!("CARGO_BIN_EXE_trueaxis"))
-            .args(["thermal", "fit", "--data", data.to_str().unwrap(), "--error", "E", "--select", select, "--json"])
-            .output()
-            .unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        serde_json::from_slice(&out.stdout).unwrap()
-    };
+    let run =
+        |select: &str| json(&trueaxis(&["thermal", "fit", "--data", data.to_str().unwrap(), "--error", "E", "--select", select, "--json"]));
     let stepwise = run("stepwise");
     assert_eq!(stepwise["kept"], serde_json::json!(["intercept", "T:1", "T:3"]));
     let correlation = run("correlation:2");
