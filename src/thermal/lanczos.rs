@@ -20,10 +20,11 @@
 //!   `<= tolerance * theta` for all wanted pairs;
 //! - `lambda = sigma + 1/theta`, `phi = V s` (C-orthonormal).
 //!
-//! Cost per block step: one block solve with p right-hand sides (one pass over the factor), four
-//! block products with C, and four products with the n x m basis (reorthogonalisation). Measured
-//! on a 47^3 = 103 823-node block (20 modes, 128 basis vectors, one thread): factorisation 4 s
-//! (6.0e7 nonzeros), 25 block steps 0.4 s each, about equally solve and reorthogonalisation.
+//! Cost per block step: one block solve with p right-hand sides (one pass over the factor per
+//! thread), four block products with C, and four products with the n x m basis
+//! (reorthogonalisation). Measured on a 47^3 = 103 823-node block, 20 modes, 2 threads: nested
+//! dissection and factorisation 2.4 s (6.0e7 nonzeros), 25 block steps (128 basis vectors) 4.5 s
+//! of solves and 2.1 s of reorthogonalisation, 9.3 to 11 s in all.
 
 use super::assembly::from_triplets;
 use super::sparse_cholesky::SparseCholesky;
