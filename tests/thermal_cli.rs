@@ -1,16 +1,10 @@
 //! `trueaxis thermal` end to end: the JSON contract of `modes` (DESIGN.md section 4), placement,
 //! fit -> model file -> predict, error terms read by `trueaxis predict`, and bad input.
 
-use std::process::{Command, Output};
+mod thermal_common;
 
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().unwrap()
-}
-
-fn json(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
+use std::process::Output;
+use thermal_common::{json, trueaxis};
 
 #[test]
 fn modes_json_is_sorted_by_decreasing_time_constant() {
@@ -119,4 +113,101 @@ fn bad_input_is_reported_with_exit_status_2() {
     let out = trueaxis(&["thermal", "fit", "--data", "examples/thermal/campaign.csv", "--error", "dq"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("missing column `dq`"));
+}
+
+/// Exit status and the one line on stderr.
+fn failed(out: &Output) -> (Option<i32>, String) {
+    let err = String::from_utf8_lossy(&out.stderr).trim_end().to_string();
+    assert_eq!(err.lines().count(), 1, "one line expected: {err}");
+    (out.status.code(), err)
+}
+
+#[test]
+fn out_of_range_options_are_refused_naming_the_option() {
+    let place = |reuse: &str| trueaxis(&["thermal", "place", "--model", "examples/thermal/fin.toml", &format!("--reuse={reuse}")]);
+    for reuse in ["nan", "5", "0", "-0.5"] {
+        let (code, err) = failed(&place(reuse));
+        assert_eq!(code, Some(2), "--reuse {reuse}");
+        assert!(err.contains("--reuse") && err.contains("(0, 1]"), "{err}");
+    }
+    let (code, err) =
+        failed(&trueaxis(&["thermal", "fit", "--data", "examples/thermal/campaign.csv", "--time-constants", "2", "--until", "nan"]));
+    assert_eq!(code, Some(2));
+    assert!(err.contains("--until NaN"), "{err}");
+    let (code, err) =
+        failed(&trueaxis(&["thermal", "fit", "--data", "examples/thermal/campaign.csv", "--error", "dz", "--select", "correlation:0"]));
+    assert_eq!(code, Some(2));
+    assert!(err.contains("--select correlation:0") && err.contains("N >= 1"), "{err}");
+    // the descriptions of place and predict options are all there
+    let help = String::from_utf8_lossy(&trueaxis(&["thermal", "place", "--help"]).stdout).to_string();
+    for text in ["Placement method", "Cumulative weight share", "candidates", "Print one JSON document"] {
+        assert!(help.contains(text), "place --help lacks `{text}`");
+    }
+    let help = String::from_utf8_lossy(&trueaxis(&["thermal", "predict", "--help"]).stdout).to_string();
+    for text in ["Campaign (CSV)", "Print one JSON document"] {
+        assert!(help.contains(text), "predict --help lacks `{text}`");
+    }
+}
+
+#[test]
+fn one_sensor_for_five_modes_has_an_infinite_condition_number() {
+    // the fin with insulated ends: every mode has its extreme at the heat source, one sensor serves
+    // the 5 dominant modes; Phi_s is 1 x 5 of rank 1
+    let doc = json(&trueaxis(&["thermal", "place", "--model", "examples/thermal/fin.toml", "--method", "modal", "--json"]));
+    assert_eq!(doc["sensors"].as_array().unwrap().len(), 1);
+    assert_eq!(doc["dominant_modes"].as_array().unwrap().len(), 5);
+    assert!(doc["condition_number"].is_null());
+    assert_eq!(doc["rank"], 1);
+    assert!(doc["conditioning"].as_str().unwrap().contains("infinite, rank 1 < 5 modes"));
+    // five sensors by effective independence separate the five modes: a finite condition number
+    let doc = json(&trueaxis(&["thermal", "place", "--model", "examples/thermal/fin.toml", "--method", "efi", "--json"]));
+    assert_eq!(doc["rank"], 5);
+    let k = doc["condition_number"].as_f64().unwrap();
+    assert!(k.is_finite() && k >= 1.0, "{k}");
+}
+
+#[test]
+fn non_finite_predictions_and_rank_deficient_fits_are_failed_computations() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("huge.toml");
+    std::fs::write(
+        &model,
+        "kind = \"regression\"\nerror = \"dz\"\nsensors = [\"T:p1\", \"T:p5\"]\nintercept = true\ncoefficients = [[1e308, 1e308, 1e308]]\n",
+    )
+    .unwrap();
+    let out_file = dir.path().join("dz.csv");
+    let out = trueaxis(&[
+        "thermal",
+        "predict",
+        "--model",
+        model.to_str().unwrap(),
+        "--data",
+        "examples/thermal/campaign.csv",
+        "--out",
+        out_file.to_str().unwrap(),
+    ]);
+    let (code, err) = failed(&out);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("not a finite number") && err.contains("data row 1 in warmup"), "{err}");
+    assert!(!out_file.exists() && out.stdout.is_empty());
+    // a sensor that reads a constant cannot be separated from the intercept: exit 1, as identify
+    let text = std::fs::read_to_string("examples/thermal/campaign.csv").unwrap();
+    let constant: String = text
+        .lines()
+        .map(|l| {
+            if l.starts_with('#') {
+                l.to_string()
+            } else if l.starts_with("run") {
+                format!("{l},T:c")
+            } else {
+                format!("{l},21.5")
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let data = dir.path().join("constant.csv");
+    std::fs::write(&data, constant).unwrap();
+    let (code, err) = failed(&trueaxis(&["thermal", "fit", "--data", data.to_str().unwrap(), "--error", "dz"]));
+    assert_eq!(code, Some(1));
+    assert!(err.contains("rank deficient") && err.contains("T:c"), "{err}");
 }

@@ -159,7 +159,7 @@ pub fn convergence_svg(title: &str, history: &ConvergenceSeries) -> Result<Strin
     Ok(svg)
 }
 
-fn draw(e: impl std::fmt::Display) -> ReportError {
+pub(super) fn draw(e: impl std::fmt::Display) -> ReportError {
     ReportError::Draw(e.to_string())
 }
 

@@ -10,6 +10,8 @@ mod polar;
 mod positioning;
 mod profiles;
 mod residuals;
+mod thermal;
+mod thermal_figures;
 mod uncertainty_figures;
 
 pub use fit_plot::{fit_plot_svg, FitPlot};
@@ -19,6 +21,11 @@ pub use polar::{auto_scale, circular_runs_svg, polar_svg, PolarPlot, PolarSeries
 pub use positioning::{positioning_svg, PositionBand, PositioningPlot};
 pub use profiles::{profiles_svg, Profiles};
 pub use residuals::residuals_svg;
+pub use thermal::{
+    drift_svg, mode_shapes_svg, modes_svg, time_constants_svg, DriftPlot, DriftRun, ModeBar, ModeShapeCurve, ModeShapesPlot, RunRole,
+    TimeConstantsPlot,
+};
+pub use thermal_figures::{drift_plot, mode_shapes_plot, profile_line, step_fit_plot, time_constants_plot};
 pub use uncertainty_figures::{interval_of, uncertainty_figures};
 
 use thiserror::Error;

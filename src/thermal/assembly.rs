@@ -10,7 +10,7 @@
 
 use super::mesh::StructuredMesh;
 use super::{input, ThermalError};
-use faer::sparse::{SparseColMat, Triplet};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat, Triplet};
 
 /// Conductivity k (W/m/K), density rho (kg/m^3), specific heat c_p (J/kg/K).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -226,15 +226,18 @@ pub fn assemble(problem: &ThermalProblem) -> Result<ThermalSystem, ThermalError>
         Section::Solid => 1.0,
     };
     let cells = mesh.cell_count();
-    let mut c_trip = Vec::with_capacity(cells * local * local);
-    let mut k_trip = Vec::with_capacity(cells * local * local);
+    let pattern = NeighbourPattern::new(mesh);
+    let mut c_val = vec![0.0; pattern.row_idx.len()];
+    let mut k_val = vec![0.0; pattern.row_idx.len()];
     let mut nodes = [0usize; 8];
     for cell in 0..cells {
         mesh.cell_nodes(cell, &mut nodes);
         let grid = mesh.cell_grid(cell);
         for a in 0..local {
             for b in 0..local {
-                c_trip.push(Triplet::new(nodes[a], nodes[b], ce[a][b]));
+                // entry (row nodes[b], column nodes[a])
+                let at = pattern.position(mesh, nodes[a], nodes[b]);
+                c_val[at] += ce[a][b];
                 let mut k = ke[a][b];
                 for (d, (&g, &cells_d)) in grid.iter().zip(mesh.cells()).enumerate() {
                     for side in 0..2 {
@@ -248,10 +251,11 @@ pub fn assemble(problem: &ThermalProblem) -> Result<ThermalSystem, ThermalError>
                         }
                     }
                 }
-                k_trip.push(Triplet::new(nodes[a], nodes[b], k));
+                k_val[at] += k;
             }
         }
     }
+    let symbolic = SymbolicSparseColMat::new_checked(n, n, pattern.col_ptr, None, pattern.row_idx);
     let mut load = vec![0.0; n];
     for &(node, w) in &problem.fluxes {
         if node >= n {
@@ -263,11 +267,64 @@ pub fn assemble(problem: &ThermalProblem) -> Result<ThermalSystem, ThermalError>
         load[node] += w;
     }
     Ok(ThermalSystem {
-        capacity: from_triplets(n, &c_trip)?,
-        conductivity: from_triplets(n, &k_trip)?,
+        capacity: SparseColMat::new(symbolic.clone(), c_val),
+        conductivity: SparseColMat::new(symbolic, k_val),
         load,
         coordinates: Some((0..n).map(|i| mesh.node_coordinates(i)).collect()),
     })
+}
+
+/// The sparsity pattern of K and C on a structured mesh, built directly in compressed columns:
+/// node a couples with every node b whose grid indices differ by at most 1 in each dimension (the
+/// nodes of the cells around a), rows sorted.
+struct NeighbourPattern {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+}
+
+impl NeighbourPattern {
+    fn new(mesh: &StructuredMesh) -> NeighbourPattern {
+        let n = mesh.node_count();
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(n * 3usize.pow(mesh.dimensions() as u32));
+        col_ptr.push(0);
+        for node in 0..n {
+            let (lo, hi) = Self::window(mesh, node);
+            let g = mesh.node_grid(node);
+            for dk in lo[2]..=hi[2] {
+                for dj in lo[1]..=hi[1] {
+                    for di in lo[0]..=hi[0] {
+                        let ijk = [g[0] as isize + di, g[1] as isize + dj, g[2] as isize + dk].map(|v| v as usize);
+                        row_idx.push(mesh.node_index(&ijk[..mesh.dimensions()]));
+                    }
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        NeighbourPattern { col_ptr, row_idx }
+    }
+
+    /// Offsets (per dimension, -1..=1) of the neighbours of `node` inside the mesh.
+    fn window(mesh: &StructuredMesh, node: usize) -> ([isize; 3], [isize; 3]) {
+        let g = mesh.node_grid(node);
+        let (mut lo, mut hi) = ([0isize; 3], [0isize; 3]);
+        for (d, &c) in mesh.cells().iter().enumerate() {
+            lo[d] = if g[d] > 0 { -1 } else { 0 };
+            hi[d] = if g[d] < c { 1 } else { 0 };
+        }
+        (lo, hi)
+    }
+
+    /// Index into the values of entry (row `row`, column `col`), both nodes of one cell.
+    fn position(&self, mesh: &StructuredMesh, col: usize, row: usize) -> usize {
+        let (lo, hi) = Self::window(mesh, col);
+        let (gc, gr) = (mesh.node_grid(col), mesh.node_grid(row));
+        let mut offset = 0isize;
+        for d in (0..3).rev() {
+            offset = offset * (hi[d] - lo[d] + 1) + (gr[d] as isize - gc[d] as isize - lo[d]);
+        }
+        self.col_ptr[col] + offset as usize
+    }
 }
 
 #[cfg(test)]

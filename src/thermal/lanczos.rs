@@ -7,25 +7,33 @@
 //! sparse Cholesky.
 //!
 //! Method (Ericsson & Ruhe 1980; Grimes, Lewis & Simon 1994):
-//! - shift `sigma < 0` below the spectrum, factor `K - sigma C = L L^T` once (sparse Cholesky);
+//! - shift `sigma < 0` below the spectrum, factor `K - sigma C = P^T L L^T P` once (sparse
+//!   Cholesky, P by nested dissection on meshes, [`super::ordering`]);
 //! - the operator `Op = (K - sigma C)^-1 C` is self-adjoint in `<x, y>_C = x^T C y`, with
 //!   eigenvalues `nu = 1 / (lambda - sigma)`: the smallest lambda become the largest, well separated nu;
 //! - a block Krylov basis `V` (block size p, so that eigenvalues of multiplicity up to p, as in
-//!   symmetric structures, are found) is kept C-orthonormal by classical Gram-Schmidt applied
-//!   twice against all previous vectors (full reorthogonalisation);
+//!   symmetric structures, are found) is kept C-orthonormal by block classical Gram-Schmidt
+//!   applied twice against all previous vectors (full reorthogonalisation) and a Cholesky QR
+//!   (twice) within the block;
 //! - Rayleigh-Ritz on `T = V^T C Op V` (small, dense): Ritz pairs `(theta, s)`, residual norm
 //!   `|Op y - theta y|_C = |B s_last|` from the next block's coefficients, converged when
 //!   `<= tolerance * theta` for all wanted pairs;
 //! - `lambda = sigma + 1/theta`, `phi = V s` (C-orthonormal).
 //!
-//! Cost per block step: p sparse triangular solve pairs, p+p sparse products with C, and
-//! O(n m p) for the reorthogonalisation against the m basis vectors.
+//! Cost per block step: one block solve with p right-hand sides (one pass over the factor per
+//! thread), four block products with C, and four products with the n x m basis
+//! (reorthogonalisation). Measured on a 47^3 = 103 823-node block, 20 modes, 2 threads: nested
+//! dissection and factorisation 2.4 s (6.0e7 nonzeros), 25 block steps (128 basis vectors) 4.5 s
+//! of solves and 2.1 s of reorthogonalisation, 9.3 to 11 s in all.
 
-use super::assembly::{from_triplets, sparse_mul};
+use super::assembly::from_triplets;
+use super::sparse_cholesky::SparseCholesky;
 use super::{computation, input, ThermalError};
-use faer::linalg::solvers::Solve;
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::prelude::{Reborrow, ReborrowMut};
 use faer::sparse::{SparseColMat, Triplet};
-use faer::{Mat, MatMut, Side};
+use faer::{Accum, Mat, MatMut, MatRef, Par};
 
 /// Options of [`smallest_eigenpairs`].
 #[derive(Clone, Copy, Debug)]
@@ -44,13 +52,37 @@ impl Default for LanczosOptions {
     }
 }
 
+/// Where a long run is, for a progress display.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LanczosProgress {
+    /// Ordering and factorising `K - sigma C` (n nodes).
+    Factorising { nodes: usize },
+    /// The factor has this many nonzeros.
+    Factorised { nonzeros: usize },
+    /// After a block step: `converged` of the `wanted` modes, `basis` of at most `max_basis` vectors.
+    Iterating { converged: usize, wanted: usize, basis: usize, max_basis: usize },
+}
+
 /// The `count` smallest eigenvalues (ascending) of `K phi = lambda C phi` with C-orthonormal
-/// eigenvectors (columns).
+/// eigenvectors (columns); the factor is ordered by approximate minimum degree.
 pub fn smallest_eigenpairs(
     k: &SparseColMat<usize, f64>,
     c: &SparseColMat<usize, f64>,
     count: usize,
     options: &LanczosOptions,
+) -> Result<(Vec<f64>, Mat<f64>), ThermalError> {
+    smallest_eigenpairs_with(k, c, None, count, options, &mut |_| {})
+}
+
+/// [`smallest_eigenpairs`] with node coordinates (m) for a nested-dissection ordering of the
+/// factor (much less fill on 2D/3D meshes, [`super::ordering`]) and a progress callback.
+pub fn smallest_eigenpairs_with(
+    k: &SparseColMat<usize, f64>,
+    c: &SparseColMat<usize, f64>,
+    coordinates: Option<&[[f64; 3]]>,
+    count: usize,
+    options: &LanczosOptions,
+    progress: &mut dyn FnMut(LanczosProgress),
 ) -> Result<(Vec<f64>, Mat<f64>), ThermalError> {
     let n = k.nrows();
     let p = options.block.max(1);
@@ -68,6 +100,76 @@ pub fn smallest_eigenpairs(
     }
     let ratio = kd.iter().zip(&cd).map(|(a, b)| a / b).filter(|r| *r > 0.0).fold(f64::INFINITY, f64::min);
     let sigma = -1e-3 * if ratio.is_finite() { ratio } else { 1.0 };
+    progress(LanczosProgress::Factorising { nodes: n });
+    let llt = SparseCholesky::factor(&shifted(k, c, sigma)?, coordinates)?;
+    progress(LanczosProgress::Factorised { nonzeros: llt.factor_nonzeros() });
+    // V (n x m, C-orthonormal columns) grows by blocks; T = V^T C Op V with the coefficients of each
+    // block on the next block (rows m..m+p of the block's columns)
+    let mut basis = Mat::<f64>::zeros(n, p);
+    let mut capacity = p;
+    let mut t = Mat::<f64>::zeros(max_basis + p, max_basis + p);
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut cw = Mat::<f64>::zeros(n, p);
+    // first block: pseudo-random vectors
+    let mut block = Mat::from_fn(n, p, |_, _| random_value(&mut seed));
+    let mut cw_is_c_block = orthonormalize_block(block.as_mut(), basis.subcols(0, 0), c, cw.as_mut(), &mut seed, None);
+    basis.copy_from(&block);
+    let mut current = 0usize;
+    loop {
+        let m = basis.ncols();
+        // W = Op V_block = (K - sigma C)^-1 C V_block, p right-hand sides in one solve
+        if cw_is_c_block {
+            block.copy_from(&cw);
+        } else {
+            symmetric_mul(c, basis.subcols(current, p), block.as_mut());
+        }
+        llt.solve_in_place(block.as_mut());
+        cw_is_c_block = orthonormalize_block(
+            block.as_mut(),
+            basis.as_ref(),
+            c,
+            cw.as_mut(),
+            &mut seed,
+            Some(t.as_mut().submatrix_mut(0, current, m + p, p)),
+        );
+        if capacity < m + p {
+            capacity = (2 * (m + p)).min(max_basis + p).max(m + p);
+            basis.reserve(n, capacity);
+        }
+        basis.resize_with(n, m + p, |_, _| 0.0);
+        basis.subcols_mut(m, p).copy_from(&block);
+        current = m;
+        if m < count + p {
+            continue;
+        }
+        let (theta, s, residual) = ritz(t.as_ref(), m, p);
+        let converged = (0..count).take_while(|&i| residual[i] <= options.tolerance * theta[i].abs()).count();
+        progress(LanczosProgress::Iterating { converged, wanted: count, basis: m + p, max_basis });
+        if converged == count {
+            let lambda = theta[..count].iter().map(|th| sigma + 1.0 / th).collect();
+            let ritz_vectors = Mat::from_fn(m, count, |r, i| s[(r, i)]);
+            let mut shapes = Mat::zeros(n, count);
+            matmul(shapes.as_mut(), Accum::Replace, basis.subcols(0, m), ritz_vectors.as_ref(), 1.0, Par::rayon(0));
+            return Ok((lambda, shapes));
+        }
+        if m + 2 * p > max_basis {
+            return Err(computation(format!(
+                "shift-invert Lanczos did not converge to {count} modes within a basis of {max_basis} vectors; ask for fewer modes or a larger basis"
+            )));
+        }
+    }
+}
+
+/// `K - sigma C`: directly on the values when both matrices have the same sparsity pattern (a
+/// mesh), else summed from triplets.
+fn shifted(k: &SparseColMat<usize, f64>, c: &SparseColMat<usize, f64>, sigma: f64) -> Result<SparseColMat<usize, f64>, ThermalError> {
+    let same = k.symbolic().col_ptr() == c.symbolic().col_ptr() && k.symbolic().row_idx() == c.symbolic().row_idx();
+    if same {
+        let mut a = k.clone();
+        a.val_mut().iter_mut().zip(c.val()).for_each(|(x, y)| *x -= sigma * y);
+        return Ok(a);
+    }
+    let n = k.nrows();
     let mut triplets = Vec::with_capacity(k.val().len() + c.val().len());
     for (m, factor) in [(k, 1.0), (c, -sigma)] {
         let (cp, ri, val) = (m.symbolic().col_ptr(), m.symbolic().row_idx(), m.val());
@@ -77,76 +179,23 @@ pub fn smallest_eigenpairs(
             }
         }
     }
-    let shifted = from_triplets(n, &triplets)?;
-    let llt = shifted.sp_cholesky(Side::Lower).map_err(|e| {
-        computation(format!("K - sigma C is not positive definite ({e:?}): K must be positive semi-definite and C positive definite"))
-    })?;
-    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(max_basis + p);
-    // T = V^T C Op V, stored by columns with the coefficients on the next block
-    let mut t_cols: Vec<Vec<f64>> = Vec::new();
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut scratch = vec![0.0; n];
-    // first block: pseudo-random vectors
-    let mut block: Vec<Vec<f64>> = (0..p).map(|_| random_vector(n, &mut seed)).collect();
-    orthonormalize_block(&mut block, &basis, c, &mut scratch, &mut seed, None);
-    basis.extend(block);
-    let mut current = 0usize;
-    loop {
-        let m = basis.len();
-        // W = Op V_block
-        let mut w: Vec<Vec<f64>> = Vec::with_capacity(p);
-        for v in &basis[current..m] {
-            let mut x = vec![0.0; n];
-            sparse_mul(c, v, &mut x);
-            llt.solve_in_place(MatMut::from_column_major_slice_mut(&mut x, n, 1));
-            w.push(x);
-        }
-        let mut coefficients = vec![vec![0.0; m + p]; w.len()];
-        orthonormalize_block(&mut w, &basis, c, &mut scratch, &mut seed, Some(&mut coefficients));
-        t_cols.extend(coefficients);
-        current = m;
-        basis.extend(w);
-        if m < count + p {
-            continue;
-        }
-        let (theta, s, residual) = ritz(&t_cols, m, m + p);
-        let converged = (0..count).all(|i| residual[i] <= options.tolerance * theta[i].abs());
-        if converged {
-            let mut shapes = Mat::zeros(n, count);
-            let mut lambda = Vec::with_capacity(count);
-            for i in 0..count {
-                lambda.push(sigma + 1.0 / theta[i]);
-                for (j, v) in basis[..m].iter().enumerate() {
-                    let sj = s[(j, i)];
-                    for r in 0..n {
-                        shapes[(r, i)] += sj * v[r];
-                    }
-                }
-            }
-            return Ok((lambda, shapes));
-        }
-        if basis.len() + p > max_basis {
-            return Err(computation(format!(
-                "shift-invert Lanczos did not converge to {count} modes within a basis of {max_basis} vectors; ask for fewer modes or a larger basis"
-            )));
-        }
-    }
+    from_triplets(n, &triplets)
 }
 
-/// Ritz values (descending), vectors and residual norms of the m x m leading part of T.
-fn ritz(t_cols: &[Vec<f64>], m: usize, rows: usize) -> (Vec<f64>, nalgebra::DMatrix<f64>, Vec<f64>) {
-    let at = |i: usize, j: usize| t_cols[j].get(i).copied().unwrap_or(0.0);
-    let t = nalgebra::DMatrix::from_fn(m, m, |i, j| 0.5 * (at(i, j) + at(j, i)));
-    let eig = nalgebra::SymmetricEigen::new(t);
+/// Ritz values (descending), vectors and residual norms of the m x m leading part of T; the
+/// residual of pair i is `|T[m..m+p, 0..m] s_i|`.
+fn ritz(t: MatRef<'_, f64>, m: usize, p: usize) -> (Vec<f64>, nalgebra::DMatrix<f64>, Vec<f64>) {
+    let sym = nalgebra::DMatrix::from_fn(m, m, |i, j| 0.5 * (t[(i, j)] + t[(j, i)]));
+    let eig = nalgebra::SymmetricEigen::new(sym);
     let mut order: Vec<usize> = (0..m).collect();
     order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
     let theta: Vec<f64> = order.iter().map(|&i| eig.eigenvalues[i]).collect();
     let s = nalgebra::DMatrix::from_fn(m, m, |r, c| eig.eigenvectors[(r, order[c])]);
     let residual = (0..m)
         .map(|i| {
-            (m..rows)
+            (m..m + p)
                 .map(|row| {
-                    let v: f64 = (0..m).map(|j| at(row, j) * s[(j, i)]).sum();
+                    let v: f64 = (m.saturating_sub(p)..m).map(|j| t[(row, j)] * s[(j, i)]).sum();
                     v * v
                 })
                 .sum::<f64>()
@@ -161,77 +210,196 @@ fn diagonal(a: &SparseColMat<usize, f64>) -> Vec<f64> {
     (0..a.ncols()).map(|j| (cp[j]..cp[j + 1]).filter(|&q| ri[q] == j).map(|q| val[q]).sum()).collect()
 }
 
-/// A pseudo-random vector (splitmix64), deterministic.
-fn random_vector(n: usize, seed: &mut u64) -> Vec<f64> {
-    (0..n)
-        .map(|_| {
-            *seed = seed.wrapping_add(0x9e37_79b9_7f4a_7c15);
-            let mut z = *seed;
-            z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-            z ^= z >> 31;
-            (z >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+/// A pseudo-random number in [-0.5, 0.5) (splitmix64), deterministic.
+fn random_value(seed: &mut u64) -> f64 {
+    *seed = seed.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    let mut z = *seed;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+}
+
+fn dot(x: &[f64], y: &[f64]) -> f64 {
+    x.iter().zip(y).map(|(a, b)| a * b).sum()
+}
+
+/// `Y = C X` for a symmetric sparse C, in one pass over C for all columns of X: row j of Y is
+/// `sum_q C_qj X_q` over column j of C (= row j by symmetry), rows in parallel.
+fn symmetric_mul(c: &SparseColMat<usize, f64>, x: MatRef<'_, f64>, mut y: MatMut<'_, f64>) {
+    use rayon::prelude::*;
+    let (n, p) = (x.nrows(), x.ncols());
+    let (cp, ri, val) = (c.symbolic().col_ptr(), c.symbolic().row_idx(), c.val());
+    let xs: Vec<&[f64]> = (0..p).map(|j| column(x, j)).collect();
+    let mut rows = vec![0.0; n * p];
+    rows.par_chunks_mut(p).with_min_len(1024).enumerate().for_each(|(j, out)| {
+        for q in cp[j]..cp[j + 1] {
+            let (v, i) = (val[q], ri[q]);
+            for (o, x) in out.iter_mut().zip(&xs) {
+                *o += v * x[i];
+            }
+        }
+    });
+    for (j, out) in rows.chunks_exact(p).enumerate() {
+        for (k, v) in out.iter().enumerate() {
+            y[(j, k)] = *v;
+        }
+    }
+}
+
+/// `V^T X` (m x p) by dot products, one pass over each column of V, in parallel over the columns
+/// (faer's product with a transposed 1e5-row operand and a 4-column result was 10x slower).
+fn transpose_times(v: MatRef<'_, f64>, x: MatRef<'_, f64>) -> Mat<f64> {
+    use rayon::prelude::*;
+    let (m, p) = (v.ncols(), x.ncols());
+    let rows: Vec<Vec<f64>> = (0..m)
+        .into_par_iter()
+        .map(|i| {
+            let vi = column(v, i);
+            let mut out = Vec::with_capacity(p);
+            for j0 in (0..p).step_by(4) {
+                let cols: Vec<&[f64]> = (j0..(j0 + 4).min(p)).map(|j| column(x, j)).collect();
+                let mut acc = [0.0f64; 4];
+                for (r, a) in vi.iter().enumerate() {
+                    for (s, col) in acc.iter_mut().zip(&cols) {
+                        *s += a * col[r];
+                    }
+                }
+                out.extend_from_slice(&acc[..cols.len()]);
+            }
+            out
         })
-        .collect()
+        .collect();
+    Mat::from_fn(m, p, |i, j| rows[i][j])
 }
 
-fn c_dot(cx: &[f64], y: &[f64]) -> f64 {
-    cx.iter().zip(y).map(|(a, b)| a * b).sum()
-}
-
-/// C-orthonormalises `block` against `basis` (twice) and within itself. With `coefficients`,
-/// records for block vector i the projections on `basis` (rows `0..m`) and its own Gram-Schmidt
-/// factors on the new block (rows `m..m+p`). A vector that vanishes (invariant subspace) is replaced
-/// by a fresh random one with zero coefficients.
+/// C-orthonormalises the columns of `block` against `basis` and within themselves:
+/// block classical Gram-Schmidt against the basis applied twice (`W -= V (V^T C W)`), then the
+/// Cholesky QR of the block in the C inner product applied twice (`W^T C W = R^T R`, `W <- W R^-1`;
+/// "CholQR2"). With `coefficients` ((m + p) x p) it records, for block column j, the projections
+/// on the basis (rows `0..m`) and the factor R (rows `m..m+p`, upper triangular), so that
+/// `W_in = V H + W_out R`. A block that is (nearly) rank deficient (an invariant subspace was
+/// found) goes column by column instead, with fresh random columns where one vanishes.
+/// Returns whether `cw` holds `C W_out` on return (the Cholesky QR path), which saves the next
+/// block step one product with C.
 fn orthonormalize_block(
-    block: &mut [Vec<f64>],
-    basis: &[Vec<f64>],
+    mut block: MatMut<'_, f64>,
+    basis: MatRef<'_, f64>,
     c: &SparseColMat<usize, f64>,
-    cw: &mut [f64],
+    mut cw: MatMut<'_, f64>,
     seed: &mut u64,
-    mut coefficients: Option<&mut Vec<Vec<f64>>>,
-) {
-    let m = basis.len();
-    let n = cw.len();
-    for i in 0..block.len() {
-        let original_norm = {
-            sparse_mul(c, &block[i], cw);
-            c_dot(cw, &block[i]).max(0.0).sqrt()
+    mut coefficients: Option<MatMut<'_, f64>>,
+) -> bool {
+    let (m, p) = (basis.ncols(), block.ncols());
+    symmetric_mul(c, block.rb(), cw.rb_mut());
+    let original: Vec<f64> = (0..p).map(|j| dot(column(cw.rb(), j), column(block.rb(), j)).max(0.0).sqrt()).collect();
+    for pass in 0..2 {
+        if m == 0 {
+            break;
+        }
+        if pass > 0 {
+            symmetric_mul(c, block.rb(), cw.rb_mut());
+        }
+        let h = transpose_times(basis, cw.rb());
+        matmul(block.rb_mut(), Accum::Add, basis, h.as_ref(), -1.0, Par::rayon(0));
+        if let Some(coef) = coefficients.as_mut() {
+            for j in 0..p {
+                for i in 0..m {
+                    coef[(i, j)] += h[(i, j)];
+                }
+            }
+        }
+    }
+    let projected = block.to_owned();
+    let mut r_total = Mat::<f64>::identity(p, p);
+    for _pass in 0..2 {
+        symmetric_mul(c, block.rb(), cw.rb_mut());
+        let g = transpose_times(block.rb(), cw.rb());
+        let g = Mat::from_fn(p, p, |i, j| 0.5 * (g[(i, j)] + g[(j, i)]));
+        let Ok(llt) = g.llt(faer::Side::Lower) else {
+            orthonormalize_columns(block, projected.as_ref(), basis, c, &original, seed, coefficients);
+            return false;
         };
+        let r = llt.L().transpose().to_owned();
+        if (0..p).any(|i| r[(i, i)].is_nan() || r[(i, i)] <= 1e-10 * original[i].max(f64::MIN_POSITIVE)) {
+            orthonormalize_columns(block, projected.as_ref(), basis, c, &original, seed, coefficients);
+            return false;
+        }
+        // W <- W R^-1 and C W <- (C W) R^-1: solve R^T X^T = X^T
+        for mut x in [block.rb_mut(), cw.rb_mut()] {
+            let mut xt = x.rb().transpose().to_owned();
+            solve_lower_triangular_in_place(r.transpose(), xt.as_mut(), Par::Seq);
+            x.copy_from(xt.transpose());
+        }
+        r_total = &r * &r_total;
+    }
+    if let Some(mut coef) = coefficients {
+        coef.rb_mut().subrows_mut(m, p).copy_from(&r_total);
+    }
+    true
+}
+
+/// The column-by-column fallback of [`orthonormalize_block`] from the block already projected on
+/// the basis: modified Gram-Schmidt (twice) against the earlier block columns; a column whose norm
+/// drops below 1e-10 of its original norm is replaced by a random one, projected on the basis and
+/// the earlier columns, with zero coefficients.
+fn orthonormalize_columns(
+    mut block: MatMut<'_, f64>,
+    projected: MatRef<'_, f64>,
+    basis: MatRef<'_, f64>,
+    c: &SparseColMat<usize, f64>,
+    original: &[f64],
+    seed: &mut u64,
+    mut coefficients: Option<MatMut<'_, f64>>,
+) {
+    let (n, m, p) = (basis.nrows(), basis.ncols(), block.ncols());
+    block.copy_from(projected);
+    let mut scratch = Mat::<f64>::zeros(n, 1);
+    for i in 0..p {
         let mut fresh = false;
-        let (done, rest) = block.split_at_mut(i);
-        let target = &mut rest[0];
         for _attempt in 0..3 {
             for _pass in 0..2 {
-                sparse_mul(c, target, cw);
-                for (j, v) in basis.iter().enumerate().chain(done.iter().enumerate().map(|(j, v)| (m + j, v))) {
-                    let h = c_dot(cw, v);
-                    for (x, y) in target.iter_mut().zip(v) {
-                        *x -= h * y;
-                    }
+                if fresh && m > 0 {
+                    symmetric_mul(c, block.rb().subcols(i, 1), scratch.as_mut());
+                    let h = transpose_times(basis, scratch.as_ref());
+                    matmul(block.rb_mut().subcols_mut(i, 1), Accum::Add, basis, h.as_ref(), -1.0, Par::Seq);
+                }
+                symmetric_mul(c, block.rb().subcols(i, 1), scratch.as_mut());
+                for j in 0..i {
+                    let h = dot(column(scratch.as_ref(), 0), column(block.rb(), j));
+                    let (done, rest) = block.rb_mut().split_at_col_mut(i);
+                    column_mut(rest, 0).iter_mut().zip(column(done.rb(), j)).for_each(|(x, y)| *x -= h * y);
                     if !fresh {
-                        if let Some(coef) = coefficients.as_deref_mut() {
-                            coef[i][j] += h;
+                        if let Some(coef) = coefficients.as_mut() {
+                            coef[(m + j, i)] += h;
                         }
                     }
                 }
             }
-            sparse_mul(c, target, cw);
-            let norm = c_dot(cw, target).max(0.0).sqrt();
-            if norm > 1e-10 * original_norm.max(f64::MIN_POSITIVE) && norm > 0.0 {
-                target.iter_mut().for_each(|x| *x /= norm);
+            symmetric_mul(c, block.rb().subcols(i, 1), scratch.as_mut());
+            let norm = dot(column(scratch.as_ref(), 0), column(block.rb(), i)).max(0.0).sqrt();
+            if norm > 1e-10 * original[i].max(f64::MIN_POSITIVE) && norm > 0.0 {
+                column_mut(block.rb_mut(), i).iter_mut().for_each(|x| *x /= norm);
                 if !fresh {
-                    if let Some(coef) = coefficients.as_deref_mut() {
-                        coef[i][m + i] = norm;
+                    if let Some(coef) = coefficients.as_mut() {
+                        coef[(m + i, i)] = norm;
                     }
                 }
                 break;
             }
             // breakdown (invariant subspace): continue from a random direction
-            *target = random_vector(n, seed);
+            column_mut(block.rb_mut(), i).iter_mut().for_each(|x| *x = random_value(seed));
             fresh = true;
         }
     }
+}
+
+fn column<'a>(a: MatRef<'a, f64>, j: usize) -> &'a [f64] {
+    a.col(j).try_as_col_major().expect("contiguous columns").as_slice()
+}
+
+fn column_mut<'a>(a: MatMut<'a, f64>, j: usize) -> &'a mut [f64] {
+    a.col_mut(j).try_as_col_major_mut().expect("contiguous columns").as_slice_mut()
 }
 
 #[cfg(test)]

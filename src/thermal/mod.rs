@@ -9,6 +9,8 @@
 
 pub mod assembly;
 pub mod campaign;
+pub mod drift_model;
+pub mod error_model;
 pub mod lanczos;
 pub mod levenberg_marquardt;
 pub mod links;
@@ -16,17 +18,20 @@ pub mod matrix_market;
 pub mod mesh;
 pub mod modal;
 pub mod model_file;
+pub mod ordering;
 pub mod placement;
 pub mod regression;
 pub mod response;
+pub mod sparse_cholesky;
 pub mod state_space;
 pub mod time_constants;
 pub mod validation;
 pub mod weights;
 
 pub use assembly::{assemble, Boundary, Material, Section, ThermalSystem};
+pub use lanczos::LanczosProgress;
 pub use mesh::StructuredMesh;
-pub use modal::{modal_analysis, ModalBasis, ModalOptions, SpectrumMethod};
+pub use modal::{modal_analysis, modal_analysis_with_progress, ModalBasis, ModalOptions, SpectrumMethod};
 pub use weights::{dominant_modes, mode_weights, ModeWeight, DEFAULT_SHARE};
 
 use thiserror::Error;

@@ -8,7 +8,7 @@
 //! ([`super::lanczos`]).
 
 use super::assembly::{to_dense, ThermalSystem};
-use super::lanczos::{smallest_eigenpairs, LanczosOptions};
+use super::lanczos::{smallest_eigenpairs_with, LanczosOptions, LanczosProgress};
 use super::{computation, input, ThermalError};
 use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
 use faer::{Mat, Par, Side};
@@ -80,6 +80,17 @@ impl ModalBasis {
 /// A model that loses no heat (no convection anywhere) has a mode with an infinite time constant
 /// and is refused.
 pub fn modal_analysis(system: &ThermalSystem, options: &ModalOptions) -> Result<ModalBasis, ThermalError> {
+    modal_analysis_with_progress(system, options, &mut |_| {})
+}
+
+/// [`modal_analysis`] reporting the progress of the sparse solver (factorisation, then converged
+/// modes per block step) to `progress`. The sparse factor is ordered by nested dissection when the
+/// system has node coordinates (meshes), else by approximate minimum degree.
+pub fn modal_analysis_with_progress(
+    system: &ThermalSystem,
+    options: &ModalOptions,
+    progress: &mut dyn FnMut(LanczosProgress),
+) -> Result<ModalBasis, ThermalError> {
     let n = system.node_count();
     if n == 0 {
         return Err(input("the thermal model has no nodes"));
@@ -95,7 +106,7 @@ pub fn modal_analysis(system: &ThermalSystem, options: &ModalOptions) -> Result<
         (l[..keep].to_vec(), s.subcols(0, keep).to_owned())
     } else {
         let count = options.count.ok_or_else(|| input("the sparse solver needs a number of modes"))?;
-        smallest_eigenpairs(&system.conductivity, &system.capacity, count, &options.lanczos)?
+        smallest_eigenpairs_with(&system.conductivity, &system.capacity, system.coordinates.as_deref(), count, &options.lanczos, progress)?
     };
     let largest = lambda.iter().fold(0.0f64, |a, b| a.max(b.abs()));
     if let Some(i) = lambda.iter().position(|l| l.is_nan() || *l <= 1e-12 * largest) {

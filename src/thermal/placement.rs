@@ -125,13 +125,42 @@ pub fn mode_matrix(basis: &ModalBasis, modes: &[usize], sensors: &[usize]) -> DM
     DMatrix::from_fn(sensors.len(), modes.len(), |r, c| basis.shape(sensors[r], modes[c]))
 }
 
-/// Condition number of the sensor-mode matrix (seed 002 §3.3.1: check the conditioning of Phi_s).
-pub fn condition_number(basis: &ModalBasis, modes: &[usize], sensors: &[usize]) -> f64 {
-    let sv = mode_matrix(basis, modes, sensors).singular_values();
-    let (max, min) = (sv.max(), sv.min());
-    if min > 0.0 {
-        max / min
-    } else {
-        f64::INFINITY
+/// How well the sensors determine the modal coordinates of the modes: the rank and condition
+/// number of the sensor-mode matrix `Phi_s` (sensors x modes; seed 002 §3.3.1: check the
+/// conditioning of Phi_s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Conditioning {
+    pub sensors: usize,
+    pub modes: usize,
+    /// Numerical rank of `Phi_s` (singular values above `max(s, m) eps sigma_max`).
+    pub rank: usize,
+    /// `sigma_max / sigma_min` when the rank equals the number of modes (every modal coordinate
+    /// can be estimated from the sensors); `None` when it is smaller: the sensors cannot tell the
+    /// modes apart, the condition number is infinite.
+    pub condition_number: Option<f64>,
+}
+
+impl Conditioning {
+    /// One line on what the rank means (for the CLI and reports).
+    pub fn explanation(&self) -> String {
+        match self.condition_number {
+            Some(k) => format!("condition number of Phi_s ({} sensors x {} modes): {k:.3e}", self.sensors, self.modes),
+            None => format!(
+                "condition number of Phi_s ({} sensors x {} modes): infinite, rank {} < {} modes: the sensor readings cannot separate every dominant mode",
+                self.sensors, self.modes, self.rank, self.modes
+            ),
+        }
     }
+}
+
+/// Rank and condition number of `Phi_s` for `modes` at `sensors`.
+pub fn conditioning(basis: &ModalBasis, modes: &[usize], sensors: &[usize]) -> Conditioning {
+    let phi = mode_matrix(basis, modes, sensors);
+    let sv = if phi.is_empty() { nalgebra::DVector::zeros(0) } else { phi.singular_values() };
+    let largest = sv.iter().copied().fold(0.0f64, f64::max);
+    let threshold = sensors.len().max(modes.len()) as f64 * f64::EPSILON * largest;
+    let rank = sv.iter().filter(|s| **s > threshold && **s > 0.0).count();
+    let condition_number =
+        if rank == modes.len() && rank > 0 { Some(largest / sv.iter().copied().fold(f64::INFINITY, f64::min)) } else { None };
+    Conditioning { sensors: sensors.len(), modes: modes.len(), rank, condition_number }
 }

@@ -11,7 +11,7 @@
 //! Least squares by QR with unit-length scaling (`identify::fit_linear`, eq. 3.15 without the
 //! normal equations).
 
-use super::{input, ThermalError};
+use super::{computation, input, ThermalError};
 use crate::identify::{fit_linear, stepwise, LinearFit};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -130,14 +130,47 @@ pub fn fit_regression(
     intercept: bool,
     error: &[f64],
 ) -> Result<(RegressionModel, LinearFit), ThermalError> {
+    check_series(sensors, temperatures, position, degree, error)?;
+    let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
+    let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
+    let fit = fit_linear(&design, error, None, &names).map_err(|e| fit_failure(error_name, e))?;
+    let model = model_from_columns(error_name, sensors, position.map(|p| p.0), degree, intercept, &fit.coefficients, None);
+    Ok((model, fit))
+}
+
+/// Shapes of the inputs of a fit: at least one sensor, one value per sample in every series.
+fn check_series(
+    sensors: &[String],
+    temperatures: &[Vec<f64>],
+    position: Option<(&str, &[f64])>,
+    degree: usize,
+    error: &[f64],
+) -> Result<(), ThermalError> {
     if degree > 0 && position.is_none() {
         return Err(input("a position-dependent model (degree >= 1) needs the position column"));
     }
-    let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
-    let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
-    let fit = fit_linear(&design, error, None, &names).map_err(|e| input(format!("{error_name}: {e}")))?;
-    let model = model_from_columns(error_name, sensors, position.map(|p| p.0), degree, intercept, &fit.coefficients, None);
-    Ok((model, fit))
+    if temperatures.is_empty() || sensors.len() != temperatures.len() {
+        return Err(input("a thermal error model needs at least one temperature sensor (one series per sensor name)"));
+    }
+    let n = error.len();
+    if let Some(i) = temperatures.iter().position(|t| t.len() != n) {
+        return Err(input(format!("sensor {} has {} samples for {n} error values", sensors[i], temperatures[i].len())));
+    }
+    if position.is_some_and(|p| p.1.len() != n) {
+        return Err(input(format!("the position column has a length other than the {n} error values")));
+    }
+    Ok(())
+}
+
+/// A rank-deficient design (a sensor constant or proportional to another) is a failed computation
+/// (exit status 1, as in `identify`); anything else is bad input.
+fn fit_failure(error_name: &str, e: crate::identify::IdentifyError) -> ThermalError {
+    match e {
+        crate::identify::IdentifyError::RankDeficient { .. } => {
+            computation(format!("{error_name}: {e}; leave that sensor out (--sensors) or select sensors (--select)"))
+        }
+        e => input(format!("{error_name}: {e}")),
+    }
 }
 
 fn column_names(sensors: &[String], position: Option<&str>, degree: usize, intercept: bool) -> Vec<String> {
@@ -233,11 +266,12 @@ pub fn fit_stepwise(
     error: &[f64],
     level: f64,
 ) -> Result<(RegressionModel, LinearFit, Vec<String>), ThermalError> {
+    check_series(sensors, temperatures, position, degree, error)?;
     let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
     let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
     let per = sensors.len() + usize::from(intercept);
     let forced: Vec<usize> = if intercept { (0..=degree).map(|k| k * per).collect() } else { Vec::new() };
-    let result = stepwise(&design, error, None, &names, level, &forced).map_err(|e| input(format!("{error_name}: {e}")))?;
+    let result = stepwise(&design, error, None, &names, level, &forced).map_err(|e| fit_failure(error_name, e))?;
     let model =
         model_from_columns(error_name, sensors, position.map(|p| p.0), degree, intercept, &result.fit.coefficients, Some(&result.kept));
     let kept = result.kept.iter().map(|&c| names[c].clone()).collect();

@@ -31,6 +31,13 @@ pub struct TimeConstantFit {
     pub residual_rms: f64,
 }
 
+impl TimeConstantFit {
+    /// Eq. 3.17 for series `k` at time `t` (s from the step): `b + sum_j A_j (1 - exp(-t / tau_j))`.
+    pub fn evaluate(&self, k: usize, t: f64) -> f64 {
+        self.offsets[k] + self.amplitudes[k].iter().zip(&self.tau_s).map(|(a, tau)| a * (1.0 - (-t / tau).exp())).sum::<f64>()
+    }
+}
+
 /// Fits `count` shared time constants to `series` (eq. 3.17); `offset` adds a constant per series
 /// (the temperature at t = 0 when the records are not rises from zero).
 pub fn fit_time_constants(series: &[Series], count: usize, offset: bool) -> Result<TimeConstantFit, ThermalError> {
