@@ -28,8 +28,8 @@ pub fn reduce(x: &DMatrix<f64>, y: &[f64], row_factor: &[f64], column_divisor: &
     let size = p + 1;
     // [A | b] column by column (column-major on both sides)
     let mut augmented = Mat::<f64>::zeros(n, size);
-    for j in 0..size {
-        let (source, factor) = if j < p { (&x.as_slice()[j * n..(j + 1) * n], 1.0 / column_divisor[j]) } else { (y, 1.0) };
+    let columns = x.as_slice().chunks_exact(n.max(1)).zip(column_divisor).map(|(column, divisor)| (column, 1.0 / divisor));
+    for (j, (source, factor)) in columns.chain(std::iter::once((y, 1.0))).enumerate() {
         for ((a, v), w) in augmented.col_mut(j).iter_mut().zip(source).zip(row_factor) {
             *a = v * w * factor;
         }
