@@ -176,13 +176,12 @@ impl CandidateSet {
         if report.rank == self.p {
             return Ok(());
         }
-        let combos: Vec<String> = report.unidentifiable.iter().map(|c| c.message.clone()).collect();
         Err(IdentifyError::RankDeficient {
             message: format!(
                 "{what} determines only {} of {} parameter combinations: {}",
                 report.rank,
                 self.p,
-                if combos.is_empty() { "the information matrix is singular".to_string() } else { combos.join("; ") }
+                report.combinations_summary("the information matrix is singular")
             ),
         })
     }

@@ -263,22 +263,68 @@ fn name_null_space(null: &DMatrix<f64>, scale: &[f64], names: &[String], units: 
         let coefficients: Vec<f64> = user.iter().map(|v| v / at_pivot).collect();
         let parameters: Vec<String> = members.iter().map(|&c| names[c].clone()).collect();
         let member_units: Vec<String> = members.iter().map(|&c| units[c].clone()).collect();
-        let message = describe(&parameters, &coefficients, &member_units);
+        let weight: Vec<f64> = members.iter().map(|&c| rows[(r, c)].abs()).collect();
+        let message = describe(&parameters, &coefficients, &member_units, &weight);
         combos.push(Combination { parameters, coefficients, units: member_units, message });
     }
     combos
 }
 
-fn describe(parameters: &[String], coefficients: &[f64], units: &[String]) -> String {
+/// Terms named in one combination's message; the others (smaller in scaled units, i.e. in their
+/// effect on the readings) are counted. The full combination is in [`Combination::coefficients`].
+const TERMS_IN_MESSAGE: usize = 8;
+
+/// Combinations named in a rank-deficiency error; the others are counted (all are in the report).
+const COMBINATIONS_IN_MESSAGE: usize = 6;
+
+/// The sentence of one combination: its parameters, and the changes (user units) that leave every
+/// reading unchanged, the [`TERMS_IN_MESSAGE`] largest by `weight` (scaled magnitude) in order.
+fn describe(parameters: &[String], coefficients: &[f64], units: &[String], weight: &[f64]) -> String {
     if parameters.len() == 1 {
         return format!("{} is not seen by these measurements (it changes no reading)", parameters[0]);
     }
-    let list = match parameters {
-        [a, b] => format!("{a} and {b}"),
-        _ => format!("{} and {}", parameters[..parameters.len() - 1].join(", "), parameters[parameters.len() - 1]),
+    let mut shown: Vec<usize> = (0..parameters.len()).collect();
+    shown.sort_by(|&a, &b| weight[b].total_cmp(&weight[a]));
+    shown.truncate(TERMS_IN_MESSAGE);
+    shown.sort_unstable();
+    let names: Vec<&str> = shown.iter().map(|&i| parameters[i].as_str()).collect();
+    let hidden = parameters.len() - shown.len();
+    let list = match (names.as_slice(), hidden) {
+        ([a, b], 0) => format!("{a} and {b}"),
+        (_, 0) => format!("{} and {}", names[..names.len() - 1].join(", "), names[names.len() - 1]),
+        (_, k) => format!("{} and {k} more parameters", names.join(", ")),
     };
-    let changes: Vec<String> = parameters.iter().zip(coefficients).zip(units).map(|((n, c), u)| format!("{n} by {c:+.4} {u}")).collect();
-    format!("{list} cannot be separated: changing {} leaves every reading unchanged", changes.join(", "))
+    let changes: Vec<String> = shown.iter().map(|&i| format!("{} by {} {}", parameters[i], signed(coefficients[i]), units[i])).collect();
+    let rest = if hidden > 0 { format!(" (with smaller changes of the {hidden} others)") } else { String::new() };
+    format!("{list} cannot be separated: changing {}{rest} leaves every reading unchanged", changes.join(", "))
+}
+
+/// `+1.2345` for ordinary magnitudes, `+1.234e-7` for very small or large ones.
+fn signed(v: f64) -> String {
+    if v == 0.0 || (1e-3..1e6).contains(&v.abs()) {
+        format!("{v:+.4}")
+    } else {
+        format!("{v:+.3e}")
+    }
+}
+
+impl IdentifiabilityReport {
+    /// The unseen combinations for an error message: the first [`COMBINATIONS_IN_MESSAGE`] sentences
+    /// and the count of the others, or `fallback` when none could be named.
+    pub fn combinations_summary(&self, fallback: &str) -> String {
+        let all = &self.unidentifiable;
+        if all.is_empty() {
+            return fallback.to_string();
+        }
+        let shown: Vec<&str> = all.iter().take(COMBINATIONS_IN_MESSAGE).map(|c| c.message.as_str()).collect();
+        let more = all.len() - shown.len();
+        let tail = if more > 0 {
+            format!("; and {more} more combinations (`identify --allow-rank-deficient --json` lists them all under `unidentifiable`)")
+        } else {
+            String::new()
+        };
+        format!("{}{tail}", shown.join("; "))
+    }
 }
 
 #[cfg(test)]
@@ -307,5 +353,32 @@ mod tests {
         assert!(c.message.contains("A and C cannot be separated"), "{}", c.message);
         assert_eq!(report.identifiable, vec![false, true, false]);
         assert!(report.condition_number.is_none_or(|k| k > 1e8));
+    }
+
+    #[test]
+    fn long_combinations_and_many_of_them_are_summarised() {
+        // columns 0..12 sum to column 12 (a 13-member combination); columns 13..21 are 8 pairs of
+        // duplicates: 9 combinations in all
+        let (n, p) = (60, 29);
+        let base = |i: usize, j: usize| ((i * (j + 3)) as f64 * 0.37 + j as f64).sin();
+        let x = DMatrix::from_fn(n, p, |i, j| match j {
+            12 => (0..12).map(|k| base(i, k)).sum(),
+            j if j > 12 && (j - 13) % 2 == 1 => 2.0 * base(i, j - 1),
+            j => base(i, j),
+        });
+        let names: Vec<String> = (0..p).map(|j| format!("P{j}")).collect();
+        let units = vec!["um".to_string(); p];
+        let svd = ScaledSvd::new(&x, &vec![1.0; n], RANK_TOLERANCE);
+        assert_eq!(svd.rank, p - 9);
+        let report = IdentifiabilityReport::new(&x, &svd, &names, &units);
+        assert_eq!(report.unidentifiable.len(), 9);
+        let long = report.unidentifiable.iter().find(|c| c.parameters.len() == 13).expect("the 13-member combination");
+        assert!(long.message.contains("and 5 more parameters"), "{}", long.message);
+        assert!(long.message.contains("(with smaller changes of the 5 others)"), "{}", long.message);
+        let summary = report.combinations_summary("singular");
+        assert_eq!(summary.matches("cannot be separated").count(), COMBINATIONS_IN_MESSAGE, "{summary}");
+        assert!(summary.contains("and 3 more combinations"), "{summary}");
+        assert_eq!(signed(2.5e-7), "+2.500e-7");
+        assert_eq!(signed(-3.0), "-3.0000");
     }
 }

@@ -149,9 +149,12 @@ pub fn solve(design: &DesignMatrix, start: &[f64], options: &IndirectOptions) ->
     let report = IdentifiabilityReport::new(&design.matrix, &svd, &design.names, &design.units);
     let deficient = svd.rank < p;
     if deficient && !options.allow_rank_deficient {
-        let combos: Vec<String> = report.unidentifiable.iter().map(|c| c.message.clone()).collect();
         return Err(IdentifyError::RankDeficient {
-            message: format!("{} of {p} parameter combinations are not identifiable: {}", p - svd.rank, combos.join("; ")),
+            message: format!(
+                "{} of {p} parameter combinations are not identifiable: {}",
+                p - svd.rank,
+                report.combinations_summary("the scaled design matrix is singular")
+            ),
         });
     }
     let solver = if deficient { Solver::Svd } else { options.solver };

@@ -2,15 +2,15 @@
 //! parametric error functions (campaign `[basis.NAME]`): laser distances (instrument `length`) from
 //! fixed stations on the table to the tool point at seeded random poses, as a laser tracer measures
 //! them (seed 000 §4.2, the artefact-free case). Random poses give every axis function many distinct
-//! positions, so a basis with many knots stays identifiable.
+//! positions, so a basis of high degree stays identifiable.
 //!
 //! Used by `tests/identify_basis.rs`. A benchmark can include it
 //! (`#[path = "../tests/support/basis_campaign.rs"] mod basis_campaign;`) and build the large problem
-//! of DESIGN.md section 5, 10^5 readings x 501 basis and squareness coefficients:
+//! of DESIGN.md section 5, 10^5 readings x 501 Legendre and squareness coefficients:
 //!
 //! ```text
 //! let m = Machine::load("examples/machines/vmc3.toml")?;
-//! let path = write_campaign(dir, &m, &SQUARENESS, &piecewise_bases(&m, 53), &random_poses(&m, 25_000, 1), 0.2);
+//! let path = write_campaign(dir, &m, &SQUARENESS, &legendre_bases(&m, 56), &random_poses(&m, 25_000, 1), 0.2);
 //! let campaign = simulate_into(&path, &m, &ErrorModel::zero(&m), 1);      // or with known errors
 //! let design = campaign.design_matrix(&m, &ErrorModel::zero(&m))?;        // 100000 x 501
 //! ```
@@ -55,21 +55,34 @@ pub fn random_poses(machine: &Machine, count: usize, seed: u64) -> Vec<Vec<f64>>
 /// piecewise cubics, C2 at `knots` equally spaced interior knots over each axis range, no constant
 /// term; the six straightness errors constrained to have no linear trend (seed 000 eqs. 3.4-3.8), so
 /// that the squareness errors stay separable. Coefficients: 3 + knots per positioning error,
-/// 2 + knots per straightness error, `21 + 9 knots` in all (with [`SQUARENESS`]: `24 + 9 knots`
-/// unknowns, 501 for 53 knots).
+/// 2 + knots per straightness error, `21 + 9 knots` in all (with [`SQUARENESS`]: `24 + 9 knots`).
+/// Truncated powers are ill-conditioned with many knots (beyond ~10 per axis the scaled design
+/// matrix has singular values below the rank tolerance): use [`legendre_bases`] for large problems.
 pub fn piecewise_bases(machine: &Machine, knots: usize) -> String {
+    axis_bases(machine, |lo, hi| {
+        let positions: Vec<String> = (1..=knots).map(|i| format!("{}", lo + (hi - lo) * i as f64 / (knots + 1) as f64)).collect();
+        format!("family = \"piecewise\"\ndegree = 3\nknots = [{}]\ncontinuity = [2]\n", positions.join(", "))
+    })
+}
+
+/// As [`piecewise_bases`] with Legendre polynomials of orders 1..=`degree` over each axis range
+/// (well conditioned at any degree on spread poses): `degree` coefficients per positioning error,
+/// `degree - 1` per straightness error (P1 is the removed linear trend), `9 degree - 6` in all; with
+/// [`SQUARENESS`] `9 degree - 3` unknowns, 501 for degree 56 (DESIGN.md section 5).
+pub fn legendre_bases(machine: &Machine, degree: usize) -> String {
+    axis_bases(machine, |_, _| format!("family = \"legendre\"\ndegree = {degree}\n"))
+}
+
+/// The nine `[basis.E<direction><axis>]` tables with the family lines of `family(lo, hi)`, the
+/// straightness constraint on the six straightness errors and the axis range as domain.
+fn axis_bases(machine: &Machine, family: impl Fn(f64, f64) -> String) -> String {
     let mut text = String::new();
     for axis in ['X', 'Y', 'Z'] {
         let a = &machine.axes()[machine.axis_index(axis).expect("vmc3 has X, Y, Z")];
         let [lo, hi] = a.range.expect("linear axes have a range");
-        let positions: Vec<String> = (1..=knots).map(|i| format!("{}", lo + (hi - lo) * i as f64 / (knots + 1) as f64)).collect();
         for direction in ['X', 'Y', 'Z'] {
             let constraint = if direction == axis { "none" } else { "straightness" };
-            let _ = write!(
-                text,
-                "[basis.E{direction}{axis}]\nfamily = \"piecewise\"\ndegree = 3\nknots = [{}]\ncontinuity = [2]\nconstraint = \"{constraint}\"\ndomain = [{lo}, {hi}]\n\n",
-                positions.join(", ")
-            );
+            let _ = write!(text, "[basis.E{direction}{axis}]\n{}constraint = \"{constraint}\"\ndomain = [{lo}, {hi}]\n\n", family(lo, hi));
         }
     }
     text

@@ -62,8 +62,11 @@ pub fn failure(e: IdentifyError) -> Failure {
 
 pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
-    let campaign = Campaign::load(&args.campaign, &machine).map_err(failure)?;
-    let nominal = campaign.nominal_errors(&machine).map_err(failure)?;
+    let bar = crate::progress::spinner(args.json);
+    bar.enable_steady_tick(std::time::Duration::from_millis(120));
+    bar.set_message(format!("reading {}", args.campaign.display()));
+    let loaded = Campaign::load(&args.campaign, &machine).and_then(|c| c.nominal_errors(&machine).map(|n| (c, n)));
+    let (campaign, nominal) = loaded.inspect_err(|_| bar.finish_and_clear()).map_err(failure)?;
     let options = IndirectOptions {
         solver: match args.solver {
             SolverArg::Qr => Solver::Qr,
@@ -73,7 +76,11 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         refine: args.refine,
         ..IndirectOptions::default()
     };
-    let result = identify(&campaign, &machine, &nominal, &options).map_err(failure)?;
+    let records: usize = campaign.measurements.iter().map(|m| m.records()).sum();
+    bar.set_message(format!("identifying {} unknowns from {records} records", campaign.unknowns.len()));
+    let result = identify(&campaign, &machine, &nominal, &options);
+    bar.finish_and_clear();
+    let result = result.map_err(failure)?;
     if result.values.iter().chain(&result.residuals).any(|v| !v.is_finite()) {
         return Err(Failure::computation(anyhow::anyhow!("the identification produced numbers that are not finite")));
     }

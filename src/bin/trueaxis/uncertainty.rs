@@ -2,9 +2,7 @@
 
 use crate::predict::parse_point;
 use crate::Failure;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Map, Value};
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use trueaxis::data::read_poses;
 use trueaxis::data::write_atomically;
@@ -187,7 +185,7 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
     }
     sources.check_channels(&design).map_err(|e| failure(UncertaintyError::Input(format!("{}: {e}", args.sources.display()))))?;
     let map = IdentificationMap::new(design).map_err(failure)?;
-    let bar = progress_bar(args.json);
+    let bar = crate::progress::spinner(args.json);
     let settings = &sources.settings;
     let mut report = |stage: Option<&str>, h: usize, c: Option<&trueaxis::uncertainty::ControlVariables>| {
         let what = stage.map_or("all sources".to_string(), |s| format!("source `{s}` alone"));
@@ -219,15 +217,6 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
         table(&args, &map, &budget, &sources) + &poses_table(&args, &poses, &sources)
     };
     print(&text)
-}
-
-fn progress_bar(json: bool) -> ProgressBar {
-    if json || !std::io::stderr().is_terminal() {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-    bar.set_style(ProgressStyle::with_template("{spinner} {elapsed} {msg}").unwrap_or_else(|_| ProgressStyle::default_spinner()));
-    bar
 }
 
 /// JSON of one pose's volumetric uncertainty (um, um^2).
