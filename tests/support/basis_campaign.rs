@@ -28,7 +28,10 @@ pub const STATIONS: [[f64; 3]; 4] = [[-350.0, -220.0, 0.0], [350.0, -220.0, 0.0]
 /// The three squareness errors of vmc3, identified with the straightness-constrained bases.
 pub const SQUARENESS: [&str; 3] = ["EC0X", "EB0Z", "EA0Z"];
 
-/// `count` poses (mm) uniform in the axis ranges less 5 % at each end, from a seeded generator
+/// Fraction of each axis range left out at both ends by [`random_poses`].
+pub const POSE_MARGIN: f64 = 0.05;
+
+/// `count` poses (mm) uniform in the axis ranges less [`POSE_MARGIN`] at each end, from a seeded generator
 /// (a 64-bit linear congruential generator: reproducible without extra crates).
 pub fn random_poses(machine: &Machine, count: usize, seed: u64) -> Vec<Vec<f64>> {
     let mut state = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -43,7 +46,7 @@ pub fn random_poses(machine: &Machine, count: usize, seed: u64) -> Vec<Vec<f64>>
                 .iter()
                 .map(|a| {
                     let [lo, hi] = a.range.unwrap_or([-180.0, 180.0]);
-                    let margin = 0.05 * (hi - lo);
+                    let margin = POSE_MARGIN * (hi - lo);
                     lo + margin + (hi - lo - 2.0 * margin) * uniform()
                 })
                 .collect()
@@ -59,27 +62,30 @@ pub fn random_poses(machine: &Machine, count: usize, seed: u64) -> Vec<Vec<f64>>
 /// Truncated powers are ill-conditioned with many knots (beyond ~10 per axis the scaled design
 /// matrix has singular values below the rank tolerance): use [`legendre_bases`] for large problems.
 pub fn piecewise_bases(machine: &Machine, knots: usize) -> String {
-    axis_bases(machine, |lo, hi| {
+    axis_bases(machine, 0.0, |lo, hi| {
         let positions: Vec<String> = (1..=knots).map(|i| format!("{}", lo + (hi - lo) * i as f64 / (knots + 1) as f64)).collect();
         format!("family = \"piecewise\"\ndegree = 3\nknots = [{}]\ncontinuity = [2]\n", positions.join(", "))
     })
 }
 
-/// As [`piecewise_bases`] with Legendre polynomials of orders 1..=`degree` over each axis range
-/// (well conditioned at any degree on spread poses): `degree` coefficients per positioning error,
+/// As [`piecewise_bases`] with Legendre polynomials of orders 1..=`degree` over the part of each
+/// axis range that [`random_poses`] samples (orthogonal there, so well conditioned at any degree;
+/// over the whole range, high orders would be nearly dependent on the sampled part): `degree` coefficients per positioning error,
 /// `degree - 1` per straightness error (P1 is the removed linear trend), `9 degree - 6` in all; with
 /// [`SQUARENESS`] `9 degree - 3` unknowns, 501 for degree 56 (DESIGN.md section 5).
 pub fn legendre_bases(machine: &Machine, degree: usize) -> String {
-    axis_bases(machine, |_, _| format!("family = \"legendre\"\ndegree = {degree}\n"))
+    axis_bases(machine, POSE_MARGIN, |_, _| format!("family = \"legendre\"\ndegree = {degree}\n"))
 }
 
 /// The nine `[basis.E<direction><axis>]` tables with the family lines of `family(lo, hi)`, the
-/// straightness constraint on the six straightness errors and the axis range as domain.
-fn axis_bases(machine: &Machine, family: impl Fn(f64, f64) -> String) -> String {
+/// straightness constraint on the six straightness errors and the axis range less `margin` (a
+/// fraction) at each end as domain.
+fn axis_bases(machine: &Machine, margin: f64, family: impl Fn(f64, f64) -> String) -> String {
     let mut text = String::new();
     for axis in ['X', 'Y', 'Z'] {
         let a = &machine.axes()[machine.axis_index(axis).expect("vmc3 has X, Y, Z")];
         let [lo, hi] = a.range.expect("linear axes have a range");
+        let [lo, hi] = [lo + margin * (hi - lo), hi - margin * (hi - lo)];
         for direction in ['X', 'Y', 'Z'] {
             let constraint = if direction == axis { "none" } else { "straightness" };
             let _ = write!(text, "[basis.E{direction}{axis}]\n{}constraint = \"{constraint}\"\ndomain = [{lo}, {hi}]\n\n", family(lo, hi));
