@@ -4,7 +4,7 @@
 mod thermal_common;
 
 use std::process::Output;
-use thermal_common::{json, trueaxis};
+use thermal_common::{fit_dz, json, trueaxis};
 
 #[test]
 fn modes_json_is_sorted_by_decreasing_time_constant() {
@@ -45,25 +45,20 @@ fn fit_writes_a_model_that_predict_and_the_chain_evaluate() {
     let dir = tempfile::tempdir().unwrap();
     let model = dir.path().join("dz.toml");
     let terms = dir.path().join("terms.toml");
-    let doc = json(&trueaxis(&[
-        "thermal",
-        "fit",
-        "--data",
-        "examples/thermal/campaign.csv",
-        "--error",
-        "dz",
-        "--train-runs",
+    let doc = json(&fit_dz(
         "warmup",
-        "--out",
-        model.to_str().unwrap(),
-        "--parameter",
-        "EZZ",
-        "--terms-out",
-        terms.to_str().unwrap(),
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--json",
-    ]));
+        &[
+            "--out",
+            model.to_str().unwrap(),
+            "--parameter",
+            "EZZ",
+            "--terms-out",
+            terms.to_str().unwrap(),
+            "--machine",
+            "examples/machines/vmc3.toml",
+            "--json",
+        ],
+    ));
     // validated on the three other runs, RMS below 4 % of the 63 um peak
     for run in ["short", "long", "cycle"] {
         assert!(doc["validation"][run]["rms"].as_f64().unwrap() < 2.5, "{run}");

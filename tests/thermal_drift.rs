@@ -6,7 +6,7 @@
 
 mod thermal_common;
 
-use thermal_common::{json, trueaxis};
+use thermal_common::{fit_dz, json, trueaxis};
 use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::drift_model::{fit_drift_model, record, DriftModel};
 use trueaxis::thermal::error_model::ThermalErrorModel;
@@ -119,19 +119,7 @@ fn a_lag_model_predicts_the_duty_cycle_better_than_the_static_regression() {
         assert!((a - rms(&drift, run)).abs() < 1e-12, "{run}: {a} vs {}", rms(&drift, run));
     }
     // time split through the command line: trained on the first half of `long`
-    let split = json(&trueaxis(&[
-        "thermal",
-        "fit",
-        "--data",
-        "examples/thermal/campaign.csv",
-        "--error",
-        "dz",
-        "--train-runs",
-        "long",
-        "--validate",
-        "time-split:0.5",
-        "--json",
-    ]));
+    let split = json(&fit_dz("long", &["--validate", "time-split:0.5", "--json"]));
     assert_eq!(split["training"]["samples"], 120);
     assert_eq!(split["validation"]["long (last 50 %)"]["samples"], 121);
 }

@@ -6,7 +6,7 @@
 mod thermal_common;
 
 use roxmltree::Document;
-use thermal_common::{ok, trueaxis};
+use thermal_common::{fit_dz, ok, trueaxis};
 use trueaxis::report::{
     drift_svg, mode_shapes_svg, time_constants_svg, DriftPlot, DriftRun, ModeBar, ModeShapeCurve, ModeShapesPlot, RunRole,
     TimeConstantsPlot,
@@ -199,20 +199,7 @@ fn thermal_commands_write_their_plots() {
     assert!(svg.has_text("sensor, node 12") && svg.has_text("sensor, node 0") && svg.has_text("mode 3, tau 19.57 min"));
     // fit: training and validation runs; predict: prediction on every run
     let model = path("dz.toml");
-    ok(&trueaxis(&[
-        "thermal",
-        "fit",
-        "--data",
-        "examples/thermal/campaign.csv",
-        "--error",
-        "dz",
-        "--train-runs",
-        "warmup",
-        "--out",
-        &model,
-        "--plot",
-        &path("fit.svg"),
-    ]));
+    ok(&fit_dz("warmup", &["--out", &model, "--plot", &path("fit.svg")]));
     let svg = parse(&std::fs::read_to_string(path("fit.svg")).unwrap());
     for t in ["warmup: training", "short: validation", "long: validation", "cycle: validation", "warmup: residual band [-2.848, 2.929]"] {
         assert!(svg.has_text(t), "missing `{t}`");

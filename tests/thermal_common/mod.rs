@@ -19,3 +19,11 @@ pub fn json(out: &Output) -> serde_json::Value {
 pub fn ok(out: &Output) {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// `trueaxis thermal fit` of the error `dz` of the shipped campaign (examples/thermal/campaign.csv)
+/// trained on `train_runs`, with the further arguments `extra`.
+pub fn fit_dz(train_runs: &str, extra: &[&str]) -> Output {
+    let mut args = vec!["thermal", "fit", "--data", "examples/thermal/campaign.csv", "--error", "dz", "--train-runs", train_runs];
+    args.extend_from_slice(extra);
+    trueaxis(&args)
+}
