@@ -8,17 +8,29 @@
 //! Seed 000 §4.3: `lambda^T theta` is estimable iff `lambda` lies in the row space of `X`.
 
 use super::least_squares::{column_norm, weighted_column_norm};
-use super::reduction::{reduce, ReducedProblem};
+use super::reduction::{reduce, reduce_by_gram, ReducedProblem, GRAM_CONDITION_LIMIT, GRAM_MIN_ENTRIES};
 use faer::Mat;
 use nalgebra::{DMatrix, DVector};
 
 /// Default relative threshold: singular values below `RANK_TOLERANCE * largest` are zero.
 pub const RANK_TOLERANCE: f64 = 1e-8;
 
+/// How the scaled problem was reduced to `p x p` ([`super::reduction`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reduction {
+    /// Householder QR of `[A | b]`.
+    Qr,
+    /// Cholesky factor of the Gram matrix, kept only for a condition number of at most
+    /// [`GRAM_CONDITION_LIMIT`].
+    Gram,
+}
+
 /// The SVD of the weighted, unit-length scaled design matrix `A = W^(1/2) X S^-1`, computed from its
-/// QR reduction (`A = Q R`, see [`super::reduction`]): `R = U_r Sigma V^T`, so `A` and `R` share the
-/// singular values and right singular vectors, and the left singular vectors of `A` are never
-/// formed (they would be `n x p`).
+/// reduction to `R` with `R^T R = A^T A` (see [`super::reduction`]): `R = U_r Sigma V^T`, so `A`
+/// and `R` share the singular values and right singular vectors, and the left singular vectors of
+/// `A` are never formed (they would be `n x p`). Large problems (at least [`GRAM_MIN_ENTRIES`]
+/// entries) are reduced through the Gram matrix when the result shows a condition number of at most
+/// [`GRAM_CONDITION_LIMIT`], otherwise (and always for smaller ones) by QR.
 #[derive(Clone, Debug)]
 pub struct ScaledSvd {
     /// Column norms `s_j` of `W^(1/2) X` (the scaling `S`).
@@ -31,6 +43,7 @@ pub struct ScaledSvd {
     /// Number of singular values above the tolerance.
     pub rank: usize,
     pub tolerance: f64,
+    pub reduction: Reduction,
     /// The reduced problem `R theta ~ Q^T b` (scaled units).
     reduced: ReducedProblem,
     /// `U_r^T Q^T b`: the observations in the left singular basis.
@@ -48,13 +61,32 @@ impl ScaledSvd {
     /// `W^(1/2) y` (um), so that [`ScaledSvd::solve_minimum_norm`] and
     /// [`ScaledSvd::solve_triangular`] give the least-squares solution.
     pub fn with_observations(matrix: &DMatrix<f64>, weights: &[f64], observations: &[f64], tolerance: f64) -> ScaledSvd {
-        let p = matrix.ncols();
+        Self::decompose(matrix, weights, observations, tolerance, GRAM_MIN_ENTRIES)
+    }
+
+    /// [`ScaledSvd::with_observations`] with the size from which the Gram reduction is tried.
+    fn decompose(matrix: &DMatrix<f64>, weights: &[f64], observations: &[f64], tolerance: f64, gram_min_entries: usize) -> ScaledSvd {
+        let (n, p) = matrix.shape();
         let sqrt_w: Vec<f64> = weights.iter().map(|w| w.sqrt()).collect();
         let scale: Vec<f64> = (0..p)
             .map(|j| weighted_column_norm(matrix.column(j).as_slice(), &sqrt_w))
             .map(|s| if s > 0.0 && s.is_finite() { s } else { 1.0 })
             .collect();
-        let reduced = reduce(matrix, observations, &sqrt_w, &scale);
+        if n * (p + 1) >= gram_min_entries {
+            if let Some(reduced) = reduce_by_gram(matrix, observations, &sqrt_w, &scale) {
+                let svd = Self::of_reduced(scale.clone(), reduced, tolerance, Reduction::Gram);
+                let (largest, smallest) = (svd.singular_values[0], svd.singular_values[svd.singular_values.len() - 1]);
+                if smallest > 0.0 && largest <= GRAM_CONDITION_LIMIT * smallest {
+                    return svd;
+                }
+            }
+        }
+        Self::of_reduced(scale.clone(), reduce(matrix, observations, &sqrt_w, &scale), tolerance, Reduction::Qr)
+    }
+
+    /// The SVD of the reduced problem.
+    fn of_reduced(scale: Vec<f64>, reduced: ReducedProblem, tolerance: f64, reduction: Reduction) -> ScaledSvd {
+        let p = reduced.r.ncols();
         let m = reduced.r.nrows();
         let svd = Mat::from_fn(m, p, |i, j| reduced.r[(i, j)]).svd();
         let (singular_values, v, observations_in_singular_basis) = match svd {
@@ -73,7 +105,7 @@ impl ScaledSvd {
         };
         let largest = singular_values.first().copied().unwrap_or(0.0);
         let rank = singular_values.iter().filter(|s| **s > tolerance * largest && **s > 0.0).count();
-        ScaledSvd { scale, singular_values, v, rank, tolerance, reduced, observations_in_singular_basis }
+        ScaledSvd { scale, singular_values, v, rank, tolerance, reduction, reduced, observations_in_singular_basis }
     }
 
     /// Singular values padded with zeros to the number of parameters.
@@ -380,5 +412,29 @@ mod tests {
         assert!(summary.contains("and 3 more combinations"), "{summary}");
         assert_eq!(signed(2.5e-7), "+2.500e-7");
         assert_eq!(signed(-3.0), "-3.0000");
+    }
+
+    #[test]
+    fn large_problems_use_the_gram_reduction_only_when_well_conditioned() {
+        let (n, p) = (4000, 30);
+        let x = DMatrix::from_fn(n, p, |i, j| ((i * (j + 3)) as f64 * 0.291 + j as f64).sin() * 10f64.powi(j as i32 % 5 - 2));
+        let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.013).sin() + 0.01 * (i as f64 * 2.9).cos()).collect();
+        let w: Vec<f64> = (0..n).map(|i| 1.0 + (i % 3) as f64).collect();
+        let qr = ScaledSvd::decompose(&x, &w, &y, RANK_TOLERANCE, usize::MAX);
+        let gram = ScaledSvd::decompose(&x, &w, &y, RANK_TOLERANCE, 0);
+        assert_eq!((qr.reduction, gram.reduction), (Reduction::Qr, Reduction::Gram));
+        for (a, b) in qr.singular_values.iter().zip(&gram.singular_values) {
+            assert!((a - b).abs() <= 1e-10 * qr.singular_values[0], "{a} vs {b}");
+        }
+        let (a, b) = (qr.solve_minimum_norm(), gram.solve_minimum_norm());
+        let size = a.iter().map(|v| v * v).sum::<f64>().sqrt();
+        assert!(a.iter().zip(&b).all(|(u, v)| (u - v).abs() <= 1e-9 * size));
+        assert!((qr.pseudo_inverse_normal() - gram.pseudo_inverse_normal()).norm() <= 1e-8 * qr.pseudo_inverse_normal().norm());
+        // a nearly dependent column (condition number ~1e6 after scaling): QR despite the size
+        let near = DMatrix::from_fn(n, p, |i, j| if j == 1 { x[(i, 0)] * 1e-2 + 1e-8 * x[(i, 2)] } else { x[(i, j)] });
+        let fallback = ScaledSvd::decompose(&near, &w, &y, RANK_TOLERANCE, 0);
+        assert_eq!(fallback.reduction, Reduction::Qr);
+        let reference = ScaledSvd::decompose(&near, &w, &y, RANK_TOLERANCE, usize::MAX);
+        assert_eq!(fallback.singular_values, reference.singular_values);
     }
 }

@@ -1,16 +1,34 @@
-//! Orthogonal reduction of a tall weighted least-squares problem (seed 000 §3.2.2).
+//! Reduction of a tall weighted least-squares problem to `p x p` (seed 000 §3.2.2).
 //!
 //! `min |A theta - b|` with `A` (`n x p`, `n > p`) has the same solution, singular values and right
-//! singular vectors as `min |R theta - Q^T b|`, where `A = Q R` (`R` upper triangular, `p x p`).
-//! One Householder QR of the augmented matrix `[A | b]` gives both `R` and `Q^T b` without ever
-//! forming `Q` (`n x n`) or the left singular vectors of `A` (`n x p`): `2 n p^2` flops in faer's
-//! blocked, parallel QR, which is what keeps `10^5 x 500` identifications within seconds
-//! (DESIGN.md section 5).
+//! singular vectors as `min |R theta - Q^T b|` for any `R` with `R^T R = A^T A` and `R^T (Q^T b) =
+//! A^T b`. Two ways to get it, never forming `Q` (`n x n`) or the left singular vectors of `A`:
+//!
+//! - [`reduce`]: one Householder QR of the augmented matrix `[A | b]` (faer, blocked): `2 n p^2`
+//!   flops, backward stable at any condition number;
+//! - [`reduce_by_gram`]: the lower triangle of `[A | b]^T [A | b]` (a symmetric rank-n update, `n p^2`
+//!   flops at matrix-product speed), then the Cholesky factor `A^T A = R^T R` and `R^T (Q^T b) =
+//!   A^T b`. It squares the condition number: the relative error of the smallest singular value is
+//!   about `eps cond^2`, so it is used only when the scaled matrix is well conditioned
+//!   ([`GRAM_CONDITION_LIMIT`], checked on the result by the caller; see `ScaledSvd`).
+//!
+//! On 10^5 x 501 (DESIGN.md section 5) the Gram reduction takes a fraction of the QR's time.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::matmul::triangular::{matmul as triangular_matmul, BlockStructure};
 use faer::linalg::qr::no_pivoting::factor::{qr_in_place, qr_in_place_scratch, recommended_block_size};
-use faer::{get_global_parallelism, Mat, Par};
+use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
+use faer::{get_global_parallelism, Accum, Mat, Par, Side};
 use nalgebra::{DMatrix, DVector};
+
+/// Largest condition number of the unit-length scaled matrix for which the Gram reduction is used:
+/// `eps cond^2 = 2e-8`, the relative accuracy of the smallest singular value (and about that of
+/// the solution), far below what any measurement resolves. Above it the caller reduces by QR.
+pub const GRAM_CONDITION_LIMIT: f64 = 1e4;
+
+/// Problems with at least this many entries in `[A | b]` are worth the Gram attempt (below it the
+/// QR takes milliseconds and is kept for its accuracy).
+pub const GRAM_MIN_ENTRIES: usize = 1 << 22;
 
 /// The reduced problem `R theta ~ Q^T b`.
 #[derive(Clone, Debug)]
@@ -26,14 +44,7 @@ pub struct ReducedProblem {
 pub fn reduce(x: &DMatrix<f64>, y: &[f64], row_factor: &[f64], column_divisor: &[f64]) -> ReducedProblem {
     let (n, p) = x.shape();
     let size = p + 1;
-    // [A | b] column by column (column-major on both sides)
-    let mut augmented = Mat::<f64>::zeros(n, size);
-    let columns = x.as_slice().chunks_exact(n.max(1)).zip(column_divisor).map(|(column, divisor)| (column, 1.0 / divisor));
-    for (j, (source, factor)) in columns.chain(std::iter::once((y, 1.0))).enumerate() {
-        for ((a, v), w) in augmented.col_mut(j).iter_mut().zip(source).zip(row_factor) {
-            *a = v * w * factor;
-        }
-    }
+    let mut augmented = augmented(x, y, row_factor, column_divisor);
     if n < p {
         return ReducedProblem { r: DMatrix::from_fn(n, p, |i, j| augmented[(i, j)]), qtb: DVector::from_fn(n, |i, _| augmented[(i, p)]) };
     }
@@ -47,6 +58,63 @@ pub fn reduce(x: &DMatrix<f64>, y: &[f64], row_factor: &[f64], column_divisor: &
     let r = DMatrix::from_fn(p, p, |i, j| if j >= i { augmented[(i, j)] } else { 0.0 });
     let qtb = DVector::from_fn(p, |i, _| augmented[(i, p)]);
     ReducedProblem { r, qtb }
+}
+
+/// `[A | b]` with `A = X` scaled as in [`reduce`], column by column (column-major on both sides).
+/// Columns in parallel for large problems (the copy of 10^5 x 501 is memory-bound).
+fn augmented(x: &DMatrix<f64>, y: &[f64], row_factor: &[f64], column_divisor: &[f64]) -> Mat<f64> {
+    let (n, p) = x.shape();
+    let mut augmented = Mat::<f64>::zeros(n, p + 1);
+    let fill = |j: usize, column: faer::ColMut<'_, f64>| {
+        let (source, factor) = if j < p { (&x.as_slice()[j * n..(j + 1) * n], 1.0 / column_divisor[j]) } else { (y, 1.0) };
+        for ((a, v), w) in column.iter_mut().zip(source).zip(row_factor) {
+            *a = v * w * factor;
+        }
+    };
+    if n * (p + 1) < 1 << 20 {
+        augmented.col_iter_mut().enumerate().for_each(|(j, c)| fill(j, c));
+    } else {
+        use rayon::prelude::*;
+        augmented.par_col_iter_mut().enumerate().for_each(|(j, c)| fill(j, c));
+    }
+    augmented
+}
+
+/// As [`reduce`], by the Cholesky factor of the Gram matrix (module documentation): `R` upper
+/// triangular with a positive diagonal. `None` when `n < p` or the Gram matrix is not numerically
+/// positive definite; the caller must check the condition number of `R` against
+/// [`GRAM_CONDITION_LIMIT`] before trusting it.
+pub fn reduce_by_gram(x: &DMatrix<f64>, y: &[f64], row_factor: &[f64], column_divisor: &[f64]) -> Option<ReducedProblem> {
+    let (n, p) = x.shape();
+    if n < p {
+        return None;
+    }
+    let augmented = augmented(x, y, row_factor, column_divisor);
+    let size = p + 1;
+    // lower triangle of M^T M, M = [A | b]
+    let mut gram = Mat::<f64>::zeros(size, size);
+    let par = if n * size < 1 << 20 { Par::Seq } else { get_global_parallelism() };
+    triangular_matmul(
+        gram.as_mut(),
+        BlockStructure::TriangularLower,
+        Accum::Replace,
+        augmented.transpose(),
+        BlockStructure::Rectangular,
+        augmented.as_ref(),
+        BlockStructure::Rectangular,
+        1.0,
+        par,
+    );
+    drop(augmented);
+    let normal = gram.as_ref().submatrix(0, 0, p, p).to_owned();
+    let factor = normal.llt(Side::Lower).ok()?;
+    let lower = factor.L();
+    // R^T z = A^T b with R^T = L: z is Q^T b of the QR form
+    let mut qtb = Mat::<f64>::from_fn(p, 1, |i, _| gram[(p, i)]);
+    solve_lower_triangular_in_place(lower, qtb.as_mut(), Par::Seq);
+    let r = DMatrix::from_fn(p, p, |i, j| if j >= i { lower[(j, i)] } else { 0.0 });
+    let qtb = DVector::from_fn(p, |i, _| qtb[(i, 0)]);
+    r.iter().chain(qtb.iter()).all(|v| v.is_finite()).then_some(ReducedProblem { r, qtb })
 }
 
 #[cfg(test)]
@@ -69,5 +137,28 @@ mod tests {
         let direct = a.clone().svd(true, true).solve(&b, 1e-14).unwrap();
         let via_r = reduced.r.clone().solve_upper_triangular(&reduced.qtb).unwrap();
         assert!((direct - via_r).norm() < 1e-12);
+    }
+
+    #[test]
+    fn the_gram_reduction_keeps_the_normal_equations_too() {
+        let (n, p) = (3000, 40);
+        let x = DMatrix::from_fn(n, p, |i, j| ((i * (j + 5)) as f64 * 0.173 + j as f64).sin() + if i % p == j { 1.0 } else { 0.0 });
+        let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.011).cos() + 0.1 * (i as f64 * 1.7).sin()).collect();
+        let rows: Vec<f64> = (0..n).map(|i| 1.0 + (i % 4) as f64 * 0.5).collect();
+        let cols: Vec<f64> = (0..p).map(|j| 10f64.powi(j as i32 % 7 - 3)).collect();
+        let qr = reduce(&x, &y, &rows, &cols);
+        let gram = reduce_by_gram(&x, &y, &rows, &cols).expect("positive definite");
+        let ata = qr.r.transpose() * &qr.r;
+        assert!((gram.r.transpose() * &gram.r - &ata).norm() < 1e-10 * ata.norm());
+        assert!((gram.r.transpose() * &gram.qtb - qr.r.transpose() * &qr.qtb).norm() < 1e-10 * qr.qtb.norm());
+        let a = qr.r.clone().solve_upper_triangular(&qr.qtb).unwrap();
+        let b = gram.r.clone().solve_upper_triangular(&gram.qtb).unwrap();
+        assert!((&a - &b).norm() < 1e-9 * a.norm(), "{} vs {}", a.norm(), (&a - &b).norm());
+        // a dependent column: not positive definite (or a useless factor the caller rejects)
+        let dependent = DMatrix::from_fn(n, p, |i, j| if j == 1 { 2.0 * x[(i, 0)] } else { x[(i, j)] });
+        if let Some(g) = reduce_by_gram(&dependent, &y, &rows, &cols) {
+            let d: Vec<f64> = (0..p).map(|i| g.r[(i, i)].abs()).collect();
+            assert!(d.iter().cloned().fold(f64::INFINITY, f64::min) < 1e-6 * d.iter().cloned().fold(0.0, f64::max));
+        }
     }
 }
