@@ -23,8 +23,18 @@ const VMC3: [&str; 10] = [
     "--ballbar-centre",
     "0,0,-200",
 ];
-const SECTIONS: [&str; 9] =
-    ["machine", "campaign", "identification", "uncertainty", "volumetric", "thermal", "ballbar", "compensation", "inputs"];
+const SECTIONS: [&str; 10] = [
+    "machine",
+    "campaign",
+    "identification",
+    "uncertainty",
+    "volumetric",
+    "thermal-modes",
+    "thermal-drift",
+    "ballbar",
+    "compensation",
+    "inputs",
+];
 
 /// Runs `report` into a temporary folder: the HTML and the JSON summary.
 fn report(args: &[&str]) -> (String, serde_json::Value) {
@@ -150,6 +160,58 @@ fn error_values_and_a_circle_give_maps_ballbar_and_compensation_only() {
     for key in ["max_correction_um", "max_correction_urad"] {
         assert!((c[key].as_f64().unwrap() - s["compensation"][key].as_f64().unwrap()).abs() < 1e-4, "{key}");
     }
+}
+
+#[test]
+fn thermal_inputs_give_the_modes_and_the_drift_of_the_thermal_commands() {
+    let dir = tempfile::tempdir().unwrap();
+    let fitted = dir.path().join("dz.toml");
+    let fitted = fitted.to_str().unwrap();
+    let campaign = "examples/thermal/campaign.csv";
+    let fit = trueaxis(&["thermal", "fit", "--data", campaign, "--error", "dz", "--train-runs", "warmup", "--out", fitted]);
+    assert!(fit.status.success(), "{}", String::from_utf8_lossy(&fit.stderr));
+    let model = "examples/thermal/elongation.toml";
+    let thermal = ["--thermal-model", model, "--thermal-modes", "5", "--thermal-error", fitted, "--thermal-data", campaign];
+    let (html, s) = report(&[&VMC3[..4], &thermal[..]].concat());
+    assert_eq!(sections_of(&html, &s), ["machine", "volumetric", "thermal-modes", "thermal-drift", "compensation", "inputs"]);
+    assert_inputs(&s, &[model, campaign, fitted]);
+    // the modes are `thermal modes`'s
+    let m: serde_json::Value =
+        serde_json::from_slice(&trueaxis(&["thermal", "modes", "--model", model, "--count", "5", "--json"]).stdout).unwrap();
+    let modes = m["modes"].as_array().unwrap();
+    let tau: Vec<f64> = s["thermal_modes"]["tau_min"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(tau.len(), 5);
+    for (t, m) in tau.iter().zip(modes) {
+        assert!((t - m["tau_min"].as_f64().unwrap()).abs() <= 1e-9 * t, "tau {t} vs {}", m["tau_min"]);
+    }
+    assert_eq!(s["thermal_modes"]["dominant"], m["dominant"]);
+    // the residuals are `thermal predict`'s, per run
+    let p = trueaxis(&["thermal", "predict", "--model", fitted, "--data", campaign, "--json"]);
+    let p: serde_json::Value = serde_json::from_slice(&p.stdout).unwrap();
+    let runs = s["thermal_drift"]["residuals_um"].as_object().unwrap();
+    assert_eq!(runs.len(), 4);
+    for (run, r) in runs {
+        for key in ["rms", "max_abs", "min", "max"] {
+            let (a, b) = (r[key].as_f64().unwrap(), p["residuals"][run][key].as_f64().unwrap());
+            assert!((a - b).abs() < 1e-12, "{run} {key}: {a} vs {b}");
+        }
+        assert!(html.contains(&format!("<td>{run}</td>")), "{run} in the residual table");
+    }
+    // bad thermal input: exit 2 naming the file, nothing written
+    let out = dir.path().join("bad.html");
+    for (args, fragment) in [
+        (vec!["--thermal-model", "missing_thermal.toml"], "missing_thermal.toml"),
+        (vec!["--thermal-error", fitted, "--thermal-data", "examples/thermal/elongation.toml"], "elongation.toml"),
+        (vec!["--thermal-model", model, "--thermal-modes", "0"], "at least 1"),
+    ] {
+        let o = trueaxis(&[&["report", "--out", out.to_str().unwrap()][..], &VMC3[..4], &args].concat());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(fragment), "{args:?}: `{fragment}` not in {err}");
+        assert!(!out.exists());
+    }
+    let o = trueaxis(&[&["report", "--out", out.to_str().unwrap()][..], &VMC3[..4], &["--thermal-error", fitted]].concat());
+    assert_eq!(o.status.code(), Some(2), "--thermal-error needs --thermal-data");
 }
 
 #[test]

@@ -72,6 +72,19 @@ pub struct Segment {
     pub rows: Vec<usize>,
 }
 
+/// One prediction segment per run (all rows when the campaign names no runs), each predicted from
+/// its own start (the reference state of a state-space model): what `thermal predict` evaluates.
+pub fn prediction_segments(campaign: &Campaign) -> Vec<Segment> {
+    campaign
+        .run_names()
+        .into_iter()
+        .map(|run| {
+            let rows: Vec<usize> = (0..campaign.len()).filter(|&i| campaign.runs[i] == run).collect();
+            Segment { name: if run.is_empty() { "all rows".into() } else { run }, role: Role::Prediction, run_rows: rows.clone(), rows }
+        })
+        .collect()
+}
+
 /// The segments of a fit: the runs in `train_runs` (every run when `None`) train and the others
 /// validate (other duty cycles, altered warm-up; seed 002 §3.5); with `split = Some(f)`, each
 /// training run trains on the samples before `t0 + f (t1 - t0)` and validates on the rest (seed 002

@@ -10,16 +10,21 @@ use trueaxis::geometry::Vec3;
 use trueaxis::instruments::ballbar::Plane;
 use trueaxis::machine::Machine;
 use trueaxis::report::calibration::{
-    CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, IdentificationPart, InputFile, Traceability,
-    UncertaintyPart, VolumePart, GRID_NODES, POINTS,
+    CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, IdentificationPart, InputFile, ThermalDriftPart,
+    ThermalModesPart, Traceability, UncertaintyPart, VolumePart, GRID_NODES, POINTS,
 };
+use trueaxis::thermal::campaign::Campaign as ThermalCampaign;
+use trueaxis::thermal::error_model::ThermalErrorModel;
+use trueaxis::thermal::model_file::load_model;
+use trueaxis::thermal::{LanczosProgress, DEFAULT_SHARE};
 use trueaxis::uncertainty::Sources;
 
 /// A calibration report (HTML with inline SVG plots, no network access, printable to PDF) from your
 /// own files: the machine; the identification of a measurement campaign with its uncertainties,
 /// identifiability and residuals; the Monte Carlo budget of uncertainty sources; ISO 230-4 ballbar
 /// circles; the volumetric error over the work volume before and after compensation; the
-/// compensation tables. A section appears only when its input is given; the last section lists the
+/// compensation tables; a thermal model's modes and a thermal error model's prediction of a
+/// measured campaign. A section appears only when its input is given; the last section lists the
 /// input files with their size and SHA-256, the date and the version.
 #[derive(clap::Args)]
 #[command(after_help = "Examples:\n  \
@@ -29,6 +34,7 @@ trueaxis report --machine examples/machines/vmc3.toml --errors examples/errors/v
 --ballbar examples/ballbar/vmc3_xy.csv --ballbar-radius 100 --ballbar-centre 0,0,-200 --out vmc3-report.html\n\n\
 Sections: machine (always); campaign and identification (--campaign); uncertainty (--sources);\n\
 volumetric and compensation (--errors, or the values identified from --campaign); ballbar (--ballbar);\n\
+thermal modes (--thermal-model); thermal drift vs prediction (--thermal-error with --thermal-data);\n\
 inputs (always). Each part is computed as the command that does it alone: identify, uncertainty\n\
 --machine --campaign, ballbar iso230-4, predict --frame machine, compensate. The --ballbar-plane,\n\
 --ballbar-radius and --ballbar-centre options are given once for all circles or once per --ballbar, in order.")]
@@ -64,6 +70,21 @@ pub struct ReportArgs {
     /// Programmed centre x,y,z of the circles (mm; default 0,0,0).
     #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     ballbar_centre: Vec<Vec3>,
+    /// Thermal conduction model (TOML or Matrix Market, as `thermal modes` reads it): its modes.
+    #[arg(long, value_name = "MODEL.toml")]
+    thermal_model: Option<PathBuf>,
+    /// Number of thermal modes to compute and plot.
+    #[arg(long, default_value_t = 6, requires = "thermal_model")]
+    thermal_modes: usize,
+    /// Cumulative weight share of the dominant thermal modes (0 < share <= 1).
+    #[arg(long, default_value_t = DEFAULT_SHARE, requires = "thermal_model")]
+    thermal_share: f64,
+    /// Thermal error model (written by `thermal fit --out`), with --thermal-data: drift vs prediction.
+    #[arg(long, value_name = "FITTED.toml", requires = "thermal_data")]
+    thermal_error: Option<PathBuf>,
+    /// Thermal campaign (CSV as `thermal fit` reads it) that --thermal-error predicts.
+    #[arg(long, value_name = "CAMPAIGN.csv", requires = "thermal_error")]
+    thermal_data: Option<PathBuf>,
     /// Points per compensation table (as `compensate --points`).
     #[arg(long, default_value_t = POINTS)]
     points: usize,
@@ -139,6 +160,13 @@ fn input_files(args: &ReportArgs, identification: Option<&IdentificationPart>) -
     }
     for c in &args.ballbar {
         files.push(("ballbar circle", c.clone()));
+    }
+    for (role, path) in
+        [("thermal model", &args.thermal_model), ("thermal error model", &args.thermal_error), ("thermal campaign", &args.thermal_data)]
+    {
+        if let Some(p) = path {
+            files.push((role, p.clone()));
+        }
     }
     files.iter().map(|(role, path)| InputFile::read(role, path).map_err(Failure::input)).collect()
 }
@@ -220,6 +248,7 @@ fn build<'a>(
         ));
         v
     });
+    let (thermal_modes, thermal_drift) = thermal_parts(args, bar)?;
     let traceability = Traceability::now(input_files(args, identification.as_ref())?, Some(command_line()));
     Ok(CalibrationReport {
         title: args.title.clone().unwrap_or_else(|| format!("Calibration report: {}", machine.name)),
@@ -229,12 +258,43 @@ fn build<'a>(
         identification,
         uncertainty,
         volume,
-        thermal: Vec::new(), // the hook for thermal inputs: sections from report::thermal
+        thermal_modes,
+        thermal_drift,
         circles,
         compensation: Some(compensation),
         extra: Vec::new(),
         traceability,
     })
+}
+
+/// The thermal modes of --thermal-model and the prediction of --thermal-data by --thermal-error.
+fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<(Option<ThermalModesPart>, Option<ThermalDriftPart>), Failure> {
+    let modes = match &args.thermal_model {
+        Some(path) => {
+            bar.set_message("thermal modes");
+            let model = load_model(path).map_err(|e| failure(e.into()))?;
+            let mut progress = |p: LanczosProgress| {
+                if let LanczosProgress::Iterating { converged, wanted, .. } = p {
+                    bar.set_message(format!("thermal modes: {converged} of {wanted} converged"));
+                }
+            };
+            let origin = path.display().to_string();
+            Some(ThermalModesPart::compute(&model, &origin, args.thermal_modes, args.thermal_share, &mut progress).map_err(failure)?)
+        }
+        None => None,
+    };
+    let drift = match (&args.thermal_error, &args.thermal_data) {
+        (Some(model_path), Some(data_path)) => {
+            bar.set_message("thermal error model");
+            let text = std::fs::read_to_string(model_path).map_err(|e| bad(format!("{}: cannot read: {e}", model_path.display())))?;
+            let model_origin = model_path.display().to_string();
+            let model = ThermalErrorModel::from_toml_str(&text, &model_origin).map_err(|e| failure(e.into()))?;
+            let campaign = ThermalCampaign::read(data_path).map_err(|e| failure(e.into()))?;
+            Some(ThermalDriftPart::compute(&model, &model_origin, &campaign, &data_path.display().to_string()).map_err(failure)?)
+        }
+        _ => None,
+    };
+    Ok((modes, drift))
 }
 
 fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], bytes: usize) -> serde_json::Value {
@@ -259,9 +319,19 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
         .collect();
     let inputs: Vec<_> =
         report.traceability.inputs.iter().map(|f| json!({"role": f.role, "path": f.path, "bytes": f.bytes, "sha256": f.sha256})).collect();
+    let thermal_modes = report.thermal_modes.as_ref().map(|m| {
+        json!({"tau_min": m.weights.iter().map(|w| w.tau_s / 60.0).collect::<Vec<_>>(),
+               "share": m.weights.iter().map(|w| w.share).collect::<Vec<_>>(),
+               "dominant": m.dominant.iter().map(|d| d + 1).collect::<Vec<_>>()})
+    });
+    let thermal_drift = report.thermal_drift.as_ref().map(|d| {
+        let runs: serde_json::Map<String, serde_json::Value> = d.runs.iter().map(|(run, s)| (run.clone(), json!(s))).collect();
+        json!({"error": d.error, "residuals_um": runs})
+    });
     json!({
         "out": out.display().to_string(), "bytes": bytes, "sections": sections, "inputs": inputs,
         "parameters": parameters, "volumetric": volumetric, "ballbar": ballbar,
+        "thermal_modes": thermal_modes, "thermal_drift": thermal_drift,
         "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.extent.max_um, "max_correction_urad": c.extent.max_urad})),
     })
 }

@@ -9,7 +9,8 @@
 //! | campaign | `campaign` (residuals), `identification` (parameters, uncertainties, identifiability) |
 //! | uncertainty sources (with a campaign) | `uncertainty` (Monte Carlo budget, histograms, convergence) |
 //! | error values (or the identified ones) | `volumetric` (maps before / after), `compensation` |
-//! | thermal model results | `thermal` (sections built by the thermal plots; see [`CalibrationReport::thermal`]) |
+//! | thermal conduction model | `thermal-modes` (time constants, weights, mode shapes; [`ThermalModesPart`]) |
+//! | thermal error model and a campaign | `thermal-drift` (drift vs prediction per run; [`ThermalDriftPart`]) |
 //! | ballbar circles | `ballbar` (polar plots, ISO 230-4 values, diagnostics) |
 //! | always | `inputs` (files with size and SHA-256, date, version) |
 //!
@@ -20,6 +21,7 @@ mod compensation;
 mod identification;
 mod inputs;
 mod maps;
+mod thermal;
 mod uncertainty;
 mod volume;
 
@@ -28,6 +30,7 @@ pub use compensation::{CompensationPart, GRID_NODES, POINTS};
 pub use identification::{IdentificationPart, ParameterRow};
 pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
 pub use maps::{magnitudes_um, statistics, VolumeMap, GRID};
+pub use thermal::{ThermalDriftPart, ThermalModesPart};
 pub use uncertainty::UncertaintyPart;
 pub use volume::{error_at_setpoints, VolumePart};
 
@@ -94,10 +97,10 @@ pub struct CalibrationReport<'a> {
     pub identification: Option<IdentificationPart>,
     pub uncertainty: Option<UncertaintyPart>,
     pub volume: Option<VolumePart>,
-    /// Thermal sections, placed after the volumetric error: the hook for the thermal plots of
-    /// `report::thermal` (a thermal model's modes, a thermal error model's fit and validation).
-    /// Their ids should start with `thermal`.
-    pub thermal: Vec<Section>,
+    /// A thermal conduction model's modes.
+    pub thermal_modes: Option<ThermalModesPart>,
+    /// A thermal error model against a measured campaign.
+    pub thermal_drift: Option<ThermalDriftPart>,
     pub circles: Vec<CirclePart>,
     pub compensation: Option<CompensationPart>,
     /// Further sections before the inputs (the demo's "repeat each step").
@@ -119,7 +122,8 @@ impl CalibrationReport<'_> {
         if let Some(v) = &self.volume {
             out.push(v.section());
         }
-        out.extend(self.thermal.iter().cloned());
+        out.extend(self.thermal_modes.iter().map(ThermalModesPart::section));
+        out.extend(self.thermal_drift.iter().map(ThermalDriftPart::section));
         if !self.circles.is_empty() {
             out.push(ballbar_section(&self.circles));
         }

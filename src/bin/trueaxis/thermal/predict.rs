@@ -9,7 +9,7 @@ use trueaxis::data::write_atomically;
 use trueaxis::report::{drift_plot, drift_svg};
 use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::error_model::ThermalErrorModel;
-use trueaxis::thermal::validation::{evaluate_segments, ResidualStats, Role, Segment};
+use trueaxis::thermal::validation::{evaluate_segments, prediction_segments, ResidualStats};
 
 /// Evaluates a fitted thermal error model on a campaign CSV; with the measured error column
 /// present, also the residual band, RMS, max and range.
@@ -41,16 +41,7 @@ pub fn predict(args: PredictArgs) -> Result<(), Failure> {
         std::fs::read_to_string(&args.model).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.model.display())))?;
     let model = ThermalErrorModel::from_toml_str(&text, &args.model.display().to_string()).map_err(failure)?;
     let campaign = Campaign::read(&args.data).map_err(failure)?;
-    // every run is predicted from its own start (the reference state of a state-space model)
-    let segments: Vec<Segment> = campaign
-        .run_names()
-        .into_iter()
-        .map(|run| {
-            let rows: Vec<usize> = (0..campaign.len()).filter(|&i| campaign.runs[i] == run).collect();
-            Segment { name: if run.is_empty() { "all rows".into() } else { run }, role: Role::Prediction, run_rows: rows.clone(), rows }
-        })
-        .collect();
-    let evaluated = evaluate_segments(&campaign, &model, &segments).map_err(failure)?;
+    let evaluated = evaluate_segments(&campaign, &model, &prediction_segments(&campaign)).map_err(failure)?;
     // back in file order
     let rows: Vec<usize> = (0..campaign.len()).collect();
     let mut predicted = vec![0.0; campaign.len()];
