@@ -2,7 +2,7 @@
 //! (807 poses x 3 channels = 2421 readings, 14 parameters; target < 1 ms), the whole campaign
 //! (design matrix from the exact chain and its Jacobians, then the solve), a large dense solve of
 //! 10^5 readings x 500 parameters (target < 2 s), and the whole identification of the nine
-//! translational error maps of the 3-axis vmc3 as Legendre polynomials of order 56 from 10^5
+//! translational error maps of the 3-axis vmc3 as cubic splines with 53 knots (B-splines) from 10^5
 //! laser-tracer lengths (501 basis and squareness coefficients, tests/support/basis_campaign.rs).
 //!
 //! Run: `cargo bench --bench identify`. The NumPy/SciPy baselines of the same solves are
@@ -80,12 +80,12 @@ fn solves(c: &mut Criterion) {
 
     let vmc3 = Machine::load(format!("{}/examples/machines/vmc3.toml", root())).expect("machine");
     let dir = tempfile::tempdir().expect("temporary folder");
-    let bases = basis_campaign::legendre_bases(&vmc3, 56);
+    let bases = basis_campaign::bspline_bases(&vmc3, 53);
     let poses = basis_campaign::random_poses(&vmc3, 25_000, 1);
     let path = basis_campaign::write_campaign(dir.path(), &vmc3, &basis_campaign::SQUARENESS, &bases, &poses, 0.2);
     let zero = ErrorModel::zero(&vmc3);
     let maps = basis_campaign::simulate_into(&path, &vmc3, &zero, 1);
-    group.bench_function("campaign_vmc3_legendre_100000x501", |b| {
+    group.bench_function("campaign_vmc3_bspline_100000x501", |b| {
         b.iter(|| identify(black_box(&maps), &vmc3, &zero, &options).expect("identifiable"))
     });
     group.finish();

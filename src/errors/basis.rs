@@ -2,6 +2,8 @@
 //! with `p_l` from
 //! - truncated-power piecewise polynomials with fixed knots and per-knot continuity (eqs. 3.2-3.3),
 //! - Legendre polynomials over the axis range,
+//! - B-splines (the same piecewise polynomials as the truncated powers with continuity
+//!   `degree - 1` at every knot, in the local, well-conditioned basis of de Boor),
 //! - periodic terms of a wavelength, continuous across the period boundary (eqs. 3.11-3.15),
 //!
 //! optionally constrained to have no linear trend over the axis range (straightness, eqs. 3.4-3.8)
@@ -17,7 +19,8 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BasisSpec {
-    /// `"piecewise"` (truncated powers, the default), `"legendre"`, or `"none"` (periodic terms only).
+    /// `"piecewise"` (truncated powers, the default), `"bspline"`, `"legendre"`, or `"none"`
+    /// (periodic terms only).
     #[serde(default = "default_family")]
     pub family: String,
     /// Polynomial degree (piecewise: of each piece; legendre: highest order).
@@ -90,6 +93,9 @@ enum Raw {
     Truncated { knot: f64, power: i32 },
     /// `P_l(u)`, `u = 2 (x - a)/(b - a) - 1`
     Legendre { order: usize, a: f64, b: f64 },
+    /// `B_(index, degree)(x)` on the clamped knot vector `knots` (the domain ends repeated
+    /// `degree + 1` times around the interior knots); `x` held within the domain.
+    BSpline { knots: std::sync::Arc<[f64]>, index: usize, degree: usize },
     /// `g(w) - alpha_1 w - alpha_2 w^2 - ...`, `w = frac((x - phase)/wavelength)`, `g` a power or a
     /// truncated power of `w`
     Periodic { wavelength: f64, phase: f64, g: Box<Raw>, alpha: Vec<f64> },
@@ -107,6 +113,7 @@ impl Raw {
                 }
             }
             Raw::Legendre { order, a, b } => legendre(*order, 2.0 * (x - a) / (b - a) - 1.0).0,
+            Raw::BSpline { knots, index, degree } => bspline(knots, *index, *degree, x),
             Raw::Periodic { wavelength, phase, g, alpha } => {
                 let w = ((x - phase) / wavelength).rem_euclid(1.0);
                 g.eval(w) - alpha.iter().enumerate().map(|(c, a)| a * w.powi(c as i32 + 1)).sum::<f64>()
@@ -134,6 +141,7 @@ impl Raw {
             Raw::Truncated { knot, power } if *knot < 0.0 => format!("(x+{})_+^{power}", -knot),
             Raw::Truncated { knot, power } => format!("(x-{knot})_+^{power}"),
             Raw::Legendre { order, .. } => format!("P{order}"),
+            Raw::BSpline { knots, index, degree } => format!("B{degree}[{index}] on [{}, {}]", knots[*index], knots[index + degree + 1]),
             Raw::Periodic { wavelength, g, .. } => format!("periodic[{wavelength}] {}", g.describe().replace('x', "w")),
         }
     }
@@ -185,12 +193,13 @@ impl Basis {
                     raws.extend((c as i32 + 1..=spec.degree as i32).map(|power| Raw::Truncated { knot: *knot, power }));
                 }
             }
+            "bspline" => raws.extend(bspline_functions(&spec)?),
             "legendre" => {
                 let first = if spec.constant { 0 } else { 1 };
                 raws.extend((first..=spec.degree).map(|order| Raw::Legendre { order, a, b }));
             }
             "none" => {}
-            other => return Err(format!("unknown basis family `{other}` (piecewise, legendre, none)")),
+            other => return Err(format!("unknown basis family `{other}` (piecewise, bspline, legendre, none)")),
         }
         for p in &spec.periodic {
             raws.extend(periodic_functions(p)?);
@@ -272,14 +281,14 @@ impl Basis {
     }
 
     /// For each function, the power of the position (mm or deg) its value carries: `x^l` and
-    /// `(x - t)_+^l` are in position units to the `l`; Legendre and periodic functions (of the
-    /// scaled position, of the wavelength fraction) are dimensionless.
+    /// `(x - t)_+^l` are in position units to the `l`; Legendre, B-spline and periodic functions (of
+    /// the scaled position, of the wavelength fraction) are dimensionless.
     pub fn position_powers(&self) -> Vec<i32> {
         self.functions
             .iter()
             .map(|(raw, _)| match raw {
                 Raw::Power(l) | Raw::Truncated { power: l, .. } => *l,
-                Raw::Legendre { .. } | Raw::Periodic { .. } => 0,
+                Raw::Legendre { .. } | Raw::BSpline { .. } | Raw::Periodic { .. } => 0,
             })
             .collect()
     }
@@ -303,6 +312,65 @@ impl Correction {
             Correction::Revolution(a1, a2) => a1 * x.to_radians().cos() + a2 * x.to_radians().sin(),
         }
     }
+}
+
+/// Highest B-spline degree (the evaluation keeps its `degree + 1` values on the stack).
+const BSPLINE_MAX_DEGREE: usize = 7;
+
+/// The B-splines of a `bspline` spec (de Boor, A Practical Guide to Splines, ch. IX): degree k,
+/// interior knots `t`, clamped at the domain ends, `len(t) + k + 1` functions that sum to 1. They
+/// span the truncated-power piecewise polynomials with continuity `k - 1` at every knot. Which are
+/// kept: without the constant term the first is left out (the error is zero at the domain start);
+/// with the straightness constraint (each function minus its line over the domain), the first and
+/// the last are left out: the corrected functions satisfy exactly two linear relations (their sum
+/// and their sum weighted by the Greville abscissae are zero), in which the first and last have
+/// independent coefficients, so the rest is a basis of the splines without a linear trend.
+fn bspline_functions(spec: &BasisSpec) -> Result<Vec<Raw>, String> {
+    let [a, b] = spec.domain;
+    let k = spec.degree;
+    if !(1..=BSPLINE_MAX_DEGREE).contains(&k) {
+        return Err(format!("a B-spline degree must be 1 to {BSPLINE_MAX_DEGREE}, got {k}"));
+    }
+    if spec.knots.iter().any(|t| !t.is_finite() || *t <= a || *t >= b) {
+        return Err(format!("knots must lie strictly inside the domain [{a}, {b}]"));
+    }
+    if spec.knots.windows(2).any(|w| w[1] <= w[0]) {
+        return Err("knots must increase strictly".into());
+    }
+    let knots: std::sync::Arc<[f64]> =
+        std::iter::repeat_n(a, k + 1).chain(spec.knots.iter().copied()).chain(std::iter::repeat_n(b, k + 1)).collect();
+    let count = spec.knots.len() + k + 1;
+    let keep = |i: usize| match spec.constraint.as_str() {
+        "straightness" => i != 0 && i != count - 1,
+        _ => spec.constant || i != 0,
+    };
+    Ok((0..count).filter(|&i| keep(i)).map(|index| Raw::BSpline { knots: knots.clone(), index, degree: k }).collect())
+}
+
+/// `B_(i,k)(x)` by the Cox-de Boor recursion on its `k + 2` knots `t[i..=i+k+1]`; `x` is held within
+/// `[t_0, t_last]`, and at `x = t_last` the last non-empty interval counts as closed (so that the
+/// functions sum to 1 on the whole closed domain).
+fn bspline(t: &[f64], i: usize, k: usize, x: f64) -> f64 {
+    let (first, last) = (t[0], t[t.len() - 1]);
+    let x = x.clamp(first, last);
+    if x < t[i] || x > t[i + k + 1] {
+        return 0.0;
+    }
+    let mut n = [0.0; BSPLINE_MAX_DEGREE + 1];
+    for (j, value) in n.iter_mut().enumerate().take(k + 1) {
+        let (lo, hi) = (t[i + j], t[i + j + 1]);
+        let inside = (lo <= x && x < hi) || (x == last && hi == last && lo < hi);
+        *value = if inside { 1.0 } else { 0.0 };
+    }
+    for d in 1..=k {
+        for j in 0..=k - d {
+            let (l0, l1, r0, r1) = (t[i + j], t[i + j + d], t[i + j + 1], t[i + j + d + 1]);
+            let left = if l1 > l0 { (x - l0) / (l1 - l0) * n[j] } else { 0.0 };
+            let right = if r1 > r0 { (r1 - x) / (r1 - r0) * n[j + 1] } else { 0.0 };
+            n[j] = left + right;
+        }
+    }
+    n[0]
 }
 
 /// The periodic functions of one spec: powers `w^l` and truncated powers `(w - t)_+^l` made
@@ -502,5 +570,76 @@ mod tests {
                 assert!((basis.eval(&coefficients, x) - direct).abs() <= 1e-14 * direct.abs().max(1.0));
             }
         }
+    }
+
+    fn knotted(family: &str, knots: Vec<f64>, constant: bool, constraint: &str) -> Basis {
+        let mut s = spec(family, constraint);
+        s.degree = 3;
+        s.knots = knots;
+        s.continuity = vec![2];
+        s.constant = constant;
+        Basis::new(s).unwrap()
+    }
+
+    /// The `points x len` matrix of a basis at equally spaced positions over its domain.
+    fn design(basis: &Basis, points: usize) -> nalgebra::DMatrix<f64> {
+        let [a, b] = basis.spec.domain;
+        let mut row = vec![0.0; basis.len()];
+        nalgebra::DMatrix::from_fn(points, basis.len(), |i, j| {
+            basis.eval_into(a + (b - a) * i as f64 / (points - 1) as f64, &mut row);
+            row[j]
+        })
+    }
+
+    /// Condition number of the matrix with unit-length columns.
+    fn scaled_condition(mut m: nalgebra::DMatrix<f64>) -> f64 {
+        for mut c in m.column_iter_mut() {
+            let n = c.norm();
+            c /= n;
+        }
+        let s = m.singular_values();
+        s.max() / s.min()
+    }
+
+    #[test]
+    fn bsplines_sum_to_one_and_span_the_truncated_powers() {
+        let knots = vec![-220.0, -100.0, -10.0, 60.0, 200.0];
+        let all = knotted("bspline", knots.clone(), true, "none");
+        assert_eq!(all.len(), knots.len() + 4);
+        let m = design(&all, 301);
+        for (i, row) in m.row_iter().enumerate() {
+            assert!((row.sum() - 1.0).abs() < 1e-14, "partition of unity at point {i}");
+            assert!(row.iter().all(|v| *v >= 0.0) && row.iter().filter(|v| **v > 0.0).count() <= 4, "local support at point {i}");
+        }
+        // outside the domain the end values are held
+        let mut out = vec![0.0; all.len()];
+        all.eval_into(400.0, &mut out);
+        assert_eq!(out[all.len() - 1], 1.0);
+        // the same space as the truncated powers of continuity 2 (with and without a linear trend):
+        // least squares of the same data give the same fit
+        let data: Vec<f64> = (0..301).map(|i| (i as f64 * 0.05).sin() * 3.0 + (i as f64 * 0.013).cos()).collect();
+        let y = nalgebra::DVector::from_vec(data);
+        for constraint in ["none", "straightness"] {
+            let (b, p) = (knotted("bspline", knots.clone(), true, constraint), knotted("piecewise", knots.clone(), true, constraint));
+            assert_eq!(b.len(), p.len(), "{constraint}");
+            let fit = |m: nalgebra::DMatrix<f64>| &m * m.clone().svd(true, true).solve(&y, 1e-12).unwrap();
+            let (fb, fp) = (fit(design(&b, 301)), fit(design(&p, 301)));
+            // (to the accuracy of the ill-conditioned truncated powers; another space differs by ~0.1)
+            assert!((&fb - &fp).amax() < 1e-7 * y.amax(), "{constraint}: {}", (&fb - &fp).amax());
+        }
+        // without the constant term: zero at the domain start
+        let no_constant = knotted("bspline", knots, false, "none");
+        let mut out = vec![0.0; no_constant.len()];
+        no_constant.eval_into(-300.0, &mut out);
+        assert!(out.iter().all(|v| *v == 0.0));
+    }
+
+    #[test]
+    fn bsplines_stay_well_conditioned_where_truncated_powers_do_not() {
+        let knots: Vec<f64> = (1..=53).map(|i| -300.0 + 600.0 * i as f64 / 54.0).collect();
+        let b = scaled_condition(design(&knotted("bspline", knots.clone(), false, "straightness"), 2000));
+        let p = scaled_condition(design(&knotted("piecewise", knots, false, "straightness"), 2000));
+        assert!(b < 1e3, "B-splines: condition number {b:.3e}");
+        assert!(p > 1e4 * b, "truncated powers: condition number {p:.3e}, B-splines {b:.3e}");
     }
 }

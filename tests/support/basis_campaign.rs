@@ -6,11 +6,11 @@
 //!
 //! Used by `tests/identify_basis.rs`. A benchmark can include it
 //! (`#[path = "../tests/support/basis_campaign.rs"] mod basis_campaign;`) and build the large problem
-//! of DESIGN.md section 5, 10^5 readings x 501 Legendre and squareness coefficients:
+//! of DESIGN.md section 5, 10^5 readings x 501 B-spline and squareness coefficients:
 //!
 //! ```text
 //! let m = Machine::load("examples/machines/vmc3.toml")?;
-//! let path = write_campaign(dir, &m, &SQUARENESS, &legendre_bases(&m, 56), &random_poses(&m, 25_000, 1), 0.2);
+//! let path = write_campaign(dir, &m, &SQUARENESS, &bspline_bases(&m, 53), &random_poses(&m, 25_000, 1), 0.2);
 //! let campaign = simulate_into(&path, &m, &ErrorModel::zero(&m), 1);      // or with known errors
 //! let design = campaign.design_matrix(&m, &ErrorModel::zero(&m))?;        // 100000 x 501
 //! ```
@@ -60,21 +60,25 @@ pub fn random_poses(machine: &Machine, count: usize, seed: u64) -> Vec<Vec<f64>>
 /// that the squareness errors stay separable. Coefficients: 3 + knots per positioning error,
 /// 2 + knots per straightness error, `21 + 9 knots` in all (with [`SQUARENESS`]: `24 + 9 knots`).
 /// Truncated powers are ill-conditioned with many knots (beyond ~10 per axis the scaled design
-/// matrix has singular values below the rank tolerance): use [`legendre_bases`] for large problems.
+/// matrix has singular values below the rank tolerance): use [`bspline_bases`] for large problems.
 pub fn piecewise_bases(machine: &Machine, knots: usize) -> String {
     axis_bases(machine, 0.0, |lo, hi| {
-        let positions: Vec<String> = (1..=knots).map(|i| format!("{}", lo + (hi - lo) * i as f64 / (knots + 1) as f64)).collect();
-        format!("family = \"piecewise\"\ndegree = 3\nknots = [{}]\ncontinuity = [2]\n", positions.join(", "))
+        format!("family = \"piecewise\"\ndegree = 3\nknots = [{}]\ncontinuity = [2]\n", equally_spaced(lo, hi, knots))
     })
 }
 
-/// As [`piecewise_bases`] with Legendre polynomials of orders 1..=`degree` over the part of each
-/// axis range that [`random_poses`] samples (orthogonal there, so well conditioned at any degree;
-/// over the whole range, high orders would be nearly dependent on the sampled part): `degree` coefficients per positioning error,
-/// `degree - 1` per straightness error (P1 is the removed linear trend), `9 degree - 6` in all; with
-/// [`SQUARENESS`] `9 degree - 3` unknowns, 501 for degree 56 (DESIGN.md section 5).
-pub fn legendre_bases(machine: &Machine, degree: usize) -> String {
-    axis_bases(machine, POSE_MARGIN, |_, _| format!("family = \"legendre\"\ndegree = {degree}\n"))
+/// The same cubic splines as [`piecewise_bases`] as B-splines (well conditioned with many knots),
+/// over the part of each axis range that [`random_poses`] samples (every knot interval sees poses):
+/// `knots + 3` coefficients per positioning error (no constant), `knots + 2` per straightness error
+/// (no linear trend), `21 + 9 knots` in all as [`piecewise_bases`]; with [`SQUARENESS`] `24 + 9
+/// knots` unknowns, 501 for 53 knots (DESIGN.md section 5: piecewise-polynomial error maps).
+pub fn bspline_bases(machine: &Machine, knots: usize) -> String {
+    axis_bases(machine, POSE_MARGIN, |lo, hi| format!("family = \"bspline\"\ndegree = 3\nknots = [{}]\n", equally_spaced(lo, hi, knots)))
+}
+
+/// `count` interior knots dividing `[lo, hi]` into equal intervals, comma separated.
+fn equally_spaced(lo: f64, hi: f64, count: usize) -> String {
+    (1..=count).map(|i| format!("{}", lo + (hi - lo) * i as f64 / (count + 1) as f64)).collect::<Vec<_>>().join(", ")
 }
 
 /// The nine `[basis.E<direction><axis>]` tables with the family lines of `family(lo, hi)`, the

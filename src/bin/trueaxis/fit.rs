@@ -78,7 +78,8 @@ pub struct FitArgs {
     /// Basis domain MIN,MAX (default: the axis range, else the data range).
     #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
     domain: Option<[f64; 2]>,
-    /// Basis family: piecewise, legendre, none.
+    /// Basis family: piecewise (truncated powers), bspline (the same splines of continuity degree - 1,
+    /// well conditioned with many knots), legendre, none.
     #[arg(long, default_value = "piecewise")]
     family: String,
     /// Polynomial degree.
