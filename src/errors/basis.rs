@@ -550,6 +550,17 @@ mod tests {
         let mut s = spec("none", "none");
         s.periodic = vec![PeriodicSpec { wavelength: -1.0, phase: 0.0, degree: 2, knots: vec![], continuity: 1 }];
         assert!(Basis::new(s).unwrap_err().contains("positive"));
+        for degree in [0, 8] {
+            let mut s = spec("bspline", "none");
+            s.degree = degree;
+            assert!(Basis::new(s).unwrap_err().contains("B-spline degree must be 1 to 7"), "degree {degree}");
+        }
+        let mut s = spec("bspline", "none");
+        s.knots = vec![50.0, -100.0];
+        assert!(Basis::new(s).unwrap_err().contains("increase strictly"));
+        let mut s = spec("bspline", "none");
+        s.knots = vec![-300.0];
+        assert!(Basis::new(s).unwrap_err().contains("inside the domain"));
     }
 
     #[test]

@@ -75,7 +75,8 @@ impl ScaledSvd {
         if n * (p + 1) >= gram_min_entries {
             if let Some(reduced) = reduce_by_gram(matrix, observations, &sqrt_w, &scale) {
                 let svd = Self::of_reduced(scale.clone(), reduced, tolerance, Reduction::Gram);
-                let (largest, smallest) = (svd.singular_values[0], svd.singular_values[svd.singular_values.len() - 1]);
+                let largest = svd.singular_values.first().copied().unwrap_or(0.0);
+                let smallest = svd.singular_values.last().copied().unwrap_or(0.0);
                 if smallest > 0.0 && largest <= GRAM_CONDITION_LIMIT * smallest {
                     return svd;
                 }
