@@ -72,7 +72,9 @@ impl SparseCholesky {
     /// faer's parallel solve of all columns, whose triangular solves gain little from a second
     /// thread.
     pub fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
-        self.solve_columns(rhs, rayon::current_num_threads());
+        // small factors: one thread (a solve takes microseconds, less than a hand-over)
+        let threads = if self.values.len() < 1 << 18 { 1 } else { rayon::current_num_threads() };
+        self.solve_columns(rhs, threads);
     }
 
     fn solve_columns(&self, rhs: MatMut<'_, f64>, threads: usize) {
