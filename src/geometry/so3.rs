@@ -13,18 +13,23 @@ pub fn skew(v: &Vec3) -> Mat3 {
 /// motion of every rotary axis at every pose).
 pub fn rotation_about_axis(axis: &Vec3, angle: f64) -> Mat3 {
     let (s, c) = angle.sin_cos();
-    let v = 1.0 - c;
-    let (x, y, z) = (axis.x, axis.y, axis.z);
+    rodrigues(axis, c, s, 1.0 - c)
+}
+
+/// `d I + a [w]x + b w w^T`, the form both Rodrigues matrices above and below take.
+#[inline]
+fn rodrigues(w: &Vec3, d: f64, a: f64, b: f64) -> Mat3 {
+    let (x, y, z) = (w.x, w.y, w.z);
     Mat3::new(
-        c + v * x * x,
-        v * x * y - s * z,
-        v * x * z + s * y,
-        v * y * x + s * z,
-        c + v * y * y,
-        v * y * z - s * x,
-        v * z * x - s * y,
-        v * z * y + s * x,
-        c + v * z * z,
+        d + b * x * x,
+        b * x * y - a * z,
+        b * x * z + a * y,
+        b * y * x + a * z,
+        d + b * y * y,
+        b * y * z - a * x,
+        b * z * x - a * y,
+        b * z * y + a * x,
+        d + b * z * z,
     )
 }
 
@@ -49,19 +54,7 @@ pub fn rotation_exp(eps: &Vec3) -> Mat3 {
         let h = (0.5 * theta).sin() / theta;
         (theta.sin() / theta, 2.0 * h * h)
     };
-    let (x, y, z) = (eps.x, eps.y, eps.z);
-    let d = 1.0 - b * t2;
-    Mat3::new(
-        d + b * x * x,
-        b * x * y - a * z,
-        b * x * z + a * y,
-        b * y * x + a * z,
-        d + b * y * y,
-        b * y * z - a * x,
-        b * z * x - a * y,
-        b * z * y + a * x,
-        d + b * z * z,
-    )
+    rodrigues(eps, 1.0 - b * t2, a, b)
 }
 
 /// Rotation vector (rad) of a rotation matrix: the inverse of [`rotation_exp`] for angles below pi.
