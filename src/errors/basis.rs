@@ -176,12 +176,7 @@ impl Basis {
         let mut raws = Vec::new();
         match spec.family.as_str() {
             "piecewise" => {
-                if spec.knots.iter().any(|t| !t.is_finite() || *t <= a || *t >= b) {
-                    return Err(format!("knots must lie strictly inside the domain [{a}, {b}]"));
-                }
-                if spec.knots.windows(2).any(|w| w[1] <= w[0]) {
-                    return Err("knots must increase strictly".into());
-                }
+                check_knots(&spec.knots, a, b)?;
                 let continuity = match spec.continuity.len() {
                     1 => vec![spec.continuity[0]; spec.knots.len()],
                     n if n == spec.knots.len() => spec.continuity.clone(),
@@ -314,6 +309,18 @@ impl Correction {
     }
 }
 
+/// Interior knots of the piecewise and B-spline families: finite, strictly inside `(a, b)`,
+/// strictly increasing.
+fn check_knots(knots: &[f64], a: f64, b: f64) -> Result<(), String> {
+    if knots.iter().any(|t| !t.is_finite() || *t <= a || *t >= b) {
+        return Err(format!("knots must lie strictly inside the domain [{a}, {b}]"));
+    }
+    if knots.windows(2).any(|w| w[1] <= w[0]) {
+        return Err("knots must increase strictly".into());
+    }
+    Ok(())
+}
+
 /// Highest B-spline degree (the evaluation keeps its `degree + 1` values on the stack).
 const BSPLINE_MAX_DEGREE: usize = 7;
 
@@ -331,12 +338,7 @@ fn bspline_functions(spec: &BasisSpec) -> Result<Vec<Raw>, String> {
     if !(1..=BSPLINE_MAX_DEGREE).contains(&k) {
         return Err(format!("a B-spline degree must be 1 to {BSPLINE_MAX_DEGREE}, got {k}"));
     }
-    if spec.knots.iter().any(|t| !t.is_finite() || *t <= a || *t >= b) {
-        return Err(format!("knots must lie strictly inside the domain [{a}, {b}]"));
-    }
-    if spec.knots.windows(2).any(|w| w[1] <= w[0]) {
-        return Err("knots must increase strictly".into());
-    }
+    check_knots(&spec.knots, a, b)?;
     let knots: std::sync::Arc<[f64]> =
         std::iter::repeat_n(a, k + 1).chain(spec.knots.iter().copied()).chain(std::iter::repeat_n(b, k + 1)).collect();
     let count = spec.knots.len() + k + 1;
