@@ -82,7 +82,8 @@ impl ScaledSvd {
                 }
             }
         }
-        Self::of_reduced(scale.clone(), reduce(matrix, observations, &sqrt_w, &scale), tolerance, Reduction::Qr)
+        let reduced = reduce(matrix, observations, &sqrt_w, &scale);
+        Self::of_reduced(scale, reduced, tolerance, Reduction::Qr)
     }
 
     /// The SVD of the reduced problem.

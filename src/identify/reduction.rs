@@ -106,8 +106,7 @@ pub fn reduce_by_gram(x: &DMatrix<f64>, y: &[f64], row_factor: &[f64], column_di
         par,
     );
     drop(augmented);
-    let normal = gram.as_ref().submatrix(0, 0, p, p).to_owned();
-    let factor = normal.llt(Side::Lower).ok()?;
+    let factor = gram.as_ref().submatrix(0, 0, p, p).llt(Side::Lower).ok()?;
     let lower = factor.L();
     // R^T z = A^T b with R^T = L: z is Q^T b of the QR form
     let mut qtb = Mat::<f64>::from_fn(p, 1, |i, _| gram[(p, i)]);
