@@ -3,9 +3,7 @@
 use super::{failure, write_plot};
 use crate::iso230_2::print;
 use crate::Failure;
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::{json, Value};
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use trueaxis::report::{mode_shapes_plot, mode_shapes_svg, modes_svg, time_constants_plot};
 use trueaxis::thermal::model_file::{load_model, ThermalModel};
@@ -111,28 +109,18 @@ fn analyse(model: &ThermalModel, count: usize, method: MethodArg, quiet: bool) -
         MethodArg::Lanczos => SpectrumMethod::Lanczos,
     };
     let count = count.min(model.system.node_count());
-    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
-        let bar = ProgressBar::with_draw_target(Some(count as u64), ProgressDrawTarget::stderr());
-        let style = ProgressStyle::with_template("{elapsed} [{bar:20}] {pos}/{len} modes converged, {msg}");
-        bar.set_style(style.unwrap_or_else(|_| ProgressStyle::default_bar()).progress_chars("=> "));
-        bar
-    });
-    let mut progress = |p: LanczosProgress| {
-        let Some(bar) = &bar else { return };
-        match p {
-            LanczosProgress::Factorising { nodes } => bar.set_message(format!("factorising K - sigma C ({nodes} nodes)")),
-            LanczosProgress::Factorised { nonzeros } => bar.set_message(format!("factor with {nonzeros} nonzeros, Lanczos")),
-            LanczosProgress::Iterating { converged, basis, max_basis, .. } => {
-                bar.set_position(converged as u64);
-                bar.set_message(format!("Lanczos basis {basis} of at most {max_basis}"));
-            }
+    let bar = crate::progress::steps(count, quiet);
+    let mut progress = |p: LanczosProgress| match p {
+        LanczosProgress::Factorising { nodes } => bar.set_message(format!("modes converged; factorising K - sigma C ({nodes} nodes)")),
+        LanczosProgress::Factorised { nonzeros } => bar.set_message(format!("modes converged; factor with {nonzeros} nonzeros, Lanczos")),
+        LanczosProgress::Iterating { converged, basis, max_basis, .. } => {
+            bar.set_position(converged as u64);
+            bar.set_message(format!("modes converged; Lanczos basis {basis} of at most {max_basis}"));
         }
     };
     let options = ModalOptions { count: Some(count), method, ..Default::default() };
     let result = modal_analysis_with_progress(&model.system, &options, &mut progress);
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
+    bar.finish_and_clear();
     result.map_err(failure)
 }
 
