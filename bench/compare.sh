@@ -10,7 +10,7 @@ cargo build --release --quiet
 for baseline in bench/baseline*.py; do
     python3 "$baseline" check
 done
-for b in $(sed -n 's/^name = "\(.*\)"$/\1/p' Cargo.toml | grep -v '^trueaxis$'); do
+for b in $(sed -n '/^\[\[bench\]\]/{n;s/^name = "\(.*\)"$/\1/p}' crates/*/Cargo.toml); do
     cargo bench --quiet --bench "$b" -- --noplot "${1:-}" >/dev/null
 done
 for baseline in bench/baseline*.py; do

@@ -1,0 +1,741 @@
+//! `trueaxis ballbar simulate|identify|iso230-4|tmbb`.
+
+use crate::predict::parse_point;
+use crate::Failure;
+use anyhow::anyhow;
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use trueaxis::data::write_atomically;
+use trueaxis::errors::ErrorModel;
+use trueaxis::evaluate::ballbar_diagnostics::DiagnosticOptions;
+use trueaxis::evaluate::iso230_4::{evaluate, read_circular};
+use trueaxis::identify::pige::{
+    angle_span_deg, compensation_residual, identify_piges, repeatability, start_angle_error, DbbTrace, Piges, MIN_READINGS, MIN_SPAN_DEG,
+};
+use trueaxis::identify::tmbb::{conditioning, differenced, fit_l2, fit_linf, observability, TmbbEstimate, TmbbSetup, UNIDENTIFIABLE};
+use trueaxis::instruments::ballbar::{
+    circle_test, method_step, read_trace, sweep_angles, BallbarTest, BarLengths, CircleSpec, JiangStep, Method, Plane, RotaryPair, Rotation,
+};
+use trueaxis::machine::{Component, Machine, ParameterId};
+use trueaxis::uncertainty::{trial_rng, Distribution};
+use trueaxis_report::{circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
+
+/// Ballbar tests: simulated readings, the PIGEs of two rotary axes (seed 001), ISO 230-4 circular
+/// tests with diagnostics, the two-length rotary-table test (seed 002 ch. 5).
+#[derive(clap::Args)]
+#[command(after_help = "Examples (see `trueaxis ballbar <command> --help`):\n  \
+trueaxis ballbar iso230-4 examples/ballbar/vmc3_xy.csv --machine examples/machines/vmc3.toml --radius 100 --centre 0,0,-200\n  \
+trueaxis ballbar identify --machine examples/machines/c600u.toml --a1 examples/ballbar/A1.csv --a2 examples/ballbar/A2.csv \\\n      \
+--c1 examples/ballbar/C1.csv --c2 examples/ballbar/C2.csv\n  \
+trueaxis ballbar tmbb --short examples/ballbar/tmbb_L1.csv --long examples/ballbar/tmbb_L2.csv")]
+pub struct BallbarArgs {
+    #[command(subcommand)]
+    command: BallbarCommand,
+}
+
+#[derive(clap::Subcommand)]
+enum BallbarCommand {
+    Simulate(SimulateArgs),
+    Identify(IdentifyArgs),
+    #[command(name = "iso230-4")]
+    Iso2304(Iso2304Args),
+    Tmbb(TmbbArgs),
+}
+
+pub fn run(args: BallbarArgs) -> Result<(), Failure> {
+    match args.command {
+        BallbarCommand::Simulate(a) => simulate(a),
+        BallbarCommand::Identify(a) => identify(a),
+        BallbarCommand::Iso2304(a) => iso230_4(a),
+        BallbarCommand::Tmbb(a) => tmbb(a),
+    }
+}
+
+/// Bar lengths of the 5-axis tests (seed 001 Table 3.1 defaults).
+#[derive(clap::Args, Clone, Copy)]
+struct BarArgs {
+    /// Normal bar length R (mm).
+    #[arg(long, default_value_t = 100.0)]
+    normal_length: f64,
+    /// Extended bar length L_e (mm); the spindle ball moves by D = sqrt(L_e^2 - R^2) along the axis.
+    #[arg(long, default_value_t = 150.0)]
+    extended_length: f64,
+}
+
+impl BarArgs {
+    fn lengths(self) -> Result<BarLengths, Failure> {
+        if !(self.normal_length > 0.0 && self.extended_length > self.normal_length) {
+            return Err(Failure::input(anyhow!("--extended-length must exceed --normal-length > 0 (mm)")));
+        }
+        Ok(BarLengths { normal: self.normal_length, extended: self.extended_length })
+    }
+}
+
+#[derive(Clone, Copy, clap::ValueEnum, PartialEq)]
+enum MethodKind {
+    /// seed 001 ch. 5: one pivot setup, normal and extended bar on each axis.
+    ExtendedBar,
+    /// seed 001 ch. 4: as ch. 5 with the outer-axis pivot moved along the outer axis (--outer-offset).
+    TwoPivot,
+    /// seed 001 ch. 6 (Lee & Yang): normal bar only, each axis at two positions (--outer-positions, --inner-positions).
+    FourSetup,
+}
+
+/// The method of the four rotary-axis steps and its geometry.
+#[derive(clap::Args, Clone, Copy)]
+struct MethodArgs {
+    /// Which four steps: A1 A2 (outer axis) and C1 C2 (inner axis) of seed 001 ch. 5, 4 or 6.
+    #[arg(long, value_enum, default_value = "extended-bar")]
+    method: MethodKind,
+    /// two-pivot: both balls of the outer-axis steps moved this far along the outer axis (mm).
+    #[arg(long, allow_hyphen_values = true)]
+    outer_offset: Option<f64>,
+    /// four-setup: positions p1,p2 along the outer axis of steps A1 and A2 (mm from its point).
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    outer_positions: Option<[f64; 2]>,
+    /// four-setup: positions p1,p2 along the inner axis of steps C1 and C2 (mm).
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    inner_positions: Option<[f64; 2]>,
+}
+
+impl MethodArgs {
+    fn method(self) -> Result<Method, Failure> {
+        let need = |what: &str| Failure::input(anyhow!("this --method needs {what}"));
+        Ok(match self.method {
+            MethodKind::ExtendedBar => Method::ExtendedBar,
+            MethodKind::TwoPivot => {
+                Method::TwoPivot { outer_offset: self.outer_offset.ok_or_else(|| need("--outer-offset MM (two-pivot)"))? }
+            }
+            MethodKind::FourSetup => Method::FourSetup {
+                outer: self.outer_positions.ok_or_else(|| need("--outer-positions P1,P2 (four-setup, mm)"))?,
+                inner: self.inner_positions.ok_or_else(|| need("--inner-positions P1,P2 (four-setup, mm)"))?,
+            },
+        })
+    }
+}
+
+#[derive(Clone, Copy, clap::ValueEnum, PartialEq)]
+enum TestKind {
+    A1,
+    A2,
+    C1,
+    C2,
+    Circle,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum, PartialEq)]
+enum DirArg {
+    Ccw,
+    Cw,
+    Both,
+}
+
+/// Simulated bar readings on the exact kinematic chain: a step of the seed 001 5-axis test (A1 A2
+/// C1 C2 on the machine's two rotary axes: table, head or one of each) or an ISO 230-4 circle.
+#[derive(clap::Args)]
+#[command(
+    after_help = "Examples:\n  trueaxis ballbar simulate --machine examples/machines/c600u.toml --errors examples/ballbar/c600u_piges.toml --test c2 --out c2.csv\n  \
+trueaxis ballbar simulate --machine examples/machines/c600u.toml --errors examples/ballbar/c600u_piges.toml --test a1 \\\n      \
+--method four-setup --outer-positions -200,250 --inner-positions 0,78 --out a1.csv\n  \
+trueaxis ballbar simulate --machine examples/machines/vmc3.toml --errors examples/ballbar/vmc3_circle.toml --test circle --plane xy --radius 100 --centre 0,0,-200 --dir both\n\n\
+Output CSV: the axis columns (mm, deg), angle (deg, in the plane of the test), dir (ccw/cw), dL (um)."
+)]
+pub struct SimulateArgs {
+    #[arg(long)]
+    machine: PathBuf,
+    /// Error values (TOML); none: an error-free machine.
+    #[arg(long)]
+    errors: Option<PathBuf>,
+    #[arg(long, value_enum)]
+    test: TestKind,
+    #[command(flatten)]
+    bars: BarArgs,
+    #[command(flatten)]
+    method: MethodArgs,
+    /// Circle: plane (xy, yz, zx).
+    #[arg(long, default_value = "xy", value_parser = parse_plane)]
+    plane: Plane,
+    /// Circle: radius (mm).
+    #[arg(long, default_value_t = 100.0)]
+    radius: f64,
+    /// Circle: programmed centre x,y,z (mm); other axes at 0.
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    centre: Option<trueaxis::geometry::Vec3>,
+    /// Circle: sense of the run(s).
+    #[arg(long, value_enum, default_value = "both")]
+    dir: DirArg,
+    /// Angle step (deg).
+    #[arg(long, default_value_t = 1.0)]
+    step: f64,
+    /// Circle: start angle (deg).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    start: f64,
+    /// Gaussian noise added to every reading (um, standard deviation), with --seed.
+    #[arg(long, default_value_t = 0.0)]
+    noise: f64,
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Write the CSV here (atomically) instead of stdout.
+    #[arg(long)]
+    out: Option<PathBuf>,
+}
+
+fn parse_plane(text: &str) -> Result<Plane, String> {
+    Plane::parse(text).ok_or_else(|| format!("`{text}` is not a plane (xy, yz, zx)"))
+}
+
+fn load(machine: &Path, errors: Option<&Path>) -> Result<(Machine, ErrorModel), Failure> {
+    let m = Machine::load(machine).map_err(Failure::input)?;
+    let e = match errors {
+        Some(p) => ErrorModel::load(p, &m).map_err(Failure::input)?,
+        None => ErrorModel::zero(&m),
+    };
+    Ok((m, e))
+}
+
+/// Centre pose (user units) from x,y,z: the linear axes X, Y, Z at it, every other axis at 0.
+fn centre_pose(machine: &Machine, centre: Option<trueaxis::geometry::Vec3>) -> Vec<f64> {
+    let c = centre.unwrap_or_else(trueaxis::geometry::Vec3::zeros);
+    machine.axes().iter().map(|a| "XYZ".find(a.letter).map_or(0.0, |k| c[k])).collect()
+}
+
+/// Gaussian noise (um, standard deviation `sigma`) of one run: the ChaCha8 generator of `seed` on
+/// its own stream (the project's seeded stream-splittable generator, `uncertainty::trial_rng`),
+/// so different seeds, tests and runs (CW, CCW) draw independent numbers.
+fn noise(seed: u64, stream: u64, n: usize, sigma: f64) -> Vec<f64> {
+    let mut rng = trial_rng(seed, stream, 0);
+    let normal = Distribution::Normal { mean: 0.0, u: sigma };
+    (0..n).map(|_| normal.sample(&mut rng)).collect()
+}
+
+/// Most samples one simulated run may have (1 deg steps give 360; 0.001 deg 360 000).
+const MAX_SAMPLES: f64 = 1e6;
+
+fn simulate(a: SimulateArgs) -> Result<(), Failure> {
+    let (m, e) = load(&a.machine, a.errors.as_deref())?;
+    if !(a.step > 0.0 && a.step <= 90.0) {
+        return Err(Failure::input(anyhow!("--step must be in (0, 90] deg, got {}", a.step)));
+    }
+    if 360.0 / a.step > MAX_SAMPLES {
+        return Err(Failure::input(anyhow!(
+            "--step {} deg gives {:.0} samples per turn; at most {MAX_SAMPLES:.0} are simulated (use --step >= {} deg)",
+            a.step,
+            360.0 / a.step,
+            360.0 / MAX_SAMPLES
+        )));
+    }
+    if !(a.noise >= 0.0 && a.noise.is_finite()) {
+        return Err(Failure::input(anyhow!("--noise must be a finite standard deviation >= 0 um, got {}", a.noise)));
+    }
+    if !(a.radius > 0.0 && a.radius.is_finite()) {
+        return Err(Failure::input(anyhow!("--radius must be a positive number of mm, got {}", a.radius)));
+    }
+    if !a.start.is_finite() {
+        return Err(Failure::input(anyhow!("--start must be a finite angle (deg), got {}", a.start)));
+    }
+    let mut tests: Vec<(Rotation, BallbarTest)> = Vec::new();
+    // each test kind and run draws its own noise stream from the seed
+    let stream = a.test as u64 * 2;
+    if a.test == TestKind::Circle {
+        let dirs = match a.dir {
+            DirArg::Ccw => vec![Rotation::Ccw],
+            DirArg::Cw => vec![Rotation::Cw],
+            DirArg::Both => vec![Rotation::Ccw, Rotation::Cw],
+        };
+        for rotation in dirs {
+            let angles = sweep_angles(a.start, 360.0 * rotation.sign(), a.step).iter().map(|d| d.to_radians()).collect();
+            let spec = CircleSpec { plane: a.plane, centre: centre_pose(&m, a.centre), radius: a.radius, angles, rotation };
+            tests.push((rotation, circle_test(&m, &spec).map_err(Failure::input)?));
+        }
+    } else {
+        let step = match a.test {
+            TestKind::A1 => JiangStep::A1,
+            TestKind::A2 => JiangStep::A2,
+            TestKind::C1 => JiangStep::C1,
+            _ => JiangStep::C2,
+        };
+        let pair = RotaryPair::of_machine(&m).map_err(Failure::input)?;
+        let method = a.method.method()?;
+        tests.push((Rotation::Ccw, method_step(&m, pair, method, step, a.bars.lengths()?, a.step).map_err(Failure::input)?));
+    }
+    let mut out = String::new();
+    let letters: Vec<String> = m.axes().iter().map(|x| x.letter.to_string()).collect();
+    out.push_str(&format!("# trueaxis ballbar simulate: {}\n", tests.iter().map(|t| t.1.name.clone()).collect::<Vec<_>>().join("; ")));
+    out.push_str(&format!("{},angle,dir,dL\n", letters.join(",")));
+    for (k, (rotation, test)) in tests.iter().enumerate() {
+        let dl = test.simulate(&m, &e);
+        let extra = noise(a.seed, stream + k as u64, dl.len(), a.noise);
+        for i in 0..test.len() {
+            let user: Vec<String> =
+                m.axes().iter().zip(test.pose(i)).map(|(ax, q)| format!("{}", round(ax.position_to_user(*q), 9))).collect();
+            let v = dl[i] * 1e3 + extra[i];
+            if !v.is_finite() {
+                return Err(Failure::computation(anyhow!("the reading at sample {} is not a finite number", i + 1)));
+            }
+            out.push_str(&format!("{},{},{},{:.4}\n", user.join(","), round(test.angles[i].to_degrees(), 9), rotation.name(), v));
+        }
+    }
+    emit(a.out.as_deref(), &out)
+}
+
+fn round(v: f64, digits: i32) -> f64 {
+    let f = 10f64.powi(digits);
+    (v * f).round() / f
+}
+
+fn emit(path: Option<&Path>, text: &str) -> Result<(), Failure> {
+    match path {
+        Some(p) => write_atomically(p, text.as_bytes()).map_err(Failure::input),
+        None => print(text),
+    }
+}
+
+/// Writes to stdout; a closed pipe is not an error.
+fn print(text: &str) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::computation(anyhow!("cannot write to stdout: {e}"))),
+        _ => Ok(()),
+    }
+}
+
+/// The 8 PIGEs of the two rotary axes from the four steps of seed 001 (ch. 5 one pivot setup by
+/// default, ch. 4 two pivots, ch. 6 four setups): algebraic circle fits, the axis lines, the
+/// start-angle correction (Eq. 4.1), repeatability over runs, and the simulated compensation residual.
+#[derive(clap::Args)]
+#[command(
+    after_help = "Examples:\n  trueaxis ballbar identify --machine examples/machines/c600u.toml --a1 examples/ballbar/A1.csv \\\n      \
+--a2 examples/ballbar/A2.csv --c1 examples/ballbar/C1.csv --c2 examples/ballbar/C2.csv --plot-dir out\n  \
+trueaxis ballbar identify --machine examples/machines/c600u.toml --method four-setup --outer-positions -200,250 \\\n      \
+--inner-positions 0,78 --a1 A1.csv --a2 A2.csv --c1 C1.csv --c2 C2.csv\n\n\
+Each CSV holds the swept axis position (column A or C, or angle; deg) and dL (um, the bar reading\n\
+relative to the bar length); an optional integer column `run` holds repeated runs (mean and standard\n\
+deviation are then reported). Each step needs at least 8 readings over at least 45 deg. Results:\n\
+EY0A EZ0A EX0C EY0C in um, EB0A EC0A EA0C EB0C in urad and arcsec (an axis not along X, Y or Z gets\n\
+all three translations and rotations, their components along the axis zero)."
+)]
+pub struct IdentifyArgs {
+    #[arg(long)]
+    machine: PathBuf,
+    #[arg(long)]
+    a1: PathBuf,
+    #[arg(long)]
+    a2: PathBuf,
+    #[arg(long)]
+    c1: PathBuf,
+    #[arg(long)]
+    c2: PathBuf,
+    #[command(flatten)]
+    bars: BarArgs,
+    #[command(flatten)]
+    method: MethodArgs,
+    /// Misplacement of the outer-axis pivot from a centring test: radial,tangential (mm), Eq. 4.1.
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    pivot_offset_a: Option<[f64; 2]>,
+    /// Misplacement of the inner-axis pivot: radial,tangential (mm), Eq. 4.1.
+    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    pivot_offset_c: Option<[f64; 2]>,
+    /// Expected noise of the bar readings (um, standard deviation): a step whose compensation
+    /// residual RMS exceeds 3 times it is reported with a warning. Default: 1 um, the accuracy of a
+    /// QC20-W (seed 001 Table 4.1).
+    #[arg(long, default_value_t = 1.0)]
+    noise: f64,
+    /// Write polar plots (raw vs compensated) of the four steps into this directory.
+    #[arg(long)]
+    plot_dir: Option<PathBuf>,
+    /// Scale of the plots (um per division); default: automatic.
+    #[arg(long)]
+    scale: Option<f64>,
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_pair(text: &str) -> Result<[f64; 2], String> {
+    let v: Vec<f64> = text
+        .split(',')
+        .map(|s| s.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("`{text}` is not two numbers a,b"))?;
+    match v.as_slice() {
+        [a, b] if a.is_finite() && b.is_finite() => Ok([*a, *b]),
+        _ => Err(format!("`{text}` is not two numbers a,b")),
+    }
+}
+
+/// User value and unit of a PIGE: um or urad.
+fn user_value(id: &ParameterId, v: f64) -> (f64, &'static str) {
+    match id {
+        ParameterId::Location { component, .. } if component.is_rotation() => (v * 1e6, "urad"),
+        _ => (v * 1e3, "um"),
+    }
+}
+
+/// A misplaced pivot (Eq. 4.1) must be small against the bar: the correction is an angle about the
+/// nominal centre, meaningless once the pivot is a sizeable part of the radius away.
+const MAX_PIVOT_OFFSET: f64 = 0.1;
+
+fn identify(a: IdentifyArgs) -> Result<(), Failure> {
+    let (m, _) = load(&a.machine, None)?;
+    let pair = RotaryPair::of_machine(&m).map_err(Failure::input)?;
+    let bars = a.bars.lengths()?;
+    let method = a.method.method()?;
+    if !(a.noise > 0.0 && a.noise.is_finite()) {
+        return Err(Failure::input(anyhow!("--noise must be a positive number of um, got {}", a.noise)));
+    }
+    if let Some(s) = a.scale.filter(|s| !(*s > 0.0 && s.is_finite())) {
+        return Err(Failure::input(anyhow!("--scale must be a positive number of um per division, got {s}")));
+    }
+    for (flag, offset) in [("--pivot-offset-a", a.pivot_offset_a), ("--pivot-offset-c", a.pivot_offset_c)] {
+        if let Some([r, t]) = offset.filter(|[r, t]| r.hypot(*t) >= MAX_PIVOT_OFFSET * bars.normal) {
+            return Err(Failure::input(anyhow!(
+                "{flag} {r},{t}: the pivot is {:.3} mm from its nominal place; the start-angle correction (Eq. 4.1) is for a misplacement below {} mm ({} % of R = {} mm)",
+                r.hypot(t),
+                MAX_PIVOT_OFFSET * bars.normal,
+                MAX_PIVOT_OFFSET * 100.0,
+                bars.normal
+            )));
+        }
+    }
+    let files = [(JiangStep::A1, &a.a1), (JiangStep::A2, &a.a2), (JiangStep::C1, &a.c1), (JiangStep::C2, &a.c2)];
+    let mut steps = Vec::new();
+    for (step, path) in files {
+        let axis = if step.is_outer() { pair.outer } else { pair.inner };
+        let trace = read_trace(path, &[&axis.to_string(), "angle"]).map_err(Failure::input)?;
+        let test = method_step(&m, pair, method, step, bars, 1.0).map_err(Failure::input)?;
+        steps.push((step, path, trace, test));
+    }
+    let runs = steps[0].2.run_numbers();
+    if let Some((_, path, _, _)) = steps.iter().find(|s| s.2.run_numbers() != runs) {
+        return Err(Failure::input(anyhow!("{}: the run numbers differ from those of {}", path.display(), steps[0].1.display())));
+    }
+    let mut results: Vec<Piges> = Vec::new();
+    for &run in &runs {
+        let mut outer = Vec::new();
+        let mut inner = Vec::new();
+        for (step, path, trace, test) in &steps {
+            let (angles, dl) = trace.run(run);
+            let axis = if step.is_outer() { pair.outer } else { pair.inner };
+            check_trace(&angles)
+                .map_err(|why| Failure::input(anyhow!("{}: step {} (axis {axis}), run {run}: {why}", path.display(), step.name())))?;
+            let geometry = test.rotary.expect("rotary test");
+            let offset = if step.is_outer() { a.pivot_offset_a } else { a.pivot_offset_c };
+            let start_angle = offset.map_or(0.0, |o| start_angle_error(o[0], o[1], bars.normal));
+            let t = DbbTrace { geometry, angles, dl, bar_length: test.nominal_length, start_angle };
+            if step.is_outer() {
+                outer.push(t)
+            } else {
+                inner.push(t)
+            }
+        }
+        let piges = identify_piges(&m, pair, &outer, &inner).map_err(|e| match e {
+            trueaxis::identify::IdentifyError::Input(_) => Failure::input(e),
+            _ => Failure::computation(e),
+        })?;
+        results.push(piges);
+    }
+    let last = results.last().expect("at least one run");
+    let stats = repeatability(&results, 1e-3, (1.0f64 / 3600.0).to_radians()).map_err(Failure::computation)?;
+    // Compensation residual of the last run, per step.
+    let mut residuals = Vec::new();
+    let mut warnings = Vec::new();
+    for (step, path, trace, test) in &steps {
+        let (angles, dl) = trace.run(*runs.last().expect("a run"));
+        let mut t = test.clone();
+        let n = m.axis_count();
+        let axis = test.rotary.expect("rotary").axis;
+        t.poses = angles.iter().flat_map(|&q| (0..n).map(move |k| if k == axis { q } else { 0.0 })).collect();
+        t.angles = angles.clone();
+        let r = compensation_residual(&m, &t, &dl, last);
+        let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len() as f64).sqrt() * 1e3;
+        let band = (r.iter().copied().fold(f64::NEG_INFINITY, f64::max) - r.iter().copied().fold(f64::INFINITY, f64::min)) * 1e3;
+        if rms > 3.0 * a.noise {
+            warnings.push(format!(
+                "step {} ({}): the compensation residual RMS {rms:.2} um is more than 3 x the expected bar noise {} um (--noise): \
+                 the trace is not the circle of an axis line (wrong file or step, motion errors of the axis, or a loose setup)",
+                step.name(),
+                path.display(),
+                a.noise
+            ));
+        }
+        if let Some(dir) = &a.plot_dir {
+            std::fs::create_dir_all(dir).map_err(|e| Failure::input(anyhow!("{}: cannot create: {e}", dir.display())))?;
+            let raw: Vec<f64> = dl.iter().map(|v| v * 1e3).collect();
+            let comp: Vec<f64> = r.iter().map(|v| v * 1e3).collect();
+            let lines: Vec<String> = last
+                .values
+                .iter()
+                .map(|(id, v)| {
+                    let (u, unit) = user_value(id, *v);
+                    format!("{id} = {u:+.3} {unit}")
+                })
+                .chain([format!("compensated: RMS {rms:.3} um, band {band:.3} um")])
+                .collect();
+            let (u1, u2) = plane_labels(&test.rotary.expect("rotary"));
+            let svg = polar_svg(&PolarPlot {
+                title: &format!("seed 001 step {}: {}", step.name(), path.display()),
+                axes: (&u1, &u2),
+                series: vec![
+                    PolarSeries { label: "raw".into(), angles: &angles, dl_um: &raw },
+                    PolarSeries { label: "compensated (identified PIGEs removed)".into(), angles: &angles, dl_um: &comp },
+                ],
+                um_per_division: a.scale,
+                lines: &lines,
+            })
+            .map_err(Failure::computation)?;
+            write_atomically(&dir.join(format!("{}.svg", step.name())), svg.as_bytes()).map_err(Failure::input)?;
+        }
+        residuals.push((step.name(), rms, band));
+    }
+    for w in &warnings {
+        eprintln!("trueaxis: warning: {w}");
+    }
+    let repeated = runs.len() > 1;
+    if a.json {
+        let mut params = serde_json::Map::new();
+        for ((id, v), (_, mean, sd)) in last.values.iter().zip(&stats.parameters) {
+            let (u, unit) = user_value(id, *v);
+            let sd = repeated.then(|| round(user_value(id, *sd).0, 4));
+            params
+                .insert(id.to_string(), json!({"value": round(u, 4), "unit": unit, "mean": round(user_value(id, *mean).0, 4), "std": sd}));
+        }
+        let comp: Vec<_> =
+            residuals.iter().map(|(s, rms, band)| json!({"step": s, "rms_um": round(*rms, 4), "band_um": round(*band, 4)})).collect();
+        let doc = json!({"machine": m.name, "method": method.name(), "runs": runs.len(), "parameters": params,
+            "repeatability_ok": repeated.then_some(stats.within_tolerance), "compensation_residual": comp, "warnings": warnings});
+        return print(&format!("{doc}\n"));
+    }
+    let mut out = format!(
+        "PIGEs of {} (seed 001 ch. {}, {} method, {} run(s)); D = {:.3} mm\n",
+        m.name,
+        method.chapter(),
+        method.name(),
+        runs.len(),
+        bars.extended_offset()
+    );
+    for (id, mean, sd) in &stats.parameters {
+        let (u, unit) = user_value(id, *mean);
+        let (s, _) = user_value(id, *sd);
+        let arcsec = if unit == "urad" { format!("  ({:+.2}\")", u / 1e6 * 180.0 / std::f64::consts::PI * 3600.0) } else { String::new() };
+        let spread = if repeated { format!(" ± {s:.3} (sd)") } else { String::new() };
+        out.push_str(&format!("  {id}  {u:+10.3} {unit}{spread}{arcsec}\n"));
+    }
+    if repeated {
+        out.push_str(&format!("repeatability within 1 um / 1 arcsec: {}\n", if stats.within_tolerance { "yes" } else { "no" }));
+    }
+    out.push_str("simulated compensation residual (last run):\n");
+    for (s, rms, band) in &residuals {
+        out.push_str(&format!("  {s}: RMS {rms:.3} um, band {band:.3} um\n"));
+    }
+    print(&out)
+}
+
+/// A step's trace must hold enough of a circle for the fit: `MIN_READINGS` readings over at least
+/// `MIN_SPAN_DEG` of rotation (`identify::pige`).
+fn check_trace(angles: &[f64]) -> Result<(), String> {
+    let span = angle_span_deg(angles);
+    if angles.len() < MIN_READINGS || span < MIN_SPAN_DEG {
+        return Err(format!(
+            "{} readings over {span:.1} deg of rotation; a circle fit needs at least {MIN_READINGS} readings over at least {MIN_SPAN_DEG} deg \
+             (is this the file of this step?)",
+            angles.len()
+        ));
+    }
+    Ok(())
+}
+
+fn plane_labels(g: &trueaxis::instruments::ballbar::RotaryGeometry) -> (String, String) {
+    let name = |v: &trueaxis::geometry::Vec3| {
+        let k = (0..3).max_by(|&i, &j| v[i].abs().total_cmp(&v[j].abs())).unwrap_or(0);
+        format!("{}{}", if v[k] < 0.0 { '-' } else { '+' }, Component::from_index(k).letter())
+    };
+    (name(&g.u1), name(&g.u2))
+}
+
+/// ISO 230-4 circular test: least-squares centre, circular deviation G, radial deviation F,
+/// hysteresis H, and diagnostics fitted on the machine's kinematic model.
+#[derive(clap::Args)]
+#[command(
+    after_help = "Example:\n  trueaxis ballbar iso230-4 examples/ballbar/vmc3_xy.csv --machine examples/machines/vmc3.toml \\\n      \
+--radius 100 --centre 0,0,-200 --feed 1000 --pitch 10 --plot xy.svg\n\n\
+The CSV has `angle` (deg, from the plane's first axis toward its second) or the plane's two axis\n\
+columns (mm), `dL` (um) and optionally `dir` (ccw/cw) to hold both runs. Without --machine a plain\n\
+Cartesian machine (all three slides carry the tool) is used."
+)]
+pub struct Iso2304Args {
+    file: PathBuf,
+    #[arg(long)]
+    machine: Option<PathBuf>,
+    #[arg(long, default_value = "xy", value_parser = parse_plane)]
+    plane: Plane,
+    /// Nominal radius (mm): the bar length.
+    #[arg(long)]
+    radius: f64,
+    /// Programmed centre x,y,z (mm).
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    centre: Option<trueaxis::geometry::Vec3>,
+    /// Feed rate (mm/min), to state the servo mismatch in ms.
+    #[arg(long)]
+    feed: Option<f64>,
+    /// Ball-screw pitch (mm), to fit cyclic errors.
+    #[arg(long)]
+    pitch: Option<f64>,
+    /// Decay angle of reversal spikes (deg).
+    #[arg(long, default_value_t = 3.0)]
+    spike_width: f64,
+    /// Scale of the plot (um per division); default: automatic.
+    #[arg(long)]
+    scale: Option<f64>,
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    #[arg(long)]
+    json: bool,
+}
+
+/// The machine used without --machine: X, Y, Z all on the tool side, tool point at the origin.
+const CARTESIAN: &str = "name = \"Cartesian XYZ (all slides carry the tool)\"\nstructure = \"wbXYZt\"\n[axes]\n\
+X = { kind = \"linear\", direction = [1, 0, 0], range = [-5000, 5000] }\n\
+Y = { kind = \"linear\", direction = [0, 1, 0], range = [-5000, 5000] }\n\
+Z = { kind = \"linear\", direction = [0, 0, 1], range = [-5000, 5000] }\n[tool]\npoint = [0, 0, 0]\n";
+
+fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
+    let m = match &a.machine {
+        Some(p) => Machine::load(p).map_err(Failure::input)?,
+        None => Machine::from_toml_str(CARTESIAN, "built-in Cartesian machine").map_err(Failure::computation)?,
+    };
+    for (name, v) in [("--feed", a.feed), ("--pitch", a.pitch), ("--spike-width", Some(a.spike_width))] {
+        if let Some(v) = v.filter(|v| !(*v > 0.0 && v.is_finite())) {
+            return Err(Failure::input(anyhow!("{name} must be a positive number, got {v}")));
+        }
+    }
+    let centre = centre_pose(&m, a.centre);
+    let runs = read_circular(&a.file, &m, a.plane, a.radius, &centre).map_err(|e| {
+        if e.is_input() {
+            Failure::input(e)
+        } else {
+            Failure::computation(e)
+        }
+    })?;
+    let (ia, ib, _) = a.plane.letters();
+    let ca = m.axis_index(ia).map_or(0.0, |k| centre[k]);
+    let cb = m.axis_index(ib).map_or(0.0, |k| centre[k]);
+    let options = DiagnosticOptions {
+        plane: a.plane,
+        radius: a.radius,
+        centre: [ca, cb],
+        pitch: a.pitch,
+        spike_width: a.spike_width.to_radians(),
+        feed: a.feed,
+    };
+    let result = evaluate(&m, &runs, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
+    let lines = result.summary_lines();
+    if let Some(path) = &a.plot {
+        let title = format!("ISO 230-4 circular test, {} plane, R {} mm: {}", a.plane.name(), a.radius, a.file.display());
+        let svg = circular_runs_svg(&title, (&format!("+{ia}"), &format!("+{ib}")), &runs, a.scale, &lines).map_err(Failure::input)?;
+        write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
+    }
+    if a.json {
+        return print(&format!("{}\n", result.to_json()));
+    }
+    let mut out = format!("ISO 230-4 circular test: {} ({} plane, R = {} mm, {})\n", a.file.display(), a.plane.name(), a.radius, m.name);
+    for l in &lines {
+        out.push_str(&format!("  {l}\n"));
+    }
+    for o in &result.diagnostics.omitted {
+        out.push_str(&format!("  not fitted: {o}\n"));
+    }
+    if let Some(p) = &a.plot {
+        out.push_str(&format!("wrote {}\n", p.display()));
+    }
+    print(&out)
+}
+
+/// Two-length telescopic ballbar test of a rotary table (seed 002 ch. 5): the tilts E_x, E_y and
+/// the axial error D_z by l2 and l-infinity, with the condition number under explicit unit scalings.
+#[derive(clap::Args)]
+#[command(after_help = "Example:\n  trueaxis ballbar tmbb --short examples/ballbar/tmbb_L1.csv --long examples/ballbar/tmbb_L2.csv\n\n\
+Each CSV has the table angle (column C or angle, deg) and dL (um) at the same angles. Defaults: the\n\
+seed 002 Table 5.1 setup (R_x = 71.842, L1 = 90.850, L2 = 217.952 mm, R_z = 0). E_x, E_y are the\n\
+table tilts EAC, EBC (arcsec and urad), D_z its axial error EZC (um); residuals of the differenced\n\
+squared lengths in mm^2. D_x, D_y (coupled with the eccentricity) and E_z are not identifiable.")]
+pub struct TmbbArgs {
+    #[arg(long)]
+    short: PathBuf,
+    #[arg(long)]
+    long: PathBuf,
+    #[arg(long, default_value_t = 71.8420)]
+    rx: f64,
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    rz: f64,
+    #[arg(long, default_value_t = 90.850)]
+    l1: f64,
+    #[arg(long, default_value_t = 217.952)]
+    l2: f64,
+    #[arg(long)]
+    json: bool,
+}
+
+fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
+    let setup = TmbbSetup { rx: a.rx, rz: a.rz, l1: a.l1, l2: a.l2 };
+    setup.heights().map_err(Failure::input)?;
+    let short = read_trace(&a.short, &["C", "angle"]).map_err(Failure::input)?;
+    let long = read_trace(&a.long, &["C", "angle"]).map_err(Failure::input)?;
+    if short.angles_deg.len() != long.angles_deg.len() || short.angles_deg.iter().zip(&long.angles_deg).any(|(x, y)| (x - y).abs() > 1e-6) {
+        return Err(Failure::input(anyhow!(
+            "{} and {}: the two bars must be read at the same table angles",
+            a.short.display(),
+            a.long.display()
+        )));
+    }
+    let angles: Vec<f64> = short.angles_deg.iter().map(|d| d.to_radians()).collect();
+    let mm = |t: &trueaxis::instruments::ballbar::TraceFile| t.dl_um.iter().map(|v| v * 1e-3).collect::<Vec<f64>>();
+    let delta = differenced(&setup, &mm(&short), &mm(&long)).map_err(Failure::input)?;
+    let fail = |e: trueaxis::identify::IdentifyError| match e {
+        trueaxis::identify::IdentifyError::Input(_) => Failure::input(e),
+        _ => Failure::computation(e),
+    };
+    let l2 = fit_l2(&setup, &angles, &delta).map_err(fail)?;
+    let linf = fit_linf(&setup, &angles, &delta).map_err(fail)?;
+    let cond = conditioning(&setup, &angles).map_err(fail)?;
+    let obs = observability(&setup, &angles).map_err(fail)?;
+    let arcsec = |r: f64| r * 180.0 / std::f64::consts::PI * 3600.0;
+    let fit_json = |f: &TmbbEstimate| {
+        json!({"E_x": {"value": round(arcsec(f.ex), 4), "unit": "arcsec", "urad": round(f.ex * 1e6, 4), "parameter": "EAC"},
+               "E_y": {"value": round(arcsec(f.ey), 4), "unit": "arcsec", "urad": round(f.ey * 1e6, 4), "parameter": "EBC"},
+               "D_z": {"value": round(f.dz * 1e3, 4), "unit": "um", "parameter": "EZC"},
+               "max_abs_residual_mm2": round(f.max_abs, 6), "range_mm2": round(f.range, 6), "rms_mm2": round(f.rms, 6)})
+    };
+    if a.json {
+        let unident: Vec<_> = UNIDENTIFIABLE.iter().map(|(n, p, why)| json!({"name": n, "parameter": p, "reason": why})).collect();
+        let doc = json!({"l2": fit_json(&l2), "linf": fit_json(&linf),
+            "condition_number": {"mm_rad": round(cond.mm_rad, 4), "m_rad": round(cond.m_rad, 4), "unit_columns": round(cond.unit_columns, 4)},
+            "unidentifiable": unident, "samples": angles.len()});
+        return print(&format!("{doc}\n"));
+    }
+    let (h1, h2) = setup.heights().map_err(Failure::input)?;
+    let mut out = format!(
+        "Two-length TMBB test of a rotary table (seed 002 ch. 5): R_x = {} mm, L1 = {} mm, L2 = {} mm, H2 - H1 = {:.3} mm, {} angles\n",
+        a.rx,
+        a.l1,
+        a.l2,
+        h2 - h1,
+        angles.len()
+    );
+    out.push_str(&format!("{:>16} {:>12} {:>12}\n", "", "l2", "l-infinity"));
+    out.push_str(&format!("{:>16} {:>12.3} {:>12.3}\n", "E_x (arcsec)", arcsec(l2.ex), arcsec(linf.ex)));
+    out.push_str(&format!("{:>16} {:>12.3} {:>12.3}\n", "E_y (arcsec)", arcsec(l2.ey), arcsec(linf.ey)));
+    out.push_str(&format!("{:>16} {:>12.3} {:>12.3}\n", "D_z (um)", l2.dz * 1e3, linf.dz * 1e3));
+    out.push_str(&format!("{:>16} {:>12.5} {:>12.5}\n", "max|e| (mm^2)", l2.max_abs, linf.max_abs));
+    out.push_str(&format!("{:>16} {:>12.5} {:>12.5}\n", "range e (mm^2)", l2.range, linf.range));
+    out.push_str(&format!("{:>16} {:>12.5} {:>12.5}\n", "RMS e (mm^2)", l2.rms, linf.rms));
+    out.push_str(&format!(
+        "cond(J): {:.2} (lengths in mm, angles in rad), {:.2} (m, rad), {:.3} (unit-length columns)\n",
+        cond.mm_rad, cond.m_rad, cond.unit_columns
+    ));
+    out.push_str("not identifiable from the differenced data:\n");
+    for (n, p, why) in UNIDENTIFIABLE {
+        let norm = obs.iter().find(|o| o.0 == n).map_or(0.0, |o| o.2);
+        out.push_str(&format!("  {n} ({p}): {why} [differenced column norm {norm:.1e}]\n"));
+    }
+    print(&out)
+}

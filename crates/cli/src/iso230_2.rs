@@ -1,0 +1,117 @@
+//! `trueaxis iso230-2`.
+
+use crate::Failure;
+use std::path::PathBuf;
+use trueaxis::data::{write_atomically, CsvTable};
+use trueaxis::evaluate::iso230_2::{evaluate, read_runs, Iso2302Result};
+use trueaxis::evaluate::EvaluateError;
+use trueaxis::instruments::{TableCorrection, TableCorrectionError};
+
+/// Accuracy and repeatability of positioning of an axis after ISO 230-2:2014 (A, R, E, M, B and
+/// their unidirectional values, coverage factor 2) from bidirectional runs, e.g. laser readings.
+#[derive(clap::Args)]
+#[command(after_help = "Example:\n  trueaxis iso230-2 examples/data/iso230_2_x.csv --plot x_positioning.svg\n\n\
+The CSV has the columns target (mm), dev (um, actual minus target), dir (+ or -) and run (integer);\n\
+other columns are ignored, `#` starts a comment line. Every target needs at least 2 runs in each\n\
+direction (ISO 230-2 tests use 5). Results are in um. With --scale-temperature and --scale-expansion the\n\
+deviations are first corrected to 20 degC (e.g. --scale-temperature 23.4 --scale-expansion 11.5).")]
+pub struct Iso2302Args {
+    /// Readings (CSV) with the columns target, dev, dir, run.
+    file: PathBuf,
+    /// Print one JSON document instead of the table.
+    #[arg(long)]
+    json: bool,
+    /// Write an SVG plot of the readings, the mean deviations and the 2s bands (atomically).
+    #[arg(long)]
+    plot: Option<PathBuf>,
+    #[command(flatten)]
+    temperature: crate::temperature::TemperatureArgs,
+}
+
+fn failure(e: EvaluateError) -> Failure {
+    if e.is_input() {
+        Failure::input(e)
+    } else {
+        Failure::computation(e)
+    }
+}
+
+pub fn run(args: Iso2302Args) -> Result<(), Failure> {
+    let mut data = read_runs(&args.file).map_err(failure)?;
+    let corrections = args.temperature.corrections();
+    if !corrections.is_empty() {
+        // the readings are the table's rows in order
+        let table = CsvTable::read(&args.file).map_err(Failure::input)?;
+        let targets: Vec<f64> = data.readings.iter().map(|r| r.target).collect();
+        let devs: Vec<f64> = data.readings.iter().map(|r| r.dev).collect();
+        let corrected = TableCorrection::apply_all(&corrections, &table, &targets, &devs).map_err(|e| match e {
+            TableCorrectionError::Data(d) => Failure::input(d),
+            TableCorrectionError::Scale(s) => Failure::input(anyhow::anyhow!("{}: {s}", args.file.display())),
+        })?;
+        for (r, dev) in data.readings.iter_mut().zip(corrected) {
+            r.dev = dev;
+        }
+    }
+    let result = evaluate(&data).map_err(failure)?;
+    let name = args.file.display().to_string();
+    if let Some(path) = &args.plot {
+        let svg =
+            trueaxis_report::iso230_2_svg(&result, &data, &format!("ISO 230-2 positioning test: {name}")).map_err(Failure::computation)?;
+        write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
+    }
+    if args.json {
+        return print(&format!("{}\n", result.to_json()));
+    }
+    let mut text = table(&name, &result);
+    if let Some(path) = &args.plot {
+        text += &format!("\nwrote {}\n", path.display());
+    }
+    print(&text)
+}
+
+/// The readable report: per-position values and the axis results, with units.
+fn table(name: &str, result: &Iso2302Result) -> String {
+    use std::fmt::Write;
+    let mut out = String::new();
+    let uniform = result.positions.iter().all(|p| p.n_plus == result.runs && p.n_minus == result.runs);
+    let runs = if uniform { format!("{} runs", result.runs) } else { format!("at least {} runs", result.runs) };
+    let (first, last) = (result.positions.first().map_or(0.0, |p| p.target), result.positions.last().map_or(0.0, |p| p.target));
+    let _ = writeln!(out, "ISO 230-2:2014 accuracy and repeatability of positioning: {name}");
+    let _ = writeln!(
+        out,
+        "{} target positions from {first:.3} to {last:.3} mm, {runs} in each direction, coverage factor 2",
+        result.positions.len()
+    );
+    let _ = writeln!(out, "positional deviations: actual minus target, in um\n");
+    let _ = writeln!(
+        out,
+        "{:>12} {:>5} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
+        "target (mm)", "runs", "mean+", "mean-", "mean", "s+", "s-", "B_i", "R_i+", "R_i-", "R_i"
+    );
+    for p in &result.positions {
+        let runs = if p.n_plus == p.n_minus { p.n_plus.to_string() } else { format!("{}/{}", p.n_plus, p.n_minus) };
+        let _ = writeln!(
+            out,
+            "{:>12.3} {:>5} {:>9.3} {:>9.3} {:>9.3} {:>8.3} {:>8.3} {:>8.3} {:>8.3} {:>8.3} {:>8.3}",
+            p.target, runs, p.mean_plus, p.mean_minus, p.mean, p.s_plus, p.s_minus, p.reversal, p.r_plus, p.r_minus, p.r
+        );
+    }
+    let _ = writeln!(out, "\naxis results:");
+    for (symbol, description, value) in result.axis_table() {
+        let _ = writeln!(out, "  {symbol:<7} {value:>9.3} um   {description}");
+    }
+    if result.runs < 5 {
+        let _ = writeln!(out, "\nnote: the ISO 230-2 test cycle approaches each target 5 times in each direction; here {} were used", runs);
+    }
+    out
+}
+
+/// Writes to stdout; a closed pipe (`| head`) is not an error.
+pub(crate) fn print(text: &str) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::computation(anyhow::anyhow!("cannot write to stdout: {e}"))),
+        _ => Ok(()),
+    }
+}

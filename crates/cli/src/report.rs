@@ -1,0 +1,337 @@
+//! `trueaxis report`: a self-contained HTML calibration report from a user's own files.
+
+use crate::predict::parse_point;
+use crate::Failure;
+use indicatif::ProgressBar;
+use std::path::{Path, PathBuf};
+use trueaxis::data::write_atomically;
+use trueaxis::errors::ErrorModel;
+use trueaxis::geometry::Vec3;
+use trueaxis::instruments::ballbar::Plane;
+use trueaxis::machine::Machine;
+use trueaxis::thermal::campaign::Campaign as ThermalCampaign;
+use trueaxis::thermal::error_model::ThermalErrorModel;
+use trueaxis::thermal::model_file::load_model;
+use trueaxis::thermal::{LanczosProgress, DEFAULT_SHARE};
+use trueaxis::uncertainty::Sources;
+use trueaxis_report::calibration::{
+    CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, IdentificationPart, InputFile, ThermalDriftPart,
+    ThermalModesPart, Traceability, UncertaintyPart, VolumePart, GRID_NODES, POINTS,
+};
+
+/// A calibration report (HTML with inline SVG plots, no network access, printable to PDF) from your
+/// own files: the machine; the identification of a measurement campaign with its uncertainties,
+/// identifiability and residuals; the Monte Carlo budget of uncertainty sources; ISO 230-4 ballbar
+/// circles; the volumetric error over the work volume before and after compensation; the
+/// compensation tables; a thermal model's modes and a thermal error model's prediction of a
+/// measured campaign. A section appears only when its input is given; the last section lists the
+/// input files with their size and SHA-256, the date and the version.
+#[derive(clap::Args)]
+#[command(after_help = "Examples:\n  \
+trueaxis report --machine examples/machines/kx8five.toml --campaign examples/campaigns/kx8five/campaign.toml \\\n      \
+--sources examples/uncertainty/kx8five_cyclic.toml --out kx8five-report.html\n  \
+trueaxis report --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      \
+--ballbar examples/ballbar/vmc3_xy.csv --ballbar-radius 100 --ballbar-centre 0,0,-200 --out vmc3-report.html\n\n\
+Sections: machine (always); campaign and identification (--campaign); uncertainty (--sources);\n\
+volumetric and compensation (--errors, or the values identified from --campaign); ballbar (--ballbar);\n\
+thermal modes (--thermal-model); thermal drift vs prediction (--thermal-error with --thermal-data);\n\
+inputs (always). Each part is computed as the command that does it alone: identify, uncertainty\n\
+--machine --campaign, ballbar iso230-4, predict --frame machine, compensate. The --ballbar-plane,\n\
+--ballbar-radius and --ballbar-centre options are given once for all circles or once per --ballbar, in order.")]
+pub struct ReportArgs {
+    /// Machine description (TOML).
+    #[arg(long)]
+    machine: PathBuf,
+    /// Error values (TOML), identified or measured: the volumetric error maps and the compensation.
+    /// Default: the values identified from --campaign.
+    #[arg(long, required_unless_present = "campaign")]
+    errors: Option<PathBuf>,
+    /// Measurement campaign (TOML): identification with uncertainties, identifiability, residuals.
+    #[arg(long)]
+    campaign: Option<PathBuf>,
+    /// Solve a campaign whose parameters the measurements cannot separate anyway (as `identify`).
+    #[arg(long, requires = "campaign")]
+    allow_rank_deficient: bool,
+    /// Uncertainty sources and Monte Carlo settings (TOML), with --campaign: budget and histograms.
+    #[arg(long, requires = "campaign")]
+    sources: Option<PathBuf>,
+    /// Time per measured point of the campaign (s), for the drift sources.
+    #[arg(long, default_value_t = 0.75)]
+    point_time: f64,
+    /// An ISO 230-4 circle (CSV as `ballbar iso230-4` reads it); repeatable.
+    #[arg(long = "ballbar")]
+    ballbar: Vec<PathBuf>,
+    /// Plane of the circles: xy, yz or zx (default xy).
+    #[arg(long, value_parser = parse_plane)]
+    ballbar_plane: Vec<Plane>,
+    /// Nominal radius of the circles: the bar length (mm).
+    #[arg(long)]
+    ballbar_radius: Vec<f64>,
+    /// Programmed centre x,y,z of the circles (mm; default 0,0,0).
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    ballbar_centre: Vec<Vec3>,
+    /// Thermal conduction model (TOML or Matrix Market, as `thermal modes` reads it): its modes.
+    #[arg(long, value_name = "MODEL.toml")]
+    thermal_model: Option<PathBuf>,
+    /// Number of thermal modes to compute and plot.
+    #[arg(long, default_value_t = 6, requires = "thermal_model")]
+    thermal_modes: usize,
+    /// Cumulative weight share of the dominant thermal modes (0 < share <= 1).
+    #[arg(long, default_value_t = DEFAULT_SHARE, requires = "thermal_model")]
+    thermal_share: f64,
+    /// Thermal error model (written by `thermal fit --out`), with --thermal-data: drift vs prediction.
+    #[arg(long, value_name = "FITTED.toml", requires = "thermal_data")]
+    thermal_error: Option<PathBuf>,
+    /// Thermal campaign (CSV as `thermal fit` reads it) that --thermal-error predicts.
+    #[arg(long, value_name = "CAMPAIGN.csv", requires = "thermal_error")]
+    thermal_data: Option<PathBuf>,
+    /// Points per compensation table (as `compensate --points`).
+    #[arg(long, default_value_t = POINTS)]
+    points: usize,
+    /// Title of the report (default: "Calibration report: " and the machine's name).
+    #[arg(long)]
+    title: Option<String>,
+    /// The HTML file to write (atomically).
+    #[arg(long)]
+    out: PathBuf,
+    /// Print a JSON summary (sections, inputs, key numbers) instead of text.
+    #[arg(long)]
+    json: bool,
+}
+
+fn parse_plane(text: &str) -> Result<Plane, String> {
+    Plane::parse(text).ok_or_else(|| format!("`{text}` is not a plane (xy, yz, zx)"))
+}
+
+fn failure(e: CalibrationError) -> Failure {
+    if e.is_input() {
+        Failure::input(e)
+    } else {
+        Failure::computation(e)
+    }
+}
+
+fn bad(message: String) -> Failure {
+    Failure::input(anyhow::anyhow!(message))
+}
+
+/// The value of a per-circle option for circle `i` of `n`: given once for all or once per circle.
+fn per_circle<T: Copy>(values: &[T], option: &str, n: usize, default: Option<T>) -> Result<Vec<T>, Failure> {
+    match values.len() {
+        0 => default.map(|d| vec![d; n]).ok_or_else(|| bad(format!("--ballbar needs {option} (once for all circles or once per circle)"))),
+        1 => Ok(vec![values[0]; n]),
+        k if k == n => Ok(values.to_vec()),
+        k => Err(bad(format!("{option} is given {k} times for {n} circles: give it once for all or once per --ballbar"))),
+    }
+}
+
+fn circles(args: &ReportArgs) -> Result<Vec<CircleInput>, Failure> {
+    let n = args.ballbar.len();
+    if n == 0 {
+        if !(args.ballbar_plane.is_empty() && args.ballbar_radius.is_empty() && args.ballbar_centre.is_empty()) {
+            return Err(bad("--ballbar-plane, --ballbar-radius and --ballbar-centre need a --ballbar circle".into()));
+        }
+        return Ok(Vec::new());
+    }
+    let planes = per_circle(&args.ballbar_plane, "--ballbar-plane", n, Some(Plane::Xy))?;
+    let radii = per_circle(&args.ballbar_radius, "--ballbar-radius", n, None)?;
+    let centres = per_circle(&args.ballbar_centre, "--ballbar-centre", n, Some(Vec3::zeros()))?;
+    Ok((0..n).map(|i| CircleInput { path: args.ballbar[i].clone(), plane: planes[i], radius: radii[i], centre: centres[i] }).collect())
+}
+
+/// The input files with their roles: the machine, errors, campaign (and its data and nominal
+/// errors), sources, circles.
+fn input_files(args: &ReportArgs, identification: Option<&IdentificationPart>) -> Result<Vec<InputFile>, Failure> {
+    let mut files: Vec<(&str, PathBuf)> = vec![("machine", args.machine.clone())];
+    if let Some(e) = &args.errors {
+        files.push(("error values", e.clone()));
+    }
+    if let (Some(c), Some(id)) = (&args.campaign, identification) {
+        files.push(("campaign", c.clone()));
+        if let Some(n) = &id.campaign.nominal_errors {
+            files.push(("campaign nominal errors", n.clone()));
+        }
+        for m in &id.campaign.measurements {
+            files.push(("campaign data", m.data.clone()));
+        }
+    }
+    if let Some(s) = &args.sources {
+        files.push(("uncertainty sources", s.clone()));
+    }
+    for c in &args.ballbar {
+        files.push(("ballbar circle", c.clone()));
+    }
+    for (role, path) in
+        [("thermal model", &args.thermal_model), ("thermal error model", &args.thermal_error), ("thermal campaign", &args.thermal_data)]
+    {
+        if let Some(p) = path {
+            files.push((role, p.clone()));
+        }
+    }
+    files.iter().map(|(role, path)| InputFile::read(role, path).map_err(Failure::input)).collect()
+}
+
+/// The command line as typed, for the report.
+fn command_line() -> String {
+    let quote = |a: String| if a.is_empty() || a.contains(char::is_whitespace) { format!("'{a}'") } else { a };
+    std::iter::once("trueaxis".to_string()).chain(std::env::args().skip(1).map(quote)).collect::<Vec<_>>().join(" ")
+}
+
+pub fn run(args: ReportArgs) -> Result<(), Failure> {
+    let machine = Machine::load(&args.machine).map_err(Failure::input)?;
+    let circle_inputs = circles(&args)?;
+    if !(args.point_time.is_finite() && args.point_time >= 0.0) {
+        return Err(bad(format!("--point-time must be a non-negative number of seconds, got {}", args.point_time)));
+    }
+    let bar = crate::progress::spinner(args.json);
+    let result = build(&args, &machine, circle_inputs, &bar);
+    bar.finish_and_clear();
+    let report = result?;
+    let html = report.to_html();
+    write_atomically(&args.out, html.as_bytes()).map_err(Failure::input)?;
+    let sections: Vec<String> = report.sections().iter().map(|s| s.id.clone()).collect();
+    if args.json {
+        println!("{}", summary_json(&args.out, &report, &sections, html.len()));
+        return Ok(());
+    }
+    println!("wrote {} ({} bytes): {}", args.out.display(), html.len(), sections.join(", "));
+    if let Some(v) = &report.volume {
+        println!(
+            "volumetric error over {} poses: largest {:.2} um before, {:.2} um after compensation, {:.2} um with the tables",
+            v.poses, v.before_um.0, v.after_um.0, v.after_tables_um.0
+        );
+    }
+    Ok(())
+}
+
+/// Computes every part the inputs allow.
+fn build<'a>(
+    args: &ReportArgs,
+    machine: &'a Machine,
+    circle_inputs: Vec<CircleInput>,
+    bar: &ProgressBar,
+) -> Result<CalibrationReport<'a>, Failure> {
+    let mut identification = None;
+    if let Some(path) = &args.campaign {
+        bar.set_message("identification");
+        identification = Some(IdentificationPart::identify(machine, path, args.allow_rank_deficient).map_err(failure)?);
+    }
+    let mut uncertainty = None;
+    if let (Some(path), Some(id)) = (&args.sources, &identification) {
+        let sources = Sources::load(path).map_err(|e| failure(e.into()))?;
+        let origin = path.display().to_string();
+        let mut progress = |stage: Option<&str>, sequence: usize| {
+            bar.set_message(format!(
+                "Monte Carlo, {}: sequence {sequence}",
+                stage.map_or("all sources".into(), |s| format!("`{s}` alone"))
+            ));
+            bar.tick();
+        };
+        uncertainty = Some(UncertaintyPart::evaluate(id, sources, &origin, args.point_time, &mut progress).map_err(failure)?);
+    }
+    bar.set_message("ballbar circles");
+    let circles = circle_inputs.into_iter().map(|c| CirclePart::evaluate(machine, c)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
+    let loaded;
+    let (errors, origin): (&ErrorModel, String) = match (&args.errors, &identification) {
+        (Some(path), _) => {
+            loaded = ErrorModel::load(path, machine).map_err(Failure::input)?;
+            (&loaded, format!("the error values of {}", path.display()))
+        }
+        (None, Some(id)) => (&id.errors, format!("the errors identified from {}", id.campaign.origin)),
+        (None, None) => return Err(bad("give --errors or --campaign".into())),
+    };
+    bar.set_message("compensation tables and volumetric error");
+    let compensation = CompensationPart::compute(machine, errors, &origin, args.points, GRID_NODES).map_err(failure)?;
+    let volume = VolumePart::compute(machine, errors, errors, &compensation).map_err(failure)?.map(|mut v| {
+        v.description.push(format!(
+            "The machine is taken to have {origin}, and the corrections are computed from them: the exact correction leaves the corrector's tolerance; how well the errors themselves are known is the uncertainty of their measurement or identification."
+        ));
+        v
+    });
+    let (thermal_modes, thermal_drift) = thermal_parts(args, bar)?;
+    let traceability = Traceability::now(input_files(args, identification.as_ref())?, Some(command_line()));
+    Ok(CalibrationReport {
+        title: args.title.clone().unwrap_or_else(|| format!("Calibration report: {}", machine.name)),
+        subtitle: format!("{}; {}", traceability.date, traceability.software),
+        machine,
+        machine_notes: Vec::new(),
+        identification,
+        uncertainty,
+        volume,
+        thermal_modes,
+        thermal_drift,
+        circles,
+        compensation: Some(compensation),
+        extra: Vec::new(),
+        traceability,
+    })
+}
+
+/// The thermal modes of --thermal-model and the prediction of --thermal-data by --thermal-error.
+fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<(Option<ThermalModesPart>, Option<ThermalDriftPart>), Failure> {
+    let modes = match &args.thermal_model {
+        Some(path) => {
+            bar.set_message("thermal modes");
+            let model = load_model(path).map_err(|e| failure(e.into()))?;
+            let mut progress = |p: LanczosProgress| {
+                if let LanczosProgress::Iterating { converged, wanted, .. } = p {
+                    bar.set_message(format!("thermal modes: {converged} of {wanted} converged"));
+                }
+            };
+            let origin = path.display().to_string();
+            Some(ThermalModesPart::compute(&model, &origin, args.thermal_modes, args.thermal_share, &mut progress).map_err(failure)?)
+        }
+        None => None,
+    };
+    let drift = match (&args.thermal_error, &args.thermal_data) {
+        (Some(model_path), Some(data_path)) => {
+            bar.set_message("thermal error model");
+            let text = std::fs::read_to_string(model_path).map_err(|e| bad(format!("{}: cannot read: {e}", model_path.display())))?;
+            let model_origin = model_path.display().to_string();
+            let model = ThermalErrorModel::from_toml_str(&text, &model_origin).map_err(|e| failure(e.into()))?;
+            let campaign = ThermalCampaign::read(data_path).map_err(|e| failure(e.into()))?;
+            Some(ThermalDriftPart::compute(&model, &model_origin, &campaign, &data_path.display().to_string()).map_err(failure)?)
+        }
+        _ => None,
+    };
+    Ok((modes, drift))
+}
+
+fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], bytes: usize) -> serde_json::Value {
+    use serde_json::json;
+    let parameters = report.identification.as_ref().map(|id| {
+        id.parameter_rows(report.uncertainty.as_ref())
+            .into_iter()
+            .map(|p| {
+                (p.name, json!({"unit": p.unit, "value": p.value, "std_uncertainty": p.std_uncertainty, "interval": p.interval.map(|(a, b)| [a, b])}))
+            })
+            .collect::<serde_json::Map<_, _>>()
+    });
+    let volumetric = report.volume.as_ref().map(|v| {
+        json!({"poses": v.poses, "max_before_um": v.before_um.0, "rms_before_um": v.before_um.1,
+               "max_after_um": v.after_um.0, "rms_after_um": v.after_um.1,
+               "max_after_tables_um": v.after_tables_um.0, "rms_after_tables_um": v.after_tables_um.1})
+    });
+    let ballbar: Vec<_> = report
+        .circles
+        .iter()
+        .map(|c| json!({"file": c.input.path.display().to_string(), "G_um": c.result.runs.iter().map(|r| r.g_um).collect::<Vec<_>>()}))
+        .collect();
+    let inputs: Vec<_> =
+        report.traceability.inputs.iter().map(|f| json!({"role": f.role, "path": f.path, "bytes": f.bytes, "sha256": f.sha256})).collect();
+    let thermal_modes = report.thermal_modes.as_ref().map(|m| {
+        json!({"tau_min": m.weights.iter().map(|w| w.tau_s / 60.0).collect::<Vec<_>>(),
+               "share": m.weights.iter().map(|w| w.share).collect::<Vec<_>>(),
+               "dominant": m.dominant.iter().map(|d| d + 1).collect::<Vec<_>>()})
+    });
+    let thermal_drift = report.thermal_drift.as_ref().map(|d| {
+        let runs: serde_json::Map<String, serde_json::Value> = d.runs.iter().map(|(run, s)| (run.clone(), json!(s))).collect();
+        json!({"error": d.error, "residuals_um": runs})
+    });
+    json!({
+        "out": out.display().to_string(), "bytes": bytes, "sections": sections, "inputs": inputs,
+        "parameters": parameters, "volumetric": volumetric, "ballbar": ballbar,
+        "thermal_modes": thermal_modes, "thermal_drift": thermal_drift,
+        "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.extent.max_um, "max_correction_urad": c.extent.max_urad})),
+    })
+}

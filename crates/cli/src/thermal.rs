@@ -1,0 +1,56 @@
+//! `trueaxis thermal modes|place|fit|predict`: thermal modal analysis and sensor placement
+//! (`thermal/modal.rs`), thermal error model fits (`thermal/fit.rs`) and their evaluation
+//! (`thermal/predict.rs`).
+
+mod fit;
+mod modal;
+mod predict;
+
+use crate::Failure;
+use std::path::Path;
+use trueaxis::data::write_atomically;
+use trueaxis::thermal::ThermalError;
+use trueaxis_report::ReportError;
+
+/// Thermal modal analysis, sensor placement and thermal error models (seed 002 ch. 3-4).
+#[derive(clap::Args)]
+#[command(after_help = "Examples (see `trueaxis thermal <command> --help`):\n  \
+trueaxis thermal modes --model examples/thermal/fin.toml --count 6\n  \
+trueaxis thermal place --model examples/thermal/elongation.toml --count 3 --share 1\n  \
+trueaxis thermal fit --data examples/thermal/campaign.csv --error dz --train-runs warmup --out dz_model.toml\n  \
+trueaxis thermal predict --model dz_model.toml --data examples/thermal/campaign.csv")]
+pub struct ThermalArgs {
+    #[command(subcommand)]
+    command: ThermalCommand,
+}
+
+#[derive(clap::Subcommand)]
+enum ThermalCommand {
+    Modes(modal::ModesArgs),
+    Place(modal::PlaceArgs),
+    Fit(Box<fit::FitArgs>),
+    Predict(predict::PredictArgs),
+}
+
+pub fn run(args: ThermalArgs) -> Result<(), Failure> {
+    match args.command {
+        ThermalCommand::Modes(a) => modal::modes(a),
+        ThermalCommand::Place(a) => modal::place(a),
+        ThermalCommand::Fit(a) => fit::fit(*a),
+        ThermalCommand::Predict(a) => predict::predict(a),
+    }
+}
+
+/// A computation that failed on valid input exits 1, everything else 2.
+fn failure(e: ThermalError) -> Failure {
+    match e {
+        ThermalError::Computation(_) => Failure::computation(e),
+        _ => Failure::input(e),
+    }
+}
+
+/// Writes an SVG figure (atomically); a figure that cannot be drawn is a failed computation.
+fn write_plot(path: &Path, svg: Result<String, ReportError>) -> Result<(), Failure> {
+    let svg = svg.map_err(|e| Failure::computation(anyhow::anyhow!("{}: {e}", path.display())))?;
+    write_atomically(path, svg.as_bytes()).map_err(Failure::input)
+}

@@ -1,0 +1,250 @@
+//! `trueaxis thermal modes` and `trueaxis thermal place`.
+
+use super::{failure, write_plot};
+use crate::iso230_2::print;
+use crate::Failure;
+use serde_json::{json, Value};
+use std::path::PathBuf;
+use trueaxis::thermal::model_file::{load_model, ThermalModel};
+use trueaxis::thermal::placement::{conditioning, effective_independence, exhaustive, log_det_information, modal_rule};
+use trueaxis::thermal::{
+    dominant_modes, modal_analysis_with_progress, mode_weights, LanczosProgress, ModalBasis, ModalOptions, SpectrumMethod, DEFAULT_SHARE,
+};
+use trueaxis_report::{mode_shapes_plot, mode_shapes_svg, modes_svg, time_constants_plot};
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum MethodArg {
+    Auto,
+    Dense,
+    Lanczos,
+}
+
+/// Modes of a thermal model: time constants (min) and weights |xi tau| under the model's step
+/// flux, sorted by decreasing time constant; the dominant modes carry the `--share` of the weight.
+#[derive(clap::Args)]
+#[command(after_help = "Examples:\n  trueaxis thermal modes --model examples/thermal/fin.toml --count 6 --json\n  \
+trueaxis thermal modes --model examples/thermal/plate.toml --count 8 --plot plate_modes.svg")]
+pub struct ModesArgs {
+    /// Thermal model (TOML): kind = bar1d | grid2d | grid3d | matrix_market.
+    #[arg(long)]
+    model: PathBuf,
+    /// Number of modes (the lowest).
+    #[arg(long, default_value_t = 10)]
+    count: usize,
+    /// Cumulative weight share kept by truncation.
+    #[arg(long, default_value_t = DEFAULT_SHARE)]
+    share: f64,
+    /// Eigensolver: dense up to 1500 nodes and shift-invert Lanczos above (auto), or forced.
+    #[arg(long, value_enum, default_value = "auto")]
+    method: MethodArg,
+    /// Write a figure (SVG): the first mode shapes along the structure, the time constants with
+    /// their weights and the truncation share.
+    #[arg(long, value_name = "FILE.svg")]
+    plot: Option<PathBuf>,
+    /// Print one JSON document.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum PlaceMethod {
+    Modal,
+    Efi,
+    Exhaustive,
+}
+
+/// Temperature sensor placement for the dominant modes: the modal rule of seed 002 §3.3.1
+/// (extremes of each dominant mode, reuse, ties to the heat source), effective independence, or
+/// exhaustive search for the largest det(Phi_s^T Phi_s).
+#[derive(clap::Args)]
+#[command(after_help = "Examples:\n  trueaxis thermal place --model examples/thermal/fin.toml --method modal --json\n  \
+trueaxis thermal place --model examples/thermal/elongation.toml --count 3 --share 1 --plot sensors.svg")]
+pub struct PlaceArgs {
+    /// Thermal model (TOML): kind = bar1d | grid2d | grid3d | matrix_market; its `candidates` are
+    /// the nodes where a sensor may go (default every node).
+    #[arg(long)]
+    model: PathBuf,
+    /// Modes computed before truncation.
+    #[arg(long, default_value_t = 20)]
+    count: usize,
+    /// Cumulative weight share of the dominant modes the sensors must serve (0 < share <= 1).
+    #[arg(long, default_value_t = DEFAULT_SHARE)]
+    share: f64,
+    /// Placement method: modal (seed 002 §3.3.1: one sensor at the extreme of each dominant mode,
+    /// reused where it serves several), efi (effective independence, Kammer) or exhaustive (every
+    /// subset of --sensors candidates, largest det(Phi_s^T Phi_s)).
+    #[arg(long, value_enum, default_value = "modal")]
+    method: PlaceMethod,
+    /// Number of sensors (efi, exhaustive; default: one per dominant mode).
+    #[arg(long)]
+    sensors: Option<usize>,
+    /// Modal rule: reuse a placed sensor reaching this fraction of a mode's extreme (0 < reuse <= 1).
+    #[arg(long, default_value_t = 0.8)]
+    reuse: f64,
+    /// Write a figure (SVG): the dominant mode shapes along the structure with the sensors.
+    #[arg(long, value_name = "FILE.svg")]
+    plot: Option<PathBuf>,
+    /// Print one JSON document: the sensors (node, position, modes served), the rank and condition
+    /// number of the sensor-mode matrix Phi_s (null when infinite) and an explanation.
+    #[arg(long)]
+    json: bool,
+}
+
+fn check_fraction(name: &str, value: f64) -> Result<(), Failure> {
+    if value > 0.0 && value <= 1.0 {
+        Ok(())
+    } else {
+        Err(Failure::input(anyhow::anyhow!("{name} {value} must lie in (0, 1]")))
+    }
+}
+
+/// The modes, with a progress bar on a terminal (not with --json, not when stderr is piped).
+fn analyse(model: &ThermalModel, count: usize, method: MethodArg, quiet: bool) -> Result<ModalBasis, Failure> {
+    if count == 0 {
+        return Err(Failure::input(anyhow::anyhow!("--count must be at least 1")));
+    }
+    let method = match method {
+        MethodArg::Auto => SpectrumMethod::Auto,
+        MethodArg::Dense => SpectrumMethod::Dense,
+        MethodArg::Lanczos => SpectrumMethod::Lanczos,
+    };
+    let count = count.min(model.system.node_count());
+    let bar = crate::progress::steps(count, quiet);
+    let mut progress = |p: LanczosProgress| match p {
+        LanczosProgress::Factorising { nodes } => bar.set_message(format!("modes converged; factorising K - sigma C ({nodes} nodes)")),
+        LanczosProgress::Factorised { nonzeros } => bar.set_message(format!("modes converged; factor with {nonzeros} nonzeros, Lanczos")),
+        LanczosProgress::Iterating { converged, basis, max_basis, .. } => {
+            bar.set_position(converged as u64);
+            bar.set_message(format!("modes converged; Lanczos basis {basis} of at most {max_basis}"));
+        }
+    };
+    let options = ModalOptions { count: Some(count), method, ..Default::default() };
+    let result = modal_analysis_with_progress(&model.system, &options, &mut progress);
+    bar.finish_and_clear();
+    result.map_err(failure)
+}
+
+pub fn modes(args: ModesArgs) -> Result<(), Failure> {
+    check_fraction("--share", args.share)?;
+    let model = load_model(&args.model).map_err(failure)?;
+    let basis = analyse(&model, args.count, args.method, args.json)?;
+    let weights = mode_weights(&basis, &model.system.load);
+    let dominant = dominant_modes(&weights, args.share);
+    if let Some(path) = &args.plot {
+        let first: Vec<usize> = (0..basis.len()).collect();
+        let shapes = mode_shapes_plot(&model, &basis, &first, &[]);
+        write_plot(path, modes_svg(&shapes, &time_constants_plot(&model.name, &weights, &dominant, args.share)))?;
+    }
+    if args.json {
+        let modes: Vec<Value> = weights
+            .iter()
+            .map(|w| {
+                json!({"mode": w.mode + 1, "tau_min": w.tau_s / 60.0, "tau_s": w.tau_s, "weight": w.weight, "share": w.share,
+                       "dominant": dominant.contains(&w.mode)})
+            })
+            .collect();
+        let doc = json!({"model": model.name, "nodes": model.system.node_count(), "share": args.share,
+                         "dominant": dominant.iter().map(|m| m + 1).collect::<Vec<_>>(), "modes": modes});
+        return print(&format!("{doc}\n"));
+    }
+    let mut out = format!(
+        "thermal modes of {} ({} nodes), weights |xi tau| under the step flux, sorted by decreasing time constant\n{:>5} {:>12} {:>12} {:>8}  dominant\n",
+        model.name,
+        model.system.node_count(),
+        "mode",
+        "tau (min)",
+        "weight",
+        "share"
+    );
+    for w in &weights {
+        out += &format!(
+            "{:>5} {:>12.3} {:>12.4e} {:>7.1}%  {}\n",
+            w.mode + 1,
+            w.tau_s / 60.0,
+            w.weight,
+            100.0 * w.share,
+            if dominant.contains(&w.mode) { "yes" } else { "" }
+        );
+    }
+    out +=
+        &format!("{} dominant modes carry {:.0} % of the weight of the {} computed\n", dominant.len(), 100.0 * args.share, weights.len());
+    print(&out)
+}
+
+pub fn place(args: PlaceArgs) -> Result<(), Failure> {
+    check_fraction("--share", args.share)?;
+    check_fraction("--reuse", args.reuse)?;
+    let model = load_model(&args.model).map_err(failure)?;
+    let basis = analyse(&model, args.count, MethodArg::Auto, args.json)?;
+    let weights = mode_weights(&basis, &model.system.load);
+    let dominant = dominant_modes(&weights, args.share);
+    let coordinates = model.system.coordinates.clone();
+    let distance = |node: usize| -> f64 {
+        model
+            .flux_nodes
+            .iter()
+            .map(|&f| match &coordinates {
+                Some(c) => (0..3).map(|d| (c[node][d] - c[f][d]).powi(2)).sum::<f64>().sqrt(),
+                None => (node as f64 - f as f64).abs(),
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    let count = args.sensors.unwrap_or(dominant.len());
+    let (sensors, served): (Vec<usize>, Vec<Vec<usize>>) = match args.method {
+        PlaceMethod::Modal => {
+            let placed = modal_rule(&basis, &dominant, &model.candidates, args.reuse, distance).map_err(failure)?;
+            placed.into_iter().map(|p| (p.node, p.modes)).unzip()
+        }
+        PlaceMethod::Efi => {
+            let s = effective_independence(&basis, &dominant, &model.candidates, count).map_err(failure)?;
+            let n = s.len();
+            (s, vec![Vec::new(); n])
+        }
+        PlaceMethod::Exhaustive => {
+            if count < dominant.len() {
+                return Err(Failure::input(anyhow::anyhow!(
+                    "exhaustive search maximises det(Phi_s^T Phi_s): it needs at least {} sensors (one per dominant mode)",
+                    dominant.len()
+                )));
+            }
+            let (s, _) = exhaustive(&model.candidates, count, |s| log_det_information(&basis, &dominant, s)).map_err(failure)?;
+            let n = s.len();
+            (s, vec![Vec::new(); n])
+        }
+    };
+    let cond = conditioning(&basis, &dominant, &sensors);
+    if let Some(path) = &args.plot {
+        write_plot(path, mode_shapes_svg(&mode_shapes_plot(&model, &basis, &dominant, &sensors)))?;
+    }
+    let method = match args.method {
+        PlaceMethod::Modal => "modal",
+        PlaceMethod::Efi => "efi",
+        PlaceMethod::Exhaustive => "exhaustive",
+    };
+    let position = |n: usize| coordinates.as_ref().map(|c| c[n].to_vec());
+    if args.json {
+        let list: Vec<Value> = sensors
+            .iter()
+            .zip(&served)
+            .map(|(n, m)| json!({"node": n, "position_m": position(*n), "modes": m.iter().map(|i| i + 1).collect::<Vec<_>>()}))
+            .collect();
+        let doc = json!({"model": model.name, "method": method, "dominant_modes": dominant.iter().map(|m| m + 1).collect::<Vec<_>>(),
+                         "sensors": list, "condition_number": cond.condition_number, "rank": cond.rank,
+                         "conditioning": cond.explanation()});
+        return print(&format!("{doc}\n"));
+    }
+    let mut out = format!(
+        "sensor placement ({method}) for the dominant modes {:?} of {}\n",
+        dominant.iter().map(|m| m + 1).collect::<Vec<_>>(),
+        model.name
+    );
+    for (n, m) in sensors.iter().zip(&served) {
+        let at =
+            position(*n).map_or(String::new(), |p| format!(" at {:?} m", p.iter().map(|v| (v * 1e4).round() / 1e4).collect::<Vec<_>>()));
+        let modes = if m.is_empty() { String::new() } else { format!(", serves modes {:?}", m.iter().map(|i| i + 1).collect::<Vec<_>>()) };
+        out += &format!("  node {n}{at}{modes}\n");
+    }
+    out += &cond.explanation();
+    out.push('\n');
+    print(&out)
+}

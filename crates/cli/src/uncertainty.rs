@@ -1,0 +1,438 @@
+//! `trueaxis uncertainty`.
+
+use crate::predict::parse_point;
+use crate::Failure;
+use serde_json::{json, Map, Value};
+use std::path::PathBuf;
+use trueaxis::data::read_poses;
+use trueaxis::data::write_atomically;
+use trueaxis::geometry::Vec3;
+use trueaxis::identify::{solve, Campaign, Identification, IdentifyError, IndirectOptions};
+use trueaxis::machine::Machine;
+use trueaxis::model::{Frame, Setup};
+use trueaxis::uncertainty::{
+    run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, IntervalKind, Sources, UncertaintyError, VolumetricUncertainty,
+};
+use trueaxis_report::{interval_of, uncertainty_figures};
+
+/// Uncertainty of identified parameters: GUM propagation and adaptive Monte Carlo (JCGM 101
+/// §7.9, several outputs per JCGM 102) with the sources of a sources file (sensor noise, frame
+/// transformation, drift by the statistical or the cyclic method), and the budget per source
+/// (seed 004 Table 5).
+#[derive(clap::Args)]
+#[command(after_help = "Examples:\n  trueaxis uncertainty --design examples/uncertainty/kx8five_design.csv \\\n      \
+--sources examples/uncertainty/kx8five_cyclic.toml --plots kx8five-uncertainty\n  \
+trueaxis uncertainty --machine examples/machines/kx8five.toml --campaign examples/campaigns/kx8five/campaign.toml \\\n      \
+--sources examples/uncertainty/kx8five_cyclic.toml\n\n\
+With --machine and --campaign the design is the campaign's identification (as `trueaxis identify`),\n\
+record k measured at k * --point-time s, channels named x, y, z (one measurement) or measurement:x.\n\
+The design CSV has one row per observation: channel (text), t (s), optional y (um, measured value)\n\
+and weight (1/sigma^2), and one column per parameter with the sensitivities (um per um or urad).\n\
+The sources TOML lists the sources and the Monte Carlo settings; see docs/uncertainty.md.\n\
+Estimates, uncertainties and intervals are in the parameter units (um, urad).")]
+pub struct UncertaintyArgs {
+    /// Design matrix (CSV): channel, t, [y], [weight], one column per parameter.
+    #[arg(long, required_unless_present = "campaign", conflicts_with_all = ["campaign", "machine"])]
+    design: Option<PathBuf>,
+    /// Machine description, with --campaign: the design of the campaign's identification.
+    #[arg(long, requires = "campaign")]
+    machine: Option<PathBuf>,
+    /// Measurement campaign (TOML), with --machine.
+    #[arg(long, requires = "machine")]
+    campaign: Option<PathBuf>,
+    /// Poses (CSV, one column per axis) at which to give the uncertainty of the predicted
+    /// volumetric error dx dy dz (GUM and Monte Carlo); needs --machine and --campaign.
+    #[arg(long, requires = "campaign")]
+    poses: Option<PathBuf>,
+    /// With --poses: tool-side point x,y,z in mm, in M at home (default: the machine's tool point).
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true, requires = "poses")]
+    tool_point: Option<Vec3>,
+    /// With --poses: workpiece-side point x,y,z in mm, in M at home (default: 0,0,0).
+    #[arg(long, value_parser = parse_point, allow_hyphen_values = true, requires = "poses")]
+    work_point: Option<Vec3>,
+    /// With --poses: frame of dx dy dz.
+    #[arg(long, value_enum, default_value = "workpiece")]
+    frame: FrameArg,
+    /// Time per measured point of a campaign (s), for the drift sources.
+    #[arg(long, default_value_t = 0.75)]
+    point_time: f64,
+    /// Uncertainty sources and Monte Carlo settings (TOML).
+    #[arg(long)]
+    sources: PathBuf,
+    /// Seed of the random numbers (overrides the sources file).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Only the run with all sources together (no per-source budget).
+    #[arg(long)]
+    no_budget: bool,
+    /// Write histograms.svg and convergence.svg into this directory.
+    #[arg(long)]
+    plots: Option<PathBuf>,
+    /// Print one JSON document instead of the tables.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum FrameArg {
+    Workpiece,
+    Machine,
+}
+
+fn identify_failure(e: IdentifyError) -> Failure {
+    match e {
+        IdentifyError::RankDeficient { .. } => Failure::computation(e),
+        other => Failure::input(other),
+    }
+}
+
+/// A campaign and its identification (the same as `trueaxis identify` solves).
+struct CampaignContext {
+    machine: Machine,
+    campaign: Campaign,
+    identification: Identification,
+    design: DesignMatrix,
+}
+
+fn campaign_context(machine: &std::path::Path, campaign: &std::path::Path, point_time: f64) -> Result<CampaignContext, Failure> {
+    let machine = Machine::load(machine).map_err(Failure::input)?;
+    let campaign = Campaign::load(campaign, &machine).map_err(identify_failure)?;
+    let nominal = campaign.nominal_errors(&machine).map_err(identify_failure)?;
+    let design = campaign.design_matrix(&machine, &nominal).map_err(identify_failure)?;
+    let start = campaign.nominal_values(&nominal).map_err(identify_failure)?;
+    let identification = solve(&design, &start, &IndirectOptions::default()).map_err(identify_failure)?;
+    let design = trueaxis::uncertainty::from_identification(&design, point_time).map_err(failure)?;
+    Ok(CampaignContext { machine, campaign, identification, design })
+}
+
+/// The uncertainty of the predicted volumetric error at one pose, GUM and Monte Carlo.
+struct PoseUncertainty {
+    /// Axis letter and position (mm, deg).
+    user: Vec<(char, f64)>,
+    gum: VolumetricUncertainty,
+    monte_carlo: VolumetricUncertainty,
+}
+
+/// Seed 000 App. A eq. A.4 at every pose of `path`: the GUM covariance of the parameters (all
+/// sources) through `Identification::volumetric_covariance`, and the Monte Carlo covariance of
+/// the parameter trials through the same `F` (the prediction is linear in the parameters).
+fn pose_uncertainties(
+    args: &UncertaintyArgs,
+    path: &std::path::Path,
+    ctx: &CampaignContext,
+    budget: &Budget,
+    level: f64,
+) -> Result<Vec<PoseUncertainty>, Failure> {
+    let m = &ctx.machine;
+    let poses = read_poses(path, m).map_err(Failure::input)?;
+    let setup = Setup { tool_point: args.tool_point.unwrap_or(m.tool_point), work_point: args.work_point.unwrap_or_else(Vec3::zeros) };
+    let frame = match args.frame {
+        FrameArg::Workpiece => Frame::Workpiece,
+        FrameArg::Machine => Frame::Machine,
+    };
+    let mut gum_identification = ctx.identification.clone();
+    gum_identification.covariance = budget.gum_covariance.clone();
+    let n = m.axis_count().max(1);
+    let internal = poses.internal(m);
+    let mut out = Vec::new();
+    for (user, q) in poses.user.chunks(n).zip(internal.chunks(n)) {
+        let gum = VolumetricUncertainty::from_covariance(
+            gum_identification.volumetric_covariance(&ctx.campaign, m, q, &setup, frame),
+            [0.0; 3],
+            level,
+        )
+        .map_err(failure)?;
+        let f = ctx.campaign.unknown_jacobian(m, q, &setup, frame).rows(0, 3) * 1e3;
+        let monte_carlo = VolumetricUncertainty::propagated(&f, &budget.total.covariance, [0.0; 3], level).map_err(failure)?;
+        out.push(PoseUncertainty { user: m.axes().iter().map(|a| a.letter).zip(user.iter().copied()).collect(), gum, monte_carlo });
+    }
+    Ok(out)
+}
+
+/// Where the design came from, for the outputs.
+fn design_origin(args: &UncertaintyArgs) -> String {
+    match (&args.design, &args.campaign) {
+        (Some(d), _) => d.display().to_string(),
+        (None, Some(c)) => c.display().to_string(),
+        _ => String::new(),
+    }
+}
+
+fn failure(e: UncertaintyError) -> Failure {
+    if e.is_input() {
+        Failure::input(e)
+    } else {
+        Failure::computation(e)
+    }
+}
+
+pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
+    let context = match (&args.machine, &args.campaign) {
+        (Some(machine), Some(campaign)) if args.design.is_none() => Some(campaign_context(machine, campaign, args.point_time)?),
+        _ => None,
+    };
+    if args.poses.is_some() && context.is_none() {
+        return Err(Failure::input(anyhow::anyhow!("--poses needs --machine and --campaign (the parameters' effect on dx dy dz)")));
+    }
+    let design = match (&args.design, &context) {
+        (Some(path), _) => DesignMatrix::read_csv(path).map_err(failure)?,
+        (None, Some(ctx)) => ctx.design.clone(),
+        _ => return Err(Failure::input(anyhow::anyhow!("give --design, or --machine and --campaign"))),
+    };
+    let mut sources = Sources::load(&args.sources).map_err(failure)?;
+    if let Some(seed) = args.seed {
+        sources.settings.seed = seed;
+    }
+    sources.check_channels(&design).map_err(|e| failure(UncertaintyError::Input(format!("{}: {e}", args.sources.display()))))?;
+    let map = IdentificationMap::new(design).map_err(failure)?;
+    let bar = crate::progress::spinner(args.json);
+    let settings = &sources.settings;
+    let mut report = |stage: Option<&str>, h: usize, c: Option<&trueaxis::uncertainty::ControlVariables>| {
+        let what = stage.map_or("all sources".to_string(), |s| format!("source `{s}` alone"));
+        let control = c.map_or(String::new(), |c| {
+            format!(", largest 2s = {:.4} (tolerance {})", 2.0 * c.max.iter().fold(0.0f64, |a, b| a.max(*b)), settings.tolerance)
+        });
+        bar.set_message(format!("{what}: sequence {h}{control}"));
+        bar.tick();
+    };
+    let budget = run_budget(&map, &sources.sources, settings, Evaluation::Reduced, !args.no_budget, &mut report);
+    bar.finish_and_clear();
+    let budget = budget.map_err(failure)?;
+    let poses = match (&args.poses, &context) {
+        (Some(path), Some(ctx)) => pose_uncertainties(&args, path, ctx, &budget, settings.coverage)?,
+        _ => Vec::new(),
+    };
+    if let Some(dir) = &args.plots {
+        write_plots(dir, &budget, &sources).map_err(Failure::input)?;
+    }
+    if !budget.total.converged {
+        eprintln!(
+            "trueaxis: warning: the adaptive Monte Carlo did not reach the tolerance {} within {} sequences",
+            settings.tolerance, settings.max_sequences
+        );
+    }
+    let text = if args.json {
+        format!("{}\n", to_json(&args, &map, &budget, &sources, &poses))
+    } else {
+        table(&args, &map, &budget, &sources) + &poses_table(&args, &poses, &sources)
+    };
+    print(&text)
+}
+
+/// JSON of one pose's volumetric uncertainty (um, um^2).
+fn volumetric_json(v: &VolumetricUncertainty) -> Value {
+    let e = &v.ellipsoid;
+    let axes: Vec<Value> = e
+        .semi_axes
+        .iter()
+        .enumerate()
+        .map(|(i, a)| {
+            json!({"semi_axis_um": a, "std_uncertainty_um": e.axes.variances[i].sqrt(),
+                   "direction": e.axes.directions.column(i).iter().copied().collect::<Vec<f64>>()})
+        })
+        .collect();
+    json!({
+        "std_uncertainty_um": v.std_uncertainty,
+        "covariance_um2": (0..3).map(|i| (0..3).map(|j| v.covariance[(i, j)]).collect::<Vec<f64>>()).collect::<Vec<_>>(),
+        "ellipsoid": {"level": e.level, "dof": e.dof, "chi2": e.chi2, "axes": axes},
+    })
+}
+
+/// Rows of a square matrix as JSON arrays.
+fn matrix_json(m: &nalgebra::DMatrix<f64>) -> Value {
+    json!((0..m.nrows()).map(|i| m.row(i).iter().copied().collect::<Vec<f64>>()).collect::<Vec<_>>())
+}
+
+fn poses_table(args: &UncertaintyArgs, poses: &[PoseUncertainty], sources: &Sources) -> String {
+    use std::fmt::Write;
+    let Some(path) = &args.poses else { return String::new() };
+    let mut out = String::new();
+    let pct = 100.0 * sources.settings.coverage;
+    let frame = match args.frame {
+        FrameArg::Workpiece => "workpiece",
+        FrameArg::Machine => "machine",
+    };
+    let _ = writeln!(
+        out,
+        "\nuncertainty of the predicted volumetric error dx dy dz ({}, {frame} frame): standard uncertainties (um) and the {pct} % \
+         confidence ellipsoid (semi-axes sqrt(chi2_3 lambda_i), um, along unit directions), GUM (F Cov F^T) and Monte Carlo (F Cov_MC F^T)",
+        path.display()
+    );
+    for (k, p) in poses.iter().enumerate() {
+        let pose: Vec<String> = p.user.iter().map(|(a, v)| format!("{a}={v}")).collect();
+        let _ = writeln!(out, "pose {} ({}):", k + 1, pose.join(" "));
+        for (name, v) in [("GUM", &p.gum), ("MC ", &p.monte_carlo)] {
+            let axes: Vec<String> = v
+                .ellipsoid
+                .semi_axes
+                .iter()
+                .enumerate()
+                .map(|(i, a)| {
+                    let d = v.ellipsoid.axes.directions.column(i);
+                    format!("{a:.3} along ({:+.3} {:+.3} {:+.3})", d[0], d[1], d[2])
+                })
+                .collect();
+            let u = v.std_uncertainty;
+            let _ = writeln!(out, "  {name} u(dx dy dz) = {:.3} {:.3} {:.3} um; ellipsoid {}", u[0], u[1], u[2], axes.join(", "));
+        }
+    }
+    out
+}
+
+fn to_json(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sources: &Sources, poses: &[PoseUncertainty]) -> Value {
+    let s = &sources.settings;
+    let k = budget.gum_coverage_factor;
+    let mut parameters = Map::new();
+    for (j, row) in budget.rows.iter().enumerate() {
+        let o = &budget.total.outputs[j];
+        let (gum_mean, gum_u) = (budget.gum_estimate[j], row.gum_total_u);
+        let mut per_source = Map::new();
+        for (name, w) in budget.source_names.iter().zip(&row.widths) {
+            per_source.insert(name.clone(), json!(w));
+        }
+        if !row.widths.is_empty() {
+            per_source.insert("rss".into(), json!(row.rss));
+        }
+        per_source.insert("total".into(), json!(row.total));
+        parameters.insert(
+            row.parameter.clone(),
+            json!({
+                "unit": row.unit,
+                "estimate": o.mean,
+                "std_uncertainty": o.std_uncertainty,
+                "interval": [o.symmetric.low, o.symmetric.high],
+                "shortest_interval": [o.shortest.low, o.shortest.high],
+                "skewness": o.skewness,
+                "excess_kurtosis": o.excess_kurtosis,
+                "gum": {"estimate": gum_mean, "std_uncertainty": gum_u, "interval": [gum_mean - k * gum_u, gum_mean + k * gum_u]},
+                "budget_interval_widths": per_source,
+                "gum_std_uncertainty_per_source": budget.source_names.iter().zip(&row.gum_u).map(|(n, u)| (n.clone(), json!(u))).collect::<Map<_, _>>(),
+            }),
+        );
+    }
+    let history: Vec<Value> = budget
+        .total
+        .history
+        .iter()
+        .map(|c| json!({"sequence": c.sequence, "s_estimate": c.max[0], "s_std_uncertainty": c.max[1], "s_low": c.max[2], "s_high": c.max[3]}))
+        .collect();
+    json!({
+        "design": design_origin(args),
+        "observations": map.design.observations(),
+        "parameter_order": map.design.parameters,
+        "parameters": parameters,
+        "sources": budget.source_names,
+        "coverage": s.coverage,
+        "interval": s.interval,
+        "tolerance": s.tolerance,
+        "seed": s.seed,
+        "trials_per_sequence": s.trials_per_sequence,
+        "sequences": budget.total.sequences,
+        "trials": budget.total.trials,
+        "converged": budget.total.converged,
+        "budget_sequences": budget.per_source.iter().map(|r| r.sequences).collect::<Vec<_>>(),
+        "condition_number": map.condition_number,
+        "history": history,
+        "covariance": {"parameter_order": map.design.parameters, "units": map.design.units,
+                       "gum": matrix_json(&budget.gum_covariance), "monte_carlo": matrix_json(&budget.total.covariance)},
+        "poses": poses.iter().map(|p| json!({"pose": p.user.iter().map(|(a, v)| (a.to_string(), json!(v))).collect::<Map<_, _>>(), "gum": volumetric_json(&p.gum), "monte_carlo": volumetric_json(&p.monte_carlo)})).collect::<Vec<_>>(),
+    })
+}
+
+fn table(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sources: &Sources) -> String {
+    use std::fmt::Write;
+    let s = &sources.settings;
+    let mut out = String::new();
+    let pct = 100.0 * s.coverage;
+    let _ = writeln!(
+        out,
+        "Uncertainty of {} parameters identified from {} observations ({}); condition number {:.1}",
+        map.design.parameter_count(),
+        map.design.observations(),
+        design_origin(args),
+        map.condition_number
+    );
+    let _ = writeln!(out, "sources: {}", budget.source_names.join(", "));
+    let _ = writeln!(
+        out,
+        "adaptive Monte Carlo (JCGM 101 7.9): M = {} trials x h = {} sequences, tolerance {}, seed {}: {}",
+        s.trials_per_sequence,
+        budget.total.sequences,
+        s.tolerance,
+        s.seed,
+        if budget.total.converged { "converged" } else { "NOT converged" }
+    );
+    let kind = match s.interval {
+        IntervalKind::Symmetric => "symmetric",
+        IntervalKind::Shortest => "shortest",
+    };
+    let _ = writeln!(
+        out,
+        "\n{:<8} {:>5} {:>10} {:>9} {:>9}   {:<24} {:<24}",
+        "param",
+        "unit",
+        "estimate",
+        "u (MC)",
+        "u (GUM)",
+        format!("{pct} % {kind}"),
+        "GUM interval"
+    );
+    let k = budget.gum_coverage_factor;
+    for (j, row) in budget.rows.iter().enumerate() {
+        let o = &budget.total.outputs[j];
+        let (lo, hi) = interval_of(s.interval, o);
+        let g = budget.gum_estimate[j];
+        let _ = writeln!(
+            out,
+            "{:<8} {:>5} {:>10.3} {:>9.3} {:>9.3}   [{:>9.3}, {:>9.3}]   [{:>9.3}, {:>9.3}]",
+            row.parameter,
+            row.unit,
+            o.mean,
+            o.std_uncertainty,
+            row.gum_total_u,
+            lo,
+            hi,
+            g - k * row.gum_total_u,
+            g + k * row.gum_total_u
+        );
+    }
+    if budget.per_source.len() > 1 {
+        let _ = writeln!(out, "\nbudget: width of the {pct} % interval with each source alone (seed 004 Table 5)");
+        let mut header = format!("{:<8} {:>5}", "param", "unit");
+        for name in &budget.source_names {
+            let _ = write!(header, " {:>14}", name);
+        }
+        let _ = writeln!(out, "{header} {:>10} {:>10}", "rss", "total");
+        for row in &budget.rows {
+            let mut line = format!("{:<8} {:>5}", row.parameter, row.unit);
+            for w in &row.widths {
+                let _ = write!(line, " {:>14.3}", w);
+            }
+            let _ = writeln!(out, "{line} {:>10.3} {:>10.3}", row.rss, row.total);
+        }
+    }
+    if let Some(dir) = &args.plots {
+        let _ = writeln!(out, "\nwrote {}/histograms.svg and {}/convergence.svg", dir.display(), dir.display());
+    }
+    out
+}
+
+fn write_plots(dir: &std::path::Path, budget: &Budget, sources: &Sources) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: cannot create directory: {e}", dir.display()))?;
+    let (histograms, convergence) = uncertainty_figures(budget, &sources.settings)?;
+    write_atomically(&dir.join("histograms.svg"), histograms.as_bytes())?;
+    if let Some(svg) = convergence {
+        write_atomically(&dir.join("convergence.svg"), svg.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Writes to stdout; a closed pipe (`| head`) is not an error.
+fn print(text: &str) -> Result<(), Failure> {
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::computation(anyhow::anyhow!("cannot write to stdout: {e}"))),
+        _ => Ok(()),
+    }
+}

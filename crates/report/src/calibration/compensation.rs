@@ -1,0 +1,98 @@
+//! The compensation part of a calibration report: own-axis and cross-axis tables and a volumetric
+//! grid from an error model, solved on the exact chain (seed 000 §2.3.5), as `trueaxis compensate`
+//! computes them, and what the controller's sum of tables does at any pose.
+
+use super::super::html::Section;
+use super::CalibrationError;
+use trueaxis::compensate::export::{self, Coverage, ExportInput, ExportedFile, Extent, Limits};
+use trueaxis::compensate::{axis_tables, volumetric_grid, Corrector, TableSet, TableSpec, VolumetricGrid};
+use trueaxis::errors::ErrorModel;
+use trueaxis::machine::Machine;
+
+/// Points per table and grid nodes: the defaults of `trueaxis compensate` (`--points 41 --grid 9,9,9`).
+pub const POINTS: usize = 41;
+pub const GRID_NODES: [usize; 3] = [9, 9, 9];
+
+/// Tables and grid of one error model.
+pub struct CompensationPart {
+    pub tables: TableSet,
+    /// The grid over X, Y, Z (machines that have the three axes).
+    pub grid: Option<VolumetricGrid>,
+    pub points: usize,
+    pub grid_nodes: [usize; 3],
+    /// Largest corrections written (um, urad) and what is left after correction, over the tables
+    /// and the grid.
+    pub extent: Extent,
+    /// Where the error model came from (a file, "the identification").
+    pub origin: String,
+    /// Files written with the tables (names), if any.
+    pub files: Vec<String>,
+}
+
+impl CompensationPart {
+    pub fn compute(
+        machine: &Machine,
+        errors: &ErrorModel,
+        origin: &str,
+        points: usize,
+        grid_nodes: [usize; 3],
+    ) -> Result<CompensationPart, CalibrationError> {
+        let corrector = Corrector::new(machine, errors);
+        let spec = TableSpec { points, reference: None, temperatures: Vec::new() };
+        let tables = axis_tables(&corrector, &spec)?;
+        let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
+        let grid = if has_xyz { Some(volumetric_grid(&corrector, grid_nodes, &spec)?) } else { None };
+        // what the CSV export (tables and grid) writes, as `trueaxis compensate --format csv` sums it up
+        let input = ExportInput { machine, errors, tables: &tables, grid: grid.as_ref(), limits: Limits::default() };
+        let extent = export::largest_corrections(&input, Coverage::TABLES_AND_GRID);
+        Ok(CompensationPart { tables, grid, points, grid_nodes, extent, origin: origin.into(), files: Vec::new() })
+    }
+
+    /// The plain CSV export (`trueaxis compensate --format csv`): tables.csv, and grid.csv.
+    pub fn csv_files(&self, machine: &Machine, errors: &ErrorModel) -> Result<Vec<ExportedFile>, CalibrationError> {
+        let input = ExportInput { machine, errors, tables: &self.tables, grid: self.grid.as_ref(), limits: Limits::default() };
+        Ok(export::plain::export_csv(&input)?)
+    }
+
+    /// The correction (mm, deg) of every axis at pose `q_user` (mm, deg) as a controller applies the
+    /// tables: the sum of the own-axis and cross-axis tables of each corrected axis, interpolated
+    /// linearly at the positions of their driving axes (mean of the two directions of motion). On
+    /// the axis lines through the reference pose it is the correction; elsewhere it misses the
+    /// terms that depend on two axes at once (seed 003 §4).
+    pub fn table_correction(&self, q_user: &[f64]) -> Vec<f64> {
+        let mut dq = vec![0.0; q_user.len()];
+        for t in &self.tables.tables {
+            dq[t.corrected] += t.mean_at(q_user[t.driver]);
+        }
+        dq
+    }
+
+    pub fn section(&self) -> Section {
+        let mut s = Section::new("compensation", "Compensation").paragraph(format!(
+            "Corrections (added to the axis set-points) from {}: the least-squares correction of the axis set-points iterated on the exact chain (seed 000 §2.3.5), sampled as own-axis and cross-axis tables of {} points per axis (both directions of motion){}. Controller files (LinuxCNC, ISG, Heidenhain, Fanuc-style lattice, CSV, JSON) are written by `trueaxis compensate`.",
+            self.origin,
+            self.points,
+            self.grid.as_ref().map_or(String::new(), |g| format!(" and a volumetric grid of {} x {} x {} nodes", g.counts[0], g.counts[1], g.counts[2]))
+        ));
+        s = s.table(
+            "Summary (the numbers `trueaxis compensate` prints)",
+            &["quantity", "value"],
+            vec![
+                vec!["tables".into(), self.tables.tables.len().to_string()],
+                vec!["points per table".into(), self.points.to_string()],
+                vec![
+                    "grid nodes".into(),
+                    self.grid.as_ref().map_or("none".into(), |g| format!("{}x{}x{}", g.counts[0], g.counts[1], g.counts[2])),
+                ],
+                vec!["largest correction written, linear axes (um)".into(), format!("{:.3}", self.extent.max_um)],
+                vec!["largest correction written, rotary axes (urad)".into(), format!("{:.3}", self.extent.max_urad)],
+                vec!["position residual after correction (um)".into(), format!("{:.4}", self.extent.worst_residual_mm * 1e3)],
+                vec!["orientation not corrected (urad)".into(), format!("{:.3}", self.extent.worst_uncorrectable_rad * 1e6)],
+            ],
+        );
+        if !self.files.is_empty() {
+            s = s.table("Files written", &["file"], self.files.iter().map(|f| vec![f.clone()]).collect());
+        }
+        s
+    }
+}

@@ -1,0 +1,194 @@
+//! The identification part of a calibration report: a campaign solved as `trueaxis identify` solves
+//! it (weighted least squares on the first-order Jacobian of the exact chain, seed 000 eq. 2.24 /
+//! seed 004 eq. 2), its residuals per channel, the parameters with their uncertainties and the
+//! identifiability report.
+
+use super::super::html::Section;
+use super::super::residuals_svg;
+use super::uncertainty::UncertaintyPart;
+use super::{number, CalibrationError};
+use std::path::Path;
+use trueaxis::errors::ErrorModel;
+use trueaxis::identify::{self, error_values_text, Campaign, DesignMatrix, Identification, IndirectOptions};
+use trueaxis::machine::Machine;
+
+/// A campaign and its identification.
+pub struct IdentificationPart {
+    pub campaign: Campaign,
+    pub design: DesignMatrix,
+    pub result: Identification,
+    /// The identified values as an error-values TOML (what `identify --out` writes) and as a model.
+    pub errors_text: String,
+    pub errors: ErrorModel,
+    /// Known values of the unknowns (a simulation), shown beside the identified ones.
+    pub truth: Option<Vec<f64>>,
+    /// Paragraphs that describe the campaign (how it was measured or simulated).
+    pub description: Vec<String>,
+    /// Remarks on the identifiability beyond the automatic report (e.g. which combinations a
+    /// machine's geometry hides and why).
+    pub notes: Vec<String>,
+}
+
+/// One row of the parameter table: identified value (user units), its least-squares standard
+/// uncertainty, the Monte Carlo coverage interval when the uncertainty was evaluated, the known
+/// value when there is one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParameterRow {
+    pub name: String,
+    pub unit: String,
+    pub truth: Option<f64>,
+    pub value: f64,
+    pub std_uncertainty: Option<f64>,
+    pub interval: Option<(f64, f64)>,
+}
+
+impl IdentificationPart {
+    /// Loads the campaign at `path` and identifies its unknowns with the options of `trueaxis
+    /// identify` (QR; a rank-deficient set is an error unless `allow_rank_deficient`).
+    pub fn identify(machine: &Machine, path: &Path, allow_rank_deficient: bool) -> Result<IdentificationPart, CalibrationError> {
+        let campaign = Campaign::load(path, machine)?;
+        let nominal = campaign.nominal_errors(machine)?;
+        let design = campaign.design_matrix(machine, &nominal)?;
+        let start = campaign.nominal_values(&nominal)?;
+        let options = IndirectOptions { allow_rank_deficient, ..IndirectOptions::default() };
+        let result = identify::solve(&design, &start, &options)?;
+        if result.values.iter().chain(&result.residuals).any(|v| !v.is_finite()) {
+            return Err(CalibrationError::Computation(format!(
+                "{}: the identification produced numbers that are not finite",
+                campaign.origin
+            )));
+        }
+        let nominal_text = match &campaign.nominal_errors {
+            Some(p) => {
+                std::fs::read_to_string(p).map_err(|source| trueaxis::data::DataError::Read { path: p.display().to_string(), source })?
+            }
+            None => String::new(),
+        };
+        let errors_text = error_values_text(&result, &campaign, &nominal, &nominal_text)?;
+        let errors = ErrorModel::from_toml_str(&errors_text, &format!("errors identified from {}", campaign.origin), machine)?;
+        Ok(IdentificationPart { campaign, design, result, errors_text, errors, truth: None, description: Vec::new(), notes: Vec::new() })
+    }
+
+    /// Per unknown: the known value (if any), the identified value, its least-squares standard
+    /// uncertainty and the Monte Carlo interval of `uncertainty` (if evaluated).
+    pub fn parameter_rows(&self, uncertainty: Option<&UncertaintyPart>) -> Vec<ParameterRow> {
+        let r = &self.result;
+        (0..r.names.len())
+            .map(|j| ParameterRow {
+                name: r.names[j].clone(),
+                unit: r.units[j].clone(),
+                truth: self.truth.as_ref().map(|t| t[j]),
+                value: r.values[j],
+                std_uncertainty: r.std_uncertainty[j],
+                interval: uncertainty.and_then(|u| u.interval(&r.names[j])),
+            })
+            .collect()
+    }
+
+    /// The campaign: what was measured, the residuals per channel (table and plot).
+    pub fn campaign_section(&self) -> Section {
+        let r = &self.result;
+        let stats = r
+            .channels
+            .iter()
+            .map(|c| {
+                vec![c.name.clone(), c.count.to_string(), number(c.mean, 3), number(c.rms, 3), number(c.max_abs, 3), number(c.sigma, 3)]
+            })
+            .collect();
+        let d = &self.design;
+        let residuals: Vec<(String, Vec<f64>)> = d
+            .channel_names
+            .iter()
+            .enumerate()
+            .map(|(c, name)| (name.clone(), (0..d.rows()).filter(|&i| d.channels[i] == c).map(|i| r.residuals[i]).collect()))
+            .collect();
+        let title = format!("Measurement campaign: {}", self.campaign.name.as_deref().unwrap_or(&self.campaign.origin));
+        let mut s = Section::new("campaign", &title).paragraph(format!(
+            "{}: {} measurement(s), {} readings, {} unknowns.",
+            self.campaign.origin,
+            self.campaign.measurements.len(),
+            r.residuals.len(),
+            r.names.len()
+        ));
+        for p in &self.description {
+            s = s.paragraph(p.clone());
+        }
+        s = s.table(
+            "Residuals per channel after identification (um)",
+            &["channel", "readings", "mean", "RMS", "max |r|", "stated noise"],
+            stats,
+        );
+        if let Ok(svg) = residuals_svg("Residuals of the identification (um)", &residuals) {
+            s = s.figure("Residuals against the reading number: noise shows as a band, a drift or an unmodelled error as a pattern.", svg);
+        }
+        s
+    }
+
+    /// The identified parameters with their uncertainties, and the identifiability report.
+    pub fn parameter_section(&self, uncertainty: Option<&UncertaintyPart>) -> Section {
+        let r = &self.result;
+        let ident = &r.identifiability;
+        let rows = self.parameter_rows(uncertainty);
+        let with_truth = self.truth.is_some();
+        let with_interval = uncertainty.is_some();
+        let interval_header = uncertainty.map(|u| format!("{} % interval (MC)", 100.0 * u.sources.settings.coverage));
+        let mut header = vec!["parameter", "unit"];
+        if with_truth {
+            header.push("true");
+        }
+        header.extend(["identified", "u (LS)"]);
+        if let Some(h) = &interval_header {
+            header.push(h);
+        }
+        if with_truth && with_interval {
+            header.push("covers");
+        }
+        header.push("independence");
+        let table = rows
+            .iter()
+            .zip(&ident.independence)
+            .map(|(p, independence)| {
+                let mut cells = vec![p.name.clone(), p.unit.clone()];
+                if let Some(t) = p.truth {
+                    cells.push(number(t, 2));
+                }
+                cells.push(number(p.value, 2));
+                cells.push(p.std_uncertainty.map_or("-".into(), |u| number(u, 2)));
+                if with_interval {
+                    cells.push(p.interval.map_or("-".into(), |(lo, hi)| format!("[{}, {}]", number(lo, 2), number(hi, 2))));
+                }
+                if let (Some(t), true) = (p.truth, with_interval) {
+                    cells.push(if p.interval.is_some_and(|(lo, hi)| lo <= t && t <= hi) { "yes".into() } else { "no".into() });
+                }
+                cells.push(number(*independence, 3));
+                cells
+            })
+            .collect();
+        let mut s = Section::new("identification", "Identified parameters")
+            .paragraph(format!(
+                "Weighted least squares ({}) on the first-order Jacobian of the exact chain (seed 000 eq. 2.24, seed 004 eq. 2): {} unknowns from {} readings, rank {}, condition number {} (unit-length scaled columns), residual RMS {:.3} um, standard deviation of unit weight s0 = {:.2} (1 when the residuals match the stated noise).",
+                r.solver.name().to_uppercase(),
+                r.names.len(),
+                r.residuals.len(),
+                ident.rank,
+                ident.condition_number.map_or("infinite".into(), |c| format!("{c:.1}")),
+                r.residual_rms_um,
+                r.sigma0
+            ))
+            .table(
+                "Parameters (um, urad): identified value with its least-squares standard uncertainty (s0-scaled), the Monte Carlo coverage interval with all uncertainty sources when evaluated, and the independence index (1: orthogonal to all other parameters, 0: a combination of them)",
+                &header,
+                table,
+            );
+        for c in &ident.unidentifiable {
+            s = s.note(format!("Not identifiable: {}", c.message));
+        }
+        for (i, j, rho) in ident.strong_correlations(0.9) {
+            s = s.note(format!("Strongly correlated: {} and {} (r = {rho:+.3}).", r.names[i], r.names[j]));
+        }
+        for n in &self.notes {
+            s = s.note(n.clone());
+        }
+        s
+    }
+}

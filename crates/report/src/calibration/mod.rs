@@ -1,0 +1,169 @@
+//! The calibration report: one self-contained HTML document (inline SVG, no network, printable)
+//! from what is known about a machine. Each part is computed from its inputs by the same code as the
+//! command that does that step alone (`identify`, `uncertainty`, `ballbar iso230-4`, `predict`,
+//! `compensate`), and a section appears only for the inputs given:
+//!
+//! | input | section(s) |
+//! |---|---|
+//! | machine | `machine` |
+//! | campaign | `campaign` (residuals), `identification` (parameters, uncertainties, identifiability) |
+//! | uncertainty sources (with a campaign) | `uncertainty` (Monte Carlo budget, histograms, convergence) |
+//! | error values (or the identified ones) | `volumetric` (maps before / after), `compensation` |
+//! | thermal conduction model | `thermal-modes` (time constants, weights, mode shapes; [`ThermalModesPart`]) |
+//! | thermal error model and a campaign | `thermal-drift` (drift vs prediction per run; [`ThermalDriftPart`]) |
+//! | ballbar circles | `ballbar` (polar plots, ISO 230-4 values, diagnostics) |
+//! | always | `inputs` (files with size and SHA-256, date, version) |
+//!
+//! `trueaxis report` builds it from a user's files; `trueaxis demo` from the files it simulates.
+
+mod ballbar;
+mod compensation;
+mod identification;
+mod inputs;
+mod maps;
+mod thermal;
+mod uncertainty;
+mod volume;
+
+pub use ballbar::{section as ballbar_section, CircleInput, CirclePart, SPIKE_WIDTH_DEG};
+pub use compensation::{CompensationPart, GRID_NODES, POINTS};
+pub use identification::{IdentificationPart, ParameterRow};
+pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
+pub use maps::{magnitudes_um, statistics, VolumeMap, GRID};
+pub use thermal::{ThermalDriftPart, ThermalModesPart};
+pub use uncertainty::UncertaintyPart;
+pub use volume::{error_at_setpoints, VolumePart};
+
+use super::html::{HtmlReport, Section};
+use thiserror::Error;
+use trueaxis::machine::{AxisKind, Machine};
+
+/// Why a part of a report could not be made. [`CalibrationError::is_input`] tells bad input
+/// (exit status 2 in the command line) from a failed computation (1).
+#[derive(Debug, Error)]
+pub enum CalibrationError {
+    #[error(transparent)]
+    Machine(#[from] trueaxis::machine::MachineError),
+    #[error(transparent)]
+    Errors(#[from] trueaxis::errors::ErrorsError),
+    #[error(transparent)]
+    Data(#[from] trueaxis::data::DataError),
+    #[error(transparent)]
+    Identify(#[from] trueaxis::identify::IdentifyError),
+    #[error(transparent)]
+    Uncertainty(#[from] trueaxis::uncertainty::UncertaintyError),
+    #[error(transparent)]
+    Evaluate(#[from] trueaxis::evaluate::EvaluateError),
+    #[error(transparent)]
+    Compensate(#[from] trueaxis::compensate::CompensateError),
+    #[error(transparent)]
+    Plot(#[from] super::ReportError),
+    #[error("{0}")]
+    Input(String),
+    #[error("{0}")]
+    Computation(String),
+}
+
+impl CalibrationError {
+    pub fn is_input(&self) -> bool {
+        use trueaxis::identify::IdentifyError;
+        match self {
+            CalibrationError::Machine(_) | CalibrationError::Errors(_) | CalibrationError::Data(_) | CalibrationError::Input(_) => true,
+            CalibrationError::Identify(e) => !matches!(e, IdentifyError::RankDeficient { .. }),
+            CalibrationError::Uncertainty(e) => e.is_input(),
+            CalibrationError::Evaluate(e) => e.is_input(),
+            CalibrationError::Compensate(e) => e.is_input(),
+            CalibrationError::Plot(_) | CalibrationError::Computation(_) => false,
+        }
+    }
+}
+
+/// A number with `decimals` decimals, `-` when it is not finite (a report never shows NaN).
+pub fn number(v: f64, decimals: usize) -> String {
+    if v.is_finite() {
+        format!("{v:.decimals$}")
+    } else {
+        "-".into()
+    }
+}
+
+/// Everything a report shows; `None` / empty parts have no section.
+pub struct CalibrationReport<'a> {
+    pub title: String,
+    pub subtitle: String,
+    pub machine: &'a Machine,
+    /// Paragraphs after the machine's description (what its errors are, where M is).
+    pub machine_notes: Vec<String>,
+    pub identification: Option<IdentificationPart>,
+    pub uncertainty: Option<UncertaintyPart>,
+    pub volume: Option<VolumePart>,
+    /// A thermal conduction model's modes.
+    pub thermal_modes: Option<ThermalModesPart>,
+    /// A thermal error model against a measured campaign.
+    pub thermal_drift: Option<ThermalDriftPart>,
+    pub circles: Vec<CirclePart>,
+    pub compensation: Option<CompensationPart>,
+    /// Further sections before the inputs (the demo's "repeat each step").
+    pub extra: Vec<Section>,
+    pub traceability: Traceability,
+}
+
+impl CalibrationReport<'_> {
+    /// The sections in order; a part that is absent has none.
+    pub fn sections(&self) -> Vec<Section> {
+        let mut out = vec![machine_section(self.machine, &self.machine_notes)];
+        if let Some(id) = &self.identification {
+            out.push(id.campaign_section());
+            out.push(id.parameter_section(self.uncertainty.as_ref()));
+        }
+        if let Some(u) = &self.uncertainty {
+            out.push(u.section());
+        }
+        if let Some(v) = &self.volume {
+            out.push(v.section());
+        }
+        out.extend(self.thermal_modes.iter().map(ThermalModesPart::section));
+        out.extend(self.thermal_drift.iter().map(ThermalDriftPart::section));
+        if !self.circles.is_empty() {
+            out.push(ballbar_section(&self.circles));
+        }
+        if let Some(c) = &self.compensation {
+            out.push(c.section());
+        }
+        out.extend(self.extra.iter().cloned());
+        out.push(self.traceability.section());
+        out
+    }
+
+    /// The complete HTML document.
+    pub fn to_html(&self) -> String {
+        HtmlReport { title: self.title.clone(), subtitle: self.subtitle.clone(), sections: self.sections() }.to_html()
+    }
+}
+
+/// The machine: name, structure, axes.
+fn machine_section(m: &Machine, notes: &[String]) -> Section {
+    let v = |x: &trueaxis::geometry::Vec3| format!("[{:.4}, {:.4}, {:.4}]", x.x, x.y, x.z);
+    let rows = m
+        .axes()
+        .iter()
+        .map(|a| {
+            let rotary = a.kind == AxisKind::Rotary;
+            vec![
+                a.letter.to_string(),
+                if rotary { "rotary".into() } else { "linear".into() },
+                v(&a.direction),
+                v(&a.point),
+                a.range.map_or("continuous".into(), |[lo, hi]| format!("{lo} .. {hi} {}", if rotary { "deg" } else { "mm" })),
+            ]
+        })
+        .collect();
+    let mut s = Section::new("machine", "Machine").paragraph(format!(
+        "{} (structure code {}, workpiece to tool). Tool point at home [{}, {}, {}] mm in the machine frame M.",
+        m.name, m.structure, m.tool_point.x, m.tool_point.y, m.tool_point.z
+    ));
+    for n in notes {
+        s = s.paragraph(n.clone());
+    }
+    s.table("Axes (directions and points in M at home)", &["axis", "kind", "direction", "point (mm)", "travel"], rows)
+}

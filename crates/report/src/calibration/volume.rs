@@ -1,0 +1,219 @@
+//! The volumetric part of a calibration report: the exact volumetric error over the mid-planes of
+//! the work volume before compensation, and after: the machine driven to the corrected set-points,
+//! corrected pose by pose on the exact chain or by the compensation tables.
+
+use super::super::html::Section;
+use super::compensation::CompensationPart;
+use super::maps::{magnitudes_um, statistics, VolumeMap};
+use super::CalibrationError;
+use rayon::prelude::*;
+use trueaxis::compensate::{CorrectionWorkspace, Corrector};
+use trueaxis::errors::ErrorModel;
+use trueaxis::geometry::{rotation_log, Mat3, Pose, Vec3};
+use trueaxis::machine::{Component, Machine, SetupSide};
+use trueaxis::model::{actual_chain, nominal_chain, Frame, Predictor, Setup, VolumetricError};
+
+/// The map before and after compensation.
+pub struct VolumePart {
+    pub map: VolumeMap,
+    pub before: Vec<VolumetricError>,
+    /// After compensation with the corrections of the compensating error model solved at each pose
+    /// on the exact chain (what the real-time corrector and model-based controllers apply).
+    pub after: Vec<VolumetricError>,
+    /// `(largest, RMS)` of `|d|` (um) before compensation, after it, and after compensation with the
+    /// sum of the own-axis and cross-axis tables instead (what table-based controllers apply).
+    pub before_um: (f64, f64),
+    pub after_um: (f64, f64),
+    pub after_tables_um: (f64, f64),
+    /// The pose of the largest error before compensation (axis letter, mm or deg).
+    pub max_pose: Vec<(char, f64)>,
+    pub before_svg: String,
+    pub after_svg: String,
+    pub poses: usize,
+    /// Paragraphs on what the two error models are.
+    pub description: Vec<String>,
+}
+
+impl VolumePart {
+    /// The machine with the errors `machine_errors`, before compensation and driven to the
+    /// set-points corrected for `compensation_errors` (the same model, or an identified one): by the
+    /// exact correction at each pose (seed 000 §2.3.5) and by the tables of `tables`. `None` for a
+    /// machine without two linear axes with a travel.
+    pub fn compute(
+        machine: &Machine,
+        machine_errors: &ErrorModel,
+        compensation_errors: &ErrorModel,
+        tables: &CompensationPart,
+    ) -> Result<Option<VolumePart>, CalibrationError> {
+        let Some(map) = VolumeMap::new(machine) else { return Ok(None) };
+        let mut predictor = Predictor::new(machine, machine_errors);
+        predictor.frame = Frame::Machine;
+        let before = predictor.predict_batch(&map.poses_internal);
+        let n = machine.axis_count();
+        let setup = Setup::of_machine(machine);
+        let at_setpoints = |q: &[f64], qc: &[f64]| {
+            let mut params = vec![0.0; machine.parameter_count()];
+            machine_errors.values_at(machine, qc, &mut params);
+            error_at_setpoints(machine, q, qc, &params, &setup)
+        };
+        let corrector = Corrector::new(machine, compensation_errors);
+        let after = map
+            .poses_internal
+            .par_chunks(n)
+            .map_init(
+                || CorrectionWorkspace::new(machine),
+                |ws, q| {
+                    let c = corrector.correct(q, ws);
+                    let qc: Vec<f64> = q.iter().zip(&c.dq).map(|(a, b)| a + b).collect();
+                    c.converged.then(|| at_setpoints(q, &qc))
+                },
+            )
+            .collect::<Option<Vec<VolumetricError>>>()
+            .ok_or_else(|| CalibrationError::Computation("the correction did not converge at a pose of the volumetric map".into()))?;
+        let after_tables: Vec<VolumetricError> = map
+            .poses_user
+            .par_chunks(n)
+            .zip(map.poses_internal.par_chunks(n))
+            .map(|(user, q)| {
+                let dq = tables.table_correction(user);
+                let qc: Vec<f64> =
+                    machine.axes().iter().zip(user.iter().zip(&dq)).map(|(a, (u, d))| a.position_to_internal(u + d)).collect();
+                at_setpoints(q, &qc)
+            })
+            .collect();
+        let (mb, ma, mt) = (magnitudes_um(&before), magnitudes_um(&after), magnitudes_um(&after_tables));
+        if mb.iter().chain(&ma).chain(&mt).any(|v| !v.is_finite()) {
+            return Err(CalibrationError::Computation("the volumetric error map is not finite".into()));
+        }
+        let (max_b, imax, rms_b) = statistics(&mb);
+        let (max_a, _, rms_a) = statistics(&ma);
+        let (max_t, _, rms_t) = statistics(&mt);
+        let max_pose = machine.axes().iter().map(|a| a.letter).zip(map.poses_user[imax * n..(imax + 1) * n].iter().copied()).collect();
+        let before_svg = map.heatmap(&format!("Before compensation: |d| (machine frame), {}", machine.name), &mb)?;
+        let after_svg = map.heatmap("After compensation: |d| (machine frame)", &ma)?;
+        let poses = map.len(machine);
+        Ok(Some(VolumePart {
+            map,
+            before,
+            after,
+            before_um: (max_b, rms_b),
+            after_um: (max_a, rms_a),
+            after_tables_um: (max_t, rms_t),
+            max_pose,
+            before_svg,
+            after_svg,
+            poses,
+            description: Vec::new(),
+        }))
+    }
+
+    pub fn section(&self) -> Section {
+        let at: Vec<String> = self.max_pose.iter().map(|(l, x)| format!("{l} = {x}")).collect();
+        let mut s = Section::new("volumetric", "Volumetric error before and after compensation").paragraph(format!(
+            "Exact volumetric error |d| of the tool point relative to the workpiece origin over the mid-planes of the linear-axis travel ({} poses, rotary axes at 0, machine frame). Before compensation: largest {:.2} um (at {}), RMS {:.2} um. After compensation, with the correction of every pose solved on the exact chain (as the real-time corrector and controllers that evaluate the error model apply it): largest {:.2} um, RMS {:.2} um. With the own-axis and cross-axis tables instead (summed and interpolated as a table-based controller applies them): largest {:.2} um, RMS {:.2} um; the difference is what tables along the axis lines cannot represent (corrections that depend on two axes at once).",
+            self.poses,
+            self.before_um.0,
+            at.join(", "),
+            self.before_um.1,
+            self.after_um.0,
+            self.after_um.1,
+            self.after_tables_um.0,
+            self.after_tables_um.1
+        ));
+        for p in &self.description {
+            s = s.paragraph(p.clone());
+        }
+        s.figure("Before compensation", self.before_svg.clone())
+            .figure("After compensation (note the colour scale)", self.after_svg.clone())
+    }
+}
+
+/// Volumetric error of the machine when the controller commands `qc` for the nominal pose `q` (mm,
+/// rad): the tool point relative to the workpiece point on the actual chain at `qc` (parameters
+/// `params` evaluated there) minus the same on the nominal chain at `q`, machine frame (DESIGN.md
+/// section 2; with `qc = q` it is `model::volumetric_error`).
+pub fn error_at_setpoints(machine: &Machine, q: &[f64], qc: &[f64], params: &[f64], setup: &Setup) -> VolumetricError {
+    let offset = |side| {
+        let i = machine.setup_index(side, Component::X);
+        Vec3::new(params[i], params[i + 1], params[i + 2])
+    };
+    // vector from the workpiece point to the tool point and the tool rotation, in the workpiece frame
+    let relative = |tool: &Pose, work: &Pose, tool_point: Vec3, work_point: Vec3| -> (Vec3, Mat3) {
+        let rt = work.rotation.transpose();
+        (rt * (tool.transform_point(&tool_point) - work.transform_point(&work_point)), rt * tool.rotation)
+    };
+    let work_nominal = nominal_chain(machine, machine.work_chain(), q, None);
+    let (r_nominal, rot_nominal) =
+        relative(&nominal_chain(machine, machine.tool_chain(), q, None), &work_nominal, setup.tool_point, setup.work_point);
+    let (r_actual, rot_actual) = relative(
+        &actual_chain(machine, machine.tool_chain(), qc, params),
+        &actual_chain(machine, machine.work_chain(), qc, params),
+        setup.tool_point + offset(SetupSide::Tool),
+        setup.work_point + offset(SetupSide::Workpiece),
+    );
+    let position = r_actual - r_nominal;
+    let norms = r_actual.norm() + r_nominal.norm();
+    let length = if norms > 0.0 { position.dot(&(r_actual + r_nominal)) / norms } else { 0.0 };
+    let r = work_nominal.rotation;
+    VolumetricError { position: r * position, orientation: r * rotation_log(&(rot_actual * rot_nominal.transpose())), length }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use trueaxis::model::volumetric_error;
+
+    fn kx8five() -> (Machine, ErrorModel) {
+        let machine = Machine::from_toml_str(include_str!("../../../../examples/machines/kx8five.toml"), "kx8five").unwrap();
+        let errors =
+            ErrorModel::from_toml_str(include_str!("../../../../examples/errors/kx8five.toml"), "kx8five errors", &machine).unwrap();
+        (machine, errors)
+    }
+
+    #[test]
+    fn at_the_nominal_set_points_it_is_the_volumetric_error() {
+        let (machine, errors) = kx8five();
+        let setup = Setup::of_machine(&machine);
+        let mut params = vec![0.0; machine.parameter_count()];
+        for user in [[100.0, -50.0, -200.0, 30.0, 45.0], [-300.0, 340.0, -10.0, 170.0, -120.0]] {
+            let mut q = vec![0.0; 5];
+            machine.pose_to_internal(&user, &mut q);
+            errors.values_at(&machine, &q, &mut params);
+            let a = error_at_setpoints(&machine, &q, &q, &params, &setup);
+            let b = volumetric_error(&machine, &q, &params, &setup, Frame::Machine);
+            assert!((a.position - b.position).norm() < 1e-12 && (a.orientation - b.orientation).norm() < 1e-15, "{a:?} vs {b:?}");
+            assert!((a.length - b.length).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn at_the_corrected_set_points_the_position_error_is_the_correction_residual() {
+        // a second formulation: the corrector's own residual at q + dq (seed 000 §2.3.5)
+        let (machine, errors) = kx8five();
+        let corrector = Corrector::new(&machine, &errors);
+        let mut ws = CorrectionWorkspace::new(&machine);
+        let setup = Setup::of_machine(&machine);
+        let mut params = vec![0.0; machine.parameter_count()];
+        let mut q = vec![0.0; 5];
+        machine.pose_to_internal(&[120.0, 80.0, -150.0, 60.0, 200.0], &mut q);
+        let c = corrector.correct(&q, &mut ws);
+        assert!(c.converged);
+        let qc: Vec<f64> = q.iter().zip(&c.dq).map(|(a, b)| a + b).collect();
+        errors.values_at(&machine, &qc, &mut params);
+        let after = error_at_setpoints(&machine, &q, &qc, &params, &setup);
+        let before = volumetric_error(
+            &machine,
+            &q,
+            &{
+                let mut p = vec![0.0; machine.parameter_count()];
+                errors.values_at(&machine, &q, &mut p);
+                p
+            },
+            &setup,
+            Frame::Machine,
+        );
+        assert!(before.position.norm() > 10e-3, "a visible error to correct: {} mm", before.position.norm());
+        assert!(after.position.norm() < 1e-5, "residual {} mm after the exact correction", after.position.norm());
+        assert!((after.position.norm() - c.residual_position.norm()).abs() < 1e-9);
+    }
+}

@@ -1,0 +1,228 @@
+//! `trueaxis demo`: the main job end to end on the built-in machine, the Huron KX8-Five of seed 004
+//! (structure `WCAYFXZT`, A tilted 45 deg) with the link and setup errors of seed 004 Table 1:
+//!
+//! 1. a CapBall campaign of 807 poses (seed 004 §3.2) simulated on the exact chain with the sensor
+//!    noise of Table 3 and a cyclic drift of the measuring chain (§4.4.2, peak-to-valley of Table 4);
+//! 2. ISO 230-4 ballbar circles (CW and CCW) in the XY plane, with noise, and their diagnostics;
+//! 3. identification of the separable link and setup errors with the identifiability report;
+//! 4. adaptive Monte Carlo uncertainty (JCGM 101) with the statistical sources and the cyclic drift,
+//!    and the per-source budget (seed 004 Table 5);
+//! 5. compensation tables from the identified errors, and the volumetric error over the work volume
+//!    before compensation and after (the true machine driven to the set-points the tables correct);
+//! 6. a self-contained HTML report, built by `report::calibration` like `trueaxis report`.
+//!
+//! Everything it writes goes to the output directory, with the inputs, so that each step can be
+//! repeated with the individual `trueaxis` commands.
+
+mod ballbar;
+mod campaign;
+mod report;
+
+use crate::calibration::{
+    CalibrationError, CalibrationReport, CirclePart, CompensationPart, IdentificationPart, InputFile, ParameterRow, Traceability,
+    UncertaintyPart, VolumePart, GRID_NODES, POINTS,
+};
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+use trueaxis::data::{write_atomically, DataError};
+use trueaxis::errors::{ErrorModel, ErrorsError};
+use trueaxis::identify::{identification_json, IdentifyError};
+use trueaxis::instruments::ballbar::BallbarError;
+use trueaxis::machine::{Machine, MachineError};
+use trueaxis::uncertainty::UncertaintyError;
+
+/// The built-in machine (`examples/machines/kx8five.toml`).
+pub const MACHINE_TOML: &str = include_str!("../../../../examples/machines/kx8five.toml");
+/// The errors the machine is simulated with: seed 004 Table 1 (`examples/errors/kx8five_table1.toml`).
+pub const ERRORS_TOML: &str = include_str!("../../../../examples/errors/kx8five_table1.toml");
+/// The campaign: 807 CapBall poses (`examples/campaigns/kx8five/`).
+pub const CAMPAIGN_TOML: &str = include_str!("../../../../examples/campaigns/kx8five/campaign.toml");
+pub const CAMPAIGN_POSES_CSV: &str = include_str!("../../../../examples/campaigns/kx8five/capball.csv");
+/// The uncertainty sources: seed 004 Tables 3 and 4 with a cyclic drift (`examples/uncertainty/`).
+pub const SOURCES_TOML: &str = include_str!("../../../../examples/uncertainty/kx8five_cyclic.toml");
+
+/// Steps reported to the progress callback.
+pub const STEPS: usize = 7;
+
+#[derive(Debug, Error)]
+pub enum DemoError {
+    #[error(transparent)]
+    Machine(#[from] MachineError),
+    #[error(transparent)]
+    Errors(#[from] ErrorsError),
+    #[error(transparent)]
+    Data(#[from] DataError),
+    #[error(transparent)]
+    Identify(#[from] IdentifyError),
+    #[error(transparent)]
+    Uncertainty(#[from] UncertaintyError),
+    #[error(transparent)]
+    Ballbar(#[from] BallbarError),
+    #[error(transparent)]
+    Report(#[from] CalibrationError),
+    #[error("{path}: cannot create output directory: {source}")]
+    CreateDir { path: String, source: std::io::Error },
+}
+
+/// What the demo found, for the command line summary.
+#[derive(Clone, Debug)]
+pub struct DemoSummary {
+    pub machine: String,
+    /// Poses of the volumetric map.
+    pub poses: usize,
+    /// Largest `|d|` over the map (um) before compensation, and where (axis letter, mm or deg).
+    pub max_um: f64,
+    pub max_pose: Vec<(char, f64)>,
+    pub rms_um: f64,
+    /// The same after compensation: the true machine at the set-points corrected for the identified
+    /// errors on the exact chain.
+    pub max_after_um: f64,
+    pub rms_after_um: f64,
+    /// Identified parameters with their true values, least-squares standard uncertainties and
+    /// Monte Carlo intervals.
+    pub parameters: Vec<ParameterRow>,
+    pub residual_rms_um: f64,
+    pub monte_carlo_sequences: usize,
+    /// Circular deviation G (um) of the CCW and CW ballbar runs.
+    pub ballbar_g_um: Vec<f64>,
+    pub files: Vec<PathBuf>,
+}
+
+/// The built-in machine and its true errors.
+pub fn builtin() -> Result<(Machine, ErrorModel), DemoError> {
+    let machine = Machine::from_toml_str(MACHINE_TOML, "built-in kx8five.toml")?;
+    let errors = ErrorModel::from_toml_str(ERRORS_TOML, "built-in kx8five errors", &machine)?;
+    Ok((machine, errors))
+}
+
+/// Files are written through this, so that the summary lists them all.
+pub(crate) struct Output {
+    dir: PathBuf,
+    pub files: Vec<PathBuf>,
+}
+
+impl Output {
+    /// The path of `name` in the output folder.
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.dir.join(name)
+    }
+
+    pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<PathBuf, DemoError> {
+        let path = self.path(name);
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent).map_err(|source| DemoError::CreateDir { path: parent.display().to_string(), source })?;
+        }
+        write_atomically(&path, bytes)?;
+        if !self.files.contains(&path) {
+            self.files.push(path.clone());
+        }
+        Ok(path)
+    }
+
+    /// An input of the report, named relative to the output folder.
+    fn input(&self, role: &str, name: &str) -> Result<InputFile, DemoError> {
+        let bytes =
+            std::fs::read(self.path(name)).map_err(|source| DataError::Read { path: self.path(name).display().to_string(), source })?;
+        Ok(InputFile::of_bytes(role, name, &bytes))
+    }
+}
+
+/// Runs the demo into `out_dir`; `progress(step, STEPS, message)` is called before each step.
+pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Result<DemoSummary, DemoError> {
+    let (machine, truth) = builtin()?;
+    std::fs::create_dir_all(out_dir).map_err(|source| DemoError::CreateDir { path: out_dir.display().to_string(), source })?;
+    let mut out = Output { dir: out_dir.to_path_buf(), files: Vec::new() };
+    out.write("machine.toml", MACHINE_TOML.as_bytes())?;
+    out.write("errors_true.toml", ERRORS_TOML.as_bytes())?;
+
+    progress(1, STEPS, "simulating the CapBall campaign (807 poses, sensor noise, cyclic drift)");
+    let simulated = campaign::simulate(&machine, &truth, &mut out)?;
+    progress(2, STEPS, "simulating ISO 230-4 ballbar circles and their diagnostics");
+    let circle_input = ballbar::simulate(&machine, &truth, &mut out)?;
+    let mut circle = CirclePart::evaluate(&machine, circle_input)?;
+    circle.description.push(report::circle_description());
+    out.write("ballbar/xy_circle.svg", circle.svg.as_bytes())?;
+
+    progress(3, STEPS, "identifying the link and setup errors");
+    let mut identification = IdentificationPart::identify(&machine, &simulated.campaign_path, false)?;
+    identification.truth = Some(campaign::equivalent_truth(&machine, &truth, &identification)?);
+    identification.description.push(report::campaign_description(&simulated));
+    identification.notes.push(report::IDENTIFIABILITY_NOTE.into());
+    out.write("identified.toml", identification.errors_text.as_bytes())?;
+    let json = identification_json(&identification.result, &identification.campaign);
+    out.write("identification.json", format!("{json:#}\n").as_bytes())?;
+
+    progress(4, STEPS, "adaptive Monte Carlo uncertainty and budget (JCGM 101)");
+    out.write("uncertainty/sources.toml", SOURCES_TOML.as_bytes())?;
+    let sources = campaign::sources()?;
+    let uncertainty =
+        UncertaintyPart::evaluate(&identification, sources, "uncertainty/sources.toml", campaign::POINT_TIME_S, &mut |_, _| {})?;
+    out.write("uncertainty/design.csv", uncertainty.design.to_csv().as_bytes())?;
+    out.write("uncertainty/histograms.svg", uncertainty.histograms_svg.as_bytes())?;
+    if let Some(svg) = &uncertainty.convergence_svg {
+        out.write("uncertainty/convergence.svg", svg.as_bytes())?;
+    }
+
+    progress(5, STEPS, "compensation tables");
+    let mut compensation =
+        CompensationPart::compute(&machine, &identification.errors, "the identified errors (identified.toml)", POINTS, GRID_NODES)?;
+    for f in compensation.csv_files(&machine, &identification.errors)? {
+        out.write(&format!("compensation/{}", f.name), f.contents.as_bytes())?;
+        compensation.files.push(format!("compensation/{}", f.name));
+    }
+
+    progress(6, STEPS, "volumetric error before and after compensation");
+    let mut volume = VolumePart::compute(&machine, &truth, &identification.errors, &compensation)?
+        .ok_or_else(|| CalibrationError::Computation("the built-in machine has no linear axes to map".into()))?;
+    volume.description.push(report::VOLUME_NOTE.into());
+    out.write("volumetric_map.csv", volume.map.csv(&machine, &volume.before)?.as_bytes())?;
+    out.write("volumetric_map.svg", volume.before_svg.as_bytes())?;
+    out.write("volumetric_map_compensated.csv", volume.map.csv(&machine, &volume.after)?.as_bytes())?;
+    out.write("volumetric_map_compensated.svg", volume.after_svg.as_bytes())?;
+
+    progress(7, STEPS, "HTML report");
+    let inputs = [
+        ("machine", "machine.toml"),
+        ("true errors (simulation)", "errors_true.toml"),
+        ("campaign", "campaign/campaign.toml"),
+        ("campaign data (simulated)", "campaign/capball.csv"),
+        ("uncertainty sources", "uncertainty/sources.toml"),
+        ("ballbar circle (simulated)", ballbar::FILE),
+    ]
+    .iter()
+    .map(|(role, name)| out.input(role, name))
+    .collect::<Result<Vec<_>, _>>()?;
+    let parameters = identification.parameter_rows(Some(&uncertainty));
+    let summary = DemoSummary {
+        machine: machine.name.clone(),
+        poses: volume.poses,
+        max_um: volume.before_um.0,
+        max_pose: volume.max_pose.clone(),
+        rms_um: volume.before_um.1,
+        max_after_um: volume.after_um.0,
+        rms_after_um: volume.after_um.1,
+        parameters,
+        residual_rms_um: identification.result.residual_rms_um,
+        monte_carlo_sequences: uncertainty.budget.total.sequences,
+        ballbar_g_um: circle.result.runs.iter().map(|r| r.g_um).collect(),
+        files: Vec::new(),
+    };
+    let extra = vec![report::reproduce_section(&circle.input, &compensation)];
+    let calibration = CalibrationReport {
+        title: "trueaxis calibration report (demo)".into(),
+        subtitle: format!("{}: simulated calibration with known errors; trueaxis {}", machine.name, env!("CARGO_PKG_VERSION")),
+        machine: &machine,
+        machine_notes: vec![report::MACHINE_NOTE.into()],
+        identification: Some(identification),
+        uncertainty: Some(uncertainty),
+        volume: Some(volume),
+        thermal_modes: None,
+        thermal_drift: None,
+        circles: vec![circle],
+        compensation: Some(compensation),
+        extra,
+        traceability: Traceability::now(inputs, Some(format!("trueaxis demo --out {}", out_dir.display()))),
+    };
+    out.write("report.html", calibration.to_html().as_bytes())?;
+    Ok(DemoSummary { files: out.files, ..summary })
+}

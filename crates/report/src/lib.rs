@@ -1,0 +1,40 @@
+//! Plots (SVG) and the self-contained HTML report.
+
+pub mod calibration;
+pub mod demo;
+pub mod html;
+
+mod fit_plot;
+mod heatmap;
+mod histogram;
+mod polar;
+mod positioning;
+mod profiles;
+mod residuals;
+mod thermal;
+mod thermal_figures;
+mod uncertainty_figures;
+
+pub use fit_plot::{direct_fit_svg, fit_plot_svg, FitPlot};
+pub use heatmap::{heatmap_svg, MapSlice};
+pub use histogram::{convergence_svg, histograms_svg, ConvergenceSeries, HistogramPanel};
+pub use polar::{auto_scale, circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
+pub use positioning::{iso230_2_svg, positioning_svg, PositionBand, PositioningPlot};
+pub use profiles::{profiles_svg, Profiles};
+pub use residuals::residuals_svg;
+pub use thermal::{
+    drift_svg, mode_shapes_svg, modes_svg, time_constants_svg, DriftPlot, DriftRun, ModeBar, ModeShapeCurve, ModeShapesPlot, RunRole,
+    TimeConstantsPlot,
+};
+pub use thermal_figures::{drift_plot, mode_shapes_plot, profile_line, step_fit_plot, time_constants_plot};
+pub use uncertainty_figures::{interval_of, uncertainty_figures};
+
+use thiserror::Error;
+
+#[derive(Debug, Error)]
+pub enum ReportError {
+    #[error("cannot draw plot: {0}")]
+    Draw(String),
+    #[error("cannot draw plot: {0}")]
+    Input(String),
+}

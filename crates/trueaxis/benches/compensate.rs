@@ -1,0 +1,81 @@
+//! NC-program correction throughput (DESIGN.md section 5: >= 100,000 lines/s). The real-time
+//! corrector through its C ABI is benchmarked in `crates/ffi/benches/realtime.rs`.
+//!
+//! - `nc/<machine>`: NC-program correction throughput of a generated program of 10^4 G1 moves
+//!   (elements = lines; the points corrected per line are printed once).
+//!
+//! Machines: vmc3, c600u, kx8five with their example errors, and kx8five with all 30 motion-error
+//! tables of `bench/kx8five_tables.toml`.
+//!
+//! Times are the CPU time of the benchmark thread (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`): on the
+//! shared 2-core reference machine, under a load average of 5-15, wall time measures the load and
+//! the thread's CPU time measures the code. `TRUEAXIS_BENCH_WALL=1` times wall clock instead.
+//!
+//! Run: `cargo bench --bench compensate`.
+
+use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use trueaxis::compensate::nc::{correct_program, NcOptions};
+use trueaxis::compensate::Corrector;
+use trueaxis::machine::Machine;
+
+#[allow(dead_code)] // the kinematics bench uses the rest
+mod common;
+
+#[path = "common/servo.rs"]
+mod servo;
+use servo::{load, travel, triangle, ThreadCpuTime, CASES};
+
+/// A program of `moves` G1 moves: a raster of 5 mm steps over the XY travel at three depths, and for
+/// a machine with A and C every move also turns the table (A over its travel, C continuously).
+fn generated_program(machine: &Machine, moves: usize) -> String {
+    let letters: Vec<char> = machine.axes().iter().map(|a| a.letter).collect();
+    let mut text = String::from("(generated benchmark program)\nG21 G90 G17 G94\n");
+    for i in 0..moves {
+        let mut words = Vec::new();
+        for (k, &letter) in letters.iter().enumerate() {
+            let (lo, hi) = travel(machine, k);
+            // X back and forth in 200 steps, Y one step per pass, Z three levels, A and C slow waves
+            let u = match letter {
+                'X' => triangle(i as f64 / 200.0),
+                'Y' => (i / 200 % 100) as f64 / 99.0,
+                'Z' => 0.3 + 0.2 * (i / 200 % 3) as f64,
+                _ => triangle(i as f64 / (700.0 + 300.0 * k as f64)),
+            };
+            words.push(format!("{letter}{:.3}", lo + u * (hi - lo)));
+        }
+        text += &format!("G1 {} F3000\n", words.join(" "));
+    }
+    text + "M2\n"
+}
+
+fn nc(c: &mut Criterion<ThreadCpuTime>) {
+    let mut group = c.benchmark_group("nc");
+    group.sample_size(10);
+    for (label, machine_file, errors_file) in [CASES[0], CASES[1]] {
+        let (machine, errors) = load(machine_file, errors_file);
+        let program = generated_program(&machine, 10_000);
+        let lines = program.lines().count();
+        let corrector = Corrector::new(&machine, &errors);
+        let options = NcOptions::new(&machine);
+        let r = correct_program(&corrector, &program, label, &options, &[]).expect("program corrected");
+        println!(
+            "nc/{label}: {lines} lines, {} moves, {} points corrected ({:.1} per line), {} lines added",
+            r.moves,
+            r.corrected_points,
+            r.corrected_points as f64 / lines as f64,
+            r.inserted_lines
+        );
+        group.throughput(Throughput::Elements(lines as u64));
+        group.bench_function(BenchmarkId::new(label, lines), |b| {
+            b.iter(|| correct_program(&corrector, black_box(&program), label, &options, &[]).unwrap())
+        });
+    }
+    group.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().with_measurement(ThreadCpuTime::new());
+    targets = nc
+}
+criterion_main!(benches);

@@ -1,0 +1,41 @@
+//! Compensation (DESIGN.md section 1, seed 003 section 4, seed 000 §2.3.5): the correction of a
+//! pose, own-axis / cross-axis tables and a volumetric grid, controller exporters with their limit
+//! checks, NC-program correction, and an allocation-free real-time corrector with a C ABI.
+//!
+//! Sign convention: a correction is what is *added to the axis set-point* so that the actual tool
+//! point lands where the nominal one would (correction = minus the error, to first order, for an
+//! error along the axis).
+
+pub mod correction;
+pub mod export;
+pub mod nc;
+pub mod realtime;
+mod solve;
+pub mod tables;
+
+pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, WarmStart, MAX_AXES};
+pub use realtime::RealtimeCorrector;
+pub use tables::{axis_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};
+
+use thiserror::Error;
+
+/// Why a compensation could not be produced.
+#[derive(Debug, Error)]
+pub enum CompensateError {
+    /// Bad input: a parameter, a file, a pose outside the travel.
+    #[error("{0}")]
+    Input(String),
+    /// A controller limit or the user's correction limit is exceeded: the export is refused.
+    #[error("{0}")]
+    Limit(String),
+    /// The computation failed (no convergence, not a finite number).
+    #[error("{0}")]
+    Computation(String),
+}
+
+impl CompensateError {
+    /// Whether the cause is the input (exit status 2) rather than the computation (exit status 1).
+    pub fn is_input(&self) -> bool {
+        matches!(self, CompensateError::Input(_) | CompensateError::Limit(_))
+    }
+}

@@ -1,0 +1,270 @@
+//! Seed 004 (Andolfatto, Mayer, Lavernhe 2011) §4-5: adaptive Monte Carlo uncertainty of the 14
+//! link and setup errors of the Huron KX8-Five identified from 807 CapBall poses, with the sensor
+//! noise of Table 3, the frame-transformation uncertainty of §4.3 and the drift of Table 4 by the
+//! statistical and by the cyclic method.
+//!
+//! The design matrix is built here from the first-order model (`model::jacobian_batch`, machine
+//! frame, translation rows); the campaign reader will build the same matrix from measurement files.
+
+use nalgebra::DMatrix;
+use trueaxis::geometry::Vec3;
+use trueaxis::machine::Machine;
+use trueaxis::model::{jacobian_batch, nominal_chain, Frame, Setup, JACOBIAN_ROWS};
+use trueaxis::uncertainty::{
+    run_adaptive, run_budget, CyclicDrift, DesignMatrix, Distribution, Evaluation, IdentificationMap, McSettings, PeriodicDrift, Source,
+    SourceKind, StartPhase,
+};
+
+/// The 14 parameters of seed 004 eq. 1 with ISO names: the 8 link errors (tilts of A and the C
+/// offset taken normal to the tilted A axis, see the last test) and the 6 setup errors.
+const PARAMETERS: [&str; 14] = ["EC0Y", "EA0Z", "EB0Z", "EB0A", "EA0A", "EA0C", "EB0C", "EX0C", "TX", "TY", "TZ", "WX", "WY", "WZ"];
+/// Time between two poses (s): 807 poses in about 10 minutes (seed 004 §3.4).
+const T_I: f64 = 0.75;
+
+/// The identification trajectory of seed 004 §3.2 in the spirit of its Fig. 2: the tool point held
+/// on a master ball at (150, 0, 50) mm on the table while A tilts clockwise from 0 to 120 deg and
+/// C turns three times clockwise; X, Y, Z follow. Rows x, y, z of each pose, pose k at k t_i.
+fn kx8five_design() -> DesignMatrix {
+    design_with(&PARAMETERS)
+}
+
+fn design_with(parameters: &[&str]) -> DesignMatrix {
+    let machine = Machine::load("../../examples/machines/kx8five.toml").unwrap();
+    let ball = Vec3::new(150.0, 0.0, 50.0);
+    let n_poses = 807;
+    let n_axes = machine.axis_count();
+    let index = |c: char| machine.axis_index(c).unwrap();
+    let mut poses = vec![0.0; n_poses * n_axes];
+    let mut user = vec![0.0; n_axes];
+    for k in 0..n_poses {
+        user.fill(0.0);
+        let s = k as f64 / (n_poses - 1) as f64;
+        user[index('A')] = 120.0 * s;
+        user[index('C')] = -1080.0 * s;
+        let pose = &mut poses[k * n_axes..(k + 1) * n_axes];
+        machine.pose_to_internal(&user, pose);
+        // with X, Y, Z at 0 the ball is at p; the tool point follows it: (X, Y, Z) = p - tool point
+        let p = nominal_chain(&machine, machine.work_chain(), pose, None).transform_point(&ball);
+        let d = p - machine.tool_point;
+        for (c, v) in ['X', 'Y', 'Z'].into_iter().zip(d.iter()) {
+            user[index(c)] = *v;
+        }
+        machine.check_range(&user).unwrap();
+        machine.pose_to_internal(&user, pose);
+        let tool = nominal_chain(&machine, machine.tool_chain(), pose, None).transform_point(&machine.tool_point);
+        let work = nominal_chain(&machine, machine.work_chain(), pose, None).transform_point(&ball);
+        assert!((tool - work).norm() < 1e-9, "pose {k}: the tool point is on the ball");
+    }
+    let setup = Setup { tool_point: machine.tool_point, work_point: ball };
+    let jac = jacobian_batch(&machine, &poses, &setup, Frame::Machine);
+    let n_par = machine.parameter_count();
+    let columns: Vec<(usize, f64)> = parameters
+        .iter()
+        .map(|name| {
+            let (id, i) = machine.parse_parameter(name).unwrap();
+            (i, 1e3 * id.component().to_internal()) // mm per internal unit -> um per um or urad
+        })
+        .collect();
+    let mut x = DMatrix::zeros(3 * n_poses, parameters.len());
+    let (mut channels, mut time) = (Vec::new(), Vec::new());
+    for k in 0..n_poses {
+        for (r, ch) in ["x", "y", "z"].iter().enumerate() {
+            let row = &jac[(k * JACOBIAN_ROWS + r) * n_par..(k * JACOBIAN_ROWS + r + 1) * n_par];
+            for (j, (i, factor)) in columns.iter().enumerate() {
+                x[(3 * k + r, j)] = row[*i] * factor;
+            }
+            channels.push(ch.to_string());
+            time.push(T_I * (k + 1) as f64);
+        }
+    }
+    DesignMatrix::new(parameters.iter().map(|p| p.to_string()).collect(), &channels, time, None, None, x).unwrap()
+}
+
+fn normal(name: &str, u: [f64; 3]) -> Source {
+    let channels = ["x", "y", "z"].iter().zip(u).map(|(c, u)| (c.to_string(), Distribution::Normal { mean: 0.0, u })).collect();
+    Source { name: name.into(), kind: SourceKind::Noise { channels } }
+}
+
+/// Table 4 magnitudes of the drift (um).
+const E_VE: [f64; 3] = [6.95, 3.42, 6.63];
+/// Period of the spindle cooling cycle (s); seed 004 Fig. 9 shows cycles without stating the period.
+const PERIOD: f64 = 1000.0;
+
+fn sources(cyclic: bool) -> Vec<Source> {
+    let drift = if cyclic {
+        let channels =
+            ["x", "y", "z"].iter().zip(E_VE).map(|(c, e)| (c.to_string(), PeriodicDrift::sine(PERIOD, e, 0.0).unwrap())).collect();
+        SourceKind::CyclicDrift(CyclicDrift { channels, run_duration: None, start_phase: StartPhase::Sequence })
+    } else {
+        SourceKind::StatisticalDrift { channels: ["x", "y", "z"].iter().zip(E_VE).map(|(c, e)| (c.to_string(), e)).collect() }
+    };
+    vec![
+        Source { name: "drift".into(), kind: drift },
+        normal("sensors", [0.28, 0.28, 0.40]),        // Table 3
+        normal("transformation", [0.56, 0.27, 0.69]), // §4.3, Fig. 7
+    ]
+}
+
+fn settings() -> McSettings {
+    // M = 10^4, 95 %, delta = 0.05 um or urad (seed 004 §4.1, Fig. 13)
+    let mut s = McSettings::new(0.95, 0.05);
+    s.seed = 4;
+    s
+}
+
+#[test]
+fn seed_004_statistical_versus_cyclic_drift() {
+    let map = IdentificationMap::new(kx8five_design()).unwrap();
+    assert_eq!(map.design.observations(), 3 * 807);
+    assert!(map.condition_number < 200.0, "condition number {}", map.condition_number);
+    let s = settings();
+    let stat = run_budget(&map, &sources(false), &s, Evaluation::Reduced, true, &mut |_, _, _| {}).unwrap();
+    let cyc = run_budget(&map, &sources(true), &s, Evaluation::Reduced, true, &mut |_, _, _| {}).unwrap();
+    let k = stat.gum_coverage_factor;
+    for (j, name) in PARAMETERS.iter().enumerate() {
+        let (st, cy) = (&stat.total.outputs[j], &cyc.total.outputs[j]);
+        eprintln!(
+            "{name}: statistical width {:.3} (u {:.3}, kurt {:.3}) cyclic width {:.3} (u {:.3}, kurt {:.3}, half/u {:.3}); budget drift {:.3} sensors {:.3} trans {:.3} rss {:.3} total {:.3}",
+            st.symmetric.width(),
+            st.std_uncertainty,
+            st.excess_kurtosis,
+            cy.symmetric.width(),
+            cy.std_uncertainty,
+            cy.excess_kurtosis,
+            0.5 * cy.symmetric.width() / cy.std_uncertainty,
+            cyc.rows[j].widths[0],
+            cyc.rows[j].widths[1],
+            cyc.rows[j].widths[2],
+            cyc.rows[j].rss,
+            cyc.rows[j].total
+        );
+        // 1. the statistical method gives narrower intervals than the cyclic method (seed 004 §5.1)
+        assert!(st.symmetric.width() < cy.symmetric.width(), "{name}");
+        // the statistical outputs are Gaussian: the GUM interval holds (half width / u = 1.96)
+        assert!((0.5 * st.symmetric.width() / st.std_uncertainty - k).abs() < 0.03, "{name}");
+        assert!((st.std_uncertainty - stat.rows[j].gum_total_u).abs() < 0.05, "{name}: MC and GUM");
+        // 2. the cyclic method gives non-normal outputs (seed 004 §5.1, Fig. 10): arc-sine-like,
+        // excess kurtosis near -1.5 and a 95 % half width near 1.44 u instead of 1.96 u
+        if j < 8 {
+            assert!(cy.excess_kurtosis < -1.0, "{name}: {}", cy.excess_kurtosis);
+            let ratio = 0.5 * cy.symmetric.width() / cy.std_uncertainty;
+            assert!(ratio > 1.35 && ratio < 1.6, "{name}: {ratio}");
+        }
+        assert!(st.excess_kurtosis.abs() < 0.1, "{name}");
+        // 3. drift dominates the budget (Table 5), and the total is not below the root-sum-square
+        let row = &cyc.rows[j];
+        assert!(row.widths[0] > 4.0 * row.widths[1] && row.widths[0] > 4.0 * row.widths[2], "{name}");
+        assert!(row.total > 0.995 * row.rss, "{name}: total {} rss {}", row.total, row.rss);
+    }
+    // as in Table 5, the total interval exceeds the RSS of the separate sources for most link errors
+    let above = (0..8).filter(|&j| cyc.rows[j].total > cyc.rows[j].rss).count();
+    assert!(above >= 6, "{above} of 8");
+    assert_eq!(cyc.source_names, ["drift", "sensors", "transformation"]);
+}
+
+#[test]
+fn adaptive_loop_converges_like_seed_004_fig_13() {
+    // Seed 004 §5.2: M = 10^4, delta = 0.05 um or urad, convergence after h = 17..24 sequences.
+    //
+    // Why the timing of eq. 12 converges at once here: point k of trial n is measured at
+    // t0 + (n - 1) t_m + k t_i, so the drift phase of trial n is t0 + n t_m (mod T). With
+    // t_m = 807 x 0.75 s = 605.25 s and T = 1000 s, t_m / T = 2421/4000: the 10^4 trials of a
+    // sequence visit 4000 evenly spaced phases 2 or 3 times each, whatever t0 is, so the drift part
+    // of every sequence is nearly the same sample (a quasi-random, low-discrepancy sweep of the cycle):
+    // only the Gaussian sources vary between sequences and h = 2 or 3 (h >= 2 is the least the
+    // procedure allows, JCGM 101 §7.9.4 e).
+    //
+    // The paper's 17..24 needs sequences that differ like independent samples: a random phase per
+    // trial. Then the sequence mean of output j has the standard deviation u_j / sqrt(M); the
+    // stopping rule 2 s_y <= delta with s_y^2 = var / h gives h* = 4 u_max^2 / (M delta^2), the
+    // control variables of the standard uncertainty and the endpoints being smaller for these
+    // arc-sine-like outputs (sd of a 2.5 % endpoint ~ 0.05 u / sqrt(M)). With this design the largest
+    // u is 15.6 (the drift, about twice the paper's largest Table 5 values), so h* = 39; h scatters
+    // about h* because s_y is estimated from h sequences (a chi distribution with h - 1 degrees of
+    // freedom: +-2 of its standard deviations 1 / sqrt(2 (h - 1)) ~ +-23 % in s, +-37 % in h). The
+    // paper's 17..24 with its endpoints limiting fits neither case exactly: its drift period is not
+    // given, and a period that leaves a sequence's phases unevenly spread (t_m / T near a simple
+    // fraction) gives sequences between the two cases. The adaptive procedure can also stop early by
+    // chance (6 seeds: one stopped at h = 4, its s_y from 4 sequences being small): JCGM 101
+    // §7.9.4 has no guard against it; the test allows one such stop in six.
+    let map = IdentificationMap::new(kx8five_design()).unwrap();
+    let s = settings();
+    for phase in [StartPhase::Sequence, StartPhase::Trial] {
+        let mut src = sources(true);
+        if let SourceKind::CyclicDrift(c) = &mut src[0].kind {
+            c.start_phase = phase;
+        }
+        let refs: Vec<&Source> = src.iter().collect();
+        let model = map.model(&refs, Evaluation::Reduced).unwrap();
+        let mut hs = Vec::new();
+        let mut early = 0;
+        for seed in 1..=6 {
+            let mut s = s.clone();
+            s.seed = seed;
+            let mut seen = 0;
+            let r = run_adaptive(&model, &s, &mut |h, _| seen = h).unwrap();
+            let last = r.history.last().unwrap();
+            assert!(r.converged && seen == r.sequences && r.history.len() == r.sequences - 1);
+            assert!(last.max.iter().all(|v| 2.0 * v <= 0.05));
+            let u_max = r.outputs.iter().map(|o| o.std_uncertainty).fold(0.0, f64::max);
+            let h_star = 4.0 * u_max * u_max / (s.trials_per_sequence as f64 * 0.05 * 0.05);
+            eprintln!("{phase:?} seed {seed}: h = {}, h* = {h_star:.1} (u_max {u_max:.3}), control variables {:?}", r.sequences, last.max);
+            let endpoints = last.max[2].max(last.max[3]);
+            match phase {
+                StartPhase::Sequence => {
+                    // the 4000-phase grid: done at once, the endpoints limiting (as in the paper's Fig. 13)
+                    assert!((2..=4).contains(&r.sequences), "h = {}", r.sequences);
+                    assert!(endpoints > last.max[0] && endpoints > last.max[1], "endpoints limit: {:?}", last.max);
+                }
+                StartPhase::Trial => {
+                    assert!((15.0..17.0).contains(&u_max), "u_max = {u_max}");
+                    let h = r.sequences as f64;
+                    if h >= 0.63 * h_star {
+                        assert!(h <= 1.37 * h_star + 1.0, "h = {h} vs h* = {h_star}");
+                        assert!(last.max[0] > endpoints && last.max[0] > last.max[1], "the means limit: {:?}", last.max);
+                    } else {
+                        // a premature stop: s_y estimated from very few sequences came out small
+                        early += 1;
+                    }
+                }
+            }
+            hs.push(r.sequences as f64);
+        }
+        hs.sort_by(f64::total_cmp);
+        let median = 0.5 * (hs[2] + hs[3]);
+        eprintln!("{phase:?}: h = {hs:?}, median {median}");
+        if phase == StartPhase::Trial {
+            assert!(early <= 1, "{early} premature stops in 6");
+            assert!((median / 38.9 - 1.0).abs() < 0.15, "median h = {median}");
+        }
+    }
+}
+
+#[test]
+fn iso_names_of_the_example_error_file_are_not_all_identifiable_from_one_ball() {
+    // examples/errors/kx8five.toml maps seed 004's tilts of A to EB0A, EC0A and the offset of C to
+    // EY0C. With A tilted 45 deg in the Y-Z plane, EB0A and EC0A together hold a zero offset of A,
+    // which for one ball is a tilt of C plus a workpiece shift; and EY0C's part along A is a
+    // translation (user guide). The test set uses EA0A and EX0C instead (both normal to A).
+    let err = IdentificationMap::new(design_with(&[
+        "EC0Y", "EA0Z", "EB0Z", "EB0A", "EC0A", "EA0C", "EB0C", "EX0C", "TX", "TY", "TZ", "WX", "WY", "WZ",
+    ]))
+    .unwrap_err();
+    assert!(err.to_string().contains("cannot be separated") && err.to_string().contains("EB0A, EC0A, EB0C"), "{err}");
+    let err = IdentificationMap::new(design_with(&[
+        "EC0Y", "EA0Z", "EB0Z", "EB0A", "EA0A", "EA0C", "EB0C", "EY0C", "TX", "TY", "TZ", "WX", "WY", "WZ",
+    ]))
+    .unwrap_err();
+    assert!(err.to_string().contains("WZ cannot be separated from EY0C, TY, TZ"), "{err}");
+}
+
+#[test]
+fn shipped_example_design_is_this_design() {
+    // examples/uncertainty/kx8five_design.csv holds this design rounded to 1e-6
+    let shipped = DesignMatrix::read_csv("../../examples/uncertainty/kx8five_design.csv").unwrap();
+    let built = kx8five_design();
+    assert_eq!(shipped.parameters, built.parameters);
+    assert_eq!(shipped.channel, built.channel);
+    assert!(shipped.time.iter().zip(&built.time).all(|(a, b)| (a - b).abs() < 1e-12));
+    assert!((&shipped.x - &built.x).abs().max() < 5.1e-7);
+}
