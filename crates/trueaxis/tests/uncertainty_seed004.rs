@@ -3,13 +3,11 @@
 //! noise of Table 3, the frame-transformation uncertainty of §4.3 and the drift of Table 4 by the
 //! statistical and by the cyclic method.
 //!
-//! The design matrix is built here from the first-order model (`model::jacobian_batch`, machine
-//! frame, translation rows); the campaign reader will build the same matrix from measurement files.
+//! The design matrix is built from the first-order model (`support/kx8five_capball.rs`).
 
-use nalgebra::DMatrix;
-use trueaxis::geometry::Vec3;
-use trueaxis::machine::Machine;
-use trueaxis::model::{jacobian_batch, nominal_chain, Frame, Setup, JACOBIAN_ROWS};
+#[path = "support/kx8five_capball.rs"]
+mod kx8five_capball;
+use kx8five_capball::{capball_design, Trajectory};
 use trueaxis::uncertainty::{
     run_adaptive, run_budget, CyclicDrift, DesignMatrix, Distribution, Evaluation, IdentificationMap, McSettings, PeriodicDrift, Source,
     SourceKind, StartPhase,
@@ -29,55 +27,7 @@ fn kx8five_design() -> DesignMatrix {
 }
 
 fn design_with(parameters: &[&str]) -> DesignMatrix {
-    let machine = Machine::load("../../examples/machines/kx8five.toml").unwrap();
-    let ball = Vec3::new(150.0, 0.0, 50.0);
-    let n_poses = 807;
-    let n_axes = machine.axis_count();
-    let index = |c: char| machine.axis_index(c).unwrap();
-    let mut poses = vec![0.0; n_poses * n_axes];
-    let mut user = vec![0.0; n_axes];
-    for k in 0..n_poses {
-        user.fill(0.0);
-        let s = k as f64 / (n_poses - 1) as f64;
-        user[index('A')] = 120.0 * s;
-        user[index('C')] = -1080.0 * s;
-        let pose = &mut poses[k * n_axes..(k + 1) * n_axes];
-        machine.pose_to_internal(&user, pose);
-        // with X, Y, Z at 0 the ball is at p; the tool point follows it: (X, Y, Z) = p - tool point
-        let p = nominal_chain(&machine, machine.work_chain(), pose, None).transform_point(&ball);
-        let d = p - machine.tool_point;
-        for (c, v) in ['X', 'Y', 'Z'].into_iter().zip(d.iter()) {
-            user[index(c)] = *v;
-        }
-        machine.check_range(&user).unwrap();
-        machine.pose_to_internal(&user, pose);
-        let tool = nominal_chain(&machine, machine.tool_chain(), pose, None).transform_point(&machine.tool_point);
-        let work = nominal_chain(&machine, machine.work_chain(), pose, None).transform_point(&ball);
-        assert!((tool - work).norm() < 1e-9, "pose {k}: the tool point is on the ball");
-    }
-    let setup = Setup { tool_point: machine.tool_point, work_point: ball };
-    let jac = jacobian_batch(&machine, &poses, &setup, Frame::Machine);
-    let n_par = machine.parameter_count();
-    let columns: Vec<(usize, f64)> = parameters
-        .iter()
-        .map(|name| {
-            let (id, i) = machine.parse_parameter(name).unwrap();
-            (i, 1e3 * id.component().to_internal()) // mm per internal unit -> um per um or urad
-        })
-        .collect();
-    let mut x = DMatrix::zeros(3 * n_poses, parameters.len());
-    let (mut channels, mut time) = (Vec::new(), Vec::new());
-    for k in 0..n_poses {
-        for (r, ch) in ["x", "y", "z"].iter().enumerate() {
-            let row = &jac[(k * JACOBIAN_ROWS + r) * n_par..(k * JACOBIAN_ROWS + r + 1) * n_par];
-            for (j, (i, factor)) in columns.iter().enumerate() {
-                x[(3 * k + r, j)] = row[*i] * factor;
-            }
-            channels.push(ch.to_string());
-            time.push(T_I * (k + 1) as f64);
-        }
-    }
-    DesignMatrix::new(parameters.iter().map(|p| p.to_string()).collect(), &channels, time, None, None, x).unwrap()
+    capball_design(&Trajectory::SEED_004, parameters, T_I)
 }
 
 fn normal(name: &str, u: [f64; 3]) -> Source {
