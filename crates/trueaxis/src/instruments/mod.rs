@@ -8,6 +8,10 @@
 //!   NISTIR 5236 §3.4, eqs. 3.1-3.8).
 //! - [`ballbar`]: ballbar (DBB) setups and bar readings simulated on the exact chain: ISO 230-4
 //!   planar circles and the rotary-axis tests of seed 001 (ch. 4, 5, 6).
+//! - [`ballbar_raw`]: the capture arc of a raw ballbar stream (overshoot and feed moves stripped,
+//!   sample index to angle, seed 001 §4.2).
+//! - [`steady`]: steady values of a sampled stream (one 3D-ball reading per pose from a 1000 Hz
+//!   recording with a dwell at each pose, seed 004 §3.4).
 //! - [`scale`]: correction of linear-displacement readings to the 20 degC reference temperature
 //!   (ISO 1) for the thermal expansion of the machine scale or of the reference artefact, and the
 //!   apparent expansion coefficient of a scale from two runs at two temperatures (seed 000 §3.2.4,
@@ -19,6 +23,7 @@
 
 pub mod ball3d;
 pub mod ballbar;
+pub mod ballbar_raw;
 pub mod direct;
 pub mod laser;
 pub mod length;
@@ -27,9 +32,11 @@ pub mod measurement;
 pub mod probe;
 pub mod reversal;
 pub mod scale;
+pub mod steady;
 pub mod trajectory;
 
 pub use ball3d::{Ball3d, SensorCalibration, SensorCalibrationError};
+pub use ballbar_raw::{capture_arc, ArcProgramme, CapturedArc, RawBallbarError};
 pub use direct::{motion_error_axis, DirectError, DirectInstrument, DirectKind, DirectSetup};
 pub use laser::{Laser, LaserError, LaserOptics};
 pub use length::{Length, PointLength};
@@ -45,6 +52,7 @@ pub use scale::{
     ScaleError, ScaleTemperature, TableCorrection, TableCorrectionError, TemperatureSource, ThermalCorrection, ThermalRun,
     REFERENCE_TEMPERATURE_DEGC,
 };
+pub use steady::{plateaus, steady_values, Plateau, SteadyError, SteadySettings};
 pub use trajectory::{ball_trajectory, Sweep, TrajectoryError};
 
 /// Unweighted least-squares line `y = intercept + slope * x`, returned as `(slope, intercept)`.
