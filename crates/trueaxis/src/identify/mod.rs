@@ -11,6 +11,7 @@ pub mod identifiability;
 pub mod indirect;
 mod least_squares;
 pub mod pige;
+pub mod pige_sensitivity;
 mod reduction;
 pub mod simulate;
 mod stepwise;

@@ -36,6 +36,11 @@ pub struct CircleFit {
     pub residual_rms: f64,
     /// Largest minus smallest geometric residual (mm).
     pub residual_range: f64,
+    /// Covariance of the centre (mm^2) from the scatter of the points about the circle: the
+    /// geometric fit linearised at the solution, `s^2 (A^T A)^-1` with rows
+    /// `A_i = -[(p_i - c) / |p_i - c|, 1]` and `s^2 = sum r_i^2 / (n - 3)`. `None` with three points
+    /// (no scatter to judge by).
+    pub centre_covariance: Option<[[f64; 2]; 2]>,
 }
 
 /// Algebraic (Kåsa) least-squares circle: minimises `sum (Y^2 + Z^2 + a Y + b Z + c)^2` (seed 001
@@ -78,7 +83,37 @@ pub fn kasa_fit(points: &[[f64; 2]]) -> Result<CircleFit, IdentifyError> {
     let residuals: Vec<f64> = points.iter().map(|p| (p[0] - centre[0]).hypot(p[1] - centre[1]) - radius).collect();
     let rms = (residuals.iter().map(|r| r * r).sum::<f64>() / n).sqrt();
     let (lo, hi) = residuals.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &r| (a.min(r), b.max(r)));
-    Ok(CircleFit { centre, radius, residual_rms: rms, residual_range: hi - lo })
+    Ok(CircleFit {
+        centre,
+        radius,
+        residual_rms: rms,
+        residual_range: hi - lo,
+        centre_covariance: centre_covariance(points, centre, &residuals),
+    })
+}
+
+/// The covariance of a fitted circle's centre (see [`CircleFit::centre_covariance`]).
+fn centre_covariance(points: &[[f64; 2]], centre: [f64; 2], residuals: &[f64]) -> Option<[[f64; 2]; 2]> {
+    let n = points.len();
+    if n <= 3 {
+        return None;
+    }
+    let s2 = residuals.iter().map(|r| r * r).sum::<f64>() / (n - 3) as f64;
+    centre_covariance_per_unit_variance(points, centre).map(|c| c.map(|row| row.map(|v| s2 * v)))
+}
+
+/// The centre block of `(A^T A)^-1` of the linearised geometric circle fit (rows
+/// `A_i = -[(p_i - c) / |p_i - c|, 1]`): the centre covariance for points of unit radial variance.
+pub(crate) fn centre_covariance_per_unit_variance(points: &[[f64; 2]], centre: [f64; 2]) -> Option<[[f64; 2]; 2]> {
+    let mut ata = Matrix3::<f64>::zeros();
+    for p in points {
+        let (dy, dz) = (p[0] - centre[0], p[1] - centre[1]);
+        let r = dy.hypot(dz);
+        let row = Vector3::new(dy / r, dz / r, 1.0);
+        ata += row * row.transpose();
+    }
+    let inverse = ata.try_inverse().filter(|m| m.iter().all(|v| v.is_finite()))?;
+    Some([[inverse[(0, 0)], inverse[(0, 1)]], [inverse[(1, 0)], inverse[(1, 1)]]])
 }
 
 /// Fewest readings of one step accepted for identification.
@@ -178,6 +213,12 @@ pub struct AxisLine {
 /// turns it into an offset and a tilt in M: `omega = d x t3` with `t3 = t1 u1 + t2 u2`, each
 /// component `atan` of the slope (thesis §4.2 (d)).
 pub fn axis_line(machine: &Machine, traces: &[DbbTrace]) -> Result<AxisLine, IdentifyError> {
+    let (geometry, stations) = fitted_stations(traces)?;
+    Ok(line_through(machine, &geometry, stations))
+}
+
+/// The circle fit of every trace of one axis, with the geometry they share.
+fn fitted_stations(traces: &[DbbTrace]) -> Result<(RotaryGeometry, Vec<(f64, [f64; 2], CircleFit)>), IdentifyError> {
     let Some(first) = traces.first() else {
         return Err(IdentifyError::Input("no trace for the axis".into()));
     };
@@ -185,12 +226,19 @@ pub fn axis_line(machine: &Machine, traces: &[DbbTrace]) -> Result<AxisLine, Ide
     if traces.iter().any(|t| t.geometry.axis != g0.axis || (t.geometry.u1 - g0.u1).norm() > 1e-9) {
         return Err(IdentifyError::Input("the traces of one axis must share the axis and the pivot direction".into()));
     }
+    let stations = traces
+        .iter()
+        .map(|t| {
+            let fit = t.fit()?;
+            Ok((t.geometry.spindle_position, fit.centre, fit))
+        })
+        .collect::<Result<Vec<_>, IdentifyError>>()?;
+    Ok((g0, stations))
+}
+
+/// The axis line through the local centres of `stations` (spindle position, centre, fit).
+fn line_through(machine: &Machine, g0: &RotaryGeometry, stations: Vec<(f64, [f64; 2], CircleFit)>) -> AxisLine {
     let axis = &machine.axes()[g0.axis];
-    let mut stations = Vec::with_capacity(traces.len());
-    for t in traces {
-        let fit = t.fit()?;
-        stations.push((t.geometry.spindle_position, fit.centre, fit));
-    }
     let n = stations.len() as f64;
     let s_mean = stations.iter().map(|s| s.0).sum::<f64>() / n;
     let c_mean = [0, 1].map(|k| stations.iter().map(|s| s.1[k]).sum::<f64>() / n);
@@ -203,7 +251,7 @@ pub fn axis_line(machine: &Machine, traces: &[DbbTrace]) -> Result<AxisLine, Ide
         ([0.0, 0.0], None)
     };
     let e = [0, 1].map(|k| c_mean[k] - slope[k] * s_mean);
-    Ok(AxisLine { axis: axis.letter, offset: g0.u1 * e[0] + g0.u2 * e[1], tilt, stations })
+    AxisLine { axis: axis.letter, offset: g0.u1 * e[0] + g0.u2 * e[1], tilt, stations }
 }
 
 /// The PIGEs of a rotary pair.
@@ -289,9 +337,16 @@ pub fn identify_piges(machine: &Machine, pair: RotaryPair, outer: &[DbbTrace], i
             machine.name, pair.outer, pair.inner
         )));
     }
-    let (ax_o, ax_i) = (&machine.axes()[o], &machine.axes()[i]);
     let outer_line = axis_line(machine, outer)?;
     let inner_line = axis_line(machine, inner)?;
+    Ok(combine_lines(machine, pair, outer_line, inner_line))
+}
+
+/// The PIGEs of both axes from their lines (the checks of [`identify_piges`] done): the inner axis
+/// is carried by the outer, so the outer's offset and tilt are removed from the inner's line.
+fn combine_lines(machine: &Machine, pair: RotaryPair, outer_line: AxisLine, inner_line: AxisLine) -> Piges {
+    let ax_o = &machine.axes()[machine.axis_index(pair.outer).expect("checked")];
+    let ax_i = &machine.axes()[machine.axis_index(pair.inner).expect("checked")];
     let tilt_o = outer_line.tilt.unwrap_or_else(Vec3::zeros);
     let di = ax_i.direction;
     // Table 5.1: the inner axis is carried by the outer; remove the outer's offset and tilt.
@@ -300,7 +355,62 @@ pub fn identify_piges(machine: &Machine, pair: RotaryPair, outer: &[DbbTrace], i
     let tilt_i = inner_line.tilt.map(|t| t - perpendicular(&tilt_o, &di)).unwrap_or_else(Vec3::zeros);
     let mut values = named(pair.outer, &ax_o.direction, &outer_line.offset, &tilt_o);
     values.extend(named(pair.inner, &di, &offset_i, &tilt_i));
-    Ok(Piges { values, outer: outer_line, inner: inner_line })
+    Piges { values, outer: outer_line, inner: inner_line }
+}
+
+/// Standard uncertainty of each PIGE of one set of traces (mm, rad; the order of
+/// [`Piges::values`]), from the scatter of every trace about its fitted circle: the covariance of
+/// each circle centre ([`CircleFit::centre_covariance`]) propagated through the axis lines and the
+/// removal of the outer axis (GUM law of propagation; the map from centres to PIGEs is linear but
+/// for the `atan` of the slopes, differentiated numerically). The scatter includes whatever the
+/// circle does not explain (noise, motion errors), so the uncertainty is that of the method on
+/// this machine, not of the bar alone. `None` when a trace has three points or fewer.
+pub fn pige_uncertainty(
+    machine: &Machine,
+    pair: RotaryPair,
+    outer: &[DbbTrace],
+    inner: &[DbbTrace],
+) -> Result<Option<Vec<f64>>, IdentifyError> {
+    identify_piges(machine, pair, outer, inner)?;
+    let covariances: Option<Vec<[[f64; 2]; 2]>> =
+        outer.iter().chain(inner).map(|t| t.fit().map(|f| f.centre_covariance)).collect::<Result<Vec<_>, _>>()?.into_iter().collect();
+    let Some(covariances) = covariances else { return Ok(None) };
+    propagate_centre_covariances(machine, pair, outer, inner, &covariances).map(Some)
+}
+
+/// Standard uncertainty of each PIGE (mm, rad; the order of [`Piges::values`]) when the centre of
+/// trace `k` (outer traces first, then inner) has the covariance `covariances[k]` (mm^2) and the
+/// traces are independent: `u_p^2 = sum_k J_pk C_k J_pk^T`, the Jacobian `J` of the PIGEs with
+/// respect to the centres by differences (the map is linear but for the `atan` of the slopes).
+pub(crate) fn propagate_centre_covariances(
+    machine: &Machine,
+    pair: RotaryPair,
+    outer: &[DbbTrace],
+    inner: &[DbbTrace],
+    covariances: &[[[f64; 2]; 2]],
+) -> Result<Vec<f64>, IdentifyError> {
+    let (go, so) = fitted_stations(outer)?;
+    let (gi, si) = fitted_stations(inner)?;
+    let values = |so: Vec<_>, si: Vec<_>| -> Vec<f64> {
+        combine_lines(machine, pair, line_through(machine, &go, so), line_through(machine, &gi, si)).values.iter().map(|v| v.1).collect()
+    };
+    let reference = values(so.clone(), si.clone());
+    let h = 1e-6; // mm
+    let mut variance = vec![0.0; reference.len()];
+    let stations = (0..so.len()).map(|k| (0, k)).chain((0..si.len()).map(|k| (1, k)));
+    for ((side, k), cov) in stations.zip(covariances) {
+        let column = |c: usize| -> Vec<f64> {
+            let (mut o, mut i) = (so.clone(), si.clone());
+            let target = if side == 0 { &mut o[k] } else { &mut i[k] };
+            target.1[c] += h;
+            values(o, i).iter().zip(&reference).map(|(v, r)| (v - r) / h).collect()
+        };
+        let (j0, j1) = (column(0), column(1));
+        for (p, var) in variance.iter_mut().enumerate() {
+            *var += j0[p] * j0[p] * cov[0][0] + 2.0 * j0[p] * j1[p] * cov[0][1] + j1[p] * j1[p] * cov[1][1];
+        }
+    }
+    Ok(variance.iter().map(|v| v.max(0.0).sqrt()).collect())
 }
 
 /// Simulated compensation (seed 001 §4.3, Fig. 4.8): the readings minus the exact-chain readings of
