@@ -16,6 +16,7 @@ mod reduction;
 pub mod simulate;
 mod stepwise;
 pub mod tmbb;
+pub mod tmbb_setup;
 pub mod unknowns;
 
 pub use campaign::{Campaign, DesignMatrix, Measurement};

@@ -206,7 +206,7 @@ pub struct AxisLine {
     /// traces had the same spindle position (position step only).
     pub tilt: Option<Vec3>,
     /// (spindle position along the axis (mm), local centre (mm, basis u1 u2), fit) of each trace.
-    pub stations: Vec<(f64, [f64; 2], CircleFit)>,
+    pub stations: Vec<Station>,
 }
 
 /// Fits the line `c(s) = e + s t` through the local centres of `traces` (all of the same axis) and
@@ -217,8 +217,12 @@ pub fn axis_line(machine: &Machine, traces: &[DbbTrace]) -> Result<AxisLine, Ide
     Ok(line_through(machine, &geometry, stations))
 }
 
+/// A trace's station on its axis line: spindle position along the axis (mm), local centre (mm,
+/// basis u1 u2) and the circle fit.
+pub type Station = (f64, [f64; 2], CircleFit);
+
 /// The circle fit of every trace of one axis, with the geometry they share.
-fn fitted_stations(traces: &[DbbTrace]) -> Result<(RotaryGeometry, Vec<(f64, [f64; 2], CircleFit)>), IdentifyError> {
+fn fitted_stations(traces: &[DbbTrace]) -> Result<(RotaryGeometry, Vec<Station>), IdentifyError> {
     let Some(first) = traces.first() else {
         return Err(IdentifyError::Input("no trace for the axis".into()));
     };
@@ -237,7 +241,7 @@ fn fitted_stations(traces: &[DbbTrace]) -> Result<(RotaryGeometry, Vec<(f64, [f6
 }
 
 /// The axis line through the local centres of `stations` (spindle position, centre, fit).
-fn line_through(machine: &Machine, g0: &RotaryGeometry, stations: Vec<(f64, [f64; 2], CircleFit)>) -> AxisLine {
+fn line_through(machine: &Machine, g0: &RotaryGeometry, stations: Vec<Station>) -> AxisLine {
     let axis = &machine.axes()[g0.axis];
     let n = stations.len() as f64;
     let s_mean = stations.iter().map(|s| s.0).sum::<f64>() / n;

@@ -76,7 +76,7 @@ pub fn method_sensitivity(
     };
     let (outer, inner) = traces(&|k| vec![0.0; steps[k].1.len()])?;
     let nominal = identify_piges(machine, pair, &outer, &inner)?;
-    let parameters: Vec<ParameterId> = nominal.values.iter().map(|v| v.0.clone()).collect();
+    let parameters: Vec<ParameterId> = nominal.values.iter().map(|v| v.0).collect();
     let h = 1e-3; // mm: a 1 um setup error, well inside the linear range
     let mut sources = Vec::new();
     let setup_parameters = ["WX", "WY", "WZ", "TX", "TY", "TZ"];
