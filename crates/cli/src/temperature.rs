@@ -71,7 +71,8 @@ impl TemperatureArgs {
                 }
                 let json = serde_json::json!({"source": "file", "material_temperature_degc": t, "expansion_coefficient_um_per_m_k": alpha});
                 let notes = vec![format!(
-                    "{file}: readings corrected to 20 degC with the file's material temperature {t:.3} degC and expansion coefficient                      {alpha} um/m/K (--no-file-temperature keeps them as they are)"
+                    "{file}: readings corrected to 20 degC with the file's material temperature {t:.3} degC and expansion coefficient \
+                     {alpha} um/m/K (--no-file-temperature keeps them as they are)"
                 )];
                 let c = TableCorrection { body: ExpandingBody::MachineScale, alpha_um_per_m_k: alpha, temperature: TemperatureSource::Uniform(t), datum_mm: self.temperature_datum };
                 Ok(Applied { corrections: vec![c], json, notes })

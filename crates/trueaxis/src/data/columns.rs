@@ -1,9 +1,10 @@
 //! Tables with named columns (laser, level, ballbar and other instrument data, poses; DESIGN.md
 //! section 3), read forgivingly: every CSV input of trueaxis goes through [`CsvTable`].
 //!
-//! - `#` comment lines and blank lines anywhere; `Key: value` lines before the header, and `#
-//!   Key: value` comments with a key of the file's metadata (`Machine`, `Date`, `Mat temp 1`,
-//!   `Radius` ...), become the file's [`Metadata`];
+//! - `#` (or `//`) comment lines and blank lines anywhere; the header is the first line whose
+//!   field count the next line repeats; `Key: value` lines before it, and `# Key: value` comments
+//!   with a key of the file's metadata (`Machine`, `Date`, `Mat temp 1`, `Radius` ...), become the
+//!   file's [`Metadata`];
 //! - `,`, `;` or tab as the separator (from the header line); with `;` or tab a decimal comma
 //!   (`-0,0123`); a UTF-8 byte-order mark; CRLF, LF or CR line ends; fields trimmed and unquoted;
 //! - header names matched without regard to case, spaces and underscores, with synonyms
@@ -103,9 +104,29 @@ fn is_comment(line: &str) -> bool {
     t.starts_with('#') || t.starts_with("//")
 }
 
-/// A line before the header that is a `Key: value` pair (no separator character in it).
-fn is_preamble(line: &str) -> bool {
-    !line.contains([',', ';', '\t']) && key_value(line).is_some()
+/// The number of fields of a line at `sep`, without trailing empty fields.
+fn field_count(line: &str, sep: u8) -> usize {
+    let fields = split_fields(line, sep);
+    fields.len() - fields.iter().rev().take_while(|f| f.is_empty()).count().min(fields.len() - 1)
+}
+
+/// The index (into `lines`) of the header: the first line of at least two fields whose next line
+/// (blank and comment lines skipped) has as many fields at the same separator; lines before it are
+/// the file's preamble (a ballbar export's `Key: value` header, prose). Without such a pair, the
+/// first line of at least two fields, else the first line.
+fn header_index(lines: &[(u64, &str)]) -> Option<usize> {
+    let content: Vec<usize> = (0..lines.len()).filter(|&k| !lines[k].1.trim().is_empty() && !is_comment(lines[k].1)).collect();
+    let counted = |k: usize| {
+        let sep = separator_of(lines[k].1);
+        (sep, field_count(lines[k].1, sep))
+    };
+    for w in content.windows(2) {
+        let (sep, n) = counted(w[0]);
+        if n >= 2 && field_count(lines[w[1]].1, sep) == n {
+            return Some(w[0]);
+        }
+    }
+    content.iter().copied().find(|&k| counted(k).1 >= 2).or(content.first().copied())
 }
 
 impl CsvTable {
@@ -144,28 +165,17 @@ impl CsvTable {
     fn parse_table(text: &str, origin: &str) -> Result<CsvTable, DataError> {
         let invalid = |message: String| DataError::Invalid { origin: origin.to_string(), message };
         let lines = numbered_lines(text);
+        let h = header_index(&lines).ok_or_else(|| invalid("no data: the file is empty".into()))?;
+        // before the header: `Key: value` lines, and `# Key: value` comments with a key of the
+        // file's metadata or test parameters (other comments and lines are prose)
         let mut pairs: Vec<(String, String)> = Vec::new();
-        let mut header_at = None;
-        for (k, (_, line)) in lines.iter().enumerate() {
-            if line.trim().is_empty() {
-                continue;
-            }
-            if is_comment(line) || is_preamble(line) {
-                // a preamble line is a pair; a comment only when its key is one of the file's
-                // metadata or test parameters (other comments are prose)
-                if let Some((key, value)) = key_value(line.trim_start().trim_start_matches("//")) {
-                    if !is_comment(line) || crate::io::metadata::is_known_key(key) {
-                        pairs.push((key.to_string(), value.to_string()));
-                    }
+        for (_, line) in &lines[..h] {
+            if let Some((key, value)) = key_value(line.trim_start().trim_start_matches("//")) {
+                if !is_comment(line) || crate::io::metadata::is_known_key(key) {
+                    pairs.push((key.to_string(), value.to_string()));
                 }
-                continue;
             }
-            header_at = Some(k);
-            break;
         }
-        let Some(h) = header_at else {
-            return Err(invalid("no data: the file is empty".into()));
-        };
         let (header_line, header_text) = lines[h];
         let separator = separator_of(header_text);
         let mut fields = split_fields(header_text, separator);

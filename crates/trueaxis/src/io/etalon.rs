@@ -262,7 +262,9 @@ impl EtalonFile {
             };
             machine.parameter_index(&id).map_err(|e| bad(p.line, format!("[{}]: {e}; give the machine the file was measured on", p.name)))?;
             let component = id.component();
-            let scale = if component.is_rotation() { 1e6 } else { 1e3 };
+            let factor = if component.is_rotation() { 1e6 } else { 1e3 };
+            // rounded to 1e-9 um or urad (the file's 1e-12 mm or rad) to drop binary noise of the scaling
+            let scale = |v: f64| (v * factor * 1e9).round() / 1e9;
             let values: Vec<f64> = match &p.value {
                 EtalonValue::Constant(v) => vec![*v],
                 EtalonValue::Table(pairs) => pairs.iter().map(|x| x.1).collect(),
@@ -275,7 +277,7 @@ impl EtalonFile {
                 }
             }
             let function = match (&p.value, id) {
-                (EtalonValue::Constant(v), _) => ErrorFunction::Constant(v * scale),
+                (EtalonValue::Constant(v), _) => ErrorFunction::Constant(scale(*v)),
                 (EtalonValue::Table(pairs), ParameterId::Motion { .. }) => {
                     let mut sorted = pairs.clone();
                     sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -283,7 +285,7 @@ impl EtalonFile {
                         return Err(bad(p.line, format!("[{}]: the argument {} is given twice", p.name, w[0].0)));
                     }
                     let positions = sorted.iter().map(|x| x.0).collect();
-                    let values = sorted.iter().map(|x| x.1 * scale).collect();
+                    let values = sorted.iter().map(|x| scale(x.1)).collect();
                     ErrorFunction::table(positions, values, None).map_err(|e| bad(p.line, format!("[{}]: {e}", p.name)))?
                 }
                 (EtalonValue::Table(_), _) => {
