@@ -642,14 +642,8 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
     let (ia, ib, _) = plane.letters();
     let ca = m.axis_index(ia).map_or(0.0, |k| centre[k]);
     let cb = m.axis_index(ib).map_or(0.0, |k| centre[k]);
-    let options = DiagnosticOptions {
-        plane,
-        radius,
-        centre: [ca, cb],
-        pitch: a.pitch,
-        spike_width: a.spike_width.to_radians(),
-        feed: a.feed,
-    };
+    let options =
+        DiagnosticOptions { plane, radius, centre: [ca, cb], pitch: a.pitch, spike_width: a.spike_width.to_radians(), feed: a.feed };
     let result = evaluate(&m, &runs, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
     let lines = result.summary_lines();
     if let Some(path) = &a.plot {

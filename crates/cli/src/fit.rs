@@ -4,11 +4,11 @@ use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::checks::deviation_finding;
 use trueaxis::data::{write_atomically, CsvTable};
-use trueaxis::io::Dimension;
 use trueaxis::errors::{set_error_function, BasisSpec, Direction, ErrorModel, PeriodicSpec};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, IdentifyError};
 use trueaxis::instruments::{motion_error_axis, DirectError, DirectInstrument, DirectKind, DirectSetup, LevelBody};
+use trueaxis::io::Dimension;
 use trueaxis::machine::{AxisKind, Machine, ParameterId, Side};
 use trueaxis::model::Setup;
 
@@ -218,7 +218,8 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
     if applied.json.get("source").and_then(|s| s.as_str()) == Some("file") && !positioning {
         applied.corrections.clear();
         applied.json = serde_json::Value::Null;
-        applied.notes = vec![format!("{data_name}: the file's material temperature is not applied: {parameter} is not a positioning error")];
+        applied.notes =
+            vec![format!("{data_name}: the file's material temperature is not applied: {parameter} is not a positioning error")];
     }
     for note in &applied.notes {
         eprintln!("trueaxis: {note}");

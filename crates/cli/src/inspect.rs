@@ -14,10 +14,12 @@ use trueaxis::io::{etalon, read_text, Finding, Format, Severity};
 /// environment), the test parameters of a ballbar export, the findings of the plausibility checks,
 /// and what each command would read from it.
 #[derive(clap::Args)]
-#[command(after_help = "Examples:\n  trueaxis inspect examples/data/laser_x.rtl\n  trueaxis inspect examples/ballbar/export_xy.txt --json\n  \
+#[command(
+    after_help = "Examples:\n  trueaxis inspect examples/data/laser_x.rtl\n  trueaxis inspect examples/ballbar/export_xy.txt --json\n  \
 trueaxis inspect examples/data/vmc3_etalon.exc\n\n\
 Exit status 0 when the file can be read (a finding that a command would refuse is listed, not an\n\
-error), 2 when it cannot.")]
+error), 2 when it cannot."
+)]
 pub struct InspectArgs {
     /// The file: a table (CSV, `;` or tab separated), a Renishaw .rtl laser file, a ballbar text
     /// export or an Etalon exchange file.
@@ -118,7 +120,8 @@ fn table_doc(table: &CsvTable) -> Value {
                     "{} bar deviations (um) at angles in the plane{}", trace.dl_um.len(),
                     h.radius_mm.map_or(String::from("; give --radius"), |r| format!("; radius {r} mm from the header")))}));
                 if angle.is_some() {
-                    commands.push(json!({"command": "ballbar identify|tmbb", "reads": "the swept axis angle and dL (um) of one step or bar"}));
+                    commands
+                        .push(json!({"command": "ballbar identify|tmbb", "reads": "the swept axis angle and dL (um) of one step or bar"}));
                 }
             }
             Err(e) => findings.push(json!({"severity": "refuse", "message": e.to_string()})),
@@ -212,7 +215,13 @@ fn text_of(name: &str, doc: &Value) -> String {
                 Some(v) => format!("value {v}"),
                 None => format!("table of {} points over {}", p["points"], p["argument_range"]),
             };
-            let _ = writeln!(out, "    [{}] {} (line {}): {what}", s(&p["name"]), p["iso"].as_str().unwrap_or("not an error parameter"), p["line"]);
+            let _ = writeln!(
+                out,
+                "    [{}] {} (line {}): {what}",
+                s(&p["name"]),
+                p["iso"].as_str().unwrap_or("not an error parameter"),
+                p["line"]
+            );
         }
     }
     if let Some(m) = doc.get("metadata").and_then(Value::as_object).filter(|m| !m.is_empty()) {

@@ -127,7 +127,17 @@ fn table_text(name: &str, result: &Iso2302Result, metadata: &trueaxis::io::Metad
     let _ = writeln!(
         out,
         "{:>12} {:>5} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
-        format!("target ({pu})"), "runs", "mean+", "mean-", "mean", "s+", "s-", "B_i", "R_i+", "R_i-", "R_i"
+        format!("target ({pu})"),
+        "runs",
+        "mean+",
+        "mean-",
+        "mean",
+        "s+",
+        "s-",
+        "B_i",
+        "R_i+",
+        "R_i-",
+        "R_i"
     );
     for p in &result.positions {
         let runs = if p.n_plus == p.n_minus { p.n_plus.to_string() } else { format!("{}/{}", p.n_plus, p.n_minus) };

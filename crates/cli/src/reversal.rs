@@ -6,8 +6,8 @@ use anyhow::anyhow;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use trueaxis::data::{write_atomically, CsvTable};
-use trueaxis::io::Dimension;
 use trueaxis::instruments::{flat_face_reversal, parallelism_urad, straightness_reversal, BestFitLine, BestFitRadii, ReversalOptions};
+use trueaxis::io::Dimension;
 use trueaxis_report::{profiles_svg, Profiles};
 
 /// Reversal techniques (seed 003 eqs. 3.1-3.8): straightness of an axis with an imperfect test
@@ -117,7 +117,11 @@ fn read_scans(p: &Profile) -> Result<Scans, Failure> {
         return two_runs(&table, &p.file);
     }
     let column = |name: &str, d: Dimension| table.numbers_as(name, d).map_err(Failure::input);
-    Ok(Scans { positions: column(&p.position, Dimension::Length)?, m1: column("m1", Dimension::Length)?, m2: column("m2", Dimension::Length)? })
+    Ok(Scans {
+        positions: column(&p.position, Dimension::Length)?,
+        m1: column("m1", Dimension::Length)?,
+        m2: column("m2", Dimension::Length)?,
+    })
 }
 
 /// The two scans of a reversal from the two runs of a laser file, each sorted by position; both
@@ -146,9 +150,16 @@ fn two_runs(table: &CsvTable, file: &Path) -> Result<Scans, Failure> {
     };
     let (first, second) = (scan(order[0]), scan(order[1]));
     if first.len() != second.len() || first.iter().zip(&second).any(|(a, b)| (a.0 - b.0).abs() > 1e-6) {
-        return Err(bad(format!("runs {} and {} do not read the same positions; a reversal compares two scans point by point", order[0], order[1])));
+        return Err(bad(format!(
+            "runs {} and {} do not read the same positions; a reversal compares two scans point by point",
+            order[0], order[1]
+        )));
     }
-    Ok(Scans { positions: first.iter().map(|x| x.0).collect(), m1: first.iter().map(|x| x.1).collect(), m2: second.iter().map(|x| x.1).collect() })
+    Ok(Scans {
+        positions: first.iter().map(|x| x.0).collect(),
+        m1: first.iter().map(|x| x.1).collect(),
+        m2: second.iter().map(|x| x.1).collect(),
+    })
 }
 
 /// Refuses a result with a number that is not finite (readings too large): nothing printed or written.

@@ -74,7 +74,12 @@ impl TemperatureArgs {
                     "{file}: readings corrected to 20 degC with the file's material temperature {t:.3} degC and expansion coefficient \
                      {alpha} um/m/K (--no-file-temperature keeps them as they are)"
                 )];
-                let c = TableCorrection { body: ExpandingBody::MachineScale, alpha_um_per_m_k: alpha, temperature: TemperatureSource::Uniform(t), datum_mm: self.temperature_datum };
+                let c = TableCorrection {
+                    body: ExpandingBody::MachineScale,
+                    alpha_um_per_m_k: alpha,
+                    temperature: TemperatureSource::Uniform(t),
+                    datum_mm: self.temperature_datum,
+                };
                 Ok(Applied { corrections: vec![c], json, notes })
             }
             (Some(t), None) if !self.no_file_temperature => Ok(Applied {

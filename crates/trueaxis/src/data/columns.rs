@@ -305,9 +305,8 @@ impl CsvTable {
                 if cell.is_empty() {
                     continue;
                 }
-                let v = parse_number(cell, self.decimal_comma).ok_or_else(|| {
-                    self.invalid(format!("line {line}: column {}: `{cell}` is not a number", self.headers[column].text))
-                })?;
+                let v = parse_number(cell, self.decimal_comma)
+                    .ok_or_else(|| self.invalid(format!("line {line}: column {}: `{cell}` is not a number", self.headers[column].text)))?;
                 let mut out = vec![row[target].clone(), format!("{v}"), direction.symbol().to_string(), run.to_string()];
                 out.extend(others.iter().map(|&i| row[i].clone()));
                 rows.push(out);
@@ -402,7 +401,8 @@ impl CsvTable {
             }
         }
         let also = synonyms(name);
-        let or = if also.is_empty() { String::new() } else { format!(" (or {})", also.iter().take(3).copied().collect::<Vec<_>>().join(", ")) };
+        let or =
+            if also.is_empty() { String::new() } else { format!(" (or {})", also.iter().take(3).copied().collect::<Vec<_>>().join(", ")) };
         Err(self.invalid(format!(
             "missing column `{name}`{or}; the header has: {}",
             self.headers.iter().map(|h| h.text.as_str()).collect::<Vec<_>>().join(",")
@@ -432,7 +432,9 @@ impl CsvTable {
             self.invalid(format!("line {}: column {}: `{text}` is not a number", self.lines[row], self.headers[column].text))
         })?;
         if !v.is_finite() {
-            return Err(self.invalid(format!("line {}: column {}: `{text}` is not a finite number", self.lines[row], self.headers[column].text)));
+            return Err(
+                self.invalid(format!("line {}: column {}: `{text}` is not a finite number", self.lines[row], self.headers[column].text))
+            );
         }
         Ok(v)
     }
@@ -542,14 +544,14 @@ impl CsvTable {
         let mut columns: Vec<(String, Vec<String>)> = Vec::new();
         for (i, h) in self.headers.iter().enumerate() {
             let numeric = (0..self.rows.len()).all(|r| parse_number(&self.rows[r][i], self.decimal_comma).is_some_and(f64::is_finite));
-            let name = if numeric { canonical_name(&h.name) } else { h.name.clone() };
+            let name = canonical_name(&h.name);
             if numeric {
                 let to = h.unit.map(|u| canonical(u.dimension, is_position_column(&name)));
                 let values = self.column_in(i, to)?;
                 let header = to.map_or(name.clone(), |u| format!("{name} [{u}]"));
                 columns.push((header, values.iter().map(|v| format!("{v}")).collect()));
             } else {
-                let header = if h.name.contains(',') { format!("\"{}\"", h.name) } else { h.name.clone() };
+                let header = if name.contains(',') { format!("\"{name}\"") } else { name.clone() };
                 let texts = self.rows.iter().map(|r| quote(&r[i])).collect();
                 columns.push((header, texts));
             }
@@ -590,7 +592,8 @@ mod tests {
     #[test]
     fn forgiving_variants_read_alike() {
         let canonical = CsvTable::from_text("target,dev,dir,run\n0,1.5,+,1\n100,-2.25,-,1\n", "a.csv").unwrap();
-        let semicolon = CsvTable::from_text("\u{feff}Position (mm);Dev [mm];Direction;Run\r\n0;0,0015;+;1\r\n100;-0,00225;-;1\r\n", "b.csv").unwrap();
+        let semicolon =
+            CsvTable::from_text("\u{feff}Position (mm);Dev [mm];Direction;Run\r\n0;0,0015;+;1\r\n100;-0,00225;-;1\r\n", "b.csv").unwrap();
         assert_eq!(semicolon.numbers("target").unwrap(), canonical.numbers("target").unwrap());
         let a = canonical.numbers("dev").unwrap();
         let b = semicolon.numbers("dev").unwrap();

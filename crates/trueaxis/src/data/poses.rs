@@ -98,7 +98,8 @@ pub fn poses_of(table: &CsvTable, machine: &Machine) -> Result<PoseTable, DataEr
         }
         let dimension = if axis.kind == crate::machine::AxisKind::Rotary { Dimension::Angle } else { Dimension::Length };
         let texts = table.texts(&name)?;
-        if let Some(r) = texts.iter().position(|t| crate::io::text::parse_number(t, table.decimal_comma()).is_some_and(|v| !v.is_finite())) {
+        if let Some(r) = texts.iter().position(|t| crate::io::text::parse_number(t, table.decimal_comma()).is_some_and(|v| !v.is_finite()))
+        {
             return Err(invalid(format!(
                 "line {}: column {}: axis {} at `{}` is not a finite number",
                 table.lines()[r],
@@ -118,13 +119,20 @@ pub fn poses_of(table: &CsvTable, machine: &Machine) -> Result<PoseTable, DataEr
             table.has_column(&name).then(|| table.texts(&name).map(|t| (a, t)))
         })
         .collect::<Result<_, _>>()?;
-    let temperature_names: Vec<String> =
-        table.headers().iter().filter(|h| h.name.len() > 2 && h.name[..2].eq_ignore_ascii_case("T:")).map(|h| format!("T:{}", &h.name[2..])).collect();
+    let temperature_names: Vec<String> = table
+        .headers()
+        .iter()
+        .filter(|h| h.name.len() > 2 && h.name[..2].eq_ignore_ascii_case("T:"))
+        .map(|h| format!("T:{}", &h.name[2..]))
+        .collect();
     let mut temperatures = Vec::new();
     for name in &temperature_names {
         let texts = table.texts(name)?;
         let values = table.numbers_as(name, Dimension::Temperature).map_err(|_| {
-            let bad = texts.iter().position(|t| !crate::io::text::parse_number(t, table.decimal_comma()).is_some_and(f64::is_finite)).unwrap_or(0);
+            let bad = texts
+                .iter()
+                .position(|t| !crate::io::text::parse_number(t, table.decimal_comma()).is_some_and(f64::is_finite))
+                .unwrap_or(0);
             invalid(format!("line {}: column {name}: `{}` is not a temperature", table.lines()[bad], texts[bad]))
         })?;
         temperatures.push((name.clone(), values));

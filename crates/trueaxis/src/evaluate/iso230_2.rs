@@ -137,7 +137,8 @@ pub fn runs_of(table: &CsvTable) -> Result<PositioningData, EvaluateError> {
             RunDirection::Plus => Direction::Plus,
             RunDirection::Minus => Direction::Minus,
         };
-        let run = parse_run(&runs[k]).ok_or_else(|| invalid(line, format!("column {run_column}: `{}` is not an integer run number", runs[k])))?;
+        let run =
+            parse_run(&runs[k]).ok_or_else(|| invalid(line, format!("column {run_column}: `{}` is not an integer run number", runs[k])))?;
         readings.push(Reading { target: targets[k], dev: devs[k], direction, run, line });
     }
     Ok(PositioningData { origin: origin.to_string(), readings, rotary, metadata: table.metadata().clone() })
@@ -500,7 +501,9 @@ mod tests {
     #[test]
     fn chained_targets_are_refused() {
         let readings = (0..4).map(|k| reading(k as f64 * 0.9e-6, 0.0, Direction::Plus, k, k as u64 + 2)).collect();
-        let e = evaluate(&PositioningData { origin: "f.csv".into(), readings, rotary: false, metadata: Default::default() }).unwrap_err().to_string();
+        let e = evaluate(&PositioningData { origin: "f.csv".into(), readings, rotary: false, metadata: Default::default() })
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("f.csv: line") && e.contains("chain together"), "{e}");
     }
 

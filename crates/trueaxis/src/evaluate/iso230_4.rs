@@ -16,7 +16,9 @@ use super::ballbar_diagnostics::{diagnose, CircularRun, DiagnosticOptions, Diagn
 use super::EvaluateError;
 use crate::data::{CsvTable, DataError};
 use crate::identify::pige::kasa_fit;
-use crate::instruments::ballbar::{angle_column, ballbar_header, bar_deviations, check_arc, circle_test, sample_angles, CircleSpec, Plane, Rotation};
+use crate::instruments::ballbar::{
+    angle_column, ballbar_header, bar_deviations, check_arc, circle_test, sample_angles, CircleSpec, Plane, Rotation,
+};
 use crate::io::ballbar::BallbarHeader;
 use crate::io::plausibility::Place;
 use crate::io::units::Dimension;
@@ -188,10 +190,16 @@ pub fn read_circular_table(
     }
     let header = ballbar_header(table)?;
     if let Some(r) = header.radius_mm.filter(|r| (r - radius).abs() > 1e-9 * radius.max(1.0)) {
-        return Err(invalid(origin, format!("the file's header gives the radius {r} mm, but the test's radius is {radius} mm; give the bar's length")));
+        return Err(invalid(
+            origin,
+            format!("the file's header gives the radius {r} mm, but the test's radius is {radius} mm; give the bar's length"),
+        ));
     }
     if let Some(p) = header.plane.filter(|p| *p != plane.name()) {
-        return Err(invalid(origin, format!("the file's header gives the plane {}, but the test's plane is {}", p.to_uppercase(), plane.name().to_uppercase())));
+        return Err(invalid(
+            origin,
+            format!("the file's header gives the plane {}, but the test's plane is {}", p.to_uppercase(), plane.name().to_uppercase()),
+        ));
     }
     let (a, b, _) = plane.letters();
     let (ia, ib) = match (machine.axis_index(a), machine.axis_index(b)) {

@@ -12,9 +12,9 @@
 //!   ch. 5 ([`jiang_step`]), the two-pivot method of ch. 4 and the four-setup method of ch. 6
 //!   (Lee & Yang 2013) are instances with different axial positions of the balls.
 
+use crate::data::{CsvTable, DataError};
 use crate::errors::{Direction, ErrorModel, MachineState};
 use crate::geometry::Vec3;
-use crate::data::{CsvTable, DataError};
 use crate::io::ballbar::BallbarHeader;
 use crate::io::plausibility::{self, Finding, Place, Severity};
 use crate::io::units::Dimension;
@@ -662,9 +662,15 @@ pub fn bar_deviations(table: &CsvTable, radius_mm: Option<f64>, warnings: &mut V
         (false, Some(c)) => {
             let r = radius_mm.ok_or_else(|| DataError::Invalid {
                 origin: table.origin().to_string(),
-                message: format!("the readings are bar lengths (column {}); give the nominal radius (--radius, or `Radius:` in the header)", table.column_text(c).unwrap_or(c)),
+                message: format!(
+                    "the readings are bar lengths (column {}); give the nominal radius (--radius, or `Radius:` in the header)",
+                    table.column_text(c).unwrap_or(c)
+                ),
             })?;
-            table.numbers_in(c, crate::io::Unit::MM)?.iter().map(|l| (l - r) * 1e3).collect()
+            let lengths = table.numbers_in(c, crate::io::Unit::MM)?;
+            let text = table.column_text(c).unwrap_or(c).to_string();
+            sort_finding(table, plausibility::bar_lengths(&lengths, r, Place { file: table.origin(), column: &text }), warnings)?;
+            lengths.iter().map(|l| (l - r) * 1e3).collect()
         }
         _ => table.numbers_as("dL", Dimension::Length)?,
     };
@@ -688,14 +694,27 @@ pub fn angle_column(table: &CsvTable, name: &str) -> Result<Vec<f64>, DataError>
     let angles = table.numbers_as(name, Dimension::Angle)?;
     if table.unit_of(name).is_none() {
         let text = table.column_text(name).unwrap_or(name).to_string();
-        let fix = format!("label the header `{} [rad]` (or convert the values to degrees)", table.headers().iter().find(|h| h.text == text).map_or(name, |h| h.name.as_str()));
-        sort_finding(table, plausibility::angles_in_radians(&angles, Place { file: table.origin(), column: &text }, &fix), &mut Vec::new())?;
+        let fix = format!(
+            "label the header `{} [rad]` (or convert the values to degrees)",
+            table.headers().iter().find(|h| h.text == text).map_or(name, |h| h.name.as_str())
+        );
+        sort_finding(
+            table,
+            plausibility::angles_in_radians(&angles, Place { file: table.origin(), column: &text }, &fix),
+            &mut Vec::new(),
+        )?;
     }
     Ok(angles)
 }
 
 /// Checks that the angles of each run (rows in file order) cover the arc the header claims.
-pub fn check_arc(table: &CsvTable, header: &BallbarHeader, angles_deg: &[f64], runs: &[i64], warnings: &mut Vec<String>) -> Result<(), DataError> {
+pub fn check_arc(
+    table: &CsvTable,
+    header: &BallbarHeader,
+    angles_deg: &[f64],
+    runs: &[i64],
+    warnings: &mut Vec<String>,
+) -> Result<(), DataError> {
     let Some(arc) = header.arc_deg else { return Ok(()) };
     let mut seen: Vec<i64> = Vec::new();
     for &r in runs {

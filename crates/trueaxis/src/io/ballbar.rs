@@ -77,9 +77,7 @@ pub fn is_test_key(key: &str) -> bool {
 /// `want`; the dimension must match.
 fn quantity(key: &str, value: &str, want: Unit) -> Result<f64, String> {
     let (v, unit) = number_with_unit(value).ok_or_else(|| format!("`{key}: {value}` is not a number with a unit"))?;
-    let key_unit = key
-        .rfind(['(', '['])
-        .and_then(|i| Unit::parse(key[i + 1..].trim_end_matches([')', ']'])));
+    let key_unit = key.rfind(['(', '[']).and_then(|i| Unit::parse(key[i + 1..].trim_end_matches([')', ']'])));
     let unit = unit.or(key_unit).unwrap_or(want);
     if unit.dimension != want.dimension {
         return Err(format!("`{key}: {value}`: {} is not {}", unit.symbol, want.dimension.name()));

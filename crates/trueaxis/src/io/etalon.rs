@@ -22,7 +22,7 @@
 //! `PXA`, `VXX`, ...) are nominal geometry, not errors, and are not converted.
 
 use super::plausibility;
-use super::text::{numbered_lines, parse_number};
+use super::text::{clip, numbered_lines, parse_number};
 use super::IoError;
 use crate::errors::{set_error_function, ErrorFunction, ErrorModel};
 use crate::machine::{Machine, ParameterId};
@@ -149,7 +149,8 @@ pub fn parse(text: &str, origin: &str) -> Result<EtalonFile, IoError> {
         }
         match key.as_str() {
             "value" => {
-                let v = parse_number(value, true).ok_or_else(|| bad(number, format!("[{name}] VALUE `{}` is not a number", value.trim())))?;
+                let v =
+                    parse_number(value, true).ok_or_else(|| bad(number, format!("[{name}] VALUE `{}` is not a number", value.trim())))?;
                 if !v.is_finite() {
                     return Err(bad(number, format!("[{name}] VALUE `{}` is not a finite number", value.trim())));
                 }
@@ -192,15 +193,6 @@ pub fn parse(text: &str, origin: &str) -> Result<EtalonFile, IoError> {
         return Err(IoError::Invalid { origin: origin.into(), message: "no [NAME] parameter blocks".into() });
     }
     Ok(EtalonFile { parameters, warnings })
-}
-
-fn clip(line: &str) -> String {
-    let s: String = line.chars().take(40).collect();
-    if s.len() < line.len() {
-        format!("{s}...")
-    } else {
-        s
-    }
 }
 
 /// ISG's kinematic parameters (nominal geometry, not errors): `P0X`, `N0X`, `PXA`, `VXX`.
@@ -255,12 +247,17 @@ impl EtalonFile {
             let id = match parameter_id(&p.name) {
                 Ok(Some(id)) => id,
                 Ok(None) => {
-                    warnings.push(format!("line {}: [{}] is a kinematic parameter of the ISG model (nominal geometry), not converted", p.line, p.name));
+                    warnings.push(format!(
+                        "line {}: [{}] is a kinematic parameter of the ISG model (nominal geometry), not converted",
+                        p.line, p.name
+                    ));
                     continue;
                 }
                 Err(e) => return Err(bad(p.line, format!("[{}]: {e}", p.name))),
             };
-            machine.parameter_index(&id).map_err(|e| bad(p.line, format!("[{}]: {e}; give the machine the file was measured on", p.name)))?;
+            machine
+                .parameter_index(&id)
+                .map_err(|e| bad(p.line, format!("[{}]: {e}; give the machine the file was measured on", p.name)))?;
             let component = id.component();
             let factor = if component.is_rotation() { 1e6 } else { 1e3 };
             // rounded to 1e-9 um or urad (the file's 1e-12 mm or rad) to drop binary noise of the scaling
@@ -298,7 +295,8 @@ impl EtalonFile {
         if written.is_empty() {
             return Err(IoError::Invalid { origin: origin.into(), message: "no error parameter to convert".into() });
         }
-        ErrorModel::from_toml_str(&text, origin, machine).map_err(|e| IoError::Invalid { origin: origin.into(), message: e.to_string() })?;
+        ErrorModel::from_toml_str(&text, origin, machine)
+            .map_err(|e| IoError::Invalid { origin: origin.into(), message: e.to_string() })?;
         Ok(Conversion { toml: text, written, warnings })
     }
 }

@@ -77,9 +77,20 @@ fn field_of(key: &str) -> Option<Field> {
         "location" | "site" | "ort" | "place" => Field::Location,
         "title" | "testtitle" | "testname" | "titel" => Field::Title,
         "airtemp" | "airtemperature" | "lufttemperatur" | "airt" => Field::AirTemperature,
-        "mattemp" | "materialtemp" | "materialtemperature" | "mattemp1" | "mattemp2" | "mattemp3" | "materialtemp1"
-        | "materialtemp2" | "materialtemp3" | "materialtemperature1" | "materialtemperature2" | "materialtemperature3"
-        | "materialtemperatur" | "scaletemperature" => Field::MaterialTemperature,
+        "mattemp"
+        | "materialtemp"
+        | "materialtemperature"
+        | "mattemp1"
+        | "mattemp2"
+        | "mattemp3"
+        | "materialtemp1"
+        | "materialtemp2"
+        | "materialtemp3"
+        | "materialtemperature1"
+        | "materialtemperature2"
+        | "materialtemperature3"
+        | "materialtemperatur"
+        | "scaletemperature" => Field::MaterialTemperature,
         "expcoeff" | "expcoef" | "expansioncoefficient" | "expansioncoeff" | "materialexpansion" | "cte" | "ausdehnungskoeffizient" => {
             Field::Expansion
         }

@@ -192,9 +192,7 @@ pub fn targets_per_run(readings: &[TargetReading], tolerance: f64, unit: &str, p
     for d in &distinct {
         let absent: Vec<String> = runs
             .iter()
-            .filter(|(run, dir)| {
-                !readings.iter().any(|r| r.run == *run && r.direction == *dir && (r.target - d.0).abs() <= tolerance)
-            })
+            .filter(|(run, dir)| !readings.iter().any(|r| r.run == *run && r.direction == *dir && (r.target - d.0).abs() <= tolerance))
             .map(|(run, dir)| format!("{run} ({})", if *dir > 0 { '+' } else { '-' }))
             .collect();
         if !absent.is_empty() {
@@ -239,6 +237,23 @@ pub fn ballbar_readings(readings_um: &[f64], radius_mm: f64, place: Place) -> Op
              header `dL [mm]`), or the radius {radius_mm} mm is not the bar's",
             place.at(),
             m
+        ));
+    }
+    None
+}
+
+/// Bar lengths (mm) read from a length column against the test's radius (mm): a mean more than
+/// 1 mm from the radius is another bar's, refused.
+pub fn bar_lengths(lengths_mm: &[f64], radius_mm: f64, place: Place) -> Option<Finding> {
+    let finite: Vec<f64> = lengths_mm.iter().copied().filter(|v| v.is_finite()).collect();
+    if finite.is_empty() || !(radius_mm > 0.0) {
+        return None;
+    }
+    let mean = finite.iter().sum::<f64>() / finite.len() as f64;
+    if (mean - radius_mm).abs() > 1.0 {
+        return Finding::refuse(format!(
+            "{}: the bar lengths are about {mean:.4} mm but the radius is {radius_mm} mm: give the radius of the bar that made them",
+            place.at()
         ));
     }
     None
@@ -308,7 +323,9 @@ pub fn error_parameter_scale(largest_abs: f64, rotation: bool, name: &str) -> Op
         ));
     }
     if largest_abs > warn {
-        return Finding::warn(format!("{name}: a value of {largest_abs} {unit} is unusually large for a machine error (values are in {unit})"));
+        return Finding::warn(format!(
+            "{name}: a value of {largest_abs} {unit} is unusually large for a machine error (values are in {unit})"
+        ));
     }
     None
 }

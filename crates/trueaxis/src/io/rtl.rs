@@ -1,10 +1,10 @@
 //! Renishaw laser files (`.rtl`): the plain-text result files of Renishaw's laser calibration
 //! software, which many other programs read and write.
 //!
-//! Layout (no public specification exists; read from public programs that read and write the
-//! format: `Z7111/Laser-Measurement-Software` (C#, a writer), `mdavidson/LaserPlot` (Python, a
-//! reader), a C++ compensation tool and a JavaScript viewer of .rtl files on GitHub, see
-//! docs/user-guide.md "Instrument files"):
+//! Layout (Renishaw publishes no specification; read from public programs on GitHub that read or
+//! write the format, found by a code search: a C# laser-measurement program that writes it, and a
+//! Python plotting tool, a C++ pitch-compensation tool and a JavaScript viewer that read it; see
+//! docs/user-guide.md, "Instrument files"):
 //!
 //! ```text
 //! HEADER::
@@ -36,7 +36,7 @@
 
 use super::header::RunDirection;
 use super::metadata::Metadata;
-use super::text::{key_value, numbered_lines, parse_number};
+use super::text::{clip, key_value, numbered_lines, parse_number};
 use super::IoError;
 use std::fmt::Write;
 
@@ -129,11 +129,10 @@ pub fn parse(text: &str, origin: &str) -> Result<RtlFile, IoError> {
                     collecting_targets = key == "targets";
                     match key.as_str() {
                         "target-count" | "targetcount" => {
-                            let n = value
-                                .parse::<usize>()
-                                .ok()
-                                .filter(|n| *n >= 1 && *n <= 100_000)
-                                .ok_or_else(|| bad(number, format!("Target-count `{value}` is not a count of targets (1 to 100000)")))?;
+                            let n =
+                                value.parse::<usize>().ok().filter(|n| *n >= 1 && *n <= 100_000).ok_or_else(|| {
+                                    bad(number, format!("Target-count `{value}` is not a count of targets (1 to 100000)"))
+                                })?;
                             target_count = Some((n, number));
                         }
                         "targets" => push_numbers(value, number, &mut targets, &bad)?,
@@ -149,9 +148,11 @@ pub fn parse(text: &str, origin: &str) -> Result<RtlFile, IoError> {
             "RUNS" => {
                 if let Some((key, value)) = key_value(line) {
                     if key.to_ascii_lowercase().replace(' ', "").starts_with("run-count") {
-                        let n = value.parse::<i64>().ok().filter(|n| *n >= 1 && *n <= 100_000).ok_or_else(|| {
-                            bad(number, format!("Run-count `{value}` is not a count of runs (1 to 100000)"))
-                        })?;
+                        let n = value
+                            .parse::<i64>()
+                            .ok()
+                            .filter(|n| *n >= 1 && *n <= 100_000)
+                            .ok_or_else(|| bad(number, format!("Run-count `{value}` is not a count of runs (1 to 100000)")))?;
                         run_count = Some((n, number));
                     }
                 }
@@ -204,7 +205,10 @@ pub fn parse(text: &str, origin: &str) -> Result<RtlFile, IoError> {
         return Err(bad(line, format!("Target-count is {count} (line {count_line}) but {} target positions are listed", targets.len())));
     }
     if !seen_deviations || readings.is_empty() {
-        return Err(IoError::Invalid { origin: origin.into(), message: "no readings: the file has no `DEVIATIONS::` with `Run Target Data:` rows".into() });
+        return Err(IoError::Invalid {
+            origin: origin.into(),
+            message: "no readings: the file has no `DEVIATIONS::` with `Run Target Data:` rows".into(),
+        });
     }
     let metadata = Metadata::from_pairs(pairs.iter().map(|(k, v)| (k.as_str(), v.as_str())));
     let rotary = metadata.axis.as_deref().is_some_and(rotary_axis);
@@ -252,18 +256,10 @@ pub fn parse(text: &str, origin: &str) -> Result<RtlFile, IoError> {
     Ok(RtlFile { targets: positions, runs, rotary, metadata, warnings })
 }
 
-fn clip(line: &str) -> String {
-    let s: String = line.chars().take(40).collect();
-    if s.len() < line.len() {
-        format!("{s}...")
-    } else {
-        s
-    }
-}
-
 fn push_numbers(text: &str, line: u64, out: &mut Vec<(f64, u64)>, bad: &dyn Fn(u64, String) -> IoError) -> Result<(), IoError> {
     for field in text.split_whitespace() {
-        let v = parse_number(field, true).filter(|v| v.is_finite()).ok_or_else(|| bad(line, format!("target `{field}` is not a number")))?;
+        let v =
+            parse_number(field, true).filter(|v| v.is_finite()).ok_or_else(|| bad(line, format!("target `{field}` is not a number")))?;
         if out.len() >= 100_000 {
             return Err(bad(line, "more than 100000 targets".into()));
         }

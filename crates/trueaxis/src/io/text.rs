@@ -95,6 +95,16 @@ pub fn key_value(line: &str) -> Option<(&str, &str)> {
     Some((key, value.trim()))
 }
 
+/// The first 40 characters of a line, for messages (`...` when cut).
+pub fn clip(line: &str) -> String {
+    let s: String = line.chars().take(40).collect();
+    if s.len() < line.len() {
+        format!("{s}...")
+    } else {
+        s
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

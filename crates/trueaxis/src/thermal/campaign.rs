@@ -27,7 +27,8 @@ impl Campaign {
     /// Parses campaign CSV text (forgivingly: `crate::data::CsvTable`, units in headers converted
     /// to degC, s, um, mm, deg); `origin` names it in messages.
     pub fn parse(text: &str, origin: &str) -> Result<Campaign, ThermalError> {
-        let table = crate::data::CsvTable::from_text(text, origin).map_err(|e| input(e.to_string().replace("no data: the file has a header but no rows", "no data rows")))?;
+        let table = crate::data::CsvTable::from_text(text, origin)
+            .map_err(|e| input(e.to_string().replace("no data: the file has a header but no rows", "no data rows")))?;
         let is_run = |name: &str| name.eq_ignore_ascii_case("run");
         let runs = match table.headers().iter().find(|h| is_run(&h.name)) {
             Some(h) => table.texts(&h.name).map_err(|e| input(e.to_string()))?,

@@ -121,7 +121,8 @@ impl DesignMatrix {
             let list: Vec<&str> = headers.iter().map(|h| h.text.as_str()).collect();
             return Err(fail(format!("the header needs the columns `channel` and `t`; it has: {}", list.join(","))));
         }
-        let parameter_columns: Vec<&str> = headers.iter().filter(|h| !reserved(&h.name) && !h.name.eq_ignore_ascii_case("time")).map(|h| h.name.as_str()).collect();
+        let parameter_columns: Vec<&str> =
+            headers.iter().filter(|h| !reserved(&h.name) && !h.name.eq_ignore_ascii_case("time")).map(|h| h.name.as_str()).collect();
         if parameter_columns.is_empty() {
             return Err(fail("no parameter columns: add one column of sensitivities per parameter".into()));
         }
