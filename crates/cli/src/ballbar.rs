@@ -402,9 +402,6 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     for (step, path) in files {
         let axis = if step.is_outer() { pair.outer } else { pair.inner };
         let trace = read_trace(path, &[&axis.to_string(), "angle"]).map_err(Failure::input)?;
-        for w in &trace.warnings {
-            eprintln!("trueaxis: warning: {w}");
-        }
         let test = method_step(&m, pair, method, step, bars, 1.0).map_err(Failure::input)?;
         steps.push((step, path, trace, test));
     }
@@ -441,7 +438,8 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     let stats = repeatability(&results, 1e-3, (1.0f64 / 3600.0).to_radians()).map_err(Failure::computation)?;
     // Compensation residual of the last run, per step.
     let mut residuals = Vec::new();
-    let mut warnings = Vec::new();
+    // the plausibility warnings of the files, then those of the residuals, printed on success
+    let mut warnings: Vec<String> = steps.iter().flat_map(|s| s.2.warnings.clone()).collect();
     for (step, path, trace, test) in &steps {
         let (angles, dl) = trace.run(*runs.last().expect("a run"));
         let mut t = test.clone();
@@ -635,9 +633,6 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
             Failure::computation(e)
         }
     })?;
-    for w in &file.warnings {
-        eprintln!("trueaxis: warning: {w}");
-    }
     let runs = file.runs;
     let (ia, ib, _) = plane.letters();
     let ca = m.axis_index(ia).map_or(0.0, |k| centre[k]);
@@ -645,6 +640,7 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
     let options =
         DiagnosticOptions { plane, radius, centre: [ca, cb], pitch: a.pitch, spike_width: a.spike_width.to_radians(), feed: a.feed };
     let result = evaluate(&m, &runs, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
+    crate::iso230_2::warn(&file.warnings);
     let lines = result.summary_lines();
     if let Some(path) = &a.plot {
         let title = format!("ISO 230-4 circular test, {} plane, R {} mm: {}", plane.name(), radius, a.file.display());
@@ -702,9 +698,6 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
     setup.heights().map_err(Failure::input)?;
     let short = read_trace(&a.short, &["C", "angle"]).map_err(Failure::input)?;
     let long = read_trace(&a.long, &["C", "angle"]).map_err(Failure::input)?;
-    for w in short.warnings.iter().chain(&long.warnings) {
-        eprintln!("trueaxis: warning: {w}");
-    }
     if short.angles_deg.len() != long.angles_deg.len() || short.angles_deg.iter().zip(&long.angles_deg).any(|(x, y)| (x - y).abs() > 1e-6) {
         return Err(Failure::input(anyhow!(
             "{} and {}: the two bars must be read at the same table angles",
@@ -723,6 +716,7 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
     let linf = fit_linf(&setup, &angles, &delta).map_err(fail)?;
     let cond = conditioning(&setup, &angles).map_err(fail)?;
     let obs = observability(&setup, &angles).map_err(fail)?;
+    crate::iso230_2::warn(&[short.warnings.clone(), long.warnings.clone()].concat());
     let arcsec = |r: f64| r * 180.0 / std::f64::consts::PI * 3600.0;
     let fit_json = |f: &TmbbEstimate| {
         json!({"E_x": {"value": round(arcsec(f.ex), 4), "unit": "arcsec", "urad": round(f.ex * 1e6, 4), "parameter": "EAC"},

@@ -212,7 +212,7 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
         Ok(values) => deviation_finding(&table, &args.value, &values).into_iter().collect(),
         Err(_) => Vec::new(),
     };
-    crate::iso230_2::report_findings(findings, table.warnings())?;
+    let warnings = crate::iso230_2::report_findings(findings, table.warnings())?;
     let mut applied = args.temperature.applied(table.metadata(), &data_name)?;
     let positioning = matches!(parameter, ParameterId::Motion { axis, component } if component.letter() == axis);
     if applied.json.get("source").and_then(|s| s.as_str()) == Some("file") && !positioning {
@@ -220,9 +220,6 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
         applied.json = serde_json::Value::Null;
         applied.notes =
             vec![format!("{data_name}: the file's material temperature is not applied: {parameter} is not a positioning error")];
-    }
-    for note in &applied.notes {
-        eprintln!("trueaxis: {note}");
     }
     let position_column = match (&args.position, parameter.axis()) {
         (Some(p), _) => p.clone(),
@@ -294,6 +291,10 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
         reports.push((direction, report));
     }
 
+    crate::iso230_2::warn(&warnings);
+    for note in &applied.notes {
+        eprintln!("trueaxis: {note}");
+    }
     let mut written = Vec::new();
     if let Some(path) = &args.plot {
         let unit = axis.as_ref().map_or("mm", |a| if a.kind == AxisKind::Rotary { "deg" } else { "mm" });

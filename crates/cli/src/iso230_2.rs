@@ -41,15 +41,15 @@ fn failure(e: EvaluateError) -> Failure {
     }
 }
 
-/// Prints the findings of plausibility checks: warnings on stderr, the first refusal as the error.
-pub(crate) fn report_findings(findings: Vec<trueaxis::io::Finding>, warnings: &[String]) -> Result<(), Failure> {
-    for w in warnings {
-        eprintln!("trueaxis: warning: {w}");
-    }
+/// Sorts the findings of plausibility checks: the first refusal is the error; the warnings (with
+/// those of reading the file) are returned, to be printed with [`warn`] once the command has
+/// succeeded (a refused command prints its one line only).
+pub(crate) fn report_findings(findings: Vec<trueaxis::io::Finding>, warnings: &[String]) -> Result<Vec<String>, Failure> {
+    let mut out = warnings.to_vec();
     let mut refusal = None;
     for f in findings {
         match f.severity {
-            trueaxis::io::Severity::Warn => eprintln!("trueaxis: warning: {}", f.message),
+            trueaxis::io::Severity::Warn => out.push(f.message),
             trueaxis::io::Severity::Refuse => {
                 refusal.get_or_insert(f.message);
             }
@@ -57,7 +57,14 @@ pub(crate) fn report_findings(findings: Vec<trueaxis::io::Finding>, warnings: &[
     }
     match refusal {
         Some(m) => Err(Failure::input(anyhow::anyhow!(m))),
-        None => Ok(()),
+        None => Ok(out),
+    }
+}
+
+/// Prints warnings and notes on stderr.
+pub(crate) fn warn(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("trueaxis: warning: {w}");
     }
 }
 
@@ -65,11 +72,8 @@ pub fn run(args: Iso2302Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
     let table = CsvTable::read(&args.file).map_err(Failure::input)?;
     let mut data = runs_of(&table).map_err(failure)?;
-    report_findings(plausibility(&table, &data).map_err(failure)?, table.warnings())?;
+    let warnings = report_findings(plausibility(&table, &data).map_err(failure)?, table.warnings())?;
     let applied = args.temperature.applied(&data.metadata, &name)?;
-    for note in &applied.notes {
-        eprintln!("trueaxis: {note}");
-    }
     if !applied.corrections.is_empty() {
         if data.rotary {
             return Err(Failure::input(anyhow::anyhow!(
@@ -88,6 +92,10 @@ pub fn run(args: Iso2302Args) -> Result<(), Failure> {
         }
     }
     let result = evaluate(&data).map_err(failure)?;
+    warn(&warnings);
+    for note in &applied.notes {
+        eprintln!("trueaxis: {note}");
+    }
     if let Some(path) = &args.plot {
         let svg =
             trueaxis_report::iso230_2_svg(&result, &data, &format!("ISO 230-2 positioning test: {name}")).map_err(Failure::computation)?;

@@ -63,17 +63,18 @@ impl TemperatureArgs {
         match (env.material_temperature_degc(), env.expansion_coefficient_um_per_m_k) {
             (Some(t), Some(alpha)) if !self.no_file_temperature => {
                 let place = Place { file, column: "material temperature" };
+                let mut notes = Vec::new();
                 if let Some(f) = temperature_degc(t, "material temperature", place) {
                     match f.severity {
                         Severity::Refuse => return Err(Failure::input(anyhow::anyhow!("{} (or give --no-file-temperature)", f.message))),
-                        Severity::Warn => eprintln!("trueaxis: warning: {}", f.message),
+                        Severity::Warn => notes.push(format!("warning: {}", f.message)),
                     }
                 }
                 let json = serde_json::json!({"source": "file", "material_temperature_degc": t, "expansion_coefficient_um_per_m_k": alpha});
-                let notes = vec![format!(
+                notes.push(format!(
                     "{file}: readings corrected to 20 degC with the file's material temperature {t:.3} degC and expansion coefficient \
                      {alpha} um/m/K (--no-file-temperature keeps them as they are)"
-                )];
+                ));
                 let c = TableCorrection {
                     body: ExpandingBody::MachineScale,
                     alpha_um_per_m_k: alpha,

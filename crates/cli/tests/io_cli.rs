@@ -66,7 +66,7 @@ fn convert_writes_canonical_csv_that_reads_to_the_same_results() {
     for k in KEYS {
         close(k, &a[k], &b[k], 1e-9);
     }
-    assert_eq!(a["metadata"], b["metadata"]);
+    assert_eq!(a["metadata"], b["metadata"], "the metadata survive the conversion");
     // an Etalon file is refused as readings and converted as errors
     let bad = trueaxis(&["convert", "examples/data/vmc3_etalon.exc", "--to", "csv"]);
     assert_eq!(bad.status.code(), Some(2));
@@ -273,7 +273,7 @@ fn implausible_files_are_refused_and_suspicious_ones_warned() {
     };
     let mut mm = String::from("target,dev,dir,run\n");
     let mut um = String::from("target,dev,dir,run\n");
-    for run in 1..=2 {
+    for run in 1..=3 {
         for (t, d) in [(0.0, 1.2), (100.0, 2.5), (200.0, 3.1)] {
             for (dir, b) in [("+", 0.5), ("-", -0.5)] {
                 mm.push_str(&format!("{t},{},{dir},{run}\n", (d + b) / 1000.0));

@@ -280,13 +280,15 @@ fn json_has_the_contract_keys_and_the_library_values() {
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let keys: std::collections::BTreeSet<&str> = doc.as_object().unwrap().keys().map(String::as_str).collect();
     let contract = ["A", "A_plus", "A_minus", "B", "E", "E_plus", "E_minus", "M", "R", "R_plus", "R_minus"];
-    let allowed_extra = ["B_mean", "unit", "targets", "runs", "positions"];
+    let allowed_extra = ["B_mean", "unit", "position_unit", "targets", "runs", "positions", "metadata", "temperature_correction"];
     for k in contract {
         assert!(doc[k].as_f64().is_some_and(f64::is_finite), "key {k}: {}", doc[k]);
     }
     let expected: std::collections::BTreeSet<&str> = contract.iter().chain(&allowed_extra).copied().collect();
     assert_eq!(keys, expected);
     assert_eq!(doc["unit"], "um");
+    assert_eq!(doc["position_unit"], "mm");
+    assert!(doc["metadata"].is_object() && doc["temperature_correction"].is_null());
     assert_eq!(doc["targets"], 11);
     assert_eq!(doc["runs"], 5);
 

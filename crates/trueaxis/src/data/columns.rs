@@ -104,6 +104,14 @@ fn is_comment(line: &str) -> bool {
     t.starts_with('#') || t.starts_with("//")
 }
 
+/// A key of a `# Key: value` comment that is a name, not prose: at most 30 characters and 4 words,
+/// without punctuation other than `(`, `)`, `/`, `-` and `.` (`Air Humid`, `Mat temp 1 (degC)`).
+fn is_simple_key(key: &str) -> bool {
+    key.chars().count() <= 30
+        && key.split_whitespace().count() <= 4
+        && key.chars().all(|c| c.is_alphanumeric() || matches!(c, ' ' | '(' | ')' | '/' | '-' | '.' | '_'))
+}
+
 /// The number of fields of a line at `sep`, without trailing empty fields.
 fn field_count(line: &str, sep: u8) -> usize {
     let fields = split_fields(line, sep);
@@ -166,12 +174,12 @@ impl CsvTable {
         let invalid = |message: String| DataError::Invalid { origin: origin.to_string(), message };
         let lines = numbered_lines(text);
         let h = header_index(&lines).ok_or_else(|| invalid("no data: the file is empty".into()))?;
-        // before the header: `Key: value` lines, and `# Key: value` comments with a key of the
-        // file's metadata or test parameters (other comments and lines are prose)
+        // before the header: `Key: value` lines, and `# Key: value` comments whose key is one of the
+        // file's metadata or test parameters or a plain name (other comments and lines are prose)
         let mut pairs: Vec<(String, String)> = Vec::new();
         for (_, line) in &lines[..h] {
             if let Some((key, value)) = key_value(line.trim_start().trim_start_matches("//")) {
-                if !is_comment(line) || crate::io::metadata::is_known_key(key) {
+                if !is_comment(line) || crate::io::metadata::is_known_key(key) || is_simple_key(key) {
                     pairs.push((key.to_string(), value.to_string()));
                 }
             }

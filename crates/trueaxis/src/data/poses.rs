@@ -122,7 +122,7 @@ pub fn poses_of(table: &CsvTable, machine: &Machine) -> Result<PoseTable, DataEr
     let temperature_names: Vec<String> = table
         .headers()
         .iter()
-        .filter(|h| h.name.len() > 2 && h.name[..2].eq_ignore_ascii_case("T:"))
+        .filter(|h| h.name.len() > 2 && h.name.get(..2).is_some_and(|p| p.eq_ignore_ascii_case("T:")))
         .map(|h| format!("T:{}", &h.name[2..]))
         .collect();
     let mut temperatures = Vec::new();

@@ -225,17 +225,29 @@ pub fn read_circular_table(
     } else {
         None
     };
-    let angles_deg: Vec<f64> = if table.has_column("angle") {
-        angle_column(table, "angle")?
-    } else if table.has_column(&a.to_string()) && table.has_column(&b.to_string()) {
+    // the plane's axis columns, when they move (a rotary test holds them still), must lie on the
+    // circle of the test
+    let axis_columns = table.has_column(&a.to_string()) && table.has_column(&b.to_string());
+    let positions = if axis_columns {
         let xa = table.numbers_as(&a.to_string(), Dimension::Length)?;
         let xb = table.numbers_as(&b.to_string(), Dimension::Length)?;
+        let span = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max) - v.iter().copied().fold(f64::INFINITY, f64::min);
+        let moving = span(&xa) > 1e-9 || span(&xb) > 1e-9;
         let mean_radius = xa.iter().zip(&xb).map(|(p, q)| (q - centre[ib]).hypot(p - centre[ia])).sum::<f64>() / xa.len() as f64;
         let columns = format!("{a}, {b}");
-        if let Some(f) = crate::io::plausibility::circle_radius(mean_radius, radius, Place { file: origin, column: &columns }) {
+        if let Some(f) =
+            crate::io::plausibility::circle_radius(mean_radius, radius, Place { file: origin, column: &columns }).filter(|_| moving)
+        {
             return Err(invalid(origin, f.message.strip_prefix(&format!("{origin}: ")).unwrap_or(&f.message).to_string()));
         }
-        xa.iter().zip(&xb).map(|(p, q)| (q - centre[ib]).atan2(p - centre[ia]).to_degrees()).collect()
+        Some((xa, xb))
+    } else {
+        None
+    };
+    let angles_deg: Vec<f64> = if table.has_column("angle") {
+        angle_column(table, "angle")?
+    } else if let Some((xa, xb)) = &positions {
+        xa.iter().zip(xb).map(|(p, q)| (q - centre[ib]).atan2(p - centre[ia]).to_degrees()).collect()
     } else if header.feed_mm_per_min.is_some() || header.sample_rate_hz.is_some() {
         let ccw: Vec<bool> = match &dirs {
             Some(d) => d.iter().map(|r| *r == Rotation::Ccw).collect(),

@@ -126,7 +126,7 @@ impl BallbarHeader {
                 }
             }
         }
-        if let Some(r) = h.radius_mm.filter(|r| !(*r > 0.0)) {
+        if let Some(r) = h.radius_mm.filter(|r| !(r.is_finite() && *r > 0.0)) {
             return Err(format!("the radius {r} mm must be positive"));
         }
         Ok(h)

@@ -218,7 +218,7 @@ pub fn targets_per_run(readings: &[TargetReading], tolerance: f64, unit: &str, p
 /// refused too.
 pub fn ballbar_readings(readings_um: &[f64], radius_mm: f64, place: Place) -> Option<Finding> {
     let finite: Vec<f64> = readings_um.iter().copied().filter(|v| v.is_finite()).collect();
-    if finite.is_empty() || !(radius_mm > 0.0) {
+    if finite.is_empty() || !(radius_mm.is_finite() && radius_mm > 0.0) {
         return None;
     }
     let mean = finite.iter().sum::<f64>() / finite.len() as f64;
@@ -246,7 +246,7 @@ pub fn ballbar_readings(readings_um: &[f64], radius_mm: f64, place: Place) -> Op
 /// 1 mm from the radius is another bar's, refused.
 pub fn bar_lengths(lengths_mm: &[f64], radius_mm: f64, place: Place) -> Option<Finding> {
     let finite: Vec<f64> = lengths_mm.iter().copied().filter(|v| v.is_finite()).collect();
-    if finite.is_empty() || !(radius_mm > 0.0) {
+    if finite.is_empty() || !(radius_mm.is_finite() && radius_mm > 0.0) {
         return None;
     }
     let mean = finite.iter().sum::<f64>() / finite.len() as f64;
@@ -277,7 +277,7 @@ pub fn circle_radius(measured_mm: f64, radius_mm: f64, place: Place) -> Option<F
 /// refused (a truncated file, or a feed, sample rate or radius in the header that disagrees with
 /// the readings).
 pub fn arc_coverage(angles_deg: &[f64], claimed_arc_deg: f64, place: Place) -> Option<Finding> {
-    if angles_deg.len() < 2 || !(claimed_arc_deg > 0.0) || angles_deg.iter().any(|a| !a.is_finite()) {
+    if angles_deg.len() < 2 || !(claimed_arc_deg.is_finite() && claimed_arc_deg > 0.0) || angles_deg.iter().any(|a| !a.is_finite()) {
         return None;
     }
     // unwrap steps larger than half a turn

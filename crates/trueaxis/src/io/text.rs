@@ -54,7 +54,7 @@ pub fn separator_of(header: &str) -> u8 {
 /// refuses values that are not finite. `None` when the text is not a number.
 pub fn parse_number(text: &str, decimal_comma: bool) -> Option<f64> {
     let t = text.trim();
-    if t.is_empty() || t.len() > 64 {
+    if t.is_empty() || t.len() > 1000 {
         return None;
     }
     let mut s: String = t.chars().map(|c| if c == '−' { '-' } else { c }).collect();
