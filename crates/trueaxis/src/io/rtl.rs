@@ -349,8 +349,9 @@ DEVIATIONS::\r\nRun Target Data:\r\n1   1      0.000000\r\n1   2      0.001500\r
         assert!(f.warnings.is_empty(), "{:?}", f.warnings);
         let again = parse(&f.to_text(), "again.rtl").unwrap();
         assert_eq!(again.targets, f.targets);
-        let numbers = |g: &RtlFile| -> Vec<(i64, RunDirection, Vec<(usize, f64)>)> {
-            g.runs.iter().map(|r| (r.number, r.direction, r.readings.iter().map(|x| (x.target, x.deviation)).collect())).collect()
+        // (run, direction, target, deviation) of every reading
+        let numbers = |g: &RtlFile| -> Vec<(i64, RunDirection, usize, f64)> {
+            g.runs.iter().flat_map(|r| r.readings.iter().map(move |x| (r.number, r.direction, x.target, x.deviation))).collect()
         };
         assert_eq!(numbers(&again), numbers(&f));
         assert_eq!(again.metadata, f.metadata);
