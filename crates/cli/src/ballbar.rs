@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::evaluate::ballbar_diagnostics::DiagnosticOptions;
-use trueaxis::evaluate::iso230_4::{evaluate, read_circular};
+use trueaxis::evaluate::iso230_4::{evaluate, read_circular_table};
 use trueaxis::identify::pige::{
     angle_span_deg, compensation_residual, identify_piges, repeatability, start_angle_error, DbbTrace, Piges, MIN_READINGS, MIN_SPAN_DEG,
 };
@@ -438,7 +438,8 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     let stats = repeatability(&results, 1e-3, (1.0f64 / 3600.0).to_radians()).map_err(Failure::computation)?;
     // Compensation residual of the last run, per step.
     let mut residuals = Vec::new();
-    let mut warnings = Vec::new();
+    // the plausibility warnings of the files, then those of the residuals, printed on success
+    let mut warnings: Vec<String> = steps.iter().flat_map(|s| s.2.warnings.clone()).collect();
     for (step, path, trace, test) in &steps {
         let (angles, dl) = trace.run(*runs.last().expect("a run"));
         let mut t = test.clone();
@@ -501,8 +502,11 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         }
         let comp: Vec<_> =
             residuals.iter().map(|(s, rms, band)| json!({"step": s, "rms_um": round(*rms, 4), "band_um": round(*band, 4)})).collect();
+        let metadata: serde_json::Map<String, serde_json::Value> =
+            steps.iter().map(|(step, _, trace, _)| (step.name().to_string(), trace.metadata.to_json())).collect();
         let doc = json!({"machine": m.name, "method": method.name(), "runs": runs.len(), "parameters": params,
-            "repeatability_ok": repeated.then_some(stats.within_tolerance), "compensation_residual": comp, "warnings": warnings});
+            "repeatability_ok": repeated.then_some(stats.within_tolerance), "compensation_residual": comp, "warnings": warnings,
+            "metadata": metadata});
         return print(&format!("{doc}\n"));
     }
     let mut out = format!(
@@ -563,14 +567,16 @@ columns (mm), `dL` (um) and optionally `dir` (ccw/cw) to hold both runs. Without
 Cartesian machine (all three slides carry the tool) is used."
 )]
 pub struct Iso2304Args {
+    /// Readings: a table (read forgivingly) or a ballbar text export with a `Key: value` header.
     file: PathBuf,
     #[arg(long)]
     machine: Option<PathBuf>,
-    #[arg(long, default_value = "xy", value_parser = parse_plane)]
-    plane: Plane,
-    /// Nominal radius (mm): the bar length.
+    /// Plane of the circle: xy, yz or zx (default: the file's `Plane:`, else xy).
+    #[arg(long, value_parser = parse_plane)]
+    plane: Option<Plane>,
+    /// Nominal radius (mm): the bar length (default: the file's `Radius:`).
     #[arg(long)]
-    radius: f64,
+    radius: Option<f64>,
     /// Programmed centre x,y,z (mm).
     #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     centre: Option<trueaxis::geometry::Vec3>,
@@ -603,41 +609,53 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
         Some(p) => Machine::load(p).map_err(Failure::input)?,
         None => Machine::from_toml_str(CARTESIAN, "built-in Cartesian machine").map_err(Failure::computation)?,
     };
-    for (name, v) in [("--feed", a.feed), ("--pitch", a.pitch), ("--spike-width", Some(a.spike_width))] {
+    for (option, v) in [("--feed", a.feed), ("--pitch", a.pitch), ("--spike-width", Some(a.spike_width))] {
         if let Some(v) = v.filter(|v| !(*v > 0.0 && v.is_finite())) {
-            return Err(Failure::input(anyhow!("{name} must be a positive number, got {v}")));
+            return Err(Failure::input(anyhow!("{option} must be a positive number, got {v}")));
         }
     }
     let centre = centre_pose(&m, a.centre);
-    let runs = read_circular(&a.file, &m, a.plane, a.radius, &centre).map_err(|e| {
+    let name = a.file.display().to_string();
+    let table = trueaxis::data::CsvTable::read(&a.file).map_err(Failure::input)?;
+    let header = trueaxis::instruments::ballbar::ballbar_header(&table).map_err(Failure::input)?;
+    let radius = a.radius.or(header.radius_mm).ok_or_else(|| {
+        Failure::input(anyhow!("{name}: give the nominal radius (--radius MM, the bar length); the file does not state it"))
+    })?;
+    let plane = match (a.plane, header.plane) {
+        (Some(p), _) => p,
+        (None, Some(p)) => Plane::parse(p).unwrap_or(Plane::Xy),
+        (None, None) => Plane::Xy,
+    };
+    let file = read_circular_table(&table, &name, &m, plane, radius, &centre).map_err(|e| {
         if e.is_input() {
             Failure::input(e)
         } else {
             Failure::computation(e)
         }
     })?;
-    let (ia, ib, _) = a.plane.letters();
+    let runs = file.runs;
+    let (ia, ib, _) = plane.letters();
     let ca = m.axis_index(ia).map_or(0.0, |k| centre[k]);
     let cb = m.axis_index(ib).map_or(0.0, |k| centre[k]);
-    let options = DiagnosticOptions {
-        plane: a.plane,
-        radius: a.radius,
-        centre: [ca, cb],
-        pitch: a.pitch,
-        spike_width: a.spike_width.to_radians(),
-        feed: a.feed,
-    };
+    let options =
+        DiagnosticOptions { plane, radius, centre: [ca, cb], pitch: a.pitch, spike_width: a.spike_width.to_radians(), feed: a.feed };
     let result = evaluate(&m, &runs, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
+    crate::iso230_2::warn(&file.warnings);
     let lines = result.summary_lines();
     if let Some(path) = &a.plot {
-        let title = format!("ISO 230-4 circular test, {} plane, R {} mm: {}", a.plane.name(), a.radius, a.file.display());
+        let title = format!("ISO 230-4 circular test, {} plane, R {} mm: {}", plane.name(), radius, a.file.display());
         let svg = circular_runs_svg(&title, (&format!("+{ia}"), &format!("+{ib}")), &runs, a.scale, &lines).map_err(Failure::input)?;
         write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
     }
     if a.json {
-        return print(&format!("{}\n", result.to_json()));
+        let mut doc = result.to_json();
+        doc["metadata"] = file.metadata.to_json();
+        return print(&format!("{doc}\n"));
     }
-    let mut out = format!("ISO 230-4 circular test: {} ({} plane, R = {} mm, {})\n", a.file.display(), a.plane.name(), a.radius, m.name);
+    let mut out = format!("ISO 230-4 circular test: {} ({} plane, R = {} mm, {})\n", a.file.display(), plane.name(), radius, m.name);
+    for l in file.metadata.lines() {
+        out.push_str(&format!("  {l}\n"));
+    }
     for l in &lines {
         out.push_str(&format!("  {l}\n"));
     }
@@ -698,6 +716,7 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
     let linf = fit_linf(&setup, &angles, &delta).map_err(fail)?;
     let cond = conditioning(&setup, &angles).map_err(fail)?;
     let obs = observability(&setup, &angles).map_err(fail)?;
+    crate::iso230_2::warn(&[short.warnings.clone(), long.warnings.clone()].concat());
     let arcsec = |r: f64| r * 180.0 / std::f64::consts::PI * 3600.0;
     let fit_json = |f: &TmbbEstimate| {
         json!({"E_x": {"value": round(arcsec(f.ex), 4), "unit": "arcsec", "urad": round(f.ex * 1e6, 4), "parameter": "EAC"},
@@ -709,7 +728,8 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
         let unident: Vec<_> = UNIDENTIFIABLE.iter().map(|(n, p, why)| json!({"name": n, "parameter": p, "reason": why})).collect();
         let doc = json!({"l2": fit_json(&l2), "linf": fit_json(&linf),
             "condition_number": {"mm_rad": round(cond.mm_rad, 4), "m_rad": round(cond.m_rad, 4), "unit_columns": round(cond.unit_columns, 4)},
-            "unidentifiable": unident, "samples": angles.len()});
+            "unidentifiable": unident, "samples": angles.len(),
+            "metadata": {"short": short.metadata.to_json(), "long": long.metadata.to_json()}});
         return print(&format!("{doc}\n"));
     }
     let (h1, h2) = setup.heights().map_err(Failure::input)?;

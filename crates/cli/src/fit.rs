@@ -2,11 +2,13 @@
 
 use crate::Failure;
 use std::path::PathBuf;
+use trueaxis::data::checks::deviation_finding;
 use trueaxis::data::{write_atomically, CsvTable};
 use trueaxis::errors::{set_error_function, BasisSpec, Direction, ErrorModel, PeriodicSpec};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, IdentifyError};
 use trueaxis::instruments::{motion_error_axis, DirectError, DirectInstrument, DirectKind, DirectSetup, LevelBody};
+use trueaxis::io::Dimension;
 use trueaxis::machine::{AxisKind, Machine, ParameterId, Side};
 use trueaxis::model::Setup;
 
@@ -23,7 +25,8 @@ Positions in mm (deg for rotary axes), values in um (urad for angular errors). O
 (EXX, EYX, EBX, ECC, ...) are functions of a position; --errors-out needs --machine."
 )]
 pub struct FitArgs {
-    /// Measured data (CSV).
+    /// Measured data: a table (read forgivingly: `;` or tab, decimal commas, units in the headers,
+    /// one column per run and direction) or a Renishaw .rtl laser file.
     #[arg(long)]
     data: PathBuf,
     /// ISO 230 name of the measured error, e.g. EXX, EBX, EYZ.
@@ -201,6 +204,23 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
         }
     }
     let table = CsvTable::read(&args.data).map_err(Failure::input)?;
+    let data_name = args.data.display().to_string();
+    // plausibility of the readings' unit (a column that answers to the value name, read in the
+    // parameter's unit); a missing or bad column is reported by the fit itself
+    let value_dimension = if parameter.component().is_rotation() { Dimension::Angle } else { Dimension::Length };
+    let findings = match table.numbers_as(&args.value, value_dimension) {
+        Ok(values) => deviation_finding(&table, &args.value, &values).into_iter().collect(),
+        Err(_) => Vec::new(),
+    };
+    let warnings = crate::iso230_2::report_findings(findings, table.warnings())?;
+    let mut applied = args.temperature.applied(table.metadata(), &data_name)?;
+    let positioning = matches!(parameter, ParameterId::Motion { axis, component } if component.letter() == axis);
+    if applied.json.get("source").and_then(|s| s.as_str()) == Some("file") && !positioning {
+        applied.corrections.clear();
+        applied.json = serde_json::Value::Null;
+        applied.notes =
+            vec![format!("{data_name}: the file's material temperature is not applied: {parameter} is not a positioning error")];
+    }
     let position_column = match (&args.position, parameter.axis()) {
         (Some(p), _) => p.clone(),
         (None, _) if table.has_column("target") => "target".into(),
@@ -256,7 +276,7 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
             remove_drift: args.drift,
             refine_wavelength: args.refine_wavelength,
             options: FitOptions { spec: spec.clone(), stepwise_level: args.stepwise, prediction_level: 0.95 },
-            corrections: args.temperature.corrections(),
+            corrections: applied.corrections.clone(),
         };
         let report = run_direct_fit(&table, &request).map_err(|e| match e {
             IdentifyError::RankDeficient { .. } => Failure::computation(e),
@@ -271,6 +291,10 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
         reports.push((direction, report));
     }
 
+    crate::iso230_2::warn(&warnings);
+    for note in &applied.notes {
+        eprintln!("trueaxis: {note}");
+    }
     let mut written = Vec::new();
     if let Some(path) = &args.plot {
         let unit = axis.as_ref().map_or("mm", |a| if a.kind == AxisKind::Rotary { "deg" } else { "mm" });
@@ -305,11 +329,23 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
     }
     if args.json {
         let docs: Vec<_> = reports.iter().map(|(_, r)| r.to_json()).collect();
+        let metadata = table.metadata().to_json();
         match docs.as_slice() {
-            [one] => println!("{one}"),
-            _ => println!("{}", serde_json::json!({ "plus": docs[0], "minus": docs[1] })),
+            [one] => {
+                let mut one = one.clone();
+                one["metadata"] = metadata;
+                one["temperature_correction"] = applied.json;
+                println!("{one}")
+            }
+            _ => println!(
+                "{}",
+                serde_json::json!({ "plus": docs[0], "minus": docs[1], "metadata": metadata, "temperature_correction": applied.json })
+            ),
         }
         return Ok(());
+    }
+    for line in table.metadata().lines() {
+        println!("{line}");
     }
     for (direction, report) in &reports {
         print_fit(&parameter, *direction, report);

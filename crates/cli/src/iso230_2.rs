@@ -3,20 +3,25 @@
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::{write_atomically, CsvTable};
-use trueaxis::evaluate::iso230_2::{evaluate, read_runs, Iso2302Result};
+use trueaxis::evaluate::iso230_2::{evaluate, plausibility, runs_of, Iso2302Result};
 use trueaxis::evaluate::EvaluateError;
 use trueaxis::instruments::{TableCorrection, TableCorrectionError};
 
 /// Accuracy and repeatability of positioning of an axis after ISO 230-2:2014 (A, R, E, M, B and
 /// their unidirectional values, coverage factor 2) from bidirectional runs, e.g. laser readings.
 #[derive(clap::Args)]
-#[command(after_help = "Example:\n  trueaxis iso230-2 examples/data/iso230_2_x.csv --plot x_positioning.svg\n\n\
+#[command(after_help = "Examples:\n  trueaxis iso230-2 examples/data/iso230_2_x.csv --plot x_positioning.svg\n  \
+trueaxis iso230-2 examples/data/laser_x.rtl --json\n\n\
 The CSV has the columns target (mm), dev (um, actual minus target), dir (+ or -) and run (integer);\n\
-other columns are ignored, `#` starts a comment line. Every target needs at least 2 runs in each\n\
-direction (ISO 230-2 tests use 5). Results are in um. With --scale-temperature and --scale-expansion the\n\
-deviations are first corrected to 20 degC (e.g. --scale-temperature 23.4 --scale-expansion 11.5).")]
+other columns are ignored, `#` starts a comment line. Read forgivingly: `;` or tab separators, decimal\n\
+commas, units in the headers (`dev [mm]`), one column per run and direction (`Run 1 +`), a Renishaw\n\
+.rtl file. Every target needs at least 2 runs in each direction (ISO 230-2 tests use 5). Results are in\n\
+um (urad for a rotary axis, targets in deg). With --scale-temperature and --scale-expansion the\n\
+deviations are first corrected to 20 degC (e.g. --scale-temperature 23.4 --scale-expansion 11.5); a\n\
+file that records the material temperature and expansion coefficient is corrected with those.")]
 pub struct Iso2302Args {
-    /// Readings (CSV) with the columns target, dev, dir, run.
+    /// Readings: a table with the columns target, dev, dir, run (or one column per run and
+    /// direction), or a Renishaw .rtl laser file.
     file: PathBuf,
     /// Print one JSON document instead of the table.
     #[arg(long)]
@@ -36,57 +41,111 @@ fn failure(e: EvaluateError) -> Failure {
     }
 }
 
+/// Sorts the findings of plausibility checks: the first refusal is the error; the warnings (with
+/// those of reading the file) are returned, to be printed with [`warn`] once the command has
+/// succeeded (a refused command prints its one line only).
+pub(crate) fn report_findings(findings: Vec<trueaxis::io::Finding>, warnings: &[String]) -> Result<Vec<String>, Failure> {
+    let mut out = warnings.to_vec();
+    let mut refusal = None;
+    for f in findings {
+        match f.severity {
+            trueaxis::io::Severity::Warn => out.push(f.message),
+            trueaxis::io::Severity::Refuse => {
+                refusal.get_or_insert(f.message);
+            }
+        }
+    }
+    match refusal {
+        Some(m) => Err(Failure::input(anyhow::anyhow!(m))),
+        None => Ok(out),
+    }
+}
+
+/// Prints warnings and notes on stderr.
+pub(crate) fn warn(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("trueaxis: warning: {w}");
+    }
+}
+
 pub fn run(args: Iso2302Args) -> Result<(), Failure> {
-    let mut data = read_runs(&args.file).map_err(failure)?;
-    let corrections = args.temperature.corrections();
-    if !corrections.is_empty() {
+    let name = args.file.display().to_string();
+    let table = CsvTable::read(&args.file).map_err(Failure::input)?;
+    let mut data = runs_of(&table).map_err(failure)?;
+    let warnings = report_findings(plausibility(&table, &data).map_err(failure)?, table.warnings())?;
+    let applied = args.temperature.applied(&data.metadata, &name)?;
+    if !applied.corrections.is_empty() {
+        if data.rotary {
+            return Err(Failure::input(anyhow::anyhow!(
+                "{name}: a correction to 20 degC (thermal expansion) applies to linear axes; this test is of a rotary axis (--no-file-temperature)"
+            )));
+        }
         // the readings are the table's rows in order
-        let table = CsvTable::read(&args.file).map_err(Failure::input)?;
         let targets: Vec<f64> = data.readings.iter().map(|r| r.target).collect();
         let devs: Vec<f64> = data.readings.iter().map(|r| r.dev).collect();
-        let corrected = TableCorrection::apply_all(&corrections, &table, &targets, &devs).map_err(|e| match e {
+        let corrected = TableCorrection::apply_all(&applied.corrections, &table, &targets, &devs).map_err(|e| match e {
             TableCorrectionError::Data(d) => Failure::input(d),
-            TableCorrectionError::Scale(s) => Failure::input(anyhow::anyhow!("{}: {s}", args.file.display())),
+            TableCorrectionError::Scale(s) => Failure::input(anyhow::anyhow!("{name}: {s}")),
         })?;
         for (r, dev) in data.readings.iter_mut().zip(corrected) {
             r.dev = dev;
         }
     }
     let result = evaluate(&data).map_err(failure)?;
-    let name = args.file.display().to_string();
+    warn(&warnings);
+    for note in &applied.notes {
+        eprintln!("trueaxis: {note}");
+    }
     if let Some(path) = &args.plot {
         let svg =
             trueaxis_report::iso230_2_svg(&result, &data, &format!("ISO 230-2 positioning test: {name}")).map_err(Failure::computation)?;
         write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
     }
     if args.json {
-        return print(&format!("{}\n", result.to_json()));
+        let mut doc = result.to_json();
+        doc["metadata"] = data.metadata.to_json();
+        doc["temperature_correction"] = applied.json;
+        return print(&format!("{doc}\n"));
     }
-    let mut text = table(&name, &result);
+    let mut text = table_text(&name, &result, &data.metadata);
     if let Some(path) = &args.plot {
         text += &format!("\nwrote {}\n", path.display());
     }
     print(&text)
 }
 
-/// The readable report: per-position values and the axis results, with units.
-fn table(name: &str, result: &Iso2302Result) -> String {
+/// The readable report: the file's metadata, per-position values and the axis results, with units.
+fn table_text(name: &str, result: &Iso2302Result, metadata: &trueaxis::io::Metadata) -> String {
     use std::fmt::Write;
     let mut out = String::new();
     let uniform = result.positions.iter().all(|p| p.n_plus == result.runs && p.n_minus == result.runs);
     let runs = if uniform { format!("{} runs", result.runs) } else { format!("at least {} runs", result.runs) };
     let (first, last) = (result.positions.first().map_or(0.0, |p| p.target), result.positions.last().map_or(0.0, |p| p.target));
     let _ = writeln!(out, "ISO 230-2:2014 accuracy and repeatability of positioning: {name}");
+    for line in metadata.lines() {
+        let _ = writeln!(out, "  {line}");
+    }
+    let (u, pu) = (result.unit, result.position_unit);
     let _ = writeln!(
         out,
-        "{} target positions from {first:.3} to {last:.3} mm, {runs} in each direction, coverage factor 2",
+        "{} target positions from {first:.3} to {last:.3} {pu}, {runs} in each direction, coverage factor 2",
         result.positions.len()
     );
-    let _ = writeln!(out, "positional deviations: actual minus target, in um\n");
+    let _ = writeln!(out, "positional deviations: actual minus target, in {u}\n");
     let _ = writeln!(
         out,
         "{:>12} {:>5} {:>9} {:>9} {:>9} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}",
-        "target (mm)", "runs", "mean+", "mean-", "mean", "s+", "s-", "B_i", "R_i+", "R_i-", "R_i"
+        format!("target ({pu})"),
+        "runs",
+        "mean+",
+        "mean-",
+        "mean",
+        "s+",
+        "s-",
+        "B_i",
+        "R_i+",
+        "R_i-",
+        "R_i"
     );
     for p in &result.positions {
         let runs = if p.n_plus == p.n_minus { p.n_plus.to_string() } else { format!("{}/{}", p.n_plus, p.n_minus) };
@@ -98,7 +157,7 @@ fn table(name: &str, result: &Iso2302Result) -> String {
     }
     let _ = writeln!(out, "\naxis results:");
     for (symbol, description, value) in result.axis_table() {
-        let _ = writeln!(out, "  {symbol:<7} {value:>9.3} um   {description}");
+        let _ = writeln!(out, "  {symbol:<7} {value:>9.3} {u}   {description}");
     }
     if result.runs < 5 {
         let _ = writeln!(out, "\nnote: the ISO 230-2 test cycle approaches each target 5 times in each direction; here {} were used", runs);

@@ -3,10 +3,12 @@
 
 mod ballbar;
 mod compensate;
+mod convert;
 mod demo;
 mod design;
 mod fit;
 mod identify;
+mod inspect;
 mod iso230_2;
 mod nc;
 mod predict;
@@ -42,6 +44,8 @@ enum Command {
     Design(design::DesignArgs),
     Fit(Box<fit::FitArgs>),
     Identify(identify::IdentifyArgs),
+    Inspect(inspect::InspectArgs),
+    Convert(convert::ConvertArgs),
     #[command(name = "iso230-2")]
     Iso2302(iso230_2::Iso2302Args),
     Predict(predict::PredictArgs),
@@ -112,6 +116,8 @@ fn main() -> ExitCode {
         Command::Design(args) => design::run(args),
         Command::Fit(args) => fit::run(*args),
         Command::Identify(args) => identify::run(args),
+        Command::Inspect(args) => inspect::run(args),
+        Command::Convert(args) => convert::run(args),
         Command::Iso2302(args) => iso230_2::run(args),
         Command::Predict(args) => predict::run(args),
         Command::Reversal(args) => reversal::run(args),

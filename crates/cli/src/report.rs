@@ -317,8 +317,12 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
         .iter()
         .map(|c| json!({"file": c.input.path.display().to_string(), "G_um": c.result.runs.iter().map(|r| r.g_um).collect::<Vec<_>>()}))
         .collect();
-    let inputs: Vec<_> =
-        report.traceability.inputs.iter().map(|f| json!({"role": f.role, "path": f.path, "bytes": f.bytes, "sha256": f.sha256})).collect();
+    let inputs: Vec<_> = report
+        .traceability
+        .inputs
+        .iter()
+        .map(|f| json!({"role": f.role, "path": f.path, "bytes": f.bytes, "sha256": f.sha256, "recorded": f.recorded}))
+        .collect();
     let thermal_modes = report.thermal_modes.as_ref().map(|m| {
         json!({"tau_min": m.weights.iter().map(|w| w.tau_s / 60.0).collect::<Vec<_>>(),
                "share": m.weights.iter().map(|w| w.share).collect::<Vec<_>>(),

@@ -7,6 +7,7 @@ use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use trueaxis::data::{write_atomically, CsvTable};
 use trueaxis::instruments::{flat_face_reversal, parallelism_urad, straightness_reversal, BestFitLine, BestFitRadii, ReversalOptions};
+use trueaxis::io::Dimension;
 use trueaxis_report::{profiles_svg, Profiles};
 
 /// Reversal techniques (seed 003 eqs. 3.1-3.8): straightness of an axis with an imperfect test
@@ -32,7 +33,8 @@ enum Method {
 /// Common options: the file, the position column, JSON, plot.
 #[derive(clap::Args)]
 struct Profile {
-    /// Readings (CSV).
+    /// Readings: a table (read forgivingly), or a laser file of two runs (a Renishaw .rtl: run 1 is
+    /// m1, run 2 is m2).
     file: PathBuf,
     /// Column of the axis positions (mm).
     #[arg(long, default_value = "position")]
@@ -106,11 +108,58 @@ struct Scans {
     m2: Vec<f64>,
 }
 
-/// Reads the position, m1 and m2 columns.
+/// Reads the position, m1 and m2 columns (positions mm, readings um; units in the headers
+/// honoured), or the two runs of a laser file (a Renishaw .rtl, or a table with `target`, `dev`,
+/// `run`): run 1 is the first scan, run 2 the second.
 fn read_scans(p: &Profile) -> Result<Scans, Failure> {
     let table = CsvTable::read(&p.file).map_err(Failure::input)?;
-    let column = |name: &str| table.numbers(name).map_err(Failure::input);
-    Ok(Scans { positions: column(&p.position)?, m1: column("m1")?, m2: column("m2")? })
+    if !table.has_column("m1") && table.has_column("dev") && table.has_column("run") {
+        return two_runs(&table, &p.file);
+    }
+    let column = |name: &str, d: Dimension| table.numbers_as(name, d).map_err(Failure::input);
+    Ok(Scans {
+        positions: column(&p.position, Dimension::Length)?,
+        m1: column("m1", Dimension::Length)?,
+        m2: column("m2", Dimension::Length)?,
+    })
+}
+
+/// The two scans of a reversal from the two runs of a laser file, each sorted by position; both
+/// runs must read the same positions.
+fn two_runs(table: &CsvTable, file: &Path) -> Result<Scans, Failure> {
+    let bad = |m: String| Failure::input(anyhow!("{}: {m}", file.display()));
+    let positions = table.numbers_as("target", Dimension::Length).map_err(Failure::input)?;
+    let devs = table.numbers_as("dev", Dimension::Length).map_err(Failure::input)?;
+    let runs = table.texts("run").map_err(Failure::input)?;
+    let mut order: Vec<&String> = Vec::new();
+    for r in &runs {
+        if !order.contains(&r) {
+            order.push(r);
+        }
+    }
+    if order.len() != 2 {
+        return Err(bad(format!(
+            "a reversal needs two scans: columns m1 and m2, or a laser file of exactly two runs; this one has {} runs",
+            order.len()
+        )));
+    }
+    let scan = |run: &String| {
+        let mut rows: Vec<(f64, f64)> = (0..runs.len()).filter(|&i| &runs[i] == run).map(|i| (positions[i], devs[i])).collect();
+        rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+        rows
+    };
+    let (first, second) = (scan(order[0]), scan(order[1]));
+    if first.len() != second.len() || first.iter().zip(&second).any(|(a, b)| (a.0 - b.0).abs() > 1e-6) {
+        return Err(bad(format!(
+            "runs {} and {} do not read the same positions; a reversal compares two scans point by point",
+            order[0], order[1]
+        )));
+    }
+    Ok(Scans {
+        positions: first.iter().map(|x| x.0).collect(),
+        m1: first.iter().map(|x| x.1).collect(),
+        m2: second.iter().map(|x| x.1).collect(),
+    })
 }
 
 /// Refuses a result with a number that is not finite (readings too large): nothing printed or written.
@@ -202,7 +251,7 @@ fn arbor(a: ArborArgs) -> Result<(), Failure> {
 fn parallelism(a: ParallelismArgs) -> Result<(), Failure> {
     let table = CsvTable::read(&a.file).map_err(Failure::input)?;
     let names = ["probe1_location1", "probe1_location2", "probe2_location1", "probe2_location2"];
-    let columns = names.iter().map(|n| table.numbers(n).map_err(Failure::input)).collect::<Result<Vec<_>, _>>()?;
+    let columns = names.iter().map(|n| table.numbers_as(n, Dimension::Length).map_err(Failure::input)).collect::<Result<Vec<_>, _>>()?;
     let bad = |e: trueaxis::instruments::ReversalError| Failure::input(anyhow!("{}: {e}", a.file.display()));
     let radii = BestFitRadii::from_readings(&columns[0], &columns[1], &columns[2], &columns[3]).map_err(bad)?;
     let alpha = parallelism_urad(&radii, a.dz).map_err(bad)?;

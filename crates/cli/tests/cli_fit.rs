@@ -159,7 +159,9 @@ fn only_motion_errors_are_fitted_with_or_without_a_machine() {
 }
 
 #[test]
-fn a_fit_that_overflows_is_refused_with_status_1_and_nothing_written() {
+fn readings_too_large_to_be_deviations_are_refused_with_status_2_and_nothing_written() {
+    // 1e300 um: the fit would overflow (a failed computation, status 1); the plausibility check of
+    // the readings' unit refuses them first as bad input
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("huge.csv");
     let text: String = (0..21).map(|i| format!("{},{}\n", -400 + 40 * i, if i % 2 == 0 { 1e300 } else { -1e300 })).collect();
@@ -173,8 +175,8 @@ fn a_fit_that_overflows_is_refused_with_status_1_and_nothing_written() {
         }
         let out = trueaxis(&args);
         let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(1), "{err}");
-        assert!(err.contains("overflowed") && err.contains("not a finite number") && err.contains("huge.csv"), "{err}");
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains("huge.csv: column `dev`") && err.contains("beyond any machine tool's error"), "{err}");
         assert_eq!(err.trim_end().lines().count(), 1, "{err}");
         assert!(out.stdout.is_empty(), "nothing printed: {}", String::from_utf8_lossy(&out.stdout));
         assert!(!errors.exists() && !plot.exists(), "nothing written");

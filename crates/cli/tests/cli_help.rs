@@ -122,7 +122,7 @@ fn every_command_has_help_with_an_example() {
 #[test]
 fn every_command_that_prints_results_has_json() {
     // commands whose product is a data file for the next command (CSV to --out or stdout)
-    let data_writers = ["ballbar simulate", "design trajectory"];
+    let data_writers = ["ballbar simulate", "design trajectory", "convert"];
     let mut missing = Vec::new();
     for path in command_tree() {
         let name = path.join(" ");
@@ -165,6 +165,8 @@ fn missing_input_invocation(name: &str) -> Option<Vec<&'static str>> {
         "thermal place" => vec!["thermal", "place", "--model", m],
         "thermal fit" => vec!["thermal", "fit", "--data", c, "--error", "dz"],
         "thermal predict" => vec!["thermal", "predict", "--model", m, "--data", c],
+        "inspect" => vec!["inspect", c],
+        "convert" => vec!["convert", c, "--to", "csv"],
         _ => return None,
     })
 }

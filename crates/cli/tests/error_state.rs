@@ -71,9 +71,9 @@ fn missing_state_columns_and_bad_state_files_are_refused() {
     let out = run("X,Y,Z\n0,0,0\n");
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("missing column `T:scale`"));
-    let out = run("X,Y,Z,dir:X,T:scale\n0,0,0,up,20\n");
+    let out = run("X,Y,Z,dir:X,T:scale\n0,0,0,sideways,20\n");
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("`up` is not +, - or empty"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("`sideways` is not +, - or empty"));
 
     let machine =
         trueaxis::machine::Machine::load(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."), "/examples/machines/vmc3.toml")).unwrap();

@@ -223,7 +223,12 @@ fn bad_input_is_refused_with_one_line_and_status_2() {
         &["line 4", "target 100 mm", "1 run(s) in the - direction"],
     );
     refuse(d, "onedir.csv", "target,dev,dir,run\n0,1,+,1\n0,2,+,2\n", &["line 2", "target 0 mm", "0 run(s) in the - direction"]);
-    refuse(d, "dir.csv", "target,dev,dir,run\n0,1,+,1\n# comment\n0,2,up,2\n0,0,-,1\n0,1,-,2\n", &["line 4", "column dir", "`up`"]);
+    refuse(
+        d,
+        "dir.csv",
+        "target,dev,dir,run\n0,1,+,1\n# comment\n0,2,sideways,2\n0,0,-,1\n0,1,-,2\n",
+        &["line 4", "column dir", "`sideways`"],
+    );
     refuse(
         d,
         "duplicate.csv",
@@ -240,14 +245,16 @@ fn bad_input_is_refused_with_one_line_and_status_2() {
 }
 
 #[test]
-fn overflow_is_a_failed_computation_with_status_1() {
+fn readings_too_large_to_be_deviations_are_bad_input_with_status_2() {
+    // 1e308 um would overflow the evaluation (status 1); the plausibility check of the unit refuses
+    // them first, naming the column and the fix
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("huge.csv");
     std::fs::write(&path, "target,dev,dir,run\n0,1e308,+,1\n0,1e308,+,2\n0,0,-,1\n0,1,-,2\n").unwrap();
     let out = trueaxis(&["iso230-2", path.to_str().unwrap(), "--json"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "{stderr}");
-    assert!(out.stdout.is_empty() && stderr.trim_end().lines().count() == 1 && stderr.contains("huge.csv"), "{stderr}");
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(out.stdout.is_empty() && stderr.trim_end().lines().count() == 1 && stderr.contains("huge.csv: column `dev`"), "{stderr}");
 }
 
 #[test]
@@ -273,13 +280,15 @@ fn json_has_the_contract_keys_and_the_library_values() {
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let keys: std::collections::BTreeSet<&str> = doc.as_object().unwrap().keys().map(String::as_str).collect();
     let contract = ["A", "A_plus", "A_minus", "B", "E", "E_plus", "E_minus", "M", "R", "R_plus", "R_minus"];
-    let allowed_extra = ["B_mean", "unit", "targets", "runs", "positions"];
+    let allowed_extra = ["B_mean", "unit", "position_unit", "targets", "runs", "positions", "metadata", "temperature_correction"];
     for k in contract {
         assert!(doc[k].as_f64().is_some_and(f64::is_finite), "key {k}: {}", doc[k]);
     }
     let expected: std::collections::BTreeSet<&str> = contract.iter().chain(&allowed_extra).copied().collect();
     assert_eq!(keys, expected);
     assert_eq!(doc["unit"], "um");
+    assert_eq!(doc["position_unit"], "mm");
+    assert!(doc["metadata"].is_object() && doc["temperature_correction"].is_null());
     assert_eq!(doc["targets"], 11);
     assert_eq!(doc["runs"], 5);
 

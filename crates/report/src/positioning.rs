@@ -155,15 +155,18 @@ pub fn iso230_2_svg(result: &Iso2302Result, data: &PositioningData, title: &str)
         .iter()
         .map(|q| PositionBand { target: q.target, mean_plus: q.mean_plus, mean_minus: q.mean_minus, s_plus: q.s_plus, s_minus: q.s_minus })
         .collect();
+    let (x_label, y_label) =
+        (format!("target position ({})", data.position_unit()), format!("positional deviation, actual minus target ({})", data.unit()));
+    let u = data.unit();
     positioning_svg(&PositioningPlot {
         title,
-        x_label: "target position (mm)",
-        y_label: "positional deviation, actual minus target (um)",
+        x_label: &x_label,
+        y_label: &y_label,
         plus: &points(Direction::Plus),
         minus: &points(Direction::Minus),
         positions: &bands,
         subtitle: &format!(
-            "A = {:.3} um, R = {:.3} um, E = {:.3} um, M = {:.3} um, B = {:.3} um (ISO 230-2:2014, coverage factor 2)",
+            "A = {:.3} {u}, R = {:.3} {u}, E = {:.3} {u}, M = {:.3} {u}, B = {:.3} {u} (ISO 230-2:2014, coverage factor 2)",
             result.a, result.r, result.e, result.m, result.b
         ),
     })

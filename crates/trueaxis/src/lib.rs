@@ -11,6 +11,7 @@ pub mod evaluate;
 pub mod geometry;
 pub mod identify;
 pub mod instruments;
+pub mod io;
 pub mod machine;
 pub mod model;
 pub mod thermal;

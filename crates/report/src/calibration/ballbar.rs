@@ -62,7 +62,8 @@ pub struct CirclePart {
 impl CirclePart {
     pub fn evaluate(machine: &Machine, input: CircleInput) -> Result<CirclePart, CalibrationError> {
         let centre = input.centre_pose(machine);
-        let runs = read_circular(&input.path, machine, input.plane, input.radius, &centre)?;
+        let file = read_circular(&input.path, machine, input.plane, input.radius, &centre)?;
+        let runs = file.runs;
         let (ia, ib, _) = input.plane.letters();
         let at = |letter: char| machine.axis_index(letter).map_or(0.0, |k| centre[k]);
         let options = DiagnosticOptions {

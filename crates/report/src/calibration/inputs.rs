@@ -15,6 +15,9 @@ pub struct InputFile {
     pub bytes: u64,
     /// SHA-256 of the contents (FIPS 180-4), lower-case hexadecimal: what `sha256sum FILE` prints.
     pub sha256: String,
+    /// What a data file records about its test (machine, serial number, date, operator, axis,
+    /// environment: `trueaxis::io::Metadata`), one item per entry; empty for other files.
+    pub recorded: Vec<String>,
 }
 
 impl InputFile {
@@ -25,7 +28,13 @@ impl InputFile {
     }
 
     pub fn of_bytes(role: &str, path: &str, bytes: &[u8]) -> InputFile {
-        InputFile { role: role.into(), path: path.into(), bytes: bytes.len() as u64, sha256: hex(&sha256(bytes)) }
+        InputFile {
+            role: role.into(),
+            path: path.into(),
+            bytes: bytes.len() as u64,
+            sha256: hex(&sha256(bytes)),
+            recorded: recorded(path, bytes),
+        }
     }
 }
 
@@ -53,7 +62,11 @@ impl Traceability {
 
     /// The section listing the inputs.
     pub fn section(&self) -> Section {
-        let rows = self.inputs.iter().map(|f| vec![f.role.clone(), f.path.clone(), f.bytes.to_string(), f.sha256.clone()]).collect();
+        let rows = self
+            .inputs
+            .iter()
+            .map(|f| vec![f.role.clone(), f.path.clone(), f.bytes.to_string(), f.sha256.clone(), f.recorded.join("; ")])
+            .collect();
         let mut s = Section::new("inputs", "Inputs and traceability").paragraph(format!(
             "Made on {} by {} from the files below; `sha256sum FILE` prints the same SHA-256 for an unchanged file.",
             self.date, self.software
@@ -61,7 +74,7 @@ impl Traceability {
         if let Some(c) = &self.command {
             s = s.paragraph("Command:").code(c.clone());
         }
-        s.table("Input files", &["role", "file", "bytes", "SHA-256"], rows)
+        s.table("Input files", &["role", "file", "bytes", "SHA-256", "recorded in the file"], rows)
     }
 }
 
@@ -80,6 +93,23 @@ pub fn utc_date_time(unix_seconds: i64) -> String {
     let month = if mp < 10 { mp + 3 } else { mp - 9 };
     let year = year_of_era + era * 400 + i64::from(month <= 2);
     format!("{year:04}-{month:02}-{day:02} {:02}:{:02} UTC", second_of_day / 3600, second_of_day % 3600 / 60)
+}
+
+/// The metadata of a data file (a table, a Renishaw `.rtl`, a ballbar export: extensions csv, tsv,
+/// txt, rtl), as lines; nothing for other files or a file that cannot be read as a table.
+fn recorded(path: &str, bytes: &[u8]) -> Vec<String> {
+    let data = Path::new(path)
+        .extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| ["csv", "tsv", "txt", "rtl"].contains(&e.to_ascii_lowercase().as_str()));
+    if !data {
+        return Vec::new();
+    }
+    trueaxis::io::text_of(bytes.to_vec(), path)
+        .ok()
+        .and_then(|text| trueaxis::data::CsvTable::from_text(&text, path).ok())
+        .map(|t| t.metadata().lines())
+        .unwrap_or_default()
 }
 
 fn hex(bytes: &[u8]) -> String {

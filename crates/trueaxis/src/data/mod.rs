@@ -1,13 +1,14 @@
-//! Data files: pose CSVs in, prediction tables out, and atomic file writing
-//! (DESIGN.md sections 3-4: never a partially written output).
+//! Data files: tables in (read forgivingly, `columns`), pose CSVs in, prediction tables out, and
+//! atomic file writing (DESIGN.md sections 3-4: never a partially written output).
 
+pub mod checks;
 mod columns;
 mod output;
 mod poses;
 
-pub use columns::CsvTable;
+pub use columns::{CsvTable, Layout};
 pub use output::{predictions_csv, predictions_json, write_atomically, PREDICTION_COLUMNS};
-pub use poses::{read_poses, read_poses_from, PoseTable};
+pub use poses::{poses_of, read_poses, read_poses_from, PoseTable};
 
 use thiserror::Error;
 
@@ -21,4 +22,13 @@ pub enum DataError {
     Invalid { origin: String, message: String },
     #[error("{message}")]
     NotFinite { message: String },
+}
+
+impl From<crate::io::IoError> for DataError {
+    fn from(e: crate::io::IoError) -> DataError {
+        match e {
+            crate::io::IoError::Read { path, source } => DataError::Read { path, source },
+            crate::io::IoError::Invalid { origin, message } => DataError::Invalid { origin, message },
+        }
+    }
 }

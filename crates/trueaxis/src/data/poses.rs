@@ -1,8 +1,10 @@
 //! Pose CSV files (DESIGN.md section 3): one row per sample, axis columns named by letter
-//! (`X,Y,Z` in mm, `A,B,C` in deg); other columns are ignored here.
+//! (`X,Y,Z` in mm, `A,B,C` in deg); other columns are ignored here. Read forgivingly by
+//! [`CsvTable`] (separators, decimal commas, units in headers).
 
-use super::DataError;
+use super::{CsvTable, DataError};
 use crate::errors::Direction;
+use crate::io::units::Dimension;
 use crate::machine::Machine;
 use std::io::Read;
 
@@ -58,94 +60,113 @@ impl PoseTable {
 }
 
 /// Reads a pose CSV for `machine`: every axis of the machine must have a column; each value must
-/// be a finite number within the axis range.
+/// be a finite number within the axis range. Read forgivingly ([`CsvTable`]): a unit in a header
+/// is honoured (`C [rad]` comes in deg).
 pub fn read_poses(path: impl AsRef<std::path::Path>, machine: &Machine) -> Result<PoseTable, DataError> {
     let path = path.as_ref();
-    let file = std::fs::File::open(path).map_err(|source| DataError::Read { path: path.display().to_string(), source })?;
-    read_poses_from(file, &path.display().to_string(), machine)
+    let table = CsvTable::read(path)?;
+    poses_of(&table, machine)
 }
 
 /// As [`read_poses`], from any reader; `origin` names the source in messages.
 pub fn read_poses_from(reader: impl Read, origin: &str, machine: &Machine) -> Result<PoseTable, DataError> {
-    let invalid = |message: String| DataError::Invalid { origin: origin.to_string(), message };
-    let mut csv = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).flexible(false).from_reader(reader);
-    let headers = csv.headers().map_err(|e| invalid(format!("cannot read the header line: {e}")))?.clone();
+    let table = CsvTable::from_reader(reader, origin).map_err(|e| match e {
+        DataError::Invalid { origin, message } if message.starts_with("no data: the file has a header") => {
+            DataError::Invalid { origin, message: "no poses: the file has a header but no data rows".into() }
+        }
+        other => other,
+    })?;
+    poses_of(&table, machine)
+}
+
+/// The poses of a table already read.
+pub fn poses_of(table: &CsvTable, machine: &Machine) -> Result<PoseTable, DataError> {
+    let invalid = |message: String| DataError::Invalid { origin: table.origin().to_string(), message };
+    let header_list = || table.headers().iter().map(|h| h.text.as_str()).collect::<Vec<_>>().join(",");
     let mut columns = Vec::new();
     for axis in machine.axes() {
         let name = axis.letter.to_string();
-        let column = headers.iter().position(|h| h == name).ok_or_else(|| {
-            invalid(format!(
+        if !table.has_column(&name) {
+            return Err(invalid(format!(
                 "missing column `{}` for axis {} ({}) of machine `{}`; the header has: {}",
                 name,
                 axis.letter,
                 axis.position_unit(),
                 machine.name,
-                headers.iter().collect::<Vec<_>>().join(",")
-            ))
-        })?;
-        columns.push(column);
+                header_list()
+            )));
+        }
+        let dimension = if axis.kind == crate::machine::AxisKind::Rotary { Dimension::Angle } else { Dimension::Length };
+        let texts = table.texts(&name)?;
+        if let Some(r) = texts.iter().position(|t| crate::io::text::parse_number(t, table.decimal_comma()).is_some_and(|v| !v.is_finite()))
+        {
+            return Err(invalid(format!(
+                "line {}: column {}: axis {} at `{}` is not a finite number",
+                table.lines()[r],
+                table.column_text(&name).unwrap_or(&name),
+                axis.letter,
+                texts[r]
+            )));
+        }
+        columns.push(table.numbers_as(&name, dimension)?);
     }
-    let dir_columns: Vec<(usize, usize)> = machine
+    let dir_columns: Vec<(usize, Vec<String>)> = machine
         .axes()
         .iter()
         .enumerate()
-        .filter_map(|(a, axis)| headers.iter().position(|h| h == format!("dir:{}", axis.letter)).map(|c| (a, c)))
+        .filter_map(|(a, axis)| {
+            let name = format!("dir:{}", axis.letter);
+            table.has_column(&name).then(|| table.texts(&name).map(|t| (a, t)))
+        })
+        .collect::<Result<_, _>>()?;
+    let temperature_names: Vec<String> = table
+        .headers()
+        .iter()
+        .filter(|h| h.name.len() > 2 && h.name.get(..2).is_some_and(|p| p.eq_ignore_ascii_case("T:")))
+        .map(|h| format!("T:{}", &h.name[2..]))
         .collect();
-    let temperature_columns: Vec<(String, usize)> =
-        headers.iter().enumerate().filter(|(_, h)| h.starts_with("T:") && h.len() > 2).map(|(c, h)| (h.to_string(), c)).collect();
-    let mut table = PoseTable {
-        user: Vec::new(),
-        lines: Vec::new(),
+    let mut temperatures = Vec::new();
+    for name in &temperature_names {
+        let texts = table.texts(name)?;
+        let values = table.numbers_as(name, Dimension::Temperature).map_err(|_| {
+            let bad = texts
+                .iter()
+                .position(|t| !crate::io::text::parse_number(t, table.decimal_comma()).is_some_and(f64::is_finite))
+                .unwrap_or(0);
+            invalid(format!("line {}: column {name}: `{}` is not a temperature", table.lines()[bad], texts[bad]))
+        })?;
+        temperatures.push((name.clone(), values));
+    }
+    let n = machine.axis_count();
+    let mut table_out = PoseTable {
+        user: Vec::with_capacity(n * table.len()),
+        lines: table.lines().to_vec(),
         directions: (!dir_columns.is_empty()).then(Vec::new),
-        temperatures: temperature_columns.iter().map(|(n, _)| (n.clone(), Vec::new())).collect(),
+        temperatures,
     };
-    for record in csv.records() {
-        let record = record.map_err(|e| invalid(one_line_csv(&e)))?;
-        let line = record.position().map_or(0, |p| p.line());
-        let start = table.user.len();
-        for (axis, &column) in machine.axes().iter().zip(&columns) {
-            let text = &record[column];
-            let value: f64 = text.parse().map_err(|_| invalid(format!("line {line}: column {}: `{text}` is not a number", axis.letter)))?;
-            table.user.push(value);
-        }
-        machine.check_range(&table.user[start..]).map_err(|m| invalid(format!("line {line}: {m}")))?;
-        if let Some(directions) = table.directions.as_mut() {
-            let mut row = vec![None; machine.axis_count()];
-            for (a, c) in &dir_columns {
-                row[*a] = match &record[*c] {
-                    "+" => Some(Direction::Positive),
-                    "-" => Some(Direction::Negative),
+    for (r, &line) in table.lines().iter().enumerate() {
+        let start = table_out.user.len();
+        table_out.user.extend(columns.iter().map(|c| c[r]));
+        machine.check_range(&table_out.user[start..]).map_err(|m| invalid(format!("line {line}: {m}")))?;
+        if let Some(directions) = table_out.directions.as_mut() {
+            let mut row = vec![None; n];
+            for (a, texts) in &dir_columns {
+                row[*a] = match texts[r].as_str() {
                     "" | "0" => None,
-                    other => {
-                        return Err(invalid(format!(
-                            "line {line}: column dir:{}: `{other}` is not +, - or empty",
-                            machine.axes()[*a].letter
-                        )))
-                    }
+                    other => match crate::io::header::RunDirection::parse(other) {
+                        Some(crate::io::header::RunDirection::Plus) => Some(Direction::Positive),
+                        Some(crate::io::header::RunDirection::Minus) => Some(Direction::Negative),
+                        None => {
+                            return Err(invalid(format!(
+                                "line {line}: column dir:{}: `{other}` is not +, - or empty",
+                                machine.axes()[*a].letter
+                            )))
+                        }
+                    },
                 };
             }
             directions.extend(row);
         }
-        for ((name, c), (_, values)) in temperature_columns.iter().zip(table.temperatures.iter_mut()) {
-            let text = &record[*c];
-            let t: f64 = text
-                .parse()
-                .ok()
-                .filter(|t: &f64| t.is_finite())
-                .ok_or_else(|| invalid(format!("line {line}: column {name}: `{text}` is not a temperature")))?;
-            values.push(t);
-        }
-        table.lines.push(line);
     }
-    if table.is_empty() {
-        return Err(invalid("no poses: the file has a header but no data rows".into()));
-    }
-    Ok(table)
-}
-
-fn one_line_csv(e: &csv::Error) -> String {
-    match e.position() {
-        Some(p) => format!("line {}: {}", p.line(), e.to_string().replace('\n', " ")),
-        None => e.to_string().replace('\n', " "),
-    }
+    Ok(table_out)
 }

@@ -4,14 +4,17 @@
 //! Symbols follow the standard (clause 3, terms and definitions; clause 8, presentation of the
 //! results), with `plus` for the up arrow (approach in the `+` direction) and `minus` for the down
 //! arrow. Target positions `P_i` are in mm; positional deviations `x_ij = P_ij - P_i` (actual minus
-//! target) and every result are in um. The coverage factor is 2 throughout, as in the 2014 edition.
+//! target) and every result are in um; for a rotary axis targets are in deg and deviations and
+//! results in urad. The coverage factor is 2 throughout, as in the 2014 edition.
 //!
 //! The standard test cycle approaches every target five times in each direction; this evaluation
 //! accepts any number `n >= 2` per target and direction (the estimator `s` needs two readings) and
 //! reports the smallest count used in [`Iso2302Result::runs`].
 
 use super::EvaluateError;
-use crate::data::{CsvTable, DataError};
+use crate::data::CsvTable;
+use crate::io::header::RunDirection;
+use crate::io::units::Dimension;
 use serde_json::{json, Value};
 use std::collections::HashMap;
 
@@ -65,79 +68,100 @@ pub struct Reading {
 pub struct PositioningData {
     pub origin: String,
     pub readings: Vec<Reading>,
+    /// True for a rotary axis: targets in deg, deviations and results in urad (else mm and um).
+    pub rotary: bool,
+    /// What the file says about the test (machine, date, environment, ...).
+    pub metadata: crate::io::Metadata,
 }
 
-/// Reads a positioning-test CSV (DESIGN.md sections 3-4): columns `target` (mm), `dev` (um, actual
-/// minus target), `dir` (`+` or `-`), `run` (integer); other columns are ignored, `#` starts a
-/// comment line, fields are trimmed. Errors name the file, line and column. The grouping into
-/// target positions and the checks of the run counts are done by [`evaluate`].
+impl PositioningData {
+    /// The unit of the targets: mm, or deg for a rotary axis.
+    pub fn position_unit(&self) -> &'static str {
+        if self.rotary {
+            "deg"
+        } else {
+            "mm"
+        }
+    }
+
+    /// The unit of the deviations and results: um, or urad for a rotary axis.
+    pub fn unit(&self) -> &'static str {
+        if self.rotary {
+            "urad"
+        } else {
+            "um"
+        }
+    }
+}
+
+/// Reads a positioning test (DESIGN.md sections 3-4) from a table or a Renishaw `.rtl` file, read
+/// forgivingly by [`CsvTable`]: columns `target` (mm; deg for a rotary axis), `dev` (um, actual
+/// minus target; urad for a rotary axis), `dir` (`+` or `-`; `up`, `down` ...), `run` (integer), or
+/// the wide layout of one column per run and direction; units in the headers honoured; other
+/// columns ignored. Errors name the file, line and column. The grouping into target positions and
+/// the checks of the run counts are done by [`evaluate`].
 pub fn read_runs(path: impl AsRef<std::path::Path>) -> Result<PositioningData, EvaluateError> {
-    let path = path.as_ref();
-    let origin = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| DataError::Read { path: origin.clone(), source })?;
-    read_runs_from_str(&text, &origin)
+    runs_of(&CsvTable::read(path)?)
 }
 
 /// As [`read_runs`], from any reader; `origin` names the data in messages.
-pub fn read_runs_from(mut reader: impl std::io::Read, origin: &str) -> Result<PositioningData, EvaluateError> {
-    let mut text = String::new();
-    reader.read_to_string(&mut text).map_err(|source| DataError::Read { path: origin.to_string(), source })?;
-    read_runs_from_str(&text, origin)
+pub fn read_runs_from(reader: impl std::io::Read, origin: &str) -> Result<PositioningData, EvaluateError> {
+    runs_of(&CsvTable::from_reader(reader, origin)?)
 }
 
-/// As [`read_runs`], from CSV text; `origin` names the data in messages.
+/// As [`read_runs`], from text; `origin` names the data in messages.
 pub fn read_runs_from_str(text: &str, origin: &str) -> Result<PositioningData, EvaluateError> {
-    let table = CsvTable::from_reader(text.as_bytes(), origin)?;
-    // The csv reader reports where a record's reading began, which is the first of any comment or
-    // blank lines before it: step over those to the line of the record itself.
-    let file_lines: Vec<&str> = text.lines().collect();
-    let lines: Vec<u64> = table
-        .lines()
-        .iter()
-        .map(|&reported| {
-            let mut line = reported.max(1);
-            while let Some(l) = file_lines.get(line as usize - 1) {
-                if !(l.starts_with('#') || l.trim_end_matches('\r').is_empty()) {
-                    break;
-                }
-                line += 1;
-            }
-            line
-        })
-        .collect();
-    let invalid =
-        |line: u64, message: String| EvaluateError::Invalid { origin: origin.to_string(), message: format!("line {line}: {message}") };
+    runs_of(&CsvTable::from_text(text, origin)?)
+}
+
+/// The readings of a table already read (see [`read_runs`]). A `target` column in an angle unit
+/// (`target [deg]`, or a Renishaw file of a rotary axis) makes the test rotary.
+pub fn runs_of(table: &CsvTable) -> Result<PositioningData, EvaluateError> {
+    let origin = table.origin();
     // Check all four columns before any value, so that a missing column is reported as such.
     for name in ["target", "dev", "dir", "run"] {
-        if !table.has_column(name) {
-            table.texts(name)?;
-        }
+        table.find(name)?;
     }
-    let [targets, devs, dirs, runs] = ["target", "dev", "dir", "run"].map(|name| table.texts(name));
-    let (targets, devs, dirs, runs) = (targets?, devs?, dirs?, runs?);
-    let number = |column: &str, text: &str, line: u64| {
-        text.parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| invalid(line, format!("column {column}: `{text}` is not a finite number")))
-    };
+    let rotary = table.unit_of("target").is_some_and(|u| u.dimension == Dimension::Angle);
+    let dimension = if rotary { Dimension::Angle } else { Dimension::Length };
+    let targets = table.numbers_as("target", dimension)?;
+    let devs = table.numbers_as("dev", dimension)?;
+    let dirs = table.directions("dir")?;
+    let runs = table.texts("run")?;
+    let invalid =
+        |line: u64, message: String| EvaluateError::Invalid { origin: origin.to_string(), message: format!("line {line}: {message}") };
+    let run_column = table.column_text("run").unwrap_or("run").to_string();
     let mut readings = Vec::with_capacity(table.len());
-    for (k, &line) in lines.iter().enumerate() {
-        let target = number("target", &targets[k], line)?;
-        let dev = number("dev", &devs[k], line)?;
-        let direction = Direction::parse(&dirs[k]).ok_or_else(|| invalid(line, format!("column dir: `{}` is not `+` or `-`", dirs[k])))?;
-        let run = parse_run(&runs[k]).ok_or_else(|| invalid(line, format!("column run: `{}` is not an integer run number", runs[k])))?;
-        readings.push(Reading { target, dev, direction, run, line });
+    for (k, &line) in table.lines().iter().enumerate() {
+        let direction = match dirs[k] {
+            RunDirection::Plus => Direction::Plus,
+            RunDirection::Minus => Direction::Minus,
+        };
+        let run =
+            parse_run(&runs[k]).ok_or_else(|| invalid(line, format!("column {run_column}: `{}` is not an integer run number", runs[k])))?;
+        readings.push(Reading { target: targets[k], dev: devs[k], direction, run, line });
     }
-    Ok(PositioningData { origin: origin.to_string(), readings })
+    Ok(PositioningData { origin: origin.to_string(), readings, rotary, metadata: table.metadata().clone() })
+}
+
+/// Findings of the plausibility checks of a positioning table (`io::plausibility`): the size of the
+/// deviations and the targets of every run.
+pub fn plausibility(table: &CsvTable, data: &PositioningData) -> Result<Vec<crate::io::Finding>, EvaluateError> {
+    let devs: Vec<f64> = data.readings.iter().map(|r| r.dev).collect();
+    let targets: Vec<f64> = data.readings.iter().map(|r| r.target).collect();
+    let mut out: Vec<crate::io::Finding> = crate::data::checks::deviation_finding(table, "dev", &devs).into_iter().collect();
+    out.extend(crate::data::checks::target_finding(table, &targets, TARGET_TOLERANCE_MM)?);
+    Ok(out)
 }
 
 fn parse_run(text: &str) -> Option<i64> {
-    if let Ok(r) = text.parse::<i64>() {
+    let t = text.trim();
+    // `3`, `3.0` (spreadsheets), `Run 3`
+    let t = t.strip_prefix("Run").or_else(|| t.strip_prefix("run")).unwrap_or(t).trim();
+    if let Ok(r) = t.parse::<i64>() {
         return Some(r);
     }
-    // Spreadsheets sometimes write run numbers as `3.0`.
-    text.parse::<f64>().ok().filter(|v| v.is_finite() && v.fract() == 0.0 && v.abs() < 1e15).map(|v| v as i64)
+    t.parse::<f64>().ok().filter(|v| v.is_finite() && v.fract() == 0.0 && v.abs() < 1e15).map(|v| v as i64)
 }
 
 /// Statistics at one target position `P_i` (um unless stated).
@@ -191,6 +215,10 @@ pub struct Iso2302Result {
     pub r: f64,
     pub r_plus: f64,
     pub r_minus: f64,
+    /// Unit of the results and deviations: um, or urad for a rotary axis.
+    pub unit: &'static str,
+    /// Unit of the targets: mm, or deg for a rotary axis.
+    pub position_unit: &'static str,
 }
 
 /// Evaluates a bidirectional positioning test (ISO 230-2:2014 clause 3 definitions, as used in its
@@ -207,7 +235,7 @@ pub struct Iso2302Result {
 /// - `A↑ = max(x̄_i↑ + 2 s_i↑) - min(x̄_i↑ - 2 s_i↑)`, `A↓` likewise,
 ///   `A = max(x̄_i↑ + 2 s_i↑, x̄_i↓ + 2 s_i↓) - min(x̄_i↑ - 2 s_i↑, x̄_i↓ - 2 s_i↓)` over all i.
 ///
-/// Inputs: targets in mm, deviations in um; all results in um.
+/// Inputs: targets in mm, deviations in um; all results in um (deg, urad, urad for a rotary axis).
 pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result, EvaluateError> {
     let invalid = |message: String| EvaluateError::Invalid { origin: data.origin.clone(), message };
     if data.readings.is_empty() {
@@ -216,6 +244,7 @@ pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result, EvaluateError> 
     if let Some(r) = data.readings.iter().find(|r| !r.target.is_finite() || !r.dev.is_finite()) {
         return Err(invalid(format!("line {}: target and dev must be finite numbers", r.line)));
     }
+    let pu = data.position_unit();
     let groups = group_targets(data).map_err(invalid)?;
     let mut positions = Vec::with_capacity(groups.len());
     for group in &groups {
@@ -228,7 +257,7 @@ pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result, EvaluateError> 
         for r in &in_file_order {
             if let Some(earlier) = seen.insert((r.direction, r.run), r.line) {
                 return Err(invalid(format!(
-                    "line {}: target {target} mm, dir {}, run {} is given twice (first on line {earlier})",
+                    "line {}: target {target} {pu}, dir {}, run {} is given twice (first on line {earlier})",
                     r.line,
                     r.direction.symbol(),
                     r.run
@@ -240,7 +269,7 @@ pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result, EvaluateError> 
         for (d, v) in [(Direction::Plus, &plus), (Direction::Minus, &minus)] {
             if v.len() < 2 {
                 return Err(invalid(format!(
-                    "line {}: target {target} mm has {} run(s) in the {} direction; ISO 230-2 needs at least 2 in each direction (5 in the standard test)",
+                    "line {}: target {target} {pu} has {} run(s) in the {} direction; ISO 230-2 needs at least 2 in each direction (5 in the standard test)",
                     first.line,
                     v.len(),
                     d.symbol()
@@ -266,7 +295,9 @@ pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result, EvaluateError> 
             r: (2.0 * s_plus + 2.0 * s_minus + reversal.abs()).max(r_plus).max(r_minus),
         });
     }
-    let result = axis_results(positions);
+    let mut result = axis_results(positions);
+    result.unit = data.unit();
+    result.position_unit = data.position_unit();
     let all = [
         result.a,
         result.a_plus,
@@ -286,8 +317,9 @@ pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result, EvaluateError> 
     });
     if !positions_finite || all.iter().any(|v| !v.is_finite()) {
         return Err(EvaluateError::NotFinite(format!(
-            "{}: the evaluation overflowed (deviations too large to evaluate in um)",
-            data.origin
+            "{}: the evaluation overflowed (deviations too large to evaluate in {})",
+            data.origin,
+            data.unit()
         )));
     }
     Ok(result)
@@ -362,6 +394,8 @@ fn axis_results(positions: Vec<PositionResult>) -> Iso2302Result {
         r_plus: max_of(p.iter().map(|q| q.r_plus)),
         r_minus: max_of(p.iter().map(|q| q.r_minus)),
         positions,
+        unit: "um",
+        position_unit: "mm",
     }
 }
 
@@ -403,7 +437,8 @@ impl Iso2302Result {
             "R": self.r,
             "R_plus": self.r_plus,
             "R_minus": self.r_minus,
-            "unit": "um",
+            "unit": self.unit,
+            "position_unit": self.position_unit,
             "targets": self.positions.len(),
             "runs": self.runs,
             "positions": positions,
@@ -448,6 +483,8 @@ mod tests {
                 reading(0.0, 0.0, Direction::Minus, 1, 4),
                 reading(1e-7, 0.0, Direction::Minus, 2, 5),
             ],
+            rotary: false,
+            metadata: Default::default(),
         };
         let r = evaluate(&data).unwrap();
         assert_eq!(r.positions.len(), 1);
@@ -464,7 +501,9 @@ mod tests {
     #[test]
     fn chained_targets_are_refused() {
         let readings = (0..4).map(|k| reading(k as f64 * 0.9e-6, 0.0, Direction::Plus, k, k as u64 + 2)).collect();
-        let e = evaluate(&PositioningData { origin: "f.csv".into(), readings }).unwrap_err().to_string();
+        let e = evaluate(&PositioningData { origin: "f.csv".into(), readings, rotary: false, metadata: Default::default() })
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("f.csv: line") && e.contains("chain together"), "{e}");
     }
 

@@ -16,7 +16,12 @@ use super::ballbar_diagnostics::{diagnose, CircularRun, DiagnosticOptions, Diagn
 use super::EvaluateError;
 use crate::data::{CsvTable, DataError};
 use crate::identify::pige::kasa_fit;
-use crate::instruments::ballbar::{circle_test, CircleSpec, Plane, Rotation};
+use crate::instruments::ballbar::{
+    angle_column, ballbar_header, bar_deviations, check_arc, circle_test, sample_angles, CircleSpec, Plane, Rotation,
+};
+use crate::io::ballbar::BallbarHeader;
+use crate::io::plausibility::Place;
+use crate::io::units::Dimension;
 use crate::machine::Machine;
 use serde_json::{json, Value};
 
@@ -139,18 +144,32 @@ pub fn evaluate(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOpt
     Ok(Iso2304Result { plane: options.plane, radius_mm: options.radius, runs: values, hysteresis_um, diagnostics })
 }
 
-/// Reads a circular-test CSV for `machine`: a column `angle` (deg, in the plane: from the first
-/// axis toward the second) or the two axis columns of the plane (mm, e.g. `X,Y`); `dL` (um, the
-/// bar reading: actual minus nominal length); optional `dir` (`ccw` or `cw`) to hold both runs in one
-/// file; without it the file is one run whose sense follows the angles. `centre` holds every axis
-/// position of the programmed centre (mm, deg). Errors name the file, line and column.
+/// The runs of a circular-test file, with what the file says about the test.
+#[derive(Clone, Debug)]
+pub struct CircularFile {
+    pub runs: Vec<CircularRun>,
+    pub metadata: crate::io::Metadata,
+    /// The test parameters of a ballbar export's header.
+    pub header: BallbarHeader,
+    /// Findings of the plausibility checks that only warn, each naming the file and column.
+    pub warnings: Vec<String>,
+}
+
+/// Reads a circular-test file for `machine`, forgivingly (`data::CsvTable`; a ballbar export with a
+/// `Key: value` header, `io::ballbar`): a column `angle` (deg, in the plane: from the first axis
+/// toward the second), the two axis columns of the plane (mm, e.g. `X,Y`), or sample numbers with
+/// the radius, feed rate and sample rate in the header; `dL` (um, the bar reading: actual minus
+/// nominal length; or bar lengths); optional `dir` (`ccw` or `cw`) to hold both runs in one file;
+/// without it the file is one run whose sense follows the angles (or the header's direction).
+/// `centre` holds every axis position of the programmed centre (mm, deg). Errors name the file, line
+/// and column; a header radius or plane that disagrees with `radius` / `plane` is refused.
 pub fn read_circular(
     path: impl AsRef<std::path::Path>,
     machine: &Machine,
     plane: Plane,
     radius: f64,
     centre: &[f64],
-) -> Result<Vec<CircularRun>, EvaluateError> {
+) -> Result<CircularFile, EvaluateError> {
     let path = path.as_ref();
     let origin = path.display().to_string();
     let table = CsvTable::read(path)?;
@@ -165,9 +184,22 @@ pub fn read_circular_table(
     plane: Plane,
     radius: f64,
     centre: &[f64],
-) -> Result<Vec<CircularRun>, EvaluateError> {
+) -> Result<CircularFile, EvaluateError> {
     if !(radius.is_finite() && radius > 0.0) {
         return Err(invalid(origin, format!("the radius must be a positive number of mm, got {radius}")));
+    }
+    let header = ballbar_header(table)?;
+    if let Some(r) = header.radius_mm.filter(|r| (r - radius).abs() > 1e-9 * radius.max(1.0)) {
+        return Err(invalid(
+            origin,
+            format!("the file's header gives the radius {r} mm, but the test's radius is {radius} mm; give the bar's length"),
+        ));
+    }
+    if let Some(p) = header.plane.filter(|p| *p != plane.name()) {
+        return Err(invalid(
+            origin,
+            format!("the file's header gives the plane {}, but the test's plane is {}", p.to_uppercase(), plane.name().to_uppercase()),
+        ));
     }
     let (a, b, _) = plane.letters();
     let (ia, ib) = match (machine.axis_index(a), machine.axis_index(b)) {
@@ -179,20 +211,8 @@ pub fn read_circular_table(
             ))
         }
     };
-    let angles: Vec<f64> = if table.has_column("angle") {
-        table.numbers("angle")?.iter().map(|d| d.to_radians()).collect()
-    } else if table.has_column(&a.to_string()) && table.has_column(&b.to_string()) {
-        let xa = table.numbers(&a.to_string())?;
-        let xb = table.numbers(&b.to_string())?;
-        xa.iter().zip(&xb).map(|(p, q)| (q - centre[ib]).atan2(p - centre[ia])).collect()
-    } else {
-        return Err(DataError::Invalid {
-            origin: origin.to_string(),
-            message: format!("needs a column `angle` (deg) or the columns `{a}` and `{b}` (mm)"),
-        }
-        .into());
-    };
-    let dl: Vec<f64> = table.numbers("dL")?.iter().map(|v| v * 1e-3).collect();
+    let mut warnings: Vec<String> = table.warnings().to_vec();
+    let dl: Vec<f64> = bar_deviations(table, Some(radius), &mut warnings)?.iter().map(|v| v * 1e-3).collect();
     let dirs: Option<Vec<Rotation>> = if table.has_column("dir") {
         let texts = table.texts("dir")?;
         Some(
@@ -205,6 +225,46 @@ pub fn read_circular_table(
     } else {
         None
     };
+    // the plane's axis columns, when they move (a rotary test holds them still), must lie on the
+    // circle of the test
+    let axis_columns = table.has_column(&a.to_string()) && table.has_column(&b.to_string());
+    let positions = if axis_columns {
+        let xa = table.numbers_as(&a.to_string(), Dimension::Length)?;
+        let xb = table.numbers_as(&b.to_string(), Dimension::Length)?;
+        let span = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max) - v.iter().copied().fold(f64::INFINITY, f64::min);
+        let moving = span(&xa) > 1e-9 || span(&xb) > 1e-9;
+        let mean_radius = xa.iter().zip(&xb).map(|(p, q)| (q - centre[ib]).hypot(p - centre[ia])).sum::<f64>() / xa.len() as f64;
+        let columns = format!("{a}, {b}");
+        if let Some(f) =
+            crate::io::plausibility::circle_radius(mean_radius, radius, Place { file: origin, column: &columns }).filter(|_| moving)
+        {
+            return Err(invalid(origin, f.message.strip_prefix(&format!("{origin}: ")).unwrap_or(&f.message).to_string()));
+        }
+        Some((xa, xb))
+    } else {
+        None
+    };
+    let angles_deg: Vec<f64> = if table.has_column("angle") {
+        angle_column(table, "angle")?
+    } else if let Some((xa, xb)) = &positions {
+        xa.iter().zip(xb).map(|(p, q)| (q - centre[ib]).atan2(p - centre[ia]).to_degrees()).collect()
+    } else if header.feed_mm_per_min.is_some() || header.sample_rate_hz.is_some() {
+        let ccw: Vec<bool> = match &dirs {
+            Some(d) => d.iter().map(|r| *r == Rotation::Ccw).collect(),
+            None => vec![header.sense != Some(crate::io::ballbar::Sense::Cw); dl.len()],
+        };
+        let runs: Vec<i64> = ccw.iter().map(|c| i64::from(*c)).collect();
+        sample_angles(table, &BallbarHeader { radius_mm: Some(radius), ..header.clone() }, &runs, &ccw)?
+    } else {
+        return Err(DataError::Invalid {
+            origin: origin.to_string(),
+            message: format!(
+                "needs a column `angle` (deg) or the columns `{a}` and `{b}` (mm), or sample numbers with `Feed rate` and `Sample rate` in the header"
+            ),
+        }
+        .into());
+    };
+    let angles: Vec<f64> = angles_deg.iter().map(|d| d.to_radians()).collect();
     let mut runs = Vec::new();
     for rotation in [Rotation::Ccw, Rotation::Cw] {
         let rows: Vec<usize> = match &dirs {
@@ -233,7 +293,12 @@ pub fn read_circular_table(
         let test = circle_test(machine, &spec).map_err(|e| invalid(origin, e.to_string()))?;
         runs.push(CircularRun { rotation, test, dl: rows.iter().map(|&i| dl[i]).collect() });
     }
-    Ok(runs)
+    let run_of: Vec<i64> = match &dirs {
+        Some(d) => d.iter().map(|r| i64::from(*r == Rotation::Ccw)).collect(),
+        None => vec![1; dl.len()],
+    };
+    check_arc(table, &header, &angles_deg, &run_of, &mut warnings)?;
+    Ok(CircularFile { runs, metadata: table.metadata().clone(), header, warnings })
 }
 
 fn round(v: f64, digits: i32) -> f64 {

@@ -8,6 +8,8 @@ use super::IdentifyError;
 use crate::data::CsvTable;
 use crate::errors::{Direction, ErrorModel, MachineState};
 use crate::instruments::{motion_error_axis, DirectInstrument, TableCorrection, TableCorrectionError};
+use crate::io::header::RunDirection;
+use crate::io::units::Dimension;
 use crate::machine::{Machine, ParameterId};
 use serde_json::json;
 
@@ -125,10 +127,15 @@ pub struct DirectFitReport {
 
 /// Runs the workflow on a table.
 pub fn run_direct_fit(table: &CsvTable, request: &DirectFitRequest) -> Result<DirectFitReport, IdentifyError> {
-    let mut positions = table.numbers(&request.position_column)?;
-    let mut values = table.numbers(&request.value_column)?;
+    // units in the headers are honoured and checked: positions mm or deg by the parameter's axis,
+    // values um or urad by its component
+    let p = request.parameter;
+    let rotary = p.axis().is_some_and(crate::machine::is_rotary_letter);
+    let position_dimension = if rotary { Dimension::Angle } else { Dimension::Length };
+    let value_dimension = if p.component().is_rotation() { Dimension::Angle } else { Dimension::Length };
+    let mut positions = table.numbers_as(&request.position_column, position_dimension)?;
+    let mut values = table.numbers_as(&request.value_column, value_dimension)?;
     if !request.corrections.is_empty() {
-        let p = request.parameter;
         if !matches!(p, ParameterId::Motion { axis, component } if component.letter() == axis) {
             return Err(IdentifyError::Input(format!(
                 "a correction to 20 degC applies to positioning readings along the axis (EXX, EYY, EZZ), not to {p}"
@@ -140,19 +147,10 @@ pub fn run_direct_fit(table: &CsvTable, request: &DirectFitRequest) -> Result<Di
         })?;
     }
     // drift removal works on whole back-and-forth cycles, before one direction is selected
-    let dirs = if table.has_column("dir") { Some(table.texts("dir")?) } else { None };
-    let sign: Option<Vec<f64>> = match &dirs {
-        Some(d) => Some(
-            d.iter()
-                .enumerate()
-                .map(|(i, t)| match t.as_str() {
-                    "+" => Ok(1.0),
-                    "-" => Ok(-1.0),
-                    _ => Err(table.row_error(i, &format!("column dir: `{t}` is neither + nor -"))),
-                })
-                .collect::<Result<_, _>>()?,
-        ),
-        None => None,
+    let sign: Option<Vec<f64>> = if table.has_column("dir") {
+        Some(table.directions("dir")?.iter().map(|d| if *d == RunDirection::Plus { 1.0 } else { -1.0 }).collect())
+    } else {
+        None
     };
     let mut drift = Vec::new();
     if request.remove_drift {
@@ -169,6 +167,16 @@ pub fn run_direct_fit(table: &CsvTable, request: &DirectFitRequest) -> Result<Di
         keep.retain(|&i| sign[i] == want);
         if keep.is_empty() {
             return Err(IdentifyError::Input(format!("no rows with dir = {d}")));
+        }
+    }
+    if let Some(model) = &request.model {
+        // every position within the axis range, the error naming the file, line and column
+        let axis = motion_error_axis(&model.machine, &request.parameter).map_err(|e| IdentifyError::Input(e.to_string()))?;
+        let mut pose = model.fixed_pose.clone();
+        let column = table.column_text(&request.position_column).unwrap_or(&request.position_column).to_string();
+        for &i in &keep {
+            pose[axis] = positions[i];
+            model.machine.check_range(&pose).map_err(|m| table.row_error(i, &format!("column {column}: {m}")))?;
         }
     }
     positions = keep.iter().map(|&i| positions[i]).collect();

@@ -12,8 +12,12 @@
 //!   ch. 5 ([`jiang_step`]), the two-pivot method of ch. 4 and the four-setup method of ch. 6
 //!   (Lee & Yang 2013) are instances with different axial positions of the balls.
 
+use crate::data::{CsvTable, DataError};
 use crate::errors::{Direction, ErrorModel, MachineState};
 use crate::geometry::Vec3;
+use crate::io::ballbar::BallbarHeader;
+use crate::io::plausibility::{self, Finding, Place, Severity};
+use crate::io::units::Dimension;
 use crate::machine::{AxisKind, Machine};
 use crate::model::{jacobian, nominal_chain, volumetric_error, Frame, JacobianWorkspace, Setup, JACOBIAN_ROWS};
 use thiserror::Error;
@@ -47,7 +51,11 @@ impl Rotation {
         match text.to_ascii_lowercase().as_str() {
             "ccw" | "+" => Some(Rotation::Ccw),
             "cw" | "-" => Some(Rotation::Cw),
-            _ => None,
+            other => match crate::io::ballbar::sense_of(other) {
+                Some(crate::io::ballbar::Sense::Ccw) => Some(Rotation::Ccw),
+                Some(crate::io::ballbar::Sense::Cw) => Some(Rotation::Cw),
+                _ => None,
+            },
         }
     }
 
@@ -590,13 +598,18 @@ pub fn method_step(
     Ok(test)
 }
 
-/// Bar readings read from a CSV: the swept angle (deg), `dL` (um) and the run number of each row.
+/// Bar readings read from a file: the swept angle (deg), `dL` (um) and the run number of each row,
+/// with the file's metadata, the ballbar test's header and warnings of the plausibility checks.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TraceFile {
     pub angles_deg: Vec<f64>,
     pub dl_um: Vec<f64>,
     /// `run` column, or 1 for every row.
     pub runs: Vec<i64>,
+    pub metadata: crate::io::Metadata,
+    pub header: BallbarHeader,
+    /// Suspicious but usable content, each naming the file and column.
+    pub warnings: Vec<String>,
 }
 
 impl TraceFile {
@@ -618,24 +631,153 @@ impl TraceFile {
     }
 }
 
-/// Reads a bar trace: the first of `angle_columns` present (e.g. `C`, then `angle`; deg), `dL` (um),
-/// optional integer `run`. Errors name the file, line and column.
-pub fn read_trace(path: impl AsRef<std::path::Path>, angle_columns: &[&str]) -> Result<TraceFile, crate::data::DataError> {
-    let path = path.as_ref();
-    let table = crate::data::CsvTable::read(path)?;
-    let origin = path.display().to_string();
-    let Some(column) = angle_columns.iter().find(|c| table.has_column(c)) else {
-        return Err(crate::data::DataError::Invalid {
-            origin,
-            message: format!(
-                "needs an angle column ({}, deg) and `dL` (um)",
-                angle_columns.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(" or ")
-            ),
-        });
+/// The finding of a plausibility check as an error of `table` (refusal) or a warning line.
+fn sort_finding(table: &CsvTable, f: Option<Finding>, warnings: &mut Vec<String>) -> Result<(), DataError> {
+    match f {
+        Some(Finding { severity: Severity::Refuse, message }) => Err(DataError::Invalid {
+            origin: table.origin().to_string(),
+            message: message.strip_prefix(&format!("{}: ", table.origin())).unwrap_or(&message).to_string(),
+        }),
+        Some(Finding { severity: Severity::Warn, message }) => {
+            warnings.push(message);
+            Ok(())
+        }
+        None => Ok(()),
+    }
+}
+
+/// The test parameters in the header of a ballbar file (`io::ballbar`); an unreadable value is an
+/// error naming the file.
+pub fn ballbar_header(table: &CsvTable) -> Result<BallbarHeader, DataError> {
+    BallbarHeader::from_metadata(table.metadata()).map_err(|m| DataError::Invalid { origin: table.origin().to_string(), message: m })
+}
+
+/// The bar deviations (um, actual minus nominal length) of a ballbar table: the `dL` column (or a
+/// synonym: `deviation`, `dr` ...; unit from the header, um by default), or a length column
+/// (`radius`, `length`, mm by default) from which `radius_mm` is subtracted. Checked against the
+/// radius (`io::plausibility::ballbar_readings`) and for their size; warnings are pushed.
+pub fn bar_deviations(table: &CsvTable, radius_mm: Option<f64>, warnings: &mut Vec<String>) -> Result<Vec<f64>, DataError> {
+    let length_column = ["radius", "length", "barlength", "actualradius", "measuredradius"].into_iter().find(|c| table.has_column(c));
+    let dl = match (table.has_column("dL"), length_column) {
+        (false, Some(c)) => {
+            let r = radius_mm.ok_or_else(|| DataError::Invalid {
+                origin: table.origin().to_string(),
+                message: format!(
+                    "the readings are bar lengths (column {}); give the nominal radius (--radius, or `Radius:` in the header)",
+                    table.column_text(c).unwrap_or(c)
+                ),
+            })?;
+            let lengths = table.numbers_in(c, crate::io::Unit::MM)?;
+            let text = table.column_text(c).unwrap_or(c).to_string();
+            sort_finding(table, plausibility::bar_lengths(&lengths, r, Place { file: table.origin(), column: &text }), warnings)?;
+            lengths.iter().map(|l| (l - r) * 1e3).collect()
+        }
+        _ => table.numbers_as("dL", Dimension::Length)?,
     };
-    let angles_deg = table.numbers(column)?;
-    let dl_um = table.numbers("dL")?;
-    let runs = if table.has_column("run") {
+    let column = table.column_text("dL").or_else(|| length_column.and_then(|c| table.column_text(c))).unwrap_or("dL").to_string();
+    if let Some(r) = radius_mm {
+        let place = Place { file: table.origin(), column: &column };
+        sort_finding(table, plausibility::ballbar_readings(&dl, r, place), warnings)?;
+    }
+    let finding = if table.has_column("dL") {
+        crate::data::checks::deviation_finding(table, "dL", &dl)
+    } else {
+        let place = Place { file: table.origin(), column: &column };
+        plausibility::deviation_scale(&dl, None, place, "label the header `radius [mm]`", "label the header with the unit of the values")
+    };
+    sort_finding(table, finding, warnings)?;
+    Ok(dl)
+}
+
+/// An angle column (deg; the header's unit honoured), refused when the values look like radians.
+pub fn angle_column(table: &CsvTable, name: &str) -> Result<Vec<f64>, DataError> {
+    let angles = table.numbers_as(name, Dimension::Angle)?;
+    if table.unit_of(name).is_none() {
+        let text = table.column_text(name).unwrap_or(name).to_string();
+        let fix = format!(
+            "label the header `{} [rad]` (or convert the values to degrees)",
+            table.headers().iter().find(|h| h.text == text).map_or(name, |h| h.name.as_str())
+        );
+        sort_finding(
+            table,
+            plausibility::angles_in_radians(&angles, Place { file: table.origin(), column: &text }, &fix),
+            &mut Vec::new(),
+        )?;
+    }
+    Ok(angles)
+}
+
+/// Checks that the angles of each run (rows in file order) cover the arc the header claims.
+pub fn check_arc(
+    table: &CsvTable,
+    header: &BallbarHeader,
+    angles_deg: &[f64],
+    runs: &[i64],
+    warnings: &mut Vec<String>,
+) -> Result<(), DataError> {
+    let Some(arc) = header.arc_deg else { return Ok(()) };
+    let mut seen: Vec<i64> = Vec::new();
+    for &r in runs {
+        if seen.contains(&r) {
+            continue;
+        }
+        seen.push(r);
+        let a: Vec<f64> = (0..runs.len()).filter(|&i| runs[i] == r).map(|i| angles_deg[i]).collect();
+        sort_finding(table, plausibility::arc_coverage(&a, arc, Place { file: table.origin(), column: "angles" }), warnings)?;
+    }
+    Ok(())
+}
+
+/// Angles (deg) of rows sampled at a fixed rate (no angle column): the `sample` column (or the
+/// row's place within its run) times the step that the header's radius, feed rate and sample rate
+/// give, counter-clockwise or clockwise per row.
+pub fn sample_angles(table: &CsvTable, header: &BallbarHeader, runs: &[i64], ccw: &[bool]) -> Result<Vec<f64>, DataError> {
+    let index: Vec<f64> = match ["sample", "index", "point", "samplenumber", "n"].into_iter().find(|c| table.has_column(c)) {
+        Some(c) => table.numbers(c)?,
+        None => {
+            let mut count: Vec<(i64, f64)> = Vec::new();
+            runs.iter()
+                .map(|r| match count.iter_mut().find(|c| c.0 == *r) {
+                    Some(c) => {
+                        c.1 += 1.0;
+                        c.1
+                    }
+                    None => {
+                        count.push((*r, 0.0));
+                        0.0
+                    }
+                })
+                .collect()
+        }
+    };
+    let bad = |m: String| DataError::Invalid { origin: table.origin().to_string(), message: m };
+    let unit_ccw = header.sample_angles(2, true).map_err(bad)?;
+    let unit_cw = header.sample_angles(2, false).map_err(bad)?;
+    let start = header.start_deg.unwrap_or(0.0);
+    Ok(index
+        .iter()
+        .zip(ccw)
+        .map(|(k, &c)| {
+            let step = if c { unit_ccw[1] - unit_ccw[0] } else { unit_cw[1] - unit_cw[0] };
+            start + step * k
+        })
+        .collect())
+}
+
+/// Reads a bar trace forgivingly (`data::CsvTable`): the first of `angle_columns` present (e.g.
+/// `C`, then `angle`; deg), or sample numbers with the radius, feed rate and sample rate in the
+/// header; `dL` (um) or bar lengths; optional integer `run`. Errors name the file, line and column;
+/// the plausibility checks (radians, size of the readings, radius, arc) refuse or warn.
+pub fn read_trace(path: impl AsRef<std::path::Path>, angle_columns: &[&str]) -> Result<TraceFile, DataError> {
+    trace_of(&CsvTable::read(path)?, angle_columns)
+}
+
+/// As [`read_trace`] from a table already read.
+pub fn trace_of(table: &CsvTable, angle_columns: &[&str]) -> Result<TraceFile, DataError> {
+    let header = ballbar_header(table)?;
+    let mut warnings: Vec<String> = table.warnings().to_vec();
+    let dl_um = bar_deviations(table, header.radius_mm, &mut warnings)?;
+    let runs: Vec<i64> = if table.has_column("run") {
         table
             .numbers("run")?
             .iter()
@@ -651,7 +793,39 @@ pub fn read_trace(path: impl AsRef<std::path::Path>, angle_columns: &[&str]) -> 
     } else {
         vec![1; dl_um.len()]
     };
-    Ok(TraceFile { angles_deg, dl_um, runs })
+    let angles_deg = match angle_columns.iter().find(|c| table.has_column(c)) {
+        Some(c) => angle_column(table, c)?,
+        None if header.feed_mm_per_min.is_some() || header.sample_rate_hz.is_some() => {
+            // the sense of each row: a `dir` column, else the header's direction
+            let ccw: Vec<bool> = if table.has_column("dir") {
+                let texts = table.texts("dir")?;
+                texts
+                    .iter()
+                    .enumerate()
+                    .map(|(i, t)| {
+                        Rotation::parse(t)
+                            .map(|r| r == Rotation::Ccw)
+                            .ok_or_else(|| table.row_error(i, &format!("column dir: `{t}` is not `ccw` or `cw`")))
+                    })
+                    .collect::<Result<_, _>>()?
+            } else {
+                vec![header.sense != Some(crate::io::ballbar::Sense::Cw); runs.len()]
+            };
+            let sense_runs: Vec<i64> = runs.iter().zip(&ccw).map(|(r, c)| 2 * r + i64::from(*c)).collect();
+            sample_angles(table, &header, &sense_runs, &ccw)?
+        }
+        None => {
+            return Err(DataError::Invalid {
+                origin: table.origin().to_string(),
+                message: format!(
+                    "needs an angle column ({}, deg) and `dL` (um), or sample numbers with `Radius`, `Feed rate` and `Sample rate` in the header",
+                    angle_columns.iter().map(|c| format!("`{c}`")).collect::<Vec<_>>().join(" or ")
+                ),
+            })
+        }
+    };
+    check_arc(table, &header, &angles_deg, &runs, &mut warnings)?;
+    Ok(TraceFile { angles_deg, dl_um, runs, metadata: table.metadata().clone(), header, warnings })
 }
 
 #[cfg(test)]

@@ -11,7 +11,7 @@ pub use axis::{Axis, AxisKind, Side};
 pub use error::MachineError;
 pub(crate) use file::one_line;
 pub use file::DIRECTION_NORM_TOLERANCE;
-pub use parameter::{is_axis_letter, Component, ParameterId, SetupSide};
+pub use parameter::{is_axis_letter, is_rotary_letter, Component, ParameterId, SetupSide};
 pub use structure::Structure;
 
 use crate::geometry::Vec3;

@@ -24,35 +24,20 @@ impl Campaign {
         Self::parse(&text, &path.display().to_string())
     }
 
-    /// Parses campaign CSV text; `origin` names it in messages.
+    /// Parses campaign CSV text (forgivingly: `crate::data::CsvTable`, units in headers converted
+    /// to degC, s, um, mm, deg); `origin` names it in messages.
     pub fn parse(text: &str, origin: &str) -> Result<Campaign, ThermalError> {
-        let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(text.as_bytes());
-        let headers: Vec<String> =
-            reader.headers().map_err(|e| input(format!("{origin}: cannot read the header line: {e}")))?.iter().map(String::from).collect();
-        let mut runs = Vec::new();
-        let names: Vec<String> = headers.iter().filter(|h| *h != "run").cloned().collect();
-        let mut columns: BTreeMap<String, Vec<f64>> = names.iter().map(|n| (n.clone(), Vec::new())).collect();
-        for record in reader.records() {
-            let record = record.map_err(|e| input(format!("{origin}: {}", e.to_string().replace('\n', " "))))?;
-            let line = record.position().map_or(0, |p| p.line());
-            for (h, field) in headers.iter().zip(record.iter()) {
-                if h == "run" {
-                    runs.push(field.to_string());
-                } else {
-                    let v = field
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| input(format!("{origin}: line {line}: column {h}: `{field}` is not a finite number")))?;
-                    columns.get_mut(h).expect("named").push(v);
-                }
-            }
-            if !headers.iter().any(|h| h == "run") {
-                runs.push(String::new());
-            }
-        }
-        if runs.is_empty() {
-            return Err(input(format!("{origin}: no data rows")));
+        let table = crate::data::CsvTable::from_text(text, origin)
+            .map_err(|e| input(e.to_string().replace("no data: the file has a header but no rows", "no data rows")))?;
+        let is_run = |name: &str| name.eq_ignore_ascii_case("run");
+        let runs = match table.headers().iter().find(|h| is_run(&h.name)) {
+            Some(h) => table.texts(&h.name).map_err(|e| input(e.to_string()))?,
+            None => vec![String::new(); table.len()],
+        };
+        let names: Vec<String> = table.headers().iter().filter(|h| !is_run(&h.name)).map(|h| h.name.clone()).collect();
+        let mut columns = BTreeMap::new();
+        for name in &names {
+            columns.insert(name.clone(), table.numbers(name).map_err(|e| input(e.to_string()))?);
         }
         Ok(Campaign { origin: origin.into(), runs, names, columns })
     }

@@ -110,53 +110,35 @@ impl DesignMatrix {
         Self::from_csv_reader(file, &path.display().to_string())
     }
 
-    /// Reads CSV text; `origin` names it in messages.
+    /// Reads CSV text (forgivingly: `crate::data::CsvTable`); `origin` names it in messages.
     pub fn from_csv_reader(reader: impl std::io::Read, origin: &str) -> Result<DesignMatrix, UncertaintyError> {
         let fail = |m: String| UncertaintyError::Input(format!("{origin}: {m}"));
-        let mut csv = csv::ReaderBuilder::new().trim(csv::Trim::All).comment(Some(b'#')).from_reader(reader);
-        let headers: Vec<String> =
-            csv.headers().map_err(|e| fail(format!("cannot read the header line: {e}")))?.iter().map(String::from).collect();
-        let column = |name: &str| headers.iter().position(|h| h == name);
-        let (Some(i_channel), Some(i_t)) = (column("channel"), column("t")) else {
-            return Err(fail(format!("the header needs the columns `channel` and `t`; it has: {}", headers.join(","))));
-        };
-        let (i_y, i_w) = (column("y"), column("weight"));
-        let parameter_columns: Vec<usize> = (0..headers.len()).filter(|i| !RESERVED_COLUMNS.contains(&headers[*i].as_str())).collect();
+        let table = crate::data::CsvTable::from_reader(reader, origin).map_err(|e| UncertaintyError::Input(e.to_string()))?;
+        let data = |e: DataError| UncertaintyError::Input(e.to_string());
+        let headers = table.headers();
+        let reserved = |name: &str| RESERVED_COLUMNS.iter().any(|r| r.eq_ignore_ascii_case(name.trim()));
+        if !(table.has_column("channel") && table.has_column("t")) {
+            let list: Vec<&str> = headers.iter().map(|h| h.text.as_str()).collect();
+            return Err(fail(format!("the header needs the columns `channel` and `t`; it has: {}", list.join(","))));
+        }
+        let parameter_columns: Vec<&str> =
+            headers.iter().filter(|h| !reserved(&h.name) && !h.name.eq_ignore_ascii_case("time")).map(|h| h.name.as_str()).collect();
         if parameter_columns.is_empty() {
             return Err(fail("no parameter columns: add one column of sensitivities per parameter".into()));
         }
-        let (mut channels, mut time, mut weight, mut measured, mut values) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
-        for record in csv.records() {
-            let record = record.map_err(|e| fail(e.to_string().replace('\n', " ")))?;
-            let line = record.position().map_or(0, |p| p.line());
-            let number = |i: usize| -> Result<f64, UncertaintyError> {
-                let text = record.get(i).unwrap_or("");
-                text.parse::<f64>()
-                    .ok()
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| fail(format!("line {line}: column {}: `{text}` is not a finite number", headers[i])))
-            };
-            let name = record.get(i_channel).unwrap_or("").to_string();
-            if name.is_empty() {
-                return Err(fail(format!("line {line}: empty channel name")));
-            }
-            channels.push(name);
-            time.push(number(i_t)?);
-            if let Some(i) = i_w {
-                weight.push(number(i)?);
-            }
-            if let Some(i) = i_y {
-                measured.push(number(i)?);
-            }
-            for &i in &parameter_columns {
-                values.push(number(i)?);
-            }
+        let channels = table.texts("channel").map_err(data)?;
+        if let Some(r) = channels.iter().position(|c| c.is_empty()) {
+            return Err(fail(format!("line {}: empty channel name", table.lines()[r])));
         }
+        let time = table.numbers("t").map_err(data)?;
+        let weight = if table.has_column("weight") { table.numbers("weight").map_err(data)? } else { Vec::new() };
+        let measured = if table.has_column("y") { table.numbers("y").map_err(data)? } else { Vec::new() };
+        let i_w = table.has_column("weight").then_some(());
+        let i_y = table.has_column("y").then_some(());
+        let columns: Vec<Vec<f64>> = parameter_columns.iter().map(|c| table.numbers(c)).collect::<Result<_, _>>().map_err(data)?;
+        let values: Vec<f64> = (0..table.len()).flat_map(|r| columns.iter().map(move |c| c[r])).collect();
+        let names: Vec<String> = parameter_columns.iter().map(|s| s.to_string()).collect();
         let n = channels.len();
-        if n == 0 {
-            return Err(fail("no data: the file has a header but no rows".into()));
-        }
-        let names: Vec<String> = parameter_columns.iter().map(|&i| headers[i].clone()).collect();
         let x = DMatrix::from_row_slice(n, names.len(), &values);
         Self::new(names, &channels, time, i_w.map(|_| weight), i_y.map(|_| measured), x).map_err(|e| fail(e.to_string()))
     }

@@ -1,0 +1,331 @@
+//! The Etalon exchange format: error parameters of a volumetric calibration with an Etalon
+//! LaserTRACER and TRAC-CAL, as the ISG kernel and Beckhoff TwinCAT TF5280 (Volumetric
+//! Compensation) read them, "Vendor" variant (Beckhoff Information System, TF5280, "Etalon Exchange
+//! Format", "Units of measure", "List of parameters supported"):
+//!
+//! ```text
+//! // comment
+//! [C0B]                       position (location) error: one value
+//! VALUE = 0.000022355737
+//! [EXY]                       component (motion) error: a lookup table of (argument, value)
+//! Gridpoints = {
+//!    -280.0 -0.001358635132
+//!    ...
+//! }  // end of EXY
+//! ```
+//!
+//! Values are in mm (translations) and rad (rotations); arguments in mm (linear axes) and deg
+//! (rotary axes). Position errors are named `X0C`, `A0B`, `C0Y` (ISO 230-1 `EX0C`, `EA0B`, `EC0Y`
+//! without the leading `E`), component errors `EXX` ... `ECC` as in ISO 230-1. Assumed (no public
+//! statement found): the sign is that of ISO 230-1 (actual minus nominal), the one trueaxis uses,
+//! as for the ISG CSV format of the same controller. ISG's own kinematic parameters (`P0X`, `N0X`,
+//! `PXA`, `VXX`, ...) are nominal geometry, not errors, and are not converted.
+
+use super::plausibility;
+use super::text::{clip, numbered_lines, parse_number};
+use super::IoError;
+use crate::errors::{set_error_function, ErrorFunction, ErrorModel};
+use crate::machine::{Machine, ParameterId};
+
+/// The value of one parameter block.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EtalonValue {
+    /// `VALUE = v` (mm or rad).
+    Constant(f64),
+    /// `Gridpoints = { argument value ... }` (argument mm or deg, value mm or rad), in file order.
+    Table(Vec<(f64, f64)>),
+}
+
+/// One `[NAME]` block.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EtalonParameter {
+    /// The name as written (`C0B`, `EXY`).
+    pub name: String,
+    /// Line of the `[NAME]`.
+    pub line: u64,
+    pub value: EtalonValue,
+}
+
+/// An Etalon exchange file held in memory.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EtalonFile {
+    pub parameters: Vec<EtalonParameter>,
+    /// Keys the format does not define, as `line N: ...`.
+    pub warnings: Vec<String>,
+}
+
+/// True when `text` looks like an Etalon exchange file: a `[NAME]` block followed by `VALUE =` or
+/// `Gridpoints =`.
+pub fn looks_like(text: &str) -> bool {
+    let mut block = false;
+    for line in text.lines().take(2000) {
+        let t = strip_comment(line).trim();
+        if t.starts_with('[') && t.ends_with(']') {
+            block = true;
+        } else if block {
+            let key = t.split('=').next().unwrap_or("").trim().to_ascii_lowercase();
+            if t.contains('=') && (key == "value" || key == "gridpoints") {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+fn strip_comment(line: &str) -> &str {
+    line.find("//").map_or(line, |i| &line[..i])
+}
+
+/// Parses an Etalon exchange file; `origin` names it in messages, which name the line.
+pub fn parse(text: &str, origin: &str) -> Result<EtalonFile, IoError> {
+    let bad = |line: u64, message: String| IoError::Invalid { origin: origin.to_string(), message: format!("line {line}: {message}") };
+    let mut parameters: Vec<EtalonParameter> = Vec::new();
+    let mut warnings = Vec::new();
+    let mut current: Option<(String, u64, Option<EtalonValue>)> = None;
+    // an open `Gridpoints = {`: its numbers and the line it started on
+    let mut grid: Option<(Vec<f64>, u64)> = None;
+    let finish = |current: &mut Option<(String, u64, Option<EtalonValue>)>, parameters: &mut Vec<EtalonParameter>| -> Result<(), IoError> {
+        if let Some((name, line, value)) = current.take() {
+            let value = value.ok_or_else(|| bad(line, format!("[{name}] has neither `VALUE =` nor `Gridpoints = {{ ... }}`")))?;
+            if let Some(p) = parameters.iter().find(|p| p.name.eq_ignore_ascii_case(&name)) {
+                return Err(bad(line, format!("[{name}] is given twice (first on line {})", p.line)));
+            }
+            parameters.push(EtalonParameter { name, line, value });
+        }
+        Ok(())
+    };
+    for (number, raw) in numbered_lines(super::text::strip_bom(text)) {
+        let line = strip_comment(raw).trim();
+        if let Some((values, start)) = grid.as_mut() {
+            let (body, closed) = match line.find('}') {
+                Some(i) => (&line[..i], true),
+                None => (line, false),
+            };
+            for field in body.split_whitespace() {
+                let v = parse_number(field, true).ok_or_else(|| bad(number, format!("`{field}` in Gridpoints is not a number")))?;
+                if !v.is_finite() {
+                    return Err(bad(number, format!("`{field}` in Gridpoints is not a finite number")));
+                }
+                if values.len() >= 200_000 {
+                    return Err(bad(number, "more than 100000 grid points".into()));
+                }
+                values.push(v);
+            }
+            if closed {
+                let start = *start;
+                let (values, _) = grid.take().expect("open grid");
+                if values.len() % 2 != 0 {
+                    return Err(bad(start, format!("Gridpoints has {} numbers; expected pairs `argument value`", values.len())));
+                }
+                let pairs: Vec<(f64, f64)> = values.chunks(2).map(|c| (c[0], c[1])).collect();
+                if let Some((_, _, slot)) = current.as_mut() {
+                    *slot = Some(EtalonValue::Table(pairs));
+                }
+            }
+            continue;
+        }
+        if line.is_empty() {
+            continue;
+        }
+        if let Some(name) = line.strip_prefix('[').and_then(|l| l.strip_suffix(']')) {
+            finish(&mut current, &mut parameters)?;
+            let name = name.trim();
+            if name.is_empty() || name.len() > 16 {
+                return Err(bad(number, format!("`[{name}]` is not a parameter name")));
+            }
+            current = Some((name.to_string(), number, None));
+            continue;
+        }
+        let Some((key, value)) = line.split_once('=') else {
+            return Err(bad(number, format!("expected `[NAME]`, `VALUE = number` or `Gridpoints = {{`, found `{}`", clip(line))));
+        };
+        let key = key.trim().to_ascii_lowercase();
+        let Some((name, _, slot)) = current.as_mut() else {
+            warnings.push(format!("line {number}: `{}` outside a [NAME] block is ignored", clip(line)));
+            continue;
+        };
+        if slot.is_some() && (key == "value" || key == "gridpoints") {
+            return Err(bad(number, format!("[{name}] has a second value")));
+        }
+        match key.as_str() {
+            "value" => {
+                let v =
+                    parse_number(value, true).ok_or_else(|| bad(number, format!("[{name}] VALUE `{}` is not a number", value.trim())))?;
+                if !v.is_finite() {
+                    return Err(bad(number, format!("[{name}] VALUE `{}` is not a finite number", value.trim())));
+                }
+                *slot = Some(EtalonValue::Constant(v));
+            }
+            "gridpoints" => {
+                let rest = value.trim();
+                let Some(after) = rest.strip_prefix('{') else {
+                    return Err(bad(number, format!("[{name}] Gridpoints must start with `{{`")));
+                };
+                grid = Some((Vec::new(), number));
+                // numbers (and the closing brace) on the same line are handled as a grid line
+                let (values, _) = grid.as_mut().expect("just set");
+                let (body, closed) = match after.find('}') {
+                    Some(i) => (&after[..i], true),
+                    None => (after, false),
+                };
+                for field in body.split_whitespace() {
+                    let v = parse_number(field, true)
+                        .filter(|v| v.is_finite())
+                        .ok_or_else(|| bad(number, format!("`{field}` in Gridpoints is not a finite number")))?;
+                    values.push(v);
+                }
+                if closed {
+                    let (values, start) = grid.take().expect("open grid");
+                    if values.len() % 2 != 0 {
+                        return Err(bad(start, format!("Gridpoints has {} numbers; expected pairs `argument value`", values.len())));
+                    }
+                    *slot = Some(EtalonValue::Table(values.chunks(2).map(|c| (c[0], c[1])).collect()));
+                }
+            }
+            other => warnings.push(format!("line {number}: [{name}] key `{other}` is not part of the exchange format; ignored")),
+        }
+    }
+    if let Some((_, start)) = grid {
+        return Err(bad(start, "Gridpoints `{` is never closed by `}`".into()));
+    }
+    finish(&mut current, &mut parameters)?;
+    if parameters.is_empty() {
+        return Err(IoError::Invalid { origin: origin.into(), message: "no [NAME] parameter blocks".into() });
+    }
+    Ok(EtalonFile { parameters, warnings })
+}
+
+/// ISG's kinematic parameters (nominal geometry, not errors): `P0X`, `N0X`, `PXA`, `VXX`.
+fn is_isg_geometry(name: &str) -> bool {
+    let c: Vec<char> = name.chars().collect();
+    match c.as_slice() {
+        ['P' | 'N', '0', a] => "XYZ".contains(*a),
+        ['P', d, a] => "XYZ".contains(*d) && "ABC".contains(*a),
+        ['V', d, a] => "XYZ".contains(*d) && "XYZABC".contains(*a),
+        _ => false,
+    }
+}
+
+/// The ISO 230-1 id of an exchange-format name: `X0C` -> `EX0C`, `EXY` -> `EXY`; `None` for ISG's
+/// kinematic parameters.
+pub fn parameter_id(name: &str) -> Result<Option<ParameterId>, String> {
+    let upper = name.trim().to_ascii_uppercase();
+    if is_isg_geometry(&upper) {
+        return Ok(None);
+    }
+    let iso = if upper.len() == 3 && upper.as_bytes()[1] == b'0' { format!("E{upper}") } else { upper };
+    ParameterId::parse(&iso).map(Some)
+}
+
+/// The result of converting an exchange file into an error-values file.
+#[derive(Clone, Debug)]
+pub struct Conversion {
+    /// The error-values TOML (um, urad; positions mm, deg), checked against the machine.
+    pub toml: String,
+    /// The parameters written, by ISO name.
+    pub written: Vec<String>,
+    /// Blocks not converted and suspicious values, each naming the line.
+    pub warnings: Vec<String>,
+}
+
+impl EtalonFile {
+    /// Converts the parameters into an error-values file (DESIGN.md section 3) for `machine`:
+    /// position errors become `[constant]` entries, component errors `[table.NAME]` (positions in
+    /// mm or deg as in the file, values scaled from mm to um and rad to urad). A parameter of an
+    /// axis the machine does not have, a lookup table of a position error, and values far outside
+    /// what a machine tool can have (a sign of another unit) are refused with the line named.
+    pub fn to_error_values(&self, machine: &Machine, origin: &str) -> Result<Conversion, IoError> {
+        let bad = |line: u64, message: String| IoError::Invalid { origin: origin.to_string(), message: format!("line {line}: {message}") };
+        let mut text = format!(
+            "# Converted by trueaxis from the Etalon exchange file {origin} for machine `{}`.\n\
+             # Values: mm and rad in the file, um and urad here; positions in mm (linear) and deg (rotary).\n",
+            machine.name
+        );
+        let mut written = Vec::new();
+        let mut warnings: Vec<String> = self.warnings.clone();
+        for p in &self.parameters {
+            let id = match parameter_id(&p.name) {
+                Ok(Some(id)) => id,
+                Ok(None) => {
+                    warnings.push(format!(
+                        "line {}: [{}] is a kinematic parameter of the ISG model (nominal geometry), not converted",
+                        p.line, p.name
+                    ));
+                    continue;
+                }
+                Err(e) => return Err(bad(p.line, format!("[{}]: {e}", p.name))),
+            };
+            machine
+                .parameter_index(&id)
+                .map_err(|e| bad(p.line, format!("[{}]: {e}; give the machine the file was measured on", p.name)))?;
+            let component = id.component();
+            let factor = if component.is_rotation() { 1e6 } else { 1e3 };
+            // rounded to 1e-9 um or urad (the file's 1e-12 mm or rad) to drop binary noise of the scaling
+            let scale = |v: f64| (v * factor * 1e9).round() / 1e9;
+            let values: Vec<f64> = match &p.value {
+                EtalonValue::Constant(v) => vec![*v],
+                EtalonValue::Table(pairs) => pairs.iter().map(|x| x.1).collect(),
+            };
+            let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            if let Some(f) = plausibility::error_parameter_scale(largest, component.is_rotation(), &format!("[{}]", p.name)) {
+                match f.severity {
+                    super::Severity::Refuse => return Err(bad(p.line, f.message)),
+                    super::Severity::Warn => warnings.push(format!("line {}: {}", p.line, f.message)),
+                }
+            }
+            let function = match (&p.value, id) {
+                (EtalonValue::Constant(v), _) => ErrorFunction::Constant(scale(*v)),
+                (EtalonValue::Table(pairs), ParameterId::Motion { .. }) => {
+                    let mut sorted = pairs.clone();
+                    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    if let Some(w) = sorted.windows(2).find(|w| w[0].0 == w[1].0) {
+                        return Err(bad(p.line, format!("[{}]: the argument {} is given twice", p.name, w[0].0)));
+                    }
+                    let positions = sorted.iter().map(|x| x.0).collect();
+                    let values = sorted.iter().map(|x| scale(x.1)).collect();
+                    ErrorFunction::table(positions, values, None).map_err(|e| bad(p.line, format!("[{}]: {e}", p.name)))?
+                }
+                (EtalonValue::Table(_), _) => {
+                    return Err(bad(p.line, format!("[{}] ({id}) is a position error, a constant: give it as `VALUE =`", p.name)))
+                }
+            };
+            text = set_error_function(&text, &id, None, &function).map_err(|e| bad(p.line, e))?;
+            written.push(id.to_string());
+        }
+        if written.is_empty() {
+            return Err(IoError::Invalid { origin: origin.into(), message: "no error parameter to convert".into() });
+        }
+        ErrorModel::from_toml_str(&text, origin, machine)
+            .map_err(|e| IoError::Invalid { origin: origin.into(), message: e.to_string() })?;
+        Ok(Conversion { toml: text, written, warnings })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blocks_values_and_grids() {
+        let text = "// Etalon\n[C0B]\nVALUE = 0.000022355737\n[EXY]\nGridpoints = {\n -280.0 -0.001358635132\n -270.0 -0.000240680764\n}  // end\n\
+                    [EYY]\nGridpoints = { 0 0.001 10 0.002 }\n[P0X]\nVALUE = 100\n";
+        let f = parse(text, "e.exc").unwrap();
+        assert_eq!(f.parameters.len(), 4);
+        assert_eq!(f.parameters[0].value, EtalonValue::Constant(0.000022355737));
+        assert_eq!(f.parameters[1].value, EtalonValue::Table(vec![(-280.0, -0.001358635132), (-270.0, -0.000240680764)]));
+        assert_eq!(f.parameters[2].value, EtalonValue::Table(vec![(0.0, 0.001), (10.0, 0.002)]));
+        assert_eq!(parameter_id("C0B").unwrap().unwrap().to_string(), "EC0B");
+        assert_eq!(parameter_id("P0X").unwrap(), None);
+        assert!(looks_like(text));
+    }
+
+    #[test]
+    fn errors_name_the_line() {
+        let e = parse("[EXX]\nGridpoints = {\n 0 1\n 10\n}\n", "e.exc").unwrap_err().to_string();
+        assert!(e.contains("e.exc: line 2: Gridpoints has 3 numbers"), "{e}");
+        let e = parse("[EXX]\nVALUE = x\n", "e.exc").unwrap_err().to_string();
+        assert!(e.contains("line 2: [EXX] VALUE `x` is not a number"), "{e}");
+        let e = parse("[EXX]\nGridpoints = {\n 0 1\n", "e.exc").unwrap_err().to_string();
+        assert!(e.contains("line 2: Gridpoints `{` is never closed"), "{e}");
+    }
+}
