@@ -181,14 +181,18 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let spec = TableSpec { points: args.points, reference, temperatures: temperatures.clone() };
     let tables = axis_tables(&corrector, &spec).map_err(failure)?;
     let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
-    let wants_grid = matches!(args.format, Format::Lattice) || (matches!(args.format, Format::Csv | Format::Json | Format::LinuxcncHal) && has_xyz);
+    let wants_grid =
+        matches!(args.format, Format::Lattice) || (matches!(args.format, Format::Csv | Format::Json | Format::LinuxcncHal) && has_xyz);
     let grid = if wants_grid { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
     let input = ExportInput { machine: &machine, errors: &errors, tables: &tables, grid: grid.as_ref(), limits };
     let siemens = SiemensLimits {
         max_points: args.max_table_points.unwrap_or(SiemensLimits::default().max_points),
         max_cec_tables: args.max_cec_tables.unwrap_or(SiemensLimits::default().max_cec_tables),
     };
-    let fanuc = FanucLimits { max_points_per_axis: args.max_table_points.unwrap_or(FanucLimits::default().max_points_per_axis), ..FanucLimits::default() };
+    let fanuc = FanucLimits {
+        max_points_per_axis: args.max_table_points.unwrap_or(FanucLimits::default().max_points_per_axis),
+        ..FanucLimits::default()
+    };
     let exported: Option<Export> = match args.format {
         Format::Linuxcnc => Some(export::linuxcnc::export(&input, if args.comp_type == 0 { CompType::Positions } else { CompType::Trims })),
         Format::LinuxcncHal => Some(export::linuxcnc_hal::export(&input, &args.hal_component)),

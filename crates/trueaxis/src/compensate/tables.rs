@@ -185,7 +185,13 @@ pub fn axis_tables(corrector: &Corrector, spec: &TableSpec) -> Result<TableSet, 
 /// at the sensor temperatures `temperatures` (degC). The returned set's `reference` and
 /// `temperatures` are those given. Used by [`axis_tables`] and by exporters whose controller fixes
 /// its own sampling (the Fanuc pitch-error grid through the reference position).
-pub fn line_tables(corrector: &Corrector, reference: &[f64], temperatures: &[f64], driver: usize, positions: &[f64]) -> Result<TableSet, CompensateError> {
+pub fn line_tables(
+    corrector: &Corrector,
+    reference: &[f64],
+    temperatures: &[f64],
+    driver: usize,
+    positions: &[f64],
+) -> Result<TableSet, CompensateError> {
     let m = corrector.machine;
     let n = m.axis_count();
     let at_rest = corrections(corrector, reference, None, temperatures);

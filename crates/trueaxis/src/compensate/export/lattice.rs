@@ -63,6 +63,10 @@ pub fn export<'a>(input: &ExportInput<'a>, max_points: Option<usize>) -> Result<
             (largest >= 5e-4).then(|| format!("corrections of axis {}: up to {largest:.3} {}", m.axes()[k].letter, micro_unit(m, k)))
         })
         .collect();
-    let applied = GridSum { grid: g, grid_columns: g.axes.to_vec(), tables: TableSum { machine: m, tables: Vec::new(), interpolation: Interpolation::Linear } };
+    let applied = GridSum {
+        grid: g,
+        grid_columns: g.axes.to_vec(),
+        tables: TableSum { machine: m, tables: Vec::new(), interpolation: Interpolation::Linear },
+    };
     Ok(Export { files: vec![ExportedFile { name: "lattice3d.txt".into(), contents: text }], applied: Box::new(applied), left_out })
 }

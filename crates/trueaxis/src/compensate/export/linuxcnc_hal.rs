@@ -20,7 +20,10 @@
 //! machine file.
 
 use super::residual::{Branch, GridSum, Interpolation, TableSum};
-use super::{check_count, check_equal_spacing, check_rotary_closure, check_user_limits, closure_tolerance, direction_left_out, Export, ExportInput, ExportedFile};
+use super::{
+    check_count, check_equal_spacing, check_rotary_closure, check_user_limits, closure_tolerance, direction_left_out, Export, ExportInput,
+    ExportedFile,
+};
 use crate::compensate::tables::AxisTable;
 use crate::compensate::CompensateError;
 use crate::machine::{AxisKind, Machine};
@@ -35,7 +38,10 @@ pub const MAX_NODES: usize = 200_000;
 /// `<name>.comp`, `<name>.hal` and `<name>.ini` (the lines for the machine's INI file).
 pub fn export<'a>(input: &ExportInput<'a>, name: &str) -> Result<Export<'a>, CompensateError> {
     check_user_limits(input)?;
-    if name.is_empty() || !name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_') || name.starts_with(|c: char| c.is_ascii_digit()) {
+    if name.is_empty()
+        || !name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+        || name.starts_with(|c: char| c.is_ascii_digit())
+    {
         return Err(CompensateError::Input(format!(
             "--hal-component `{name}`: a HAL component name is lower-case letters, digits and `_`, not starting with a digit"
         )));
@@ -56,20 +62,24 @@ pub fn export<'a>(input: &ExportInput<'a>, name: &str) -> Result<Export<'a>, Com
             *f = 0.5 * (*f + *r);
             *r = *f;
         }
-        if grid.is_some() && t.is_own_axis() {
+        if grid.is_some() {
+            // the change from the reference pose as the table interpolates it, so that the grid
+            // alone holds at the reference
             let at_reference = t.mean_at(input.tables.reference[t.driver]);
             mean.forward.iter_mut().chain(mean.reverse.iter_mut()).for_each(|v| *v -= at_reference);
         }
         tables.push(mean);
     }
-    let nodes = grid.map_or(0, |g| g.counts.iter().product::<usize>() * g.axis_count) + tables.iter().map(|t| t.positions.len()).sum::<usize>();
+    let nodes =
+        grid.map_or(0, |g| g.counts.iter().product::<usize>() * g.axis_count) + tables.iter().map(|t| t.positions.len()).sum::<usize>();
     check_count(nodes, MAX_NODES, "the HAL component's tables and grid")?;
     let files = vec![
         ExportedFile { name: format!("{name}.comp"), contents: component(input, name, &tables) },
         ExportedFile { name: format!("{name}.hal"), contents: hal_file(m, name) },
         ExportedFile { name: format!("{name}.ini"), contents: ini_lines(m, name) },
     ];
-    let sum = TableSum { machine: m, tables: tables.into_iter().map(|t| (t, Branch::Mean)).collect(), interpolation: Interpolation::Linear };
+    let sum =
+        TableSum { machine: m, tables: tables.into_iter().map(|t| (t, Branch::Mean)).collect(), interpolation: Interpolation::Linear };
     let applied: Box<dyn super::residual::Applied> = match grid {
         Some(g) => Box::new(GridSum { grid: g, grid_columns: (0..m.axis_count()).collect(), tables: sum }),
         None => Box::new(sum),
@@ -102,9 +112,14 @@ fn component(input: &ExportInput, name: &str, tables: &[AxisTable]) -> String {
     for k in 0..n {
         let (l, u) = (pin(m, k), m.axes()[k].position_unit());
         let _ = writeln!(c, "pin in float pos_{l} \"position of {} ({u}): net from joint.{k}.pos-cmd\";", m.axes()[k].letter);
-        let _ = writeln!(c, "pin in float applied_{l} \"external offset applied to {} ({u}): net from axis.{l}.eoffset\";", m.axes()[k].letter);
+        let _ =
+            writeln!(c, "pin in float applied_{l} \"external offset applied to {} ({u}): net from axis.{l}.eoffset\";", m.axes()[k].letter);
         let _ = writeln!(c, "pin out float offset_{l} \"correction of {} ({u})\";", m.axes()[k].letter);
-        let _ = writeln!(c, "pin out s32 counts_{l} \"correction of {} in counts of {COUNT:e} {u}: net to axis.{l}.eoffset-counts\";", m.axes()[k].letter);
+        let _ = writeln!(
+            c,
+            "pin out s32 counts_{l} \"correction of {} in counts of {COUNT:e} {u}: net to axis.{l}.eoffset-counts\";",
+            m.axes()[k].letter
+        );
     }
     c.push_str("function _;\nlicense \"GPL\";\n;;\n#include <rtapi_math.h>\n\n");
     let _ = writeln!(c, "#define AXES {n}\n#define COUNT {COUNT:e}\n");
@@ -121,10 +136,26 @@ fn component(input: &ExportInput, name: &str, tables: &[AxisTable]) -> String {
     }
     let _ = writeln!(c, "\n#define TABLES {}", tables.len());
     let points = |f: &dyn Fn(&AxisTable) -> String| tables.iter().map(f).collect::<Vec<_>>().join(", ");
-    let _ = writeln!(c, "static const int table_driver[TABLES + 1] = {{{}}};", points(&|t| t.driver.to_string()) + if tables.is_empty() { "0" } else { "" });
-    let _ = writeln!(c, "static const int table_corrected[TABLES + 1] = {{{}}};", points(&|t| t.corrected.to_string()) + if tables.is_empty() { "0" } else { "" });
-    let _ = writeln!(c, "static const int table_points[TABLES + 1] = {{{}}};", points(&|t| t.positions.len().to_string()) + if tables.is_empty() { "0" } else { "" });
-    let _ = writeln!(c, "static const double table_first[TABLES + 1] = {{{}}};", points(&|t| format!("{:.12e}", t.positions[0])) + if tables.is_empty() { "0" } else { "" });
+    let _ = writeln!(
+        c,
+        "static const int table_driver[TABLES + 1] = {{{}}};",
+        points(&|t| t.driver.to_string()) + if tables.is_empty() { "0" } else { "" }
+    );
+    let _ = writeln!(
+        c,
+        "static const int table_corrected[TABLES + 1] = {{{}}};",
+        points(&|t| t.corrected.to_string()) + if tables.is_empty() { "0" } else { "" }
+    );
+    let _ = writeln!(
+        c,
+        "static const int table_points[TABLES + 1] = {{{}}};",
+        points(&|t| t.positions.len().to_string()) + if tables.is_empty() { "0" } else { "" }
+    );
+    let _ = writeln!(
+        c,
+        "static const double table_first[TABLES + 1] = {{{}}};",
+        points(&|t| format!("{:.12e}", t.positions[0])) + if tables.is_empty() { "0" } else { "" }
+    );
     let _ = writeln!(
         c,
         "static const double table_step[TABLES + 1] = {{{}}};",
@@ -140,7 +171,11 @@ fn component(input: &ExportInput, name: &str, tables: &[AxisTable]) -> String {
         }) + if tables.is_empty() { "0" } else { "" }
     );
     let values: Vec<f64> = tables.iter().flat_map(|t| t.forward.iter().copied()).collect();
-    let _ = writeln!(c, "static const double table_value[] = {{\n{}\n}};", if values.is_empty() { "    0".into() } else { c_array(values.into_iter()) });
+    let _ = writeln!(
+        c,
+        "static const double table_value[] = {{\n{}\n}};",
+        if values.is_empty() { "    0".into() } else { c_array(values.into_iter()) }
+    );
     c.push_str(LOOKUP);
     c.push_str("\nFUNCTION(_) {\n    double q[AXES], out[AXES];\n    int k;\n");
     for k in 0..n {
@@ -222,9 +257,14 @@ fn hal_file(m: &Machine, name: &str) -> String {
 
 /// The lines for the machine's INI file.
 fn ini_lines(m: &Machine, name: &str) -> String {
-    let mut t = format!("# trueaxis: add to the machine's INI file (LinuxCNC 2.9 external offsets, trivkins)\n[HAL]\nHALFILE = {name}.hal\n");
+    let mut t =
+        format!("# trueaxis: add to the machine's INI file (LinuxCNC 2.9 external offsets, trivkins)\n[HAL]\nHALFILE = {name}.hal\n");
     for a in m.axes() {
-        let _ = writeln!(t, "\n[AXIS_{}]\n# share of the axis' velocity and acceleration kept for external offsets\nOFFSET_AV_RATIO = 0.1", a.letter);
+        let _ = writeln!(
+            t,
+            "\n[AXIS_{}]\n# share of the axis' velocity and acceleration kept for external offsets\nOFFSET_AV_RATIO = 0.1",
+            a.letter
+        );
     }
     t
 }

@@ -41,6 +41,12 @@ pub struct Export<'a> {
     pub left_out: Vec<String>,
 }
 
+impl std::fmt::Debug for Export<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Export").field("files", &self.files).field("left_out", &self.left_out).finish_non_exhaustive()
+    }
+}
+
 /// The user's limits on corrections: the export is refused when a correction exceeds them.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Limits {

@@ -47,7 +47,14 @@ pub enum Interpolation {
 
 /// A table's value at `x` (mm or deg of its driver) on `branch`, with the driver moving in
 /// `direction`. A table over exactly one turn of a rotary axis wraps `x` into it.
-pub fn table_value(machine: &Machine, t: &AxisTable, x: f64, direction: Option<Direction>, branch: Branch, interpolation: Interpolation) -> f64 {
+pub fn table_value(
+    machine: &Machine,
+    t: &AxisTable,
+    x: f64,
+    direction: Option<Direction>,
+    branch: Branch,
+    interpolation: Interpolation,
+) -> f64 {
     let n = t.positions.len();
     let (first, last) = (t.positions[0], t.positions[n - 1]);
     let x = if machine.axes()[t.driver].kind == AxisKind::Rotary && ((last - first) - 360.0).abs() < 1e-9 {
@@ -214,7 +221,10 @@ pub fn residual_of_format(corrector: &Corrector, temperatures: &[f64], applied: 
         .flatten()
         .collect();
     if let Some(&(_, _, i, _)) = results.iter().find(|r| !(r.0.is_finite() && r.1.is_finite())) {
-        return Err(CompensateError::Computation(format!("the residual of the format is not finite at pose {:?}", &poses[i * n..(i + 1) * n])));
+        return Err(CompensateError::Computation(format!(
+            "the residual of the format is not finite at pose {:?}",
+            &poses[i * n..(i + 1) * n]
+        )));
     }
     let worst = results.iter().max_by(|a, b| a.0.total_cmp(&b.0)).expect("at least one pose");
     Ok(FormatResidual {

@@ -28,7 +28,9 @@
 //! Machine axis names are the default ones, `X1 Y1 Z1 A1 ...` (MD10000).
 
 use super::residual::{Branch, Interpolation, TableSum};
-use super::{check_count, check_equal_spacing, check_rotary_closure, check_user_limits, closure_tolerance, Export, ExportInput, ExportedFile};
+use super::{
+    check_count, check_equal_spacing, check_rotary_closure, check_user_limits, closure_tolerance, Export, ExportInput, ExportedFile,
+};
 use crate::compensate::tables::AxisTable;
 use crate::compensate::CompensateError;
 use crate::machine::{AxisKind, Machine};
