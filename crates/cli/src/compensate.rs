@@ -281,7 +281,8 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
             println!("not carried by this format: {l}");
         }
         if let Some(r) = &residual {
-            let at: Vec<String> = machine.axes().iter().zip(&r.worst_pose).map(|(a, v)| format!("{}={}", a.letter, (v * 1e3).round() / 1e3)).collect();
+            let at: Vec<String> =
+                machine.axes().iter().zip(&r.worst_pose).map(|(a, v)| format!("{}={}", a.letter, (v * 1e3).round() / 1e3)).collect();
             println!(
                 "error left with this format (exact chain, {} poses over the travel): worst {:.3} um at {} ({}; {:.3} um before), RMS {:.3} um; \
                  largest error before correction {:.3} um",
