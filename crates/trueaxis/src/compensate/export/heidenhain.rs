@@ -82,7 +82,7 @@ pub fn export<'a>(input: &ExportInput<'a>) -> Result<Export<'a>, CompensateError
             .iter()
             .enumerate()
             .map(|(i, x)| {
-                let mut row = vec![i.to_string(), format!("{x:+.4}")];
+                let mut row = vec![i.to_string(), format!("{x:+.6}")];
                 // the own-axis column (first) holds the forward values, BACKLASH the reverse ones
                 row.extend(tables.iter().map(|t| {
                     let v = if t.is_own_axis() { t.forward[i] } else { 0.5 * (t.forward[i] + t.reverse[i]) };
