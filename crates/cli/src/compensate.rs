@@ -2,8 +2,10 @@
 
 use crate::Failure;
 use std::path::{Path, PathBuf};
-use trueaxis::compensate::export::{self, linuxcnc::CompType, Coverage, ExportInput, ExportedFile, Limits};
-use trueaxis::compensate::{axis_tables, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, TableSpec};
+use trueaxis::compensate::export::{
+    self, fanuc::FanucLimits, linuxcnc::CompType, siemens::SiemensLimits, Coverage, Export, ExportInput, ExportedFile, Limits,
+};
+use trueaxis::compensate::{axis_tables, residual_of_format, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, TableSpec};
 use trueaxis::data::{read_poses, write_atomically, PoseTable};
 use trueaxis::errors::{ErrorModel, MachineState};
 use trueaxis::machine::Machine;
@@ -12,12 +14,19 @@ use trueaxis::machine::Machine;
 enum Format {
     /// LinuxCNC joint compensation files, COMP_FILE_TYPE 1 (trims); `--comp-type 0` for positions.
     Linuxcnc,
-    /// ISG / Beckhoff TF5280 volumetric CSV (error parameters with ISO 230-1 names).
+    /// LinuxCNC 2.9 HAL component (halcompile) driving external offsets: volumetric grid and tables.
+    LinuxcncHal,
+    /// ISG / Beckhoff TF5280 volumetric CSV (error parameters with ISO 230-1 names) and its list file.
     Isg,
     /// Heidenhain .COM tables and a .CMA assignment.
     Heidenhain,
-    /// Fanuc-style 3D lattice (needs axes X, Y, Z).
-    Fanuc3d,
+    /// Siemens 840D sl init programs: LEC ($AA_ENC_COMP) and sag/angularity compensation ($AN_CEC).
+    Siemens,
+    /// Fanuc pitch-error compensation as programmable parameter input (G10 L50).
+    Fanuc,
+    /// A plain 3D lattice over X, Y, Z (data, no controller format; `fanuc3d` is its deprecated name).
+    #[value(alias = "fanuc3d")]
+    Lattice,
     /// Plain CSV: tables.csv (and grid.csv when the machine has X, Y, Z).
     Csv,
     /// Plain JSON: compensation.json.
@@ -59,7 +68,7 @@ pub struct CompensateArgs {
     /// Points per own-axis / cross-axis table (equally spaced over the travel).
     #[arg(long, default_value_t = 41)]
     points: usize,
-    /// Volumetric grid nodes along X, Y, Z (fanuc3d, csv, json).
+    /// Volumetric grid nodes along X, Y, Z (linuxcnc-hal, lattice, csv, json).
     #[arg(long, value_parser = parse_counts, default_value = "9,9,9")]
     grid: [usize; 3],
     /// Reference pose of the tables, e.g. `X=0,Y=0,Z=-200,A=0,C=0` (default: home clamped into the travel).
@@ -68,9 +77,19 @@ pub struct CompensateArgs {
     /// LinuxCNC COMP_FILE_TYPE: 1 (trims, default) or 0 (positions).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u8).range(0..=1))]
     comp_type: u8,
-    /// Largest number of lattice points the controller accepts (fanuc3d).
+    /// Largest number of lattice points the controller accepts (lattice).
     #[arg(long)]
     max_lattice_points: Option<usize>,
+    /// Most points per table the controller is configured for (siemens: MD38000 / MD18342, default
+    /// 200; fanuc: points per axis, default 128).
+    #[arg(long)]
+    max_table_points: Option<usize>,
+    /// Most sag-compensation (CEC) tables (siemens; default 8, the 828D's).
+    #[arg(long)]
+    max_cec_tables: Option<usize>,
+    /// Name of the HAL component (linuxcnc-hal).
+    #[arg(long, default_value = "trueaxis_comp")]
+    hal_component: String,
     /// Temperature of a sensor of the error model, `T:name=degC` (repeatable; default 20 degC).
     #[arg(long = "temperature")]
     temperatures: Vec<String>,
@@ -162,19 +181,43 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let spec = TableSpec { points: args.points, reference, temperatures: temperatures.clone() };
     let tables = axis_tables(&corrector, &spec).map_err(failure)?;
     let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
-    let wants_grid = matches!(args.format, Format::Fanuc3d) || (matches!(args.format, Format::Csv | Format::Json) && has_xyz);
+    let wants_grid =
+        matches!(args.format, Format::Lattice) || (matches!(args.format, Format::Csv | Format::Json | Format::LinuxcncHal) && has_xyz);
     let grid = if wants_grid { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
     let input = ExportInput { machine: &machine, errors: &errors, tables: &tables, grid: grid.as_ref(), limits };
-    let mut files: Vec<ExportedFile> = match args.format {
-        Format::Linuxcnc => export::linuxcnc::export(&input, if args.comp_type == 0 { CompType::Positions } else { CompType::Trims }),
-        Format::Isg => export::isg::export(&input),
-        Format::Heidenhain => export::heidenhain::export(&input),
-        Format::Fanuc3d => export::fanuc3d::export(&input, args.max_lattice_points),
-        Format::Csv => export::plain::export_csv(&input),
-        Format::Json => export::plain::to_json(&input)
-            .map(|doc| vec![ExportedFile { name: "compensation.json".into(), contents: format!("{doc:#}\n") }]),
+    let siemens = SiemensLimits {
+        max_points: args.max_table_points.unwrap_or(SiemensLimits::default().max_points),
+        max_cec_tables: args.max_cec_tables.unwrap_or(SiemensLimits::default().max_cec_tables),
+    };
+    let fanuc = FanucLimits {
+        max_points_per_axis: args.max_table_points.unwrap_or(FanucLimits::default().max_points_per_axis),
+        ..FanucLimits::default()
+    };
+    let exported: Option<Export> = match args.format {
+        Format::Linuxcnc => Some(export::linuxcnc::export(&input, if args.comp_type == 0 { CompType::Positions } else { CompType::Trims })),
+        Format::LinuxcncHal => Some(export::linuxcnc_hal::export(&input, &args.hal_component)),
+        Format::Isg => Some(export::isg::export(&input)),
+        Format::Heidenhain => Some(export::heidenhain::export(&input)),
+        Format::Siemens => Some(export::siemens::export(&input, siemens)),
+        Format::Fanuc => Some(export::fanuc::export(&input, fanuc)),
+        Format::Lattice => Some(export::lattice::export(&input, args.max_lattice_points)),
+        Format::Csv | Format::Json => None,
     }
+    .transpose()
     .map_err(failure)?;
+    let mut files: Vec<ExportedFile> = match (&exported, args.format) {
+        (Some(e), _) => e.files.clone(),
+        (None, Format::Csv) => export::plain::export_csv(&input).map_err(failure)?,
+        (None, _) => export::plain::to_json(&input)
+            .map(|doc| vec![ExportedFile { name: "compensation.json".into(), contents: format!("{doc:#}\n") }])
+            .map_err(failure)?,
+    };
+    // what the controller format leaves: its corrections applied over the travel, on the exact chain
+    let residual = match &exported {
+        Some(e) => Some(residual_of_format(&corrector, &temperatures, e.applied.as_ref()).map_err(failure)?),
+        None => None,
+    };
+    let left_out: Vec<String> = exported.as_ref().map_or_else(Vec::new, |e| e.left_out.clone());
     let mut pose_summary = None;
     if let Some(path) = &args.poses {
         let (file, summary) = correct_poses(&machine, &corrector, path, &given)?;
@@ -185,16 +228,14 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     refuse_foreign_files(&args.out, &names)?;
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create the output directory: {e}", args.out.display())))?;
-    for f in &files {
-        write_atomically(&args.out.join(&f.name), f.contents.as_bytes()).map_err(Failure::input)?;
-    }
-    // the summary covers what the format writes: LinuxCNC the own-axis tables, Fanuc the lattice,
-    // CSV / JSON tables and grid, ISG (implied corrections) and Heidenhain all tables
+    write_all(&args.out, &files)?;
+    // the summary covers what the format writes: LinuxCNC and Fanuc the own-axis tables, the lattice
+    // its grid, CSV / JSON and the HAL component tables and grid, the others all tables
     let coverage = match args.format {
-        Format::Linuxcnc => Coverage::OWN_AXIS_TABLES,
-        Format::Isg | Format::Heidenhain => Coverage::TABLES,
-        Format::Fanuc3d => Coverage::GRID,
-        Format::Csv | Format::Json => Coverage::TABLES_AND_GRID,
+        Format::Linuxcnc | Format::Fanuc => Coverage::OWN_AXIS_TABLES,
+        Format::Isg | Format::Heidenhain | Format::Siemens => Coverage::TABLES,
+        Format::Lattice => Coverage::GRID,
+        Format::Csv | Format::Json | Format::LinuxcncHal => Coverage::TABLES_AND_GRID,
     };
     let extent = export::largest_corrections(&input, coverage);
     let largest = |rotary: bool| if rotary { extent.max_urad } else { extent.max_um };
@@ -208,6 +249,16 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
             "max_correction_urad": round(largest(true)),
             "worst_residual_um": round(extent.worst_residual_mm * 1e3),
             "worst_uncorrectable_urad": round(extent.worst_uncorrectable_rad * 1e6),
+            "left_out": left_out,
+            "format_residual": residual.as_ref().map(|r| serde_json::json!({
+                "worst_um": round(r.worst_um),
+                "rms_um": round(r.rms_um),
+                "worst_pose": machine.axes().iter().zip(&r.worst_pose).map(|(a, v)| (a.letter.to_string(), serde_json::json!(round(*v)))).collect::<serde_json::Map<_, _>>(),
+                "worst_state": r.worst_state,
+                "error_there_um": round(r.error_there_um),
+                "worst_error_um": round(r.worst_error_um),
+                "samples": r.samples,
+            })),
             "poses": pose_summary,
         });
         println!("{doc}");
@@ -226,6 +277,24 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
             extent.worst_residual_mm * 1e3,
             extent.worst_uncorrectable_rad * 1e6
         );
+        for l in &left_out {
+            println!("not carried by this format: {l}");
+        }
+        if let Some(r) = &residual {
+            let at: Vec<String> =
+                machine.axes().iter().zip(&r.worst_pose).map(|(a, v)| format!("{}={}", a.letter, (v * 1e3).round() / 1e3)).collect();
+            println!(
+                "error left with this format (exact chain, {} poses over the travel): worst {:.3} um at {} ({}; {:.3} um before), RMS {:.3} um; \
+                 largest error before correction {:.3} um",
+                r.samples,
+                r.worst_um,
+                at.join(" "),
+                r.worst_state,
+                r.error_there_um,
+                r.rms_um,
+                r.worst_error_um
+            );
+        }
         if let Some(s) = pose_summary {
             println!("poses: {s}");
         }
@@ -235,6 +304,28 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
 
 fn round(v: f64) -> f64 {
     (v * 1e4).round() / 1e4
+}
+
+/// Writes every file into `out` (each through a temporary and a rename); when one fails, the files
+/// already written by this call are put back as they were (removed, or their old contents
+/// restored), so that a multi-file output is written whole or not at all.
+fn write_all(out: &Path, files: &[ExportedFile]) -> Result<(), Failure> {
+    let mut done: Vec<(PathBuf, Option<Vec<u8>>)> = Vec::new();
+    for f in files {
+        let path = out.join(&f.name);
+        let old = std::fs::read(&path).ok();
+        if let Err(e) = write_atomically(&path, f.contents.as_bytes()) {
+            for (p, previous) in done.iter().rev() {
+                let _ = match previous {
+                    Some(bytes) => write_atomically(p, bytes).map_err(|_| ()),
+                    None => std::fs::remove_file(p).map_err(|_| ()),
+                };
+            }
+            return Err(Failure::input(anyhow::anyhow!("{e}; nothing was written")));
+        }
+        done.push((path, old));
+    }
+    Ok(())
 }
 
 /// Refuses to write into `out` when it holds files other than `names` (a run with another format or

@@ -23,8 +23,12 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     let dir = tempfile::tempdir().unwrap();
     for (format, files) in [
         ("linuxcnc", vec!["X.comp", "Y.comp", "Z.comp", "linuxcnc-comp.ini"]),
-        ("isg", vec!["volcomp.csv"]),
+        ("linuxcnc-hal", vec!["trueaxis_comp.comp", "trueaxis_comp.hal", "trueaxis_comp.ini"]),
+        ("isg", vec!["volcomp.csv", "volcomp1.lis"]),
         ("heidenhain", vec!["X.COM", "COMP.CMA"]),
+        ("siemens", vec!["AX_EEC.INI", "NC_CEC.INI"]),
+        ("fanuc", vec!["pitch_error.nc"]),
+        ("lattice", vec!["lattice3d.txt"]),
         ("fanuc3d", vec!["lattice3d.txt"]),
         ("csv", vec!["tables.csv", "grid.csv"]),
         ("json", vec!["compensation.json"]),
@@ -53,6 +57,17 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
         assert_eq!(doc["tables"], 9);
         assert!(doc["max_correction_um"].as_f64().unwrap() > 1.0);
         assert!(doc["worst_residual_um"].as_f64().unwrap() < 0.01);
+        // controller formats: the error they leave over the travel, at most the error before at that
+        // pose plus what they add; data formats (csv, json) have none
+        let residual = &doc["format_residual"];
+        if matches!(format, "csv" | "json") {
+            assert!(residual.is_null(), "{format}");
+        } else {
+            let worst = residual["worst_um"].as_f64().unwrap();
+            assert!(worst > 0.0 && worst < residual["worst_error_um"].as_f64().unwrap(), "{format}: {residual}");
+            assert!(residual["rms_um"].as_f64().unwrap() <= worst && residual["worst_pose"]["X"].is_number());
+            assert!(doc["left_out"].is_array());
+        }
         for f in files {
             assert!(out.join(f).metadata().unwrap().len() > 0, "{format}: {f}");
         }

@@ -107,7 +107,7 @@ fn linuxcnc_files_read_back_as_linuxcnc_does() {
     let corrector = Corrector::new(&m, &e);
     let tables = axis_tables(&corrector, &spec(33)).unwrap();
     for comp_type in [CompType::Trims, CompType::Positions] {
-        let files = export::linuxcnc::export(&export_input(&m, &e, &tables, None, Limits::default()), comp_type).unwrap();
+        let files = export::linuxcnc::export(&export_input(&m, &e, &tables, None, Limits::default()), comp_type).unwrap().files;
         let ini = file(&files, "linuxcnc-comp.ini");
         for (joint, axis) in m.axes().iter().enumerate() {
             assert!(ini.contains(&format!("[JOINT_{joint}]\nCOMP_FILE = {}.comp\nCOMP_FILE_TYPE = {}", axis.letter, comp_type as i32)));
@@ -155,8 +155,10 @@ fn heidenhain_tables_have_equidistant_columns_per_axis() {
     let (m, e) = load("c600u", "c600u");
     let corrector = Corrector::new(&m, &e);
     let tables = axis_tables(&corrector, &spec(37)).unwrap();
-    let files = export::heidenhain::export(&export_input(&m, &e, &tables, None, Limits::default())).unwrap();
-    assert!(file(&files, "COMP.CMA").contains("X.COM    Y.COM    Z.COM    A.COM    C.COM      *"));
+    let files = export::heidenhain::export(&export_input(&m, &e, &tables, None, Limits::default())).unwrap().files;
+    let cma: Vec<Vec<&str>> = file(&files, "COMP.CMA").lines().map(|l| l.split_whitespace().collect()).collect();
+    assert_eq!(cma[1], ["NR", "X", "Y", "Z", "A", "C", "ACTIVE"]);
+    assert_eq!(cma[2], ["0", "X.COM", "Y.COM", "Z.COM", "A.COM", "C.COM", "*"]);
     for (driver, axis) in m.axes().iter().enumerate() {
         let text = file(&files, &format!("{}.COM", axis.letter));
         let mut lines = text.lines();
@@ -173,7 +175,10 @@ fn heidenhain_tables_have_equidistant_columns_per_axis() {
             assert!((row[1] - rows[0][1] - step * i as f64).abs() < 1e-6);
             for (col, name) in header.iter().enumerate().skip(2).take(header.len() - 3) {
                 let corrected = m.axis_index(name.chars().next().unwrap()).unwrap();
-                assert!((row[col] - tables.table(driver, corrected).unwrap().forward[i]).abs() < 1e-6);
+                // own axis: forward (BACKLASH the reverse); cross-axis: the mean of both directions
+                let t = tables.table(driver, corrected).unwrap();
+                let expected = if corrected == driver { t.forward[i] } else { 0.5 * (t.forward[i] + t.reverse[i]) };
+                assert!((row[col] - expected).abs() < 1e-6);
             }
         }
     }
@@ -208,7 +213,7 @@ fn isg_csv_holds_the_error_parameters_with_iso_names() {
     let (m, e) = load("c600u", "c600u");
     let corrector = Corrector::new(&m, &e);
     let tables = axis_tables(&corrector, &spec(5)).unwrap();
-    let files = export::isg::export(&export_input(&m, &e, &tables, None, Limits::default())).unwrap();
+    let files = export::isg::export(&export_input(&m, &e, &tables, None, Limits::default())).unwrap().files;
     let text = file(&files, "volcomp.csv");
     // an independent ISG_CSV reader: `//` comments, `#` file breaks, a header then records
     let mut blocks: Vec<(Vec<String>, Vec<Vec<f64>>)> = Vec::new();
@@ -231,12 +236,12 @@ fn isg_csv_holds_the_error_parameters_with_iso_names() {
 
 #[test]
 #[allow(clippy::needless_range_loop)]
-fn fanuc_lattice_interpolates_as_the_library_grid() {
+fn lattice_interpolates_as_the_library_grid() {
     let (m, e) = load("vmc3", "vmc3");
     let corrector = Corrector::new(&m, &e);
     let tables = axis_tables(&corrector, &spec(3)).unwrap();
     let grid = volumetric_grid(&corrector, [5, 4, 3], &spec(3)).unwrap();
-    let files = export::fanuc3d::export(&export_input(&m, &e, &tables, Some(&grid), Limits::default()), Some(60)).unwrap();
+    let files = export::lattice::export(&export_input(&m, &e, &tables, Some(&grid), Limits::default()), Some(60)).unwrap().files;
     let text = file(&files, "lattice3d.txt");
     let mut header = std::collections::HashMap::new();
     let mut points = std::collections::HashMap::new();
@@ -270,7 +275,7 @@ fn fanuc_lattice_interpolates_as_the_library_grid() {
             assert!((v * 1e-3 - grid.interpolate(p, a)).abs() < 1e-6, "{p:?} axis {a}");
         }
     }
-    let err = export::fanuc3d::export(&export_input(&m, &e, &tables, Some(&grid), Limits::default()), Some(50)).unwrap_err();
+    let err = export::lattice::export(&export_input(&m, &e, &tables, Some(&grid), Limits::default()), Some(50)).unwrap_err();
     assert!(err.to_string().contains("at most 50"), "{err}");
 }
 

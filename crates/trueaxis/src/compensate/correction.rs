@@ -350,6 +350,24 @@ impl<'a> Corrector<'a> {
         }
     }
 
+    /// The exact error left at pose `q` (mm, rad, canonical order) when the set-points are `q + dq`
+    /// (mm, rad): the tool point relative to the workpiece point, actual chain at `q + dq` (error
+    /// functions evaluated there, in `state`) minus the nominal chain at `q`, in the workpiece frame
+    /// (mm), and the orientation (rotation vector, rad). `dq = 0` gives the error before correction;
+    /// the `dq` of [`Self::correct_state`] gives its `residual_position`. Used to judge corrections
+    /// that a controller format approximates ([`super::export::residual`]). One exact-chain
+    /// evaluation; allocation-free.
+    pub fn residual_at(&self, q: &[f64], dq: &[f64], state: &MachineState, ws: &mut CorrectionWorkspace) -> (Vec3, Vec3) {
+        let n = self.machine.axis_count();
+        assert!(n <= MAX_AXES && q.len() >= n && dq.len() >= n, "pose of {} positions and {} corrections for {n} axes", q.len(), dq.len());
+        let mut qc = [0.0; MAX_AXES];
+        for k in 0..n {
+            qc[k] = q[k] + dq[k];
+        }
+        let target = self.target(&q[..n]);
+        self.residual(&qc[..n], &target, state, ws)
+    }
+
     /// Whether a step (scaled joint units) moves the linear axes by less than the tolerance (mm) and
     /// the rotary axes by less than the rotary tolerance (rad).
     fn is_small(&self, step: &Joints) -> bool {

@@ -68,6 +68,8 @@ pub struct TableSpec {
 pub struct TableSet {
     /// The reference pose (mm, deg).
     pub reference: Vec<f64>,
+    /// The sensor temperatures the tables were sampled at (degC; empty: 20 degC).
+    pub temperatures: Vec<f64>,
     /// Every (driver, corrected) pair, own-axis tables first for each driver.
     pub tables: Vec<AxisTable>,
     /// The largest position and orientation residual of any sampled correction (mm, rad).
@@ -155,51 +157,81 @@ fn check_converged(machine: &Machine, poses_user: &[f64], results: &[Correction]
 /// Own-axis and cross-axis tables, both directions, for every axis of the machine.
 pub fn axis_tables(corrector: &Corrector, spec: &TableSpec) -> Result<TableSet, CompensateError> {
     let m = corrector.machine;
-    let n = m.axis_count();
     if spec.points < 2 {
         return Err(CompensateError::Input("a table needs at least 2 points".into()));
     }
     let reference = reference_pose(m, spec.reference.as_deref())?;
-    let at_rest = corrections(corrector, &reference, None, &spec.temperatures);
-    check_converged(m, &reference, &at_rest)?;
-    let reference_dq = at_rest[0].dq_user(m);
     let mut tables = Vec::new();
     let (mut worst_p, mut worst_o) = (0.0f64, 0.0f64);
-    for driver in 0..n {
+    for driver in 0..m.axis_count() {
         let [lo, hi] = table_range(m, driver)?;
-        let positions = equally_spaced(lo, hi, spec.points);
-        let poses: Vec<f64> = positions
-            .iter()
-            .flat_map(|&x| {
-                let mut p = reference.clone();
-                p[driver] = x;
-                p
-            })
-            .collect();
-        let forward = corrections(corrector, &poses, Some((driver, Direction::Positive)), &spec.temperatures);
-        let reverse = corrections(corrector, &poses, Some((driver, Direction::Negative)), &spec.temperatures);
-        check_converged(m, &poses, &forward)?;
-        check_converged(m, &poses, &reverse)?;
-        for c in forward.iter().chain(&reverse) {
-            worst_p = worst_p.max(c.residual_position.norm());
-            worst_o = worst_o.max(c.uncorrectable_orientation.norm());
-        }
-        let mut order: Vec<usize> = vec![driver];
-        order.extend((0..n).filter(|&j| j != driver));
-        for corrected in order {
+        let line = line_tables(corrector, &reference, &spec.temperatures, driver, &equally_spaced(lo, hi, spec.points))?;
+        worst_p = worst_p.max(line.worst_residual_position);
+        worst_o = worst_o.max(line.worst_uncorrectable_orientation);
+        tables.extend(line.tables);
+    }
+    Ok(TableSet {
+        reference,
+        temperatures: spec.temperatures.clone(),
+        tables,
+        worst_residual_position: worst_p,
+        worst_uncorrectable_orientation: worst_o,
+    })
+}
+
+/// The tables of one driving axis sampled at `positions` (mm or deg, increasing) along the line
+/// through `reference` (mm, deg): the own-axis table first, then the cross-axis tables of every
+/// other axis (their value at the reference pose subtracted), both directions of motion of `driver`,
+/// at the sensor temperatures `temperatures` (degC). The returned set's `reference` and
+/// `temperatures` are those given. Used by [`axis_tables`] and by exporters whose controller fixes
+/// its own sampling (the Fanuc pitch-error grid through the reference position).
+pub fn line_tables(
+    corrector: &Corrector,
+    reference: &[f64],
+    temperatures: &[f64],
+    driver: usize,
+    positions: &[f64],
+) -> Result<TableSet, CompensateError> {
+    let m = corrector.machine;
+    let n = m.axis_count();
+    let at_rest = corrections(corrector, reference, None, temperatures);
+    check_converged(m, reference, &at_rest)?;
+    let reference_dq = at_rest[0].dq_user(m);
+    let poses: Vec<f64> = positions
+        .iter()
+        .flat_map(|&x| {
+            let mut p = reference.to_vec();
+            p[driver] = x;
+            p
+        })
+        .collect();
+    let forward = corrections(corrector, &poses, Some((driver, Direction::Positive)), temperatures);
+    let reverse = corrections(corrector, &poses, Some((driver, Direction::Negative)), temperatures);
+    check_converged(m, &poses, &forward)?;
+    check_converged(m, &poses, &reverse)?;
+    let (mut worst_p, mut worst_o) = (0.0f64, 0.0f64);
+    for c in forward.iter().chain(&reverse) {
+        worst_p = worst_p.max(c.residual_position.norm());
+        worst_o = worst_o.max(c.uncorrectable_orientation.norm());
+    }
+    let mut order: Vec<usize> = vec![driver];
+    order.extend((0..n).filter(|&j| j != driver));
+    let tables = order
+        .into_iter()
+        .map(|corrected| {
             let axis = &m.axes()[corrected];
             let offset = if corrected == driver { 0.0 } else { reference_dq[corrected] };
             let column = |cs: &[Correction]| cs.iter().map(|c| axis.position_to_user(c.dq[corrected]) - offset).collect::<Vec<f64>>();
-            tables.push(AxisTable {
-                driver,
-                corrected,
-                positions: positions.clone(),
-                forward: column(&forward),
-                reverse: column(&reverse),
-            });
-        }
-    }
-    Ok(TableSet { reference, tables, worst_residual_position: worst_p, worst_uncorrectable_orientation: worst_o })
+            AxisTable { driver, corrected, positions: positions.to_vec(), forward: column(&forward), reverse: column(&reverse) }
+        })
+        .collect();
+    Ok(TableSet {
+        reference: reference.to_vec(),
+        temperatures: temperatures.to_vec(),
+        tables,
+        worst_residual_position: worst_p,
+        worst_uncorrectable_orientation: worst_o,
+    })
 }
 
 /// Corrections on a regular grid over the three linear axes X, Y, Z (other axes at the reference

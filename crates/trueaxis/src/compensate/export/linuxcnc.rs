@@ -9,10 +9,15 @@
 //! corrections of trueaxis. Type 0 files hold the positions the joint actually reaches, and LinuxCNC
 //! takes `trim = nominal - actual`; trueaxis writes `actual = nominal - correction`.
 //!
-//! Joint compensation is one-dimensional: only the own-axis tables are exported; the largest
-//! cross-axis correction that is left out is listed in the INI snippet.
+//! Joint compensation is one-dimensional: only the own-axis tables are exported; the cross-axis
+//! corrections that are left out are listed in the INI snippet and in [`Export::left_out`]. The HAL
+//! component of [`super::linuxcnc_hal`] carries them.
 
-use super::{check_count, check_equal_spacing, check_rotary_closure, check_user_limits, closure_tolerance, ExportInput, ExportedFile};
+use super::residual::{Branch, Interpolation, TableSum};
+use super::{
+    check_count, check_equal_spacing, check_rotary_closure, check_user_limits, closure_tolerance, cross_axis_left_out, Export, ExportInput,
+    ExportedFile,
+};
 use crate::compensate::CompensateError;
 use std::fmt::Write;
 
@@ -28,7 +33,7 @@ pub enum CompType {
 
 /// One `<letter>.comp` file per axis and `linuxcnc-comp.ini` (the INI lines that load them). Joint
 /// numbers follow the machine's canonical axis order (trivkins: X=0, Y=1, ...).
-pub fn export(input: &ExportInput, comp_type: CompType) -> Result<Vec<ExportedFile>, CompensateError> {
+pub fn export<'a>(input: &ExportInput<'a>, comp_type: CompType) -> Result<Export<'a>, CompensateError> {
     check_user_limits(input)?;
     let m = input.machine;
     let mut files = Vec::new();
@@ -52,27 +57,14 @@ pub fn export(input: &ExportInput, comp_type: CompType) -> Result<Vec<ExportedFi
         let _ = writeln!(ini, "\n[JOINT_{joint}]\nCOMP_FILE = {name}\nCOMP_FILE_TYPE = {}", comp_type as i32);
         files.push(ExportedFile { name, contents: text });
     }
-    let dropped: Vec<String> = input
-        .tables
-        .tables
-        .iter()
-        .filter(|t| !t.is_own_axis() && t.max_abs() > 0.0)
-        .map(|t| {
-            let c = m.axes()[t.corrected].letter;
-            format!(
-                "#   {c} as a function of {}: up to {:.3} {}",
-                m.axes()[t.driver].letter,
-                super::to_micro(m, t.corrected, t.max_abs()),
-                super::micro_unit(m, t.corrected)
-            )
-        })
-        .collect();
-    if !dropped.is_empty() {
-        let _ = writeln!(ini, "\n# not representable in joint compensation (cross-axis corrections left out):");
-        for d in dropped {
-            let _ = writeln!(ini, "{d}");
+    let left_out = cross_axis_left_out(input);
+    if !left_out.is_empty() {
+        let _ = writeln!(ini, "\n# not representable in joint compensation (use --format linuxcnc-hal for these):");
+        for d in &left_out {
+            let _ = writeln!(ini, "#   {d}");
         }
     }
     files.push(ExportedFile { name: "linuxcnc-comp.ini".into(), contents: ini });
-    Ok(files)
+    let own = input.tables.tables.iter().filter(|t| t.is_own_axis()).map(|t| (t.clone(), Branch::Directional)).collect();
+    Ok(Export { files, applied: Box::new(TableSum { machine: m, tables: own, interpolation: Interpolation::Linear }), left_out })
 }

@@ -1,14 +1,23 @@
-//! Controller exporters (specs/anchors.md §2-§3): LinuxCNC joint compensation files, the ISG /
-//! Beckhoff volumetric CSV, Heidenhain `.COM` / `.CMA` tables, a Fanuc-style 3D lattice, and plain
-//! CSV / JSON. Every exporter checks the controller's limits (point counts, equal spacing, closure
-//! of rotary-axis tables over a turn) and the user's correction limit, and refuses rather than
-//! writing a table the controller would reject or that would move an axis further than allowed.
+//! Controller exporters (specs/anchors.md §2-§3): LinuxCNC joint compensation files and a HAL
+//! component driving external offsets, the ISG / Beckhoff volumetric CSV with its list file,
+//! Heidenhain `.COM` / `.CMA` tables, a Siemens 840D sl init program (LEC and sag/angularity
+//! compensation), a Fanuc pitch-error compensation program (`G10 L50`), a plain 3D lattice, and
+//! plain CSV / JSON. Every exporter checks the controller's limits (point counts, equal spacing,
+//! closure of rotary-axis tables over a turn) and the user's correction limit, and refuses rather
+//! than writing a table the controller would reject or that would move an axis further than
+//! allowed. Each says what its format leaves out, and describes what the controller applies with its
+//! files ([`residual::Applied`]), so that [`residual::residual_of_format`] can compute the error that
+//! is left on the exact chain.
 
-pub mod fanuc3d;
+pub mod fanuc;
 pub mod heidenhain;
 pub mod isg;
+pub mod lattice;
 pub mod linuxcnc;
+pub mod linuxcnc_hal;
 pub mod plain;
+pub mod residual;
+pub mod siemens;
 
 use super::tables::{AxisTable, TableSet, VolumetricGrid};
 use super::CompensateError;
@@ -20,6 +29,22 @@ use crate::machine::{AxisKind, Machine};
 pub struct ExportedFile {
     pub name: String,
     pub contents: String,
+}
+
+/// What an exporter produces.
+pub struct Export<'a> {
+    /// The files, to be written together (atomically each, all or none).
+    pub files: Vec<ExportedFile>,
+    /// The corrections the controller applies with these files.
+    pub applied: Box<dyn residual::Applied + 'a>,
+    /// What the format could not carry, one line each with its size (um, urad).
+    pub left_out: Vec<String>,
+}
+
+impl std::fmt::Debug for Export<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Export").field("files", &self.files).field("left_out", &self.left_out).finish_non_exhaustive()
+    }
 }
 
 /// The user's limits on corrections: the export is refused when a correction exceeds them.
@@ -164,6 +189,51 @@ pub fn check_user_limits(input: &ExportInput) -> Result<(), CompensateError> {
         }
     }
     Ok(())
+}
+
+/// One line per cross-axis table that a format leaves out and that is not zero: `Y as a function of
+/// X (cross-axis): up to 12.300 um`.
+pub fn cross_axis_left_out(input: &ExportInput) -> Vec<String> {
+    let m = input.machine;
+    input
+        .tables
+        .tables
+        .iter()
+        .filter(|t| !t.is_own_axis() && to_micro(m, t.corrected, t.max_abs()).abs() >= 5e-4)
+        .map(|t| {
+            format!(
+                "{} as a function of {} (cross-axis): up to {:.3} {}",
+                letter(m, t.corrected),
+                letter(m, t.driver),
+                to_micro(m, t.corrected, t.max_abs()),
+                micro_unit(m, t.corrected)
+            )
+        })
+        .collect()
+}
+
+/// One line per table selected by `which` whose two directions differ (by at least 0.0005 um or
+/// urad), for a format that writes only their mean.
+pub fn direction_left_out(input: &ExportInput, which: impl Fn(&AxisTable) -> bool) -> Vec<String> {
+    let m = input.machine;
+    input
+        .tables
+        .tables
+        .iter()
+        .filter(|t| which(t))
+        .filter_map(|t| {
+            let half = t.forward.iter().zip(&t.reverse).map(|(f, r)| 0.5 * (f - r).abs()).fold(0.0, f64::max);
+            let micro = to_micro(m, t.corrected, half).abs();
+            (micro >= 5e-4).then(|| {
+                format!(
+                    "direction-dependent part (backlash) of {} as a function of {}: +-{micro:.3} {}",
+                    letter(m, t.corrected),
+                    letter(m, t.driver),
+                    micro_unit(m, t.corrected)
+                )
+            })
+        })
+        .collect()
 }
 
 fn letter(m: &Machine, axis: usize) -> char {

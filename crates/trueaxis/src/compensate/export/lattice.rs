@@ -1,21 +1,23 @@
-//! A Fanuc-style three-dimensional error compensation lattice (Fanuc 30i "three-dimensional error
-//! compensation", specs/anchors.md §3): compensation vectors `(CX, CY, CZ)` at the points of a
-//! regular lattice over X, Y, Z, interpolated trilinearly over the 8 vertices of the cell that
-//! contains the position. Fanuc enters the lattice through parameters whose numbers depend on the
-//! series; this file is the neutral listing to enter or convert: a header with the origin, pitch and
-//! number of points per axis, then one line per point `I J K CX CY CZ` (indices from 0, X fastest;
-//! corrections in um, added to the position).
+//! A three-dimensional compensation lattice as plain data: compensation vectors `(CX, CY, CZ)` at
+//! the points of a regular lattice over X, Y, Z, to be interpolated trilinearly over the 8 vertices
+//! of the cell that contains the position (the scheme of Fanuc 30i "three-dimensional error
+//! compensation", specs/anchors.md §3). It is **no file a controller loads**: Fanuc enters its
+//! lattice through series-specific parameters that the public documentation does not give. This is
+//! the neutral listing to convert: a header with the origin, pitch and number of points per axis,
+//! then one line per point `I J K CX CY CZ` (indices from 0, X fastest; corrections in um, added to
+//! the position). The corrections of other (rotary) axes are not in it.
 //!
 //! Checks: equal pitch per axis (a lattice has one pitch), at least 2 points per axis, the user's
 //! correction limit, and an optional maximum number of points (the series' limit, which the stored
 //! documentation does not give: pass it when known).
 
-use super::{check_count, check_equal_spacing, check_user_limits, ExportInput, ExportedFile};
+use super::residual::{GridSum, Interpolation, TableSum};
+use super::{check_count, check_equal_spacing, check_user_limits, micro_unit, to_micro, Export, ExportInput, ExportedFile};
 use crate::compensate::CompensateError;
 use std::fmt::Write;
 
 /// `lattice3d.txt` from the volumetric grid; `max_points` limits the total number of points.
-pub fn export(input: &ExportInput, max_points: Option<usize>) -> Result<Vec<ExportedFile>, CompensateError> {
+pub fn export<'a>(input: &ExportInput<'a>, max_points: Option<usize>) -> Result<Export<'a>, CompensateError> {
     check_user_limits(input)?;
     let m = input.machine;
     let g = input.grid.ok_or_else(|| CompensateError::Input("the Fanuc 3D lattice needs a volumetric grid".into()))?;
@@ -28,7 +30,7 @@ pub fn export(input: &ExportInput, max_points: Option<usize>) -> Result<Vec<Expo
         check_count(g.counts.iter().product(), max, "the 3D lattice")?;
     }
     let mut text = String::new();
-    let _ = writeln!(text, "; trueaxis three-dimensional error compensation lattice, machine `{}`", m.name);
+    let _ = writeln!(text, "; trueaxis three-dimensional compensation lattice (plain data, no controller format), machine `{}`", m.name);
     let _ = writeln!(text, "; corrections in um, added to the position; trilinear interpolation between lattice points");
     let others: Vec<String> = m
         .axes()
@@ -53,5 +55,18 @@ pub fn export(input: &ExportInput, max_points: Option<usize>) -> Result<Vec<Expo
             }
         }
     }
-    Ok(vec![ExportedFile { name: "lattice3d.txt".into(), contents: text }])
+    // the corrections of the other axes at the nodes are not written
+    let left_out = (0..m.axis_count())
+        .filter(|k| !g.axes.contains(k))
+        .filter_map(|k| {
+            let largest = g.values.chunks(g.axis_count).map(|v| to_micro(m, k, v[k]).abs()).fold(0.0, f64::max);
+            (largest >= 5e-4).then(|| format!("corrections of axis {}: up to {largest:.3} {}", m.axes()[k].letter, micro_unit(m, k)))
+        })
+        .collect();
+    let applied = GridSum {
+        grid: g,
+        grid_columns: g.axes.to_vec(),
+        tables: TableSum { machine: m, tables: Vec::new(), interpolation: Interpolation::Linear },
+    };
+    Ok(Export { files: vec![ExportedFile { name: "lattice3d.txt".into(), contents: text }], applied: Box::new(applied), left_out })
 }

@@ -1,0 +1,239 @@
+//! What a controller format carries, and the error it leaves on the exact chain.
+//!
+//! Every exporter describes the corrections its files make the controller apply ([`Applied`]): a
+//! sum of one-dimensional tables as the controller interpolates them ([`TableSum`]: LinuxCNC joint
+//! compensation, Heidenhain `.COM`, Siemens LEC/CEC, Fanuc pitch-error compensation), a volumetric
+//! grid with rotary-axis tables ([`GridSum`]: the LinuxCNC HAL component, the lattice), or the
+//! correction the controller computes itself from written error parameters ([`ModelCorrection`]:
+//! ISG). [`residual_of_format`] applies those corrections at poses spread over the whole travel and
+//! evaluates what is left on the exact chain (the same chain as `trueaxis predict`): the error the
+//! chosen format cannot remove, in um, at the worst pose and as an RMS over the poses. A calibration
+//! report shows this as "after compensation" with that table.
+
+use crate::compensate::correction::{CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget};
+use crate::compensate::tables::{table_range, AxisTable, VolumetricGrid};
+use crate::compensate::CompensateError;
+use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::machine::{AxisKind, Machine};
+use rayon::prelude::*;
+
+/// The corrections a controller applies with the data of one format.
+pub trait Applied: Sync {
+    /// Corrections (user units: mm, deg; one per axis, canonical order) applied at the pose `q_user`
+    /// (mm, deg) while the axes move in `directions` (`None`: at rest), written into `out`.
+    fn applied(&self, q_user: &[f64], directions: &[Option<Direction>], out: &mut [f64]);
+}
+
+/// Which column of a bidirectional table the controller applies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Branch {
+    /// The forward column whatever the direction.
+    Forward,
+    /// The mean of both columns whatever the direction (a format without direction).
+    Mean,
+    /// Forward while the driving axis moves up, reverse while it moves down, the mean at rest.
+    Directional,
+}
+
+/// How the controller takes a value between two table points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Interpolation {
+    /// Linearly, the end values held outside the table (LinuxCNC, Heidenhain, Siemens).
+    Linear,
+    /// The value of the last point at or below the position (a compensation output at each point,
+    /// not interpolated: Fanuc pitch-error compensation).
+    Held,
+}
+
+/// A table's value at `x` (mm or deg of its driver) on `branch`, with the driver moving in
+/// `direction`. A table over exactly one turn of a rotary axis wraps `x` into it.
+pub fn table_value(
+    machine: &Machine,
+    t: &AxisTable,
+    x: f64,
+    direction: Option<Direction>,
+    branch: Branch,
+    interpolation: Interpolation,
+) -> f64 {
+    let n = t.positions.len();
+    let (first, last) = (t.positions[0], t.positions[n - 1]);
+    let x = if machine.axes()[t.driver].kind == AxisKind::Rotary && ((last - first) - 360.0).abs() < 1e-9 {
+        first + (x - first).rem_euclid(360.0)
+    } else {
+        x
+    };
+    let column = |k: usize| match (branch, direction) {
+        (Branch::Forward, _) | (Branch::Directional, Some(Direction::Positive)) => t.forward[k],
+        (Branch::Directional, Some(Direction::Negative)) => t.reverse[k],
+        (Branch::Mean, _) | (Branch::Directional, None) => 0.5 * (t.forward[k] + t.reverse[k]),
+    };
+    let i = t.positions.partition_point(|&p| p <= x).clamp(1, n - 1) - 1;
+    match interpolation {
+        Interpolation::Held => column(if x >= t.positions[i + 1] { i + 1 } else { i }),
+        Interpolation::Linear => {
+            let s = ((x - t.positions[i]) / (t.positions[i + 1] - t.positions[i])).clamp(0.0, 1.0);
+            column(i) + s * (column(i + 1) - column(i))
+        }
+    }
+}
+
+/// The sum of one-dimensional tables, each of the correction of its `corrected` axis as a function
+/// of its `driver`: what controllers with own-axis and cross-axis tables apply.
+pub struct TableSum<'m> {
+    pub machine: &'m Machine,
+    pub tables: Vec<(AxisTable, Branch)>,
+    pub interpolation: Interpolation,
+}
+
+impl Applied for TableSum<'_> {
+    fn applied(&self, q_user: &[f64], directions: &[Option<Direction>], out: &mut [f64]) {
+        out.fill(0.0);
+        for (t, branch) in &self.tables {
+            out[t.corrected] += table_value(self.machine, t, q_user[t.driver], directions[t.driver], *branch, self.interpolation);
+        }
+    }
+}
+
+/// A volumetric grid over X, Y, Z (trilinear) plus tables of other axes, each the change from its
+/// value at the grid's reference pose: exact at the grid nodes with the other axes at the reference,
+/// and along each other axis through the reference.
+pub struct GridSum<'m> {
+    pub grid: &'m VolumetricGrid,
+    /// The axes whose grid values the format carries (canonical indices).
+    pub grid_columns: Vec<usize>,
+    pub tables: TableSum<'m>,
+}
+
+impl Applied for GridSum<'_> {
+    fn applied(&self, q_user: &[f64], directions: &[Option<Direction>], out: &mut [f64]) {
+        self.tables.applied(q_user, directions, out);
+        let p = self.grid.axes.map(|a| q_user[a]);
+        for &axis in &self.grid_columns {
+            out[axis] += self.grid.interpolate(p, axis);
+        }
+    }
+}
+
+/// The correction a controller computes itself from written error parameters (ISG volumetric
+/// compensation): the position of the tool point only, at rest and at 20 degC.
+pub struct ModelCorrection<'m> {
+    pub machine: &'m Machine,
+    /// The error parameters as written (tables as the controller interpolates them).
+    pub errors: ErrorModel,
+}
+
+impl Applied for ModelCorrection<'_> {
+    fn applied(&self, q_user: &[f64], _directions: &[Option<Direction>], out: &mut [f64]) {
+        let m = self.machine;
+        let options = CorrectionOptions { orientation: OrientationTarget::None, ..CorrectionOptions::default() };
+        let corrector = Corrector { options, ..Corrector::new(m, &self.errors) };
+        let mut q = vec![0.0; m.axis_count()];
+        m.pose_to_internal(q_user, &mut q);
+        let c = corrector.correct(&q, &mut CorrectionWorkspace::new(m));
+        for (k, o) in out.iter_mut().enumerate() {
+            *o = m.axes()[k].position_to_user(c.dq[k]);
+        }
+    }
+}
+
+/// The error a format leaves over the travel (exact chain, position of the tool point relative to
+/// the workpiece).
+#[derive(Clone, Debug, PartialEq)]
+pub struct FormatResidual {
+    /// Largest position error left (um) ...
+    pub worst_um: f64,
+    /// ... at this pose (mm, deg, canonical order) ...
+    pub worst_pose: Vec<f64>,
+    /// ... in this state of motion: `at rest`, `all axes moving +`, `all axes moving -`.
+    pub worst_state: &'static str,
+    /// The error there before correction (um).
+    pub error_there_um: f64,
+    /// Root mean square of the error left over all evaluated poses and states (um).
+    pub rms_um: f64,
+    /// Largest error before correction over the same poses (um).
+    pub worst_error_um: f64,
+    /// Poses times states evaluated.
+    pub samples: usize,
+}
+
+/// Poses spread over the travel: a full factorial of `levels` equally spaced positions per axis over
+/// its range (0..360 deg for an unlimited rotary axis), about 4000 poses (at most 17 levels, at
+/// least 3).
+pub fn sample_poses(machine: &Machine) -> Result<Vec<f64>, CompensateError> {
+    let n = machine.axis_count();
+    let levels = (4096f64.powf(1.0 / n as f64).floor() as usize).clamp(3, 17);
+    let values: Vec<Vec<f64>> = (0..n)
+        .map(|k| {
+            let [lo, hi] = table_range(machine, k)?;
+            Ok((0..levels).map(|i| lo + (hi - lo) * i as f64 / (levels - 1) as f64).collect())
+        })
+        .collect::<Result<_, CompensateError>>()?;
+    let count = levels.pow(n as u32);
+    let mut poses = Vec::with_capacity(count * n);
+    for mut index in 0..count {
+        for v in &values {
+            poses.push(v[index % levels]);
+            index /= levels;
+        }
+    }
+    Ok(poses)
+}
+
+/// The error left when the controller applies `applied` instead of the exact correction, over
+/// [`sample_poses`] at the sensor temperatures `temperatures` (degC; empty: 20 degC), at rest and,
+/// when the error model depends on the direction of motion, with all axes moving up and all moving
+/// down. Each pose costs one exact-chain evaluation for the error before and one after.
+pub fn residual_of_format(corrector: &Corrector, temperatures: &[f64], applied: &dyn Applied) -> Result<FormatResidual, CompensateError> {
+    let m = corrector.machine;
+    let n = m.axis_count();
+    let poses = sample_poses(m)?;
+    let directional = corrector.errors.directional_entries().any(|(_, d, _)| d.is_some());
+    let states: &[(&'static str, Option<Direction>)] = if directional {
+        &[("at rest", None), ("all axes moving +", Some(Direction::Positive)), ("all axes moving -", Some(Direction::Negative))]
+    } else {
+        &[("at rest", None)]
+    };
+    // (left, before, pose index, state index) per sample
+    let results: Vec<(f64, f64, usize, usize)> = (0..poses.len() / n)
+        .into_par_iter()
+        .map_init(
+            || (CorrectionWorkspace::new(m), vec![0.0; n], vec![0.0; n], vec![0.0; n]),
+            |(ws, q, dq_user, dq), i| {
+                let user = &poses[i * n..(i + 1) * n];
+                m.pose_to_internal(user, q);
+                states
+                    .iter()
+                    .enumerate()
+                    .map(|(s, &(_, direction))| {
+                        let directions = vec![direction; n];
+                        let state = MachineState { directions: Some(&directions), temperatures };
+                        applied.applied(user, &directions, dq_user);
+                        for k in 0..n {
+                            dq[k] = m.axes()[k].position_to_internal(dq_user[k]);
+                        }
+                        let before = corrector.residual_at(q, &vec![0.0; n], &state, ws).0.norm() * 1e3;
+                        let left = corrector.residual_at(q, dq, &state, ws).0.norm() * 1e3;
+                        (left, before, i, s)
+                    })
+                    .collect::<Vec<_>>()
+            },
+        )
+        .flatten()
+        .collect();
+    if let Some(&(_, _, i, _)) = results.iter().find(|r| !(r.0.is_finite() && r.1.is_finite())) {
+        return Err(CompensateError::Computation(format!(
+            "the residual of the format is not finite at pose {:?}",
+            &poses[i * n..(i + 1) * n]
+        )));
+    }
+    let worst = results.iter().max_by(|a, b| a.0.total_cmp(&b.0)).expect("at least one pose");
+    Ok(FormatResidual {
+        worst_um: worst.0,
+        worst_pose: poses[worst.2 * n..(worst.2 + 1) * n].to_vec(),
+        worst_state: states[worst.3].0,
+        error_there_um: worst.1,
+        rms_um: (results.iter().map(|r| r.0 * r.0).sum::<f64>() / results.len() as f64).sqrt(),
+        worst_error_um: results.iter().map(|r| r.1).fold(0.0, f64::max),
+        samples: results.len(),
+    })
+}
