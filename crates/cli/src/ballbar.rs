@@ -1,4 +1,7 @@
-//! `trueaxis ballbar simulate|identify|iso230-4|tmbb`.
+//! `trueaxis ballbar simulate|identify|sensitivity|iso230-4|tmbb|tmbb-setup`.
+
+mod sensitivity;
+mod tmbb_setup;
 
 use crate::predict::parse_point;
 use crate::Failure;
@@ -10,7 +13,8 @@ use trueaxis::errors::ErrorModel;
 use trueaxis::evaluate::ballbar_diagnostics::DiagnosticOptions;
 use trueaxis::evaluate::iso230_4::{evaluate, read_circular_table};
 use trueaxis::identify::pige::{
-    angle_span_deg, compensation_residual, identify_piges, repeatability, start_angle_error, DbbTrace, Piges, MIN_READINGS, MIN_SPAN_DEG,
+    angle_span_deg, compensation_residual, identify_piges, pige_uncertainty, repeatability, start_angle_error, DbbTrace, Piges,
+    MIN_READINGS, MIN_SPAN_DEG,
 };
 use trueaxis::identify::tmbb::{conditioning, differenced, fit_l2, fit_linf, observability, TmbbEstimate, TmbbSetup, UNIDENTIFIABLE};
 use trueaxis::instruments::ballbar::{
@@ -39,7 +43,10 @@ enum BallbarCommand {
     Identify(IdentifyArgs),
     #[command(name = "iso230-4")]
     Iso2304(Iso2304Args),
+    Sensitivity(sensitivity::SensitivityArgs),
     Tmbb(TmbbArgs),
+    #[command(name = "tmbb-setup")]
+    TmbbSetup(tmbb_setup::TmbbSetupArgs),
 }
 
 pub fn run(args: BallbarArgs) -> Result<(), Failure> {
@@ -47,7 +54,9 @@ pub fn run(args: BallbarArgs) -> Result<(), Failure> {
         BallbarCommand::Simulate(a) => simulate(a),
         BallbarCommand::Identify(a) => identify(a),
         BallbarCommand::Iso2304(a) => iso230_4(a),
+        BallbarCommand::Sensitivity(a) => sensitivity::run(a),
         BallbarCommand::Tmbb(a) => tmbb(a),
+        BallbarCommand::TmbbSetup(a) => tmbb_setup::run(a),
     }
 }
 
@@ -410,6 +419,7 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         return Err(Failure::input(anyhow!("{}: the run numbers differ from those of {}", path.display(), steps[0].1.display())));
     }
     let mut results: Vec<Piges> = Vec::new();
+    let mut last_traces = (Vec::new(), Vec::new());
     for &run in &runs {
         let mut outer = Vec::new();
         let mut inner = Vec::new();
@@ -433,8 +443,11 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
             _ => Failure::computation(e),
         })?;
         results.push(piges);
+        last_traces = (outer, inner);
     }
     let last = results.last().expect("at least one run");
+    // the standard uncertainty of the last run's PIGEs from the scatter of its traces
+    let single_u = pige_uncertainty(&m, pair, &last_traces.0, &last_traces.1).map_err(Failure::computation)?;
     let stats = repeatability(&results, 1e-3, (1.0f64 / 3600.0).to_radians()).map_err(Failure::computation)?;
     // Compensation residual of the last run, per step.
     let mut residuals = Vec::new();
@@ -494,11 +507,15 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     let repeated = runs.len() > 1;
     if a.json {
         let mut params = serde_json::Map::new();
-        for ((id, v), (_, mean, sd)) in last.values.iter().zip(&stats.parameters) {
+        for (k, ((id, v), (_, mean, sd))) in last.values.iter().zip(&stats.parameters).enumerate() {
             let (u, unit) = user_value(id, *v);
             let sd = repeated.then(|| round(user_value(id, *sd).0, 4));
-            params
-                .insert(id.to_string(), json!({"value": round(u, 4), "unit": unit, "mean": round(user_value(id, *mean).0, 4), "std": sd}));
+            let std_uncertainty = single_u.as_ref().map(|s| round(user_value(id, s[k]).0, 4));
+            params.insert(
+                id.to_string(),
+                json!({"value": round(u, 4), "unit": unit, "mean": round(user_value(id, *mean).0, 4), "std": sd,
+                       "std_uncertainty": std_uncertainty}),
+            );
         }
         let comp: Vec<_> =
             residuals.iter().map(|(s, rms, band)| json!({"step": s, "rms_um": round(*rms, 4), "band_um": round(*band, 4)})).collect();
@@ -517,15 +534,21 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         runs.len(),
         bars.extended_offset()
     );
-    for (id, mean, sd) in &stats.parameters {
+    for (k, (id, mean, sd)) in stats.parameters.iter().enumerate() {
         let (u, unit) = user_value(id, *mean);
         let (s, _) = user_value(id, *sd);
         let arcsec = if unit == "urad" { format!("  ({:+.2}\")", u / 1e6 * 180.0 / std::f64::consts::PI * 3600.0) } else { String::new() };
-        let spread = if repeated { format!(" ± {s:.3} (sd)") } else { String::new() };
+        let spread = match (repeated, &single_u) {
+            (true, _) => format!(" ± {s:.3} (sd of the runs)"),
+            (false, Some(su)) => format!(" ± {:.3} (u)", user_value(id, su[k]).0),
+            (false, None) => String::new(),
+        };
         out.push_str(&format!("  {id}  {u:+10.3} {unit}{spread}{arcsec}\n"));
     }
     if repeated {
         out.push_str(&format!("repeatability within 1 um / 1 arcsec: {}\n", if stats.within_tolerance { "yes" } else { "no" }));
+    } else if single_u.is_some() {
+        out.push_str("u: standard uncertainty from the scatter of each trace about its circle, propagated to the PIGEs (one run)\n");
     }
     out.push_str("simulated compensation residual (last run):\n");
     for (s, rms, band) in &residuals {

@@ -1,4 +1,6 @@
-//! `trueaxis design trajectory|simulate|optimal`: planning indirect measurements.
+//! `trueaxis design trajectory|simulate|steady|optimal`: planning indirect measurements.
+
+mod steady;
 
 use crate::predict::parse_point;
 use crate::Failure;
@@ -11,7 +13,8 @@ use trueaxis::instruments::{ball_trajectory, Sweep, TrajectoryError};
 use trueaxis::machine::Machine;
 use trueaxis::model::Setup;
 
-/// Plan indirect measurements: 3D-ball trajectories, simulated campaign data, optimal designs.
+/// Plan indirect measurements: 3D-ball trajectories, simulated campaign data, steady readings from a
+/// recording, optimal designs.
 #[derive(clap::Args)]
 #[command(after_help = "Examples (see `trueaxis design <command> --help`):\n  \
 trueaxis design trajectory --machine examples/machines/kx8five.toml --work-point 150,0,100 --sweep A=0:120 --sweep C=0:1440 --count 807\n  \
@@ -25,6 +28,7 @@ pub struct DesignArgs {
 enum DesignCommand {
     Trajectory(TrajectoryArgs),
     Simulate(SimulateArgs),
+    Steady(steady::SteadyArgs),
     Optimal(OptimalArgs),
 }
 
@@ -129,6 +133,7 @@ pub fn run(args: DesignArgs) -> Result<(), Failure> {
     match args.command {
         DesignCommand::Trajectory(a) => trajectory(a),
         DesignCommand::Simulate(a) => simulate(a),
+        DesignCommand::Steady(a) => steady::run(a),
         DesignCommand::Optimal(a) => optimal(a),
     }
 }
