@@ -2,8 +2,10 @@
 
 use crate::Failure;
 use std::path::{Path, PathBuf};
-use trueaxis::compensate::export::{self, linuxcnc::CompType, Coverage, ExportInput, ExportedFile, Limits};
-use trueaxis::compensate::{axis_tables, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, TableSpec};
+use trueaxis::compensate::export::{self, linuxcnc::CompType, ExportInput, ExportedFile, Limits};
+use trueaxis::compensate::{
+    axis_tables, compensation_json, round4 as round, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, ExportFormat, TableSpec,
+};
 use trueaxis::data::{read_poses, write_atomically, PoseTable};
 use trueaxis::errors::{ErrorModel, MachineState};
 use trueaxis::machine::Machine;
@@ -162,19 +164,17 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let spec = TableSpec { points: args.points, reference, temperatures: temperatures.clone() };
     let tables = axis_tables(&corrector, &spec).map_err(failure)?;
     let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
-    let wants_grid = matches!(args.format, Format::Fanuc3d) || (matches!(args.format, Format::Csv | Format::Json) && has_xyz);
-    let grid = if wants_grid { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
+    let format = match args.format {
+        Format::Linuxcnc => ExportFormat::Linuxcnc(if args.comp_type == 0 { CompType::Positions } else { CompType::Trims }),
+        Format::Isg => ExportFormat::Isg,
+        Format::Heidenhain => ExportFormat::Heidenhain,
+        Format::Fanuc3d => ExportFormat::Fanuc3d { max_points: args.max_lattice_points },
+        Format::Csv => ExportFormat::Csv,
+        Format::Json => ExportFormat::Json,
+    };
+    let grid = if format.wants_grid(has_xyz) { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
     let input = ExportInput { machine: &machine, errors: &errors, tables: &tables, grid: grid.as_ref(), limits };
-    let mut files: Vec<ExportedFile> = match args.format {
-        Format::Linuxcnc => export::linuxcnc::export(&input, if args.comp_type == 0 { CompType::Positions } else { CompType::Trims }),
-        Format::Isg => export::isg::export(&input),
-        Format::Heidenhain => export::heidenhain::export(&input),
-        Format::Fanuc3d => export::fanuc3d::export(&input, args.max_lattice_points),
-        Format::Csv => export::plain::export_csv(&input),
-        Format::Json => export::plain::to_json(&input)
-            .map(|doc| vec![ExportedFile { name: "compensation.json".into(), contents: format!("{doc:#}\n") }]),
-    }
-    .map_err(failure)?;
+    let mut files: Vec<ExportedFile> = format.export(&input).map_err(failure)?;
     let mut pose_summary = None;
     if let Some(path) = &args.poses {
         let (file, summary) = correct_poses(&machine, &corrector, path, &given)?;
@@ -188,28 +188,18 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     for f in &files {
         write_atomically(&args.out.join(&f.name), f.contents.as_bytes()).map_err(Failure::input)?;
     }
-    // the summary covers what the format writes: LinuxCNC the own-axis tables, Fanuc the lattice,
-    // CSV / JSON tables and grid, ISG (implied corrections) and Heidenhain all tables
-    let coverage = match args.format {
-        Format::Linuxcnc => Coverage::OWN_AXIS_TABLES,
-        Format::Isg | Format::Heidenhain => Coverage::TABLES,
-        Format::Fanuc3d => Coverage::GRID,
-        Format::Csv | Format::Json => Coverage::TABLES_AND_GRID,
-    };
+    let coverage = format.coverage();
     let extent = export::largest_corrections(&input, coverage);
     let largest = |rotary: bool| if rotary { extent.max_urad } else { extent.max_um };
     if args.json {
-        let doc = serde_json::json!({
-            "out": args.out.display().to_string(),
-            "files": names,
-            "tables": tables.tables.len(),
-            "points": args.points,
-            "max_correction_um": round(largest(false)),
-            "max_correction_urad": round(largest(true)),
-            "worst_residual_um": round(extent.worst_residual_mm * 1e3),
-            "worst_uncorrectable_urad": round(extent.worst_uncorrectable_rad * 1e6),
-            "poses": pose_summary,
-        });
+        let doc = compensation_json(
+            &args.out.display().to_string(),
+            &names,
+            tables.tables.len(),
+            args.points,
+            &extent,
+            pose_summary.as_ref(),
+        );
         println!("{doc}");
     } else {
         println!("wrote {} file(s) to {}: {}", files.len(), args.out.display(), names.join(" "));
@@ -233,9 +223,6 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn round(v: f64) -> f64 {
-    (v * 1e4).round() / 1e4
-}
 
 /// Refuses to write into `out` when it holds files other than `names` (a run with another format or
 /// without `--poses` would otherwise leave stale tables next to the new ones).

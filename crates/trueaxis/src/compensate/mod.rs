@@ -11,10 +11,12 @@ pub mod export;
 pub mod nc;
 pub mod realtime;
 mod solve;
+mod summary;
 pub mod tables;
 
 pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, WarmStart, MAX_AXES};
 pub use realtime::RealtimeCorrector;
+pub use summary::{compensation_json, nc_json, round4, ExportFormat};
 pub use tables::{axis_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};
 
 use thiserror::Error;
