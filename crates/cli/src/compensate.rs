@@ -4,7 +4,8 @@ use crate::Failure;
 use std::path::{Path, PathBuf};
 use trueaxis::compensate::export::{self, linuxcnc::CompType, ExportInput, ExportedFile, Limits};
 use trueaxis::compensate::{
-    axis_tables, compensation_json, round4 as round, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, ExportFormat, TableSpec,
+    axis_tables, compensation_json, round4 as round, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, ExportFormat,
+    TableSpec,
 };
 use trueaxis::data::{read_poses, write_atomically, PoseTable};
 use trueaxis::errors::{ErrorModel, MachineState};
@@ -192,14 +193,8 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let extent = export::largest_corrections(&input, coverage);
     let largest = |rotary: bool| if rotary { extent.max_urad } else { extent.max_um };
     if args.json {
-        let doc = compensation_json(
-            &args.out.display().to_string(),
-            &names,
-            tables.tables.len(),
-            args.points,
-            &extent,
-            pose_summary.as_ref(),
-        );
+        let doc =
+            compensation_json(&args.out.display().to_string(), &names, tables.tables.len(), args.points, &extent, pose_summary.as_ref());
         println!("{doc}");
     } else {
         println!("wrote {} file(s) to {}: {}", files.len(), args.out.display(), names.join(" "));
@@ -222,7 +217,6 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     }
     Ok(())
 }
-
 
 /// Refuses to write into `out` when it holds files other than `names` (a run with another format or
 /// without `--poses` would otherwise leave stale tables next to the new ones).

@@ -78,12 +78,12 @@ pub fn compensate(
     let (tables, grid, files) = py.detach(|| -> PyResult<_> {
         let tables = axis_tables(&corrector, &spec).map_err(failure)?;
         let grid = if format.wants_grid(has_xyz) { Some(volumetric_grid(&corrector, grid, &spec).map_err(failure)?) } else { None };
-        let input = ExportInput { machine: m, errors: &errors.inner, tables: &tables, grid: grid.as_ref(), limits };
-        let files = format.export(&input).map_err(failure)?;
+        let export_input = ExportInput { machine: m, errors: &errors.inner, tables: &tables, grid: grid.as_ref(), limits };
+        let files = format.export(&export_input).map_err(failure)?;
         Ok((tables, grid, files))
     })?;
-    let input = ExportInput { machine: m, errors: &errors.inner, tables: &tables, grid: grid.as_ref(), limits };
-    let extent = largest_corrections(&input, format.coverage());
+    let written = ExportInput { machine: m, errors: &errors.inner, tables: &tables, grid: grid.as_ref(), limits };
+    let extent = largest_corrections(&written, format.coverage());
     std::fs::create_dir_all(&out).map_err(|e| input_msg(format!("{}: cannot create the output directory: {e}", out.display())))?;
     for f in &files {
         write_atomically(&out.join(&f.name), f.contents.as_bytes()).map_err(input)?;

@@ -5,7 +5,12 @@
 use pyo3::create_exception;
 use pyo3::PyErr;
 
-create_exception!(trueaxis, TrueaxisError, pyo3::exceptions::PyException, "An error of trueaxis (the base of InputError and ComputationError).");
+create_exception!(
+    trueaxis,
+    TrueaxisError,
+    pyo3::exceptions::PyException,
+    "An error of trueaxis (the base of InputError and ComputationError)."
+);
 create_exception!(trueaxis, InputError, TrueaxisError, "Bad input: a file, a parameter or a value (the command line's exit status 2).");
 create_exception!(trueaxis, ComputationError, TrueaxisError, "A failed computation, e.g. a rank-deficient identification (exit status 1).");
 

@@ -178,8 +178,7 @@ pub fn identify(
     };
     let nominal = campaign.nominal()?;
     let options = IndirectOptions { solver, allow_rank_deficient, refine, ..IndirectOptions::default() };
-    let result =
-        py.detach(|| trueaxis::identify::identify(&campaign.inner, &machine.inner, &nominal, &options)).map_err(identify_error)?;
+    let result = py.detach(|| trueaxis::identify::identify(&campaign.inner, &machine.inner, &nominal, &options)).map_err(identify_error)?;
     if result.values.iter().chain(&result.residuals).any(|v| !v.is_finite()) {
         return Err(computation_msg("the identification produced numbers that are not finite"));
     }
@@ -263,9 +262,14 @@ impl Candidates {
     /// `trueaxis design optimal --json`.
     #[pyo3(signature = (count, outcomes, *, criterion = "d"))]
     #[allow(clippy::type_complexity)]
-    fn best_of(&self, py: Python<'_>, count: usize, outcomes: Vec<(usize, Option<Vec<usize>>, Option<f64>)>, criterion: &str) -> PyResult<Py<PyAny>> {
-        let outcomes: Vec<ExchangeOutcome> =
-            outcomes.into_iter().map(|(start, d, v)| ExchangeOutcome { start, found: d.zip(v) }).collect();
+    fn best_of(
+        &self,
+        py: Python<'_>,
+        count: usize,
+        outcomes: Vec<(usize, Option<Vec<usize>>, Option<f64>)>,
+        criterion: &str,
+    ) -> PyResult<Py<PyAny>> {
+        let outcomes: Vec<ExchangeOutcome> = outcomes.into_iter().map(|(start, d, v)| ExchangeOutcome { start, found: d.zip(v) }).collect();
         self.document(py, count, criterion, &outcomes)
     }
 

@@ -206,8 +206,7 @@ impl Machine {
     ) -> PyResult<Py<PyAny>> {
         let table = read_poses(&poses, &self.inner).map_err(input)?;
         let frame_value = parse_frame(frame)?;
-        let temperatures =
-            table.temperatures_of(errors.inner.sensors()).map_err(|m| input_msg(format!("{}: {m}", poses.display())))?;
+        let temperatures = table.temperatures_of(errors.inner.sensors()).map_err(|m| input_msg(format!("{}: {m}", poses.display())))?;
         let mut predictor = Predictor::new(&self.inner, &errors.inner);
         predictor.setup = self.setup(tool_point, work_point);
         predictor.frame = frame_value;
@@ -276,7 +275,12 @@ impl Errors {
     /// All errors zero.
     #[staticmethod]
     fn zero(machine: &Machine) -> Errors {
-        Errors { inner: Arc::new(ErrorModel::zero(&machine.inner)), machine: machine.clone(), source: String::new(), origin: "<zero>".into() }
+        Errors {
+            inner: Arc::new(ErrorModel::zero(&machine.inner)),
+            machine: machine.clone(),
+            source: String::new(),
+            origin: "<zero>".into(),
+        }
     }
 
     /// Temperature sensors the model needs (`T:<sensor>` columns), in order.

@@ -160,7 +160,9 @@ impl UncertaintyPlan {
         let poses = match (poses, &self.context) {
             (None, _) => Vec::new(),
             (Some(_), None) => {
-                return Err(input_msg("poses need a plan from a campaign (UncertaintyPlan.from_campaign): the parameters' effect on dx dy dz"))
+                return Err(input_msg(
+                    "poses need a plan from a campaign (UncertaintyPlan.from_campaign): the parameters' effect on dx dy dz",
+                ))
             }
             (Some(p), Some(ctx)) => {
                 let m = &ctx.machine;
@@ -223,7 +225,13 @@ impl UncertaintyPlan {
 
     /// Rebuilds a plan from its picklable state (no campaign: pose uncertainties need the original).
     #[staticmethod]
-    fn _from_state(design_csv: String, design_origin: String, sources: Sources, seed: Option<u64>, budget: bool) -> PyResult<UncertaintyPlan> {
+    fn _from_state(
+        design_csv: String,
+        design_origin: String,
+        sources: PyRef<'_, Sources>,
+        seed: Option<u64>,
+        budget: bool,
+    ) -> PyResult<UncertaintyPlan> {
         let design = DesignMatrix::from_csv_reader(design_csv.as_bytes(), &design_origin).map_err(uncertainty_error)?;
         UncertaintyPlan::build(design, design_origin, &sources, seed, budget, None)
     }
@@ -286,7 +294,10 @@ impl UncertaintyPlan {
         self.check_stage(stage)?;
         let chunk = chunk_of(chunk);
         if chunk.first_block + chunk.blocks > trueaxis::uncertainty::blocks_per_sequence(&self.settings) || chunk.blocks == 0 {
-            return Err(input_msg(format!("chunk {:?}: not a range of blocks of one sequence", (chunk.sequence, chunk.first_block, chunk.blocks))));
+            return Err(input_msg(format!(
+                "chunk {:?}: not a range of blocks of one sequence",
+                (chunk.sequence, chunk.first_block, chunk.blocks)
+            )));
         }
         let plan = self.plan()?;
         let model = plan.model(stage).map_err(uncertainty_error)?;

@@ -31,8 +31,8 @@ pub use gum::{confidence_ellipsoid, normal_coverage_factor, principal_axes, prop
 pub use intervals::{coverage_count, shortest_interval, symmetric_interval, CoverageInterval, SampleSummary};
 pub use linear_map::{Evaluation, IdentificationMap, LinearModel, LinearWorkspace};
 pub use monte_carlo::{
-    blocks_per_sequence, minimum_trials, run_adaptive, run_chunk, run_sequences, trial_rng, AdaptiveRun, Chunk, ControlVariables, IntervalKind,
-    McResult, McSettings, OutputResult, TrialModel, BLOCK, MAX_KEPT_VALUES, MAX_TRIALS_PER_SEQUENCE,
+    blocks_per_sequence, minimum_trials, run_adaptive, run_chunk, run_sequences, trial_rng, AdaptiveRun, Chunk, ControlVariables,
+    IntervalKind, McResult, McSettings, OutputResult, TrialModel, BLOCK, MAX_KEPT_VALUES, MAX_TRIALS_PER_SEQUENCE,
 };
 pub use prediction::VolumetricUncertainty;
 pub use report::{budget_json, pose_uncertainties, PoseUncertainty};
