@@ -55,3 +55,23 @@ fn to_toml(obj: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
     }
     Err(input_msg(format!("{at}: a {} cannot be written to a trueaxis file", obj.get_type().name()?)))
 }
+
+/// A 2-D float64 array from any array-like (numpy array of any dtype or memory layout, nested
+/// lists), copied row-major: `(values, [rows, columns])`. Arrays received from other processes
+/// (e.g. unpickled by Dask) may be unaligned; `numpy.require` makes an aligned C-contiguous copy
+/// first when needed. `what` names the argument in messages.
+pub fn array2(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<(Vec<f64>, [usize; 2])> {
+    use numpy::{PyArrayMethods, PyUntypedArrayMethods};
+    let np = obj.py().import("numpy")?;
+    let required = np
+        .call_method1("require", (obj, "float64", vec!["C", "A"]))
+        .map_err(|e| input_msg(format!("{what}: not an array of numbers: {e}")))?;
+    let array = required.cast::<numpy::PyArray2<f64>>().map_err(|_| {
+        let ndim: usize = required.getattr("ndim").and_then(|n| n.extract()).unwrap_or(0);
+        input_msg(format!("{what}: expected a 2-dimensional array, got {ndim} dimensions"))
+    })?;
+    let shape = array.shape();
+    let readonly = array.readonly();
+    let values = readonly.as_slice().map_err(|e| input_msg(format!("{what}: {e}")))?.to_vec();
+    Ok((values, [shape[0], shape[1]]))
+}

@@ -1,9 +1,9 @@
 //! `trueaxis.Machine` and `trueaxis.Errors`: a machine description and its error model, from
 //! files, TOML text or dictionaries; the volumetric error of many poses at once.
 
-use crate::convert::{to_py, toml_text};
+use crate::convert::{array2, to_py, toml_text};
 use crate::errors::{computation, input, input_msg};
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -34,10 +34,10 @@ impl Machine {
         Ok(Machine { inner: Arc::new(inner), source: text, origin: origin.to_string() })
     }
 
-    /// `(N, axes)` positions (mm, deg) as a flat row-major vector, checked against the travel.
-    pub fn poses_of(&self, poses: &PyReadonlyArray2<'_, f64>) -> PyResult<Vec<f64>> {
+    /// `(N, axes)` positions (mm, deg) as a flat row-major vector and N, checked against the travel.
+    pub fn poses_of(&self, poses: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, usize)> {
         let n_axes = self.inner.axis_count();
-        let shape = poses.shape();
+        let (user, shape) = array2(poses, "poses")?;
         if shape[1] != n_axes {
             return Err(input_msg(format!(
                 "poses: expected an array of shape (N, {n_axes}) with the axes {} in mm and deg, got ({}, {})",
@@ -46,11 +46,10 @@ impl Machine {
                 shape[1]
             )));
         }
-        let user: Vec<f64> = poses.as_array().iter().copied().collect();
         for (i, pose) in user.chunks(n_axes.max(1)).enumerate() {
             self.inner.check_range(pose).map_err(|m| input_msg(format!("poses: row {i}: {m}")))?;
         }
-        Ok(user)
+        Ok((user, shape[0]))
     }
 
     fn setup(&self, tool_point: Option<[f64; 3]>, work_point: Option<[f64; 3]>) -> Setup {
@@ -144,24 +143,23 @@ impl Machine {
         &self,
         py: Python<'py>,
         errors: &Errors,
-        poses: PyReadonlyArray2<'py, f64>,
+        poses: &Bound<'py, PyAny>,
         tool_point: Option<[f64; 3]>,
         work_point: Option<[f64; 3]>,
         frame: &str,
-        temperatures: Option<PyReadonlyArray2<'py, f64>>,
+        temperatures: Option<&Bound<'py, PyAny>>,
         with_dl: bool,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let user = self.poses_of(&poses)?;
-        let count = poses.shape()[0];
+        let (user, count) = self.poses_of(poses)?;
         let sensors = errors.inner.sensors();
-        let temperatures: Vec<f64> = match temperatures {
-            Some(t) if t.shape() == [count, sensors.len()] => t.as_array().iter().copied().collect(),
-            Some(t) => {
+        let temperatures: Vec<f64> = match temperatures.map(|t| array2(t, "temperatures")).transpose()? {
+            Some((t, shape)) if shape == [count, sensors.len()] => t,
+            Some((_, shape)) => {
                 return Err(input_msg(format!(
                     "temperatures: expected an array of shape ({count}, {}) for the sensors {:?} (degC), got {:?}",
                     sensors.len(),
                     sensors,
-                    t.shape()
+                    shape
                 )))
             }
             None if sensors.is_empty() => Vec::new(),

@@ -5,11 +5,11 @@
 //! in order to a `BudgetRun`, which stops each stage at the sequence one process stops at, with
 //! the same numbers (every chunk draws only from its own counter-based random streams).
 
-use crate::convert::{to_py, toml_text};
+use crate::convert::{array2, to_py, toml_text};
 use crate::errors::{identify as identify_error, input_msg, uncertainty as uncertainty_error};
 use crate::identify::Campaign;
 use crate::machine::{parse_frame, Machine};
-use numpy::{PyArray1, PyArray2, PyArrayMethods, PyReadonlyArray2, PyUntypedArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -151,7 +151,7 @@ impl UncertaintyPlan {
         &self,
         py: Python<'_>,
         runs: Vec<McResult>,
-        poses: Option<PyReadonlyArray2<'_, f64>>,
+        poses: Option<&Bound<'_, PyAny>>,
         tool_point: Option<[f64; 3]>,
         work_point: Option<[f64; 3]>,
         frame: &str,
@@ -166,7 +166,7 @@ impl UncertaintyPlan {
             }
             (Some(p), Some(ctx)) => {
                 let m = &ctx.machine;
-                let user = m.poses_of(&p)?;
+                let (user, _) = m.poses_of(p)?;
                 let setup = Setup {
                     tool_point: tool_point.map_or(m.inner.tool_point, |p| Vec3::new(p[0], p[1], p[2])),
                     work_point: work_point.map_or_else(Vec3::zeros, |p| Vec3::new(p[0], p[1], p[2])),
@@ -325,7 +325,7 @@ impl UncertaintyPlan {
     fn run(
         &self,
         py: Python<'_>,
-        poses: Option<PyReadonlyArray2<'_, f64>>,
+        poses: Option<&Bound<'_, PyAny>>,
         tool_point: Option<[f64; 3]>,
         work_point: Option<[f64; 3]>,
         frame: &str,
@@ -374,13 +374,15 @@ impl BudgetRun {
 
     /// Takes the next sequence of stage `stage` as a list of `(chunk, values)` covering it in
     /// order (values from `UncertaintyPlan.run_chunk`); returns True when the stage is complete.
-    fn push(&mut self, stage: usize, chunks: Vec<((usize, usize, usize), PyReadonlyArray2<'_, f64>)>) -> PyResult<bool> {
-        let pieces: Vec<(Chunk, Vec<f64>)> = chunks.iter().map(|(c, v)| (chunk_of(*c), v.as_array().iter().copied().collect())).collect();
+    fn push(&mut self, stage: usize, chunks: Vec<((usize, usize, usize), Bound<'_, PyAny>)>) -> PyResult<bool> {
         let run = self.run_mut(stage)?;
-        for (c, v) in chunks.iter().map(|(c, v)| (c, v.shape())) {
-            if v[1] != run.outputs() {
-                return Err(input_msg(format!("chunk {c:?}: values of shape {v:?}, expected (trials, {})", run.outputs())));
+        let mut pieces: Vec<(Chunk, Vec<f64>)> = Vec::with_capacity(chunks.len());
+        for (c, v) in &chunks {
+            let (values, shape) = array2(v, "chunk values")?;
+            if shape[1] != run.outputs() {
+                return Err(input_msg(format!("chunk {c:?}: values of shape {shape:?}, expected (trials, {})", run.outputs())));
             }
+            pieces.push((chunk_of(*c), values));
         }
         run.push_chunks(&pieces).map_err(uncertainty_error)?;
         Ok(run.next_sequence().is_none())
@@ -392,7 +394,7 @@ impl BudgetRun {
     fn finish(
         &mut self,
         py: Python<'_>,
-        poses: Option<PyReadonlyArray2<'_, f64>>,
+        poses: Option<&Bound<'_, PyAny>>,
         tool_point: Option<[f64; 3]>,
         work_point: Option<[f64; 3]>,
         frame: &str,

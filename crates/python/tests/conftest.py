@@ -72,3 +72,16 @@ def assert_same(a, b, rel=1e-9, path="$"):
 @pytest.fixture
 def root():
     return ROOT
+
+
+@pytest.fixture(scope="session")
+def small_campaign(tmp_path_factory):
+    """The KX8-Five CapBall campaign on every 20th pose (41 records): a candidate set small enough
+    for the exchange algorithm in a debug build."""
+    src = ROOT / "examples" / "campaigns" / "kx8five"
+    lines = (src / "capball.csv").read_text().splitlines()
+    rows = [l for l in lines if not l.startswith("#")]
+    d = tmp_path_factory.mktemp("small_campaign")
+    (d / "capball.csv").write_text("\n".join([rows[0]] + rows[1::20]) + "\n")
+    (d / "campaign.toml").write_text((src / "campaign.toml").read_text())
+    return d / "campaign.toml"

@@ -41,9 +41,9 @@ def test_campaign_budget_with_poses_on_dask_equals_one_process(client):
     assert run_uncertainty(plan, client, poses=poses) == plan.run(poses=poses)
 
 
-def test_optimal_design_on_dask_equals_one_process(client):
+def test_optimal_design_on_dask_equals_one_process(client, small_campaign):
     machine = ta.Machine.from_file(EX / "machines" / "kx8five.toml")
-    candidates = ta.Candidates(ta.Campaign.from_file(EX / "campaigns" / "kx8five" / "campaign.toml", machine))
-    single = candidates.exchange(24, starts=4, seed=9)
-    assert optimal_design(candidates, client, 24, starts=4, seed=9) == single
-    assert optimal_design(candidates, client, 24, starts=4, seed=9, starts_per_chunk=3) == single
+    candidates = ta.Candidates(ta.Campaign.from_file(small_campaign, machine))
+    single = candidates.exchange(14, starts=4, seed=9)
+    assert optimal_design(candidates, client, 14, starts=4, seed=9) == single
+    assert optimal_design(candidates, client, 14, starts=4, seed=9, starts_per_chunk=3) == single

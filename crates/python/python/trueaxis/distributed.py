@@ -25,10 +25,18 @@ def _exchange_starts(candidates: Candidates, count: int, start: int, stop: int, 
     return candidates.exchange_starts(count, start, stop, criterion=criterion, seed=seed)
 
 
+def _submit(executor: Any, fn, *args):
+    """``executor.submit``; on Dask with a fresh key per call (``pure=False``): two runs of the same
+    plan submit the same arguments, and a key reused after a cancellation would wait forever."""
+    if hasattr(executor, "scatter"):
+        return executor.submit(fn, *args, pure=False)
+    return executor.submit(fn, *args)
+
+
 def _share(executor: Any, obj: Any) -> Any:
     """The object once on every worker when the executor can scatter (Dask), else itself."""
     scatter = getattr(executor, "scatter", None)
-    return scatter(obj, broadcast=True) if scatter is not None else obj
+    return scatter(obj, broadcast=True, hash=False) if scatter is not None else obj
 
 
 def run_uncertainty(
@@ -66,7 +74,7 @@ def run_uncertainty(
         while next_submit[stage] < limit:
             h = next_submit[stage]
             chunks = plan.chunks(h, blocks_per_chunk)
-            in_flight[stage][h] = [(c, executor.submit(_run_chunk, shared, stage, c)) for c in chunks]
+            in_flight[stage][h] = [(c, _submit(executor, _run_chunk, shared, stage, c)) for c in chunks]
             next_submit[stage] += 1
 
     for stage in range(stages):
@@ -107,7 +115,7 @@ def optimal_design(
     shared = _share(executor, candidates)
     step = max(1, starts_per_chunk)
     futures = [
-        executor.submit(_exchange_starts, shared, count, a, min(a + step, starts), criterion, seed)
+        _submit(executor, _exchange_starts, shared, count, a, min(a + step, starts), criterion, seed)
         for a in range(0, starts, step)
     ]
     outcomes = [o for f in futures for o in f.result()]
