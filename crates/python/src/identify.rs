@@ -15,6 +15,9 @@ use trueaxis::identify::{
     IndirectOptions, Solver,
 };
 
+/// What `__reduce__` returns: the constructor and its arguments (pickling).
+pub type Reduced<T> = (Py<PyAny>, T);
+
 /// A measurement campaign (DESIGN.md section 3): the parameters to identify and the measurements
 /// with their data files (read relative to the campaign file, or to `base_dir`).
 #[pyclass(module = "trueaxis", frozen)]
@@ -76,7 +79,7 @@ impl Campaign {
         self.inner.measurements.iter().map(|m| m.records()).sum()
     }
 
-    fn __reduce__(slf: &Bound<'_, Self>) -> PyResult<(Py<PyAny>, (String, Machine, PathBuf, String))> {
+    fn __reduce__(slf: &Bound<'_, Self>) -> PyResult<Reduced<(String, Machine, PathBuf, String)>> {
         let c = slf.get();
         Ok((slf.get_type().getattr("from_toml")?.unbind(), (c.source.clone(), c.machine.clone(), c.dir.clone(), c.origin.clone())))
     }

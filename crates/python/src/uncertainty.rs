@@ -7,7 +7,7 @@
 
 use crate::convert::{array2, to_py, toml_text};
 use crate::errors::{identify as identify_error, input_msg, uncertainty as uncertainty_error};
-use crate::identify::Campaign;
+use crate::identify::{Campaign, Reduced};
 use crate::machine::{parse_frame, Machine};
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
@@ -236,7 +236,7 @@ impl UncertaintyPlan {
         UncertaintyPlan::build(design, design_origin, &sources, seed, budget, None)
     }
 
-    fn __reduce__(slf: &Bound<'_, Self>) -> PyResult<(Py<PyAny>, (String, String, Sources, Option<u64>, bool))> {
+    fn __reduce__(slf: &Bound<'_, Self>) -> PyResult<Reduced<(String, String, Sources, Option<u64>, bool)>> {
         let p = slf.get();
         Ok((
             slf.get_type().getattr("_from_state")?.unbind(),
