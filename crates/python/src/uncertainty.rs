@@ -78,6 +78,9 @@ impl Sources {
     }
 }
 
+/// The picklable state of a plan: design CSV, design origin, sources, seed override, budget.
+type PlanState = (String, String, Sources, Option<u64>, bool);
+
 /// What only the driver needs: the campaign behind the design, for pose uncertainties.
 struct CampaignContext {
     machine: Machine,
@@ -236,7 +239,7 @@ impl UncertaintyPlan {
         UncertaintyPlan::build(design, design_origin, &sources, seed, budget, None)
     }
 
-    fn __reduce__(slf: &Bound<'_, Self>) -> PyResult<Reduced<(String, String, Sources, Option<u64>, bool)>> {
+    fn __reduce__(slf: &Bound<'_, Self>) -> PyResult<Reduced<PlanState>> {
         let p = slf.get();
         Ok((
             slf.get_type().getattr("_from_state")?.unbind(),
