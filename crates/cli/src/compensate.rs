@@ -2,10 +2,11 @@
 
 use crate::Failure;
 use std::path::{Path, PathBuf};
-use trueaxis::compensate::export::{
-    self, fanuc::FanucLimits, linuxcnc::CompType, siemens::SiemensLimits, Coverage, Export, ExportInput, ExportedFile, Limits,
+use trueaxis::compensate::export::{self, ExportInput, ExportedFile, Limits};
+use trueaxis::compensate::{
+    axis_tables, compensation_json, residual_of_format, round4 as round, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector,
+    ExportFormat, FormatOptions, TableSpec,
 };
-use trueaxis::compensate::{axis_tables, residual_of_format, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, TableSpec};
 use trueaxis::data::{read_poses, write_atomically, PoseTable};
 use trueaxis::errors::{ErrorModel, MachineState};
 use trueaxis::machine::Machine;
@@ -31,6 +32,12 @@ enum Format {
     Csv,
     /// Plain JSON: compensation.json.
     Json,
+}
+
+/// The command-line name of a format (`linuxcnc-hal`, ...), as the library parses it.
+fn format_name(format: Format) -> String {
+    use clap::ValueEnum;
+    format.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default()
 }
 
 /// Compensation tables for a controller: corrections (added to the axis set-points) that cancel the
@@ -181,37 +188,17 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let spec = TableSpec { points: args.points, reference, temperatures: temperatures.clone() };
     let tables = axis_tables(&corrector, &spec).map_err(failure)?;
     let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
-    let wants_grid =
-        matches!(args.format, Format::Lattice) || (matches!(args.format, Format::Csv | Format::Json | Format::LinuxcncHal) && has_xyz);
-    let grid = if wants_grid { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
+    let options = FormatOptions {
+        comp_type: args.comp_type,
+        max_lattice_points: args.max_lattice_points,
+        max_table_points: args.max_table_points,
+        max_cec_tables: args.max_cec_tables,
+        hal_component: args.hal_component.clone(),
+    };
+    let format = ExportFormat::parse(&format_name(args.format), &options).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
+    let grid = if format.wants_grid(has_xyz) { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
     let input = ExportInput { machine: &machine, errors: &errors, tables: &tables, grid: grid.as_ref(), limits };
-    let siemens = SiemensLimits {
-        max_points: args.max_table_points.unwrap_or(SiemensLimits::default().max_points),
-        max_cec_tables: args.max_cec_tables.unwrap_or(SiemensLimits::default().max_cec_tables),
-    };
-    let fanuc = FanucLimits {
-        max_points_per_axis: args.max_table_points.unwrap_or(FanucLimits::default().max_points_per_axis),
-        ..FanucLimits::default()
-    };
-    let exported: Option<Export> = match args.format {
-        Format::Linuxcnc => Some(export::linuxcnc::export(&input, if args.comp_type == 0 { CompType::Positions } else { CompType::Trims })),
-        Format::LinuxcncHal => Some(export::linuxcnc_hal::export(&input, &args.hal_component)),
-        Format::Isg => Some(export::isg::export(&input)),
-        Format::Heidenhain => Some(export::heidenhain::export(&input)),
-        Format::Siemens => Some(export::siemens::export(&input, siemens)),
-        Format::Fanuc => Some(export::fanuc::export(&input, fanuc)),
-        Format::Lattice => Some(export::lattice::export(&input, args.max_lattice_points)),
-        Format::Csv | Format::Json => None,
-    }
-    .transpose()
-    .map_err(failure)?;
-    let mut files: Vec<ExportedFile> = match (&exported, args.format) {
-        (Some(e), _) => e.files.clone(),
-        (None, Format::Csv) => export::plain::export_csv(&input).map_err(failure)?,
-        (None, _) => export::plain::to_json(&input)
-            .map(|doc| vec![ExportedFile { name: "compensation.json".into(), contents: format!("{doc:#}\n") }])
-            .map_err(failure)?,
-    };
+    let (mut files, exported) = format.export(&input).map_err(failure)?;
     // what the controller format leaves: its corrections applied over the travel, on the exact chain
     let residual = match &exported {
         Some(e) => Some(residual_of_format(&corrector, &temperatures, e.applied.as_ref()).map_err(failure)?),
@@ -229,38 +216,20 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     std::fs::create_dir_all(&args.out)
         .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create the output directory: {e}", args.out.display())))?;
     write_all(&args.out, &files)?;
-    // the summary covers what the format writes: LinuxCNC and Fanuc the own-axis tables, the lattice
-    // its grid, CSV / JSON and the HAL component tables and grid, the others all tables
-    let coverage = match args.format {
-        Format::Linuxcnc | Format::Fanuc => Coverage::OWN_AXIS_TABLES,
-        Format::Isg | Format::Heidenhain | Format::Siemens => Coverage::TABLES,
-        Format::Lattice => Coverage::GRID,
-        Format::Csv | Format::Json | Format::LinuxcncHal => Coverage::TABLES_AND_GRID,
-    };
-    let extent = export::largest_corrections(&input, coverage);
+    let extent = export::largest_corrections(&input, format.coverage());
     let largest = |rotary: bool| if rotary { extent.max_urad } else { extent.max_um };
     if args.json {
-        let doc = serde_json::json!({
-            "out": args.out.display().to_string(),
-            "files": names,
-            "tables": tables.tables.len(),
-            "points": args.points,
-            "max_correction_um": round(largest(false)),
-            "max_correction_urad": round(largest(true)),
-            "worst_residual_um": round(extent.worst_residual_mm * 1e3),
-            "worst_uncorrectable_urad": round(extent.worst_uncorrectable_rad * 1e6),
-            "left_out": left_out,
-            "format_residual": residual.as_ref().map(|r| serde_json::json!({
-                "worst_um": round(r.worst_um),
-                "rms_um": round(r.rms_um),
-                "worst_pose": machine.axes().iter().zip(&r.worst_pose).map(|(a, v)| (a.letter.to_string(), serde_json::json!(round(*v)))).collect::<serde_json::Map<_, _>>(),
-                "worst_state": r.worst_state,
-                "error_there_um": round(r.error_there_um),
-                "worst_error_um": round(r.worst_error_um),
-                "samples": r.samples,
-            })),
-            "poses": pose_summary,
-        });
+        let doc = compensation_json(
+            &machine,
+            &args.out.display().to_string(),
+            &names,
+            tables.tables.len(),
+            args.points,
+            &extent,
+            &left_out,
+            residual.as_ref(),
+            pose_summary.as_ref(),
+        );
         println!("{doc}");
     } else {
         println!("wrote {} file(s) to {}: {}", files.len(), args.out.display(), names.join(" "));
@@ -300,10 +269,6 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
         }
     }
     Ok(())
-}
-
-fn round(v: f64) -> f64 {
-    (v * 1e4).round() / 1e4
 }
 
 /// Writes every file into `out` (each through a temporary and a rename); when one fails, the files

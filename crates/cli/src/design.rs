@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::Vec3;
-use trueaxis::identify::{measurement_csv, simulate_campaign, Campaign, CandidateSet, Criterion, IdentifyError};
+use trueaxis::identify::{measurement_csv, optimal_design_json, simulate_campaign, Campaign, CampaignCandidates, Criterion, IdentifyError};
 use trueaxis::instruments::{ball_trajectory, Sweep, TrajectoryError};
 use trueaxis::machine::Machine;
 use trueaxis::model::Setup;
@@ -188,30 +188,8 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let campaign = Campaign::load(&args.campaign, &machine).map_err(identify_failure)?;
     let nominal = campaign.nominal_errors(&machine).map_err(identify_failure)?;
-    // the design matrix needs readings only for its observations; planned campaigns have none yet
-    let mut planned = campaign.clone();
-    for m in &mut planned.measurements {
-        if m.readings.is_none() {
-            m.readings = Some(vec![0.0; m.records() * m.instrument.channels().len()]);
-        }
-    }
-    let design = planned.design_matrix(&machine, &nominal).map_err(identify_failure)?;
-    let mut blocks: Vec<(usize, usize, Vec<usize>)> = Vec::new();
-    for (row, record) in design.records.iter().enumerate() {
-        match blocks.last_mut() {
-            Some((m, r, rows)) if (*m, *r) == *record => rows.push(row),
-            _ => blocks.push((record.0, record.1, vec![row])),
-        }
-    }
-    let candidates = blocks
-        .iter()
-        .map(|(_, _, rows)| {
-            nalgebra::DMatrix::from_fn(rows.len(), design.matrix.ncols(), |i, j| design.matrix[(rows[i], j)] / design.sigma_um[rows[i]])
-        })
-        .collect();
-    let set = CandidateSet::new(candidates)
-        .map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", args.campaign.display())))?
-        .with_names(&design.names, &design.units);
+    let candidates = CampaignCandidates::new(&campaign, &machine, &nominal).map_err(identify_failure)?;
+    let set = &candidates.set;
     // a design that cannot determine every unknown is a failed computation (exit 1), named like
     // `identify` names it; a --count too small for the unknowns is bad input (exit 2)
     let in_campaign = |e: IdentifyError| match e {
@@ -225,39 +203,10 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     let all: Vec<usize> = (0..set.len()).collect();
     let full = set.criteria(&all).map_err(in_campaign)?;
     if let Some(path) = &args.out {
-        let letters: Vec<String> = machine.axes().iter().map(|a| a.letter.to_string()).collect();
-        let mut text = format!("measurement,line,{}\n", letters.join(","));
-        for &c in &chosen {
-            let (mi, r, _) = &blocks[c];
-            let m = &campaign.measurements[*mi];
-            let k = m.instrument.poses_per_record();
-            let n = machine.axis_count();
-            let pose = &m.poses[r * k * n..r * k * n + n];
-            text += &format!("{},{},{}\n", m.name, m.lines[*r], pose.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(","));
-        }
-        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+        write_atomically(path, candidates.chosen_csv(&campaign, &machine, &chosen).as_bytes()).map_err(Failure::input)?;
     }
-    let criteria_json = |c: &trueaxis::identify::DesignCriteria| {
-        serde_json::json!({"d": c.d, "a": c.a, "e": c.e, "g": c.g, "average_variance": c.average_variance,
-                           "max_reading_variance": c.max_reading_variance})
-    };
-    let records: Vec<serde_json::Value> = chosen
-        .iter()
-        .map(|&c| {
-            let (mi, r, _) = &blocks[c];
-            serde_json::json!({"measurement": campaign.measurements[*mi].name, "line": campaign.measurements[*mi].lines[*r]})
-        })
-        .collect();
+    let doc = optimal_design_json(&campaign, &candidates, args.criterion, args.count, &chosen, &criteria, &full);
     if args.json {
-        let doc = serde_json::json!({
-            "criterion": format!("{:?}", args.criterion).to_lowercase(),
-            "count": args.count,
-            "parameters": design.names,
-            "chosen": records,
-            "criteria": criteria_json(&criteria),
-            "all_candidates": criteria_json(&full),
-            "candidates": set.len(),
-        });
         return crate::identify::print(&format!("{doc}\n"));
     }
     let mut text = format!(
@@ -265,7 +214,7 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
         args.criterion,
         args.count,
         set.len(),
-        design.names.len()
+        candidates.parameters.len()
     );
     let line = |c: &trueaxis::identify::DesignCriteria| {
         format!("D {:.4e}  A {:.4e}  E {:.4e}  G {:.4}  (max reading variance {:.4})", c.d, c.a, c.e, c.g, c.max_reading_variance)
@@ -274,10 +223,10 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     text += &format!("  all {:>5}:  {}  (n = {})\n", set.len(), line(&full), set.len());
     text += &format!(
         "  (G: largest summed prediction variance of one record's readings over the candidates; p = {} at a D-optimal design)\n",
-        design.names.len()
+        candidates.parameters.len()
     );
     text += "records (measurement:line):";
-    for r in &records {
+    for r in doc["chosen"].as_array().into_iter().flatten() {
         text += &format!(" {}:{}", r["measurement"].as_str().unwrap_or(""), r["line"]);
     }
     text.push('\n');

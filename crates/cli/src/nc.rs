@@ -4,7 +4,7 @@ use crate::compensate::{failure, parse_axis_values, parse_temperatures};
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::compensate::nc::{correct_program, NcOptions};
-use trueaxis::compensate::Corrector;
+use trueaxis::compensate::{nc_json, Corrector};
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
@@ -130,17 +130,7 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
         result.max_uncorrectable_urad
     );
     if args.json {
-        let doc = serde_json::json!({
-            "moves": result.moves,
-            "changed_lines": result.changed_lines,
-            "inserted_lines": result.inserted_lines,
-            "max_correction_um": result.max_correction_um,
-            "max_correction_urad": result.max_correction_urad,
-            "max_residual_um": result.max_residual_um,
-            "max_uncorrectable_urad": result.max_uncorrectable_urad,
-            "out": args.out.as_ref().map(|p| p.display().to_string()),
-            "program": if args.out.is_none() { Some(result.text.clone()) } else { None },
-        });
+        let doc = nc_json(&result, args.out.as_ref().map(|p| p.display().to_string()).as_deref());
         println!("{doc}");
     } else if args.out.is_some() {
         println!("{summary}");

@@ -191,9 +191,16 @@ impl Campaign {
         let path = path.as_ref();
         let origin = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| input(&origin, format!("cannot read campaign file: {e}")))?;
-        let file: CampaignFile = toml::from_str(&text).map_err(|e| input(&origin, one_line(&e.to_string())))?;
+        Campaign::from_toml_str(&text, &origin, path.parent().unwrap_or(Path::new("")), machine)
+    }
+
+    /// A campaign from its TOML text; `origin` names it in messages and the data files are read
+    /// relative to `dir`.
+    pub fn from_toml_str(text: &str, origin: &str, dir: &Path, machine: &Machine) -> Result<Campaign, IdentifyError> {
+        let origin = origin.to_string();
+        let file: CampaignFile = toml::from_str(text).map_err(|e| input(&origin, one_line(&e.to_string())))?;
         let _ = &file.source;
-        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let dir = dir.to_path_buf();
         let mut unknowns = Vec::new();
         for name in &file.parameters {
             let u = Unknown::parse(machine, name).map_err(|m| input(&origin, format!("parameters: {m}")))?;

@@ -2,6 +2,7 @@
 //! removal, and fitting of parametric error functions to direct measurements (seed 000 §3.2).
 
 pub mod campaign;
+mod candidates;
 pub mod design;
 mod direct;
 mod drift;
@@ -20,7 +21,8 @@ pub mod tmbb_setup;
 pub mod unknowns;
 
 pub use campaign::{Campaign, DesignMatrix, Measurement};
-pub use design::{CandidateSet, Criterion, DesignCriteria};
+pub use candidates::{optimal_design_json, CampaignCandidates};
+pub use design::{start_rng, CandidateSet, Criterion, DesignCriteria, ExchangeOutcome};
 pub use direct::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel};
 pub use drift::{remove_cycle_drift, CycleDrift};
 pub use export::{error_values_text, identification_json};
