@@ -122,7 +122,7 @@ fn form_shaping_functions_equal_table_c1() {
 
 #[test]
 fn travel_equals_table_c2() {
-    let (l, m, n, p) = (100.0, 80.0, 60.0, 150.0);
+    let (l, m, n, p): (f64, f64, f64, f64) = (100.0, 80.0, 60.0, 150.0);
     let r3 = (l * l + m * m + n * n).sqrt();
     let h = |a: f64, b: f64| a.hypot(b);
     // Table C.2; the four split entries the appendix prints as sqrt(p^2 + ...) are p + sqrt(...)

@@ -9,9 +9,12 @@ use super::spec::BudgetSpec;
 use super::stackup::{stack_up, worst_case, StackUp};
 use super::BudgetError;
 use crate::geometry::Vec3;
-use crate::machine::Machine;
+use crate::machine::{AxisKind, Machine};
 use crate::model::{volumetric_error, Frame, Setup};
 use rayon::prelude::*;
+
+/// Label of the group of squareness errors between linear axes in [`Analysis::by_axis`].
+pub const BETWEEN_AXES: &str = "between axes";
 
 /// Results at one pose.
 #[derive(Clone, Debug)]
@@ -74,6 +77,8 @@ pub struct Analysis {
     /// error along each direction per unit norm of all homogenised tolerances.
     pub part_sensitivity: [f64; 3],
     pub components: Vec<ComponentShare>,
+    /// By axis (motion errors, and location errors of a rotary axis), then the squareness errors
+    /// between linear axes as the group [`BETWEEN_AXES`].
     pub by_axis: Vec<GroupShare>,
     pub by_kind: Vec<GroupShare>,
     /// Components that move the tool point at none of the poses (all-zero columns).
@@ -144,13 +149,23 @@ pub fn analyse_sensitivity(machine: &Machine, spec: &BudgetSpec, s: Sensitivity,
         let norm = homogenised_norm(components, t, &members);
         GroupShare { label, share: share(v), rss_um: v.sqrt(), sensitivity_mm: if norm > 0.0 { 1000.0 * v.sqrt() / norm } else { 0.0 }, members }
     };
-    let by_axis = machine
+    // squareness errors of the linear axes are between two axes (seed 002 B.2: "three squareness
+    // errors between each axes"): a group of their own; every other error belongs to its axis
+    let between = |j: usize| {
+        components[j].kind == ErrorKind::Squareness
+            && machine.axis_index(components[j].axis).is_some_and(|k| machine.axes()[k].kind == AxisKind::Linear)
+    };
+    let mut by_axis: Vec<GroupShare> = machine
         .axes()
         .iter()
-        .map(|a| (a.letter, (0..n).filter(|&j| components[j].axis == a.letter).collect::<Vec<_>>()))
+        .map(|a| (a.letter, (0..n).filter(|&j| components[j].axis == a.letter && !between(j)).collect::<Vec<_>>()))
         .filter(|(_, m)| !m.is_empty())
         .map(|(letter, m)| group(letter.to_string(), m))
         .collect();
+    let squareness: Vec<usize> = (0..n).filter(|&j| between(j)).collect();
+    if !squareness.is_empty() {
+        by_axis.push(group(BETWEEN_AXES.to_string(), squareness));
+    }
     let by_kind = ErrorKind::ALL
         .iter()
         .map(|k| (k.name().to_string(), (0..n).filter(|&j| components[j].kind == *k).collect::<Vec<_>>()))
