@@ -54,9 +54,13 @@ fn analyse_equals_the_library_and_shows_the_abbe_effect() {
         assert!(close(shares, 100.0, 1e-9));
         let exact = &set["exact_check"];
         assert!(close(exact["exact_um"].as_f64().unwrap(), exact["linear_um"].as_f64().unwrap(), 1e-3));
-        // the lever arm of the X pitch (EBX) is the height of the tool tip over the X carriage
+        // Abbe: X carries the table, its pitch EBX turns the part about y through the X reference point
+        // (the workpiece origin): the lever arm at a tool tip (x, y, z) of the part is sqrt(x^2 + z^2),
+        // its root mean square over the 5 x 5 x 5 grid sqrt(mean x^2 + mean z^2)
+        let mean_square = |lo: f64, hi: f64| (0..5).map(|i| (lo + (hi - lo) * i as f64 / 4.0).powi(2)).sum::<f64>() / 5.0;
+        let lever = (mean_square(-size[0] / 2.0, size[0] / 2.0) + mean_square(0.0, size[2])).sqrt();
         let ebx = set["components"].as_array().unwrap().iter().find(|c| c["name"] == "EBX").unwrap();
-        assert!(ebx["lever_mm"].as_f64().unwrap() > 300.0);
+        assert!(close(ebx["lever_mm"].as_f64().unwrap(), lever, 1e-9), "{ebx} vs {lever} mm");
     }
     // Abbe effect: the larger part moves the tool over longer lever arms, angular errors weigh more
     let angular = |set: &serde_json::Value| {

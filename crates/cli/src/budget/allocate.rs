@@ -29,11 +29,11 @@ pub struct AllocateArgs {
     #[command(flatten)]
     inputs: BudgetInputs,
     /// Target of the 3D volumetric error at every pose (um).
-    #[arg(long, conflicts_with = "target_xyz", required_unless_present = "target_xyz")]
+    #[arg(long, conflicts_with = "target_xyz", required_unless_present = "target_xyz", allow_hyphen_values = true)]
     target_um: Option<f64>,
     /// Targets along x, y and z at every pose (um), e.g. 10,10,6.
-    #[arg(long, value_parser = parse_xyz)]
-    target_xyz: Option<[f64; 3]>,
+    #[arg(long)]
+    target_xyz: Option<String>,
     /// Stack-up the target applies to: root-sum-square (tolerances as standard deviations) or worst
     /// case (tolerances as limits).
     #[arg(long, value_enum, default_value = "rss")]
@@ -69,7 +69,7 @@ pub fn run(args: AllocateArgs) -> Result<(), Failure> {
     let target = match (args.target_um, args.target_xyz) {
         (Some(v), _) if v.is_finite() && v > 0.0 => Target::Total(v),
         (Some(v), _) => return Err(Failure::input(anyhow::anyhow!("--target-um {v}: the target must be a positive number of um"))),
-        (None, Some(v)) => Target::PerDirection(v),
+        (None, Some(v)) => Target::PerDirection(parse_xyz(&v).map_err(|m| Failure::input(anyhow::anyhow!("--target-xyz: {m}")))?),
         (None, None) => unreachable!("clap requires one target"),
     };
     let stack = match args.stack {

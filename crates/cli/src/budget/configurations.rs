@@ -23,8 +23,8 @@ use trueaxis_report::budget::{bars_svg, trends_svg, BarPanel, Series};
      upright and tilted by --tilt-deg towards +-x and +-y. Guide: docs/budget.md")]
 pub struct ConfigurationsArgs {
     /// Part size LxMxN (mm) or L for a cube.
-    #[arg(long, value_parser = super::inputs::parse_part, default_value = "100")]
-    part: [f64; 3],
+    #[arg(long, default_value = "100")]
+    part: String,
     /// Tool length p (mm) from the pivot of the rotary axes next to the tool.
     #[arg(long, default_value_t = 100.0)]
     tool_length: f64,
@@ -58,6 +58,7 @@ pub struct ConfigurationsArgs {
 }
 
 pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
+    let part = super::inputs::parse_part(&args.part).map_err(|m| Failure::input(anyhow::anyhow!("--part: {m}")))?;
     for (name, v) in [
         ("--tool-length", args.tool_length),
         ("--linear-um", args.linear_um),
@@ -82,13 +83,13 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         let key = (c.pattern(), rotary);
         if !travel_rows.contains_key(&key) {
             let representative = representative(c.pattern(), &key.1);
-            let travel = required_travel(&representative, args.part, args.tool_length).map_err(failure)?;
+            let travel = required_travel(&representative, part, args.tool_length).map_err(failure)?;
             travel_rows.insert(key, (representative, travel));
         }
     }
     progress.set_message(format!("budgets of {} configurations", five.len()));
     let options = StudyOptions {
-        part: args.part,
+        part,
         tool_length: args.tool_length,
         tolerances: KindValues([args.linear_um, args.angular_urad, args.squareness_urad]),
         nodes: args.nodes,
@@ -127,7 +128,7 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
             .iter()
             .map(|((pattern, rotary), (seq, t))| {
                 json!({"category": pattern.notation(), "rotary": rotary, "axes": seq.iter().collect::<String>(), "travel_mm": t,
-                       "space_utility": space_utility(args.part, *t)})
+                       "space_utility": space_utility(part, *t)})
             })
             .collect();
         let rows: Vec<Value> = ranked
@@ -146,7 +147,7 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
             })
             .collect();
         let doc = json!({
-            "part_mm": args.part, "tool_length_mm": args.tool_length,
+            "part_mm": part, "tool_length_mm": args.tool_length,
             "tolerances": {"linear_um": args.linear_um, "angular_urad": args.angular_urad, "squareness_urad": args.squareness_urad},
             "counts": {"five_of_six_axes": counts[0], "three_linear_axes": counts[1], "three_categories": counts[2], "five_degrees_of_freedom": five.len()},
             "travel": travel, "ranking": rows,
@@ -166,7 +167,7 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         five.len(),
         five.len() / 3
     );
-    let _ = writeln!(out, "\ntravel for a {} x {} x {} mm part, tool length {} mm (largest |position|, mm)", args.part[0], args.part[1], args.part[2], args.tool_length);
+    let _ = writeln!(out, "\ntravel for a {} x {} x {} mm part, tool length {} mm (largest |position|, mm)", part[0], part[1], part[2], args.tool_length);
     let _ = writeln!(out, "  category     axes      X          Y          Z          space utility");
     for ((pattern, _), (seq, t)) in &travel_rows {
         let _ = writeln!(
@@ -177,7 +178,7 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
             t[0],
             t[1],
             t[2],
-            space_utility(args.part, *t)
+            space_utility(part, *t)
         );
         if args.formulas {
             let f = form_shaping(seq);

@@ -40,8 +40,8 @@ pub struct BudgetInputs {
     pub poses: Option<PathBuf>,
     /// Part size LxMxN (mm) or L for a cube: the tool point on a grid over the part, centred on the
     /// workpiece point and standing on it; repeat for several sizes.
-    #[arg(long, value_parser = parse_part)]
-    pub part: Vec<[f64; 3]>,
+    #[arg(long)]
+    pub part: Vec<String>,
     /// Grid points per linear axis over the travel (the work volume; the default, with 5).
     #[arg(long)]
     pub grid: Option<usize>,
@@ -49,8 +49,8 @@ pub struct BudgetInputs {
     #[arg(long, default_value_t = 5)]
     pub part_nodes: usize,
     /// Position of a rotary axis for --part and --grid, e.g. A=30 (deg; default 0); repeatable.
-    #[arg(long, value_parser = parse_rotary)]
-    pub rotary: Vec<(char, f64)>,
+    #[arg(long)]
+    pub rotary: Vec<String>,
     /// Tool-side point x,y,z in mm, in M at home (default: the machine's tool point).
     #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     pub tool_point: Option<Vec3>,
@@ -118,11 +118,15 @@ impl BudgetInputs {
             FrameArg::Workpiece => Frame::Workpiece,
             FrameArg::Machine => Frame::Machine,
         };
+        let given: Vec<(char, f64)> =
+            self.rotary.iter().map(|r| parse_rotary(r).map_err(|m| Failure::input(anyhow::anyhow!("--rotary: {m}")))).collect::<Result<_, _>>()?;
+        let parts: Vec<[f64; 3]> =
+            self.part.iter().map(|p| parse_part(p).map_err(|m| Failure::input(anyhow::anyhow!("--part: {m}")))).collect::<Result<_, _>>()?;
         let mut rotary = Vec::new();
         for axis in machine.axes().iter().filter(|a| a.kind == AxisKind::Rotary) {
-            rotary.push(self.rotary.iter().find(|(c, _)| *c == axis.letter).map_or(0.0, |r| r.1));
+            rotary.push(given.iter().find(|(c, _)| *c == axis.letter).map_or(0.0, |r| r.1));
         }
-        for (c, _) in &self.rotary {
+        for (c, _) in &given {
             if !machine.axes().iter().any(|a| a.letter == *c && a.kind == AxisKind::Rotary) {
                 return Err(Failure::input(anyhow::anyhow!(
                     "--rotary {c}=...: machine `{}` has no rotary axis {c} (axes: {})",
@@ -141,11 +145,11 @@ impl BudgetInputs {
                 machine.check_range(pose).map_err(|m| Failure::input(anyhow::anyhow!("{}: line {}: {m}", path.display(), table.lines[i])))?;
             }
             sets.push(PoseSet { label: path.display().to_string(), part: None, internal: table.internal(&machine), user: table.user });
-        } else if !self.part.is_empty() {
+        } else if !parts.is_empty() {
             if self.part_nodes < 2 {
                 return Err(Failure::input(anyhow::anyhow!("--part-nodes {}: at least 2 points per edge", self.part_nodes)));
             }
-            for size in &self.part {
+            for size in &parts {
                 let user = part_grid(&machine, &setup, *size, self.part_nodes, &rotary).map_err(failure)?;
                 sets.push(PoseSet { label: format!("{}x{}x{}", size[0], size[1], size[2]), part: Some(*size), internal: internal(&machine, &user), user });
             }
