@@ -31,7 +31,17 @@ fn close(a: f64, b: f64, tolerance: f64) -> bool {
 
 #[test]
 fn analyse_equals_the_library_and_shows_the_abbe_effect() {
-    let out = trueaxis(&["budget", "analyse", "--machine", "examples/machines/vmc3.toml", "--part", "200x150x100", "--part", "600x400x300", "--json"]);
+    let out = trueaxis(&[
+        "budget",
+        "analyse",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--part",
+        "200x150x100",
+        "--part",
+        "600x400x300",
+        "--json",
+    ]);
     let doc = json(&out);
     let sets = doc["sets"].as_array().unwrap();
     assert_eq!(sets.len(), 2);
@@ -64,7 +74,13 @@ fn analyse_equals_the_library_and_shows_the_abbe_effect() {
     }
     // Abbe effect: the larger part moves the tool over longer lever arms, angular errors weigh more
     let angular = |set: &serde_json::Value| {
-        set["by_kind"].as_array().unwrap().iter().filter(|g| g["group"] != "linear").map(|g| g["share_percent"].as_f64().unwrap()).sum::<f64>()
+        set["by_kind"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|g| g["group"] != "linear")
+            .map(|g| g["share_percent"].as_f64().unwrap())
+            .sum::<f64>()
     };
     assert!(angular(&sets[1]) > angular(&sets[0]));
     // the table output names the groups
@@ -82,8 +98,22 @@ fn analyse_writes_figures_report_and_tables() {
     let out = trueaxis_in(
         dir.path(),
         &[
-            "budget", "analyse", "--machine", &machine, "--grid", "3", "--rotary", "A=45", "--plots", "plots", "--report", "budget.html", "--out",
-            "poses.csv", "--sensitivity", "s.csv",
+            "budget",
+            "analyse",
+            "--machine",
+            &machine,
+            "--grid",
+            "3",
+            "--rotary",
+            "A=45",
+            "--plots",
+            "plots",
+            "--report",
+            "budget.html",
+            "--out",
+            "poses.csv",
+            "--sensitivity",
+            "s.csv",
         ],
     );
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -109,7 +139,21 @@ fn allocation_round_trip_meets_the_target() {
     let machine = format!("{ROOT}/examples/machines/vmc3.toml");
     let doc = json(&trueaxis_in(
         dir.path(),
-        &["budget", "allocate", "--machine", &machine, "--part", "300x200x150", "--part-nodes", "3", "--target-um", "10", "--out", "alloc.toml", "--json"],
+        &[
+            "budget",
+            "allocate",
+            "--machine",
+            &machine,
+            "--part",
+            "300x200x150",
+            "--part-nodes",
+            "3",
+            "--target-um",
+            "10",
+            "--out",
+            "alloc.toml",
+            "--json",
+        ],
     ));
     assert!(doc["kkt_residual"].as_f64().unwrap() < 1e-6);
     assert!(doc["cost"].as_f64().unwrap() <= doc["global_stage_cost"].as_f64().unwrap());

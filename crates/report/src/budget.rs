@@ -18,7 +18,7 @@ pub struct BarPanel {
 }
 
 const BAR_COLOUR: RGBColor = RGBColor(70, 110, 170);
-const PANEL_WIDTH: u32 = 380;
+const PANEL_WIDTH: u32 = 420;
 
 fn draw(e: impl std::fmt::Display) -> ReportError {
     ReportError::Draw(e.to_string())
@@ -43,11 +43,12 @@ pub fn bars_svg(title: &str, panels: &[BarPanel]) -> Result<String, ReportError>
             let n = panel.bars.len();
             let top = panel.bars.iter().map(|b| b.1).fold(0.0, f64::max).max(1e-12) * 1.15;
             let labels: Vec<String> = panel.bars.iter().map(|b| b.0.clone()).collect();
+            let label_width = labels.iter().map(|l| l.chars().count()).max().unwrap_or(1) as u32 * 7 + 12;
             let mut chart = ChartBuilder::on(area)
                 .caption(&panel.title, ("sans-serif", 15))
                 .margin(10)
                 .x_label_area_size(35)
-                .y_label_area_size(70)
+                .y_label_area_size(label_width.clamp(60, 220))
                 .build_cartesian_2d(0.0..top, -0.5..(n as f64 - 0.5))
                 .map_err(draw)?;
             chart
@@ -100,7 +101,7 @@ pub fn trends_svg(title: &str, x_label: &str, panels: &[(String, Vec<Series>)]) 
         for (area, (panel_title, series)) in root.split_evenly((1, panels.len())).iter().zip(panels) {
             let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
             let (x0, x1) = xs.clone().fold((f64::INFINITY, 0.0_f64), |(a, b), x| (a.min(x), b.max(x)));
-            let y1 = series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).fold(0.0, f64::max).max(1e-12) * 1.1;
+            let y1 = series.iter().flat_map(|s| s.points.iter().map(|p| p.1)).fold(0.0, f64::max).max(1e-12) * 1.35;
             let mut chart = ChartBuilder::on(area)
                 .caption(panel_title, ("sans-serif", 15))
                 .margin(10)
@@ -108,7 +109,16 @@ pub fn trends_svg(title: &str, x_label: &str, panels: &[(String, Vec<Series>)]) 
                 .y_label_area_size(55)
                 .build_cartesian_2d((x0 * 0.8..x1 * 1.25).log_scale(), 0.0..y1)
                 .map_err(draw)?;
-            chart.configure_mesh().x_desc(x_label).label_style(("sans-serif", 12)).draw().map_err(draw)?;
+            chart
+                .configure_mesh()
+                .disable_x_mesh()
+                .x_labels(6)
+                .x_label_formatter(&|v| format!("{v:.0}"))
+                .y_label_formatter(&|v| format!("{v:.0}"))
+                .x_desc(x_label)
+                .label_style(("sans-serif", 12))
+                .draw()
+                .map_err(draw)?;
             for (k, s) in series.iter().enumerate() {
                 let colour = colours[k % colours.len()];
                 chart
@@ -118,7 +128,13 @@ pub fn trends_svg(title: &str, x_label: &str, panels: &[(String, Vec<Series>)]) 
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
                 chart.draw_series(s.points.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(draw)?;
             }
-            chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(draw)?;
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .draw()
+                .map_err(draw)?;
         }
         root.present().map_err(draw)?;
     }
@@ -201,12 +217,15 @@ pub fn budget_section(machine: &Machine, spec: &BudgetSpec, analysis: &Analysis,
         .map(|&j| {
             let c = &spec.components[j];
             let share = &analysis.components[j];
-            let gain = if c.id.component().is_rotation() {
-                format!("{:.1} mm", share.gain * 1000.0)
-            } else {
-                format!("{:.3}", share.gain)
-            };
-            vec![c.id.to_string(), c.kind.name().into(), format!("{} {}", spec.tolerances[j], c.kind.unit()), gain, fmt(share.rss_um), format!("{:.2}", share.share)]
+            let gain = if c.id.component().is_rotation() { format!("{:.1} mm", share.gain * 1000.0) } else { format!("{:.3}", share.gain) };
+            vec![
+                c.id.to_string(),
+                c.kind.name().into(),
+                format!("{} {}", spec.tolerances[j], c.kind.unit()),
+                gain,
+                fmt(share.rss_um),
+                format!("{:.2}", share.share),
+            ]
         })
         .collect();
     section = section.table(

@@ -47,13 +47,18 @@ fn equal_costs_under_one_rss_constraint_give_the_lagrange_solution() {
         let a = allocate(&spec, &s, &options(Stack::Rss, Target::Total(v))).unwrap();
         let g = gains(&spec, &s);
         let sum: f64 = g.iter().filter(|x| **x > 1e-9).map(|x| x.powf(2.0 * k / (k + 2.0))).sum();
-        for j in 0..g.len() {
+        for (j, &gain) in g.iter().enumerate() {
             if !a.allocated[j] {
-                assert!(g[j] < 1e-9, "{} has an effect but was not allocated", spec.components[j].id);
+                assert!(gain < 1e-9, "{} has an effect but was not allocated", spec.components[j].id);
                 continue;
             }
-            let expected = v * g[j].powf(-2.0 / (k + 2.0)) / sum.sqrt() * spec.components[j].scale();
-            assert!((a.tolerances[j] - expected).abs() <= 1e-6 * expected, "k {k} {}: {} vs {expected}", spec.components[j].id, a.tolerances[j]);
+            let expected = v * gain.powf(-2.0 / (k + 2.0)) / sum.sqrt() * spec.components[j].scale();
+            assert!(
+                (a.tolerances[j] - expected).abs() <= 1e-6 * expected,
+                "k {k} {}: {} vs {expected}",
+                spec.components[j].id,
+                a.tolerances[j]
+            );
         }
         let cost: f64 = g.iter().filter(|x| **x > 1e-9).map(|x| (v * x.powf(-2.0 / (k + 2.0)) / sum.sqrt()).powf(-k)).sum();
         assert!((a.cost - cost).abs() <= 1e-8 * cost);
@@ -93,15 +98,16 @@ fn an_active_lower_limit_takes_its_share_first() {
 #[test]
 fn equal_costs_under_one_worst_case_constraint_give_the_lagrange_solution() {
     // one direction, worst case: minimise sum 1/e_j^k subject to sum g_j e_j <= V:
-    // e_j = V g_j^(-1/(k+1)) / sum_i g_i^(k/(k+1)). The lathe at C = 0 with the other directions'
-    // targets out of reach: components acting along z only (EZZ, EZX, ...) are bound by their own.
+    // e_j = V g_j^(-1/(k+1)) / sum_i g_i^(k/(k+1)); the components of vmc3 that move the tool
+    // point along x only, with the y and z targets out of reach.
     let m = machine("vmc3");
     let (mut spec, s) = one_pose(&m, &[150.0, 60.0, -200.0]);
     let k = 2.0;
     spec.cost = CostModel::uniform(&spec.components, 1.0, k, [0.0; 3]);
     // keep the components that act along x only
-    let along_x: Vec<usize> =
-        (0..spec.components.len()).filter(|&j| s.column(0, j).x.abs() > 1e-9 && s.column(0, j).y.abs() < 1e-12 && s.column(0, j).z.abs() < 1e-12).collect();
+    let along_x: Vec<usize> = (0..spec.components.len())
+        .filter(|&j| s.column(0, j).x.abs() > 1e-9 && s.column(0, j).y.abs() < 1e-12 && s.column(0, j).z.abs() < 1e-12)
+        .collect();
     assert!(along_x.len() >= 4, "{along_x:?}");
     let spec = BudgetSpec {
         components: along_x.iter().map(|&j| spec.components[j].clone()).collect(),
@@ -113,8 +119,8 @@ fn equal_costs_under_one_worst_case_constraint_give_the_lagrange_solution() {
     let a = allocate(&spec, &s, &options(Stack::WorstCase, Target::PerDirection([v, 1e9, 1e9]))).unwrap();
     let g: Vec<f64> = (0..spec.components.len()).map(|j| s.column(0, j).x.abs() * spec.components[j].scale()).collect();
     let sum: f64 = g.iter().map(|x| x.powf(k / (k + 1.0))).sum();
-    for j in 0..g.len() {
-        let expected = v * g[j].powf(-1.0 / (k + 1.0)) / sum * spec.components[j].scale();
+    for (j, gain) in g.iter().enumerate() {
+        let expected = v * gain.powf(-1.0 / (k + 1.0)) / sum * spec.components[j].scale();
         assert!((a.tolerances[j] - expected).abs() <= 1e-6 * expected, "{}: {} vs {expected}", spec.components[j].id, a.tolerances[j]);
     }
     assert!(a.kkt_residual < 1e-6);

@@ -40,16 +40,47 @@ fn counts_of_the_appendix() {
 
 /// Table C.1 as printed, `(l, m, n, u, v, w)` at `(x, y, z, a, b, c, p)`; the rows BCXYZ, BXYZA and
 /// XYZBC carry the corrections of their printing errors (noted per row).
+#[allow(clippy::too_many_arguments)] // the seven symbols of the table
 fn table_c1(code: &str, x: f64, y: f64, z: f64, a: f64, b: f64, c: f64, p: f64) -> [f64; 6] {
     let (sa, ca, sb, cb, sc, cc) = (a.sin(), a.cos(), b.sin(), b.cos(), c.sin(), c.cos());
     match code {
-        "ABXYZ" => [sb * p + sb * z + cb * x, -sa * cb * p - sa * cb * z + ca * y + sa * sb * x, ca * cb * p + ca * cb * z + sa * y - ca * sb * x, sb, -sa * cb, ca * cb],
-        "ACXYZ" => [-sc * y + cc * x, -sa * p - sa * z + ca * cc * y + ca * sc * x, ca * p + ca * z + sa * cc * y + sa * sc * x, 0.0, -sa, ca],
-        "BAXYZ" => [ca * sb * p + ca * sb * z + sa * sb * y + cb * x, -sa * p - sa * z + ca * y, ca * cb * p + ca * cb * z + sa * cb * y - sb * x, ca * sb, -sa, ca * cb],
+        "ABXYZ" => [
+            sb * p + sb * z + cb * x,
+            -sa * cb * p - sa * cb * z + ca * y + sa * sb * x,
+            ca * cb * p + ca * cb * z + sa * y - ca * sb * x,
+            sb,
+            -sa * cb,
+            ca * cb,
+        ],
+        "ACXYZ" => {
+            [-sc * y + cc * x, -sa * p - sa * z + ca * cc * y + ca * sc * x, ca * p + ca * z + sa * cc * y + sa * sc * x, 0.0, -sa, ca]
+        }
+        "BAXYZ" => [
+            ca * sb * p + ca * sb * z + sa * sb * y + cb * x,
+            -sa * p - sa * z + ca * y,
+            ca * cb * p + ca * cb * z + sa * cb * y - sb * x,
+            ca * sb,
+            -sa,
+            ca * cb,
+        ],
         // printed n ends in "- sin(b) sin(c) x": the rotation gives - sin(b) cos(c) x
         "BCXYZ" => [sb * p + sb * z - cb * sc * y + cb * cc * x, cc * y + sc * x, cb * p + cb * z + sb * sc * y - sb * cc * x, sb, 0.0, cb],
-        "CAXYZ" => [sc * sa * p + sa * sc * z - ca * sc * y + cc * x, -cc * sa * p - sa * cc * z + ca * cc * y + sc * x, ca * p + ca * z + sa * y, sa * sc, -sa * cc, ca],
-        "CBXYZ" => [sb * cc * p + cc * sb * z - sc * y + cc * cb * x, sb * sc * p + sc * sb * z + cc * y + sc * cb * x, cb * p + cb * z - sb * x, cc * sb, sc * sb, cb],
+        "CAXYZ" => [
+            sc * sa * p + sa * sc * z - ca * sc * y + cc * x,
+            -cc * sa * p - sa * cc * z + ca * cc * y + sc * x,
+            ca * p + ca * z + sa * y,
+            sa * sc,
+            -sa * cc,
+            ca,
+        ],
+        "CBXYZ" => [
+            sb * cc * p + cc * sb * z - sc * y + cc * cb * x,
+            sb * sc * p + sc * sb * z + cc * y + sc * cb * x,
+            cb * p + cb * z - sb * x,
+            cc * sb,
+            sc * sb,
+            cb,
+        ],
         "AXYZB" => [sb * p + x, -sa * cb * p - sa * z + ca * y, ca * cb * p + ca * z + sa * y, sb, -sa * cb, ca * cb],
         "AXYZC" => [x, -sa * p - sa * z + ca * y, ca * p + ca * z + sa * y, 0.0, -sa, ca],
         // printed n ends in "+ sin(b) x": the rotation gives - sin(b) x
@@ -71,8 +102,8 @@ fn table_c1(code: &str, x: f64, y: f64, z: f64, a: f64, b: f64, c: f64, p: f64) 
 #[test]
 fn form_shaping_functions_equal_table_c1() {
     let rows = [
-        "ABXYZ", "ACXYZ", "BAXYZ", "BCXYZ", "CAXYZ", "CBXYZ", "AXYZB", "AXYZC", "BXYZA", "BXYZC", "CXYZA", "CXYZB", "XYZAB", "XYZAC", "XYZBA",
-        "XYZBC", "XYZCA", "XYZCB",
+        "ABXYZ", "ACXYZ", "BAXYZ", "BCXYZ", "CAXYZ", "CBXYZ", "AXYZB", "AXYZC", "BXYZA", "BXYZC", "CXYZA", "CXYZB", "XYZAB", "XYZAC",
+        "XYZBA", "XYZBC", "XYZCA", "XYZCB",
     ];
     let values = [(12.0, -7.0, 31.0, 0.4, -1.1, 2.3, 150.0), (-40.0, 5.0, -3.0, -2.0, 0.7, -0.2, 80.0)];
     for code in rows {

@@ -18,7 +18,9 @@ fn share(groups: &[trueaxis::budget::analysis::GroupShare], label: &str) -> f64 
 
 #[test]
 fn findings_of_the_miniaturisation_case() {
-    let cases = run(&SIZES, KindValues([1.0, ARCSEC_URAD, ARCSEC_URAD]), 1e-4, GeneticOptions { generations: 100, ..GeneticOptions::default() }).unwrap();
+    let cases =
+        run(&SIZES, KindValues([1.0, ARCSEC_URAD, ARCSEC_URAD]), 1e-4, GeneticOptions { generations: 100, ..GeneticOptions::default() })
+            .unwrap();
     let small = &cases[0].analysis;
     let large = &cases[5].analysis;
     // error kinds: linear errors dominate at 10 mm, angular + squareness at 300 mm

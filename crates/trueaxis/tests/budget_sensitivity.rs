@@ -48,7 +48,8 @@ fn sensitivity_equals_central_differences_of_the_exact_chain() {
                     let error = |sign: f64| {
                         let mut params = vec![0.0; m.parameter_count()];
                         params[c.index] = sign * h;
-                        volumetric_error(&m, q, &params, &setup, frame).position * 1e3 // um
+                        volumetric_error(&m, q, &params, &setup, frame).position * 1e3
+                        // um
                     };
                     let difference = (error(1.0) - error(-1.0)) / (2.0 * 0.01); // um per um or urad
                     let column = s.column(p, j);
@@ -99,9 +100,9 @@ fn stack_up_equals_direct_sums() {
         for d in 0..3 {
             let mut rss = 0.0;
             let mut worst = 0.0;
-            for j in 0..n {
-                rss += (s.row(p, d)[j] * t[j]).powi(2);
-                worst += s.row(p, d)[j].abs() * t[j];
+            for (g, e) in s.row(p, d).iter().zip(&t) {
+                rss += (g * e).powi(2);
+                worst += g.abs() * e;
             }
             assert!((result.rss[d] - rss.sqrt()).abs() <= 1e-12 * rss.sqrt().max(1.0));
             assert!((result.worst[d] - worst).abs() <= 1e-12 * worst.max(1.0));
@@ -112,7 +113,8 @@ fn stack_up_equals_direct_sums() {
         let active: Vec<usize> = (0..n).filter(|&j| t[j] > 0.0).collect();
         let mut largest: f64 = 0.0;
         for mask in 0..1u32 << active.len() {
-            let v: Vec3 = active.iter().enumerate().map(|(b, &j)| s.column(p, j) * t[j] * if mask >> b & 1 == 1 { 1.0 } else { -1.0 }).sum();
+            let v: Vec3 =
+                active.iter().enumerate().map(|(b, &j)| s.column(p, j) * t[j] * if mask >> b & 1 == 1 { 1.0 } else { -1.0 }).sum();
             largest = largest.max(v.norm());
         }
         assert!((result.worst_total - largest).abs() <= 1e-9 * largest, "pose {p}: {} vs {largest}", result.worst_total);

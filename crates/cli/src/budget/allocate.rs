@@ -22,9 +22,11 @@ enum StackArg {
 /// global stage, then an interior-point local stage on the convex form of the problem, checked by
 /// its KKT conditions.
 #[derive(clap::Args)]
-#[command(after_help = "Example:\n  trueaxis budget allocate --machine examples/machines/vmc3.toml --part 300x200x150 --target-um 10 --out vmc3-allocated.toml\n  \
+#[command(
+    after_help = "Example:\n  trueaxis budget allocate --machine examples/machines/vmc3.toml --part 300x200x150 --target-um 10 --out vmc3-allocated.toml\n  \
      trueaxis budget allocate --machine examples/machines/c600u.toml --grid 3 --stack worst-case --target-xyz 15,15,10 --json\n\n\
-     The written budget file feeds `trueaxis budget analyse --budget`. Guide: docs/budget.md")]
+     The written budget file feeds `trueaxis budget analyse --budget`. Guide: docs/budget.md"
+)]
 pub struct AllocateArgs {
     #[command(flatten)]
     inputs: BudgetInputs,
@@ -77,7 +79,11 @@ pub fn run(args: AllocateArgs) -> Result<(), Failure> {
         StackArg::WorstCase => Stack::WorstCase,
     };
     let s = sensitivity(&machine, &spec.components, &set.internal, &setup, frame);
-    let options = AllocationOptions { stack, target, genetic: GeneticOptions { generations: args.generations, seed: args.seed, ..GeneticOptions::default() } };
+    let options = AllocationOptions {
+        stack,
+        target,
+        genetic: GeneticOptions { generations: args.generations, seed: args.seed, ..GeneticOptions::default() },
+    };
     let a = allocate(&spec, &s, &options).map_err(failure)?;
     if !(a.cost.is_finite() && a.tolerances.iter().all(|t| t.is_finite())) {
         return Err(Failure::computation(anyhow::anyhow!("the allocation is not finite")));
@@ -85,7 +91,9 @@ pub fn run(args: AllocateArgs) -> Result<(), Failure> {
     let allocated = spec.with_tolerances(a.tolerances.clone());
     let (target_text, target_json) = match target {
         Target::Total(v) => (format!("{v} um (3D)"), json!({"total_um": v})),
-        Target::PerDirection(v) => (format!("{} / {} / {} um (x / y / z)", v[0], v[1], v[2]), json!({"x_um": v[0], "y_um": v[1], "z_um": v[2]})),
+        Target::PerDirection(v) => {
+            (format!("{} / {} / {} um (x / y / z)", v[0], v[1], v[2]), json!({"x_um": v[0], "y_um": v[1], "z_um": v[2]}))
+        }
     };
     let stack_name = match stack {
         Stack::Rss => "root-sum-square",
@@ -132,16 +140,17 @@ pub fn run(args: AllocateArgs) -> Result<(), Failure> {
         return Ok(());
     }
     let mut out = String::new();
-    let _ = writeln!(out, "Cost-optimal tolerances of {}: {stack_name} target {target_text} at {} poses ({})", machine.name, s.poses(), set.label);
+    let _ = writeln!(
+        out,
+        "Cost-optimal tolerances of {}: {stack_name} target {target_text} at {} poses ({})",
+        machine.name,
+        s.poses(),
+        set.label
+    );
     let _ = writeln!(
         out,
         "cost {:.6e} (global stage {:.6e}); KKT residual {:.1e}; duality gap {:.1e}; {} Newton steps, {} cutting-plane rounds",
-        a.cost,
-        a.global_cost,
-        a.kkt_residual,
-        a.duality_gap,
-        a.newton_steps,
-        a.cutting_rounds
+        a.cost, a.global_cost, a.kkt_residual, a.duality_gap, a.newton_steps, a.cutting_rounds
     );
     for c in &a.active {
         let _ = writeln!(

@@ -92,8 +92,11 @@ pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
             sections: Vec::new(),
         };
         for (set, a) in sets.iter().zip(&analyses) {
-            let mine: Vec<(String, String)> =
-                figures.iter().filter(|(name, _, _)| name.contains(&suffix(set)) || name == "volume_map.svg").map(|(_, c, s)| (c.clone(), s.clone())).collect();
+            let mine: Vec<(String, String)> = figures
+                .iter()
+                .filter(|(name, _, _)| name.contains(&suffix(set)) || name == "volume_map.svg")
+                .map(|(_, c, s)| (c.clone(), s.clone()))
+                .collect();
             let mut section = budget_section(machine, spec, a, &mine);
             section.id = format!("budget{}", suffix(set));
             section.title = format!("Error budget, {}", set.label);
@@ -225,7 +228,8 @@ fn analysis_json(machine: &Machine, spec: &BudgetSpec, set: &PoseSet, a: &Analys
         .zip(&a.poses)
         .enumerate()
         .map(|(i, (pose, r))| {
-            let positions: serde_json::Map<String, Value> = machine.axes().iter().zip(pose).map(|(ax, v)| (ax.letter.to_string(), json!(v))).collect();
+            let positions: serde_json::Map<String, Value> =
+                machine.axes().iter().zip(pose).map(|(ax, v)| (ax.letter.to_string(), json!(v))).collect();
             json!({
                 "pose": i + 1, "position": positions,
                 "rss_um": {"x": r.stack.rss[0], "y": r.stack.rss[1], "z": r.stack.rss[2], "total": r.stack.rss_total},
@@ -259,11 +263,34 @@ fn analysis_text(machine: &Machine, spec: &BudgetSpec, set: &PoseSet, a: &Analys
         Some(p) => format!("budget file {}", Path::new(p).display()),
         None => format!("linear {} um, angular {} urad, squareness {} urad", inputs.linear_um, inputs.angular_urad, inputs.squareness_urad),
     };
-    let _ = writeln!(out, "Error budget of {}: {} components ({source}), {} poses ({})", machine.name, spec.components.len(), a.poses.len(), set.label);
+    let _ = writeln!(
+        out,
+        "Error budget of {}: {} components ({source}), {} poses ({})",
+        machine.name,
+        spec.components.len(),
+        a.poses.len(),
+        set.label
+    );
     let d = |k: usize, w: bool| a.direction_max(k, w).1;
     let _ = writeln!(out, "\nvolumetric error (um)              x         y         z        3D");
-    let _ = writeln!(out, "  root-sum-square, largest  {:>9.3} {:>9.3} {:>9.3} {:>9.3}  (3D at pose {})", d(0, false), d(1, false), d(2, false), a.rss_max().1, a.rss_max().0 + 1);
-    let _ = writeln!(out, "  worst case, largest       {:>9.3} {:>9.3} {:>9.3} {:>9.3}  (3D at pose {})", d(0, true), d(1, true), d(2, true), a.worst_max().1, a.worst_max().0 + 1);
+    let _ = writeln!(
+        out,
+        "  root-sum-square, largest  {:>9.3} {:>9.3} {:>9.3} {:>9.3}  (3D at pose {})",
+        d(0, false),
+        d(1, false),
+        d(2, false),
+        a.rss_max().1,
+        a.rss_max().0 + 1
+    );
+    let _ = writeln!(
+        out,
+        "  worst case, largest       {:>9.3} {:>9.3} {:>9.3} {:>9.3}  (3D at pose {})",
+        d(0, true),
+        d(1, true),
+        d(2, true),
+        a.worst_max().1,
+        a.worst_max().0 + 1
+    );
     let _ = writeln!(out, "  root-sum-square 3D, root mean square over the poses: {:.3}", a.rss_rms);
     let _ = writeln!(
         out,

@@ -6,7 +6,9 @@ use serde_json::{json, Value};
 use std::collections::BTreeMap;
 use std::fmt::Write;
 use std::path::PathBuf;
-use trueaxis::budget::configurations::{all_sequences, five_axis_configurations, practical_configurations, three_linear_sequences, Pattern};
+use trueaxis::budget::configurations::{
+    all_sequences, five_axis_configurations, practical_configurations, three_linear_sequences, Pattern,
+};
 use trueaxis::budget::form_shaping::form_shaping;
 use trueaxis::budget::ranking::{study, StudyOptions};
 use trueaxis::budget::spec::KindValues;
@@ -81,10 +83,10 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
     for c in &five {
         let rotary: String = c.sequence.iter().filter(|a| "ABC".contains(**a)).collect();
         let key = (c.pattern(), rotary);
-        if !travel_rows.contains_key(&key) {
-            let representative = representative(c.pattern(), &key.1);
+        if let std::collections::btree_map::Entry::Vacant(e) = travel_rows.entry(key) {
+            let representative = representative(c.pattern(), &e.key().1);
             let travel = required_travel(&representative, part, args.tool_length).map_err(failure)?;
-            travel_rows.insert(key, (representative, travel));
+            e.insert((representative, travel));
         }
     }
     progress.set_message(format!("budgets of {} configurations", five.len()));
@@ -118,9 +120,11 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         let svg = trends_svg("Space utility of a cubic part", "part edge / tool length", &[("part volume / travel volume".into(), series)])
             .map_err(Failure::computation)?;
         write_atomically(&dir.join("space_utility.svg"), svg.as_bytes()).map_err(Failure::input)?;
-        let bars: Vec<(String, f64)> = ranked.iter().take(args.top.clamp(1, 30)).map(|r| (r.configuration.chain().replace(' ', ""), r.rss_rms)).collect();
-        let svg = bars_svg("Configurations ranked", &[BarPanel { title: "RMS of the root-sum-square 3D error".into(), unit: "um".into(), bars }])
-            .map_err(Failure::computation)?;
+        let bars: Vec<(String, f64)> =
+            ranked.iter().take(args.top.clamp(1, 30)).map(|r| (r.configuration.structure(), r.rss_rms)).collect();
+        let svg =
+            bars_svg("Configurations ranked", &[BarPanel { title: "RMS of the root-sum-square 3D error".into(), unit: "um".into(), bars }])
+                .map_err(Failure::computation)?;
         write_atomically(&dir.join("ranking.svg"), svg.as_bytes()).map_err(Failure::input)?;
     }
     if args.json {
@@ -167,7 +171,11 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         five.len(),
         five.len() / 3
     );
-    let _ = writeln!(out, "\ntravel for a {} x {} x {} mm part, tool length {} mm (largest |position|, mm)", part[0], part[1], part[2], args.tool_length);
+    let _ = writeln!(
+        out,
+        "\ntravel for a {} x {} x {} mm part, tool length {} mm (largest |position|, mm)",
+        part[0], part[1], part[2], args.tool_length
+    );
     let _ = writeln!(out, "  category     axes      X          Y          Z          space utility");
     for ((pattern, _), (seq, t)) in &travel_rows {
         let _ = writeln!(
@@ -195,7 +203,8 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         args.squareness_urad,
         ranked.first().map_or(0, |r| r.poses)
     );
-    let _ = writeln!(out, "  rank  chain                          structure    RMS (um)  max (um)  worst (um)  linear/angular/squareness (%)");
+    let _ =
+        writeln!(out, "  rank  chain                          structure    RMS (um)  max (um)  worst (um)  linear/angular/squareness (%)");
     for (i, r) in ranked.iter().take(args.top).enumerate() {
         let _ = writeln!(
             out,

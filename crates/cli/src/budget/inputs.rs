@@ -110,18 +110,22 @@ impl BudgetInputs {
             Some(path) => BudgetSpec::load(path, &machine, defaults).map_err(failure)?,
             None => BudgetSpec::standard(&machine, defaults),
         };
-        let setup = Setup {
-            tool_point: self.tool_point.unwrap_or(machine.tool_point),
-            work_point: self.work_point.unwrap_or_else(Vec3::zeros),
-        };
+        let setup =
+            Setup { tool_point: self.tool_point.unwrap_or(machine.tool_point), work_point: self.work_point.unwrap_or_else(Vec3::zeros) };
         let frame = match self.frame {
             FrameArg::Workpiece => Frame::Workpiece,
             FrameArg::Machine => Frame::Machine,
         };
-        let given: Vec<(char, f64)> =
-            self.rotary.iter().map(|r| parse_rotary(r).map_err(|m| Failure::input(anyhow::anyhow!("--rotary: {m}")))).collect::<Result<_, _>>()?;
-        let parts: Vec<[f64; 3]> =
-            self.part.iter().map(|p| parse_part(p).map_err(|m| Failure::input(anyhow::anyhow!("--part: {m}")))).collect::<Result<_, _>>()?;
+        let given: Vec<(char, f64)> = self
+            .rotary
+            .iter()
+            .map(|r| parse_rotary(r).map_err(|m| Failure::input(anyhow::anyhow!("--rotary: {m}"))))
+            .collect::<Result<_, _>>()?;
+        let parts: Vec<[f64; 3]> = self
+            .part
+            .iter()
+            .map(|p| parse_part(p).map_err(|m| Failure::input(anyhow::anyhow!("--part: {m}"))))
+            .collect::<Result<_, _>>()?;
         let mut rotary = Vec::new();
         for axis in machine.axes().iter().filter(|a| a.kind == AxisKind::Rotary) {
             rotary.push(given.iter().find(|(c, _)| *c == axis.letter).map_or(0.0, |r| r.1));
@@ -142,7 +146,9 @@ impl BudgetInputs {
                 return Err(Failure::input(anyhow::anyhow!("{}: no poses", path.display())));
             }
             for (i, pose) in table.user.chunks(machine.axis_count()).enumerate() {
-                machine.check_range(pose).map_err(|m| Failure::input(anyhow::anyhow!("{}: line {}: {m}", path.display(), table.lines[i])))?;
+                machine
+                    .check_range(pose)
+                    .map_err(|m| Failure::input(anyhow::anyhow!("{}: line {}: {m}", path.display(), table.lines[i])))?;
             }
             sets.push(PoseSet { label: path.display().to_string(), part: None, internal: table.internal(&machine), user: table.user });
         } else if !parts.is_empty() {
@@ -151,7 +157,12 @@ impl BudgetInputs {
             }
             for size in &parts {
                 let user = part_grid(&machine, &setup, *size, self.part_nodes, &rotary).map_err(failure)?;
-                sets.push(PoseSet { label: format!("{}x{}x{}", size[0], size[1], size[2]), part: Some(*size), internal: internal(&machine, &user), user });
+                sets.push(PoseSet {
+                    label: format!("{}x{}x{}", size[0], size[1], size[2]),
+                    part: Some(*size),
+                    internal: internal(&machine, &user),
+                    user,
+                });
             }
         } else {
             let nodes = self.grid.unwrap_or(5);

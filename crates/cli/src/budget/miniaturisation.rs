@@ -17,8 +17,10 @@ use trueaxis_report::budget::{trends_svg, Series};
 /// sensitivities, robustness indices and shares by axis and kind, then the cost-optimal allocation
 /// at a constant relative accuracy.
 #[derive(clap::Args)]
-#[command(after_help = "Example:\n  trueaxis budget miniaturisation --plots mini\n  trueaxis budget miniaturisation --sizes 10,300 --json\n\n\
-     Assumptions (machine scaled with the part, 1 um and 1 arcsec errors, 1 m homogenisation length): docs/budget.md")]
+#[command(
+    after_help = "Example:\n  trueaxis budget miniaturisation --plots mini\n  trueaxis budget miniaturisation --sizes 10,300 --json\n\n\
+     Assumptions (machine scaled with the part, 1 um and 1 arcsec errors, 1 m homogenisation length): docs/budget.md"
+)]
 pub struct MiniaturisationArgs {
     /// Part sizes (mm), comma separated.
     #[arg(long, value_delimiter = ',', default_values_t = SIZES.to_vec())]
@@ -52,7 +54,9 @@ fn sm(groups: &[GroupShare], label: &str) -> f64 {
 }
 
 pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
-    for (name, v) in [("--linear-um", args.linear_um), ("--angular-urad", args.angular_urad), ("--relative-accuracy", args.relative_accuracy)] {
+    for (name, v) in
+        [("--linear-um", args.linear_um), ("--angular-urad", args.angular_urad), ("--relative-accuracy", args.relative_accuracy)]
+    {
         if !(v.is_finite() && v > 0.0) {
             return Err(Failure::input(anyhow::anyhow!("{name} {v}: must be a positive number")));
         }
@@ -83,7 +87,10 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
                 ),
                 (
                     "robustness indices".into(),
-                    vec![series(&|c| c.analysis.condition.unwrap_or(0.0), "RI_1 (condition)"), series(&|c| c.analysis.singular_values[0] / 1000.0, "RI_2 (m)")],
+                    vec![
+                        series(&|c| c.analysis.condition.unwrap_or(0.0), "RI_1 (condition)"),
+                        series(&|c| c.analysis.singular_values[0] / 1000.0, "RI_2 (m)"),
+                    ],
                 ),
             ],
         )
@@ -127,7 +134,10 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
                 })
             })
             .collect();
-        println!("{}", json!({"linear_um": args.linear_um, "angular_urad": args.angular_urad, "relative_accuracy": args.relative_accuracy, "sizes": rows}));
+        println!(
+            "{}",
+            json!({"linear_um": args.linear_um, "angular_urad": args.angular_urad, "relative_accuracy": args.relative_accuracy, "sizes": rows})
+        );
         return Ok(());
     }
     let mut out = String::new();
@@ -136,7 +146,8 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
         "Miniaturisation case: machine wbXYZt scaled to the part, errors {} um and {:.3} urad, 125 poses per size\n",
         args.linear_um, args.angular_urad
     );
-    let _ = writeln!(out, "size (mm)  SP x / y / z (mm)          RI_1    RI_2 (mm)  SM X / Y / Z (mm)         linear/angular/squareness (%)");
+    let _ =
+        writeln!(out, "size (mm)  SP x / y / z (mm)          RI_1    RI_2 (mm)  SM X / Y / Z (mm)         linear/angular/squareness (%)");
     for c in &cases {
         let a = &c.analysis;
         let _ = writeln!(
@@ -156,7 +167,11 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
             share(&a.by_kind, "squareness")
         );
     }
-    let _ = writeln!(out, "\nallocation at relative accuracy {} (root-sum-square per direction), shares of the allocated errors", args.relative_accuracy);
+    let _ = writeln!(
+        out,
+        "\nallocation at relative accuracy {} (root-sum-square per direction), shares of the allocated errors",
+        args.relative_accuracy
+    );
     let _ = writeln!(out, "size (mm)  target (um)  X / Y / Z (%)              linear/angular/squareness (%)   KKT residual");
     for c in &cases {
         let a = &c.allocated;

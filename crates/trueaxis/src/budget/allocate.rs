@@ -197,7 +197,8 @@ pub fn allocate(spec: &BudgetSpec, s: &Sensitivity, options: &AllocationOptions)
     let mut gap;
     loop {
         rounds += 1;
-        let start = problem.interior(&z).ok_or_else(|| BudgetError::Computation("no strictly feasible start for the local stage".into()))?;
+        let start =
+            problem.interior(&z).ok_or_else(|| BudgetError::Computation("no strictly feasible start for the local stage".into()))?;
         if global_cost.is_none() {
             global_cost = Some(problem.objective(&start));
         }

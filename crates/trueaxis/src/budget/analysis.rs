@@ -147,7 +147,13 @@ pub fn analyse_sensitivity(machine: &Machine, spec: &BudgetSpec, s: Sensitivity,
     let group = |label: String, members: Vec<usize>| {
         let v: f64 = members.iter().map(|&j| variance[j]).sum();
         let norm = homogenised_norm(components, t, &members);
-        GroupShare { label, share: share(v), rss_um: v.sqrt(), sensitivity_mm: if norm > 0.0 { 1000.0 * v.sqrt() / norm } else { 0.0 }, members }
+        GroupShare {
+            label,
+            share: share(v),
+            rss_um: v.sqrt(),
+            sensitivity_mm: if norm > 0.0 { 1000.0 * v.sqrt() / norm } else { 0.0 },
+            members,
+        }
     };
     // squareness errors of the linear axes are between two axes (seed 002 B.2: "three squareness
     // errors between each axes"): a group of their own; every other error belongs to its axis

@@ -79,10 +79,8 @@ impl BudgetComponent {
 /// own) the longest linear travel of the machine, or 1000 mm if it has none.
 pub fn default_lengths(machine: &Machine) -> Vec<f64> {
     let travel = |k: usize| machine.axes()[k].range.map(|[lo, hi]| hi - lo);
-    let longest = (0..machine.axis_count())
-        .filter(|&k| machine.axes()[k].kind == AxisKind::Linear)
-        .filter_map(travel)
-        .fold(0.0_f64, f64::max);
+    let longest =
+        (0..machine.axis_count()).filter(|&k| machine.axes()[k].kind == AxisKind::Linear).filter_map(travel).fold(0.0_f64, f64::max);
     let reference = if longest > 0.0 { longest } else { 1000.0 };
     (0..machine.axis_count())
         .map(|k| match machine.axes()[k].kind {

@@ -80,8 +80,13 @@ pub fn orientation_angles(sequence: &[char; 5], o: &Vec3) -> Option<[f64; 2]> {
 pub fn study_poses(configuration: &Configuration, machine: &Machine, options: &StudyOptions) -> Vec<f64> {
     let s = &configuration.sequence;
     let tilt = options.tilt_deg.to_radians();
-    let directions =
-        [Vec3::z(), Vec3::new(tilt.sin(), 0.0, tilt.cos()), Vec3::new(-tilt.sin(), 0.0, tilt.cos()), Vec3::new(0.0, tilt.sin(), tilt.cos()), Vec3::new(0.0, -tilt.sin(), tilt.cos())];
+    let directions = [
+        Vec3::z(),
+        Vec3::new(tilt.sin(), 0.0, tilt.cos()),
+        Vec3::new(-tilt.sin(), 0.0, tilt.cos()),
+        Vec3::new(0.0, tilt.sin(), tilt.cos()),
+        Vec3::new(0.0, -tilt.sin(), tilt.cos()),
+    ];
     let mut poses = Vec::new();
     for o in &directions {
         let Some(angles) = orientation_angles(s, o) else { continue };
@@ -122,8 +127,8 @@ pub fn study(configurations: &[Configuration], options: &StudyOptions) -> Result
     let key = |c: &Configuration| -> (Pattern, String) { (c.pattern(), c.sequence.iter().filter(|a| "ABC".contains(**a)).collect()) };
     let mut travels: HashMap<(Pattern, String), [f64; 3]> = HashMap::new();
     for c in configurations {
-        if !travels.contains_key(&key(c)) {
-            travels.insert(key(c), required_travel(&c.sequence, options.part, options.tool_length)?);
+        if let std::collections::hash_map::Entry::Vacant(e) = travels.entry(key(c)) {
+            e.insert(required_travel(&c.sequence, options.part, options.tool_length)?);
         }
     }
     let mut out: Vec<ConfigurationBudget> = configurations

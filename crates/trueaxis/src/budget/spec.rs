@@ -162,10 +162,8 @@ impl BudgetSpec {
         let mut cost = CostModel::uniform(&components, cost_file.a.unwrap_or(DEFAULT_A), cost_file.k.unwrap_or(DEFAULT_K), lower);
         for (key, row) in cost_file.table.iter().flatten() {
             let id = parse(key, "[cost.table]")?;
-            let index = components
-                .iter()
-                .position(|c| c.id == id)
-                .ok_or_else(|| fail(format!("[cost.table] {id} is not in the component set")))?;
+            let index =
+                components.iter().position(|c| c.id == id).ok_or_else(|| fail(format!("[cost.table] {id} is not in the component set")))?;
             let term: &mut CostTerm = &mut cost.terms[index];
             term.a = row.a.unwrap_or(term.a);
             term.k = row.k.unwrap_or(term.k);
@@ -193,7 +191,11 @@ impl BudgetSpec {
             let _ = writeln!(out, "# {line}");
         }
         let names: Vec<String> = self.components.iter().map(|c| format!("\"{}\"", c.id)).collect();
-        let _ = writeln!(out, "components = [{}]\n\n[tolerance]   # um for linear errors, urad for angular and squareness errors", names.join(", "));
+        let _ = writeln!(
+            out,
+            "components = [{}]\n\n[tolerance]   # um for linear errors, urad for angular and squareness errors",
+            names.join(", ")
+        );
         for (c, t) in self.components.iter().zip(&self.tolerances) {
             let _ = writeln!(out, "{} = {}", c.id, round_sig(*t));
         }
@@ -246,7 +248,8 @@ mod tests {
     #[test]
     fn file_overrides_defaults_and_round_trips() {
         let m = vmc3();
-        let text = "exclude = [\"EZX\"]\n[tolerance]\nlinear = 2\nEXX = 1.5\n[length]\nX = 500\n[cost]\nk = 1\n[cost.table]\nEBX = { a = 3 }\n";
+        let text =
+            "exclude = [\"EZX\"]\n[tolerance]\nlinear = 2\nEXX = 1.5\n[length]\nX = 500\n[cost]\nk = 1\n[cost.table]\nEBX = { a = 3 }\n";
         let spec = BudgetSpec::from_toml_str(text, "b.toml", &m, KindValues::DEFAULT).unwrap();
         assert_eq!(spec.components.len(), 20);
         let at = |name: &str| spec.components.iter().position(|c| c.id.to_string() == name).unwrap();

@@ -61,7 +61,10 @@ fn inner(sequence: &[char; 5], first: f64, corners: &[Vec3], p: f64, k: usize) -
 /// `l x m x n` mm with a tool of length `p` mm.
 pub fn required_travel(sequence: &[char; 5], part: [f64; 3], tool_length: f64) -> Result<[f64; 3], BudgetError> {
     if Pattern::of(sequence) == Pattern::Mixed {
-        return Err(BudgetError::Input(format!("{}: travel is computed for the three categories only", sequence.iter().collect::<String>())));
+        return Err(BudgetError::Input(format!(
+            "{}: travel is computed for the three categories only",
+            sequence.iter().collect::<String>()
+        )));
     }
     let corners: Vec<Vec3> =
         (0..8).map(|i| Vec3::new(part[0] * (i & 1) as f64, part[1] * (i >> 1 & 1) as f64, part[2] * (i >> 2 & 1) as f64)).collect();
