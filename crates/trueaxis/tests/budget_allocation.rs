@@ -26,6 +26,20 @@ fn one_pose(m: &Machine, user: &[f64]) -> (BudgetSpec, Sensitivity) {
     (spec, s)
 }
 
+/// The standard budget of a five-axis example machine and its sensitivity over a 3 x 3 x 3 grid of
+/// the travel with the rotary axes at `rotary` (deg).
+fn volume(name: &str, rotary: &[f64]) -> (BudgetSpec, Sensitivity) {
+    let m = machine(name);
+    let spec = BudgetSpec::standard(&m, KindValues::DEFAULT);
+    let user = volume_grid(&m, 3, rotary).unwrap();
+    let mut q = vec![0.0; user.len()];
+    for (u, x) in user.chunks(m.axis_count()).zip(q.chunks_mut(m.axis_count())) {
+        m.pose_to_internal(u, x);
+    }
+    let s = sensitivity(&m, &spec.components, &q, &Setup::of_machine(&m), Frame::Workpiece);
+    (spec, s)
+}
+
 fn options(stack: Stack, target: Target) -> AllocationOptions {
     AllocationOptions { stack, target, genetic: GeneticOptions { generations: 200, ..GeneticOptions::default() } }
 }
@@ -128,14 +142,7 @@ fn equal_costs_under_one_worst_case_constraint_give_the_lagrange_solution() {
 
 #[test]
 fn volume_allocations_satisfy_kkt_and_every_pose() {
-    let m = machine("c600u");
-    let spec = BudgetSpec::standard(&m, KindValues::DEFAULT);
-    let user = volume_grid(&m, 3, &[30.0, 90.0]).unwrap();
-    let mut q = vec![0.0; user.len()];
-    for (u, x) in user.chunks(5).zip(q.chunks_mut(5)) {
-        m.pose_to_internal(u, x);
-    }
-    let s = sensitivity(&m, &spec.components, &q, &Setup::of_machine(&m), Frame::Workpiece);
+    let (spec, s) = volume("c600u", &[30.0, 90.0]);
     for (stack, target) in [
         (Stack::Rss, Target::Total(10.0)),
         (Stack::Rss, Target::PerDirection([6.0, 8.0, 10.0])),
@@ -174,14 +181,7 @@ fn volume_allocations_satisfy_kkt_and_every_pose() {
 
 #[test]
 fn deterministic_for_a_seed_and_the_same_optimum_for_any_seed() {
-    let m = machine("kx8five");
-    let spec = BudgetSpec::standard(&m, KindValues::DEFAULT);
-    let user = volume_grid(&m, 3, &[45.0, 0.0]).unwrap();
-    let mut q = vec![0.0; user.len()];
-    for (u, x) in user.chunks(5).zip(q.chunks_mut(5)) {
-        m.pose_to_internal(u, x);
-    }
-    let s = sensitivity(&m, &spec.components, &q, &Setup::of_machine(&m), Frame::Workpiece);
+    let (spec, s) = volume("kx8five", &[45.0, 0.0]);
     let run = |seed: u64| {
         let mut o = options(Stack::Rss, Target::Total(12.0));
         o.genetic.seed = seed;
