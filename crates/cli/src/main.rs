@@ -2,6 +2,7 @@
 //! Exit status: 0 success, 1 failed computation, 2 bad input.
 
 mod ballbar;
+mod budget;
 mod compensate;
 mod convert;
 mod demo;
@@ -40,6 +41,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Ballbar(ballbar::BallbarArgs),
+    Budget(budget::BudgetArgs),
     Demo(demo::DemoArgs),
     Design(design::DesignArgs),
     Fit(Box<fit::FitArgs>),
@@ -112,6 +114,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Ballbar(args) => ballbar::run(args),
+        Command::Budget(args) => budget::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Design(args) => design::run(args),
         Command::Fit(args) => fit::run(*args),

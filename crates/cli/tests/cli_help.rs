@@ -83,6 +83,11 @@ fn every_command_has_help_with_an_example() {
         "ballbar iso230-4",
         "ballbar simulate",
         "ballbar tmbb",
+        "budget",
+        "budget allocate",
+        "budget analyse",
+        "budget configurations",
+        "budget miniaturisation",
         "compensate",
         "demo",
         "design",
@@ -158,6 +163,8 @@ fn missing_input_invocation(name: &str) -> Option<Vec<&'static str>> {
         "ballbar tmbb" => vec!["ballbar", "tmbb", "--short", c, "--long", c],
         "ballbar sensitivity" => vec!["ballbar", "sensitivity", "--machine", m],
         "design steady" => vec!["design", "steady", c, "--poses", c, "--rate", "100"],
+        "budget analyse" => vec!["budget", "analyse", "--machine", m],
+        "budget allocate" => vec!["budget", "allocate", "--machine", m, "--target-um", "10"],
         "design trajectory" => {
             vec!["design", "trajectory", "--machine", m, "--work-point", "0,0,0", "--sweep", "C=0:10", "--count", "3"]
         }
@@ -179,7 +186,7 @@ fn a_missing_input_file_is_bad_input_with_exit_2() {
     let mut unlisted = Vec::new();
     for path in command_tree() {
         let name = path.join(" ");
-        if is_parent(&path) || name == "demo" || name == "ballbar tmbb-setup" {
+        if is_parent(&path) || ["demo", "ballbar tmbb-setup", "budget configurations", "budget miniaturisation"].contains(&name.as_str()) {
             continue; // these read no input file
         }
         let Some(args) = missing_input_invocation(&name) else {
