@@ -9,7 +9,8 @@ use std::path::PathBuf;
 use trueaxis::compensate::export::{largest_corrections, ExportInput, Limits};
 use trueaxis::compensate::nc::{correct_program, NcOptions};
 use trueaxis::compensate::{
-    axis_tables, compensation_json, nc_json, residual_of_format, volumetric_grid, CompensateError, Corrector, ExportFormat, FormatOptions, TableSpec,
+    axis_tables, compensation_json, nc_json, residual_of_format, volumetric_grid, CompensateError, Corrector, ExportFormat, FormatOptions,
+    TableSpec,
 };
 use trueaxis::data::write_atomically;
 
@@ -98,7 +99,8 @@ pub fn compensate(
         write_atomically(&out.join(&f.name), f.contents.as_bytes()).map_err(input)?;
     }
     let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
-    let doc = compensation_json(m, &out.display().to_string(), &names, tables.tables.len(), points, &extent, &left_out, residual.as_ref(), None);
+    let doc =
+        compensation_json(m, &out.display().to_string(), &names, tables.tables.len(), points, &extent, &left_out, residual.as_ref(), None);
     to_py(py, &doc)
 }
 

@@ -17,8 +17,8 @@ pub mod tables;
 pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, WarmStart, MAX_AXES};
 pub use export::residual::{residual_of_format, FormatResidual};
 pub use realtime::RealtimeCorrector;
-pub use tables::{axis_tables, line_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};
 pub use summary::{compensation_json, nc_json, round4, ExportFormat, FormatOptions};
+pub use tables::{axis_tables, line_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};
 
 use thiserror::Error;
 
