@@ -1,5 +1,11 @@
 //! Shared by the NC tests: the expected correction of a programmed point, computed directly with the
-//! pose corrector and directions of motion derived here from the moves.
+//! pose corrector and directions of motion derived here from the moves; LinuxCNC's rs274 as an
+//! independent reader ([`rs274`]); the check of corrected moves through the erroneous machine
+//! ([`oracle`]). Each test uses a part.
+#![allow(dead_code)]
+
+pub mod oracle;
+pub mod rs274;
 
 use trueaxis::compensate::{CorrectionWorkspace, Corrector};
 use trueaxis::errors::{Direction, MachineState};

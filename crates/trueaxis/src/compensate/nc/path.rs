@@ -2,7 +2,7 @@
 //! circular / helical arc in its plane with the other axes interpolated linearly), and the choice of
 //! split points where the correction varies along the move more than a tolerance.
 
-use super::interpret::{Move, MoveKind};
+use super::trace::{Move, MoveKind};
 use crate::errors::Direction;
 use std::f64::consts::TAU;
 
@@ -36,7 +36,8 @@ pub fn point_at(m: &Move, arc: Option<&ArcGeometry>, t: f64, out: &mut [f64]) {
     }
     if let (Some(g), MoveKind::Arc { plane, centre, .. }) = (arc, m.kind) {
         if t >= 1.0 {
-            out.copy_from_slice(&m.end);
+            let n = out.len();
+            out.copy_from_slice(&m.end[..n]);
             return;
         }
         let angle = g.start_angle + t * g.sweep;
@@ -76,7 +77,10 @@ pub type Pieces = Vec<(f64, Vec<f64>)>;
 
 /// Parameters `0 < t_1 < ... < t_k = 1` of the pieces such that, on every piece, the correction
 /// `correction(t)` (one value per axis, mm or deg) departs from the straight blend of its values at
-/// the piece ends by at most `tolerance(axis)`, checked at the quarter points of each piece
+/// the piece ends by at most the tolerance, checked at the quarter points of each piece
+/// (`tolerance(axis)` gives an axis's tolerance and whether it is linear: the departures of the
+/// linear axes count together, as the length of their vector, so that the tool point stays within
+/// the tolerance of the path; a rotary axis counts alone)
 /// (recursive bisection); each with the correction at its end. A piece shorter than
 /// [`MIN_PIECE`] of the move is accepted as it is: the correction jumps there (a discontinuous
 /// error model; the pose correction itself is continuous, also through 5-axis singularities), and
@@ -84,7 +88,7 @@ pub type Pieces = Vec<(f64, Vec<f64>)>;
 /// `max_pieces` would be needed; an error of `correction` is passed on.
 pub fn split_points<E>(
     correction: &mut dyn FnMut(f64) -> Result<Vec<f64>, E>,
-    tolerance: &dyn Fn(usize) -> f64,
+    tolerance: &dyn Fn(usize) -> (f64, bool),
     max_pieces: usize,
 ) -> Result<Option<Pieces>, E> {
     let c0 = correction(0.0)?;
@@ -98,10 +102,18 @@ pub fn split_points<E>(
         for f in [0.25, 0.5, 0.75] {
             let t = a + f * (b - a);
             let c = correction(t)?;
+            let mut linear = 0.0;
             for k in 0..c.len() {
                 let blend = ca[k] + f * (cb[k] - ca[k]);
-                worst = worst.max((c[k] - blend).abs() / tolerance(k));
+                let (tol, is_linear) = tolerance(k);
+                let d = (c[k] - blend) / tol;
+                if is_linear {
+                    linear += d * d;
+                } else {
+                    worst = worst.max(d.abs());
+                }
             }
+            worst = worst.max(linear.sqrt());
             if f == 0.5 {
                 mid = Some(c);
             }
@@ -130,7 +142,7 @@ mod tests {
         // c(t) = t^2 (mm): the deviation from the chord over a piece of length h is h^2 / 4 at its
         // middle, so a tolerance of 1e-3 needs h <= 0.0632: 16 pieces of 1/16
         let mut f = |t: f64| Ok::<_, ()>(vec![t * t]);
-        let split = split_points(&mut f, &|_| 1e-3, 1000).unwrap().unwrap();
+        let split = split_points(&mut f, &|_| (1e-3, true), 1000).unwrap().unwrap();
         let pieces: Vec<f64> = split.iter().map(|p| p.0).collect();
         assert_eq!(pieces.len(), 16);
         assert!((pieces[0] - 1.0 / 16.0).abs() < 1e-15);
@@ -138,18 +150,18 @@ mod tests {
         // the correction at every piece end is the function there
         assert!(split.iter().all(|(t, c)| c[0] == t * t));
         let mut g = |t: f64| Ok::<_, ()>(vec![t * t]);
-        assert_eq!(split_points(&mut g, &|_| 1e-9, 50), Ok(None));
+        assert_eq!(split_points(&mut g, &|_| (1e-9, true), 50), Ok(None));
         let mut line = |t: f64| Ok::<_, ()>(vec![3.0 * t - 1.0]);
-        assert_eq!(split_points(&mut line, &|_| 1e-12, 10), Ok(Some(vec![(1.0, vec![2.0])])));
+        assert_eq!(split_points(&mut line, &|_| (1e-12, true), 10), Ok(Some(vec![(1.0, vec![2.0])])));
         let mut failing = |t: f64| if t > 0.6 { Err("beyond") } else { Ok(vec![t]) };
-        assert_eq!(split_points(&mut failing, &|_| 1e-3, 10), Err("beyond"));
+        assert_eq!(split_points(&mut failing, &|_| (1e-3, true), 10), Err("beyond"));
     }
 
     #[test]
     fn a_jump_of_the_correction_is_isolated_in_a_short_piece() {
         // a step of 1 mm at t = 0.3: bisection narrows it down to a piece shorter than MIN_PIECE
         let mut step = |t: f64| Ok::<_, ()>(vec![if t < 0.3 { 0.0 } else { 1.0 }]);
-        let pieces: Vec<f64> = split_points(&mut step, &|_| 1e-3, 1000).unwrap().unwrap().iter().map(|p| p.0).collect();
+        let pieces: Vec<f64> = split_points(&mut step, &|_| (1e-3, true), 1000).unwrap().unwrap().iter().map(|p| p.0).collect();
         assert!(pieces.len() < 2 * 22, "{} pieces", pieces.len());
         let jump = pieces.windows(2).find(|w| w[0] < 0.3 && w[1] >= 0.3).expect("a piece holds the step");
         assert!(jump[1] - jump[0] < MIN_PIECE);
