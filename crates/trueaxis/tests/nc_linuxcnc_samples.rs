@@ -17,7 +17,7 @@ use nc_common::oracle::Oracle;
 use nc_common::rs274::rs274;
 use std::path::Path;
 use std::process::Command;
-use trueaxis::compensate::nc::{correct_program, Dialect, NcOptions, SearchPath, ToolTable};
+use trueaxis::compensate::nc::{correct_program, program_moves, Dialect, NcOptions, SearchPath, ToolTable};
 use trueaxis::compensate::Corrector;
 use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
@@ -90,7 +90,12 @@ fn check(path: &str, machine: &Machine, errors: &ErrorModel) -> Outcome {
         Err(e) => return Outcome::Failed(format!("the corrected program: {e}")),
     };
     let oracle = Oracle { machine, errors, temperatures: vec![] };
-    match oracle.compare(&original, &corrected, &vec![0.0; machine.axis_count()], 0.05, 1.05) {
+    let Ok(moves) = program_moves(machine, &text, &name, &options) else { return Outcome::Failed("run again: differs".into()) };
+    let (count, homes) = nc_common::canonical_homes(&moves);
+    if count != original.len() {
+        return Outcome::Failed(format!("trueaxis reads {count} moves, rs274 {}", original.len()));
+    }
+    match oracle.compare(&original, &corrected, &vec![0.0; machine.axis_count()], 0.05, 1.05, &homes) {
         Ok(r) => Outcome::Corrected { moves: r.moves, pieces: r.pieces, expanded: result.expanded.len(), worst_um: r.worst_end_um },
         Err(e) => Outcome::Failed(e),
     }

@@ -141,8 +141,8 @@ impl Oracle<'_> {
         self.nominal(q, tool) + e.position
     }
 
-    /// Distance (mm) from `x` to the nominal path of `path`.
-    fn distance_to_path(&self, x: &Vec3, path: &Path) -> f64 {
+    /// The parameter of the point of `path` nearest to `x` and the distance (mm) to it.
+    fn nearest(&self, x: &Vec3, path: &Path) -> (f64, f64) {
         let d = |t: f64| (self.nominal(&path.point(t), path.tool) - x).norm();
         let samples = 32;
         let best = (0..=samples).map(|i| i as f64 / samples as f64).min_by(|a, b| d(*a).total_cmp(&d(*b))).unwrap();
@@ -155,33 +155,57 @@ impl Oracle<'_> {
                 lo = m1;
             }
         }
-        d(0.5 * (lo + hi))
+        let t = 0.5 * (lo + hi);
+        (t, d(t))
     }
 
     /// Compares the corrected moves with the original ones (both from `start`, machine positions).
-    pub fn compare(&self, original: &[Canon], corrected: &[Canon], start: &[f64], end_um: f64, path_um: f64) -> Result<Report, String> {
+    /// The state of the erroneous machine is the one of the programmed motion: the directions of
+    /// the original move a corrected point belongs to (an axis that does not move keeps the
+    /// direction it last moved in), not the micrometre motions of the corrections.
+    ///
+    /// `uncorrected`: original moves the corrector leaves as they are by design (the returns of
+    /// `G28`/`G30` to their stored positions): the corrected program must reach the same machine
+    /// position there (1e-6 mm).
+    pub fn compare(&self, original: &[Canon], corrected: &[Canon], start: &[f64], end_um: f64, path_um: f64, uncorrected: &[usize]) -> Result<Report, String> {
         let o = self.paths(original, start)?;
         let c = self.paths(corrected, start)?;
         let n = self.machine.axis_count();
-        // where the erroneous machine puts each corrected end, with the directions there
+        let merge = |base: &[Option<Direction>], now: Vec<Option<Direction>>| -> Vec<Option<Direction>> {
+            base.iter().zip(now).map(|(b, d)| d.or(*b)).collect()
+        };
+        // directions before each original move and at its end
+        let mut before = Vec::with_capacity(o.len());
         let mut dirs: Vec<Option<Direction>> = vec![None; n];
-        let mut actual_end = Vec::with_capacity(c.len());
-        let mut move_dirs = Vec::with_capacity(c.len());
-        for p in &c {
-            for (d, now) in dirs.iter_mut().zip(p.directions(1.0)) {
-                if now.is_some() {
-                    *d = now;
-                }
-            }
-            move_dirs.push(dirs.clone());
-            actual_end.push(self.actual(&p.end, p.tool, &dirs));
+        for p in &o {
+            before.push(dirs.clone());
+            dirs = merge(&dirs, p.directions(1.0));
         }
         let mut report = Report::default();
         let mut k = 0usize;
         for (i, op) in o.iter().enumerate() {
             let target = self.nominal(&op.end, op.tool);
+            let end_dirs = merge(&before[i], op.directions(1.0));
+            let exempt = uncorrected.contains(&i);
+            let landing = |j: usize| {
+                if exempt {
+                    // the axes that go to the stored position reach it exactly; the others stay where
+                    // the corrected program had them (within a correction)
+                    let same = (0..n).all(|a| {
+                        let home = (op.end[a] - op.start[a]).abs() > 1e-9;
+                        (c[j].end[a] - op.end[a]).abs() < if home { 1e-6 } else { 0.05 }
+                    });
+                    if same {
+                        target
+                    } else {
+                        target + Vec3::new(1.0, 0.0, 0.0)
+                    }
+                } else {
+                    self.actual(&c[j].end, c[j].tool, &end_dirs)
+                }
+            };
             let zero_length = i > 0 && op.arc.is_none() && (self.nominal(&o[i - 1].end, o[i - 1].tool) - target).norm() < 1e-9;
-            let lands = |j: usize| (actual_end[j] - target).norm() * 1e3 <= end_um;
+            let lands = |j: usize| (landing(j) - target).norm() * 1e3 <= end_um;
             // a zero-length original move may have no corrected copy (written only when it moves)
             let found = if k < c.len() && lands(k) {
                 Some(k)
@@ -190,9 +214,8 @@ impl Oracle<'_> {
             } else {
                 (k..c.len()).find(|&j| lands(j))
             };
-            let first = if zero_length && k > 0 { k - 1 } else { k };
             let Some(j) = found else {
-                let near = (first..c.len().min(k + 5)).map(|j| (actual_end[j] - target).norm() * 1e3).fold(f64::INFINITY, f64::min);
+                let near = (k.saturating_sub(1)..c.len().min(k + 5)).map(|j| (landing(j) - target).norm() * 1e3).fold(f64::INFINITY, f64::min);
                 return Err(format!(
                     "original move {} ({:?} to {:?}) is not reached: the nearest corrected move of the next five lands {near:.4} um away",
                     i + 1,
@@ -200,38 +223,41 @@ impl Oracle<'_> {
                     op.end
                 ));
             };
-            report.worst_end_um = report.worst_end_um.max((actual_end[j] - target).norm() * 1e3);
+            report.worst_end_um = report.worst_end_um.max((landing(j) - target).norm() * 1e3);
             // the corrected path from k to j follows the original move
             for (jj, cp) in c.iter().enumerate().take(j + 1).skip(k.min(j + 1)) {
                 // a rapid: only its end matters; the first move starts where the machine stood,
                 // which no program can correct
                 let rapid = corrected[jj].kind == Kind::Traverse;
-                let ts: &[f64] = if rapid || jj == 0 {
-                    &[]
+                // the step of the correction where an axis reverses (backlash): a few micrometres
+                // of straight move at one point of the original path, inside the error model's
+                // own discontinuity
+                let length = (self.nominal(&cp.end, cp.tool) - self.nominal(&cp.start, cp.tool)).norm();
+                let original_length = (self.nominal(&op.end, op.tool) - self.nominal(&op.start, op.tool)).norm();
+                let step = !matches!(corrected[jj].kind, Kind::Arc { .. }) && length < 0.02 && length < 0.01 * original_length;
+                let mut ts: Vec<f64> = if rapid || jj == 0 || step {
+                    vec![]
                 } else if cp.arc.is_some() {
-                    &[0.25, 0.5, 0.75]
+                    vec![0.25, 0.5, 0.75]
                 } else {
-                    &[0.5]
+                    vec![0.5]
                 };
-                let mut points: Vec<(f64, bool)> = ts.iter().map(|&t| (t, false)).collect();
                 if jj < j {
-                    points.push((1.0, true));
+                    ts.push(1.0);
                     report.pieces += 1;
                 }
-                for (t, is_end) in points {
+                for t in ts {
                     let q = cp.point(t);
-                    let x = if is_end {
-                        actual_end[jj]
-                    } else {
-                        let mut d = move_dirs[jj].clone();
-                        for (slot, now) in d.iter_mut().zip(cp.directions(t)) {
-                            if now.is_some() {
-                                *slot = now;
-                            }
-                        }
-                        self.actual(&q, cp.tool, &d)
-                    };
-                    let dist = self.distance_to_path(&x, op) * 1e3;
+                    let (t_original, _) = self.nearest(&self.nominal(&q, cp.tool), op);
+                    // at a piece's end, the directions it arrives with (an axis may reverse there)
+                    let t_dir = if t == 1.0 { (t_original - 1e-4).max(0.0) } else { t_original };
+                    let mut d = merge(&before[i], op.directions(t_dir));
+                    if step {
+                        // at a reversal the step itself moves the axis the new way
+                        d = merge(&d, cp.directions(1.0));
+                    }
+                    let x = self.actual(&q, cp.tool, &d);
+                    let dist = self.nearest(&x, op).1 * 1e3;
                     report.worst_path_um = report.worst_path_um.max(dist);
                     if dist > path_um {
                         return Err(format!("corrected move {} (a piece of original move {}) leaves the original path by {dist:.4} um at t = {t}", jj + 1, i + 1));
@@ -242,8 +268,8 @@ impl Oracle<'_> {
             k = k.max(j + 1);
         }
         if k < c.len() {
-            let last = actual_end[k - 1];
-            if let Some(j) = (k..c.len()).find(|&j| (actual_end[j] - last).norm() * 1e3 > end_um) {
+            let last = &c[k - 1].end;
+            if let Some(j) = (k..c.len()).find(|&j| c[j].end.iter().zip(last).any(|(a, b)| (a - b).abs() * 1e3 > end_um)) {
                 return Err(format!("corrected move {} has no original move", j + 1));
             }
         }

@@ -72,6 +72,12 @@ impl Rs274 {
     /// with `SUBROUTINE_PATH = .`), with `tools` as the tool table; the canonical moves, or the
     /// error rs274 printed.
     pub fn run(&self, dir: &Path, program: &str, tools: Option<&str>) -> Result<Vec<Canon>, String> {
+        self.run_with(dir, program, tools, None)
+    }
+
+    /// The same with a parameter file (its text; rewritten before the run, since rs274 saves the
+    /// parameters into it when it ends).
+    pub fn run_with(&self, dir: &Path, program: &str, tools: Option<&str>, parameters: Option<&str>) -> Result<Vec<Canon>, String> {
         std::fs::write(dir.join("trueaxis-rs274.ini"), "[RS274NGC]\nSUBROUTINE_PATH = .\n").unwrap();
         // rs274 keeps its tool table in shared memory: one run at a time
         static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
@@ -80,6 +86,10 @@ impl Rs274 {
         cmd.current_dir(dir).env("LD_PRELOAD", &self.shim).arg("-i").arg("trueaxis-rs274.ini");
         if let Some(t) = tools {
             cmd.arg("-t").arg(t);
+        }
+        if let Some(p) = parameters {
+            std::fs::write(dir.join("trueaxis-rs274.var"), p).unwrap();
+            cmd.arg("-v").arg("trueaxis-rs274.var");
         }
         let out = cmd.arg("-g").arg(program).stdin(std::process::Stdio::null()).output().map_err(|e| e.to_string())?;
         let stderr = String::from_utf8_lossy(&out.stderr);

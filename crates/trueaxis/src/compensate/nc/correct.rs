@@ -5,7 +5,7 @@
 //! at the piece ends by more than the tolerance.
 
 use super::modal::{Frame, MM_PER_INCH};
-use super::path::{arc_geometry, directions_at, point_at, split_points, ArcGeometry, Pieces};
+use super::path::{arc_geometry, departure, directions_at, point_at, split_from, ArcGeometry, Pieces};
 use super::trace::{Move, MoveKind, Role};
 use super::NcOptions;
 use crate::compensate::correction::{CorrectionWorkspace, Corrector, WarmStart};
@@ -156,24 +156,41 @@ impl<'a, 'b> Corrections<'a, 'b> {
             return Ok(vec![(1.0, c)]);
         }
         let limit = if arc.is_some() { 64 } else { options.max_pieces };
+        let held = self.start_correction.clone();
+        // where an axis reverses at the start of the move (backlash), the correction steps there:
+        // a piece of zero length (`t` = 0) that the writer makes a short straight move
+        let step = |c0: &[f64], held: &[f64]| departure(held, c0, &tolerance) > 1.0;
         let mut whole = |t: f64| self.correction(m, arc, t, t);
-        match (split_points(&mut whole, &tolerance, limit)?, arc) {
-            (Some(pieces), None) => return Ok(pieces),
+        match (split_from(&mut whole, &tolerance, limit)?, arc) {
+            (Some((c0, mut pieces)), None) => {
+                if step(&c0, &held) {
+                    pieces.insert(0, (0.0, c0));
+                }
+                return Ok(pieces);
+            }
             (None, None) => return Err(too_many()),
             // a full circle written as one block must end exactly where it starts in its plane: when
             // the correction there differs from the start's (a helix), it is split instead
-            (Some(pieces), Some(g)) if pieces.len() == 1 && !(g.sweep.abs() >= std::f64::consts::TAU - 1e-12 && self.plane_shift(m, &pieces[0].1) > 1e-7) => {
-                return Ok(pieces)
+            (Some((c0, mut pieces)), Some(g)) if pieces.len() == 1 && !(g.sweep.abs() >= std::f64::consts::TAU - 1e-12 && self.plane_shift(m, &pieces[0].1) > 1e-7) => {
+                if step(&c0, &held) {
+                    pieces.insert(0, (0.0, c0));
+                }
+                return Ok(pieces);
             }
             _ => {}
         }
-        let mut pieces = Vec::new();
+        let mut pieces: Pieces = Vec::new();
+        let mut previous = held;
         for w in reversals(arc).windows(2) {
             let (a, b) = (w[0], w[1]);
             let t_direction = 0.5 * (a + b);
             let mut f = |u: f64| self.correction(m, arc, a + u * (b - a), t_direction);
-            let stretch = split_points(&mut f, &tolerance, options.max_pieces)?.ok_or_else(too_many)?;
+            let (c0, stretch) = split_from(&mut f, &tolerance, options.max_pieces)?.ok_or_else(too_many)?;
+            if step(&c0, &previous) {
+                pieces.push((a, c0));
+            }
             pieces.extend(stretch.into_iter().map(|(u, c)| (a + u * (b - a), c)));
+            previous.clone_from(&pieces.last().expect("a piece").1);
         }
         Ok(pieces)
     }

@@ -301,5 +301,7 @@ impl Exec<'_> {
         let start = self.trace.words.len() as u32;
         self.trace.words.extend_from_slice(words);
         self.trace.actions.push((index, start..self.trace.words.len() as u32));
+        let end = self.trace.actions.len() as u32;
+        self.trace.steps.last_mut().expect("a step").actions.end = end;
     }
 }

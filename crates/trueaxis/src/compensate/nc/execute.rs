@@ -488,6 +488,8 @@ impl Exec<'_> {
                             return Err("M73 outside a subroutine".into());
                         };
                         call.autorestore = Some(modes);
+                        // an expanded copy restores the modes itself at the return
+                        continue;
                     }
                 }
                 71 => self.saved_modes = None,
@@ -854,7 +856,7 @@ impl Exec<'_> {
                 let r = if fanuc { 0.0 } else { self.params.numbered(rotation_param).unwrap_or(0.0) };
                 let mut current_in_system = [0.0; AXES];
                 if relative_to_position {
-                    self.trace.steps[step].relative = Some((Relative::G10L20 { system }, self.position));
+                    self.trace.steps[step].relative = Some((Relative::G10L20 { system, rotation: r }, self.position));
                     // the current point in the coordinates of `system` (its offsets and rotation)
                     let mut frame = self.state.frame;
                     frame.g5x = self.system_offsets(system)?;

@@ -433,8 +433,42 @@ impl<'m> Exec<'m> {
         }
         if let Some(modes) = call.autorestore {
             self.restore_modes(&modes);
+            // an expanded copy of the call sets the restored modes itself
+            let words = self.mode_words(&modes);
+            self.action(&words);
         }
         call
+    }
+
+    /// The codes that set the modes M70/M73 save.
+    fn mode_words(&self, m: &SavedModes) -> Vec<(u8, f64)> {
+        let g = |v: f64| (b'G', v);
+        let mut w = vec![
+            g(if m.inch { 20.0 } else { 21.0 }),
+            g(if m.incremental { 91.0 } else { 90.0 }),
+            g(if m.ijk_absolute { 90.1 } else { 91.1 }),
+            g(m.plane.gcode()),
+            g(match m.feed_mode {
+                FeedMode::InverseTime => 93.0,
+                FeedMode::PerMinute => 94.0,
+                FeedMode::PerRevolution => 95.0,
+            }),
+            g(if m.diameter { 7.0 } else { 8.0 }),
+            g(if m.retract_to_r { 99.0 } else { 98.0 }),
+            g(f64::from(m.path_mode) / 10.0),
+            g(if m.css { 96.0 } else { 97.0 }),
+        ];
+        if m.feed_mode != FeedMode::InverseTime {
+            w.push((b'F', m.feed));
+        }
+        w.push((b'S', m.speed));
+        w.push((b'M', match m.spindle {
+            Spindle::Clockwise => 3.0,
+            Spindle::CounterClockwise => 4.0,
+            Spindle::Stopped => 5.0,
+        }));
+        w.push((b'M', if m.flood { 8.0 } else if m.mist { 7.0 } else { 9.0 }));
+        w
     }
 
     /// A control statement.

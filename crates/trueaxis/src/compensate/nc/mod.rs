@@ -174,6 +174,9 @@ pub struct NcResult {
     pub inserted_lines: usize,
     /// What was expanded into plain moves (also noted at the top of the program).
     pub expanded: Vec<String>,
+    /// Corrected points that would leave the machine's travel, kept at its end (uncorrected by
+    /// what lies beyond: a move to the end of the travel, e.g. `G53 G0 Z0` at the top).
+    pub clamped_points: usize,
     /// Largest correction of a linear axis (um) and of a rotary axis (urad).
     pub max_correction_um: f64,
     pub max_correction_urad: f64,
@@ -214,7 +217,11 @@ pub fn correct_program(corrector: &Corrector, text: &str, origin: &str, options:
     let dialect = program.dialect;
     let plan = plan::plan(&program, &trace);
     let (decimals, decimals_inch) = options.decimals_for(dialect);
-    let mut corrections = correct::Corrections::new(corrector, options.limits, temperatures);
+    // the solve stops well inside the written resolution: a fifth of its last digit
+    let resolution = 10f64.powi(-(decimals as i32)).min(MM_PER_INCH * 10f64.powi(-(decimals_inch as i32)));
+    let mut tight = *corrector;
+    tight.options.tolerance_mm = tight.options.tolerance_mm.min(0.2 * resolution);
+    let mut corrections = correct::Corrections::new(&tight, options.limits, temperatures);
     let mut writer = write::Writer::new(machine, &program, &trace, &plan, decimals, decimals_inch);
     writer.machine_inch = options.setup.machine_inch;
     let mut file = usize::MAX;
@@ -245,6 +252,7 @@ pub fn correct_program(corrector: &Corrector, text: &str, origin: &str, options:
         changed_lines: writer.changed_lines,
         inserted_lines: writer.inserted_lines,
         expanded: writer.notes.clone(),
+        clamped_points: writer.clamped.get(),
         max_correction_um: e.max_correction_um,
         max_correction_urad: e.max_correction_urad,
         max_residual_um: e.max_residual_um,

@@ -75,6 +75,23 @@ pub const MIN_PIECE: f64 = 1e-6;
 /// axis).
 pub type Pieces = Vec<(f64, Vec<f64>)>;
 
+/// How far correction `b` is from `a`, in tolerances: the length of the vector of the linear axes'
+/// differences, or the largest rotary one (`tolerance(axis)`: the axis's tolerance and whether it
+/// is linear).
+pub fn departure(a: &[f64], b: &[f64], tolerance: &dyn Fn(usize) -> (f64, bool)) -> f64 {
+    let (mut linear, mut worst) = (0.0, 0.0f64);
+    for k in 0..a.len() {
+        let (tol, is_linear) = tolerance(k);
+        let d = (b[k] - a[k]) / tol;
+        if is_linear {
+            linear += d * d;
+        } else {
+            worst = worst.max(d.abs());
+        }
+    }
+    worst.max(linear.sqrt())
+}
+
 /// Parameters `0 < t_1 < ... < t_k = 1` of the pieces such that, on every piece, the correction
 /// `correction(t)` (one value per axis, mm or deg) departs from the straight blend of its values at
 /// the piece ends by at most the tolerance, checked at the quarter points of each piece
@@ -91,10 +108,19 @@ pub fn split_points<E>(
     tolerance: &dyn Fn(usize) -> (f64, bool),
     max_pieces: usize,
 ) -> Result<Option<Pieces>, E> {
+    Ok(split_from(correction, tolerance, max_pieces)?.map(|(_, p)| p))
+}
+
+/// [`split_points`] with the correction at the start of the move as well.
+pub fn split_from<E>(
+    correction: &mut dyn FnMut(f64) -> Result<Vec<f64>, E>,
+    tolerance: &dyn Fn(usize) -> (f64, bool),
+    max_pieces: usize,
+) -> Result<Option<(Vec<f64>, Pieces)>, E> {
     let c0 = correction(0.0)?;
     let c1 = correction(1.0)?;
     let mut pieces = Vec::new();
-    let mut stack = vec![(0.0, 1.0, c0, c1)];
+    let mut stack = vec![(0.0, 1.0, c0.clone(), c1)];
     // depth-first, right half pushed first so pieces come out in order
     while let Some((a, b, ca, cb)) = stack.pop() {
         let mut worst: f64 = 0.0;
@@ -102,18 +128,8 @@ pub fn split_points<E>(
         for f in [0.25, 0.5, 0.75] {
             let t = a + f * (b - a);
             let c = correction(t)?;
-            let mut linear = 0.0;
-            for k in 0..c.len() {
-                let blend = ca[k] + f * (cb[k] - ca[k]);
-                let (tol, is_linear) = tolerance(k);
-                let d = (c[k] - blend) / tol;
-                if is_linear {
-                    linear += d * d;
-                } else {
-                    worst = worst.max(d.abs());
-                }
-            }
-            worst = worst.max(linear.sqrt());
+            let blend: Vec<f64> = ca.iter().zip(&cb).map(|(a, b)| a + f * (b - a)).collect();
+            worst = worst.max(departure(&blend, &c, tolerance));
             if f == 0.5 {
                 mid = Some(c);
             }
@@ -130,7 +146,7 @@ pub fn split_points<E>(
             stack.push((a, t, ca, cm));
         }
     }
-    Ok(Some(pieces))
+    Ok(Some((c0, pieces)))
 }
 
 #[cfg(test)]

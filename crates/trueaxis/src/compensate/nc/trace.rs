@@ -76,8 +76,9 @@ pub struct Move {
 pub enum Relative {
     /// `G92`: the axis words are the new coordinates of the current point.
     G92,
-    /// `G10 L20 P<system>`: the work offset such that the current point has the given coordinates.
-    G10L20 { system: u8 },
+    /// `G10 L20 P<system>`: the work offset such that the current point has the given coordinates
+    /// in `system`, whose XY rotation is `rotation` (deg).
+    G10L20 { system: u8, rotation: f64 },
     /// `G10 L10` / `L11`: the tool offset such that the current point has the given coordinates.
     G10Tool,
     /// `G28.1` / `G30.1`: the current machine position is stored in `#5161`/`#5181`...

@@ -40,6 +40,8 @@ pub(super) struct Writer<'a> {
     pub inserted_lines: usize,
     /// Parameters and the tool table are in inch.
     pub machine_inch: bool,
+    /// Corrected points kept at the end of the travel.
+    pub clamped: std::cell::Cell<usize>,
     /// What was expanded, for the note at the top.
     pub notes: Vec<String>,
 }
@@ -62,6 +64,7 @@ impl<'a> Writer<'a> {
             changed_lines: 0,
             inserted_lines: 0,
             machine_inch: false,
+            clamped: std::cell::Cell::new(0),
             notes: Vec::new(),
         }
     }
@@ -203,8 +206,16 @@ impl<'a> Writer<'a> {
             let mut target = m.end;
             for k in 0..n {
                 target[k] = p[k] + c[k];
+                // a corrected point beyond the travel (a move to the limit) stays at the limit
+                if let Some([lo, hi]) = self.machine.axes()[k].range {
+                    if target[k] > hi || target[k] < lo {
+                        target[k] = target[k].clamp(lo, hi);
+                        self.clamped.set(self.clamped.get() + 1);
+                    }
+                }
             }
             let centre = match m.kind {
+                MoveKind::Arc { .. } if *t == t_prev => None,
                 MoveKind::Arc { plane, centre, .. } => Some([
                     centre[0] + 0.5 * (c_prev[plane.first] + c[plane.first]),
                     centre[1] + 0.5 * (c_prev[plane.second] + c[plane.second]),
@@ -245,6 +256,7 @@ impl<'a> Writer<'a> {
         let mut edits: Vec<(std::ops::Range<usize>, String)> = Vec::new();
         let mut appended: Vec<String> = Vec::new();
         let mut extra: Vec<String> = Vec::new();
+        let mut before: Vec<String> = Vec::new();
         if let Some((relative, position)) = step.relative {
             self.relative(step, relative, &position, line, &mut edits, &mut extra);
         }
@@ -256,7 +268,19 @@ impl<'a> Writer<'a> {
                     self.written = m.end;
                 }
                 Role::Words | Role::Intermediate { .. } => {
-                    let targets = self.targets(m, p);
+                    let mut targets = self.targets(m, p);
+                    // a step at the start goes before the line, in the modes in force there; the
+                    // line then needs its motion word
+                    let frame_before = self.trace.frames[step.frame as usize];
+                    while targets.len() > 1 && targets[0].2 == 0.0 {
+                        let (target, _, _) = targets.remove(0);
+                        if let Some(l) = self.piece_line(m, &frame_before, &target, None, 0.0, 0) {
+                            before.push(l);
+                            if !has_motion_word(line) {
+                                appended.insert(0, motion_word(m, self.dialect));
+                            }
+                        }
+                    }
                     let start = self.written;
                     let resolved = self.trace.words_of(&step.motion_words);
                     let value_of = |l: u8| resolved.iter().find(|(x, _)| *x == l).map(|(_, v)| *v);
@@ -264,10 +288,19 @@ impl<'a> Writer<'a> {
                     let polar = line.word(b'@').is_some() || line.word(b'^').is_some();
                     let original = if polar { [None; AXES] } else { original };
                     let (first, centre, fraction) = targets[0];
-                    let hold = if p.len() == 1 { full_circle(m) } else { 0 };
+                    let mut hold = if p.len() == 1 { full_circle(m) } else { 0 };
+                    if let Role::Intermediate { .. } = m.role {
+                        // a word would send that axis to the stored position too: the corrected
+                        // intermediate point is reached by a rapid before the line when an axis
+                        // without a word needs a correction
+                        hold |= !m.words & 0x1ff;
+                        if let Some(l) = self.intermediate_line(m, &frame_before, &targets[0].0, hold) {
+                            before.push(l);
+                        }
+                    }
                     for (k, &l) in AXIS_LETTERS.iter().enumerate() {
-                        if let (true, Some(w)) = (hold & (1 << k) != 0, line.word(l)) {
-                            edits.push((letter_start(text, w.span.start)..w.span.end, String::new()));
+                        if let (true, Some(w)) = (hold & (1 << k) != 0 && m.role == Role::Words, line.word(l)) {
+                            edits.push((blank_before(text, letter_start(text, w.span.start))..w.span.end, String::new()));
                         }
                     }
                     let values = self.axis_values(m, &frame, &first, &original, false, hold);
@@ -275,7 +308,7 @@ impl<'a> Writer<'a> {
                         // polar words rewritten as X Y
                         for l in [b'@', b'^'] {
                             if let Some(w) = line.word(l) {
-                                edits.push((letter_start(text, w.span.start)..w.span.end, String::new()));
+                                edits.push((blank_before(text, letter_start(text, w.span.start))..w.span.end, String::new()));
                             }
                         }
                         let values = self.polar_values(m, &frame, &start, &first);
@@ -342,10 +375,26 @@ impl<'a> Writer<'a> {
         if new != text {
             self.changed_lines += 1;
         }
-        self.inserted_lines += extra.len();
-        let mut lines = vec![new];
+        self.inserted_lines += extra.len() + before.len();
+        let mut lines = before;
+        lines.push(new);
         lines.extend(extra);
         lines
+    }
+
+    /// A rapid to the corrected intermediate point of a `G28`/`G30` when an axis without a word
+    /// (`hold`) needs a correction there; `None` otherwise.
+    fn intermediate_line(&mut self, m: &Move, frame: &Frame, target: &Axes, hold: u16) -> Option<String> {
+        let p = self.program_of(frame, target, &m.program_end);
+        let w = self.program_of(frame, &self.written, &m.program_end);
+        let needed = (0..AXES).any(|k| hold & (1 << k) != 0 && self.axis_map[k].is_some() && (p[k] - w[k]).abs() >= self.half(frame, k));
+        if !needed {
+            return None;
+        }
+        let mut rapid = *m;
+        rapid.kind = MoveKind::Rapid;
+        rapid.machine_coordinates = false;
+        self.piece_line(&rapid, frame, target, None, 0.0, 0)
     }
 
     /// X Y values for a block written with polar words.
@@ -363,7 +412,10 @@ impl<'a> Writer<'a> {
         if m.machine_coordinates {
             words.push("G53".to_string());
         }
-        words.push(motion_word(m, self.dialect));
+        // a piece of zero length: the step of the correction where an axis reverses, a short rapid
+        // (the lost motion taken up where the original path reverses)
+        let step = fraction == 0.0;
+        words.push(if step { "G0".to_string() } else { motion_word(m, self.dialect) });
         let values = self.axis_values(m, frame, target, &[None; AXES], false, hold);
         for (k, v) in values.iter().enumerate() {
             if let Some(v) = v {
@@ -374,12 +426,12 @@ impl<'a> Writer<'a> {
             self.written = start;
             return None;
         }
-        if let Some(c) = centre {
+        if let (Some(c), false) = (centre, step) {
             for (letter, _, t) in self.centre_words(m, frame, c, &start) {
                 words.push(format!("{}{t}", letter as char));
             }
         }
-        if let Some(f) = m.inverse_time {
+        if let (Some(f), false) = (m.inverse_time, step) {
             words.push(format!("F{}", format_number(f / fraction, 6, Dialect::LinuxCnc)));
         }
         Some(words.join(" "))
@@ -388,7 +440,7 @@ impl<'a> Writer<'a> {
     /// A block that sets something from the current position: its axis words shifted by the shift
     /// of the corrected position (G92, G10 L20), or the stored position set back (G28.1, G30.1).
     fn relative(&mut self, step: &Step, relative: Relative, position: &Axes, line: &Line, edits: &mut Vec<(std::ops::Range<usize>, String)>, extra: &mut Vec<String>) {
-        let frame = self.trace.frames[step.frame as usize];
+        let frame = setting_frame(&self.trace.frames[step.frame as usize], relative);
         let delta = self.shift(&frame, position);
         match relative {
             Relative::G92 | Relative::G10L20 { .. } | Relative::G10Tool => {
@@ -494,7 +546,7 @@ impl<'a> Writer<'a> {
         let setting = self.trace.words_of(&step.setting);
         if !setting.is_empty() {
             let delta = match step.relative {
-                Some((Relative::G92 | Relative::G10L20 { .. } | Relative::G10Tool, position)) => self.shift(&frame0, &position),
+                Some((relative @ (Relative::G92 | Relative::G10L20 { .. } | Relative::G10Tool), position)) => self.shift(&setting_frame(&frame0, relative), &position),
                 _ => [0.0; AXES],
             };
             let words: Vec<String> = setting
@@ -524,6 +576,9 @@ impl<'a> Writer<'a> {
                 Role::Home => self.written = m.end,
                 Role::Intermediate { g30 } => {
                     let (target, _, _) = self.targets(m, p)[0];
+                    if let Some(l) = self.intermediate_line(m, &frame, &target, !m.words & 0x1ff) {
+                        out.push(l);
+                    }
                     let values = self.axis_values(m, &frame, &target, &[None; AXES], true, 0);
                     let mut words = vec![if g30 { "G30".to_string() } else { "G28".to_string() }];
                     for (k, v) in values.iter().enumerate() {
@@ -589,7 +644,7 @@ impl<'a> Writer<'a> {
                     }
                 }
             }
-            if !step.has(super::trace::flags::CONTROL) {
+            if !step.has(super::trace::flags::CONTROL) || !step.actions.is_empty() {
                 let lines = self.expanded(step, pieces, None);
                 self.region.extend(lines);
             }
@@ -722,6 +777,16 @@ impl<'a> Writer<'a> {
     }
 }
 
+/// The frame the axis words of a position-relative setting are read in: `G10 L20` reads them in
+/// the coordinates of its system, with that system's rotation.
+fn setting_frame(frame: &Frame, relative: Relative) -> Frame {
+    let mut f = *frame;
+    if let Relative::G10L20 { rotation, .. } = relative {
+        f.rotation = rotation;
+    }
+    f
+}
+
 /// The plane axes (bits of interpreter axes) of an arc that ends where it starts in its plane: a
 /// full circle, which the corrected program must keep (its end words are left out).
 fn full_circle(m: &Move) -> u16 {
@@ -747,6 +812,15 @@ fn letter_start(text: &str, value_start: usize) -> usize {
     0
 }
 
+/// `at`, moved back over one blank before it (so that a removed word takes its separator along).
+fn blank_before(text: &str, at: usize) -> usize {
+    if at > 0 && matches!(text.as_bytes()[at - 1], b' ' | b'\t') {
+        at - 1
+    } else {
+        at
+    }
+}
+
 /// The first comment of a line, `(...)`.
 fn comment_of(text: &str) -> Option<String> {
     let start = text.find('(')?;
@@ -757,6 +831,17 @@ fn comment_of(text: &str) -> Option<String> {
 /// A value written with all the digits it needs (10 decimals at most, trailing zeros removed).
 fn fine(v: f64) -> String {
     format_number(v, 10, Dialect::LinuxCnc)
+}
+
+/// Whether a line has a G0/G1/G2/G3 word (or one computed by an expression, which may be one).
+fn has_motion_word(line: &Line) -> bool {
+    line.words.iter().any(|w| {
+        w.letter == b'G'
+            && match w.value {
+                super::lexer::Operand::Number(v) => [0.0, 1.0, 2.0, 3.0].contains(&v),
+                super::lexer::Operand::Expr(_) => true,
+            }
+    })
 }
 
 fn motion_word(m: &Move, dialect: Dialect) -> String {
