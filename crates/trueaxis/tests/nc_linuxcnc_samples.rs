@@ -91,7 +91,7 @@ fn check(path: &str, machine: &Machine, errors: &ErrorModel) -> Outcome {
     };
     let oracle = Oracle { machine, errors, temperatures: vec![] };
     let Ok(moves) = program_moves(machine, &text, &name, &options) else { return Outcome::Failed("run again: differs".into()) };
-    let (count, homes) = nc_common::canonical_homes(&moves);
+    let (count, homes) = nc_common::canonical_homes(machine, &moves);
     if count != original.len() {
         return Outcome::Failed(format!("trueaxis reads {count} moves, rs274 {}", original.len()));
     }

@@ -76,7 +76,7 @@ fn check(case: &Case, decimals: Option<usize>, end_um: f64) -> (NcResult, Report
     let oracle = Oracle { machine: &m, errors: &e, temperatures: case.temperatures.to_vec() };
     // trueaxis reads the same moves as rs274; the returns to the G28/G30 positions stay as they are
     let moves = program_moves(&m, case.program, case.name, &options).unwrap();
-    let (count, homes) = nc_common::canonical_homes(&moves);
+    let (count, homes) = nc_common::canonical_homes(&m, &moves);
     assert_eq!(count, original.len(), "{}: moves read by trueaxis and by rs274", case.name);
     let report = oracle
         .compare(&original, &corrected, &vec![0.0; m.axis_count()], end_um, 1.05, &homes)

@@ -11,8 +11,8 @@ use trueaxis::compensate::nc::{Move, MoveKind, Role};
 
 /// The canonical moves rs274 prints for the moves trueaxis reads: one per move, but one for all
 /// the turns of a multi-turn arc (trueaxis writes its turns as separate arcs); their number and
-/// the indices of the returns to the G28/G30 positions.
-pub fn canonical_homes(moves: &[Move]) -> (usize, Vec<usize>) {
+/// the indices of the returns to the G28/G30 positions (not corrected by design).
+pub fn canonical_homes(machine: &Machine, moves: &[Move]) -> (usize, Vec<usize>) {
     let mut count = 0;
     let mut homes = Vec::new();
     for (i, m) in moves.iter().enumerate() {
@@ -24,6 +24,7 @@ pub fn canonical_homes(moves: &[Move]) -> (usize, Vec<usize>) {
         if turn {
             continue;
         }
+        let _ = machine;
         if m.role == Role::Home {
             homes.push(count);
         }

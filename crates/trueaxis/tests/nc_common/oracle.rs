@@ -166,7 +166,9 @@ impl Oracle<'_> {
     ///
     /// `uncorrected`: original moves the corrector leaves as they are by design (the returns of
     /// `G28`/`G30` to their stored positions): the corrected program must reach the same machine
-    /// position there (1e-6 mm).
+    /// position on the axes that return (1e-6 mm). Likewise an axis that ends at the end of its
+    /// travel stays there (a correction beyond the travel is not written); the other axes of such
+    /// moves must be within 0.05 mm.
     pub fn compare(&self, original: &[Canon], corrected: &[Canon], start: &[f64], end_um: f64, path_um: f64, uncorrected: &[usize]) -> Result<Report, String> {
         let o = self.paths(original, start)?;
         let c = self.paths(corrected, start)?;
@@ -186,14 +188,16 @@ impl Oracle<'_> {
         for (i, op) in o.iter().enumerate() {
             let target = self.nominal(&op.end, op.tool);
             let end_dirs = merge(&before[i], op.directions(1.0));
-            let exempt = uncorrected.contains(&i);
+            // a move that goes nowhere from the start (`G28 G91 Z0.` first): where the machine stood
+            let at_start = o[..=i].iter().all(|p| p.end.iter().zip(start).all(|(a, b)| (a - b).abs() < 1e-12));
+            let home_move = uncorrected.contains(&i) || at_start;
+            let at_limit = |a: usize| self.machine.axes()[a].range.is_some_and(|[lo, hi]| (op.end[a] - lo).abs() < 1e-9 || (op.end[a] - hi).abs() < 1e-9);
+            let exempt = home_move || (0..n).any(at_limit);
             let landing = |j: usize| {
                 if exempt {
-                    // the axes that go to the stored position reach it exactly; the others stay where
-                    // the corrected program had them (within a correction)
                     let same = (0..n).all(|a| {
-                        let home = (op.end[a] - op.start[a]).abs() > 1e-9;
-                        (c[j].end[a] - op.end[a]).abs() < if home { 1e-6 } else { 0.05 }
+                        let exact = at_limit(a) || home_move && (op.end[a] - op.start[a]).abs() > 1e-9;
+                        (c[j].end[a] - op.end[a]).abs() < if exact { 1e-6 } else { 0.05 }
                     });
                     if same {
                         target

@@ -325,7 +325,9 @@ impl Exec<'_> {
         for &code in w.gs() {
             let g = group(code, self.dialect)?;
             if g != Group::NonModal && g != Group::Other {
-                if let Some((_, other)) = seen.iter().find(|(s, _)| *s == g) {
+                // a Fanuc G80 is in its own group (09), beside G00-G03
+                let fanuc_g80 = |a: u16, b: u16| self.dialect == Dialect::Fanuc && (a == 800) != (b == 800) && [a, b].iter().all(|c| matches!(c, 0 | 10 | 20 | 30 | 800));
+                if let Some((_, other)) = seen.iter().find(|(s, c)| *s == g && !fanuc_g80(*c, code)) {
                     return Err(format!("G{} and G{} on one line are in the same modal group", gcode_text(*other), gcode_text(code)));
                 }
             }
@@ -525,6 +527,11 @@ impl Exec<'_> {
         let mut nonmodal = Vec::new();
         for &code in &gs {
             match group(code, self.dialect)? {
+                // a Fanuc G80 beside G00-G03 cancels the cycle before the motion
+                Group::Motion if code == 800 && gs.len() > 1 && fanuc && gs.iter().any(|c| matches!(c, 0 | 10 | 20 | 30)) => {
+                    self.state.motion = Motion::None;
+                    self.setup_words.push((b'G', 80.0));
+                }
                 Group::Motion => motion_code = Some(code),
                 Group::NonModal => nonmodal.push(code),
                 _ => {}
@@ -692,7 +699,7 @@ impl Exec<'_> {
                 return Err("G53 without a G0 or G1 move".into());
             }
         }
-        if self.state.motion != Motion::None && !matches!(self.state.motion, Motion::Cycle(_)) {
+        if !matches!(self.state.motion, Motion::Cycle(_)) {
             self.state.cycle.initial = None;
         }
         // stops
@@ -1121,6 +1128,12 @@ impl Exec<'_> {
         match code {
             0 | 10 => {
                 self.state.motion = if code == 0 { Motion::Rapid } else { Motion::Feed };
+                // a Fanuc G00/G01 without axis words only sets the mode (LinuxCNC moves to the
+                // point it is at)
+                if self.dialect == Dialect::Fanuc && !w.any_axis_or_polar() {
+                    self.setup_words.push((b'G', f64::from(code) / 10.0));
+                    return Ok(());
+                }
                 let f = if code == 10 { self.feed_for_move(w)? } else { None };
                 let end = self.end_point(w, g53)?;
                 self.push_move(if code == 0 { MoveKind::Rapid } else { MoveKind::Feed }, end, Role::Words, g53, words, f)

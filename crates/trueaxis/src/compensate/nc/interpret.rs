@@ -247,6 +247,10 @@ impl<'m> Exec<'m> {
         }
         exec.state.retract_to_r = false;
         exec.state.path_mode = 640;
+        // a Fanuc control starts in G00 (parameter 3402 bit G01 = 0)
+        if dialect == Dialect::Fanuc {
+            exec.state.motion = Motion::Rapid;
+        }
         let start = exec.machine_to_program(&exec.position);
         exec.state.position = start;
         exec.trace.frame_index(&exec.state.frame);

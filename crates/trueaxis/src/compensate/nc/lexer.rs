@@ -381,7 +381,11 @@ impl Cursor<'_> {
             _ => return Err("#0 cannot be assigned".into()),
         };
         self.expect(b'=', "after the parameter of an assignment")?;
-        let value = self.operand_node(arena)?;
+        let value = match self.dialect {
+            Dialect::LinuxCnc => self.operand_node(arena)?,
+            // Fanuc: `#i = <expression>` without brackets, to the end of the block
+            Dialect::Fanuc => self.top_expression(arena)?,
+        };
         Ok(Assignment { target, value })
     }
 
@@ -423,6 +427,31 @@ impl Cursor<'_> {
             ops.push(op);
             values.push(self.operand_node(arena)?);
         }
+    }
+
+    /// An expression without brackets, up to the end of the line, a comment or `;`.
+    fn top_expression(&mut self, arena: &mut Vec<Node>) -> Result<ExprId, String> {
+        let mut values = vec![self.operand_node(arena)?];
+        let mut ops: Vec<Op> = Vec::new();
+        let dialect = self.dialect;
+        let reduce = |values: &mut Vec<ExprId>, ops: &mut Vec<Op>, arena: &mut Vec<Node>| {
+            let op = ops.pop().expect("operator");
+            let b = values.pop().expect("operand");
+            let a = values.pop().expect("operand");
+            values.push(push(arena, Node::Binary(op, a, b)));
+        };
+        while !matches!(self.peek(), 0 | b'(' | b';' | b'#') {
+            let op = self.operator()?;
+            while ops.last().is_some_and(|top| top.precedence(dialect) >= op.precedence(dialect)) {
+                reduce(&mut values, &mut ops, arena);
+            }
+            ops.push(op);
+            values.push(self.operand_node(arena)?);
+        }
+        while !ops.is_empty() {
+            reduce(&mut values, &mut ops, arena);
+        }
+        Ok(values[0])
     }
 
     fn operator(&mut self) -> Result<Op, String> {

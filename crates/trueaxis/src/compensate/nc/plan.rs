@@ -241,10 +241,16 @@ impl Planner<'_> {
                         let inner = level + u16::from(self.new_locals(step as usize));
                         self.decide(r.start + 1..r.end, inner);
                     } else {
-                        let what = match key {
-                            Some(SubKey::Label(l)) => format!("{l} call (the subroutine runs {} times)", self.calls.get(&SubKey::Label(l.clone())).map_or(0, Vec::len)),
-                            Some(SubKey::Program(o)) => format!("call of O{o} (run {} times)", self.calls.get(&SubKey::Program(o)).map_or(0, Vec::len)),
-                            None => "call of a subroutine file".into(),
+                        let what = match (key, self.statement(k)) {
+                            (Some(key), _) => {
+                                let runs = self.runs(&key);
+                                match key {
+                                    SubKey::Label(l) => format!("{l} call (the subroutine runs {runs} times)"),
+                                    SubKey::Program(o) => format!("M98 P{o} (the subprogram runs {runs} times)"),
+                                }
+                            }
+                            (None, Some(Statement::O(label, _))) => format!("{label} call (a subroutine file)"),
+                            (None, _) => "a subprogram call".into(),
                         };
                         self.region(k..k + 1, level, format!("line {}, {what}", k + 1));
                     }
@@ -254,6 +260,11 @@ impl Planner<'_> {
             }
             k += 1;
         }
+    }
+
+    /// How many times the body of a subroutine of the main file ran.
+    fn runs(&self, key: &SubKey) -> u32 {
+        self.sub_range(key).map_or(0, |r| self.count[r.start + 1..r.end].iter().copied().max().unwrap_or(0))
     }
 
     /// Whether the call at `step` opens a new level of local parameters.

@@ -192,8 +192,13 @@ impl<'a> Writer<'a> {
         })
     }
 
-    /// The corrected targets of the pieces of `m`, and the arc centres (machine).
+    /// The corrected targets of the pieces of `m`, and the arc centres (machine). The
+    /// intermediate point of a `G28`/`G30` that does not move (`G28 G91 Z0`) is where the controller
+    /// already is: nothing to correct.
     fn targets(&self, m: &Move, pieces: &Pieces) -> Vec<(Axes, Option<[f64; 2]>, f64)> {
+        if matches!(m.role, Role::Intermediate { .. }) && m.start == m.end {
+            return vec![(self.written, None, 1.0)];
+        }
         let n = self.machine.axis_count();
         let arc = arc_geometry(m);
         let mut out = Vec::with_capacity(pieces.len());
