@@ -237,7 +237,7 @@ impl Oracle<'_> {
                 // of straight move at one point of the original path, inside the error model's
                 // own discontinuity
                 let length = (self.nominal(&cp.end, cp.tool) - self.nominal(&cp.start, cp.tool)).norm();
-                let original_length = (self.nominal(&op.end, op.tool) - self.nominal(&op.start, op.tool)).norm();
+                let original_length: f64 = (0..16).map(|s| (self.nominal(&op.point((s + 1) as f64 / 16.0), op.tool) - self.nominal(&op.point(s as f64 / 16.0), op.tool)).norm()).sum();
                 let step = !matches!(corrected[jj].kind, Kind::Arc { .. }) && length < 0.02 && length < 0.01 * original_length;
                 let mut ts: Vec<f64> = if rapid || jj == 0 || step {
                     vec![]
@@ -264,7 +264,14 @@ impl Oracle<'_> {
                     let dist = self.nearest(&x, op).1 * 1e3;
                     report.worst_path_um = report.worst_path_um.max(dist);
                     if dist > path_um {
-                        return Err(format!("corrected move {} (a piece of original move {}) leaves the original path by {dist:.4} um at t = {t}", jj + 1, i + 1));
+                        return Err(format!(
+                            "corrected move {} ({:?} to {:?}, a piece of original move {} to {:?}) leaves the original path by {dist:.4} um at t = {t}",
+                            jj + 1,
+                            corrected[jj].kind,
+                            cp.end,
+                            i + 1,
+                            op.end
+                        ));
                     }
                 }
             }
