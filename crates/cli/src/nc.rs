@@ -144,7 +144,8 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
         let (code, values) = o.split_once('=').ok_or_else(|| bad(format!("--offset `{o}` is not G54=X..,Y..")))?;
         let systems = ["G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"];
         let code = code.trim().to_ascii_uppercase();
-        let system = systems.iter().position(|s| *s == code).ok_or_else(|| bad(format!("--offset: `{code}` is not one of G54 ... G59.3")))?;
+        let system =
+            systems.iter().position(|s| *s == code).ok_or_else(|| bad(format!("--offset: `{code}` is not one of G54 ... G59.3")))?;
         let values = parse_axis_values(machine, &letter_values(values), "--offset")?;
         setup.set_work_offset(machine, system as u8 + 1, &values);
     }
@@ -158,7 +159,11 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
     setup.fanuc.peck_clearance_mm = args.peck_clearance_mm;
     let mut dirs = args.search_path.clone();
     if dirs.is_empty() {
-        dirs.push(args.program.parent().map_or_else(|| PathBuf::from("."), |p| if p.as_os_str().is_empty() { PathBuf::from(".") } else { p.to_path_buf() }));
+        dirs.push(
+            args.program
+                .parent()
+                .map_or_else(|| PathBuf::from("."), |p| if p.as_os_str().is_empty() { PathBuf::from(".") } else { p.to_path_buf() }),
+        );
     }
     setup.search_path = SearchPath(dirs);
     Ok(options)
@@ -176,7 +181,8 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     if let Some(path) = &args.out {
         write_atomically(path, result.text.as_bytes()).map_err(Failure::input)?;
     }
-    let expanded = if result.expanded.is_empty() { String::new() } else { format!("; {} parts expanded into plain moves", result.expanded.len()) };
+    let expanded =
+        if result.expanded.is_empty() { String::new() } else { format!("; {} parts expanded into plain moves", result.expanded.len()) };
     let summary = format!(
         "{origin} ({}): {} moves corrected, {} lines changed, {} lines added{expanded}; largest correction {:.3} um, {:.3} urad; \
          residual <= {:.4} um; uncorrectable orientation <= {:.3} urad",

@@ -5,7 +5,11 @@
 use std::process::Command;
 
 fn trueaxis(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_trueaxis"))
+        .args(args)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .unwrap();
     (out.status.code().unwrap(), String::from_utf8(out.stdout).unwrap(), String::from_utf8(out.stderr).unwrap())
 }
 
@@ -71,7 +75,8 @@ fn a_parameter_file_gives_the_work_offsets() {
     std::fs::write(&var, "5221\t10.0\n5222\t-20.0\n5223\t-200.0\n").unwrap();
     let program = dir.path().join("p.ngc");
     std::fs::write(&program, "G21 G90 G54\nG0 X0 Y0 Z0\nG1 X10 F500\nM2\n").unwrap();
-    let (code, stdout, stderr) = nc("examples/errors/vmc3.toml", &[program.to_str().unwrap(), "--parameters", var.to_str().unwrap(), "--json"]);
+    let (code, stdout, stderr) =
+        nc("examples/errors/vmc3.toml", &[program.to_str().unwrap(), "--parameters", var.to_str().unwrap(), "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     let text = doc["program"].as_str().unwrap();
@@ -113,10 +118,14 @@ fn corrections_beyond_the_limit_and_a_start_outside_the_travel_are_refused() {
     let out = dir.path().join("pocket.ngc");
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--out", out.to_str().unwrap(), "--limit-um", "5"]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("examples/nc/pocket.ngc: line 4: the correction of axis X is -5.151 um at the machine position X0 Y0 Z-10"), "{stderr}");
+    assert!(
+        stderr.contains("examples/nc/pocket.ngc: line 4: the correction of axis X is -5.151 um at the machine position X0 Y0 Z-10"),
+        "{stderr}"
+    );
     assert!(stderr.contains("beyond the limit of 5 um; nothing was written"), "{stderr}");
     assert!(!out.exists());
-    let (code, stdout, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--out", out.to_str().unwrap(), "--limit-um", "50", "--json"]);
+    let (code, stdout, stderr) =
+        nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--out", out.to_str().unwrap(), "--limit-um", "50", "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert!(doc["max_correction_um"].as_f64().unwrap() < 50.0 && out.exists());

@@ -382,7 +382,10 @@ fn check(name: &str, machine_name: &str, errors: &str, text: &str, expected: &Ex
     let report = oracle
         .compare(&expected.moves, &corrected, &start, TOLERANCE_UM, 1.0 + TOLERANCE_UM, &homes(&m, text, &options))
         .unwrap_or_else(|err| panic!("{name}: {err}\n{}", r.text));
-    println!("{name}: {} moves, {} pieces, ends within {:.3} um, path within {:.3} um; expanded {:?}", report.moves, report.pieces, report.worst_end_um, report.worst_path_um, r.expanded);
+    println!(
+        "{name}: {} moves, {} pieces, ends within {:.3} um, path within {:.3} um; expanded {:?}",
+        report.moves, report.pieces, report.worst_end_um, report.worst_path_um, r.expanded
+    );
     assert!(r.changed_lines > 0);
 }
 

@@ -83,9 +83,14 @@ fn corrected_examples_read_back_land_on_the_originals() {
         let moves = program_moves(&m, &text, file, &options).unwrap();
         let (_, homes) = nc_common::canonical_homes(&m, &moves);
         let oracle = Oracle { machine: &m, errors: &e, temperatures: temperatures.to_vec() };
-        let report = oracle.compare(&original, &corrected, &options.setup.start, end_um, 1.0 + end_um, &homes).unwrap_or_else(|err| panic!("{file}: {err}\n{}", r.text));
+        let report = oracle
+            .compare(&original, &corrected, &options.setup.start, end_um, 1.0 + end_um, &homes)
+            .unwrap_or_else(|err| panic!("{file}: {err}\n{}", r.text));
         assert_eq!(report.moves, original.len());
-        println!("{file}: {} moves, {} pieces, ends within {:.4} um, expanded {:?}", report.moves, report.pieces, report.worst_end_um, r.expanded);
+        println!(
+            "{file}: {} moves, {} pieces, ends within {:.4} um, expanded {:?}",
+            report.moves, report.pieces, report.worst_end_um, r.expanded
+        );
         if file == "five_axis.ngc" {
             // through the singularity at A = 0 the C correction fades in continuously
             assert!(report.pieces >= 20, "{}", report.pieces);
@@ -141,7 +146,10 @@ fn the_interpreter_matches_closed_forms() {
     // is ignored
     assert_ends(ends("O1\nG0 X100 Y1.\n#1=#0\nG0 X#1 Y2.\nM30\n", Dialect::Fanuc), &[[0.1, 1.0, 0.0], [0.1, 2.0, 0.0]]);
     // G92 shifts the coordinates of the current point, G92.1 removes it
-    assert_ends(ends("G0 X10\nG92 X0\nG0 X5\nG92.1\nG0 X5\nM2\n", Dialect::LinuxCnc), &[[10.0, 0.0, 0.0], [15.0, 0.0, 0.0], [5.0, 0.0, 0.0]]);
+    assert_ends(
+        ends("G0 X10\nG92 X0\nG0 X5\nG92.1\nG0 X5\nM2\n", Dialect::LinuxCnc),
+        &[[10.0, 0.0, 0.0], [15.0, 0.0, 0.0], [5.0, 0.0, 0.0]],
+    );
     // G10 L20 P1 X0: the current point becomes X0 of G54; G10 L2 with a 90 deg rotation
     assert_ends(ends("G0 X7\nG10 L20 P1 X0\nG0 X1\nM2\n", Dialect::LinuxCnc), &[[7.0, 0.0, 0.0], [8.0, 0.0, 0.0]]);
     let r = ends("G10 L2 P1 X10 R90\nG0 X5 Y0\nM2\n", Dialect::LinuxCnc);

@@ -68,11 +68,15 @@ fn check(case: &Case, decimals: Option<usize>, end_um: f64) -> (NcResult, Report
     options.setup.parameters = trueaxis::compensate::nc::params::read_parameter_file(&var, "var").unwrap();
     options.setup.search_path = SearchPath(vec![dir.path().to_path_buf()]);
     let corrector = Corrector::new(&m, &e);
-    let result = correct_program(&corrector, case.program, case.name, &options, case.temperatures).unwrap_or_else(|e| panic!("{}: {e}", case.name));
+    let result =
+        correct_program(&corrector, case.program, case.name, &options, case.temperatures).unwrap_or_else(|e| panic!("{}: {e}", case.name));
     std::fs::write(dir.path().join("original.ngc"), case.program).unwrap();
     std::fs::write(dir.path().join("corrected.ngc"), &result.text).unwrap();
-    let original = rs.run_with(dir.path(), "original.ngc", Some("tools.tbl"), Some(&var)).unwrap_or_else(|e| panic!("{}: original: {e}", case.name));
-    let corrected = rs.run_with(dir.path(), "corrected.ngc", Some("tools.tbl"), Some(&var)).unwrap_or_else(|e| panic!("{}: corrected: {e}\n{}", case.name, result.text));
+    let original =
+        rs.run_with(dir.path(), "original.ngc", Some("tools.tbl"), Some(&var)).unwrap_or_else(|e| panic!("{}: original: {e}", case.name));
+    let corrected = rs
+        .run_with(dir.path(), "corrected.ngc", Some("tools.tbl"), Some(&var))
+        .unwrap_or_else(|e| panic!("{}: corrected: {e}\n{}", case.name, result.text));
     let oracle = Oracle { machine: &m, errors: &e, temperatures: case.temperatures.to_vec() };
     // trueaxis reads the same moves as rs274; the returns to the G28/G30 positions stay as they are
     let moves = program_moves(&m, case.program, case.name, &options).unwrap();
@@ -282,17 +286,116 @@ fn rs274_sees_every_corrected_move_on_the_original() {
     offsets.extend(work);
     offsets.extend([(5381, 7.0), (5382, -3.0), (5383, -160.0)]);
     let cases = [
-        Case { name: "pocket", machine: "vmc3", errors: "vmc3_backlash", temperatures: &[24.0], program: &pocket, parameters: &[], expanded: 0, keeps: &[] },
-        Case { name: "arcs", machine: "vmc3", errors: "vmc3_backlash", temperatures: &[22.0], program: &arcs, parameters: &[], expanded: 0, keeps: &[] },
-        Case { name: "five_axis", machine: "c600u", errors: "c600u", temperatures: &[], program: &five, parameters: &[], expanded: 0, keeps: &[] },
-        Case { name: "parameters_and_loops", machine: "vmc3", errors: "vmc3", temperatures: &[], program: PARAMETERS_AND_LOOPS, parameters: &work, expanded: 3, keeps: &["o104 if [EXISTS[#<depth>]]", "o104 endif", "#<depth> = 2"] },
-        Case { name: "subroutines", machine: "vmc3", errors: "vmc3_backlash", temperatures: &[21.0], program: SUBROUTINES, parameters: &work, expanded: 3, keeps: &["o<once> call [12]", "o<hole> sub", "#<local> = [#1 * 2]"] },
-        Case { name: "cycles", machine: "vmc3", errors: "vmc3_backlash", temperatures: &[20.0], program: CYCLES, parameters: &work, expanded: 11, keeps: &["T1 M6 G43 H1", "G90 G80"] },
-        Case { name: "offsets", machine: "vmc3", errors: "vmc3", temperatures: &[], program: OFFSETS, parameters: &offsets, expanded: 0, keeps: &["G10 L2 P2 X10 Y20 Z-150 R30", "G92.1", "G91 G28 Z0", "G28.1"] },
-        Case { name: "units_and_arcs", machine: "vmc3", errors: "vmc3_backlash", temperatures: &[23.0], program: UNITS_AND_ARCS, parameters: &work, expanded: 1, keeps: &["G90.1 G2 X", "G93 G1 X"] },
-        Case { name: "tool_length", machine: "vmc3", errors: "vmc3", temperatures: &[], program: TOOL_LENGTH, parameters: &work, expanded: 0, keeps: &["G43 H2", "G43.2 H3"] },
-        Case { name: "modes", machine: "vmc3", errors: "vmc3", temperatures: &[], program: MODES, parameters: &work, expanded: 2, keeps: &["M70", "M72", "o<inch> sub"] },
-        Case { name: "reads_position", machine: "vmc3", errors: "vmc3", temperatures: &[], program: READS_POSITION, parameters: &work, expanded: 1, keeps: &["G17 G21 G90 F300", "(trueaxis: - the whole program: line 4 reads the current position"] },
+        Case {
+            name: "pocket",
+            machine: "vmc3",
+            errors: "vmc3_backlash",
+            temperatures: &[24.0],
+            program: &pocket,
+            parameters: &[],
+            expanded: 0,
+            keeps: &[],
+        },
+        Case {
+            name: "arcs",
+            machine: "vmc3",
+            errors: "vmc3_backlash",
+            temperatures: &[22.0],
+            program: &arcs,
+            parameters: &[],
+            expanded: 0,
+            keeps: &[],
+        },
+        Case {
+            name: "five_axis",
+            machine: "c600u",
+            errors: "c600u",
+            temperatures: &[],
+            program: &five,
+            parameters: &[],
+            expanded: 0,
+            keeps: &[],
+        },
+        Case {
+            name: "parameters_and_loops",
+            machine: "vmc3",
+            errors: "vmc3",
+            temperatures: &[],
+            program: PARAMETERS_AND_LOOPS,
+            parameters: &work,
+            expanded: 3,
+            keeps: &["o104 if [EXISTS[#<depth>]]", "o104 endif", "#<depth> = 2"],
+        },
+        Case {
+            name: "subroutines",
+            machine: "vmc3",
+            errors: "vmc3_backlash",
+            temperatures: &[21.0],
+            program: SUBROUTINES,
+            parameters: &work,
+            expanded: 3,
+            keeps: &["o<once> call [12]", "o<hole> sub", "#<local> = [#1 * 2]"],
+        },
+        Case {
+            name: "cycles",
+            machine: "vmc3",
+            errors: "vmc3_backlash",
+            temperatures: &[20.0],
+            program: CYCLES,
+            parameters: &work,
+            expanded: 11,
+            keeps: &["T1 M6 G43 H1", "G90 G80"],
+        },
+        Case {
+            name: "offsets",
+            machine: "vmc3",
+            errors: "vmc3",
+            temperatures: &[],
+            program: OFFSETS,
+            parameters: &offsets,
+            expanded: 0,
+            keeps: &["G10 L2 P2 X10 Y20 Z-150 R30", "G92.1", "G91 G28 Z0", "G28.1"],
+        },
+        Case {
+            name: "units_and_arcs",
+            machine: "vmc3",
+            errors: "vmc3_backlash",
+            temperatures: &[23.0],
+            program: UNITS_AND_ARCS,
+            parameters: &work,
+            expanded: 1,
+            keeps: &["G90.1 G2 X", "G93 G1 X"],
+        },
+        Case {
+            name: "tool_length",
+            machine: "vmc3",
+            errors: "vmc3",
+            temperatures: &[],
+            program: TOOL_LENGTH,
+            parameters: &work,
+            expanded: 0,
+            keeps: &["G43 H2", "G43.2 H3"],
+        },
+        Case {
+            name: "modes",
+            machine: "vmc3",
+            errors: "vmc3",
+            temperatures: &[],
+            program: MODES,
+            parameters: &work,
+            expanded: 2,
+            keeps: &["M70", "M72", "o<inch> sub"],
+        },
+        Case {
+            name: "reads_position",
+            machine: "vmc3",
+            errors: "vmc3",
+            temperatures: &[],
+            program: READS_POSITION,
+            parameters: &work,
+            expanded: 1,
+            keeps: &["G17 G21 G90 F300", "(trueaxis: - the whole program: line 4 reads the current position"],
+        },
     ];
     let mut total = Report::default();
     for case in &cases {

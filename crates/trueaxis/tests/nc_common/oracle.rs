@@ -31,13 +31,17 @@ pub struct Report {
     pub worst_path_um: f64,
 }
 
+/// An arc of a path: machine axes of its plane (first, second), centre, signed sweep (rad), start
+/// angle, start and end radii.
+type ArcPath = ([usize; 2], [f64; 2], f64, f64, f64, f64);
+
 /// A move as a path in machine positions.
 #[derive(Clone, Debug)]
 struct Path {
     start: Vec<f64>,
     end: Vec<f64>,
     /// Machine axes of the plane (first, second), centre, signed sweep (rad), start angle, radii.
-    arc: Option<([usize; 2], [f64; 2], f64, f64, f64, f64)>,
+    arc: Option<ArcPath>,
     tool: [f64; 3],
 }
 
@@ -95,12 +99,21 @@ impl Oracle<'_> {
             let end = self.axes(&m.end)?;
             let arc = match m.kind {
                 Kind::Arc { axes, centre, turns } => {
-                    let (a, b) = (self.machine.axis_index(['X', 'Y', 'Z'][axes[0]]).unwrap(), self.machine.axis_index(['X', 'Y', 'Z'][axes[1]]).unwrap());
+                    let (a, b) = (
+                        self.machine.axis_index(['X', 'Y', 'Z'][axes[0]]).unwrap(),
+                        self.machine.axis_index(['X', 'Y', 'Z'][axes[1]]).unwrap(),
+                    );
                     let a0 = (prev[b] - centre[1]).atan2(prev[a] - centre[0]);
                     let a1 = (end[b] - centre[1]).atan2(end[a] - centre[0]);
                     let tau = std::f64::consts::TAU;
                     let closed = (prev[a] - end[a]).abs() < 1e-9 && (prev[b] - end[b]).abs() < 1e-9;
-                    let base = if closed { tau } else if turns > 0 { (a1 - a0).rem_euclid(tau) } else { (a0 - a1).rem_euclid(tau) };
+                    let base = if closed {
+                        tau
+                    } else if turns > 0 {
+                        (a1 - a0).rem_euclid(tau)
+                    } else {
+                        (a0 - a1).rem_euclid(tau)
+                    };
                     let extra = (turns.abs() - 1).max(0) as f64 * tau;
                     let sweep = (base + extra) * f64::from(turns.signum());
                     let (r0, r1) = ((prev[a] - centre[0]).hypot(prev[b] - centre[1]), (end[a] - centre[0]).hypot(end[b] - centre[1]));
@@ -169,7 +182,15 @@ impl Oracle<'_> {
     /// position on the axes that return (1e-6 mm). Likewise an axis that ends at the end of its
     /// travel stays there (a correction beyond the travel is not written); the other axes of such
     /// moves must be within 0.05 mm.
-    pub fn compare(&self, original: &[Canon], corrected: &[Canon], start: &[f64], end_um: f64, path_um: f64, uncorrected: &[usize]) -> Result<Report, String> {
+    pub fn compare(
+        &self,
+        original: &[Canon],
+        corrected: &[Canon],
+        start: &[f64],
+        end_um: f64,
+        path_um: f64,
+        uncorrected: &[usize],
+    ) -> Result<Report, String> {
         let o = self.paths(original, start)?;
         let c = self.paths(corrected, start)?;
         let n = self.machine.axis_count();
@@ -191,7 +212,9 @@ impl Oracle<'_> {
             // a move that goes nowhere from the start (`G28 G91 Z0.` first): where the machine stood
             let at_start = o[..=i].iter().all(|p| p.end.iter().zip(start).all(|(a, b)| (a - b).abs() < 1e-12));
             let home_move = uncorrected.contains(&i) || at_start;
-            let at_limit = |a: usize| self.machine.axes()[a].range.is_some_and(|[lo, hi]| (op.end[a] - lo).abs() < 1e-9 || (op.end[a] - hi).abs() < 1e-9);
+            let at_limit = |a: usize| {
+                self.machine.axes()[a].range.is_some_and(|[lo, hi]| (op.end[a] - lo).abs() < 1e-9 || (op.end[a] - hi).abs() < 1e-9)
+            };
             let exempt = home_move || (0..n).any(at_limit);
             let landing = |j: usize| {
                 if exempt {
@@ -219,7 +242,8 @@ impl Oracle<'_> {
                 (k..c.len()).find(|&j| lands(j))
             };
             let Some(j) = found else {
-                let near = (k.saturating_sub(1)..c.len().min(k + 5)).map(|j| (landing(j) - target).norm() * 1e3).fold(f64::INFINITY, f64::min);
+                let near =
+                    (k.saturating_sub(1)..c.len().min(k + 5)).map(|j| (landing(j) - target).norm() * 1e3).fold(f64::INFINITY, f64::min);
                 return Err(format!(
                     "original move {} ({:?} to {:?}) is not reached: the nearest corrected move of the next five lands {near:.4} um away",
                     i + 1,
@@ -237,7 +261,11 @@ impl Oracle<'_> {
                 // of straight move at one point of the original path, inside the error model's
                 // own discontinuity
                 let length = (self.nominal(&cp.end, cp.tool) - self.nominal(&cp.start, cp.tool)).norm();
-                let original_length: f64 = (0..16).map(|s| (self.nominal(&op.point((s + 1) as f64 / 16.0), op.tool) - self.nominal(&op.point(s as f64 / 16.0), op.tool)).norm()).sum();
+                let original_length: f64 = (0..16)
+                    .map(|s| {
+                        (self.nominal(&op.point((s + 1) as f64 / 16.0), op.tool) - self.nominal(&op.point(s as f64 / 16.0), op.tool)).norm()
+                    })
+                    .sum();
                 let step = !matches!(corrected[jj].kind, Kind::Arc { .. }) && length < 0.02 && length < 0.01 * original_length;
                 let mut ts: Vec<f64> = if rapid || jj == 0 || step {
                     vec![]

@@ -64,7 +64,11 @@ pub enum Kind {
     Feed,
     /// Plane axes (first, second, normal; 0 1 2 = X Y Z), centre (machine mm), turns (+
     /// counterclockwise).
-    Arc { axes: [usize; 3], centre: [f64; 2], turns: i32 },
+    Arc {
+        axes: [usize; 3],
+        centre: [f64; 2],
+        turns: i32,
+    },
 }
 
 impl Rs274 {

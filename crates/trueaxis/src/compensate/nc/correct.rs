@@ -97,15 +97,25 @@ impl<'a, 'b> Corrections<'a, 'b> {
         let state = MachineState { directions: Some(&self.directions), temperatures: &self.temperatures };
         let c = self.corrector.correct_along(&self.q, &state, &mut self.ws, &mut self.warm);
         if !c.converged || c.dq[..n].iter().any(|v| !v.is_finite()) {
-            return Err(CompensateError::Computation(format!("{}: line {}: the correction did not converge at {p:?}", self.origin, self.line)));
+            return Err(CompensateError::Computation(format!(
+                "{}: line {}: the correction did not converge at {p:?}",
+                self.origin, self.line
+            )));
         }
         let dq = c.dq_user(self.machine);
         for (k, &d) in dq.iter().enumerate() {
             let place = || {
-                let words: Vec<String> = self.machine.axes().iter().zip(&p).map(|(a, v)| format!("{}{}", a.letter, super::dialect::format_number(*v, 4, super::Dialect::LinuxCnc))).collect();
+                let words: Vec<String> = self
+                    .machine
+                    .axes()
+                    .iter()
+                    .zip(&p)
+                    .map(|(a, v)| format!("{}{}", a.letter, super::dialect::format_number(*v, 4, super::Dialect::LinuxCnc)))
+                    .collect();
                 format!("the machine position {}", words.join(" "))
             };
-            check_limit(self.machine, &self.limits, k, d, &place).map_err(|e| CompensateError::Limit(format!("{}: line {}: {e}", self.origin, self.line)))?;
+            check_limit(self.machine, &self.limits, k, d, &place)
+                .map_err(|e| CompensateError::Limit(format!("{}: line {}: {e}", self.origin, self.line)))?;
         }
         let r = &mut self.extremes;
         r.corrected_points += 1;
@@ -171,7 +181,9 @@ impl<'a, 'b> Corrections<'a, 'b> {
             (None, None) => return Err(too_many()),
             // a full circle written as one block must end exactly where it starts in its plane: when
             // the correction there differs from the start's (a helix), it is split instead
-            (Some((c0, mut pieces)), Some(g)) if pieces.len() == 1 && !(g.sweep.abs() >= std::f64::consts::TAU - 1e-12 && self.plane_shift(m, &pieces[0].1) > 1e-7) => {
+            (Some((c0, mut pieces)), Some(g))
+                if pieces.len() == 1 && !(g.sweep.abs() >= std::f64::consts::TAU - 1e-12 && self.plane_shift(m, &pieces[0].1) > 1e-7) =>
+            {
                 if step(&c0, &held) {
                     pieces.insert(0, (0.0, c0));
                 }

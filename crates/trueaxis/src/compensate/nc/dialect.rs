@@ -80,8 +80,23 @@ impl fmt::Display for Dialect {
 }
 
 /// The keywords of LinuxCNC O-word statements.
-const O_KEYWORDS: [&str; 15] =
-    ["SUB", "ENDSUB", "CALL", "IF", "ELSEIF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "DO", "REPEAT", "ENDREPEAT", "BREAK", "CONTINUE", "RETURN"];
+const O_KEYWORDS: [&str; 15] = [
+    "SUB",
+    "ENDSUB",
+    "CALL",
+    "IF",
+    "ELSEIF",
+    "ELSE",
+    "ENDIF",
+    "WHILE",
+    "ENDWHILE",
+    "DO",
+    "REPEAT",
+    "ENDREPEAT",
+    "BREAK",
+    "CONTINUE",
+    "RETURN",
+];
 
 /// The line without `( ... )` comments and without what follows `;`.
 fn strip_comments(line: &str) -> String {

@@ -15,7 +15,7 @@ use super::dialect::Dialect;
 use super::expr::{evaluate, parameter_number, ParamRef};
 use super::interpret::{Exec, Flow};
 use super::lexer::{Line, Operand};
-use super::modal::{axis_of_letter, is_linear, FeedMode, Motion, PlaneSelect, Spindle, Vec9, AXES};
+use super::modal::{FeedMode, Motion, PlaneSelect, Spindle, Vec9, AXES};
 use super::program::SourceFile;
 use super::tools::AXIS_LETTERS;
 use super::trace::{flags, Move, MoveKind, Plane, Relative, Role};
@@ -134,7 +134,9 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
         40 | 100 | 280 | 300 | 520 | 530 | 920 => Some(NonModal),
         940 | 950 => Some(FeedMode),
         960 | 970 => Some(SpindleMode),
-        410 | 420 | 411 | 421 => return refuse("(cutter radius compensation) cannot be corrected point by point: program the tool-centre path (CAM: compensation in computer)"),
+        410 | 420 | 411 | 421 => return refuse(
+            "(cutter radius compensation) cannot be corrected point by point: program the tool-centre path (CAM: compensation in computer)",
+        ),
         382..=385 => return refuse("(probing) stops where the probe touches: the moves after it are not known beforehand"),
         330 | 331 | 760 if dialect == Dialect::LinuxCnc => {
             return refuse("(spindle-synchronised motion) is locked to the spindle position and cannot be split or shifted")
@@ -160,7 +162,7 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
             _ => return Err(format!("G{} is not a G-code of LinuxCNC 2.9", gcode_text(code))),
         }),
         Dialect::Fanuc => Ok(match code {
-            1 | 2 | 3 => Motion,
+            1..=3 => Motion,
             44 => NonModal,
             90 | 51 | 80 | 500 | 670 | 690 | 150 | 110 => Other,
             440 => ToolLength,
@@ -170,14 +172,18 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
             931 => FeedMode,
             930 => FeedMode,
             740 | 840 => return refuse("(tapping) on a Fanuc is synchronised with the spindle and cannot be split or shifted"),
-            760 | 870 => return refuse("(boring with spindle orientation and shift) cannot be expanded: the shift direction is a machine parameter"),
+            760 | 870 => {
+                return refuse("(boring with spindle orientation and shift) cannot be expanded: the shift direction is a machine parameter")
+            }
             880 => return refuse("(boring with manual retraction) cannot be expanded"),
             160 => return refuse("(polar coordinate command) is not supported"),
             310 => return refuse("(skip function) stops where a signal comes: the moves after it are not known beforehand"),
             270 | 290 => return refuse("(reference position check/return from reference) is not supported"),
             510 | 511 => return refuse("(scaling/mirroring) is not supported"),
             680 | 682 | 683 => return refuse("(coordinate rotation / tilted working plane) is not supported"),
-            434 | 435 | 531 => return refuse("(tool centre point / tool axis direction control) is not supported: correct the program in machine axes"),
+            434 | 435 | 531 => {
+                return refuse("(tool centre point / tool axis direction control) is not supported: correct the program in machine axes")
+            }
             660 => return refuse("(modal macro call) is not supported"),
             330 | 320 | 340 | 350 | 120 | 130 => return refuse("is not supported (threading or circle cutting cycles)"),
             _ => return Err(format!("G{} is not a Fanuc G-code this corrector knows", gcode_text(code))),
@@ -326,7 +332,9 @@ impl Exec<'_> {
             let g = group(code, self.dialect)?;
             if g != Group::NonModal && g != Group::Other {
                 // a Fanuc G80 is in its own group (09), beside G00-G03
-                let fanuc_g80 = |a: u16, b: u16| self.dialect == Dialect::Fanuc && (a == 800) != (b == 800) && [a, b].iter().all(|c| matches!(c, 0 | 10 | 20 | 30 | 800));
+                let fanuc_g80 = |a: u16, b: u16| {
+                    self.dialect == Dialect::Fanuc && (a == 800) != (b == 800) && [a, b].iter().all(|c| matches!(c, 0 | 10 | 20 | 30 | 800))
+                };
                 if let Some((_, other)) = seen.iter().find(|(s, c)| *s == g && !fanuc_g80(*c, code)) {
                     return Err(format!("G{} and G{} on one line are in the same modal group", gcode_text(*other), gcode_text(code)));
                 }
@@ -370,7 +378,9 @@ impl Exec<'_> {
             if self.dialect == Dialect::LinuxCnc && lower.starts_with("abort,") {
                 return Err(format!("the program aborts here: {}", body.trim_start()[6..].trim()));
             }
-            let substituted = if self.dialect == Dialect::LinuxCnc && (lower.starts_with("debug,") || lower.starts_with("print,") || lower.starts_with("log,")) {
+            let substituted = if self.dialect == Dialect::LinuxCnc
+                && (lower.starts_with("debug,") || lower.starts_with("print,") || lower.starts_with("log,"))
+            {
                 self.substitute(body)
             } else {
                 body.to_string()
@@ -540,13 +550,21 @@ impl Exec<'_> {
         if gs.contains(&40) {
             let t = match self.dialect {
                 Dialect::LinuxCnc => w.take(b'P').ok_or("G4 needs the dwell time P (seconds)")?,
-                Dialect::Fanuc => w.take(b'P').or_else(|| w.take(b'X')).or_else(|| w.take(b'U')).ok_or("G04 needs the dwell time P or X")?,
+                Dialect::Fanuc => {
+                    w.take(b'P').or_else(|| w.take(b'X')).or_else(|| w.take(b'U')).ok_or("G04 needs the dwell time P or X")?
+                }
             };
             if t < 0.0 {
                 return Err(format!("negative dwell time {t}"));
             }
             setup(self, b'G', 4.0);
-            let letter = if w.has(b'P') || self.dialect == Dialect::LinuxCnc { b'P' } else if w.has(b'X') { b'X' } else { b'U' };
+            let letter = if w.has(b'P') || self.dialect == Dialect::LinuxCnc {
+                b'P'
+            } else if w.has(b'X') {
+                b'X'
+            } else {
+                b'U'
+            };
             setup(self, letter, t);
         }
         for &code in &gs {
@@ -644,8 +662,8 @@ impl Exec<'_> {
                     let first = if code == 281 { 5161 } else { 5181 };
                     self.trace.steps[step].relative = Some((Relative::Store { first }, self.position));
                     let ext = self.state.frame.external(&self.state.position);
-                    for k in 0..AXES {
-                        let v = self.program_to_user(k, ext[k]);
+                    for (k, e) in ext.iter().enumerate() {
+                        let v = self.program_to_user(k, *e);
                         self.params.set_numbered(first + k as u32, v)?;
                     }
                     self.setting_words.push((b'G', f64::from(code) / 10.0));
@@ -681,13 +699,17 @@ impl Exec<'_> {
         } else {
             let motion = match motion_code {
                 Some(code) => Some(code),
-                None if w.any_axis_or_polar() && !w.gs().iter().any(|c| matches!(c, 100 | 520 | 920 | 431 | 432)) => match self.state.motion {
-                    Motion::None => return Err("axis words without a motion mode (G0, G1, G2, G3 or a canned cycle; G80 cancelled it)".into()),
-                    Motion::Rapid => Some(0),
-                    Motion::Feed => Some(10),
-                    Motion::Arc { clockwise } => Some(if clockwise { 20 } else { 30 }),
-                    Motion::Cycle(c) => Some(c),
-                },
+                None if w.any_axis_or_polar() && !w.gs().iter().any(|c| matches!(c, 100 | 520 | 920 | 431 | 432)) => {
+                    match self.state.motion {
+                        Motion::None => {
+                            return Err("axis words without a motion mode (G0, G1, G2, G3 or a canned cycle; G80 cancelled it)".into())
+                        }
+                        Motion::Rapid => Some(0),
+                        Motion::Feed => Some(10),
+                        Motion::Arc { clockwise } => Some(if clockwise { 20 } else { 30 }),
+                        Motion::Cycle(c) => Some(c),
+                    }
+                }
                 None => None,
             };
             if let Some(code) = motion {
@@ -870,7 +892,9 @@ impl Exec<'_> {
                     frame.rotation = r;
                     current_in_system = frame.program(&self.state.frame.external(&self.state.position));
                 }
-                let old = |exec: &Self, k: usize| exec.user_to_program(k, exec.params.numbered(base + k as u32).filter(|v| !v.is_nan()).unwrap_or(0.0));
+                let old = |exec: &Self, k: usize| {
+                    exec.user_to_program(k, exec.params.numbered(base + k as u32).filter(|v| !v.is_nan()).unwrap_or(0.0))
+                };
                 let mut new: [f64; AXES] = std::array::from_fn(|k| old(self, k));
                 if relative_to_position {
                     // LinuxCNC convert_setup: X and Y through the system's rotation
@@ -1019,7 +1043,8 @@ impl Exec<'_> {
                 }
             }
             _ => {
-                let g92: [f64; AXES] = std::array::from_fn(|k| self.user_to_program(k, self.params.numbered(5211 + k as u32).unwrap_or(0.0)));
+                let g92: [f64; AXES] =
+                    std::array::from_fn(|k| self.user_to_program(k, self.params.numbered(5211 + k as u32).unwrap_or(0.0)));
                 self.state.frame.g92 = g92;
                 self.state.g92_applied = true;
                 self.params.set_numbered(5210, 1.0)?;
@@ -1092,10 +1117,23 @@ impl Exec<'_> {
     }
 
     /// Adds a move to the trace, checking that its axes exist and that it stays in the travel.
-    pub(super) fn push_move(&mut self, kind: MoveKind, end: Vec9, role: Role, g53: bool, words: u16, inverse_time: Option<f64>) -> Result<(), String> {
+    pub(super) fn push_move(
+        &mut self,
+        kind: MoveKind,
+        end: Vec9,
+        role: Role,
+        g53: bool,
+        words: u16,
+        inverse_time: Option<f64>,
+    ) -> Result<(), String> {
         for k in 0..AXES {
             if self.axis_map[k].is_none() && (end[k] - self.state.position[k]).abs() > 1e-12 {
-                return Err(format!("axis {} is not an axis of machine `{}` (axes: {})", AXIS_LETTERS[k] as char, self.machine.name, self.machine.axis_letters()));
+                return Err(format!(
+                    "axis {} is not an axis of machine `{}` (axes: {})",
+                    AXIS_LETTERS[k] as char,
+                    self.machine.name,
+                    self.machine.axis_letters()
+                ));
             }
         }
         let machine_end = self.program_to_machine(&end);
@@ -1199,20 +1237,15 @@ impl Exec<'_> {
             self.user_to_program(k, v)
         });
         let home_program = self.state.frame.program(&stored);
-        let mut end = self.state.position;
-        for k in 0..AXES {
-            if !any || axes[k].is_some() {
-                end[k] = home_program[k];
+        // the axes with words (all without words) go to the stored position; axes the machine
+        // lacks stay where they are
+        let end: Vec9 = std::array::from_fn(|k| {
+            if (!any || axes[k].is_some()) && self.axis_map[k].is_some() {
+                home_program[k]
+            } else {
+                self.state.position[k]
             }
-        }
-        if (0..AXES).any(|k| self.axis_map[k].is_none() && (end[k] - self.state.position[k]).abs() > 1e-12) {
-            // axes the machine lacks stay where they are
-            for k in 0..AXES {
-                if self.axis_map[k].is_none() {
-                    end[k] = self.state.position[k];
-                }
-            }
-        }
+        });
         self.push_move(MoveKind::Rapid, end, Role::Home, false, 0, None)
     }
 
@@ -1250,7 +1283,10 @@ impl Exec<'_> {
             Some(r) => super::arcs::centre_from_radius(clockwise, [start[a], start[b]], [end[a], end[b]], r, inch)?,
             None => {
                 if self.state.frame.ijk_absolute && (ia.is_none() || ib.is_none()) {
-                    return Err(format!("{} word missing in absolute centre arc (G90.1)", if ia.is_none() { ca as char } else { cb as char }));
+                    return Err(format!(
+                        "{} word missing in absolute centre arc (G90.1)",
+                        if ia.is_none() { ca as char } else { cb as char }
+                    ));
                 }
                 let (i, j) = (ia.unwrap_or(0.0), ib.unwrap_or(0.0));
                 let c = if self.state.frame.ijk_absolute { [i, j] } else { [start[a] + i, start[b] + j] };
@@ -1277,7 +1313,8 @@ impl Exec<'_> {
         let sweep = super::arcs::sweep(clockwise, [start[a], start[b]], [end[a], end[b]], centre);
         let total = sweep.abs() + f64::from(turns - 1) * std::f64::consts::TAU;
         let mut angle = sweep.abs();
-        let along = |t: f64| -> Vec9 { std::array::from_fn(|k| if k == a || k == b { end[k] } else { start[k] + t * (end[k] - start[k]) }) };
+        let along =
+            |t: f64| -> Vec9 { std::array::from_fn(|k| if k == a || k == b { end[k] } else { start[k] + t * (end[k] - start[k]) }) };
         let first_f = f.map(|f| f * total / sweep.abs());
         let turn_f = f.map(|f| f * total / std::f64::consts::TAU);
         self.push_move(kind, along(angle / total), Role::Generated, false, words, first_f)?;
@@ -1301,14 +1338,4 @@ fn axis_mask(w: &Words) -> u16 {
         mask |= 0b11;
     }
     mask
-}
-
-/// Whether interpreter axis `k` is on the machine and linear (for unit conversions of words).
-pub fn linear_axis(k: usize) -> bool {
-    is_linear(k)
-}
-
-/// The interpreter axis of a letter, for words.
-pub fn axis(letter: u8) -> Option<usize> {
-    axis_of_letter(letter)
 }

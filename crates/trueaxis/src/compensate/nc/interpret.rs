@@ -28,9 +28,16 @@ pub(super) enum Flow {
     /// LinuxCNC `o.. call`.
     Call(Label, Vec<f64>),
     /// Fanuc `M98 P.. L..` (shares the locals) or `G65 P.. L.. args` (a new local level).
-    CallProgram { number: u32, repeat: u32, args: Option<Vec<f64>> },
+    CallProgram {
+        number: u32,
+        repeat: u32,
+        args: Option<Vec<f64>>,
+    },
     /// `endsub`/`return` (with a value) or Fanuc `M99` (with a `P` sequence number to return to).
-    Return { value: Option<f64>, sequence: Option<u32> },
+    Return {
+        value: Option<f64>,
+        sequence: Option<u32>,
+    },
 }
 
 /// An active call.
@@ -125,7 +132,11 @@ pub fn run(machine: &Machine, mut program: Program, setup: &ProgramSetup) -> Res
                 }
                 break;
             }
-            return Err(NcError { file: file.name.clone(), line: file.lines.len(), message: "the subroutine file ends inside a subroutine (no endsub / M99)".into() });
+            return Err(NcError {
+                file: file.name.clone(),
+                line: file.lines.len(),
+                message: "the subroutine file ends inside a subroutine (no endsub / M99)".into(),
+            });
         }
         exec.line_number = pc.1 + 1;
         if exec.calls.is_empty() && pc.0 == 0 {
@@ -227,7 +238,9 @@ impl<'m> Exec<'m> {
         if setup.start.len() != n {
             return Err(format!("the start point has {} values for {n} axes", setup.start.len()));
         }
-        machine.check_range(&setup.start).map_err(|m| format!("the start point (before the first move) leaves the machine's travel: {m}"))?;
+        machine
+            .check_range(&setup.start)
+            .map_err(|m| format!("the start point (before the first move) leaves the machine's travel: {m}"))?;
         exec.position[..n].copy_from_slice(&setup.start);
         exec.trace.start = exec.position;
         // the coordinate system of #5220 (LinuxCNC) or G54, its offsets; the start point in it
@@ -241,7 +254,8 @@ impl<'m> Exec<'m> {
             exec.params.set_numbered(5220, f64::from(system))?;
             exec.state.frame.rotation = exec.params.numbered(5210 + 20 * u32::from(system)).unwrap_or(0.0);
             if exec.params.numbered(5210).unwrap_or(0.0) != 0.0 {
-                exec.state.frame.g92 = std::array::from_fn(|k| exec.user_to_program(k, exec.params.numbered(5211 + k as u32).unwrap_or(0.0)));
+                exec.state.frame.g92 =
+                    std::array::from_fn(|k| exec.user_to_program(k, exec.params.numbered(5211 + k as u32).unwrap_or(0.0)));
                 exec.state.g92_applied = true;
             }
         }
@@ -360,7 +374,12 @@ impl<'m> Exec<'m> {
 
     /// Closes the ranges of step `step`.
     pub fn end_step(&mut self, step: usize) {
-        let (moves, writes, messages, actions) = (self.trace.moves.len() as u32, self.trace.writes.len() as u32, self.trace.messages.len() as u32, self.trace.actions.len() as u32);
+        let (moves, writes, messages, actions) = (
+            self.trace.moves.len() as u32,
+            self.trace.writes.len() as u32,
+            self.trace.messages.len() as u32,
+            self.trace.actions.len() as u32,
+        );
         let unsafe_read = std::mem::take(&mut self.unsafe_read);
         let s = &mut self.trace.steps[step];
         s.moves.end = moves;
@@ -401,7 +420,9 @@ impl<'m> Exec<'m> {
                 return Err(format!("#{n} is a read-only system parameter"))
             }
             Dialect::Fanuc if (1000..2001).contains(&n) || (2401..5201).contains(&n) || (5330..7001).contains(&n) => {
-                return Err(format!("system variable #{n} cannot be written by this corrector (supported: #1-#999, work offsets #5201-#5326 and #7001-#7948)"))
+                return Err(format!(
+                "system variable #{n} cannot be written by this corrector (supported: #1-#999, work offsets #5201-#5326 and #7001-#7948)"
+            ))
             }
             _ => {}
         }
@@ -466,12 +487,24 @@ impl<'m> Exec<'m> {
             w.push((b'F', m.feed));
         }
         w.push((b'S', m.speed));
-        w.push((b'M', match m.spindle {
-            Spindle::Clockwise => 3.0,
-            Spindle::CounterClockwise => 4.0,
-            Spindle::Stopped => 5.0,
-        }));
-        w.push((b'M', if m.flood { 8.0 } else if m.mist { 7.0 } else { 9.0 }));
+        w.push((
+            b'M',
+            match m.spindle {
+                Spindle::Clockwise => 3.0,
+                Spindle::CounterClockwise => 4.0,
+                Spindle::Stopped => 5.0,
+            },
+        ));
+        w.push((
+            b'M',
+            if m.flood {
+                8.0
+            } else if m.mist {
+                7.0
+            } else {
+                9.0
+            },
+        ));
         w
     }
 
@@ -693,12 +726,63 @@ impl<'m> Exec<'m> {
 /// The named system parameters LinuxCNC 2.9 predefines.
 fn is_predefined(name: &str) -> bool {
     const NAMES: [&str; 57] = [
-        "_vmajor", "_vminor", "_line", "_motion_mode", "_plane", "_ccomp", "_metric", "_imperial", "_absolute", "_incremental", "_inverse_time",
-        "_units_per_minute", "_units_per_rev", "_coord_system", "_tool_offset", "_retract_r_plane", "_retract_old_z", "_control_mode",
-        "_spindle_rpm_mode", "_spindle_css_mode", "_ijk_absolute_mode", "_lathe_diameter_mode", "_lathe_radius_mode", "_spindle_on",
-        "_spindle_cw", "_mist", "_flood", "_speed_override", "_feed_override", "_adaptive_feed", "_feed_hold", "_feed", "_rpm", "_current_tool",
-        "_current_pocket", "_selected_pocket", "_selected_tool", "_x", "_y", "_z", "_a", "_b", "_c", "_u", "_v", "_w", "_abs_x", "_abs_y",
-        "_abs_z", "_abs_a", "_abs_b", "_abs_c", "_value", "_value_returned", "_task", "_call_level", "_remap_level",
+        "_vmajor",
+        "_vminor",
+        "_line",
+        "_motion_mode",
+        "_plane",
+        "_ccomp",
+        "_metric",
+        "_imperial",
+        "_absolute",
+        "_incremental",
+        "_inverse_time",
+        "_units_per_minute",
+        "_units_per_rev",
+        "_coord_system",
+        "_tool_offset",
+        "_retract_r_plane",
+        "_retract_old_z",
+        "_control_mode",
+        "_spindle_rpm_mode",
+        "_spindle_css_mode",
+        "_ijk_absolute_mode",
+        "_lathe_diameter_mode",
+        "_lathe_radius_mode",
+        "_spindle_on",
+        "_spindle_cw",
+        "_mist",
+        "_flood",
+        "_speed_override",
+        "_feed_override",
+        "_adaptive_feed",
+        "_feed_hold",
+        "_feed",
+        "_rpm",
+        "_current_tool",
+        "_current_pocket",
+        "_selected_pocket",
+        "_selected_tool",
+        "_x",
+        "_y",
+        "_z",
+        "_a",
+        "_b",
+        "_c",
+        "_u",
+        "_v",
+        "_w",
+        "_abs_x",
+        "_abs_y",
+        "_abs_z",
+        "_abs_a",
+        "_abs_b",
+        "_abs_c",
+        "_value",
+        "_value_returned",
+        "_task",
+        "_call_level",
+        "_remap_level",
     ];
     NAMES.contains(&name) || name.starts_with("_ini[") || name.starts_with("_hal[")
 }
@@ -912,7 +996,12 @@ impl Exec<'_> {
         let mut out = [0; 3];
         for (o, &k) in out.iter_mut().zip(&axes) {
             *o = self.axis_map[k].ok_or_else(|| {
-                format!("the plane G{} needs axis {}, which machine `{}` does not have", plane.gcode(), AXIS_LETTERS[k] as char, self.machine.name)
+                format!(
+                    "the plane G{} needs axis {}, which machine `{}` does not have",
+                    plane.gcode(),
+                    AXIS_LETTERS[k] as char,
+                    self.machine.name
+                )
             })?;
         }
         Ok(out)

@@ -211,7 +211,13 @@ pub fn program_moves(machine: &Machine, text: &str, origin: &str, options: &NcOp
 
 /// Corrects a program text. `origin` (the file name) prefixes messages; `temperatures` are the error
 /// model's sensor temperatures (degC) for the whole program (empty: 20 degC).
-pub fn correct_program(corrector: &Corrector, text: &str, origin: &str, options: &NcOptions, temperatures: &[f64]) -> Result<NcResult, CompensateError> {
+pub fn correct_program(
+    corrector: &Corrector,
+    text: &str,
+    origin: &str,
+    options: &NcOptions,
+    temperatures: &[f64],
+) -> Result<NcResult, CompensateError> {
     let machine = corrector.machine;
     let (trace, program) = run_program(machine, text, origin, options)?;
     let dialect = program.dialect;
@@ -273,7 +279,8 @@ fn notes(expanded: &[String], dialect: Dialect) -> Vec<String> {
         }
     };
     let mut out = vec![clean("(trueaxis: corrected program; expanded into plain moves because the correction differs where they run:)")];
-    out[0] = format!("({})", clean("trueaxis: corrected program; expanded into plain moves because the correction differs where they run:"));
+    out[0] =
+        format!("({})", clean("trueaxis: corrected program; expanded into plain moves because the correction differs where they run:"));
     for e in expanded.iter().take(20) {
         out.push(format!("({})", clean(&format!("trueaxis: - {e}"))));
     }

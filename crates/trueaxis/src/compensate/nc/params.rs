@@ -169,7 +169,8 @@ pub fn read_parameter_file(text: &str, origin: &str) -> Result<Vec<(u32, f64)>, 
             return Err(format!("{origin}: line {}: expected `number value`, found `{}`", i + 1, line.trim()));
         };
         let number: u32 = n.parse().map_err(|_| format!("{origin}: line {}: `{n}` is not a parameter number", i + 1))?;
-        let value: f64 = v.parse().ok().filter(|v: &f64| v.is_finite()).ok_or_else(|| format!("{origin}: line {}: `{v}` is not a number", i + 1))?;
+        let value: f64 =
+            v.parse().ok().filter(|v: &f64| v.is_finite()).ok_or_else(|| format!("{origin}: line {}: `{v}` is not a number", i + 1))?;
         if number == 0 || number as usize >= LINUXCNC_PARAMETERS {
             return Err(format!("{origin}: line {}: parameter #{number} is outside 1 to {}", i + 1, LINUXCNC_PARAMETERS - 1));
         }

@@ -127,7 +127,9 @@ impl Planner<'_> {
     fn main_body(&self) -> Range<usize> {
         let main = &self.program.files[0];
         let mut body = main.body.clone();
-        while body.start < body.end && matches!(&main.lines[body.start], Ok(l) if l.is_empty() && l.comments.is_empty() || l.program_number.is_some()) {
+        while body.start < body.end
+            && matches!(&main.lines[body.start], Ok(l) if l.is_empty() && l.comments.is_empty() || l.program_number.is_some())
+        {
             body.start += 1;
         }
         body
@@ -142,7 +144,11 @@ impl Planner<'_> {
         }
         let main = &self.program.files[0];
         match self.program.dialect {
-            Dialect::LinuxCnc => main.subs.iter().find(|(_, &(start, end))| (start..=end).contains(&(next.line as usize))).map(|(l, _)| SubKey::Label(l.clone())),
+            Dialect::LinuxCnc => main
+                .subs
+                .iter()
+                .find(|(_, &(start, end))| (start..=end).contains(&(next.line as usize)))
+                .map(|(l, _)| SubKey::Label(l.clone())),
             Dialect::Fanuc => {
                 let start = main.programs.iter().filter(|(_, &k)| k <= next.line as usize).max_by_key(|(_, &k)| k)?;
                 Some(SubKey::Program(*start.0))
@@ -201,11 +207,14 @@ impl Planner<'_> {
                     k = end + 1;
                     continue;
                 }
-                (Link::Branch { .. }, Some(Statement::O(_, OKind::ElseIf(_) | OKind::Else))) | (Link::LoopEnd { .. } | Link::SubEnd { .. }, _) => {
+                (Link::Branch { .. }, Some(Statement::O(_, OKind::ElseIf(_) | OKind::Else)))
+                | (Link::LoopEnd { .. } | Link::SubEnd { .. }, _) => {
                     k += 1;
                     continue;
                 }
-                (Link::Branch { end, .. } | Link::LoopStart { end }, _) if self.count[k..=end].iter().any(|&c| c > 0) || self.step_at[k].is_some() => {
+                (Link::Branch { end, .. } | Link::LoopStart { end }, _)
+                    if self.count[k..=end].iter().any(|&c| c > 0) || self.step_at[k].is_some() =>
+                {
                     let mut seen = Vec::new();
                     if self.runs_once(k..end + 1, &mut seen) {
                         self.decide(k + 1..end, level);
@@ -231,7 +240,9 @@ impl Planner<'_> {
                 if s.has(flags::CALL) {
                     let key = self.callee(step as usize);
                     let mut seen = Vec::new();
-                    let keep = self.count[k] == 1 && key.as_ref().is_some_and(|key| self.calls.get(key).map_or(0, Vec::len) == 1) && self.runs_once(k..k + 1, &mut seen);
+                    let keep = self.count[k] == 1
+                        && key.as_ref().is_some_and(|key| self.calls.get(key).map_or(0, Vec::len) == 1)
+                        && self.runs_once(k..k + 1, &mut seen);
                     if keep {
                         let key = key.expect("checked");
                         if !s.has(flags::CONTROL) {
@@ -294,7 +305,10 @@ impl Planner<'_> {
         }
         // kept control lines (conditions) too
         for s in &self.trace.steps {
-            if s.file == 0 && s.has(flags::CONTROL | flags::READS_UNSAFE) && s.flags & (flags::CONTROL | flags::READS_UNSAFE) == flags::CONTROL | flags::READS_UNSAFE {
+            if s.file == 0
+                && s.has(flags::CONTROL | flags::READS_UNSAFE)
+                && s.flags & (flags::CONTROL | flags::READS_UNSAFE) == flags::CONTROL | flags::READS_UNSAFE
+            {
                 let k = s.line as usize;
                 if !matches!(self.lines[k], LineOut::Hidden | LineOut::Region(_)) {
                     return Some(format!("the condition of line {} reads the current position or a return value", k + 1));

@@ -63,7 +63,8 @@ impl SourceFile {
             start += piece.len();
         }
         let mut arena = Vec::new();
-        let lines: Vec<Result<Line, String>> = ranges.iter().enumerate().map(|(i, r)| parse_line(&text[r.clone()], i + 1, dialect, &mut arena)).collect();
+        let lines: Vec<Result<Line, String>> =
+            ranges.iter().enumerate().map(|(i, r)| parse_line(&text[r.clone()], i + 1, dialect, &mut arena)).collect();
         let first = lines.iter().position(|l| !matches!(l, Ok(l) if l.is_empty() && !l.percent));
         let body = match first {
             Some(f) if matches!(&lines[f], Ok(l) if l.percent) => {
@@ -133,7 +134,10 @@ impl SourceFile {
                 OKind::If(_) => stack.push((label, "if", k, vec![k])),
                 OKind::ElseIf(_) | OKind::Else => {
                     if !top_is(&stack, "if") {
-                        return err(k, format!("`{label} {}` without its `{label} if`", if kind == OKind::Else { "else" } else { "elseif" }));
+                        return err(
+                            k,
+                            format!("`{label} {}` without its `{label} if`", if kind == OKind::Else { "else" } else { "elseif" }),
+                        );
                     }
                     let top = stack.last_mut().expect("checked");
                     if top.3.len() > 1 && matches!(self.statement(*top.3.last().expect("branch")), Some(Statement::O(_, OKind::Else))) {
@@ -169,7 +173,10 @@ impl SourceFile {
                 }
                 OKind::Break | OKind::Continue => {
                     if !stack.iter().any(|t| t.0 == label && matches!(t.1, "while" | "do" | "repeat")) {
-                        return err(k, format!("`{label} {}` outside the loop `{label}`", if kind == OKind::Break { "break" } else { "continue" }));
+                        return err(
+                            k,
+                            format!("`{label} {}` outside the loop `{label}`", if kind == OKind::Break { "break" } else { "continue" }),
+                        );
                     }
                 }
                 OKind::Call(_) => {}
@@ -183,7 +190,10 @@ impl SourceFile {
             if let Some(Statement::O(label, OKind::Break | OKind::Continue)) = self.statement(k) {
                 let start = (self.body.start..k)
                     .rev()
-                    .find(|&s| matches!(self.links[s], Link::LoopStart { end } if end > k) && matches!(self.statement(s), Some(Statement::O(l, _)) if l == label))
+                    .find(|&s| {
+                        matches!(self.links[s], Link::LoopStart { end } if end > k)
+                            && matches!(self.statement(s), Some(Statement::O(l, _)) if l == label)
+                    })
                     .expect("checked above");
                 let Link::LoopStart { end } = self.links[start] else { unreachable!() };
                 self.links[k] = Link::LoopJump { start, end };
@@ -272,9 +282,13 @@ impl Program {
                 return Ok((f, k));
             }
         }
-        let candidates = [format!("O{number:04}"), format!("O{number:04}.nc"), format!("O{number}.nc"), format!("O{number}.ngc"), format!("O{number}")];
+        let candidates =
+            [format!("O{number:04}"), format!("O{number:04}.nc"), format!("O{number}.nc"), format!("O{number}.ngc"), format!("O{number}")];
         let (path, text) = self.read_on_path(&candidates).ok_or_else(|| {
-            format!("program O{number} is neither in the file (after M30, as `O{number} ... M99`) nor a file O{number} on the search path ({})", self.search_list())
+            format!(
+                "program O{number} is neither in the file (after M30, as `O{number} ... M99`) nor a file O{number} on the search path ({})",
+                self.search_list()
+            )
         })?;
         let file = SourceFile::load(&path, text, self.dialect).map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
         let &k = file.programs.get(&number).ok_or_else(|| format!("{path} does not start with O{number}"))?;
@@ -323,7 +337,7 @@ mod tests {
         assert!(SourceFile::load("t.ngc", "o1 endwhile\n".into(), Dialect::LinuxCnc).is_err());
         let fanuc = "%\nO0001\nN10 #1=0\nWHILE [#1 LT 2] DO 1\n#1=#1+1\nEND 1\nM30\nO2000\nM99\n%\nignored\n";
         let f = SourceFile::load("t.nc", fanuc.into(), Dialect::Fanuc).unwrap();
-        assert_eq!(f.body, 1..10);
+        assert_eq!(f.body, 1..9);
         assert_eq!(f.links[3], Link::LoopStart { end: 5 });
         assert_eq!(f.programs[&2000], 7);
         assert_eq!(f.sequence[&10], vec![2]);

@@ -34,7 +34,11 @@ impl ToolTable {
             let mut has_number = false;
             for field in line.split_whitespace() {
                 let letter = field.as_bytes()[0].to_ascii_uppercase();
-                let value: f64 = field[1..].parse().ok().filter(|v: &f64| v.is_finite()).ok_or_else(|| at(format!("`{field}` is not a letter and a number")))?;
+                let value: f64 = field[1..]
+                    .parse()
+                    .ok()
+                    .filter(|v: &f64| v.is_finite())
+                    .ok_or_else(|| at(format!("`{field}` is not a letter and a number")))?;
                 match letter {
                     b'T' => {
                         if value < 0.0 || value.fract() != 0.0 {

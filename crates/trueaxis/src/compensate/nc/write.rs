@@ -47,7 +47,14 @@ pub(super) struct Writer<'a> {
 }
 
 impl<'a> Writer<'a> {
-    pub fn new(machine: &'a Machine, program: &'a Program, trace: &'a Trace, plan: &'a Plan, decimals: usize, decimals_inch: usize) -> Self {
+    pub fn new(
+        machine: &'a Machine,
+        program: &'a Program,
+        trace: &'a Trace,
+        plan: &'a Plan,
+        decimals: usize,
+        decimals_inch: usize,
+    ) -> Self {
         Writer {
             machine,
             program,
@@ -116,7 +123,15 @@ impl<'a> Writer<'a> {
     /// axis with a word in the block. Updates `written`.
     /// Axes in `hold` (bits of interpreter axes) stay where the controller is, without a word: the
     /// plane axes of a full circle, which must end exactly where it starts.
-    fn axis_values(&mut self, m: &Move, frame: &Frame, target: &Axes, original: &[Option<f64>; AXES], all_words: bool, hold: u16) -> [Option<String>; AXES] {
+    fn axis_values(
+        &mut self,
+        m: &Move,
+        frame: &Frame,
+        target: &Axes,
+        original: &[Option<f64>; AXES],
+        all_words: bool,
+        hold: u16,
+    ) -> [Option<String>; AXES] {
         let mut out: [Option<String>; AXES] = Default::default();
         let target_p = self.program_of(frame, target, &m.program_end);
         let written_p = self.program_of(frame, &self.written, &m.program_end);
@@ -444,7 +459,15 @@ impl<'a> Writer<'a> {
 
     /// A block that sets something from the current position: its axis words shifted by the shift
     /// of the corrected position (G92, G10 L20), or the stored position set back (G28.1, G30.1).
-    fn relative(&mut self, step: &Step, relative: Relative, position: &Axes, line: &Line, edits: &mut Vec<(std::ops::Range<usize>, String)>, extra: &mut Vec<String>) {
+    fn relative(
+        &mut self,
+        step: &Step,
+        relative: Relative,
+        position: &Axes,
+        line: &Line,
+        edits: &mut Vec<(std::ops::Range<usize>, String)>,
+        extra: &mut Vec<String>,
+    ) {
         let frame = setting_frame(&self.trace.frames[step.frame as usize], relative);
         let delta = self.shift(&frame, position);
         match relative {
@@ -518,7 +541,9 @@ impl<'a> Writer<'a> {
             l => {
                 let value = match (self.dialect, super::modal::axis_of_letter(l)) {
                     (Dialect::Fanuc, Some(k)) => self.axis_text(frame, k, v),
-                    (Dialect::Fanuc, None) if matches!(l, b'I' | b'J' | b'K' | b'R' | b'Q') => format_number(v, self.decimals_of(frame, 0), Dialect::Fanuc),
+                    (Dialect::Fanuc, None) if matches!(l, b'I' | b'J' | b'K' | b'R' | b'Q') => {
+                        format_number(v, self.decimals_of(frame, 0), Dialect::Fanuc)
+                    }
                     _ => fine(v),
                 };
                 format!("{}{value}", l as char)
@@ -551,7 +576,9 @@ impl<'a> Writer<'a> {
         let setting = self.trace.words_of(&step.setting);
         if !setting.is_empty() {
             let delta = match step.relative {
-                Some((relative @ (Relative::G92 | Relative::G10L20 { .. } | Relative::G10Tool), position)) => self.shift(&setting_frame(&frame0, relative), &position),
+                Some((relative @ (Relative::G92 | Relative::G10L20 { .. } | Relative::G10Tool), position)) => {
+                    self.shift(&setting_frame(&frame0, relative), &position)
+                }
                 _ => [0.0; AXES],
             };
             let words: Vec<String> = setting
@@ -673,7 +700,11 @@ impl<'a> Writer<'a> {
                 let lines = self.expanded(step, pieces, sequence);
                 let text = self.program.files[0].line_text(k).to_string();
                 if self.region_changed {
-                    let what = if self.trace.step_moves(step).iter().all(|m| matches!(m.kind, MoveKind::Arc { .. })) { "arc of several turns" } else { "canned cycle" };
+                    let what = if self.trace.step_moves(step).iter().all(|m| matches!(m.kind, MoveKind::Arc { .. })) {
+                        "arc of several turns"
+                    } else {
+                        "canned cycle"
+                    };
                     self.notes.push(format!("line {}, {what}", k + 1));
                     self.changed_lines += 1;
                     self.inserted_lines += lines.len().saturating_sub(1);
@@ -734,7 +765,8 @@ impl<'a> Writer<'a> {
         }
         let to_end = region.lines.end >= file.body.end;
         if !last.is_empty() && !to_end {
-            let words: Vec<String> = last.iter().map(|(k, v)| format!("{k}={}", if v.is_nan() { "#0".into() } else { format!("{v}") })).collect();
+            let words: Vec<String> =
+                last.iter().map(|(k, v)| format!("{k}={}", if v.is_nan() { "#0".into() } else { format!("{v}") })).collect();
             lines.push(words.join(" "));
         }
         self.changed_lines += region.lines.len();
@@ -748,8 +780,9 @@ impl<'a> Writer<'a> {
         let mut text = String::with_capacity(file.text.len() + 64);
         let mut noted = notes.is_empty();
         for (k, out) in self.plan.lines.iter().enumerate() {
-            let keep_first = |l: &Result<Line, String>| matches!(l, Ok(l) if l.percent || l.program_number.is_some() && self.dialect == Dialect::Fanuc);
-            if !noted && !(k < file.body.start || keep_first(&file.lines[k])) {
+            let keep_first =
+                |l: &Result<Line, String>| matches!(l, Ok(l) if l.percent || l.program_number.is_some() && self.dialect == Dialect::Fanuc);
+            if !(noted || k < file.body.start || keep_first(&file.lines[k])) {
                 for n in notes {
                     text.push_str(n);
                     text.push('\n');
@@ -796,7 +829,9 @@ fn setting_frame(frame: &Frame, relative: Relative) -> Frame {
 /// full circle, which the corrected program must keep (its end words are left out).
 fn full_circle(m: &Move) -> u16 {
     match m.kind {
-        MoveKind::Arc { plane, .. } if (m.start[plane.first] - m.end[plane.first]).abs() < 1e-9 && (m.start[plane.second] - m.end[plane.second]).abs() < 1e-9 => {
+        MoveKind::Arc { plane, .. }
+            if (m.start[plane.first] - m.end[plane.first]).abs() < 1e-9 && (m.start[plane.second] - m.end[plane.second]).abs() < 1e-9 =>
+        {
             let [a, b, _] = plane.select.axes();
             (1 << a) | (1 << b)
         }
