@@ -400,37 +400,23 @@ impl Cursor<'_> {
     }
 
     /// The inside of brackets up to and including `]` (or `,` when `comma`), operators by
-    /// precedence, left to right within one level.
+    /// precedence, left to right within one level; the node and the closing character.
     fn inner(&mut self, arena: &mut Vec<Node>, comma: bool) -> Result<(ExprId, u8), String> {
-        let mut values = vec![self.operand_node(arena)?];
-        let mut ops: Vec<Op> = Vec::new();
-        let dialect = self.dialect;
-        let reduce = |values: &mut Vec<ExprId>, ops: &mut Vec<Op>, arena: &mut Vec<Node>| {
-            let op = ops.pop().expect("operator");
-            let b = values.pop().expect("operand");
-            let a = values.pop().expect("operand");
-            values.push(push(arena, Node::Binary(op, a, b)));
-        };
-        loop {
-            let end = self.peek();
-            if end == b']' || comma && end == b',' {
-                self.bump();
-                while !ops.is_empty() {
-                    reduce(&mut values, &mut ops, arena);
-                }
-                return Ok((values[0], end));
-            }
-            let op = self.operator()?;
-            while ops.last().is_some_and(|top| top.precedence(dialect) >= op.precedence(dialect)) {
-                reduce(&mut values, &mut ops, arena);
-            }
-            ops.push(op);
-            values.push(self.operand_node(arena)?);
-        }
+        let e = self.operations(arena, &|c| c == b']' || comma && c == b',')?;
+        let end = self.peek();
+        self.bump();
+        Ok((e, end))
     }
 
-    /// An expression without brackets, up to the end of the line, a comment or `;`.
+    /// An expression without brackets, up to the end of the line, a comment or `;` (Fanuc).
     fn top_expression(&mut self, arena: &mut Vec<Node>) -> Result<ExprId, String> {
+        self.operations(arena, &|c| matches!(c, 0 | b'(' | b';' | b'#'))
+    }
+
+    /// Operands and binary operators up to (not including) a character for which `stop` holds:
+    /// a stack of operators by precedence, reduced left to right within a level
+    /// (LinuxCNC `read_real_expression`).
+    fn operations(&mut self, arena: &mut Vec<Node>, stop: &dyn Fn(u8) -> bool) -> Result<ExprId, String> {
         let mut values = vec![self.operand_node(arena)?];
         let mut ops: Vec<Op> = Vec::new();
         let dialect = self.dialect;
@@ -440,7 +426,7 @@ impl Cursor<'_> {
             let a = values.pop().expect("operand");
             values.push(push(arena, Node::Binary(op, a, b)));
         };
-        while !matches!(self.peek(), 0 | b'(' | b';' | b'#') {
+        while !stop(self.peek()) {
             let op = self.operator()?;
             while ops.last().is_some_and(|top| top.precedence(dialect) >= op.precedence(dialect)) {
                 reduce(&mut values, &mut ops, arena);
