@@ -90,8 +90,6 @@ pub(super) struct Exec<'m> {
     repeats: Vec<(usize, usize, i64)>,
     /// The block being read read a parameter that differs in the corrected program.
     pub unsafe_read: bool,
-    /// Main-file line executing at depth 0.
-    pub anchor: u32,
     pub fanuc: FanucSettings,
     /// M70 / M73 modes.
     pub saved_modes: Option<SavedModes>,
@@ -139,9 +137,6 @@ pub fn run(machine: &Machine, mut program: Program, setup: &ProgramSetup) -> Res
             });
         }
         exec.line_number = pc.1 + 1;
-        if exec.calls.is_empty() && pc.0 == 0 {
-            exec.anchor = pc.1 as u32;
-        }
         let result = match &file.lines[pc.1] {
             Err(m) => Err(m.clone()),
             Ok(_) if exec.trace.steps.len() >= MAX_STEPS => Err(format!("more than {MAX_STEPS} blocks executed: an endless loop?")),
@@ -221,7 +216,6 @@ impl<'m> Exec<'m> {
             calls: Vec::new(),
             repeats: Vec::new(),
             unsafe_read: false,
-            anchor: 0,
             fanuc: setup.fanuc,
             saved_modes: None,
             return_value: 0.0,
@@ -355,7 +349,6 @@ impl<'m> Exec<'m> {
             line: pc.1 as u32,
             depth: self.calls.len() as u16,
             level: self.calls.iter().filter(|c| c.locals).count() as u16,
-            anchor: self.anchor,
             moves: moves..moves,
             setup: words..words,
             setting: words..words,

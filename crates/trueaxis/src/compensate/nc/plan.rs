@@ -296,57 +296,69 @@ impl Planner<'_> {
     /// Why the program must be expanded as a whole: a kept line reads a value the correction
     /// changes.
     fn unsafe_in_place(&self) -> Option<String> {
-        for (k, out) in self.lines.iter().enumerate() {
-            if let LineOut::InPlace(_) = out {
-                if self.trace.steps.iter().any(|s| s.file == 0 && s.line as usize == k && s.has(flags::READS_UNSAFE)) {
-                    return Some(format!("line {} reads the current position, a return value or the line number", k + 1));
-                }
-            }
-        }
-        // kept control lines (conditions) too
         for s in &self.trace.steps {
-            if s.file == 0
-                && s.has(flags::CONTROL | flags::READS_UNSAFE)
-                && s.flags & (flags::CONTROL | flags::READS_UNSAFE) == flags::CONTROL | flags::READS_UNSAFE
-            {
-                let k = s.line as usize;
-                if !matches!(self.lines[k], LineOut::Hidden | LineOut::Region(_)) {
-                    return Some(format!("the condition of line {} reads the current position or a return value", k + 1));
+            if s.file != 0 || !s.has(flags::READS_UNSAFE) {
+                continue;
+            }
+            let k = s.line as usize;
+            match self.lines[k] {
+                LineOut::InPlace(_) => {
+                    return Some(format!("line {} reads the current position, a return value or the line number", k + 1))
                 }
+                // a kept control line (a condition)
+                LineOut::Original if s.has(flags::CONTROL) => {
+                    return Some(format!("the condition of line {} reads the current position or a return value", k + 1))
+                }
+                _ => {}
             }
         }
         None
     }
 
     fn finish(mut self, flattened: Option<String>) -> Plan {
+        let steps = &self.trace.steps;
+        let regions_found = std::mem::take(&mut self.regions);
+        // the steps of each region: from the first step at its lines to the last one at the same
+        // depth, and the deeper steps after it (one pass over the trace)
+        let mut of_line: Vec<Option<usize>> = vec![None; self.lines.len()];
+        for (r, (_, lines, _, _)) in regions_found.iter().enumerate() {
+            for slot in &mut of_line[lines.clone()] {
+                *slot = Some(r);
+            }
+        }
+        let mut bounds: Vec<Option<(usize, usize, u16)>> = vec![None; regions_found.len()];
+        for (i, s) in steps.iter().enumerate() {
+            if s.file != 0 {
+                continue;
+            }
+            if let Some(r) = of_line[s.line as usize] {
+                match &mut bounds[r] {
+                    None => bounds[r] = Some((i, i, s.depth)),
+                    Some((_, last, depth)) if *depth == s.depth => *last = i,
+                    _ => {}
+                }
+            }
+        }
         let mut regions = Vec::new();
-        let mut region_of = vec![None; self.trace.steps.len()];
-        for (index, lines, level, reason) in std::mem::take(&mut self.regions) {
-            let steps = self.step_range(&lines, flattened.is_some());
-            for r in region_of[steps.clone()].iter_mut() {
+        let mut region_of = vec![None; steps.len()];
+        for ((index, lines, level, reason), b) in regions_found.into_iter().zip(bounds) {
+            let steps_range = match (flattened.is_some(), b) {
+                (true, _) => 0..steps.len(),
+                (false, None) => 0..0,
+                (false, Some((first, last, depth))) => {
+                    let mut end = last + 1;
+                    while end < steps.len() && steps[end].depth > depth {
+                        end += 1;
+                    }
+                    first..end
+                }
+            };
+            for r in region_of[steps_range.clone()].iter_mut() {
                 *r = Some(index as u32);
             }
-            regions.push(Region { lines, steps, level, reason });
+            regions.push(Region { lines, steps: steps_range, level, reason });
         }
         Plan { lines: self.lines, regions, region_of, flattened }
-    }
-
-    /// The steps of a region: from the first step at its lines to the last one and the deeper
-    /// steps after it.
-    fn step_range(&self, lines: &Range<usize>, all: bool) -> Range<usize> {
-        let steps = &self.trace.steps;
-        if all {
-            return 0..steps.len();
-        }
-        let inside = |s: &super::trace::Step| s.file == 0 && lines.contains(&(s.line as usize));
-        let Some(first) = steps.iter().position(inside) else { return 0..0 };
-        let depth = steps[first].depth;
-        let last = steps.iter().rposition(|s| inside(s) && s.depth == depth).unwrap_or(first);
-        let mut end = last + 1;
-        while end < steps.len() && steps[end].depth > depth {
-            end += 1;
-        }
-        first..end
     }
 }
 

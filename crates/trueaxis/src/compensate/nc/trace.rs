@@ -111,9 +111,6 @@ pub struct Step {
     pub depth: u16,
     /// Level of local parameters (calls that opened a new one).
     pub level: u16,
-    /// The main-file line being executed at depth 0 when this step ran (the call line for the
-    /// steps of a subroutine).
-    pub anchor: u32,
     pub moves: Range<u32>,
     /// Words for an expanded copy of the block, in [`Trace::words`]: what to set before its moves
     /// (modal codes, F S T, M codes, dwell, `G43 H`), the axis-setting command (`G10`, `G92`, `G52`,

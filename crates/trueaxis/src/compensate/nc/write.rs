@@ -740,9 +740,9 @@ impl<'a> Writer<'a> {
         let region = &self.plan.regions[r];
         let file = &self.program.files[0];
         if !self.region_changed {
-            let last = self.trace.moves[..].iter().rev().find(|m| (region.steps.start..region.steps.end).contains(&(m.step as usize)));
-            if let Some(m) = last {
-                self.written = m.end;
+            let last = self.trace.steps[region.steps.clone()].iter().rev().find(|s| !s.moves.is_empty());
+            if let Some(s) = last {
+                self.written = self.trace.moves[s.moves.end as usize - 1].end;
             }
             let text: Vec<String> = region.lines.clone().map(|k| file.line_text(k).to_string()).collect();
             self.out[region.lines.start] = Some(text);
