@@ -16,7 +16,8 @@
 //!
 //! Files: [`lexer`] (reading a line), [`expr`] (expressions), [`params`] (parameters and their
 //! scopes), [`program`] (files and their control structures), [`interpret`] (control flow),
-//! [`execute`] (blocks, the modal state of [`modal`]), [`arcs`], [`cycles`], [`tools`] (tool table),
+//! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
+//! [`arcs`], [`cycles`], [`tools`] (tool table),
 //! [`dialect`], [`trace`] (what a run did), [`plan`] (what stays, what is expanded), [`correct`]
 //! (corrections along moves, [`path`]), [`write`] (the corrected text).
 
@@ -29,10 +30,12 @@ pub mod expr;
 pub mod interpret;
 pub mod lexer;
 pub mod modal;
+pub mod offsets;
 pub mod params;
 pub mod path;
 pub mod plan;
 pub mod program;
+pub mod system;
 pub mod tools;
 pub mod trace;
 pub mod write;
