@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use trueaxis::compensate::export::{largest_corrections, ExportInput, Limits};
-use trueaxis::compensate::nc::{correct_program, NcOptions};
+use trueaxis::compensate::nc::{correct_program, Dialect, NcOptions};
 use trueaxis::compensate::{
     axis_tables, compensation_json, nc_json, residual_of_format, volumetric_grid, CompensateError, Corrector, ExportFormat, FormatOptions,
     TableSpec,
@@ -108,8 +108,10 @@ pub fn compensate(
 /// correction that cancels the predicted error there, long moves are split where the correction
 /// departs from a straight blend by more than `tolerance_um`. Writes the program to `out` when
 /// given; returns the summary of `trueaxis nc --json` (with the program text when `out` is None).
+/// `dialect`: `linuxcnc` or `fanuc` (default: detected); `decimals`: digits written (default: 5 for
+/// mm and 6 for inch in LinuxCNC programs, 3 / 4 in Fanuc programs).
 #[pyfunction]
-#[pyo3(signature = (machine, errors, program, *, out = None, tolerance_um = 1.0, decimals = 4, limit_um = None, limit_urad = None, temperatures = None))]
+#[pyo3(signature = (machine, errors, program, *, out = None, tolerance_um = 1.0, decimals = None, dialect = None, limit_um = None, limit_urad = None, temperatures = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn correct_nc(
     py: Python<'_>,
@@ -118,7 +120,8 @@ pub fn correct_nc(
     program: PathBuf,
     out: Option<PathBuf>,
     tolerance_um: f64,
-    decimals: usize,
+    decimals: Option<usize>,
+    dialect: Option<&str>,
     limit_um: Option<f64>,
     limit_urad: Option<f64>,
     temperatures: Option<HashMap<String, f64>>,
@@ -128,7 +131,7 @@ pub fn correct_nc(
     if !(tolerance_um.is_finite() && tolerance_um > 0.0) {
         return Err(input_msg("tolerance_um must be a positive number"));
     }
-    if decimals > 9 {
+    if decimals.is_some_and(|d| d > 9) {
         return Err(input_msg("decimals must be at most 9"));
     }
     let mut options = NcOptions::new(&machine.inner);
@@ -136,7 +139,10 @@ pub fn correct_nc(
     options.tolerance_mm = tolerance_um * 1e-3;
     options.rotary_tolerance_deg = (tolerance_um * 1e-6).to_degrees();
     options.decimals = decimals;
-    options.decimals_inch = decimals + 1;
+    options.dialect = match dialect {
+        None => None,
+        Some(d) => Some(Dialect::parse(d).ok_or_else(|| input_msg(format!("dialect `{d}` is not linuxcnc or fanuc")))?),
+    };
     let corrector = Corrector::new(&machine.inner, &errors.inner);
     let origin = program.display().to_string();
     let result = py.detach(|| correct_program(&corrector, &text, &origin, &options, &temperatures)).map_err(failure)?;

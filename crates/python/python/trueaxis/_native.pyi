@@ -241,9 +241,11 @@ def correct_nc(
     *,
     out: Optional[_Path] = None,
     tolerance_um: float = 1.0,
-    decimals: int = 4,
+    decimals: Optional[int] = None,
+    dialect: Optional[str] = None,
     limit_um: Optional[float] = None,
     limit_urad: Optional[float] = None,
     temperatures: Optional[Mapping[str, float]] = None,
 ) -> Dict[str, Any]:
-    """Corrected RS274/NGC program; the summary of `trueaxis nc --json`."""
+    """Corrected NC program (RS274/NGC as LinuxCNC 2.9 runs it, or the Fanuc dialect; `dialect`
+    detected when None); the summary of `trueaxis nc --json`."""

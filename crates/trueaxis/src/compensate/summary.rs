@@ -182,9 +182,12 @@ pub fn compensation_json(
 /// The summary of `trueaxis nc --json`; the program text when it was not written to `out`.
 pub fn nc_json(result: &NcResult, out: Option<&str>) -> Value {
     json!({
+        "dialect": result.dialect.to_string(),
         "moves": result.moves,
+        "blocks": result.blocks,
         "changed_lines": result.changed_lines,
         "inserted_lines": result.inserted_lines,
+        "expanded": result.expanded,
         "max_correction_um": result.max_correction_um,
         "max_correction_urad": result.max_correction_urad,
         "max_residual_um": result.max_residual_um,
