@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::Vec3;
+use trueaxis::identify::{criteria_units, CriteriaUnits};
 use trueaxis::identify::{measurement_csv, simulate_campaign, Campaign, CandidateSet, Criterion, IdentifyError};
 use trueaxis::instruments::{ball_trajectory, Sweep, TrajectoryError};
 use trueaxis::machine::Machine;
@@ -92,6 +93,9 @@ trueaxis design optimal --machine examples/machines/kx8five.toml \\\n      \
 Criteria (all minimised, sigma-weighted rows, n = count): d = det(n M^-1)^(1/p), a = trace(n M^-1)/p,\n\
 e = largest eigenvalue of n M^-1, g = largest n trace(X_r M^-1 X_r^T) over the candidate records r\n\
 (the summed prediction variance of a record's readings; p at a D-optimal approximate design).\n\
+Units: rows weighted by 1/sigma (sigma in um), unknowns in their own units (um, urad, um/mm^k):\n\
+d in (u_1^2 ... u_p^2)^(1/p), a and e in u^2 when all units agree, g dimensionless; the output\n\
+also gives the values in seed 000's units (mm, rad, sigma = 1 mm), see docs/identification.md.\n\
 A candidate set or a design that cannot determine every unknown is an error naming the unseen\n\
 combinations (exit 1); --count too small to hold p readings is bad input (exit 2).")]
 struct OptimalArgs {
@@ -236,6 +240,7 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
         serde_json::json!({"d": c.d, "a": c.a, "e": c.e, "g": c.g, "average_variance": c.average_variance,
                            "max_reading_variance": c.max_reading_variance})
     };
+    let units = criteria_units(&design.units);
     let records: Vec<serde_json::Value> = chosen
         .iter()
         .map(|&c| {
@@ -252,6 +257,7 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
             "criteria": criteria_json(&criteria),
             "all_candidates": criteria_json(&full),
             "candidates": set.len(),
+            "units": units_json(&design.names, &design.units, &units, &criteria),
         });
         return crate::identify::print(&format!("{doc}\n"));
     }
@@ -271,10 +277,49 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
         "  (G: largest summed prediction variance of one record's readings over the candidates; p = {} at a D-optimal design)\n",
         design.names.len()
     );
+    text += &units_text(&design.names, &design.units, &units, &criteria);
     text += "records (measurement:line):";
     for r in &records {
         text += &format!(" {}:{}", r["measurement"].as_str().unwrap_or(""), r["line"]);
     }
     text.push('\n');
     crate::identify::print(&text)
+}
+
+/// The units the criteria are computed in, and their values in seed 000's units (`design_units`).
+fn units_json(names: &[String], units: &[String], u: &CriteriaUnits, chosen: &trueaxis::identify::DesignCriteria) -> serde_json::Value {
+    let parameters: serde_json::Map<String, serde_json::Value> = names.iter().zip(units).map(|(n, u)| (n.clone(), serde_json::json!(u))).collect();
+    serde_json::json!({
+        "sigma": "readings weighted by 1/sigma with sigma in um: variances per sigma^2 = 1 um^2",
+        "parameters": parameters,
+        "d": u.d,
+        "a": u.a_e,
+        "e": u.a_e,
+        "g": "1 (reading variances over sigma^2)",
+        "seed000": {
+            "d_factor": u.d_to_seed000,
+            "a_e_factor": u.a_e_to_seed000,
+            "d": u.d_to_seed000.map(|f| f * chosen.d),
+            "a": u.a_e_to_seed000.map(|f| f * chosen.a),
+            "e": u.a_e_to_seed000.map(|f| f * chosen.e),
+        },
+    })
+}
+
+fn units_text(names: &[String], units: &[String], u: &CriteriaUnits, chosen: &trueaxis::identify::DesignCriteria) -> String {
+    let list: Vec<String> = names.iter().zip(units).map(|(n, u)| format!("{n} {u}")).collect();
+    let mut text = format!(
+        "  units: rows weighted by 1/sigma (sigma in um), unknowns in {}: D in {}; A, E in {}; G dimensionless (over sigma^2)\n",
+        list.join(", "),
+        u.d,
+        u.a_e.as_deref().unwrap_or("mixed units (the unknowns' units differ)")
+    );
+    if let Some(f) = u.d_to_seed000 {
+        text += &format!(
+            "  in seed 000's units (mm, rad, sigma = 1 in mm): D x {f:.4e} = {:.4e}{}\n",
+            f * chosen.d,
+            u.a_e_to_seed000.map_or(String::new(), |g| format!(", A x {g:.4e} = {:.4e}, E x {g:.4e} = {:.4e}", g * chosen.a, g * chosen.e))
+        );
+    }
+    text
 }

@@ -3,6 +3,7 @@
 
 pub mod campaign;
 pub mod design;
+pub mod design_units;
 mod direct;
 mod drift;
 pub mod export;
@@ -19,6 +20,7 @@ pub mod unknowns;
 
 pub use campaign::{Campaign, DesignMatrix, Measurement};
 pub use design::{CandidateSet, Criterion, DesignCriteria};
+pub use design_units::{criteria_units, CriteriaUnits};
 pub use direct::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel};
 pub use drift::{remove_cycle_drift, CycleDrift};
 pub use export::{error_values_text, identification_json};
