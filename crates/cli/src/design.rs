@@ -288,7 +288,8 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
 
 /// The units the criteria are computed in, and their values in seed 000's units (`design_units`).
 fn units_json(names: &[String], units: &[String], u: &CriteriaUnits, chosen: &trueaxis::identify::DesignCriteria) -> serde_json::Value {
-    let parameters: serde_json::Map<String, serde_json::Value> = names.iter().zip(units).map(|(n, u)| (n.clone(), serde_json::json!(u))).collect();
+    let parameters: serde_json::Map<String, serde_json::Value> =
+        names.iter().zip(units).map(|(n, u)| (n.clone(), serde_json::json!(u))).collect();
     serde_json::json!({
         "sigma": "readings weighted by 1/sigma with sigma in um: variances per sigma^2 = 1 um^2",
         "parameters": parameters,

@@ -7,6 +7,7 @@ mod demo;
 mod design;
 mod fit;
 mod identify;
+mod inputs;
 mod iso230_2;
 mod nc;
 mod predict;

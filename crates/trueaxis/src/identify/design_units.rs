@@ -72,7 +72,8 @@ pub fn criteria_units(units: &[String]) -> CriteriaUnits {
     // sigma = 1 um is 1e-3 mm: variances per sigma^2 grow by 1e6
     let sigma = 1e-3f64;
     let d_to_seed000 = factors.as_ref().map(|c| c.iter().map(|c| (c * c).ln()).sum::<f64>() / p as f64).map(|l| l.exp() / (sigma * sigma));
-    let a_e_to_seed000 = factors.filter(|c| c.windows(2).all(|w| (w[0] - w[1]).abs() <= 1e-12 * w[0].abs())).map(|c| c[0] * c[0] / (sigma * sigma));
+    let a_e_to_seed000 =
+        factors.filter(|c| c.windows(2).all(|w| (w[0] - w[1]).abs() <= 1e-12 * w[0].abs())).map(|c| c[0] * c[0] / (sigma * sigma));
     CriteriaUnits { d, a_e: (all_equal && p > 0).then(|| squared(&units[0])), d_to_seed000, a_e_to_seed000 }
 }
 
