@@ -17,6 +17,7 @@ mod reversal;
 mod temperature;
 mod thermal;
 mod uncertainty;
+mod verify;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -52,6 +53,7 @@ enum Command {
     Compensate(Box<compensate::CompensateArgs>),
     Nc(Box<nc::NcArgs>),
     Thermal(thermal::ThermalArgs),
+    Verify(Box<verify::VerifyArgs>),
 }
 
 /// Why a command failed: bad input (exit 2) or a failed computation (exit 1).
@@ -121,6 +123,7 @@ fn main() -> ExitCode {
         Command::Compensate(args) => compensate::run(*args),
         Command::Nc(args) => nc::run(*args),
         Command::Thermal(args) => thermal::run(args),
+        Command::Verify(args) => verify::run(*args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
