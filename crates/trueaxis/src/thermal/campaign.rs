@@ -11,6 +11,8 @@ pub struct Campaign {
     pub origin: String,
     /// Run name per row (empty when the file has no `run` column).
     pub runs: Vec<String>,
+    /// Direction of motion per row (`+`, `-`, or empty; column `dir`, for segmented G-T models).
+    pub dirs: Vec<String>,
     /// Numeric columns by name, in file order of `names`.
     pub names: Vec<String>,
     columns: BTreeMap<String, Vec<f64>>,
@@ -30,7 +32,8 @@ impl Campaign {
         let headers: Vec<String> =
             reader.headers().map_err(|e| input(format!("{origin}: cannot read the header line: {e}")))?.iter().map(String::from).collect();
         let mut runs = Vec::new();
-        let names: Vec<String> = headers.iter().filter(|h| *h != "run").cloned().collect();
+        let names: Vec<String> = headers.iter().filter(|h| *h != "run" && *h != "dir").cloned().collect();
+        let mut dirs = Vec::new();
         let mut columns: BTreeMap<String, Vec<f64>> = names.iter().map(|n| (n.clone(), Vec::new())).collect();
         for record in reader.records() {
             let record = record.map_err(|e| input(format!("{origin}: {}", e.to_string().replace('\n', " "))))?;
@@ -38,6 +41,11 @@ impl Campaign {
             for (h, field) in headers.iter().zip(record.iter()) {
                 if h == "run" {
                     runs.push(field.to_string());
+                } else if h == "dir" {
+                    if !["+", "-", ""].contains(&field) {
+                        return Err(input(format!("{origin}: line {line}: column dir: `{field}` is not +, - or empty")));
+                    }
+                    dirs.push(field.to_string());
                 } else {
                     let v = field
                         .parse::<f64>()
@@ -50,11 +58,19 @@ impl Campaign {
             if !headers.iter().any(|h| h == "run") {
                 runs.push(String::new());
             }
+            if !headers.iter().any(|h| h == "dir") {
+                dirs.push(String::new());
+            }
         }
         if runs.is_empty() {
             return Err(input(format!("{origin}: no data rows")));
         }
-        Ok(Campaign { origin: origin.into(), runs, names, columns })
+        Ok(Campaign { origin: origin.into(), runs, dirs, names, columns })
+    }
+
+    /// Whether the file has the direction column `dir`.
+    pub fn has_directions(&self) -> bool {
+        self.dirs.iter().any(|d| !d.is_empty())
     }
 
     pub fn len(&self) -> usize {

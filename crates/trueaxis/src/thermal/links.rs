@@ -18,7 +18,7 @@
 
 use super::regression::RegressionModel;
 use super::{input, ThermalError};
-use crate::errors::{ErrorModel, REFERENCE_TEMPERATURE};
+use crate::errors::{Direction, ErrorModel, InputKind, REFERENCE_TEMPERATURE};
 use crate::machine::{AxisKind, Machine, ParameterId};
 use std::fmt::Write;
 
@@ -31,8 +31,12 @@ pub struct ErrorTerm {
     pub coefficient: f64,
     /// `(axis letter, power)`.
     pub axes: Vec<(char, i32)>,
-    /// `(T:<sensor>, power)`, the factor being `T - 20 degC`.
+    /// `(input, power)`: `T:<sensor>` with the factor `T - 20 degC`, other inputs as they are.
     pub sensors: Vec<(String, i32)>,
+    /// `+` or `-`: the term holds for that direction of motion of the own axis only.
+    pub direction: Option<char>,
+    /// `[lo, hi)` of the own axis position the term holds in.
+    pub range: Option<[f64; 2]>,
 }
 
 /// The terms of `scale * model` on `parameter`, with the temperatures referred to 20 degC.
@@ -50,9 +54,19 @@ pub fn model_terms(parameter: &str, model: &RegressionModel, scale: f64) -> Resu
             (k, Some(a)) => vec![(a, k as i32)],
             (_, None) => unreachable!("validated: powers of the position need an axis"),
         };
-        let constant = row[0] + REFERENCE_TEMPERATURE * row[1..].iter().sum::<f64>();
+        // c x = c (x - x_ref) + c x_ref: a temperature refers to 20 degC, other inputs to 0
+        let references: Vec<f64> =
+            model.sensors.iter().map(|s| InputKind::parse(s).map_or(REFERENCE_TEMPERATURE, |k| k.reference())).collect();
+        let constant = row[0] + row[1..].iter().zip(&references).map(|(c, r)| c * r).sum::<f64>();
         if constant != 0.0 {
-            terms.push(ErrorTerm { parameter: parameter.into(), coefficient: scale * constant, axes: axes.clone(), sensors: Vec::new() });
+            terms.push(ErrorTerm {
+                parameter: parameter.into(),
+                coefficient: scale * constant,
+                axes: axes.clone(),
+                sensors: Vec::new(),
+                direction: None,
+                range: None,
+            });
         }
         for (s, c) in model.sensors.iter().zip(&row[1..]) {
             if *c != 0.0 {
@@ -61,6 +75,8 @@ pub fn model_terms(parameter: &str, model: &RegressionModel, scale: f64) -> Resu
                     coefficient: scale * c,
                     axes: axes.clone(),
                     sensors: vec![(s.clone(), 1)],
+                    direction: None,
+                    range: None,
                 });
             }
         }
@@ -159,7 +175,14 @@ pub fn add_terms(model: &mut ErrorModel, machine: &Machine, terms: &[ErrorTerm])
     for t in terms {
         let id = ParameterId::parse(&t.parameter).map_err(input)?;
         let sensors: Vec<(&str, i32)> = t.sensors.iter().map(|(s, p)| (s.as_str(), *p)).collect();
-        model.add_term(machine, id, t.coefficient, &t.axes, &sensors).map_err(|m| input(format!("{}: {m}", t.parameter)))?;
+        let direction = match t.direction {
+            Some('+') => Some(Direction::Positive),
+            Some('-') => Some(Direction::Negative),
+            _ => None,
+        };
+        model
+            .add_segment_term(machine, id, direction, t.range.map(|[lo, hi]| (lo, hi)), t.coefficient, &t.axes, &sensors)
+            .map_err(|m| input(format!("{}: {m}", t.parameter)))?;
     }
     Ok(())
 }
@@ -170,7 +193,21 @@ pub fn terms_toml(terms: &[ErrorTerm]) -> String {
     for t in terms {
         let factors: Vec<String> =
             t.axes.iter().map(|(a, p)| format!("{a} = {p}")).chain(t.sensors.iter().map(|(s, p)| format!("\"{s}\" = {p}"))).collect();
-        let _ = writeln!(out, "[[term.{}]]\ncoefficient = {:e}\nfactors = {{ {} }}\n", t.parameter, t.coefficient, factors.join(", "));
+        let name = match t.direction {
+            Some(d) => format!("\"{}{d}\"", t.parameter),
+            None => t.parameter.clone(),
+        };
+        let range = t.range.map_or(String::new(), |[lo, hi]| format!("range = [{}, {}]\n", toml_number(lo), toml_number(hi)));
+        let _ = writeln!(out, "[[term.{name}]]\ncoefficient = {:e}\nfactors = {{ {} }}\n{range}", t.coefficient, factors.join(", "));
     }
     out
+}
+
+/// A number as TOML writes it (`inf`, `-inf` for the open ends of a range).
+fn toml_number(x: f64) -> String {
+    match x {
+        f64::INFINITY => "inf".into(),
+        f64::NEG_INFINITY => "-inf".into(),
+        x => format!("{x:?}"),
+    }
 }

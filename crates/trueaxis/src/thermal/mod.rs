@@ -22,6 +22,7 @@ pub mod ordering;
 pub mod placement;
 pub mod regression;
 pub mod response;
+pub mod segmented;
 pub mod sparse_cholesky;
 pub mod state_space;
 pub mod time_constants;
