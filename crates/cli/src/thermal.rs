@@ -3,6 +3,7 @@
 //! (`thermal/predict.rs`).
 
 mod fit;
+mod links;
 mod modal;
 mod predict;
 
@@ -18,7 +19,8 @@ use trueaxis_report::ReportError;
 trueaxis thermal modes --model examples/thermal/fin.toml --count 6\n  \
 trueaxis thermal place --model examples/thermal/elongation.toml --count 3 --share 1\n  \
 trueaxis thermal fit --data examples/thermal/campaign.csv --error dz --train-runs warmup --out dz_model.toml\n  \
-trueaxis thermal predict --model dz_model.toml --data examples/thermal/campaign.csv")]
+trueaxis thermal predict --model dz_model.toml --data examples/thermal/campaign.csv\n  \
+trueaxis thermal links --machine examples/machines/vmc3.toml --links examples/thermal/links_vmc3.toml")]
 pub struct ThermalArgs {
     #[command(subcommand)]
     command: ThermalCommand,
@@ -30,6 +32,7 @@ enum ThermalCommand {
     Place(modal::PlaceArgs),
     Fit(Box<fit::FitArgs>),
     Predict(predict::PredictArgs),
+    Links(links::LinksArgs),
 }
 
 pub fn run(args: ThermalArgs) -> Result<(), Failure> {
@@ -38,6 +41,7 @@ pub fn run(args: ThermalArgs) -> Result<(), Failure> {
         ThermalCommand::Place(a) => modal::place(a),
         ThermalCommand::Fit(a) => fit::fit(*a),
         ThermalCommand::Predict(a) => predict::predict(a),
+        ThermalCommand::Links(a) => links::links(a),
     }
 }
 
