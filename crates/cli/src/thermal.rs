@@ -6,6 +6,7 @@ mod fit;
 mod links;
 mod modal;
 mod predict;
+mod temperatures;
 
 use crate::Failure;
 use std::path::Path;
@@ -33,6 +34,7 @@ enum ThermalCommand {
     Fit(Box<fit::FitArgs>),
     Predict(predict::PredictArgs),
     Links(links::LinksArgs),
+    Temperatures(temperatures::TemperaturesArgs),
 }
 
 pub fn run(args: ThermalArgs) -> Result<(), Failure> {
@@ -42,6 +44,7 @@ pub fn run(args: ThermalArgs) -> Result<(), Failure> {
         ThermalCommand::Fit(a) => fit::fit(*a),
         ThermalCommand::Predict(a) => predict::predict(a),
         ThermalCommand::Links(a) => links::links(a),
+        ThermalCommand::Temperatures(a) => temperatures::temperatures(a),
     }
 }
 

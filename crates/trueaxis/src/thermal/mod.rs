@@ -25,6 +25,7 @@ pub mod response;
 pub mod segmented;
 pub mod sparse_cholesky;
 pub mod state_space;
+pub mod temperature_model;
 pub mod time_constants;
 pub mod validation;
 pub mod weights;
