@@ -7,6 +7,7 @@ mod links;
 mod modal;
 mod predict;
 mod temperatures;
+mod tune;
 
 use crate::Failure;
 use std::path::Path;
@@ -35,6 +36,7 @@ enum ThermalCommand {
     Predict(predict::PredictArgs),
     Links(links::LinksArgs),
     Temperatures(temperatures::TemperaturesArgs),
+    Tune(tune::TuneArgs),
 }
 
 pub fn run(args: ThermalArgs) -> Result<(), Failure> {
@@ -45,6 +47,7 @@ pub fn run(args: ThermalArgs) -> Result<(), Failure> {
         ThermalCommand::Predict(a) => predict::predict(a),
         ThermalCommand::Links(a) => links::links(a),
         ThermalCommand::Temperatures(a) => temperatures::temperatures(a),
+        ThermalCommand::Tune(a) => tune::tune(a),
     }
 }
 

@@ -27,6 +27,7 @@ pub mod sparse_cholesky;
 pub mod state_space;
 pub mod temperature_model;
 pub mod time_constants;
+pub mod tuning;
 pub mod validation;
 pub mod weights;
 
