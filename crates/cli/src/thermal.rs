@@ -2,6 +2,7 @@
 //! (`thermal/modal.rs`), thermal error model fits (`thermal/fit.rs`) and their evaluation
 //! (`thermal/predict.rs`).
 
+mod beam;
 mod fit;
 mod links;
 mod modal;
@@ -37,6 +38,7 @@ enum ThermalCommand {
     Links(links::LinksArgs),
     Temperatures(temperatures::TemperaturesArgs),
     Tune(tune::TuneArgs),
+    Beam(beam::BeamArgs),
 }
 
 pub fn run(args: ThermalArgs) -> Result<(), Failure> {
@@ -48,6 +50,7 @@ pub fn run(args: ThermalArgs) -> Result<(), Failure> {
         ThermalCommand::Links(a) => links::links(a),
         ThermalCommand::Temperatures(a) => temperatures::temperatures(a),
         ThermalCommand::Tune(a) => tune::tune(a),
+        ThermalCommand::Beam(a) => beam::beam(a),
     }
 }
 

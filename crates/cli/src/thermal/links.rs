@@ -51,27 +51,9 @@ pub fn links(args: LinksArgs) -> Result<(), Failure> {
         let terms = link_terms(link, &machine).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", args.links.display())))?;
         all.push((link.name.clone(), terms));
     }
-    let base = match &args.errors_in {
-        Some(p) => std::fs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", p.display())))?,
-        None => String::new(),
-    };
-    let mut out = base.clone();
-    if !out.is_empty() && !out.ends_with('\n') {
-        out.push('\n');
-    }
-    out += &format!("\n# thermal links of {} (trueaxis thermal links): location errors of the carried axes\n", args.links.display());
-    for (name, terms) in &all {
-        out += &format!("# link `{name}`\n{}", terms_toml(terms));
-    }
-    // the result must load on the machine, with the terms added to what the base file gives
-    let mut model = ErrorModel::from_toml_str(&base, "--errors-in", &machine).map_err(Failure::input)?;
-    for (_, terms) in &all {
-        add_terms(&mut model, &machine, terms).map_err(failure)?;
-    }
-    ErrorModel::from_toml_str(&out, "the written error values", &machine).map_err(Failure::computation)?;
-    if let Some(path) = &args.out {
-        write_atomically(path, out.as_bytes()).map_err(Failure::input)?;
-    }
+    let header = format!("thermal links of {} (trueaxis thermal links): location errors of the carried axes", args.links.display());
+    let groups: Vec<(String, &[ErrorTerm])> = all.iter().map(|(name, t)| (format!("link `{name}`"), t.as_slice())).collect();
+    let (model, out) = write_terms(&machine, args.errors_in.as_deref(), args.out.as_deref(), &header, &groups)?;
     if args.json {
         let doc = serde_json::json!({
             "links": all.iter().map(|(name, terms)| serde_json::json!({
@@ -100,4 +82,39 @@ pub fn links(args: LinksArgs) -> Result<(), Failure> {
         }
         None => print(&out),
     }
+}
+
+/// Appends groups of error terms (each under a `# comment`) to the error-values file `errors_in`
+/// (or to nothing), checks that the result loads on `machine`, and writes it to `out` when given.
+/// Returns the model (the base plus the terms) and the text.
+pub fn write_terms(
+    machine: &Machine,
+    errors_in: Option<&std::path::Path>,
+    out_path: Option<&std::path::Path>,
+    header: &str,
+    groups: &[(String, &[ErrorTerm])],
+) -> Result<(ErrorModel, String), Failure> {
+    let base = match errors_in {
+        Some(p) => std::fs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", p.display())))?,
+        None => String::new(),
+    };
+    let mut out = base.clone();
+    if !out.is_empty() && !out.ends_with('\n') {
+        out.push('\n');
+    }
+    out += &format!("\n# {header}\n");
+    for (name, terms) in groups {
+        out += &format!("# {name}\n{}", terms_toml(terms));
+    }
+    // the result must load on the machine, with the terms added to what the base file gives
+    let origin = errors_in.map_or("--errors-in".to_string(), |p| p.display().to_string());
+    let mut model = ErrorModel::from_toml_str(&base, &origin, machine).map_err(Failure::input)?;
+    for (_, terms) in groups {
+        add_terms(&mut model, machine, terms).map_err(failure)?;
+    }
+    ErrorModel::from_toml_str(&out, "the written error values", machine).map_err(Failure::computation)?;
+    if let Some(path) = out_path {
+        write_atomically(path, out.as_bytes()).map_err(Failure::input)?;
+    }
+    Ok((model, out))
 }

@@ -8,6 +8,7 @@
 //! in mm or deg, as everywhere in trueaxis (DESIGN.md section 2).
 
 pub mod assembly;
+pub mod beam;
 pub mod campaign;
 pub mod drift_model;
 pub mod error_model;
