@@ -7,6 +7,7 @@ mod fit;
 mod links;
 mod modal;
 mod predict;
+mod score;
 mod temperatures;
 mod tune;
 

@@ -21,6 +21,7 @@ pub mod modal;
 pub mod model_file;
 pub mod ordering;
 pub mod placement;
+pub mod placement_score;
 pub mod regression;
 pub mod response;
 pub mod segmented;
