@@ -145,6 +145,42 @@ fn gt_segments_are_recovered_and_enter_the_chain() {
 }
 
 #[test]
+fn shipped_campaign_is_the_simulation() {
+    // examples/thermal/gt_slide.csv: the same characterisation with 0.05 um of noise
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/thermal/gt_slide.csv");
+    let text = format!("# A slide characterised through warm-ups at four spindle speeds (simulated by crates/cli/tests/thermal_gt.rs):\n# X (mm), dir (+/-), T:bed (degC), S:spindle (rpm), dx (um, positioning error), noise 0.05 um\n{}", campaign(0.05));
+    if std::env::var_os("TRUEAXIS_REGENERATE").is_some() {
+        std::fs::write(&path, &text).unwrap();
+    }
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
+    // the segments fitted to the noisy file predict the 4000 rpm run to the noise
+    let doc = json(&trueaxis(&[
+        "thermal",
+        "fit",
+        "--data",
+        "examples/thermal/gt_slide.csv",
+        "--error",
+        "dx",
+        "--sensors",
+        "T:bed,S:spindle",
+        "--position",
+        "X",
+        "--by-direction",
+        "--ranges",
+        "200",
+        "--geometric-degree",
+        "2",
+        "--degree",
+        "1",
+        "--train-runs",
+        "s1000,s3000,s5000",
+        "--json",
+    ]));
+    let rms = doc["validation"]["s4000"]["rms"].as_f64().unwrap();
+    assert!((0.04..0.07).contains(&rms), "{rms}");
+}
+
+#[test]
 fn geometric_thermal_split_has_its_own_degrees() {
     // E = cubic geometric part + (c0 + c1 P) T: degree 3 and 1; a common degree 3 for both would
     // fit two spurious thermal terms, a common degree 1 could not follow the geometry

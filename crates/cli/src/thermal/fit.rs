@@ -291,8 +291,10 @@ fn regression_text(model: &RegressionModel) -> String {
             (1, Some(a)) => format!(" * {a}"),
             (k, Some(a)) => format!(" * {a}^{k}"),
         };
-        let terms: Vec<String> = std::iter::once(format!("{:+.5}", row[0]))
-            .chain(model.sensors.iter().zip(&row[1..]).map(|(s, c)| format!("{c:+.5} {s}")))
+        // small coefficients (per mm^k, per rpm) in scientific notation, so that they do not print as zero
+        let number = |v: f64| if v != 0.0 && v.abs() < 1e-3 { format!("{v:+.4e}") } else { format!("{v:+.5}") };
+        let terms: Vec<String> = std::iter::once(number(row[0]))
+            .chain(model.sensors.iter().zip(&row[1..]).map(|(s, c)| format!("{} {s}", number(*c))))
             .collect();
         out += &format!("  [{}]{p}\n", terms.join(" "));
     }
