@@ -22,10 +22,13 @@ C = { kind = "rotary", direction = [0, 0, 1], point = [0, 600, 0], range = [-10,
 point = [0, 400, 0]
 "#;
 
-const ARCSEC_URAD: f64 = 4.848136811095360;
+const ARCSEC_URAD: f64 = std::f64::consts::PI / 648_000.0 * 1e6;
 
-/// Table 4.2: (name, target, free end, [eps, delta, theta arcsec] at C = -10, 0, +10).
-fn table_4_2(scale: f64) -> Vec<(&'static str, &'static str, [f64; 3], [[f64; 3]; 3])> {
+/// A link of Table 4.2: name, target, free end (mm), [eps um, delta um, theta arcsec] at C = -10, 0, +10.
+type Link = (&'static str, &'static str, [f64; 3], [[f64; 3]; 3]);
+
+/// Table 4.2, the deformations times `scale`.
+fn table_4_2(scale: f64) -> Vec<Link> {
     let same = |v: [f64; 3]| [v, v, v];
     let s = |v: [[f64; 3]; 3]| v.map(|r| r.map(|x| x * scale));
     vec![

@@ -145,10 +145,14 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
                     "--select and --no-intercept do not apply to a segmented G-T model (--by-direction, --ranges)"
                 )));
             }
-            let segmentation = Segmentation { by_direction: args.by_direction, breakpoints: args.ranges.clone().unwrap_or_default() };
+            let segmentation = Segmentation {
+                by_direction: args.by_direction,
+                breakpoints: args.ranges.clone().unwrap_or_default(),
+                geometric_degree: args.geometric_degree.unwrap_or(args.degree),
+                thermal_degree: args.degree,
+            };
             let position = args.position.as_deref().expect("clap requires --position");
-            let g = args.geometric_degree.unwrap_or(args.degree);
-            let model = fit_segmented(&campaign, &rows, &error, &sensors, position, &segmentation, g, args.degree).map_err(failure)?;
+            let model = fit_segmented(&campaign, &rows, &error, &sensors, position, &segmentation).map_err(failure)?;
             (ThermalErrorModel::Segmented(model), None)
         }
         ModelForm::Regression => {

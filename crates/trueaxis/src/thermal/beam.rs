@@ -247,18 +247,16 @@ impl Beam {
         let n = self.knots.len() - 1;
         let mut out = Vec::new();
         for (p, dir, targets) in parts {
-            for i in 0..n {
+            for (i, per_sensor) in p.iter().enumerate() {
                 let lo = if i == 0 { f64::NEG_INFINITY } else { self.knots[i] };
                 let hi = if i == n - 1 { f64::INFINITY } else { self.knots[i + 1] };
-                for (s, sensor) in self.sensors.iter().enumerate() {
-                    // sum_k c_k (x - x_i)^k into powers of x
-                    let local = &p[i][s];
+                for (local, sensor) in per_sensor.iter().zip(&self.sensors) {
+                    // sum_k c_k (x - x_i)^k into powers of x: C(k, j) x^j (-x_i)^(k-j)
                     let mut global = vec![0.0; local.len()];
                     for (k, c) in local.iter().enumerate() {
                         let mut binom = 1.0;
-                        for j in 0..=k {
-                            // C(k, j) x^j (-x_i)^(k-j)
-                            global[j] += c * binom * (-self.knots[i]).powi((k - j) as i32);
+                        for (j, g) in global.iter_mut().enumerate().take(k + 1) {
+                            *g += c * binom * (-self.knots[i]).powi((k - j) as i32);
                             binom = binom * (k - j) as f64 / (j + 1) as f64;
                         }
                     }

@@ -21,6 +21,10 @@ use crate::errors::gauss_legendre;
 use crate::identify::fit_linear;
 use nalgebra::{DMatrix, DVector};
 
+/// One simulated cycle: its name, the temperatures of every node per sample (K) and the elongation
+/// per sample (um).
+pub type SimulatedCycle = (String, Vec<Vec<f64>>, Vec<f64>);
+
 /// The error of the model a placement leads to (um).
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct PlacementScore {
@@ -88,11 +92,7 @@ fn cycle(model: &ThermalModel, period_s: f64, duration_s: f64, step_s: f64) -> L
 
 /// The simulated campaign of the scoring protocol: per cycle (name, node temperatures per sample,
 /// elongation per sample in um). `basis` should hold every mode.
-pub fn simulate_cycles(
-    model: &ThermalModel,
-    basis: &ModalBasis,
-    alpha_um_per_m_k: f64,
-) -> Result<Vec<(String, Vec<Vec<f64>>, Vec<f64>)>, ThermalError> {
+pub fn simulate_cycles(model: &ThermalModel, basis: &ModalBasis, alpha_um_per_m_k: f64) -> Result<Vec<SimulatedCycle>, ThermalError> {
     let w = elongation_weights(model)?;
     let nodes: Vec<usize> = (0..w.len()).collect();
     [("training 20 min", 1200.0), ("validation 10 min", 600.0), ("validation 40 min", 2400.0)]
@@ -107,7 +107,7 @@ pub fn simulate_cycles(
 }
 
 /// Scores the placement `sensors` on the simulated cycles (module documentation).
-pub fn score_placement(cycles: &[(String, Vec<Vec<f64>>, Vec<f64>)], sensors: &[usize]) -> Result<PlacementScore, ThermalError> {
+pub fn score_placement(cycles: &[SimulatedCycle], sensors: &[usize]) -> Result<PlacementScore, ThermalError> {
     let design =
         |temps: &[Vec<f64>]| DMatrix::from_fn(temps.len(), sensors.len() + 1, |r, c| if c == 0 { 1.0 } else { temps[r][sensors[c - 1]] });
     let (_, train_temps, train_e) = &cycles[0];

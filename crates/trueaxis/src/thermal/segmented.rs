@@ -137,18 +137,21 @@ impl SegmentedModel {
     }
 }
 
-/// How to segment a G-T fit.
+/// How to segment a G-T fit, and the degrees of each segment's model.
 #[derive(Clone, Debug, Default)]
 pub struct Segmentation {
     /// One model per direction of motion (column `dir`).
     pub by_direction: bool,
     /// Breakpoints of the position (increasing): ranges `[-inf, b1)`, `[b1, b2)`, .., `[bn, inf)`.
     pub breakpoints: Vec<f64>,
+    /// Degree of the geometric polynomial in the position.
+    pub geometric_degree: usize,
+    /// Degree of the position multiplying the temperatures (and other inputs).
+    pub thermal_degree: usize,
 }
 
-/// Fits a G-T model of `error` on `rows` of `campaign` segment by segment, each with a geometric
-/// polynomial of degree `geometric_degree` and thermal terms of degree `thermal_degree` in the
-/// position of axis column `position`.
+/// Fits a G-T model of `error` on `rows` of `campaign` segment by segment, each with the degrees of
+/// `segmentation` in the position of axis column `position`.
 pub fn fit_segmented(
     campaign: &Campaign,
     rows: &[usize],
@@ -156,9 +159,8 @@ pub fn fit_segmented(
     sensors: &[String],
     position: &str,
     segmentation: &Segmentation,
-    geometric_degree: usize,
-    thermal_degree: usize,
 ) -> Result<SegmentedModel, ThermalError> {
+    let (geometric_degree, thermal_degree) = (segmentation.geometric_degree, segmentation.thermal_degree);
     if segmentation.breakpoints.windows(2).any(|w| w[1] <= w[0]) || segmentation.breakpoints.iter().any(|b| !b.is_finite()) {
         return Err(input("the position breakpoints of the ranges must be finite and increase strictly"));
     }
@@ -195,7 +197,7 @@ pub fn fit_segmented(
                 thermal_degree,
                 &measured,
             )?;
-            let range = (segmentation.breakpoints.len() > 0).then_some([w[0], w[1]]);
+            let range = (!segmentation.breakpoints.is_empty()).then_some([w[0], w[1]]);
             segments.push(GtSegment { direction: d.map(String::from), range, coefficients: model.coefficients });
         }
     }

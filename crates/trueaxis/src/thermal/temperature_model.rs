@@ -154,13 +154,13 @@ pub fn fit_temperature_model(
     Ok((fitted, rms))
 }
 
+/// The prediction of one run: temperatures `[sample][output]` (degC) and the residual statistics
+/// per output.
+pub type RunPrediction = (Vec<Vec<f64>>, Vec<Option<ResidualStats>>);
+
 /// The predicted output temperatures at `rows` (one run, in time order) and, per output, the
 /// residual statistics `measured - predicted` (degC) when the campaign has the output columns.
-pub fn predict_run(
-    campaign: &Campaign,
-    model: &TemperatureModel,
-    rows: &[usize],
-) -> Result<(Vec<Vec<f64>>, Vec<Option<ResidualStats>>), ThermalError> {
+pub fn predict_run(campaign: &Campaign, model: &TemperatureModel, rows: &[usize]) -> Result<RunPrediction, ThermalError> {
     let t = campaign.column("t")?;
     let times: Vec<f64> = rows.iter().map(|&i| t[i]).collect();
     let inputs = campaign.select(&model.inputs, rows)?;
