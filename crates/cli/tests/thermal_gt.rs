@@ -30,15 +30,7 @@ fn error(x: f64, plus: bool, bed: f64, spindle: f64) -> f64 {
 /// runs of X over 0..400 mm in 20 mm steps through a warm-up of the bed; noise 0.05 um.
 fn campaign(noise: f64) -> String {
     let mut text = String::from("run,t,X,dir,T:bed,S:spindle,dx\n");
-    let mut seed = 7u64;
-    let mut gauss = move || {
-        let mut u = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        };
-        let (a, b) = (u(), u());
-        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-    };
+    let mut gauss = thermal_common::normal(7);
     for rpm in [1000.0, 3000.0, 5000.0, 4000.0] {
         let mut t = 0.0;
         for cycle in 0..5 {

@@ -85,16 +85,7 @@ fn simulate(dir: &Path, parameters: &str, wear: f64, seed: u64, compensated: boo
     let centre = meas.plate_centre.unwrap();
     let (t, w) = (Vec3::from(MISALIGNMENT.0) * 1e-3, Vec3::from(MISALIGNMENT.1) * 1e-6);
     let probe = Setup { tool_point: m.tool_point, work_point: Vec3::zeros() };
-    let mut rng = seed;
-    let mut normal = move || {
-        // Box-Muller on a 64-bit LCG: reproducible noise without a test dependency
-        let mut u = || {
-            rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            ((rng >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        };
-        let (a, b) = (u(), u());
-        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-    };
+    let mut normal = thermal_common::normal(seed);
     let mut readings = Vec::new();
     let mut q = vec![0.0; 3];
     for r in 0..meas.records() {

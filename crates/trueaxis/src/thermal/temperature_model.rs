@@ -11,7 +11,8 @@
 //! least squares). Each run starts from its reference state.
 
 use super::campaign::Campaign;
-use super::state_space::{identify_state_space, states, Record};
+use super::drift_model::{identify_lags, rises};
+use super::state_space::{states, Record};
 use super::validation::{residual_stats, ResidualStats};
 use super::{computation, input, ThermalError};
 use serde::{Deserialize, Serialize};
@@ -81,8 +82,7 @@ impl TemperatureModel {
     /// Output temperatures `[sample][output]` (degC) at `times_s` for input readings
     /// `inputs[sample][input]` (degC), starting at `start[output]` (the outputs at the first time).
     pub fn simulate(&self, times_s: &[f64], inputs: &[Vec<f64>], start: &[f64]) -> Vec<Vec<f64>> {
-        let first = inputs.first().cloned().unwrap_or_default();
-        let rises: Vec<Vec<f64>> = inputs.iter().map(|row| row.iter().zip(&first).map(|(t, t0)| t - t0).collect()).collect();
+        let rises = rises(inputs);
         let gammas: Vec<f64> = self.time_constants_s.iter().map(|t| 1.0 / t).collect();
         let x = states(&gammas, times_s, &rises);
         let m = gammas.len();
@@ -121,9 +121,6 @@ pub fn fit_temperature_model(
     outputs: &[String],
     rates: usize,
 ) -> Result<(TemperatureModel, f64), ThermalError> {
-    if !(1..=4).contains(&rates) {
-        return Err(input(format!("the number of time constants must be 1 to 4 (got {rates})")));
-    }
     if let Some(s) = outputs.iter().find(|o| inputs.contains(o)) {
         return Err(input(format!("`{s}` is both an input and an output")));
     }
@@ -131,23 +128,10 @@ pub fn fit_temperature_model(
         .iter()
         .map(|rows| {
             let (t, u, y) = run_record(campaign, inputs, outputs, rows)?;
-            let rise = |v: Vec<Vec<f64>>| {
-                let first = v.first().cloned().unwrap_or_default();
-                v.iter().map(|row| row.iter().zip(&first).map(|(a, b)| a - b).collect()).collect()
-            };
-            Ok((t, rise(u), rise(y)))
+            Ok((t, rises(&u), rises(&y)))
         })
         .collect::<Result<_, ThermalError>>()?;
-    let (model, rms) = identify_state_space(&records, rates, None)?;
-    let step = records.iter().flat_map(|r| r.0.windows(2).map(|w| w[1] - w[0])).fold(f64::INFINITY, f64::min);
-    let span = records.iter().map(|r| r.0.last().unwrap_or(&0.0) - r.0.first().unwrap_or(&0.0)).fold(0.0, f64::max);
-    if let Some(tau) = model.time_constants_s().into_iter().find(|t| *t > 10.0 * span || *t < 0.1 * step) {
-        return Err(computation(format!(
-            "the fitted time constant {tau:.4e} s lies outside [0.1 x sampling step, 10 x longest record] = [{:.1}, {:.1}] s: the data do not determine {rates} time constants; use fewer --rates",
-            0.1 * step,
-            10.0 * span
-        )));
-    }
+    let (model, rms) = identify_lags(&records, rates)?;
     let m = model.gammas.len();
     let gains = (0..outputs.len()).map(|o| (0..inputs.len() * m).map(|s| model.c[(o, s)] / model.gammas[s % m]).collect()).collect();
     let fitted = TemperatureModel { inputs: inputs.to_vec(), outputs: outputs.to_vec(), time_constants_s: model.time_constants_s(), gains };
