@@ -97,8 +97,9 @@ pub struct CompensateArgs {
     /// Name of the HAL component (linuxcnc-hal).
     #[arg(long, default_value = "trueaxis_comp")]
     hal_component: String,
-    /// Temperature of a sensor of the error model, `T:name=degC` (repeatable; default 20 degC).
-    #[arg(long = "temperature")]
+    /// Temperature of a sensor of the error model, `T:name=degC` (repeatable; default 20 degC), or
+    /// any other input (`--input S:spindle=3000`, `F:workpiece=3500`; default 0).
+    #[arg(long = "temperature", visible_alias = "input")]
     temperatures: Vec<String>,
     /// Also correct the poses of this CSV (axis columns; `dir:<axis>` and `T:<sensor>` columns are
     /// used per pose) and write corrections.csv.
@@ -133,7 +134,7 @@ pub fn parse_axis_values(machine: &Machine, text: &str, what: &str) -> Result<Ve
 
 /// Sensor temperatures from `T:name=value` options, in the model's order (20 degC when not given).
 pub fn parse_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<f64>, Failure> {
-    Ok(given_temperatures(errors, given)?.into_iter().map(|t| t.unwrap_or(20.0)).collect())
+    Ok(given_temperatures(errors, given)?.into_iter().zip(errors.input_references()).map(|(t, r)| t.unwrap_or(*r)).collect())
 }
 
 /// Sensor temperatures from `T:name=value` options, in the model's order (`None`: not given).
@@ -181,7 +182,7 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
     let given = given_temperatures(&errors, &args.temperatures)?;
-    let temperatures: Vec<f64> = given.iter().map(|t| t.unwrap_or(20.0)).collect();
+    let temperatures: Vec<f64> = given.iter().zip(errors.input_references()).map(|(t, r)| t.unwrap_or(*r)).collect();
     let reference = args.reference.as_deref().map(|r| parse_axis_values(&machine, r, "--reference")).transpose()?;
     let limits = limits(args.limit_um, args.limit_urad)?;
     let corrector = Corrector::new(&machine, &errors);
@@ -317,20 +318,9 @@ fn refuse_foreign_files(out: &Path, names: &[&str]) -> Result<(), Failure> {
 /// Temperatures of every pose (degC, the model's sensors per pose): a sensor's `T:<name>` column of
 /// the poses file, else its `--temperature` value; an error names a sensor that has neither.
 fn pose_temperatures(errors: &ErrorModel, poses: &PoseTable, given: &[Option<f64>], path: &Path) -> Result<Vec<f64>, Failure> {
-    let columns = errors
-        .sensors()
-        .iter()
-        .zip(given)
-        .map(|(sensor, given)| match (poses.temperatures.iter().find(|(name, _)| name == sensor), given) {
-            (Some((_, column)), _) => Ok(column.clone()),
-            (None, Some(t)) => Ok(vec![*t; poses.len()]),
-            (None, None) => Err(Failure::input(anyhow::anyhow!(
-                "{}: missing column `{sensor}` (degC) needed by the error model; add it or give --temperature {sensor}=degC",
-                path.display()
-            ))),
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok((0..poses.len()).flat_map(|i| columns.iter().map(move |c| c[i])).collect())
+    // every input (T:, S:, F:, P: columns, drift lags from t and run): crate::inputs
+    let given: Vec<(String, f64)> = errors.sensors().iter().zip(given).filter_map(|(s, g)| g.map(|v| (s.clone(), v))).collect();
+    crate::inputs::pose_inputs(errors, path, poses.len(), &given)
 }
 
 /// Corrections of every pose of a CSV, each in its state (the `dir:<axis>` and `T:<sensor>` columns):

@@ -8,6 +8,7 @@ use std::path::PathBuf;
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::Vec3;
+use trueaxis::identify::{criteria_units, CriteriaUnits};
 use trueaxis::identify::{measurement_csv, optimal_design_json, simulate_campaign, Campaign, CampaignCandidates, Criterion, IdentifyError};
 use trueaxis::instruments::{ball_trajectory, Sweep, TrajectoryError};
 use trueaxis::machine::Machine;
@@ -96,6 +97,9 @@ trueaxis design optimal --machine examples/machines/kx8five.toml \\\n      \
 Criteria (all minimised, sigma-weighted rows, n = count): d = det(n M^-1)^(1/p), a = trace(n M^-1)/p,\n\
 e = largest eigenvalue of n M^-1, g = largest n trace(X_r M^-1 X_r^T) over the candidate records r\n\
 (the summed prediction variance of a record's readings; p at a D-optimal approximate design).\n\
+Units: rows weighted by 1/sigma (sigma in um), unknowns in their own units (um, urad, um/mm^k):\n\
+d in (u_1^2 ... u_p^2)^(1/p), a and e in u^2 when all units agree, g dimensionless; the output\n\
+also gives the values in seed 000's units (mm, rad, sigma = 1 mm), see docs/identification.md.\n\
 A candidate set or a design that cannot determine every unknown is an error naming the unseen\n\
 combinations (exit 1); --count too small to hold p readings is bad input (exit 2).")]
 struct OptimalArgs {
@@ -225,10 +229,30 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
         "  (G: largest summed prediction variance of one record's readings over the candidates; p = {} at a D-optimal design)\n",
         candidates.parameters.len()
     );
+    text += &units_text(&candidates.parameters, &candidates.units, &criteria_units(&candidates.units), &criteria);
     text += "records (measurement:line):";
     for r in doc["chosen"].as_array().into_iter().flatten() {
         text += &format!(" {}:{}", r["measurement"].as_str().unwrap_or(""), r["line"]);
     }
     text.push('\n');
     crate::identify::print(&text)
+}
+
+/// The units the criteria are computed in, and their values in seed 000's units (`design_units`).
+fn units_text(names: &[String], units: &[String], u: &CriteriaUnits, chosen: &trueaxis::identify::DesignCriteria) -> String {
+    let list: Vec<String> = names.iter().zip(units).map(|(n, u)| format!("{n} {u}")).collect();
+    let mut text = format!(
+        "  units: rows weighted by 1/sigma (sigma in um), unknowns in {}: D in {}; A, E in {}; G dimensionless (over sigma^2)\n",
+        list.join(", "),
+        u.d,
+        u.a_e.as_deref().unwrap_or("mixed units (the unknowns' units differ)")
+    );
+    if let Some(f) = u.d_to_seed000 {
+        text += &format!(
+            "  in seed 000's units (mm, rad, sigma = 1 in mm): D x {f:.4e} = {:.4e}{}\n",
+            f * chosen.d,
+            u.a_e_to_seed000.map_or(String::new(), |g| format!(", A x {g:.4e} = {:.4e}, E x {g:.4e} = {:.4e}", g * chosen.a, g * chosen.e))
+        );
+    }
+    text
 }

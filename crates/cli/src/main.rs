@@ -10,6 +10,7 @@ mod design;
 mod fit;
 mod identify;
 mod inspect;
+mod inputs;
 mod iso230_2;
 mod nc;
 mod predict;
@@ -19,6 +20,7 @@ mod reversal;
 mod temperature;
 mod thermal;
 mod uncertainty;
+mod verify;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -57,6 +59,7 @@ enum Command {
     Compensate(Box<compensate::CompensateArgs>),
     Nc(Box<nc::NcArgs>),
     Thermal(thermal::ThermalArgs),
+    Verify(Box<verify::VerifyArgs>),
 }
 
 /// Why a command failed: bad input (exit 2) or a failed computation (exit 1).
@@ -129,6 +132,7 @@ fn main() -> ExitCode {
         Command::Compensate(args) => compensate::run(*args),
         Command::Nc(args) => nc::run(*args),
         Command::Thermal(args) => thermal::run(args),
+        Command::Verify(args) => verify::run(*args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

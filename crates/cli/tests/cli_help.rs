@@ -176,6 +176,11 @@ fn missing_input_invocation(name: &str) -> Option<Vec<&'static str>> {
         "thermal predict" => vec!["thermal", "predict", "--model", m, "--data", c],
         "inspect" => vec!["inspect", c],
         "convert" => vec!["convert", c, "--to", "csv"],
+        "thermal links" => vec!["thermal", "links", "--machine", m, "--links", m],
+        "thermal beam" => vec!["thermal", "beam", "--machine", m, "--beam", m],
+        "thermal temperatures" => vec!["thermal", "temperatures", "--data", c, "--inputs", "T:a", "--outputs", "T:b"],
+        "thermal tune" => vec!["thermal", "tune", "--model", m, "--tau-min", "100", "--tune", "convection_w_m2k"],
+        "verify" => vec!["verify", "--machine", m, "--errors", m, "--campaign", m],
         _ => return None,
     })
 }

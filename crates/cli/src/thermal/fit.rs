@@ -13,7 +13,8 @@ use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::drift_model::{fit_drift_model, record};
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::links::{add_terms, model_terms, terms_toml};
-use trueaxis::thermal::regression::{fit_regression, fit_stepwise, select_by_correlation, RegressionModel};
+use trueaxis::thermal::regression::{fit_regression, fit_split, fit_stepwise, select_by_correlation, RegressionModel};
+use trueaxis::thermal::segmented::{fit_segmented, Segmentation};
 use trueaxis::thermal::time_constants::{fit_time_constants, Series};
 use trueaxis::thermal::validation::{evaluate_segments, residual_stats, segments, ResidualStats, Role, Segment};
 use trueaxis_report::{drift_plot, drift_svg, step_fit_plot};
@@ -70,6 +71,17 @@ pub struct FitArgs {
     /// Drop the intercept terms (eqs. 3.12-3.13 as printed).
     #[arg(long)]
     no_intercept: bool,
+    /// Geometric/thermal split: the degree of the geometric polynomial in the position (the
+    /// intercepts), with --degree the degree of the position multiplying the temperatures.
+    #[arg(long, requires = "position")]
+    geometric_degree: Option<usize>,
+    /// G-T model (NISTIR 5236): one model per direction of motion (column dir, + or -).
+    #[arg(long, requires = "position")]
+    by_direction: bool,
+    /// G-T model: one model per range of the position between these breakpoints (mm or deg,
+    /// increasing), e.g. --ranges 0 for [-inf, 0) and [0, inf).
+    #[arg(long, value_delimiter = ',', requires = "position", allow_hyphen_values = true)]
+    ranges: Option<Vec<f64>>,
     /// Runs to train on, comma separated (default: every row); the others validate.
     #[arg(long, value_delimiter = ',')]
     train_runs: Option<Vec<String>>,
@@ -125,15 +137,32 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
     let segments = segments(&campaign, args.train_runs.as_deref(), split).map_err(failure)?;
     let training: Vec<&Segment> = segments.iter().filter(|s| s.role == Role::Training).collect();
     let rows: Vec<usize> = training.iter().flat_map(|s| s.rows.iter().copied()).collect();
+    let segmented = args.by_direction || args.ranges.is_some();
     let (model, kept) = match args.model {
+        ModelForm::Regression if segmented => {
+            if args.select.is_some() || args.no_intercept {
+                return Err(Failure::input(anyhow::anyhow!(
+                    "--select and --no-intercept do not apply to a segmented G-T model (--by-direction, --ranges)"
+                )));
+            }
+            let segmentation = Segmentation {
+                by_direction: args.by_direction,
+                breakpoints: args.ranges.clone().unwrap_or_default(),
+                geometric_degree: args.geometric_degree.unwrap_or(args.degree),
+                thermal_degree: args.degree,
+            };
+            let position = args.position.as_deref().expect("clap requires --position");
+            let model = fit_segmented(&campaign, &rows, &error, &sensors, position, &segmentation).map_err(failure)?;
+            (ThermalErrorModel::Segmented(model), None)
+        }
         ModelForm::Regression => {
             let (model, kept) = fit_regression_model(&args, &campaign, &rows, &sensors, &error)?;
             (ThermalErrorModel::Regression(model), kept)
         }
         ModelForm::StateSpace => {
-            if args.select.is_some() || args.position.is_some() || args.no_intercept || args.terms_out.is_some() {
+            if args.select.is_some() || args.position.is_some() || args.no_intercept || args.terms_out.is_some() || segmented {
                 return Err(Failure::input(anyhow::anyhow!(
-                    "--select, --position, --no-intercept and --terms-out apply to regression models, not to --model state-space"
+                    "--select, --position, --no-intercept, --by-direction, --ranges and --terms-out apply to regression models, not to --model state-space"
                 )));
             }
             let records = training
@@ -156,8 +185,12 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
     if let Some(path) = &args.out {
         write_atomically(path, model.to_toml().as_bytes()).map_err(Failure::input)?;
     }
-    if let (Some(path), Some(parameter), ThermalErrorModel::Regression(regression)) = (&args.terms_out, &args.parameter, &model) {
-        let terms = model_terms(parameter, regression, 1.0).map_err(failure)?;
+    if let (Some(path), Some(parameter)) = (&args.terms_out, &args.parameter) {
+        let terms = match &model {
+            ThermalErrorModel::Regression(regression) => model_terms(parameter, regression, 1.0).map_err(failure)?,
+            ThermalErrorModel::Segmented(segmented) => segmented.terms(parameter).map_err(failure)?,
+            ThermalErrorModel::Drift(_) => unreachable!("refused above"),
+        };
         if let Some(machine) = &args.machine {
             let machine = Machine::load(machine).map_err(Failure::input)?;
             add_terms(&mut ErrorModel::zero(&machine), &machine, &terms).map_err(failure)?;
@@ -179,6 +212,14 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
     let mut out = format!("thermal error model of `{error}` (um) from {} rows of {}\n", rows.len(), args.data.display());
     match &model {
         ThermalErrorModel::Regression(m) => out += &regression_text(m),
+        ThermalErrorModel::Segmented(m) => {
+            for (k, seg) in m.segments.iter().enumerate() {
+                let range = seg.range.map_or(String::new(), |[lo, hi]| format!(" {} in [{lo}, {hi})", m.position));
+                out +=
+                    &format!("  segment {}:{}{range}\n", k + 1, seg.direction.as_deref().map_or(String::new(), |d| format!(" moving {d}")));
+                out += &regression_text(&m.segment_model(k)).lines().map(|l| format!("  {l}\n")).collect::<String>();
+            }
+        }
         ThermalErrorModel::Drift(m) => {
             let taus: Vec<String> = m.time_constants_s.iter().map(|t| format!("{:.2}", t / 60.0)).collect();
             out +=
@@ -213,6 +254,12 @@ fn fit_regression_model(
     };
     let position = args.position.as_deref().zip(positions.as_deref());
     let intercept = !args.no_intercept;
+    if let (Some(g), Some(position)) = (args.geometric_degree, position) {
+        if args.select.is_some() || !intercept {
+            return Err(Failure::input(anyhow::anyhow!("--geometric-degree does not combine with --select or --no-intercept")));
+        }
+        return Ok((fit_split(error, sensors, &temps, position, g, args.degree, &measured).map_err(failure)?.0, None));
+    }
     match args.select.as_deref() {
         None => Ok((fit_regression(error, sensors, &temps, position, args.degree, intercept, &measured).map_err(failure)?.0, None)),
         Some("stepwise") => {
@@ -248,8 +295,10 @@ fn regression_text(model: &RegressionModel) -> String {
             (1, Some(a)) => format!(" * {a}"),
             (k, Some(a)) => format!(" * {a}^{k}"),
         };
-        let terms: Vec<String> = std::iter::once(format!("{:+.5}", row[0]))
-            .chain(model.sensors.iter().zip(&row[1..]).map(|(s, c)| format!("{c:+.5} {s}")))
+        // small coefficients (per mm^k, per rpm) in scientific notation, so that they do not print as zero
+        let number = |v: f64| if v != 0.0 && v.abs() < 1e-3 { format!("{v:+.4e}") } else { format!("{v:+.5}") };
+        let terms: Vec<String> = std::iter::once(number(row[0]))
+            .chain(model.sensors.iter().zip(&row[1..]).map(|(s, c)| format!("{} {s}", number(*c))))
             .collect();
         out += &format!("  [{}]{p}\n", terms.join(" "));
     }

@@ -1,9 +1,10 @@
 //! Standard evaluations: ISO 230-2 positioning accuracy, ISO 230-4 circular tests with ballbar
-//! diagnostics.
+//! diagnostics, verification of a compensation by a re-measurement.
 
 pub mod ballbar_diagnostics;
 pub mod iso230_2;
 pub mod iso230_4;
+pub mod verification;
 
 use crate::data::DataError;
 use thiserror::Error;

@@ -7,6 +7,7 @@ use super::design::{CandidateSet, Criterion, DesignCriteria};
 use super::{Campaign, IdentifyError};
 use crate::errors::ErrorModel;
 use crate::machine::Machine;
+use super::design_units::{criteria_units, CriteriaUnits};
 use serde_json::{json, Value};
 
 /// A campaign's candidate set with, for each candidate, its measurement and record indices.
@@ -15,8 +16,9 @@ pub struct CampaignCandidates {
     pub set: CandidateSet,
     /// `(measurement index, record index)` of each candidate.
     pub records: Vec<(usize, usize)>,
-    /// Names of the unknowns (the columns).
+    /// Names of the unknowns (the columns) and their units (um, urad, ...).
     pub parameters: Vec<String>,
+    pub units: Vec<String>,
 }
 
 impl CampaignCandidates {
@@ -47,7 +49,7 @@ impl CampaignCandidates {
         let set = CandidateSet::new(candidates)
             .map_err(|m| IdentifyError::Input(format!("{}: {m}", campaign.origin)))?
             .with_names(&design.names, &design.units);
-        Ok(CampaignCandidates { set, records: blocks.iter().map(|(m, r, _)| (*m, *r)).collect(), parameters: design.names })
+        Ok(CampaignCandidates { set, records: blocks.iter().map(|(m, r, _)| (*m, *r)).collect(), parameters: design.names, units: design.units })
     }
 
     /// The chosen records as CSV: `measurement,line` and the axis positions of the record's first
@@ -97,5 +99,27 @@ pub fn optimal_design_json(
         "criteria": criteria_json(criteria),
         "all_candidates": criteria_json(all),
         "candidates": candidates.set.len(),
+        "units": units_json(&candidates.parameters, &candidates.units, &criteria_units(&candidates.units), criteria),
+    })
+}
+
+/// The units the criteria are computed in, and their values in seed 000's units where the
+/// unknowns allow (`identify::design_units`).
+pub fn units_json(names: &[String], units: &[String], u: &CriteriaUnits, chosen: &DesignCriteria) -> Value {
+    let parameters: serde_json::Map<String, Value> = names.iter().zip(units).map(|(n, u)| (n.clone(), json!(u))).collect();
+    json!({
+        "sigma": "readings weighted by 1/sigma with sigma in um: variances per sigma^2 = 1 um^2",
+        "parameters": parameters,
+        "d": u.d,
+        "a": u.a_e,
+        "e": u.a_e,
+        "g": "1 (reading variances over sigma^2)",
+        "seed000": {
+            "d_factor": u.d_to_seed000,
+            "a_e_factor": u.a_e_to_seed000,
+            "d": u.d_to_seed000.map(|f| f * chosen.d),
+            "a": u.a_e_to_seed000.map(|f| f * chosen.a),
+            "e": u.a_e_to_seed000.map(|f| f * chosen.e),
+        },
     })
 }

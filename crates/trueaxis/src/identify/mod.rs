@@ -4,6 +4,7 @@
 pub mod campaign;
 mod candidates;
 pub mod design;
+pub mod design_units;
 mod direct;
 mod drift;
 pub mod export;
@@ -23,6 +24,7 @@ pub mod unknowns;
 pub use campaign::{Campaign, DesignMatrix, Measurement};
 pub use candidates::{optimal_design_json, CampaignCandidates};
 pub use design::{start_rng, CandidateSet, Criterion, DesignCriteria, ExchangeOutcome};
+pub use design_units::{criteria_units, CriteriaUnits};
 pub use direct::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel};
 pub use drift::{remove_cycle_drift, CycleDrift};
 pub use export::{error_values_text, identification_json};
