@@ -4,10 +4,10 @@
 //! --json` document of a chosen design.
 
 use super::design::{CandidateSet, Criterion, DesignCriteria};
+use super::design_units::{criteria_units, CriteriaUnits};
 use super::{Campaign, IdentifyError};
 use crate::errors::ErrorModel;
 use crate::machine::Machine;
-use super::design_units::{criteria_units, CriteriaUnits};
 use serde_json::{json, Value};
 
 /// A campaign's candidate set with, for each candidate, its measurement and record indices.
@@ -49,7 +49,12 @@ impl CampaignCandidates {
         let set = CandidateSet::new(candidates)
             .map_err(|m| IdentifyError::Input(format!("{}: {m}", campaign.origin)))?
             .with_names(&design.names, &design.units);
-        Ok(CampaignCandidates { set, records: blocks.iter().map(|(m, r, _)| (*m, *r)).collect(), parameters: design.names, units: design.units })
+        Ok(CampaignCandidates {
+            set,
+            records: blocks.iter().map(|(m, r, _)| (*m, *r)).collect(),
+            parameters: design.names,
+            units: design.units,
+        })
     }
 
     /// The chosen records as CSV: `measurement,line` and the axis positions of the record's first
