@@ -499,7 +499,8 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
         pitch_mm: a.pitch,
         spike_width_deg: a.spike_width,
     };
-    let test = circular_test_file(&a.file, &m, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
+    let test =
+        circular_test_file(&a.file, &m, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
     let (plane, radius, file, result) = (test.plane, test.radius_mm, &test.file, &test.result);
     let runs = &file.runs;
     let (ia, ib, _) = plane.letters();

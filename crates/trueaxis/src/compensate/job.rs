@@ -8,8 +8,8 @@
 
 use super::export::{largest_corrections, to_micro, ExportInput, ExportedFile, Extent, Limits};
 use super::{
-    axis_tables, compensation_json, residual_of_format, round4, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, ExportFormat,
-    FormatResidual, TableSet, TableSpec, VolumetricGrid,
+    axis_tables, compensation_json, residual_of_format, round4, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector,
+    ExportFormat, FormatResidual, TableSet, TableSpec, VolumetricGrid,
 };
 use crate::data::{read_poses, write_atomically, PoseTable};
 use crate::errors::{ErrorModel, MachineState};
@@ -57,7 +57,17 @@ impl Compensation {
     /// The document of `trueaxis compensate --json` for the output directory `out`.
     pub fn to_json(&self, machine: &Machine, out: &str, points: usize) -> Value {
         let names = self.file_names();
-        compensation_json(machine, out, &names, self.tables.tables.len(), points, &self.extent, &self.left_out, self.residual.as_ref(), self.poses.as_ref())
+        compensation_json(
+            machine,
+            out,
+            &names,
+            self.tables.tables.len(),
+            points,
+            &self.extent,
+            &self.left_out,
+            self.residual.as_ref(),
+            self.poses.as_ref(),
+        )
     }
 
     pub fn file_names(&self) -> Vec<&str> {
@@ -186,7 +196,11 @@ pub fn pose_temperatures(errors: &ErrorModel, poses: &PoseTable, given: &[Option
 /// else the given temperatures): `corrections.csv` with the axis columns, `d<axis>` (um or urad),
 /// the error before and the residual after (um), the orientation not corrected (urad); and its
 /// summary.
-pub fn correct_poses(corrector: &Corrector, path: &Path, given_temperatures: &[Option<f64>]) -> Result<(ExportedFile, Value), CompensateError> {
+pub fn correct_poses(
+    corrector: &Corrector,
+    path: &Path,
+    given_temperatures: &[Option<f64>],
+) -> Result<(ExportedFile, Value), CompensateError> {
     let machine = corrector.machine;
     let poses = read_poses(path, machine).map_err(|e| CompensateError::Input(e.to_string()))?;
     let temperatures = pose_temperatures(corrector.errors, &poses, given_temperatures, path)?;
@@ -204,7 +218,11 @@ pub fn correct_poses(corrector: &Corrector, path: &Path, given_temperatures: &[O
         let state = MachineState { directions, temperatures: &temperatures[i * sensors..(i + 1) * sensors] };
         let c = corrector.correct_state(q, &state, &mut ws);
         if !c.converged {
-            return Err(CompensateError::Computation(format!("{}: line {}: the correction did not converge", path.display(), poses.lines[i])));
+            return Err(CompensateError::Computation(format!(
+                "{}: line {}: the correction did not converge",
+                path.display(),
+                poses.lines[i]
+            )));
         }
         let mut row: Vec<String> = poses.user[i * n..(i + 1) * n].iter().map(|v| format!("{v}")).collect();
         row.extend((0..n).map(|k| format!("{:.4}", to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])))));

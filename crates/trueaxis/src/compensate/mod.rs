@@ -19,8 +19,8 @@ pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWork
 pub use export::residual::{residual_of_format, FormatResidual};
 pub use job::{compensation, sensor_index, sensor_temperatures, Compensation, CompensationRequest};
 pub use realtime::RealtimeCorrector;
-pub use tables::{axis_tables, line_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};
 pub use summary::{compensation_json, nc_json, round4, ExportFormat, FormatOptions};
+pub use tables::{axis_tables, line_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};
 
 use thiserror::Error;
 

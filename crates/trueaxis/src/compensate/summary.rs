@@ -50,7 +50,13 @@ pub struct FormatOptions {
 
 impl Default for FormatOptions {
     fn default() -> Self {
-        FormatOptions { comp_type: 1, max_lattice_points: None, max_table_points: None, max_cec_tables: None, hal_component: "trueaxis_comp".into() }
+        FormatOptions {
+            comp_type: 1,
+            max_lattice_points: None,
+            max_table_points: None,
+            max_cec_tables: None,
+            hal_component: "trueaxis_comp".into(),
+        }
     }
 }
 
@@ -80,7 +86,9 @@ impl ExportFormat {
             "csv" => ExportFormat::Csv,
             "json" => ExportFormat::Json,
             other => {
-                return Err(format!("format `{other}`: expected linuxcnc, linuxcnc-hal, isg, heidenhain, siemens, fanuc, lattice, csv or json"))
+                return Err(format!(
+                    "format `{other}`: expected linuxcnc, linuxcnc-hal, isg, heidenhain, siemens, fanuc, lattice, csv or json"
+                ))
             }
         })
     }

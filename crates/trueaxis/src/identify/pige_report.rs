@@ -194,7 +194,8 @@ impl PigeReport {
             .iter()
             .map(|s| json!({"step": s.step.name(), "rms_um": round(s.rms_um, 4), "band_um": round(s.band_um, 4)}))
             .collect();
-        let metadata: serde_json::Map<String, Value> = self.metadata.iter().map(|(step, m)| (step.name().to_string(), m.to_json())).collect();
+        let metadata: serde_json::Map<String, Value> =
+            self.metadata.iter().map(|(step, m)| (step.name().to_string(), m.to_json())).collect();
         json!({"machine": self.machine, "method": self.method.name(), "runs": self.runs.len(), "parameters": params,
             "repeatability_ok": repeated.then_some(self.stats.within_tolerance), "compensation_residual": comp, "warnings": self.warnings,
             "metadata": metadata})
@@ -243,8 +244,10 @@ pub fn identify_pige_files(machine: &Machine, request: &PigeRequest) -> Result<P
         for (step, path, trace, test) in &steps {
             let (angles, dl) = trace.run(run);
             let axis = if step.is_outer() { pair.outer } else { pair.inner };
-            check_trace(&angles).map_err(|why| input(format!("{}: step {} (axis {axis}), run {run}: {why}", path.display(), step.name())))?;
-            let geometry = test.rotary.ok_or_else(|| PigeRunError::Computation(format!("step {} is not a rotary-axis test", step.name())))?;
+            check_trace(&angles)
+                .map_err(|why| input(format!("{}: step {} (axis {axis}), run {run}: {why}", path.display(), step.name())))?;
+            let geometry =
+                test.rotary.ok_or_else(|| PigeRunError::Computation(format!("step {} is not a rotary-axis test", step.name())))?;
             let offset = if step.is_outer() { request.pivot_offset_outer } else { request.pivot_offset_inner };
             let start_angle = offset.map_or(0.0, |o| start_angle_error(o[0], o[1], bars.normal));
             let t = DbbTrace { geometry, angles, dl, bar_length: test.nominal_length, start_angle };
@@ -299,17 +302,7 @@ pub fn identify_pige_files(machine: &Machine, request: &PigeRequest) -> Result<P
         });
     }
     let metadata = steps.iter().map(|(step, _, trace, _)| (*step, trace.metadata.clone())).collect();
-    Ok(PigeReport {
-        machine: m.name.clone(),
-        method: request.method,
-        runs,
-        results,
-        single_u,
-        stats,
-        steps: residuals,
-        metadata,
-        warnings,
-    })
+    Ok(PigeReport { machine: m.name.clone(), method: request.method, runs, results, single_u, stats, steps: residuals, metadata, warnings })
 }
 
 /// The sensitivity of a method to its setup and to bar noise (`identify::pige_sensitivity`) with
