@@ -9,6 +9,8 @@
 
 pub mod assembly;
 pub mod campaign;
+pub mod campaign_fit;
+pub mod campaign_predict;
 pub mod drift_model;
 pub mod error_model;
 pub mod lanczos;
