@@ -12,6 +12,7 @@ mod errors;
 mod evaluate;
 mod identify;
 mod machine;
+mod thermal;
 mod uncertainty;
 
 use pyo3::prelude::*;
@@ -39,6 +40,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(evaluate::iso230_4, m)?)?;
     m.add_function(wrap_pyfunction!(ballbar::ballbar_identify, m)?)?;
     m.add_function(wrap_pyfunction!(ballbar::ballbar_sensitivity, m)?)?;
+    m.add_function(wrap_pyfunction!(thermal::thermal_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(thermal::thermal_predict, m)?)?;
     m.add_function(wrap_pyfunction!(compensate::compensate, m)?)?;
     m.add_function(wrap_pyfunction!(compensate::correct_nc, m)?)?;
     Ok(())

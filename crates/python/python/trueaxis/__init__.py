@@ -31,6 +31,8 @@ from ._native import (
     identify,
     iso230_2,
     iso230_4,
+    thermal_fit,
+    thermal_predict,
 )
 
 __all__ = [
@@ -56,4 +58,6 @@ __all__ = [
     "identify",
     "iso230_2",
     "iso230_4",
+    "thermal_fit",
+    "thermal_predict",
 ]

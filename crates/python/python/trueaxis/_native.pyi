@@ -286,6 +286,35 @@ def ballbar_sensitivity(
     error (um/um, urad/um), per um of bar noise, and its combined standard uncertainty (um, urad)
     for setup_u, bar_u and noise (standard uncertainties in um)."""
 
+def thermal_fit(
+    data: _Path,
+    error: Optional[str] = None,
+    *,
+    model: str = "regression",
+    rates: int = 2,
+    validate: Optional[str] = None,
+    time_constants: Optional[int] = None,
+    until: Optional[float] = None,
+    sensors: Optional[Sequence[str]] = None,
+    select: Optional[str] = None,
+    position: Optional[str] = None,
+    degree: int = 0,
+    no_intercept: bool = False,
+    train_runs: Optional[Sequence[str]] = None,
+    out: Optional[_Path] = None,
+    parameter: Optional[str] = None,
+    terms_out: Optional[_Path] = None,
+    machine: Optional[Machine] = None,
+) -> Dict[str, Any]:
+    """The document of `trueaxis thermal fit --json` for a campaign CSV (t in s, T:<sensor> in degC,
+    the error in um): model regression | state-space, residual statistics (um) of training and
+    validation; or, with time_constants, the eq. 3.17 time constants (min). out: the model file;
+    terms_out (with parameter): the model as error terms (T - 20 degC)."""
+
+def thermal_predict(model: _Path, data: _Path) -> Dict[str, Any]:
+    """The document of `trueaxis thermal predict --json`: per row the prediction (um), the measured
+    value and the residual when the error column is present; residual statistics per run (um)."""
+
 def compensate(
     machine: Machine,
     errors: Errors,
