@@ -4,8 +4,7 @@
 
 use crate::Failure;
 use std::path::Path;
-use trueaxis::data::CsvTable;
-use trueaxis::errors::{input_values, ErrorModel, InputSource};
+use trueaxis::errors::{pose_file_inputs, ErrorModel};
 
 /// `NAME=VALUE` options (`--input`, `--temperature`) as `(name, value)`; an error names the option.
 pub fn parse_given(given: &[String], option: &str) -> Result<Vec<(String, f64)>, Failure> {
@@ -29,25 +28,7 @@ pub fn parse_given(given: &[String], option: &str) -> Result<Vec<(String, f64)>,
 /// The values of the inputs of `errors` for every row of the pose file `path` (`rows` rows):
 /// columns named like the inputs, else `given`; the drift lags from the columns `t` (s) and `run`.
 pub fn pose_inputs(errors: &ErrorModel, path: &Path, rows: usize, given: &[(String, f64)]) -> Result<Vec<f64>, Failure> {
-    if errors.sensors().is_empty() {
-        return Ok(Vec::new());
-    }
-    let table = CsvTable::read(path).map_err(Failure::input)?;
-    let column = |name: &str| table.has_column(name).then(|| table.numbers(name));
-    let numbers = |name: &str| column(name).transpose().map_err(Failure::input);
-    let mut columns = Vec::new();
-    for name in errors.sensors().iter().chain(std::iter::once(&"t".to_string())) {
-        // a lag input is computed from its sensor's column
-        let source = name.split_once(" lag ").map_or(name.as_str(), |(s, _)| s);
-        columns.push((source.to_string(), numbers(source)?));
-    }
-    let times = columns.iter().find(|(n, _)| n == "t").and_then(|(_, c)| c.clone());
-    let runs = if table.has_column("run") { Some(table.texts("run").map_err(Failure::input)?) } else { None };
-    let lookup = |name: &str| columns.iter().find(|(n, _)| n == name).and_then(|(_, c)| c.clone());
-    let value = |name: &str| given.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
-    let origin = path.display().to_string();
-    let source = InputSource { rows, column: &lookup, given: &value, times: times.as_deref(), runs: runs.as_deref(), origin: &origin };
-    input_values(errors.sensors(), &source).map_err(|m| Failure::input(anyhow::anyhow!("{m}")))
+    pose_file_inputs(errors, path, rows, given).map_err(|m| Failure::input(anyhow::anyhow!("{m}")))
 }
 
 /// The inputs of `errors` for one state from `given` (`NAME=VALUE`), every other input at its

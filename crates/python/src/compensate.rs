@@ -6,11 +6,10 @@ use crate::machine::{Errors, Machine};
 use pyo3::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
-use trueaxis::compensate::export::{largest_corrections, ExportInput, Limits};
+use trueaxis::compensate::export::Limits;
 use trueaxis::compensate::nc::{correct_program, Dialect, NcOptions};
 use trueaxis::compensate::{
-    axis_tables, compensation_json, nc_json, residual_of_format, volumetric_grid, CompensateError, Corrector, ExportFormat, FormatOptions,
-    TableSpec,
+    compensation, nc_json, sensor_temperatures, CompensateError, CompensationRequest, Corrector, ExportFormat, FormatOptions,
 };
 use trueaxis::data::write_atomically;
 
@@ -32,28 +31,55 @@ fn limits(max_um: Option<f64>, max_urad: Option<f64>) -> PyResult<Limits> {
     Ok(Limits { max_um, max_urad })
 }
 
-/// Sensor temperatures (degC) in the model's order from a dict `{"T:name": degC}`; 20 degC
-/// for a sensor not given.
-fn temperatures(errors: &Errors, given: Option<HashMap<String, f64>>) -> PyResult<Vec<f64>> {
-    let sensors = errors.inner.sensors();
-    let given = given.unwrap_or_default();
-    if let Some(name) = given.keys().find(|k| !sensors.contains(k)) {
-        return Err(input_msg(format!("temperature: the error model has no sensor `{name}` (sensors: {})", sensors.join(", "))));
-    }
-    Ok(sensors.iter().map(|s| given.get(s).copied().unwrap_or(20.0)).collect())
+/// Sensor temperatures (degC) in the model's order from a dict `{"T:name": degC}` (`None`: not
+/// given), as `--temperature T:name=degC` options.
+fn given_temperatures(errors: &Errors, given: Option<HashMap<String, f64>>) -> PyResult<Vec<Option<f64>>> {
+    let mut pairs: Vec<(String, f64)> = given.unwrap_or_default().into_iter().collect();
+    pairs.sort_by(|a, b| a.0.cmp(&b.0));
+    sensor_temperatures(&errors.inner, &pairs).map_err(failure)
 }
 
-/// Writes compensation tables for a controller into the directory `out` (created if missing;
-/// every file written atomically) and returns the summary of `trueaxis compensate --json`.
+/// Sensor inputs in the model's order, each input's reference (20 degC, 0 rpm, ...) when not given.
+fn temperatures(errors: &Errors, given: Option<HashMap<String, f64>>) -> PyResult<Vec<f64>> {
+    Ok(given_temperatures(errors, given)?.into_iter().zip(errors.inner.input_references()).map(|(t, r)| t.unwrap_or(*r)).collect())
+}
+
+/// A pose (mm, deg) from `{"X": 0.0, "Z": -200.0}`, unspecified axes 0.
+fn axis_values(machine: &Machine, values: &HashMap<String, f64>, what: &str) -> PyResult<Vec<f64>> {
+    let m = &machine.inner;
+    let mut pose = vec![0.0; m.axis_count()];
+    for (name, value) in values {
+        let axis = name
+            .chars()
+            .next()
+            .filter(|_| name.chars().count() == 1)
+            .and_then(|l| m.axis_index(l.to_ascii_uppercase()))
+            .ok_or_else(|| input_msg(format!("{what}: machine `{}` has no axis {name} (axes: {})", m.name, m.axis_letters())))?;
+        if !value.is_finite() {
+            return Err(input_msg(format!("{what}: {name} = {value} is not a finite number")));
+        }
+        pose[axis] = *value;
+    }
+    Ok(pose)
+}
+
+/// Writes compensation tables for a controller into the directory `out` (created if missing; it
+/// must not hold files this call does not write; every file written atomically, all or none) and
+/// returns the summary of `trueaxis compensate --json`.
 ///
 /// format: `linuxcnc`, `linuxcnc-hal`, `isg`, `heidenhain`, `siemens`, `fanuc`, `lattice`, `csv`
 /// or `json`. Corrections cancel the predicted error of the tool point relative to the workpiece
-/// (exact chain); `points` per table, `grid` nodes along X, Y, Z; a correction beyond `limit_um`
-/// (linear axes, um) or `limit_urad` (rotary axes, urad) refuses the export (InputError).
-/// `temperatures`: `{"T:name": degC}`. The summary says what the format leaves out and the error it
-/// leaves over the travel (`format_residual`, um), as `trueaxis compensate --json`.
+/// (exact chain); `points` per table, `grid` nodes along X, Y, Z; `reference`: the reference pose
+/// of the tables, e.g. `{"X": 0, "Z": -200}` (mm, deg; default: home clamped into the travel); a
+/// correction beyond `limit_um` (linear axes, um) or `limit_urad` (rotary axes, urad) refuses the
+/// export (InputError). `temperatures`: `{"T:name": degC}` (20 degC for a sensor not given).
+/// `poses`: a pose CSV whose poses are also corrected, each in its state (`dir:<axis>` and
+/// `T:<sensor>` columns, else `temperatures`), into `corrections.csv` (d<axis> in um or urad, the
+/// error before and the residual after in um, the orientation not corrected in urad). The summary
+/// says what the format leaves out and the error it leaves over the travel (`format_residual`,
+/// um), and summarises the corrected poses (`poses`), as `trueaxis compensate --json`.
 #[pyfunction]
-#[pyo3(signature = (machine, errors, format, out, *, points = 41, grid = [9, 9, 9], limit_um = None, limit_urad = None, comp_type = 1, max_lattice_points = None, max_table_points = None, max_cec_tables = None, hal_component = "trueaxis_comp".to_string(), temperatures = None))]
+#[pyo3(signature = (machine, errors, format, out, *, points = 41, grid = [9, 9, 9], reference = None, limit_um = None, limit_urad = None, comp_type = 1, max_lattice_points = None, max_table_points = None, max_cec_tables = None, hal_component = "trueaxis_comp".to_string(), temperatures = None, poses = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn compensate(
     py: Python<'_>,
@@ -63,6 +89,7 @@ pub fn compensate(
     out: PathBuf,
     points: usize,
     grid: [usize; 3],
+    reference: Option<HashMap<String, f64>>,
     limit_um: Option<f64>,
     limit_urad: Option<f64>,
     comp_type: u8,
@@ -71,37 +98,18 @@ pub fn compensate(
     max_cec_tables: Option<usize>,
     hal_component: String,
     temperatures: Option<HashMap<String, f64>>,
+    poses: Option<PathBuf>,
 ) -> PyResult<Py<PyAny>> {
+    let temperatures = given_temperatures(errors, temperatures)?;
+    let reference = reference.map(|r| axis_values(machine, &r, "reference")).transpose()?;
+    let limits = limits(limit_um, limit_urad)?;
     let options = FormatOptions { comp_type, max_lattice_points, max_table_points, max_cec_tables, hal_component };
     let format = ExportFormat::parse(format, &options).map_err(input_msg)?;
-    let m = &machine.inner;
-    let limits = limits(limit_um, limit_urad)?;
-    let temperatures = self::temperatures(errors, temperatures)?;
-    let spec = TableSpec { points, reference: None, temperatures: temperatures.clone() };
-    let corrector = Corrector::new(m, &errors.inner);
-    let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| m.axis_index(l).is_some());
-    let (tables, grid, files, left_out, residual) = py.detach(|| -> PyResult<_> {
-        let tables = axis_tables(&corrector, &spec).map_err(failure)?;
-        let grid = if format.wants_grid(has_xyz) { Some(volumetric_grid(&corrector, grid, &spec).map_err(failure)?) } else { None };
-        let export_input = ExportInput { machine: m, errors: &errors.inner, tables: &tables, grid: grid.as_ref(), limits };
-        let (files, exported) = format.export(&export_input).map_err(failure)?;
-        let residual = match &exported {
-            Some(e) => Some(residual_of_format(&corrector, &temperatures, e.applied.as_ref()).map_err(failure)?),
-            None => None,
-        };
-        let left_out = exported.map_or_else(Vec::new, |e| e.left_out);
-        Ok((tables, grid, files, left_out, residual))
-    })?;
-    let written = ExportInput { machine: m, errors: &errors.inner, tables: &tables, grid: grid.as_ref(), limits };
-    let extent = largest_corrections(&written, format.coverage());
-    std::fs::create_dir_all(&out).map_err(|e| input_msg(format!("{}: cannot create the output directory: {e}", out.display())))?;
-    for f in &files {
-        write_atomically(&out.join(&f.name), f.contents.as_bytes()).map_err(input)?;
-    }
-    let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
-    let doc =
-        compensation_json(m, &out.display().to_string(), &names, tables.tables.len(), points, &extent, &left_out, residual.as_ref(), None);
-    to_py(py, &doc)
+    let request = CompensationRequest { format, points, grid, reference, limits, temperatures, poses };
+    let corrector = Corrector::new(&machine.inner, &errors.inner);
+    let job = py.detach(|| compensation(&corrector, &request)).map_err(failure)?;
+    job.write(&out).map_err(failure)?;
+    to_py(py, &job.to_json(&machine.inner, &out.display().to_string(), points))
 }
 
 /// Corrects an RS274/NGC program file (as `trueaxis nc`): every programmed point moves by the

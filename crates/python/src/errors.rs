@@ -1,6 +1,7 @@
 //! trueaxis errors as Python exceptions: `TrueaxisError`, with `InputError` for bad input (the
 //! command line's exit status 2) and `ComputationError` for a failed computation (exit status 1).
-//! The message is the command line's, without its `trueaxis: error: ` prefix.
+//! The message is the command line's, without its `trueaxis: error: ` prefix. Warnings and notes
+//! the command line prints on stderr are `TrueaxisWarning`s.
 
 use pyo3::create_exception;
 use pyo3::PyErr;
@@ -13,6 +14,23 @@ create_exception!(
 );
 create_exception!(trueaxis, InputError, TrueaxisError, "Bad input: a file, a parameter or a value (the command line's exit status 2).");
 create_exception!(trueaxis, ComputationError, TrueaxisError, "A failed computation, e.g. a rank-deficient identification (exit status 1).");
+create_exception!(
+    trueaxis,
+    TrueaxisWarning,
+    pyo3::exceptions::PyUserWarning,
+    "A warning or note of trueaxis (what the command line prints on stderr: plausibility findings, corrections applied)."
+);
+
+/// Issues each message as a `TrueaxisWarning` (Python's `warnings` module), where the command line
+/// prints `trueaxis: warning: ...` or a note on stderr.
+pub fn warn(py: pyo3::Python<'_>, messages: &[String]) -> pyo3::PyResult<()> {
+    use pyo3::types::PyAnyMethods;
+    let warnings = py.import("warnings")?;
+    for m in messages {
+        warnings.call_method1("warn", (m.as_str(), py.get_type::<TrueaxisWarning>(), 2))?;
+    }
+    Ok(())
+}
 
 /// The one-line message of an error as the command line prints it: its text followed by each
 /// cause that the text does not already contain.
@@ -60,6 +78,15 @@ pub fn identify(e: trueaxis::identify::IdentifyError) -> PyErr {
 
 /// An error of the uncertainty module, by its kind.
 pub fn uncertainty(e: trueaxis::uncertainty::UncertaintyError) -> PyErr {
+    if e.is_input() {
+        input(e)
+    } else {
+        computation(e)
+    }
+}
+
+/// An error of an evaluation (ISO 230-2, ISO 230-4), by its kind.
+pub fn evaluate(e: trueaxis::evaluate::EvaluateError) -> PyErr {
     if e.is_input() {
         input(e)
     } else {

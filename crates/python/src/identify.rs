@@ -163,7 +163,8 @@ impl Identification {
 /// Identifies the campaign's unknowns by weighted least squares (as `trueaxis identify`):
 /// `solver` `"qr"` or `"svd"`; a rank-deficient set raises ComputationError naming the
 /// inseparable combinations unless `allow_rank_deficient`; `refine` adds Levenberg-Marquardt on
-/// the exact chain. The GIL is released during the computation.
+/// the exact chain. Values and uncertainties in the parameters' units (um, urad, um/mm^k),
+/// residuals in um. The GIL is released during the computation.
 #[pyfunction]
 #[pyo3(signature = (machine, campaign, *, solver = "qr", allow_rank_deficient = false, refine = false))]
 pub fn identify(

@@ -8,7 +8,7 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
 use trueaxis::data::{predictions_json, read_poses};
-use trueaxis::errors::ErrorModel;
+use trueaxis::errors::{Direction, ErrorModel};
 use trueaxis::geometry::Vec3;
 use trueaxis::model::{Frame, Predictor, Setup};
 
@@ -50,6 +50,40 @@ impl Machine {
             self.inner.check_range(pose).map_err(|m| input_msg(format!("poses: row {i}: {m}")))?;
         }
         Ok((user, shape[0]))
+    }
+
+    /// `(count, axes)` directions of motion from -1, 0, +1 (`None` at rest), checked.
+    fn directions_of(&self, directions: &Bound<'_, PyAny>, count: usize) -> PyResult<Vec<Option<Direction>>> {
+        let n_axes = self.inner.axis_count();
+        let (values, shape) = array2(directions, "directions")?;
+        if shape != [count, n_axes] {
+            return Err(input_msg(format!(
+                "directions: expected an array of shape ({count}, {n_axes}) of -1, 0, +1 for the axes {}, got ({}, {})",
+                self.inner.axis_letters(),
+                shape[0],
+                shape[1]
+            )));
+        }
+        let letters: Vec<char> = self.inner.axis_letters().chars().collect();
+        values
+            .iter()
+            .enumerate()
+            .map(|(k, &v)| {
+                if v == 1.0 {
+                    Ok(Some(Direction::Positive))
+                } else if v == -1.0 {
+                    Ok(Some(Direction::Negative))
+                } else if v == 0.0 {
+                    Ok(None)
+                } else {
+                    Err(input_msg(format!(
+                        "directions: row {}, axis {}: {v} is not -1, 0 or +1 (the direction of motion; 0 at rest)",
+                        k / n_axes.max(1),
+                        letters[k % n_axes.max(1)]
+                    )))
+                }
+            })
+            .collect()
     }
 
     fn setup(&self, tool_point: Option<[f64; 3]>, work_point: Option<[f64; 3]>) -> Setup {
@@ -137,7 +171,10 @@ impl Machine {
     /// length change dL in um. `temperatures`: (N, sensors) in degC, in the order of
     /// `errors.sensors`, when the error model has temperature terms. Tool and work points in mm,
     /// in the machine frame at home (defaults: the machine's tool point, the origin).
-    #[pyo3(signature = (errors, poses, *, tool_point = None, work_point = None, frame = "workpiece", temperatures = None, with_dl = false))]
+    /// `directions`: (N, axes) of -1, 0, +1 (any integer or float dtype, e.g. int8), the direction
+    /// of motion of each axis at each pose (0: at rest), for bidirectional errors (`EXX+`/`EXX-`)
+    /// — the `dir:<axis>` columns of a pose file.
+    #[pyo3(signature = (errors, poses, *, tool_point = None, work_point = None, frame = "workpiece", temperatures = None, directions = None, with_dl = false))]
     #[allow(clippy::too_many_arguments)]
     fn predict<'py>(
         &self,
@@ -148,9 +185,11 @@ impl Machine {
         work_point: Option<[f64; 3]>,
         frame: &str,
         temperatures: Option<&Bound<'py, PyAny>>,
+        directions: Option<&Bound<'py, PyAny>>,
         with_dl: bool,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let (user, count) = self.poses_of(poses)?;
+        let directions = directions.map(|d| self.directions_of(d, count)).transpose()?;
         let sensors = errors.inner.sensors();
         let temperatures: Vec<f64> = match temperatures.map(|t| array2(t, "temperatures")).transpose()? {
             Some((t, shape)) if shape == [count, sensors.len()] => t,
@@ -179,7 +218,7 @@ impl Machine {
             let mut predictor = Predictor::new(&machine, &model);
             predictor.setup = setup;
             predictor.frame = frame;
-            let predictions = predictor.predict_states(&internal, None, &temperatures);
+            let predictions = predictor.predict_states(&internal, directions.as_deref(), &temperatures);
             predictions.iter().flat_map(|p| p.to_user_units().into_iter().take(columns)).collect::<Vec<f64>>()
         });
         if let Some(i) = values.iter().position(|v| !v.is_finite()) {

@@ -1,12 +1,9 @@
 //! `trueaxis ballbar sensitivity`: how a rotary-axis method reacts to its setup and to bar noise.
 
-use super::{print, round, user_value, BarArgs, MethodArgs};
+use super::{print, BarArgs, MethodArgs};
 use crate::Failure;
-use anyhow::anyhow;
-use serde_json::json;
 use std::path::PathBuf;
-use trueaxis::identify::pige_sensitivity::method_sensitivity;
-use trueaxis::instruments::ballbar::{method_step, JiangStep, RotaryPair};
+use trueaxis::identify::pige_report::{pige_user_value, sensitivity_report};
 use trueaxis::machine::Machine;
 
 /// Sensitivity of a rotary-axis ballbar method (the PIGEs of two rotary axes from four steps) to
@@ -41,45 +38,22 @@ pub struct SensitivityArgs {
 }
 
 pub fn run(a: SensitivityArgs) -> Result<(), Failure> {
-    for (flag, v) in [("--setup-u", a.setup_u), ("--bar-u", a.bar_u), ("--noise", a.noise)] {
-        if !(v.is_finite() && (0.0..=1000.0).contains(&v)) {
-            return Err(Failure::input(anyhow!("{flag} {v}: give a standard uncertainty in um between 0 and 1000")));
-        }
-    }
     let m = Machine::load(&a.machine).map_err(Failure::input)?;
-    let pair = RotaryPair::of_machine(&m).map_err(Failure::input)?;
     let method = a.method.method()?;
     let bars = a.bars.lengths()?;
-    let steps = [JiangStep::A1, JiangStep::A2, JiangStep::C1, JiangStep::C2]
-        .into_iter()
-        .map(|s| Ok((s, method_step(&m, pair, method, s, bars, 1.0).map_err(Failure::input)?)))
-        .collect::<Result<Vec<_>, Failure>>()?;
-    let s = method_sensitivity(&m, pair, &steps).map_err(|e| match e {
-        trueaxis::identify::IdentifyError::Input(_) => Failure::input(e),
-        _ => Failure::computation(e),
+    let report = sensitivity_report(&m, method, bars, a.setup_u, a.bar_u, a.noise).map_err(|e| {
+        if e.is_input() {
+            Failure::input(e)
+        } else {
+            Failure::computation(e)
+        }
     })?;
-    let combined = s.combined(a.setup_u * 1e-3, a.bar_u * 1e-3, a.noise * 1e-3);
-    // per um of input: mm (rad) per mm -> um (urad) per um is the user value divided by 1000
-    let per_um = |p: usize, v: f64| user_value(&s.parameters[p], v).0 * 1e-3;
     if a.json {
-        let params: Vec<_> = s
-            .parameters
-            .iter()
-            .enumerate()
-            .map(|(p, id)| {
-                let sources: Vec<_> = s
-                    .sources
-                    .iter()
-                    .map(|x| json!({"step": x.step.name(), "source": x.name, "per_um": round(per_um(p, x.effect[p]), 6)}))
-                    .collect();
-                json!({"name": id.to_string(), "unit": user_value(id, 0.0).1, "noise_per_um": round(per_um(p, s.noise[p]), 6),
-                       "combined_u": round(user_value(id, combined[p]).0, 4), "setup": sources})
-            })
-            .collect();
-        let doc = json!({"machine": m.name, "method": method.name(), "setup_u_um": a.setup_u, "bar_u_um": a.bar_u,
-                         "noise_um": a.noise, "parameters": params});
-        return print(&format!("{doc}\n"));
+        return print(&format!("{}\n", report.to_json()));
     }
+    let (s, combined) = (&report.sensitivity, &report.combined);
+    let per_um = |p: usize, v: f64| report.per_um(p, v);
+    let user_value = pige_user_value;
     let mut out = format!(
         "Sensitivity of the {} method on {} (bars {} / {} mm)\n{:<6} {:>6} {:>10} {:>12}   largest setup effects (per um)\n",
         method.name(),

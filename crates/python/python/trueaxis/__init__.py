@@ -4,7 +4,8 @@ Python bindings of the Rust library (docs/python.md). Units as everywhere in tru
 positions in mm (linear) and deg (rotary); errors in um (translations) and urad (rotations);
 temperatures in degC; time in s. Results are numpy arrays, or dicts with the keys of the
 command line's ``--json`` documents. Errors raise ``TrueaxisError``: ``InputError`` for bad input
-(the command line's exit status 2), ``ComputationError`` for a failed computation (exit 1).
+(the command line's exit status 2), ``ComputationError`` for a failed computation (exit 1). What
+the command line prints on stderr as warnings or notes is issued as ``TrueaxisWarning``.
 """
 
 from ._native import (
@@ -20,12 +21,18 @@ from ._native import (
     Machine,
     Sources,
     TrueaxisError,
+    TrueaxisWarning,
     UncertaintyPlan,
     __version__,
+    ballbar_identify,
+    ballbar_sensitivity,
     compensate,
     correct_nc,
     identify,
     iso230_2,
+    iso230_4,
+    thermal_fit,
+    thermal_predict,
 )
 
 __all__ = [
@@ -41,10 +48,16 @@ __all__ = [
     "Machine",
     "Sources",
     "TrueaxisError",
+    "TrueaxisWarning",
     "UncertaintyPlan",
     "__version__",
+    "ballbar_identify",
+    "ballbar_sensitivity",
     "compensate",
     "correct_nc",
     "identify",
     "iso230_2",
+    "iso230_4",
+    "thermal_fit",
+    "thermal_predict",
 ]

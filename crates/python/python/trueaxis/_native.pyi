@@ -26,6 +26,9 @@ class InputError(TrueaxisError):
 class ComputationError(TrueaxisError):
     """A failed computation, e.g. a rank-deficient identification (exit status 1)."""
 
+class TrueaxisWarning(UserWarning):
+    """A warning or note the command line prints on stderr (plausibility findings, corrections applied)."""
+
 class Machine:
     """An immutable machine description; positions in mm (linear) and deg (rotary)."""
     @staticmethod
@@ -57,10 +60,13 @@ class Machine:
         work_point: Optional[_Point] = None,
         frame: str = "workpiece",
         temperatures: Optional[_Array] = None,
+        directions: Optional[npt.ArrayLike] = None,
         with_dl: bool = False,
     ) -> _Array:
         """Volumetric error at (N, axes) poses (mm, deg): (N, 6) dx dy dz in um, drx dry drz in
-        urad (N, 7 with dL in um when with_dl); exact chain, vectorised, GIL released."""
+        urad (N, 7 with dL in um when with_dl); exact chain, vectorised, GIL released.
+        temperatures: (N, sensors) degC in the order of errors.sensors; directions: (N, axes) of
+        -1, 0, +1 (e.g. int8), the direction of motion of each axis (0 at rest), for EXX+/EXX-."""
     def predict_file(
         self,
         errors: Errors,
@@ -210,8 +216,108 @@ class BudgetRun:
         frame: str = "workpiece",
     ) -> Dict[str, Any]: ...
 
-def iso230_2(path: _Path) -> Dict[str, Any]:
-    """The document of `trueaxis iso230-2 --json` (um, coverage factor 2)."""
+def iso230_2(
+    path: _Path,
+    *,
+    scale_temperature: Optional[Union[float, str]] = None,
+    scale_expansion: Optional[float] = None,
+    artefact_temperature: Optional[Union[float, str]] = None,
+    artefact_expansion: Optional[float] = None,
+    temperature_datum: float = 0.0,
+    no_file_temperature: bool = False,
+) -> Dict[str, Any]:
+    """The document of `trueaxis iso230-2 --json` for a table or a Renishaw .rtl file (um, urad for a
+    rotary axis; coverage factor 2): deviations corrected to 20 degC with the scale's and/or the
+    artefact's temperature (degC, or a column name) and expansion coefficient (um/m/K) about
+    temperature_datum (mm), else with the file's material temperature unless no_file_temperature.
+    Warnings and notes are issued as TrueaxisWarning."""
+
+def iso230_4(
+    path: _Path,
+    *,
+    machine: Optional[Machine] = None,
+    plane: Optional[str] = None,
+    radius: Optional[float] = None,
+    centre: Optional[_Point] = None,
+    feed: Optional[float] = None,
+    pitch: Optional[float] = None,
+    spike_width: float = 3.0,
+) -> Dict[str, Any]:
+    """The document of `trueaxis ballbar iso230-4 --json`: G, F, H (um), diagnostics on the machine's
+    model. plane xy|yz|zx, radius (mm, the bar length), centre (mm), feed (mm/min), pitch (mm),
+    spike_width (deg); plane and radius default to the file's header."""
+
+def ballbar_identify(
+    machine: Machine,
+    a1: _Path,
+    a2: _Path,
+    c1: _Path,
+    c2: _Path,
+    *,
+    method: str = "extended-bar",
+    outer_offset: Optional[float] = None,
+    outer_positions: Optional[Tuple[float, float]] = None,
+    inner_positions: Optional[Tuple[float, float]] = None,
+    normal_length: float = 100.0,
+    extended_length: float = 150.0,
+    pivot_offset_a: Optional[Tuple[float, float]] = None,
+    pivot_offset_c: Optional[Tuple[float, float]] = None,
+    noise: float = 1.0,
+) -> Dict[str, Any]:
+    """The document of `trueaxis ballbar identify --json`: the 8 PIGEs of the two rotary axes (um,
+    urad) with their single-run standard uncertainty, repeatability over runs, compensation
+    residual per step (um). method extended-bar | two-pivot (outer_offset, mm) | four-setup
+    (outer_positions, inner_positions, mm); lengths and pivot offsets in mm; noise in um."""
+
+def ballbar_sensitivity(
+    machine: Machine,
+    *,
+    method: str = "extended-bar",
+    outer_offset: Optional[float] = None,
+    outer_positions: Optional[Tuple[float, float]] = None,
+    inner_positions: Optional[Tuple[float, float]] = None,
+    normal_length: float = 100.0,
+    extended_length: float = 150.0,
+    setup_u: float = 1.0,
+    bar_u: float = 1.0,
+    noise: float = 1.0,
+) -> Dict[str, Any]:
+    """The document of `trueaxis ballbar sensitivity --json`: each PIGE's change per um of each setup
+    error (um/um, urad/um), per um of bar noise, and its combined standard uncertainty (um, urad)
+    for setup_u, bar_u and noise (standard uncertainties in um)."""
+
+def thermal_fit(
+    data: _Path,
+    error: Optional[str] = None,
+    *,
+    model: str = "regression",
+    rates: int = 2,
+    validate: Optional[str] = None,
+    time_constants: Optional[int] = None,
+    until: Optional[float] = None,
+    sensors: Optional[Sequence[str]] = None,
+    select: Optional[str] = None,
+    position: Optional[str] = None,
+    degree: int = 0,
+    no_intercept: bool = False,
+    geometric_degree: Optional[int] = None,
+    by_direction: bool = False,
+    ranges: Optional[Sequence[float]] = None,
+    train_runs: Optional[Sequence[str]] = None,
+    out: Optional[_Path] = None,
+    parameter: Optional[str] = None,
+    terms_out: Optional[_Path] = None,
+    machine: Optional[Machine] = None,
+) -> Dict[str, Any]:
+    """The document of `trueaxis thermal fit --json` for a campaign CSV (t in s, T:<sensor> in degC,
+    the error in um): model regression | state-space, residual statistics (um) of training and
+    validation; geometric_degree: the geometric/thermal split; by_direction / ranges (mm or deg):
+    the segmented G-T model; or, with time_constants, the eq. 3.17 time constants (min). out: the model file;
+    terms_out (with parameter): the model as error terms (T - 20 degC)."""
+
+def thermal_predict(model: _Path, data: _Path) -> Dict[str, Any]:
+    """The document of `trueaxis thermal predict --json`: per row the prediction (um), the measured
+    value and the residual when the error column is present; residual statistics per run (um)."""
 
 def compensate(
     machine: Machine,
@@ -221,6 +327,7 @@ def compensate(
     *,
     points: int = 41,
     grid: Tuple[int, int, int] = (9, 9, 9),
+    reference: Optional[Mapping[str, float]] = None,
     limit_um: Optional[float] = None,
     limit_urad: Optional[float] = None,
     comp_type: int = 1,
@@ -229,10 +336,13 @@ def compensate(
     max_cec_tables: Optional[int] = None,
     hal_component: str = "trueaxis_comp",
     temperatures: Optional[Mapping[str, float]] = None,
+    poses: Optional[_Path] = None,
 ) -> Dict[str, Any]:
     """Writes controller tables into `out` (format: linuxcnc, linuxcnc-hal, isg, heidenhain, siemens,
-    fanuc, lattice, csv, json); the summary of `trueaxis compensate --json`, with what the format
-    leaves out and the error it leaves over the travel (um)."""
+    fanuc, lattice, csv, json; all files or none; `out` must hold no other files); the summary of
+    `trueaxis compensate --json`, with what the format leaves out and the error it leaves over the
+    travel (um). reference: {"X": mm, ...}; temperatures: {"T:name": degC}; poses: a pose CSV
+    corrected pose by pose in its state (dir:<axis>, T:<sensor>) into corrections.csv (um, urad)."""
 
 def correct_nc(
     machine: Machine,

@@ -14,7 +14,7 @@ mod write;
 
 pub use basis::{Basis, BasisSpec, PeriodicSpec};
 pub use function::ErrorFunction;
-pub use inputs::{input_values, InputKind, InputSource};
+pub use inputs::{input_values, pose_file_inputs, InputKind, InputSource};
 pub use model::{Direction, DriftTerm, ErrorModel, LoadTerm, MachineState, ProductTerm, REFERENCE_TEMPERATURE};
 pub use quadrature::{gauss_legendre, integrate, legendre};
 pub use write::set_error_function;

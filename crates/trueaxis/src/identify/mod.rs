@@ -13,6 +13,7 @@ pub mod identifiability;
 pub mod indirect;
 mod least_squares;
 pub mod pige;
+pub mod pige_report;
 pub mod pige_sensitivity;
 mod reduction;
 pub mod simulate;

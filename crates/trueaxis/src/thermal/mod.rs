@@ -10,6 +10,8 @@
 pub mod assembly;
 pub mod beam;
 pub mod campaign;
+pub mod campaign_fit;
+pub mod campaign_predict;
 pub mod drift_model;
 pub mod error_model;
 pub mod lanczos;
