@@ -159,6 +159,37 @@ pub fn lagged_rise(readings: &[f64], times: &[f64], runs: Option<&[String]>, tau
     Ok(out)
 }
 
+/// The values of the inputs of `errors` for every row of the pose or data file `path` (`rows`
+/// rows, `errors.sensors().len()` values per row): columns named like the inputs, else `given`
+/// (`(name, value)`, e.g. from `--temperature T:spindle=24.5` or `--input S:spindle=3000`); the
+/// drift lags from the columns `t` (s) and `run`. Shared by `predict`, `compensate --poses` and
+/// `verify`. An error names the file and the input that has neither a column nor a value.
+pub fn pose_file_inputs(
+    errors: &super::ErrorModel,
+    path: &std::path::Path,
+    rows: usize,
+    given: &[(String, f64)],
+) -> Result<Vec<f64>, String> {
+    if errors.sensors().is_empty() {
+        return Ok(Vec::new());
+    }
+    let table = crate::data::CsvTable::read(path).map_err(|e| e.to_string())?;
+    let numbers = |name: &str| table.has_column(name).then(|| table.numbers(name)).transpose().map_err(|e| e.to_string());
+    let mut columns = Vec::new();
+    for name in errors.sensors().iter().map(String::as_str).chain(std::iter::once("t")) {
+        // a lag input is computed from its sensor's column
+        let source = name.split_once(" lag ").map_or(name, |(s, _)| s);
+        columns.push((source.to_string(), numbers(source)?));
+    }
+    let times = columns.iter().find(|(n, _)| n == "t").and_then(|(_, c)| c.clone());
+    let runs = if table.has_column("run") { Some(table.texts("run").map_err(|e| e.to_string())?) } else { None };
+    let lookup = |name: &str| columns.iter().find(|(n, _)| n == name).and_then(|(_, c)| c.clone());
+    let value = |name: &str| given.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
+    let origin = path.display().to_string();
+    let source = InputSource { rows, column: &lookup, given: &value, times: times.as_deref(), runs: runs.as_deref(), origin: &origin };
+    input_values(errors.sensors(), &source)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -192,35 +223,4 @@ mod tests {
         assert_eq!(z[25], 0.0);
         assert!(lagged_rise(&[20.0, 21.0], &[0.0, 0.0], None, 1.0).unwrap_err().contains("time order"));
     }
-}
-
-/// The values of the inputs of `errors` for every row of the pose or data file `path` (`rows`
-/// rows, `errors.sensors().len()` values per row): columns named like the inputs, else `given`
-/// (`(name, value)`, e.g. from `--temperature T:spindle=24.5` or `--input S:spindle=3000`); the
-/// drift lags from the columns `t` (s) and `run`. Shared by `predict`, `compensate --poses` and
-/// `verify`. An error names the file and the input that has neither a column nor a value.
-pub fn pose_file_inputs(
-    errors: &super::ErrorModel,
-    path: &std::path::Path,
-    rows: usize,
-    given: &[(String, f64)],
-) -> Result<Vec<f64>, String> {
-    if errors.sensors().is_empty() {
-        return Ok(Vec::new());
-    }
-    let table = crate::data::CsvTable::read(path).map_err(|e| e.to_string())?;
-    let numbers = |name: &str| table.has_column(name).then(|| table.numbers(name)).transpose().map_err(|e| e.to_string());
-    let mut columns = Vec::new();
-    for name in errors.sensors().iter().map(String::as_str).chain(std::iter::once("t")) {
-        // a lag input is computed from its sensor's column
-        let source = name.split_once(" lag ").map_or(name, |(s, _)| s);
-        columns.push((source.to_string(), numbers(source)?));
-    }
-    let times = columns.iter().find(|(n, _)| n == "t").and_then(|(_, c)| c.clone());
-    let runs = if table.has_column("run") { Some(table.texts("run").map_err(|e| e.to_string())?) } else { None };
-    let lookup = |name: &str| columns.iter().find(|(n, _)| n == name).and_then(|(_, c)| c.clone());
-    let value = |name: &str| given.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
-    let origin = path.display().to_string();
-    let source = InputSource { rows, column: &lookup, given: &value, times: times.as_deref(), runs: runs.as_deref(), origin: &origin };
-    input_values(errors.sensors(), &source)
 }

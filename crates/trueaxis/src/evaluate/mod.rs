@@ -1,14 +1,14 @@
-//! Standard evaluations: ISO 230-2 positioning accuracy, ISO 230-4 circular tests with ballbar
-//! diagnostics, verification of a compensation by a re-measurement.
 //! Standard evaluations: ISO 230-2 positioning accuracy (and a positioning test from its file,
-//! `positioning_test`), ISO 230-4 circular tests with ballbar diagnostics (and from a file,
-//! `circular_test`).
+//! `positioning_test`; its measurement uncertainty, `positioning_uncertainty`), ISO 230-4 circular
+//! tests with ballbar diagnostics (and from a file, `circular_test`), verification of a
+//! compensation by a re-measurement.
 
 pub mod ballbar_diagnostics;
 pub mod circular_test;
 pub mod iso230_2;
 pub mod iso230_4;
 pub mod positioning_test;
+pub mod positioning_uncertainty;
 pub mod verification;
 
 use crate::data::DataError;
