@@ -3,6 +3,7 @@
 pub mod calibration;
 pub mod demo;
 pub mod html;
+pub mod pdf;
 
 mod fit_plot;
 mod heatmap;

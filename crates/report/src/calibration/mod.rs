@@ -17,15 +17,20 @@
 //! `trueaxis report` builds it from a user's files; `trueaxis demo` from the files it simulates.
 
 mod ballbar;
+mod certificate;
 mod compensation;
+mod conformity;
 mod identification;
 mod inputs;
 mod maps;
+pub mod quantity;
 mod thermal;
 mod uncertainty;
 mod volume;
 
 pub use ballbar::{section as ballbar_section, CircleInput, CirclePart, SPIKE_WIDTH_DEG};
+pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances};
+pub use conformity::{decide, DecisionRule, Item};
 pub use compensation::{CompensationPart, GRID_NODES, POINTS};
 pub use identification::{IdentificationPart, ParameterRow};
 pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
@@ -135,9 +140,19 @@ impl CalibrationReport<'_> {
         out
     }
 
+    /// The document (sections in order), from which the HTML and the PDF are made.
+    pub fn document(&self) -> HtmlReport {
+        HtmlReport { title: self.title.clone(), subtitle: self.subtitle.clone(), sections: self.sections() }
+    }
+
     /// The complete HTML document.
     pub fn to_html(&self) -> String {
-        HtmlReport { title: self.title.clone(), subtitle: self.subtitle.clone(), sections: self.sections() }.to_html()
+        self.document().to_html()
+    }
+
+    /// The same content as a PDF (A4).
+    pub fn to_pdf(&self) -> Result<Vec<u8>, CalibrationError> {
+        Ok(crate::pdf::report_pdf(&self.document())?)
     }
 }
 

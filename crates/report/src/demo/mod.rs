@@ -224,5 +224,6 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
         traceability: Traceability::now(inputs, Some(format!("trueaxis demo --out {}", out_dir.display()))),
     };
     out.write("report.html", calibration.to_html().as_bytes())?;
+    out.write("report.pdf", &calibration.to_pdf()?)?;
     Ok(DemoSummary { files: out.files, ..summary })
 }
