@@ -96,6 +96,11 @@ pub struct Instrument {
     pub certificate: Option<String>,
     /// Its stated uncertainty, as written on its certificate.
     pub uncertainty: Option<String>,
+    /// The test it serves (`ballbar`): its expanded uncertainty then becomes the uncertainty of
+    /// that test's readings.
+    pub used_for: Option<String>,
+    /// Expanded uncertainty (k = 2) of a reading, um, from its certificate.
+    pub expanded_uncertainty_um: Option<f64>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
@@ -128,7 +133,18 @@ pub struct Tolerances {
     pub parameters: BTreeMap<String, f64>,
 }
 
+impl Tolerances {
+    pub fn is_empty(&self) -> bool {
+        self.volumetric_um.is_none() && self.ballbar.is_empty() && self.parameters.is_empty()
+    }
+}
+
 impl CertificateFile {
+    /// The expanded uncertainty (k = 2, um) of the readings of the instrument used for `test`.
+    pub fn reading_uncertainty_um(&self, test: &str) -> Option<f64> {
+        self.instruments.iter().find(|i| i.used_for.as_deref() == Some(test)).and_then(|i| i.expanded_uncertainty_um)
+    }
+
     /// Reads and checks `report.toml`; errors name the file.
     pub fn load(path: &Path) -> Result<CertificateFile, String> {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
@@ -142,6 +158,11 @@ impl CertificateFile {
         for (name, v) in all {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("{origin}: tolerances.{name} must be a positive number, got {v}"));
+            }
+        }
+        for i in &file.instruments {
+            if let Some(u) = i.expanded_uncertainty_um.filter(|u| !(u.is_finite() && *u > 0.0)) {
+                return Err(format!("{origin}: instrument `{}`: expanded_uncertainty_um must be a positive number of um, got {u}", i.name));
             }
         }
         for (name, range) in [("air_temperature_degc", file.environment.air_temperature_degc), ("machine_temperature_degc", file.environment.machine_temperature_degc)] {
