@@ -14,11 +14,11 @@ use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::{LanczosProgress, DEFAULT_SHARE};
 use trueaxis::uncertainty::Sources;
+use trueaxis_report::calibration::CertificateFile;
 use trueaxis_report::calibration::{
     CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, IdentificationPart, InputFile, ThermalDriftPart,
     ThermalModesPart, Traceability, UncertaintyPart, VolumePart, CONTROLLER_FORMATS, GRID_NODES, POINTS,
 };
-use trueaxis_report::calibration::CertificateFile;
 
 /// A calibration report (HTML with inline figures, no network access; and the same as a PDF with
 /// --pdf) from your own files: the certificate particulars, instruments and tolerances of a small
@@ -278,7 +278,8 @@ fn build<'a>(
         uncertainty = Some(UncertaintyPart::evaluate(id, sources, &origin, args.point_time, &mut progress).map_err(failure)?);
     }
     bar.set_message("ballbar circles");
-    let mut circles = circle_inputs.into_iter().map(|c| CirclePart::evaluate(machine, c)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
+    let mut circles =
+        circle_inputs.into_iter().map(|c| CirclePart::evaluate(machine, c)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
     for c in &mut circles {
         c.reading_u_um = certificate.reading_uncertainty_um("ballbar");
     }

@@ -145,7 +145,13 @@ fn check_identify(html: &str, stdout: &str) {
         let t: Vec<&str> = line.split_whitespace().collect();
         // report: parameter, true value, identified value ± U unit, uncertainty from, within U, independence
         let (value, _, decimals) = measured(&row[2]);
-        assert!((number(t[1]) - value).abs() <= 0.5 * 10f64.powi(-(decimals as i32)) + 1e-9, "{}: identify {} vs report {}", row[0], t[1], row[2]);
+        assert!(
+            (number(t[1]) - value).abs() <= 0.5 * 10f64.powi(-(decimals as i32)) + 1e-9,
+            "{}: identify {} vs report {}",
+            row[0],
+            t[1],
+            row[2]
+        );
         assert!(row[2].ends_with(t[3]) && row[1].ends_with(t[3]), "{}: unit {} in `{}`", row[0], t[3], row[2]);
         assert!((number(t[4]) - number(&row[5])).abs() <= 0.005 + 1e-9, "{}: independence", row[0]);
         assert_eq!(row[3], "Monte Carlo, all sources (JCGM 101)");
@@ -229,7 +235,9 @@ fn check_predict(html: &str, stdout: &str) {
 /// report's summary table, digit for digit.
 fn check_compensate(html: &str, stdout: &str) {
     let rows = table(section(html, "compensation"), "Summary");
-    let value = |quantity: &str| rows.iter().find(|r| r[0].starts_with(quantity)).unwrap()[1].trim_end_matches(" um").trim_end_matches(" urad").to_string();
+    let value = |quantity: &str| {
+        rows.iter().find(|r| r[0].starts_with(quantity)).unwrap()[1].trim_end_matches(" um").trim_end_matches(" urad").to_string()
+    };
     let grid = value("grid nodes");
     let expected = format!(
         "{} tables of {} points{}; largest correction written {} um (linear axes), {} urad (rotary axes)",
@@ -285,9 +293,19 @@ fn every_repeat_command_of_the_report_reproduces_its_numbers(demo: &Path) {
 fn report_has_its_sections_well_formed_svg_and_renders_in_a_browser(demo: &Path, scratch: &Path) {
     let report = demo.join("report.html");
     let html = std::fs::read_to_string(&report).unwrap();
-    for id in
-        ["certificate", "conformity", "machine", "campaign", "identification", "uncertainty", "volumetric", "ballbar", "compensation", "reproduce", "inputs"]
-    {
+    for id in [
+        "certificate",
+        "conformity",
+        "machine",
+        "campaign",
+        "identification",
+        "uncertainty",
+        "volumetric",
+        "ballbar",
+        "compensation",
+        "reproduce",
+        "inputs",
+    ] {
         assert!(html.contains(&format!("<section id=\"{id}\">")), "section {id}");
         assert!(html.contains(&format!("<a href=\"#{id}\">")), "table of contents entry {id}");
     }

@@ -175,7 +175,10 @@ fn thermal_inputs_give_the_modes_and_the_drift_of_the_thermal_commands() {
     let model = "examples/thermal/elongation.toml";
     let thermal = ["--thermal-model", model, "--thermal-modes", "5", "--thermal-error", fitted, "--thermal-data", campaign];
     let (html, s) = report(&[&VMC3[..4], &thermal[..]].concat());
-    assert_eq!(sections_of(&html, &s), ["certificate", "machine", "volumetric", "thermal-modes", "thermal-drift", "compensation", "inputs"]);
+    assert_eq!(
+        sections_of(&html, &s),
+        ["certificate", "machine", "volumetric", "thermal-modes", "thermal-drift", "compensation", "inputs"]
+    );
     assert_inputs(&s, &[model, campaign, fitted]);
     // the modes are `thermal modes`'s
     let m: serde_json::Value =

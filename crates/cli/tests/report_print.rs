@@ -43,7 +43,8 @@ fn imported_report(dir: &Path, certificate: &Path, extra: &[&str]) -> serde_json
     let r = root();
     let html = dir.join("vmc3.html");
     let pdf = dir.join("vmc3.pdf");
-    let (machine, errors, export) = (r.join("examples/machines/vmc3.toml"), r.join("examples/errors/vmc3.toml"), r.join("examples/ballbar/export_xy.txt"));
+    let (machine, errors, export) =
+        (r.join("examples/machines/vmc3.toml"), r.join("examples/errors/vmc3.toml"), r.join("examples/ballbar/export_xy.txt"));
     let args = [
         "report",
         "--machine",
@@ -107,7 +108,10 @@ fn measured_values(text: &str) -> Vec<(f64, f64, String)> {
             "U `{u}` in `{value} ± {u} {unit}` has not two significant digits"
         );
         assert_eq!(decimals(value), decimals(u), "`{value} ± {u} {unit}`: the value is not rounded to the place of U");
-        assert!(["um", "urad", "um/m", "deg", "mm", "%"].contains(&unit.trim_end_matches([',', '.', ';', ')'])), "`{value} ± {u} {unit}`: unit");
+        assert!(
+            ["um", "urad", "um/m", "deg", "mm", "%"].contains(&unit.trim_end_matches([',', '.', ';', ')'])),
+            "`{value} ± {u} {unit}`: unit"
+        );
         out.push((value.parse().unwrap(), u.parse().unwrap(), unit.trim_end_matches([',', '.', ';', ')']).to_string()));
     }
     out
@@ -131,7 +135,14 @@ document.body.setAttribute('data-overflow',JSON.stringify(bad));document.body.se
     let checked = scratch.join("checked.html");
     std::fs::write(&checked, page.replace("</body>", script)).unwrap();
     let out = Command::new(browser)
-        .args(["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking", "--window-size=794,1123"])
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--window-size=794,1123",
+        ])
         .arg(format!("--user-data-dir={}", scratch.join("profile").display()))
         .arg("--dump-dom")
         .arg(format!("file://{}", checked.display()))
@@ -192,7 +203,11 @@ fn check_pdf(pdf: &Path, scratch: &Path) -> String {
     for (p, words) in pages.iter().enumerate() {
         let (w, h) = sizes[p];
         for (x0, y0, x1, y1, t, vertical) in words {
-            assert!(*x0 >= 50.0 && *x1 <= w - 50.0 && *y0 >= 40.0 && *y1 <= h - 20.0, "page {}: `{t}` outside the margins at ({x0}, {y0})-({x1}, {y1})", p + 1);
+            assert!(
+                *x0 >= 50.0 && *x1 <= w - 50.0 && *y0 >= 40.0 && *y1 <= h - 20.0,
+                "page {}: `{t}` outside the margins at ({x0}, {y0})-({x1}, {y1})",
+                p + 1
+            );
             let size = if *vertical { x1 - x0 } else { y1 - y0 } / 0.938;
             assert!(size >= 9.9, "page {}: `{t}` is {size:.1} pt", p + 1);
         }
@@ -267,7 +282,18 @@ fn imported_files_give_a_certificate_with_values_rounded_by_u_and_equal_to_the_j
     let html = std::fs::read_to_string(dir.path().join("vmc3.html")).unwrap();
     let text = text_of(&html);
     // the particulars: from report.toml and from the export's header (serial, date, operator)
-    for expected in ["EX-2024-0312", "Example Parts Ltd", "Renishaw QC20-W", "B12345", "0001", "2024-03-12 10:41", "A. Example", "1000 mm/min", "ISO 230-4", "ISO 14253-1"] {
+    for expected in [
+        "EX-2024-0312",
+        "Example Parts Ltd",
+        "Renishaw QC20-W",
+        "B12345",
+        "0001",
+        "2024-03-12 10:41",
+        "A. Example",
+        "1000 mm/min",
+        "ISO 230-4",
+        "ISO 14253-1",
+    ] {
         assert!(text.contains(expected), "`{expected}` not in the report");
     }
     // every value with its U; G, F and the diagnostics equal the JSON, rounded by U
@@ -278,12 +304,20 @@ fn imported_files_give_a_certificate_with_values_rounded_by_u_and_equal_to_the_j
     for key in ["G_um", "F_max_um", "F_min_um"] {
         for v in b[key].as_array().unwrap() {
             let v = v.as_f64().unwrap();
-            assert!(values.iter().any(|(shown, uu, unit)| unit == "um" && *uu == u && rounds_to(v, *shown, u)), "{key} {v} not shown as value ± {u} um");
+            assert!(
+                values.iter().any(|(shown, uu, unit)| unit == "um" && *uu == u && rounds_to(v, *shown, u)),
+                "{key} {v} not shown as value ± {u} um"
+            );
         }
     }
     for (name, d) in b["diagnostics"].as_object().unwrap() {
         let (v, uu) = (d["value"].as_f64().unwrap(), d["expanded_uncertainty"].as_f64().unwrap());
-        assert!(values.iter().any(|(shown, su, unit)| unit == d["unit"].as_str().unwrap() && rounds_to(v, *shown, uu) && rounds_to(uu, *su, uu)), "{name}: {v} ± {uu}");
+        assert!(
+            values
+                .iter()
+                .any(|(shown, su, unit)| unit == d["unit"].as_str().unwrap() && rounds_to(v, *shown, uu) && rounds_to(uu, *su, uu)),
+            "{name}: {v} ± {uu}"
+        );
     }
     // after compensation with Heidenhain tables: less than before, not zero (the vmc3 errors have
     // terms own-axis tables cannot carry), and what the tables leave is stated
@@ -343,11 +377,17 @@ fn conformity_decisions_on_tolerances_made_to_pass_to_fail_and_to_be_undecided()
     };
     assert!(g_min > 0.0);
     let (guard, html) = case("guard-band");
-    let decision = |list: &[(String, String)], what: &str| -> Vec<String> { list.iter().filter(|(i, _)| i.contains(what)).map(|(_, d)| d.clone()).collect() };
+    let decision = |list: &[(String, String)], what: &str| -> Vec<String> {
+        list.iter().filter(|(i, _)| i.contains(what)).map(|(_, d)| d.clone()).collect()
+    };
     assert_eq!(decision(&guard, "circular deviation G"), ["pass", "pass"], "{guard:?}");
     assert_eq!(decision(&guard, "squareness"), ["FAIL"], "{guard:?}");
     assert_eq!(decision(&guard, "hysteresis"), ["not proven"], "{guard:?}");
-    assert!(html.contains("<td class=\"fail\">FAIL</td>") && html.contains("<td class=\"pass\">pass</td>") && html.contains("<td class=\"undecided\">not proven</td>"));
+    assert!(
+        html.contains("<td class=\"fail\">FAIL</td>")
+            && html.contains("<td class=\"pass\">pass</td>")
+            && html.contains("<td class=\"undecided\">not proven</td>")
+    );
     assert!(text_of(&html).contains("does NOT conform: 1 of the 4 items"), "the statement");
     let (simple, html) = case("simple");
     assert_eq!(decision(&simple, "hysteresis"), ["pass"], "{simple:?}");

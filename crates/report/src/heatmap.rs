@@ -95,7 +95,13 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
         .y_label_area_size(66)
         .build_cartesian_2d(0.0..1.0, lo..hi)
         .map_err(text)?;
-    let decimals = if hi - lo >= 20.0 { 0 } else if hi - lo >= 2.0 { 1 } else { 2 };
+    let decimals = if hi - lo >= 20.0 {
+        0
+    } else if hi - lo >= 2.0 {
+        1
+    } else {
+        2
+    };
     chart
         .configure_mesh()
         .disable_mesh()

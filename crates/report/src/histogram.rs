@@ -44,7 +44,8 @@ pub fn histograms_svg(title: &str, panels: &[HistogramPanel], bins: usize) -> Re
         style::title(&root, title, 8).map_err(ReportError::Draw)?;
         let (top, root) = root.split_vertically(head);
         let (_, strip) = top.split_vertically(44);
-        let mut entries = vec![("Monte Carlo".to_string(), Swatch::Band(BAR)), ("coverage interval".to_string(), Swatch::Line(INTERVAL, 3))];
+        let mut entries =
+            vec![("Monte Carlo".to_string(), Swatch::Band(BAR)), ("coverage interval".to_string(), Swatch::Line(INTERVAL, 3))];
         if panels.iter().any(|p| p.gaussian.is_some()) {
             entries.push(("GUM (Gaussian)".to_string(), Swatch::Line(BLACK, 2)));
         }
@@ -88,7 +89,15 @@ where
         .map_err(draw)?;
     // the density scale carries no information of its own: no y labels
     let span = hi - lo;
-    let decimals = if span >= 20.0 { 0 } else if span >= 2.0 { 1 } else if span >= 0.2 { 2 } else { 3 };
+    let decimals = if span >= 20.0 {
+        0
+    } else if span >= 2.0 {
+        1
+    } else if span >= 0.2 {
+        2
+    } else {
+        3
+    };
     chart
         .configure_mesh()
         .disable_mesh()

@@ -79,7 +79,8 @@ fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), ReportErro
     }
     let (top, rest) = root.split_vertically(head);
     let (_, legend_strip) = top.split_vertically(head - style::LEGEND_HEIGHT);
-    let mut entries: Vec<(String, Swatch)> = plot.series.iter().enumerate().map(|(k, s)| (s.label.clone(), Swatch::Line(style::colour(k), 3))).collect();
+    let mut entries: Vec<(String, Swatch)> =
+        plot.series.iter().enumerate().map(|(k, s)| (s.label.clone(), Swatch::Line(style::colour(k), 3))).collect();
     entries.push(("nominal circle".into(), Swatch::Line(BLACK, 2)));
     style::legend(&legend_strip, &entries).map_err(e)?;
     let (plot_row, text_area) = rest.split_vertically(PLOT);
@@ -97,12 +98,17 @@ fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), ReportErro
         let a = f64::from(i * 30).to_radians();
         let (c, s) = (a.cos(), a.sin());
         chart
-            .draw_series(std::iter::once(PathElement::new(vec![(2.0 * c, 2.0 * s), ((NOMINAL + 3.0) * c, (NOMINAL + 3.0) * s)], style::LIGHT)))
+            .draw_series(std::iter::once(PathElement::new(
+                vec![(2.0 * c, 2.0 * s), ((NOMINAL + 3.0) * c, (NOMINAL + 3.0) * s)],
+                style::LIGHT,
+            )))
             .map_err(|x| t(&x))?;
     }
     let (pa, pb) = plot.axes;
     let minus = |name: &str| name.replacen('+', "-", 1);
-    let label = |s: String, x: f64, y: f64| Text::new(s, (x, y), TextStyle::from(style::bold(style::LABEL)).pos(Pos::new(HPos::Center, VPos::Center)));
+    let label = |s: String, x: f64, y: f64| {
+        Text::new(s, (x, y), TextStyle::from(style::bold(style::LABEL)).pos(Pos::new(HPos::Center, VPos::Center)))
+    };
     let r = NOMINAL + 3.5;
     chart
         .draw_series([label(pa.to_string(), r, 0.0), label(pb.to_string(), 0.0, r), label(minus(pa), -r, 0.0), label(minus(pb), 0.0, -r)])

@@ -5,7 +5,6 @@ use super::style::{self, Swatch};
 use super::ReportError;
 use plotters::prelude::*;
 
-
 /// What to draw: `(name, points)` per series.
 pub struct Profiles<'a> {
     pub title: &'a str,
@@ -41,7 +40,8 @@ pub fn profiles_svg(plot: &Profiles) -> Result<String, ReportError> {
         style::title(&root, plot.title, 8).map_err(ReportError::Draw)?;
         let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
         let (_, strip) = top.split_vertically(44);
-        let entries: Vec<(String, Swatch)> = series.iter().enumerate().map(|(k, (name, _))| (name.clone(), Swatch::Line(style::colour(k), 3))).collect();
+        let entries: Vec<(String, Swatch)> =
+            series.iter().enumerate().map(|(k, (name, _))| (name.clone(), Swatch::Line(style::colour(k), 3))).collect();
         style::legend(&strip, &entries).map_err(ReportError::Draw)?;
         let mut chart = ChartBuilder::on(&root)
             .margin(12)

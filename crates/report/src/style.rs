@@ -71,7 +71,8 @@ pub fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[(Str
             Swatch::Band(c) => area.draw(&Rectangle::new([(x, y - 8), (x + 36, y + 8)], c.mix(0.35).filled())),
         }
         .map_err(|e| e.to_string())?;
-        area.draw(&Text::new(text.clone(), (x + 44, y), TextStyle::from(font(TICK)).pos(Pos::new(HPos::Left, VPos::Center)))).map_err(|e| e.to_string())?;
+        area.draw(&Text::new(text.clone(), (x + 44, y), TextStyle::from(font(TICK)).pos(Pos::new(HPos::Left, VPos::Center))))
+            .map_err(|e| e.to_string())?;
         x += width;
     }
     Ok(())
@@ -80,11 +81,13 @@ pub fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[(Str
 /// A title centred at the top of `area`.
 pub fn title<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, text: &str, y: i32) -> Result<(), String> {
     let (w, _) = area.dim_in_pixel();
-    area.draw(&Text::new(text.to_string(), (w as i32 / 2, y), TextStyle::from(bold(TITLE)).pos(Pos::new(HPos::Center, VPos::Top)))).map_err(|e| e.to_string())
+    area.draw(&Text::new(text.to_string(), (w as i32 / 2, y), TextStyle::from(bold(TITLE)).pos(Pos::new(HPos::Center, VPos::Top))))
+        .map_err(|e| e.to_string())
 }
 
 /// A line of text centred at `y` in `area`.
 pub fn centred<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, text: &str, y: i32, px: f64) -> Result<(), String> {
     let (w, _) = area.dim_in_pixel();
-    area.draw(&Text::new(text.to_string(), (w as i32 / 2, y), TextStyle::from(font(px)).pos(Pos::new(HPos::Center, VPos::Top)))).map_err(|e| e.to_string())
+    area.draw(&Text::new(text.to_string(), (w as i32 / 2, y), TextStyle::from(font(px)).pos(Pos::new(HPos::Center, VPos::Top))))
+        .map_err(|e| e.to_string())
 }

@@ -108,7 +108,16 @@ impl CirclePart {
         ];
         let title = format!("Circular test (ISO 230-4): {}", file_name(&input.path));
         let svg = circle_svg(&title, (&format!("+{ia}"), &format!("+{ib}")), &runs, None, &[], &conditions)?;
-        Ok(CirclePart { input, result, svg, lines, feed_mm_per_min: feed, reading_u_um: None, metadata: file.metadata, description: Vec::new() })
+        Ok(CirclePart {
+            input,
+            result,
+            svg,
+            lines,
+            feed_mm_per_min: feed,
+            reading_u_um: None,
+            metadata: file.metadata,
+            description: Vec::new(),
+        })
     }
 
     /// Toleranced items of this circle: `G`, `F`, `H` and diagnostics by name (`tolerances` in
@@ -122,7 +131,15 @@ impl CirclePart {
                     for run in &self.result.runs {
                         let value = if key == "G" { run.g_um } else { run.f_max_um.abs().max(run.f_min_um.abs()) };
                         let what = if key == "G" { "circular deviation G" } else { "radial deviation F (largest magnitude)" };
-                        items.push(Item::new(format!("{name}, {} run: {what}", run.rotation.name().to_uppercase()), "ballbar", value, self.reading_u_um, tol, "um", rule));
+                        items.push(Item::new(
+                            format!("{name}, {} run: {what}", run.rotation.name().to_uppercase()),
+                            "ballbar",
+                            value,
+                            self.reading_u_um,
+                            tol,
+                            "um",
+                            rule,
+                        ));
                     }
                 }
                 "H" => {
@@ -133,7 +150,15 @@ impl CirclePart {
                 diagnostic => {
                     let wanted = diagnostic.replace('_', " ").to_lowercase();
                     for d in self.result.diagnostics.items.iter().filter(|d| d.name.to_lowercase() == wanted || d.parameter == diagnostic) {
-                        items.push(Item::new(format!("{name}: {}", d.name), "ballbar", d.value, Some(2.0 * d.std_uncertainty), tol, d.unit, rule));
+                        items.push(Item::new(
+                            format!("{name}: {}", d.name),
+                            "ballbar",
+                            d.value,
+                            Some(2.0 * d.std_uncertainty),
+                            tol,
+                            d.unit,
+                            rule,
+                        ));
                     }
                 }
             }

@@ -33,9 +33,9 @@
 //! EC0Y = 20
 //! ```
 
+use super::super::html::Section;
 use super::conformity::DecisionRule;
 use super::inputs::InputFile;
-use super::super::html::Section;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -152,9 +152,15 @@ impl CertificateFile {
     }
 
     pub fn from_toml_str(text: &str, origin: &str) -> Result<CertificateFile, String> {
-        let file: CertificateFile = toml::from_str(text).map_err(|e| format!("{origin}: {}", e.to_string().trim_end().replace('\n', " ")))?;
+        let file: CertificateFile =
+            toml::from_str(text).map_err(|e| format!("{origin}: {}", e.to_string().trim_end().replace('\n', " ")))?;
         let t = &file.tolerances;
-        let all = t.volumetric_um.iter().map(|v| ("volumetric_um".to_string(), *v)).chain(t.ballbar.iter().map(|(k, v)| (format!("ballbar.{k}"), *v))).chain(t.parameters.iter().map(|(k, v)| (format!("parameters.{k}"), *v)));
+        let all = t
+            .volumetric_um
+            .iter()
+            .map(|v| ("volumetric_um".to_string(), *v))
+            .chain(t.ballbar.iter().map(|(k, v)| (format!("ballbar.{k}"), *v)))
+            .chain(t.parameters.iter().map(|(k, v)| (format!("parameters.{k}"), *v)));
         for (name, v) in all {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("{origin}: tolerances.{name} must be a positive number, got {v}"));
@@ -165,7 +171,10 @@ impl CertificateFile {
                 return Err(format!("{origin}: instrument `{}`: expanded_uncertainty_um must be a positive number of um, got {u}", i.name));
             }
         }
-        for (name, range) in [("air_temperature_degc", file.environment.air_temperature_degc), ("machine_temperature_degc", file.environment.machine_temperature_degc)] {
+        for (name, range) in [
+            ("air_temperature_degc", file.environment.air_temperature_degc),
+            ("machine_temperature_degc", file.environment.machine_temperature_degc),
+        ] {
             if let Some([lo, hi]) = range {
                 if !(lo.is_finite() && hi.is_finite() && lo <= hi && (-40.0..=80.0).contains(&lo) && (-40.0..=80.0).contains(&hi)) {
                     return Err(format!("{origin}: environment.{name} must be [lowest, highest] in degC, got [{lo}, {hi}]"));
@@ -218,24 +227,37 @@ impl Certificate<'_> {
         push("Calibration laboratory", Some(c.laboratory.clone().unwrap_or_else(not_stated)));
         push("Customer", Some(c.customer.clone().unwrap_or_else(not_stated)));
         let identity = [m.maker.clone(), m.model.clone()].into_iter().flatten().collect::<Vec<_>>().join(" ");
-        push("Machine", Some(if identity.is_empty() { self.machine_name.to_string() } else { format!("{identity} ({})", self.machine_name) }));
+        push(
+            "Machine",
+            Some(if identity.is_empty() { self.machine_name.to_string() } else { format!("{identity} ({})", self.machine_name) }),
+        );
         push("Serial number", m.serial.clone().or_else(|| recorded(self.inputs, |md| md.serial.as_ref())).or_else(|| Some(not_stated())));
         push("Controller", m.controller.clone());
         push("Location", m.location.clone().or(c.location.clone()).or_else(|| recorded(self.inputs, |md| md.location.as_ref())));
-        push("Date of the tests", c.test_date.clone().or_else(|| recorded(self.inputs, |md| md.date.as_ref())).or_else(|| Some(not_stated())));
+        push(
+            "Date of the tests",
+            c.test_date.clone().or_else(|| recorded(self.inputs, |md| md.date.as_ref())).or_else(|| Some(not_stated())),
+        );
         push("Date of issue", Some(c.issue_date.clone().unwrap_or_else(|| self.made.to_string())));
         push("Operator", c.operator.clone().or_else(|| recorded(self.inputs, |md| md.operator.as_ref())).or_else(|| Some(not_stated())));
         push("Approved by", c.approved_by.clone());
         let air: Vec<f64> = self.inputs.iter().filter_map(|i| i.metadata.as_ref()?.environment.air_temperature_degc).collect();
-        let material: Vec<f64> = self.inputs.iter().filter_map(|i| i.metadata.as_ref()).flat_map(|m| m.environment.material_temperatures_degc.clone()).collect();
+        let material: Vec<f64> =
+            self.inputs.iter().filter_map(|i| i.metadata.as_ref()).flat_map(|m| m.environment.material_temperatures_degc.clone()).collect();
         let e = &f.environment;
         push(
             "Air temperature",
-            e.air_temperature_degc.map(|[a, b]| range_text(&[a, b]).unwrap_or_default()).or_else(|| range_text(&air).map(|t| format!("{t} (recorded in the files)"))).or_else(|| Some(not_stated())),
+            e.air_temperature_degc
+                .map(|[a, b]| range_text(&[a, b]).unwrap_or_default())
+                .or_else(|| range_text(&air).map(|t| format!("{t} (recorded in the files)")))
+                .or_else(|| Some(not_stated())),
         );
         push(
             "Machine temperature",
-            e.machine_temperature_degc.map(|[a, b]| range_text(&[a, b]).unwrap_or_default()).or_else(|| range_text(&material).map(|t| format!("{t} (recorded in the files)"))).or_else(|| Some(not_stated())),
+            e.machine_temperature_degc
+                .map(|[a, b]| range_text(&[a, b]).unwrap_or_default())
+                .or_else(|| range_text(&material).map(|t| format!("{t} (recorded in the files)")))
+                .or_else(|| Some(not_stated())),
         );
         push("Environment", e.notes.clone());
         push("Decision rule", Some(f.decision.rule.name().to_string()));
@@ -246,13 +268,24 @@ impl Certificate<'_> {
             .iter()
             .map(|i| {
                 let dash = || "-".to_string();
-                vec![i.name.clone(), i.model.clone().unwrap_or_else(dash), i.serial.clone().unwrap_or_else(dash), i.calibrated.clone().unwrap_or_else(dash), i.certificate.clone().unwrap_or_else(dash), i.uncertainty.clone().unwrap_or_else(dash)]
+                vec![
+                    i.name.clone(),
+                    i.model.clone().unwrap_or_else(dash),
+                    i.serial.clone().unwrap_or_else(dash),
+                    i.calibrated.clone().unwrap_or_else(dash),
+                    i.certificate.clone().unwrap_or_else(dash),
+                    i.uncertainty.clone().unwrap_or_else(dash),
+                ]
             })
             .collect();
         if rows.is_empty() {
             s = s.note("No measuring instruments are stated (give them as [[instrument]] in report.toml): the traceability of the results cannot be shown.");
         } else {
-            s = s.table("Measuring instruments and their own calibration (traceability)", &["instrument", "model", "serial number", "calibrated", "certificate", "its uncertainty"], rows);
+            s = s.table(
+                "Measuring instruments and their own calibration (traceability)",
+                &["instrument", "model", "serial number", "calibrated", "certificate", "its uncertainty"],
+                rows,
+            );
         }
         s.table("Methods and standards applied", &["method"], self.methods.iter().map(|m| vec![m.clone()]).collect())
     }

@@ -6,7 +6,9 @@ use super::super::html::Section;
 use super::quantity::quantity;
 use super::CalibrationError;
 use trueaxis::compensate::export::{self, Coverage, Export, ExportInput, ExportedFile, Extent, Limits};
-use trueaxis::compensate::{axis_tables, residual_of_format, volumetric_grid, Corrector, FormatResidual, TableSet, TableSpec, VolumetricGrid};
+use trueaxis::compensate::{
+    axis_tables, residual_of_format, volumetric_grid, Corrector, FormatResidual, TableSet, TableSpec, VolumetricGrid,
+};
 
 /// The controller formats whose corrections a report can evaluate (as `trueaxis compensate
 /// --format`): what each can represent is applied on the exact chain.
@@ -135,7 +137,10 @@ impl CompensationPart {
         if let Some(c) = controller {
             let r = &c.residual;
             s = s.table(
-                format!("What the {} tables leave, on the exact chain over {} poses and states of motion spread over the travel", c.format, r.samples),
+                format!(
+                    "What the {} tables leave, on the exact chain over {} poses and states of motion spread over the travel",
+                    c.format, r.samples
+                ),
                 &["quantity", "value"],
                 vec![
                     vec!["largest error before compensation".into(), quantity(r.worst_error_um, 2, "um")],
@@ -143,7 +148,12 @@ impl CompensationPart {
                     vec!["RMS of the error left".into(), quantity(r.rms_um, 2, "um")],
                     vec![
                         "where the most is left".into(),
-                        format!("{} ({}), where the error was {}", pose_text(&r.worst_pose), r.worst_state, quantity(r.error_there_um, 2, "um")),
+                        format!(
+                            "{} ({}), where the error was {}",
+                            pose_text(&r.worst_pose),
+                            r.worst_state,
+                            quantity(r.error_there_um, 2, "um")
+                        ),
                     ],
                 ],
             );

@@ -4,8 +4,8 @@
 //! and the method that gave it, and the identifiability report.
 
 use super::super::html::{Cell, Section};
-use super::quantity::{quantity, with_uncertainty};
 use super::super::residuals_svg;
+use super::quantity::{quantity, with_uncertainty};
 use super::uncertainty::UncertaintyPart;
 use super::{number, CalibrationError};
 use std::path::Path;

@@ -31,8 +31,8 @@ mod volume;
 
 pub use ballbar::{section as ballbar_section, CircleInput, CirclePart, SPIKE_WIDTH_DEG};
 pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances};
-pub use conformity::{decide, DecisionRule, Item};
 pub use compensation::{CompensationPart, ControllerPart, CONTROLLER_FORMATS, GRID_NODES, POINTS};
+pub use conformity::{decide, DecisionRule, Item};
 pub use identification::{IdentificationPart, ParameterRow, UncertaintyMethod};
 pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
 pub use maps::{magnitudes_um, statistics, VolumeMap, GRID};
@@ -127,7 +127,10 @@ impl CalibrationReport<'_> {
             m.push("Identification of geometric errors from a measurement campaign on the machine's kinematic model, weighted least squares (ISO 230-1 error names; docs/identification.md)".to_string());
         }
         if self.uncertainty.is_some() {
-            m.push("Measurement uncertainty by the adaptive Monte Carlo method, JCGM 101:2008 and JCGM 102:2011 (GUM supplements 1 and 2)".to_string());
+            m.push(
+                "Measurement uncertainty by the adaptive Monte Carlo method, JCGM 101:2008 and JCGM 102:2011 (GUM supplements 1 and 2)"
+                    .to_string(),
+            );
         }
         if !self.circles.is_empty() {
             m.push("Circular tests with a ballbar, ISO 230-4:2005".to_string());
@@ -163,7 +166,15 @@ impl CalibrationReport<'_> {
             items.extend(c.conformity(&t.ballbar, rule));
         }
         if let (Some(tol), Some(v)) = (t.volumetric_um, &self.volume) {
-            items.push(Item::new("largest volumetric error |d| before compensation".into(), "volumetric", v.before_um.0, None, tol, "um", rule));
+            items.push(Item::new(
+                "largest volumetric error |d| before compensation".into(),
+                "volumetric",
+                v.before_um.0,
+                None,
+                tol,
+                "um",
+                rule,
+            ));
         }
         items
     }

@@ -3,12 +3,12 @@
 //! corrected pose by pose on the exact chain or by the compensation tables.
 
 use super::super::html::Section;
-use super::quantity::quantity;
-use trueaxis::compensate::export::residual::Applied;
 use super::compensation::CompensationPart;
 use super::maps::{magnitudes_um, statistics, VolumeMap};
+use super::quantity::quantity;
 use super::CalibrationError;
 use rayon::prelude::*;
+use trueaxis::compensate::export::residual::Applied;
 use trueaxis::compensate::{CorrectionWorkspace, Corrector};
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::{rotation_log, Mat3, Pose, Vec3};

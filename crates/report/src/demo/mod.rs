@@ -19,8 +19,8 @@ mod campaign;
 mod report;
 
 use crate::calibration::{
-    CalibrationError, CalibrationReport, CertificateFile, CirclePart, CompensationPart, IdentificationPart, InputFile, ParameterRow, Traceability,
-    UncertaintyPart, VolumePart, GRID_NODES, POINTS,
+    CalibrationError, CalibrationReport, CertificateFile, CirclePart, CompensationPart, IdentificationPart, InputFile, ParameterRow,
+    Traceability, UncertaintyPart, VolumePart, GRID_NODES, POINTS,
 };
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -181,8 +181,9 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     progress(6, STEPS, "volumetric error before and after compensation");
     let controller = compensation.controller(&machine, &identification.errors, CONTROLLER)?;
     let exported = compensation.export(&machine, &identification.errors, CONTROLLER)?;
-    let mut volume = VolumePart::compute(&machine, &truth, &identification.errors, &compensation, Some((CONTROLLER, exported.applied.as_ref())))?
-        .ok_or_else(|| CalibrationError::Computation("the built-in machine has no linear axes to map".into()))?;
+    let mut volume =
+        VolumePart::compute(&machine, &truth, &identification.errors, &compensation, Some((CONTROLLER, exported.applied.as_ref())))?
+            .ok_or_else(|| CalibrationError::Computation("the built-in machine has no linear axes to map".into()))?;
     volume.description.push(report::VOLUME_NOTE.into());
     out.write("volumetric_map.csv", volume.map.csv(&machine, &volume.before)?.as_bytes())?;
     out.write("volumetric_map.svg", volume.before_svg.as_bytes())?;

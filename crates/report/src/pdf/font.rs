@@ -70,7 +70,10 @@ impl Face {
 
     /// The glyphs of `text` as krilla places them (advances in em).
     pub fn glyphs(&self, text: &str) -> Vec<KrillaGlyph> {
-        self.glyphs_of(text).into_iter().map(|(gid, advance, range)| KrillaGlyph::new(GlyphId::new(gid), advance, 0.0, 0.0, 0.0, range, None)).collect()
+        self.glyphs_of(text)
+            .into_iter()
+            .map(|(gid, advance, range)| KrillaGlyph::new(GlyphId::new(gid), advance, 0.0, 0.0, 0.0, range, None))
+            .collect()
     }
 
     /// Height of the lower-case x above the baseline, em.

@@ -7,10 +7,10 @@ use super::font::Fonts;
 use super::svg;
 use crate::html::{Block, Cell, HtmlReport, Mark};
 use crate::ReportError;
-use krilla::color::rgb;
-use krilla::geom::{PathBuilder, Point, Rect};
 use krilla::annotation::{Annotation, LinkAnnotation, Target};
+use krilla::color::rgb;
 use krilla::destination::{Destination, XyzDestination};
+use krilla::geom::{PathBuilder, Point, Rect};
 use krilla::num::NormalizedF32;
 use krilla::outline::{Outline, OutlineNode};
 use krilla::page::PageSettings;
@@ -235,8 +235,11 @@ impl Flow<'_> {
     /// One row of cells; the row moves to the next page whole (with the header) when it does not fit.
     fn row(&mut self, cells: &[Cell], widths: &[f32], bold: bool, background: Option<(u8, u8, u8)>) -> f32 {
         let h = Self::line_height(BODY_PT);
-        let wrapped: Vec<Vec<String>> =
-            widths.iter().enumerate().map(|(k, w)| cells.get(k).map_or(Vec::new(), |c| self.wrap(&c.text, BODY_PT, bold, w - 2.0 * CELL_PAD))).collect();
+        let wrapped: Vec<Vec<String>> = widths
+            .iter()
+            .enumerate()
+            .map(|(k, w)| cells.get(k).map_or(Vec::new(), |c| self.wrap(&c.text, BODY_PT, bold, w - 2.0 * CELL_PAD)))
+            .collect();
         let height = wrapped.iter().map(Vec::len).max().unwrap_or(1).max(1) as f32 * h + 2.0 * CELL_PAD;
         let top = self.y;
         let mut x = MARGIN_PT;
@@ -313,7 +316,8 @@ impl Flow<'_> {
 
     fn fields(&mut self, fields: &[(String, String)]) {
         let rows: Vec<Vec<Cell>> = fields.iter().map(|(k, v)| vec![Cell::from(k.as_str()), Cell::from(v.as_str())]).collect();
-        let name_w = fields.iter().map(|(k, _)| self.fonts.bold.width(k, BODY_PT)).fold(0.0, f32::max).min(0.35 * TEXT_WIDTH_PT) + 2.0 * CELL_PAD;
+        let name_w =
+            fields.iter().map(|(k, _)| self.fonts.bold.width(k, BODY_PT)).fold(0.0, f32::max).min(0.35 * TEXT_WIDTH_PT) + 2.0 * CELL_PAD;
         let widths = [name_w, TEXT_WIDTH_PT - name_w];
         for r in &rows {
             let h = self.row_height(r, &widths, false);
@@ -448,6 +452,8 @@ pub fn render(report: &HtmlReport, fonts: &Fonts, pages: &Pages) -> Result<Vec<u
         outline.push_child(OutlineNode::new(title.clone(), XyzDestination::new(*p, Point::from_xy(MARGIN_PT, *y))));
     }
     document.set_outline(outline);
-    document.set_metadata(krilla::metadata::Metadata::new().title(report.title.clone()).creator(format!("trueaxis {}", env!("CARGO_PKG_VERSION"))));
+    document.set_metadata(
+        krilla::metadata::Metadata::new().title(report.title.clone()).creator(format!("trueaxis {}", env!("CARGO_PKG_VERSION"))),
+    );
     document.finish().map_err(|e| ReportError::Draw(format!("cannot write the PDF: {e:?}")))
 }
