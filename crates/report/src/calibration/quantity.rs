@@ -79,8 +79,8 @@ mod tests {
         assert_eq!(with_uncertainty(41.23, Some(0.0996), "um", 2), "41.23 ± 0.10 um");
         // no sign on a rounded zero; no U: the fallback decimals
         assert_eq!(with_uncertainty(-0.004, Some(0.21), "um", 2), "0.00 ± 0.21 um");
-        assert_eq!(with_uncertainty(3.14159, None, "deg", 2), "3.14 deg");
-        assert_eq!(with_uncertainty(3.14159, Some(0.0), "deg", 1), "3.1 deg");
+        assert_eq!(with_uncertainty(3.25049, None, "deg", 2), "3.25 deg");
+        assert_eq!(with_uncertainty(3.25049, Some(0.0), "deg", 1), "3.3 deg");
         assert_eq!(quantity(f64::NAN, 2, "um"), "- um");
     }
 }

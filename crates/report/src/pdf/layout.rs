@@ -387,6 +387,7 @@ fn fill(c: (u8, u8, u8)) -> Fill {
     Fill { paint: colour(c).into(), opacity: NormalizedF32::ONE, rule: Default::default() }
 }
 
+#[allow(clippy::too_many_arguments)] // a position, a size, a face, a colour and the text: one call per drawn line
 fn text(surface: &mut Surface, fonts: &Fonts, x: f32, y: f32, size: f32, bold: bool, c: (u8, u8, u8), t: &str) {
     let face = fonts.face(bold);
     surface.set_stroke(None);
