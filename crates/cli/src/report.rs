@@ -308,7 +308,10 @@ fn build<'a>(
             v.description.push(format!(
                 "The machine is taken to have {origin}, and the corrections are computed from them. {} How well the errors themselves are known is the uncertainty of their measurement or identification.",
                 match &args.controller {
-                    Some(c) => format!("What is left after compensation is what the {c} tables cannot represent (their interpolation between table points, the terms the format cannot carry)."),
+                    Some(c) => format!(
+                        "What is left after compensation is what the {} tables cannot represent (their interpolation between table points, the terms the format cannot carry).",
+                        trueaxis_report::calibration::controller_name(c)
+                    ),
                     None => "The exact correction leaves only the corrector's tolerance; give --controller to see what a controller's tables leave.".to_string(),
                 }
             ));

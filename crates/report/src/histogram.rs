@@ -137,7 +137,7 @@ pub struct ConvergenceSeries {
     pub unit: String,
 }
 
-/// The convergence history on a logarithmic axis with the tolerance line.
+/// The convergence history with the tolerance line.
 pub fn convergence_svg(title: &str, history: &ConvergenceSeries) -> Result<String, ReportError> {
     let all = history.series.iter().flat_map(|(_, v)| v.iter().map(|s| 2.0 * s)).chain([history.tolerance]);
     if history.sequences.is_empty() || history.series.iter().any(|(_, v)| v.len() != history.sequences.len()) {
@@ -161,14 +161,14 @@ pub fn convergence_svg(title: &str, history: &ConvergenceSeries) -> Result<Strin
             history.series.iter().enumerate().map(|(k, (name, _))| (format!("2 {name}"), Swatch::Line(style::colour(k), 3))).collect();
         entries.push(("tolerance".into(), Swatch::Line(BLACK, 2)));
         style::legend(&strip, &entries).map_err(ReportError::Draw)?;
-        // decades of the logarithmic axis, labelled with as many digits as they need
-        let (ylo, yhi) = (lo * 0.8, hi * 1.25);
+        // a linear axis from zero: the few sequences of an adaptive run span less than a decade
+        let _ = lo;
         let mut chart = ChartBuilder::on(&root)
             .margin(12)
             .margin_right(24)
             .x_label_area_size(64)
             .y_label_area_size(100)
-            .build_cartesian_2d(h0..h1, (ylo..yhi).log_scale())
+            .build_cartesian_2d(h0..h1, 0.0..hi * 1.1)
             .map_err(draw)?;
         chart
             .configure_mesh()
@@ -196,6 +196,9 @@ pub fn convergence_svg(title: &str, history: &ConvergenceSeries) -> Result<Strin
 
 /// A tick value with two significant digits (`0.05`, `0.002`, `1.5`, `20`).
 fn short(v: f64) -> String {
+    if v.abs() < 1e-12 {
+        return "0".into();
+    }
     if !(v.is_finite() && v > 0.0) {
         return String::new();
     }

@@ -153,7 +153,7 @@ const STYLE: &str =
     "body{font-family:'Liberation Sans',Arial,Helvetica,sans-serif;font-size:16px;max-width:60em;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
 h1{font-size:1.6em;margin-bottom:0.2em}h2{font-size:1.25em;border-bottom:1px solid #bbb;padding-bottom:0.2em;margin-top:2em}\
 .subtitle{color:#555}nav ol{columns:2}table{border-collapse:collapse;margin:0.8em 0;font-size:0.9em;max-width:100%}\
-caption{text-align:left;font-weight:bold;padding-bottom:0.3em}th,td{border:1px solid #ccc;padding:0.2em 0.6em;overflow-wrap:anywhere;vertical-align:top}\
+caption{text-align:left;font-weight:bold;padding-bottom:0.3em}th,td{border:1px solid #ccc;padding:0.2em 0.6em;overflow-wrap:break-word;vertical-align:top}td.long{word-break:break-all}\
 th{background:#f0f0f0}td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}\
 td.pass{background:#d9f0e3}td.fail{background:#f9d6c8;font-weight:bold}td.undecided{background:#fdf0c4}\
 table.fields th{text-align:left;width:14em}\
@@ -210,10 +210,13 @@ fn write_block(out: &mut String, block: &Block) {
             for row in rows {
                 out.push_str("<tr>");
                 for cell in row {
-                    let class = match (cell.mark, cell.is_numeric()) {
-                        (Some(m), _) => format!(" class=\"{}\"", m.class()),
-                        (None, true) => " class=\"num\"".into(),
-                        (None, false) => String::new(),
+                    // a token too long for a column (a SHA-256, a path) breaks between any characters
+                    let long = cell.text.split_whitespace().any(|w| w.chars().count() > 28);
+                    let class = match (cell.mark, cell.is_numeric(), long) {
+                        (Some(m), _, _) => format!(" class=\"{}\"", m.class()),
+                        (None, true, _) => " class=\"num\"".into(),
+                        (None, false, true) => " class=\"long\"".into(),
+                        (None, false, false) => String::new(),
                     };
                     match &cell.link {
                         Some(id) => {

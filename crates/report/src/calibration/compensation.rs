@@ -14,6 +14,20 @@ use trueaxis::compensate::{
 /// --format`): what each can represent is applied on the exact chain.
 pub const CONTROLLER_FORMATS: [&str; 7] = ["heidenhain", "siemens", "fanuc", "linuxcnc", "linuxcnc-hal", "isg", "lattice"];
 
+/// The name of a controller format as a customer reads it.
+pub fn controller_name(format: &str) -> &str {
+    match format {
+        "heidenhain" => "Heidenhain",
+        "siemens" => "Siemens 840D sl",
+        "fanuc" => "Fanuc",
+        "linuxcnc" => "LinuxCNC",
+        "linuxcnc-hal" => "LinuxCNC (HAL component)",
+        "isg" => "ISG",
+        "lattice" => "lattice",
+        other => other,
+    }
+}
+
 /// What the controller table the user chose leaves of the errors over the travel.
 pub struct ControllerPart {
     pub format: String,
@@ -158,7 +172,7 @@ impl CompensationPart {
                 ],
             );
             for l in &c.left_out {
-                s = s.note(format!("The {} format cannot carry: {l}", c.format));
+                s = s.note(format!("The {} format cannot carry: {l}", controller_name(&c.format)));
             }
         }
         if !self.files.is_empty() {

@@ -31,7 +31,7 @@ mod volume;
 
 pub use ballbar::{section as ballbar_section, CircleInput, CirclePart, SPIKE_WIDTH_DEG};
 pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances};
-pub use compensation::{CompensationPart, ControllerPart, CONTROLLER_FORMATS, GRID_NODES, POINTS};
+pub use compensation::{controller_name, CompensationPart, ControllerPart, CONTROLLER_FORMATS, GRID_NODES, POINTS};
 pub use conformity::{decide, DecisionRule, Item};
 pub use identification::{IdentificationPart, ParameterRow, UncertaintyMethod};
 pub use inputs::{sha256, utc_date_time, InputFile, Traceability};

@@ -5,6 +5,7 @@
 use super::super::html::Section;
 use super::compensation::CompensationPart;
 use super::maps::{magnitudes_um, statistics, VolumeMap};
+use super::compensation::controller_name;
 use super::quantity::quantity;
 use super::CalibrationError;
 use rayon::prelude::*;
@@ -114,7 +115,7 @@ impl VolumePart {
         let range = Some((0.0, max_b.max(max_a)));
         let before_svg = map.heatmap("Volumetric error |d| before compensation", &mb, range)?;
         let after_title = match controller {
-            Some((name, _)) => format!("|d| after compensation with the {name} tables"),
+            Some((name, _)) => format!("|d| after compensation with the {} tables", controller_name(name)),
             None => "|d| after compensation (exact correction at each pose)".to_string(),
         };
         let after_svg = map.heatmap(&after_title, &ma, range)?;
@@ -139,7 +140,10 @@ impl VolumePart {
         let at: Vec<String> = self.max_pose.iter().map(|(l, x)| format!("{l} = {x}")).collect();
         let um = |v: f64| quantity(v, 2, "um");
         let after_how = match &self.controller {
-            Some(name) => format!("with the corrections the {name} tables apply (their interpolation and the terms the format can carry), on the exact chain"),
+            Some(name) => format!(
+                "with the corrections the {} tables apply (their interpolation and the terms the format can carry), on the exact chain",
+                controller_name(name)
+            ),
             None => "with the correction of every pose solved on the exact chain, as a controller that evaluates the error model or the real-time corrector applies it".to_string(),
         };
         let mut s = Section::new("volumetric", "Volumetric error before and after compensation")
@@ -160,7 +164,7 @@ impl VolumePart {
                     vec!["before compensation".into(), um(self.before_um.0), um(self.before_um.1)],
                     vec![
                         match &self.controller {
-                            Some(name) => format!("after, {name} tables"),
+                            Some(name) => format!("after, {} tables", controller_name(name)),
                             None => "after, exact correction".into(),
                         },
                         um(self.after_um.0),

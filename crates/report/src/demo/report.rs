@@ -25,7 +25,7 @@ pub fn campaign_description(s: &Simulated) -> String {
 pub const IDENTIFIABILITY_NOTE: &str = "Identifiability: in this ISO parameterisation with the A axis tilted 45 deg, the paper's 14 link errors contain two combinations that no 3D-ball reading sees: EB0A + EC0A - EB0C - 0.15 WY (a tilt of A about its own axis is a zero offset of C, absorbed by the ball setup) and EY0C + TY + TZ + WZ (the part of a C offset along the tilted A axis is a pure translation). The campaign therefore identifies 12 parameters with EC0A = EY0C = 0; the true values are the published errors expressed in that set (the identification of noise-free readings).";
 
 pub fn circle_description() -> String {
-    format!("Simulated on the exact chain with the true errors and {NOISE_UM} um of noise, CCW then CW, R {RADIUS_MM} mm around the middle of the travel.")
+    format!("Simulated on the exact chain with the true errors and {NOISE_UM} um of noise, CCW then CW, R {RADIUS_MM} mm around the middle of the travel; the simulation is quasi-static, so the feed stated in the file adds no servo error.")
 }
 
 pub const VOLUME_NOTE: &str = "The machine has the true errors; the corrections and tables are computed from the identified errors. What remains after compensation is the error of the identification (noise and drift) and the combinations the campaign cannot see.";
