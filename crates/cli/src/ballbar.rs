@@ -1,4 +1,7 @@
-//! `trueaxis ballbar simulate|identify|iso230-4|tmbb`.
+//! `trueaxis ballbar simulate|identify|sensitivity|iso230-4|tmbb|tmbb-setup`.
+
+mod sensitivity;
+mod tmbb_setup;
 
 use crate::predict::parse_point;
 use crate::Failure;
@@ -7,16 +10,13 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
-use trueaxis::evaluate::ballbar_diagnostics::DiagnosticOptions;
-use trueaxis::evaluate::iso230_4::{evaluate, read_circular_table};
-use trueaxis::identify::pige::{
-    angle_span_deg, compensation_residual, identify_piges, repeatability, start_angle_error, DbbTrace, Piges, MIN_READINGS, MIN_SPAN_DEG,
-};
+use trueaxis::evaluate::circular_test::{cartesian_machine, centre_pose, circular_test_file, CircularTestOptions};
+use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, pige_user_value, PigeRequest};
 use trueaxis::identify::tmbb::{conditioning, differenced, fit_l2, fit_linf, observability, TmbbEstimate, TmbbSetup, UNIDENTIFIABLE};
 use trueaxis::instruments::ballbar::{
     circle_test, method_step, read_trace, sweep_angles, BallbarTest, BarLengths, CircleSpec, JiangStep, Method, Plane, RotaryPair, Rotation,
 };
-use trueaxis::machine::{Component, Machine, ParameterId};
+use trueaxis::machine::{Component, Machine};
 use trueaxis::uncertainty::{trial_rng, Distribution};
 use trueaxis_report::{circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
 
@@ -39,7 +39,10 @@ enum BallbarCommand {
     Identify(IdentifyArgs),
     #[command(name = "iso230-4")]
     Iso2304(Iso2304Args),
+    Sensitivity(sensitivity::SensitivityArgs),
     Tmbb(TmbbArgs),
+    #[command(name = "tmbb-setup")]
+    TmbbSetup(tmbb_setup::TmbbSetupArgs),
 }
 
 pub fn run(args: BallbarArgs) -> Result<(), Failure> {
@@ -47,7 +50,9 @@ pub fn run(args: BallbarArgs) -> Result<(), Failure> {
         BallbarCommand::Simulate(a) => simulate(a),
         BallbarCommand::Identify(a) => identify(a),
         BallbarCommand::Iso2304(a) => iso230_4(a),
+        BallbarCommand::Sensitivity(a) => sensitivity::run(a),
         BallbarCommand::Tmbb(a) => tmbb(a),
+        BallbarCommand::TmbbSetup(a) => tmbb_setup::run(a),
     }
 }
 
@@ -64,10 +69,7 @@ struct BarArgs {
 
 impl BarArgs {
     fn lengths(self) -> Result<BarLengths, Failure> {
-        if !(self.normal_length > 0.0 && self.extended_length > self.normal_length) {
-            return Err(Failure::input(anyhow!("--extended-length must exceed --normal-length > 0 (mm)")));
-        }
-        Ok(BarLengths { normal: self.normal_length, extended: self.extended_length })
+        bar_lengths(self.normal_length, self.extended_length).map_err(Failure::input)
     }
 }
 
@@ -100,17 +102,9 @@ struct MethodArgs {
 
 impl MethodArgs {
     fn method(self) -> Result<Method, Failure> {
-        let need = |what: &str| Failure::input(anyhow!("this --method needs {what}"));
-        Ok(match self.method {
-            MethodKind::ExtendedBar => Method::ExtendedBar,
-            MethodKind::TwoPivot => {
-                Method::TwoPivot { outer_offset: self.outer_offset.ok_or_else(|| need("--outer-offset MM (two-pivot)"))? }
-            }
-            MethodKind::FourSetup => Method::FourSetup {
-                outer: self.outer_positions.ok_or_else(|| need("--outer-positions P1,P2 (four-setup, mm)"))?,
-                inner: self.inner_positions.ok_or_else(|| need("--inner-positions P1,P2 (four-setup, mm)"))?,
-            },
-        })
+        use clap::ValueEnum;
+        let name = self.method.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default();
+        method_of(&name, self.outer_offset, self.outer_positions, self.inner_positions).map_err(Failure::input)
     }
 }
 
@@ -191,12 +185,6 @@ fn load(machine: &Path, errors: Option<&Path>) -> Result<(Machine, ErrorModel), 
         None => ErrorModel::zero(&m),
     };
     Ok((m, e))
-}
-
-/// Centre pose (user units) from x,y,z: the linear axes X, Y, Z at it, every other axis at 0.
-fn centre_pose(machine: &Machine, centre: Option<trueaxis::geometry::Vec3>) -> Vec<f64> {
-    let c = centre.unwrap_or_else(trueaxis::geometry::Vec3::zeros);
-    machine.axes().iter().map(|a| "XYZ".find(a.letter).map_or(0.0, |k| c[k])).collect()
 }
 
 /// Gaussian noise (um, standard deviation `sigma`) of one run: the ChaCha8 generator of `seed` on
@@ -363,190 +351,90 @@ fn parse_pair(text: &str) -> Result<[f64; 2], String> {
     }
 }
 
-/// User value and unit of a PIGE: um or urad.
-fn user_value(id: &ParameterId, v: f64) -> (f64, &'static str) {
-    match id {
-        ParameterId::Location { component, .. } if component.is_rotation() => (v * 1e6, "urad"),
-        _ => (v * 1e3, "um"),
-    }
-}
-
-/// A misplaced pivot (Eq. 4.1) must be small against the bar: the correction is an angle about the
-/// nominal centre, meaningless once the pivot is a sizeable part of the radius away.
-const MAX_PIVOT_OFFSET: f64 = 0.1;
-
 fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     let (m, _) = load(&a.machine, None)?;
-    let pair = RotaryPair::of_machine(&m).map_err(Failure::input)?;
     let bars = a.bars.lengths()?;
     let method = a.method.method()?;
-    if !(a.noise > 0.0 && a.noise.is_finite()) {
-        return Err(Failure::input(anyhow!("--noise must be a positive number of um, got {}", a.noise)));
-    }
     if let Some(s) = a.scale.filter(|s| !(*s > 0.0 && s.is_finite())) {
         return Err(Failure::input(anyhow!("--scale must be a positive number of um per division, got {s}")));
     }
-    for (flag, offset) in [("--pivot-offset-a", a.pivot_offset_a), ("--pivot-offset-c", a.pivot_offset_c)] {
-        if let Some([r, t]) = offset.filter(|[r, t]| r.hypot(*t) >= MAX_PIVOT_OFFSET * bars.normal) {
-            return Err(Failure::input(anyhow!(
-                "{flag} {r},{t}: the pivot is {:.3} mm from its nominal place; the start-angle correction (Eq. 4.1) is for a misplacement below {} mm ({} % of R = {} mm)",
-                r.hypot(t),
-                MAX_PIVOT_OFFSET * bars.normal,
-                MAX_PIVOT_OFFSET * 100.0,
-                bars.normal
-            )));
-        }
-    }
-    let files = [(JiangStep::A1, &a.a1), (JiangStep::A2, &a.a2), (JiangStep::C1, &a.c1), (JiangStep::C2, &a.c2)];
-    let mut steps = Vec::new();
-    for (step, path) in files {
-        let axis = if step.is_outer() { pair.outer } else { pair.inner };
-        let trace = read_trace(path, &[&axis.to_string(), "angle"]).map_err(Failure::input)?;
-        let test = method_step(&m, pair, method, step, bars, 1.0).map_err(Failure::input)?;
-        steps.push((step, path, trace, test));
-    }
-    let runs = steps[0].2.run_numbers();
-    if let Some((_, path, _, _)) = steps.iter().find(|s| s.2.run_numbers() != runs) {
-        return Err(Failure::input(anyhow!("{}: the run numbers differ from those of {}", path.display(), steps[0].1.display())));
-    }
-    let mut results: Vec<Piges> = Vec::new();
-    for &run in &runs {
-        let mut outer = Vec::new();
-        let mut inner = Vec::new();
-        for (step, path, trace, test) in &steps {
-            let (angles, dl) = trace.run(run);
-            let axis = if step.is_outer() { pair.outer } else { pair.inner };
-            check_trace(&angles)
-                .map_err(|why| Failure::input(anyhow!("{}: step {} (axis {axis}), run {run}: {why}", path.display(), step.name())))?;
-            let geometry = test.rotary.expect("rotary test");
-            let offset = if step.is_outer() { a.pivot_offset_a } else { a.pivot_offset_c };
-            let start_angle = offset.map_or(0.0, |o| start_angle_error(o[0], o[1], bars.normal));
-            let t = DbbTrace { geometry, angles, dl, bar_length: test.nominal_length, start_angle };
-            if step.is_outer() {
-                outer.push(t)
-            } else {
-                inner.push(t)
-            }
-        }
-        let piges = identify_piges(&m, pair, &outer, &inner).map_err(|e| match e {
-            trueaxis::identify::IdentifyError::Input(_) => Failure::input(e),
-            _ => Failure::computation(e),
-        })?;
-        results.push(piges);
-    }
-    let last = results.last().expect("at least one run");
-    let stats = repeatability(&results, 1e-3, (1.0f64 / 3600.0).to_radians()).map_err(Failure::computation)?;
-    // Compensation residual of the last run, per step.
-    let mut residuals = Vec::new();
-    // the plausibility warnings of the files, then those of the residuals, printed on success
-    let mut warnings: Vec<String> = steps.iter().flat_map(|s| s.2.warnings.clone()).collect();
-    for (step, path, trace, test) in &steps {
-        let (angles, dl) = trace.run(*runs.last().expect("a run"));
-        let mut t = test.clone();
-        let n = m.axis_count();
-        let axis = test.rotary.expect("rotary").axis;
-        t.poses = angles.iter().flat_map(|&q| (0..n).map(move |k| if k == axis { q } else { 0.0 })).collect();
-        t.angles = angles.clone();
-        let r = compensation_residual(&m, &t, &dl, last);
-        let rms = (r.iter().map(|v| v * v).sum::<f64>() / r.len() as f64).sqrt() * 1e3;
-        let band = (r.iter().copied().fold(f64::NEG_INFINITY, f64::max) - r.iter().copied().fold(f64::INFINITY, f64::min)) * 1e3;
-        if rms > 3.0 * a.noise {
-            warnings.push(format!(
-                "step {} ({}): the compensation residual RMS {rms:.2} um is more than 3 x the expected bar noise {} um (--noise): \
-                 the trace is not the circle of an axis line (wrong file or step, motion errors of the axis, or a loose setup)",
-                step.name(),
-                path.display(),
-                a.noise
-            ));
-        }
-        if let Some(dir) = &a.plot_dir {
+    let request = PigeRequest {
+        files: [a.a1.clone(), a.a2.clone(), a.c1.clone(), a.c2.clone()],
+        method,
+        bars,
+        pivot_offset_outer: a.pivot_offset_a,
+        pivot_offset_inner: a.pivot_offset_c,
+        noise_um: a.noise,
+    };
+    let report = identify_pige_files(&m, &request).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
+    let last = report.last();
+    if let Some(dir) = &a.plot_dir {
+        for s in &report.steps {
             std::fs::create_dir_all(dir).map_err(|e| Failure::input(anyhow!("{}: cannot create: {e}", dir.display())))?;
-            let raw: Vec<f64> = dl.iter().map(|v| v * 1e3).collect();
-            let comp: Vec<f64> = r.iter().map(|v| v * 1e3).collect();
+            let raw: Vec<f64> = s.dl.iter().map(|v| v * 1e3).collect();
+            let comp: Vec<f64> = s.residual.iter().map(|v| v * 1e3).collect();
             let lines: Vec<String> = last
                 .values
                 .iter()
                 .map(|(id, v)| {
-                    let (u, unit) = user_value(id, *v);
+                    let (u, unit) = pige_user_value(id, *v);
                     format!("{id} = {u:+.3} {unit}")
                 })
-                .chain([format!("compensated: RMS {rms:.3} um, band {band:.3} um")])
+                .chain([format!("compensated: RMS {:.3} um, band {:.3} um", s.rms_um, s.band_um)])
                 .collect();
-            let (u1, u2) = plane_labels(&test.rotary.expect("rotary"));
+            let (u1, u2) = plane_labels(&s.geometry);
             let svg = polar_svg(&PolarPlot {
-                title: &format!("seed 001 step {}: {}", step.name(), path.display()),
+                title: &format!("seed 001 step {}: {}", s.step.name(), s.path.display()),
                 axes: (&u1, &u2),
                 series: vec![
-                    PolarSeries { label: "raw".into(), angles: &angles, dl_um: &raw },
-                    PolarSeries { label: "compensated (identified PIGEs removed)".into(), angles: &angles, dl_um: &comp },
+                    PolarSeries { label: "raw".into(), angles: &s.angles, dl_um: &raw },
+                    PolarSeries { label: "compensated (identified PIGEs removed)".into(), angles: &s.angles, dl_um: &comp },
                 ],
                 um_per_division: a.scale,
                 lines: &lines,
                 conditions: &[],
             })
             .map_err(Failure::computation)?;
-            write_atomically(&dir.join(format!("{}.svg", step.name())), svg.as_bytes()).map_err(Failure::input)?;
+            write_atomically(&dir.join(format!("{}.svg", s.step.name())), svg.as_bytes()).map_err(Failure::input)?;
         }
-        residuals.push((step.name(), rms, band));
     }
-    for w in &warnings {
+    for w in &report.warnings {
         eprintln!("trueaxis: warning: {w}");
     }
-    let repeated = runs.len() > 1;
     if a.json {
-        let mut params = serde_json::Map::new();
-        for ((id, v), (_, mean, sd)) in last.values.iter().zip(&stats.parameters) {
-            let (u, unit) = user_value(id, *v);
-            let sd = repeated.then(|| round(user_value(id, *sd).0, 4));
-            params
-                .insert(id.to_string(), json!({"value": round(u, 4), "unit": unit, "mean": round(user_value(id, *mean).0, 4), "std": sd}));
-        }
-        let comp: Vec<_> =
-            residuals.iter().map(|(s, rms, band)| json!({"step": s, "rms_um": round(*rms, 4), "band_um": round(*band, 4)})).collect();
-        let metadata: serde_json::Map<String, serde_json::Value> =
-            steps.iter().map(|(step, _, trace, _)| (step.name().to_string(), trace.metadata.to_json())).collect();
-        let doc = json!({"machine": m.name, "method": method.name(), "runs": runs.len(), "parameters": params,
-            "repeatability_ok": repeated.then_some(stats.within_tolerance), "compensation_residual": comp, "warnings": warnings,
-            "metadata": metadata});
-        return print(&format!("{doc}\n"));
+        return print(&format!("{}\n", report.to_json()));
     }
+    let repeated = report.repeated();
+    let single_u = &report.single_u;
     let mut out = format!(
         "PIGEs of {} (seed 001 ch. {}, {} method, {} run(s)); D = {:.3} mm\n",
         m.name,
         method.chapter(),
         method.name(),
-        runs.len(),
+        report.runs.len(),
         bars.extended_offset()
     );
-    for (id, mean, sd) in &stats.parameters {
-        let (u, unit) = user_value(id, *mean);
-        let (s, _) = user_value(id, *sd);
+    for (k, (id, mean, sd)) in report.stats.parameters.iter().enumerate() {
+        let (u, unit) = pige_user_value(id, *mean);
+        let (s, _) = pige_user_value(id, *sd);
         let arcsec = if unit == "urad" { format!("  ({:+.2}\")", u / 1e6 * 180.0 / std::f64::consts::PI * 3600.0) } else { String::new() };
-        let spread = if repeated { format!(" ± {s:.3} (sd)") } else { String::new() };
+        let spread = match (repeated, single_u) {
+            (true, _) => format!(" ± {s:.3} (sd of the runs)"),
+            (false, Some(su)) => format!(" ± {:.3} (u)", pige_user_value(id, su[k]).0),
+            (false, None) => String::new(),
+        };
         out.push_str(&format!("  {id}  {u:+10.3} {unit}{spread}{arcsec}\n"));
     }
     if repeated {
-        out.push_str(&format!("repeatability within 1 um / 1 arcsec: {}\n", if stats.within_tolerance { "yes" } else { "no" }));
+        out.push_str(&format!("repeatability within 1 um / 1 arcsec: {}\n", if report.stats.within_tolerance { "yes" } else { "no" }));
+    } else if single_u.is_some() {
+        out.push_str("u: standard uncertainty from the scatter of each trace about its circle, propagated to the PIGEs (one run)\n");
     }
     out.push_str("simulated compensation residual (last run):\n");
-    for (s, rms, band) in &residuals {
-        out.push_str(&format!("  {s}: RMS {rms:.3} um, band {band:.3} um\n"));
+    for s in &report.steps {
+        out.push_str(&format!("  {}: RMS {:.3} um, band {:.3} um\n", s.step.name(), s.rms_um, s.band_um));
     }
     print(&out)
-}
-
-/// A step's trace must hold enough of a circle for the fit: `MIN_READINGS` readings over at least
-/// `MIN_SPAN_DEG` of rotation (`identify::pige`).
-fn check_trace(angles: &[f64]) -> Result<(), String> {
-    let span = angle_span_deg(angles);
-    if angles.len() < MIN_READINGS || span < MIN_SPAN_DEG {
-        return Err(format!(
-            "{} readings over {span:.1} deg of rotation; a circle fit needs at least {MIN_READINGS} readings over at least {MIN_SPAN_DEG} deg \
-             (is this the file of this step?)",
-            angles.len()
-        ));
-    }
-    Ok(())
 }
 
 fn plane_labels(g: &trueaxis::instruments::ballbar::RotaryGeometry) -> (String, String) {
@@ -599,59 +487,33 @@ pub struct Iso2304Args {
     json: bool,
 }
 
-/// The machine used without --machine: X, Y, Z all on the tool side, tool point at the origin.
-const CARTESIAN: &str = "name = \"Cartesian XYZ (all slides carry the tool)\"\nstructure = \"wbXYZt\"\n[axes]\n\
-X = { kind = \"linear\", direction = [1, 0, 0], range = [-5000, 5000] }\n\
-Y = { kind = \"linear\", direction = [0, 1, 0], range = [-5000, 5000] }\n\
-Z = { kind = \"linear\", direction = [0, 0, 1], range = [-5000, 5000] }\n[tool]\npoint = [0, 0, 0]\n";
-
 fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
     let m = match &a.machine {
         Some(p) => Machine::load(p).map_err(Failure::input)?,
-        None => Machine::from_toml_str(CARTESIAN, "built-in Cartesian machine").map_err(Failure::computation)?,
+        None => cartesian_machine(),
     };
-    for (option, v) in [("--feed", a.feed), ("--pitch", a.pitch), ("--spike-width", Some(a.spike_width))] {
-        if let Some(v) = v.filter(|v| !(*v > 0.0 && v.is_finite())) {
-            return Err(Failure::input(anyhow!("{option} must be a positive number, got {v}")));
-        }
-    }
-    let centre = centre_pose(&m, a.centre);
-    let name = a.file.display().to_string();
-    let table = trueaxis::data::CsvTable::read(&a.file).map_err(Failure::input)?;
-    let header = trueaxis::instruments::ballbar::ballbar_header(&table).map_err(Failure::input)?;
-    let radius = a.radius.or(header.radius_mm).ok_or_else(|| {
-        Failure::input(anyhow!("{name}: give the nominal radius (--radius MM, the bar length); the file does not state it"))
-    })?;
-    let plane = match (a.plane, header.plane) {
-        (Some(p), _) => p,
-        (None, Some(p)) => Plane::parse(p).unwrap_or(Plane::Xy),
-        (None, None) => Plane::Xy,
+    let options = CircularTestOptions {
+        plane: a.plane,
+        radius_mm: a.radius,
+        centre_mm: a.centre,
+        feed_mm_per_min: a.feed,
+        pitch_mm: a.pitch,
+        spike_width_deg: a.spike_width,
     };
-    let file = read_circular_table(&table, &name, &m, plane, radius, &centre).map_err(|e| {
-        if e.is_input() {
-            Failure::input(e)
-        } else {
-            Failure::computation(e)
-        }
-    })?;
-    let runs = file.runs;
+    let test =
+        circular_test_file(&a.file, &m, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
+    let (plane, radius, file, result) = (test.plane, test.radius_mm, &test.file, &test.result);
+    let runs = &file.runs;
     let (ia, ib, _) = plane.letters();
-    let ca = m.axis_index(ia).map_or(0.0, |k| centre[k]);
-    let cb = m.axis_index(ib).map_or(0.0, |k| centre[k]);
-    let options =
-        DiagnosticOptions { plane, radius, centre: [ca, cb], pitch: a.pitch, spike_width: a.spike_width.to_radians(), feed: a.feed };
-    let result = evaluate(&m, &runs, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
     crate::iso230_2::warn(&file.warnings);
     let lines = result.summary_lines();
     if let Some(path) = &a.plot {
         let title = format!("ISO 230-4 circular test, {} plane, R {} mm: {}", plane.name(), radius, a.file.display());
-        let svg = circular_runs_svg(&title, (&format!("+{ia}"), &format!("+{ib}")), &runs, a.scale, &lines).map_err(Failure::input)?;
+        let svg = circular_runs_svg(&title, (&format!("+{ia}"), &format!("+{ib}")), runs, a.scale, &lines).map_err(Failure::input)?;
         write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
     }
     if a.json {
-        let mut doc = result.to_json();
-        doc["metadata"] = file.metadata.to_json();
-        return print(&format!("{doc}\n"));
+        return print(&format!("{}\n", test.to_json()));
     }
     let mut out = format!("ISO 230-4 circular test: {} ({} plane, R = {} mm, {})\n", a.file.display(), plane.name(), radius, m.name);
     for l in file.metadata.lines() {

@@ -1,13 +1,10 @@
 //! `trueaxis compensate`.
 
 use crate::Failure;
-use std::path::{Path, PathBuf};
-use trueaxis::compensate::export::{
-    self, fanuc::FanucLimits, linuxcnc::CompType, siemens::SiemensLimits, Coverage, Export, ExportInput, ExportedFile, Limits,
-};
-use trueaxis::compensate::{axis_tables, residual_of_format, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, TableSpec};
-use trueaxis::data::{read_poses, write_atomically, PoseTable};
-use trueaxis::errors::{ErrorModel, MachineState};
+use std::path::PathBuf;
+use trueaxis::compensate::export::Limits;
+use trueaxis::compensate::{compensation, sensor_index, CompensateError, CompensationRequest, Corrector, ExportFormat, FormatOptions};
+use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -31,6 +28,12 @@ enum Format {
     Csv,
     /// Plain JSON: compensation.json.
     Json,
+}
+
+/// The command-line name of a format (`linuxcnc-hal`, ...), as the library parses it.
+fn format_name(format: Format) -> String {
+    use clap::ValueEnum;
+    format.to_possible_value().map(|v| v.get_name().to_string()).unwrap_or_default()
 }
 
 /// Compensation tables for a controller: corrections (added to the axis set-points) that cancel the
@@ -90,8 +93,9 @@ pub struct CompensateArgs {
     /// Name of the HAL component (linuxcnc-hal).
     #[arg(long, default_value = "trueaxis_comp")]
     hal_component: String,
-    /// Temperature of a sensor of the error model, `T:name=degC` (repeatable; default 20 degC).
-    #[arg(long = "temperature")]
+    /// Temperature of a sensor of the error model, `T:name=degC` (repeatable; default 20 degC), or
+    /// any other input (`--input S:spindle=3000`, `F:workpiece=3500`; default 0).
+    #[arg(long = "temperature", visible_alias = "input")]
     temperatures: Vec<String>,
     /// Also correct the poses of this CSV (axis columns; `dir:<axis>` and `T:<sensor>` columns are
     /// used per pose) and write corrections.csv.
@@ -126,7 +130,7 @@ pub fn parse_axis_values(machine: &Machine, text: &str, what: &str) -> Result<Ve
 
 /// Sensor temperatures from `T:name=value` options, in the model's order (20 degC when not given).
 pub fn parse_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<f64>, Failure> {
-    Ok(given_temperatures(errors, given)?.into_iter().map(|t| t.unwrap_or(20.0)).collect())
+    Ok(given_temperatures(errors, given)?.into_iter().zip(errors.input_references()).map(|(t, r)| t.unwrap_or(*r)).collect())
 }
 
 /// Sensor temperatures from `T:name=value` options, in the model's order (`None`: not given).
@@ -134,12 +138,7 @@ fn given_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<Optio
     let mut values = vec![None; errors.sensors().len()];
     for g in given {
         let (name, value) = g.rsplit_once('=').ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}` is not T:name=degC")))?;
-        let i = errors.sensors().iter().position(|s| s == name).ok_or_else(|| {
-            Failure::input(anyhow::anyhow!(
-                "--temperature: the error model has no sensor `{name}` (sensors: {})",
-                errors.sensors().join(", ")
-            ))
-        })?;
+        let i = sensor_index(errors, name).map_err(failure)?;
         values[i] = Some(
             value
                 .trim()
@@ -173,95 +172,27 @@ pub fn failure(e: CompensateError) -> Failure {
 pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
-    let given = given_temperatures(&errors, &args.temperatures)?;
-    let temperatures: Vec<f64> = given.iter().map(|t| t.unwrap_or(20.0)).collect();
+    let temperatures = given_temperatures(&errors, &args.temperatures)?;
     let reference = args.reference.as_deref().map(|r| parse_axis_values(&machine, r, "--reference")).transpose()?;
     let limits = limits(args.limit_um, args.limit_urad)?;
+    let options = FormatOptions {
+        comp_type: args.comp_type,
+        max_lattice_points: args.max_lattice_points,
+        max_table_points: args.max_table_points,
+        max_cec_tables: args.max_cec_tables,
+        hal_component: args.hal_component.clone(),
+    };
+    let format = ExportFormat::parse(&format_name(args.format), &options).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
+    let request =
+        CompensationRequest { format, points: args.points, grid: args.grid, reference, limits, temperatures, poses: args.poses.clone() };
     let corrector = Corrector::new(&machine, &errors);
-    let spec = TableSpec { points: args.points, reference, temperatures: temperatures.clone() };
-    let tables = axis_tables(&corrector, &spec).map_err(failure)?;
-    let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
-    let wants_grid =
-        matches!(args.format, Format::Lattice) || (matches!(args.format, Format::Csv | Format::Json | Format::LinuxcncHal) && has_xyz);
-    let grid = if wants_grid { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
-    let input = ExportInput { machine: &machine, errors: &errors, tables: &tables, grid: grid.as_ref(), limits };
-    let siemens = SiemensLimits {
-        max_points: args.max_table_points.unwrap_or(SiemensLimits::default().max_points),
-        max_cec_tables: args.max_cec_tables.unwrap_or(SiemensLimits::default().max_cec_tables),
-    };
-    let fanuc = FanucLimits {
-        max_points_per_axis: args.max_table_points.unwrap_or(FanucLimits::default().max_points_per_axis),
-        ..FanucLimits::default()
-    };
-    let exported: Option<Export> = match args.format {
-        Format::Linuxcnc => Some(export::linuxcnc::export(&input, if args.comp_type == 0 { CompType::Positions } else { CompType::Trims })),
-        Format::LinuxcncHal => Some(export::linuxcnc_hal::export(&input, &args.hal_component)),
-        Format::Isg => Some(export::isg::export(&input)),
-        Format::Heidenhain => Some(export::heidenhain::export(&input)),
-        Format::Siemens => Some(export::siemens::export(&input, siemens)),
-        Format::Fanuc => Some(export::fanuc::export(&input, fanuc)),
-        Format::Lattice => Some(export::lattice::export(&input, args.max_lattice_points)),
-        Format::Csv | Format::Json => None,
-    }
-    .transpose()
-    .map_err(failure)?;
-    let mut files: Vec<ExportedFile> = match (&exported, args.format) {
-        (Some(e), _) => e.files.clone(),
-        (None, Format::Csv) => export::plain::export_csv(&input).map_err(failure)?,
-        (None, _) => export::plain::to_json(&input)
-            .map(|doc| vec![ExportedFile { name: "compensation.json".into(), contents: format!("{doc:#}\n") }])
-            .map_err(failure)?,
-    };
-    // what the controller format leaves: its corrections applied over the travel, on the exact chain
-    let residual = match &exported {
-        Some(e) => Some(residual_of_format(&corrector, &temperatures, e.applied.as_ref()).map_err(failure)?),
-        None => None,
-    };
-    let left_out: Vec<String> = exported.as_ref().map_or_else(Vec::new, |e| e.left_out.clone());
-    let mut pose_summary = None;
-    if let Some(path) = &args.poses {
-        let (file, summary) = correct_poses(&machine, &corrector, path, &given)?;
-        files.push(file);
-        pose_summary = Some(summary);
-    }
-    let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
-    refuse_foreign_files(&args.out, &names)?;
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create the output directory: {e}", args.out.display())))?;
-    write_all(&args.out, &files)?;
-    // the summary covers what the format writes: LinuxCNC and Fanuc the own-axis tables, the lattice
-    // its grid, CSV / JSON and the HAL component tables and grid, the others all tables
-    let coverage = match args.format {
-        Format::Linuxcnc | Format::Fanuc => Coverage::OWN_AXIS_TABLES,
-        Format::Isg | Format::Heidenhain | Format::Siemens => Coverage::TABLES,
-        Format::Lattice => Coverage::GRID,
-        Format::Csv | Format::Json | Format::LinuxcncHal => Coverage::TABLES_AND_GRID,
-    };
-    let extent = export::largest_corrections(&input, coverage);
+    let job = compensation(&corrector, &request).map_err(failure)?;
+    job.write(&args.out).map_err(failure)?;
+    let (files, names, tables, grid, extent, left_out, residual) =
+        (&job.files, job.file_names(), &job.tables, &job.grid, &job.extent, &job.left_out, &job.residual);
     let largest = |rotary: bool| if rotary { extent.max_urad } else { extent.max_um };
     if args.json {
-        let doc = serde_json::json!({
-            "out": args.out.display().to_string(),
-            "files": names,
-            "tables": tables.tables.len(),
-            "points": args.points,
-            "max_correction_um": round(largest(false)),
-            "max_correction_urad": round(largest(true)),
-            "worst_residual_um": round(extent.worst_residual_mm * 1e3),
-            "worst_uncorrectable_urad": round(extent.worst_uncorrectable_rad * 1e6),
-            "left_out": left_out,
-            "format_residual": residual.as_ref().map(|r| serde_json::json!({
-                "worst_um": round(r.worst_um),
-                "rms_um": round(r.rms_um),
-                "worst_pose": machine.axes().iter().zip(&r.worst_pose).map(|(a, v)| (a.letter.to_string(), serde_json::json!(round(*v)))).collect::<serde_json::Map<_, _>>(),
-                "worst_state": r.worst_state,
-                "error_there_um": round(r.error_there_um),
-                "worst_error_um": round(r.worst_error_um),
-                "samples": r.samples,
-            })),
-            "poses": pose_summary,
-        });
-        println!("{doc}");
+        println!("{}", job.to_json(&machine, &args.out.display().to_string(), args.points));
     } else {
         println!("wrote {} file(s) to {}: {}", files.len(), args.out.display(), names.join(" "));
         println!(
@@ -277,10 +208,10 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
             extent.worst_residual_mm * 1e3,
             extent.worst_uncorrectable_rad * 1e6
         );
-        for l in &left_out {
+        for l in left_out {
             println!("not carried by this format: {l}");
         }
-        if let Some(r) = &residual {
+        if let Some(r) = residual {
             let at: Vec<String> =
                 machine.axes().iter().zip(&r.worst_pose).map(|(a, v)| format!("{}={}", a.letter, (v * 1e3).round() / 1e3)).collect();
             println!(
@@ -295,124 +226,9 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
                 r.worst_error_um
             );
         }
-        if let Some(s) = pose_summary {
+        if let Some(s) = &job.poses {
             println!("poses: {s}");
         }
     }
     Ok(())
-}
-
-fn round(v: f64) -> f64 {
-    (v * 1e4).round() / 1e4
-}
-
-/// Writes every file into `out` (each through a temporary and a rename); when one fails, the files
-/// already written by this call are put back as they were (removed, or their old contents
-/// restored), so that a multi-file output is written whole or not at all.
-fn write_all(out: &Path, files: &[ExportedFile]) -> Result<(), Failure> {
-    let mut done: Vec<(PathBuf, Option<Vec<u8>>)> = Vec::new();
-    for f in files {
-        let path = out.join(&f.name);
-        let old = std::fs::read(&path).ok();
-        if let Err(e) = write_atomically(&path, f.contents.as_bytes()) {
-            for (p, previous) in done.iter().rev() {
-                let _ = match previous {
-                    Some(bytes) => write_atomically(p, bytes).map_err(|_| ()),
-                    None => std::fs::remove_file(p).map_err(|_| ()),
-                };
-            }
-            return Err(Failure::input(anyhow::anyhow!("{e}; nothing was written")));
-        }
-        done.push((path, old));
-    }
-    Ok(())
-}
-
-/// Refuses to write into `out` when it holds files other than `names` (a run with another format or
-/// without `--poses` would otherwise leave stale tables next to the new ones).
-fn refuse_foreign_files(out: &Path, names: &[&str]) -> Result<(), Failure> {
-    let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
-    let mut foreign: Vec<String> = entries
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| !names.contains(&n.as_str()))
-        .collect();
-    if foreign.is_empty() {
-        return Ok(());
-    }
-    foreign.sort();
-    Err(Failure::input(anyhow::anyhow!(
-        "{}: the output directory holds files this run does not write ({}); use an empty or new directory so that tables of \
-         different runs do not mix; nothing was written",
-        out.display(),
-        foreign.join(" ")
-    )))
-}
-
-/// Temperatures of every pose (degC, the model's sensors per pose): a sensor's `T:<name>` column of
-/// the poses file, else its `--temperature` value; an error names a sensor that has neither.
-fn pose_temperatures(errors: &ErrorModel, poses: &PoseTable, given: &[Option<f64>], path: &Path) -> Result<Vec<f64>, Failure> {
-    let columns = errors
-        .sensors()
-        .iter()
-        .zip(given)
-        .map(|(sensor, given)| match (poses.temperatures.iter().find(|(name, _)| name == sensor), given) {
-            (Some((_, column)), _) => Ok(column.clone()),
-            (None, Some(t)) => Ok(vec![*t; poses.len()]),
-            (None, None) => Err(Failure::input(anyhow::anyhow!(
-                "{}: missing column `{sensor}` (degC) needed by the error model; add it or give --temperature {sensor}=degC",
-                path.display()
-            ))),
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok((0..poses.len()).flat_map(|i| columns.iter().map(move |c| c[i])).collect())
-}
-
-/// Corrections of every pose of a CSV, each in its state (the `dir:<axis>` and `T:<sensor>` columns):
-/// `corrections.csv` with the axis columns, `d<axis>` (um or urad), the error before and the residual
-/// after (um), the orientation not corrected (urad).
-fn correct_poses(
-    machine: &Machine,
-    corrector: &Corrector,
-    path: &Path,
-    given_temperatures: &[Option<f64>],
-) -> Result<(ExportedFile, serde_json::Value), Failure> {
-    let poses = read_poses(path, machine).map_err(Failure::input)?;
-    let temperatures = pose_temperatures(corrector.errors, &poses, given_temperatures, path)?;
-    let sensors = corrector.errors.sensors().len();
-    let n = machine.axis_count();
-    let internal = poses.internal(machine);
-    let mut ws = CorrectionWorkspace::new(machine);
-    let mut header: Vec<String> = machine.axes().iter().map(|a| a.letter.to_string()).collect();
-    header.extend(machine.axes().iter().map(|a| format!("d{}", a.letter)));
-    header.extend(["error_um", "residual_um", "uncorrectable_urad"].map(String::from));
-    let mut text = header.join(",") + "\n";
-    let (mut worst_error, mut worst_residual, mut worst_orientation) = (0.0f64, 0.0f64, 0.0f64);
-    for (i, q) in internal.chunks(n).enumerate() {
-        let directions = poses.directions.as_ref().map(|d| &d[i * n..(i + 1) * n]);
-        let state = MachineState { directions, temperatures: &temperatures[i * sensors..(i + 1) * sensors] };
-        let c = corrector.correct_state(q, &state, &mut ws);
-        if !c.converged {
-            return Err(Failure::computation(anyhow::anyhow!(
-                "{}: line {}: the correction did not converge",
-                path.display(),
-                poses.lines[i]
-            )));
-        }
-        let mut row: Vec<String> = poses.user[i * n..(i + 1) * n].iter().map(|v| format!("{v}")).collect();
-        row.extend((0..n).map(|k| format!("{:.4}", export::to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])))));
-        let (e, r, o) = (c.original_position.norm() * 1e3, c.residual_position.norm() * 1e3, c.uncorrectable_orientation.norm() * 1e6);
-        row.extend([format!("{e:.4}"), format!("{r:.6}"), format!("{o:.3}")]);
-        text += &(row.join(",") + "\n");
-        worst_error = worst_error.max(e);
-        worst_residual = worst_residual.max(r);
-        worst_orientation = worst_orientation.max(o);
-    }
-    let summary = serde_json::json!({
-        "count": poses.len(),
-        "max_error_um": round(worst_error),
-        "max_residual_um": round(worst_residual),
-        "max_uncorrectable_urad": round(worst_orientation),
-    });
-    Ok((ExportedFile { name: "corrections.csv".into(), contents: text }, summary))
 }

@@ -1,4 +1,6 @@
-//! `trueaxis design trajectory|simulate|optimal`: planning indirect measurements.
+//! `trueaxis design trajectory|simulate|steady|optimal`: planning indirect measurements.
+
+mod steady;
 
 use crate::predict::parse_point;
 use crate::Failure;
@@ -6,12 +8,14 @@ use std::path::PathBuf;
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::Vec3;
-use trueaxis::identify::{measurement_csv, simulate_campaign, Campaign, CandidateSet, Criterion, IdentifyError};
+use trueaxis::identify::{criteria_units, CriteriaUnits};
+use trueaxis::identify::{measurement_csv, optimal_design_json, simulate_campaign, Campaign, CampaignCandidates, Criterion, IdentifyError};
 use trueaxis::instruments::{ball_trajectory, Sweep, TrajectoryError};
 use trueaxis::machine::Machine;
 use trueaxis::model::Setup;
 
-/// Plan indirect measurements: 3D-ball trajectories, simulated campaign data, optimal designs.
+/// Plan indirect measurements: 3D-ball trajectories, simulated campaign data, steady readings from a
+/// recording, optimal designs.
 #[derive(clap::Args)]
 #[command(after_help = "Examples (see `trueaxis design <command> --help`):\n  \
 trueaxis design trajectory --machine examples/machines/kx8five.toml --work-point 150,0,100 --sweep A=0:120 --sweep C=0:1440 --count 807\n  \
@@ -25,6 +29,7 @@ pub struct DesignArgs {
 enum DesignCommand {
     Trajectory(TrajectoryArgs),
     Simulate(SimulateArgs),
+    Steady(steady::SteadyArgs),
     Optimal(OptimalArgs),
 }
 
@@ -92,6 +97,9 @@ trueaxis design optimal --machine examples/machines/kx8five.toml \\\n      \
 Criteria (all minimised, sigma-weighted rows, n = count): d = det(n M^-1)^(1/p), a = trace(n M^-1)/p,\n\
 e = largest eigenvalue of n M^-1, g = largest n trace(X_r M^-1 X_r^T) over the candidate records r\n\
 (the summed prediction variance of a record's readings; p at a D-optimal approximate design).\n\
+Units: rows weighted by 1/sigma (sigma in um), unknowns in their own units (um, urad, um/mm^k):\n\
+d in (u_1^2 ... u_p^2)^(1/p), a and e in u^2 when all units agree, g dimensionless; the output\n\
+also gives the values in seed 000's units (mm, rad, sigma = 1 mm), see docs/identification.md.\n\
 A candidate set or a design that cannot determine every unknown is an error naming the unseen\n\
 combinations (exit 1); --count too small to hold p readings is bad input (exit 2).")]
 struct OptimalArgs {
@@ -129,6 +137,7 @@ pub fn run(args: DesignArgs) -> Result<(), Failure> {
     match args.command {
         DesignCommand::Trajectory(a) => trajectory(a),
         DesignCommand::Simulate(a) => simulate(a),
+        DesignCommand::Steady(a) => steady::run(a),
         DesignCommand::Optimal(a) => optimal(a),
     }
 }
@@ -183,30 +192,8 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let campaign = Campaign::load(&args.campaign, &machine).map_err(identify_failure)?;
     let nominal = campaign.nominal_errors(&machine).map_err(identify_failure)?;
-    // the design matrix needs readings only for its observations; planned campaigns have none yet
-    let mut planned = campaign.clone();
-    for m in &mut planned.measurements {
-        if m.readings.is_none() {
-            m.readings = Some(vec![0.0; m.records() * m.instrument.channels().len()]);
-        }
-    }
-    let design = planned.design_matrix(&machine, &nominal).map_err(identify_failure)?;
-    let mut blocks: Vec<(usize, usize, Vec<usize>)> = Vec::new();
-    for (row, record) in design.records.iter().enumerate() {
-        match blocks.last_mut() {
-            Some((m, r, rows)) if (*m, *r) == *record => rows.push(row),
-            _ => blocks.push((record.0, record.1, vec![row])),
-        }
-    }
-    let candidates = blocks
-        .iter()
-        .map(|(_, _, rows)| {
-            nalgebra::DMatrix::from_fn(rows.len(), design.matrix.ncols(), |i, j| design.matrix[(rows[i], j)] / design.sigma_um[rows[i]])
-        })
-        .collect();
-    let set = CandidateSet::new(candidates)
-        .map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", args.campaign.display())))?
-        .with_names(&design.names, &design.units);
+    let candidates = CampaignCandidates::new(&campaign, &machine, &nominal).map_err(identify_failure)?;
+    let set = &candidates.set;
     // a design that cannot determine every unknown is a failed computation (exit 1), named like
     // `identify` names it; a --count too small for the unknowns is bad input (exit 2)
     let in_campaign = |e: IdentifyError| match e {
@@ -220,39 +207,10 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     let all: Vec<usize> = (0..set.len()).collect();
     let full = set.criteria(&all).map_err(in_campaign)?;
     if let Some(path) = &args.out {
-        let letters: Vec<String> = machine.axes().iter().map(|a| a.letter.to_string()).collect();
-        let mut text = format!("measurement,line,{}\n", letters.join(","));
-        for &c in &chosen {
-            let (mi, r, _) = &blocks[c];
-            let m = &campaign.measurements[*mi];
-            let k = m.instrument.poses_per_record();
-            let n = machine.axis_count();
-            let pose = &m.poses[r * k * n..r * k * n + n];
-            text += &format!("{},{},{}\n", m.name, m.lines[*r], pose.iter().map(|v| v.to_string()).collect::<Vec<_>>().join(","));
-        }
-        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+        write_atomically(path, candidates.chosen_csv(&campaign, &machine, &chosen).as_bytes()).map_err(Failure::input)?;
     }
-    let criteria_json = |c: &trueaxis::identify::DesignCriteria| {
-        serde_json::json!({"d": c.d, "a": c.a, "e": c.e, "g": c.g, "average_variance": c.average_variance,
-                           "max_reading_variance": c.max_reading_variance})
-    };
-    let records: Vec<serde_json::Value> = chosen
-        .iter()
-        .map(|&c| {
-            let (mi, r, _) = &blocks[c];
-            serde_json::json!({"measurement": campaign.measurements[*mi].name, "line": campaign.measurements[*mi].lines[*r]})
-        })
-        .collect();
+    let doc = optimal_design_json(&campaign, &candidates, args.criterion, args.count, &chosen, &criteria, &full);
     if args.json {
-        let doc = serde_json::json!({
-            "criterion": format!("{:?}", args.criterion).to_lowercase(),
-            "count": args.count,
-            "parameters": design.names,
-            "chosen": records,
-            "criteria": criteria_json(&criteria),
-            "all_candidates": criteria_json(&full),
-            "candidates": set.len(),
-        });
         return crate::identify::print(&format!("{doc}\n"));
     }
     let mut text = format!(
@@ -260,7 +218,7 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
         args.criterion,
         args.count,
         set.len(),
-        design.names.len()
+        candidates.parameters.len()
     );
     let line = |c: &trueaxis::identify::DesignCriteria| {
         format!("D {:.4e}  A {:.4e}  E {:.4e}  G {:.4}  (max reading variance {:.4})", c.d, c.a, c.e, c.g, c.max_reading_variance)
@@ -269,12 +227,32 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     text += &format!("  all {:>5}:  {}  (n = {})\n", set.len(), line(&full), set.len());
     text += &format!(
         "  (G: largest summed prediction variance of one record's readings over the candidates; p = {} at a D-optimal design)\n",
-        design.names.len()
+        candidates.parameters.len()
     );
+    text += &units_text(&candidates.parameters, &candidates.units, &criteria_units(&candidates.units), &criteria);
     text += "records (measurement:line):";
-    for r in &records {
+    for r in doc["chosen"].as_array().into_iter().flatten() {
         text += &format!(" {}:{}", r["measurement"].as_str().unwrap_or(""), r["line"]);
     }
     text.push('\n');
     crate::identify::print(&text)
+}
+
+/// The units the criteria are computed in, and their values in seed 000's units (`design_units`).
+fn units_text(names: &[String], units: &[String], u: &CriteriaUnits, chosen: &trueaxis::identify::DesignCriteria) -> String {
+    let list: Vec<String> = names.iter().zip(units).map(|(n, u)| format!("{n} {u}")).collect();
+    let mut text = format!(
+        "  units: rows weighted by 1/sigma (sigma in um), unknowns in {}: D in {}; A, E in {}; G dimensionless (over sigma^2)\n",
+        list.join(", "),
+        u.d,
+        u.a_e.as_deref().unwrap_or("mixed units (the unknowns' units differ)")
+    );
+    if let Some(f) = u.d_to_seed000 {
+        text += &format!(
+            "  in seed 000's units (mm, rad, sigma = 1 in mm): D x {f:.4e} = {:.4e}{}\n",
+            f * chosen.d,
+            u.a_e_to_seed000.map_or(String::new(), |g| format!(", A x {g:.4e} = {:.4e}, E x {g:.4e} = {:.4e}", g * chosen.a, g * chosen.e))
+        );
+    }
+    text
 }

@@ -2,10 +2,11 @@
 
 use crate::Failure;
 use std::path::PathBuf;
-use trueaxis::data::{write_atomically, CsvTable};
-use trueaxis::evaluate::iso230_2::{evaluate, plausibility, runs_of, Iso2302Result};
+use trueaxis::data::write_atomically;
+use trueaxis::evaluate::iso230_2::Iso2302Result;
+use trueaxis::evaluate::positioning_test::evaluate_file;
 use trueaxis::evaluate::EvaluateError;
-use trueaxis::instruments::{TableCorrection, TableCorrectionError};
+use trueaxis::io::plausibility::split_findings;
 
 /// Accuracy and repeatability of positioning of an axis after ISO 230-2:2014 (A, R, E, M, B and
 /// their unidirectional values, coverage factor 2) from bidirectional runs, e.g. laser readings.
@@ -41,24 +42,11 @@ fn failure(e: EvaluateError) -> Failure {
     }
 }
 
-/// Sorts the findings of plausibility checks: the first refusal is the error; the warnings (with
-/// those of reading the file) are returned, to be printed with [`warn`] once the command has
-/// succeeded (a refused command prints its one line only).
+/// Sorts the findings of plausibility checks (`io::plausibility::split_findings`): the first
+/// refusal is the error; the warnings (with those of reading the file) are returned, to be printed
+/// with [`warn`] once the command has succeeded (a refused command prints its one line only).
 pub(crate) fn report_findings(findings: Vec<trueaxis::io::Finding>, warnings: &[String]) -> Result<Vec<String>, Failure> {
-    let mut out = warnings.to_vec();
-    let mut refusal = None;
-    for f in findings {
-        match f.severity {
-            trueaxis::io::Severity::Warn => out.push(f.message),
-            trueaxis::io::Severity::Refuse => {
-                refusal.get_or_insert(f.message);
-            }
-        }
-    }
-    match refusal {
-        Some(m) => Err(Failure::input(anyhow::anyhow!(m))),
-        None => Ok(out),
-    }
+    split_findings(findings, warnings).map_err(|m| Failure::input(anyhow::anyhow!(m)))
 }
 
 /// Prints warnings and notes on stderr.
@@ -70,44 +58,20 @@ pub(crate) fn warn(warnings: &[String]) {
 
 pub fn run(args: Iso2302Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
-    let table = CsvTable::read(&args.file).map_err(Failure::input)?;
-    let mut data = runs_of(&table).map_err(failure)?;
-    let warnings = report_findings(plausibility(&table, &data).map_err(failure)?, table.warnings())?;
-    let applied = args.temperature.applied(&data.metadata, &name)?;
-    if !applied.corrections.is_empty() {
-        if data.rotary {
-            return Err(Failure::input(anyhow::anyhow!(
-                "{name}: a correction to 20 degC (thermal expansion) applies to linear axes; this test is of a rotary axis (--no-file-temperature)"
-            )));
-        }
-        // the readings are the table's rows in order
-        let targets: Vec<f64> = data.readings.iter().map(|r| r.target).collect();
-        let devs: Vec<f64> = data.readings.iter().map(|r| r.dev).collect();
-        let corrected = TableCorrection::apply_all(&applied.corrections, &table, &targets, &devs).map_err(|e| match e {
-            TableCorrectionError::Data(d) => Failure::input(d),
-            TableCorrectionError::Scale(s) => Failure::input(anyhow::anyhow!("{name}: {s}")),
-        })?;
-        for (r, dev) in data.readings.iter_mut().zip(corrected) {
-            r.dev = dev;
-        }
-    }
-    let result = evaluate(&data).map_err(failure)?;
-    warn(&warnings);
-    for note in &applied.notes {
+    let test = evaluate_file(&args.file, &args.temperature.options()).map_err(failure)?;
+    warn(&test.warnings);
+    for note in &test.notes {
         eprintln!("trueaxis: {note}");
     }
     if let Some(path) = &args.plot {
-        let svg =
-            trueaxis_report::iso230_2_svg(&result, &data, &format!("ISO 230-2 positioning test: {name}")).map_err(Failure::computation)?;
+        let svg = trueaxis_report::iso230_2_svg(&test.result, &test.data, &format!("ISO 230-2 positioning test: {name}"))
+            .map_err(Failure::computation)?;
         write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
     }
     if args.json {
-        let mut doc = result.to_json();
-        doc["metadata"] = data.metadata.to_json();
-        doc["temperature_correction"] = applied.json;
-        return print(&format!("{doc}\n"));
+        return print(&format!("{}\n", test.to_json()));
     }
-    let mut text = table_text(&name, &result, &data.metadata);
+    let mut text = table_text(&name, &test.result, &test.data.metadata);
     if let Some(path) = &args.plot {
         text += &format!("\nwrote {}\n", path.display());
     }

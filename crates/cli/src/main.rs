@@ -2,12 +2,14 @@
 //! Exit status: 0 success, 1 failed computation, 2 bad input.
 
 mod ballbar;
+mod budget;
 mod compensate;
 mod convert;
 mod demo;
 mod design;
 mod fit;
 mod identify;
+mod inputs;
 mod inspect;
 mod iso230_2;
 mod nc;
@@ -18,6 +20,7 @@ mod reversal;
 mod temperature;
 mod thermal;
 mod uncertainty;
+mod verify;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -40,6 +43,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     Ballbar(ballbar::BallbarArgs),
+    Budget(budget::BudgetArgs),
     Demo(demo::DemoArgs),
     Design(design::DesignArgs),
     Fit(Box<fit::FitArgs>),
@@ -55,6 +59,7 @@ enum Command {
     Compensate(Box<compensate::CompensateArgs>),
     Nc(Box<nc::NcArgs>),
     Thermal(thermal::ThermalArgs),
+    Verify(Box<verify::VerifyArgs>),
 }
 
 /// Why a command failed: bad input (exit 2) or a failed computation (exit 1).
@@ -112,6 +117,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Ballbar(args) => ballbar::run(args),
+        Command::Budget(args) => budget::run(args),
         Command::Demo(args) => demo::run(args),
         Command::Design(args) => design::run(args),
         Command::Fit(args) => fit::run(*args),
@@ -126,6 +132,7 @@ fn main() -> ExitCode {
         Command::Compensate(args) => compensate::run(*args),
         Command::Nc(args) => nc::run(*args),
         Command::Thermal(args) => thermal::run(args),
+        Command::Verify(args) => verify::run(*args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -3,22 +3,27 @@
 use crate::compensate::{failure, parse_axis_values, parse_temperatures};
 use crate::Failure;
 use std::path::PathBuf;
-use trueaxis::compensate::nc::{correct_program, NcOptions};
-use trueaxis::compensate::Corrector;
+use trueaxis::compensate::nc::params::read_parameter_file;
+use trueaxis::compensate::nc::{correct_program, Dialect, NcOptions, SearchPath, ToolTable};
+use trueaxis::compensate::{nc_json, Corrector};
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
 
-/// Corrects an RS274/NGC program (LinuxCNC dialect): every programmed point moves by the correction
-/// that cancels the predicted error there (exact chain), moves along which the correction varies
-/// more than the tolerance are split, and only the numbers that must change are rewritten.
+/// Corrects an NC program, RS274/NGC (LinuxCNC 2.9) or Fanuc: every point the program moves to is
+/// moved by the correction that cancels the predicted error there (exact chain); moves along which
+/// the correction varies more than the tolerance are split; only the numbers that must change are
+/// rewritten, and what the correction cannot stay inside (loops, subroutines called from several
+/// places, canned cycles) is expanded into plain moves and noted at the top.
 #[derive(clap::Args)]
 #[command(
     after_help = "Example:\n  trueaxis nc --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      examples/nc/pocket.ngc --limit-um 50 --out pocket_corrected.ngc\n\n\
-Supported: G0 G1 G2 G3 (IJK or R), G17-G19, G20/G21, G90/G91, G53, G54-G59 (offsets from --offset),\n\
-comments, line numbers, F S T M words. Refused with a message naming the line: parameters and\n\
-expressions, O-word subroutines, cutter and tool-length compensation (G41/G42/G43), G10, G28, G92,\n\
-canned cycles, G93. Machine position = program coordinate + work offset (mm, deg)."
+Runs the program as the controller does: parameters and expressions, O-word subroutines and\n\
+loops (LinuxCNC), macro variables, IF/GOTO/WHILE and M98/M99/G65 (Fanuc), tool length offsets\n\
+(G43 H from --tool-table), work offsets (G54-G59.3 from --parameters or --offset, G10 L2/L20),\n\
+G92, G28/G30, G53, canned cycles G73 G81-G89, arcs in G17/G18/G19, G20/G21, G93/G94/G95.\n\
+Refused with the line and the reason: probing (G38.x), spindle-synchronised motion (G33, G76,\n\
+Fanuc rigid tapping), cutter radius compensation (G41/G42). See docs/nc.md."
 )]
 pub struct NcArgs {
     /// Machine description (TOML).
@@ -32,20 +37,42 @@ pub struct NcArgs {
     /// Write the corrected program here (atomically) instead of stdout.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// The program's dialect: linuxcnc or fanuc (default: detected from the program).
+    #[arg(long)]
+    dialect: Option<String>,
+    /// Tool table in LinuxCNC's format (`T1 P1 Z50.5 D6 ;comment`), machine units; a Fanuc H
+    /// number is looked up as a tool number.
+    #[arg(long)]
+    tool_table: Option<PathBuf>,
+    /// LinuxCNC parameter file (`.var`: work offsets #5221..., G28/G30 positions #5161/#5181...),
+    /// machine units.
+    #[arg(long)]
+    parameters: Option<PathBuf>,
+    /// Units of the tool table and the parameter file: mm or inch.
+    #[arg(long, default_value = "mm")]
+    machine_units: String,
+    /// A directory where subroutine files (`o<name> call` -> name.ngc, Fanuc O1234) are looked for
+    /// (repeatable; default: the program's directory).
+    #[arg(long = "search-path")]
+    search_path: Vec<PathBuf>,
     /// Split a move where the correction departs from a straight blend by more than this (um;
     /// rotary axes: urad).
     #[arg(long, default_value_t = 1.0)]
     tolerance_um: f64,
-    /// Decimals of written numbers in mm and deg (inch: one more).
-    #[arg(long, default_value_t = 4)]
-    decimals: usize,
+    /// Decimals of written numbers in mm and deg (default: LinuxCNC 5, Fanuc 3, the IS-B
+    /// increment; inch: one more).
+    #[arg(long)]
+    decimals: Option<usize>,
     /// A work offset, e.g. `G54=X100,Y50,Z-300` (machine position of the program zero, mm and deg;
-    /// repeatable).
+    /// G54 ... G59.3; repeatable; applied after --parameters).
     #[arg(long = "offset")]
     offsets: Vec<String>,
     /// Machine position before the first move, e.g. `X0,Y0,Z0` (default all 0, like rs274).
     #[arg(long)]
     start: Option<String>,
+    /// Fanuc G73/G83: retraction and clearance of a peck (parameters 5114/5115 of the control), mm.
+    #[arg(long, default_value_t = 0.254)]
+    peck_clearance_mm: f64,
     /// Temperature of a sensor of the error model, `T:name=degC` (repeatable).
     #[arg(long = "temperature")]
     temperatures: Vec<String>,
@@ -74,53 +101,92 @@ fn letter_values(text: &str) -> String {
         .join(",")
 }
 
+fn bad(message: String) -> Failure {
+    Failure::input(anyhow::anyhow!(message))
+}
+
+fn read(path: &PathBuf) -> Result<String, Failure> {
+    std::fs::read_to_string(path).map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))
+}
+
+/// The options of the command line.
+fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
+    let mut options = NcOptions::new(machine);
+    options.limits = crate::compensate::limits(args.limit_um, args.limit_urad)?;
+    if !(args.tolerance_um.is_finite() && args.tolerance_um > 0.0) {
+        return Err(bad("--tolerance-um must be a positive number".into()));
+    }
+    options.tolerance_mm = args.tolerance_um * 1e-3;
+    options.rotary_tolerance_deg = (args.tolerance_um * 1e-6).to_degrees();
+    if let Some(d) = args.decimals {
+        if d > 9 {
+            return Err(bad("--decimals must be at most 9".into()));
+        }
+        options.decimals = Some(d);
+    }
+    options.dialect = match &args.dialect {
+        None => None,
+        Some(d) => Some(Dialect::parse(d).ok_or_else(|| bad(format!("--dialect `{d}` is not linuxcnc or fanuc")))?),
+    };
+    let setup = &mut options.setup;
+    setup.machine_inch = match args.machine_units.to_ascii_lowercase().as_str() {
+        "mm" => false,
+        "inch" | "in" => true,
+        other => return Err(bad(format!("--machine-units `{other}` is not mm or inch"))),
+    };
+    if let Some(path) = &args.tool_table {
+        setup.tools = ToolTable::parse(&read(path)?, &path.display().to_string()).map_err(bad)?;
+    }
+    if let Some(path) = &args.parameters {
+        setup.parameters = read_parameter_file(&read(path)?, &path.display().to_string()).map_err(bad)?;
+    }
+    for o in &args.offsets {
+        let (code, values) = o.split_once('=').ok_or_else(|| bad(format!("--offset `{o}` is not G54=X..,Y..")))?;
+        let systems = ["G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"];
+        let code = code.trim().to_ascii_uppercase();
+        let system =
+            systems.iter().position(|s| *s == code).ok_or_else(|| bad(format!("--offset: `{code}` is not one of G54 ... G59.3")))?;
+        let values = parse_axis_values(machine, &letter_values(values), "--offset")?;
+        setup.set_work_offset(machine, system as u8 + 1, &values);
+    }
+    if let Some(s) = &args.start {
+        setup.start = parse_axis_values(machine, &letter_values(s), "--start")?;
+        machine.check_range(&setup.start).map_err(|m| bad(format!("--start: the start point leaves the machine's travel: {m}")))?;
+    }
+    if !(args.peck_clearance_mm.is_finite() && args.peck_clearance_mm >= 0.0) {
+        return Err(bad("--peck-clearance-mm must be a non-negative number".into()));
+    }
+    setup.fanuc.peck_clearance_mm = args.peck_clearance_mm;
+    let mut dirs = args.search_path.clone();
+    if dirs.is_empty() {
+        dirs.push(
+            args.program
+                .parent()
+                .map_or_else(|| PathBuf::from("."), |p| if p.as_os_str().is_empty() { PathBuf::from(".") } else { p.to_path_buf() }),
+        );
+    }
+    setup.search_path = SearchPath(dirs);
+    Ok(options)
+}
+
 pub fn run(args: NcArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
     let temperatures = parse_temperatures(&errors, &args.temperatures)?;
-    let text = std::fs::read_to_string(&args.program)
-        .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.program.display())))?;
-    if !(args.tolerance_um.is_finite() && args.tolerance_um > 0.0) {
-        return Err(Failure::input(anyhow::anyhow!("--tolerance-um must be a positive number")));
-    }
-    if args.decimals > 9 {
-        return Err(Failure::input(anyhow::anyhow!("--decimals must be at most 9")));
-    }
-    let limits = crate::compensate::limits(args.limit_um, args.limit_urad)?;
-    let mut options = NcOptions::new(&machine);
-    options.limits = limits;
-    options.tolerance_mm = args.tolerance_um * 1e-3;
-    options.rotary_tolerance_deg = (args.tolerance_um * 1e-6).to_degrees();
-    options.decimals = args.decimals;
-    options.decimals_inch = args.decimals + 1;
-    for o in &args.offsets {
-        let (code, values) = o.split_once('=').ok_or_else(|| Failure::input(anyhow::anyhow!("--offset `{o}` is not G54=X..,Y..")))?;
-        let index = match code.trim().to_ascii_uppercase().as_str() {
-            "G54" => 0,
-            "G55" => 1,
-            "G56" => 2,
-            "G57" => 3,
-            "G58" => 4,
-            "G59" => 5,
-            other => return Err(Failure::input(anyhow::anyhow!("--offset: `{other}` is not one of G54 ... G59"))),
-        };
-        options.setup.work_offsets[index] = parse_axis_values(&machine, &letter_values(values), "--offset")?;
-    }
-    if let Some(s) = &args.start {
-        options.setup.start = parse_axis_values(&machine, &letter_values(s), "--start")?;
-        machine
-            .check_range(&options.setup.start)
-            .map_err(|m| Failure::input(anyhow::anyhow!("--start: the start point leaves the machine's travel: {m}")))?;
-    }
+    let text = read(&args.program)?;
+    let options = options(&args, &machine)?;
     let corrector = Corrector::new(&machine, &errors);
     let origin = args.program.display().to_string();
     let result = correct_program(&corrector, &text, &origin, &options, &temperatures).map_err(failure)?;
     if let Some(path) = &args.out {
         write_atomically(path, result.text.as_bytes()).map_err(Failure::input)?;
     }
+    let expanded =
+        if result.expanded.is_empty() { String::new() } else { format!("; {} parts expanded into plain moves", result.expanded.len()) };
     let summary = format!(
-        "{origin}: {} moves corrected, {} lines changed, {} lines added; largest correction {:.3} um, {:.3} urad; \
+        "{origin} ({}): {} moves corrected, {} lines changed, {} lines added{expanded}; largest correction {:.3} um, {:.3} urad; \
          residual <= {:.4} um; uncorrectable orientation <= {:.3} urad",
+        result.dialect,
         result.moves,
         result.changed_lines,
         result.inserted_lines,
@@ -130,17 +196,7 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
         result.max_uncorrectable_urad
     );
     if args.json {
-        let doc = serde_json::json!({
-            "moves": result.moves,
-            "changed_lines": result.changed_lines,
-            "inserted_lines": result.inserted_lines,
-            "max_correction_um": result.max_correction_um,
-            "max_correction_urad": result.max_correction_urad,
-            "max_residual_um": result.max_residual_um,
-            "max_uncorrectable_urad": result.max_uncorrectable_urad,
-            "out": args.out.as_ref().map(|p| p.display().to_string()),
-            "program": if args.out.is_none() { Some(result.text.clone()) } else { None },
-        });
+        let doc = nc_json(&result, args.out.as_ref().map(|p| p.display().to_string()).as_deref());
         println!("{doc}");
     } else if args.out.is_some() {
         println!("{summary}");

@@ -18,7 +18,7 @@ enum FrameArg {
 /// to the workpiece point, actual minus nominal (exact kinematic chain).
 #[derive(clap::Args)]
 #[command(
-    after_help = "Example:\n  trueaxis predict --machine examples/machines/kx8five.toml --errors examples/errors/kx8five.toml \\\n      --poses examples/poses/kx8five.csv --frame machine --json\n\nThe poses CSV has one column per axis, named by letter (X Y Z in mm, A B C in deg)."
+    after_help = "Example:\n  trueaxis predict --machine examples/machines/kx8five.toml --errors examples/errors/kx8five.toml \\\n      --poses examples/poses/kx8five.csv --frame machine --json\n\nThe poses CSV has one column per axis, named by letter (X Y Z in mm, A B C in deg), and one per\ninput of the error model (T:<sensor> degC, S:<spindle> rpm, F:<load> N, P:<name> mm), unless given by\n--input; a model with drift terms also needs the time column t (s) and, for several runs, run."
 )]
 pub struct PredictArgs {
     /// Machine description (TOML).
@@ -45,6 +45,11 @@ pub struct PredictArgs {
     /// Write the result to this file (atomically) instead of stdout.
     #[arg(long)]
     out: Option<PathBuf>,
+    /// Value of an input of the error model for every pose, `NAME=VALUE` (repeatable): a
+    /// temperature `T:<sensor>=degC`, a spindle speed `S:<name>=rpm`, a load `F:<name>=N`, a
+    /// position `P:<name>=mm`. A column of the poses file with that name takes precedence.
+    #[arg(long = "input", visible_alias = "temperature", value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    inputs: Vec<String>,
 }
 
 pub fn parse_point(text: &str) -> Result<Vec3, String> {
@@ -71,8 +76,9 @@ pub fn run(args: PredictArgs) -> Result<(), Failure> {
         FrameArg::Workpiece => Frame::Workpiece,
         FrameArg::Machine => Frame::Machine,
     };
-    let temperatures =
-        poses.temperatures_of(errors.sensors()).map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", args.poses.display())))?;
+    let given = crate::inputs::parse_given(&args.inputs, "--input")?;
+    crate::inputs::state_inputs(&errors, &given, "--input")?;
+    let temperatures = crate::inputs::pose_inputs(&errors, &args.poses, poses.len(), &given)?;
     let predictions = predictor.predict_states(&poses.internal(&machine), poses.directions.as_deref(), &temperatures);
     let text = if args.json {
         let doc = predictions_json(&machine, &poses.user, &predictions, frame_name).map_err(Failure::computation)?;

@@ -2,9 +2,14 @@
 //! (`thermal/modal.rs`), thermal error model fits (`thermal/fit.rs`) and their evaluation
 //! (`thermal/predict.rs`).
 
+mod beam;
 mod fit;
+mod links;
 mod modal;
 mod predict;
+mod score;
+mod temperatures;
+mod tune;
 
 use crate::Failure;
 use std::path::Path;
@@ -18,7 +23,8 @@ use trueaxis_report::ReportError;
 trueaxis thermal modes --model examples/thermal/fin.toml --count 6\n  \
 trueaxis thermal place --model examples/thermal/elongation.toml --count 3 --share 1\n  \
 trueaxis thermal fit --data examples/thermal/campaign.csv --error dz --train-runs warmup --out dz_model.toml\n  \
-trueaxis thermal predict --model dz_model.toml --data examples/thermal/campaign.csv")]
+trueaxis thermal predict --model dz_model.toml --data examples/thermal/campaign.csv\n  \
+trueaxis thermal links --machine examples/machines/vmc3.toml --links examples/thermal/links_vmc3.toml")]
 pub struct ThermalArgs {
     #[command(subcommand)]
     command: ThermalCommand,
@@ -30,6 +36,10 @@ enum ThermalCommand {
     Place(modal::PlaceArgs),
     Fit(Box<fit::FitArgs>),
     Predict(predict::PredictArgs),
+    Links(links::LinksArgs),
+    Temperatures(temperatures::TemperaturesArgs),
+    Tune(tune::TuneArgs),
+    Beam(beam::BeamArgs),
 }
 
 pub fn run(args: ThermalArgs) -> Result<(), Failure> {
@@ -38,6 +48,10 @@ pub fn run(args: ThermalArgs) -> Result<(), Failure> {
         ThermalCommand::Place(a) => modal::place(a),
         ThermalCommand::Fit(a) => fit::fit(*a),
         ThermalCommand::Predict(a) => predict::predict(a),
+        ThermalCommand::Links(a) => links::links(a),
+        ThermalCommand::Temperatures(a) => temperatures::temperatures(a),
+        ThermalCommand::Tune(a) => tune::tune(a),
+        ThermalCommand::Beam(a) => beam::beam(a),
     }
 }
 

@@ -2,7 +2,6 @@
 
 use crate::predict::parse_point;
 use crate::Failure;
-use serde_json::{json, Map, Value};
 use std::path::PathBuf;
 use trueaxis::data::read_poses;
 use trueaxis::data::write_atomically;
@@ -11,7 +10,7 @@ use trueaxis::identify::{solve, Campaign, Identification, IdentifyError, Indirec
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Setup};
 use trueaxis::uncertainty::{
-    run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, IntervalKind, Sources, UncertaintyError, VolumetricUncertainty,
+    budget_json, run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, IntervalKind, PoseUncertainty, Sources, UncertaintyError,
 };
 use trueaxis_report::{interval_of, uncertainty_figures};
 
@@ -105,17 +104,8 @@ fn campaign_context(machine: &std::path::Path, campaign: &std::path::Path, point
     Ok(CampaignContext { machine, campaign, identification, design })
 }
 
-/// The uncertainty of the predicted volumetric error at one pose, GUM and Monte Carlo.
-struct PoseUncertainty {
-    /// Axis letter and position (mm, deg).
-    user: Vec<(char, f64)>,
-    gum: VolumetricUncertainty,
-    monte_carlo: VolumetricUncertainty,
-}
-
-/// Seed 000 App. A eq. A.4 at every pose of `path`: the GUM covariance of the parameters (all
-/// sources) through `Identification::volumetric_covariance`, and the Monte Carlo covariance of
-/// the parameter trials through the same `F` (the prediction is linear in the parameters).
+/// The uncertainty of the predicted volumetric error at every pose of `path`
+/// (`uncertainty::pose_uncertainties`).
 fn pose_uncertainties(
     args: &UncertaintyArgs,
     path: &std::path::Path,
@@ -130,23 +120,8 @@ fn pose_uncertainties(
         FrameArg::Workpiece => Frame::Workpiece,
         FrameArg::Machine => Frame::Machine,
     };
-    let mut gum_identification = ctx.identification.clone();
-    gum_identification.covariance = budget.gum_covariance.clone();
-    let n = m.axis_count().max(1);
-    let internal = poses.internal(m);
-    let mut out = Vec::new();
-    for (user, q) in poses.user.chunks(n).zip(internal.chunks(n)) {
-        let gum = VolumetricUncertainty::from_covariance(
-            gum_identification.volumetric_covariance(&ctx.campaign, m, q, &setup, frame),
-            [0.0; 3],
-            level,
-        )
-        .map_err(failure)?;
-        let f = ctx.campaign.unknown_jacobian(m, q, &setup, frame).rows(0, 3) * 1e3;
-        let monte_carlo = VolumetricUncertainty::propagated(&f, &budget.total.covariance, [0.0; 3], level).map_err(failure)?;
-        out.push(PoseUncertainty { user: m.axes().iter().map(|a| a.letter).zip(user.iter().copied()).collect(), gum, monte_carlo });
-    }
-    Ok(out)
+    trueaxis::uncertainty::pose_uncertainties(m, &ctx.campaign, &ctx.identification, budget, &poses.user, &setup, frame, level)
+        .map_err(failure)
 }
 
 /// Where the design came from, for the outputs.
@@ -212,35 +187,11 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
         );
     }
     let text = if args.json {
-        format!("{}\n", to_json(&args, &map, &budget, &sources, &poses))
+        format!("{}\n", budget_json(&design_origin(&args), &map, &budget, &sources.settings, &poses))
     } else {
         table(&args, &map, &budget, &sources) + &poses_table(&args, &poses, &sources)
     };
     print(&text)
-}
-
-/// JSON of one pose's volumetric uncertainty (um, um^2).
-fn volumetric_json(v: &VolumetricUncertainty) -> Value {
-    let e = &v.ellipsoid;
-    let axes: Vec<Value> = e
-        .semi_axes
-        .iter()
-        .enumerate()
-        .map(|(i, a)| {
-            json!({"semi_axis_um": a, "std_uncertainty_um": e.axes.variances[i].sqrt(),
-                   "direction": e.axes.directions.column(i).iter().copied().collect::<Vec<f64>>()})
-        })
-        .collect();
-    json!({
-        "std_uncertainty_um": v.std_uncertainty,
-        "covariance_um2": (0..3).map(|i| (0..3).map(|j| v.covariance[(i, j)]).collect::<Vec<f64>>()).collect::<Vec<_>>(),
-        "ellipsoid": {"level": e.level, "dof": e.dof, "chi2": e.chi2, "axes": axes},
-    })
-}
-
-/// Rows of a square matrix as JSON arrays.
-fn matrix_json(m: &nalgebra::DMatrix<f64>) -> Value {
-    json!((0..m.nrows()).map(|i| m.row(i).iter().copied().collect::<Vec<f64>>()).collect::<Vec<_>>())
 }
 
 fn poses_table(args: &UncertaintyArgs, poses: &[PoseUncertainty], sources: &Sources) -> String {
@@ -277,66 +228,6 @@ fn poses_table(args: &UncertaintyArgs, poses: &[PoseUncertainty], sources: &Sour
         }
     }
     out
-}
-
-fn to_json(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sources: &Sources, poses: &[PoseUncertainty]) -> Value {
-    let s = &sources.settings;
-    let k = budget.gum_coverage_factor;
-    let mut parameters = Map::new();
-    for (j, row) in budget.rows.iter().enumerate() {
-        let o = &budget.total.outputs[j];
-        let (gum_mean, gum_u) = (budget.gum_estimate[j], row.gum_total_u);
-        let mut per_source = Map::new();
-        for (name, w) in budget.source_names.iter().zip(&row.widths) {
-            per_source.insert(name.clone(), json!(w));
-        }
-        if !row.widths.is_empty() {
-            per_source.insert("rss".into(), json!(row.rss));
-        }
-        per_source.insert("total".into(), json!(row.total));
-        parameters.insert(
-            row.parameter.clone(),
-            json!({
-                "unit": row.unit,
-                "estimate": o.mean,
-                "std_uncertainty": o.std_uncertainty,
-                "interval": [o.symmetric.low, o.symmetric.high],
-                "shortest_interval": [o.shortest.low, o.shortest.high],
-                "skewness": o.skewness,
-                "excess_kurtosis": o.excess_kurtosis,
-                "gum": {"estimate": gum_mean, "std_uncertainty": gum_u, "interval": [gum_mean - k * gum_u, gum_mean + k * gum_u]},
-                "budget_interval_widths": per_source,
-                "gum_std_uncertainty_per_source": budget.source_names.iter().zip(&row.gum_u).map(|(n, u)| (n.clone(), json!(u))).collect::<Map<_, _>>(),
-            }),
-        );
-    }
-    let history: Vec<Value> = budget
-        .total
-        .history
-        .iter()
-        .map(|c| json!({"sequence": c.sequence, "s_estimate": c.max[0], "s_std_uncertainty": c.max[1], "s_low": c.max[2], "s_high": c.max[3]}))
-        .collect();
-    json!({
-        "design": design_origin(args),
-        "observations": map.design.observations(),
-        "parameter_order": map.design.parameters,
-        "parameters": parameters,
-        "sources": budget.source_names,
-        "coverage": s.coverage,
-        "interval": s.interval,
-        "tolerance": s.tolerance,
-        "seed": s.seed,
-        "trials_per_sequence": s.trials_per_sequence,
-        "sequences": budget.total.sequences,
-        "trials": budget.total.trials,
-        "converged": budget.total.converged,
-        "budget_sequences": budget.per_source.iter().map(|r| r.sequences).collect::<Vec<_>>(),
-        "condition_number": map.condition_number,
-        "history": history,
-        "covariance": {"parameter_order": map.design.parameters, "units": map.design.units,
-                       "gum": matrix_json(&budget.gum_covariance), "monte_carlo": matrix_json(&budget.total.covariance)},
-        "poses": poses.iter().map(|p| json!({"pose": p.user.iter().map(|(a, v)| (a.to_string(), json!(v))).collect::<Map<_, _>>(), "gum": volumetric_json(&p.gum), "monte_carlo": volumetric_json(&p.monte_carlo)})).collect::<Vec<_>>(),
-    })
 }
 
 fn table(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sources: &Sources) -> String {

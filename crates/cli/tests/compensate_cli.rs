@@ -1,4 +1,4 @@
-//! `trueaxis compensate` and `trueaxis nc` end to end: files written, JSON summaries, exit codes.
+//! `trueaxis compensate` end to end: files written, JSON summaries, exit codes (`trueaxis nc`: nc_cli.rs).
 
 use std::process::Command;
 
@@ -129,48 +129,6 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
 }
 
 #[test]
-fn nc_corrects_a_program_and_names_bad_lines() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("pocket_corrected.ngc");
-    let (code, stdout, stderr) = trueaxis(&[
-        "nc",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "examples/nc/pocket.ngc",
-        "--out",
-        out.to_str().unwrap(),
-        "--json",
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    assert_eq!(doc["moves"], 12);
-    assert!(doc["max_residual_um"].as_f64().unwrap() < 0.01);
-    let text = std::fs::read_to_string(&out).unwrap();
-    assert!(text.contains("N40 G1 Z-250.") && text.contains("(plunge)"));
-    let bad = dir.path().join("bad.ngc");
-    std::fs::write(&bad, "G21 G90\nG0 X1\nG43 H1 Z5\n").unwrap();
-    let (code, _, stderr) =
-        trueaxis(&["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", bad.to_str().unwrap()]);
-    assert_eq!(code, 2);
-    assert!(stderr.contains("bad.ngc: line 3: tool length compensation"), "{stderr}");
-    // with a work offset of 200 mm the program's X300 is X500 on the machine: beyond the travel
-    let (code, _, stderr) = trueaxis(&[
-        "nc",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "examples/nc/pocket.ngc",
-        "--offset",
-        "G54=X200",
-    ]);
-    assert_eq!(code, 2);
-    assert!(stderr.contains("line 7: the end point leaves the machine's travel: axis X at 500 mm"), "{stderr}");
-}
-
-#[test]
 fn the_summary_covers_what_is_written() {
     // fanuc3d writes only the lattice: its largest correction is the summary's (the own-axis tables
     // along the axis lines through home are smaller, 13.4 um)
@@ -286,30 +244,4 @@ fn compensate_poses_without_a_needed_temperature_column_is_refused() {
     args.extend(["--temperature", "T:column=22"]);
     let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3_backlash.toml", &args);
     assert_eq!(code, 0, "{stderr}");
-}
-
-#[test]
-fn nc_refuses_corrections_beyond_the_limit_and_a_start_outside_the_travel() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("pocket.ngc");
-    let nc = |rest: &[&str]| {
-        let mut args = vec!["examples/nc/pocket.ngc"];
-        args.extend(rest);
-        on_vmc3("nc", "examples/errors/vmc3.toml", &args)
-    };
-    let (code, _, stderr) = nc(&["--out", out.to_str().unwrap(), "--limit-um", "5"]);
-    assert_eq!(code, 2);
-    assert!(
-        stderr.contains("examples/nc/pocket.ngc: line 4: the correction of axis X is -5.151 um at the machine position X0 Y0 Z-10"),
-        "{stderr}"
-    );
-    assert!(stderr.contains("beyond the limit of 5 um; nothing was written"), "{stderr}");
-    assert!(!out.exists());
-    let (code, stdout, stderr) = nc(&["--out", out.to_str().unwrap(), "--limit-um", "50", "--json"]);
-    assert_eq!(code, 0, "{stderr}");
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    assert!(doc["max_correction_um"].as_f64().unwrap() < 50.0 && out.exists());
-    let (code, _, stderr) = nc(&["--start", "X500"]);
-    assert_eq!(code, 2);
-    assert!(stderr.contains("--start: the start point leaves the machine's travel: axis X at 500 mm"), "{stderr}");
 }

@@ -85,6 +85,6 @@ fn missing_state_columns_and_bad_state_files_are_refused() {
     bad("[constant]\nEXX = 1.0\n\"EXX-\" = 0.4\n", "both directions");
     bad("[constant]\n\"EX0Y+\" = 1.0\n\"EX0Y-\" = 1.0\n", "no direction of motion");
     bad("[[term.EXX]]\ncoefficient = 1.0\nfactors = { Q = 1 }\n", "no axis Q");
-    bad("[[term.EXX]]\ncoefficient = 1.0\nfactors = { XY = 1 }\n", "neither an axis letter nor a sensor");
+    bad("[[term.EXX]]\ncoefficient = 1.0\nfactors = { XY = 1 }\n", "neither an axis letter nor an input");
     bad("[[term.EXX]]\ncoefficient = 1.0\nfactors = { X = 12 }\n", "powers");
 }

@@ -1,5 +1,6 @@
 //! Plots (SVG) and the self-contained HTML report.
 
+pub mod budget;
 pub mod calibration;
 pub mod demo;
 pub mod html;

@@ -3,6 +3,8 @@
 //!
 //! - `nc/<machine>`: NC-program correction throughput of a generated program of 10^4 G1 moves
 //!   (elements = lines; the points corrected per line are printed once).
+//! - `nc_loop/vmc3`: a LinuxCNC program whose `while` loop runs 10^4 blocks with expressions, all
+//!   expanded into plain moves (elements = executed blocks).
 //!
 //! Machines: vmc3, c600u, kx8five with their example errors, and kx8five with all 30 motion-error
 //! tables of `bench/kx8five_tables.toml`.
@@ -71,6 +73,27 @@ fn nc(c: &mut Criterion<ThreadCpuTime>) {
         });
     }
     group.finish();
+    let mut group = c.benchmark_group("nc_loop");
+    group.sample_size(10);
+    let (label, machine_file, errors_file) = CASES[0];
+    let (machine, errors) = load(machine_file, errors_file);
+    let program = loop_program(10_000);
+    let corrector = Corrector::new(&machine, &errors);
+    let options = NcOptions::new(&machine);
+    let r = correct_program(&corrector, &program, label, &options, &[]).expect("program corrected");
+    println!("nc_loop/{label}: {} blocks executed, {} moves, {} lines written", r.blocks, r.moves, r.text.lines().count());
+    group.throughput(Throughput::Elements(r.blocks as u64));
+    group.bench_function(BenchmarkId::new(label, r.blocks), |b| {
+        b.iter(|| correct_program(&corrector, black_box(&program), label, &options, &[]).unwrap())
+    });
+    group.finish();
+}
+
+/// A raster computed by a `while` loop: `moves` G1 blocks with parameters and expressions.
+fn loop_program(moves: usize) -> String {
+    format!(
+        "G21 G90 G17 G94 F3000\nG0 X-350 Y-200 Z-100\n#<i> = 0\no1 while [#<i> LT {moves}]\n  G1 X[-350 + 700 * [#<i> MOD 2]] Y[-200 + 0.04 * #<i>] Z[-100 - 5 * SIN[#<i>]]\n  #<i> = [#<i> + 1]\no1 endwhile\nM2\n"
+    )
 }
 
 criterion_group! {

@@ -4,6 +4,7 @@
 //! `machine` -> `model` (with `errors`) -> instruments -> identify -> uncertainty -> compensate -> `report`.
 //! Internal units are mm and rad; files and outputs use mm, deg, um and urad (DESIGN.md section 2).
 
+pub mod budget;
 pub mod compensate;
 pub mod data;
 pub mod errors;

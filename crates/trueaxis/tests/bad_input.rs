@@ -125,8 +125,26 @@ fn error_values_file_errors_name_the_parameter() {
         ("[constants]\nEXX = 1.0\n", &["unknown field `constants`"]),
         ("[constant]\nEXX = \"five\"\n", &["line 2"]),
         (
-            "[[term.\"EXX+\"]]\ncoefficient = 0.01\nfactors = { X = 1 }\n",
-            &["[term.EXX+] EXX+", "product terms hold for both directions", "[[term.EXX]]", "[table.\"EXX+\"]"],
+            "[[term.\"EX0Y+\"]]\ncoefficient = 0.01\nfactors = { X = 1 }\n",
+            &["[term.EX0Y+] EX0Y+", "one direction or position range needs a motion error"],
+        ),
+        ("[[term.EXX]]\ncoefficient = 0.01\nfactors = { X = 1 }\nrange = [10, -10]\n", &["[term.EXX] EXX", "lo < hi"]),
+        ("[[term.EXX]]\ncoefficient = 0.01\nfactors = { \"Q:x\" = 1 }\n", &["input `Q:x`", "spindle speed `S:<name>` (rpm)"]),
+        ("[load.EAX]\nreference_n = 4900\n", &["[load.EAX] EAX", "exactly one of them"]),
+        (
+            "[load.EA0Y]\nreference_n = 4900\nposition = [0, 1]\nvalue = [0, 1]\n",
+            &["[load.EA0Y]", "give its change under the load as `constant`"],
+        ),
+        ("[load.EAX]\nreference_n = 0\nconstant = 1.0\n", &["[load.EAX]", "non-zero"]),
+        ("[load.EAX]\nreference_n = 4900\nconstant = 1.0\nload = \"T:x\"\n", &["[load.EAX]", "force input `F:<name>`"]),
+        ("[load.EAX]\nreference_n = 4900\nconstant = 1.0\nlever_mm = 375\n", &["[load.EAX]", "go together"]),
+        (
+            "[[drift.TZ]]\naxis = \"Z\"\nposition = 0\nsensors = [\"T:a\"]\ntime_constants_s = [60]\ngains_um_per_degc = [[1.0, 2.0]]\n",
+            &["[drift.TZ] TZ", "one row per sensor (1) of one finite gain per time constant (1)"],
+        ),
+        (
+            "[[drift.TZ]]\naxis = \"Q\"\nposition = 0\nsensors = [\"T:a\"]\ntime_constants_s = [60]\ngains_um_per_degc = [[1.0]]\n",
+            &["[drift.TZ] TZ", "no axis Q"],
         ),
     ];
     for (text, expected) in cases {

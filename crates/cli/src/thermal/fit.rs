@@ -1,21 +1,17 @@
 //! `trueaxis thermal fit`: PITE/PDTE regression models validated on other runs, and the shared
-//! time constants of eq. 3.17.
+//! time constants of eq. 3.17 (fitted by `trueaxis::thermal::campaign_fit`).
 
 use super::{failure, write_plot};
 use crate::iso230_2::print;
 use crate::Failure;
-use serde_json::{json, Value};
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
-use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::thermal::campaign::Campaign;
-use trueaxis::thermal::drift_model::{fit_drift_model, record};
+use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm as FitForm, TimeConstantsFit};
 use trueaxis::thermal::error_model::ThermalErrorModel;
-use trueaxis::thermal::links::{add_terms, model_terms, terms_toml};
-use trueaxis::thermal::regression::{fit_regression, fit_stepwise, select_by_correlation, RegressionModel};
-use trueaxis::thermal::time_constants::{fit_time_constants, Series};
-use trueaxis::thermal::validation::{evaluate_segments, residual_stats, segments, ResidualStats, Role, Segment};
+use trueaxis::thermal::regression::RegressionModel;
+use trueaxis::thermal::validation::ResidualStats;
 use trueaxis_report::{drift_plot, drift_svg, step_fit_plot};
 
 /// Fits a thermal error model to a campaign CSV (columns t, run, T:<sensor>, the error in um):
@@ -70,6 +66,17 @@ pub struct FitArgs {
     /// Drop the intercept terms (eqs. 3.12-3.13 as printed).
     #[arg(long)]
     no_intercept: bool,
+    /// Geometric/thermal split: the degree of the geometric polynomial in the position (the
+    /// intercepts), with --degree the degree of the position multiplying the temperatures.
+    #[arg(long, requires = "position")]
+    geometric_degree: Option<usize>,
+    /// G-T model (NISTIR 5236): one model per direction of motion (column dir, + or -).
+    #[arg(long, requires = "position")]
+    by_direction: bool,
+    /// G-T model: one model per range of the position between these breakpoints (mm or deg,
+    /// increasing), e.g. --ranges 0 for [-inf, 0) and [0, inf).
+    #[arg(long, value_delimiter = ',', requires = "position", allow_hyphen_values = true)]
+    ranges: Option<Vec<f64>>,
     /// Runs to train on, comma separated (default: every row); the others validate.
     #[arg(long, value_delimiter = ',')]
     train_runs: Option<Vec<String>>,
@@ -103,82 +110,58 @@ enum ModelForm {
 
 pub fn fit(args: FitArgs) -> Result<(), Failure> {
     let campaign = Campaign::read(&args.data).map_err(failure)?;
-    let rows: Vec<usize> = match &args.train_runs {
-        Some(runs) => campaign.rows_of(runs).map_err(failure)?,
-        None => (0..campaign.len()).collect(),
-    };
-    let sensors = args.sensors.clone().unwrap_or_else(|| campaign.sensors());
-    if sensors.is_empty() {
-        return Err(Failure::input(anyhow::anyhow!("{}: no temperature columns T:<sensor>", args.data.display())));
-    }
-    if let Some(n) = args.time_constants {
-        return fit_taus(&args, &campaign, &rows, &sensors, n);
-    }
-    let error = args.error.clone().expect("clap requires --error");
-    let split = match args.validate.as_deref() {
-        None => None,
-        Some(v) => match v.strip_prefix("time-split:").map(str::parse::<f64>) {
-            Some(Ok(f)) if f > 0.0 && f < 1.0 => Some(f),
-            _ => return Err(Failure::input(anyhow::anyhow!("--validate {v}: expected time-split:F with 0 < F < 1"))),
+    let request = FitRequest {
+        error: args.error.clone(),
+        model: match args.model {
+            ModelForm::Regression => FitForm::Regression,
+            ModelForm::StateSpace => FitForm::StateSpace,
         },
+        rates: args.rates,
+        validate: args.validate.clone(),
+        time_constants: args.time_constants,
+        until: args.until,
+        sensors: args.sensors.clone(),
+        select: args.select.clone(),
+        position: args.position.clone(),
+        degree: args.degree,
+        no_intercept: args.no_intercept,
+        geometric_degree: args.geometric_degree,
+        by_direction: args.by_direction,
+        ranges: args.ranges.clone(),
+        train_runs: args.train_runs.clone(),
+        terms: args.terms_out.is_some(),
     };
-    let segments = segments(&campaign, args.train_runs.as_deref(), split).map_err(failure)?;
-    let training: Vec<&Segment> = segments.iter().filter(|s| s.role == Role::Training).collect();
-    let rows: Vec<usize> = training.iter().flat_map(|s| s.rows.iter().copied()).collect();
-    let (model, kept) = match args.model {
-        ModelForm::Regression => {
-            let (model, kept) = fit_regression_model(&args, &campaign, &rows, &sensors, &error)?;
-            (ThermalErrorModel::Regression(model), kept)
-        }
-        ModelForm::StateSpace => {
-            if args.select.is_some() || args.position.is_some() || args.no_intercept || args.terms_out.is_some() {
-                return Err(Failure::input(anyhow::anyhow!(
-                    "--select, --position, --no-intercept and --terms-out apply to regression models, not to --model state-space"
-                )));
-            }
-            let records = training
-                .iter()
-                .map(|s| record(&campaign, &sensors, Some(&error), &s.rows))
-                .collect::<Result<Vec<_>, _>>()
-                .map_err(failure)?;
-            (ThermalErrorModel::Drift(fit_drift_model(&error, &sensors, &records, args.rates).map_err(failure)?.0), None)
-        }
+    let fitted = match fit_campaign(&campaign, &args.data.display().to_string(), &request).map_err(failure)? {
+        CampaignFit::Model(m) => m,
+        CampaignFit::TimeConstants(t) => return print_taus(&args, &t),
     };
-    let evaluated = evaluate_segments(&campaign, &model, &segments).map_err(failure)?;
-    let (measured, predicted): (Vec<f64>, Vec<f64>) = evaluated
-        .iter()
-        .filter(|e| e.segment.role == Role::Training)
-        .flat_map(|e| e.measured.clone().unwrap_or_default().into_iter().zip(e.predicted.clone()))
-        .unzip();
-    let training_stats = residual_stats(&measured, &predicted);
-    let validation: Vec<(String, Option<ResidualStats>)> =
-        evaluated.iter().filter(|e| e.segment.role == Role::Validation).map(|e| (e.segment.name.clone(), e.stats())).collect();
+    let (error, model, rows) = (&fitted.error, &fitted.model, fitted.rows);
     if let Some(path) = &args.out {
         write_atomically(path, model.to_toml().as_bytes()).map_err(Failure::input)?;
     }
-    if let (Some(path), Some(parameter), ThermalErrorModel::Regression(regression)) = (&args.terms_out, &args.parameter, &model) {
-        let terms = model_terms(parameter, regression, 1.0).map_err(failure)?;
-        if let Some(machine) = &args.machine {
-            let machine = Machine::load(machine).map_err(Failure::input)?;
-            add_terms(&mut ErrorModel::zero(&machine), &machine, &terms).map_err(failure)?;
+    if let (Some(path), Some(parameter)) = (&args.terms_out, &args.parameter) {
+        let machine = args.machine.as_ref().map(Machine::load).transpose().map_err(Failure::input)?;
+        if let Some(text) = fitted.terms_text(parameter, machine.as_ref()).map_err(failure)? {
+            write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
         }
-        let text = format!(
-            "# thermal error model of `{error}` as error terms (factors T - 20 degC), from trueaxis thermal fit\n{}",
-            terms_toml(&terms)
-        );
-        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
     }
     if let Some(path) = &args.plot {
-        write_plot(path, drift_svg(&drift_plot(&error, &evaluated)))?;
+        write_plot(path, drift_svg(&drift_plot(error, &fitted.evaluated)))?;
     }
     if args.json {
-        let doc = json!({"model": model, "kept": kept, "training": training_stats,
-                         "validation": validation.iter().map(|(r, s)| (r.clone(), json!(s))).collect::<serde_json::Map<_, _>>()});
-        return print(&format!("{doc}\n"));
+        return print(&format!("{}\n", fitted.to_json()));
     }
-    let mut out = format!("thermal error model of `{error}` (um) from {} rows of {}\n", rows.len(), args.data.display());
-    match &model {
+    let mut out = format!("thermal error model of `{error}` (um) from {rows} rows of {}\n", args.data.display());
+    match model {
         ThermalErrorModel::Regression(m) => out += &regression_text(m),
+        ThermalErrorModel::Segmented(m) => {
+            for (k, seg) in m.segments.iter().enumerate() {
+                let range = seg.range.map_or(String::new(), |[lo, hi]| format!(" {} in [{lo}, {hi})", m.position));
+                out +=
+                    &format!("  segment {}:{}{range}\n", k + 1, seg.direction.as_deref().map_or(String::new(), |d| format!(" moving {d}")));
+                out += &regression_text(&m.segment_model(k)).lines().map(|l| format!("  {l}\n")).collect::<String>();
+            }
+        }
         ThermalErrorModel::Drift(m) => {
             let taus: Vec<String> = m.time_constants_s.iter().map(|t| format!("{:.2}", t / 60.0)).collect();
             out +=
@@ -189,54 +172,11 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
         }
     }
     out += "residuals (measured - predicted):\n";
-    out += &stats_line("training", &training_stats);
-    for (run, s) in &validation {
+    out += &stats_line("training", &fitted.training);
+    for (run, s) in &fitted.validation {
         out += &stats_line(run, s);
     }
     print(&out)
-}
-
-/// The PITE/PDTE regression on the training rows, with the sensor selection of --select; the
-/// names of the kept terms or sensors when selected.
-fn fit_regression_model(
-    args: &FitArgs,
-    campaign: &Campaign,
-    rows: &[usize],
-    sensors: &[String],
-    error: &str,
-) -> Result<(RegressionModel, Option<Vec<String>>), Failure> {
-    let temps = campaign.select(sensors, rows).map_err(failure)?;
-    let measured = campaign.select(&[error.to_string()], rows).map_err(failure)?.remove(0);
-    let positions = match &args.position {
-        Some(p) => Some(campaign.select(std::slice::from_ref(p), rows).map_err(failure)?.remove(0)),
-        None => None,
-    };
-    let position = args.position.as_deref().zip(positions.as_deref());
-    let intercept = !args.no_intercept;
-    match args.select.as_deref() {
-        None => Ok((fit_regression(error, sensors, &temps, position, args.degree, intercept, &measured).map_err(failure)?.0, None)),
-        Some("stepwise") => {
-            let (m, _, k) = fit_stepwise(error, sensors, &temps, position, args.degree, intercept, &measured, 0.9999).map_err(failure)?;
-            Ok((m, Some(k)))
-        }
-        Some(s) if s.starts_with("correlation:") => {
-            let n = match s["correlation:".len()..].parse::<usize>() {
-                Ok(n) if n >= 1 => n,
-                _ => {
-                    return Err(Failure::input(anyhow::anyhow!(
-                        "--select {s}: expected correlation:N with N >= 1, the number of sensors to keep (of {})",
-                        sensors.len()
-                    )))
-                }
-            };
-            let chosen = select_by_correlation(&temps, &measured, n, 0.0);
-            let names: Vec<String> = chosen.iter().map(|&i| sensors[i].clone()).collect();
-            let t: Vec<Vec<f64>> = chosen.iter().map(|&i| temps[i].clone()).collect();
-            let (m, _) = fit_regression(error, &names, &t, position, args.degree, intercept, &measured).map_err(failure)?;
-            Ok((m, Some(names)))
-        }
-        Some(other) => Err(Failure::input(anyhow::anyhow!("--select {other}: expected correlation:N or stepwise"))),
-    }
 }
 
 /// The coefficients, one line per power of the position.
@@ -248,8 +188,10 @@ fn regression_text(model: &RegressionModel) -> String {
             (1, Some(a)) => format!(" * {a}"),
             (k, Some(a)) => format!(" * {a}^{k}"),
         };
-        let terms: Vec<String> = std::iter::once(format!("{:+.5}", row[0]))
-            .chain(model.sensors.iter().zip(&row[1..]).map(|(s, c)| format!("{c:+.5} {s}")))
+        // small coefficients (per mm^k, per rpm) in scientific notation, so that they do not print as zero
+        let number = |v: f64| if v != 0.0 && v.abs() < 1e-3 { format!("{v:+.4e}") } else { format!("{v:+.5}") };
+        let terms: Vec<String> = std::iter::once(number(row[0]))
+            .chain(model.sensors.iter().zip(&row[1..]).map(|(s, c)| format!("{} {s}", number(*c))))
             .collect();
         out += &format!("  [{}]{p}\n", terms.join(" "));
     }
@@ -265,38 +207,14 @@ fn stats_line(name: &str, s: &Option<ResidualStats>) -> String {
     })
 }
 
-fn fit_taus(args: &FitArgs, campaign: &Campaign, rows: &[usize], sensors: &[String], n: usize) -> Result<(), Failure> {
-    if let Some(u) = args.until.filter(|u| !(u.is_finite() && *u > 0.0)) {
-        return Err(Failure::input(anyhow::anyhow!("--until {u}: expected a positive number of seconds from the start of each run")));
-    }
-    let t = campaign.column("t").map_err(failure)?;
-    let mut series = Vec::new();
-    let mut labels = Vec::new();
-    let runs: Vec<String> = campaign.run_names().into_iter().filter(|r| rows.iter().any(|&i| &campaign.runs[i] == r)).collect();
-    for run in &runs {
-        let run_rows: Vec<usize> = rows.iter().copied().filter(|&i| &campaign.runs[i] == run).collect();
-        let t0 = run_rows.iter().map(|&i| t[i]).fold(f64::INFINITY, f64::min);
-        let run_rows: Vec<usize> = run_rows.into_iter().filter(|&i| args.until.is_none_or(|u| t[i] - t0 <= u)).collect();
-        for s in sensors {
-            let v = campaign.column(s).map_err(failure)?;
-            series
-                .push(Series { times_s: run_rows.iter().map(|&i| t[i] - t0).collect(), values: run_rows.iter().map(|&i| v[i]).collect() });
-            labels.push((run.clone(), s.clone()));
-        }
-    }
-    let fit = fit_time_constants(&series, n, true).map_err(failure)?;
+fn print_taus(args: &FitArgs, taus: &TimeConstantsFit) -> Result<(), Failure> {
+    let (labels, series, fit) = (&taus.labels, &taus.series, &taus.fit);
     if let Some(path) = &args.plot {
         let names: Vec<String> = labels.iter().map(|(r, s)| format!("{r} {s}")).collect();
-        write_plot(path, drift_svg(&step_fit_plot(&names, &series, &fit)))?;
+        write_plot(path, drift_svg(&step_fit_plot(&names, series, fit)))?;
     }
     if args.json {
-        let amplitudes: Vec<Value> = labels
-            .iter()
-            .zip(fit.amplitudes.iter().zip(&fit.offsets))
-            .map(|((r, s), (a, b))| json!({"run": r, "sensor": s, "A": a, "offset": b}))
-            .collect();
-        let doc = json!({"tau_min": fit.tau_s.iter().map(|t| t / 60.0).collect::<Vec<_>>(), "residual_rms": fit.residual_rms, "amplitudes": amplitudes});
-        return print(&format!("{doc}\n"));
+        return print(&format!("{}\n", taus.to_json()));
     }
     let mut out = format!(
         "shared time constants (eq. 3.17) of {} records: {} min\nresidual RMS {:.4} degC\n",

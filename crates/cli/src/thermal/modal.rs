@@ -7,6 +7,7 @@ use serde_json::{json, Value};
 use std::path::PathBuf;
 use trueaxis::thermal::model_file::{load_model, ThermalModel};
 use trueaxis::thermal::placement::{conditioning, effective_independence, exhaustive, log_det_information, modal_rule};
+use trueaxis::thermal::placement_score::gauss_points;
 use trueaxis::thermal::{
     dominant_modes, modal_analysis_with_progress, mode_weights, LanczosProgress, ModalBasis, ModalOptions, SpectrumMethod, DEFAULT_SHARE,
 };
@@ -47,10 +48,12 @@ pub struct ModesArgs {
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
-enum PlaceMethod {
+pub(super) enum PlaceMethod {
     Modal,
     Efi,
     Exhaustive,
+    /// Gauss-Legendre points along a bar (the baseline of seed 002 §3.4.2).
+    Gauss,
 }
 
 /// Temperature sensor placement for the dominant modes: the modal rule of seed 002 §3.3.1
@@ -71,8 +74,9 @@ pub struct PlaceArgs {
     #[arg(long, default_value_t = DEFAULT_SHARE)]
     share: f64,
     /// Placement method: modal (seed 002 §3.3.1: one sensor at the extreme of each dominant mode,
-    /// reused where it serves several), efi (effective independence, Kammer) or exhaustive (every
-    /// subset of --sensors candidates, largest det(Phi_s^T Phi_s)).
+    /// reused where it serves several), efi (effective independence, Kammer), exhaustive (every
+    /// subset of --sensors candidates, largest det(Phi_s^T Phi_s)) or gauss (the candidates nearest
+    /// the Gauss-Legendre points of a bar, Gaussian integration).
     #[arg(long, value_enum, default_value = "modal")]
     method: PlaceMethod,
     /// Number of sensors (efi, exhaustive; default: one per dominant mode).
@@ -81,6 +85,14 @@ pub struct PlaceArgs {
     /// Modal rule: reuse a placed sensor reaching this fraction of a mode's extreme (0 < reuse <= 1).
     #[arg(long, default_value_t = 0.8)]
     reuse: f64,
+    /// Score the placements by the error of the elongation model they lead to (bar1d): trained on a
+    /// 20-min on/off cycle of the step flux, validated on 10 and 40 min; every method with the same
+    /// number of sensors, Gauss points as the baseline.
+    #[arg(long)]
+    score: bool,
+    /// With --score: expansion coefficient of the bar (um/m/K).
+    #[arg(long, default_value_t = 10.8)]
+    expansion: f64,
     /// Write a figure (SVG): the dominant mode shapes along the structure with the sensors.
     #[arg(long, value_name = "FILE.svg")]
     plot: Option<PathBuf>,
@@ -211,6 +223,16 @@ pub fn place(args: PlaceArgs) -> Result<(), Failure> {
             let n = s.len();
             (s, vec![Vec::new(); n])
         }
+        PlaceMethod::Gauss => {
+            let s = gauss_points(&model, count).map_err(failure)?;
+            let n = s.len();
+            (s, vec![Vec::new(); n])
+        }
+    };
+    let scores = if args.score {
+        Some(super::score::score_methods(&model, &basis, &dominant, count, args.reuse, args.expansion, &distance)?)
+    } else {
+        None
     };
     let cond = conditioning(&basis, &dominant, &sensors);
     if let Some(path) = &args.plot {
@@ -220,6 +242,7 @@ pub fn place(args: PlaceArgs) -> Result<(), Failure> {
         PlaceMethod::Modal => "modal",
         PlaceMethod::Efi => "efi",
         PlaceMethod::Exhaustive => "exhaustive",
+        PlaceMethod::Gauss => "gauss",
     };
     let position = |n: usize| coordinates.as_ref().map(|c| c[n].to_vec());
     if args.json {
@@ -230,7 +253,7 @@ pub fn place(args: PlaceArgs) -> Result<(), Failure> {
             .collect();
         let doc = json!({"model": model.name, "method": method, "dominant_modes": dominant.iter().map(|m| m + 1).collect::<Vec<_>>(),
                          "sensors": list, "condition_number": cond.condition_number, "rank": cond.rank,
-                         "conditioning": cond.explanation()});
+                         "conditioning": cond.explanation(), "scores": scores.as_ref().map(|s| s.0.clone())});
         return print(&format!("{doc}\n"));
     }
     let mut out = format!(
@@ -246,5 +269,8 @@ pub fn place(args: PlaceArgs) -> Result<(), Failure> {
     }
     out += &cond.explanation();
     out.push('\n');
+    if let Some((_, text)) = &scores {
+        out += text;
+    }
     print(&out)
 }

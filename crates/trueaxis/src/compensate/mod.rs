@@ -8,14 +8,18 @@
 
 pub mod correction;
 pub mod export;
+pub mod job;
 pub mod nc;
 pub mod realtime;
 mod solve;
+mod summary;
 pub mod tables;
 
 pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, WarmStart, MAX_AXES};
 pub use export::residual::{residual_of_format, FormatResidual};
+pub use job::{compensation, sensor_index, sensor_temperatures, Compensation, CompensationRequest};
 pub use realtime::RealtimeCorrector;
+pub use summary::{compensation_json, nc_json, round4, ExportFormat, FormatOptions};
 pub use tables::{axis_tables, line_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};
 
 use thiserror::Error;

@@ -29,17 +29,71 @@ struct ErrorValuesFile {
     /// `[basis.NAME]`: a [`BasisSpec`] and its `coefficients`.
     #[serde(default)]
     basis: BTreeMap<String, toml::Table>,
-    /// `[[term.NAME]]`: product terms (cross-coupling, temperature).
+    /// `[[term.NAME]]`: product terms (cross-coupling, temperature, spindle speed, load).
     #[serde(default)]
     term: BTreeMap<String, Vec<TermFile>>,
+    /// `[load.NAME]`: workpiece-load errors (seed 000 eq. 3.20).
+    #[serde(default)]
+    load: BTreeMap<String, LoadFile>,
+    /// `[[drift.NAME]]`: drift models at tested axis positions (seed 000 §3.4.4).
+    #[serde(default)]
+    drift: BTreeMap<String, Vec<DriftFile>>,
 }
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct TermFile {
     coefficient: f64,
-    /// Axis letters and sensor names (`T:<sensor>`) with their powers.
+    /// Axis letters and inputs (`T:<sensor>`, `S:<spindle>`, `F:<load>`, `P:<name>`) with their powers.
     factors: BTreeMap<String, i32>,
+    /// `[lo, hi]`: the term holds for `lo <= q < hi` of the own axis (mm or deg).
+    #[serde(default)]
+    range: Option<[f64; 2]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LoadFile {
+    /// The load (N) the change was measured under.
+    reference_n: f64,
+    /// The load input (`F:<name>`, N).
+    #[serde(default = "default_load")]
+    load: String,
+    /// The change under the reference load: a table of the own axis position, a polynomial, or a
+    /// constant (location errors).
+    #[serde(default)]
+    position: Option<Vec<f64>>,
+    #[serde(default)]
+    value: Option<Vec<f64>>,
+    #[serde(default)]
+    coefficients: Option<Vec<f64>>,
+    #[serde(default)]
+    constant: Option<f64>,
+    /// The lever arm (mm) at the reference load position, and the position input that shortens it.
+    #[serde(default)]
+    lever_mm: Option<f64>,
+    #[serde(default)]
+    lever_at: Option<String>,
+}
+
+fn default_load() -> String {
+    "F:workpiece".into()
+}
+
+/// One tested position of a drift model: the fields of a `trueaxis thermal fit --model
+/// state-space` file (`kind` and `error` accepted and not interpreted) plus `axis` and `position`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DriftFile {
+    axis: String,
+    position: f64,
+    sensors: Vec<String>,
+    time_constants_s: Vec<f64>,
+    gains_um_per_degc: Vec<Vec<f64>>,
+    #[serde(default, rename = "kind")]
+    _kind: Option<String>,
+    #[serde(default, rename = "error")]
+    _error: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -93,42 +147,64 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
     }
     for (name, terms) in &file.term {
         let section = format!("term.{name}");
-        // product terms hold for both directions of motion (the model has no directional terms)
-        if let (_, Some(d)) = id_of(&section, name)? {
-            let stem = name.trim().trim_end_matches(['+', '-']);
-            return Err(invalid(
-                &section,
-                name,
-                format!(
-                    "product terms hold for both directions of motion; a term of the {s} direction only is not supported: give it \
-                     under [[term.{stem}]], or put the direction's difference into [table.\"{stem}{s}\"] / [basis.\"{stem}{s}\"]",
-                    s = d.symbol()
-                ),
-            ));
-        }
-        let id = ParameterId::parse(name).map_err(|m| invalid(&section, name, m))?;
+        // a name ending in + or - : the term holds for that direction of motion (seed 003 §3.6)
+        let (id, direction) = id_of(&section, name)?;
         for t in terms {
             let mut axes = Vec::new();
             let mut sensors = Vec::new();
             for (factor, power) in &t.factors {
-                match factor.strip_prefix("T:") {
-                    Some(sensor) if !sensor.is_empty() => sensors.push((factor.as_str(), *power)),
+                let mut chars = factor.chars();
+                match (chars.next(), chars.next()) {
+                    (Some(c), None) => axes.push((c, *power)),
+                    _ if factor.contains(':') => sensors.push((factor.as_str(), *power)),
                     _ => {
-                        let mut chars = factor.chars();
-                        match (chars.next(), chars.next()) {
-                            (Some(c), None) => axes.push((c, *power)),
-                            _ => {
-                                return Err(invalid(
-                                    &section,
-                                    name,
-                                    format!("factor `{factor}` is neither an axis letter nor a sensor `T:<name>`"),
-                                ))
-                            }
-                        }
+                        return Err(invalid(
+                            &section,
+                            name,
+                            format!(
+                                "factor `{factor}` is neither an axis letter nor an input (T:<sensor>, S:<spindle>, F:<load>, P:<name>)"
+                            ),
+                        ))
                     }
                 }
             }
-            model.add_term(machine, id, t.coefficient, &axes, &sensors).map_err(|m| invalid(&section, name, m))?;
+            let range = t.range.map(|[lo, hi]| (lo, hi));
+            model
+                .add_segment_term(machine, id, direction, range, t.coefficient, &axes, &sensors)
+                .map_err(|m| invalid(&section, name, m))?;
+        }
+    }
+    for (name, l) in &file.load {
+        let section = format!("load.{name}");
+        let id = ParameterId::parse(name).map_err(|m| invalid(&section, name, m))?;
+        let function = match (&l.position, &l.value, &l.coefficients, l.constant) {
+            (Some(p), Some(v), None, None) => ErrorFunction::table(p.clone(), v.clone(), None),
+            (None, None, Some(c), None) => ErrorFunction::polynomial(c.clone()),
+            (None, None, None, Some(c)) if c.is_finite() => Ok(ErrorFunction::Constant(c)),
+            _ => Err("give the change under the reference load as `position` and `value` (a table), `coefficients` (a polynomial) \
+                      or `constant`, exactly one of them"
+                .to_string()),
+        }
+        .map_err(|m| invalid(&section, name, m))?;
+        let lever = match (l.lever_mm, &l.lever_at) {
+            (Some(mm), Some(at)) => Some((mm, at.as_str())),
+            (None, None) => None,
+            _ => return Err(invalid(&section, name, "`lever_mm` and `lever_at` go together".into())),
+        };
+        model.add_load(machine, id, function, l.reference_n, &l.load, lever).map_err(|m| invalid(&section, name, m))?;
+    }
+    for (name, entries) in &file.drift {
+        let section = format!("drift.{name}");
+        let id = ParameterId::parse(name).map_err(|m| invalid(&section, name, m))?;
+        for d in entries {
+            let mut letters = d.axis.trim().chars();
+            let axis = match (letters.next(), letters.next()) {
+                (Some(c), None) => c,
+                _ => return Err(invalid(&section, name, format!("`axis` = `{}` is not an axis letter", d.axis))),
+            };
+            model
+                .add_drift(machine, id, axis, d.position, &d.sensors, &d.time_constants_s, &d.gains_um_per_degc)
+                .map_err(|m| invalid(&section, name, m))?;
         }
     }
     model.check_directions().map_err(|m| ErrorsError::Invalid { origin: origin.into(), message: m })?;

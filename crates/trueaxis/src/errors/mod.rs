@@ -7,13 +7,15 @@ mod basis;
 mod evaluator;
 mod file;
 mod function;
+pub mod inputs;
 mod model;
 mod quadrature;
 mod write;
 
 pub use basis::{Basis, BasisSpec, PeriodicSpec};
 pub use function::ErrorFunction;
-pub use model::{Direction, ErrorModel, MachineState, ProductTerm, REFERENCE_TEMPERATURE};
+pub use inputs::{input_values, pose_file_inputs, InputKind, InputSource};
+pub use model::{Direction, DriftTerm, ErrorModel, LoadTerm, MachineState, ProductTerm, REFERENCE_TEMPERATURE};
 pub use quadrature::{gauss_legendre, integrate, legendre};
 pub use write::set_error_function;
 

@@ -4,6 +4,7 @@
 
 use super::evaluator::{Evaluator, TableEvaluator};
 use super::function::ErrorFunction;
+use super::inputs::InputKind;
 use crate::machine::{AxisKind, Machine, ParameterId};
 
 /// ISO 1 reference temperature (degC): temperature terms use `T - 20`.
@@ -40,18 +41,66 @@ struct Entry {
     own_axis: Option<usize>,
 }
 
-/// A product term `coefficient * prod (axis position)^p * prod (T_s - 20 degC)^p` added to a
-/// parameter: cross-coupling (seed 000 eq. 3.19, e.g. `e = b x y`) and position-temperature
-/// products (seed 003 §3.6, e.g. scale expansion `alpha (T - 20) x`). Positions in mm or deg,
-/// the value in um or urad.
+/// A product term `coefficient * prod (axis position)^p * prod (input - reference)^p` added to a
+/// parameter: cross-coupling (seed 000 eq. 3.19, e.g. `e = b x y`), position-temperature products
+/// (seed 003 §3.6, e.g. scale expansion `alpha (T - 20) x`), spindle-speed and load terms (inputs
+/// of [`super::inputs`]). Positions in mm or deg, the value in um or urad.
+///
+/// A term of the geometric-thermal model of seed 003 §3.6 may hold for one segment only: one
+/// direction of motion of the parameter's own axis (`direction`, seed 003: "segment the data
+/// depending on the direction of travel due to hysteresis") and a range `[lo, hi)` of its position
+/// (`range`, "regions of axis position"). A directional term counts half when the direction is
+/// unknown (the mean of the two directions, as for bidirectional functions).
 #[derive(Clone, Debug, PartialEq)]
 pub struct ProductTerm {
     pub id: ParameterId,
     pub coefficient: f64,
     /// `(axis index, power)`.
     pub axes: Vec<(usize, i32)>,
-    /// `(sensor index into [`ErrorModel::sensors`], power)`.
+    /// `(input index into [`ErrorModel::sensors`], power)`.
     pub sensors: Vec<(usize, i32)>,
+    /// The direction of motion of the own axis the term holds for (`None`: both).
+    pub direction: Option<Direction>,
+    /// The range `[lo, hi)` of the own axis position (mm or deg) the term holds in (`None`: all).
+    pub range: Option<(f64, f64)>,
+    index: usize,
+    own_axis: Option<usize>,
+}
+
+/// A workpiece-load error (seed 000 §3.3.3, eq. 3.20): the change of a parameter under a load,
+/// measured as a function of its own axis position at a reference load placed at a reference
+/// position, scaled linearly with the load and with its lever arm:
+/// `e(q, F, p) = f(q) (F / F_ref) (L - p) / L`. Without a lever, `e = f(q) F / F_ref`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadTerm {
+    pub id: ParameterId,
+    /// `f`: the change (um or urad) under the reference load, of the own axis position (mm, deg);
+    /// a constant for a location error.
+    pub function: ErrorFunction,
+    /// `F_ref` (N).
+    pub reference_n: f64,
+    /// Input index of the load F (N, an `F:` input).
+    pub load: usize,
+    /// `(L, input index of p)`: the lever arm L (mm) at the reference position and the load
+    /// position p (mm, a `P:` input) that shortens it.
+    pub lever: Option<(f64, usize)>,
+    index: usize,
+    own_axis: Option<usize>,
+}
+
+/// A thermal drift model of one parameter interpolated over an axis position (seed 000 §3.4.4:
+/// "models are estimated at several characteristic positions of the machine axes. The drift at an
+/// arbitrary axis position is obtained by linear interpolation between the modelled drift at the
+/// tested positions"). At each tested position the drift is the state-space model of
+/// [`crate::thermal::drift_model`]: `sum_ij g_ij z_ij`, `z_ij` the rise of sensor i since the start of
+/// its run through the lag j (lag inputs of [`super::inputs`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DriftTerm {
+    pub id: ParameterId,
+    /// The axis (index) whose position the drift is interpolated over.
+    pub axis: usize,
+    /// Tested positions (mm or deg), increasing, each with `(lag input index, gain um/degC)`.
+    pub points: Vec<(f64, Vec<(usize, f64)>)>,
     index: usize,
 }
 
@@ -72,7 +121,11 @@ pub struct MachineState<'a> {
 pub struct ErrorModel {
     entries: Vec<Entry>,
     terms: Vec<ProductTerm>,
+    loads: Vec<LoadTerm>,
+    drifts: Vec<DriftTerm>,
+    /// Input names (`T:<sensor>`, `S:..`, `F:..`, `P:..`, lags) and the value each term refers to.
     sensors: Vec<String>,
+    references: Vec<f64>,
     parameter_count: usize,
     /// Evaluation plan, derived from `entries`: every constant for both directions summed into one
     /// parameter vector (internal units); the tables for both directions as `(parameter index, own
@@ -89,7 +142,10 @@ impl ErrorModel {
         ErrorModel {
             entries: Vec::new(),
             terms: Vec::new(),
+            loads: Vec::new(),
+            drifts: Vec::new(),
             sensors: Vec::new(),
+            references: Vec::new(),
             parameter_count,
             constants: vec![0.0; parameter_count],
             tables: Vec::new(),
@@ -160,9 +216,20 @@ impl ErrorModel {
         Ok(())
     }
 
+    /// The index of input `name` (see [`super::inputs`]), registered on first use.
+    fn input(&mut self, name: &str) -> Result<usize, String> {
+        if let Some(i) = self.sensors.iter().position(|n| n == name) {
+            return Ok(i);
+        }
+        let kind = InputKind::parse(name)?;
+        self.sensors.push(name.to_string());
+        self.references.push(kind.reference());
+        Ok(self.sensors.len() - 1)
+    }
+
     /// Adds a product term to parameter `id`: `coefficient` (um or urad per unit of the factors)
-    /// times the axis positions (mm, deg) and sensor temperature deviations `T - 20` (K) raised to
-    /// their powers.
+    /// times the axis positions (mm, deg) and the inputs' deviations from their references
+    /// (`T - 20` in K, a spindle speed in rpm, a force in N, ...) raised to their powers.
     pub fn add_term(
         &mut self,
         machine: &Machine,
@@ -171,9 +238,36 @@ impl ErrorModel {
         axes: &[(char, i32)],
         sensors: &[(&str, i32)],
     ) -> Result<(), String> {
+        self.add_segment_term(machine, id, None, None, coefficient, axes, sensors)
+    }
+
+    /// As [`ErrorModel::add_term`], for one segment of the own axis of a motion error: one direction
+    /// of motion and / or a position range `[lo, hi)` (mm or deg; infinite ends allowed).
+    #[allow(clippy::too_many_arguments)]
+    pub fn add_segment_term(
+        &mut self,
+        machine: &Machine,
+        id: ParameterId,
+        direction: Option<Direction>,
+        range: Option<(f64, f64)>,
+        coefficient: f64,
+        axes: &[(char, i32)],
+        sensors: &[(&str, i32)],
+    ) -> Result<(), String> {
         let index = machine.parameter_index(&id)?;
         if !coefficient.is_finite() {
             return Err("`coefficient` must be a finite number".into());
+        }
+        let own_axis = self.own_axis(machine, &id);
+        if (direction.is_some() || range.is_some()) && own_axis.is_none() {
+            return Err(format!(
+                "{id} is a constant (location or setup error): a term of one direction or position range needs a motion error"
+            ));
+        }
+        if let Some((lo, hi)) = range {
+            if lo.is_nan() || hi.is_nan() || lo >= hi {
+                return Err(format!("`range` [{lo}, {hi}] must be [lo, hi] with lo < hi (infinite ends allowed: -inf, inf)"));
+            }
         }
         let mut axis_powers = Vec::new();
         for (letter, power) in axes {
@@ -184,19 +278,120 @@ impl ErrorModel {
         }
         let mut sensor_powers = Vec::new();
         for (name, power) in sensors {
-            let s = match self.sensors.iter().position(|n| n == name) {
-                Some(s) => s,
-                None => {
-                    self.sensors.push(name.to_string());
-                    self.sensors.len() - 1
-                }
-            };
-            sensor_powers.push((s, *power));
+            sensor_powers.push((self.input(name)?, *power));
         }
         if axis_powers.iter().chain(&sensor_powers).any(|(_, p)| *p < 0 || *p > 8) {
             return Err("factor powers must be integers from 0 to 8".into());
         }
-        self.terms.push(ProductTerm { id, coefficient, axes: axis_powers, sensors: sensor_powers, index });
+        self.terms.push(ProductTerm { id, coefficient, axes: axis_powers, sensors: sensor_powers, direction, range, index, own_axis });
+        Ok(())
+    }
+
+    /// The axis a motion error depends on (`None` for location and setup errors).
+    fn own_axis(&self, machine: &Machine, id: &ParameterId) -> Option<usize> {
+        matches!(id, ParameterId::Motion { .. }).then(|| id.axis().and_then(|a| machine.axis_index(a))).flatten()
+    }
+
+    /// Adds a workpiece-load error (see [`LoadTerm`]): `function` of the own axis position (a
+    /// constant for a location error) under `reference_n` (N) of the load input `load` (`F:<name>`),
+    /// with an optional lever `(L mm, position input P:<name>)`.
+    pub fn add_load(
+        &mut self,
+        machine: &Machine,
+        id: ParameterId,
+        function: ErrorFunction,
+        reference_n: f64,
+        load: &str,
+        lever: Option<(f64, &str)>,
+    ) -> Result<(), String> {
+        let index = machine.parameter_index(&id)?;
+        let own_axis = self.own_axis(machine, &id);
+        if own_axis.is_none() && !matches!(function, ErrorFunction::Constant(_)) {
+            return Err(format!("{id} is a constant (location or setup error): give its change under the load as `constant`"));
+        }
+        if !(reference_n.is_finite() && reference_n != 0.0) {
+            return Err("`reference_n` must be the (non-zero) load in N the change was measured under".into());
+        }
+        if !matches!(InputKind::parse(load)?, InputKind::Force) {
+            return Err(format!("`load` = `{load}` must be a force input `F:<name>` (N)"));
+        }
+        let load = self.input(load)?;
+        let lever = match lever {
+            Some((l, p)) => {
+                if !(l.is_finite() && l != 0.0) {
+                    return Err("`lever_mm` must be a non-zero length in mm".into());
+                }
+                if !matches!(InputKind::parse(p)?, InputKind::Position) {
+                    return Err(format!("`lever_at` = `{p}` must be a position input `P:<name>` (mm)"));
+                }
+                Some((l, self.input(p)?))
+            }
+            None => None,
+        };
+        self.loads.push(LoadTerm { id, function, reference_n, load, lever, index, own_axis });
+        Ok(())
+    }
+
+    /// Adds the drift model tested at `position` (mm or deg) of axis `axis` to the drift of `id`
+    /// (see [`DriftTerm`]): sensors `T:<name>`, time constants (s) and `gains[i][j]` (um/degC).
+    #[allow(clippy::too_many_arguments)]
+    pub fn add_drift(
+        &mut self,
+        machine: &Machine,
+        id: ParameterId,
+        axis: char,
+        position: f64,
+        sensors: &[String],
+        time_constants_s: &[f64],
+        gains: &[Vec<f64>],
+    ) -> Result<(), String> {
+        let index = machine.parameter_index(&id)?;
+        let axis = machine
+            .axis_index(axis)
+            .ok_or_else(|| format!("`axis` {axis}: machine `{}` has no axis {axis} (axes: {})", machine.name, machine.axis_letters()))?;
+        if !position.is_finite() {
+            return Err("`position` must be a finite axis position".into());
+        }
+        if time_constants_s.is_empty() || time_constants_s.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
+            return Err("`time_constants_s` must be positive numbers of seconds".into());
+        }
+        if sensors.is_empty()
+            || gains.len() != sensors.len()
+            || gains.iter().any(|g| g.len() != time_constants_s.len() || g.iter().any(|v| !v.is_finite()))
+        {
+            return Err(format!(
+                "`gains_um_per_degc` needs one row per sensor ({}) of one finite gain per time constant ({})",
+                sensors.len(),
+                time_constants_s.len()
+            ));
+        }
+        let mut point = Vec::new();
+        for (sensor, row) in sensors.iter().zip(gains) {
+            if !matches!(InputKind::parse(sensor)?, InputKind::Temperature) {
+                return Err(format!("sensor `{sensor}` must be a temperature `T:<name>`"));
+            }
+            for (tau, g) in time_constants_s.iter().zip(row) {
+                point.push((self.input(&super::inputs::lag_name(sensor, *tau))?, *g));
+            }
+        }
+        let existing = match self.drifts.iter_mut().find(|d| d.index == index) {
+            Some(d) => d,
+            None => {
+                self.drifts.push(DriftTerm { id, axis, points: Vec::new(), index });
+                self.drifts.last_mut().expect("pushed")
+            }
+        };
+        if existing.axis != axis {
+            return Err(format!(
+                "the drift of {id} is interpolated over one axis; another entry names axis {}",
+                machine.axes()[existing.axis].letter
+            ));
+        }
+        if existing.points.iter().any(|(p, _)| *p == position) {
+            return Err(format!("the drift of {id} is given twice at position {position}"));
+        }
+        existing.points.push((position, point));
+        existing.points.sort_by(|a, b| a.0.total_cmp(&b.0));
         Ok(())
     }
 
@@ -240,10 +435,27 @@ impl ErrorModel {
         &self.terms
     }
 
-    /// Names of the temperature sensors the model needs (e.g. `T:spindle`), in the order
-    /// [`MachineState::temperatures`] expects.
+    /// Names of the inputs the model needs: temperature sensors (e.g. `T:spindle`), spindle speeds,
+    /// forces, positions and lagged sensor rises ([`super::inputs`]), in the order
+    /// [`MachineState::temperatures`] expects their values.
     pub fn sensors(&self) -> &[String] {
         &self.sensors
+    }
+
+    /// The value of each input at which its terms vanish (20 degC for a temperature, 0 else), in
+    /// the order of [`ErrorModel::sensors`]: the value to use for an input that is not given.
+    pub fn input_references(&self) -> &[f64] {
+        &self.references
+    }
+
+    /// The workpiece-load errors.
+    pub fn loads(&self) -> &[LoadTerm] {
+        &self.loads
+    }
+
+    /// The drift models interpolated over an axis position.
+    pub fn drifts(&self) -> &[DriftTerm] {
+        &self.drifts
     }
 
     /// Evaluates every parameter at pose `q` (internal units, canonical axis order), at rest (mean
@@ -273,16 +485,50 @@ impl ErrorModel {
                 values[e.index] += weight * e.evaluator.value(&e.function, e.own_axis.map_or(0.0, |a| q[a]));
             }
         }
+        // an input not given is at its reference: its terms vanish
+        let deviation = |i: usize| state.temperatures.get(i).map_or(0.0, |v| v - self.references[i]);
         for t in &self.terms {
             let mut v = t.coefficient;
+            if let Some(a) = t.own_axis {
+                let q = user(a);
+                if t.range.is_some_and(|(lo, hi)| !(lo <= q && q < hi)) {
+                    continue;
+                }
+                v *= match (t.direction, state.directions.and_then(|d| d[a])) {
+                    (None, _) => 1.0,
+                    (Some(d), Some(actual)) => f64::from(d == actual),
+                    (Some(_), None) => 0.5,
+                };
+            }
             for (axis, power) in &t.axes {
                 v *= user(*axis).powi(*power);
             }
             for (sensor, power) in &t.sensors {
-                let temperature = state.temperatures.get(*sensor).copied().unwrap_or(REFERENCE_TEMPERATURE);
-                v *= (temperature - REFERENCE_TEMPERATURE).powi(*power);
+                v *= deviation(*sensor).powi(*power);
             }
             values[t.index] += v * t.id.component().to_internal();
+        }
+        for l in &self.loads {
+            let mut v = l.function.evaluate(l.own_axis.map_or(0.0, user)) * deviation(l.load) / l.reference_n;
+            if let Some((lever, at)) = l.lever {
+                v *= (lever - deviation(at)) / lever;
+            }
+            values[l.index] += v * l.id.component().to_internal();
+        }
+        for d in &self.drifts {
+            let q = user(d.axis);
+            let drift_at = |k: usize| d.points[k].1.iter().map(|(i, g)| g * deviation(*i)).sum::<f64>();
+            let k = d.points.partition_point(|(p, _)| *p <= q);
+            let v = match k {
+                0 => drift_at(0),
+                k if k == d.points.len() => drift_at(k - 1),
+                k => {
+                    let (p0, p1) = (d.points[k - 1].0, d.points[k].0);
+                    let t = (q - p0) / (p1 - p0);
+                    (1.0 - t) * drift_at(k - 1) + t * drift_at(k)
+                }
+            };
+            values[d.index] += v * d.id.component().to_internal();
         }
     }
 }

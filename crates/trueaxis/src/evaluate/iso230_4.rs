@@ -17,8 +17,9 @@ use super::EvaluateError;
 use crate::data::{CsvTable, DataError};
 use crate::identify::pige::kasa_fit;
 use crate::instruments::ballbar::{
-    angle_column, ballbar_header, bar_deviations, check_arc, circle_test, sample_angles, CircleSpec, Plane, Rotation,
+    angle_column, ballbar_header, bar_readings, check_arc, check_bar_deviations, circle_test, CircleSpec, Plane, Rotation,
 };
+use crate::instruments::ballbar_raw::sampled_rows;
 use crate::io::ballbar::BallbarHeader;
 use crate::io::plausibility::Place;
 use crate::io::units::Dimension;
@@ -212,7 +213,7 @@ pub fn read_circular_table(
         }
     };
     let mut warnings: Vec<String> = table.warnings().to_vec();
-    let dl: Vec<f64> = bar_deviations(table, Some(radius), &mut warnings)?.iter().map(|v| v * 1e-3).collect();
+    let dl_um = bar_readings(table, Some(radius), &mut warnings)?;
     let dirs: Option<Vec<Rotation>> = if table.has_column("dir") {
         let texts = table.texts("dir")?;
         Some(
@@ -244,17 +245,19 @@ pub fn read_circular_table(
     } else {
         None
     };
-    let angles_deg: Vec<f64> = if table.has_column("angle") {
-        angle_column(table, "angle")?
+    let all_rows = || (0..dl_um.len()).collect::<Vec<usize>>();
+    let (rows, angles_deg): (Vec<usize>, Vec<f64>) = if table.has_column("angle") {
+        (all_rows(), angle_column(table, "angle")?)
     } else if let Some((xa, xb)) = &positions {
-        xa.iter().zip(xb).map(|(p, q)| (q - centre[ib]).atan2(p - centre[ia]).to_degrees()).collect()
+        (all_rows(), xa.iter().zip(xb).map(|(p, q)| (q - centre[ib]).atan2(p - centre[ia]).to_degrees()).collect())
     } else if header.feed_mm_per_min.is_some() || header.sample_rate_hz.is_some() {
         let ccw: Vec<bool> = match &dirs {
             Some(d) => d.iter().map(|r| *r == Rotation::Ccw).collect(),
-            None => vec![header.sense != Some(crate::io::ballbar::Sense::Cw); dl.len()],
+            None => vec![header.sense != Some(crate::io::ballbar::Sense::Cw); dl_um.len()],
         };
         let runs: Vec<i64> = ccw.iter().map(|c| i64::from(*c)).collect();
-        sample_angles(table, &BallbarHeader { radius_mm: Some(radius), ..header.clone() }, &runs, &ccw)?
+        let header = BallbarHeader { radius_mm: Some(radius), ..header.clone() };
+        sampled_rows(table, &header, &runs, &ccw, &dl_um, &mut warnings)?
     } else {
         return Err(DataError::Invalid {
             origin: origin.to_string(),
@@ -264,6 +267,11 @@ pub fn read_circular_table(
         }
         .into());
     };
+    // a raw capture keeps the rows of its capture arcs only
+    let dl_um: Vec<f64> = rows.iter().map(|&i| dl_um[i]).collect();
+    check_bar_deviations(table, Some(radius), &dl_um, &mut warnings)?;
+    let dl: Vec<f64> = dl_um.iter().map(|v| v * 1e-3).collect();
+    let dirs: Option<Vec<Rotation>> = dirs.map(|d| rows.iter().map(|&i| d[i]).collect());
     let angles: Vec<f64> = angles_deg.iter().map(|d| d.to_radians()).collect();
     let mut runs = Vec::new();
     for rotation in [Rotation::Ccw, Rotation::Cw] {

@@ -1,9 +1,15 @@
 //! Standard evaluations: ISO 230-2 positioning accuracy, ISO 230-4 circular tests with ballbar
-//! diagnostics.
+//! diagnostics, verification of a compensation by a re-measurement.
+//! Standard evaluations: ISO 230-2 positioning accuracy (and a positioning test from its file,
+//! `positioning_test`), ISO 230-4 circular tests with ballbar diagnostics (and from a file,
+//! `circular_test`).
 
 pub mod ballbar_diagnostics;
+pub mod circular_test;
 pub mod iso230_2;
 pub mod iso230_4;
+pub mod positioning_test;
+pub mod verification;
 
 use crate::data::DataError;
 use thiserror::Error;
@@ -16,6 +22,10 @@ pub enum EvaluateError {
     Data(#[from] DataError),
     #[error("{origin}: {message}")]
     Invalid { origin: String, message: String },
+    /// Bad input whose message names its file or parameter itself (a refused plausibility check,
+    /// an option out of range).
+    #[error("{0}")]
+    Input(String),
     #[error("{0}")]
     NotFinite(String),
 }
@@ -23,6 +33,6 @@ pub enum EvaluateError {
 impl EvaluateError {
     /// True for errors in the input (exit status 2 in the command line), false for failed computations.
     pub fn is_input(&self) -> bool {
-        matches!(self, EvaluateError::Data(_) | EvaluateError::Invalid { .. })
+        matches!(self, EvaluateError::Data(_) | EvaluateError::Invalid { .. } | EvaluateError::Input(_))
     }
 }

@@ -40,6 +40,7 @@ struct CampaignFile {
     name: Option<String>,
     #[serde(default)]
     source: Option<String>,
+    #[serde(default)]
     parameters: Vec<String>,
     #[serde(default)]
     nominal_errors: Option<String>,
@@ -188,12 +189,32 @@ impl Campaign {
     /// Reads a campaign TOML and its data files for `machine`. Every error names the file (and the
     /// line or key).
     pub fn load(path: impl AsRef<Path>, machine: &Machine) -> Result<Campaign, IdentifyError> {
-        let path = path.as_ref();
+        Self::load_with(path.as_ref(), machine, true)
+    }
+
+    /// As [`Campaign::load`], also without any unknown (an empty `parameters` list and no
+    /// nuisance): a re-measurement to verify a model with (`evaluate::verification`).
+    pub fn load_measurements(path: impl AsRef<Path>, machine: &Machine) -> Result<Campaign, IdentifyError> {
+        Self::load_with(path.as_ref(), machine, false)
+    }
+
+    fn load_with(path: &Path, machine: &Machine, require_unknowns: bool) -> Result<Campaign, IdentifyError> {
         let origin = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| input(&origin, format!("cannot read campaign file: {e}")))?;
-        let file: CampaignFile = toml::from_str(&text).map_err(|e| input(&origin, one_line(&e.to_string())))?;
+        Campaign::parse_toml(&text, &origin, path.parent().unwrap_or(Path::new("")), machine, require_unknowns)
+    }
+
+    /// A campaign from its TOML text; `origin` names it in messages and the data files are read
+    /// relative to `dir`.
+    pub fn from_toml_str(text: &str, origin: &str, dir: &Path, machine: &Machine) -> Result<Campaign, IdentifyError> {
+        Campaign::parse_toml(text, origin, dir, machine, true)
+    }
+
+    fn parse_toml(text: &str, origin: &str, dir: &Path, machine: &Machine, require_unknowns: bool) -> Result<Campaign, IdentifyError> {
+        let origin = origin.to_string();
+        let file: CampaignFile = toml::from_str(text).map_err(|e| input(&origin, one_line(&e.to_string())))?;
         let _ = &file.source;
-        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let dir = dir.to_path_buf();
         let mut unknowns = Vec::new();
         for name in &file.parameters {
             let u = Unknown::parse(machine, name).map_err(|m| input(&origin, format!("parameters: {m}")))?;
@@ -214,9 +235,6 @@ impl Campaign {
             unknowns.extend(coefficients);
             bases.push(parameter);
         }
-        if unknowns.is_empty() {
-            return Err(input(&origin, "parameters: the list is empty and there is no [basis.NAME]; name the parameters to identify"));
-        }
         if file.measurement.is_empty() {
             return Err(input(&origin, "no [[measurement]]: a campaign needs at least one"));
         }
@@ -233,6 +251,9 @@ impl Campaign {
                 unknowns.extend(Unknown::plate(i, &measurement.name));
             }
             measurements.push(measurement);
+        }
+        if require_unknowns && unknowns.is_empty() {
+            return Err(input(&origin, "parameters: the list is empty and there is no [basis.NAME]; name the parameters to identify"));
         }
         Ok(Campaign { origin, name: file.name, unknowns, bases, nominal_errors: file.nominal_errors.map(|p| dir.join(p)), measurements })
     }

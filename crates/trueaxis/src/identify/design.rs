@@ -32,6 +32,7 @@ use super::IdentifyError;
 use nalgebra::{DMatrix, DVector};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 
 /// Smallest relative Cholesky pivot `L_jj^2 / M_jj` (the squared sine of the angle between a scaled
 /// column and the span of the columns before it) a trial design of the exchange may have: `1e-12`
@@ -297,7 +298,10 @@ impl CandidateSet {
     /// `starts` random designs of `n` candidates (seeded; a greedy regular start when no random one
     /// is regular), repeatedly apply the single exchange (design record out, candidate in) that
     /// improves `criterion` most, until none does; returns the best design found, sorted, with its
-    /// criteria.
+    /// criteria. The starts run in parallel; each has its own random stream ([`start_rng`]) and
+    /// the best is chosen by value, then by the lowest start, so the result does not depend on
+    /// how the starts are spread over threads, processes or machines
+    /// ([`CandidateSet::exchange_starts`], [`CandidateSet::best_of`]).
     ///
     /// Errors: `n` or `starts` zero, or `n` records too few to hold `p` readings (input); a
     /// candidate set that does not determine every parameter, naming the unseen combinations, or no
@@ -309,6 +313,14 @@ impl CandidateSet {
         starts: usize,
         seed: u64,
     ) -> Result<(Vec<usize>, DesignCriteria), IdentifyError> {
+        self.check_exchange(n, starts)?;
+        let found = self.exchange_starts(n, criterion, seed, 0..starts);
+        self.best_of(n, &found)
+    }
+
+    /// The checks of [`CandidateSet::exchange`] before any start: `n` and `starts` at least 1,
+    /// enough readings for the unknowns, a candidate set that determines every parameter.
+    pub fn check_exchange(&self, n: usize, starts: usize) -> Result<(), IdentifyError> {
         if n == 0 {
             return Err(IdentifyError::Input("the number of records to choose must be at least 1".into()));
         }
@@ -326,49 +338,84 @@ impl CandidateSet {
                 self.p.div_ceil(most_rows)
             )));
         }
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
-        let mut best: Option<(Vec<usize>, f64)> = None;
-        for _ in 0..starts {
-            let random = (0..100)
-                .map(|_| (0..n).map(|_| rng.gen_range(0..self.len())).collect::<Vec<_>>())
-                .find(|d| self.scaled_cholesky(&self.information_of(d)).is_some());
-            let Some(mut design) = random.or_else(|| self.greedy_start(n, &mut rng)) else {
-                continue;
-            };
-            let mut m = self.information_of(&design);
-            let Some(mut value) = self.value_of(&m, n, criterion) else { continue };
-            loop {
-                let mut improvement: Option<(usize, usize, f64)> = None;
-                for (i, &out) in design.iter().enumerate() {
-                    let without = &m - &self.information[out];
-                    for j in 0..self.len() {
-                        if j == out {
-                            continue;
-                        }
-                        let trial = &without + &self.information[j];
-                        if let Some(v) = self.value_of(&trial, n, criterion) {
-                            if v < value * (1.0 - 1e-10) && improvement.is_none_or(|(_, _, b)| v < b) {
-                                improvement = Some((i, j, v));
-                            }
+        Ok(())
+    }
+
+    /// The exchange from each start of `starts` (a chunk of the starts of
+    /// [`CandidateSet::exchange`]; run [`CandidateSet::check_exchange`] first): per start its
+    /// number and the design it ends in with its criterion value, `None` when no regular start
+    /// design was found. Starts run in parallel (rayon).
+    pub fn exchange_starts(&self, n: usize, criterion: Criterion, seed: u64, starts: std::ops::Range<usize>) -> Vec<ExchangeOutcome> {
+        starts.into_par_iter().map(|start| ExchangeOutcome { start, found: self.exchange_from(n, criterion, seed, start) }).collect()
+    }
+
+    /// One start of the exchange algorithm.
+    fn exchange_from(&self, n: usize, criterion: Criterion, seed: u64, start: usize) -> Option<(Vec<usize>, f64)> {
+        if self.is_empty() {
+            return None;
+        }
+        let mut rng = start_rng(seed, start);
+        let random = (0..100)
+            .map(|_| (0..n).map(|_| rng.gen_range(0..self.len())).collect::<Vec<_>>())
+            .find(|d| self.scaled_cholesky(&self.information_of(d)).is_some());
+        let mut design = random.or_else(|| self.greedy_start(n, &mut rng))?;
+        let mut m = self.information_of(&design);
+        let mut value = self.value_of(&m, n, criterion)?;
+        loop {
+            let mut improvement: Option<(usize, usize, f64)> = None;
+            for (i, &out) in design.iter().enumerate() {
+                let without = &m - &self.information[out];
+                for j in 0..self.len() {
+                    if j == out {
+                        continue;
+                    }
+                    let trial = &without + &self.information[j];
+                    if let Some(v) = self.value_of(&trial, n, criterion) {
+                        if v < value * (1.0 - 1e-10) && improvement.is_none_or(|(_, _, b)| v < b) {
+                            improvement = Some((i, j, v));
                         }
                     }
                 }
-                let Some((i, j, v)) = improvement else { break };
-                m = &m - &self.information[design[i]] + &self.information[j];
-                design[i] = j;
-                value = v;
             }
-            if best.as_ref().is_none_or(|(_, b)| value < *b) {
-                best = Some((design, value));
-            }
+            let Some((i, j, v)) = improvement else { break };
+            m = &m - &self.information[design[i]] + &self.information[j];
+            design[i] = j;
+            value = v;
         }
-        let (mut design, _) = best.ok_or_else(|| IdentifyError::RankDeficient {
-            message: format!("no design of {n} records that determines the {} unknowns was found; choose more records", self.p),
-        })?;
         design.sort_unstable();
+        Some((design, value))
+    }
+
+    /// The best of the outcomes of any chunks of starts (smallest criterion value, then lowest
+    /// start number), sorted, with its criteria: the merge of [`CandidateSet::exchange_starts`].
+    pub fn best_of(&self, n: usize, outcomes: &[ExchangeOutcome]) -> Result<(Vec<usize>, DesignCriteria), IdentifyError> {
+        let best = outcomes
+            .iter()
+            .filter_map(|o| o.found.as_ref().map(|(d, v)| (o.start, d, *v)))
+            .min_by(|a, b| a.2.total_cmp(&b.2).then(a.0.cmp(&b.0)))
+            .ok_or_else(|| IdentifyError::RankDeficient {
+                message: format!("no design of {n} records that determines the {} unknowns was found; choose more records", self.p),
+            })?;
+        let design = best.1.clone();
         let criteria = self.criteria(&design)?;
         Ok((design, criteria))
     }
+}
+
+/// The outcome of one start of the exchange algorithm: the start's number and the (sorted)
+/// design it ends in with its criterion value, `None` when no regular start design was found.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ExchangeOutcome {
+    pub start: usize,
+    pub found: Option<(Vec<usize>, f64)>,
+}
+
+/// The random stream of start `start` of the exchange algorithm: ChaCha8 seeded with `seed`, on
+/// stream `start` (counter-based: independent of the other starts and of their order).
+pub fn start_rng(seed: u64, start: usize) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(start as u64);
+    rng
 }
 
 #[cfg(test)]

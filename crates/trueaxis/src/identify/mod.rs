@@ -2,7 +2,9 @@
 //! removal, and fitting of parametric error functions to direct measurements (seed 000 §3.2).
 
 pub mod campaign;
+mod candidates;
 pub mod design;
+pub mod design_units;
 mod direct;
 mod drift;
 pub mod export;
@@ -11,6 +13,7 @@ pub mod identifiability;
 pub mod indirect;
 mod least_squares;
 pub mod pige;
+pub mod pige_report;
 pub mod pige_sensitivity;
 mod reduction;
 pub mod simulate;
@@ -20,7 +23,9 @@ pub mod tmbb_setup;
 pub mod unknowns;
 
 pub use campaign::{Campaign, DesignMatrix, Measurement};
-pub use design::{CandidateSet, Criterion, DesignCriteria};
+pub use candidates::{optimal_design_json, CampaignCandidates};
+pub use design::{start_rng, CandidateSet, Criterion, DesignCriteria, ExchangeOutcome};
+pub use design_units::{criteria_units, CriteriaUnits};
 pub use direct::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel};
 pub use drift::{remove_cycle_drift, CycleDrift};
 pub use export::{error_values_text, identification_json};

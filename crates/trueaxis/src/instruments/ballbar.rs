@@ -654,11 +654,23 @@ pub fn ballbar_header(table: &CsvTable) -> Result<BallbarHeader, DataError> {
 
 /// The bar deviations (um, actual minus nominal length) of a ballbar table: the `dL` column (or a
 /// synonym: `deviation`, `dr` ...; unit from the header, um by default), or a length column
-/// (`radius`, `length`, mm by default) from which `radius_mm` is subtracted. Checked against the
-/// radius (`io::plausibility::ballbar_readings`) and for their size; warnings are pushed.
+/// (`radius`, `length`, mm by default) from which `radius_mm` is subtracted. Checked by
+/// [`check_bar_deviations`]; warnings are pushed.
 pub fn bar_deviations(table: &CsvTable, radius_mm: Option<f64>, warnings: &mut Vec<String>) -> Result<Vec<f64>, DataError> {
-    let length_column = ["radius", "length", "barlength", "actualradius", "measuredradius"].into_iter().find(|c| table.has_column(c));
-    let dl = match (table.has_column("dL"), length_column) {
+    let dl = bar_readings(table, radius_mm, warnings)?;
+    check_bar_deviations(table, radius_mm, &dl, warnings)?;
+    Ok(dl)
+}
+
+/// The length column of a ballbar table, if its readings are bar lengths.
+fn length_column(table: &CsvTable) -> Option<&'static str> {
+    ["radius", "length", "barlength", "actualradius", "measuredradius"].into_iter().find(|c| table.has_column(c))
+}
+
+/// The bar deviations (um) of a ballbar table as [`bar_deviations`] reads them, before the checks
+/// of their size (a raw capture is checked on its capture arc only).
+pub fn bar_readings(table: &CsvTable, radius_mm: Option<f64>, warnings: &mut Vec<String>) -> Result<Vec<f64>, DataError> {
+    match (table.has_column("dL"), length_column(table)) {
         (false, Some(c)) => {
             let r = radius_mm.ok_or_else(|| DataError::Invalid {
                 origin: table.origin().to_string(),
@@ -670,23 +682,28 @@ pub fn bar_deviations(table: &CsvTable, radius_mm: Option<f64>, warnings: &mut V
             let lengths = table.numbers_in(c, crate::io::Unit::MM)?;
             let text = table.column_text(c).unwrap_or(c).to_string();
             sort_finding(table, plausibility::bar_lengths(&lengths, r, Place { file: table.origin(), column: &text }), warnings)?;
-            lengths.iter().map(|l| (l - r) * 1e3).collect()
+            Ok(lengths.iter().map(|l| (l - r) * 1e3).collect())
         }
-        _ => table.numbers_as("dL", Dimension::Length)?,
-    };
+        _ => table.numbers_as("dL", Dimension::Length),
+    }
+}
+
+/// The checks of bar deviations `dl` (um) read from `table`: against the radius
+/// (`io::plausibility::ballbar_readings`) and for their size; refusals are errors, warnings pushed.
+pub fn check_bar_deviations(table: &CsvTable, radius_mm: Option<f64>, dl: &[f64], warnings: &mut Vec<String>) -> Result<(), DataError> {
+    let length_column = length_column(table);
     let column = table.column_text("dL").or_else(|| length_column.and_then(|c| table.column_text(c))).unwrap_or("dL").to_string();
     if let Some(r) = radius_mm {
         let place = Place { file: table.origin(), column: &column };
-        sort_finding(table, plausibility::ballbar_readings(&dl, r, place), warnings)?;
+        sort_finding(table, plausibility::ballbar_readings(dl, r, place), warnings)?;
     }
     let finding = if table.has_column("dL") {
-        crate::data::checks::deviation_finding(table, "dL", &dl)
+        crate::data::checks::deviation_finding(table, "dL", dl)
     } else {
         let place = Place { file: table.origin(), column: &column };
-        plausibility::deviation_scale(&dl, None, place, "label the header `radius [mm]`", "label the header with the unit of the values")
+        plausibility::deviation_scale(dl, None, place, "label the header `radius [mm]`", "label the header with the unit of the values")
     };
-    sort_finding(table, finding, warnings)?;
-    Ok(dl)
+    sort_finding(table, finding, warnings)
 }
 
 /// An angle column (deg; the header's unit honoured), refused when the values look like radians.
@@ -776,7 +793,7 @@ pub fn read_trace(path: impl AsRef<std::path::Path>, angle_columns: &[&str]) -> 
 pub fn trace_of(table: &CsvTable, angle_columns: &[&str]) -> Result<TraceFile, DataError> {
     let header = ballbar_header(table)?;
     let mut warnings: Vec<String> = table.warnings().to_vec();
-    let dl_um = bar_deviations(table, header.radius_mm, &mut warnings)?;
+    let dl_um = bar_readings(table, header.radius_mm, &mut warnings)?;
     let runs: Vec<i64> = if table.has_column("run") {
         table
             .numbers("run")?
@@ -793,8 +810,8 @@ pub fn trace_of(table: &CsvTable, angle_columns: &[&str]) -> Result<TraceFile, D
     } else {
         vec![1; dl_um.len()]
     };
-    let angles_deg = match angle_columns.iter().find(|c| table.has_column(c)) {
-        Some(c) => angle_column(table, c)?,
+    let (rows, angles_deg) = match angle_columns.iter().find(|c| table.has_column(c)) {
+        Some(c) => ((0..dl_um.len()).collect(), angle_column(table, c)?),
         None if header.feed_mm_per_min.is_some() || header.sample_rate_hz.is_some() => {
             // the sense of each row: a `dir` column, else the header's direction
             let ccw: Vec<bool> = if table.has_column("dir") {
@@ -812,7 +829,7 @@ pub fn trace_of(table: &CsvTable, angle_columns: &[&str]) -> Result<TraceFile, D
                 vec![header.sense != Some(crate::io::ballbar::Sense::Cw); runs.len()]
             };
             let sense_runs: Vec<i64> = runs.iter().zip(&ccw).map(|(r, c)| 2 * r + i64::from(*c)).collect();
-            sample_angles(table, &header, &sense_runs, &ccw)?
+            super::ballbar_raw::sampled_rows(table, &header, &sense_runs, &ccw, &dl_um, &mut warnings)?
         }
         None => {
             return Err(DataError::Invalid {
@@ -824,6 +841,10 @@ pub fn trace_of(table: &CsvTable, angle_columns: &[&str]) -> Result<TraceFile, D
             })
         }
     };
+    // a raw capture keeps the rows of its capture arcs only
+    let dl_um: Vec<f64> = rows.iter().map(|&i| dl_um[i]).collect();
+    let runs: Vec<i64> = rows.iter().map(|&i| runs[i]).collect();
+    check_bar_deviations(table, header.radius_mm, &dl_um, &mut warnings)?;
     check_arc(table, &header, &angles_deg, &runs, &mut warnings)?;
     Ok(TraceFile { angles_deg, dl_um, runs, metadata: table.metadata().clone(), header, warnings })
 }

@@ -18,6 +18,9 @@
 //!
 //! Units: deviations in um, angles in deg, radius in mm, feed in mm/min, sample rate in Hz.
 
+use super::ballbar::sample_angles;
+use crate::data::{CsvTable, DataError};
+use crate::io::ballbar::BallbarHeader;
 use thiserror::Error;
 
 /// Why a raw capture cannot be reduced. Every variant is bad input.
@@ -174,6 +177,62 @@ pub fn capture_arc(samples: &[f64], programme: &ArcProgramme) -> Result<Captured
         samples_per_deg_of_stretch: of_stretch,
         warnings,
     })
+}
+
+/// Readings beyond this (um) in a fixed-rate file without an overshoot in its header are most
+/// likely feed moves of a raw capture: warned.
+pub const FEED_MOVE_SUSPECT_UM: f64 = 300.0;
+
+/// The rows of a fixed-rate ballbar file (no angle column) that the test evaluates, and their
+/// angles (deg). Rows group into runs by `groups` (consecutive rows with one key, e.g. run and
+/// sense); `ccw` gives each row's sense. When the header states an overshoot, the file is a raw
+/// capture: each run's capture arc is found by [`capture_arc`] (the feed moves and overshoots
+/// dropped, `theta_i = i Theta / N`) and only its rows are kept; otherwise every row is kept at
+/// the angle its sample number gives ([`super::ballbar::sample_angles`]).
+pub fn sampled_rows(
+    table: &CsvTable,
+    header: &BallbarHeader,
+    groups: &[i64],
+    ccw: &[bool],
+    dl_um: &[f64],
+    warnings: &mut Vec<String>,
+) -> Result<(Vec<usize>, Vec<f64>), DataError> {
+    let bad = |m: String| DataError::Invalid { origin: table.origin().to_string(), message: m };
+    let Some(overshoot) = header.overshoot_deg else {
+        if let Some(v) = dl_um.iter().find(|v| v.abs() > FEED_MOVE_SUSPECT_UM) {
+            warnings.push(format!(
+                "{}: a reading of {v:.1} um: if the file holds the feed moves and overshoots of a raw capture, state `Overshoot: <deg>` \
+                 (and `Arc:`) in its header so that only the capture arc is evaluated",
+                table.origin()
+            ));
+        }
+        let angles = sample_angles(table, header, groups, ccw)?;
+        return Ok(((0..angles.len()).collect(), angles));
+    };
+    let arc =
+        header.arc_deg.ok_or_else(|| bad("a raw capture (`Overshoot:` in the header) needs the capture arc too (`Arc: <deg>`)".into()))?;
+    let (mut rows, mut angles) = (Vec::new(), Vec::new());
+    let mut first = 0;
+    while first < groups.len() {
+        let end = (first..groups.len()).find(|&i| groups[i] != groups[first]).unwrap_or(groups.len());
+        let programme = ArcProgramme {
+            capture_arc_deg: arc,
+            overshoot_deg: overshoot,
+            start_deg: header.start_deg.unwrap_or(0.0),
+            direction: if ccw[first] { 1.0 } else { -1.0 },
+            radius_mm: header.radius_mm,
+            feed_mm_min: header.feed_mm_per_min,
+            sample_rate_hz: header.sample_rate_hz,
+            ..ArcProgramme::new(arc, overshoot)
+        };
+        let captured = capture_arc(&dl_um[first..end], &programme)
+            .map_err(|e| bad(format!("rows {} to {} (one run): {e}", table.lines()[first], table.lines()[end - 1])))?;
+        warnings.extend(captured.warnings.iter().map(|w| format!("{}: line {}: {w}", table.origin(), table.lines()[first])));
+        rows.extend((0..captured.dev_um.len()).map(|i| first + captured.first_sample + i));
+        angles.extend(captured.angles_deg);
+        first = end;
+    }
+    Ok((rows, angles))
 }
 
 #[cfg(test)]

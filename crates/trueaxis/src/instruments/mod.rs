@@ -32,6 +32,7 @@ pub mod measurement;
 pub mod probe;
 pub mod reversal;
 pub mod scale;
+pub mod scale_options;
 pub mod steady;
 pub mod trajectory;
 
@@ -52,6 +53,7 @@ pub use scale::{
     ScaleError, ScaleTemperature, TableCorrection, TableCorrectionError, TemperatureSource, ThermalCorrection, ThermalRun,
     REFERENCE_TEMPERATURE_DEGC,
 };
+pub use scale_options::{AppliedCorrection, TemperatureOptions};
 pub use steady::{plateaus, steady_values, Plateau, SteadyError, SteadySettings};
 pub use trajectory::{ball_trajectory, Sweep, TrajectoryError};
 

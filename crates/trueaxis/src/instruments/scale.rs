@@ -63,6 +63,10 @@ pub enum ScaleError {
          or all positions equal), so the expansion coefficient cannot be estimated"
     )]
     NoTemperatureContrast { what: &'static str },
+    /// A file's recorded material temperature that is no workshop temperature (kelvin, Fahrenheit),
+    /// `io::plausibility::temperature_degc`; the message names the file.
+    #[error("{message} (or give --no-file-temperature)")]
+    ImplausibleFileTemperature { message: String },
 }
 
 /// The temperature of the expanding body during a run.

@@ -37,6 +37,9 @@ pub struct BallbarHeader {
     pub sense: Option<Sense>,
     pub sample_rate_hz: Option<f64>,
     pub arc_deg: Option<f64>,
+    /// Overshoot arc before and after the capture arc (deg): a raw capture that still holds the
+    /// feed moves and the overshoots (`instruments::ballbar_raw`).
+    pub overshoot_deg: Option<f64>,
     pub start_deg: Option<f64>,
     /// `xy`, `yz` or `zx`.
     pub plane: Option<&'static str>,
@@ -48,6 +51,7 @@ enum Key {
     Sense,
     Rate,
     Arc,
+    Overshoot,
     Start,
     Plane,
 }
@@ -61,6 +65,7 @@ fn key_of(key: &str) -> Option<Key> {
         "direction" | "dir" | "rotation" | "sense" | "richtung" => Key::Sense,
         "samplerate" | "samplingrate" | "datarate" | "samplefrequency" | "rate" => Key::Rate,
         "arc" | "dataarc" | "capturearc" | "testarc" | "datacapturearc" | "arcangle" | "sweep" => Key::Arc,
+        "overshoot" | "overshootangle" | "overtravel" | "overrun" => Key::Overshoot,
         "startangle" | "start" | "startposition" => Key::Start,
         "plane" | "testplane" | "ebene" => Key::Plane,
         _ => return None,
@@ -68,7 +73,7 @@ fn key_of(key: &str) -> Option<Key> {
 }
 
 /// True for the header keys of a ballbar test (radius, feed rate, direction, sample rate, arc,
-/// start angle, plane).
+/// overshoot, start angle, plane).
 pub fn is_test_key(key: &str) -> bool {
     key_of(key).is_some()
 }
@@ -112,6 +117,7 @@ impl BallbarHeader {
                 Key::Feed => h.feed_mm_per_min = Some(quantity(key, value, Unit::MM_PER_MIN)?),
                 Key::Rate => h.sample_rate_hz = Some(quantity(key, value, Unit::HZ)?),
                 Key::Arc => h.arc_deg = Some(quantity(key, value, Unit::DEG)?),
+                Key::Overshoot => h.overshoot_deg = Some(quantity(key, value, Unit::DEG)?),
                 Key::Start => h.start_deg = Some(quantity(key, value, Unit::DEG)?),
                 Key::Sense => {
                     h.sense = Some(sense_of(value).ok_or_else(|| format!("`{key}: {value}` is not CCW, CW or both"))?);

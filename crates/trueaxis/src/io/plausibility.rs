@@ -38,6 +38,26 @@ impl Finding {
     }
 }
 
+/// Sorts the findings of plausibility checks: the first refusal is the error (its message); the
+/// warnings, after `warnings` (those of reading the file), are returned, to be shown once the
+/// command has succeeded (a refused command shows its one line only).
+pub fn split_findings(findings: Vec<Finding>, warnings: &[String]) -> Result<Vec<String>, String> {
+    let mut out = warnings.to_vec();
+    let mut refusal = None;
+    for f in findings {
+        match f.severity {
+            Severity::Warn => out.push(f.message),
+            Severity::Refuse => {
+                refusal.get_or_insert(f.message);
+            }
+        }
+    }
+    match refusal {
+        Some(m) => Err(m),
+        None => Ok(out),
+    }
+}
+
 /// Where the checked values come from, for messages.
 #[derive(Clone, Copy, Debug)]
 pub struct Place<'a> {

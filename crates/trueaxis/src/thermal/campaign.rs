@@ -11,6 +11,8 @@ pub struct Campaign {
     pub origin: String,
     /// Run name per row (empty when the file has no `run` column).
     pub runs: Vec<String>,
+    /// Direction of motion per row (`+`, `-`, or empty; column `dir`, for segmented G-T models).
+    pub dirs: Vec<String>,
     /// Numeric columns by name, in file order of `names`.
     pub names: Vec<String>,
     columns: BTreeMap<String, Vec<f64>>,
@@ -29,17 +31,38 @@ impl Campaign {
     pub fn parse(text: &str, origin: &str) -> Result<Campaign, ThermalError> {
         let table = crate::data::CsvTable::from_text(text, origin)
             .map_err(|e| input(e.to_string().replace("no data: the file has a header but no rows", "no data rows")))?;
-        let is_run = |name: &str| name.eq_ignore_ascii_case("run");
-        let runs = match table.headers().iter().find(|h| is_run(&h.name)) {
-            Some(h) => table.texts(&h.name).map_err(|e| input(e.to_string()))?,
+        let named = |name: &str| table.headers().iter().find(|h| h.name.eq_ignore_ascii_case(name)).map(|h| h.name.clone());
+        let runs = match named("run") {
+            Some(h) => table.texts(&h).map_err(|e| input(e.to_string()))?,
             None => vec![String::new(); table.len()],
         };
-        let names: Vec<String> = table.headers().iter().filter(|h| !is_run(&h.name)).map(|h| h.name.clone()).collect();
+        // direction of motion per row, for segmented G-T models: `+`, `-` or empty
+        let dirs = match named("dir") {
+            Some(h) => {
+                let texts = table.texts(&h).map_err(|e| input(e.to_string()))?;
+                if let Some(i) = texts.iter().position(|d| !["+", "-", ""].contains(&d.as_str())) {
+                    return Err(input(table.row_error(i, &format!("column dir: `{}` is not +, - or empty", texts[i])).to_string()));
+                }
+                texts
+            }
+            None => vec![String::new(); table.len()],
+        };
+        let names: Vec<String> = table
+            .headers()
+            .iter()
+            .filter(|h| !h.name.eq_ignore_ascii_case("run") && !h.name.eq_ignore_ascii_case("dir"))
+            .map(|h| h.name.clone())
+            .collect();
         let mut columns = BTreeMap::new();
         for name in &names {
             columns.insert(name.clone(), table.numbers(name).map_err(|e| input(e.to_string()))?);
         }
-        Ok(Campaign { origin: origin.into(), runs, names, columns })
+        Ok(Campaign { origin: origin.into(), runs, dirs, names, columns })
+    }
+
+    /// Whether the file has the direction column `dir`.
+    pub fn has_directions(&self) -> bool {
+        self.dirs.iter().any(|d| !d.is_empty())
     }
 
     pub fn len(&self) -> usize {

@@ -10,7 +10,7 @@
 //! regression (seed 002 eq. 3.12), it reproduces the lag between a sensor and the drift.
 
 use super::campaign::Campaign;
-use super::state_space::{identify_state_space, states, Record};
+use super::state_space::{identify_state_space, states, Record, StateSpaceModel};
 use super::{computation, input, ThermalError};
 use serde::{Deserialize, Serialize};
 
@@ -83,7 +83,7 @@ impl DriftModel {
 }
 
 /// Rises since the first sample: `u[k][i] = T[k][i] - T[0][i]`.
-fn rises(temperatures: &[Vec<f64>]) -> Vec<Vec<f64>> {
+pub(crate) fn rises(temperatures: &[Vec<f64>]) -> Vec<Vec<f64>> {
     let first = temperatures.first().cloned().unwrap_or_default();
     temperatures.iter().map(|row| row.iter().zip(&first).map(|(t, t0)| t - t0).collect()).collect()
 }
@@ -108,11 +108,23 @@ pub fn record(campaign: &Campaign, sensors: &[String], error: Option<&str>, rows
 /// Fits `rates` shared time constants and the gains to records (each a run from its reference
 /// state, where the error is zero), by [`identify_state_space`].
 pub fn fit_drift_model(error: &str, sensors: &[String], records: &[Record], rates: usize) -> Result<(DriftModel, f64), ThermalError> {
-    if !(1..=4).contains(&rates) {
-        return Err(input(format!("the number of time constants of a drift model must be 1 to 4 (got {rates})")));
-    }
     let prepared: Vec<Record> = records.iter().map(|(t, temps, y)| (t.clone(), rises(temps), y.clone())).collect();
-    let (model, rms) = identify_state_space(&prepared, rates, None)?;
+    let (model, rms) = identify_lags(&prepared, rates)?;
+    let m = model.gammas.len();
+    // decreasing time constants: gammas are increasing
+    let gains = (0..sensors.len()).map(|i| (0..m).map(|j| model.c[(0, i * m + j)] / model.gammas[j]).collect()).collect();
+    let drift =
+        DriftModel { error: error.into(), sensors: sensors.to_vec(), time_constants_s: model.time_constants_s(), gains_um_per_degc: gains };
+    Ok((drift, rms))
+}
+
+/// [`identify_state_space`] of `rates` (1 to 4) shared time constants from records of rises, each
+/// from its reference state, refusing time constants the data do not determine.
+pub(crate) fn identify_lags(records: &[Record], rates: usize) -> Result<(StateSpaceModel, f64), ThermalError> {
+    if !(1..=4).contains(&rates) {
+        return Err(input(format!("the number of time constants must be 1 to 4 (got {rates})")));
+    }
+    let (model, rms) = identify_state_space(records, rates, None)?;
     // a time constant far beyond the records acts as an integrator, one far below the sampling
     // step as a gain: neither is identified by the data
     let step = records.iter().flat_map(|r| r.0.windows(2).map(|w| w[1] - w[0])).fold(f64::INFINITY, f64::min);
@@ -124,10 +136,5 @@ pub fn fit_drift_model(error: &str, sensors: &[String], records: &[Record], rate
             10.0 * span
         )));
     }
-    let m = model.gammas.len();
-    // decreasing time constants: gammas are increasing
-    let gains = (0..sensors.len()).map(|i| (0..m).map(|j| model.c[(0, i * m + j)] / model.gammas[j]).collect()).collect();
-    let drift =
-        DriftModel { error: error.into(), sensors: sensors.to_vec(), time_constants_s: model.time_constants_s(), gains_um_per_degc: gains };
-    Ok((drift, rms))
+    Ok((model, rms))
 }

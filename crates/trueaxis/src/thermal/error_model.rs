@@ -5,6 +5,7 @@
 use super::campaign::Campaign;
 use super::drift_model::{record, DriftModel};
 use super::regression::RegressionModel;
+use super::segmented::SegmentedModel;
 use super::{input, ThermalError};
 use serde::{Deserialize, Serialize};
 
@@ -15,6 +16,8 @@ pub enum ThermalErrorModel {
     Regression(RegressionModel),
     #[serde(rename = "state_space")]
     Drift(DriftModel),
+    /// The G-T model by segment of seed 003 §3.6.
+    Segmented(SegmentedModel),
 }
 
 impl From<RegressionModel> for ThermalErrorModel {
@@ -35,6 +38,14 @@ impl ThermalErrorModel {
             .map_err(|e| input(format!("{origin}: {}", one_line(&e))))
             .and_then(|t| toml::Value::Table(t).try_into().map_err(|e: toml::de::Error| input(format!("{origin}: {}", one_line(&e)))))?;
         match kind.kind.as_deref() {
+            Some("segmented") => {
+                let mut table: toml::Table = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e))))?;
+                table.remove("kind");
+                let model: SegmentedModel =
+                    toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| input(format!("{origin}: {}", one_line(&e))))?;
+                model.validate().map_err(|m| input(format!("{origin}: {m}")))?;
+                Ok(ThermalErrorModel::Segmented(model))
+            }
             Some("state_space") => {
                 let mut table: toml::Table = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e))))?;
                 table.remove("kind");
@@ -52,6 +63,7 @@ impl ThermalErrorModel {
         match self {
             ThermalErrorModel::Regression(m) => m.to_toml(),
             ThermalErrorModel::Drift(m) => m.to_toml(),
+            ThermalErrorModel::Segmented(m) => m.to_toml(),
         }
     }
 
@@ -60,6 +72,7 @@ impl ThermalErrorModel {
         match self {
             ThermalErrorModel::Regression(m) => &m.error,
             ThermalErrorModel::Drift(m) => &m.error,
+            ThermalErrorModel::Segmented(m) => &m.error,
         }
     }
 
@@ -82,6 +95,7 @@ impl ThermalErrorModel {
                     })
                     .collect())
             }
+            ThermalErrorModel::Segmented(model) => model.predict(campaign, rows),
             ThermalErrorModel::Drift(model) => {
                 let mut out = vec![0.0; rows.len()];
                 for run in campaign.run_names() {

@@ -18,7 +18,7 @@
 
 use super::regression::RegressionModel;
 use super::{input, ThermalError};
-use crate::errors::{ErrorModel, REFERENCE_TEMPERATURE};
+use crate::errors::{Direction, ErrorModel, InputKind, REFERENCE_TEMPERATURE};
 use crate::machine::{AxisKind, Machine, ParameterId};
 use std::fmt::Write;
 
@@ -31,8 +31,12 @@ pub struct ErrorTerm {
     pub coefficient: f64,
     /// `(axis letter, power)`.
     pub axes: Vec<(char, i32)>,
-    /// `(T:<sensor>, power)`, the factor being `T - 20 degC`.
+    /// `(input, power)`: `T:<sensor>` with the factor `T - 20 degC`, other inputs as they are.
     pub sensors: Vec<(String, i32)>,
+    /// `+` or `-`: the term holds for that direction of motion of the own axis only.
+    pub direction: Option<char>,
+    /// `[lo, hi)` of the own axis position the term holds in.
+    pub range: Option<[f64; 2]>,
 }
 
 /// The terms of `scale * model` on `parameter`, with the temperatures referred to 20 degC.
@@ -50,9 +54,19 @@ pub fn model_terms(parameter: &str, model: &RegressionModel, scale: f64) -> Resu
             (k, Some(a)) => vec![(a, k as i32)],
             (_, None) => unreachable!("validated: powers of the position need an axis"),
         };
-        let constant = row[0] + REFERENCE_TEMPERATURE * row[1..].iter().sum::<f64>();
+        // c x = c (x - x_ref) + c x_ref: a temperature refers to 20 degC, other inputs to 0
+        let references: Vec<f64> =
+            model.sensors.iter().map(|s| InputKind::parse(s).map_or(REFERENCE_TEMPERATURE, |k| k.reference())).collect();
+        let constant = row[0] + row[1..].iter().zip(&references).map(|(c, r)| c * r).sum::<f64>();
         if constant != 0.0 {
-            terms.push(ErrorTerm { parameter: parameter.into(), coefficient: scale * constant, axes: axes.clone(), sensors: Vec::new() });
+            terms.push(ErrorTerm {
+                parameter: parameter.into(),
+                coefficient: scale * constant,
+                axes: axes.clone(),
+                sensors: Vec::new(),
+                direction: None,
+                range: None,
+            });
         }
         for (s, c) in model.sensors.iter().zip(&row[1..]) {
             if *c != 0.0 {
@@ -61,6 +75,8 @@ pub fn model_terms(parameter: &str, model: &RegressionModel, scale: f64) -> Resu
                     coefficient: scale * c,
                     axes: axes.clone(),
                     sensors: vec![(s.clone(), 1)],
+                    direction: None,
+                    range: None,
                 });
             }
         }
@@ -75,6 +91,9 @@ pub enum LinkTarget {
     Axis(char),
     /// The tool point offsets `TX TY TZ` (translation only).
     Tool,
+    /// The workpiece point offsets `WX WY WZ` (translation only): a link whose free end carries the
+    /// workpiece (a table, a fixture).
+    Workpiece,
 }
 
 /// An elongation (epsilon only) or bending (epsilon, delta, theta) link.
@@ -125,9 +144,13 @@ pub fn link_terms(link: &ThermalLink, machine: &Machine) -> Result<Vec<ErrorTerm
             let tp = machine.tool_point;
             (["TX".into(), "TY".into(), "TZ".into()], None, [tp.x, tp.y, tp.z])
         }
+        LinkTarget::Workpiece => (["WX".into(), "WY".into(), "WZ".into()], None, [0.0; 3]),
     };
     if rotations.is_none() && link.theta.is_some() {
-        return Err(bad("a slope theta cannot be given to the tool offsets TX TY TZ; attach the link to an axis".into()));
+        return Err(bad(
+            "a slope theta cannot be given to the tool or workpiece offsets (TX TY TZ, WX WY WZ: translations only); attach the link to an axis"
+                .into(),
+        ));
     }
     let f = link.free_end_mm;
     // translation of the reference point per urad of theta: w x (r - f), mm * 1e-6 rad -> um: * 1e-3
@@ -159,7 +182,14 @@ pub fn add_terms(model: &mut ErrorModel, machine: &Machine, terms: &[ErrorTerm])
     for t in terms {
         let id = ParameterId::parse(&t.parameter).map_err(input)?;
         let sensors: Vec<(&str, i32)> = t.sensors.iter().map(|(s, p)| (s.as_str(), *p)).collect();
-        model.add_term(machine, id, t.coefficient, &t.axes, &sensors).map_err(|m| input(format!("{}: {m}", t.parameter)))?;
+        let direction = match t.direction {
+            Some('+') => Some(Direction::Positive),
+            Some('-') => Some(Direction::Negative),
+            _ => None,
+        };
+        model
+            .add_segment_term(machine, id, direction, t.range.map(|[lo, hi]| (lo, hi)), t.coefficient, &t.axes, &sensors)
+            .map_err(|m| input(format!("{}: {m}", t.parameter)))?;
     }
     Ok(())
 }
@@ -170,7 +200,104 @@ pub fn terms_toml(terms: &[ErrorTerm]) -> String {
     for t in terms {
         let factors: Vec<String> =
             t.axes.iter().map(|(a, p)| format!("{a} = {p}")).chain(t.sensors.iter().map(|(s, p)| format!("\"{s}\" = {p}"))).collect();
-        let _ = writeln!(out, "[[term.{}]]\ncoefficient = {:e}\nfactors = {{ {} }}\n", t.parameter, t.coefficient, factors.join(", "));
+        let name = match t.direction {
+            Some(d) => format!("\"{}{d}\"", t.parameter),
+            None => t.parameter.clone(),
+        };
+        let range = t.range.map_or(String::new(), |[lo, hi]| format!("range = [{}, {}]\n", toml_number(lo), toml_number(hi)));
+        let _ = writeln!(out, "[[term.{name}]]\ncoefficient = {:e}\nfactors = {{ {} }}\n{range}", t.coefficient, factors.join(", "));
     }
     out
+}
+
+/// A number as TOML writes it (`inf`, `-inf` for the open ends of a range).
+fn toml_number(x: f64) -> String {
+    match x {
+        f64::INFINITY => "inf".into(),
+        f64::NEG_INFINITY => "-inf".into(),
+        x => format!("{x:?}"),
+    }
+}
+
+/// A links file (`trueaxis thermal links`): `[[link]]` tables with `name`, `target` (an axis letter,
+/// `tool` or `workpiece`), `free_end_mm`, `along`, `across`, and any of `epsilon` (um), `delta`
+/// (um), `theta` (urad), each a number (a constant), a table `{ model = "FILE.toml" }` (a model file
+/// of `thermal fit --out`, relative to the links file) or an inline model
+/// `{ sensors = [..], coefficients = [[..]] }` (optionally `position`, `intercept`).
+pub fn read_links(text: &str, origin: &str, dir: &std::path::Path) -> Result<Vec<ThermalLink>, ThermalError> {
+    #[derive(serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct File {
+        #[serde(default, rename = "name")]
+        _name: Option<String>,
+        link: Vec<LinkFile>,
+    }
+    #[derive(serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct LinkFile {
+        name: String,
+        target: String,
+        free_end_mm: [f64; 3],
+        along: [f64; 3],
+        across: [f64; 3],
+        epsilon: Option<toml::Value>,
+        delta: Option<toml::Value>,
+        theta: Option<toml::Value>,
+    }
+    let one_line = |e: &dyn std::fmt::Display| e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
+    let file: File = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e))))?;
+    let mut links = Vec::new();
+    for l in file.link {
+        let at = |m: String| input(format!("{origin}: link `{}`: {m}", l.name));
+        let target = match l.target.trim() {
+            "tool" => LinkTarget::Tool,
+            "workpiece" => LinkTarget::Workpiece,
+            t if t.chars().count() == 1 => LinkTarget::Axis(t.chars().next().expect("one").to_ascii_uppercase()),
+            t => return Err(at(format!("target `{t}` is not an axis letter, `tool` or `workpiece`"))),
+        };
+        let model = |key: &str, value: &Option<toml::Value>| -> Result<Option<RegressionModel>, ThermalError> {
+            let Some(value) = value else { return Ok(None) };
+            let m = match value {
+                toml::Value::Float(_) | toml::Value::Integer(_) => {
+                    let c = value.as_float().or_else(|| value.as_integer().map(|i| i as f64)).expect("a number");
+                    RegressionModel { error: key.into(), sensors: Vec::new(), position: None, intercept: true, coefficients: vec![vec![c]] }
+                }
+                toml::Value::Table(t) if t.contains_key("model") => {
+                    let path = t.get("model").and_then(|v| v.as_str()).ok_or_else(|| at(format!("`{key}.model` must be a file name")))?;
+                    let path = dir.join(path);
+                    let text = std::fs::read_to_string(&path).map_err(|e| at(format!("`{key}`: {}: cannot read: {e}", path.display())))?;
+                    RegressionModel::from_toml_str(&text, &path.display().to_string())?
+                }
+                toml::Value::Table(t) => {
+                    let mut t = t.clone();
+                    t.entry("error").or_insert_with(|| toml::Value::String(key.into()));
+                    t.entry("intercept").or_insert(toml::Value::Boolean(true));
+                    let m: RegressionModel =
+                        toml::Value::Table(t).try_into().map_err(|e: toml::de::Error| at(format!("`{key}`: {}", one_line(&e))))?;
+                    m.validate().map_err(|e| at(format!("`{key}`: {e}")))?;
+                    m
+                }
+                _ => {
+                    return Err(at(format!(
+                        "`{key}` must be a number, {{ model = \"FILE\" }} or {{ sensors = [..], coefficients = [[..]] }}"
+                    )))
+                }
+            };
+            if m.coefficients.iter().flatten().any(|c| !c.is_finite()) {
+                return Err(at(format!("`{key}` must have finite coefficients")));
+            }
+            Ok(Some(m))
+        };
+        links.push(ThermalLink {
+            name: l.name.clone(),
+            target,
+            free_end_mm: l.free_end_mm,
+            along: l.along,
+            across: l.across,
+            epsilon: model("epsilon", &l.epsilon)?,
+            delta: model("delta", &l.delta)?,
+            theta: model("theta", &l.theta)?,
+        });
+    }
+    Ok(links)
 }

@@ -8,7 +8,10 @@
 //! in mm or deg, as everywhere in trueaxis (DESIGN.md section 2).
 
 pub mod assembly;
+pub mod beam;
 pub mod campaign;
+pub mod campaign_fit;
+pub mod campaign_predict;
 pub mod drift_model;
 pub mod error_model;
 pub mod lanczos;
@@ -20,11 +23,15 @@ pub mod modal;
 pub mod model_file;
 pub mod ordering;
 pub mod placement;
+pub mod placement_score;
 pub mod regression;
 pub mod response;
+pub mod segmented;
 pub mod sparse_cholesky;
 pub mod state_space;
+pub mod temperature_model;
 pub mod time_constants;
+pub mod tuning;
 pub mod validation;
 pub mod weights;
 

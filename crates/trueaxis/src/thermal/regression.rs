@@ -59,8 +59,15 @@ impl RegressionModel {
         if self.degree() > 0 && self.position.is_none() {
             return Err("a model with powers of the position needs `position` (the axis letter)".into());
         }
-        if let Some(s) = self.sensors.iter().find(|s| !s.starts_with("T:") || s.len() < 3) {
-            return Err(format!("sensor `{s}` must be named `T:<name>`"));
+        for s in &self.sensors {
+            match crate::errors::InputKind::parse(s) {
+                Ok(crate::errors::InputKind::Lag { .. }) | Err(_) => {
+                    return Err(format!(
+                        "input `{s}` must be a temperature `T:<name>` (degC) or another input column: a spindle speed `S:<name>` (rpm), a force `F:<name>` (N)"
+                    ))
+                }
+                Ok(_) => {}
+            }
         }
         Ok(())
     }
@@ -135,6 +142,36 @@ pub fn fit_regression(
     let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
     let fit = fit_linear(&design, error, None, &names).map_err(|e| fit_failure(error_name, e))?;
     let model = model_from_columns(error_name, sensors, position.map(|p| p.0), degree, intercept, &fit.coefficients, None);
+    Ok((model, fit))
+}
+
+/// Fits the geometric/thermal split (seed 002 §4.4.2: "the measured thermal errors were first
+/// separated into geometric errors and thermal errors. The geometric errors are usually modeled by
+/// high-order polynomials. Thermal errors are modeled by the linear regression"):
+/// `E(P, T) = sum_(k<=g) a_k P^k + sum_(k<=h) P^k sum_i c_ki T_i`, a polynomial of degree g in the
+/// position for the geometric part (the intercepts) and of degree h times the temperatures for the
+/// thermal part, in one least-squares fit. The model has `max(g, h) + 1` rows, with zeros where a
+/// part has no term.
+pub fn fit_split(
+    error_name: &str,
+    sensors: &[String],
+    temperatures: &[Vec<f64>],
+    position: (&str, &[f64]),
+    geometric_degree: usize,
+    thermal_degree: usize,
+    error: &[f64],
+) -> Result<(RegressionModel, LinearFit), ThermalError> {
+    let degree = geometric_degree.max(thermal_degree);
+    check_series(sensors, temperatures, Some(position), degree, error)?;
+    let design = design_matrix(temperatures, Some(position.1), degree, true);
+    let names = column_names(sensors, Some(position.0), degree, true);
+    let per = sensors.len() + 1;
+    let kept: Vec<usize> =
+        (0..design.ncols()).filter(|c| if c % per == 0 { c / per <= geometric_degree } else { c / per <= thermal_degree }).collect();
+    let sub = DMatrix::from_fn(design.nrows(), kept.len(), |r, c| design[(r, kept[c])]);
+    let sub_names: Vec<String> = kept.iter().map(|&c| names[c].clone()).collect();
+    let fit = fit_linear(&sub, error, None, &sub_names).map_err(|e| fit_failure(error_name, e))?;
+    let model = model_from_columns(error_name, sensors, Some(position.0), degree, true, &fit.coefficients, Some(&kept));
     Ok((model, fit))
 }
 

@@ -3,7 +3,7 @@
 //! adaptive Monte Carlo; with the GUM standard uncertainties alongside.
 
 use super::gum::normal_coverage_factor;
-use super::linear_map::{Evaluation, IdentificationMap};
+use super::linear_map::{Evaluation, IdentificationMap, LinearModel};
 use super::monte_carlo::{run_adaptive, ControlVariables, IntervalKind, McResult, McSettings};
 use super::sources::Source;
 use super::UncertaintyError;
@@ -46,8 +46,112 @@ pub struct Budget {
 /// A stage of the budget for progress reports: the source run alone, or `None` for all together.
 pub type Stage<'a> = Option<&'a str>;
 
+/// The Monte Carlo runs of a budget: each source alone (when there are several and `alone` is
+/// set), then all sources together, with the same settings. Each stage is an independent adaptive
+/// run ([`super::AdaptiveRun`]), so the stages and the chunks of their sequences can be computed
+/// anywhere and assembled here.
+#[derive(Clone, Copy)]
+pub struct BudgetPlan<'a> {
+    pub map: &'a IdentificationMap,
+    pub sources: &'a [Source],
+    pub settings: &'a McSettings,
+    pub evaluation: Evaluation,
+    pub alone: bool,
+}
+
+impl<'a> BudgetPlan<'a> {
+    pub fn new(
+        map: &'a IdentificationMap,
+        sources: &'a [Source],
+        settings: &'a McSettings,
+        evaluation: Evaluation,
+        alone: bool,
+    ) -> Result<BudgetPlan<'a>, UncertaintyError> {
+        if sources.is_empty() {
+            return Err(UncertaintyError::Input("no uncertainty source given".into()));
+        }
+        settings.validate()?;
+        Ok(BudgetPlan { map, sources, settings, evaluation, alone })
+    }
+
+    /// Number of Monte Carlo runs: one per source alone (with several sources and `alone`), then
+    /// the run with all sources.
+    pub fn stages(&self) -> usize {
+        if self.alone && self.sources.len() > 1 {
+            self.sources.len() + 1
+        } else {
+            1
+        }
+    }
+
+    /// The source run alone at stage `k`, `None` for the run with all sources (the last stage).
+    pub fn stage(&self, k: usize) -> Stage<'a> {
+        (k + 1 < self.stages()).then(|| self.sources[k].name.as_str())
+    }
+
+    /// The Monte Carlo model of stage `k`.
+    pub fn model(&self, k: usize) -> Result<LinearModel<'a>, UncertaintyError> {
+        let sources: Vec<&Source> = match self.stage(k) {
+            Some(_) => vec![&self.sources[k]],
+            None => self.sources.iter().collect(),
+        };
+        self.map.model(&sources, self.evaluation)
+    }
+
+    /// Seed 004 Table 5 from the results of the stages, in stage order.
+    pub fn assemble(&self, mut runs: Vec<McResult>) -> Result<Budget, UncertaintyError> {
+        if runs.len() != self.stages() {
+            return Err(UncertaintyError::Input(format!("{} Monte Carlo results for a budget of {} runs", runs.len(), self.stages())));
+        }
+        let (map, sources, settings) = (self.map, self.sources, self.settings);
+        let total = runs.pop().expect("at least one stage");
+        let per_source = runs;
+        let width = |r: &McResult, j: usize| match settings.interval {
+            IntervalKind::Symmetric => r.outputs[j].symmetric.width(),
+            IntervalKind::Shortest => r.outputs[j].shortest.width(),
+        };
+        let all: Vec<&Source> = sources.iter().collect();
+        let gum_each = sources.iter().map(|s| map.gum_covariance(s)).collect::<Result<Vec<_>, _>>()?;
+        let n = map.parameter_count();
+        let gum_covariance = gum_each.iter().fold(DMatrix::zeros(n, n), |acc, c| acc + c);
+        let alone = |j: usize| -> Vec<f64> {
+            if !self.alone {
+                Vec::new()
+            } else if per_source.is_empty() {
+                vec![width(&total, j)]
+            } else {
+                per_source.iter().map(|r| width(r, j)).collect()
+            }
+        };
+        let rows = (0..n)
+            .map(|j| {
+                let widths = alone(j);
+                BudgetRow {
+                    parameter: map.design.parameters[j].clone(),
+                    unit: map.design.units[j].clone(),
+                    rss: widths.iter().map(|w| w * w).sum::<f64>().sqrt(),
+                    widths,
+                    total: width(&total, j),
+                    gum_u: gum_each.iter().map(|c| c[(j, j)].max(0.0).sqrt()).collect(),
+                    gum_total_u: gum_covariance[(j, j)].max(0.0).sqrt(),
+                }
+            })
+            .collect();
+        Ok(Budget {
+            source_names: sources.iter().map(|s| s.name.clone()).collect(),
+            rows,
+            total,
+            per_source,
+            gum_covariance,
+            gum_estimate: map.gum_estimate(&all)?,
+            gum_coverage_factor: normal_coverage_factor(settings.coverage),
+        })
+    }
+}
+
 /// Runs the adaptive Monte Carlo for each source alone (when there are several and `alone` is
-/// set) and for all sources together, with the same settings, and assembles seed 004 Table 5.
+/// set) and for all sources together, with the same settings, in one process, and assembles seed
+/// 004 Table 5 ([`BudgetPlan`]).
 pub fn run_budget(
     map: &IdentificationMap,
     sources: &[Source],
@@ -56,55 +160,9 @@ pub fn run_budget(
     alone: bool,
     progress: &mut dyn FnMut(Stage, usize, Option<&ControlVariables>),
 ) -> Result<Budget, UncertaintyError> {
-    if sources.is_empty() {
-        return Err(UncertaintyError::Input("no uncertainty source given".into()));
-    }
-    let all: Vec<&Source> = sources.iter().collect();
-    let width = |r: &McResult, j: usize| match settings.interval {
-        IntervalKind::Symmetric => r.outputs[j].symmetric.width(),
-        IntervalKind::Shortest => r.outputs[j].shortest.width(),
-    };
-    let mut per_source = Vec::new();
-    if alone && sources.len() > 1 {
-        for s in sources {
-            let model = map.model(&[s], evaluation)?;
-            per_source.push(run_adaptive(&model, settings, &mut |h, c| progress(Some(&s.name), h, c))?);
-        }
-    }
-    let total = run_adaptive(&map.model(&all, evaluation)?, settings, &mut |h, c| progress(None, h, c))?;
-    let gum_each = sources.iter().map(|s| map.gum_covariance(s)).collect::<Result<Vec<_>, _>>()?;
-    let n = map.parameter_count();
-    let gum_covariance = gum_each.iter().fold(DMatrix::zeros(n, n), |acc, c| acc + c);
-    let alone = |j: usize| -> Vec<f64> {
-        if !alone {
-            Vec::new()
-        } else if per_source.is_empty() {
-            vec![width(&total, j)]
-        } else {
-            per_source.iter().map(|r| width(r, j)).collect()
-        }
-    };
-    let rows = (0..n)
-        .map(|j| {
-            let widths = alone(j);
-            BudgetRow {
-                parameter: map.design.parameters[j].clone(),
-                unit: map.design.units[j].clone(),
-                rss: widths.iter().map(|w| w * w).sum::<f64>().sqrt(),
-                widths,
-                total: width(&total, j),
-                gum_u: gum_each.iter().map(|c| c[(j, j)].max(0.0).sqrt()).collect(),
-                gum_total_u: gum_covariance[(j, j)].max(0.0).sqrt(),
-            }
-        })
-        .collect();
-    Ok(Budget {
-        source_names: sources.iter().map(|s| s.name.clone()).collect(),
-        rows,
-        total,
-        per_source,
-        gum_covariance,
-        gum_estimate: map.gum_estimate(&all)?,
-        gum_coverage_factor: normal_coverage_factor(settings.coverage),
-    })
+    let plan = BudgetPlan::new(map, sources, settings, evaluation, alone)?;
+    let runs = (0..plan.stages())
+        .map(|k| run_adaptive(&plan.model(k)?, settings, &mut |h, c| progress(plan.stage(k), h, c)))
+        .collect::<Result<Vec<_>, _>>()?;
+    plan.assemble(runs)
 }

@@ -20,9 +20,10 @@ mod intervals;
 mod linear_map;
 mod monte_carlo;
 mod prediction;
+mod report;
 mod sources;
 
-pub use budget::{run_budget, Budget, BudgetRow, Stage};
+pub use budget::{run_budget, Budget, BudgetPlan, BudgetRow, Stage};
 pub use design::{from_identification, DesignMatrix};
 pub use distributions::{Distribution, MultivariateNormal};
 pub use drift::{measurement_time, statistical_drift_uncertainty, PeriodicDrift, StartPhase};
@@ -30,10 +31,11 @@ pub use gum::{confidence_ellipsoid, normal_coverage_factor, principal_axes, prop
 pub use intervals::{coverage_count, shortest_interval, symmetric_interval, CoverageInterval, SampleSummary};
 pub use linear_map::{Evaluation, IdentificationMap, LinearModel, LinearWorkspace};
 pub use monte_carlo::{
-    minimum_trials, run_adaptive, run_sequences, trial_rng, ControlVariables, IntervalKind, McResult, McSettings, OutputResult, TrialModel,
-    BLOCK, MAX_KEPT_VALUES, MAX_TRIALS_PER_SEQUENCE,
+    blocks_per_sequence, minimum_trials, run_adaptive, run_chunk, run_sequences, trial_rng, AdaptiveRun, Chunk, ControlVariables,
+    IntervalKind, McResult, McSettings, OutputResult, TrialModel, BLOCK, MAX_KEPT_VALUES, MAX_TRIALS_PER_SEQUENCE,
 };
 pub use prediction::VolumetricUncertainty;
+pub use report::{budget_json, pose_uncertainties, PoseUncertainty};
 pub use sources::{CyclicDrift, Source, SourceKind, Sources};
 
 use thiserror::Error;

@@ -5,7 +5,10 @@
 //!
 //! Reproducibility: trial `i` of sequence `h` draws from the ChaCha8 stream `(seed, h, block)`,
 //! `block = i / BLOCK`; blocks run in parallel (rayon) into fixed slots and every sum runs in a
-//! fixed order, so a seed gives the same result on any number of threads.
+//! fixed order, so a seed gives the same result on any number of threads. The same streams make
+//! the run divisible into [`Chunk`]s computed anywhere (counter-based seeding: the stream of a
+//! block is a function of its number, not of the blocks drawn before it) and merged in order by
+//! [`AdaptiveRun`]: a run distributed over processes or machines equals one process bit for bit.
 
 use super::intervals::{shortest_interval, symmetric_interval, SampleSummary};
 use super::UncertaintyError;
@@ -182,75 +185,221 @@ fn run<M: TrialModel>(
     fixed: Option<usize>,
     progress: &mut dyn FnMut(usize, Option<&ControlVariables>),
 ) -> Result<McResult, UncertaintyError> {
-    settings.validate()?;
-    let n_out = model.outputs();
-    if n_out == 0 {
-        return Err(UncertaintyError::Input("the model has no outputs".into()));
+    let mut state = AdaptiveRun::new(model.outputs(), settings, fixed)?;
+    let mut buffer = Vec::new();
+    while let Some(h) = state.next_sequence() {
+        run_chunk_into(model, settings, &Chunk::whole_sequence(settings, h), &mut buffer);
+        let control = state.push_sequence(&buffer)?;
+        progress(h + 1, control.as_ref());
     }
-    let m = settings.trials_per_sequence;
-    let limit = fixed.unwrap_or(settings.max_sequences);
-    let kept = m.saturating_mul(limit).saturating_mul(n_out);
-    if kept > MAX_KEPT_VALUES {
-        return Err(UncertaintyError::Input(format!(
-            "trials_per_sequence {m} x max_sequences {limit} x {n_out} outputs = {kept} trial values to keep, more than {MAX_KEPT_VALUES} \
-             (2 GB): lower max_sequences or trials_per_sequence"
-        )));
-    }
-    let mut columns: Vec<Vec<f64>> = vec![Vec::new(); n_out];
-    let mut sequence_values: Vec<Vec<[f64; 4]>> = vec![Vec::new(); n_out];
-    let mut history = Vec::new();
-    let mut buffer = vec![0.0; m * n_out];
-    let mut column = vec![0.0; m];
-    let mut converged = false;
-    let mut h = 0;
-    while h < limit {
-        run_sequence(model, settings, h as u64, &mut buffer);
-        h += 1;
-        for (j, values) in sequence_values.iter_mut().enumerate() {
-            for (c, row) in column.iter_mut().zip(buffer.chunks_exact(n_out)) {
-                *c = row[j];
-            }
-            if column.iter().any(|v| !v.is_finite()) {
-                return Err(UncertaintyError::Computation(format!("output {} is not finite in sequence {h}", j + 1)));
-            }
-            columns[j].extend_from_slice(&column);
-            values.push(sequence_statistics(&mut column, settings));
-        }
-        if h < 2 {
-            progress(h, None);
-            continue;
-        }
-        let control = control_variables(h, &sequence_values);
-        progress(h, Some(&control));
-        let stable = control.stable(settings.tolerance);
-        history.push(control);
-        if fixed.is_none() && stable {
-            converged = true;
-            break;
-        }
-    }
-    let covariance = covariance(&columns);
-    let mut outputs = Vec::with_capacity(n_out);
-    for values in columns.iter_mut() {
-        outputs.push(SampleSummary::of(values, settings.coverage));
-    }
-    Ok(McResult { outputs, covariance, sequences: h, trials: h * m, converged: converged || fixed.is_some(), history, samples: columns })
+    Ok(state.finish())
 }
 
-/// One sequence of `M` trials into `buffer` (trial-major, `M x outputs`).
-fn run_sequence<M: TrialModel>(model: &M, settings: &McSettings, sequence: u64, buffer: &mut [f64]) {
+/// A piece of a Monte Carlo run that any process can compute alone: the blocks
+/// `first_block .. first_block + blocks` of sequence `sequence` (0-based), [`BLOCK`] trials each
+/// (the last block of a sequence may be shorter). Its random numbers come only from the streams
+/// of its blocks and of its sequence ([`trial_rng`]), so a run split into chunks over processes
+/// or machines gives bit for bit the trial values of one process.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Chunk {
+    pub sequence: usize,
+    pub first_block: usize,
+    pub blocks: usize,
+}
+
+impl Chunk {
+    /// All the blocks of sequence `sequence`.
+    pub fn whole_sequence(settings: &McSettings, sequence: usize) -> Chunk {
+        Chunk { sequence, first_block: 0, blocks: blocks_per_sequence(settings) }
+    }
+
+    /// Sequence `sequence` cut into chunks of at most `blocks_per_chunk` blocks, in trial order.
+    pub fn of_sequence(settings: &McSettings, sequence: usize, blocks_per_chunk: usize) -> Vec<Chunk> {
+        let total = blocks_per_sequence(settings);
+        let step = blocks_per_chunk.max(1);
+        (0..total).step_by(step).map(|first| Chunk { sequence, first_block: first, blocks: step.min(total - first) }).collect()
+    }
+
+    /// The trials of the chunk within its sequence (0-based, end excluded).
+    pub fn trials(&self, settings: &McSettings) -> std::ops::Range<usize> {
+        let m = settings.trials_per_sequence;
+        (self.first_block * BLOCK).min(m)..((self.first_block + self.blocks) * BLOCK).min(m)
+    }
+}
+
+/// Blocks of [`BLOCK`] trials in one sequence of `M` trials.
+pub fn blocks_per_sequence(settings: &McSettings) -> usize {
+    settings.trials_per_sequence.div_ceil(BLOCK)
+}
+
+/// The trial values of one chunk, trial-major (`outputs` values per trial, trials in order). The
+/// blocks run in parallel (rayon); the values do not depend on the number of threads.
+pub fn run_chunk<M: TrialModel>(model: &M, settings: &McSettings, chunk: &Chunk) -> Vec<f64> {
+    let mut buffer = Vec::new();
+    run_chunk_into(model, settings, chunk, &mut buffer);
+    buffer
+}
+
+fn run_chunk_into<M: TrialModel>(model: &M, settings: &McSettings, chunk: &Chunk, buffer: &mut Vec<f64>) {
     let n_out = model.outputs();
+    let trials = chunk.trials(settings);
+    buffer.clear();
+    buffer.resize(trials.len() * n_out, 0.0);
+    let sequence = chunk.sequence as u64;
     let state = model.begin_sequence(&mut trial_rng(settings.seed, sequence, SEQUENCE_STREAM));
     buffer.par_chunks_mut(BLOCK * n_out).enumerate().for_each_init(
         || model.workspace(),
-        |ws, (block, chunk)| {
+        |ws, (k, values)| {
+            let block = chunk.first_block + k;
             let mut rng = trial_rng(settings.seed, sequence, block as u64);
-            for (i, out) in chunk.chunks_exact_mut(n_out).enumerate() {
+            for (i, out) in values.chunks_exact_mut(n_out).enumerate() {
                 out.fill(0.0);
                 model.trial(&state, block * BLOCK + i, &mut rng, ws, out);
             }
         },
     );
+}
+
+/// The state of an adaptive Monte Carlo run (JCGM 101 §7.9.4): it takes the trial values of the
+/// sequences in order, decides after each whether the results are stable, and gives the results.
+/// Computing the sequences is left to the caller (one process: [`run_adaptive`]; several
+/// processes or machines: [`run_chunk`] per [`Chunk`], the chunks of a sequence taken in order by
+/// [`AdaptiveRun::push_chunks`]), so a distributed run stops at the same sequence with the same
+/// numbers as one process.
+#[derive(Clone, Debug)]
+pub struct AdaptiveRun {
+    settings: McSettings,
+    outputs: usize,
+    limit: usize,
+    fixed: bool,
+    columns: Vec<Vec<f64>>,
+    sequence_values: Vec<Vec<[f64; 4]>>,
+    history: Vec<ControlVariables>,
+    column: Vec<f64>,
+    converged: bool,
+    sequences: usize,
+}
+
+impl AdaptiveRun {
+    /// A run of `outputs` outputs: adaptive (`fixed` = `None`, at most `settings.max_sequences`),
+    /// or exactly `fixed` sequences. Checks the settings and the memory the kept values need.
+    pub fn new(outputs: usize, settings: &McSettings, fixed: Option<usize>) -> Result<AdaptiveRun, UncertaintyError> {
+        settings.validate()?;
+        if outputs == 0 {
+            return Err(UncertaintyError::Input("the model has no outputs".into()));
+        }
+        let m = settings.trials_per_sequence;
+        let limit = fixed.unwrap_or(settings.max_sequences);
+        let kept = m.saturating_mul(limit).saturating_mul(outputs);
+        if kept > MAX_KEPT_VALUES {
+            return Err(UncertaintyError::Input(format!(
+                "trials_per_sequence {m} x max_sequences {limit} x {outputs} outputs = {kept} trial values to keep, more than {MAX_KEPT_VALUES} \
+                 (2 GB): lower max_sequences or trials_per_sequence"
+            )));
+        }
+        Ok(AdaptiveRun {
+            settings: settings.clone(),
+            outputs,
+            limit,
+            fixed: fixed.is_some(),
+            columns: vec![Vec::new(); outputs],
+            sequence_values: vec![Vec::new(); outputs],
+            history: Vec::new(),
+            column: vec![0.0; m],
+            converged: false,
+            sequences: 0,
+        })
+    }
+
+    /// The sequence (0-based) whose values come next; `None` when the run is over (stable, or the
+    /// sequence limit reached).
+    pub fn next_sequence(&self) -> Option<usize> {
+        (!self.converged && self.sequences < self.limit).then_some(self.sequences)
+    }
+
+    /// Sequences taken so far.
+    pub fn sequences(&self) -> usize {
+        self.sequences
+    }
+
+    /// Number of outputs per trial.
+    pub fn outputs(&self) -> usize {
+        self.outputs
+    }
+
+    /// Takes the trial values of the next sequence (`M x outputs`, trial-major); returns the
+    /// control variables from the second sequence on. An error when a value is not finite, the
+    /// length is not that of one sequence, or the run is over.
+    pub fn push_sequence(&mut self, values: &[f64]) -> Result<Option<ControlVariables>, UncertaintyError> {
+        let Some(h) = self.next_sequence() else {
+            return Err(UncertaintyError::Input("the Monte Carlo run is already complete".into()));
+        };
+        let n_out = self.outputs;
+        if values.len() != self.settings.trials_per_sequence * n_out {
+            return Err(UncertaintyError::Input(format!(
+                "sequence {} has {} values; expected {} trials x {n_out} outputs",
+                h + 1,
+                values.len(),
+                self.settings.trials_per_sequence
+            )));
+        }
+        for j in 0..n_out {
+            for (c, row) in self.column.iter_mut().zip(values.chunks_exact(n_out)) {
+                *c = row[j];
+            }
+            if self.column.iter().any(|v| !v.is_finite()) {
+                return Err(UncertaintyError::Computation(format!("output {} is not finite in sequence {}", j + 1, h + 1)));
+            }
+            self.columns[j].extend_from_slice(&self.column);
+            self.sequence_values[j].push(sequence_statistics(&mut self.column, &self.settings));
+        }
+        self.sequences = h + 1;
+        if self.sequences < 2 {
+            return Ok(None);
+        }
+        let control = control_variables(self.sequences, &self.sequence_values);
+        if !self.fixed && control.stable(self.settings.tolerance) {
+            self.converged = true;
+        }
+        self.history.push(control.clone());
+        Ok(Some(control))
+    }
+
+    /// Takes the next sequence as its chunks with their values ([`run_chunk`]), which must cover
+    /// that sequence from its first block, in order.
+    pub fn push_chunks(&mut self, chunks: &[(Chunk, Vec<f64>)]) -> Result<Option<ControlVariables>, UncertaintyError> {
+        let h = self.next_sequence().unwrap_or(self.sequences);
+        let mut next_block = 0;
+        for (c, _) in chunks {
+            if c.sequence != h || c.first_block != next_block {
+                return Err(UncertaintyError::Input(format!(
+                    "chunk of sequence {} from block {} out of order: expected sequence {} from block {next_block}",
+                    c.sequence + 1,
+                    c.first_block,
+                    h + 1
+                )));
+            }
+            next_block += c.blocks;
+        }
+        let values: Vec<f64> = chunks.iter().flat_map(|(_, v)| v.iter().copied()).collect();
+        self.push_sequence(&values)
+    }
+
+    /// The results over all the trials taken (JCGM 101 §7.9.4 g).
+    pub fn finish(self) -> McResult {
+        let AdaptiveRun { settings, mut columns, history, converged, sequences, fixed, .. } = self;
+        let covariance = covariance(&columns);
+        let outputs = columns.iter_mut().map(|values| SampleSummary::of(values, settings.coverage)).collect();
+        McResult {
+            outputs,
+            covariance,
+            sequences,
+            trials: sequences * settings.trials_per_sequence,
+            converged: converged || fixed,
+            history,
+            samples: columns,
+        }
+    }
 }
 
 /// Estimate, standard uncertainty and the two endpoints of one sequence (§7.9.4 d); sorts `values`.

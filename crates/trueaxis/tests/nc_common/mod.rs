@@ -1,5 +1,37 @@
 //! Shared by the NC tests: the expected correction of a programmed point, computed directly with the
-//! pose corrector and directions of motion derived here from the moves.
+//! pose corrector and directions of motion derived here from the moves; LinuxCNC's rs274 as an
+//! independent reader ([`rs274`]); the check of corrected moves through the erroneous machine
+//! ([`oracle`]). Each test uses a part.
+#![allow(dead_code)]
+
+pub mod oracle;
+pub mod rs274;
+
+use trueaxis::compensate::nc::{Move, MoveKind, Role};
+
+/// The canonical moves rs274 prints for the moves trueaxis reads: one per move, but one for all
+/// the turns of a multi-turn arc (trueaxis writes its turns as separate arcs); their number and
+/// the indices of the returns to the G28/G30 positions (not corrected by design).
+pub fn canonical_homes(machine: &Machine, moves: &[Move]) -> (usize, Vec<usize>) {
+    let mut count = 0;
+    let mut homes = Vec::new();
+    for (i, m) in moves.iter().enumerate() {
+        let turn = i > 0
+            && m.role == Role::Generated
+            && matches!(m.kind, MoveKind::Arc { .. })
+            && moves[i - 1].step == m.step
+            && matches!(moves[i - 1].kind, MoveKind::Arc { .. });
+        if turn {
+            continue;
+        }
+        let _ = machine;
+        if m.role == Role::Home {
+            homes.push(count);
+        }
+        count += 1;
+    }
+    (count, homes)
+}
 
 use trueaxis::compensate::{CorrectionWorkspace, Corrector};
 use trueaxis::errors::{Direction, MachineState};

@@ -161,7 +161,10 @@ pub struct FormatResidual {
 /// least 3).
 pub fn sample_poses(machine: &Machine) -> Result<Vec<f64>, CompensateError> {
     let n = machine.axis_count();
-    let levels = (4096f64.powf(1.0 / n as f64).floor() as usize).clamp(3, 17);
+    // the most levels whose full factorial stays within 4096 poses (integer arithmetic: a floating
+    // root such as 4096^(1/3) may round either way between builds)
+    let within = |l: usize| (0..n).try_fold(1usize, |acc, _| acc.checked_mul(l).filter(|v| *v <= 4096)).is_some();
+    let levels = (3..=17).take_while(|&l| within(l)).last().unwrap_or(3);
     let values: Vec<Vec<f64>> = (0..n)
         .map(|k| {
             let [lo, hi] = table_range(machine, k)?;

@@ -1,216 +1,737 @@
-//! Interpretation of RS274/NGC blocks into moves in machine axis positions: the modal state (motion
-//! mode G0/G1/G2/G3, distance mode G90/G91, units G20/G21, plane G17/G18/G19, work offsets
-//! G54-G59, G53 machine coordinates), and a clear refusal of everything that would change the meaning
-//! of coordinates in ways this corrector does not model (cutter and tool-length compensation, G92,
-//! G10, G28/G30, canned cycles, inverse-time feed, absolute arc centres).
+//! Running a program: the program counter over the lines of its files, the control flow (LinuxCNC
+//! O-words: `sub`/`endsub`/`call`/`return`, `if`/`elseif`/`else`, `while`/`do`/`repeat`,
+//! `break`/`continue`; Fanuc `GOTO`, `IF`, `WHILE ... DO`/`END`, `M98`/`M99`, `G65`), the parameters
+//! an expression reads (stored, or computed from the modal state), and the [`Trace`] it leaves.
+//! The blocks themselves are executed in [`super::execute`].
 
-use super::parse::Block;
-use crate::machine::{AxisKind, Machine};
+use super::dialect::Dialect;
+use super::expr::{evaluate, ExprId, ParamRef};
+use super::lexer::{Label, OKind, Statement};
+use super::modal::{is_linear, FeedMode, Motion, PlaneSelect, SavedModes, Spindle, State, Vec9, AXES, MM_PER_INCH};
+use super::params::{ParamKey, Params};
+use super::program::{Link, Program, SourceFile};
+use super::system::is_predefined;
+use super::tools::{ToolTable, AXIS_LETTERS};
+use super::trace::{flags, Axes, Step, Trace};
+use super::{NcError, ProgramSetup};
+use crate::machine::Machine;
 
-/// Millimetres per inch.
-pub const MM_PER_INCH: f64 = 25.4;
+/// Most blocks one run may execute (a guard against endless loops).
+pub const MAX_STEPS: usize = 20_000_000;
 
-/// Axis letters a program may use.
-const AXIS_LETTERS: [char; 9] = ['X', 'Y', 'Z', 'A', 'B', 'C', 'U', 'V', 'W'];
-
-/// The plane of an arc: machine axis indices of the first and second plane axes and the normal.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Plane {
-    pub first: usize,
-    pub second: usize,
-    pub normal: usize,
-    /// Program letters of the arc-centre words for the first and second axes (I J, K I, J K).
-    pub centre_letters: [char; 2],
+/// What happens after a line.
+pub(super) enum Flow {
+    Next,
+    /// Continue at this line of the same file.
+    Jump(usize),
+    /// The program ends (M2, M30, or a closing `%`).
+    End,
+    /// LinuxCNC `o.. call`.
+    Call(Label, Vec<f64>),
+    /// Fanuc `M98 P.. L..` (shares the locals) or `G65 P.. L.. args` (a new local level).
+    CallProgram {
+        number: u32,
+        repeat: u32,
+        args: Option<Vec<f64>>,
+    },
+    /// `endsub`/`return` (with a value) or Fanuc `M99` (with a `P` sequence number to return to).
+    Return {
+        value: Option<f64>,
+        sequence: Option<u32>,
+    },
 }
 
-/// What a move does.
+/// An active call.
+#[derive(Clone, Debug)]
+pub(super) struct Call {
+    /// File and line to continue at after the return.
+    return_to: (usize, usize),
+    /// First line of the body and how many more times to run it (Fanuc `L`).
+    body: (usize, usize),
+    repeat: u32,
+    /// A new level of local parameters.
+    locals: bool,
+    /// M73: modes to restore on return.
+    pub(super) autorestore: Option<SavedModes>,
+}
+
+/// Dialect-specific settings of the interpreter.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum MoveKind {
-    /// G0: only the end point matters.
-    Rapid,
-    /// G1: a straight line in axis space.
-    Feed,
-    /// G2 (clockwise) / G3: a circular (helical) arc; `centre` in machine coordinates (mm) of the
-    /// plane's first and second axes; `r_format` when the block gave R instead of the centre words.
-    Arc { clockwise: bool, plane: Plane, centre: [f64; 2], r_format: bool },
+pub struct FanucSettings {
+    /// Clearance of the rapid back into a `G83` hole above the last depth, and retraction of a
+    /// `G73` peck (Fanuc parameters 5115 and 5114; LinuxCNC uses 0.010 inch for both), mm.
+    pub peck_clearance_mm: f64,
+    /// Least input increment of a dimension word without a decimal point (mm; inch: one tenth
+    /// of it in inch): 0.001 for the IS-B increment system.
+    pub increment_mm: f64,
 }
 
-/// One programmed move, in machine axis positions (mm, deg; canonical axis order).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Move {
-    /// Index of the block in the program.
-    pub block: usize,
-    pub kind: MoveKind,
-    pub start: Vec<f64>,
-    pub end: Vec<f64>,
-    /// Distance mode and units in force for the block.
-    pub incremental: bool,
-    pub inch: bool,
-    /// Program coordinate = machine position - offset (mm, deg); zero for G53 blocks.
-    pub offset: Vec<f64>,
-}
-
-/// Initial state and work offsets.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ProgramSetup {
-    /// Machine position before the first move (mm, deg); rs274 starts at 0.
-    pub start: Vec<f64>,
-    /// Work offsets G54 ... G59 (index 0 ... 5), machine positions of the program zero (mm, deg).
-    pub work_offsets: [Vec<f64>; 6],
-}
-
-impl ProgramSetup {
-    /// All zero for `machine`.
-    pub fn zero(machine: &Machine) -> ProgramSetup {
-        let z = vec![0.0; machine.axis_count()];
-        ProgramSetup { start: z.clone(), work_offsets: std::array::from_fn(|_| z.clone()) }
+impl Default for FanucSettings {
+    fn default() -> Self {
+        FanucSettings { peck_clearance_mm: 0.254, increment_mm: 0.001 }
     }
 }
 
-/// Program units of `axis` to machine units (mm, deg).
-pub fn to_machine_units(machine: &Machine, axis: usize, value: f64, inch: bool) -> f64 {
-    if inch && machine.axes()[axis].kind == AxisKind::Linear {
-        value * MM_PER_INCH
-    } else {
-        value
-    }
+/// The interpreter's state beside the program text.
+pub(super) struct Exec<'m> {
+    pub machine: &'m Machine,
+    pub dialect: Dialect,
+    pub params: Params,
+    pub tools: ToolTable,
+    /// Fanuc tool length wear (`G10 L11`), by offset number.
+    pub wear: Vec<(u32, f64)>,
+    pub state: State,
+    /// Parameters, tool table: inch (else mm).
+    pub machine_inch: bool,
+    /// Machine axis of each interpreter axis.
+    pub axis_map: [Option<usize>; AXES],
+    pub trace: Trace,
+    pub calls: Vec<Call>,
+    /// Active `repeat` loops: (file, first line, runs left).
+    repeats: Vec<(usize, usize, i64)>,
+    /// The block being read read a parameter that differs in the corrected program.
+    pub unsafe_read: bool,
+    pub fanuc: FanucSettings,
+    /// M70 / M73 modes.
+    pub saved_modes: Option<SavedModes>,
+    pub return_value: f64,
+    pub value_returned: bool,
+    /// Machine position of the current point (mm, deg), machine axis order.
+    pub position: Axes,
+    /// The line being executed (1-based), for `#<_line>` and messages.
+    pub line_number: usize,
+    /// Words of the block being executed for an expanded copy: before its moves, its axis-setting
+    /// command, its stop codes.
+    pub setup_words: Vec<(u8, f64)>,
+    pub setting_words: Vec<(u8, f64)>,
+    pub stop_words: Vec<(u8, f64)>,
+    /// rs274's reading of the position after a tool change, and the tool offset of the last move
+    /// (mm, deg).
+    pub rs274_tool_change: bool,
+    pub tool_at_last_move: Vec9,
 }
 
-/// Machine units of `axis` to program units.
-pub fn to_program_units(machine: &Machine, axis: usize, value: f64, inch: bool) -> f64 {
-    if inch && machine.axes()[axis].kind == AxisKind::Linear {
-        value / MM_PER_INCH
-    } else {
-        value
-    }
-}
-
-struct Modal {
-    motion: Option<u32>,
-    incremental: bool,
-    inch: bool,
-    plane: u32,
-    offset: usize,
-    position: Vec<f64>,
-}
-
-/// The moves of a program; an error names the line.
-pub fn interpret(machine: &Machine, blocks: &[Block], setup: &ProgramSetup) -> Result<Vec<Move>, String> {
-    machine.check_range(&setup.start).map_err(|m| format!("the start point (before the first move) leaves the machine's travel: {m}"))?;
-    let mut state = Modal { motion: None, incremental: false, inch: false, plane: 17, offset: 0, position: setup.start.clone() };
-    let mut moves = Vec::new();
-    for (index, block) in blocks.iter().enumerate() {
-        let line = block.line;
-        let mut g53 = false;
-        let mut motion = None;
-        for w in block.words_of('G') {
-            let code = (w.value * 10.0).round() as i64;
-            match code {
-                0 | 10 | 20 | 30 => motion = Some((code / 10) as u32),
-                40 | 170 | 180 | 190 | 400 | 490 | 610 | 611 | 640 | 800 | 911 | 940 => {}
-                200 => state.inch = true,
-                210 => state.inch = false,
-                900 => state.incremental = false,
-                910 => state.incremental = true,
-                530 => g53 = true,
-                540 | 550 | 560 | 570 | 580 | 590 => state.offset = (code as usize - 540) / 10,
-                410 | 420 | 411 | 421 => return Err(format!("line {line}: cutter radius compensation (G{}) is not supported; program the tool centre path", w.value)),
-                430..=432 => return Err(format!("line {line}: tool length compensation (G{}) is not supported; put the tool point in the machine file instead", w.value)),
-                901 => return Err(format!("line {line}: absolute arc centres (G90.1) are not supported; use the default incremental IJK (G91.1)")),
-                930 => return Err(format!("line {line}: inverse-time feed (G93) is not supported: splitting moves would change their times")),
-                _ => return Err(format!("line {line}: G{} is not supported by the NC corrector (supported: G0 G1 G2 G3 G17-G19 G20 G21 G40 G49 G53 G54-G59 G61 G64 G80 G90 G91 G91.1 G94)", w.value)),
+/// Runs `program` from `setup`; the trace of the run, or the error with its file and line.
+pub fn run(machine: &Machine, mut program: Program, setup: &ProgramSetup) -> Result<(Trace, Program), NcError> {
+    let dialect = program.dialect;
+    let mut exec = Exec::new(machine, dialect, setup).map_err(|m| NcError { file: program.files[0].name.clone(), line: 0, message: m })?;
+    let mut pc = (0usize, program.files[0].body.start);
+    let mut ended = false;
+    while !ended {
+        let file = &program.files[pc.0];
+        if pc.1 >= file.body.end {
+            if exec.calls.is_empty() {
+                let leading_percent = file.body.start > 0;
+                if !leading_percent && dialect == Dialect::LinuxCnc {
+                    return Err(NcError {
+                        file: file.name.clone(),
+                        line: file.lines.len(),
+                        message: "the program ends without M2, M30 or a closing %".into(),
+                    });
+                }
+                break;
             }
-            match code {
-                170 | 180 | 190 => state.plane = (code / 10) as u32,
-                800 => state.motion = None,
-                _ => {}
-            }
+            return Err(NcError {
+                file: file.name.clone(),
+                line: file.lines.len(),
+                message: "the subroutine file ends inside a subroutine (no endsub / M99)".into(),
+            });
         }
-        if g53 && matches!(motion, Some(2 | 3)) {
-            return Err(format!("line {line}: G53 works with G0 and G1 only"));
-        }
-        if let Some(m) = motion {
-            state.motion = Some(m);
-        }
-        let axis_words: Vec<_> = block.words.iter().filter(|w| AXIS_LETTERS.contains(&w.letter)).collect();
-        if axis_words.is_empty() {
-            if motion.is_some_and(|m| m >= 2) {
-                return Err(format!("line {line}: an arc needs an end point"));
-            }
-            continue;
-        }
-        let mode = state.motion.ok_or_else(|| format!("line {line}: axis words without a motion mode (G0, G1, G2 or G3)"))?;
-        let offset = if g53 { vec![0.0; machine.axis_count()] } else { setup.work_offsets[state.offset].clone() };
-        let start = state.position.clone();
-        let mut end = start.clone();
-        for w in &axis_words {
-            let axis = machine.axis_index(w.letter).ok_or_else(|| {
-                format!("line {line}: axis {} is not an axis of machine `{}` (axes: {})", w.letter, machine.name, machine.axis_letters())
-            })?;
-            if block.words_of(w.letter).count() > 1 {
-                return Err(format!("line {line}: axis word {} appears twice", w.letter));
-            }
-            let v = to_machine_units(machine, axis, w.value, state.inch);
-            end[axis] = if state.incremental && !g53 { start[axis] + v } else { v + offset[axis] };
-        }
-        let kind = match mode {
-            0 => MoveKind::Rapid,
-            1 => MoveKind::Feed,
-            _ => arc(machine, block, &state, &start, &end, mode == 2)?,
+        exec.line_number = pc.1 + 1;
+        let result = match &file.lines[pc.1] {
+            Err(m) => Err(m.clone()),
+            Ok(_) if exec.trace.steps.len() >= MAX_STEPS => Err(format!("more than {MAX_STEPS} blocks executed: an endless loop?")),
+            Ok(line) if line.is_empty() && line.comments.is_empty() => Ok(Flow::Next),
+            Ok(line) => match &line.statement {
+                Some(statement) => exec.statement(file, pc, statement),
+                None => exec.block(file, pc, line),
+            },
         };
-        if let Err(m) = machine.check_range(&end) {
-            return Err(format!("line {line}: the end point leaves the machine's travel: {m}"));
+        let here = pc;
+        let at = |m: String, program: &Program| NcError { file: program.files[here.0].name.clone(), line: here.1 + 1, message: m };
+        let flow = result.map_err(|m| at(m, &program))?;
+        match flow {
+            Flow::Next => pc.1 += 1,
+            Flow::Jump(k) => pc.1 = k,
+            Flow::End => ended = true,
+            Flow::Call(label, args) => {
+                let (f, start, _) = program.find_sub(&label).map_err(|m| at(m, &program))?;
+                exec.enter(pc, (f, start + 1), 0, true, &args);
+                pc = (f, start + 1);
+            }
+            Flow::CallProgram { number, repeat, args } => {
+                let (f, k) = program.find_program(number).map_err(|m| at(m, &program))?;
+                if repeat == 0 {
+                    pc.1 += 1;
+                    continue;
+                }
+                let locals = args.is_some();
+                exec.enter(pc, (f, k + 1), repeat - 1, locals, args.as_deref().unwrap_or(&[]));
+                pc = (f, k + 1);
+            }
+            Flow::Return { value, sequence } => {
+                let Some(call) = exec.calls.last_mut() else {
+                    let m = match dialect {
+                        Dialect::Fanuc => "M99 in the main program restarts it endlessly".into(),
+                        Dialect::LinuxCnc => "return outside a subroutine call".into(),
+                    };
+                    return Err(at(m, &program));
+                };
+                if call.repeat > 0 {
+                    call.repeat -= 1;
+                    pc = call.body;
+                    continue;
+                }
+                let call = exec.leave(value);
+                pc = call.return_to;
+                if let Some(n) = sequence {
+                    let target = program.files[pc.0].sequence.get(&n).and_then(|v| v.first().copied());
+                    pc.1 = target.ok_or_else(|| at(format!("M99 P{n}: no block N{n} in the calling program"), &program))?;
+                }
+            }
         }
-        moves.push(Move { block: index, kind, start, end: end.clone(), incremental: state.incremental && !g53, inch: state.inch, offset });
-        state.position = end;
     }
-    Ok(moves)
+    Ok((exec.trace, program))
 }
 
-/// Plane axes of G17 / G18 / G19.
-fn plane_of(machine: &Machine, plane: u32, line: usize) -> Result<Plane, String> {
-    let (letters, centre_letters) = match plane {
-        17 => (['X', 'Y', 'Z'], ['I', 'J']),
-        18 => (['Z', 'X', 'Y'], ['K', 'I']),
-        _ => (['Y', 'Z', 'X'], ['J', 'K']),
-    };
-    let idx = |c: char| {
-        machine.axis_index(c).ok_or_else(|| format!("line {line}: an arc in G{plane} needs axis {c}, which the machine does not have"))
-    };
-    Ok(Plane { first: idx(letters[0])?, second: idx(letters[1])?, normal: idx(letters[2])?, centre_letters })
-}
+impl<'m> Exec<'m> {
+    fn new(machine: &'m Machine, dialect: Dialect, setup: &ProgramSetup) -> Result<Exec<'m>, String> {
+        let mut axis_map = [None; AXES];
+        for (k, slot) in axis_map.iter_mut().enumerate() {
+            *slot = machine.axis_index(AXIS_LETTERS[k] as char);
+        }
+        let mut params = Params::new(dialect);
+        for &(n, v) in &setup.parameters {
+            params.set_numbered(n, v)?;
+        }
+        let mut exec = Exec {
+            machine,
+            dialect,
+            params,
+            tools: setup.tools.clone(),
+            wear: Vec::new(),
+            state: State::default(),
+            machine_inch: setup.machine_inch,
+            axis_map,
+            trace: Trace::default(),
+            calls: Vec::new(),
+            repeats: Vec::new(),
+            unsafe_read: false,
+            fanuc: setup.fanuc,
+            saved_modes: None,
+            return_value: 0.0,
+            value_returned: false,
+            position: [0.0; crate::compensate::MAX_AXES],
+            line_number: 0,
+            setup_words: Vec::new(),
+            setting_words: Vec::new(),
+            stop_words: Vec::new(),
+            rs274_tool_change: setup.rs274_tool_change,
+            tool_at_last_move: [0.0; AXES],
+        };
+        let n = machine.axis_count();
+        if setup.start.len() != n {
+            return Err(format!("the start point has {} values for {n} axes", setup.start.len()));
+        }
+        machine
+            .check_range(&setup.start)
+            .map_err(|m| format!("the start point (before the first move) leaves the machine's travel: {m}"))?;
+        exec.position[..n].copy_from_slice(&setup.start);
+        exec.trace.start = exec.position;
+        // the coordinate system of #5220 (LinuxCNC) or G54, its offsets; the start point in it
+        let system = match dialect {
+            Dialect::LinuxCnc => exec.params.numbered(5220).map_or(1, |v| if (1.0..=9.0).contains(&v) { v as u8 } else { 1 }),
+            Dialect::Fanuc => 1,
+        };
+        exec.state.frame.system = system;
+        exec.state.frame.g5x = exec.system_offsets(system)?;
+        if dialect == Dialect::LinuxCnc {
+            exec.params.set_numbered(5220, f64::from(system))?;
+            exec.state.frame.rotation = exec.params.numbered(5210 + 20 * u32::from(system)).unwrap_or(0.0);
+            if exec.params.numbered(5210).unwrap_or(0.0) != 0.0 {
+                exec.state.frame.g92 =
+                    std::array::from_fn(|k| exec.user_to_program(k, exec.params.numbered(5211 + k as u32).unwrap_or(0.0)));
+                exec.state.g92_applied = true;
+            }
+        }
+        exec.state.retract_to_r = false;
+        exec.state.path_mode = 640;
+        // a Fanuc control starts in G00 (parameter 3402 bit G01 = 0)
+        if dialect == Dialect::Fanuc {
+            exec.state.motion = Motion::Rapid;
+        }
+        let start = exec.machine_to_program(&exec.position);
+        exec.state.position = start;
+        exec.trace.frame_index(&exec.state.frame);
+        Ok(exec)
+    }
 
-fn arc(machine: &Machine, block: &Block, state: &Modal, start: &[f64], end: &[f64], clockwise: bool) -> Result<MoveKind, String> {
-    let line = block.line;
-    let plane = plane_of(machine, state.plane, line)?;
-    if let Some(p) = block.value('P') {
-        if p != 1.0 {
-            return Err(format!("line {line}: arcs with several turns (P{p}) are not supported"));
+    /// A value stored in machine units (parameters, tool table) in program units.
+    pub fn user_to_program(&self, axis: usize, v: f64) -> f64 {
+        if !is_linear(axis) {
+            return v;
+        }
+        match (self.machine_inch, self.state.frame.inch) {
+            (true, false) => v * MM_PER_INCH,
+            (false, true) => v / MM_PER_INCH,
+            _ => v,
         }
     }
-    let (s, e) = ([start[plane.first], start[plane.second]], [end[plane.first], end[plane.second]]);
-    let unit = |v: f64| if state.inch { v * MM_PER_INCH } else { v };
-    let (centre, r_format) = match block.value('R') {
-        Some(r) => {
-            let r = unit(r);
-            let (dx, dy) = (e[0] - s[0], e[1] - s[1]);
-            let chord = (dx * dx + dy * dy).sqrt();
-            if chord == 0.0 || chord > 2.0 * r.abs() * (1.0 + 1e-9) {
-                return Err(format!("line {line}: no arc of radius {} mm joins the start and end points", r.abs()));
-            }
-            let h = (r * r - chord * chord / 4.0).max(0.0).sqrt();
-            // centre on the left of the chord for a counterclockwise arc shorter than a half turn
-            let side = if clockwise == (r > 0.0) { -1.0 } else { 1.0 };
-            let (mx, my) = ((s[0] + e[0]) / 2.0, (s[1] + e[1]) / 2.0);
-            ([mx - side * h * dy / chord, my + side * h * dx / chord], true)
+
+    /// A value in program units in machine units.
+    pub fn program_to_user(&self, axis: usize, v: f64) -> f64 {
+        if !is_linear(axis) {
+            return v;
         }
-        None => {
-            let [a, b] = plane.centre_letters;
-            if block.value(a).is_none() && block.value(b).is_none() {
-                return Err(format!("line {line}: an arc needs the centre words {a} {b} or a radius R"));
-            }
-            ([s[0] + unit(block.value(a).unwrap_or(0.0)), s[1] + unit(block.value(b).unwrap_or(0.0))], false)
+        match (self.machine_inch, self.state.frame.inch) {
+            (true, false) => v / MM_PER_INCH,
+            (false, true) => v * MM_PER_INCH,
+            _ => v,
         }
-    };
-    Ok(MoveKind::Arc { clockwise, plane, centre, r_format })
+    }
+
+    /// First parameter of the offsets of coordinate system `system` (X; then Y Z A B C U V W).
+    pub fn system_base(&self, system: u8) -> u32 {
+        match (self.dialect, system) {
+            (Dialect::Fanuc, s) if s > 9 => 7001 + 20 * u32::from(s - 10),
+            (_, s) => 5201 + 20 * u32::from(s),
+        }
+    }
+
+    /// The work offsets of `system` (program units; Fanuc: plus the external offset #5201).
+    pub fn system_offsets(&self, system: u8) -> Result<Vec9, String> {
+        let base = self.system_base(system);
+        let mut out = [0.0; AXES];
+        for (k, o) in out.iter_mut().enumerate() {
+            let read = |n: u32| self.params.numbered(n).filter(|v| !v.is_nan()).unwrap_or(0.0);
+            let mut v = read(base + k as u32);
+            if self.dialect == Dialect::Fanuc && k < 6 {
+                v += read(5201 + k as u32);
+            }
+            *o = self.user_to_program(k, v);
+        }
+        Ok(out)
+    }
+
+    /// Program point of a machine position (machine axes not on the interpreter's list keep the
+    /// program position).
+    pub fn machine_to_program(&self, m: &Axes) -> Vec9 {
+        let frame = &self.state.frame;
+        let mut ext = frame.external(&self.state.position);
+        let s = frame.scale();
+        for (k, e) in ext.iter_mut().enumerate() {
+            if let Some(i) = self.axis_map[k] {
+                *e = if is_linear(k) { m[i] / s } else { m[i] };
+            }
+        }
+        frame.program(&ext)
+    }
+
+    /// Machine position (mm, deg; machine axis order) of a program point.
+    pub fn program_to_machine(&self, p: &Vec9) -> Axes {
+        let m = self.state.frame.machine(p);
+        let mut out = self.position;
+        for (k, slot) in self.axis_map.iter().enumerate() {
+            if let Some(i) = slot {
+                out[*i] = m[k];
+            }
+        }
+        out
+    }
+
+    /// Starts a step for the line at `pc`; its index.
+    pub fn begin_step(&mut self, pc: (usize, usize), extra: u16) -> usize {
+        let frame = self.trace.frame_index(&self.state.frame);
+        let t = &self.trace;
+        let (moves, words, writes, messages, actions) =
+            (t.moves.len() as u32, t.words.len() as u32, t.writes.len() as u32, t.messages.len() as u32, t.actions.len() as u32);
+        self.trace.steps.push(Step {
+            file: pc.0 as u32,
+            line: pc.1 as u32,
+            depth: self.calls.len() as u16,
+            level: self.calls.iter().filter(|c| c.locals).count() as u16,
+            moves: moves..moves,
+            setup: words..words,
+            setting: words..words,
+            motion_words: words..words,
+            stops: words..words,
+            writes: writes..writes,
+            flags: extra,
+            relative: None,
+            frame,
+            messages: messages..messages,
+            actions: actions..actions,
+            jump: None,
+        });
+        self.trace.steps.len() - 1
+    }
+
+    /// Closes the ranges of step `step`.
+    pub fn end_step(&mut self, step: usize) {
+        let (moves, writes, messages, actions) = (
+            self.trace.moves.len() as u32,
+            self.trace.writes.len() as u32,
+            self.trace.messages.len() as u32,
+            self.trace.actions.len() as u32,
+        );
+        let unsafe_read = std::mem::take(&mut self.unsafe_read);
+        let s = &mut self.trace.steps[step];
+        s.moves.end = moves;
+        s.writes.end = writes;
+        s.messages.end = messages;
+        s.actions.end = actions;
+        if unsafe_read {
+            s.flags |= flags::READS_UNSAFE;
+        }
+    }
+
+    /// Evaluates expression `id` of `file`.
+    pub fn eval(&mut self, file: &SourceFile, id: ExprId) -> Result<f64, String> {
+        let dialect = self.dialect;
+        evaluate(&file.arena, id, self, dialect)
+    }
+
+    /// Writes a parameter and records it in the trace.
+    pub fn assign(&mut self, target: &ParamRef, index: Option<u32>, value: f64) -> Result<(), String> {
+        let key = match target {
+            ParamRef::Named(name) => {
+                if self.dialect == Dialect::LinuxCnc && name.starts_with('_') && is_predefined(name) {
+                    return Err(format!("#<{name}> is a read-only system parameter"));
+                }
+                self.params.set_named(name, value);
+                ParamKey::Named(name.clone())
+            }
+            ParamRef::Numbered(n) => self.assign_numbered(*n, value)?,
+            ParamRef::Indirect(_) => self.assign_numbered(index.expect("computed index"), value)?,
+        };
+        self.trace.writes.push((key, value));
+        Ok(())
+    }
+
+    fn assign_numbered(&mut self, n: u32, value: f64) -> Result<ParamKey, String> {
+        match self.dialect {
+            Dialect::LinuxCnc if n == 5400 || (5401..=5413).contains(&n) || (5420..=5428).contains(&n) => {
+                return Err(format!("#{n} is a read-only system parameter"))
+            }
+            Dialect::Fanuc if (1000..2001).contains(&n) || (2401..5201).contains(&n) || (5330..7001).contains(&n) => {
+                return Err(format!(
+                "system variable #{n} cannot be written by this corrector (supported: #1-#999, work offsets #5201-#5326 and #7001-#7948)"
+            ))
+            }
+            _ => {}
+        }
+        self.params.set_numbered(n, value)?;
+        // a write to the active system's offsets takes effect at once (Fanuc system variables)
+        if self.dialect == Dialect::Fanuc && (5201..=5326).contains(&n) || (7001..=7948).contains(&n) {
+            let old = self.state.frame;
+            self.state.frame.g5x = self.system_offsets(self.state.frame.system)?;
+            self.refresh_position(&old);
+        }
+        Ok(ParamKey::Numbered(n))
+    }
+
+    /// After a change of offsets: the program position of the unchanged machine position.
+    pub fn refresh_position(&mut self, old: &super::modal::Frame) {
+        let ext = old.external(&self.state.position);
+        self.state.position = self.state.frame.program(&ext);
+    }
+
+    fn enter(&mut self, from: (usize, usize), body: (usize, usize), repeat: u32, locals: bool, args: &[f64]) {
+        self.params.enter(args, locals);
+        self.calls.push(Call { return_to: (from.0, from.1 + 1), body, repeat, locals, autorestore: None });
+        self.return_value = 0.0;
+        self.value_returned = false;
+    }
+
+    fn leave(&mut self, value: Option<f64>) -> Call {
+        let call = self.calls.pop().expect("an active call");
+        self.params.leave();
+        if let Some(v) = value {
+            self.return_value = v;
+            self.value_returned = true;
+        }
+        if let Some(modes) = call.autorestore {
+            self.restore_modes(&modes);
+            // an expanded copy of the call sets the restored modes itself
+            let words = self.mode_words(&modes);
+            self.action(&words);
+        }
+        call
+    }
+
+    /// The codes that set the modes M70/M73 save.
+    fn mode_words(&self, m: &SavedModes) -> Vec<(u8, f64)> {
+        let g = |v: f64| (b'G', v);
+        let mut w = vec![
+            g(if m.inch { 20.0 } else { 21.0 }),
+            g(if m.incremental { 91.0 } else { 90.0 }),
+            g(if m.ijk_absolute { 90.1 } else { 91.1 }),
+            g(m.plane.gcode()),
+            g(match m.feed_mode {
+                FeedMode::InverseTime => 93.0,
+                FeedMode::PerMinute => 94.0,
+                FeedMode::PerRevolution => 95.0,
+            }),
+            g(if m.diameter { 7.0 } else { 8.0 }),
+            g(if m.retract_to_r { 99.0 } else { 98.0 }),
+            g(f64::from(m.path_mode) / 10.0),
+            g(if m.css { 96.0 } else { 97.0 }),
+        ];
+        if m.feed_mode != FeedMode::InverseTime {
+            w.push((b'F', m.feed));
+        }
+        w.push((b'S', m.speed));
+        w.push((
+            b'M',
+            match m.spindle {
+                Spindle::Clockwise => 3.0,
+                Spindle::CounterClockwise => 4.0,
+                Spindle::Stopped => 5.0,
+            },
+        ));
+        w.push((
+            b'M',
+            if m.flood {
+                8.0
+            } else if m.mist {
+                7.0
+            } else {
+                9.0
+            },
+        ));
+        w
+    }
+
+    /// A control statement.
+    fn statement(&mut self, file: &SourceFile, pc: (usize, usize), statement: &Statement) -> Result<Flow, String> {
+        let k = pc.1;
+        let step = self.begin_step(pc, flags::CONTROL);
+        let flow = self.statement_flow(file, pc, statement);
+        if matches!(flow, Ok(Flow::Call(..))) {
+            self.trace.steps[step].flags |= flags::CALL;
+        }
+        if let Ok(Flow::Jump(target)) = flow {
+            if target <= k && matches!(statement, Statement::Goto(_) | Statement::IfGoto(..)) {
+                self.trace.steps[step].flags |= flags::JUMP_BACK;
+            }
+        }
+        self.end_step(step);
+        flow
+    }
+
+    fn statement_flow(&mut self, file: &SourceFile, pc: (usize, usize), statement: &Statement) -> Result<Flow, String> {
+        let k = pc.1;
+        let link = file.links[k];
+        let truth = |v: f64| !v.is_nan() && v != 0.0;
+        Ok(match statement {
+            Statement::O(label, kind) => match kind {
+                OKind::Sub => match link {
+                    Link::Sub { end } => Flow::Jump(end + 1),
+                    _ => unreachable!("indexed sub"),
+                },
+                OKind::EndSub(value) | OKind::Return(value) => {
+                    if self.calls.is_empty() {
+                        return Err(format!("`{label}` ends a subroutine that was not called"));
+                    }
+                    let v = match value {
+                        Some(e) => Some(self.eval(file, *e)?),
+                        None => None,
+                    };
+                    Flow::Return { value: v, sequence: None }
+                }
+                OKind::Call(args) => {
+                    let values = args.iter().map(|a| self.eval(file, *a)).collect::<Result<Vec<_>, _>>()?;
+                    if values.len() > 30 {
+                        return Err(format!("{} arguments; a call takes at most 30", values.len()));
+                    }
+                    Flow::Call(label.clone(), values)
+                }
+                OKind::If(_) => Flow::Jump(self.branch(file, k)?),
+                OKind::ElseIf(_) | OKind::Else => match link {
+                    // reached at the end of a taken branch
+                    Link::Branch { end, .. } => Flow::Jump(end + 1),
+                    _ => unreachable!("indexed branch"),
+                },
+                OKind::EndIf | OKind::Do => Flow::Next,
+                OKind::While(cond) => {
+                    let c = truth(self.eval(file, *cond)?);
+                    match link {
+                        Link::LoopStart { end } => {
+                            if c {
+                                Flow::Next
+                            } else {
+                                Flow::Jump(end + 1)
+                            }
+                        }
+                        Link::LoopEnd { start } => {
+                            if c {
+                                Flow::Jump(start + 1)
+                            } else {
+                                Flow::Next
+                            }
+                        }
+                        _ => unreachable!("indexed while"),
+                    }
+                }
+                OKind::EndWhile => match link {
+                    Link::LoopEnd { start } => Flow::Jump(start),
+                    _ => unreachable!("indexed endwhile"),
+                },
+                OKind::Repeat(count) => {
+                    let n = self.eval(file, *count)?.round() as i64;
+                    let Link::LoopStart { end } = link else { unreachable!("indexed repeat") };
+                    if n <= 0 {
+                        Flow::Jump(end + 1)
+                    } else {
+                        self.repeats.push((pc.0, k, n));
+                        Flow::Next
+                    }
+                }
+                OKind::EndRepeat => {
+                    let Link::LoopEnd { start } = link else { unreachable!("indexed endrepeat") };
+                    self.repeat_end(pc.0, start, k)
+                }
+                OKind::Break => {
+                    let Link::LoopJump { start, end } = link else { unreachable!("indexed break") };
+                    if matches!(&file.lines[start], Ok(l) if matches!(l.statement, Some(Statement::O(_, OKind::Repeat(_))))) {
+                        self.repeats.retain(|r| !(r.0 == pc.0 && r.1 == start));
+                    }
+                    Flow::Jump(end + 1)
+                }
+                OKind::Continue => {
+                    let Link::LoopJump { start, end } = link else { unreachable!("indexed continue") };
+                    match &file.lines[start] {
+                        Ok(l) if matches!(l.statement, Some(Statement::O(_, OKind::While(_)))) => Flow::Jump(start),
+                        _ => Flow::Jump(end),
+                    }
+                }
+            },
+            Statement::Goto(target) => Flow::Jump(self.sequence(file, pc, *target)?),
+            Statement::IfGoto(cond, target) => {
+                if truth(self.eval(file, *cond)?) {
+                    Flow::Jump(self.sequence(file, pc, *target)?)
+                } else {
+                    Flow::Next
+                }
+            }
+            Statement::IfThen(cond, assignments) => {
+                if truth(self.eval(file, *cond)?) {
+                    for a in assignments {
+                        let index = match &a.target {
+                            ParamRef::Indirect(e) => Some(super::expr::parameter_number(self.eval(file, *e)?)?),
+                            _ => None,
+                        };
+                        let v = self.eval(file, a.value)?;
+                        self.assign(&a.target, index, v)?;
+                    }
+                }
+                Flow::Next
+            }
+            Statement::While(cond, _) => {
+                let Link::LoopStart { end } = link else { unreachable!("indexed WHILE") };
+                if truth(self.eval(file, *cond)?) {
+                    Flow::Next
+                } else {
+                    Flow::Jump(end + 1)
+                }
+            }
+            Statement::Do(_) => Flow::Next,
+            Statement::End(_) => {
+                let Link::LoopEnd { start } = link else { unreachable!("indexed END") };
+                match &file.lines[start] {
+                    Ok(l) if matches!(l.statement, Some(Statement::Do(_))) => Flow::Jump(start + 1),
+                    _ => Flow::Jump(start),
+                }
+            }
+        })
+    }
+
+    fn repeat_end(&mut self, file: usize, start: usize, _end: usize) -> Flow {
+        let Some(top) = self.repeats.iter_mut().rev().find(|r| r.0 == file && r.1 == start) else {
+            return Flow::Next;
+        };
+        top.2 -= 1;
+        if top.2 > 0 {
+            Flow::Jump(start + 1)
+        } else {
+            self.repeats.retain(|r| !(r.0 == file && r.1 == start));
+            Flow::Next
+        }
+    }
+
+    /// The first line of the branch of the `if` at `k` whose condition holds.
+    fn branch(&mut self, file: &SourceFile, k: usize) -> Result<usize, String> {
+        let mut b = k;
+        loop {
+            let Link::Branch { next, end } = file.links[b] else { return Ok(b + 1) };
+            let statement = file.lines[b].as_ref().ok().and_then(|l| l.statement.as_ref());
+            match statement {
+                Some(Statement::O(_, OKind::If(c) | OKind::ElseIf(c))) => {
+                    let v = self.eval(file, *c)?;
+                    if !v.is_nan() && v != 0.0 {
+                        return Ok(b + 1);
+                    }
+                    if next == end {
+                        return Ok(end + 1);
+                    }
+                    b = next;
+                }
+                _ => return Ok(b + 1),
+            }
+        }
+    }
+
+    /// The line of Fanuc sequence number `target` in the program section containing `pc`.
+    fn sequence(&mut self, file: &SourceFile, pc: (usize, usize), target: ExprId) -> Result<usize, String> {
+        let n = self.eval(file, target)?;
+        if n.is_nan() || n < 0.0 || n.fract() != 0.0 {
+            return Err(format!("GOTO {n}: not a sequence number"));
+        }
+        let n = n as u32;
+        let section = |k: usize| file.programs.values().filter(|&&p| p <= k).max().copied().unwrap_or(0);
+        let here = section(pc.1);
+        file.sequence
+            .get(&n)
+            .and_then(|lines| lines.iter().copied().find(|&k| section(k) == here))
+            .ok_or_else(|| format!("GOTO {n}: no block N{n} in this program"))
+    }
+
+    /// Restores the modes M70/M73 saved.
+    pub fn restore_modes(&mut self, m: &SavedModes) {
+        self.state.set_inch(m.inch);
+        let f = &mut self.state.frame;
+        f.incremental = m.incremental;
+        f.ijk_absolute = m.ijk_absolute;
+        f.diameter = m.diameter;
+        self.state.plane = m.plane;
+        self.state.motion = m.motion;
+        self.state.feed_mode = m.feed_mode;
+        self.state.feed = m.feed;
+        self.state.speed = m.speed;
+        self.state.spindle = m.spindle;
+        self.state.retract_to_r = m.retract_to_r;
+        self.state.css = m.css;
+        self.state.path_mode = m.path_mode;
+        self.state.flood = m.flood;
+        self.state.mist = m.mist;
+    }
+}
+
+impl Exec<'_> {
+    /// The plane's axes must be on the machine.
+    pub fn plane_axes(&self, plane: PlaneSelect) -> Result<[usize; 3], String> {
+        let axes = plane.axes();
+        let mut out = [0; 3];
+        for (o, &k) in out.iter_mut().zip(&axes) {
+            *o = self.axis_map[k].ok_or_else(|| {
+                format!(
+                    "the plane G{} needs axis {}, which machine `{}` does not have",
+                    plane.gcode(),
+                    AXIS_LETTERS[k] as char,
+                    self.machine.name
+                )
+            })?;
+        }
+        Ok(out)
+    }
 }

@@ -2,7 +2,7 @@
 //! circular / helical arc in its plane with the other axes interpolated linearly), and the choice of
 //! split points where the correction varies along the move more than a tolerance.
 
-use super::interpret::{Move, MoveKind};
+use super::trace::{Move, MoveKind};
 use crate::errors::Direction;
 use std::f64::consts::TAU;
 
@@ -36,7 +36,8 @@ pub fn point_at(m: &Move, arc: Option<&ArcGeometry>, t: f64, out: &mut [f64]) {
     }
     if let (Some(g), MoveKind::Arc { plane, centre, .. }) = (arc, m.kind) {
         if t >= 1.0 {
-            out.copy_from_slice(&m.end);
+            let n = out.len();
+            out.copy_from_slice(&m.end[..n]);
             return;
         }
         let angle = g.start_angle + t * g.sweep;
@@ -74,9 +75,29 @@ pub const MIN_PIECE: f64 = 1e-6;
 /// axis).
 pub type Pieces = Vec<(f64, Vec<f64>)>;
 
+/// How far correction `b` is from `a`, in tolerances: the length of the vector of the linear axes'
+/// differences, or the largest rotary one (`tolerance(axis)`: the axis's tolerance and whether it
+/// is linear).
+pub fn departure(a: &[f64], b: &[f64], tolerance: &dyn Fn(usize) -> (f64, bool)) -> f64 {
+    let (mut linear, mut worst) = (0.0, 0.0f64);
+    for k in 0..a.len() {
+        let (tol, is_linear) = tolerance(k);
+        let d = (b[k] - a[k]) / tol;
+        if is_linear {
+            linear += d * d;
+        } else {
+            worst = worst.max(d.abs());
+        }
+    }
+    worst.max(linear.sqrt())
+}
+
 /// Parameters `0 < t_1 < ... < t_k = 1` of the pieces such that, on every piece, the correction
 /// `correction(t)` (one value per axis, mm or deg) departs from the straight blend of its values at
-/// the piece ends by at most `tolerance(axis)`, checked at the quarter points of each piece
+/// the piece ends by at most the tolerance, checked at the quarter points of each piece
+/// (`tolerance(axis)` gives an axis's tolerance and whether it is linear: the departures of the
+/// linear axes count together, as the length of their vector, so that the tool point stays within
+/// the tolerance of the path; a rotary axis counts alone)
 /// (recursive bisection); each with the correction at its end. A piece shorter than
 /// [`MIN_PIECE`] of the move is accepted as it is: the correction jumps there (a discontinuous
 /// error model; the pose correction itself is continuous, also through 5-axis singularities), and
@@ -84,13 +105,22 @@ pub type Pieces = Vec<(f64, Vec<f64>)>;
 /// `max_pieces` would be needed; an error of `correction` is passed on.
 pub fn split_points<E>(
     correction: &mut dyn FnMut(f64) -> Result<Vec<f64>, E>,
-    tolerance: &dyn Fn(usize) -> f64,
+    tolerance: &dyn Fn(usize) -> (f64, bool),
     max_pieces: usize,
 ) -> Result<Option<Pieces>, E> {
+    Ok(split_from(correction, tolerance, max_pieces)?.map(|(_, p)| p))
+}
+
+/// [`split_points`] with the correction at the start of the move as well.
+pub fn split_from<E>(
+    correction: &mut dyn FnMut(f64) -> Result<Vec<f64>, E>,
+    tolerance: &dyn Fn(usize) -> (f64, bool),
+    max_pieces: usize,
+) -> Result<Option<(Vec<f64>, Pieces)>, E> {
     let c0 = correction(0.0)?;
     let c1 = correction(1.0)?;
     let mut pieces = Vec::new();
-    let mut stack = vec![(0.0, 1.0, c0, c1)];
+    let mut stack = vec![(0.0, 1.0, c0.clone(), c1)];
     // depth-first, right half pushed first so pieces come out in order
     while let Some((a, b, ca, cb)) = stack.pop() {
         let mut worst: f64 = 0.0;
@@ -98,10 +128,8 @@ pub fn split_points<E>(
         for f in [0.25, 0.5, 0.75] {
             let t = a + f * (b - a);
             let c = correction(t)?;
-            for k in 0..c.len() {
-                let blend = ca[k] + f * (cb[k] - ca[k]);
-                worst = worst.max((c[k] - blend).abs() / tolerance(k));
-            }
+            let blend: Vec<f64> = ca.iter().zip(&cb).map(|(a, b)| a + f * (b - a)).collect();
+            worst = worst.max(departure(&blend, &c, tolerance));
             if f == 0.5 {
                 mid = Some(c);
             }
@@ -118,7 +146,7 @@ pub fn split_points<E>(
             stack.push((a, t, ca, cm));
         }
     }
-    Ok(Some(pieces))
+    Ok(Some((c0, pieces)))
 }
 
 #[cfg(test)]
@@ -130,7 +158,7 @@ mod tests {
         // c(t) = t^2 (mm): the deviation from the chord over a piece of length h is h^2 / 4 at its
         // middle, so a tolerance of 1e-3 needs h <= 0.0632: 16 pieces of 1/16
         let mut f = |t: f64| Ok::<_, ()>(vec![t * t]);
-        let split = split_points(&mut f, &|_| 1e-3, 1000).unwrap().unwrap();
+        let split = split_points(&mut f, &|_| (1e-3, true), 1000).unwrap().unwrap();
         let pieces: Vec<f64> = split.iter().map(|p| p.0).collect();
         assert_eq!(pieces.len(), 16);
         assert!((pieces[0] - 1.0 / 16.0).abs() < 1e-15);
@@ -138,18 +166,18 @@ mod tests {
         // the correction at every piece end is the function there
         assert!(split.iter().all(|(t, c)| c[0] == t * t));
         let mut g = |t: f64| Ok::<_, ()>(vec![t * t]);
-        assert_eq!(split_points(&mut g, &|_| 1e-9, 50), Ok(None));
+        assert_eq!(split_points(&mut g, &|_| (1e-9, true), 50), Ok(None));
         let mut line = |t: f64| Ok::<_, ()>(vec![3.0 * t - 1.0]);
-        assert_eq!(split_points(&mut line, &|_| 1e-12, 10), Ok(Some(vec![(1.0, vec![2.0])])));
+        assert_eq!(split_points(&mut line, &|_| (1e-12, true), 10), Ok(Some(vec![(1.0, vec![2.0])])));
         let mut failing = |t: f64| if t > 0.6 { Err("beyond") } else { Ok(vec![t]) };
-        assert_eq!(split_points(&mut failing, &|_| 1e-3, 10), Err("beyond"));
+        assert_eq!(split_points(&mut failing, &|_| (1e-3, true), 10), Err("beyond"));
     }
 
     #[test]
     fn a_jump_of_the_correction_is_isolated_in_a_short_piece() {
         // a step of 1 mm at t = 0.3: bisection narrows it down to a piece shorter than MIN_PIECE
         let mut step = |t: f64| Ok::<_, ()>(vec![if t < 0.3 { 0.0 } else { 1.0 }]);
-        let pieces: Vec<f64> = split_points(&mut step, &|_| 1e-3, 1000).unwrap().unwrap().iter().map(|p| p.0).collect();
+        let pieces: Vec<f64> = split_points(&mut step, &|_| (1e-3, true), 1000).unwrap().unwrap().iter().map(|p| p.0).collect();
         assert!(pieces.len() < 2 * 22, "{} pieces", pieces.len());
         let jump = pieces.windows(2).find(|w| w[0] < 0.3 && w[1] >= 0.3).expect("a piece holds the step");
         assert!(jump[1] - jump[0] < MIN_PIECE);

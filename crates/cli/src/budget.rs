@@ -1,0 +1,56 @@
+//! `trueaxis budget`: the error budget for machine design (seed 002 appendices B and C): forward
+//! analysis, cost-optimal allocation, five-axis configuration study, miniaturisation case.
+
+mod allocate;
+mod analyse;
+mod configurations;
+mod inputs;
+mod miniaturisation;
+
+use crate::Failure;
+use trueaxis::budget::BudgetError;
+
+/// Error budget for design: sensitivity, stack-up, tolerance allocation, five-axis configurations.
+#[derive(clap::Args)]
+#[command(after_help = "Example:\n  trueaxis budget analyse --machine examples/machines/vmc3.toml --part 200x150x100\n\n\
+     Units: tolerances in um (linear errors) and urad (angular and squareness errors); volumetric errors in um.\n\
+     Guide: docs/budget.md")]
+pub struct BudgetArgs {
+    #[command(subcommand)]
+    command: BudgetCommand,
+}
+
+#[derive(clap::Subcommand)]
+enum BudgetCommand {
+    Analyse(Box<analyse::AnalyseArgs>),
+    Allocate(Box<allocate::AllocateArgs>),
+    Configurations(configurations::ConfigurationsArgs),
+    Miniaturisation(miniaturisation::MiniaturisationArgs),
+}
+
+pub fn run(args: BudgetArgs) -> Result<(), Failure> {
+    match args.command {
+        BudgetCommand::Analyse(a) => analyse::run(*a),
+        BudgetCommand::Allocate(a) => allocate::run(*a),
+        BudgetCommand::Configurations(a) => configurations::run(a),
+        BudgetCommand::Miniaturisation(a) => miniaturisation::run(a),
+    }
+}
+
+/// Bad input (exit 2) or a failed computation (exit 1).
+fn failure(e: BudgetError) -> Failure {
+    if e.is_input() {
+        Failure::input(e)
+    } else {
+        Failure::computation(e)
+    }
+}
+
+/// `nan`-free number for JSON: `null` when not finite.
+fn number(v: f64) -> serde_json::Value {
+    if v.is_finite() {
+        serde_json::json!(v)
+    } else {
+        serde_json::Value::Null
+    }
+}

@@ -1,0 +1,135 @@
+//! `trueaxis nc` end to end: the example programs of both dialects with a tool table, work offsets
+//! and a subroutine file on the search path; the JSON summary; a parameter file; refusals (exit 2,
+//! the file and line named, nothing written); correction limits; the start outside the travel.
+
+use std::process::Command;
+
+fn trueaxis(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_trueaxis"))
+        .args(args)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .unwrap();
+    (out.status.code().unwrap(), String::from_utf8(out.stdout).unwrap(), String::from_utf8(out.stderr).unwrap())
+}
+
+/// `trueaxis nc --machine vmc3 --errors ERRORS REST...`
+fn nc(errors: &str, rest: &[&str]) -> (i32, String, String) {
+    let mut args = vec!["nc", "--machine", "examples/machines/vmc3.toml", "--errors", errors];
+    args.extend(rest);
+    trueaxis(&args)
+}
+
+#[test]
+fn the_pocket_is_corrected_with_a_json_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("pocket_corrected.ngc");
+    let (code, stdout, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--out", out.to_str().unwrap(), "--json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(doc["moves"], 12);
+    assert_eq!(doc["dialect"], "linuxcnc");
+    assert_eq!(doc["expanded"].as_array().unwrap().len(), 0);
+    assert!(doc["max_residual_um"].as_f64().unwrap() < 0.01);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.contains("N40 G1 Z-250.00") && text.contains("(plunge)"), "{text}");
+}
+
+#[test]
+fn both_dialects_run_with_a_tool_table_offsets_and_a_subroutine_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let setup = ["--tool-table", "examples/nc/tools.tbl", "--offset", "G54=X0,Y0,Z-300", "--start", "X0,Y0,Z-100"];
+    let out = dir.path().join("features.ngc");
+    let mut args = vec!["examples/nc/features.ngc", "--out", out.to_str().unwrap(), "--json"];
+    args.extend(setup);
+    let (code, stdout, stderr) = nc("examples/errors/vmc3_backlash.toml", &[&args[..], &["--temperature", "T:column=22"]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    // the loop and the three calls of hole.ngc (found beside the program) are expanded
+    let expanded: Vec<String> = doc["expanded"].as_array().unwrap().iter().map(|v| v.as_str().unwrap().to_string()).collect();
+    assert_eq!(expanded.len(), 4, "{expanded:?}");
+    assert!(expanded[1].contains("o<hole> call (a subroutine file)"), "{expanded:?}");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.starts_with("(trueaxis: corrected program; expanded into plain moves"), "{text}");
+    assert!(text.contains("#<pass>=3"), "the loop's counter is set after it: {text}");
+    let out = dir.path().join("drilling.nc");
+    let mut args = vec!["examples/nc/drilling.nc", "--out", out.to_str().unwrap(), "--json"];
+    args.extend(setup);
+    let (code, stdout, stderr) = nc("examples/errors/vmc3.toml", &args);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(doc["dialect"], "fanuc");
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(text.starts_with("%\nO1001 (BRACKET - CAM POST STYLE)\n(TRUEAXIS: CORRECTED PROGRAM"), "{text}");
+    assert!(text.contains("N45 G00 X19.99") && text.contains("N95 M30"), "{text}");
+    // --dialect linuxcnc reads the Fanuc program as LinuxCNC: its O number is no O-word
+    let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[&["examples/nc/drilling.nc", "--dialect", "linuxcnc"][..], &setup].concat());
+    assert_eq!(code, 2);
+    assert!(stderr.contains("drilling.nc: line 2: `o1001` is not followed by sub"), "{stderr}");
+}
+
+#[test]
+fn a_parameter_file_gives_the_work_offsets() {
+    let dir = tempfile::tempdir().unwrap();
+    let var = dir.path().join("sim.var");
+    std::fs::write(&var, "5221\t10.0\n5222\t-20.0\n5223\t-200.0\n").unwrap();
+    let program = dir.path().join("p.ngc");
+    std::fs::write(&program, "G21 G90 G54\nG0 X0 Y0 Z0\nG1 X10 F500\nM2\n").unwrap();
+    let (code, stdout, stderr) =
+        nc("examples/errors/vmc3.toml", &[program.to_str().unwrap(), "--parameters", var.to_str().unwrap(), "--json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let text = doc["program"].as_str().unwrap();
+    // at machine X10 Y-20 Z-200 the correction is a few micrometres: X0 becomes ...
+    assert!(text.lines().nth(1).unwrap().starts_with("G0 X-0.00") || text.lines().nth(1).unwrap().starts_with("G0 X0.00"), "{text}");
+    let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[program.to_str().unwrap(), "--parameters", program.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("p.ngc: line 1: `G21` is not a parameter number"), "{stderr}");
+}
+
+#[test]
+fn refusals_name_the_line_and_write_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.ngc");
+    let out = dir.path().join("out.ngc");
+    for (text, message) in [
+        ("G21 G90\nG0 X1\nG38.2 Z-10 F100\nM2\n", "bad.ngc: line 3: G38.2 (probing) stops where the probe touches"),
+        ("G21 G90\nG0 X1\nG43 H1 Z-5\nM2\n", "bad.ngc: line 3: tool 1 of the offset is not in the tool table"),
+        ("G21 G90\nG42 D1\nM2\n", "bad.ngc: line 2: G42 (cutter radius compensation)"),
+    ] {
+        std::fs::write(&bad, text).unwrap();
+        let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        assert_eq!(code, 2, "{text}");
+        assert!(stderr.contains(message), "{stderr}");
+        assert!(!out.exists());
+    }
+    // with a work offset of 200 mm the program's X300 is X500 on the machine: beyond the travel
+    let (code, _, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--offset", "G54=X200"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("line 7: the end point leaves the machine's travel: axis X at 500 mm"), "{stderr}");
+    let (code, _, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--dialect", "heidenhain"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("--dialect `heidenhain` is not linuxcnc or fanuc"), "{stderr}");
+}
+
+#[test]
+fn corrections_beyond_the_limit_and_a_start_outside_the_travel_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("pocket.ngc");
+    let (code, _, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--out", out.to_str().unwrap(), "--limit-um", "5"]);
+    assert_eq!(code, 2);
+    assert!(
+        stderr.contains("examples/nc/pocket.ngc: line 4: the correction of axis X is -5.151 um at the machine position X0 Y0 Z-10"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("beyond the limit of 5 um; nothing was written"), "{stderr}");
+    assert!(!out.exists());
+    let (code, stdout, stderr) =
+        nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--out", out.to_str().unwrap(), "--limit-um", "50", "--json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert!(doc["max_correction_um"].as_f64().unwrap() < 50.0 && out.exists());
+    let (code, _, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--start", "X500"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("--start: the start point leaves the machine's travel: axis X at 500 mm"), "{stderr}");
+}

@@ -1,0 +1,361 @@
+"""Type stubs of the extension module trueaxis._native (units: mm, deg, um, urad, degC, s)."""
+
+from os import PathLike
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+_Path = Union[str, PathLike[str]]
+_Point = Tuple[float, float, float]
+_Chunk = Tuple[int, int, int]
+_Array = npt.NDArray[np.float64]
+
+__version__: str
+PREDICTION_COLUMNS: List[str]
+"""Columns of a prediction: dx dy dz (um), drx dry drz (urad), dL (um)."""
+BLOCK: int
+"""Trials per random-number stream (a Monte Carlo chunk is a whole number of blocks)."""
+
+class TrueaxisError(Exception):
+    """An error of trueaxis; the message is the command line's."""
+
+class InputError(TrueaxisError):
+    """Bad input: a file, parameter or value (the command line's exit status 2)."""
+
+class ComputationError(TrueaxisError):
+    """A failed computation, e.g. a rank-deficient identification (exit status 1)."""
+
+class TrueaxisWarning(UserWarning):
+    """A warning or note the command line prints on stderr (plausibility findings, corrections applied)."""
+
+class Machine:
+    """An immutable machine description; positions in mm (linear) and deg (rotary)."""
+    @staticmethod
+    def from_file(path: _Path) -> Machine: ...
+    @staticmethod
+    def from_toml(text: str, origin: str = "<machine>") -> Machine: ...
+    @staticmethod
+    def from_dict(d: Mapping[str, Any]) -> Machine: ...
+    @property
+    def name(self) -> str: ...
+    @property
+    def axes(self) -> str:
+        """Axis letters in the order of the pose columns, e.g. "XYZAC"."""
+    @property
+    def units(self) -> List[str]: ...
+    @property
+    def tool_point(self) -> _Point:
+        """Tool point at home in the machine frame (mm)."""
+    @property
+    def toml(self) -> str: ...
+    def read_poses(self, path: _Path) -> _Array:
+        """(N, axes) positions in mm and deg from a pose CSV."""
+    def predict(
+        self,
+        errors: Errors,
+        poses: _Array,
+        *,
+        tool_point: Optional[_Point] = None,
+        work_point: Optional[_Point] = None,
+        frame: str = "workpiece",
+        temperatures: Optional[_Array] = None,
+        directions: Optional[npt.ArrayLike] = None,
+        with_dl: bool = False,
+    ) -> _Array:
+        """Volumetric error at (N, axes) poses (mm, deg): (N, 6) dx dy dz in um, drx dry drz in
+        urad (N, 7 with dL in um when with_dl); exact chain, vectorised, GIL released.
+        temperatures: (N, sensors) degC in the order of errors.sensors; directions: (N, axes) of
+        -1, 0, +1 (e.g. int8), the direction of motion of each axis (0 at rest), for EXX+/EXX-."""
+    def predict_file(
+        self,
+        errors: Errors,
+        poses: _Path,
+        *,
+        tool_point: Optional[_Point] = None,
+        work_point: Optional[_Point] = None,
+        frame: str = "workpiece",
+    ) -> Dict[str, Any]:
+        """The document of `trueaxis predict --json` for a pose CSV."""
+
+class Errors:
+    """The error model of a machine (um, urad)."""
+    @staticmethod
+    def from_file(path: _Path, machine: Machine) -> Errors: ...
+    @staticmethod
+    def from_toml(text: str, machine: Machine, origin: str = "<errors>") -> Errors: ...
+    @staticmethod
+    def from_dict(d: Mapping[str, Any], machine: Machine) -> Errors: ...
+    @staticmethod
+    def zero(machine: Machine) -> Errors: ...
+    @property
+    def sensors(self) -> List[str]:
+        """Temperature sensors (T:<sensor>) the model needs, in order (degC)."""
+    @property
+    def toml(self) -> str: ...
+
+class Campaign:
+    """A measurement campaign: unknowns and measurements with their data files."""
+    @staticmethod
+    def from_file(path: _Path, machine: Machine) -> Campaign: ...
+    @staticmethod
+    def from_toml(text: str, machine: Machine, base_dir: _Path = ".", origin: str = "<campaign>") -> Campaign: ...
+    @staticmethod
+    def from_dict(d: Mapping[str, Any], machine: Machine, base_dir: _Path = ".") -> Campaign: ...
+    @property
+    def parameters(self) -> List[str]: ...
+    @property
+    def records(self) -> int: ...
+
+class Identification:
+    """Identified values, uncertainties (parameter units: um, urad, um/mm^k) and residuals (um)."""
+    @property
+    def names(self) -> List[str]: ...
+    @property
+    def units(self) -> List[str]: ...
+    @property
+    def values(self) -> _Array: ...
+    @property
+    def std_uncertainty(self) -> _Array:
+        """NaN for a parameter in an unidentifiable combination."""
+    @property
+    def covariance(self) -> _Array: ...
+    @property
+    def residuals(self) -> _Array: ...
+    def to_dict(self) -> Dict[str, Any]:
+        """The document of `trueaxis identify --json`."""
+    def errors_toml(self) -> str:
+        """The error-values file `trueaxis identify --out` writes."""
+    def errors(self) -> Errors: ...
+
+def identify(
+    machine: Machine, campaign: Campaign, *, solver: str = "qr", allow_rank_deficient: bool = False, refine: bool = False
+) -> Identification:
+    """Weighted least squares identification (as `trueaxis identify`); GIL released."""
+
+class Candidates:
+    """A campaign's records as candidates of an optimal (D, A, E, G) design."""
+    def __init__(self, campaign: Campaign) -> None: ...
+    def __len__(self) -> int: ...
+    def check(self, count: int, starts: int) -> None: ...
+    def exchange_starts(
+        self, count: int, start: int, stop: int, *, criterion: str = "d", seed: int = 1
+    ) -> List[Tuple[int, Optional[List[int]], Optional[float]]]:
+        """Starts start..stop of the exchange algorithm (a chunk), each on its own random stream."""
+    def best_of(
+        self, count: int, outcomes: Sequence[Tuple[int, Optional[List[int]], Optional[float]]], *, criterion: str = "d"
+    ) -> Dict[str, Any]:
+        """Merge of chunks: the document of `trueaxis design optimal --json`."""
+    def exchange(self, count: int, *, criterion: str = "d", starts: int = 5, seed: int = 1) -> Dict[str, Any]: ...
+
+class Sources:
+    """Uncertainty sources and Monte Carlo settings (a sources TOML file)."""
+    @staticmethod
+    def from_file(path: _Path) -> Sources: ...
+    @staticmethod
+    def from_toml(text: str, origin: str = "<sources>") -> Sources: ...
+    @staticmethod
+    def from_dict(d: Mapping[str, Any]) -> Sources: ...
+    @property
+    def names(self) -> List[str]: ...
+    @property
+    def seed(self) -> int: ...
+
+class UncertaintyPlan:
+    """GUM and adaptive Monte Carlo (JCGM 101/102) budget of an identification, runnable in one
+    process or as chunks on any engine (bit-identical for the same seed)."""
+    @staticmethod
+    def from_design(path: _Path, sources: Sources, *, seed: Optional[int] = None, budget: bool = True) -> UncertaintyPlan: ...
+    @staticmethod
+    def from_campaign(
+        machine: Machine,
+        campaign: Campaign,
+        sources: Sources,
+        *,
+        point_time: float = 0.75,
+        seed: Optional[int] = None,
+        budget: bool = True,
+    ) -> UncertaintyPlan: ...
+    @property
+    def stages(self) -> int: ...
+    def stage_name(self, stage: int) -> Optional[str]: ...
+    @property
+    def parameters(self) -> List[str]: ...
+    @property
+    def seed(self) -> int: ...
+    @property
+    def trials_per_sequence(self) -> int: ...
+    @property
+    def max_sequences(self) -> int: ...
+    def chunks(self, sequence: int, blocks_per_chunk: Optional[int] = None) -> List[_Chunk]: ...
+    def run_chunk(self, stage: int, chunk: _Chunk) -> _Array:
+        """(trials, parameters) trial values in the parameter units; GIL released."""
+    def start(self) -> BudgetRun: ...
+    def run(
+        self,
+        *,
+        poses: Optional[_Array] = None,
+        tool_point: Optional[_Point] = None,
+        work_point: Optional[_Point] = None,
+        frame: str = "workpiece",
+    ) -> Dict[str, Any]:
+        """The document of `trueaxis uncertainty --json`, in this process."""
+
+class BudgetRun:
+    """A budget being assembled from chunks, sequence by sequence, per stage."""
+    def next_sequence(self, stage: int) -> Optional[int]: ...
+    @property
+    def done(self) -> bool: ...
+    def push(self, stage: int, chunks: Sequence[Tuple[_Chunk, _Array]]) -> bool: ...
+    def finish(
+        self,
+        *,
+        poses: Optional[_Array] = None,
+        tool_point: Optional[_Point] = None,
+        work_point: Optional[_Point] = None,
+        frame: str = "workpiece",
+    ) -> Dict[str, Any]: ...
+
+def iso230_2(
+    path: _Path,
+    *,
+    scale_temperature: Optional[Union[float, str]] = None,
+    scale_expansion: Optional[float] = None,
+    artefact_temperature: Optional[Union[float, str]] = None,
+    artefact_expansion: Optional[float] = None,
+    temperature_datum: float = 0.0,
+    no_file_temperature: bool = False,
+) -> Dict[str, Any]:
+    """The document of `trueaxis iso230-2 --json` for a table or a Renishaw .rtl file (um, urad for a
+    rotary axis; coverage factor 2): deviations corrected to 20 degC with the scale's and/or the
+    artefact's temperature (degC, or a column name) and expansion coefficient (um/m/K) about
+    temperature_datum (mm), else with the file's material temperature unless no_file_temperature.
+    Warnings and notes are issued as TrueaxisWarning."""
+
+def iso230_4(
+    path: _Path,
+    *,
+    machine: Optional[Machine] = None,
+    plane: Optional[str] = None,
+    radius: Optional[float] = None,
+    centre: Optional[_Point] = None,
+    feed: Optional[float] = None,
+    pitch: Optional[float] = None,
+    spike_width: float = 3.0,
+) -> Dict[str, Any]:
+    """The document of `trueaxis ballbar iso230-4 --json`: G, F, H (um), diagnostics on the machine's
+    model. plane xy|yz|zx, radius (mm, the bar length), centre (mm), feed (mm/min), pitch (mm),
+    spike_width (deg); plane and radius default to the file's header."""
+
+def ballbar_identify(
+    machine: Machine,
+    a1: _Path,
+    a2: _Path,
+    c1: _Path,
+    c2: _Path,
+    *,
+    method: str = "extended-bar",
+    outer_offset: Optional[float] = None,
+    outer_positions: Optional[Tuple[float, float]] = None,
+    inner_positions: Optional[Tuple[float, float]] = None,
+    normal_length: float = 100.0,
+    extended_length: float = 150.0,
+    pivot_offset_a: Optional[Tuple[float, float]] = None,
+    pivot_offset_c: Optional[Tuple[float, float]] = None,
+    noise: float = 1.0,
+) -> Dict[str, Any]:
+    """The document of `trueaxis ballbar identify --json`: the 8 PIGEs of the two rotary axes (um,
+    urad) with their single-run standard uncertainty, repeatability over runs, compensation
+    residual per step (um). method extended-bar | two-pivot (outer_offset, mm) | four-setup
+    (outer_positions, inner_positions, mm); lengths and pivot offsets in mm; noise in um."""
+
+def ballbar_sensitivity(
+    machine: Machine,
+    *,
+    method: str = "extended-bar",
+    outer_offset: Optional[float] = None,
+    outer_positions: Optional[Tuple[float, float]] = None,
+    inner_positions: Optional[Tuple[float, float]] = None,
+    normal_length: float = 100.0,
+    extended_length: float = 150.0,
+    setup_u: float = 1.0,
+    bar_u: float = 1.0,
+    noise: float = 1.0,
+) -> Dict[str, Any]:
+    """The document of `trueaxis ballbar sensitivity --json`: each PIGE's change per um of each setup
+    error (um/um, urad/um), per um of bar noise, and its combined standard uncertainty (um, urad)
+    for setup_u, bar_u and noise (standard uncertainties in um)."""
+
+def thermal_fit(
+    data: _Path,
+    error: Optional[str] = None,
+    *,
+    model: str = "regression",
+    rates: int = 2,
+    validate: Optional[str] = None,
+    time_constants: Optional[int] = None,
+    until: Optional[float] = None,
+    sensors: Optional[Sequence[str]] = None,
+    select: Optional[str] = None,
+    position: Optional[str] = None,
+    degree: int = 0,
+    no_intercept: bool = False,
+    geometric_degree: Optional[int] = None,
+    by_direction: bool = False,
+    ranges: Optional[Sequence[float]] = None,
+    train_runs: Optional[Sequence[str]] = None,
+    out: Optional[_Path] = None,
+    parameter: Optional[str] = None,
+    terms_out: Optional[_Path] = None,
+    machine: Optional[Machine] = None,
+) -> Dict[str, Any]:
+    """The document of `trueaxis thermal fit --json` for a campaign CSV (t in s, T:<sensor> in degC,
+    the error in um): model regression | state-space, residual statistics (um) of training and
+    validation; geometric_degree: the geometric/thermal split; by_direction / ranges (mm or deg):
+    the segmented G-T model; or, with time_constants, the eq. 3.17 time constants (min). out: the model file;
+    terms_out (with parameter): the model as error terms (T - 20 degC)."""
+
+def thermal_predict(model: _Path, data: _Path) -> Dict[str, Any]:
+    """The document of `trueaxis thermal predict --json`: per row the prediction (um), the measured
+    value and the residual when the error column is present; residual statistics per run (um)."""
+
+def compensate(
+    machine: Machine,
+    errors: Errors,
+    format: str,
+    out: _Path,
+    *,
+    points: int = 41,
+    grid: Tuple[int, int, int] = (9, 9, 9),
+    reference: Optional[Mapping[str, float]] = None,
+    limit_um: Optional[float] = None,
+    limit_urad: Optional[float] = None,
+    comp_type: int = 1,
+    max_lattice_points: Optional[int] = None,
+    max_table_points: Optional[int] = None,
+    max_cec_tables: Optional[int] = None,
+    hal_component: str = "trueaxis_comp",
+    temperatures: Optional[Mapping[str, float]] = None,
+    poses: Optional[_Path] = None,
+) -> Dict[str, Any]:
+    """Writes controller tables into `out` (format: linuxcnc, linuxcnc-hal, isg, heidenhain, siemens,
+    fanuc, lattice, csv, json; all files or none; `out` must hold no other files); the summary of
+    `trueaxis compensate --json`, with what the format leaves out and the error it leaves over the
+    travel (um). reference: {"X": mm, ...}; temperatures: {"T:name": degC}; poses: a pose CSV
+    corrected pose by pose in its state (dir:<axis>, T:<sensor>) into corrections.csv (um, urad)."""
+
+def correct_nc(
+    machine: Machine,
+    errors: Errors,
+    program: _Path,
+    *,
+    out: Optional[_Path] = None,
+    tolerance_um: float = 1.0,
+    decimals: Optional[int] = None,
+    dialect: Optional[str] = None,
+    limit_um: Optional[float] = None,
+    limit_urad: Optional[float] = None,
+    temperatures: Optional[Mapping[str, float]] = None,
+) -> Dict[str, Any]:
+    """Corrected NC program (RS274/NGC as LinuxCNC 2.9 runs it, or the Fanuc dialect; `dialect`
+    detected when None); the summary of `trueaxis nc --json`."""

@@ -1,0 +1,95 @@
+//! trueaxis errors as Python exceptions: `TrueaxisError`, with `InputError` for bad input (the
+//! command line's exit status 2) and `ComputationError` for a failed computation (exit status 1).
+//! The message is the command line's, without its `trueaxis: error: ` prefix. Warnings and notes
+//! the command line prints on stderr are `TrueaxisWarning`s.
+
+use pyo3::create_exception;
+use pyo3::PyErr;
+
+create_exception!(
+    trueaxis,
+    TrueaxisError,
+    pyo3::exceptions::PyException,
+    "An error of trueaxis (the base of InputError and ComputationError)."
+);
+create_exception!(trueaxis, InputError, TrueaxisError, "Bad input: a file, a parameter or a value (the command line's exit status 2).");
+create_exception!(trueaxis, ComputationError, TrueaxisError, "A failed computation, e.g. a rank-deficient identification (exit status 1).");
+create_exception!(
+    trueaxis,
+    TrueaxisWarning,
+    pyo3::exceptions::PyUserWarning,
+    "A warning or note of trueaxis (what the command line prints on stderr: plausibility findings, corrections applied)."
+);
+
+/// Issues each message as a `TrueaxisWarning` (Python's `warnings` module), where the command line
+/// prints `trueaxis: warning: ...` or a note on stderr.
+pub fn warn(py: pyo3::Python<'_>, messages: &[String]) -> pyo3::PyResult<()> {
+    use pyo3::types::PyAnyMethods;
+    let warnings = py.import("warnings")?;
+    for m in messages {
+        warnings.call_method1("warn", (m.as_str(), py.get_type::<TrueaxisWarning>(), 2))?;
+    }
+    Ok(())
+}
+
+/// The one-line message of an error as the command line prints it: its text followed by each
+/// cause that the text does not already contain.
+pub fn message(error: &dyn std::error::Error) -> String {
+    let mut text = error.to_string();
+    let mut cause = error.source();
+    while let Some(c) = cause {
+        let t = c.to_string();
+        if !text.contains(&t) {
+            text.push_str(": ");
+            text.push_str(&t);
+        }
+        cause = c.source();
+    }
+    text
+}
+
+/// Bad input from a library error.
+pub fn input(error: impl std::error::Error) -> PyErr {
+    InputError::new_err(message(&error))
+}
+
+/// Bad input from a message.
+pub fn input_msg(text: impl Into<String>) -> PyErr {
+    InputError::new_err(text.into())
+}
+
+/// A failed computation from a library error.
+pub fn computation(error: impl std::error::Error) -> PyErr {
+    ComputationError::new_err(message(&error))
+}
+
+/// A failed computation from a message.
+pub fn computation_msg(text: impl Into<String>) -> PyErr {
+    ComputationError::new_err(text.into())
+}
+
+/// An error of the identification: rank deficiency is a failed computation, the rest bad input.
+pub fn identify(e: trueaxis::identify::IdentifyError) -> PyErr {
+    match e {
+        trueaxis::identify::IdentifyError::RankDeficient { .. } => computation(e),
+        other => input(other),
+    }
+}
+
+/// An error of the uncertainty module, by its kind.
+pub fn uncertainty(e: trueaxis::uncertainty::UncertaintyError) -> PyErr {
+    if e.is_input() {
+        input(e)
+    } else {
+        computation(e)
+    }
+}
+
+/// An error of an evaluation (ISO 230-2, ISO 230-4), by its kind.
+pub fn evaluate(e: trueaxis::evaluate::EvaluateError) -> PyErr {
+    if e.is_input() {
+        input(e)
+    } else {
+        computation(e)
+    }
+}

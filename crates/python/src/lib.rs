@@ -1,0 +1,48 @@
+//! The Python package `trueaxis` (module `trueaxis._native`, wrapped by `python/trueaxis`): the
+//! library's machines, error models, prediction, identification, uncertainty (with the chunks of
+//! a Monte Carlo run for distributed engines), optimal design, compensation, NC correction and
+//! ISO 230 evaluations (positioning, circular tests, the rotary-axis ballbar test), thermal error
+//! models, with numpy arrays in and out and the command line's JSON documents as
+//! dictionaries. Units as everywhere in trueaxis: positions in mm and deg, errors in um and urad.
+
+mod ballbar;
+mod compensate;
+mod convert;
+mod errors;
+mod evaluate;
+mod identify;
+mod machine;
+mod thermal;
+mod uncertainty;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    let py = m.py();
+    m.add("TrueaxisError", py.get_type::<errors::TrueaxisError>())?;
+    m.add("InputError", py.get_type::<errors::InputError>())?;
+    m.add("ComputationError", py.get_type::<errors::ComputationError>())?;
+    m.add("TrueaxisWarning", py.get_type::<errors::TrueaxisWarning>())?;
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("PREDICTION_COLUMNS", trueaxis::data::PREDICTION_COLUMNS.iter().map(|(c, _)| *c).collect::<Vec<_>>())?;
+    m.add("BLOCK", trueaxis::uncertainty::BLOCK)?;
+    m.add_class::<machine::Machine>()?;
+    m.add_class::<machine::Errors>()?;
+    m.add_class::<identify::Campaign>()?;
+    m.add_class::<identify::Identification>()?;
+    m.add_class::<identify::Candidates>()?;
+    m.add_class::<uncertainty::Sources>()?;
+    m.add_class::<uncertainty::UncertaintyPlan>()?;
+    m.add_class::<uncertainty::BudgetRun>()?;
+    m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluate::iso230_2, m)?)?;
+    m.add_function(wrap_pyfunction!(evaluate::iso230_4, m)?)?;
+    m.add_function(wrap_pyfunction!(ballbar::ballbar_identify, m)?)?;
+    m.add_function(wrap_pyfunction!(ballbar::ballbar_sensitivity, m)?)?;
+    m.add_function(wrap_pyfunction!(thermal::thermal_fit, m)?)?;
+    m.add_function(wrap_pyfunction!(thermal::thermal_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(compensate::compensate, m)?)?;
+    m.add_function(wrap_pyfunction!(compensate::correct_nc, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,118 @@
+//! Thermal error models fitted to a campaign and evaluated on one, through the library's entry
+//! points that `trueaxis thermal fit` and `trueaxis thermal predict` use.
+
+use crate::convert::to_py;
+use crate::errors::{computation, input, input_msg};
+use crate::machine::Machine;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use trueaxis::data::write_atomically;
+use trueaxis::thermal::campaign::Campaign;
+use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm};
+use trueaxis::thermal::campaign_predict::{predict_campaign, read_model_file};
+use trueaxis::thermal::ThermalError;
+
+fn failure(e: ThermalError) -> PyErr {
+    match e {
+        ThermalError::Computation(_) => computation(e),
+        _ => input(e),
+    }
+}
+
+/// Fits a thermal error model to a campaign CSV (columns `t` in s, `run`, `T:<sensor>` in degC,
+/// the error in um): the document of `trueaxis thermal fit --json` (`model`, `kept`, residual
+/// statistics in um of `training` and of each `validation` run or part).
+///
+/// model: `regression` (PITE/PDTE, seed 002 eqs. 3.12-3.15, with intercepts unless
+/// `no_intercept`; `position` names an axis column whose powers up to `degree` enter it) or
+/// `state-space` (the drift as `rates` first-order lags of the sensors' rises, seed 000 §3.4.4).
+/// train_runs: the runs to train on (the others validate); validate: `"time-split:F"` trains on
+/// the first fraction F of each training run and verifies on the rest. sensors: the sensor
+/// columns (default all); select: `"correlation:N"` or `"stepwise"`. geometric_degree: the
+/// geometric/thermal split (the degree of the geometric polynomial in the position, `degree` that
+/// of the position multiplying the temperatures); by_direction / ranges (breakpoints in mm or deg):
+/// the G-T model (NISTIR 5236), one model per direction of motion (column `dir`) and position
+/// range. With `time_constants=N`: the
+/// eq. 3.17 fit of N shared time constants (min) to the temperature records instead, over the
+/// first `until` s of each run. out: write the model file (TOML) for `thermal_predict`;
+/// terms_out with parameter (e.g. `"EZZ"`): the model as error terms (T - 20 degC) for
+/// `Errors.from_file`, checked against `machine` when given.
+#[pyfunction]
+#[pyo3(signature = (data, error = None, *, model = "regression", rates = 2, validate = None, time_constants = None, until = None, sensors = None, select = None, position = None, degree = 0, no_intercept = false, geometric_degree = None, by_direction = false, ranges = None, train_runs = None, out = None, parameter = None, terms_out = None, machine = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn thermal_fit(
+    py: Python<'_>,
+    data: PathBuf,
+    error: Option<String>,
+    model: &str,
+    rates: usize,
+    validate: Option<String>,
+    time_constants: Option<usize>,
+    until: Option<f64>,
+    sensors: Option<Vec<String>>,
+    select: Option<String>,
+    position: Option<String>,
+    degree: usize,
+    no_intercept: bool,
+    geometric_degree: Option<usize>,
+    by_direction: bool,
+    ranges: Option<Vec<f64>>,
+    train_runs: Option<Vec<String>>,
+    out: Option<PathBuf>,
+    parameter: Option<String>,
+    terms_out: Option<PathBuf>,
+    machine: Option<&Machine>,
+) -> PyResult<Py<PyAny>> {
+    let model = match model {
+        "regression" => ModelForm::Regression,
+        "state-space" | "state_space" => ModelForm::StateSpace,
+        other => return Err(input_msg(format!("model `{other}`: expected regression or state-space"))),
+    };
+    if terms_out.is_some() && parameter.is_none() {
+        return Err(input_msg("terms_out needs parameter: the ISO parameter the error is (e.g. EZZ, TZ)"));
+    }
+    let request = FitRequest {
+        error,
+        model,
+        rates,
+        validate,
+        time_constants,
+        until,
+        sensors,
+        select,
+        position,
+        degree,
+        no_intercept,
+        geometric_degree,
+        by_direction,
+        ranges,
+        train_runs,
+        terms: terms_out.is_some(),
+    };
+    let campaign = Campaign::read(&data).map_err(failure)?;
+    let name = data.display().to_string();
+    let fitted = py.detach(|| fit_campaign(&campaign, &name, &request)).map_err(failure)?;
+    if let CampaignFit::Model(m) = &fitted {
+        if let Some(path) = &out {
+            write_atomically(path, m.model.to_toml().as_bytes()).map_err(input)?;
+        }
+        if let (Some(path), Some(parameter)) = (&terms_out, &parameter) {
+            if let Some(text) = m.terms_text(parameter, machine.map(|m| m.inner.as_ref())).map_err(failure)? {
+                write_atomically(path, text.as_bytes()).map_err(input)?;
+            }
+        }
+    }
+    to_py(py, &fitted.to_json())
+}
+
+/// Evaluates a fitted thermal error model (the TOML file `thermal_fit(..., out=...)` or `trueaxis
+/// thermal fit --out` writes) on a campaign CSV: the document of `trueaxis thermal predict --json`
+/// (per row the run, `t` in s, the prediction in um and, with the error column present, the
+/// measured value and the residual; residual statistics per run in um).
+#[pyfunction]
+pub fn thermal_predict(py: Python<'_>, model: PathBuf, data: PathBuf) -> PyResult<Py<PyAny>> {
+    let model = read_model_file(&model).map_err(failure)?;
+    let campaign = Campaign::read(&data).map_err(failure)?;
+    let prediction = py.detach(|| predict_campaign(&model, &campaign)).map_err(failure)?;
+    to_py(py, &prediction.to_json())
+}

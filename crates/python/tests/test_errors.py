@@ -1,0 +1,86 @@
+"""trueaxis errors raise the exception of their kind with the command line's message:
+InputError where the CLI exits 2, ComputationError where it exits 1."""
+
+import numpy as np
+import pytest
+
+import trueaxis as ta
+from conftest import ROOT, cli_error
+
+EX = ROOT / "examples"
+KX = EX / "machines" / "kx8five.toml"
+
+
+def test_the_classes():
+    assert issubclass(ta.InputError, ta.TrueaxisError) and issubclass(ta.ComputationError, ta.TrueaxisError)
+    assert issubclass(ta.TrueaxisError, Exception) and not issubclass(ta.InputError, ta.ComputationError)
+
+
+def test_a_missing_machine_file_is_bad_input_with_the_cli_message(tmp_path):
+    missing = tmp_path / "nope.toml"
+    code, message = cli_error("predict", "--machine", missing, "--errors", EX / "errors" / "kx8five.toml",
+                              "--poses", EX / "poses" / "kx8five.csv")
+    assert code == 2
+    with pytest.raises(ta.InputError) as e:
+        ta.Machine.from_file(missing)
+    assert str(e.value) == message
+
+
+def test_a_bad_error_file_is_bad_input_with_the_cli_message(tmp_path):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[constant]\nEXQ = 1.0\n")
+    code, message = cli_error("predict", "--machine", KX, "--errors", bad, "--poses", EX / "poses" / "kx8five.csv")
+    assert code == 2
+    machine = ta.Machine.from_file(KX)
+    with pytest.raises(ta.InputError) as e:
+        ta.Errors.from_file(bad, machine)
+    assert str(e.value) == message
+
+
+def test_a_rank_deficient_campaign_is_a_failed_computation_with_the_cli_message():
+    paper = EX / "campaigns" / "kx8five" / "paper14.toml"
+    code, message = cli_error("identify", "--machine", KX, "--campaign", paper)
+    assert code == 1
+    machine = ta.Machine.from_file(KX)
+    with pytest.raises(ta.ComputationError) as e:
+        ta.identify(machine, ta.Campaign.from_file(paper, machine))
+    assert str(e.value) == message
+    assert "cannot be separated" in message
+    # allowed, it is solved (minimum norm) and the unseen parameters have no uncertainty
+    r = ta.identify(machine, ta.Campaign.from_file(paper, machine), allow_rank_deficient=True)
+    assert np.isnan(r.std_uncertainty).any() and np.isfinite(r.values).all()
+
+
+def test_bad_uncertainty_settings_are_bad_input_with_the_cli_message(tmp_path):
+    sources = tmp_path / "s.toml"
+    text = (EX / "uncertainty" / "kx8five_cyclic.toml").read_text().replace("trials_per_sequence = 10000", "trials_per_sequence = 10")
+    sources.write_text(text)
+    design = EX / "uncertainty" / "kx8five_design.csv"
+    code, message = cli_error("uncertainty", "--design", design, "--sources", sources)
+    assert code == 2
+    with pytest.raises(ta.InputError) as e:
+        ta.UncertaintyPlan.from_design(design, ta.Sources.from_file(sources))
+    assert str(e.value) == message
+
+
+def test_an_iso230_2_file_with_too_few_runs_is_bad_input_with_the_cli_message(tmp_path):
+    f = tmp_path / "few.csv"
+    f.write_text("target,dev,dir,run\n0,1.0,+,1\n0,1.2,-,1\n100,2.0,+,1\n100,2.1,-,1\n")
+    code, message = cli_error("iso230-2", f)
+    assert code == 2
+    with pytest.raises(ta.InputError) as e:
+        ta.iso230_2(f)
+    assert str(e.value) == message
+
+
+def test_array_shape_and_range_errors_name_the_problem():
+    machine = ta.Machine.from_file(KX)
+    errors = ta.Errors.from_file(EX / "errors" / "kx8five.toml", machine)
+    with pytest.raises(ta.InputError, match=r"shape \(N, 5\) with the axes XYZAC"):
+        machine.predict(errors, np.zeros((3, 4)))
+    poses = np.zeros((2, 5))
+    poses[1, 0] = 1e6
+    with pytest.raises(ta.InputError, match="row 1: axis X at 1000000 mm is outside its range"):
+        machine.predict(errors, poses)
+    with pytest.raises(ta.InputError, match="frame `tool`"):
+        machine.predict(errors, np.zeros((1, 5)), frame="tool")

@@ -1,0 +1,91 @@
+"""Thermal error models from Python against `trueaxis thermal fit|predict --json`: the same library
+entry points, so the same documents (exact), the same model and terms files (same bytes) and the
+same error messages."""
+
+import pytest
+
+import trueaxis as ta
+from conftest import ROOT, cli_error, cli_json
+
+EX = ROOT / "examples"
+CAMPAIGN = EX / "thermal" / "campaign.csv"
+VMC3 = EX / "machines" / "vmc3.toml"
+
+FITS = [
+    (dict(train_runs=["warmup"]), ["--train-runs", "warmup"]),
+    (dict(model="state-space", rates=1, train_runs=["warmup", "short"]),
+     ["--model", "state-space", "--rates", "1", "--train-runs", "warmup,short"]),
+    (dict(train_runs=["long"], validate="time-split:0.5"), ["--train-runs", "long", "--validate", "time-split:0.5"]),
+    (dict(select="correlation:1", train_runs=["warmup"]), ["--select", "correlation:1", "--train-runs", "warmup"]),
+    (dict(select="stepwise", train_runs=["warmup"]), ["--select", "stepwise", "--train-runs", "warmup"]),
+    (dict(position="t", degree=1, no_intercept=True, sensors=["T:p1"]), ["--position", "t", "--degree", "1", "--no-intercept", "--sensors", "T:p1"]),
+]
+
+
+@pytest.mark.parametrize("kwargs,options", FITS)
+def test_thermal_fit_equals_the_cli(tmp_path, kwargs, options):
+    a, b = tmp_path / "cli.toml", tmp_path / "py.toml"
+    expected = cli_json("thermal", "fit", "--data", CAMPAIGN, "--error", "dz", *options, "--out", a)
+    got = ta.thermal_fit(CAMPAIGN, "dz", out=b, **kwargs)
+    assert got == expected
+    assert a.read_bytes() == b.read_bytes()
+    assert got["training"]["samples"] > 0 and got["model"]["kind"] == kwargs.get("model", "regression").replace("-", "_")
+
+
+def test_time_constants_equal_the_cli():
+    expected = cli_json("thermal", "fit", "--data", CAMPAIGN, "--time-constants", "2", "--train-runs", "warmup", "--until", "14400")
+    got = ta.thermal_fit(CAMPAIGN, time_constants=2, train_runs=["warmup"], until=14400)
+    assert got == expected and len(got["tau_min"]) == 2 and len(got["amplitudes"]) == 2
+
+
+def test_terms_file_equals_the_cli_and_loads_as_errors(tmp_path):
+    a, b = tmp_path / "cli_terms.toml", tmp_path / "py_terms.toml"
+    cli_json("thermal", "fit", "--data", CAMPAIGN, "--error", "dz", "--train-runs", "warmup", "--parameter", "EZZ",
+             "--terms-out", a, "--machine", VMC3)
+    machine = ta.Machine.from_file(VMC3)
+    ta.thermal_fit(CAMPAIGN, "dz", train_runs=["warmup"], parameter="EZZ", terms_out=b, machine=machine)
+    assert a.read_bytes() == b.read_bytes()
+    errors = ta.Errors.from_file(b, machine)
+    assert errors.sensors == ["T:p1", "T:p5"]
+
+
+def test_thermal_predict_equals_the_cli_and_fits_round_trip(tmp_path):
+    for kwargs, options in FITS[:2]:
+        model = tmp_path / "model.toml"
+        fitted = ta.thermal_fit(CAMPAIGN, "dz", out=model, **kwargs)
+        got = ta.thermal_predict(model, CAMPAIGN)
+        assert got == cli_json("thermal", "predict", "--model", model, "--data", CAMPAIGN)
+        assert got["error"] == "dz" and len(got["samples"]) == 4 * 241
+        # the training statistics of the fit are those of the prediction on the training run
+        if "validate" not in kwargs and kwargs["train_runs"] == ["warmup"]:
+            assert got["residuals"]["warmup"] == fitted["training"]
+        # every validation run's statistics are those of the fit
+        for run, stats in fitted["validation"].items():
+            assert got["residuals"][run] == pytest.approx(stats, rel=1e-12, abs=1e-12)
+
+
+def test_thermal_errors_carry_the_cli_messages(tmp_path):
+    cases = [
+        (dict(error="dz", validate="time-split:1.5"), ["--error", "dz", "--validate", "time-split:1.5"], 2, ta.InputError),
+        (dict(error="dz", model="state-space", select="stepwise"), ["--error", "dz", "--model", "state-space", "--select", "stepwise"], 2,
+         ta.InputError),
+        (dict(error="nope"), ["--error", "nope"], 2, ta.InputError),
+        (dict(error="dz", train_runs=["nope"]), ["--error", "dz", "--train-runs", "nope"], 2, ta.InputError),
+        (dict(error="dz", model="state-space", rates=2, train_runs=["warmup"]),
+         ["--error", "dz", "--model", "state-space", "--rates", "2", "--train-runs", "warmup"], 1, ta.ComputationError),
+    ]
+    for kwargs, options, status, kind in cases:
+        code, message = cli_error("thermal", "fit", "--data", CAMPAIGN, *options)
+        assert code == status
+        with pytest.raises(kind) as e:
+            ta.thermal_fit(CAMPAIGN, **kwargs)
+        assert str(e.value) == message
+    missing = tmp_path / "none.toml"
+    code, message = cli_error("thermal", "predict", "--model", missing, "--data", CAMPAIGN)
+    with pytest.raises(ta.InputError) as e:
+        ta.thermal_predict(missing, CAMPAIGN)
+    assert code == 2 and str(e.value) == message
+    with pytest.raises(ta.InputError, match="model `ridge`: expected regression or state-space"):
+        ta.thermal_fit(CAMPAIGN, "dz", model="ridge")
+    with pytest.raises(ta.InputError, match="terms_out needs parameter"):
+        ta.thermal_fit(CAMPAIGN, "dz", terms_out=tmp_path / "t.toml")

@@ -1,0 +1,234 @@
+//! A compensation job end to end, as `trueaxis compensate` and the Python package run it: the
+//! own-axis / cross-axis tables and the volumetric grid, the controller files, the error the format
+//! leaves on the exact chain, the corrections of the poses of a CSV in their own state
+//! (`corrections.csv`), the summary document, and the files written whole or not at all.
+//!
+//! Units: corrections in um (linear axes) and urad (rotary axes) in CSV and JSON, positions in mm
+//! and deg, temperatures in degC.
+
+use super::export::{largest_corrections, to_micro, ExportInput, ExportedFile, Extent, Limits};
+use super::{
+    axis_tables, compensation_json, residual_of_format, round4, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector,
+    ExportFormat, FormatResidual, TableSet, TableSpec, VolumetricGrid,
+};
+use crate::data::{read_poses, write_atomically, PoseTable};
+use crate::errors::{ErrorModel, MachineState};
+use crate::machine::Machine;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+/// What to compensate and how.
+#[derive(Clone, Debug)]
+pub struct CompensationRequest {
+    pub format: ExportFormat,
+    /// Points per own-axis / cross-axis table.
+    pub points: usize,
+    /// Volumetric grid nodes along X, Y, Z.
+    pub grid: [usize; 3],
+    /// Reference pose of the tables (mm, deg); none: home clamped into the travel.
+    pub reference: Option<Vec<f64>>,
+    pub limits: Limits,
+    /// Each input of the error model (its order: temperatures in degC, spindle speeds in rpm, ...),
+    /// none where not given: the tables are computed at the given values and the others at their
+    /// reference (20 degC, 0 rpm, 0 N).
+    pub temperatures: Vec<Option<f64>>,
+    /// Poses to correct each in its state (`dir:<axis>`, `T:<sensor>` columns): corrections.csv.
+    pub poses: Option<PathBuf>,
+}
+
+/// The tables, the files and what they leave.
+#[derive(Debug)]
+pub struct Compensation {
+    pub tables: TableSet,
+    pub grid: Option<VolumetricGrid>,
+    /// Every file to write (the format's, then corrections.csv).
+    pub files: Vec<ExportedFile>,
+    /// What the format could not carry, one line each.
+    pub left_out: Vec<String>,
+    /// The error the format leaves over the travel on the exact chain (controller formats).
+    pub residual: Option<FormatResidual>,
+    /// The largest corrections written and residuals of the poses they were sampled at.
+    pub extent: Extent,
+    /// The summary of the corrected poses (`count`, `max_error_um`, `max_residual_um`,
+    /// `max_uncorrectable_urad`).
+    pub poses: Option<Value>,
+}
+
+impl Compensation {
+    /// The document of `trueaxis compensate --json` for the output directory `out`.
+    pub fn to_json(&self, machine: &Machine, out: &str, points: usize) -> Value {
+        let names = self.file_names();
+        compensation_json(
+            machine,
+            out,
+            &names,
+            self.tables.tables.len(),
+            points,
+            &self.extent,
+            &self.left_out,
+            self.residual.as_ref(),
+            self.poses.as_ref(),
+        )
+    }
+
+    pub fn file_names(&self) -> Vec<&str> {
+        self.files.iter().map(|f| f.name.as_str()).collect()
+    }
+
+    /// Writes every file into `out` (created if missing), refusing a directory that holds files
+    /// this job does not write; see [`write_files`].
+    pub fn write(&self, out: &Path) -> Result<(), CompensateError> {
+        refuse_foreign_files(out, &self.file_names())?;
+        std::fs::create_dir_all(out)
+            .map_err(|e| CompensateError::Input(format!("{}: cannot create the output directory: {e}", out.display())))?;
+        write_files(out, &self.files)
+    }
+}
+
+/// The index of sensor `name` (`T:<sensor>`) in the error model's order; an unknown name is an
+/// error naming the model's sensors.
+pub fn sensor_index(errors: &ErrorModel, name: &str) -> Result<usize, CompensateError> {
+    errors.sensors().iter().position(|s| s == name).ok_or_else(|| {
+        CompensateError::Input(format!("--temperature: the error model has no sensor `{name}` (sensors: {})", errors.sensors().join(", ")))
+    })
+}
+
+/// Sensor temperatures from `(sensor, degC)` pairs, in the model's order (`None`: not given).
+pub fn sensor_temperatures(errors: &ErrorModel, given: &[(String, f64)]) -> Result<Vec<Option<f64>>, CompensateError> {
+    let mut values = vec![None; errors.sensors().len()];
+    for (name, value) in given {
+        values[sensor_index(errors, name)?] = Some(*value);
+    }
+    Ok(values)
+}
+
+/// The tables, grid and files of `request` for `corrector`'s machine and errors (corrections on
+/// the exact chain, seed 000 §2.3.5), with the error the format leaves and the corrected poses.
+pub fn compensation(corrector: &Corrector, request: &CompensationRequest) -> Result<Compensation, CompensateError> {
+    let machine = corrector.machine;
+    let temperatures: Vec<f64> =
+        request.temperatures.iter().zip(corrector.errors.input_references()).map(|(t, r)| t.unwrap_or(*r)).collect();
+    let spec = TableSpec { points: request.points, reference: request.reference.clone(), temperatures: temperatures.clone() };
+    let tables = axis_tables(corrector, &spec)?;
+    let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
+    let grid = if request.format.wants_grid(has_xyz) { Some(volumetric_grid(corrector, request.grid, &spec)?) } else { None };
+    let input = ExportInput { machine, errors: corrector.errors, tables: &tables, grid: grid.as_ref(), limits: request.limits };
+    let (mut files, exported) = request.format.export(&input)?;
+    // what the controller format leaves: its corrections applied over the travel, on the exact chain
+    let residual = match &exported {
+        Some(e) => Some(residual_of_format(corrector, &temperatures, e.applied.as_ref())?),
+        None => None,
+    };
+    let left_out: Vec<String> = exported.as_ref().map_or_else(Vec::new, |e| e.left_out.clone());
+    let extent = largest_corrections(&input, request.format.coverage());
+    // the export borrows the tables and the grid, which the result takes
+    drop(exported);
+    let mut poses = None;
+    if let Some(path) = &request.poses {
+        let (file, summary) = correct_poses(corrector, path, &request.temperatures)?;
+        files.push(file);
+        poses = Some(summary);
+    }
+    Ok(Compensation { tables, grid, files, left_out, residual, extent, poses })
+}
+
+/// Writes every file into `out` (each through a temporary and a rename); when one fails, the files
+/// already written by this call are put back as they were (removed, or their old contents
+/// restored), so that a multi-file output is written whole or not at all.
+pub fn write_files(out: &Path, files: &[ExportedFile]) -> Result<(), CompensateError> {
+    let mut done: Vec<(PathBuf, Option<Vec<u8>>)> = Vec::new();
+    for f in files {
+        let path = out.join(&f.name);
+        let old = std::fs::read(&path).ok();
+        if let Err(e) = write_atomically(&path, f.contents.as_bytes()) {
+            for (p, previous) in done.iter().rev() {
+                let _ = match previous {
+                    Some(bytes) => write_atomically(p, bytes).map_err(|_| ()),
+                    None => std::fs::remove_file(p).map_err(|_| ()),
+                };
+            }
+            return Err(CompensateError::Input(format!("{e}; nothing was written")));
+        }
+        done.push((path, old));
+    }
+    Ok(())
+}
+
+/// Refuses to write into `out` when it holds files other than `names` (a run with another format or
+/// without poses would otherwise leave stale tables next to the new ones).
+pub fn refuse_foreign_files(out: &Path, names: &[&str]) -> Result<(), CompensateError> {
+    let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
+    let mut foreign: Vec<String> = entries
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| !names.contains(&n.as_str()))
+        .collect();
+    if foreign.is_empty() {
+        return Ok(());
+    }
+    foreign.sort();
+    Err(CompensateError::Input(format!(
+        "{}: the output directory holds files this run does not write ({}); use an empty or new directory so that tables of \
+         different runs do not mix; nothing was written",
+        out.display(),
+        foreign.join(" ")
+    )))
+}
+
+/// The inputs of every pose (the model's sensors per pose: degC, rpm, N, mm): a sensor's column
+/// of the poses file (`T:<name>`, `S:`, `F:`, `P:`; drift lags from `t` and `run`), else its given
+/// value.
+pub fn pose_temperatures(errors: &ErrorModel, poses: &PoseTable, given: &[Option<f64>], path: &Path) -> Result<Vec<f64>, CompensateError> {
+    let given: Vec<(String, f64)> = errors.sensors().iter().zip(given).filter_map(|(s, g)| g.map(|v| (s.clone(), v))).collect();
+    crate::errors::pose_file_inputs(errors, path, poses.len(), &given).map_err(CompensateError::Input)
+}
+
+/// Corrections of every pose of a CSV, each in its state (the `dir:<axis>` and `T:<sensor>` columns,
+/// else the given temperatures): `corrections.csv` with the axis columns, `d<axis>` (um or urad),
+/// the error before and the residual after (um), the orientation not corrected (urad); and its
+/// summary.
+pub fn correct_poses(
+    corrector: &Corrector,
+    path: &Path,
+    given_temperatures: &[Option<f64>],
+) -> Result<(ExportedFile, Value), CompensateError> {
+    let machine = corrector.machine;
+    let poses = read_poses(path, machine).map_err(|e| CompensateError::Input(e.to_string()))?;
+    let temperatures = pose_temperatures(corrector.errors, &poses, given_temperatures, path)?;
+    let sensors = corrector.errors.sensors().len();
+    let n = machine.axis_count();
+    let internal = poses.internal(machine);
+    let mut ws = CorrectionWorkspace::new(machine);
+    let mut header: Vec<String> = machine.axes().iter().map(|a| a.letter.to_string()).collect();
+    header.extend(machine.axes().iter().map(|a| format!("d{}", a.letter)));
+    header.extend(["error_um", "residual_um", "uncorrectable_urad"].map(String::from));
+    let mut text = header.join(",") + "\n";
+    let (mut worst_error, mut worst_residual, mut worst_orientation) = (0.0f64, 0.0f64, 0.0f64);
+    for (i, q) in internal.chunks(n).enumerate() {
+        let directions = poses.directions.as_ref().map(|d| &d[i * n..(i + 1) * n]);
+        let state = MachineState { directions, temperatures: &temperatures[i * sensors..(i + 1) * sensors] };
+        let c = corrector.correct_state(q, &state, &mut ws);
+        if !c.converged {
+            return Err(CompensateError::Computation(format!(
+                "{}: line {}: the correction did not converge",
+                path.display(),
+                poses.lines[i]
+            )));
+        }
+        let mut row: Vec<String> = poses.user[i * n..(i + 1) * n].iter().map(|v| format!("{v}")).collect();
+        row.extend((0..n).map(|k| format!("{:.4}", to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])))));
+        let (e, r, o) = (c.original_position.norm() * 1e3, c.residual_position.norm() * 1e3, c.uncorrectable_orientation.norm() * 1e6);
+        row.extend([format!("{e:.4}"), format!("{r:.6}"), format!("{o:.3}")]);
+        text += &(row.join(",") + "\n");
+        worst_error = worst_error.max(e);
+        worst_residual = worst_residual.max(r);
+        worst_orientation = worst_orientation.max(o);
+    }
+    let summary = json!({
+        "count": poses.len(),
+        "max_error_um": round4(worst_error),
+        "max_residual_um": round4(worst_residual),
+        "max_uncorrectable_urad": round4(worst_orientation),
+    });
+    Ok((ExportedFile { name: "corrections.csv".into(), contents: text }, summary))
+}

@@ -1,0 +1,246 @@
+//! The corrections along the moves of a run: the pose correction of
+//! [`crate::compensate::Corrector`] at the points of each move, in the state there (the direction
+//! of each axis, the temperatures), with the tool point of the active tool length offset; the
+//! pieces a move is split into where the correction departs from a straight blend of its values
+//! at the piece ends by more than the tolerance.
+
+use super::modal::{Frame, MM_PER_INCH};
+use super::path::{arc_geometry, departure, directions_at, point_at, split_from, ArcGeometry, Pieces};
+use super::trace::{Move, MoveKind, Role};
+use super::NcOptions;
+use crate::compensate::correction::{CorrectionWorkspace, Corrector, WarmStart};
+use crate::compensate::export::{check_limit, Limits};
+use crate::compensate::CompensateError;
+use crate::errors::{Direction, MachineState};
+use crate::geometry::Vec3;
+use crate::machine::{AxisKind, Machine};
+
+/// What the corrections reached.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Extremes {
+    /// Poses corrected (end points, split checks, pieces).
+    pub corrected_points: usize,
+    /// Largest correction of a linear axis (um) and of a rotary axis (urad).
+    pub max_correction_um: f64,
+    pub max_correction_urad: f64,
+    /// Largest position residual after correction and largest uncorrectable orientation (um, urad).
+    pub max_residual_um: f64,
+    pub max_uncorrectable_urad: f64,
+}
+
+/// The corrector and its state along a program.
+pub(super) struct Corrections<'a, 'b> {
+    base: &'a Corrector<'b>,
+    corrector: Corrector<'b>,
+    /// Tool offset (mm, machine X Y Z) the corrector's tool point is set for.
+    tool: [f64; 3],
+    machine: &'a Machine,
+    limits: Limits,
+    ws: CorrectionWorkspace,
+    warm: WarmStart,
+    q: Vec<f64>,
+    directions: Vec<Option<Direction>>,
+    previous_directions: Vec<Option<Direction>>,
+    temperatures: Vec<f64>,
+    pub extremes: Extremes,
+    /// The correction at the end of the last move: what the controller holds at the start of the
+    /// next one (mm, deg).
+    start_correction: Vec<f64>,
+    /// Where the messages point.
+    pub origin: String,
+    pub line: usize,
+}
+
+impl<'a, 'b> Corrections<'a, 'b> {
+    pub fn new(corrector: &'a Corrector<'b>, limits: Limits, temperatures: &[f64]) -> Self {
+        let machine = corrector.machine;
+        let n = machine.axis_count();
+        Corrections {
+            base: corrector,
+            corrector: *corrector,
+            tool: [0.0; 3],
+            machine,
+            limits,
+            ws: CorrectionWorkspace::new(machine),
+            warm: WarmStart::default(),
+            q: vec![0.0; n],
+            directions: vec![None; n],
+            previous_directions: vec![None; n],
+            temperatures: temperatures.to_vec(),
+            extremes: Extremes::default(),
+            start_correction: vec![0.0; n],
+            origin: String::new(),
+            line: 0,
+        }
+    }
+
+    /// The tool point of the tool length offset of `frame`: the machine's tool point (the
+    /// controlled point without offset) minus the offset along the machine's X Y Z.
+    fn set_tool(&mut self, frame: &Frame) {
+        let s = if frame.inch { MM_PER_INCH } else { 1.0 };
+        let tool = [frame.tool[0] * s, frame.tool[1] * s, frame.tool[2] * s];
+        if tool != self.tool {
+            self.tool = tool;
+            self.corrector.setup.tool_point = self.base.setup.tool_point - Vec3::new(tool[0], tool[1], tool[2]);
+            self.warm.reset();
+        }
+    }
+
+    /// Correction (mm, deg per axis) at parameter `t` of move `m`, with the directions of motion
+    /// at parameter `t_direction` (constant over a piece between direction reversals).
+    fn correction(&mut self, m: &Move, arc: Option<&ArcGeometry>, t: f64, t_direction: f64) -> Result<Vec<f64>, CompensateError> {
+        let n = self.machine.axis_count();
+        let mut p = vec![0.0; n];
+        point_at(m, arc, t, &mut p);
+        directions_at(m, arc, t_direction, &self.previous_directions, &mut self.directions);
+        self.machine.pose_to_internal(&p, &mut self.q);
+        let state = MachineState { directions: Some(&self.directions), temperatures: &self.temperatures };
+        let c = self.corrector.correct_along(&self.q, &state, &mut self.ws, &mut self.warm);
+        if !c.converged || c.dq[..n].iter().any(|v| !v.is_finite()) {
+            return Err(CompensateError::Computation(format!(
+                "{}: line {}: the correction did not converge at {p:?}",
+                self.origin, self.line
+            )));
+        }
+        let dq = c.dq_user(self.machine);
+        for (k, &d) in dq.iter().enumerate() {
+            let place = || {
+                let words: Vec<String> = self
+                    .machine
+                    .axes()
+                    .iter()
+                    .zip(&p)
+                    .map(|(a, v)| format!("{}{}", a.letter, super::dialect::format_number(*v, 4, super::Dialect::LinuxCnc)))
+                    .collect();
+                format!("the machine position {}", words.join(" "))
+            };
+            check_limit(self.machine, &self.limits, k, d, &place)
+                .map_err(|e| CompensateError::Limit(format!("{}: line {}: {e}", self.origin, self.line)))?;
+        }
+        let r = &mut self.extremes;
+        r.corrected_points += 1;
+        r.max_residual_um = r.max_residual_um.max(c.residual_position.norm() * 1e3);
+        r.max_uncorrectable_urad = r.max_uncorrectable_urad.max(c.uncorrectable_orientation.norm() * 1e6);
+        for (k, axis) in self.machine.axes().iter().enumerate() {
+            match axis.kind {
+                AxisKind::Linear => r.max_correction_um = r.max_correction_um.max(c.dq[k].abs() * 1e3),
+                AxisKind::Rotary => r.max_correction_urad = r.max_correction_urad.max(c.dq[k].abs() * 1e6),
+            }
+        }
+        Ok(dq)
+    }
+
+    /// The pieces of move `m`: per piece, the parameter of its end and the correction there.
+    /// Rapid: one piece (only the end point matters). Feed: split where the correction departs
+    /// from the straight blend by more than the tolerance (its directions of motion are constant).
+    /// Arc: one piece when the correction along the whole arc (directions as they come) stays within
+    /// the tolerance; otherwise split between the reversals (the quadrant points), each stretch
+    /// with its own constant directions. A return to the `G28`/`G30` position: not corrected.
+    pub fn pieces(&mut self, m: &Move, frame: &Frame, options: &NcOptions) -> Result<Pieces, CompensateError> {
+        let pieces = self.pieces_of(m, frame, options)?;
+        self.start_correction.clone_from(&pieces.last().expect("a piece").1);
+        Ok(pieces)
+    }
+
+    fn pieces_of(&mut self, m: &Move, frame: &Frame, options: &NcOptions) -> Result<Pieces, CompensateError> {
+        let n = self.machine.axis_count();
+        if m.role == Role::Home {
+            return Ok(vec![(1.0, vec![0.0; n])]);
+        }
+        self.set_tool(frame);
+        let arc = arc_geometry(m);
+        let arc = arc.as_ref();
+        let (machine, origin, line) = (self.machine, self.origin.clone(), self.line);
+        let tolerance = |k: usize| match machine.axes()[k].kind {
+            AxisKind::Linear => (options.tolerance_mm, true),
+            AxisKind::Rotary => (options.rotary_tolerance_deg, false),
+        };
+        let too_many = || {
+            CompensateError::Input(format!(
+                "{origin}: line {line}: the correction varies so much along the move that it needs more than {} pieces",
+                options.max_pieces
+            ))
+        };
+        if m.kind == MoveKind::Rapid {
+            let c = self.correction(m, arc, 1.0, 1.0)?;
+            return Ok(vec![(1.0, c)]);
+        }
+        let limit = if arc.is_some() { 64 } else { options.max_pieces };
+        let held = self.start_correction.clone();
+        // where an axis reverses at the start of the move (backlash), the correction steps there:
+        // a piece of zero length (`t` = 0) that the writer makes a short straight move
+        let step = |c0: &[f64], held: &[f64]| departure(held, c0, &tolerance) > 1.0;
+        let mut whole = |t: f64| self.correction(m, arc, t, t);
+        match (split_from(&mut whole, &tolerance, limit)?, arc) {
+            (Some((c0, mut pieces)), None) => {
+                if step(&c0, &held) {
+                    pieces.insert(0, (0.0, c0));
+                }
+                return Ok(pieces);
+            }
+            (None, None) => return Err(too_many()),
+            // a full circle written as one block must end exactly where it starts in its plane: when
+            // the correction there differs from the start's (a helix), it is split instead
+            (Some((c0, mut pieces)), Some(g))
+                if pieces.len() == 1 && !(g.sweep.abs() >= std::f64::consts::TAU - 1e-12 && self.plane_shift(m, &pieces[0].1) > 1e-7) =>
+            {
+                if step(&c0, &held) {
+                    pieces.insert(0, (0.0, c0));
+                }
+                return Ok(pieces);
+            }
+            _ => {}
+        }
+        let mut pieces: Pieces = Vec::new();
+        let mut previous = held;
+        for w in reversals(arc).windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let t_direction = 0.5 * (a + b);
+            let mut f = |u: f64| self.correction(m, arc, a + u * (b - a), t_direction);
+            let (c0, stretch) = split_from(&mut f, &tolerance, options.max_pieces)?.ok_or_else(too_many)?;
+            if step(&c0, &previous) {
+                pieces.push((a, c0));
+            }
+            pieces.extend(stretch.into_iter().map(|(u, c)| (a + u * (b - a), c)));
+            previous.clone_from(&pieces.last().expect("a piece").1);
+        }
+        Ok(pieces)
+    }
+
+    /// How far the plane correction at the end of arc `m` is from the one the controller holds at
+    /// its start (mm).
+    fn plane_shift(&self, m: &Move, end: &[f64]) -> f64 {
+        let MoveKind::Arc { plane, .. } = m.kind else { return 0.0 };
+        let start = &self.start_correction;
+        (end[plane.first] - start[plane.first]).hypot(end[plane.second] - start[plane.second])
+    }
+
+    /// After a move: the directions at its end are the ones the next move starts from.
+    pub fn finish(&mut self, m: &Move) {
+        let arc = arc_geometry(m);
+        let previous = self.previous_directions.clone();
+        directions_at(m, arc.as_ref(), 1.0, &previous, &mut self.previous_directions);
+    }
+}
+
+/// Parameters `0 = t_0 < ... < t_k = 1` between which no axis reverses: for an arc, the points
+/// where its angle crosses a multiple of 90 degrees (a plane axis turns around there).
+fn reversals(arc: Option<&ArcGeometry>) -> Vec<f64> {
+    let mut out = vec![0.0];
+    if let Some(g) = arc {
+        let quarter = std::f64::consts::FRAC_PI_2;
+        let (a0, a1) = (g.start_angle, g.start_angle + g.sweep);
+        let (lo, hi) = (a0.min(a1), a0.max(a1));
+        let mut k = (lo / quarter).floor() + 1.0;
+        while k * quarter < hi - 1e-12 {
+            let t = (k * quarter - a0) / g.sweep;
+            if t > 1e-9 && t < 1.0 - 1e-9 {
+                out.push(t);
+            }
+            k += 1.0;
+        }
+        out.sort_by(|a, b| a.total_cmp(b));
+    }
+    out.push(1.0);
+    out
+}

@@ -1,0 +1,198 @@
+//! The controller formats by name, with what each writes, and the summaries of `trueaxis
+//! compensate --json` and `trueaxis nc --json` (also the dictionaries of the Python package).
+//! Units: corrections in um (linear axes) and urad (rotary axes), rounded to 1e-4.
+
+use super::export::{
+    self, fanuc::FanucLimits, linuxcnc::CompType, siemens::SiemensLimits, Coverage, Export, ExportInput, ExportedFile, Extent,
+};
+use super::nc::NcResult;
+use super::{CompensateError, FormatResidual};
+use crate::machine::Machine;
+use serde_json::{json, Value};
+
+/// A controller format of `trueaxis compensate`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum ExportFormat {
+    /// LinuxCNC joint compensation files (COMP_FILE_TYPE 1 trims, 0 positions).
+    Linuxcnc(CompType),
+    /// LinuxCNC 2.9 HAL component (halcompile) driving external offsets, with its HAL and INI lines.
+    LinuxcncHal { component: String },
+    /// ISG / Beckhoff TF5280 volumetric CSV and its list file.
+    Isg,
+    /// Heidenhain .COM tables and a .CMA assignment.
+    Heidenhain,
+    /// Siemens 840D sl init programs: leadscrew ($AA_ENC_COMP) and sag/angularity ($AN_CEC) tables.
+    Siemens(SiemensLimits),
+    /// Fanuc pitch-error compensation as programmable parameter input (G10 L50).
+    Fanuc(FanucLimits),
+    /// A plain 3D lattice over X, Y, Z (data, no controller format), at most `max_points` points.
+    Lattice { max_points: Option<usize> },
+    /// tables.csv (and grid.csv with axes X, Y, Z).
+    Csv,
+    /// compensation.json.
+    Json,
+}
+
+/// The options of the formats that take any.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FormatOptions {
+    /// LinuxCNC comp files: 0 positions, 1 trims.
+    pub comp_type: u8,
+    /// Most points of the lattice.
+    pub max_lattice_points: Option<usize>,
+    /// Most points of a Siemens or Fanuc table (the controller's configured size).
+    pub max_table_points: Option<usize>,
+    /// Most Siemens sag-compensation (CEC) tables.
+    pub max_cec_tables: Option<usize>,
+    /// Name of the LinuxCNC HAL component.
+    pub hal_component: String,
+}
+
+impl Default for FormatOptions {
+    fn default() -> Self {
+        FormatOptions {
+            comp_type: 1,
+            max_lattice_points: None,
+            max_table_points: None,
+            max_cec_tables: None,
+            hal_component: "trueaxis_comp".into(),
+        }
+    }
+}
+
+impl ExportFormat {
+    /// The format of a name (`linuxcnc`, `linuxcnc-hal`, `isg`, `heidenhain`, `siemens`, `fanuc`,
+    /// `lattice` (also `fanuc3d`, its former name), `csv`, `json`).
+    pub fn parse(name: &str, options: &FormatOptions) -> Result<ExportFormat, String> {
+        let comp_type = match options.comp_type {
+            0 => CompType::Positions,
+            1 => CompType::Trims,
+            other => return Err(format!("comp type {other}: expected 0 (positions) or 1 (trims)")),
+        };
+        Ok(match name {
+            "linuxcnc" => ExportFormat::Linuxcnc(comp_type),
+            "linuxcnc-hal" => ExportFormat::LinuxcncHal { component: options.hal_component.clone() },
+            "isg" => ExportFormat::Isg,
+            "heidenhain" => ExportFormat::Heidenhain,
+            "siemens" => ExportFormat::Siemens(SiemensLimits {
+                max_points: options.max_table_points.unwrap_or(SiemensLimits::default().max_points),
+                max_cec_tables: options.max_cec_tables.unwrap_or(SiemensLimits::default().max_cec_tables),
+            }),
+            "fanuc" => ExportFormat::Fanuc(FanucLimits {
+                max_points_per_axis: options.max_table_points.unwrap_or(FanucLimits::default().max_points_per_axis),
+                ..FanucLimits::default()
+            }),
+            "lattice" | "fanuc3d" => ExportFormat::Lattice { max_points: options.max_lattice_points },
+            "csv" => ExportFormat::Csv,
+            "json" => ExportFormat::Json,
+            other => {
+                return Err(format!(
+                    "format `{other}`: expected linuxcnc, linuxcnc-hal, isg, heidenhain, siemens, fanuc, lattice, csv or json"
+                ))
+            }
+        })
+    }
+
+    /// True when the format writes the volumetric grid (machines with axes X, Y and Z for the HAL
+    /// component, CSV and JSON).
+    pub fn wants_grid(&self, has_xyz: bool) -> bool {
+        match self {
+            ExportFormat::Lattice { .. } => true,
+            ExportFormat::Csv | ExportFormat::Json | ExportFormat::LinuxcncHal { .. } => has_xyz,
+            _ => false,
+        }
+    }
+
+    /// What the format writes, for the summary: LinuxCNC and Fanuc the own-axis tables, the lattice
+    /// its grid, CSV / JSON and the HAL component tables and grid, the others all tables.
+    pub fn coverage(&self) -> Coverage {
+        match self {
+            ExportFormat::Linuxcnc(_) | ExportFormat::Fanuc(_) => Coverage::OWN_AXIS_TABLES,
+            ExportFormat::Isg | ExportFormat::Heidenhain | ExportFormat::Siemens(_) => Coverage::TABLES,
+            ExportFormat::Lattice { .. } => Coverage::GRID,
+            ExportFormat::Csv | ExportFormat::Json | ExportFormat::LinuxcncHal { .. } => Coverage::TABLES_AND_GRID,
+        }
+    }
+
+    /// The files of the format, and for a controller format what the controller applies and what
+    /// the format leaves out (`None` for CSV and JSON, which are data).
+    pub fn export<'a>(&self, input: &ExportInput<'a>) -> Result<(Vec<ExportedFile>, Option<Export<'a>>), CompensateError> {
+        let controller = match self {
+            ExportFormat::Linuxcnc(comp_type) => export::linuxcnc::export(input, *comp_type)?,
+            ExportFormat::LinuxcncHal { component } => export::linuxcnc_hal::export(input, component)?,
+            ExportFormat::Isg => export::isg::export(input)?,
+            ExportFormat::Heidenhain => export::heidenhain::export(input)?,
+            ExportFormat::Siemens(limits) => export::siemens::export(input, *limits)?,
+            ExportFormat::Fanuc(limits) => export::fanuc::export(input, *limits)?,
+            ExportFormat::Lattice { max_points } => export::lattice::export(input, *max_points)?,
+            ExportFormat::Csv => return Ok((export::plain::export_csv(input)?, None)),
+            ExportFormat::Json => {
+                let doc = export::plain::to_json(input)?;
+                return Ok((vec![ExportedFile { name: "compensation.json".into(), contents: format!("{doc:#}\n") }], None));
+            }
+        };
+        Ok((controller.files.clone(), Some(controller)))
+    }
+}
+
+/// Rounded to 1e-4 (um or urad), as the summaries print.
+pub fn round4(v: f64) -> f64 {
+    (v * 1e4).round() / 1e4
+}
+
+/// The summary of `trueaxis compensate --json`: output directory, files, number of tables and
+/// points, the largest corrections written (um, urad), the worst residual after correction (um)
+/// and uncorrectable orientation (urad), what the format leaves out and the error it leaves over
+/// the travel (`format_residual`, null for data formats), and the summary of the corrected poses.
+#[allow(clippy::too_many_arguments)]
+pub fn compensation_json(
+    machine: &Machine,
+    out: &str,
+    files: &[&str],
+    tables: usize,
+    points: usize,
+    extent: &Extent,
+    left_out: &[String],
+    residual: Option<&FormatResidual>,
+    poses: Option<&Value>,
+) -> Value {
+    json!({
+        "out": out,
+        "files": files,
+        "tables": tables,
+        "points": points,
+        "max_correction_um": round4(extent.max_um),
+        "max_correction_urad": round4(extent.max_urad),
+        "worst_residual_um": round4(extent.worst_residual_mm * 1e3),
+        "worst_uncorrectable_urad": round4(extent.worst_uncorrectable_rad * 1e6),
+        "left_out": left_out,
+        "format_residual": residual.map(|r| json!({
+            "worst_um": round4(r.worst_um),
+            "rms_um": round4(r.rms_um),
+            "worst_pose": machine.axes().iter().zip(&r.worst_pose).map(|(a, v)| (a.letter.to_string(), json!(round4(*v)))).collect::<serde_json::Map<_, _>>(),
+            "worst_state": r.worst_state,
+            "error_there_um": round4(r.error_there_um),
+            "worst_error_um": round4(r.worst_error_um),
+            "samples": r.samples,
+        })),
+        "poses": poses,
+    })
+}
+
+/// The summary of `trueaxis nc --json`; the program text when it was not written to `out`.
+pub fn nc_json(result: &NcResult, out: Option<&str>) -> Value {
+    json!({
+        "dialect": result.dialect.to_string(),
+        "moves": result.moves,
+        "blocks": result.blocks,
+        "changed_lines": result.changed_lines,
+        "inserted_lines": result.inserted_lines,
+        "expanded": result.expanded,
+        "max_correction_um": result.max_correction_um,
+        "max_correction_urad": result.max_correction_urad,
+        "max_residual_um": result.max_residual_um,
+        "max_uncorrectable_urad": result.max_uncorrectable_urad,
+        "out": out,
+        "program": if out.is_none() { Some(result.text.clone()) } else { None },
+    })
+}
