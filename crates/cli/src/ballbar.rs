@@ -392,6 +392,7 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
                 ],
                 um_per_division: a.scale,
                 lines: &lines,
+                conditions: &[],
             })
             .map_err(Failure::computation)?;
             write_atomically(&dir.join(format!("{}.svg", s.step.name())), svg.as_bytes()).map_err(Failure::input)?;

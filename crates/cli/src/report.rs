@@ -14,30 +14,37 @@ use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::{LanczosProgress, DEFAULT_SHARE};
 use trueaxis::uncertainty::Sources;
+use trueaxis_report::calibration::CertificateFile;
 use trueaxis_report::calibration::{
     CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, IdentificationPart, InputFile, ThermalDriftPart,
-    ThermalModesPart, Traceability, UncertaintyPart, VolumePart, GRID_NODES, POINTS,
+    ThermalModesPart, Traceability, UncertaintyPart, VolumePart, CONTROLLER_FORMATS, GRID_NODES, POINTS,
 };
 
-/// A calibration report (HTML with inline SVG plots, no network access, printable to PDF) from your
-/// own files: the machine; the identification of a measurement campaign with its uncertainties,
-/// identifiability and residuals; the Monte Carlo budget of uncertainty sources; ISO 230-4 ballbar
-/// circles; the volumetric error over the work volume before and after compensation; the
-/// compensation tables; a thermal model's modes and a thermal error model's prediction of a
-/// measured campaign. A section appears only when its input is given; the last section lists the
-/// input files with their size and SHA-256, the date and the version.
+/// A calibration report (HTML with inline figures, no network access; and the same as a PDF with
+/// --pdf) from your own files: the certificate particulars, instruments and tolerances of a small
+/// report.toml (--certificate) and what the files record; the conformity of each toleranced item
+/// (simple acceptance or a guard band of the uncertainty, ISO 14253-1); the identification of a
+/// measurement campaign, each parameter with one expanded uncertainty (k = 2) and its budget;
+/// ISO 230-4 ballbar circles; the volumetric error before and after compensation with the
+/// controller tables you choose (--controller); thermal modes and drift. A section appears only
+/// when its input is given; the last one lists the input files with their size and SHA-256.
 #[derive(clap::Args)]
 #[command(after_help = "Examples:\n  \
 trueaxis report --machine examples/machines/kx8five.toml --campaign examples/campaigns/kx8five/campaign.toml \\\n      \
 --sources examples/uncertainty/kx8five_cyclic.toml --out kx8five-report.html\n  \
 trueaxis report --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      \
 --ballbar examples/ballbar/vmc3_xy.csv --ballbar-radius 100 --ballbar-centre 0,0,-200 --out vmc3-report.html\n\n\
-Sections: machine (always); campaign and identification (--campaign); uncertainty (--sources);\n\
-volumetric and compensation (--errors, or the values identified from --campaign); ballbar (--ballbar);\n\
-thermal modes (--thermal-model); thermal drift vs prediction (--thermal-error with --thermal-data);\n\
-inputs (always). Each part is computed as the command that does it alone: identify, uncertainty\n\
---machine --campaign, ballbar iso230-4, predict --frame machine, compensate. The --ballbar-plane,\n\
---ballbar-radius and --ballbar-centre options are given once for all circles or once per --ballbar, in order.")]
+  trueaxis report --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      \
+--ballbar examples/ballbar/export_xy.txt --ballbar-radius 100 --ballbar-centre 0,0,-200 \\\n      \
+--certificate examples/report/vmc3.toml --controller heidenhain --out vmc3.html --pdf vmc3.pdf\n\n\
+Sections: certificate (always; particulars from --certificate and the files); conformity (tolerances\n\
+in --certificate); machine (always); campaign and identification (--campaign); uncertainty budget\n\
+(--sources); volumetric and compensation (--errors, or the values identified from --campaign);\n\
+ballbar (--ballbar); thermal modes (--thermal-model); thermal drift vs prediction (--thermal-error\n\
+with --thermal-data); inputs (always). Each part is computed as the command that does it alone:\n\
+identify, uncertainty, ballbar iso230-4, predict --frame machine, compensate. The --ballbar-plane,\n\
+--ballbar-radius and --ballbar-centre options are given once for all circles or once per --ballbar,\n\
+in order. The report.toml keys are described in docs/report.md.")]
 pub struct ReportArgs {
     /// Machine description (TOML).
     #[arg(long)]
@@ -88,12 +95,23 @@ pub struct ReportArgs {
     /// Points per compensation table (as `compensate --points`).
     #[arg(long, default_value_t = POINTS)]
     points: usize,
-    /// Title of the report (default: "Calibration report: " and the machine's name).
+    /// Certificate particulars, instruments, decision rule and tolerances (report.toml, docs/report.md).
+    #[arg(long, value_name = "REPORT.toml")]
+    certificate: Option<PathBuf>,
+    /// The controller format whose tables the after-compensation map shows, as `compensate
+    /// --format` writes them: heidenhain, siemens, fanuc, linuxcnc, linuxcnc-hal, isg or lattice
+    /// (default: the exact correction at each pose, as a model-based controller applies it).
+    #[arg(long, value_name = "FORMAT")]
+    controller: Option<String>,
+    /// Title of the report (default: report.toml's title, else "Calibration report: " and the machine's name).
     #[arg(long)]
     title: Option<String>,
     /// The HTML file to write (atomically).
     #[arg(long)]
     out: PathBuf,
+    /// Also write the report as a PDF (A4), from the same content.
+    #[arg(long, value_name = "FILE.pdf")]
+    pdf: Option<PathBuf>,
     /// Print a JSON summary (sections, inputs, key numbers) instead of text.
     #[arg(long)]
     json: bool,
@@ -158,6 +176,9 @@ fn input_files(args: &ReportArgs, identification: Option<&IdentificationPart>) -
     if let Some(s) = &args.sources {
         files.push(("uncertainty sources", s.clone()));
     }
+    if let Some(c) = &args.certificate {
+        files.push(("certificate particulars and tolerances", c.clone()));
+    }
     for c in &args.ballbar {
         files.push(("ballbar circle", c.clone()));
     }
@@ -188,17 +209,35 @@ pub fn run(args: ReportArgs) -> Result<(), Failure> {
     bar.finish_and_clear();
     let report = result?;
     let html = report.to_html();
+    let pdf = match &args.pdf {
+        Some(_) => Some(report.to_pdf().map_err(failure)?),
+        None => None,
+    };
     write_atomically(&args.out, html.as_bytes()).map_err(Failure::input)?;
+    if let (Some(path), Some(bytes)) = (&args.pdf, &pdf) {
+        write_atomically(path, bytes).map_err(Failure::input)?;
+    }
     let sections: Vec<String> = report.sections().iter().map(|s| s.id.clone()).collect();
     if args.json {
-        println!("{}", summary_json(&args.out, &report, &sections, html.len()));
+        println!("{}", summary_json(&args.out, &report, &sections, html.len(), args.pdf.as_deref()));
         return Ok(());
     }
     println!("wrote {} ({} bytes): {}", args.out.display(), html.len(), sections.join(", "));
+    if let (Some(path), Some(bytes)) = (&args.pdf, &pdf) {
+        println!("wrote {} ({} bytes)", path.display(), bytes.len());
+    }
+    let items = report.conformity_items();
+    if !items.is_empty() {
+        println!("{}", trueaxis_report::calibration::conformity::statement(&items));
+    }
     if let Some(v) = &report.volume {
         println!(
-            "volumetric error over {} poses: largest {:.2} um before, {:.2} um after compensation, {:.2} um with the tables",
-            v.poses, v.before_um.0, v.after_um.0, v.after_tables_um.0
+            "volumetric error over {} poses: largest {:.2} um before, {:.2} um after compensation ({}), {:.2} um with the summed tables",
+            v.poses,
+            v.before_um.0,
+            v.after_um.0,
+            v.controller.as_deref().map_or("exact correction".to_string(), |c| format!("{c} tables")),
+            v.after_tables_um.0
         );
     }
     Ok(())
@@ -211,6 +250,15 @@ fn build<'a>(
     circle_inputs: Vec<CircleInput>,
     bar: &ProgressBar,
 ) -> Result<CalibrationReport<'a>, Failure> {
+    let certificate = match &args.certificate {
+        Some(path) => CertificateFile::load(path).map_err(bad)?,
+        None => CertificateFile::default(),
+    };
+    if let Some(c) = &args.controller {
+        if !CONTROLLER_FORMATS.contains(&c.as_str()) {
+            return Err(bad(format!("--controller `{c}` is not a controller format; give one of {}", CONTROLLER_FORMATS.join(", "))));
+        }
+    }
     let mut identification = None;
     if let Some(path) = &args.campaign {
         bar.set_message("identification");
@@ -230,7 +278,11 @@ fn build<'a>(
         uncertainty = Some(UncertaintyPart::evaluate(id, sources, &origin, args.point_time, &mut progress).map_err(failure)?);
     }
     bar.set_message("ballbar circles");
-    let circles = circle_inputs.into_iter().map(|c| CirclePart::evaluate(machine, c)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
+    let mut circles =
+        circle_inputs.into_iter().map(|c| CirclePart::evaluate(machine, c)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
+    for c in &mut circles {
+        c.reading_u_um = certificate.reading_uncertainty_um("ballbar");
+    }
     let loaded;
     let (errors, origin): (&ErrorModel, String) = match (&args.errors, &identification) {
         (Some(path), _) => {
@@ -242,16 +294,38 @@ fn build<'a>(
     };
     bar.set_message("compensation tables and volumetric error");
     let compensation = CompensationPart::compute(machine, errors, &origin, args.points, GRID_NODES).map_err(failure)?;
-    let volume = VolumePart::compute(machine, errors, errors, &compensation).map_err(failure)?.map(|mut v| {
-        v.description.push(format!(
-            "The machine is taken to have {origin}, and the corrections are computed from them: the exact correction leaves the corrector's tolerance; how well the errors themselves are known is the uncertainty of their measurement or identification."
-        ));
-        v
-    });
+    let controller = match &args.controller {
+        Some(format) => Some(compensation.controller(machine, errors, format).map_err(failure)?),
+        None => None,
+    };
+    let volume = {
+        let exported = match &args.controller {
+            Some(format) => Some(compensation.export(machine, errors, format).map_err(failure)?),
+            None => None,
+        };
+        let applied = args.controller.as_deref().zip(exported.as_ref().map(|e| e.applied.as_ref()));
+        VolumePart::compute(machine, errors, errors, &compensation, applied).map_err(failure)?.map(|mut v| {
+            v.description.push(format!(
+                "The machine is taken to have {origin}, and the corrections are computed from them. {} How well the errors themselves are known is the uncertainty of their measurement or identification.",
+                match &args.controller {
+                    Some(c) => format!(
+                        "What is left after compensation is what the {} tables cannot represent (their interpolation between table points, the terms the format cannot carry).",
+                        trueaxis_report::calibration::controller_name(c)
+                    ),
+                    None => "The exact correction leaves only the corrector's tolerance; give --controller to see what a controller's tables leave.".to_string(),
+                }
+            ));
+            v
+        })
+    };
     let (thermal_modes, thermal_drift) = thermal_parts(args, bar)?;
     let traceability = Traceability::now(input_files(args, identification.as_ref())?, Some(command_line()));
     Ok(CalibrationReport {
-        title: args.title.clone().unwrap_or_else(|| format!("Calibration report: {}", machine.name)),
+        title: args
+            .title
+            .clone()
+            .or_else(|| certificate.certificate.title.clone())
+            .unwrap_or_else(|| format!("Calibration report: {}", machine.name)),
         subtitle: format!("{}; {}", traceability.date, traceability.software),
         machine,
         machine_notes: Vec::new(),
@@ -262,8 +336,10 @@ fn build<'a>(
         thermal_drift,
         circles,
         compensation: Some(compensation),
+        controller,
         extra: Vec::new(),
         traceability,
+        certificate,
     })
 }
 
@@ -297,25 +373,47 @@ fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<(Option<Thermal
     Ok((modes, drift))
 }
 
-fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], bytes: usize) -> serde_json::Value {
+fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], bytes: usize, pdf: Option<&Path>) -> serde_json::Value {
     use serde_json::json;
     let parameters = report.identification.as_ref().map(|id| {
         id.parameter_rows(report.uncertainty.as_ref())
             .into_iter()
             .map(|p| {
-                (p.name, json!({"unit": p.unit, "value": p.value, "std_uncertainty": p.std_uncertainty, "interval": p.interval.map(|(a, b)| [a, b])}))
+                (
+                    p.name,
+                    json!({"unit": p.unit, "value": p.value, "std_uncertainty": p.std_uncertainty, "interval": p.interval.map(|(a, b)| [a, b]),
+                           "expanded_uncertainty": p.expanded, "coverage_factor": 2, "uncertainty_method": p.method.describe()}),
+                )
             })
             .collect::<serde_json::Map<_, _>>()
     });
+    let conformity: Vec<_> = report
+        .conformity_items()
+        .iter()
+        .map(|i| json!({"item": i.name, "value": i.value, "expanded_uncertainty": i.expanded, "tolerance": i.tolerance, "unit": i.unit, "decision": i.mark.word()}))
+        .collect();
     let volumetric = report.volume.as_ref().map(|v| {
         json!({"poses": v.poses, "max_before_um": v.before_um.0, "rms_before_um": v.before_um.1,
-               "max_after_um": v.after_um.0, "rms_after_um": v.after_um.1,
+               "max_after_um": v.after_um.0, "rms_after_um": v.after_um.1, "controller": v.controller,
                "max_after_tables_um": v.after_tables_um.0, "rms_after_tables_um": v.after_tables_um.1})
     });
     let ballbar: Vec<_> = report
         .circles
         .iter()
-        .map(|c| json!({"file": c.input.path.display().to_string(), "G_um": c.result.runs.iter().map(|r| r.g_um).collect::<Vec<_>>()}))
+        .map(|c| {
+            let diagnostics: serde_json::Map<String, serde_json::Value> = c
+                .result
+                .diagnostics
+                .items
+                .iter()
+                .map(|d| (d.name.clone(), json!({"value": d.value, "unit": d.unit, "expanded_uncertainty": 2.0 * d.std_uncertainty})))
+                .collect();
+            json!({"file": c.input.path.display().to_string(), "G_um": c.result.runs.iter().map(|r| r.g_um).collect::<Vec<_>>(),
+                   "F_max_um": c.result.runs.iter().map(|r| r.f_max_um).collect::<Vec<_>>(),
+                   "F_min_um": c.result.runs.iter().map(|r| r.f_min_um).collect::<Vec<_>>(),
+                   "H_um": c.result.hysteresis_um, "reading_expanded_uncertainty_um": c.reading_u_um,
+                   "feed_mm_per_min": c.feed_mm_per_min, "diagnostics": diagnostics})
+        })
         .collect();
     let inputs: Vec<_> = report
         .traceability
@@ -333,7 +431,9 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
         json!({"error": d.error, "residuals_um": runs})
     });
     json!({
-        "out": out.display().to_string(), "bytes": bytes, "sections": sections, "inputs": inputs,
+        "out": out.display().to_string(), "bytes": bytes, "pdf": pdf.map(|p| p.display().to_string()), "sections": sections, "inputs": inputs,
+        "conformity": conformity, "decision_rule": report.certificate.decision.rule.name(),
+        "controller": report.controller.as_ref().map(|c| json!({"format": c.format, "worst_um": c.residual.worst_um, "rms_um": c.residual.rms_um, "left_out": c.left_out})),
         "parameters": parameters, "volumetric": volumetric, "ballbar": ballbar,
         "thermal_modes": thermal_modes, "thermal_drift": thermal_drift,
         "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.extent.max_um, "max_correction_urad": c.extent.max_urad})),

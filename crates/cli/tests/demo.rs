@@ -89,7 +89,22 @@ fn table(section: &str, caption: &str) -> Vec<Vec<String>> {
     let end = section[start..].find("</table>").unwrap() + start;
     let body = &section[start..end];
     let body = &body[body.find("<tbody>").unwrap()..];
-    elements(body, "<tr", "</tr>").iter().map(|row| elements(row, "<td", "</td>")).collect()
+    elements(body, "<tr", "</tr>").iter().map(|row| elements(row, "<td", "</td>").iter().map(|c| strip_tags(c)).collect()).collect()
+}
+
+/// The text of a cell without its markup (a link).
+fn strip_tags(html: &str) -> String {
+    let mut out = String::new();
+    let mut inside = false;
+    for c in html.chars() {
+        match c {
+            '<' => inside = true,
+            '>' => inside = false,
+            c if !inside => out.push(c),
+            _ => {}
+        }
+    }
+    out
 }
 
 fn number(text: &str) -> f64 {
@@ -101,11 +116,24 @@ fn number(text: &str) -> f64 {
 /// The first number after `label` in `text`.
 fn number_after(text: &str, label: &str) -> f64 {
     let i = text.find(label).unwrap_or_else(|| panic!("no `{label}` in {text}")) + label.len();
-    number(text[i..].split_whitespace().next().unwrap())
+    number(text[i..].split_whitespace().next().unwrap().trim_end_matches('.'))
+}
+
+/// `value ± U unit` of a report cell: value, U and the decimal places the value is given to.
+fn measured(cell: &str) -> (f64, f64, usize) {
+    let (value, rest) = cell.split_once(" ± ").unwrap_or_else(|| panic!("`{cell}` is not `value ± U unit`"));
+    let u = rest.split_whitespace().next().unwrap();
+    let decimals = |t: &str| t.split_once('.').map_or(0, |(_, d)| d.len());
+    // U to two significant digits, the value to the same decimal place
+    let digits: String = u.chars().filter(char::is_ascii_digit).collect::<String>().trim_start_matches('0').to_string();
+    assert!(digits.len() == 2 || (digits.len() == 3 && digits.ends_with('0') && !u.contains('.')), "U `{u}` has two significant digits");
+    assert_eq!(decimals(value), decimals(u), "`{cell}`: the value to the decimal place of U");
+    (number(value), number(u), decimals(value))
 }
 
 /// `trueaxis identify` prints each parameter as `name value u unit independence sensitivity`: the
-/// report's identified value and u (2 decimals) and independence (3 decimals) agree.
+/// report's identified value agrees to its rounding, and its U is twice the Monte Carlo standard
+/// uncertainty that `trueaxis uncertainty` prints.
 fn check_identify(html: &str, stdout: &str) {
     let rows = table(section(html, "identification"), "Parameters");
     assert_eq!(rows.len(), 12);
@@ -115,20 +143,35 @@ fn check_identify(html: &str, stdout: &str) {
             .find(|l| l.split_whitespace().next() == Some(&row[0]))
             .unwrap_or_else(|| panic!("identify does not print {}", row[0]));
         let t: Vec<&str> = line.split_whitespace().collect();
-        // report: parameter, unit, true, identified, u (LS), interval, covers, independence
-        assert!((number(t[1]) - number(&row[3])).abs() <= 0.005 + 1e-9, "{}: identify {} vs report {}", row[0], t[1], row[3]);
-        assert!((number(t[2]) - number(&row[4])).abs() <= 0.005 + 1e-9, "{} u: identify {} vs report {}", row[0], t[2], row[4]);
-        assert_eq!((t[3], t[4]), (row[1].as_str(), row[7].as_str()), "{}: unit and independence", row[0]);
+        // report: parameter, true value, identified value ± U unit, uncertainty from, within U, independence
+        let (value, _, decimals) = measured(&row[2]);
+        assert!(
+            (number(t[1]) - value).abs() <= 0.5 * 10f64.powi(-(decimals as i32)) + 1e-9,
+            "{}: identify {} vs report {}",
+            row[0],
+            t[1],
+            row[2]
+        );
+        assert!(row[2].ends_with(t[3]) && row[1].ends_with(t[3]), "{}: unit {} in `{}`", row[0], t[3], row[2]);
+        assert!((number(t[4]) - number(&row[5])).abs() <= 0.005 + 1e-9, "{}: independence", row[0]);
+        assert_eq!(row[3], "Monte Carlo, all sources (JCGM 101)");
     }
 }
 
 /// `trueaxis uncertainty` prints per parameter the estimate, u (MC), u (GUM) and the interval, and
-/// the budget widths: equal to the report's budget (3 decimals) and intervals (2 decimals).
+/// the budget widths: the report's U is 2 u (MC) and its budget widths those printed, each to two
+/// significant digits.
 fn check_uncertainty(html: &str, stdout: &str) {
     let budget = table(section(html, "uncertainty"), "Budget");
     let parameters = table(section(html, "identification"), "Parameters");
     assert_eq!(budget.len(), 12);
     let budget_start = stdout.find("\nbudget:").expect("the budget");
+    let two_digits = |reported: &str, printed: f64| {
+        let (v, unit) = reported.split_once(' ').unwrap();
+        let d = v.split_once('.').map_or(0, |(_, d)| d.len()) as i32;
+        assert!((number(v) - printed).abs() <= 0.5 * 10f64.powi(-d) + 1e-9, "`{reported}` vs {printed}");
+        assert!(unit == "um" || unit == "urad", "{reported}");
+    };
     for row in &budget {
         let name = &row[0];
         let line = |text: &str| -> Vec<String> {
@@ -137,24 +180,30 @@ fn check_uncertainty(html: &str, stdout: &str) {
         };
         // estimate line: name unit estimate u_MC u_GUM [lo, hi] [gum_lo, gum_hi] (brackets and commas dropped)
         let estimate = line(&stdout[..budget_start]);
-        assert_eq!(estimate[4], row[row.len() - 1], "{name}: GUM u");
-        let interval = &parameters.iter().find(|p| &p[0] == name).unwrap()[5];
-        let (lo, hi) = interval.split_once(',').unwrap();
-        assert!((number(&estimate[5]) - number(lo)).abs() <= 0.005 + 1e-9, "{name}: interval {estimate:?} vs {interval}");
-        assert!((number(&estimate[6]) - number(hi)).abs() <= 0.005 + 1e-9, "{name}: interval {estimate:?} vs {interval}");
+        let u_mc = number(&estimate[3]);
+        two_digits(&row[row.len() - 1], 2.0 * u_mc);
+        let (_, u, _) = measured(&parameters.iter().find(|p| &p[0] == name).unwrap()[2]);
+        two_digits(&format!("{u} um"), 2.0 * u_mc);
         // budget line: name unit width per source.. rss total
         let widths = line(&stdout[budget_start..]);
-        assert_eq!(widths[2..], row[2..row.len() - 1], "{name}: budget");
+        for (reported, printed) in row[1..row.len() - 1].iter().zip(&widths[2..]) {
+            two_digits(reported, number(printed));
+        }
     }
 }
 
 /// `trueaxis ballbar iso230-4` prints the ISO values and diagnostics: the report's lines, exactly.
 fn check_ballbar(html: &str, stdout: &str) {
     let printed: Vec<&str> = stdout.lines().map(str::trim).collect();
-    let results = table(section(html, "ballbar"), "Results of");
-    assert!(results.len() >= 4, "{results:?}");
-    for row in &results {
-        assert!(printed.contains(&row[0].trim()), "`{}` is not printed by ballbar iso230-4:\n{stdout}", row[0]);
+    // the G of each run, rounded by its U, is the printed one
+    let values = table(section(html, "ballbar"), "ISO 230-4 values of");
+    assert_eq!(values.len(), 3, "{values:?}");
+    for row in &values[..2] {
+        let line = printed.iter().find(|l| l.starts_with(&format!("{}: G = ", row[0]))).unwrap_or_else(|| panic!("{}: {stdout}", row[0]));
+        let g = number(line.split("G = ").nth(1).unwrap().split_whitespace().next().unwrap());
+        let (value, u, decimals) = measured(&row[1]);
+        assert!((value - g).abs() <= 0.5 * 10f64.powi(-(decimals as i32)) + 1e-9, "G {g} vs `{}`", row[1]);
+        assert_eq!(u, 1.0, "the ballbar's U of report.toml");
     }
 }
 
@@ -175,7 +224,8 @@ fn check_predict(html: &str, stdout: &str) {
     let rms = (d.iter().map(|v| v * v).sum::<f64>() / d.len() as f64).sqrt();
     let text = unescape(section(html, "volumetric"));
     let before = &text[text.find("Before compensation: largest").unwrap()..];
-    let (report_max, report_rms) = (number_after(before, "largest"), number_after(before, "RMS"));
+    let before = before.replace(" um", "");
+    let (report_max, report_rms) = (number_after(&before, "largest"), number_after(&before, "RMS"));
     // the CSV carries 4 decimals, the report 2
     assert!((max - report_max).abs() <= 0.005 + 1e-3, "max |d| {max} vs report {report_max}");
     assert!((rms - report_rms).abs() <= 0.005 + 1e-3, "RMS |d| {rms} vs report {report_rms}");
@@ -185,7 +235,9 @@ fn check_predict(html: &str, stdout: &str) {
 /// report's summary table, digit for digit.
 fn check_compensate(html: &str, stdout: &str) {
     let rows = table(section(html, "compensation"), "Summary");
-    let value = |quantity: &str| rows.iter().find(|r| r[0].starts_with(quantity)).unwrap()[1].clone();
+    let value = |quantity: &str| {
+        rows.iter().find(|r| r[0].starts_with(quantity)).unwrap()[1].trim_end_matches(" um").trim_end_matches(" urad").to_string()
+    };
     let grid = value("grid nodes");
     let expected = format!(
         "{} tables of {} points{}; largest correction written {} um (linear axes), {} urad (rotary axes)",
@@ -241,7 +293,19 @@ fn every_repeat_command_of_the_report_reproduces_its_numbers(demo: &Path) {
 fn report_has_its_sections_well_formed_svg_and_renders_in_a_browser(demo: &Path, scratch: &Path) {
     let report = demo.join("report.html");
     let html = std::fs::read_to_string(&report).unwrap();
-    for id in ["machine", "campaign", "identification", "uncertainty", "volumetric", "ballbar", "compensation", "reproduce", "inputs"] {
+    for id in [
+        "certificate",
+        "conformity",
+        "machine",
+        "campaign",
+        "identification",
+        "uncertainty",
+        "volumetric",
+        "ballbar",
+        "compensation",
+        "reproduce",
+        "inputs",
+    ] {
         assert!(html.contains(&format!("<section id=\"{id}\">")), "section {id}");
         assert!(html.contains(&format!("<a href=\"#{id}\">")), "table of contents entry {id}");
     }

@@ -23,7 +23,9 @@ const VMC3: [&str; 10] = [
     "--ballbar-centre",
     "0,0,-200",
 ];
-const SECTIONS: [&str; 10] = [
+const SECTIONS: [&str; 12] = [
+    "certificate",
+    "conformity",
     "machine",
     "campaign",
     "identification",
@@ -94,7 +96,7 @@ fn hex(b: &[u8]) -> String {
 fn a_campaign_with_sources_gives_identification_uncertainty_maps_and_compensation() {
     let (html, s) = report(&[&KX8[..], &["--sources", "examples/uncertainty/kx8five_cyclic.toml"]].concat());
     let ids = sections_of(&html, &s);
-    assert_eq!(ids, ["machine", "campaign", "identification", "uncertainty", "volumetric", "compensation", "inputs"]);
+    assert_eq!(ids, ["certificate", "machine", "campaign", "identification", "uncertainty", "volumetric", "compensation", "inputs"]);
     assert!(html.matches("<figure>").count() >= 5, "residuals, histograms, convergence, two maps");
     assert_inputs(
         &s,
@@ -132,7 +134,7 @@ fn a_campaign_with_sources_gives_identification_uncertainty_maps_and_compensatio
 fn error_values_and_a_circle_give_maps_ballbar_and_compensation_only() {
     let (html, s) = report(&VMC3);
     let ids = sections_of(&html, &s);
-    assert_eq!(ids, ["machine", "volumetric", "ballbar", "compensation", "inputs"]);
+    assert_eq!(ids, ["certificate", "machine", "volumetric", "ballbar", "compensation", "inputs"]);
     assert_inputs(&s, &["examples/machines/vmc3.toml", "examples/errors/vmc3.toml", "examples/ballbar/vmc3_xy.csv"]);
     assert!(s["parameters"].is_null() && !s["volumetric"].is_null());
     // the ballbar values are `ballbar iso230-4`'s
@@ -173,7 +175,10 @@ fn thermal_inputs_give_the_modes_and_the_drift_of_the_thermal_commands() {
     let model = "examples/thermal/elongation.toml";
     let thermal = ["--thermal-model", model, "--thermal-modes", "5", "--thermal-error", fitted, "--thermal-data", campaign];
     let (html, s) = report(&[&VMC3[..4], &thermal[..]].concat());
-    assert_eq!(sections_of(&html, &s), ["machine", "volumetric", "thermal-modes", "thermal-drift", "compensation", "inputs"]);
+    assert_eq!(
+        sections_of(&html, &s),
+        ["certificate", "machine", "volumetric", "thermal-modes", "thermal-drift", "compensation", "inputs"]
+    );
     assert_inputs(&s, &[model, campaign, fitted]);
     // the modes are `thermal modes`'s
     let m: serde_json::Value =
@@ -217,7 +222,7 @@ fn thermal_inputs_give_the_modes_and_the_drift_of_the_thermal_commands() {
 #[test]
 fn a_campaign_without_sources_has_no_uncertainty_and_a_deficient_one_names_its_combinations() {
     let (html, s) = report(&KX8);
-    assert_eq!(sections_of(&html, &s), ["machine", "campaign", "identification", "volumetric", "compensation", "inputs"]);
+    assert_eq!(sections_of(&html, &s), ["certificate", "machine", "campaign", "identification", "volumetric", "compensation", "inputs"]);
     assert!(!html.contains("interval (MC)"), "no Monte Carlo column without sources");
 
     let deficient = ["--machine", "examples/machines/kx8five.toml", "--campaign", "examples/campaigns/kx8five/paper14.toml"];
@@ -271,6 +276,9 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
             ],
             "examples/campaigns/kx8five/campaign.toml",
         ),
+        ([&VMC3[..4], &["--certificate", "missing_report.toml"]].concat(), "missing_report.toml"),
+        ([&VMC3[..4], &["--certificate", "examples/machines/vmc3.toml"]].concat(), "examples/machines/vmc3.toml"),
+        ([&VMC3[..4], &["--controller", "okuma"]].concat(), "okuma"),
     ];
     for (args, fragment) in cases {
         let o = trueaxis(&[&["report", "--out", o][..], &args].concat());

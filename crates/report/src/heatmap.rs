@@ -1,6 +1,7 @@
 //! Heat maps of a scalar over 2D slices of the work volume (e.g. the volumetric error magnitude on
 //! the XY, XZ and YZ mid-planes), side by side with one shared colour scale, as SVG.
 
+use super::style;
 use super::ReportError;
 use plotters::prelude::*;
 
@@ -15,12 +16,18 @@ pub struct MapSlice {
     pub values: Vec<f64>,
 }
 
-const PANEL_WIDTH: u32 = 420;
-const HEIGHT: u32 = 460;
-const BAR_WIDTH: u32 = 110;
+const BAR_WIDTH: u32 = 120;
+const HEIGHT: u32 = 420;
 
-/// Draws the slices side by side with a colour bar labelled `value_label` (e.g. "|d| (um)").
+/// Draws the slices side by side with a colour bar labelled `value_label` (e.g. "|d| (um)"), the
+/// colours spanning the values.
 pub fn heatmap_svg(title: &str, slices: &[MapSlice], value_label: &str) -> Result<String, ReportError> {
+    heatmap_svg_scaled(title, slices, value_label, None)
+}
+
+/// As [`heatmap_svg`] with the colour scale over `range` (e.g. the same scale before and after
+/// compensation, so that a smaller error shows as darker colours, not as the same picture).
+pub fn heatmap_svg_scaled(title: &str, slices: &[MapSlice], value_label: &str, range: Option<(f64, f64)>) -> Result<String, ReportError> {
     for s in slices {
         if s.xs.len() < 2 || s.ys.len() < 2 || s.values.len() != s.xs.len() * s.ys.len() {
             return Err(ReportError::Input(format!("slice `{}` needs at least a 2 x 2 grid with one value per node", s.title)));
@@ -31,6 +38,7 @@ pub fn heatmap_svg(title: &str, slices: &[MapSlice], value_label: &str) -> Resul
     }
     let lo = slices.iter().flat_map(|s| &s.values).copied().fold(f64::INFINITY, f64::min);
     let hi = slices.iter().flat_map(|s| &s.values).copied().fold(f64::NEG_INFINITY, f64::max);
+    let (lo, hi) = range.filter(|(a, b)| a.is_finite() && b.is_finite() && b > a).map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi)));
     let (lo, hi) = if hi - lo > 1e-12 { (lo, hi) } else { (lo - 0.5, hi + 0.5) };
     let mut svg = String::new();
     draw(&mut svg, title, slices, value_label, lo, hi).map_err(ReportError::Draw)?;
@@ -38,19 +46,21 @@ pub fn heatmap_svg(title: &str, slices: &[MapSlice], value_label: &str) -> Resul
 }
 
 fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, lo: f64, hi: f64) -> Result<(), String> {
-    let width = PANEL_WIDTH * slices.len() as u32 + BAR_WIDTH;
+    let width = style::WIDTH;
     let root = SVGBackend::with_string(svg, (width, HEIGHT)).into_drawing_area();
     root.fill(&WHITE).map_err(text)?;
-    let root = root.titled(title, ("sans-serif", 20)).map_err(text)?;
-    let (panels, bar) = root.split_horizontally(PANEL_WIDTH * slices.len() as u32);
+    style::title(&root, title, 8)?;
+    let (_, root) = root.split_vertically(44);
+    let (panels, bar) = root.split_horizontally(width - BAR_WIDTH);
     for (panel, slice) in panels.split_evenly((1, slices.len())).iter().zip(slices) {
         let (x0, x1) = bounds(&slice.xs);
         let (y0, y1) = bounds(&slice.ys);
         let mut chart = ChartBuilder::on(panel)
-            .caption(&slice.title, ("sans-serif", 15))
-            .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(55)
+            .caption(&slice.title, style::font(style::LABEL))
+            .margin(8)
+            .margin_right(14)
+            .x_label_area_size(62)
+            .y_label_area_size(78)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(text)?;
         chart
@@ -58,9 +68,12 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
             .disable_mesh()
             .x_desc(&slice.x_label)
             .y_desc(&slice.y_label)
+            .x_labels(3)
+            .y_labels(5)
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(&|v| format!("{v:.0}"))
-            .label_style(("sans-serif", 12))
+            .label_style(style::font(style::TICK))
+            .axis_desc_style(style::font(style::TICK))
             .draw()
             .map_err(text)?;
         let nx = slice.xs.len();
@@ -75,19 +88,27 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
     }
     let steps = 50;
     let mut chart = ChartBuilder::on(&bar)
-        .margin_top(40)
-        .margin_bottom(52)
-        .margin_right(10)
-        .y_label_area_size(55)
-        .caption(value_label, ("sans-serif", 14))
+        .caption(value_label, style::font(style::TICK))
+        .margin_top(4)
+        .margin_bottom(70)
+        .margin_right(6)
+        .y_label_area_size(66)
         .build_cartesian_2d(0.0..1.0, lo..hi)
         .map_err(text)?;
+    let decimals = if hi - lo >= 20.0 {
+        0
+    } else if hi - lo >= 2.0 {
+        1
+    } else {
+        2
+    };
     chart
         .configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_label_formatter(&|v| format!("{v:.1}"))
-        .label_style(("sans-serif", 12))
+        .y_labels(6)
+        .y_label_formatter(&|v| format!("{v:.decimals$}"))
+        .label_style(style::font(style::TICK))
         .draw()
         .map_err(text)?;
     chart

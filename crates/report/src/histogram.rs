@@ -2,6 +2,7 @@
 //! the Gaussian of the GUM (seed 004 Fig. 10), and the convergence history of the control
 //! variables of the adaptive procedure against the tolerance (seed 004 Fig. 13).
 
+use super::style::{self, Swatch};
 use super::ReportError;
 use plotters::prelude::*;
 
@@ -18,11 +19,10 @@ pub struct HistogramPanel {
     pub gaussian: Option<(f64, f64)>,
 }
 
-const PANEL_W: u32 = 320;
-const PANEL_H: u32 = 240;
-const COLUMNS: usize = 4;
-const BAR: RGBColor = RGBColor(120, 150, 200);
-const INTERVAL: RGBColor = RGBColor(200, 40, 40);
+const PANEL_H: u32 = 230;
+const COLUMNS: usize = 3;
+const BAR: RGBColor = RGBColor(86, 180, 233);
+const INTERVAL: RGBColor = RGBColor(213, 94, 0);
 
 /// Histograms (probability density, `bins` classes) in a grid of up to 4 columns.
 pub fn histograms_svg(title: &str, panels: &[HistogramPanel], bins: usize) -> Result<String, ReportError> {
@@ -38,10 +38,20 @@ pub fn histograms_svg(title: &str, panels: &[HistogramPanel], bins: usize) -> Re
     let rows = panels.len().div_ceil(columns);
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (PANEL_W * columns as u32, PANEL_H * rows as u32 + 40)).into_drawing_area();
+        let head = 44 + style::LEGEND_HEIGHT;
+        let root = SVGBackend::with_string(&mut svg, (style::WIDTH, PANEL_H * rows as u32 + head)).into_drawing_area();
         root.fill(&WHITE).map_err(draw)?;
-        let root = root.titled(title, ("sans-serif", 20)).map_err(draw)?;
-        for (area, panel) in root.split_evenly((rows, columns)).iter().zip(panels) {
+        style::title(&root, title, 8).map_err(ReportError::Draw)?;
+        let (top, root) = root.split_vertically(head);
+        let (_, strip) = top.split_vertically(44);
+        let mut entries =
+            vec![("Monte Carlo".to_string(), Swatch::Band(BAR)), ("coverage interval".to_string(), Swatch::Line(INTERVAL, 3))];
+        if panels.iter().any(|p| p.gaussian.is_some()) {
+            entries.push(("GUM (Gaussian)".to_string(), Swatch::Line(BLACK, 2)));
+        }
+        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
+        let _ = columns;
+        for (area, panel) in root.split_evenly((rows, COLUMNS)).iter().zip(panels) {
             panel_chart(area, panel, bins)?;
         }
         root.present().map_err(draw)?;
@@ -69,13 +79,34 @@ where
     let gauss = |x: f64, (m, u): (f64, f64)| (-0.5 * ((x - m) / u).powi(2)).exp() / (u * (2.0 * std::f64::consts::PI).sqrt());
     let top = density.iter().copied().chain(panel.gaussian.filter(|g| g.1 > 0.0).map(|g| gauss(g.0, g))).fold(0.0, f64::max) * 1.1;
     let mut chart = ChartBuilder::on(area)
-        .caption(&panel.title, ("sans-serif", 14))
-        .margin(8)
-        .x_label_area_size(28)
-        .y_label_area_size(40)
+        .caption(&panel.title, style::font(style::LABEL))
+        .margin(6)
+        .margin_left(12)
+        .margin_right(22)
+        .x_label_area_size(34)
+        .y_label_area_size(6)
         .build_cartesian_2d(lo..hi, 0.0..top.max(1e-12))
         .map_err(draw)?;
-    chart.configure_mesh().disable_mesh().x_labels(5).y_labels(4).label_style(("sans-serif", 11)).draw().map_err(draw)?;
+    // the density scale carries no information of its own: no y labels
+    let span = hi - lo;
+    let decimals = if span >= 20.0 {
+        0
+    } else if span >= 2.0 {
+        1
+    } else if span >= 0.2 {
+        2
+    } else {
+        3
+    };
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_labels(3)
+        .y_labels(0)
+        .x_label_formatter(&|v| format!("{v:.decimals$}"))
+        .label_style(style::font(style::TICK))
+        .draw()
+        .map_err(draw)?;
     chart
         .draw_series(density.iter().enumerate().map(|(i, d)| {
             let a = lo + width * i as f64;
@@ -106,7 +137,7 @@ pub struct ConvergenceSeries {
     pub unit: String,
 }
 
-/// The convergence history on a logarithmic axis with the tolerance line.
+/// The convergence history with the tolerance line.
 pub fn convergence_svg(title: &str, history: &ConvergenceSeries) -> Result<String, ReportError> {
     let all = history.series.iter().flat_map(|(_, v)| v.iter().map(|s| 2.0 * s)).chain([history.tolerance]);
     if history.sequences.is_empty() || history.series.iter().any(|(_, v)| v.len() != history.sequences.len()) {
@@ -119,44 +150,65 @@ pub fn convergence_svg(title: &str, history: &ConvergenceSeries) -> Result<Strin
     let (lo, hi) = values.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| (a.min(*v), b.max(*v)));
     let h0 = *history.sequences.first().unwrap_or(&1) as f64;
     let h1 = (*history.sequences.last().unwrap_or(&2) as f64).max(h0 + 1.0);
-    let colours = [RGBColor(31, 97, 181), RGBColor(40, 150, 60), RGBColor(204, 60, 40), RGBColor(150, 60, 170)];
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (760, 460)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(draw)?;
+        style::title(&root, title, 8).map_err(ReportError::Draw)?;
+        let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
+        let (_, strip) = top.split_vertically(44);
+        let mut entries: Vec<(String, Swatch)> =
+            history.series.iter().enumerate().map(|(k, (name, _))| (format!("2 {name}"), Swatch::Line(style::colour(k), 3))).collect();
+        entries.push(("tolerance".into(), Swatch::Line(BLACK, 2)));
+        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
+        // a linear axis from zero: the few sequences of an adaptive run span less than a decade
+        let _ = lo;
         let mut chart = ChartBuilder::on(&root)
-            .caption(title, ("sans-serif", 18))
             .margin(12)
-            .x_label_area_size(40)
-            .y_label_area_size(60)
-            .build_cartesian_2d(h0..h1, (lo * 0.8..hi * 1.25).log_scale())
+            .margin_right(24)
+            .x_label_area_size(64)
+            .y_label_area_size(100)
+            .build_cartesian_2d(h0..h1, 0.0..hi * 1.1)
             .map_err(draw)?;
         chart
             .configure_mesh()
             .x_desc("sequence h")
-            .x_labels(((h1 - h0) as usize + 1).min(12))
+            .x_labels(((h1 - h0) as usize + 1).min(8))
             .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_labels(5)
+            .y_label_formatter(&|v| short(*v))
             .y_desc(format!("2 s ({})", history.unit))
-            .label_style(("sans-serif", 12))
+            .label_style(style::font(style::TICK))
+            .axis_desc_style(style::font(style::TICK))
             .draw()
             .map_err(draw)?;
-        for (k, (name, v)) in history.series.iter().enumerate() {
-            let colour = colours[k % colours.len()];
+        for (k, (_, v)) in history.series.iter().enumerate() {
+            let colour = style::colour(k);
             chart
-                .draw_series(LineSeries::new(history.sequences.iter().zip(v).map(|(h, s)| (*h as f64, 2.0 * s)), colour.stroke_width(2)))
-                .map_err(draw)?
-                .label(format!("2 {name}"))
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], colour.stroke_width(2)));
+                .draw_series(LineSeries::new(history.sequences.iter().zip(v).map(|(h, s)| (*h as f64, 2.0 * s)), colour.stroke_width(3)))
+                .map_err(draw)?;
         }
-        chart
-            .draw_series(LineSeries::new([(h0, history.tolerance), (h1, history.tolerance)], BLACK.stroke_width(1)))
-            .map_err(draw)?
-            .label("tolerance")
-            .legend(|(x, y)| PathElement::new([(x, y), (x + 16, y)], BLACK));
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(draw)?;
+        chart.draw_series(LineSeries::new([(h0, history.tolerance), (h1, history.tolerance)], BLACK.stroke_width(2))).map_err(draw)?;
         root.present().map_err(draw)?;
     }
     Ok(svg)
+}
+
+/// A tick value with two significant digits (`0.05`, `0.002`, `1.5`, `20`).
+fn short(v: f64) -> String {
+    if v.abs() < 1e-12 {
+        return "0".into();
+    }
+    if !(v.is_finite() && v > 0.0) {
+        return String::new();
+    }
+    let decimals = (1 - v.log10().floor() as i32).max(0) as usize;
+    let text = format!("{v:.decimals$}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
 }
 
 pub(super) fn draw(e: impl std::fmt::Display) -> ReportError {

@@ -1,7 +1,75 @@
-//! A self-contained HTML report: inline SVG figures, tables and text, no script and no network
-//! access, with print styles so that "Print to PDF" gives a document to hand to a customer.
+//! The report's document model (sections of paragraphs, notes, tables, figures) and its
+//! self-contained HTML form: inline SVG figures, tables and text, no script and no network access,
+//! with print styles for A4. The PDF (`crate::pdf`) is made from the same model.
 
 use std::fmt::Write;
+
+/// A conformity decision shown in a table cell (ISO 14253-1).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mark {
+    Pass,
+    Fail,
+    /// Neither conformity nor non-conformity proven: the value lies within the expanded
+    /// uncertainty of the tolerance limit.
+    Undecided,
+}
+
+impl Mark {
+    /// The word printed in the cell.
+    pub fn word(self) -> &'static str {
+        match self {
+            Mark::Pass => "pass",
+            Mark::Fail => "FAIL",
+            Mark::Undecided => "not proven",
+        }
+    }
+
+    fn class(self) -> &'static str {
+        match self {
+            Mark::Pass => "pass",
+            Mark::Fail => "fail",
+            Mark::Undecided => "undecided",
+        }
+    }
+}
+
+/// One table cell: text, an optional link to a section of the report (its id) and an optional
+/// conformity mark.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cell {
+    pub text: String,
+    pub link: Option<String>,
+    pub mark: Option<Mark>,
+}
+
+impl Cell {
+    /// A cell that links to the section `id`.
+    pub fn link(text: impl Into<String>, id: &str) -> Cell {
+        Cell { text: text.into(), link: Some(id.into()), mark: None }
+    }
+
+    /// A cell with a conformity decision (its word is the text).
+    pub fn mark(mark: Mark) -> Cell {
+        Cell { text: mark.word().into(), link: None, mark: Some(mark) }
+    }
+
+    /// Right-aligned in tables: a number with or without its unit.
+    pub fn is_numeric(&self) -> bool {
+        looks_numeric(&self.text)
+    }
+}
+
+impl From<String> for Cell {
+    fn from(text: String) -> Cell {
+        Cell { text, link: None, mark: None }
+    }
+}
+
+impl From<&str> for Cell {
+    fn from(text: &str) -> Cell {
+        Cell::from(text.to_string())
+    }
+}
 
 /// One block of a section.
 #[derive(Clone, Debug)]
@@ -11,7 +79,9 @@ pub enum Block {
     /// A highlighted remark (e.g. an identifiability warning), plain text.
     Note(String),
     /// A table with a caption, a header row and body rows (plain text cells, escaped).
-    Table { caption: String, header: Vec<String>, rows: Vec<Vec<String>> },
+    Table { caption: String, header: Vec<String>, rows: Vec<Vec<Cell>> },
+    /// Named values (a certificate's particulars): name, value.
+    Fields(Vec<(String, String)>),
     /// An SVG document (as written by the `report` plots) shown inline, with a caption.
     Figure { caption: String, svg: String },
     /// A preformatted block (e.g. a command line), escaped.
@@ -41,8 +111,18 @@ impl Section {
         self
     }
 
-    pub fn table(mut self, caption: impl Into<String>, header: &[&str], rows: Vec<Vec<String>>) -> Section {
+    pub fn table(self, caption: impl Into<String>, header: &[&str], rows: Vec<Vec<String>>) -> Section {
+        self.cells(caption, header, rows.into_iter().map(|r| r.into_iter().map(Cell::from).collect()).collect())
+    }
+
+    /// A table of cells with links or conformity marks.
+    pub fn cells(mut self, caption: impl Into<String>, header: &[&str], rows: Vec<Vec<Cell>>) -> Section {
         self.blocks.push(Block::Table { caption: caption.into(), header: header.iter().map(|h| h.to_string()).collect(), rows });
+        self
+    }
+
+    pub fn fields(mut self, fields: Vec<(String, String)>) -> Section {
+        self.blocks.push(Block::Fields(fields));
         self
     }
 
@@ -66,16 +146,22 @@ pub struct HtmlReport {
     pub sections: Vec<Section>,
 }
 
+/// Screen and print (A4) styles. Long words (file names, SHA-256) and command lines wrap instead of
+/// overflowing their boxes; figures scale to the text width (their fonts are sized for that width,
+/// `crate::style`).
 const STYLE: &str =
-    "body{font-family:'DejaVu Sans',Helvetica,Arial,sans-serif;max-width:60em;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
+    "body{font-family:'Liberation Sans',Arial,Helvetica,sans-serif;font-size:16px;max-width:60em;margin:2em auto;padding:0 1em;color:#222;line-height:1.4}\
 h1{font-size:1.6em;margin-bottom:0.2em}h2{font-size:1.25em;border-bottom:1px solid #bbb;padding-bottom:0.2em;margin-top:2em}\
-.subtitle{color:#555}nav ol{columns:2}table{border-collapse:collapse;margin:0.8em 0;font-size:0.9em}\
-caption{text-align:left;font-weight:bold;padding-bottom:0.3em}th,td{border:1px solid #ccc;padding:0.2em 0.6em}\
-th{background:#f0f0f0}td.num{text-align:right;font-variant-numeric:tabular-nums}\
-figure{margin:1em 0;page-break-inside:avoid;break-inside:avoid}figure svg{max-width:100%;height:auto}\
-figcaption{font-size:0.9em;color:#444}.note{border-left:4px solid #d9822b;background:#fff6ec;padding:0.5em 0.8em}\
-pre{background:#f6f6f6;padding:0.6em;overflow-x:auto}@media print{body{max-width:none;margin:0}nav{display:none}\
-h2{page-break-after:avoid;break-after:avoid}table{page-break-inside:avoid;break-inside:avoid}}";
+.subtitle{color:#555}nav ol{columns:2}table{border-collapse:collapse;margin:0.8em 0;font-size:0.9em;max-width:100%}\
+caption{text-align:left;font-weight:bold;padding-bottom:0.3em}th,td{border:1px solid #ccc;padding:0.2em 0.6em;overflow-wrap:break-word;vertical-align:top}td.long{word-break:break-all}\
+th{background:#f0f0f0}td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}\
+td.pass{background:#d9f0e3}td.fail{background:#f9d6c8;font-weight:bold}td.undecided{background:#fdf0c4}\
+table.fields th{text-align:left;width:14em}\
+figure{margin:1em 0;page-break-inside:avoid;break-inside:avoid}figure svg{display:block;width:100%;height:auto}\
+figcaption{font-size:0.9em;color:#444}.note{border-left:4px solid #d55e00;background:#fdf1e8;padding:0.5em 0.8em}\
+pre{background:#f6f6f6;padding:0.6em;white-space:pre-wrap;overflow-wrap:anywhere}\
+@page{size:A4;margin:18mm 16mm}@media print{body{max-width:none;margin:0;padding:0;font-size:10pt}nav{display:none}\
+h2{page-break-after:avoid;break-after:avoid}tr{page-break-inside:avoid;break-inside:avoid}}";
 
 impl HtmlReport {
     /// The complete HTML document.
@@ -124,10 +210,31 @@ fn write_block(out: &mut String, block: &Block) {
             for row in rows {
                 out.push_str("<tr>");
                 for cell in row {
-                    let class = if looks_numeric(cell) { " class=\"num\"" } else { "" };
-                    let _ = write!(out, "<td{class}>{}</td>", escape(cell));
+                    // a token too long for a column (a SHA-256, a path) breaks between any characters
+                    let long = cell.text.split_whitespace().any(|w| w.chars().count() > 28);
+                    let class = match (cell.mark, cell.is_numeric(), long) {
+                        (Some(m), _, _) => format!(" class=\"{}\"", m.class()),
+                        (None, true, _) => " class=\"num\"".into(),
+                        (None, false, true) => " class=\"long\"".into(),
+                        (None, false, false) => String::new(),
+                    };
+                    match &cell.link {
+                        Some(id) => {
+                            let _ = write!(out, "<td{class}><a href=\"#{}\">{}</a></td>", escape(id), escape(&cell.text));
+                        }
+                        None => {
+                            let _ = write!(out, "<td{class}>{}</td>", escape(&cell.text));
+                        }
+                    }
                 }
                 out.push_str("</tr>\n");
+            }
+            out.push_str("</tbody>\n</table>\n");
+        }
+        Block::Fields(fields) => {
+            out.push_str("<table class=\"fields\">\n<tbody>\n");
+            for (name, value) in fields {
+                let _ = writeln!(out, "<tr><th>{}</th><td>{}</td></tr>", escape(name), escape(value));
             }
             out.push_str("</tbody>\n</table>\n");
         }
@@ -174,8 +281,10 @@ pub fn escape(text: &str) -> String {
     out
 }
 
+/// A number, possibly with `± U` and a unit after it (`-7.4 ± 2.4 urad`, `12 um`).
 fn looks_numeric(cell: &str) -> bool {
-    let t = cell.trim().trim_start_matches(['+', '-', '\u{2212}']);
+    let first = cell.split_whitespace().next().unwrap_or("");
+    let t = first.trim_start_matches(['+', '-', '\u{2212}', '\u{2264}']);
     !t.is_empty() && t.chars().next().is_some_and(|c| c.is_ascii_digit()) && t.parse::<f64>().is_ok()
 }
 

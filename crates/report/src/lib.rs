@@ -4,6 +4,7 @@ pub mod budget;
 pub mod calibration;
 pub mod demo;
 pub mod html;
+pub mod pdf;
 
 mod fit_plot;
 mod heatmap;
@@ -12,14 +13,15 @@ mod polar;
 mod positioning;
 mod profiles;
 mod residuals;
+pub mod style;
 mod thermal;
 mod thermal_figures;
 mod uncertainty_figures;
 
 pub use fit_plot::{direct_fit_svg, fit_plot_svg, FitPlot};
-pub use heatmap::{heatmap_svg, MapSlice};
+pub use heatmap::{heatmap_svg, heatmap_svg_scaled, MapSlice};
 pub use histogram::{convergence_svg, histograms_svg, ConvergenceSeries, HistogramPanel};
-pub use polar::{auto_scale, circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
+pub use polar::{auto_scale, circle_svg, circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
 pub use positioning::{iso230_2_svg, positioning_svg, PositionBand, PositioningPlot};
 pub use profiles::{profiles_svg, Profiles};
 pub use residuals::residuals_svg;

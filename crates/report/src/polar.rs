@@ -2,6 +2,7 @@
 //! scale per division, any number of traces (CW / CCW, raw / compensated, partial arcs), and lines of
 //! text (results, diagnostics) beside the plot.
 
+use super::style::{self, Swatch};
 use super::ReportError;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -20,15 +21,17 @@ pub struct PolarPlot<'a> {
     pub series: Vec<PolarSeries<'a>>,
     /// um per division; `None` chooses 1-2-5 steps so that the largest reading spans <= 3 divisions.
     pub um_per_division: Option<f64>,
-    /// Text printed beside the plot.
+    /// Text printed under the plot (results, diagnostics).
     pub lines: &'a [String],
+    /// The test's conditions under the title: radius, feed, direction, plane.
+    pub conditions: &'a [String],
 }
 
-const WIDTH: u32 = 1100;
-const HEIGHT: u32 = 720;
+/// Side of the square plot, and the strips above and below it (SVG units).
+const PLOT: u32 = 640;
+const LINE: u32 = 28;
 /// Radius of the nominal circle, in divisions.
 const NOMINAL: f64 = 5.0;
-const COLOURS: [RGBColor; 4] = [RGBColor(31, 97, 181), RGBColor(204, 60, 40), RGBColor(40, 150, 70), RGBColor(140, 80, 170)];
 
 /// A 1-2-5 scale (um per division) that puts `max_abs` within 3 divisions.
 pub fn auto_scale(max_abs: f64) -> f64 {
@@ -52,78 +55,77 @@ pub fn polar_svg(plot: &PolarPlot) -> Result<String, ReportError> {
         None => auto_scale(max_abs),
     };
     let mut svg = String::new();
-    draw(&mut svg, plot, scale).map_err(ReportError::Draw)?;
+    draw(&mut svg, plot, scale)?;
     Ok(svg)
-}
-
-fn text(e: impl std::fmt::Display) -> String {
-    e.to_string()
 }
 
 fn circle(radius: f64) -> Vec<(f64, f64)> {
     (0..=360).map(|i| f64::from(i).to_radians()).map(|t| (radius * t.cos(), radius * t.sin())).collect()
 }
 
-fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), String> {
-    let root = SVGBackend::with_string(svg, (WIDTH, HEIGHT)).into_drawing_area();
-    root.fill(&WHITE).map_err(text)?;
-    let (head, body) = root.split_vertically(40);
-    head.draw(&Text::new(
-        plot.title,
-        (WIDTH as i32 / 2, 10),
-        TextStyle::from(("sans-serif", 18).into_font()).pos(Pos::new(HPos::Center, VPos::Top)),
-    ))
-    .map_err(text)?;
-    let (left, right) = body.split_horizontally(HEIGHT - 40);
-    let extent = NOMINAL + 3.6;
-    let mut chart = ChartBuilder::on(&left).margin(20).build_cartesian_2d(-extent..extent, -extent..extent).map_err(text)?;
+/// Title, conditions, legend, the square plot centred, the scale and the lines of text below.
+fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), ReportError> {
+    let e = |e: String| ReportError::Draw(e);
+    let t = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
+    let head = 10 + 34 + LINE * plot.conditions.len() as u32 + style::LEGEND_HEIGHT;
+    let mut below = vec![format!("scale: {} um / division; rings every division, the nominal circle in black", trim(scale))];
+    below.extend(plot.lines.iter().cloned());
+    let height = head + PLOT + 12 + LINE * below.len() as u32 + 8;
+    let root = SVGBackend::with_string(svg, (style::WIDTH, height)).into_drawing_area();
+    root.fill(&WHITE).map_err(|x| t(&x))?;
+    style::title(&root, plot.title, 10).map_err(e)?;
+    for (i, c) in plot.conditions.iter().enumerate() {
+        style::centred(&root, c, 44 + (LINE * i as u32) as i32, style::TICK).map_err(e)?;
+    }
+    let (top, rest) = root.split_vertically(head);
+    let (_, legend_strip) = top.split_vertically(head - style::LEGEND_HEIGHT);
+    let mut entries: Vec<(String, Swatch)> =
+        plot.series.iter().enumerate().map(|(k, s)| (s.label.clone(), Swatch::Line(style::colour(k), 3))).collect();
+    entries.push(("nominal circle".into(), Swatch::Line(BLACK, 2)));
+    style::legend(&legend_strip, &entries).map_err(e)?;
+    let (plot_row, text_area) = rest.split_vertically(PLOT);
+    let side = (style::WIDTH - PLOT) / 2;
+    let (_, right) = plot_row.split_horizontally(side);
+    let (square, _) = right.split_horizontally(PLOT);
+    let extent = NOMINAL + 3.9;
+    let mut chart = ChartBuilder::on(&square).build_cartesian_2d(-extent..extent, -extent..extent).map_err(|x| t(&x))?;
     // rings every division within +-3 of the nominal circle, spokes every 30 deg
     for k in -3i32..=3 {
-        let style = if k == 0 { BLACK.stroke_width(2) } else { RGBColor(200, 200, 200).stroke_width(1) };
-        chart.draw_series(std::iter::once(PathElement::new(circle(NOMINAL + f64::from(k)), style))).map_err(text)?;
+        let line = if k == 0 { BLACK.stroke_width(2) } else { style::LIGHT.stroke_width(1) };
+        chart.draw_series(std::iter::once(PathElement::new(circle(NOMINAL + f64::from(k)), line))).map_err(|x| t(&x))?;
     }
     for i in 0..12 {
-        let t = f64::from(i * 30).to_radians();
-        let (c, s) = (t.cos(), t.sin());
+        let a = f64::from(i * 30).to_radians();
+        let (c, s) = (a.cos(), a.sin());
         chart
             .draw_series(std::iter::once(PathElement::new(
                 vec![(2.0 * c, 2.0 * s), ((NOMINAL + 3.0) * c, (NOMINAL + 3.0) * s)],
-                RGBColor(220, 220, 220),
+                style::LIGHT,
             )))
-            .map_err(text)?;
+            .map_err(|x| t(&x))?;
     }
-    let label = |s: &str, x: f64, y: f64| {
-        Text::new(s.to_string(), (x, y), TextStyle::from(("sans-serif", 14).into_font()).pos(Pos::new(HPos::Center, VPos::Center)))
+    let (pa, pb) = plot.axes;
+    let minus = |name: &str| name.replacen('+', "-", 1);
+    let label = |s: String, x: f64, y: f64| {
+        Text::new(s, (x, y), TextStyle::from(style::bold(style::LABEL)).pos(Pos::new(HPos::Center, VPos::Center)))
     };
-    chart.draw_series([label(plot.axes.0, NOMINAL + 3.4, 0.0), label(plot.axes.1, 0.0, NOMINAL + 3.4)]).map_err(text)?;
+    let r = NOMINAL + 3.5;
+    chart
+        .draw_series([label(pa.to_string(), r, 0.0), label(pb.to_string(), 0.0, r), label(minus(pa), -r, 0.0), label(minus(pb), 0.0, -r)])
+        .map_err(|x| t(&x))?;
     for (k, series) in plot.series.iter().enumerate() {
-        let colour = COLOURS[k % COLOURS.len()];
         let points: Vec<(f64, f64)> = series
             .angles
             .iter()
             .zip(series.dl_um)
-            .map(|(t, d)| ((NOMINAL + d / scale) * t.cos(), (NOMINAL + d / scale) * t.sin()))
+            .map(|(a, d)| ((NOMINAL + d / scale) * a.cos(), (NOMINAL + d / scale) * a.sin()))
             .collect();
-        chart
-            .draw_series(std::iter::once(PathElement::new(points, colour.stroke_width(2))))
-            .map_err(text)?
-            .label(series.label.clone())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
+        chart.draw_series(std::iter::once(PathElement::new(points, style::colour(k).stroke_width(2)))).map_err(|x| t(&x))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.85))
-        .label_font(("sans-serif", 12))
-        .draw()
-        .map_err(text)?;
-    let mut lines = vec![format!("scale: {} um / division", trim(scale)), "black: nominal circle".to_string(), String::new()];
-    lines.extend(plot.lines.iter().cloned());
-    for (i, line) in lines.iter().enumerate() {
-        right.draw(&Text::new(line.clone(), (10, 30 + 20 * i as i32), ("sans-serif", 13).into_font())).map_err(text)?;
+    for (i, line) in below.iter().enumerate() {
+        style::centred(&text_area, line, 12 + (LINE * i as u32) as i32, style::TICK).map_err(e)?;
     }
-    root.present().map_err(text)?;
+    root.present().map_err(|x| t(&x))?;
     Ok(())
 }
 
@@ -133,7 +135,7 @@ fn trim(v: f64) -> String {
 }
 
 /// The polar plot of the runs of an ISO 230-4 circular test (one trace per run, labelled CCW / CW),
-/// with `lines` (the evaluation's summary) beside it; `um_per_division` as in [`PolarPlot`].
+/// with `lines` (the evaluation's summary) under it; `um_per_division` as in [`PolarPlot`].
 pub fn circular_runs_svg(
     title: &str,
     axes: (&str, &str),
@@ -141,13 +143,25 @@ pub fn circular_runs_svg(
     um_per_division: Option<f64>,
     lines: &[String],
 ) -> Result<String, ReportError> {
+    circle_svg(title, axes, runs, um_per_division, lines, &[])
+}
+
+/// As [`circular_runs_svg`] with the test's conditions (radius, feed, direction) under the title.
+pub fn circle_svg(
+    title: &str,
+    axes: (&str, &str),
+    runs: &[trueaxis::evaluate::ballbar_diagnostics::CircularRun],
+    um_per_division: Option<f64>,
+    lines: &[String],
+    conditions: &[String],
+) -> Result<String, ReportError> {
     let dl_um: Vec<Vec<f64>> = runs.iter().map(|r| r.dl.iter().map(|v| v * 1e3).collect()).collect();
     let series = runs
         .iter()
         .zip(&dl_um)
         .map(|(r, d)| PolarSeries { label: r.rotation.name().to_uppercase(), angles: &r.test.angles, dl_um: d })
         .collect();
-    polar_svg(&PolarPlot { title, axes, series, um_per_division, lines })
+    polar_svg(&PolarPlot { title, axes, series, um_per_division, lines, conditions })
 }
 
 #[cfg(test)]
@@ -173,6 +187,7 @@ mod tests {
             series: vec![PolarSeries { label: "CCW".into(), angles: &angles, dl_um: &dl }],
             um_per_division: None,
             lines: &lines,
+            conditions: &[],
         })
         .unwrap();
         assert!(svg.contains("scale: 5 um / division") && svg.contains("squareness") && svg.contains("CCW"));
@@ -184,6 +199,7 @@ mod tests {
             series: vec![PolarSeries { label: String::new(), angles: &bad, dl_um: &bad }],
             um_per_division: None,
             lines: &[],
+            conditions: &[],
         });
         assert!(err.is_err());
     }

@@ -1,10 +1,9 @@
 //! Profiles as SVG: one line per series against a position (e.g. the machine straightness and the
 //! arbor form of a reversal, seed 003 §3.4) or against the observation index (residuals).
 
+use super::style::{self, Swatch};
 use super::ReportError;
 use plotters::prelude::*;
-
-const COLOURS: [RGBColor; 4] = [RGBColor(31, 97, 181), RGBColor(204, 60, 40), RGBColor(40, 150, 70), RGBColor(140, 80, 170)];
 
 /// What to draw: `(name, points)` per series.
 pub struct Profiles<'a> {
@@ -36,30 +35,41 @@ pub fn profiles_svg(plot: &Profiles) -> Result<String, ReportError> {
     let text = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, (900, 440)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| text(&e))?;
+        style::title(&root, plot.title, 8).map_err(ReportError::Draw)?;
+        let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
+        let (_, strip) = top.split_vertically(44);
+        let entries: Vec<(String, Swatch)> =
+            series.iter().enumerate().map(|(k, (name, _))| (name.clone(), Swatch::Line(style::colour(k), 3))).collect();
+        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
         let mut chart = ChartBuilder::on(&root)
-            .caption(plot.title, ("sans-serif", 18))
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(65)
+            .margin(12)
+            .margin_right(30)
+            .x_label_area_size(64)
+            .y_label_area_size(90)
             .build_cartesian_2d((x0 - xpad)..(x1 + xpad), (y0 - ypad)..(y1 + ypad))
             .map_err(|e| text(&e))?;
-        chart.configure_mesh().x_desc(plot.x_label).y_desc(plot.y_label).label_style(("sans-serif", 12)).draw().map_err(|e| text(&e))?;
-        for (k, (name, p)) in series.iter().enumerate() {
-            let colour = COLOURS[k % COLOURS.len()];
+        chart
+            .configure_mesh()
+            .x_desc(plot.x_label)
+            .y_desc(plot.y_label)
+            .x_labels(6)
+            .y_labels(6)
+            .label_style(style::font(style::TICK))
+            .axis_desc_style(style::font(style::TICK))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(|e| text(&e))?;
+        for (k, (_, p)) in series.iter().enumerate() {
+            let colour = style::colour(k);
             let mut sorted = p.clone();
             sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
-            chart
-                .draw_series(LineSeries::new(sorted.iter().copied(), colour.stroke_width(if plot.markers { 2 } else { 1 })))
-                .map_err(|e| text(&e))?
-                .label(name.as_str())
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
+            chart.draw_series(LineSeries::new(sorted.iter().copied(), colour.stroke_width(2))).map_err(|e| text(&e))?;
             if plot.markers {
-                chart.draw_series(sorted.iter().map(|p| Circle::new(*p, 2, colour.filled()))).map_err(|e| text(&e))?;
+                chart.draw_series(sorted.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(|e| text(&e))?;
             }
         }
-        chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(|e| text(&e))?;
         root.present().map_err(|e| text(&e))?;
     }
     Ok(svg)

@@ -28,7 +28,7 @@ pub fn uncertainty_figures(budget: &Budget, settings: &McSettings) -> Result<(St
         })
         .collect();
     let title = format!(
-        "Monte Carlo distributions of the {} parameters, {} % intervals (red), GUM (black)",
+        "Monte Carlo distributions of the {} parameters and their {} % intervals",
         budget.rows.len(),
         100.0 * settings.coverage
     );
@@ -46,7 +46,7 @@ pub fn uncertainty_figures(budget: &Budget, settings: &McSettings) -> Result<(St
                 .map(|(k, n)| (n.to_string(), history.iter().map(|c| c.max[k].max(1e-300)).collect()))
                 .collect(),
             tolerance: settings.tolerance,
-            unit: "parameter units".into(),
+            unit: "um or urad".into(),
         };
         Some(convergence_svg("Adaptive Monte Carlo: control variables (largest over the parameters)", &series)?)
     };

@@ -144,7 +144,7 @@ fn volume_map(machine: &Machine, spec: &BudgetSpec, loaded: &Loaded) -> Result<O
     map.poses_internal = super::inputs::internal(machine, &map.poses_user);
     let a = analyse(machine, spec, &map.poses_internal, &loaded.setup, loaded.frame).map_err(failure)?;
     let values: Vec<f64> = a.poses.iter().map(|p| p.stack.rss_total).collect();
-    Ok(Some(map.heatmap("Root-sum-square volumetric error (um)", &values).map_err(|e| Failure::computation(anyhow::anyhow!("{e}")))?))
+    Ok(Some(map.heatmap("Root-sum-square volumetric error (um)", &values, None).map_err(|e| Failure::computation(anyhow::anyhow!("{e}")))?))
 }
 
 fn pose_columns(machine: &Machine) -> Vec<String> {

@@ -2,8 +2,10 @@
 //! evaluated as `trueaxis ballbar iso230-4` evaluates them (G, F, H and the diagnostics fitted on
 //! the machine's Jacobian), with their polar plots.
 
-use super::super::circular_runs_svg;
+use super::super::circle_svg;
 use super::super::html::Section;
+use super::conformity::{DecisionRule, Item};
+use super::quantity::{quantity, with_uncertainty};
 use super::{number, CalibrationError};
 use std::path::PathBuf;
 use trueaxis::evaluate::ballbar_diagnostics::DiagnosticOptions;
@@ -52,9 +54,17 @@ impl CircleInput {
 pub struct CirclePart {
     pub input: CircleInput,
     pub result: Iso2304Result,
-    /// The polar plot and the lines of text beside it (`Iso2304Result::summary_lines`).
+    /// The polar plot, and the evaluation's summary (`Iso2304Result::summary_lines`, what
+    /// `trueaxis ballbar iso230-4` prints).
     pub svg: String,
     pub lines: Vec<String>,
+    /// Feed rate (mm/min) from the file's header, when it states one.
+    pub feed_mm_per_min: Option<f64>,
+    /// Expanded uncertainty (k = 2, um) of the bar readings, from the ballbar's calibration
+    /// certificate (`report.toml`): the uncertainty quoted with G, F and H.
+    pub reading_u_um: Option<f64>,
+    /// What the file records (machine, serial number, date, operator ...).
+    pub metadata: trueaxis::io::Metadata,
     /// Paragraphs on how the test was done.
     pub description: Vec<String>,
 }
@@ -76,19 +86,141 @@ impl CirclePart {
         };
         let result = evaluate(machine, &runs, &options)?;
         let lines = result.summary_lines();
-        let title = format!("ISO 230-4 circular test, {} plane, R {} mm: {}", input.plane.name(), input.radius, input.path.display());
-        let svg = circular_runs_svg(&title, (&format!("+{ia}"), &format!("+{ib}")), &runs, None, &lines)?;
-        Ok(CirclePart { input, result, svg, lines, description: Vec::new() })
+        let feed = file.header.feed_mm_per_min;
+        let directions: Vec<String> = runs.iter().map(|r| r.rotation.name().to_uppercase()).collect();
+        let conditions = vec![
+            format!(
+                "{} plane, radius {} mm, centre ({}, {}, {}) mm",
+                input.plane.name().to_uppercase(),
+                input.radius,
+                input.centre.x,
+                input.centre.y,
+                input.centre.z
+            ),
+            format!(
+                "feed {}, {}",
+                feed.map_or("not stated in the file".to_string(), |f| format!("{f} mm/min")),
+                match directions.len() {
+                    1 => format!("{} run", directions[0]),
+                    _ => format!("runs {} in this order", directions.join(" then ")),
+                }
+            ),
+        ];
+        let title = format!("Circular test (ISO 230-4): {}", file_name(&input.path));
+        let svg = circle_svg(&title, (&format!("+{ia}"), &format!("+{ib}")), &runs, None, &[], &conditions)?;
+        Ok(CirclePart {
+            input,
+            result,
+            svg,
+            lines,
+            feed_mm_per_min: feed,
+            reading_u_um: None,
+            metadata: file.metadata,
+            description: Vec::new(),
+        })
+    }
+
+    /// Toleranced items of this circle: `G`, `F`, `H` and diagnostics by name (`tolerances` in
+    /// their units), decided under `rule`.
+    pub fn conformity(&self, tolerances: &std::collections::BTreeMap<String, f64>, rule: DecisionRule) -> Vec<Item> {
+        let name = file_name(&self.input.path);
+        let mut items = Vec::new();
+        for (key, &tol) in tolerances {
+            match key.as_str() {
+                "G" | "F" => {
+                    for run in &self.result.runs {
+                        let value = if key == "G" { run.g_um } else { run.f_max_um.abs().max(run.f_min_um.abs()) };
+                        let what = if key == "G" { "circular deviation G" } else { "radial deviation F (largest magnitude)" };
+                        items.push(Item::new(
+                            format!("{name}, {} run: {what}", run.rotation.name().to_uppercase()),
+                            "ballbar",
+                            value,
+                            self.reading_u_um,
+                            tol,
+                            "um",
+                            rule,
+                        ));
+                    }
+                }
+                "H" => {
+                    if let Some(h) = self.result.hysteresis_um {
+                        items.push(Item::new(format!("{name}: circular hysteresis H"), "ballbar", h, self.reading_u_um, tol, "um", rule));
+                    }
+                }
+                diagnostic => {
+                    let wanted = diagnostic.replace('_', " ").to_lowercase();
+                    for d in self.result.diagnostics.items.iter().filter(|d| d.name.to_lowercase() == wanted || d.parameter == diagnostic) {
+                        items.push(Item::new(
+                            format!("{name}: {}", d.name),
+                            "ballbar",
+                            d.value,
+                            Some(2.0 * d.std_uncertainty),
+                            tol,
+                            d.unit,
+                            rule,
+                        ));
+                    }
+                }
+            }
+        }
+        items
     }
 }
 
-/// One section with every circle: the ISO values, the polar plot, the diagnostics.
+fn file_name(path: &std::path::Path) -> String {
+    path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+/// One section with every circle: the test conditions, the polar plot, the ISO 230-4 values and
+/// the diagnostics, each with its expanded uncertainty.
 pub fn section(circles: &[CirclePart]) -> Section {
     let mut s = Section::new("ballbar", "Ballbar tests (ISO 230-4)").paragraph(
-        "Circular deviation G, radial deviations F, hysteresis H (ISO 230-4), and diagnostics: a least-squares fit of the machine's own Jacobian in the circle plane (squareness, scale, straightness, backlash, servo mismatch).",
+        "Circular deviation G, radial deviations F and circular hysteresis H as ISO 230-4 defines them, and diagnostics: a least-squares fit of the machine's own error model in the plane of the circle (squareness, scale mismatch, straightness, backlash, lateral play, servo mismatch; docs/ballbar.md). The uncertainty of G, F and H is the expanded uncertainty of the bar readings from the ballbar's calibration certificate when report.toml gives it; that of a diagnostic is twice its least-squares standard uncertainty (the scatter of the readings about the fitted model).",
     );
     for c in circles {
-        let rows = c
+        let i = &c.input;
+        s = s.paragraph(format!(
+            "{}: {} plane, radius {} mm, centre ({}, {}, {}) mm, feed {}.",
+            i.path.display(),
+            i.plane.name().to_uppercase(),
+            i.radius,
+            i.centre.x,
+            i.centre.y,
+            i.centre.z,
+            c.feed_mm_per_min.map_or("not stated in the file".to_string(), |f| format!("{f} mm/min"))
+        ));
+        for p in &c.description {
+            s = s.paragraph(p.clone());
+        }
+        s = s.figure(
+            "Polar plot of the bar readings: the deviation from the nominal radius magnified about the black nominal circle (scale per division stated under the plot); the centre of the plot is the centre of the circle.",
+            c.svg.clone(),
+        );
+        let u = c.reading_u_um;
+        let value = |v: f64| with_uncertainty(v, u, "um", 2);
+        let mut rows: Vec<Vec<String>> = c
+            .result
+            .runs
+            .iter()
+            .map(|r| {
+                vec![
+                    r.rotation.name().to_uppercase(),
+                    value(r.g_um),
+                    value(r.f_max_um),
+                    value(r.f_min_um),
+                    format!("({}, {}) um", number(r.centre_um[0], 2), number(r.centre_um[1], 2)),
+                ]
+            })
+            .collect();
+        if let Some(h) = c.result.hysteresis_um {
+            rows.push(vec!["both".into(), format!("H = {}", value(h)), String::new(), String::new(), String::new()]);
+        }
+        s = s.table(
+            format!("ISO 230-4 values of {}", file_name(&i.path)),
+            &["run", "circular deviation G", "largest radial deviation F", "smallest radial deviation F", "centre of the fitted circle"],
+            rows,
+        );
+        let diagnostics = c
             .result
             .diagnostics
             .items
@@ -96,31 +228,18 @@ pub fn section(circles: &[CirclePart]) -> Section {
             .map(|d| {
                 vec![
                     d.name.clone(),
-                    d.parameter.clone(),
-                    number(d.value, 3),
-                    number(d.std_uncertainty, 3),
-                    d.unit.to_string(),
-                    number(d.effect_um, 3),
-                    number(d.share_percent, 1),
+                    if d.parameter.is_empty() { "-".into() } else { d.parameter.clone() },
+                    with_uncertainty(d.value, Some(2.0 * d.std_uncertainty), d.unit, 3),
+                    quantity(d.effect_um, 2, "um"),
+                    format!("{} %", number(d.share_percent, 0)),
                 ]
             })
             .collect();
-        let i = &c.input;
-        s = s.paragraph(format!(
-            "{}: {} plane, radius {} mm, centre ({}, {}, {}) mm.",
-            i.path.display(),
-            i.plane.name(),
-            i.radius,
-            i.centre.x,
-            i.centre.y,
-            i.centre.z
-        ));
-        for p in &c.description {
-            s = s.paragraph(p.clone());
-        }
-        s = s.figure("Polar plot of the bar readings (deviation magnified, scale per division stated)", c.svg.clone());
-        s = s.table(format!("Results of {}", i.path.display()), &["value"], c.lines.iter().map(|l| vec![l.clone()]).collect());
-        s = s.table("Diagnostics", &["diagnostic", "ISO parameter", "value", "u", "unit", "effect (um)", "share (%)"], rows);
+        s = s.table(
+            format!("Diagnostics of {} (fit residual RMS {})", file_name(&i.path), quantity(c.result.diagnostics.residual_rms_um, 3, "um")),
+            &["diagnostic", "ISO parameter", "value ± U (k = 2)", "effect on the reading", "share of the deviation"],
+            diagnostics,
+        );
         for o in &c.result.diagnostics.omitted {
             s = s.note(format!("Not fitted: {o}"));
         }

@@ -3,9 +3,38 @@
 //! computes them, and what the controller's sum of tables does at any pose.
 
 use super::super::html::Section;
+use super::quantity::quantity;
 use super::CalibrationError;
-use trueaxis::compensate::export::{self, Coverage, ExportInput, ExportedFile, Extent, Limits};
-use trueaxis::compensate::{axis_tables, volumetric_grid, Corrector, TableSet, TableSpec, VolumetricGrid};
+use trueaxis::compensate::export::{self, Coverage, Export, ExportInput, ExportedFile, Extent, Limits};
+use trueaxis::compensate::{
+    axis_tables, residual_of_format, volumetric_grid, Corrector, FormatResidual, TableSet, TableSpec, VolumetricGrid,
+};
+
+/// The controller formats whose corrections a report can evaluate (as `trueaxis compensate
+/// --format`): what each can represent is applied on the exact chain.
+pub const CONTROLLER_FORMATS: [&str; 7] = ["heidenhain", "siemens", "fanuc", "linuxcnc", "linuxcnc-hal", "isg", "lattice"];
+
+/// The name of a controller format as a customer reads it.
+pub fn controller_name(format: &str) -> &str {
+    match format {
+        "heidenhain" => "Heidenhain",
+        "siemens" => "Siemens 840D sl",
+        "fanuc" => "Fanuc",
+        "linuxcnc" => "LinuxCNC",
+        "linuxcnc-hal" => "LinuxCNC (HAL component)",
+        "isg" => "ISG",
+        "lattice" => "lattice",
+        other => other,
+    }
+}
+
+/// What the controller table the user chose leaves of the errors over the travel.
+pub struct ControllerPart {
+    pub format: String,
+    pub residual: FormatResidual,
+    /// What the format cannot carry, one line each with its size.
+    pub left_out: Vec<String>,
+}
 use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
 
@@ -67,9 +96,38 @@ impl CompensationPart {
         dq
     }
 
-    pub fn section(&self) -> Section {
+    /// The files of controller `format` (one of [`CONTROLLER_FORMATS`]) with the default options
+    /// of `trueaxis compensate`, and the corrections the controller applies with them.
+    pub fn export<'a>(&'a self, machine: &'a Machine, errors: &'a ErrorModel, format: &str) -> Result<Export<'a>, CalibrationError> {
+        let input = ExportInput { machine, errors, tables: &self.tables, grid: self.grid.as_ref(), limits: Limits::default() };
+        Ok(match format {
+            "heidenhain" => export::heidenhain::export(&input)?,
+            "siemens" => export::siemens::export(&input, export::siemens::SiemensLimits::default())?,
+            "fanuc" => export::fanuc::export(&input, export::fanuc::FanucLimits::default())?,
+            "linuxcnc" => export::linuxcnc::export(&input, export::linuxcnc::CompType::Positions)?,
+            "linuxcnc-hal" => export::linuxcnc_hal::export(&input, "trueaxis_comp")?,
+            "isg" => export::isg::export(&input)?,
+            "lattice" => export::lattice::export(&input, None)?,
+            other => {
+                return Err(CalibrationError::Input(format!(
+                    "`{other}` is not a controller format; give one of {}",
+                    CONTROLLER_FORMATS.join(", ")
+                )))
+            }
+        })
+    }
+
+    /// What `format` leaves over the travel, on the exact chain (`residual_of_format`).
+    pub fn controller(&self, machine: &Machine, errors: &ErrorModel, format: &str) -> Result<ControllerPart, CalibrationError> {
+        let exported = self.export(machine, errors, format)?;
+        let corrector = Corrector::new(machine, errors);
+        let residual = residual_of_format(&corrector, &[], exported.applied.as_ref())?;
+        Ok(ControllerPart { format: format.into(), residual, left_out: exported.left_out })
+    }
+
+    pub fn section(&self, controller: Option<&ControllerPart>) -> Section {
         let mut s = Section::new("compensation", "Compensation").paragraph(format!(
-            "Corrections (added to the axis set-points) from {}: the least-squares correction of the axis set-points iterated on the exact chain (seed 000 §2.3.5), sampled as own-axis and cross-axis tables of {} points per axis (both directions of motion){}. Controller files (LinuxCNC, ISG, Heidenhain, Fanuc-style lattice, CSV, JSON) are written by `trueaxis compensate`.",
+            "Corrections (added to the axis set-points) from {}: the correction of the axis set-points iterated on the exact kinematic chain (docs/compensation.md), sampled as own-axis and cross-axis tables of {} points per axis (both directions of motion){}. The controller files (Heidenhain, Siemens, Fanuc, LinuxCNC, ISG, CSV, JSON) are written by `trueaxis compensate`.",
             self.origin,
             self.points,
             self.grid.as_ref().map_or(String::new(), |g| format!(" and a volumetric grid of {} x {} x {} nodes", g.counts[0], g.counts[1], g.counts[2]))
@@ -84,15 +142,46 @@ impl CompensationPart {
                     "grid nodes".into(),
                     self.grid.as_ref().map_or("none".into(), |g| format!("{}x{}x{}", g.counts[0], g.counts[1], g.counts[2])),
                 ],
-                vec!["largest correction written, linear axes (um)".into(), format!("{:.3}", self.extent.max_um)],
-                vec!["largest correction written, rotary axes (urad)".into(), format!("{:.3}", self.extent.max_urad)],
-                vec!["position residual after correction (um)".into(), format!("{:.4}", self.extent.worst_residual_mm * 1e3)],
-                vec!["orientation not corrected (urad)".into(), format!("{:.3}", self.extent.worst_uncorrectable_rad * 1e6)],
+                vec!["largest correction written, linear axes".into(), quantity(self.extent.max_um, 3, "um")],
+                vec!["largest correction written, rotary axes".into(), quantity(self.extent.max_urad, 3, "urad")],
+                vec!["position residual after correction".into(), quantity(self.extent.worst_residual_mm * 1e3, 4, "um")],
+                vec!["orientation not corrected".into(), quantity(self.extent.worst_uncorrectable_rad * 1e6, 3, "urad")],
             ],
         );
+        if let Some(c) = controller {
+            let r = &c.residual;
+            s = s.table(
+                format!(
+                    "What the {} tables leave, on the exact chain over {} poses and states of motion spread over the travel",
+                    c.format, r.samples
+                ),
+                &["quantity", "value"],
+                vec![
+                    vec!["largest error before compensation".into(), quantity(r.worst_error_um, 2, "um")],
+                    vec!["largest error left".into(), quantity(r.worst_um, 2, "um")],
+                    vec!["RMS of the error left".into(), quantity(r.rms_um, 2, "um")],
+                    vec![
+                        "where the most is left".into(),
+                        format!(
+                            "{} ({}), where the error was {}",
+                            pose_text(&r.worst_pose),
+                            r.worst_state,
+                            quantity(r.error_there_um, 2, "um")
+                        ),
+                    ],
+                ],
+            );
+            for l in &c.left_out {
+                s = s.note(format!("The {} format cannot carry: {l}", controller_name(&c.format)));
+            }
+        }
         if !self.files.is_empty() {
             s = s.table("Files written", &["file"], self.files.iter().map(|f| vec![f.clone()]).collect());
         }
         s
     }
+}
+
+fn pose_text(pose: &[f64]) -> String {
+    format!("pose ({})", pose.iter().map(|v| format!("{v}")).collect::<Vec<_>>().join(", "))
 }

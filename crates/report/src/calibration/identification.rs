@@ -1,10 +1,11 @@
 //! The identification part of a calibration report: a campaign solved as `trueaxis identify` solves
 //! it (weighted least squares on the first-order Jacobian of the exact chain, seed 000 eq. 2.24 /
-//! seed 004 eq. 2), its residuals per channel, the parameters with their uncertainties and the
-//! identifiability report.
+//! seed 004 eq. 2), its residuals per channel, the parameters each with one expanded uncertainty
+//! and the method that gave it, and the identifiability report.
 
-use super::super::html::Section;
+use super::super::html::{Cell, Section};
 use super::super::residuals_svg;
+use super::quantity::{quantity, with_uncertainty};
 use super::uncertainty::UncertaintyPart;
 use super::{number, CalibrationError};
 use std::path::Path;
@@ -40,6 +41,31 @@ pub struct ParameterRow {
     pub value: f64,
     pub std_uncertainty: Option<f64>,
     pub interval: Option<(f64, f64)>,
+    /// The one expanded uncertainty quoted (k = 2): twice the Monte Carlo standard uncertainty with
+    /// all sources when evaluated, else twice the least-squares standard uncertainty.
+    pub expanded: Option<f64>,
+    /// How `expanded` was obtained.
+    pub method: UncertaintyMethod,
+}
+
+/// Where a parameter's expanded uncertainty comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UncertaintyMethod {
+    /// Adaptive Monte Carlo (JCGM 101) with every source of the sources file.
+    MonteCarlo,
+    /// The least-squares covariance scaled by the residuals (the noise seen in this campaign only).
+    LeastSquares,
+    None,
+}
+
+impl UncertaintyMethod {
+    pub fn describe(self) -> &'static str {
+        match self {
+            UncertaintyMethod::MonteCarlo => "Monte Carlo, all sources (JCGM 101)",
+            UncertaintyMethod::LeastSquares => "least squares, residual scatter only",
+            UncertaintyMethod::None => "not evaluated",
+        }
+    }
 }
 
 impl IdentificationPart {
@@ -74,13 +100,24 @@ impl IdentificationPart {
     pub fn parameter_rows(&self, uncertainty: Option<&UncertaintyPart>) -> Vec<ParameterRow> {
         let r = &self.result;
         (0..r.names.len())
-            .map(|j| ParameterRow {
-                name: r.names[j].clone(),
-                unit: r.units[j].clone(),
-                truth: self.truth.as_ref().map(|t| t[j]),
-                value: r.values[j],
-                std_uncertainty: r.std_uncertainty[j],
-                interval: uncertainty.and_then(|u| u.interval(&r.names[j])),
+            .map(|j| {
+                let monte_carlo = uncertainty.and_then(|u| u.std_uncertainty(&r.names[j])).filter(|u| u.is_finite() && *u > 0.0);
+                let least_squares = r.std_uncertainty[j].filter(|u| u.is_finite() && *u > 0.0);
+                let (expanded, method) = match (monte_carlo, least_squares) {
+                    (Some(u), _) => (Some(2.0 * u), UncertaintyMethod::MonteCarlo),
+                    (None, Some(u)) => (Some(2.0 * u), UncertaintyMethod::LeastSquares),
+                    (None, None) => (None, UncertaintyMethod::None),
+                };
+                ParameterRow {
+                    name: r.names[j].clone(),
+                    unit: r.units[j].clone(),
+                    truth: self.truth.as_ref().map(|t| t[j]),
+                    value: r.values[j],
+                    std_uncertainty: r.std_uncertainty[j],
+                    interval: uncertainty.and_then(|u| u.interval(&r.names[j])),
+                    expanded,
+                    method,
+                }
             })
             .collect()
     }
@@ -92,7 +129,14 @@ impl IdentificationPart {
             .channels
             .iter()
             .map(|c| {
-                vec![c.name.clone(), c.count.to_string(), number(c.mean, 3), number(c.rms, 3), number(c.max_abs, 3), number(c.sigma, 3)]
+                vec![
+                    c.name.clone(),
+                    c.count.to_string(),
+                    quantity(c.mean, 2, "um"),
+                    quantity(c.rms, 2, "um"),
+                    quantity(c.max_abs, 2, "um"),
+                    quantity(c.sigma, 2, "um"),
+                ]
             })
             .collect();
         let d = &self.design;
@@ -114,8 +158,8 @@ impl IdentificationPart {
             s = s.paragraph(p.clone());
         }
         s = s.table(
-            "Residuals per channel after identification (um)",
-            &["channel", "readings", "mean", "RMS", "max |r|", "stated noise"],
+            "Residuals per channel after identification",
+            &["channel", "readings", "mean", "RMS", "largest", "stated noise"],
             stats,
         );
         if let Ok(svg) = residuals_svg("Residuals of the identification (um)", &residuals) {
@@ -124,60 +168,63 @@ impl IdentificationPart {
         s
     }
 
-    /// The identified parameters with their uncertainties, and the identifiability report.
+    /// The identified parameters, each with one expanded uncertainty (k = 2) rounded by it, the
+    /// method that gave it (linked to its budget), and the identifiability report.
     pub fn parameter_section(&self, uncertainty: Option<&UncertaintyPart>) -> Section {
         let r = &self.result;
         let ident = &r.identifiability;
         let rows = self.parameter_rows(uncertainty);
         let with_truth = self.truth.is_some();
-        let with_interval = uncertainty.is_some();
-        let interval_header = uncertainty.map(|u| format!("{} % interval (MC)", 100.0 * u.sources.settings.coverage));
-        let mut header = vec!["parameter", "unit"];
+        let mut header = vec!["parameter"];
         if with_truth {
-            header.push("true");
+            header.push("true value");
         }
-        header.extend(["identified", "u (LS)"]);
-        if let Some(h) = &interval_header {
-            header.push(h);
-        }
-        if with_truth && with_interval {
-            header.push("covers");
+        header.extend(["identified value ± U (k = 2)", "uncertainty from"]);
+        if with_truth {
+            header.push("true value within U");
         }
         header.push("independence");
         let table = rows
             .iter()
             .zip(&ident.independence)
             .map(|(p, independence)| {
-                let mut cells = vec![p.name.clone(), p.unit.clone()];
+                let mut cells = vec![Cell::from(p.name.clone())];
+                let decimals = p.expanded.and_then(super::quantity::decimals_for).unwrap_or(2);
                 if let Some(t) = p.truth {
-                    cells.push(number(t, 2));
+                    cells.push(Cell::from(quantity(t, decimals, &p.unit)));
                 }
-                cells.push(number(p.value, 2));
-                cells.push(p.std_uncertainty.map_or("-".into(), |u| number(u, 2)));
-                if with_interval {
-                    cells.push(p.interval.map_or("-".into(), |(lo, hi)| format!("[{}, {}]", number(lo, 2), number(hi, 2))));
+                cells.push(Cell::from(with_uncertainty(p.value, p.expanded, &p.unit, 2)));
+                cells.push(match p.method {
+                    UncertaintyMethod::MonteCarlo => Cell::link(p.method.describe(), "uncertainty"),
+                    _ => Cell::from(p.method.describe()),
+                });
+                if let Some(t) = p.truth {
+                    let within = p.expanded.is_some_and(|u| (p.value - t).abs() <= u);
+                    cells.push(Cell::from(if within { "yes" } else { "no" }));
                 }
-                if let (Some(t), true) = (p.truth, with_interval) {
-                    cells.push(if p.interval.is_some_and(|(lo, hi)| lo <= t && t <= hi) { "yes".into() } else { "no".into() });
-                }
-                cells.push(number(*independence, 3));
+                cells.push(Cell::from(number(*independence, 2)));
                 cells
             })
             .collect();
+        let header_refs: Vec<&str> = header.clone();
         let mut s = Section::new("identification", "Identified parameters")
             .paragraph(format!(
-                "Weighted least squares ({}) on the first-order Jacobian of the exact chain (seed 000 eq. 2.24, seed 004 eq. 2): {} unknowns from {} readings, rank {}, condition number {} (unit-length scaled columns), residual RMS {:.3} um, standard deviation of unit weight s0 = {:.2} (1 when the residuals match the stated noise).",
+                "Weighted least squares ({} factorisation) on the linearised model of the exact kinematic chain (docs/identification.md): {} unknowns from {} readings, rank {}, condition number {} (columns scaled to unit length), residual RMS {}, standard deviation of unit weight {:.2} (1 when the residuals match the stated noise).",
                 r.solver.name().to_uppercase(),
                 r.names.len(),
                 r.residuals.len(),
                 ident.rank,
                 ident.condition_number.map_or("infinite".into(), |c| format!("{c:.1}")),
-                r.residual_rms_um,
+                quantity(r.residual_rms_um, 3, "um"),
                 r.sigma0
             ))
-            .table(
-                "Parameters (um, urad): identified value with its least-squares standard uncertainty (s0-scaled), the Monte Carlo coverage interval with all uncertainty sources when evaluated, and the independence index (1: orthogonal to all other parameters, 0: a combination of them)",
-                &header,
+            .paragraph(match uncertainty {
+                Some(_) => "Each value is quoted with one expanded uncertainty U (coverage factor k = 2, about 95 %): twice the standard deviation of its Monte Carlo distribution with every uncertainty source (see the uncertainty budget), rounded to two significant digits, the value to the same decimal place.",
+                None => "Each value is quoted with one expanded uncertainty U (coverage factor k = 2, about 95 %): twice its least-squares standard uncertainty, which reflects only the scatter of this campaign's residuals (no uncertainty sources were given), rounded to two significant digits, the value to the same decimal place.",
+            })
+            .cells(
+                "Parameters, and the independence index of each (1: orthogonal to all other parameters, 0: a combination of them)",
+                &header_refs,
                 table,
             );
         for c in &ident.unidentifiable {

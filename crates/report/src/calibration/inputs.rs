@@ -18,6 +18,8 @@ pub struct InputFile {
     /// What a data file records about its test (machine, serial number, date, operator, axis,
     /// environment: `trueaxis::io::Metadata`), one item per entry; empty for other files.
     pub recorded: Vec<String>,
+    /// The same, as read (`None` for a file that is not a data file).
+    pub metadata: Option<trueaxis::io::Metadata>,
 }
 
 impl InputFile {
@@ -28,12 +30,14 @@ impl InputFile {
     }
 
     pub fn of_bytes(role: &str, path: &str, bytes: &[u8]) -> InputFile {
+        let metadata = recorded(path, bytes);
         InputFile {
             role: role.into(),
             path: path.into(),
             bytes: bytes.len() as u64,
             sha256: hex(&sha256(bytes)),
-            recorded: recorded(path, bytes),
+            recorded: metadata.as_ref().map(|m| m.lines()).unwrap_or_default(),
+            metadata,
         }
     }
 }
@@ -96,20 +100,19 @@ pub fn utc_date_time(unix_seconds: i64) -> String {
 }
 
 /// The metadata of a data file (a table, a Renishaw `.rtl`, a ballbar export: extensions csv, tsv,
-/// txt, rtl), as lines; nothing for other files or a file that cannot be read as a table.
-fn recorded(path: &str, bytes: &[u8]) -> Vec<String> {
+/// txt, rtl); nothing for other files or a file that cannot be read as a table.
+fn recorded(path: &str, bytes: &[u8]) -> Option<trueaxis::io::Metadata> {
     let data = Path::new(path)
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| ["csv", "tsv", "txt", "rtl"].contains(&e.to_ascii_lowercase().as_str()));
     if !data {
-        return Vec::new();
+        return None;
     }
     trueaxis::io::text_of(bytes.to_vec(), path)
         .ok()
         .and_then(|text| trueaxis::data::CsvTable::from_text(&text, path).ok())
-        .map(|t| t.metadata().lines())
-        .unwrap_or_default()
+        .map(|t| t.metadata().clone())
 }
 
 fn hex(bytes: &[u8]) -> String {

@@ -2,7 +2,7 @@
 //! axes at 0), and their heat maps (SVG) and tables (the `predict` CSV).
 
 use super::CalibrationError;
-use crate::{heatmap_svg, MapSlice};
+use crate::{heatmap_svg_scaled, MapSlice};
 use trueaxis::data::predictions_csv;
 use trueaxis::machine::{AxisKind, Machine};
 use trueaxis::model::VolumetricError;
@@ -42,8 +42,8 @@ impl VolumeMap {
         Ok(predictions_csv(machine, &self.poses_user, predictions)?)
     }
 
-    /// Heat maps of `|d|` (um) over the planes, one colour scale.
-    pub fn heatmap(&self, title: &str, magnitudes_um: &[f64]) -> Result<String, CalibrationError> {
+    /// Heat maps of `|d|` (um) over the planes, one colour scale (over `range` when given).
+    pub fn heatmap(&self, title: &str, magnitudes_um: &[f64], range: Option<(f64, f64)>) -> Result<String, CalibrationError> {
         let mut maps = Vec::new();
         let mut offset = 0;
         for (plane, (xa, xs), (ya, ys), _) in &self.planes {
@@ -58,7 +58,7 @@ impl VolumeMap {
             });
             offset += count;
         }
-        Ok(heatmap_svg(title, &maps, "|d| (um)")?)
+        Ok(heatmap_svg_scaled(title, &maps, "|d| (um)", range)?)
     }
 }
 

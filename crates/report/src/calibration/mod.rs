@@ -5,6 +5,7 @@
 //!
 //! | input | section(s) |
 //! |---|---|
+//! | always (`report.toml` when given) | `certificate` (particulars, instruments, methods), `conformity` (with tolerances) |
 //! | machine | `machine` |
 //! | campaign | `campaign` (residuals), `identification` (parameters, uncertainties, identifiability) |
 //! | uncertainty sources (with a campaign) | `uncertainty` (Monte Carlo budget, histograms, convergence) |
@@ -17,17 +18,22 @@
 //! `trueaxis report` builds it from a user's files; `trueaxis demo` from the files it simulates.
 
 mod ballbar;
+mod certificate;
 mod compensation;
+pub mod conformity;
 mod identification;
 mod inputs;
 mod maps;
+pub mod quantity;
 mod thermal;
 mod uncertainty;
 mod volume;
 
 pub use ballbar::{section as ballbar_section, CircleInput, CirclePart, SPIKE_WIDTH_DEG};
-pub use compensation::{CompensationPart, GRID_NODES, POINTS};
-pub use identification::{IdentificationPart, ParameterRow};
+pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances};
+pub use compensation::{controller_name, CompensationPart, ControllerPart, CONTROLLER_FORMATS, GRID_NODES, POINTS};
+pub use conformity::{decide, DecisionRule, Item};
+pub use identification::{IdentificationPart, ParameterRow, UncertaintyMethod};
 pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
 pub use maps::{magnitudes_um, statistics, VolumeMap, GRID};
 pub use thermal::{ThermalDriftPart, ThermalModesPart};
@@ -103,15 +109,90 @@ pub struct CalibrationReport<'a> {
     pub thermal_drift: Option<ThermalDriftPart>,
     pub circles: Vec<CirclePart>,
     pub compensation: Option<CompensationPart>,
+    /// What the controller format the user chose leaves over the travel.
+    pub controller: Option<ControllerPart>,
     /// Further sections before the inputs (the demo's "repeat each step").
     pub extra: Vec<Section>,
     pub traceability: Traceability,
+    /// The certificate's particulars, decision rule and tolerances (`report.toml`; default: none
+    /// stated).
+    pub certificate: CertificateFile,
 }
 
 impl CalibrationReport<'_> {
+    /// The methods and standards applied, from the parts present.
+    pub fn methods(&self) -> Vec<String> {
+        let mut m = Vec::new();
+        if self.identification.is_some() {
+            m.push("Identification of geometric errors from a measurement campaign on the machine's kinematic model, weighted least squares (ISO 230-1 error names; docs/identification.md)".to_string());
+        }
+        if self.uncertainty.is_some() {
+            m.push(
+                "Measurement uncertainty by the adaptive Monte Carlo method, JCGM 101:2008 and JCGM 102:2011 (GUM supplements 1 and 2)"
+                    .to_string(),
+            );
+        }
+        if !self.circles.is_empty() {
+            m.push("Circular tests with a ballbar, ISO 230-4:2005".to_string());
+        }
+        if self.volume.is_some() {
+            m.push("Volumetric error over the work volume from the error model, ISO/TR 230-11 terms (docs/user-guide.md)".to_string());
+        }
+        if self.thermal_modes.is_some() || self.thermal_drift.is_some() {
+            m.push("Thermal effects, ISO 230-3:2020 (docs/thermal.md)".to_string());
+        }
+        if self.compensation.is_some() {
+            m.push("Compensation tables solved on the exact kinematic chain (docs/compensation.md)".to_string());
+        }
+        if !self.certificate.tolerances.is_empty() {
+            m.push(format!("Conformity decisions: {}, ISO 14253-1:2017", self.certificate.decision.rule.name()));
+        }
+        m
+    }
+
+    /// Every toleranced item of `report.toml` with its decision.
+    pub fn conformity_items(&self) -> Vec<Item> {
+        let t = &self.certificate.tolerances;
+        let rule = self.certificate.decision.rule;
+        let mut items = Vec::new();
+        if let Some(id) = &self.identification {
+            for p in id.parameter_rows(self.uncertainty.as_ref()) {
+                if let Some(&tol) = t.parameters.get(&p.name) {
+                    items.push(Item::new(format!("identified {}", p.name), "identification", p.value, p.expanded, tol, &p.unit, rule));
+                }
+            }
+        }
+        for c in &self.circles {
+            items.extend(c.conformity(&t.ballbar, rule));
+        }
+        if let (Some(tol), Some(v)) = (t.volumetric_um, &self.volume) {
+            items.push(Item::new(
+                "largest volumetric error |d| before compensation".into(),
+                "volumetric",
+                v.before_um.0,
+                None,
+                tol,
+                "um",
+                rule,
+            ));
+        }
+        items
+    }
+
     /// The sections in order; a part that is absent has none.
     pub fn sections(&self) -> Vec<Section> {
-        let mut out = vec![machine_section(self.machine, &self.machine_notes)];
+        let certificate = Certificate {
+            file: &self.certificate,
+            machine_name: &self.machine.name,
+            inputs: &self.traceability.inputs,
+            methods: self.methods(),
+            made: &self.traceability.date,
+        };
+        let mut out = vec![certificate.section()];
+        if !self.certificate.tolerances.is_empty() {
+            out.push(conformity::section(&self.conformity_items(), self.certificate.decision.rule));
+        }
+        out.push(machine_section(self.machine, &self.machine_notes));
         if let Some(id) = &self.identification {
             out.push(id.campaign_section());
             out.push(id.parameter_section(self.uncertainty.as_ref()));
@@ -128,22 +209,32 @@ impl CalibrationReport<'_> {
             out.push(ballbar_section(&self.circles));
         }
         if let Some(c) = &self.compensation {
-            out.push(c.section());
+            out.push(c.section(self.controller.as_ref()));
         }
         out.extend(self.extra.iter().cloned());
         out.push(self.traceability.section());
         out
     }
 
+    /// The document (sections in order), from which the HTML and the PDF are made.
+    pub fn document(&self) -> HtmlReport {
+        HtmlReport { title: self.title.clone(), subtitle: self.subtitle.clone(), sections: self.sections() }
+    }
+
     /// The complete HTML document.
     pub fn to_html(&self) -> String {
-        HtmlReport { title: self.title.clone(), subtitle: self.subtitle.clone(), sections: self.sections() }.to_html()
+        self.document().to_html()
+    }
+
+    /// The same content as a PDF (A4).
+    pub fn to_pdf(&self) -> Result<Vec<u8>, CalibrationError> {
+        Ok(crate::pdf::report_pdf(&self.document())?)
     }
 }
 
 /// The machine: name, structure, axes.
 fn machine_section(m: &Machine, notes: &[String]) -> Section {
-    let v = |x: &trueaxis::geometry::Vec3| format!("[{:.4}, {:.4}, {:.4}]", x.x, x.y, x.z);
+    let v = |x: &trueaxis::geometry::Vec3| format!("[{}, {}, {}]", short(x.x), short(x.y), short(x.z));
     let rows = m
         .axes()
         .iter()
@@ -153,17 +244,28 @@ fn machine_section(m: &Machine, notes: &[String]) -> Section {
                 a.letter.to_string(),
                 if rotary { "rotary".into() } else { "linear".into() },
                 v(&a.direction),
-                v(&a.point),
+                format!("{} mm", v(&a.point)),
                 a.range.map_or("continuous".into(), |[lo, hi]| format!("{lo} .. {hi} {}", if rotary { "deg" } else { "mm" })),
             ]
         })
         .collect();
     let mut s = Section::new("machine", "Machine").paragraph(format!(
-        "{} (structure code {}, workpiece to tool). Tool point at home [{}, {}, {}] mm in the machine frame M.",
+        "{} (kinematic structure {}, read from the workpiece to the tool; docs/user-guide.md). Tool point at home [{}, {}, {}] mm in the machine frame M.",
         m.name, m.structure, m.tool_point.x, m.tool_point.y, m.tool_point.z
     ));
     for n in notes {
         s = s.paragraph(n.clone());
     }
-    s.table("Axes (directions and points in M at home)", &["axis", "kind", "direction", "point (mm)", "travel"], rows)
+    s.table("Axes (directions and points in M at home)", &["axis", "kind", "direction", "point", "travel"], rows)
+}
+
+/// A coordinate with at most 4 decimals, trailing zeros dropped.
+fn short(v: f64) -> String {
+    let t = format!("{v:.4}");
+    let t = t.trim_end_matches('0').trim_end_matches('.');
+    if t == "-0" {
+        "0".into()
+    } else {
+        t.to_string()
+    }
 }

@@ -86,11 +86,11 @@ impl ThermalModesPart {
             })
             .collect();
         let dominant: Vec<String> = self.dominant.iter().map(|m| (m + 1).to_string()).collect();
-        Section::new("thermal-modes", "Thermal modes (seed 002 §3.3)")
+        Section::new("thermal-modes", "Thermal modes")
             .paragraph(format!(
                 "{} ({}, {} nodes): the generalised eigenproblem K phi = lambda C phi with C-orthonormal modes, time constants tau = 1/lambda. \
                  The weight |xi tau| of a mode is the steady-state amplitude of its coordinate under the model's heat flux; the dominant modes \
-                 (here {}) carry {} % of the summed weight, and temperature sensors should see them (trueaxis thermal place).",
+                 (here {}) carry {} % of the summed weight, and temperature sensors should see them (trueaxis thermal place; docs/thermal.md).",
                 self.model,
                 self.origin,
                 self.nodes,

@@ -5,7 +5,8 @@
 use super::super::html::Section;
 use super::super::{interval_of, uncertainty_figures};
 use super::identification::IdentificationPart;
-use super::{number, CalibrationError};
+use super::quantity::uncertainty;
+use super::CalibrationError;
 use trueaxis::uncertainty::{self, from_identification, run_budget, Budget, ControlVariables, Evaluation, IdentificationMap, Sources};
 
 /// The evaluated uncertainty of an identification.
@@ -47,26 +48,34 @@ impl UncertaintyPart {
         Some(interval_of(self.sources.settings.interval, &self.budget.total.outputs[k]))
     }
 
+    /// The Monte Carlo standard uncertainty of a parameter with all sources.
+    pub fn std_uncertainty(&self, parameter: &str) -> Option<f64> {
+        let k = self.budget.rows.iter().position(|row| row.parameter == parameter)?;
+        Some(self.budget.total.outputs[k].std_uncertainty)
+    }
+
     pub fn section(&self) -> Section {
         let b = &self.budget;
         let settings = &self.sources.settings;
-        let mut header: Vec<String> = vec!["parameter".into(), "unit".into()];
+        let mut header: Vec<String> = vec!["parameter".into()];
         header.extend(b.source_names.iter().map(|n| format!("{n} alone")));
-        header.extend(["root-sum-square".into(), "all sources".into(), "GUM u".into()]);
+        header.extend(["root-sum-square".into(), "all sources".into(), "U (k = 2)".into()]);
         let rows = b
             .rows
             .iter()
-            .map(|row| {
-                let mut cells = vec![row.parameter.clone(), row.unit.clone()];
-                cells.extend(row.widths.iter().map(|w| number(*w, 3)));
-                cells.extend([number(row.rss, 3), number(row.total, 3), number(row.gum_total_u, 3)]);
+            .enumerate()
+            .map(|(k, row)| {
+                let mut cells = vec![row.parameter.clone()];
+                let two_digits = |w: f64| format!("{} {}", uncertainty(w), row.unit);
+                cells.extend(row.widths.iter().map(|w| two_digits(*w)));
+                cells.extend([two_digits(row.rss), two_digits(row.total), two_digits(2.0 * b.total.outputs[k].std_uncertainty)]);
                 cells
             })
             .collect();
         let header_refs: Vec<&str> = header.iter().map(String::as_str).collect();
-        let mut s = Section::new("uncertainty", "Uncertainty (adaptive Monte Carlo, JCGM 101/102)")
+        let mut s = Section::new("uncertainty", "Uncertainty budget (adaptive Monte Carlo, JCGM 101 and 102)")
             .paragraph(format!(
-                "Sources of {}: {} (record k of the campaign read at k x {} s). Each trial draws every source and maps the disturbed readings to the parameters through the identification's precomputed pseudo-inverse. Adaptive loop of JCGM 101 §7.9: sequences of {} trials until the means, standard uncertainties and interval endpoints are stable to {} (parameter units); {} sequences, {} trials{}. Seed {}: the same numbers on any number of threads.",
+                "Sources of {}: {} (record k of the campaign read at k x {} s). Each trial draws every source and maps the disturbed readings to the parameters through the identification's precomputed pseudo-inverse. Adaptive procedure of JCGM 101: sequences of {} trials until the means, standard uncertainties and interval endpoints are stable to {} um or urad; {} sequences, {} trials{}. Random seed {}: the same numbers on any number of threads (docs/uncertainty.md).",
                 self.origin,
                 b.source_names.join(", "),
                 self.point_time_s,
@@ -79,7 +88,7 @@ impl UncertaintyPart {
             ))
             .table(
                 format!(
-                    "Budget: width of the {} % coverage interval with each source alone, their root-sum-square and with all sources together (seed 004 Table 5), and the GUM standard uncertainty with all sources",
+                    "Budget: width of the {} % coverage interval with each source alone, their root-sum-square and with all sources together; U (k = 2) is twice the Monte Carlo standard uncertainty with all sources, the uncertainty quoted with the identified parameters",
                     100.0 * settings.coverage
                 ),
                 &header_refs,

@@ -5,8 +5,11 @@
 use super::super::html::Section;
 use super::compensation::CompensationPart;
 use super::maps::{magnitudes_um, statistics, VolumeMap};
+use super::compensation::controller_name;
+use super::quantity::quantity;
 use super::CalibrationError;
 use rayon::prelude::*;
+use trueaxis::compensate::export::residual::Applied;
 use trueaxis::compensate::{CorrectionWorkspace, Corrector};
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::{rotation_log, Mat3, Pose, Vec3};
@@ -25,6 +28,9 @@ pub struct VolumePart {
     pub before_um: (f64, f64),
     pub after_um: (f64, f64),
     pub after_tables_um: (f64, f64),
+    /// The controller format whose corrections the "after" map shows (`None`: the exact correction
+    /// at each pose, as a model-based controller or the real-time corrector applies it).
+    pub controller: Option<String>,
     /// The pose of the largest error before compensation (axis letter, mm or deg).
     pub max_pose: Vec<(char, f64)>,
     pub before_svg: String,
@@ -44,6 +50,7 @@ impl VolumePart {
         machine_errors: &ErrorModel,
         compensation_errors: &ErrorModel,
         tables: &CompensationPart,
+        controller: Option<(&str, &dyn Applied)>,
     ) -> Result<Option<VolumePart>, CalibrationError> {
         let Some(map) = VolumeMap::new(machine) else { return Ok(None) };
         let mut predictor = Predictor::new(machine, machine_errors);
@@ -57,19 +64,34 @@ impl VolumePart {
             error_at_setpoints(machine, q, qc, &params, &setup)
         };
         let corrector = Corrector::new(machine, compensation_errors);
-        let after = map
-            .poses_internal
-            .par_chunks(n)
-            .map_init(
-                || CorrectionWorkspace::new(machine),
-                |ws, q| {
-                    let c = corrector.correct(q, ws);
-                    let qc: Vec<f64> = q.iter().zip(&c.dq).map(|(a, b)| a + b).collect();
-                    c.converged.then(|| at_setpoints(q, &qc))
-                },
-            )
-            .collect::<Option<Vec<VolumetricError>>>()
-            .ok_or_else(|| CalibrationError::Computation("the correction did not converge at a pose of the volumetric map".into()))?;
+        let after = match controller {
+            // what the controller applies with the chosen format's files, at rest
+            Some((_, applied)) => map
+                .poses_user
+                .par_chunks(n)
+                .zip(map.poses_internal.par_chunks(n))
+                .map(|(user, q)| {
+                    let mut dq = vec![0.0; n];
+                    applied.applied(user, &vec![None; n], &mut dq);
+                    let qc: Vec<f64> =
+                        machine.axes().iter().zip(user.iter().zip(&dq)).map(|(a, (u, d))| a.position_to_internal(u + d)).collect();
+                    at_setpoints(q, &qc)
+                })
+                .collect(),
+            None => map
+                .poses_internal
+                .par_chunks(n)
+                .map_init(
+                    || CorrectionWorkspace::new(machine),
+                    |ws, q| {
+                        let c = corrector.correct(q, ws);
+                        let qc: Vec<f64> = q.iter().zip(&c.dq).map(|(a, b)| a + b).collect();
+                        c.converged.then(|| at_setpoints(q, &qc))
+                    },
+                )
+                .collect::<Option<Vec<VolumetricError>>>()
+                .ok_or_else(|| CalibrationError::Computation("the correction did not converge at a pose of the volumetric map".into()))?,
+        };
         let after_tables: Vec<VolumetricError> = map
             .poses_user
             .par_chunks(n)
@@ -89,8 +111,14 @@ impl VolumePart {
         let (max_a, _, rms_a) = statistics(&ma);
         let (max_t, _, rms_t) = statistics(&mt);
         let max_pose = machine.axes().iter().map(|a| a.letter).zip(map.poses_user[imax * n..(imax + 1) * n].iter().copied()).collect();
-        let before_svg = map.heatmap(&format!("Before compensation: |d| (machine frame), {}", machine.name), &mb)?;
-        let after_svg = map.heatmap("After compensation: |d| (machine frame)", &ma)?;
+        // one colour scale for both maps, so that what compensation removes shows as darker colours
+        let range = Some((0.0, max_b.max(max_a)));
+        let before_svg = map.heatmap("Volumetric error |d| before compensation", &mb, range)?;
+        let after_title = match controller {
+            Some((name, _)) => format!("|d| after compensation with the {} tables", controller_name(name)),
+            None => "|d| after compensation (exact correction at each pose)".to_string(),
+        };
+        let after_svg = map.heatmap(&after_title, &ma, range)?;
         let poses = map.len(machine);
         Ok(Some(VolumePart {
             map,
@@ -99,6 +127,7 @@ impl VolumePart {
             before_um: (max_b, rms_b),
             after_um: (max_a, rms_a),
             after_tables_um: (max_t, rms_t),
+            controller: controller.map(|(name, _)| name.to_string()),
             max_pose,
             before_svg,
             after_svg,
@@ -109,22 +138,46 @@ impl VolumePart {
 
     pub fn section(&self) -> Section {
         let at: Vec<String> = self.max_pose.iter().map(|(l, x)| format!("{l} = {x}")).collect();
-        let mut s = Section::new("volumetric", "Volumetric error before and after compensation").paragraph(format!(
-            "Exact volumetric error |d| of the tool point relative to the workpiece origin over the mid-planes of the linear-axis travel ({} poses, rotary axes at 0, machine frame). Before compensation: largest {:.2} um (at {}), RMS {:.2} um. After compensation, with the correction of every pose solved on the exact chain (as the real-time corrector and controllers that evaluate the error model apply it): largest {:.2} um, RMS {:.2} um. With the own-axis and cross-axis tables instead (summed and interpolated as a table-based controller applies them): largest {:.2} um, RMS {:.2} um; the difference is what tables along the axis lines cannot represent (corrections that depend on two axes at once).",
-            self.poses,
-            self.before_um.0,
-            at.join(", "),
-            self.before_um.1,
-            self.after_um.0,
-            self.after_um.1,
-            self.after_tables_um.0,
-            self.after_tables_um.1
-        ));
+        let um = |v: f64| quantity(v, 2, "um");
+        let after_how = match &self.controller {
+            Some(name) => format!(
+                "with the corrections the {} tables apply (their interpolation and the terms the format can carry), on the exact chain",
+                controller_name(name)
+            ),
+            None => "with the correction of every pose solved on the exact chain, as a controller that evaluates the error model or the real-time corrector applies it".to_string(),
+        };
+        let mut s = Section::new("volumetric", "Volumetric error before and after compensation")
+            .paragraph(format!(
+                "Exact volumetric error |d| of the tool point relative to the workpiece origin over the mid-planes of the linear-axis travel ({} poses, rotary axes at 0, machine frame). Before compensation: largest {} (at {}), RMS {}. After compensation, {}: largest {}, RMS {}.",
+                self.poses,
+                um(self.before_um.0),
+                at.join(", "),
+                um(self.before_um.1),
+                after_how,
+                um(self.after_um.0),
+                um(self.after_um.1),
+            ))
+            .table(
+                "Volumetric error |d| over the map",
+                &["", "largest", "RMS"],
+                vec![
+                    vec!["before compensation".into(), um(self.before_um.0), um(self.before_um.1)],
+                    vec![
+                        match &self.controller {
+                            Some(name) => format!("after, {} tables", controller_name(name)),
+                            None => "after, exact correction".into(),
+                        },
+                        um(self.after_um.0),
+                        um(self.after_um.1),
+                    ],
+                    vec!["after, own-axis and cross-axis tables summed".into(), um(self.after_tables_um.0), um(self.after_tables_um.1)],
+                ],
+            );
         for p in &self.description {
             s = s.paragraph(p.clone());
         }
-        s.figure("Before compensation", self.before_svg.clone())
-            .figure("After compensation (note the colour scale)", self.after_svg.clone())
+        s.figure("Before compensation.", self.before_svg.clone())
+            .figure("After compensation, on the same colour scale: what is left shows as dark colours.", self.after_svg.clone())
     }
 }
 

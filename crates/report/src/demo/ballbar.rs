@@ -14,6 +14,8 @@ use trueaxis::machine::Machine;
 
 pub const RADIUS_MM: f64 = 150.0;
 pub const NOISE_UM: f64 = 0.3;
+/// The feed the file states (the simulation is quasi-static: no servo lag at any feed).
+pub const FEED_MM_PER_MIN: f64 = 1000.0;
 /// The circle file, relative to the output folder.
 pub const FILE: &str = "ballbar/xy_circle.csv";
 const SEED: u64 = 230;
@@ -26,7 +28,7 @@ pub fn simulate(machine: &Machine, truth: &ErrorModel, out: &mut Output) -> Resu
     let mut rng = ChaCha8Rng::seed_from_u64(SEED);
     let noise = Normal::new(0.0, NOISE_UM * 1e-3).expect("a positive standard deviation");
     let mut csv = format!(
-        "# ISO 230-4 circle simulated by `trueaxis demo`: XY plane, R {RADIUS_MM} mm, centre ({}, {}, {}) mm\nangle,dL,dir\n",
+        "# ISO 230-4 circle simulated by `trueaxis demo`: XY plane, R {RADIUS_MM} mm, centre ({}, {}, {}) mm\n# Feed rate: {FEED_MM_PER_MIN} mm/min\nangle,dL,dir\n",
         circle.centre.x, circle.centre.y, circle.centre.z
     );
     for rotation in [Rotation::Ccw, Rotation::Cw] {

@@ -19,8 +19,8 @@ mod campaign;
 mod report;
 
 use crate::calibration::{
-    CalibrationError, CalibrationReport, CirclePart, CompensationPart, IdentificationPart, InputFile, ParameterRow, Traceability,
-    UncertaintyPart, VolumePart, GRID_NODES, POINTS,
+    CalibrationError, CalibrationReport, CertificateFile, CirclePart, CompensationPart, IdentificationPart, InputFile, ParameterRow,
+    Traceability, UncertaintyPart, VolumePart, GRID_NODES, POINTS,
 };
 use std::path::{Path, PathBuf};
 use thiserror::Error;
@@ -40,6 +40,10 @@ pub const CAMPAIGN_TOML: &str = include_str!("../../../../examples/campaigns/kx8
 pub const CAMPAIGN_POSES_CSV: &str = include_str!("../../../../examples/campaigns/kx8five/capball.csv");
 /// The uncertainty sources: seed 004 Tables 3 and 4 with a cyclic drift (`examples/uncertainty/`).
 pub const SOURCES_TOML: &str = include_str!("../../../../examples/uncertainty/kx8five_cyclic.toml");
+/// The certificate particulars, instruments, decision rule and tolerances (`examples/report/`).
+pub const CERTIFICATE_TOML: &str = include_str!("../../../../examples/report/kx8five_demo.toml");
+/// The controller format whose tables the after-compensation map shows.
+pub const CONTROLLER: &str = "heidenhain";
 
 /// Steps reported to the progress callback.
 pub const STEPS: usize = 7;
@@ -139,7 +143,10 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     let simulated = campaign::simulate(&machine, &truth, &mut out)?;
     progress(2, STEPS, "simulating ISO 230-4 ballbar circles and their diagnostics");
     let circle_input = ballbar::simulate(&machine, &truth, &mut out)?;
+    out.write("report.toml", CERTIFICATE_TOML.as_bytes())?;
+    let certificate = CertificateFile::from_toml_str(CERTIFICATE_TOML, "built-in report.toml").map_err(CalibrationError::Input)?;
     let mut circle = CirclePart::evaluate(&machine, circle_input)?;
+    circle.reading_u_um = certificate.reading_uncertainty_um("ballbar");
     circle.description.push(report::circle_description());
     out.write("ballbar/xy_circle.svg", circle.svg.as_bytes())?;
 
@@ -172,8 +179,11 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     }
 
     progress(6, STEPS, "volumetric error before and after compensation");
-    let mut volume = VolumePart::compute(&machine, &truth, &identification.errors, &compensation)?
-        .ok_or_else(|| CalibrationError::Computation("the built-in machine has no linear axes to map".into()))?;
+    let controller = compensation.controller(&machine, &identification.errors, CONTROLLER)?;
+    let exported = compensation.export(&machine, &identification.errors, CONTROLLER)?;
+    let mut volume =
+        VolumePart::compute(&machine, &truth, &identification.errors, &compensation, Some((CONTROLLER, exported.applied.as_ref())))?
+            .ok_or_else(|| CalibrationError::Computation("the built-in machine has no linear axes to map".into()))?;
     volume.description.push(report::VOLUME_NOTE.into());
     out.write("volumetric_map.csv", volume.map.csv(&machine, &volume.before)?.as_bytes())?;
     out.write("volumetric_map.svg", volume.before_svg.as_bytes())?;
@@ -188,10 +198,12 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
         ("campaign data (simulated)", "campaign/capball.csv"),
         ("uncertainty sources", "uncertainty/sources.toml"),
         ("ballbar circle (simulated)", ballbar::FILE),
+        ("certificate particulars and tolerances", "report.toml"),
     ]
     .iter()
     .map(|(role, name)| out.input(role, name))
     .collect::<Result<Vec<_>, _>>()?;
+    drop(exported);
     let parameters = identification.parameter_rows(Some(&uncertainty));
     let summary = DemoSummary {
         machine: machine.name.clone(),
@@ -209,7 +221,7 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     };
     let extra = vec![report::reproduce_section(&circle.input, &compensation)];
     let calibration = CalibrationReport {
-        title: "trueaxis calibration report (demo)".into(),
+        title: "Calibration report (demo)".into(),
         subtitle: format!("{}: simulated calibration with known errors; trueaxis {}", machine.name, env!("CARGO_PKG_VERSION")),
         machine: &machine,
         machine_notes: vec![report::MACHINE_NOTE.into()],
@@ -220,9 +232,12 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
         thermal_drift: None,
         circles: vec![circle],
         compensation: Some(compensation),
+        controller: Some(controller),
         extra,
         traceability: Traceability::now(inputs, Some(format!("trueaxis demo --out {}", out_dir.display()))),
+        certificate,
     };
     out.write("report.html", calibration.to_html().as_bytes())?;
+    out.write("report.pdf", &calibration.to_pdf()?)?;
     Ok(DemoSummary { files: out.files, ..summary })
 }

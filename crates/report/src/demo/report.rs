@@ -7,13 +7,13 @@ use super::campaign::{Simulated, POINT_TIME_S};
 use crate::calibration::{CircleInput, CompensationPart};
 use crate::html::Section;
 
-pub const MACHINE_NOTE: &str = "Frame M at the nominal intersection of the A and C axes at home. The machine is simulated with the link and setup errors of seed 004 Table 1 (errors_true.toml): the true errors that the calibration has to find.";
+pub const MACHINE_NOTE: &str = "Frame M at the nominal intersection of the A and C axes at home. The machine is simulated with the link and setup errors published for this machine by Andolfatto, Mayer and Lavernhe (Precision Engineering 35, 2011) (errors_true.toml): the true errors that the calibration has to find.";
 
 /// How the campaign was simulated.
 pub fn campaign_description(s: &Simulated) -> String {
     let drift: Vec<String> = s.drift.iter().map(|(c, p)| format!("{c} {p:.2} um")).collect();
     format!(
-        "Simulated CapBall test of seed 004 §3.2: {} poses; the A axis sweeps 0..120 deg while C turns four times, the linear axes following so that the sensing head stays on the master ball at [150, 0, 100] mm on the table. Readings dx, dy, dz in the machine frame, computed on the exact kinematic chain with the true errors, Gaussian sensor noise of {} um (seed 004 Table 3) and a cyclic drift of the measuring chain (period {} s, peak-to-valley {}; seed 004 Table 4), one point every {} s. The slow wave in the residuals is the drift cycle, which the link errors cannot absorb.",
+        "Simulated CapBall test (a 3D probe on a master ball, as Andolfatto et al. measured this machine): {} poses; the A axis sweeps 0..120 deg while C turns four times, the linear axes following so that the sensing head stays on the master ball at [150, 0, 100] mm on the table. Readings dx, dy, dz in the machine frame, computed on the exact kinematic chain with the true errors, Gaussian sensor noise of {} um and a cyclic drift of the measuring chain (period {} s, peak-to-valley {}), both as published for this test, one point every {} s. The slow wave in the residuals is the drift cycle, which the link errors cannot absorb.",
         s.records,
         s.noise_um.iter().map(|v| format!("{v}")).collect::<Vec<_>>().join(" / "),
         s.drift_period_s,
@@ -22,10 +22,10 @@ pub fn campaign_description(s: &Simulated) -> String {
     )
 }
 
-pub const IDENTIFIABILITY_NOTE: &str = "Identifiability: in this ISO parameterisation with the A axis tilted 45 deg, the paper's 14 link errors contain two combinations that no 3D-ball reading sees: EB0A + EC0A - EB0C - 0.15 WY (a tilt of A about its own axis is a zero offset of C, absorbed by the ball setup) and EY0C + TY + TZ + WZ (the part of a C offset along the tilted A axis is a pure translation). The campaign therefore identifies 12 parameters with EC0A = EY0C = 0; the true values are the seed 004 Table 1 errors expressed in that set (the identification of noise-free readings).";
+pub const IDENTIFIABILITY_NOTE: &str = "Identifiability: in this ISO parameterisation with the A axis tilted 45 deg, the paper's 14 link errors contain two combinations that no 3D-ball reading sees: EB0A + EC0A - EB0C - 0.15 WY (a tilt of A about its own axis is a zero offset of C, absorbed by the ball setup) and EY0C + TY + TZ + WZ (the part of a C offset along the tilted A axis is a pure translation). The campaign therefore identifies 12 parameters with EC0A = EY0C = 0; the true values are the published errors expressed in that set (the identification of noise-free readings).";
 
 pub fn circle_description() -> String {
-    format!("Simulated on the exact chain with the true errors and {NOISE_UM} um of noise, CCW then CW, R {RADIUS_MM} mm around the middle of the travel.")
+    format!("Simulated on the exact chain with the true errors and {NOISE_UM} um of noise, CCW then CW, R {RADIUS_MM} mm around the middle of the travel; the simulation is quasi-static, so the feed stated in the file adds no servo error.")
 }
 
 pub const VOLUME_NOTE: &str = "The machine has the true errors; the corrections and tables are computed from the identified errors. What remains after compensation is the error of the identification (noise and drift) and the combinations the campaign cannot see.";

@@ -1,0 +1,396 @@
+//! The report as a customer sees it (issue 20): the demo report and a report from imported files
+//! (a ballbar export with its header, a report.toml) rendered by headless Chromium and, as a PDF,
+//! by poppler (`pdftoppm`, `pdftotext`). Checked: no text overflows its box in the browser (the
+//! layout boxes read back through the DOM at the width of an A4 page); every word of the PDF inside
+//! the page margins, no two words overlapping, none smaller than 10 pt; every `value ± U` rounded
+//! by its uncertainty (two significant digits of U, the value to the same place) and equal to the
+//! JSON output; conformity decisions on tolerances made to pass, to fail and to be undecided.
+//! Chromium and poppler-utils are skipped with a message when missing, unless CI requires them
+//! (TRUEAXIS_REQUIRE_BROWSER, TRUEAXIS_REQUIRE_POPPLER).
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+}
+
+fn trueaxis(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(dir).output().unwrap()
+}
+
+fn tool(name: &str, require: &str) -> Option<String> {
+    if Command::new(name).arg("-v").output().is_ok() || Command::new(name).arg("--version").output().is_ok() {
+        return Some(name.to_string());
+    }
+    assert!(std::env::var_os(require).is_none(), "{require} is set but `{name}` was not found");
+    eprintln!("skipped: `{name}` is not installed");
+    None
+}
+
+fn chromium() -> Option<String> {
+    let found = ["chromium", "chromium-browser", "google-chrome"].into_iter().find(|b| Command::new(b).arg("--version").output().is_ok());
+    if found.is_none() {
+        assert!(std::env::var_os("TRUEAXIS_REQUIRE_BROWSER").is_none(), "TRUEAXIS_REQUIRE_BROWSER is set but no chromium was found");
+        eprintln!("skipped the browser check: chromium is not installed");
+    }
+    found.map(String::from)
+}
+
+/// The ballbar report from imported files: the export's header gives the radius, the feed, the
+/// serial number, date and operator; report.toml the particulars and tolerances.
+fn imported_report(dir: &Path, certificate: &Path, extra: &[&str]) -> serde_json::Value {
+    let r = root();
+    let html = dir.join("vmc3.html");
+    let pdf = dir.join("vmc3.pdf");
+    let (machine, errors, export) =
+        (r.join("examples/machines/vmc3.toml"), r.join("examples/errors/vmc3.toml"), r.join("examples/ballbar/export_xy.txt"));
+    let args = [
+        "report",
+        "--machine",
+        machine.to_str().unwrap(),
+        "--errors",
+        errors.to_str().unwrap(),
+        "--ballbar",
+        export.to_str().unwrap(),
+        "--ballbar-radius",
+        "100",
+        "--ballbar-centre",
+        "0,0,-200",
+        "--certificate",
+        certificate.to_str().unwrap(),
+        "--out",
+        html.to_str().unwrap(),
+        "--pdf",
+        pdf.to_str().unwrap(),
+        "--json",
+    ];
+    let o = trueaxis(&[&args[..], extra].concat(), dir);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+/// The text of an HTML document without its tags, entities decoded.
+fn text_of(html: &str) -> String {
+    let mut out = String::new();
+    let mut inside = false;
+    for c in html.chars() {
+        match c {
+            '<' => {
+                inside = true;
+                out.push(' ');
+            }
+            '>' => inside = false,
+            c if !inside => out.push(c),
+            _ => {}
+        }
+    }
+    out.replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", "\"").replace("&amp;", "&")
+}
+
+/// Every `value ± U unit` in `text`: checked for rounding by U, returned as (value, U, unit).
+fn measured_values(text: &str) -> Vec<(f64, f64, String)> {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    let mut out = Vec::new();
+    for i in 1..words.len().saturating_sub(2) {
+        if words[i] != "±" {
+            continue;
+        }
+        let (value, u, unit) = (words[i - 1].trim_start_matches(['(', '=']), words[i + 1], words[i + 2]);
+        if value.parse::<f64>().is_err() {
+            continue; // a header: `value ± U (k = 2)`
+        }
+        let decimals = |t: &str| t.split_once('.').map_or(0, |(_, d)| d.len());
+        let digits = u.chars().filter(char::is_ascii_digit).collect::<String>();
+        let significant = digits.trim_start_matches('0');
+        assert!(
+            significant.len() == 2 || (significant.len() == 3 && significant.ends_with('0') && !u.contains('.')),
+            "U `{u}` in `{value} ± {u} {unit}` has not two significant digits"
+        );
+        assert_eq!(decimals(value), decimals(u), "`{value} ± {u} {unit}`: the value is not rounded to the place of U");
+        assert!(
+            ["um", "urad", "um/m", "deg", "mm", "%"].contains(&unit.trim_end_matches([',', '.', ';', ')'])),
+            "`{value} ± {u} {unit}`: unit"
+        );
+        out.push((value.parse().unwrap(), u.parse().unwrap(), unit.trim_end_matches([',', '.', ';', ')']).to_string()));
+    }
+    out
+}
+
+/// `value` rounded as the report shows it equals `shown` (within half its last place).
+fn rounds_to(value: f64, shown: f64, u: f64) -> bool {
+    let d = 1 - u.log10().floor() as i32;
+    (value - shown).abs() <= 0.5 * 10f64.powi(-d) + 1e-9
+}
+
+/// Reads the layout boxes through the DOM: a copy of the page with a script that lists every text
+/// box whose content is wider than the box, and every table, figure or command block that sticks
+/// out of the page's text column, at the width of an A4 page (794 CSS px at 96 dpi).
+fn browser_overflow(browser: &str, html: &Path, scratch: &Path) -> Vec<String> {
+    let page = std::fs::read_to_string(html).unwrap();
+    let script = "<script>const bad=[];const col=document.body.getBoundingClientRect();\
+for(const el of document.querySelectorAll('td,th,p,pre,figcaption,caption,h1,h2,li')){if(el.scrollWidth>el.clientWidth+1)bad.push(el.tagName+': '+el.textContent.trim().slice(0,80));}\
+for(const el of document.querySelectorAll('table,figure,svg,pre,p')){const r=el.getBoundingClientRect();if(r.right>col.right+1||r.left<col.left-1)bad.push('outside the column: '+el.tagName+' '+el.textContent.trim().slice(0,60));}\
+document.body.setAttribute('data-overflow',JSON.stringify(bad));document.body.setAttribute('data-checked','yes');</script></body>";
+    let checked = scratch.join("checked.html");
+    std::fs::write(&checked, page.replace("</body>", script)).unwrap();
+    let out = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--window-size=794,1123",
+        ])
+        .arg(format!("--user-data-dir={}", scratch.join("profile").display()))
+        .arg("--dump-dom")
+        .arg(format!("file://{}", checked.display()))
+        .output()
+        .unwrap();
+    let dom = String::from_utf8_lossy(&out.stdout);
+    assert!(dom.contains("data-checked=\"yes\""), "the check did not run: {}", String::from_utf8_lossy(&out.stderr));
+    let start = dom.find("data-overflow=\"").unwrap() + "data-overflow=\"".len();
+    let end = dom[start..].find('"').unwrap() + start;
+    let list: Vec<String> = serde_json::from_str(&dom[start..end].replace("&quot;", "\"").replace("&amp;", "&")).unwrap();
+    list
+}
+
+/// Words of a PDF with their boxes (pt), per page, from `pdftotext -bbox-layout`.
+type Word = (f64, f64, f64, f64, String, bool);
+
+fn pdf_words(pdf: &Path) -> (Vec<(f64, f64)>, Vec<Vec<Word>>) {
+    let out = Command::new("pdftotext").arg("-bbox-layout").arg(pdf).arg("-").output().unwrap();
+    assert!(out.status.success(), "pdftotext: {}", String::from_utf8_lossy(&out.stderr));
+    let xml = String::from_utf8(out.stdout).unwrap();
+    let attr = |tag: &str, name: &str| -> f64 {
+        let key = format!("{name}=\"");
+        let i = tag.find(&key).unwrap() + key.len();
+        tag[i..i + tag[i..].find('"').unwrap()].parse().unwrap()
+    };
+    let mut sizes = Vec::new();
+    let mut pages = Vec::new();
+    for page in xml.split("<page ").skip(1) {
+        sizes.push((attr(page, "width"), attr(page, "height")));
+        let mut words = Vec::new();
+        for line in page.split("<line ").skip(1) {
+            let mut in_line = Vec::new();
+            for w in line.split("<word ").skip(1) {
+                let tag = &w[..w.find('>').unwrap()];
+                let text = &w[w.find('>').unwrap() + 1..w.find("</word>").unwrap()];
+                in_line.push((attr(tag, "xMin"), attr(tag, "yMin"), attr(tag, "xMax"), attr(tag, "yMax"), text.to_string(), false));
+            }
+            // a rotated line (an axis title): its words stack vertically; its font size is then
+            // the width of the box
+            let vertical = in_line.len() >= 2 && in_line.windows(2).all(|p| p[1].1 >= p[0].3 - 0.5 || p[0].1 >= p[1].3 - 0.5);
+            words.extend(in_line.into_iter().map(|mut w| {
+                w.5 = vertical;
+                w
+            }));
+        }
+        pages.push(words);
+    }
+    (sizes, pages)
+}
+
+/// Every word inside the margins (18 mm at the sides and top, the footer within the page), no two
+/// words of a page overlapping, every word at least 10 pt (poppler's box is 0.94 of the font
+/// size for Liberation Sans), and the pages rendered by pdftoppm with ink on each.
+fn check_pdf(pdf: &Path, scratch: &Path) -> String {
+    let (sizes, pages) = pdf_words(pdf);
+    assert!(!pages.is_empty());
+    let mut all = String::new();
+    for (p, words) in pages.iter().enumerate() {
+        let (w, h) = sizes[p];
+        for (x0, y0, x1, y1, t, vertical) in words {
+            assert!(
+                *x0 >= 50.0 && *x1 <= w - 50.0 && *y0 >= 40.0 && *y1 <= h - 20.0,
+                "page {}: `{t}` outside the margins at ({x0}, {y0})-({x1}, {y1})",
+                p + 1
+            );
+            let size = if *vertical { x1 - x0 } else { y1 - y0 } / 0.938;
+            assert!(size >= 9.9, "page {}: `{t}` is {size:.1} pt", p + 1);
+        }
+        for (i, a) in words.iter().enumerate() {
+            for b in &words[i + 1..] {
+                let overlap_x = a.2.min(b.2) - a.0.max(b.0);
+                let overlap_y = a.3.min(b.3) - a.1.max(b.1);
+                assert!(overlap_x < 0.5 || overlap_y < 0.5, "page {}: `{}` and `{}` overlap", p + 1, a.4, b.4);
+            }
+        }
+        all.push_str(&words.iter().map(|w| w.4.as_str()).collect::<Vec<_>>().join(" "));
+        all.push('\n');
+    }
+    let prefix = scratch.join("page");
+    let out = Command::new("pdftoppm").args(["-r", "40", "-png"]).arg(pdf).arg(&prefix).output().unwrap();
+    assert!(out.status.success(), "pdftoppm: {}", String::from_utf8_lossy(&out.stderr));
+    let mut rendered = 0;
+    for entry in std::fs::read_dir(scratch).unwrap() {
+        let path = entry.unwrap().path();
+        if !path.file_name().unwrap().to_string_lossy().starts_with("page") {
+            continue;
+        }
+        let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&path).unwrap()));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        let step = info.line_size / info.width as usize;
+        let ink = buf[..info.buffer_size()].chunks(step).filter(|p| p.iter().take(3).any(|&c| c < 200)).count();
+        assert!(ink > 500, "{}: an empty page", path.display());
+        rendered += 1;
+    }
+    assert_eq!(rendered, pages.len(), "one image per page");
+    all
+}
+
+#[test]
+fn demo_report_reads_well_in_the_browser_and_as_a_pdf() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = trueaxis(&["demo", "--out", "demo", "--json"], dir.path());
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let demo = dir.path().join("demo");
+    let html = std::fs::read_to_string(demo.join("report.html")).unwrap();
+    let text = text_of(&html);
+    for forbidden in ["seed 0", "eq. ", "Table 1", "(unit)", " unit)"] {
+        assert!(!text.contains(forbidden), "the report says `{forbidden}`");
+    }
+    let values = measured_values(&text);
+    assert!(values.len() >= 12 + 3 + 6, "{} values with U", values.len());
+    if let Some(browser) = chromium() {
+        let bad = browser_overflow(&browser, &demo.join("report.html"), dir.path());
+        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+    }
+    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
+        let scratch = dir.path().join("pages");
+        std::fs::create_dir(&scratch).unwrap();
+        let pdf_text = check_pdf(&demo.join("report.pdf"), &scratch);
+        // the PDF has the same results as the HTML
+        let in_pdf = measured_values(&pdf_text);
+        for v in &values {
+            assert!(in_pdf.contains(v), "{v:?} is in the HTML but not in the PDF");
+        }
+        for section in ["Certificate", "Conformity with the tolerances", "Identified parameters", "Uncertainty budget", "Ballbar tests"] {
+            assert!(pdf_text.contains(section), "{section}");
+        }
+    }
+}
+
+#[test]
+fn imported_files_give_a_certificate_with_values_rounded_by_u_and_equal_to_the_json() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = imported_report(dir.path(), &root().join("examples/report/vmc3.toml"), &["--controller", "heidenhain"]);
+    let html = std::fs::read_to_string(dir.path().join("vmc3.html")).unwrap();
+    let text = text_of(&html);
+    // the particulars: from report.toml and from the export's header (serial, date, operator)
+    for expected in [
+        "EX-2024-0312",
+        "Example Parts Ltd",
+        "Renishaw QC20-W",
+        "B12345",
+        "0001",
+        "2024-03-12 10:41",
+        "A. Example",
+        "1000 mm/min",
+        "ISO 230-4",
+        "ISO 14253-1",
+    ] {
+        assert!(text.contains(expected), "`{expected}` not in the report");
+    }
+    // every value with its U; G, F and the diagnostics equal the JSON, rounded by U
+    let values = measured_values(&text);
+    let b = &s["ballbar"][0];
+    let u = b["reading_expanded_uncertainty_um"].as_f64().unwrap();
+    assert_eq!(u, 0.5);
+    for key in ["G_um", "F_max_um", "F_min_um"] {
+        for v in b[key].as_array().unwrap() {
+            let v = v.as_f64().unwrap();
+            assert!(
+                values.iter().any(|(shown, uu, unit)| unit == "um" && *uu == u && rounds_to(v, *shown, u)),
+                "{key} {v} not shown as value ± {u} um"
+            );
+        }
+    }
+    for (name, d) in b["diagnostics"].as_object().unwrap() {
+        let (v, uu) = (d["value"].as_f64().unwrap(), d["expanded_uncertainty"].as_f64().unwrap());
+        assert!(
+            values
+                .iter()
+                .any(|(shown, su, unit)| unit == d["unit"].as_str().unwrap() && rounds_to(v, *shown, uu) && rounds_to(uu, *su, uu)),
+            "{name}: {v} ± {uu}"
+        );
+    }
+    // after compensation with Heidenhain tables: less than before, not zero (the vmc3 errors have
+    // terms own-axis tables cannot carry), and what the tables leave is stated
+    let v = &s["volumetric"];
+    let (before, after) = (v["max_before_um"].as_f64().unwrap(), v["max_after_um"].as_f64().unwrap());
+    assert!(after < before / 2.0 && after > 0.1, "before {before}, after {after}");
+    assert_eq!(v["controller"], "heidenhain");
+    assert!(s["controller"]["worst_um"].as_f64().unwrap() > 0.1);
+    if let Some(browser) = chromium() {
+        let bad = browser_overflow(&browser, &dir.path().join("vmc3.html"), dir.path());
+        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+    }
+    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
+        let scratch = dir.path().join("pages");
+        std::fs::create_dir(&scratch).unwrap();
+        let pdf_text = check_pdf(&dir.path().join("vmc3.pdf"), &scratch);
+        assert_eq!(measured_values(&pdf_text), values, "the PDF shows the HTML's values");
+    }
+}
+
+#[test]
+fn conformity_decisions_on_tolerances_made_to_pass_to_fail_and_to_be_undecided() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = dir.path().join("plain.toml");
+    std::fs::write(&plain, "[[instrument]]\nname = \"ballbar\"\nused_for = \"ballbar\"\nexpanded_uncertainty_um = 0.5\n").unwrap();
+    let s = imported_report(dir.path(), &plain, &[]);
+    assert!(s["conformity"].as_array().unwrap().is_empty());
+    let g: Vec<f64> = s["ballbar"][0]["G_um"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    let g_max = g.iter().copied().fold(0.0, f64::max);
+    let g_min = g.iter().copied().fold(f64::INFINITY, f64::min);
+    let squareness = s["ballbar"][0]["diagnostics"]["squareness"]["value"].as_f64().unwrap().abs();
+    let u_sq = s["ballbar"][0]["diagnostics"]["squareness"]["expanded_uncertainty"].as_f64().unwrap();
+    // G: a tolerance 2 U above the largest run passes; squareness: a tolerance 2 U below fails
+    // under both rules; H (hysteresis): a tolerance inside its U is not proven under the guard band
+    // but passes by simple acceptance
+    let h = s["ballbar"][0]["H_um"].as_f64().unwrap();
+    let case = |rule: &str| {
+        let file = dir.path().join(format!("{rule}.toml"));
+        std::fs::write(
+            &file,
+            format!(
+                "[[instrument]]\nname = \"ballbar\"\nused_for = \"ballbar\"\nexpanded_uncertainty_um = 0.5\n[decision]\nrule = \"{rule}\"\n[tolerances.ballbar]\nG = {}\nsquareness = {}\nH = {}\n",
+                g_max + 1.0,
+                squareness - 2.0 * u_sq,
+                h + 0.25
+            ),
+        )
+        .unwrap();
+        let s = imported_report(dir.path(), &file, &[]);
+        let decisions: Vec<(String, String)> = s["conformity"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|i| (i["item"].as_str().unwrap().to_string(), i["decision"].as_str().unwrap().to_string()))
+            .collect();
+        (decisions, std::fs::read_to_string(dir.path().join("vmc3.html")).unwrap())
+    };
+    assert!(g_min > 0.0);
+    let (guard, html) = case("guard-band");
+    let decision = |list: &[(String, String)], what: &str| -> Vec<String> {
+        list.iter().filter(|(i, _)| i.contains(what)).map(|(_, d)| d.clone()).collect()
+    };
+    assert_eq!(decision(&guard, "circular deviation G"), ["pass", "pass"], "{guard:?}");
+    assert_eq!(decision(&guard, "squareness"), ["FAIL"], "{guard:?}");
+    assert_eq!(decision(&guard, "hysteresis"), ["not proven"], "{guard:?}");
+    assert!(
+        html.contains("<td class=\"fail\">FAIL</td>")
+            && html.contains("<td class=\"pass\">pass</td>")
+            && html.contains("<td class=\"undecided\">not proven</td>")
+    );
+    assert!(text_of(&html).contains("does NOT conform: 1 of the 4 items"), "the statement");
+    let (simple, html) = case("simple");
+    assert_eq!(decision(&simple, "hysteresis"), ["pass"], "{simple:?}");
+    assert_eq!(decision(&simple, "squareness"), ["FAIL"], "{simple:?}");
+    assert!(text_of(&html).contains("Simple acceptance"));
+}

@@ -1,0 +1,312 @@
+//! The particulars of a calibration certificate (ISO/IEC 17025 §7.8: laboratory, customer,
+//! unique identification, item calibrated, dates, operator and approval, instruments and their
+//! own calibration, environment, methods, decision rule) from a small `report.toml`, completed
+//! by what the input files record (machine, serial number, date, operator, location, air and
+//! material temperatures; `trueaxis::io::Metadata`).
+//!
+//! ```toml
+//! [certificate]
+//! number = "TA-2024-0031"
+//! laboratory = "Example Metrology Lab, Sheffield"
+//! customer = "Example Parts Ltd, Leeds"
+//! approved_by = "B. Example, quality manager"
+//! issue_date = "2024-03-15"
+//! [machine]
+//! maker = "Example Machines"
+//! model = "VMC 3"
+//! controller = "Heidenhain TNC 640"
+//! [[instrument]]
+//! name = "ballbar"
+//! model = "Renishaw QC20-W"
+//! serial = "B12345"
+//! calibrated = "2023-11-02"
+//! certificate = "UKAS 0123-45678"
+//! uncertainty = "U = 0.1 um + 0.7 ppm (k = 2)"
+//! [decision]
+//! rule = "guard-band"          # or "simple"
+//! [tolerances]
+//! volumetric_um = 30           # largest volumetric error over the mapped work volume
+//! [tolerances.ballbar]         # per ISO 230-4 value and diagnostic, in its unit
+//! G = 15
+//! squareness = 20
+//! [tolerances.parameters]      # identified ISO parameters, um or urad
+//! EC0Y = 20
+//! ```
+
+use super::super::html::Section;
+use super::conformity::DecisionRule;
+use super::inputs::InputFile;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+use trueaxis::io::Metadata;
+
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct CertificateFile {
+    #[serde(default)]
+    pub certificate: Particulars,
+    #[serde(default)]
+    pub machine: MachineIdentity,
+    #[serde(default, rename = "instrument")]
+    pub instruments: Vec<Instrument>,
+    #[serde(default)]
+    pub environment: EnvironmentRecord,
+    #[serde(default)]
+    pub decision: Decision,
+    #[serde(default)]
+    pub tolerances: Tolerances,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Particulars {
+    pub number: Option<String>,
+    pub title: Option<String>,
+    pub laboratory: Option<String>,
+    pub customer: Option<String>,
+    pub operator: Option<String>,
+    pub approved_by: Option<String>,
+    pub test_date: Option<String>,
+    pub issue_date: Option<String>,
+    pub location: Option<String>,
+    /// Free remarks (scope, deviations from the method, opinions).
+    pub remarks: Option<String>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct MachineIdentity {
+    pub maker: Option<String>,
+    pub model: Option<String>,
+    pub serial: Option<String>,
+    pub controller: Option<String>,
+    pub location: Option<String>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Instrument {
+    pub name: String,
+    pub model: Option<String>,
+    pub serial: Option<String>,
+    /// Date of the instrument's own calibration.
+    pub calibrated: Option<String>,
+    /// Its calibration certificate (issuer and number): the traceability to SI.
+    pub certificate: Option<String>,
+    /// Its stated uncertainty, as written on its certificate.
+    pub uncertainty: Option<String>,
+    /// The test it serves (`ballbar`): its expanded uncertainty then becomes the uncertainty of
+    /// that test's readings.
+    pub used_for: Option<String>,
+    /// Expanded uncertainty (k = 2) of a reading, um, from its certificate.
+    pub expanded_uncertainty_um: Option<f64>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct EnvironmentRecord {
+    /// Lowest and highest air temperature during the tests, degC.
+    pub air_temperature_degc: Option<[f64; 2]>,
+    /// Lowest and highest machine (material) temperature, degC.
+    pub machine_temperature_degc: Option<[f64; 2]>,
+    pub notes: Option<String>,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Decision {
+    #[serde(default)]
+    pub rule: DecisionRule,
+}
+
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Tolerances {
+    /// Largest volumetric error |d| over the mapped work volume, um.
+    pub volumetric_um: Option<f64>,
+    /// ISO 230-4 values (`G`, `F`, `H`) and ballbar diagnostics by name, in their units.
+    #[serde(default)]
+    pub ballbar: BTreeMap<String, f64>,
+    /// Identified parameters by ISO name, um or urad.
+    #[serde(default)]
+    pub parameters: BTreeMap<String, f64>,
+}
+
+impl Tolerances {
+    pub fn is_empty(&self) -> bool {
+        self.volumetric_um.is_none() && self.ballbar.is_empty() && self.parameters.is_empty()
+    }
+}
+
+impl CertificateFile {
+    /// The expanded uncertainty (k = 2, um) of the readings of the instrument used for `test`.
+    pub fn reading_uncertainty_um(&self, test: &str) -> Option<f64> {
+        self.instruments.iter().find(|i| i.used_for.as_deref() == Some(test)).and_then(|i| i.expanded_uncertainty_um)
+    }
+
+    /// Reads and checks `report.toml`; errors name the file.
+    pub fn load(path: &Path) -> Result<CertificateFile, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        CertificateFile::from_toml_str(&text, &path.display().to_string())
+    }
+
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<CertificateFile, String> {
+        let file: CertificateFile =
+            toml::from_str(text).map_err(|e| format!("{origin}: {}", e.to_string().trim_end().replace('\n', " ")))?;
+        let t = &file.tolerances;
+        let all = t
+            .volumetric_um
+            .iter()
+            .map(|v| ("volumetric_um".to_string(), *v))
+            .chain(t.ballbar.iter().map(|(k, v)| (format!("ballbar.{k}"), *v)))
+            .chain(t.parameters.iter().map(|(k, v)| (format!("parameters.{k}"), *v)));
+        for (name, v) in all {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{origin}: tolerances.{name} must be a positive number, got {v}"));
+            }
+        }
+        for i in &file.instruments {
+            if let Some(u) = i.expanded_uncertainty_um.filter(|u| !(u.is_finite() && *u > 0.0)) {
+                return Err(format!("{origin}: instrument `{}`: expanded_uncertainty_um must be a positive number of um, got {u}", i.name));
+            }
+        }
+        for (name, range) in [
+            ("air_temperature_degc", file.environment.air_temperature_degc),
+            ("machine_temperature_degc", file.environment.machine_temperature_degc),
+        ] {
+            if let Some([lo, hi]) = range {
+                if !(lo.is_finite() && hi.is_finite() && lo <= hi && (-40.0..=80.0).contains(&lo) && (-40.0..=80.0).contains(&hi)) {
+                    return Err(format!("{origin}: environment.{name} must be [lowest, highest] in degC, got [{lo}, {hi}]"));
+                }
+            }
+        }
+        Ok(file)
+    }
+}
+
+/// The first value any input file records for `pick`.
+fn recorded<'a>(inputs: &'a [InputFile], pick: impl Fn(&'a Metadata) -> Option<&'a String>) -> Option<String> {
+    inputs.iter().filter_map(|f| f.metadata.as_ref()).find_map(|m| pick(m).cloned())
+}
+
+fn range_text(values: &[f64]) -> Option<String> {
+    let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if !lo.is_finite() {
+        return None;
+    }
+    Some(if (hi - lo).abs() < 0.005 { format!("{lo:.2} degC") } else { format!("{lo:.2} to {hi:.2} degC") })
+}
+
+/// What the certificate section shows.
+pub struct Certificate<'a> {
+    pub file: &'a CertificateFile,
+    /// The machine's name in its description file.
+    pub machine_name: &'a str,
+    pub inputs: &'a [InputFile],
+    /// Methods and standards applied (one line each), from the sections present.
+    pub methods: Vec<String>,
+    /// The date the report was made.
+    pub made: &'a str,
+}
+
+impl Certificate<'_> {
+    pub fn section(&self) -> Section {
+        let f = self.file;
+        let c = &f.certificate;
+        let m = &f.machine;
+        let not_stated = || "not stated".to_string();
+        let mut fields: Vec<(String, String)> = Vec::new();
+        let mut push = |name: &str, value: Option<String>| {
+            if let Some(v) = value.filter(|v| !v.trim().is_empty()) {
+                fields.push((name.to_string(), v));
+            }
+        };
+        push("Certificate number", Some(c.number.clone().unwrap_or_else(not_stated)));
+        push("Calibration laboratory", Some(c.laboratory.clone().unwrap_or_else(not_stated)));
+        push("Customer", Some(c.customer.clone().unwrap_or_else(not_stated)));
+        let identity = [m.maker.clone(), m.model.clone()].into_iter().flatten().collect::<Vec<_>>().join(" ");
+        push(
+            "Machine",
+            Some(if identity.is_empty() { self.machine_name.to_string() } else { format!("{identity} ({})", self.machine_name) }),
+        );
+        push("Serial number", m.serial.clone().or_else(|| recorded(self.inputs, |md| md.serial.as_ref())).or_else(|| Some(not_stated())));
+        push("Controller", m.controller.clone());
+        push("Location", m.location.clone().or(c.location.clone()).or_else(|| recorded(self.inputs, |md| md.location.as_ref())));
+        push(
+            "Date of the tests",
+            c.test_date.clone().or_else(|| recorded(self.inputs, |md| md.date.as_ref())).or_else(|| Some(not_stated())),
+        );
+        push("Date of issue", Some(c.issue_date.clone().unwrap_or_else(|| self.made.to_string())));
+        push("Operator", c.operator.clone().or_else(|| recorded(self.inputs, |md| md.operator.as_ref())).or_else(|| Some(not_stated())));
+        push("Approved by", c.approved_by.clone());
+        let air: Vec<f64> = self.inputs.iter().filter_map(|i| i.metadata.as_ref()?.environment.air_temperature_degc).collect();
+        let material: Vec<f64> =
+            self.inputs.iter().filter_map(|i| i.metadata.as_ref()).flat_map(|m| m.environment.material_temperatures_degc.clone()).collect();
+        let e = &f.environment;
+        push(
+            "Air temperature",
+            e.air_temperature_degc
+                .map(|[a, b]| range_text(&[a, b]).unwrap_or_default())
+                .or_else(|| range_text(&air).map(|t| format!("{t} (recorded in the files)")))
+                .or_else(|| Some(not_stated())),
+        );
+        push(
+            "Machine temperature",
+            e.machine_temperature_degc
+                .map(|[a, b]| range_text(&[a, b]).unwrap_or_default())
+                .or_else(|| range_text(&material).map(|t| format!("{t} (recorded in the files)")))
+                .or_else(|| Some(not_stated())),
+        );
+        push("Environment", e.notes.clone());
+        push("Decision rule", Some(f.decision.rule.name().to_string()));
+        push("Remarks", c.remarks.clone());
+        let mut s = Section::new("certificate", "Certificate").fields(fields);
+        let rows: Vec<Vec<String>> = f
+            .instruments
+            .iter()
+            .map(|i| {
+                let dash = || "-".to_string();
+                vec![
+                    i.name.clone(),
+                    i.model.clone().unwrap_or_else(dash),
+                    i.serial.clone().unwrap_or_else(dash),
+                    i.calibrated.clone().unwrap_or_else(dash),
+                    i.certificate.clone().unwrap_or_else(dash),
+                    i.uncertainty.clone().unwrap_or_else(dash),
+                ]
+            })
+            .collect();
+        if rows.is_empty() {
+            s = s.note("No measuring instruments are stated (give them as [[instrument]] in report.toml): the traceability of the results cannot be shown.");
+        } else {
+            s = s.table(
+                "Measuring instruments and their own calibration (traceability)",
+                &["instrument", "model", "serial number", "calibrated", "certificate", "its uncertainty"],
+                rows,
+            );
+        }
+        s.table("Methods and standards applied", &["method"], self.methods.iter().map(|m| vec![m.clone()]).collect())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_a_certificate_file_and_refuses_bad_values() {
+        let text = "[certificate]\nnumber = \"A-1\"\n[[instrument]]\nname = \"ballbar\"\nserial = \"B1\"\n[decision]\nrule = \"guard-band\"\n[tolerances]\nvolumetric_um = 30\n[tolerances.ballbar]\nG = 15\n";
+        let f = CertificateFile::from_toml_str(text, "r.toml").unwrap();
+        assert_eq!(f.decision.rule, DecisionRule::GuardBand);
+        assert_eq!(f.tolerances.ballbar["G"], 15.0);
+        assert_eq!(f.instruments[0].serial.as_deref(), Some("B1"));
+        let bad = CertificateFile::from_toml_str("[tolerances]\nvolumetric_um = -3\n", "r.toml").unwrap_err();
+        assert!(bad.contains("r.toml") && bad.contains("volumetric_um"), "{bad}");
+        let unknown = CertificateFile::from_toml_str("[certificate]\nnumbr = \"x\"\n", "r.toml").unwrap_err();
+        assert!(unknown.contains("r.toml") && unknown.contains("numbr"), "{unknown}");
+        let rule = CertificateFile::from_toml_str("[decision]\nrule = \"strict\"\n", "r.toml").unwrap_err();
+        assert!(rule.contains("strict"), "{rule}");
+    }
+}
