@@ -48,7 +48,8 @@ fn format_name(format: Format) -> String {
     after_help = "Examples:\n  trueaxis compensate --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      --format linuxcnc --limit-um 50 --out comp\n  \
 trueaxis compensate --machine examples/machines/c600u.toml --errors examples/errors/c600u.toml \\\n      --poses examples/poses/c600u.csv --format csv --out comp5\n\n\
 Corrections are in um (linear axes) and urad (rotary axes) in CSV/JSON, in machine units (mm, deg) in\n\
-controller files. A correction beyond --limit-um / --limit-urad, a table longer than the controller\n\
+controller files. A correction beyond the machine file's [limits] (default 1000 um, 10000 urad;\n\
+--limit-um / --limit-urad override it), a table longer than the controller\n\
 accepts, unequal spacing or a rotary table that does not close over a turn refuses the export (exit 2).\n\
 --out must not hold files this run does not write (tables of different runs never mix).\n\
 --poses: the poses are corrected at the temperatures of the file's T:<sensor> columns (else --temperature)."
@@ -66,10 +67,12 @@ pub struct CompensateArgs {
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
-    /// Refuse corrections of a linear axis larger than this (um).
+    /// Refuse corrections of a linear axis larger than this (um; default: the machine file's
+    /// `[limits] correction_um`, else 1000).
     #[arg(long)]
     limit_um: Option<f64>,
-    /// Refuse corrections of a rotary axis larger than this (urad).
+    /// Refuse corrections of a rotary axis larger than this (urad; default: the machine file's
+    /// `[limits] correction_urad`, else 10000).
     #[arg(long)]
     limit_urad: Option<f64>,
     /// Points per own-axis / cross-axis table (equally spaced over the travel).
@@ -160,14 +163,15 @@ fn given_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<Optio
     Ok(values)
 }
 
-/// The user's correction limits (um, urad), each positive when given.
-pub fn limits(max_um: Option<f64>, max_urad: Option<f64>) -> Result<Limits, Failure> {
+/// The correction limits (um, urad): the machine file's `[limits]` (or the defaults), replaced by
+/// `--limit-um` / `--limit-urad` when given (each a positive number).
+pub fn limits(machine: &Machine, max_um: Option<f64>, max_urad: Option<f64>) -> Result<Limits, Failure> {
     for (name, v) in [("--limit-um", max_um), ("--limit-urad", max_urad)] {
         if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
             return Err(Failure::input(anyhow::anyhow!("{name} must be a positive number")));
         }
     }
-    Ok(Limits { max_um, max_urad })
+    Limits::with_overrides(machine, max_um, max_urad).map_err(failure)
 }
 
 pub fn failure(e: CompensateError) -> Failure {
@@ -184,7 +188,7 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let given = given_temperatures(&errors, &args.temperatures)?;
     let temperatures: Vec<f64> = given.iter().zip(errors.input_references()).map(|(t, r)| t.unwrap_or(*r)).collect();
     let reference = args.reference.as_deref().map(|r| parse_axis_values(&machine, r, "--reference")).transpose()?;
-    let limits = limits(args.limit_um, args.limit_urad)?;
+    let limits = limits(&machine, args.limit_um, args.limit_urad)?;
     let corrector = Corrector::new(&machine, &errors);
     let spec = TableSpec { points: args.points, reference, temperatures: temperatures.clone() };
     let tables = axis_tables(&corrector, &spec).map_err(failure)?;
@@ -208,7 +212,7 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let left_out: Vec<String> = exported.as_ref().map_or_else(Vec::new, |e| e.left_out.clone());
     let mut pose_summary = None;
     if let Some(path) = &args.poses {
-        let (file, summary) = correct_poses(&machine, &corrector, path, &given)?;
+        let (file, summary) = correct_poses(&machine, &corrector, path, &given, &limits)?;
         files.push(file);
         pose_summary = Some(summary);
     }
@@ -331,6 +335,7 @@ fn correct_poses(
     corrector: &Corrector,
     path: &Path,
     given_temperatures: &[Option<f64>],
+    limits: &Limits,
 ) -> Result<(ExportedFile, serde_json::Value), Failure> {
     let poses = read_poses(path, machine).map_err(Failure::input)?;
     let temperatures = pose_temperatures(corrector.errors, &poses, given_temperatures, path)?;
@@ -353,6 +358,11 @@ fn correct_poses(
                 path.display(),
                 poses.lines[i]
             )));
+        }
+        for (k, &d) in c.dq.iter().take(n).enumerate() {
+            let place = || format!("the pose of line {}", poses.lines[i]);
+            export::check_limit(machine, limits, k, machine.axes()[k].position_to_user(d), &place)
+                .map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", path.display())))?;
         }
         let mut row: Vec<String> = poses.user[i * n..(i + 1) * n].iter().map(|v| format!("{v}")).collect();
         row.extend((0..n).map(|k| format!("{:.4}", export::to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])))));

@@ -22,14 +22,15 @@ fn failure(e: CompensateError) -> PyErr {
     }
 }
 
-/// Correction limits (um, urad), each positive when given.
-fn limits(max_um: Option<f64>, max_urad: Option<f64>) -> PyResult<Limits> {
+/// Correction limits (um, urad): the machine file's `[limits]` (or the defaults), replaced by
+/// `limit_um` / `limit_urad` when given (each positive), as the command line.
+fn limits(machine: &trueaxis::machine::Machine, max_um: Option<f64>, max_urad: Option<f64>) -> PyResult<Limits> {
     for (name, v) in [("limit_um", max_um), ("limit_urad", max_urad)] {
         if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
             return Err(input_msg(format!("{name} must be a positive number")));
         }
     }
-    Ok(Limits { max_um, max_urad })
+    Limits::with_overrides(machine, max_um, max_urad).map_err(failure)
 }
 
 /// Sensor temperatures (degC) in the model's order from a dict `{"T:name": degC}`; 20 degC
@@ -49,7 +50,8 @@ fn temperatures(errors: &Errors, given: Option<HashMap<String, f64>>) -> PyResul
 /// format: `linuxcnc`, `linuxcnc-hal`, `isg`, `heidenhain`, `siemens`, `fanuc`, `lattice`, `csv`
 /// or `json`. Corrections cancel the predicted error of the tool point relative to the workpiece
 /// (exact chain); `points` per table, `grid` nodes along X, Y, Z; a correction beyond `limit_um`
-/// (linear axes, um) or `limit_urad` (rotary axes, urad) refuses the export (InputError).
+/// (linear axes, um) or `limit_urad` (rotary axes, urad), by default the machine file's `[limits]`
+/// (else 1000 um, 10000 urad), refuses the export (InputError).
 /// `temperatures`: `{"T:name": degC}`. The summary says what the format leaves out and the error it
 /// leaves over the travel (`format_residual`, um), as `trueaxis compensate --json`.
 #[pyfunction]
@@ -75,7 +77,7 @@ pub fn compensate(
     let options = FormatOptions { comp_type, max_lattice_points, max_table_points, max_cec_tables, hal_component };
     let format = ExportFormat::parse(format, &options).map_err(input_msg)?;
     let m = &machine.inner;
-    let limits = limits(limit_um, limit_urad)?;
+    let limits = limits(m, limit_um, limit_urad)?;
     let temperatures = self::temperatures(errors, temperatures)?;
     let spec = TableSpec { points, reference: None, temperatures: temperatures.clone() };
     let corrector = Corrector::new(m, &errors.inner);
@@ -135,7 +137,7 @@ pub fn correct_nc(
         return Err(input_msg("decimals must be at most 9"));
     }
     let mut options = NcOptions::new(&machine.inner);
-    options.limits = limits(limit_um, limit_urad)?;
+    options.limits = limits(&machine.inner, limit_um, limit_urad)?;
     options.tolerance_mm = tolerance_um * 1e-3;
     options.rotary_tolerance_deg = (tolerance_um * 1e-6).to_degrees();
     options.decimals = decimals;

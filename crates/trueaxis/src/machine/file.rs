@@ -2,6 +2,7 @@
 
 use super::axis::{Axis, AxisKind, Side};
 use super::error::MachineError;
+use super::limits::CorrectionLimits;
 use super::parameter::is_rotary_letter;
 use super::structure::Structure;
 use super::Machine;
@@ -18,6 +19,18 @@ struct MachineFile {
     source: Option<String>,
     axes: BTreeMap<String, AxisFile>,
     tool: ToolFile,
+    /// `[limits]`: the largest corrections trueaxis may write (module `limits`).
+    #[serde(default)]
+    limits: Option<LimitsFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LimitsFile {
+    #[serde(default)]
+    correction_um: Option<f64>,
+    #[serde(default)]
+    correction_urad: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -89,7 +102,14 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
     if file.name.trim().is_empty() {
         return Err(invalid("`name` must not be empty".into()));
     }
-    Ok(Machine::assemble(file.name, file.source, structure, axes, tool_point))
+    let limits = file.limits.map_or_else(CorrectionLimits::default, |l| CorrectionLimits {
+        correction_um: l.correction_um,
+        correction_urad: l.correction_urad,
+    });
+    limits.validate().map_err(invalid)?;
+    let mut machine = Machine::assemble(file.name, file.source, structure, axes, tool_point);
+    machine.correction_limits = limits;
+    Ok(machine)
 }
 
 fn axis(letter: char, side: Side, spec: &AxisFile) -> Result<Axis, String> {
