@@ -76,7 +76,7 @@ pub struct CompensateArgs {
     #[arg(long)]
     limit_urad: Option<f64>,
     /// Points per own-axis / cross-axis table (equally spaced over the travel).
-    #[arg(long, default_value_t = 41)]
+    #[arg(long, default_value_t = 41, value_parser = crate::bounds::count::<2, { trueaxis::compensate::tables::MAX_TABLE_POINTS }>)]
     points: usize,
     /// Volumetric grid nodes along X, Y, Z (linuxcnc-hal, lattice, csv, json).
     #[arg(long, value_parser = parse_counts, default_value = "9,9,9")]
