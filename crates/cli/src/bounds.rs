@@ -7,7 +7,7 @@ pub fn count<const MIN: usize, const MAX: usize>(text: &str) -> Result<usize, St
     match text.trim().parse::<usize>() {
         Ok(n) if (MIN..=MAX).contains(&n) => Ok(n),
         Ok(n) if n > MAX => Err(format!("{n} is more than the {MAX} allowed (a bound on memory and time, docs/limits.md)")),
-        _ => Err(format!("`{text}`: expected a whole number from {MIN} to {MAX}")),
+        _ => Err(format!("`{text}`: expected a whole number of at least {MIN} and at most {MAX}")),
     }
 }
 

@@ -104,14 +104,31 @@ fn cases() -> Vec<Case> {
         // uncertainty sources
         case("sources malformed", "s.toml", with(&sources, "coverage = 0.95", "coverage = "), unc, &["line"]),
         case("sources nan", "s.toml", with(&sources, "tolerance = 0.05", "tolerance = nan"), unc, &["tolerance"]),
+        case("sources trials", "s.toml", with(&sources, "trials_per_sequence = 10000", "trials_per_sequence = 1000000000000000"), unc, &["trials_per_sequence", "more than"]),
         // NC, both dialects (rs274 refuses the same programs: crates/trueaxis/tests/nc_bad_programs.rs)
         case("nc arc radius", "p.ngc", "G21 G90 G17\nG0 X0 Y0 Z-10\nG2 X10 Y0 I1 J0 F100\nM2\n".into(), nc, &["line 3", "radius"]),
         case("nc two motion codes", "p.ngc", "G21 G90\nG0 G1 X10 F100\nM2\n".into(), nc, &["line 2", "G0 and G1", "modal group"]),
         case("nc malformed", "p.ngc", "G21 G90\nG1 X1..2 F100\nM2\n".into(), nc, &["line 2"]),
-        case("nc huge", "p.ngc", "G21 G90\nG1 X1e200 F100\nM2\n".into(), nc, &["line 2"]),
+        case("nc huge", "p.ngc", "G21 G90\nG1 X1e200 F100\nM2\n".into(), nc, &["line 2", "E word"]),
         case("fanuc two motion codes", "p.nc", "%\nO1000\nG21 G90\nG00 G01 X10. F100.\nM30\n%\n".into(), nc, &["line 4", "modal group"]),
         case("nc correction limit", "p.ngc", "G21 G90\nG0 X-400 Y-250 Z-100\nM2\n".into(), &["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "{dir}/e.toml", "{f}", "--out", "{out}"], &["line 2", "beyond the limit of 1000 um", "correction_um"]),
     ];
+    // an error table shorter than the travel: compensation beyond its ends is refused
+    let short = "name = \"short\"\n[table.EXX]\nposition = [-300, 300]\nvalue = [0, 5]\n".to_string();
+    cases.push(case(
+        "compensate table shorter than the travel",
+        "e.toml",
+        short.clone(),
+        &["compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "{f}", "--format", "csv", "--out", "{out}"],
+        &["EXX", "covers X from -300 to 300 mm", "the travel of X reaches -400 mm"],
+    ));
+    cases.push(case(
+        "nc beyond a table",
+        "e.toml",
+        short,
+        &["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "{f}", "{dir}/p.ngc", "--out", "{out}"],
+        &["p.ngc: line 2", "EXX", "the program reaches -350 mm"],
+    ));
     // the unit slip of the issue: EC0X = 1e12 is refused by the physical range before any table
     cases.push(case(
         "compensate unit slip",
@@ -134,7 +151,8 @@ fn every_bad_input_is_refused_with_its_file_line_and_cause_and_nothing_is_writte
         for f in ["campaign.toml", "station1.csv", "station2.csv", "station3.csv", "station4.csv"] {
             std::fs::copy(Path::new(ROOT).join("examples/campaigns/vmc3_tracer").join(f), d.join(f)).unwrap();
         }
-        // an error file whose corrections pass the physical range but not the default limit (2 mm)
+        std::fs::write(d.join("p.ngc"), "G21 G90\nG0 X-350 Y0 Z-100\nM2\n").unwrap();
+        // an error file whose corrections pass the physical range but not the default limit (1.25 mm)
         std::fs::write(d.join("e.toml"), "name = \"big\"\n[constant]\nEC0X = 5000\n").unwrap();
         let file = d.join(c.name);
         std::fs::write(&file, &c.text).unwrap();
@@ -153,7 +171,9 @@ fn every_bad_input_is_refused_with_its_file_line_and_cause_and_nothing_is_writte
         if o.status.code() != Some(2) {
             problems.push(format!("exit {:?}", o.status.code()));
         }
-        let names_file = message.contains(file.to_str().unwrap()) || (c.name.starts_with("station") && message.contains("station1.csv"));
+        let names_file = message.contains(file.to_str().unwrap())
+            || (c.name.starts_with("station") && message.contains("station1.csv"))
+            || message.contains("p.ngc");
         if !names_file {
             problems.push("the file is not named".into());
         }

@@ -39,6 +39,8 @@ fn programs_rs274_refuses_are_refused_with_the_line() {
         ("G21 G90\nG1 X10 X20 F100\nM2\n", "G21 G90\nG1 X20 F100\nM2\n", "line 2"),
         ("G21 G90\nG1 X10\nM2\n", "G21 G90\nG1 X10 F50\nM2\n", "line 2"),
         ("G21 G90 G17\nG0 X0 Y0\nG2 X10 Y0 R2 F100\nM2\n", "G21 G90 G17\nG0 X0 Y0\nG2 X10 Y0 R5 F100\nM2\n", "line 3"),
+        // an exponent: `X1e200` is X1 and an E word nothing uses
+        ("G21 G90\nG1 X1e200 F100\nM2\n", "G21 G90\nG1 X100 F100\nM2\n", "line 2"),
     ];
     let dir = tempfile::tempdir().unwrap();
     let rs274 = nc_common::rs274::rs274();

@@ -179,6 +179,12 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
         .filter(|e| e.segment.role == Role::Training)
         .flat_map(|e| e.measured.clone().unwrap_or_default().into_iter().zip(e.predicted.clone()))
         .unzip();
+    if evaluated.iter().any(|e| e.predicted.iter().any(|v| !v.is_finite())) {
+        return Err(Failure::computation(anyhow::anyhow!(
+            "{}: the fitted model predicts numbers that are not finite; nothing was written",
+            args.data.display()
+        )));
+    }
     let training_stats = residual_stats(&measured, &predicted);
     let validation: Vec<(String, Option<ResidualStats>)> =
         evaluated.iter().filter(|e| e.segment.role == Role::Validation).map(|e| (e.segment.name.clone(), e.stats())).collect();

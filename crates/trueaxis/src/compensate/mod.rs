@@ -7,6 +7,7 @@
 //! error along the axis).
 
 pub mod correction;
+pub mod coverage;
 pub mod export;
 pub mod nc;
 pub mod realtime;

@@ -178,8 +178,11 @@ pub fn axis_tables(corrector: &Corrector, spec: &TableSpec) -> Result<TableSet, 
     let reference = reference_pose(m, spec.reference.as_deref())?;
     let mut tables = Vec::new();
     let (mut worst_p, mut worst_o) = (0.0f64, 0.0f64);
+    let covered = super::coverage::table_ranges(m, corrector.errors);
     for driver in 0..m.axis_count() {
         let [lo, hi] = table_range(m, driver)?;
+        let travel = || format!("the travel of {}", m.axes()[driver].letter);
+        super::coverage::check_covered(m, &covered, driver, lo, hi, &travel)?;
         let line = line_tables(corrector, &reference, &spec.temperatures, driver, &equally_spaced(lo, hi, spec.points))?;
         worst_p = worst_p.max(line.worst_residual_position);
         worst_o = worst_o.max(line.worst_uncorrectable_orientation);
@@ -335,8 +338,10 @@ pub fn volumetric_grid(corrector: &Corrector, counts: [usize; 3], spec: &TableSp
     let reference = reference_pose(m, spec.reference.as_deref())?;
     let mut start = [0.0; 3];
     let mut step = [0.0; 3];
+    let covered = super::coverage::table_ranges(m, corrector.errors);
     for d in 0..3 {
         let [lo, hi] = table_range(m, axes[d])?;
+        super::coverage::check_covered(m, &covered, axes[d], lo, hi, &|| "the grid".to_string())?;
         start[d] = lo;
         step[d] = (hi - lo) / (counts[d] - 1) as f64;
     }
