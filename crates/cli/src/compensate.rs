@@ -191,7 +191,12 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let limits = limits(&machine, args.limit_um, args.limit_urad)?;
     let corrector = Corrector::new(&machine, &errors);
     let spec = TableSpec { points: args.points, reference, temperatures: temperatures.clone() };
-    let tables = axis_tables(&corrector, &spec).map_err(failure)?;
+    // an error table that does not cover the travel: the message names the error file
+    let named = |e: CompensateError| match e {
+        CompensateError::Coverage(m) => Failure::input(anyhow::anyhow!("{}: {m}", args.errors.display())),
+        e => failure(e),
+    };
+    let tables = axis_tables(&corrector, &spec).map_err(named)?;
     let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
     let options = FormatOptions {
         comp_type: args.comp_type,
@@ -201,7 +206,7 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
         hal_component: args.hal_component.clone(),
     };
     let format = ExportFormat::parse(&format_name(args.format), &options).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
-    let grid = if format.wants_grid(has_xyz) { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(failure)?) } else { None };
+    let grid = if format.wants_grid(has_xyz) { Some(volumetric_grid(&corrector, args.grid, &spec).map_err(named)?) } else { None };
     let input = ExportInput { machine: &machine, errors: &errors, tables: &tables, grid: grid.as_ref(), limits };
     let (mut files, exported) = format.export(&input).map_err(failure)?;
     // what the controller format leaves: its corrections applied over the travel, on the exact chain

@@ -308,6 +308,6 @@ fn plain_csv_and_json_agree_with_the_tables() {
     assert!((x["forward"][0].as_f64().unwrap() - first).abs() < 1e-4);
     assert_eq!(doc["grid"]["counts"], serde_json::json!([3, 3, 2]));
     // the rotary limit in urad refuses the C corrections of the 0.01 deg PIGEs
-    let limited = export_input(&m, &e, &tables, Some(&grid), Limits { max_um: None, max_urad: Some(1.0) });
+    let limited = export_input(&m, &e, &tables, Some(&grid), Limits::with_overrides(&m, None, Some(1.0)).unwrap());
     assert!(export::plain::to_json(&limited).unwrap_err().to_string().contains("urad"));
 }

@@ -40,7 +40,7 @@ pub fn check_covered(machine: &Machine, ranges: &[TableRange], axis: usize, lo: 
         if lo < t.range[0] - slack || hi > t.range[1] + slack {
             let a = &machine.axes()[axis];
             let unit = a.position_unit();
-            return Err(CompensateError::Input(format!(
+            return Err(CompensateError::Coverage(format!(
                 "the error table {} covers {} from {} to {} {unit}, but {} reaches {} {unit}: beyond its ends the table would hold its \
                  end values, which nobody measured; measure the whole travel, or narrow `range` of {} in the machine file \
                  (docs/limits.md); nothing was written",

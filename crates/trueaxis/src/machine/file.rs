@@ -145,10 +145,11 @@ fn axis(letter: char, side: Side, spec: &AxisFile) -> Result<Axis, String> {
     }
     let point = match (kind, spec.point) {
         (_, Some(p)) => {
+            let point = finite_vector(p).ok_or("point must be finite numbers (mm)")?;
             if let Some((i, m)) = MACHINE_LENGTH_MM.first_outside(&p) {
                 return Err(format!("point, component {}: {m}", i + 1));
             }
-            finite_vector(p).ok_or("point must be finite numbers (mm)")?
+            point
         }
         (AxisKind::Linear, None) => Vec3::zeros(),
         (AxisKind::Rotary, None) => return Err("missing field `point`: a rotary axis needs a point on its axis line (mm)".into()),

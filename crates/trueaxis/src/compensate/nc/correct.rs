@@ -98,7 +98,7 @@ impl<'a, 'b> Corrections<'a, 'b> {
         point_at(m, arc, t, &mut p);
         for (k, &v) in p.iter().enumerate() {
             check_covered(self.machine, &self.covered, k, v, v, &|| "the program".to_string())
-                .map_err(|e| CompensateError::Input(format!("{}: line {}: {e}", self.origin, self.line)))?;
+                .map_err(|e| CompensateError::Coverage(format!("{}: line {}: {e}", self.origin, self.line)))?;
         }
         directions_at(m, arc, t_direction, &self.previous_directions, &mut self.directions);
         self.machine.pose_to_internal(&p, &mut self.q);
