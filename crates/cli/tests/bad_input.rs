@@ -44,9 +44,21 @@ fn cases() -> Vec<Case> {
     let rtl = example("examples/data/laser_x.rtl");
     let thermal = example("examples/thermal/campaign.csv");
     let sources = example("examples/uncertainty/kx8five_statistical.toml");
-    let predict_m = &["predict", "--machine", "{f}", "--errors", "examples/errors/vmc3.toml", "--poses", "examples/poses/vmc3.csv", "--out", "{out}"];
-    let predict_e = &["predict", "--machine", "examples/machines/vmc3.toml", "--errors", "{f}", "--poses", "examples/poses/vmc3.csv", "--out", "{out}"];
-    let predict_p = &["predict", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "--poses", "{f}", "--out", "{out}"];
+    let predict_m =
+        &["predict", "--machine", "{f}", "--errors", "examples/errors/vmc3.toml", "--poses", "examples/poses/vmc3.csv", "--out", "{out}"];
+    let predict_e =
+        &["predict", "--machine", "examples/machines/vmc3.toml", "--errors", "{f}", "--poses", "examples/poses/vmc3.csv", "--out", "{out}"];
+    let predict_p = &[
+        "predict",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--errors",
+        "examples/errors/vmc3.toml",
+        "--poses",
+        "{f}",
+        "--out",
+        "{out}",
+    ];
     let iso4 = &["ballbar", "iso230-4", "{f}", "--radius", "100", "--plot", "{out}"];
     let iso2 = &["iso230-2", "{f}", "--plot", "{out}"];
     let tfit = &["thermal", "fit", "--data", "{f}", "--error", "dz", "--train-runs", "warmup", "--plot", "{out}"];
@@ -55,16 +67,46 @@ fn cases() -> Vec<Case> {
     let mut cases = vec![
         // machine file
         case("machine malformed", "m.toml", with(&machine, "structure = \"wXYbZt\"", "structure = "), predict_m, &["line"]),
-        case("machine huge", "m.toml", with(&machine, "point = [0, 0, 400]", "point = [0, 0, 1e200]"), predict_m, &["line 22", "[tool] point", "physical range"]),
-        case("machine 1e308", "m.toml", with(&machine, "range = [-400, 400]", "range = [-400, 1e308]"), predict_m, &["axis X", "physical range"]),
+        case(
+            "machine huge",
+            "m.toml",
+            with(&machine, "point = [0, 0, 400]", "point = [0, 0, 1e200]"),
+            predict_m,
+            &["line 22", "[tool] point", "physical range"],
+        ),
+        case(
+            "machine 1e308",
+            "m.toml",
+            with(&machine, "range = [-400, 400]", "range = [-400, 1e308]"),
+            predict_m,
+            &["axis X", "physical range"],
+        ),
         case("machine nan", "m.toml", with(&machine, "point = [0, 0, 400]", "point = [0, 0, nan]"), predict_m, &["[tool] point", "finite"]),
-        case("machine out of range", "m.toml", with(&machine, "range = [-250, 250]", "range = [-250, 250000000]"), predict_m, &["axis Y", "100 m"]),
+        case(
+            "machine out of range",
+            "m.toml",
+            with(&machine, "range = [-250, 250]", "range = [-250, 250000000]"),
+            predict_m,
+            &["axis Y", "100 m"],
+        ),
         case("machine limit", "m.toml", machine.clone() + "\n[limits]\ncorrection_um = -1\n", predict_m, &["[limits] correction_um"]),
         case("machine empty", "m.toml", String::new(), predict_m, &["missing field"]),
         // error values
         case("errors malformed", "e.toml", with(&errors, "EC0X = 25.0", "EC0X = 25.0.0"), predict_e, &["line"]),
-        case("errors huge", "e.toml", with(&errors, "EC0X = 25.0", "EC0X = 1e200"), predict_e, &["line 7", "EC0X", "physical range of an angular error"]),
-        case("errors 1e308", "e.toml", with(&errors, "coefficients = [1.5, -0.012]", "coefficients = [1.5, 1e308]"), predict_e, &["EXX+", "at X", "physical range"]),
+        case(
+            "errors huge",
+            "e.toml",
+            with(&errors, "EC0X = 25.0", "EC0X = 1e200"),
+            predict_e,
+            &["line 7", "EC0X", "physical range of an angular error"],
+        ),
+        case(
+            "errors 1e308",
+            "e.toml",
+            with(&errors, "coefficients = [1.5, -0.012]", "coefficients = [1.5, 1e308]"),
+            predict_e,
+            &["EXX+", "at X", "physical range"],
+        ),
         case("errors nan", "e.toml", with(&errors, "EC0X = 25.0", "EC0X = nan"), predict_e, &["EC0X", "finite"]),
         case("errors out of range", "e.toml", with(&errors, "EC0X = 25.0", "EC0X = 2e5"), predict_e, &["EC0X", "0.1 rad"]),
         case("errors empty", "e.toml", "name = \"nothing\"\n".into(), predict_e, &["defines no error"]),
@@ -78,25 +120,79 @@ fn cases() -> Vec<Case> {
         case("ballbar huge", "b.csv", with(&ballbar, ",ccw,1.7906", ",ccw,1e200"), iso4, &["line 3", "dL", "physical range"]),
         case("ballbar nan", "b.csv", with(&ballbar, ",ccw,1.7906", ",ccw,nan"), iso4, &["line 3", "dL"]),
         case("ballbar out of range", "b.csv", with(&ballbar, ",ccw,1.7906", ",ccw,250000"), iso4, &["line 3", "dL", "physical range"]),
-        case("ballbar duplicated column", "b.csv", with(&ballbar, "X,Y,Z,angle,dir,dL", "X,Y,Z,angle,dL,dL"), iso4, &["line 2", "same column"]),
+        case(
+            "ballbar duplicated column",
+            "b.csv",
+            with(&ballbar, "X,Y,Z,angle,dir,dL", "X,Y,Z,angle,dL,dL"),
+            iso4,
+            &["line 2", "same column"],
+        ),
         case("ballbar empty", "b.csv", String::new(), iso4, &["empty"]),
         // laser CSV and .rtl
         case("laser huge", "l.csv", with(&laser, "-400,-1.914,", "-400,1e200,"), iso2, &["line 5", "dev", "physical range"]),
         case("laser inf", "l.csv", with(&laser, "-400,-1.914,", "-400,inf,"), iso2, &["line 5", "dev"]),
-        case("laser duplicated column", "l.csv", with(&laser, "target,dev,dir,run,t", "target,dev,dir,run,dev"), iso2, &["same column `dev`"]),
+        case(
+            "laser duplicated column",
+            "l.csv",
+            with(&laser, "target,dev,dir,run,t", "target,dev,dir,run,dev"),
+            iso2,
+            &["same column `dev`"],
+        ),
         case("laser missing column", "l.csv", with(&laser, "target,dev,dir,run,t", "target,deviation_x,dir,run,t"), iso2, &["dev"]),
         case("laser empty", "l.csv", String::new(), iso2, &["empty"]),
         case("rtl huge", "l.rtl", with(&rtl, "1   1      -0.001914", "1   1      1e200"), iso2, &["physical range"]),
         case("rtl malformed", "l.rtl", with(&rtl, "1   1      -0.001914", "1   1      minus"), iso2, &["minus"]),
         // campaign readings (the campaign TOML next to it, copied by the runner)
-        case("campaign huge", "station1.csv", with(&station, "2.1063", "1e200"), &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"], &["line 3", "dL", "physical range"]),
-        case("campaign nan", "station1.csv", with(&station, "2.1063", "NaN"), &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"], &["line 3", "dL"]),
-        case("campaign duplicated column", "station1.csv", with(&station, "X,Y,Z,dL", "X,X,Z,dL"), &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"], &["same column `X`"]),
-        case("campaign missing column", "station1.csv", with(&station, "X,Y,Z,dL", "X,Y,dL"), &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"], &["Z"]),
-        case("campaign empty", "station1.csv", String::new(), &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"], &["empty"]),
+        case(
+            "campaign huge",
+            "station1.csv",
+            with(&station, "2.1063", "1e200"),
+            &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"],
+            &["line 3", "dL", "physical range"],
+        ),
+        case(
+            "campaign nan",
+            "station1.csv",
+            with(&station, "2.1063", "NaN"),
+            &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"],
+            &["line 3", "dL"],
+        ),
+        case(
+            "campaign duplicated column",
+            "station1.csv",
+            with(&station, "X,Y,Z,dL", "X,X,Z,dL"),
+            &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"],
+            &["same column `X`"],
+        ),
+        case(
+            "campaign missing column",
+            "station1.csv",
+            with(&station, "X,Y,Z,dL", "X,Y,dL"),
+            &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"],
+            &["Z"],
+        ),
+        case(
+            "campaign empty",
+            "station1.csv",
+            String::new(),
+            &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"],
+            &["empty"],
+        ),
         // thermal campaign
-        case("thermal huge temperature", "t.csv", with(&thermal, "warmup,0,20.002,", "warmup,0,1e200,"), tfit, &["line 3", "T:p1", "temperature"]),
-        case("thermal out of range", "t.csv", with(&thermal, "warmup,0,20.002,", "warmup,0,500,"), tfit, &["line 3", "T:p1", "temperature"]),
+        case(
+            "thermal huge temperature",
+            "t.csv",
+            with(&thermal, "warmup,0,20.002,", "warmup,0,1e200,"),
+            tfit,
+            &["line 3", "T:p1", "temperature"],
+        ),
+        case(
+            "thermal out of range",
+            "t.csv",
+            with(&thermal, "warmup,0,20.002,", "warmup,0,500,"),
+            tfit,
+            &["line 3", "T:p1", "temperature"],
+        ),
         case("thermal huge drift", "t.csv", with(&thermal, "20.009,-0.13", "20.009,1e300"), tfit, &["line 3", "dz", "physical range"]),
         case("thermal nan", "t.csv", with(&thermal, "20.009,-0.13", "20.009,nan"), tfit, &["line 3", "dz"]),
         case("thermal duplicated column", "t.csv", with(&thermal, "run,t,T:p1,T:p5,dz", "run,t,T:p1,T:p1,dz"), tfit, &["same column"]),
@@ -104,14 +200,26 @@ fn cases() -> Vec<Case> {
         // uncertainty sources
         case("sources malformed", "s.toml", with(&sources, "coverage = 0.95", "coverage = "), unc, &["line"]),
         case("sources nan", "s.toml", with(&sources, "tolerance = 0.05", "tolerance = nan"), unc, &["tolerance"]),
-        case("sources trials", "s.toml", with(&sources, "trials_per_sequence = 10000", "trials_per_sequence = 1000000000000000"), unc, &["trials_per_sequence", "more than"]),
+        case(
+            "sources trials",
+            "s.toml",
+            with(&sources, "trials_per_sequence = 10000", "trials_per_sequence = 1000000000000000"),
+            unc,
+            &["trials_per_sequence", "more than"],
+        ),
         // NC, both dialects (rs274 refuses the same programs: crates/trueaxis/tests/nc_bad_programs.rs)
         case("nc arc radius", "p.ngc", "G21 G90 G17\nG0 X0 Y0 Z-10\nG2 X10 Y0 I1 J0 F100\nM2\n".into(), nc, &["line 3", "radius"]),
         case("nc two motion codes", "p.ngc", "G21 G90\nG0 G1 X10 F100\nM2\n".into(), nc, &["line 2", "G0 and G1", "modal group"]),
         case("nc malformed", "p.ngc", "G21 G90\nG1 X1..2 F100\nM2\n".into(), nc, &["line 2"]),
         case("nc huge", "p.ngc", "G21 G90\nG1 X1e200 F100\nM2\n".into(), nc, &["line 2", "E word"]),
         case("fanuc two motion codes", "p.nc", "%\nO1000\nG21 G90\nG00 G01 X10. F100.\nM30\n%\n".into(), nc, &["line 4", "modal group"]),
-        case("nc correction limit", "p.ngc", "G21 G90\nG0 X-400 Y-250 Z-100\nM2\n".into(), &["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "{dir}/e.toml", "{f}", "--out", "{out}"], &["line 2", "beyond the limit of 1000 um", "correction_um"]),
+        case(
+            "nc correction limit",
+            "p.ngc",
+            "G21 G90\nG0 X-400 Y-250 Z-100\nM2\n".into(),
+            &["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "{dir}/e.toml", "{f}", "--out", "{out}"],
+            &["line 2", "beyond the limit of 1000 um", "correction_um"],
+        ),
     ];
     // an error table shorter than the travel: compensation beyond its ends is refused
     let short = "name = \"short\"\n[table.EXX]\nposition = [-300, 300]\nvalue = [0, 5]\n".to_string();
@@ -160,9 +268,7 @@ fn every_bad_input_is_refused_with_its_file_line_and_cause_and_nothing_is_writte
         let args: Vec<String> = c
             .args
             .iter()
-            .map(|a| {
-                a.replace("{f}", file.to_str().unwrap()).replace("{out}", out.to_str().unwrap()).replace("{dir}", d.to_str().unwrap())
-            })
+            .map(|a| a.replace("{f}", file.to_str().unwrap()).replace("{out}", out.to_str().unwrap()).replace("{dir}", d.to_str().unwrap()))
             .collect();
         let o = Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(&args).current_dir(ROOT).output().unwrap();
         let stderr = String::from_utf8_lossy(&o.stderr).to_string();
@@ -192,15 +298,48 @@ fn every_bad_input_is_refused_with_its_file_line_and_cause_and_nothing_is_writte
 fn options_beyond_what_memory_and_time_allow_are_refused_before_allocating() {
     for (args, expect) in [
         (
-            vec!["compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "--format", "lattice", "--grid", "100000,100000,100000", "--max-lattice-points", "1000"],
+            vec![
+                "compensate",
+                "--machine",
+                "examples/machines/vmc3.toml",
+                "--errors",
+                "examples/errors/vmc3.toml",
+                "--format",
+                "lattice",
+                "--grid",
+                "100000,100000,100000",
+                "--max-lattice-points",
+                "1000",
+            ],
             "at most 1000000",
         ),
         (
-            vec!["compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "--format", "csv", "--points", "10000000"],
+            vec![
+                "compensate",
+                "--machine",
+                "examples/machines/vmc3.toml",
+                "--errors",
+                "examples/errors/vmc3.toml",
+                "--format",
+                "csv",
+                "--points",
+                "10000000",
+            ],
             "more than the 100000 allowed",
         ),
         (
-            vec!["design", "optimal", "--machine", "examples/machines/kx8five.toml", "--campaign", "examples/campaigns/kx8five/campaign.toml", "--count", "40", "--starts", "100000000"],
+            vec![
+                "design",
+                "optimal",
+                "--machine",
+                "examples/machines/kx8five.toml",
+                "--campaign",
+                "examples/campaigns/kx8five/campaign.toml",
+                "--count",
+                "40",
+                "--starts",
+                "100000000",
+            ],
             "more than the 100000 allowed",
         ),
         (vec!["thermal", "modes", "--model", "examples/thermal/fin.toml", "--count", "1000000"], "more than the 1000 allowed"),

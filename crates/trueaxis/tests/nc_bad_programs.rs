@@ -26,7 +26,11 @@ fn programs_rs274_refuses_are_refused_with_the_line() {
         // start radius 1, end radius 9 (the program); the neighbour ends on the circle
         ("G21 G90 G17\nG0 X0 Y0 Z-10\nG2 X10 Y0 I1 J0 F100\nM2\n", "G21 G90 G17\nG0 X0 Y0 Z-10\nG2 X2 Y0 I1 J0 F100\nM2\n", "line 3"),
         // 0.05 mm mismatch on a 10 mm radius: beyond 0.0283 mm and 0.1 %
-        ("G21 G90 G17\nG0 X10 Y0 Z-10\nG3 X0 Y10.05 I-10 J0 F100\nM2\n", "G21 G90 G17\nG0 X10 Y0 Z-10\nG3 X0 Y10.02 I-10 J0 F100\nM2\n", "line 3"),
+        (
+            "G21 G90 G17\nG0 X10 Y0 Z-10\nG3 X0 Y10.05 I-10 J0 F100\nM2\n",
+            "G21 G90 G17\nG0 X10 Y0 Z-10\nG3 X0 Y10.02 I-10 J0 F100\nM2\n",
+            "line 3",
+        ),
         // two motion codes, two codes of the units, distance, plane, work-offset groups
         ("G21 G90\nG0 G1 X10 F100\nM2\n", "G21 G90\nG1 X10 F100\nM2\n", "line 2"),
         ("G21 G90\nG20 G21 X10\nM2\n", "G21 G90\nG21 G0 X10\nM2\n", "line 2"),

@@ -34,7 +34,14 @@ pub fn table_ranges(machine: &Machine, errors: &ErrorModel) -> Vec<TableRange> {
 
 /// Refuses positions `[lo, hi]` (mm or deg) of axis `axis` that a table of `ranges` does not
 /// cover (within 1e-9 of the span); `what` says where they come from (for the message).
-pub fn check_covered(machine: &Machine, ranges: &[TableRange], axis: usize, lo: f64, hi: f64, what: &dyn Fn() -> String) -> Result<(), CompensateError> {
+pub fn check_covered(
+    machine: &Machine,
+    ranges: &[TableRange],
+    axis: usize,
+    lo: f64,
+    hi: f64,
+    what: &dyn Fn() -> String,
+) -> Result<(), CompensateError> {
     for t in ranges.iter().filter(|t| t.axis == axis) {
         let slack = 1e-9 * (t.range[1] - t.range[0]).abs().max(1.0);
         if lo < t.range[0] - slack || hi > t.range[1] + slack {

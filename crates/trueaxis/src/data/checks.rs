@@ -3,8 +3,8 @@
 //! (whose units the format fixes).
 
 use super::{CsvTable, DataError, Layout};
-use crate::io::plausibility::{deviation_scale, targets_per_run, Finding, Place, TargetReading};
 use crate::io::plausibility::Severity;
+use crate::io::plausibility::{deviation_scale, targets_per_run, Finding, Place, TargetReading};
 use crate::io::ranges::{PhysicalRange, READING_UM};
 use crate::io::Format;
 

@@ -59,13 +59,8 @@ pub const MACHINE_LENGTH_MM: PhysicalRange = PhysicalRange {
 };
 
 /// Positions of a rotary axis (deg): at most 10^6 deg (about 2800 turns of a multi-turn table).
-pub const ROTARY_POSITION_DEG: PhysicalRange = PhysicalRange {
-    quantity: "a rotary axis position",
-    unit: "deg",
-    min: -1e6,
-    max: 1e6,
-    why: "about 2800 turns",
-};
+pub const ROTARY_POSITION_DEG: PhysicalRange =
+    PhysicalRange { quantity: "a rotary axis position", unit: "deg", min: -1e6, max: 1e6, why: "about 2800 turns" };
 
 /// Temperatures (degC): -100 to 300 degC, beyond any machine-tool structure, coolant, spindle or
 /// motor temperature (and beyond the working range of the usual Pt100 / thermocouple probes' mounts).
@@ -98,12 +93,7 @@ impl PhysicalRange {
         }
         Some(format!(
             "{value:e} {} is outside the physical range of {} ({} to {} {}; {})",
-            self.unit,
-            self.quantity,
-            self.min,
-            self.max,
-            self.unit,
-            self.why
+            self.unit, self.quantity, self.min, self.max, self.unit, self.why
         ))
     }
 
@@ -117,13 +107,14 @@ impl PhysicalRange {
 /// `"key" = ...`, `[section.key]`), for messages about a TOML value; `None` when not found.
 pub fn line_of_key(text: &str, key: &str) -> Option<usize> {
     let quoted = format!("\"{key}\"");
-    text.lines().position(|l| {
-        let l = l.trim_start();
-        let assigns = |k: &str| l.strip_prefix(k).is_some_and(|rest| rest.trim_start().starts_with('='));
-        let section = l.starts_with('[') && (l.contains(&format!(".{key}]")) || l.contains(&format!(".{quoted}]")));
-        assigns(key) || assigns(&quoted) || section
-    })
-    .map(|i| i + 1)
+    text.lines()
+        .position(|l| {
+            let l = l.trim_start();
+            let assigns = |k: &str| l.strip_prefix(k).is_some_and(|rest| rest.trim_start().starts_with('='));
+            let section = l.starts_with('[') && (l.contains(&format!(".{key}]")) || l.contains(&format!(".{quoted}]")));
+            assigns(key) || assigns(&quoted) || section
+        })
+        .map(|i| i + 1)
 }
 
 #[cfg(test)]

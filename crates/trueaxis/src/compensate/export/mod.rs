@@ -96,7 +96,12 @@ impl Limits {
     pub fn of_machine(machine: &Machine) -> Limits {
         let l = &machine.correction_limits;
         let source = |v: Option<f64>| if v.is_some() { LimitSource::MachineFile } else { LimitSource::Default };
-        Limits { max_um: l.linear_um(), max_urad: l.rotary_urad(), source_um: source(l.correction_um), source_urad: source(l.correction_urad) }
+        Limits {
+            max_um: l.linear_um(),
+            max_urad: l.rotary_urad(),
+            source_um: source(l.correction_um),
+            source_urad: source(l.correction_urad),
+        }
     }
 
     /// The limits of `machine` with the values given for this run (um, urad) in place of the
@@ -245,13 +250,15 @@ pub fn check_limit(machine: &Machine, limits: &Limits, axis: usize, value: f64, 
     limit_refusal(machine, limits, axis, value, place).map_or(Ok(()), |m| Err(CompensateError::Limit(m)))
 }
 
+/// Where a correction is: point `.1` of table `.0` (`Ok`), or a grid node (`Err`).
+type At = Result<(usize, usize), usize>;
+
 /// Refuses corrections beyond the limits in any table (both directions) or grid node, naming the
 /// worst one (largest ratio to its limit).
 pub fn check_user_limits(input: &ExportInput) -> Result<(), CompensateError> {
     let m = input.machine;
-    // (ratio to the limit, axis, value, table index and point, or grid node)
-    let mut worst: Option<(f64, usize, f64, Result<(usize, usize), usize>)> = None;
-    let mut consider = |axis: usize, value: f64, at: Result<(usize, usize), usize>| {
+    let mut worst: Option<(f64, usize, f64, At)> = None;
+    let mut consider = |axis: usize, value: f64, at: At| {
         let micro = to_micro(m, axis, value);
         let ratio = if micro.is_finite() { micro.abs() / input.limits.of_kind(m.axes()[axis].kind).0 } else { f64::INFINITY };
         if ratio > 1.0 && worst.is_none_or(|w| ratio > w.0) {
