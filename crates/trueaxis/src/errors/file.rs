@@ -209,15 +209,6 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
         }
     }
     model.check_directions().map_err(|m| ErrorsError::Invalid { origin: origin.into(), message: m })?;
-    let defined = file.constant.len() + file.table.len() + file.polynomial.len() + file.basis.len() + file.term.len();
-    if defined + file.load.len() + file.drift.len() == 0 {
-        return Err(ErrorsError::Invalid {
-            origin: origin.into(),
-            message: "the file defines no error ([constant], [table.NAME], [polynomial.NAME], [basis.NAME], [[term.NAME]], [load.NAME], \
-                      [[drift.NAME]]); to state an error-free machine, write `[constant]` with `EXX = 0`"
-                .into(),
-        });
-    }
     check_physical_ranges(&model, machine, text, origin)?;
     Ok(model)
 }
