@@ -63,6 +63,7 @@ fn cases() -> Vec<Case> {
     let iso2 = &["iso230-2", "{f}", "--plot", "{out}"];
     let tfit = &["thermal", "fit", "--data", "{f}", "--error", "dz", "--train-runs", "warmup", "--plot", "{out}"];
     let unc = &["uncertainty", "--design", "examples/uncertainty/kx8five_design.csv", "--sources", "{f}", "--plots", "{out}"];
+    let identify = &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"];
     let nc = &["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "{f}", "--out", "{out}"];
     let mut cases = vec![
         // machine file
@@ -143,41 +144,11 @@ fn cases() -> Vec<Case> {
         case("rtl huge", "l.rtl", with(&rtl, "1   1      -0.001914", "1   1      1e200"), iso2, &["physical range"]),
         case("rtl malformed", "l.rtl", with(&rtl, "1   1      -0.001914", "1   1      minus"), iso2, &["minus"]),
         // campaign readings (the campaign TOML next to it, copied by the runner)
-        case(
-            "campaign huge",
-            "station1.csv",
-            with(&station, "2.1063", "1e200"),
-            &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"],
-            &["line 3", "dL", "physical range"],
-        ),
-        case(
-            "campaign nan",
-            "station1.csv",
-            with(&station, "2.1063", "NaN"),
-            &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"],
-            &["line 3", "dL"],
-        ),
-        case(
-            "campaign duplicated column",
-            "station1.csv",
-            with(&station, "X,Y,Z,dL", "X,X,Z,dL"),
-            &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"],
-            &["same column `X`"],
-        ),
-        case(
-            "campaign missing column",
-            "station1.csv",
-            with(&station, "X,Y,Z,dL", "X,Y,dL"),
-            &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"],
-            &["Z"],
-        ),
-        case(
-            "campaign empty",
-            "station1.csv",
-            String::new(),
-            &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"],
-            &["empty"],
-        ),
+        case("campaign huge", "station1.csv", with(&station, "2.1063", "1e200"), identify, &["line 3", "dL", "physical range"]),
+        case("campaign nan", "station1.csv", with(&station, "2.1063", "NaN"), identify, &["line 3", "dL"]),
+        case("campaign duplicated column", "station1.csv", with(&station, "X,Y,Z,dL", "X,X,Z,dL"), identify, &["same column `X`"]),
+        case("campaign missing column", "station1.csv", with(&station, "X,Y,Z,dL", "X,Y,dL"), identify, &["Z"]),
+        case("campaign empty", "station1.csv", String::new(), identify, &["empty"]),
         // thermal campaign
         case(
             "thermal huge temperature",
