@@ -44,7 +44,8 @@ fn format_name(format: Format) -> String {
     after_help = "Examples:\n  trueaxis compensate --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      --format linuxcnc --limit-um 50 --out comp\n  \
 trueaxis compensate --machine examples/machines/c600u.toml --errors examples/errors/c600u.toml \\\n      --poses examples/poses/c600u.csv --format csv --out comp5\n\n\
 Corrections are in um (linear axes) and urad (rotary axes) in CSV/JSON, in machine units (mm, deg) in\n\
-controller files. A correction beyond --limit-um / --limit-urad, a table longer than the controller\n\
+controller files. A correction beyond the machine file's [limits] (default 1000 um, 10000 urad;\n\
+--limit-um / --limit-urad override it), a table longer than the controller\n\
 accepts, unequal spacing or a rotary table that does not close over a turn refuses the export (exit 2).\n\
 --out must not hold files this run does not write (tables of different runs never mix).\n\
 --poses: the poses are corrected at the temperatures of the file's T:<sensor> columns (else --temperature)."
@@ -62,14 +63,16 @@ pub struct CompensateArgs {
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
-    /// Refuse corrections of a linear axis larger than this (um).
+    /// Refuse corrections of a linear axis larger than this (um; default: the machine file's
+    /// `[limits] correction_um`, else 1000).
     #[arg(long)]
     limit_um: Option<f64>,
-    /// Refuse corrections of a rotary axis larger than this (urad).
+    /// Refuse corrections of a rotary axis larger than this (urad; default: the machine file's
+    /// `[limits] correction_urad`, else 10000).
     #[arg(long)]
     limit_urad: Option<f64>,
     /// Points per own-axis / cross-axis table (equally spaced over the travel).
-    #[arg(long, default_value_t = 41)]
+    #[arg(long, default_value_t = 41, value_parser = crate::bounds::count::<2, { trueaxis::compensate::tables::MAX_TABLE_POINTS }>)]
     points: usize,
     /// Volumetric grid nodes along X, Y, Z (linuxcnc-hal, lattice, csv, json).
     #[arg(long, value_parser = parse_counts, default_value = "9,9,9")]
@@ -151,14 +154,15 @@ fn given_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<Optio
     Ok(values)
 }
 
-/// The user's correction limits (um, urad), each positive when given.
-pub fn limits(max_um: Option<f64>, max_urad: Option<f64>) -> Result<Limits, Failure> {
+/// The correction limits (um, urad): the machine file's `[limits]` (or the defaults), replaced by
+/// `--limit-um` / `--limit-urad` when given (each a positive number).
+pub fn limits(machine: &Machine, max_um: Option<f64>, max_urad: Option<f64>) -> Result<Limits, Failure> {
     for (name, v) in [("--limit-um", max_um), ("--limit-urad", max_urad)] {
         if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
             return Err(Failure::input(anyhow::anyhow!("{name} must be a positive number")));
         }
     }
-    Ok(Limits { max_um, max_urad })
+    Limits::with_overrides(machine, max_um, max_urad).map_err(failure)
 }
 
 pub fn failure(e: CompensateError) -> Failure {
@@ -174,7 +178,7 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
     let temperatures = given_temperatures(&errors, &args.temperatures)?;
     let reference = args.reference.as_deref().map(|r| parse_axis_values(&machine, r, "--reference")).transpose()?;
-    let limits = limits(args.limit_um, args.limit_urad)?;
+    let limits = limits(&machine, args.limit_um, args.limit_urad)?;
     let options = FormatOptions {
         comp_type: args.comp_type,
         max_lattice_points: args.max_lattice_points,
@@ -186,7 +190,12 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let request =
         CompensationRequest { format, points: args.points, grid: args.grid, reference, limits, temperatures, poses: args.poses.clone() };
     let corrector = Corrector::new(&machine, &errors);
-    let job = compensation(&corrector, &request).map_err(failure)?;
+    // an error table that does not cover the travel: the message names the error file
+    let named = |e: CompensateError| match e {
+        CompensateError::Coverage(m) => Failure::input(anyhow::anyhow!("{}: {m}", args.errors.display())),
+        e => failure(e),
+    };
+    let job = compensation(&corrector, &request).map_err(named)?;
     job.write(&args.out).map_err(failure)?;
     let (files, names, tables, grid, extent, left_out, residual) =
         (&job.files, job.file_names(), &job.tables, &job.grid, &job.extent, &job.left_out, &job.residual);

@@ -53,8 +53,8 @@ struct TrajectoryArgs {
     /// A rotary sweep AXIS=FROM:TO in deg (repeat for several axes).
     #[arg(long = "sweep", value_parser = Sweep::parse, required = true, allow_hyphen_values = true)]
     sweeps: Vec<Sweep>,
-    /// Number of poses.
-    #[arg(long)]
+    /// Number of poses (at most 1000000).
+    #[arg(long, value_parser = crate::bounds::count::<1, { crate::bounds::MAX_POSES }>)]
     count: usize,
     /// Output CSV (written atomically); stdout if absent.
     #[arg(long)]
@@ -107,14 +107,14 @@ struct OptimalArgs {
     machine: PathBuf,
     #[arg(long)]
     campaign: PathBuf,
-    /// Number of records to choose (repetitions allowed), at least 1.
-    #[arg(long, value_parser = at_least_one)]
+    /// Number of records to choose (repetitions allowed), 1 to 1000000.
+    #[arg(long, value_parser = crate::bounds::count::<1, { crate::bounds::MAX_POSES }>)]
     count: usize,
     /// d, a, e or g.
     #[arg(long, default_value = "d", value_parser = Criterion::parse)]
     criterion: Criterion,
-    /// Random starts of the exchange algorithm, at least 1.
-    #[arg(long, default_value_t = 5, value_parser = at_least_one)]
+    /// Random starts of the exchange algorithm, 1 to 100000.
+    #[arg(long, default_value_t = 5, value_parser = crate::bounds::count::<1, { crate::bounds::MAX_ITERATIONS }>)]
     starts: usize,
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -123,14 +123,6 @@ struct OptimalArgs {
     out: Option<PathBuf>,
     #[arg(long)]
     json: bool,
-}
-
-/// A count of at least 1.
-fn at_least_one(text: &str) -> Result<usize, String> {
-    match text.parse::<usize>() {
-        Ok(n) if n >= 1 => Ok(n),
-        _ => Err(format!("`{text}`: expected a whole number of at least 1")),
-    }
 }
 
 pub fn run(args: DesignArgs) -> Result<(), Failure> {

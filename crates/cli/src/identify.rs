@@ -81,8 +81,13 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     let result = identify(&campaign, &machine, &nominal, &options);
     bar.finish_and_clear();
     let result = result.map_err(failure)?;
-    if result.values.iter().chain(&result.residuals).any(|v| !v.is_finite()) {
-        return Err(Failure::computation(anyhow::anyhow!("the identification produced numbers that are not finite")));
+    // values, standard uncertainties, residuals and their RMS: all finite before anything is written
+    let uncertainties = result.std_uncertainty.iter().flatten();
+    if result.values.iter().chain(&result.residuals).chain(uncertainties).chain([&result.residual_rms_um]).any(|v| !v.is_finite()) {
+        return Err(Failure::computation(anyhow::anyhow!(
+            "{}: the identification produced numbers that are not finite (values, uncertainties or residuals); nothing was written",
+            args.campaign.display()
+        )));
     }
     if let Some(path) = &args.out {
         let nominal_text = match &campaign.nominal_errors {

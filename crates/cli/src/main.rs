@@ -2,6 +2,7 @@
 //! Exit status: 0 success, 1 failed computation, 2 bad input.
 
 mod ballbar;
+mod bounds;
 mod budget;
 mod compensate;
 mod convert;

@@ -76,10 +76,11 @@ pub struct NcArgs {
     /// Temperature of a sensor of the error model, `T:name=degC` (repeatable).
     #[arg(long = "temperature")]
     temperatures: Vec<String>,
-    /// Refuse the program (exit 2, nothing written) when a correction of a linear axis exceeds this (um).
+    /// Refuse the program (exit 2, nothing written) when a correction of a linear axis exceeds this
+    /// (um; default: the machine file's `[limits] correction_um`, else 1000).
     #[arg(long)]
     limit_um: Option<f64>,
-    /// The same for a rotary axis (urad).
+    /// The same for a rotary axis (urad; default `[limits] correction_urad`, else 10000).
     #[arg(long)]
     limit_urad: Option<f64>,
     /// Print a JSON summary (with the program text when --out is not given).
@@ -112,7 +113,7 @@ fn read(path: &PathBuf) -> Result<String, Failure> {
 /// The options of the command line.
 fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
     let mut options = NcOptions::new(machine);
-    options.limits = crate::compensate::limits(args.limit_um, args.limit_urad)?;
+    options.limits = crate::compensate::limits(machine, args.limit_um, args.limit_urad)?;
     if !(args.tolerance_um.is_finite() && args.tolerance_um > 0.0) {
         return Err(bad("--tolerance-um must be a positive number".into()));
     }

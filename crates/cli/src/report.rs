@@ -93,7 +93,7 @@ pub struct ReportArgs {
     #[arg(long, value_name = "CAMPAIGN.csv", requires = "thermal_error")]
     thermal_data: Option<PathBuf>,
     /// Points per compensation table (as `compensate --points`).
-    #[arg(long, default_value_t = POINTS)]
+    #[arg(long, default_value_t = POINTS, value_parser = crate::bounds::count::<2, { trueaxis::compensate::tables::MAX_TABLE_POINTS }>)]
     points: usize,
     /// Certificate particulars, instruments, decision rule and tolerances (report.toml, docs/report.md).
     #[arg(long, value_name = "REPORT.toml")]

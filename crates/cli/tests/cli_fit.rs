@@ -176,7 +176,7 @@ fn readings_too_large_to_be_deviations_are_refused_with_status_2_and_nothing_wri
         let out = trueaxis(&args);
         let err = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{err}");
-        assert!(err.contains("huge.csv: column `dev`") && err.contains("beyond any machine tool's error"), "{err}");
+        assert!(err.contains("huge.csv: line 2: column `dev`") && err.contains("outside the physical range of a reading"), "{err}");
         assert_eq!(err.trim_end().lines().count(), 1, "{err}");
         assert!(out.stdout.is_empty(), "nothing printed: {}", String::from_utf8_lossy(&out.stdout));
         assert!(!errors.exists() && !plot.exists(), "nothing written");

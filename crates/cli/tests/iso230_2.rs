@@ -254,7 +254,10 @@ fn readings_too_large_to_be_deviations_are_bad_input_with_status_2() {
     let out = trueaxis(&["iso230-2", path.to_str().unwrap(), "--json"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
-    assert!(out.stdout.is_empty() && stderr.trim_end().lines().count() == 1 && stderr.contains("huge.csv: column `dev`"), "{stderr}");
+    assert!(
+        out.stdout.is_empty() && stderr.trim_end().lines().count() == 1 && stderr.contains("huge.csv: line 2: column `dev`"),
+        "{stderr}"
+    );
 }
 
 #[test]

@@ -22,6 +22,8 @@ typedef struct trueaxis_corrector trueaxis_corrector;
 #define TRUEAXIS_NOT_FINITE (-2)
 #define TRUEAXIS_NOT_CONVERGED (-3)
 #define TRUEAXIS_NULL_POINTER (-4)
+/* A correction beyond the machine file's [limits] (default 1000 um linear, 10000 urad rotary): refused, never clipped. */
+#define TRUEAXIS_BEYOND_LIMIT (-5)
 
 /* NULL on failure; the reason is written to error (NUL-terminated, at most error_len bytes) when error is not NULL. */
 trueaxis_corrector *trueaxis_corrector_new(const char *machine_path, const char *errors_path, char *error, size_t error_len);

@@ -123,6 +123,16 @@ fn bad_calls_return_status_codes_and_leave_zeros() {
     out = [1.0; 3];
     assert_eq!(rt.correct(&[-400.0, 0.0, -100.0], &[], &[], &mut out), RealtimeStatus::NotConverged);
     assert_eq!(out, [0.0; 3]);
+    // a correction beyond the machine's limit: refused with zeros, never clipped; within it, Ok
+    let (m, e) = load("vmc3", "vmc3");
+    // the corner's X correction is 12.2 um, the origin's corrections at most 8.0 um
+    let limits = trueaxis::compensate::export::Limits::with_overrides(&m, Some(10.0), None).unwrap();
+    let mut rt = RealtimeCorrector::new(m, e).unwrap().with_limits(limits);
+    out = [1.0; 3];
+    assert_eq!(rt.correct(&[-400.0, 0.0, -100.0], &[], &[], &mut out), RealtimeStatus::BeyondLimit);
+    assert_eq!(out, [0.0; 3]);
+    assert_eq!(rt.correct(&[0.0, 0.0, 0.0], &[], &[], &mut out), RealtimeStatus::Ok);
+    assert!(out.iter().all(|v| v.abs() * 1e3 <= 10.0) && out.iter().any(|v| v.abs() * 1e3 > 5.0), "{out:?}");
     // through the C ABI, called from Rust: the same
     use std::ffi::CString;
     use trueaxis_rt::{trueaxis_correct, trueaxis_corrector_free, trueaxis_corrector_new};
@@ -142,6 +152,22 @@ fn bad_calls_return_status_codes_and_leave_zeros() {
         assert_eq!(corrections, [0.0; 3]);
         trueaxis_corrector_free(c);
     }
+    // the machine file's [limits] reaches the C ABI: vmc3 with a 5 um limit refuses the 12 um corner
+    let dir = std::env::temp_dir().join(format!("trueaxis-rt-limits-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string("../../examples/machines/vmc3.toml").unwrap() + "\n[limits]\ncorrection_um = 5\n";
+    std::fs::write(dir.join("m.toml"), text).unwrap();
+    let mp = CString::new(dir.join("m.toml").to_str().unwrap()).unwrap();
+    unsafe {
+        let c = trueaxis_corrector_new(mp.as_ptr(), ep.as_ptr(), std::ptr::null_mut(), 0);
+        assert!(!c.is_null());
+        let mut corrections = [1.0f64; 3];
+        let corner = [-400.0, 0.0, -100.0];
+        assert_eq!(trueaxis_correct(c, corner.as_ptr(), std::ptr::null(), std::ptr::null(), corrections.as_mut_ptr()), -5);
+        assert_eq!(corrections, [0.0; 3]);
+        trueaxis_corrector_free(c);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]

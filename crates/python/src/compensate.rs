@@ -21,14 +21,15 @@ fn failure(e: CompensateError) -> PyErr {
     }
 }
 
-/// Correction limits (um, urad), each positive when given.
-fn limits(max_um: Option<f64>, max_urad: Option<f64>) -> PyResult<Limits> {
+/// Correction limits (um, urad): the machine file's `[limits]` (or the defaults), replaced by
+/// `limit_um` / `limit_urad` when given (each positive), as the command line.
+fn limits(machine: &trueaxis::machine::Machine, max_um: Option<f64>, max_urad: Option<f64>) -> PyResult<Limits> {
     for (name, v) in [("limit_um", max_um), ("limit_urad", max_urad)] {
         if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
             return Err(input_msg(format!("{name} must be a positive number")));
         }
     }
-    Ok(Limits { max_um, max_urad })
+    Limits::with_overrides(machine, max_um, max_urad).map_err(failure)
 }
 
 /// Sensor temperatures (degC) in the model's order from a dict `{"T:name": degC}` (`None`: not
@@ -71,8 +72,8 @@ fn axis_values(machine: &Machine, values: &HashMap<String, f64>, what: &str) -> 
 /// or `json`. Corrections cancel the predicted error of the tool point relative to the workpiece
 /// (exact chain); `points` per table, `grid` nodes along X, Y, Z; `reference`: the reference pose
 /// of the tables, e.g. `{"X": 0, "Z": -200}` (mm, deg; default: home clamped into the travel); a
-/// correction beyond `limit_um` (linear axes, um) or `limit_urad` (rotary axes, urad) refuses the
-/// export (InputError). `temperatures`: `{"T:name": degC}` (20 degC for a sensor not given).
+/// correction beyond `limit_um` (linear axes, um) or `limit_urad` (rotary axes, urad), by default
+/// the machine file's `[limits]` (else 1000 um, 10000 urad), refuses the export (InputError). `temperatures`: `{"T:name": degC}` (20 degC for a sensor not given).
 /// `poses`: a pose CSV whose poses are also corrected, each in its state (`dir:<axis>` and
 /// `T:<sensor>` columns, else `temperatures`), into `corrections.csv` (d<axis> in um or urad, the
 /// error before and the residual after in um, the orientation not corrected in urad). The summary
@@ -102,7 +103,7 @@ pub fn compensate(
 ) -> PyResult<Py<PyAny>> {
     let temperatures = given_temperatures(errors, temperatures)?;
     let reference = reference.map(|r| axis_values(machine, &r, "reference")).transpose()?;
-    let limits = limits(limit_um, limit_urad)?;
+    let limits = limits(&machine.inner, limit_um, limit_urad)?;
     let options = FormatOptions { comp_type, max_lattice_points, max_table_points, max_cec_tables, hal_component };
     let format = ExportFormat::parse(format, &options).map_err(input_msg)?;
     let request = CompensationRequest { format, points, grid, reference, limits, temperatures, poses };
@@ -143,7 +144,7 @@ pub fn correct_nc(
         return Err(input_msg("decimals must be at most 9"));
     }
     let mut options = NcOptions::new(&machine.inner);
-    options.limits = limits(limit_um, limit_urad)?;
+    options.limits = limits(&machine.inner, limit_um, limit_urad)?;
     options.tolerance_mm = tolerance_um * 1e-3;
     options.rotary_tolerance_deg = (tolerance_um * 1e-6).to_degrees();
     options.decimals = decimals;

@@ -27,11 +27,8 @@ pub fn uncertainty_figures(budget: &Budget, settings: &McSettings) -> Result<(St
             gaussian: Some((budget.gum_estimate[j], row.gum_total_u)),
         })
         .collect();
-    let title = format!(
-        "Monte Carlo distributions of the {} parameters and their {} % intervals",
-        budget.rows.len(),
-        100.0 * settings.coverage
-    );
+    let title =
+        format!("Monte Carlo distributions of the {} parameters and their {} % intervals", budget.rows.len(), 100.0 * settings.coverage);
     let histograms = histograms_svg(&title, &panels, 60)?;
     let history = &budget.total.history;
     let convergence = if history.is_empty() {

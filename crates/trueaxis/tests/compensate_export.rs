@@ -145,9 +145,14 @@ fn linuxcnc_files_read_back_as_linuxcnc_does() {
     let err = export::linuxcnc::export(&export_input(&m, &e, &long, None, Limits::default()), CompType::Trims).unwrap_err();
     assert!(matches!(err, CompensateError::Limit(_)) && err.to_string().contains("at most 256"), "{err}");
     // the user's limit: the largest correction is above 10 um
-    let limited = export_input(&m, &e, &tables, None, Limits { max_um: Some(10.0), max_urad: None });
+    let limits = Limits::with_overrides(&m, Some(10.0), None).unwrap();
+    let limited = export_input(&m, &e, &tables, None, limits);
     let err = export::linuxcnc::export(&limited, CompType::Trims).unwrap_err();
-    assert!(err.to_string().contains("beyond the limit of 10 um"), "{err}");
+    assert!(err.to_string().contains("beyond the limit of 10 um (given for this run)"), "{err}");
+    // the worst point is named: the largest |correction| of any table (the extent of the export)
+    let worst = export::largest_corrections(&limited, export::Coverage::TABLES).max_um;
+    assert!(err.to_string().contains(&format!("{worst:.3} um")) || err.to_string().contains(&format!("-{worst:.3} um")), "{worst} {err}");
+    assert!(Limits::with_overrides(&m, Some(-1.0), None).is_err() && Limits::with_overrides(&m, None, Some(f64::NAN)).is_err());
 }
 
 #[test]
@@ -303,6 +308,6 @@ fn plain_csv_and_json_agree_with_the_tables() {
     assert!((x["forward"][0].as_f64().unwrap() - first).abs() < 1e-4);
     assert_eq!(doc["grid"]["counts"], serde_json::json!([3, 3, 2]));
     // the rotary limit in urad refuses the C corrections of the 0.01 deg PIGEs
-    let limited = export_input(&m, &e, &tables, Some(&grid), Limits { max_um: None, max_urad: Some(1.0) });
+    let limited = export_input(&m, &e, &tables, Some(&grid), Limits::with_overrides(&m, None, Some(1.0)).unwrap());
     assert!(export::plain::to_json(&limited).unwrap_err().to_string().contains("urad"));
 }

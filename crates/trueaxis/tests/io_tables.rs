@@ -146,7 +146,7 @@ fn errors_name_the_file_line_and_column() {
         ("target,dev [mm],dir,run\n0,1,sideways,1\n", "line 2: column dir: `sideways` is not a direction"),
         ("target,dev [deg],dir,run\n0,1,+,1\n", "column dev [deg]: deg is an angle, but a length (um) is expected here"),
         ("Target,Run 1 +,Run 1 - [mm]\n0,1,2\n", "the run columns `Run 1 +` and `Run 1 - [mm]` have different units"),
-        ("Dev,DEV,dir,run,target\n1,1,+,1,0\n", "the columns `Dev` and `DEV` both answer to `dev`"),
+        ("Dev,DEV,dir,run,target\n1,1,+,1,0\n", "line 1: columns 1 (`Dev`) and 2 (`DEV`) are the same column"),
     ];
     for (text, expected) in cases {
         let e = read_runs_from_str(text, "bad.csv").unwrap_err().to_string();

@@ -44,7 +44,7 @@ pub struct AllocateArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Generations of the genetic global stage (population 10, crossover 0.9, mutation 0.1).
-    #[arg(long, default_value_t = 500)]
+    #[arg(long, default_value_t = 500, value_parser = crate::bounds::count::<0, { crate::bounds::MAX_ITERATIONS }>)]
     generations: usize,
     /// Write the allocated tolerances as a budget file (TOML) to this file.
     #[arg(long)]

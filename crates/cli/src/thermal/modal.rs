@@ -30,7 +30,7 @@ pub struct ModesArgs {
     #[arg(long)]
     model: PathBuf,
     /// Number of modes (the lowest).
-    #[arg(long, default_value_t = 10)]
+    #[arg(long, default_value_t = 10, value_parser = crate::bounds::count::<1, { crate::bounds::MAX_MODES }>)]
     count: usize,
     /// Cumulative weight share kept by truncation.
     #[arg(long, default_value_t = DEFAULT_SHARE)]
@@ -68,7 +68,7 @@ pub struct PlaceArgs {
     #[arg(long)]
     model: PathBuf,
     /// Modes computed before truncation.
-    #[arg(long, default_value_t = 20)]
+    #[arg(long, default_value_t = 20, value_parser = crate::bounds::count::<1, { crate::bounds::MAX_MODES }>)]
     count: usize,
     /// Cumulative weight share of the dominant modes the sensors must serve (0 < share <= 1).
     #[arg(long, default_value_t = DEFAULT_SHARE)]

@@ -3,9 +3,9 @@
 //! corrected pose by pose on the exact chain or by the compensation tables.
 
 use super::super::html::Section;
+use super::compensation::controller_name;
 use super::compensation::CompensationPart;
 use super::maps::{magnitudes_um, statistics, VolumeMap};
-use super::compensation::controller_name;
 use super::quantity::quantity;
 use super::CalibrationError;
 use rayon::prelude::*;

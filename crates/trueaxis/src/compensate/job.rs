@@ -6,7 +6,7 @@
 //! Units: corrections in um (linear axes) and urad (rotary axes) in CSV and JSON, positions in mm
 //! and deg, temperatures in degC.
 
-use super::export::{largest_corrections, to_micro, ExportInput, ExportedFile, Extent, Limits};
+use super::export::{check_limit, largest_corrections, to_micro, ExportInput, ExportedFile, Extent, Limits};
 use super::{
     axis_tables, compensation_json, residual_of_format, round4, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector,
     ExportFormat, FormatResidual, TableSet, TableSpec, VolumetricGrid,
@@ -125,7 +125,7 @@ pub fn compensation(corrector: &Corrector, request: &CompensationRequest) -> Res
     drop(exported);
     let mut poses = None;
     if let Some(path) = &request.poses {
-        let (file, summary) = correct_poses(corrector, path, &request.temperatures)?;
+        let (file, summary) = correct_poses(corrector, path, &request.temperatures, &request.limits)?;
         files.push(file);
         poses = Some(summary);
     }
@@ -191,6 +191,7 @@ pub fn correct_poses(
     corrector: &Corrector,
     path: &Path,
     given_temperatures: &[Option<f64>],
+    limits: &Limits,
 ) -> Result<(ExportedFile, Value), CompensateError> {
     let machine = corrector.machine;
     let poses = read_poses(path, machine).map_err(|e| CompensateError::Input(e.to_string()))?;
@@ -214,6 +215,13 @@ pub fn correct_poses(
                 path.display(),
                 poses.lines[i]
             )));
+        }
+        for (k, &d) in c.dq.iter().take(n).enumerate() {
+            let place = || format!("the pose of line {}", poses.lines[i]);
+            check_limit(machine, limits, k, machine.axes()[k].position_to_user(d), &place).map_err(|e| match e {
+                CompensateError::Limit(m) => CompensateError::Limit(format!("{}: {m}", path.display())),
+                e => e,
+            })?;
         }
         let mut row: Vec<String> = poses.user[i * n..(i + 1) * n].iter().map(|v| format!("{v}")).collect();
         row.extend((0..n).map(|k| format!("{:.4}", to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])))));

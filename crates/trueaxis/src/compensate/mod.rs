@@ -7,6 +7,7 @@
 //! error along the axis).
 
 pub mod correction;
+pub mod coverage;
 pub mod export;
 pub mod job;
 pub mod nc;
@@ -33,6 +34,10 @@ pub enum CompensateError {
     /// A controller limit or the user's correction limit is exceeded: the export is refused.
     #[error("{0}")]
     Limit(String),
+    /// An error table of the error model does not cover the positions to correct
+    /// ([`coverage`]); the message does not name the error file (the caller knows it).
+    #[error("{0}")]
+    Coverage(String),
     /// The computation failed (no convergence, not a finite number).
     #[error("{0}")]
     Computation(String),
@@ -41,6 +46,6 @@ pub enum CompensateError {
 impl CompensateError {
     /// Whether the cause is the input (exit status 2) rather than the computation (exit status 1).
     pub fn is_input(&self) -> bool {
-        matches!(self, CompensateError::Input(_) | CompensateError::Limit(_))
+        matches!(self, CompensateError::Input(_) | CompensateError::Limit(_) | CompensateError::Coverage(_))
     }
 }

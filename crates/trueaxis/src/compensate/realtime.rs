@@ -9,6 +9,7 @@
 //! one exact-chain evaluation per call; the residual is checked on the exact chain every call.
 
 use super::correction::{Correction, CorrectionOptions, CorrectionWorkspace, Corrector, WarmStart, MAX_AXES};
+use super::export::Limits;
 use super::CompensateError;
 use crate::errors::{Direction, ErrorModel, MachineState};
 use crate::machine::Machine;
@@ -29,6 +30,9 @@ pub enum RealtimeStatus {
     NotConverged = -3,
     /// A null pointer was passed (C ABI only).
     NullPointer = -4,
+    /// A correction exceeds the machine's correction limit (`[limits]` of the machine file, else
+    /// 1000 um / 10000 urad; docs/limits.md): refused, never clipped.
+    BeyondLimit = -5,
 }
 
 /// A corrector bound to one machine and error model, with its own buffers.
@@ -38,13 +42,15 @@ pub struct RealtimeCorrector {
     errors: ErrorModel,
     setup: Setup,
     options: CorrectionOptions,
+    limits: Limits,
     workspace: CorrectionWorkspace,
     warm: WarmStart,
     last: Option<Correction>,
 }
 
 impl RealtimeCorrector {
-    /// Binds a machine and error model (the tool point of the machine, the workpiece origin).
+    /// Binds a machine and error model (the tool point of the machine, the workpiece origin); the
+    /// correction limits are the machine's ([`Limits::of_machine`]).
     pub fn new(machine: Machine, errors: ErrorModel) -> Result<RealtimeCorrector, CompensateError> {
         if machine.axis_count() > MAX_AXES {
             return Err(CompensateError::Input(format!("machine `{}` has more than {MAX_AXES} axes", machine.name)));
@@ -52,6 +58,7 @@ impl RealtimeCorrector {
         let workspace = CorrectionWorkspace::new(&machine);
         Ok(RealtimeCorrector {
             setup: Setup::of_machine(&machine),
+            limits: Limits::of_machine(&machine),
             machine,
             errors,
             options: CorrectionOptions::default(),
@@ -64,6 +71,12 @@ impl RealtimeCorrector {
     /// Changes the solve options (tolerance, iterations, orientation target).
     pub fn with_options(mut self, options: CorrectionOptions) -> RealtimeCorrector {
         self.options = options;
+        self
+    }
+
+    /// Replaces the correction limits (um, urad).
+    pub fn with_limits(mut self, limits: Limits) -> RealtimeCorrector {
+        self.limits = limits;
         self
     }
 
@@ -130,6 +143,12 @@ impl RealtimeCorrector {
         if !c.converged || c.dq[..n].iter().any(|v| !v.is_finite()) {
             self.warm.reset();
             return RealtimeStatus::NotConverged;
+        }
+        for (axis, d) in self.machine.axes().iter().zip(&c.dq) {
+            let micro = *d * if axis.kind == crate::machine::AxisKind::Rotary { 1e6 } else { 1e3 };
+            if !self.limits.allows(axis.kind, micro) {
+                return RealtimeStatus::BeyondLimit;
+            }
         }
         for ((o, axis), d) in out.iter_mut().zip(self.machine.axes()).zip(&c.dq) {
             *o = axis.position_to_user(*d);

@@ -154,17 +154,35 @@ fn check_converged(machine: &Machine, poses_user: &[f64], results: &[Correction]
     }
 }
 
-/// Own-axis and cross-axis tables, both directions, for every axis of the machine.
+/// Most points per table: more than any controller's compensation table holds (LinuxCNC 256,
+/// Fanuc 128 per axis by default, Siemens as configured in MD38000), 1 um spacing over 100 mm;
+/// checked before anything is allocated (a bound on memory and time, docs/limits.md).
+pub const MAX_TABLE_POINTS: usize = 100_000;
+/// Most nodes of a volumetric grid (about 100^3): one exact-chain correction per node, some
+/// seconds; checked before anything is allocated.
+pub const MAX_GRID_NODES: usize = 1_000_000;
+
+/// Own-axis and cross-axis tables, both directions, for every axis of the machine; at most
+/// [`MAX_TABLE_POINTS`] points per table.
 pub fn axis_tables(corrector: &Corrector, spec: &TableSpec) -> Result<TableSet, CompensateError> {
     let m = corrector.machine;
     if spec.points < 2 {
         return Err(CompensateError::Input("a table needs at least 2 points".into()));
     }
+    if spec.points > MAX_TABLE_POINTS {
+        return Err(CompensateError::Input(format!(
+            "{} points per table: at most {MAX_TABLE_POINTS} are computed (more than any controller's table holds)",
+            spec.points
+        )));
+    }
     let reference = reference_pose(m, spec.reference.as_deref())?;
     let mut tables = Vec::new();
     let (mut worst_p, mut worst_o) = (0.0f64, 0.0f64);
+    let covered = super::coverage::table_ranges(m, corrector.errors);
     for driver in 0..m.axis_count() {
         let [lo, hi] = table_range(m, driver)?;
+        let travel = || format!("the travel of {}", m.axes()[driver].letter);
+        super::coverage::check_covered(m, &covered, driver, lo, hi, &travel)?;
         let line = line_tables(corrector, &reference, &spec.temperatures, driver, &equally_spaced(lo, hi, spec.points))?;
         worst_p = worst_p.max(line.worst_residual_position);
         worst_o = worst_o.max(line.worst_uncorrectable_orientation);
@@ -296,7 +314,8 @@ impl VolumetricGrid {
     }
 }
 
-/// Samples the correction on a grid of `counts` nodes spanning the travel of X, Y and Z.
+/// Samples the correction on a grid of `counts` nodes spanning the travel of X, Y and Z (at most
+/// [`MAX_GRID_NODES`] nodes).
 pub fn volumetric_grid(corrector: &Corrector, counts: [usize; 3], spec: &TableSpec) -> Result<VolumetricGrid, CompensateError> {
     let m = corrector.machine;
     let n = m.axis_count();
@@ -309,11 +328,20 @@ pub fn volumetric_grid(corrector: &Corrector, counts: [usize; 3], spec: &TableSp
     if counts.iter().any(|&c| c < 2) {
         return Err(CompensateError::Input(format!("grid counts must be at least 2 per axis, got {counts:?}")));
     }
+    let nodes = counts.iter().try_fold(1usize, |a, &c| a.checked_mul(c)).unwrap_or(usize::MAX);
+    if nodes > MAX_GRID_NODES {
+        return Err(CompensateError::Input(format!(
+            "a grid of {}x{}x{} nodes has {nodes} nodes: at most {MAX_GRID_NODES} are computed (e.g. 100,100,100)",
+            counts[0], counts[1], counts[2]
+        )));
+    }
     let reference = reference_pose(m, spec.reference.as_deref())?;
     let mut start = [0.0; 3];
     let mut step = [0.0; 3];
+    let covered = super::coverage::table_ranges(m, corrector.errors);
     for d in 0..3 {
         let [lo, hi] = table_range(m, axes[d])?;
+        super::coverage::check_covered(m, &covered, axes[d], lo, hi, &|| "the grid".to_string())?;
         start[d] = lo;
         step[d] = (hi - lo) / (counts[d] - 1) as f64;
     }

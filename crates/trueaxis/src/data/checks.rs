@@ -3,12 +3,17 @@
 //! (whose units the format fixes).
 
 use super::{CsvTable, DataError, Layout};
+use crate::io::plausibility::Severity;
 use crate::io::plausibility::{deviation_scale, targets_per_run, Finding, Place, TargetReading};
+use crate::io::ranges::{PhysicalRange, READING_UM};
 use crate::io::Format;
 
 /// Checks the size of the deviations (um or urad, as returned by `CsvTable::numbers`) of column
 /// `column` (see `io::plausibility::deviation_scale`).
 pub fn deviation_finding(table: &CsvTable, column: &str, values: &[f64]) -> Option<Finding> {
+    if let Err(e) = physical_range(table, column, values, &READING_UM) {
+        return Some(Finding { severity: Severity::Refuse, message: e.to_string() });
+    }
     let mut text = table.column_text(column).unwrap_or(column).to_string();
     let name = table.headers().iter().find(|h| h.text == text).map_or(column.to_string(), |h| h.name.clone());
     if let Layout::Wide { run_columns } = table.layout() {
@@ -53,4 +58,16 @@ pub fn target_finding(table: &CsvTable, targets: &[f64], tolerance: f64) -> Resu
     let unit = table.unit_returned("target").map_or("mm", |u| u.symbol);
     let text = table.column_text("target").unwrap_or("target").to_string();
     Ok(targets_per_run(&readings, tolerance, unit, Place { file: table.origin(), column: &text }))
+}
+
+/// Refuses the first value of column `column` of `table` (values as read, in `range.unit`) outside
+/// the physical range of its quantity (`io::ranges`), naming the file, line and column.
+pub fn physical_range(table: &CsvTable, column: &str, values: &[f64], range: &PhysicalRange) -> Result<(), DataError> {
+    match range.first_outside(values) {
+        None => Ok(()),
+        Some((row, message)) => {
+            let text = table.column_text(column).unwrap_or(column).to_string();
+            Err(table.row_error(row, &format!("column `{text}`: {message}")))
+        }
+    }
 }

@@ -194,6 +194,19 @@ impl CsvTable {
             return Err(invalid(format!("line {header_line}: column {} of the header has no name", k + 1)));
         }
         let headers: Vec<Header> = fields.iter().map(|f| Header::parse(f)).collect();
+        for (i, h) in headers.iter().enumerate() {
+            if let Some(j) = headers[..i].iter().position(|g| normalised(&g.name) == normalised(&h.name)) {
+                return Err(invalid(format!(
+                    "line {header_line}: columns {} (`{}`) and {} (`{}`) are the same column `{}`; a table names each column once: \
+                     rename or remove one",
+                    j + 1,
+                    headers[j].text,
+                    i + 1,
+                    h.text,
+                    h.name
+                )));
+            }
+        }
         let decimal_comma = separator != b',';
         let mut rows = Vec::new();
         let mut row_lines = Vec::new();

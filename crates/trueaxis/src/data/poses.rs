@@ -135,6 +135,7 @@ pub fn poses_of(table: &CsvTable, machine: &Machine) -> Result<PoseTable, DataEr
                 .unwrap_or(0);
             invalid(format!("line {}: column {name}: `{}` is not a temperature", table.lines()[bad], texts[bad]))
         })?;
+        super::checks::physical_range(table, name, &values, &crate::io::ranges::TEMPERATURE_DEGC)?;
         temperatures.push((name.clone(), values));
     }
     let n = machine.axis_count();

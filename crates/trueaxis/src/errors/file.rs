@@ -8,6 +8,7 @@ use super::function::ErrorFunction;
 use super::model::Direction;
 use super::model::ErrorModel;
 use super::ErrorsError;
+use crate::io::ranges::{line_of_key, ANGULAR_ERROR_URAD, LINEAR_ERROR_UM};
 use crate::machine::{one_line, Machine, ParameterId};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -208,7 +209,37 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
         }
     }
     model.check_directions().map_err(|m| ErrorsError::Invalid { origin: origin.into(), message: m })?;
+    check_physical_ranges(&model, machine, text, origin)?;
     Ok(model)
+}
+
+/// Refuses an error function whose value leaves the physical range of its quantity
+/// (`io::ranges`: linear errors in um, angular errors in urad) anywhere on its axis travel: 65
+/// equally spaced positions over the travel of the own axis of a motion error (one turn of a
+/// rotary axis without a range), the value itself for a location or setup error. The message
+/// names the file, the line, the parameter and the position.
+fn check_physical_ranges(model: &ErrorModel, machine: &Machine, text: &str, origin: &str) -> Result<(), ErrorsError> {
+    const SAMPLES: usize = 65;
+    for (id, direction, function) in model.directional_entries() {
+        let range = if id.component().is_rotation() { ANGULAR_ERROR_URAD } else { LINEAR_ERROR_UM };
+        let travel = match id {
+            ParameterId::Motion { axis, .. } => machine.axis_index(*axis).map(|k| machine.axes()[k].range.unwrap_or([0.0, 360.0])),
+            _ => None,
+        };
+        let positions: Vec<f64> = match travel {
+            Some([lo, hi]) => (0..SAMPLES).map(|i| lo + (hi - lo) * i as f64 / (SAMPLES - 1) as f64).collect(),
+            None => vec![0.0],
+        };
+        for q in positions {
+            if let Some(m) = range.check(function.evaluate(q)) {
+                let name = format!("{id}{}", direction.map_or(String::new(), |d| d.symbol().to_string()));
+                let line = line_of_key(text, &name).map_or(String::new(), |l| format!("line {l}: "));
+                let at = travel.map_or(String::new(), |_| format!(" at {}{q}", id.axis().unwrap_or(' ')));
+                return Err(ErrorsError::Invalid { origin: origin.into(), message: format!("{line}{name}{at}: {m}") });
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A `[basis.NAME]` table: the fields of [`BasisSpec`] plus `coefficients`.

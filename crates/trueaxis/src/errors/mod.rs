@@ -39,10 +39,22 @@ impl ErrorModel {
         file::parse(text, origin, machine)
     }
 
-    /// Reads an error-values TOML file for `machine`.
+    /// Reads an error-values TOML file for `machine`. A file that defines no error at all is
+    /// refused (most likely the wrong file; docs/limits.md): an error-free machine is stated with
+    /// `[constant]` and `EXX = 0`. ([`ErrorModel::from_toml_str`] accepts an empty text: the
+    /// commands that add terms to an optional base start from it.)
     pub fn load(path: impl AsRef<std::path::Path>, machine: &Machine) -> Result<ErrorModel, ErrorsError> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path).map_err(|source| ErrorsError::Read { path: path.display().to_string(), source })?;
-        Self::from_toml_str(&text, &path.display().to_string(), machine)
+        let model = Self::from_toml_str(&text, &path.display().to_string(), machine)?;
+        if model.is_empty() {
+            return Err(ErrorsError::Invalid {
+                origin: path.display().to_string(),
+                message: "the file defines no error ([constant], [table.NAME], [polynomial.NAME], [basis.NAME], [[term.NAME]], \
+                          [load.NAME], [[drift.NAME]]); to state an error-free machine, write `[constant]` with `EXX = 0`"
+                    .into(),
+            });
+        }
+        Ok(model)
     }
 }

@@ -420,6 +420,11 @@ impl ErrorModel {
         model
     }
 
+    /// Whether the model defines no error at all (no function, term, load or drift).
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty() && self.terms.is_empty() && self.loads.is_empty() && self.drifts.is_empty()
+    }
+
     /// The parameters that have a function for both directions, with it.
     pub fn entries(&self) -> impl Iterator<Item = (&ParameterId, &ErrorFunction)> {
         self.entries.iter().filter(|e| e.direction.is_none()).map(|e| (&e.id, &e.function))

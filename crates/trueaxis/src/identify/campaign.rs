@@ -644,6 +644,9 @@ fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, mac
     let channels = instrument.channels();
     let readings = if channels.iter().all(|c| table.has_column(c)) {
         let columns: Vec<Vec<f64>> = channels.iter().map(|c| table.numbers(c)).collect::<Result<_, _>>().map_err(|e| at(e.to_string()))?;
+        for (c, column) in channels.iter().zip(&columns) {
+            crate::data::checks::physical_range(&table, c, column, &crate::io::ranges::READING_UM).map_err(|e| at(e.to_string()))?;
+        }
         let mut readings: Vec<f64> = (0..table.len()).flat_map(|r| columns.iter().map(move |c| c[r])).collect();
         if let Some(cal) = &calibration {
             for record in readings.chunks_mut(3) {

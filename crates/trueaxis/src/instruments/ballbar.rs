@@ -17,6 +17,7 @@ use crate::errors::{Direction, ErrorModel, MachineState};
 use crate::geometry::Vec3;
 use crate::io::ballbar::BallbarHeader;
 use crate::io::plausibility::{self, Finding, Place, Severity};
+use crate::io::ranges::READING_UM;
 use crate::io::units::Dimension;
 use crate::machine::{AxisKind, Machine};
 use crate::model::{jacobian, nominal_chain, volumetric_error, Frame, JacobianWorkspace, Setup, JACOBIAN_ROWS};
@@ -693,6 +694,7 @@ pub fn bar_readings(table: &CsvTable, radius_mm: Option<f64>, warnings: &mut Vec
 pub fn check_bar_deviations(table: &CsvTable, radius_mm: Option<f64>, dl: &[f64], warnings: &mut Vec<String>) -> Result<(), DataError> {
     let length_column = length_column(table);
     let column = table.column_text("dL").or_else(|| length_column.and_then(|c| table.column_text(c))).unwrap_or("dL").to_string();
+    crate::data::checks::physical_range(table, if table.has_column("dL") { "dL" } else { length_column.unwrap_or("dL") }, dl, &READING_UM)?;
     if let Some(r) = radius_mm {
         let place = Place { file: table.origin(), column: &column };
         sort_finding(table, plausibility::ballbar_readings(dl, r, place), warnings)?;

@@ -10,12 +10,14 @@ pub mod etalon;
 pub mod header;
 pub mod metadata;
 pub mod plausibility;
+pub mod ranges;
 pub mod rtl;
 pub mod text;
 pub mod units;
 
 pub use metadata::{Environment, Metadata};
 pub use plausibility::{Finding, Severity};
+pub use ranges::PhysicalRange;
 pub use units::{Dimension, Unit};
 
 use thiserror::Error;

@@ -2,10 +2,12 @@
 
 use super::axis::{Axis, AxisKind, Side};
 use super::error::MachineError;
+use super::limits::CorrectionLimits;
 use super::parameter::is_rotary_letter;
 use super::structure::Structure;
 use super::Machine;
 use crate::geometry::Vec3;
+use crate::io::ranges::{line_of_key, MACHINE_LENGTH_MM, ROTARY_POSITION_DEG};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 
@@ -18,6 +20,18 @@ struct MachineFile {
     source: Option<String>,
     axes: BTreeMap<String, AxisFile>,
     tool: ToolFile,
+    /// `[limits]`: the largest corrections trueaxis may write (module `limits`).
+    #[serde(default)]
+    limits: Option<LimitsFile>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LimitsFile {
+    #[serde(default)]
+    correction_um: Option<f64>,
+    #[serde(default)]
+    correction_urad: Option<f64>,
 }
 
 #[derive(Deserialize)]
@@ -83,13 +97,27 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
         } else {
             return Err(invalid(format!("axis {letter} is defined under [axes] but does not appear in structure `{}`", file.structure)));
         };
-        axes.push(axis(letter, side, spec).map_err(|m| invalid(format!("axis {letter}: {m}")))?);
+        axes.push(axis(letter, side, spec).map_err(|m| invalid(format!("{}axis {letter}: {m}", at_line(text, key))))?);
     }
     let tool_point = finite_vector(file.tool.point).ok_or_else(|| invalid("[tool] point must be finite numbers (mm)".into()))?;
+    if let Some((i, m)) = MACHINE_LENGTH_MM.first_outside(&file.tool.point) {
+        let line = text
+            .find("[tool]")
+            .and_then(|s| line_of_key(&text[s..], "point").map(|l| text[..s].matches('\n').count() + l))
+            .map_or(String::new(), |l| format!("line {l}: "));
+        return Err(invalid(format!("{line}[tool] point, component {}: {m}", i + 1)));
+    }
     if file.name.trim().is_empty() {
         return Err(invalid("`name` must not be empty".into()));
     }
-    Ok(Machine::assemble(file.name, file.source, structure, axes, tool_point))
+    let limits = file.limits.map_or_else(CorrectionLimits::default, |l| CorrectionLimits {
+        correction_um: l.correction_um,
+        correction_urad: l.correction_urad,
+    });
+    limits.validate().map_err(invalid)?;
+    let mut machine = Machine::assemble(file.name, file.source, structure, axes, tool_point);
+    machine.correction_limits = limits;
+    Ok(machine)
 }
 
 fn axis(letter: char, side: Side, spec: &AxisFile) -> Result<Axis, String> {
@@ -116,7 +144,13 @@ fn axis(letter: char, side: Side, spec: &AxisFile) -> Result<Axis, String> {
         ));
     }
     let point = match (kind, spec.point) {
-        (_, Some(p)) => finite_vector(p).ok_or("point must be finite numbers (mm)")?,
+        (_, Some(p)) => {
+            let point = finite_vector(p).ok_or("point must be finite numbers (mm)")?;
+            if let Some((i, m)) = MACHINE_LENGTH_MM.first_outside(&p) {
+                return Err(format!("point, component {}: {m}", i + 1));
+            }
+            point
+        }
         (AxisKind::Linear, None) => Vec3::zeros(),
         (AxisKind::Rotary, None) => return Err("missing field `point`: a rotary axis needs a point on its axis line (mm)".into()),
     };
@@ -125,12 +159,21 @@ fn axis(letter: char, side: Side, spec: &AxisFile) -> Result<Axis, String> {
             if !(lo.is_finite() && hi.is_finite() && lo < hi) {
                 return Err(format!("range [{lo}, {hi}] must be two finite numbers, the smaller first"));
             }
+            let physical = if kind == AxisKind::Rotary { ROTARY_POSITION_DEG } else { MACHINE_LENGTH_MM };
+            if let Some((_, m)) = physical.first_outside(&[lo, hi]) {
+                return Err(format!("range [{lo}, {hi}]: {m}"));
+            }
             Some([lo, hi])
         }
         (AxisKind::Linear, None) => return Err("missing field `range`: a linear axis needs its travel [min, max] (mm)".into()),
         (AxisKind::Rotary, None) => None,
     };
     Ok(Axis { letter, kind, side, direction: direction / norm, point, range })
+}
+
+/// `line N: ` of the first assignment of `key` in `text`, or nothing.
+fn at_line(text: &str, key: &str) -> String {
+    line_of_key(text, key).map_or(String::new(), |l| format!("line {l}: "))
 }
 
 fn finite_vector(v: [f64; 3]) -> Option<Vec3> {

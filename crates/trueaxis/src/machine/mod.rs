@@ -4,6 +4,7 @@
 mod axis;
 mod error;
 mod file;
+mod limits;
 mod parameter;
 mod structure;
 
@@ -11,6 +12,7 @@ pub use axis::{Axis, AxisKind, Side};
 pub use error::MachineError;
 pub(crate) use file::one_line;
 pub use file::DIRECTION_NORM_TOLERANCE;
+pub use limits::{CorrectionLimits, DEFAULT_CORRECTION_UM, DEFAULT_CORRECTION_URAD};
 pub use parameter::{is_axis_letter, is_rotary_letter, Component, ParameterId, SetupSide};
 pub use structure::Structure;
 
@@ -34,6 +36,8 @@ pub struct Machine {
     axes: Vec<Axis>,
     /// Tool point at home, in M (mm).
     pub tool_point: Vec3,
+    /// The largest corrections trueaxis may write (`[limits]`, defaults when absent).
+    pub correction_limits: CorrectionLimits,
     tool_chain: Vec<usize>,
     work_chain: Vec<usize>,
 }
@@ -57,7 +61,7 @@ impl Machine {
         let index = |c: &char| axes.iter().position(|a| a.letter == *c).expect("validated structure");
         let tool_chain = structure.tool_side.iter().map(index).collect();
         let work_chain = structure.workpiece_side.iter().map(index).collect();
-        Machine { name, source, structure, axes, tool_point, tool_chain, work_chain }
+        Machine { name, source, structure, axes, tool_point, correction_limits: CorrectionLimits::default(), tool_chain, work_chain }
     }
 
     /// Axes in canonical order (the order of pose vectors).

@@ -3,7 +3,21 @@
 //! `T:<sensor>` (degC), error columns (um, e.g. `dz` or `EZZ`) and axis positions (mm, deg).
 
 use super::{input, ThermalError};
+use crate::io::ranges;
 use std::collections::BTreeMap;
+
+/// The physical range of a campaign column (`io::ranges`): temperatures `T:<sensor>`, the time
+/// `t`, axis positions (one axis letter), else an error or drift (um).
+fn physical_range_of(name: &str) -> ranges::PhysicalRange {
+    let mut letters = name.chars();
+    match (letters.next(), letters.next()) {
+        _ if name.starts_with("T:") => ranges::TEMPERATURE_DEGC,
+        (Some('t'), None) => ranges::TIME_S,
+        (Some(c), None) if crate::machine::is_rotary_letter(c) => ranges::ROTARY_POSITION_DEG,
+        (Some(c), None) if crate::machine::is_axis_letter(c) => ranges::MACHINE_LENGTH_MM,
+        _ => ranges::THERMAL_DRIFT_UM,
+    }
+}
 
 /// A campaign held in memory.
 #[derive(Clone, Debug)]
@@ -55,7 +69,9 @@ impl Campaign {
             .collect();
         let mut columns = BTreeMap::new();
         for name in &names {
-            columns.insert(name.clone(), table.numbers(name).map_err(|e| input(e.to_string()))?);
+            let values = table.numbers(name).map_err(|e| input(e.to_string()))?;
+            crate::data::checks::physical_range(&table, name, &values, &physical_range_of(name)).map_err(|e| input(e.to_string()))?;
+            columns.insert(name.clone(), values);
         }
         Ok(Campaign { origin: origin.into(), runs, dirs, names, columns })
     }

@@ -227,6 +227,11 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
         }
     };
     let evaluated = evaluate_segments(campaign, &model, &segments)?;
+    if evaluated.iter().any(|e| e.predicted.iter().any(|v| !v.is_finite())) {
+        return Err(ThermalError::Computation(format!(
+            "{data}: the fitted model predicts numbers that are not finite; nothing was written"
+        )));
+    }
     let (measured, predicted): (Vec<f64>, Vec<f64>) = evaluated
         .iter()
         .filter(|e| e.segment.role == Role::Training)

@@ -47,13 +47,93 @@ impl std::fmt::Debug for Export<'_> {
     }
 }
 
-/// The user's limits on corrections: the export is refused when a correction exceeds them.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// Where a correction limit comes from (for the refusal message).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LimitSource {
+    /// trueaxis's default ([`crate::machine::DEFAULT_CORRECTION_UM`], `_URAD`): the machine file has no `[limits]` value.
+    Default,
+    /// The machine file's `[limits]`.
+    MachineFile,
+    /// Given for this run (`--limit-um` / `--limit-urad`, Python `limit_um` / `limit_urad`).
+    Given,
+}
+
+impl LimitSource {
+    fn describe(self, key: &str) -> String {
+        match self {
+            LimitSource::Default => format!("trueaxis's default, the machine file has no `[limits] {key}`"),
+            LimitSource::MachineFile => format!("the machine file's `[limits] {key}`"),
+            LimitSource::Given => "given for this run".into(),
+        }
+    }
+}
+
+/// The limits on corrections: a table, NC program or real-time call with a correction beyond them
+/// is refused (never clipped). [`Limits::default`] is trueaxis's default (docs/limits.md).
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Limits {
     /// Largest allowed correction of a linear axis (um).
-    pub max_um: Option<f64>,
+    pub max_um: f64,
     /// Largest allowed correction of a rotary axis (urad).
-    pub max_urad: Option<f64>,
+    pub max_urad: f64,
+    pub source_um: LimitSource,
+    pub source_urad: LimitSource,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            max_um: crate::machine::DEFAULT_CORRECTION_UM,
+            max_urad: crate::machine::DEFAULT_CORRECTION_URAD,
+            source_um: LimitSource::Default,
+            source_urad: LimitSource::Default,
+        }
+    }
+}
+
+impl Limits {
+    /// The limits of `machine`: its file's `[limits]`, else the defaults.
+    pub fn of_machine(machine: &Machine) -> Limits {
+        let l = &machine.correction_limits;
+        let source = |v: Option<f64>| if v.is_some() { LimitSource::MachineFile } else { LimitSource::Default };
+        Limits {
+            max_um: l.linear_um(),
+            max_urad: l.rotary_urad(),
+            source_um: source(l.correction_um),
+            source_urad: source(l.correction_urad),
+        }
+    }
+
+    /// The limits of `machine` with the values given for this run (um, urad) in place of the
+    /// machine file's; an error names a value that is not a positive number.
+    pub fn with_overrides(machine: &Machine, max_um: Option<f64>, max_urad: Option<f64>) -> Result<Limits, CompensateError> {
+        let mut limits = Limits::of_machine(machine);
+        for (name, v) in [("the linear correction limit (um)", max_um), ("the rotary correction limit (urad)", max_urad)] {
+            if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
+                return Err(CompensateError::Input(format!("{name} must be a positive number")));
+            }
+        }
+        if let Some(v) = max_um {
+            (limits.max_um, limits.source_um) = (v, LimitSource::Given);
+        }
+        if let Some(v) = max_urad {
+            (limits.max_urad, limits.source_urad) = (v, LimitSource::Given);
+        }
+        Ok(limits)
+    }
+
+    /// The limit of an axis of `kind` (um or urad) and where it comes from.
+    pub fn of_kind(&self, kind: AxisKind) -> (f64, LimitSource) {
+        match kind {
+            AxisKind::Rotary => (self.max_urad, self.source_urad),
+            AxisKind::Linear => (self.max_um, self.source_um),
+        }
+    }
+
+    /// Whether a correction of `micro` (um or urad) of an axis of `kind` is within the limit.
+    pub fn allows(&self, kind: AxisKind, micro: f64) -> bool {
+        micro.abs() <= self.of_kind(kind).0
+    }
 }
 
 /// Everything an exporter may use.
@@ -140,55 +220,82 @@ pub fn micro_unit(machine: &Machine, axis: usize) -> &'static str {
     }
 }
 
-/// Refuses the correction `value` (user units, mm or deg) of `axis` when it exceeds the user's
-/// limit; `place` says where it occurs (for the message).
-pub fn check_limit(machine: &Machine, limits: &Limits, axis: usize, value: f64, place: &dyn Fn() -> String) -> Result<(), CompensateError> {
+/// The refusal of the correction `value` (user units, mm or deg) of `axis` when it exceeds the
+/// limit, `None` within it; `place` says where it occurs (for the message).
+pub fn limit_refusal(machine: &Machine, limits: &Limits, axis: usize, value: f64, place: &dyn Fn() -> String) -> Option<String> {
     let micro = to_micro(machine, axis, value);
-    let limit = match machine.axes()[axis].kind {
-        AxisKind::Rotary => limits.max_urad,
-        AxisKind::Linear => limits.max_um,
-    };
-    match limit {
-        Some(l) if micro.abs() > l => Err(CompensateError::Limit(format!(
-            "the correction of axis {} is {micro:.3} {} at {}, beyond the limit of {l} {}; nothing was written",
-            machine.axes()[axis].letter,
-            micro_unit(machine, axis),
-            place(),
-            micro_unit(machine, axis)
-        ))),
-        _ => Ok(()),
+    let a = &machine.axes()[axis];
+    if limits.allows(a.kind, micro) && micro.is_finite() {
+        return None;
     }
+    let (limit, source) = limits.of_kind(a.kind);
+    let (key, option) = match a.kind {
+        AxisKind::Rotary => ("correction_urad", "--limit-urad"),
+        AxisKind::Linear => ("correction_um", "--limit-um"),
+    };
+    let unit = micro_unit(machine, axis);
+    Some(format!(
+        "the correction of axis {} is {micro:.3} {unit} at {}, beyond the limit of {limit} {unit} ({}); an error value is likely in the \
+         wrong unit (check the error file); if the correction is real, raise `[limits] {key}` in the machine file or pass {option} \
+         (docs/limits.md); nothing was written",
+        a.letter,
+        place(),
+        source.describe(key)
+    ))
 }
 
-/// Refuses corrections beyond the user's limits, in any table (both directions) or grid node.
+/// Refuses the correction `value` (user units, mm or deg) of `axis` when it exceeds the limit
+/// ([`limit_refusal`]).
+pub fn check_limit(machine: &Machine, limits: &Limits, axis: usize, value: f64, place: &dyn Fn() -> String) -> Result<(), CompensateError> {
+    limit_refusal(machine, limits, axis, value, place).map_or(Ok(()), |m| Err(CompensateError::Limit(m)))
+}
+
+/// Where a correction is: point `.1` of table `.0` (`Ok`), or a grid node (`Err`).
+type At = Result<(usize, usize), usize>;
+
+/// Refuses corrections beyond the limits in any table (both directions) or grid node, naming the
+/// worst one (largest ratio to its limit).
 pub fn check_user_limits(input: &ExportInput) -> Result<(), CompensateError> {
     let m = input.machine;
-    let check = |axis: usize, value: f64, place: &dyn Fn() -> String| check_limit(m, &input.limits, axis, value, place);
-    for t in &input.tables.tables {
+    let mut worst: Option<(f64, usize, f64, At)> = None;
+    let mut consider = |axis: usize, value: f64, at: At| {
+        let micro = to_micro(m, axis, value);
+        let ratio = if micro.is_finite() { micro.abs() / input.limits.of_kind(m.axes()[axis].kind).0 } else { f64::INFINITY };
+        if ratio > 1.0 && worst.is_none_or(|w| ratio > w.0) {
+            worst = Some((ratio, axis, value, at));
+        }
+    };
+    for (ti, t) in input.tables.tables.iter().enumerate() {
         for (i, (&f, &r)) in t.forward.iter().zip(&t.reverse).enumerate() {
-            let place = || {
-                format!(
-                    "{} = {} {} (table {} -> {})",
-                    letter(m, t.driver),
-                    t.positions[i],
-                    unit(m, t.driver),
-                    letter(m, t.driver),
-                    letter(m, t.corrected)
-                )
-            };
-            check(t.corrected, f, &place)?;
-            check(t.corrected, r, &place)?;
+            consider(t.corrected, f, Ok((ti, i)));
+            consider(t.corrected, r, Ok((ti, i)));
         }
     }
     if let Some(g) = input.grid {
         for (node, values) in g.values.chunks(g.axis_count).enumerate() {
-            for (axis, &v) in values.iter().enumerate() {
-                let (i, j, k) = (node % g.counts[0], (node / g.counts[0]) % g.counts[1], node / (g.counts[0] * g.counts[1]));
-                check(axis, v, &|| format!("grid node {:?} mm", g.node_position(i, j, k)))?;
-            }
+            values.iter().enumerate().for_each(|(axis, &v)| consider(axis, v, Err(node)));
         }
     }
-    Ok(())
+    let Some((_, axis, value, at)) = worst else { return Ok(()) };
+    let place = || match at {
+        Ok((ti, i)) => {
+            let t = &input.tables.tables[ti];
+            format!(
+                "{} = {} {} (table {} -> {})",
+                letter(m, t.driver),
+                t.positions[i],
+                unit(m, t.driver),
+                letter(m, t.driver),
+                letter(m, t.corrected)
+            )
+        }
+        Err(node) => {
+            let g = input.grid.expect("a grid node comes from the grid");
+            let (i, j, k) = (node % g.counts[0], (node / g.counts[0]) % g.counts[1], node / (g.counts[0] * g.counts[1]));
+            format!("grid node {:?} mm", g.node_position(i, j, k))
+        }
+    };
+    check_limit(m, &input.limits, axis, value, &place)
 }
 
 /// One line per cross-axis table that a format leaves out and that is not zero: `Y as a function of

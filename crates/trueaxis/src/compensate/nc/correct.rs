@@ -9,6 +9,7 @@ use super::path::{arc_geometry, departure, directions_at, point_at, split_from, 
 use super::trace::{Move, MoveKind, Role};
 use super::NcOptions;
 use crate::compensate::correction::{CorrectionWorkspace, Corrector, WarmStart};
+use crate::compensate::coverage::{check_covered, table_ranges, TableRange};
 use crate::compensate::export::{check_limit, Limits};
 use crate::compensate::CompensateError;
 use crate::errors::{Direction, MachineState};
@@ -36,6 +37,8 @@ pub(super) struct Corrections<'a, 'b> {
     tool: [f64; 3],
     machine: &'a Machine,
     limits: Limits,
+    /// The ranges of the error tables: points beyond them are refused.
+    covered: Vec<TableRange>,
     ws: CorrectionWorkspace,
     warm: WarmStart,
     q: Vec<f64>,
@@ -61,6 +64,7 @@ impl<'a, 'b> Corrections<'a, 'b> {
             tool: [0.0; 3],
             machine,
             limits,
+            covered: table_ranges(machine, corrector.errors),
             ws: CorrectionWorkspace::new(machine),
             warm: WarmStart::default(),
             q: vec![0.0; n],
@@ -92,6 +96,10 @@ impl<'a, 'b> Corrections<'a, 'b> {
         let n = self.machine.axis_count();
         let mut p = vec![0.0; n];
         point_at(m, arc, t, &mut p);
+        for (k, &v) in p.iter().enumerate() {
+            check_covered(self.machine, &self.covered, k, v, v, &|| "the program".to_string())
+                .map_err(|e| CompensateError::Coverage(format!("{}: line {}: {e}", self.origin, self.line)))?;
+        }
         directions_at(m, arc, t_direction, &self.previous_directions, &mut self.directions);
         self.machine.pose_to_internal(&p, &mut self.q);
         let state = MachineState { directions: Some(&self.directions), temperatures: &self.temperatures };

@@ -363,6 +363,13 @@ impl Exec<'_> {
                     });
                 }
             }
+            // rs274 (interp_check.cc, check_other_codes): "E word with no G70, G76, M66, M67 or M68
+            // to use it"; also what `X1e200` reads as (X1 and E200: RS274/NGC has no exponents)
+            let uses_e = w.gs().iter().any(|&c| c == 700 || c == 760) || w.ms().iter().any(|&m| matches!(m, 66..=68));
+            if w.values[letter_index(b'E')].is_some() && !uses_e {
+                return Err("an E word with no G70, G76, M66, M67 or M68 to use it (RS274/NGC numbers have no exponent:                             write 100000, not 1e5)"
+                    .into());
+            }
         }
         Ok(w)
     }

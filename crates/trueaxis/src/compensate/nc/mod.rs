@@ -128,7 +128,7 @@ pub struct NcOptions {
     pub max_pieces: usize,
     /// Start position, parameters, tool table, search path.
     pub setup: ProgramSetup,
-    /// Refuse the program when a correction exceeds these (um, urad).
+    /// Refuse the program when a correction exceeds these (um, urad; the machine's by default).
     pub limits: Limits,
     /// The dialect; `None`: detected from the program.
     pub dialect: Option<Dialect>,
@@ -136,7 +136,7 @@ pub struct NcOptions {
 
 impl NcOptions {
     /// Defaults: split tolerance 1 um (and 1 urad expressed in deg), the dialect's decimals, at
-    /// most 10000 pieces per move, start at 0, zero offsets, no correction limit, detection.
+    /// most 10000 pieces per move, start at 0, zero offsets, the machine's correction limits, detection.
     pub fn new(machine: &Machine) -> NcOptions {
         NcOptions {
             tolerance_mm: 1e-3,
@@ -145,7 +145,7 @@ impl NcOptions {
             decimals_inch: None,
             max_pieces: 10_000,
             setup: ProgramSetup::zero(machine),
-            limits: Limits::default(),
+            limits: Limits::of_machine(machine),
             dialect: None,
         }
     }
