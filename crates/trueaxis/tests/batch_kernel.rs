@@ -10,7 +10,7 @@ use proptest::test_runner::RngSeed;
 use std::path::Path;
 use trueaxis::errors::{Direction, ErrorModel, MachineState};
 use trueaxis::machine::Machine;
-use trueaxis::model::{volumetric_error, Frame, Predictor, Setup, VolumetricError, VolumetricKernel};
+use trueaxis::model::{volumetric_error, Frame, Predictor, Setup, VolumetricError, VolumetricKernel, INSTRUCTION_SETS};
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 
@@ -140,23 +140,32 @@ proptest! {
 }
 
 #[test]
-fn kernel_on_one_thread_equals_the_scalar_path_and_names_its_instruction_set() {
-    // the kernel's own loop (one workspace, no threads) over 1000 poses of the table model
+fn every_compiled_instruction_set_equals_the_scalar_path() {
+    // the kernel's own loop (one workspace, no threads) over 1000 poses of the table model, with
+    // each instruction set this CPU has (the baseline everywhere)
     let (name, machine, errors) = models().pop().unwrap();
     let setup = Setup::of_machine(&machine);
-    let kernel = VolumetricKernel::new(&machine, &errors, &setup, Frame::Workpiece);
-    assert!(["AVX-512F", "AVX2", "baseline"].contains(&kernel.instruction_set));
+    let best = VolumetricKernel::new(&machine, &errors, &setup, Frame::Workpiece);
+    let available = |set: &'static str| VolumetricKernel::new(&machine, &errors, &setup, Frame::Workpiece).with_instruction_set(set).is_some();
+    assert_eq!(best.instruction_set, INSTRUCTION_SETS.into_iter().find(|s| available(s)).unwrap(), "the best set this CPU has");
     let draws: Vec<f64> = (0..1000 * machine.axis_count()).map(|i| (i as f64 * 0.618_033_988_749_895).fract()).collect();
     let q = poses(&machine, &draws);
-    let mut out = vec![VolumetricError::default(); 1000];
-    kernel.evaluate(&mut kernel.workspace(), &q, &mut out);
     let p = Predictor::new(&machine, &errors);
-    let mut largest: f64 = 0.0;
-    for (i, got) in out.iter().enumerate() {
-        let want = scalar(&p, &q[i * machine.axis_count()..(i + 1) * machine.axis_count()], &MachineState::default());
-        assert_equal(got, &want, &format!("{name}, pose {i}"));
-        largest = largest.max(want.position.amax());
+    let mut tested = Vec::new();
+    for set in INSTRUCTION_SETS {
+        let Some(kernel) = VolumetricKernel::new(&machine, &errors, &setup, Frame::Workpiece).with_instruction_set(set) else { continue };
+        let mut out = vec![VolumetricError::default(); 1000];
+        kernel.evaluate(&mut kernel.workspace(), &q, &mut out);
+        let mut largest: f64 = 0.0;
+        for (i, got) in out.iter().enumerate() {
+            let want = scalar(&p, &q[i * machine.axis_count()..(i + 1) * machine.axis_count()], &MachineState::default());
+            assert_equal(got, &want, &format!("{name}, {set}, pose {i}"));
+            largest = largest.max(want.position.amax());
+        }
+        // the errors compared are those of a real model: micrometres, not zeros
+        assert!(largest > 1e-3, "largest error {largest} mm");
+        tested.push(set);
     }
-    // the errors compared are those of a real model: micrometres, not zeros
-    assert!(largest > 1e-3, "largest error {largest} mm");
+    assert!(tested.contains(&"baseline"), "{tested:?}");
+    assert!(VolumetricKernel::new(&machine, &errors, &setup, Frame::Workpiece).with_instruction_set("NEON-9000").is_none());
 }

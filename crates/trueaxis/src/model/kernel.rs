@@ -169,6 +169,14 @@ impl<'a> VolumetricKernel<'a> {
         }
     }
 
+    /// The same kernel evaluated with `instruction_set` (one of [`INSTRUCTION_SETS`]) instead of
+    /// the best one, or `None` when this CPU does not have it: to compare the compiled variants.
+    pub fn with_instruction_set(mut self, instruction_set: &'static str) -> Option<Self> {
+        self.block = block_for(instruction_set)?;
+        self.instruction_set = instruction_set;
+        Some(self)
+    }
+
     /// A workspace for this kernel.
     pub fn workspace(&self) -> KernelWorkspace {
         KernelWorkspace {
@@ -195,18 +203,30 @@ impl<'a> VolumetricKernel<'a> {
     }
 }
 
+/// The instruction sets the block function is compiled for, best first.
+pub const INSTRUCTION_SETS: [&str; 3] = ["AVX-512F", "AVX2", "baseline"];
+
+/// The block function for `instruction_set` (one of [`INSTRUCTION_SETS`]) if this CPU has it.
+fn block_for(instruction_set: &str) -> Option<BlockFn> {
+    match instruction_set {
+        #[cfg(target_arch = "x86_64")]
+        "AVX-512F" if std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512dq") => {
+            // SAFETY: the CPU has the features block_avx512 is compiled for
+            Some(|k, ws, q, s, o| unsafe { block_avx512(k, ws, q, s, o) })
+        }
+        #[cfg(target_arch = "x86_64")]
+        "AVX2" if std::arch::is_x86_feature_detected!("avx2") => {
+            // SAFETY: the CPU has the feature block_avx2 is compiled for
+            Some(|k, ws, q, s, o| unsafe { block_avx2(k, ws, q, s, o) })
+        }
+        "baseline" => Some(block),
+        _ => None,
+    }
+}
+
 /// The block function for the best instruction set this CPU has.
 fn dispatch() -> (BlockFn, &'static str) {
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::arch::is_x86_feature_detected!("avx512f") {
-            return (|k, ws, q, s, o| unsafe { block_avx512(k, ws, q, s, o) }, "AVX-512F");
-        }
-        if std::arch::is_x86_feature_detected!("avx2") {
-            return (|k, ws, q, s, o| unsafe { block_avx2(k, ws, q, s, o) }, "AVX2");
-        }
-    }
-    (block, "baseline")
+    INSTRUCTION_SETS.iter().find_map(|&name| block_for(name).map(|f| (f, name))).expect("the baseline is always available")
 }
 
 /// [`block`] compiled with AVX-512F (8 f64 per register).
