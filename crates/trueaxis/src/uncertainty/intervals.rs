@@ -31,6 +31,18 @@ pub fn symmetric_interval(sorted: &[f64], p: f64) -> CoverageInterval {
     CoverageInterval { low: sorted[r - 1], high: sorted[r + q - 1] }
 }
 
+/// [`symmetric_interval`] of values in any order, by selection instead of a sort (two calls of
+/// `select_nth_unstable`, linear time): the same two order statistics. `values` is reordered.
+pub fn symmetric_interval_of_unsorted(values: &mut [f64], p: f64) -> CoverageInterval {
+    let m = values.len();
+    let q = coverage_count(m, p);
+    let r = (m - q).div_ceil(2).clamp(1, m - q);
+    let (below, high, _) = values.select_nth_unstable_by(r + q - 1, f64::total_cmp);
+    let high = *high;
+    let (_, low, _) = below.select_nth_unstable_by(r - 1, f64::total_cmp);
+    CoverageInterval { low: *low, high }
+}
+
 /// Shortest `p` coverage interval of `sorted` values (JCGM 101 §7.7.2): `[y_(r*), y_(r*+q)]`
 /// with `r*` minimising `y_(r+q) - y_(r)` over `r = 1 .. M - q` (the first such `r` on ties).
 pub fn shortest_interval(sorted: &[f64], p: f64) -> CoverageInterval {
@@ -102,6 +114,19 @@ mod tests {
         // M = 1000, p = 0.95: q = 950, r = 25 -> [25, 975]
         let v: Vec<f64> = (1..=1000).map(f64::from).collect();
         assert_eq!(symmetric_interval(&v, 0.95), CoverageInterval { low: 25.0, high: 975.0 });
+    }
+
+    #[test]
+    fn selection_gives_the_interval_of_the_sorted_values() {
+        // shuffled 1..=m, repeated values and negative ones, several m and p
+        for m in [2usize, 3, 10, 101, 1000, 10_000] {
+            for p in [0.5, 0.9, 0.95, 0.99] {
+                let mut values: Vec<f64> = (0..m).map(|i| ((i * 7919) % m) as f64 * 0.5 - (i % 3) as f64 * 100.0).collect();
+                let mut sorted = values.clone();
+                sorted.sort_by(f64::total_cmp);
+                assert_eq!(symmetric_interval_of_unsorted(&mut values, p), symmetric_interval(&sorted, p), "m {m}, p {p}");
+            }
+        }
     }
 
     #[test]
