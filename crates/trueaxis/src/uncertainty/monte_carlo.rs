@@ -10,7 +10,7 @@
 //! block is a function of its number, not of the blocks drawn before it) and merged in order by
 //! [`AdaptiveRun`]: a run distributed over processes or machines equals one process bit for bit.
 
-use super::intervals::{shortest_interval, symmetric_interval_of_unsorted, SampleSummary};
+use super::intervals::{shortest_interval, sort_values, symmetric_interval_of_unsorted, SampleSummary};
 use super::UncertaintyError;
 use nalgebra::DMatrix;
 use rand::SeedableRng;
@@ -431,7 +431,7 @@ fn sequence_statistics(values: &mut [f64], settings: &McSettings) -> [f64; 4] {
     let interval = match settings.interval {
         IntervalKind::Symmetric => symmetric_interval_of_unsorted(values, settings.coverage),
         IntervalKind::Shortest => {
-            values.sort_unstable_by(f64::total_cmp);
+            sort_values(values);
             shortest_interval(values, settings.coverage)
         }
     };
@@ -467,13 +467,11 @@ fn covariance(columns: &[Vec<f64>]) -> DMatrix<f64> {
     let n_out = columns.len();
     let n = columns[0].len() as f64;
     let means: Vec<f64> = columns.iter().map(|c| c.iter().sum::<f64>() / n).collect();
-    let mut cov = DMatrix::zeros(n_out, n_out);
-    for i in 0..n_out {
-        for j in 0..=i {
-            let s: f64 = columns[i].iter().zip(&columns[j]).map(|(a, b)| (a - means[i]) * (b - means[j])).sum();
-            cov[(i, j)] = s / (n - 1.0);
-            cov[(j, i)] = cov[(i, j)];
-        }
-    }
-    cov
+    // the centred columns once, then the lower triangle of the products, rows in parallel
+    let centred: Vec<Vec<f64>> = columns.par_iter().zip(&means).map(|(c, m)| c.iter().map(|v| v - m).collect()).collect();
+    let rows: Vec<Vec<f64>> = (0..n_out)
+        .into_par_iter()
+        .map(|i| (0..=i).map(|j| centred[i].iter().zip(&centred[j]).map(|(a, b)| a * b).sum::<f64>() / (n - 1.0)).collect())
+        .collect();
+    DMatrix::from_fn(n_out, n_out, |i, j| if j <= i { rows[i][j] } else { rows[j][i] })
 }
