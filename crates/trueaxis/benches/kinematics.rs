@@ -43,7 +43,9 @@ fn volumetric(c: &mut Criterion) {
     let mut out = vec![VolumetricError::default(); 10_000];
     group.throughput(Throughput::Elements(10_000));
     group.sample_size(30);
-    group.bench_function(BenchmarkId::new("kernel_one_thread", 10_000), |b| b.iter(|| kernel.evaluate(&mut ws, black_box(&poses), &mut out)));
+    group.bench_function(BenchmarkId::new("kernel_one_thread", 10_000), |b| {
+        b.iter(|| kernel.evaluate(&mut ws, black_box(&poses), &mut out))
+    });
     group.finish();
 }
 

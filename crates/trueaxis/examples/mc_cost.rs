@@ -34,7 +34,12 @@ fn main() {
     let runs: usize = std::env::args().nth(1).map_or(50, |r| r.parse().expect("runs: a number"));
     let first = run_adaptive(&model, &sources.settings, &mut |_, _| {}).expect("run");
     for c in &first.history {
-        println!("after sequence {}: 2 x max [s_y, s_u, s_low, s_high] = {:.4?} (tolerance {})", c.sequence, c.max.map(|s| 2.0 * s), sources.settings.tolerance);
+        println!(
+            "after sequence {}: 2 x max [s_y, s_u, s_low, s_high] = {:.4?} (tolerance {})",
+            c.sequence,
+            c.max.map(|s| 2.0 * s),
+            sources.settings.tolerance
+        );
     }
     let (wall, cpu) = (Instant::now(), process_cpu_seconds());
     for _ in 0..runs {

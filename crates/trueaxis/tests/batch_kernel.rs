@@ -146,7 +146,8 @@ fn every_compiled_instruction_set_equals_the_scalar_path() {
     let (name, machine, errors) = models().pop().unwrap();
     let setup = Setup::of_machine(&machine);
     let best = VolumetricKernel::new(&machine, &errors, &setup, Frame::Workpiece);
-    let available = |set: &'static str| VolumetricKernel::new(&machine, &errors, &setup, Frame::Workpiece).with_instruction_set(set).is_some();
+    let available =
+        |set: &'static str| VolumetricKernel::new(&machine, &errors, &setup, Frame::Workpiece).with_instruction_set(set).is_some();
     assert_eq!(best.instruction_set, INSTRUCTION_SETS.into_iter().find(|s| available(s)).unwrap(), "the best set this CPU has");
     let draws: Vec<f64> = (0..1000 * machine.axis_count()).map(|i| (i as f64 * 0.618_033_988_749_895).fract()).collect();
     let q = poses(&machine, &draws);

@@ -1,4 +1,4 @@
-//! The batch volumetric error kernel: the exact volumetric error of [`volumetric_error`] with the
+//! The batch volumetric error kernel: the exact volumetric error of [`super::volumetric_error`] with the
 //! error values of [`ErrorModel::values_at_state`], evaluated over blocks of [`LANES`] poses laid
 //! out as structure of arrays ([`super::lanes`]).
 //!
@@ -17,8 +17,8 @@
 //! chosen at run time by CPU feature detection (stable Rust `#[target_feature]`, no dependency).
 
 use super::lanes::{
-    mat_mul_t, mat_t_mul, mat_t_vec, mat_vec, norm, rotation_about_axis, rotation_log_lanes, small_transform, splat,
-    splat_vec, sub, add, dot, LanePose, LaneVec, Lanes, LANES,
+    add, dot, mat_mul_t, mat_t_mul, mat_t_vec, mat_vec, norm, rotation_about_axis, rotation_log_lanes, small_transform, splat, splat_vec,
+    sub, LanePose, LaneVec, Lanes, LANES,
 };
 use super::volumetric::{Frame, Setup, VolumetricError};
 use crate::errors::{Direction, ErrorModel, MachineState};
@@ -255,7 +255,7 @@ unsafe fn block_avx2(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[f6
 fn block(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[f64], state: &BlockState, out: &mut [VolumetricError]) {
     let n_axes = k.machine.axis_count().max(1);
     let n = poses.len() / n_axes;
-    debug_assert!(n >= 1 && n <= LANES && out.len() >= n);
+    debug_assert!((1..=LANES).contains(&n) && out.len() >= n);
     for l in 0..LANES {
         let pose = &poses[l.min(n - 1) * n_axes..][..n_axes];
         for (a, &q) in pose.iter().enumerate() {
@@ -275,7 +275,8 @@ fn block(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[f64], state: &
     let (tool_point, work_point) = (splat_vec(&k.setup.tool_point), splat_vec(&k.setup.work_point));
     let tool_point_actual = tool.transform_point(&offset(k.tool_offset, &k.setup.tool_point));
     let work_point_actual = work.transform_point(&offset(k.work_offset, &k.setup.work_point));
-    let r_nominal = mat_t_vec(&work_nominal.rotation, &sub(&tool_nominal.transform_point(&tool_point), &work_nominal.transform_point(&work_point)));
+    let r_nominal =
+        mat_t_vec(&work_nominal.rotation, &sub(&tool_nominal.transform_point(&tool_point), &work_nominal.transform_point(&work_point)));
     let r_actual = mat_t_vec(&work.rotation, &sub(&tool_point_actual, &work_point_actual));
     let position = sub(&r_actual, &r_nominal);
     let relative_actual = mat_t_mul(&work.rotation, &tool.rotation);
@@ -321,7 +322,11 @@ fn error_values(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[f64], n
         let q = &poses[p * n_axes..][..n_axes];
         let pose_state = MachineState {
             directions: state.directions.map(|d| &d[p * n_axes..][..n_axes]),
-            temperatures: if n_inputs > 0 && !state.temperatures.is_empty() { &state.temperatures[p * n_inputs..][..n_inputs] } else { &[] },
+            temperatures: if n_inputs > 0 && !state.temperatures.is_empty() {
+                &state.temperatures[p * n_inputs..][..n_inputs]
+            } else {
+                &[]
+            },
         };
         for &i in &k.state_dependent {
             ws.row[i] = ws.values[i][l];
@@ -387,13 +392,4 @@ fn centre_lanes(centre: &Centre, q: &[Lanes]) -> LaneVec {
         Centre::Constant(c) => splat_vec(c),
         Centre::Along { axis, point, direction } => std::array::from_fn(|i| std::array::from_fn(|l| point[i] + direction[i] * q[*axis][l])),
     }
-}
-
-/// The scalar path the kernel reproduces, for the tests: [`ErrorModel::values_at_state`] and
-/// [`volumetric_error`] at one pose.
-#[cfg(test)]
-pub(crate) fn scalar(k: &VolumetricKernel, q: &[f64]) -> VolumetricError {
-    let mut values = vec![0.0; k.machine.parameter_count()];
-    k.errors.values_at(k.machine, q, &mut values);
-    super::volumetric_error(k.machine, q, &values, &k.setup, k.frame)
 }

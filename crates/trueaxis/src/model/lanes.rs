@@ -42,11 +42,11 @@ pub(crate) struct LanePose {
 
 impl LanePose {
     pub(crate) const IDENTITY: LanePose = LanePose {
-        rotation: [[[1.0; LANES], [0.0; LANES], [0.0; LANES]], [[0.0; LANES], [1.0; LANES], [0.0; LANES]], [
-            [0.0; LANES],
-            [0.0; LANES],
-            [1.0; LANES],
-        ]],
+        rotation: [
+            [[1.0; LANES], [0.0; LANES], [0.0; LANES]],
+            [[0.0; LANES], [1.0; LANES], [0.0; LANES]],
+            [[0.0; LANES], [0.0; LANES], [1.0; LANES]],
+        ],
         translation: [[0.0; LANES]; 3],
     };
 
@@ -314,8 +314,8 @@ pub(crate) fn rotation_log_lanes(r: &LaneMat) -> LaneVec {
     if beyond {
         for l in 0..LANES {
             let log = rotation_log(&mat_lane(r, l));
-            for i in 0..3 {
-                w[i][l] = log[i];
+            for (wi, v) in w.iter_mut().zip(log.iter()) {
+                wi[l] = *v;
             }
         }
     }
@@ -354,7 +354,9 @@ mod tests {
         let pose = |l: usize| {
             Pose::rotation_about_line(&Vec3::new(1.0, 2.0, 2.0 + l as f64).normalize(), &Vec3::new(5.0, -3.0, l as f64), 0.3 * l as f64)
         };
-        let other = |l: usize| Pose::small_transform(&Vec3::new(1e-4, -2e-5, l as f64 * 1e-5), &Vec3::new(0.01, 0.0, -0.02), &Vec3::new(100.0, 0.0, 50.0));
+        let other = |l: usize| {
+            Pose::small_transform(&Vec3::new(1e-4, -2e-5, l as f64 * 1e-5), &Vec3::new(0.01, 0.0, -0.02), &Vec3::new(100.0, 0.0, 50.0))
+        };
         let mut a = LanePose::IDENTITY;
         let mut b = LanePose::IDENTITY;
         for l in 0..LANES {

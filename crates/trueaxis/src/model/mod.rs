@@ -10,6 +10,6 @@ mod volumetric;
 
 pub use batch::{jacobian_batch, Predictor};
 pub use chain::{actual_chain, nominal_chain};
-pub use kernel::{KernelWorkspace, VolumetricKernel, INSTRUCTION_SETS};
 pub use jacobian::{jacobian, JacobianWorkspace, JACOBIAN_ROWS};
+pub use kernel::{KernelWorkspace, VolumetricKernel, INSTRUCTION_SETS};
 pub use volumetric::{volumetric_error, Frame, Setup, VolumetricError};

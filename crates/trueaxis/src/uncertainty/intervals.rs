@@ -80,7 +80,7 @@ pub fn sort_values(values: &mut [f64]) {
         for k in &keys {
             counts[((k >> shift) as usize) & (BUCKETS - 1)] += 1;
         }
-        if counts.iter().any(|&c| c == keys.len()) {
+        if counts.contains(&keys.len()) {
             continue;
         }
         let mut start = 0;
@@ -171,7 +171,13 @@ mod tests {
                         0 => 0.0,
                         1 => -0.0,
                         2 => f64::MIN_POSITIVE * u / 4.0,
-                        3 => if u > 0.0 { f64::INFINITY } else { f64::NEG_INFINITY },
+                        3 => {
+                            if u > 0.0 {
+                                f64::INFINITY
+                            } else {
+                                f64::NEG_INFINITY
+                            }
+                        }
                         4 => 1.5,
                         _ => u * 10f64.powi((i % 601) as i32 - 300),
                     }
