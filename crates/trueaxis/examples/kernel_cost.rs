@@ -11,19 +11,11 @@ use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Setup, VolumetricError, VolumetricKernel, INSTRUCTION_SETS};
 
+#[path = "../benches/common/cpu_clock.rs"]
+mod cpu_clock;
+
 fn thread_cpu_seconds() -> f64 {
-    #[repr(C)]
-    struct Timespec {
-        tv_sec: std::ffi::c_long,
-        tv_nsec: std::ffi::c_long,
-    }
-    extern "C" {
-        fn clock_gettime(clock: std::ffi::c_int, tp: *mut Timespec) -> std::ffi::c_int;
-    }
-    let mut t = Timespec { tv_sec: 0, tv_nsec: 0 };
-    // SAFETY: clock_gettime writes one timespec into `t` (CLOCK_THREAD_CPUTIME_ID = 3)
-    unsafe { clock_gettime(3, &mut t) };
-    t.tv_sec as f64 + 1e-9 * t.tv_nsec as f64
+    1e-9 * cpu_clock::cpu_ns(cpu_clock::THREAD).expect("a CPU-time clock (Linux)")
 }
 
 fn main() {

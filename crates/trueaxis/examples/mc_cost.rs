@@ -9,19 +9,11 @@
 use std::time::Instant;
 use trueaxis::uncertainty::{run_adaptive, DesignMatrix, Evaluation, IdentificationMap, Sources};
 
+#[path = "../benches/common/cpu_clock.rs"]
+mod cpu_clock;
+
 fn process_cpu_seconds() -> f64 {
-    #[repr(C)]
-    struct Timespec {
-        tv_sec: std::ffi::c_long,
-        tv_nsec: std::ffi::c_long,
-    }
-    extern "C" {
-        fn clock_gettime(clock: std::ffi::c_int, tp: *mut Timespec) -> std::ffi::c_int;
-    }
-    let mut t = Timespec { tv_sec: 0, tv_nsec: 0 };
-    // SAFETY: clock_gettime writes one timespec into `t` (CLOCK_PROCESS_CPUTIME_ID = 2)
-    unsafe { clock_gettime(2, &mut t) };
-    t.tv_sec as f64 + 1e-9 * t.tv_nsec as f64
+    1e-9 * cpu_clock::cpu_ns(cpu_clock::PROCESS).expect("a CPU-time clock (Linux)")
 }
 
 fn main() {
