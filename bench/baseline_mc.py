@@ -1,9 +1,15 @@
 #!/usr/bin/env python3
-"""Straightforward NumPy implementation of the seed 004 adaptive Monte Carlo (JCGM 101 §7.9.4 with
-several outputs), written for the side-by-side comparison of bench/compare.sh (issue 8). Not part
-of trueaxis. It does what a careful NumPy user writes: the pseudo-inverse P of the weighted design
-matrix once, then per sequence all M x n observation errors drawn at once (vectorised, no Python
-loop per trial), the parameters as one matrix product E P^T, sorting for the intervals.
+"""NumPy implementation of the seed 004 adaptive Monte Carlo (JCGM 101 §7.9.4 with several outputs)
+as an expert writes it, for the side-by-side comparison of bench/compare.sh. Not part of trueaxis.
+The model is linear, so the observation errors are never drawn one by one: the pseudo-inverse P
+of the weighted design matrix once, the Gaussian sources (sensor noise, statistical drift) folded
+into one 14-dimensional normal N(0, P diag(u^2) P^T) drawn as Z A^T, the cyclic drift of each
+channel folded into two 14-vectors g, h (P e = sin(2 pi tau / T) g + cos(2 pi tau / T) h), the
+interval endpoints of each sequence by np.partition, one sort at the end. The same reduced form
+trueaxis evaluates (src/uncertainty/linear_map.rs).
+
+BLAS on one thread (OPENBLAS_NUM_THREADS=1, set below unless given): on a loaded 2-core machine
+OpenBLAS threads slow NumPy down, and trueaxis' figures are compared thread for thread.
 
   python3 bench/baseline_mc.py check    # u and 95 % intervals against `trueaxis uncertainty --json`
   python3 bench/baseline_mc.py time     # timings as JSON (seconds), keys = criterion benchmark ids
@@ -12,6 +18,9 @@ Model (docs/uncertainty.md, src/uncertainty): observation errors e = noise - D(t
 per channel, parameters p = p0 + P e with P = (X^T W X)^-1 X^T W; cyclic drift
 D(t) = E_VE/2 sin(2 pi t / T + phase), one uniform start time t0 per sequence (seed 004 eq. 12).
 """
+import os
+
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 import io
 import json
 import pathlib
@@ -47,39 +56,55 @@ def pseudo_inverse(x, w):
     return np.linalg.pinv(x * sw[:, None]) * sw[None, :]
 
 
-def sequence(p_matrix, estimate, channel, t, sources, trials, rng):
-    """M trials of one sequence: (M, p) parameter values."""
+def reduced_form(p_matrix, channel, t, sources):
+    """The Gaussian factor A (p x p, A A^T = P diag(var) P^T) and the cyclic sources as
+    (period, run duration, g, h) with P e = sin(2 pi tau / T) g + cos(2 pi tau / T) h."""
     n = len(t)
-    e = np.zeros((trials, n))
+    var = np.zeros(n)
+    cyclic = []
     for s in sources:
         if s["kind"] == "noise":
             for c, d in s["channels"].items():
-                rows = channel == c
-                e[:, rows] += rng.normal(0.0, d["u"], (trials, rows.sum()))
+                var[channel == c] += d["u"] ** 2
         elif s["kind"] == "drift_statistical":
             for c, d in s["channels"].items():
-                rows = channel == c
-                e[:, rows] += rng.normal(0.0, d["peak_to_valley"] / (2 * np.sqrt(3)), (trials, rows.sum()))
+                var[channel == c] += (d["peak_to_valley"] / (2 * np.sqrt(3))) ** 2
         elif s["kind"] == "drift_cyclic":
             period = s["period_s"]
             run = s.get("run_duration_s", t.max())
-            t0 = rng.uniform(0.0, period)
-            tau = (t0 + np.arange(trials) * run) % period
+            cos_part, sin_part = np.zeros(n), np.zeros(n)
             for c, d in s["channels"].items():
                 rows = channel == c
-                phase = np.radians(d.get("phase_deg", 0.0))
-                e[:, rows] -= 0.5 * d["peak_to_valley"] * np.sin(2 * np.pi * (tau[:, None] + t[None, rows]) / period + phase)
+                theta = 2 * np.pi * t[rows] / period + np.radians(d.get("phase_deg", 0.0))
+                # -pv/2 sin(a + theta) = sin(a) (-pv/2 cos theta) + cos(a) (-pv/2 sin theta)
+                cos_part[rows] = -0.5 * d["peak_to_valley"] * np.cos(theta)
+                sin_part[rows] = -0.5 * d["peak_to_valley"] * np.sin(theta)
+            cyclic.append((period, run, p_matrix @ cos_part, p_matrix @ sin_part))
         else:
             raise SystemExit(f"source kind {s['kind']} not in this baseline")
-    return estimate[None, :] + e @ p_matrix.T
+    covariance = (p_matrix * var[None, :]) @ p_matrix.T
+    values, vectors = np.linalg.eigh(covariance)
+    return vectors * np.sqrt(np.clip(values, 0.0, None))[None, :], cyclic
 
 
-def statistics(values, coverage):
-    """Per output: mean, u, symmetric interval endpoints (JCGM 101 §7.7.1) of one sequence."""
-    v = np.sort(values, axis=0)
-    m = len(v)
+def sequence(estimate, factor, cyclic, trials, rng):
+    """M trials of one sequence: (M, p) parameter values."""
+    values = estimate[None, :] + rng.standard_normal((trials, len(estimate))) @ factor.T
+    for period, run, g, h in cyclic:
+        t0 = rng.uniform(0.0, period)
+        a = 2 * np.pi * ((t0 + np.arange(trials) * run) % period) / period
+        values += np.sin(a)[:, None] * g[None, :] + np.cos(a)[:, None] * h[None, :]
+    return values
+
+
+def statistics(values, coverage, presorted=False):
+    """Per output: mean, u, symmetric interval endpoints (JCGM 101 §7.7.1) of one sequence, the
+    endpoints by partial selection (np.partition) unless the values are sorted."""
+    m = len(values)
     q = int((1 - coverage) / 2 * m + 0.5)
-    return np.stack([v.mean(0), v.std(0, ddof=1), v[max(q - 1, 0)], v[min(m - q, m - 1)]], -1)
+    lo, hi = max(q - 1, 0), min(m - q, m - 1)
+    v = values if presorted else np.partition(values, (lo, hi), axis=0)
+    return np.stack([values.mean(0), values.std(0, ddof=1), v[lo], v[hi]], -1)
 
 
 def adaptive(design, sources_path, max_sequences=None, seed=4):
@@ -87,11 +112,12 @@ def adaptive(design, sources_path, max_sequences=None, seed=4):
     cfg = tomllib.loads(sources_path.read_text())
     p_matrix = pseudo_inverse(x, w)
     estimate = p_matrix @ y
+    factor, cyclic = reduced_form(p_matrix, channel, t, cfg["source"])
     trials, coverage, delta = cfg.get("trials_per_sequence", 10_000), cfg.get("coverage", 0.95), cfg["tolerance"]
     rng = np.random.default_rng(seed)
     per_sequence, samples, h = [], [], 0
     while True:
-        values = sequence(p_matrix, estimate, channel, t, cfg["source"], trials, rng)
+        values = sequence(estimate, factor, cyclic, trials, rng)
         samples.append(values)
         per_sequence.append(statistics(values, coverage))
         h += 1
@@ -101,8 +127,8 @@ def adaptive(design, sources_path, max_sequences=None, seed=4):
             s = np.stack(per_sequence).std(0, ddof=1) / np.sqrt(h)  # (p, 4)
             if (2 * s <= delta).all() or h >= cfg.get("max_sequences", 1000):
                 break
-    all_values = np.concatenate(samples)
-    return names, h, statistics(all_values, coverage)
+    all_values = np.sort(np.concatenate(samples), axis=0)  # sorted, as trueaxis keeps them
+    return names, h, statistics(all_values, coverage, presorted=True)
 
 
 def main():

@@ -5,6 +5,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 python3 -c "import numpy, scipy" 2>/dev/null || python3 -m pip install --quiet numpy scipy
+# the baselines run their BLAS on one thread: on a shared 2-core machine OpenBLAS threads slow NumPy
+# down 2-10x, and the ratios are stated thread for thread
+export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1
 cargo build --release --quiet
 # each baseline first checks that it computes what trueaxis computes
 for baseline in bench/baseline*.py; do

@@ -6,7 +6,10 @@
 //! Run: `cargo bench --bench kinematics`.
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use trueaxis::model::{jacobian, jacobian_batch, volumetric_error, Frame, JacobianWorkspace, Predictor, Setup, JACOBIAN_ROWS};
+use trueaxis::model::{
+    jacobian, jacobian_batch, volumetric_error, Frame, JacobianWorkspace, Predictor, Setup, VolumetricError, VolumetricKernel,
+    JACOBIAN_ROWS,
+};
 
 mod common;
 
@@ -33,6 +36,16 @@ fn volumetric(c: &mut Criterion) {
         group.sample_size(if n > 100_000 { 10 } else { 30 });
         group.bench_with_input(BenchmarkId::new("batch", n), &poses, |b, p| b.iter(|| predictor.predict_batch(black_box(p))));
     }
+    // the batch kernel on the calling thread (one core), the best instruction set of this CPU
+    let kernel = VolumetricKernel::new(&machine, &errors, &setup, Frame::Workpiece);
+    let mut ws = kernel.workspace();
+    let poses = common::poses(&machine, 10_000);
+    let mut out = vec![VolumetricError::default(); 10_000];
+    group.throughput(Throughput::Elements(10_000));
+    group.sample_size(30);
+    group.bench_function(BenchmarkId::new("kernel_one_thread", 10_000), |b| {
+        b.iter(|| kernel.evaluate(&mut ws, black_box(&poses), &mut out))
+    });
     group.finish();
 }
 

@@ -14,26 +14,11 @@ pub struct ThreadCpuTime {
     wall: bool,
 }
 
-#[cfg(target_os = "linux")]
-fn thread_cpu_ns() -> Option<f64> {
-    #[repr(C)]
-    struct Timespec {
-        tv_sec: std::ffi::c_long,
-        tv_nsec: std::ffi::c_long,
-    }
-    extern "C" {
-        fn clock_gettime(clock: std::ffi::c_int, tp: *mut Timespec) -> std::ffi::c_int;
-    }
-    const CLOCK_THREAD_CPUTIME_ID: std::ffi::c_int = 3;
-    let mut t = Timespec { tv_sec: 0, tv_nsec: 0 };
-    // SAFETY: clock_gettime writes one timespec into `t`
-    let status = unsafe { clock_gettime(CLOCK_THREAD_CPUTIME_ID, &mut t) };
-    (status == 0).then_some(t.tv_sec as f64 * 1e9 + t.tv_nsec as f64)
-}
+#[path = "cpu_clock.rs"]
+mod cpu_clock;
 
-#[cfg(not(target_os = "linux"))]
 fn thread_cpu_ns() -> Option<f64> {
-    None
+    cpu_clock::cpu_ns(cpu_clock::THREAD)
 }
 
 static EPOCH: std::sync::OnceLock<std::time::Instant> = std::sync::OnceLock::new();

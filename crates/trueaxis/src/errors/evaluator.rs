@@ -80,14 +80,43 @@ impl TableEvaluator {
     /// Value (internal units) at position `q` (mm or rad).
     #[inline]
     pub(crate) fn value(&self, q: f64) -> f64 {
+        let x = self.offset(q);
+        if self.inverse_step == 0.0 {
+            return interpolate(&self.positions, &self.values, self.start + x);
+        }
+        self.equally_spaced_value(x)
+    }
+
+    /// Adds the value (internal units) at each position of `q` (mm or rad) to `out`: the batch form
+    /// of [`TableEvaluator::value`], the equally spaced case one loop over the lanes (index
+    /// arithmetic and two loads per lane, no search) that the compiler vectorises.
+    #[inline(always)]
+    pub(crate) fn add_lanes<const N: usize>(&self, q: &[f64; N], out: &mut [f64; N]) {
+        if self.inverse_step == 0.0 {
+            for (o, &q) in out.iter_mut().zip(q) {
+                *o += self.value(q);
+            }
+        } else {
+            for (o, &q) in out.iter_mut().zip(q) {
+                *o += self.equally_spaced_value(self.offset(q));
+            }
+        }
+    }
+
+    /// `q - start`, wrapped into the first period of a periodic table.
+    #[inline(always)]
+    fn offset(&self, q: f64) -> f64 {
         let mut x = q - self.start;
         if self.period > 0.0 {
             x -= self.period * floor(x * self.inverse_period);
         }
-        if self.inverse_step == 0.0 {
-            return interpolate(&self.positions, &self.values, self.start + x);
-        }
-        // the interval by one multiplication; u = last (the end) uses the last interval with t = 1
+        x
+    }
+
+    /// The value at offset `x` from the first position of an equally spaced table: the interval by
+    /// one multiplication; u = last (the end) uses the last interval with t = 1.
+    #[inline(always)]
+    fn equally_spaced_value(&self, x: f64) -> f64 {
         let u = (x * self.inverse_step).clamp(0.0, self.last);
         let i = (u as i64 as usize).min(self.values.len() - 2);
         let (a, b) = (self.values[i], self.values[i + 1]);

@@ -479,6 +479,36 @@ impl ErrorModel {
         for (index, axis, table) in &self.tables {
             values[*index] += table.value(q[*axis]);
         }
+        self.add_state_dependent(machine, q, state, values);
+    }
+
+    /// The part of the evaluation plan that does not depend on the state beyond the axis positions:
+    /// the constants summed (internal units, one per parameter) and the tables for both directions
+    /// as `(parameter index, own axis, table)`. [`ErrorModel::values_at_state`] is these plus
+    /// [`ErrorModel::add_state_dependent`].
+    pub(crate) fn position_plan(&self) -> (&[f64], &[(usize, usize, TableEvaluator)]) {
+        (&self.constants, &self.tables)
+    }
+
+    /// The parameters [`ErrorModel::add_state_dependent`] may change (sorted, each once): those of
+    /// the other functions (directional, polynomial, ...), product, load and drift terms.
+    pub(crate) fn state_dependent_parameters(&self) -> Vec<usize> {
+        let mut indices: Vec<usize> = self
+            .varying
+            .iter()
+            .map(|&k| self.entries[k].index)
+            .chain(self.terms.iter().map(|t| t.index))
+            .chain(self.loads.iter().map(|l| l.index))
+            .chain(self.drifts.iter().map(|d| d.index))
+            .collect();
+        indices.sort_unstable();
+        indices.dedup();
+        indices
+    }
+
+    /// Adds to `values` (mm, rad) every contribution beyond [`ErrorModel::position_plan`]: the
+    /// other functions (weighted by the direction of motion), product, load and drift terms.
+    pub(crate) fn add_state_dependent(&self, machine: &Machine, q: &[f64], state: &MachineState, values: &mut [f64]) {
         let user = |axis: usize| machine.axes()[axis].position_to_user(q[axis]);
         for e in self.varying.iter().map(|&k| &self.entries[k]) {
             let weight = match (e.direction, e.own_axis.and_then(|a| state.directions.and_then(|d| d[a]))) {

@@ -1,9 +1,12 @@
 //! Evaluation over many poses: a [`Predictor`] binds a machine, its error model and a setup; batch
-//! functions split the poses over threads with rayon, one workspace per thread.
+//! functions split the poses over threads with rayon, one workspace per thread; volumetric errors
+//! by the batch kernel of [`super::kernel`].
 
 use super::jacobian::{jacobian, JacobianWorkspace, JACOBIAN_ROWS};
+use super::kernel::{BlockState, VolumetricKernel};
+use super::lanes::LANES;
 use super::volumetric::{volumetric_error, Frame, Setup, VolumetricError};
-use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::errors::{Direction, ErrorModel};
 use crate::machine::Machine;
 use rayon::prelude::*;
 
@@ -40,28 +43,38 @@ impl<'a> Predictor<'a> {
 
     /// As [`Predictor::predict_batch`] with, per pose, the directions of motion (`axis_count` per
     /// pose) and the temperatures of the model's sensors (`errors.sensors().len()` per pose, degC).
+    ///
+    /// Evaluated by the batch kernel ([`VolumetricKernel`]: blocks of poses as structure of
+    /// arrays, the instruction set chosen at run time), in parallel over chunks of poses; the
+    /// results equal those of [`Predictor::predict_with`] pose by pose to rounding.
     pub fn predict_states(&self, poses: &[f64], directions: Option<&[Option<Direction>]>, temperatures: &[f64]) -> Vec<VolumetricError> {
         let n_axes = self.machine.axis_count().max(1);
-        let n_sensors = self.errors.sensors().len();
-        poses
-            .par_chunks(n_axes)
-            .enumerate()
-            .map_init(
-                || vec![0.0; self.machine.parameter_count()],
-                |values, (i, q)| {
-                    let state = MachineState {
-                        directions: directions.map(|d| &d[i * n_axes..(i + 1) * n_axes]),
-                        temperatures: if n_sensors > 0 && !temperatures.is_empty() {
-                            &temperatures[i * n_sensors..(i + 1) * n_sensors]
+        let n_inputs = self.errors.sensors().len();
+        let n = poses.len() / n_axes;
+        let kernel = VolumetricKernel::new(self.machine, self.errors, &self.setup, self.frame);
+        let mut out = vec![VolumetricError::default(); n];
+        // chunks of whole blocks, enough of them for the threads to share the work evenly
+        let chunk = LANES * (n / (LANES * 8 * rayon::current_num_threads().max(1))).clamp(1, 64);
+        out.par_chunks_mut(chunk).enumerate().for_each_init(
+            || kernel.workspace(),
+            |ws, (c, out)| {
+                let first = c * chunk;
+                for (b, out) in out.chunks_mut(LANES).enumerate() {
+                    let start = first + b * LANES;
+                    let range = start..start + out.len();
+                    let state = BlockState {
+                        directions: directions.map(|d| &d[range.start * n_axes..range.end * n_axes]),
+                        temperatures: if n_inputs > 0 && !temperatures.is_empty() {
+                            &temperatures[range.start * n_inputs..range.end * n_inputs]
                         } else {
                             &[]
                         },
                     };
-                    self.errors.values_at_state(self.machine, q, &state, values);
-                    volumetric_error(self.machine, q, values, &self.setup, self.frame)
-                },
-            )
-            .collect()
+                    kernel.evaluate_block(ws, &poses[range.start * n_axes..range.end * n_axes], &state, out);
+                }
+            },
+        );
+        out
     }
 }
 

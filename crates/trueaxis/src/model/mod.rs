@@ -4,9 +4,12 @@
 mod batch;
 mod chain;
 mod jacobian;
+mod kernel;
+mod lanes;
 mod volumetric;
 
 pub use batch::{jacobian_batch, Predictor};
 pub use chain::{actual_chain, nominal_chain};
 pub use jacobian::{jacobian, JacobianWorkspace, JACOBIAN_ROWS};
+pub use kernel::{KernelWorkspace, VolumetricKernel, INSTRUCTION_SETS};
 pub use volumetric::{volumetric_error, Frame, Setup, VolumetricError};

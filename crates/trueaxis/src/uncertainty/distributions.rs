@@ -168,9 +168,12 @@ impl MultivariateNormal {
 
     /// Adds one draw of `A z` (zero mean) to `out`, without allocating.
     pub fn add_centred_sample<R: Rng + ?Sized>(&self, rng: &mut R, out: &mut [f64]) {
-        for j in 0..self.factor.ncols() {
+        // the factor's columns as contiguous slices (column-major storage): one vectorised
+        // multiply-add per column
+        let n = self.factor.nrows();
+        for column in self.factor.as_slice().chunks_exact(n) {
             let z: f64 = StandardNormal.sample(rng);
-            for (o, a) in out.iter_mut().zip(self.factor.column(j).iter()) {
+            for (o, a) in out[..n].iter_mut().zip(column) {
                 *o += a * z;
             }
         }

@@ -28,7 +28,9 @@ pub use design::{from_identification, DesignMatrix};
 pub use distributions::{Distribution, MultivariateNormal};
 pub use drift::{measurement_time, statistical_drift_uncertainty, PeriodicDrift, StartPhase};
 pub use gum::{confidence_ellipsoid, normal_coverage_factor, principal_axes, propagate, Ellipsoid, PrincipalAxes};
-pub use intervals::{coverage_count, shortest_interval, symmetric_interval, CoverageInterval, SampleSummary};
+pub use intervals::{
+    coverage_count, shortest_interval, symmetric_interval, symmetric_interval_of_unsorted, CoverageInterval, SampleSummary,
+};
 pub use linear_map::{Evaluation, IdentificationMap, LinearModel, LinearWorkspace};
 pub use monte_carlo::{
     blocks_per_sequence, minimum_trials, run_adaptive, run_chunk, run_sequences, trial_rng, AdaptiveRun, Chunk, ControlVariables,

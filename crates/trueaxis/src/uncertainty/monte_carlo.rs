@@ -10,7 +10,7 @@
 //! block is a function of its number, not of the blocks drawn before it) and merged in order by
 //! [`AdaptiveRun`]: a run distributed over processes or machines equals one process bit for bit.
 
-use super::intervals::{shortest_interval, symmetric_interval, SampleSummary};
+use super::intervals::{shortest_interval, sort_values, symmetric_interval_of_unsorted, SampleSummary};
 use super::UncertaintyError;
 use nalgebra::DMatrix;
 use rand::SeedableRng;
@@ -275,7 +275,6 @@ pub struct AdaptiveRun {
     columns: Vec<Vec<f64>>,
     sequence_values: Vec<Vec<[f64; 4]>>,
     history: Vec<ControlVariables>,
-    column: Vec<f64>,
     converged: bool,
     sequences: usize,
 }
@@ -305,7 +304,6 @@ impl AdaptiveRun {
             columns: vec![Vec::new(); outputs],
             sequence_values: vec![Vec::new(); outputs],
             history: Vec::new(),
-            column: vec![0.0; m],
             converged: false,
             sequences: 0,
         })
@@ -343,15 +341,35 @@ impl AdaptiveRun {
                 self.settings.trials_per_sequence
             )));
         }
-        for j in 0..n_out {
-            for (c, row) in self.column.iter_mut().zip(values.chunks_exact(n_out)) {
-                *c = row[j];
+        // the outputs in parallel, each into its own column; the first output (in order) that is
+        // not finite is the error
+        let settings = &self.settings;
+        let statistics: Vec<Result<[f64; 4], UncertaintyError>> = self
+            .columns
+            .par_iter_mut()
+            .enumerate()
+            .map(|(j, column)| {
+                let start = column.len();
+                column.extend(values.chunks_exact(n_out).map(|row| row[j]));
+                if column[start..].iter().any(|v| !v.is_finite()) {
+                    return Err(UncertaintyError::Computation(format!("output {} is not finite in sequence {}", j + 1, h + 1)));
+                }
+                Ok(sequence_statistics(&mut column[start..].to_vec(), settings))
+            })
+            .collect();
+        match statistics.into_iter().collect::<Result<Vec<_>, _>>() {
+            Ok(statistics) => {
+                for (values, s) in self.sequence_values.iter_mut().zip(statistics) {
+                    values.push(s);
+                }
             }
-            if self.column.iter().any(|v| !v.is_finite()) {
-                return Err(UncertaintyError::Computation(format!("output {} is not finite in sequence {}", j + 1, h + 1)));
+            Err(e) => {
+                // the run stays as it was before this sequence
+                for column in &mut self.columns {
+                    column.truncate(h * self.settings.trials_per_sequence);
+                }
+                return Err(e);
             }
-            self.columns[j].extend_from_slice(&self.column);
-            self.sequence_values[j].push(sequence_statistics(&mut self.column, &self.settings));
         }
         self.sequences = h + 1;
         if self.sequences < 2 {
@@ -389,7 +407,8 @@ impl AdaptiveRun {
     pub fn finish(self) -> McResult {
         let AdaptiveRun { settings, mut columns, history, converged, sequences, fixed, .. } = self;
         let covariance = covariance(&columns);
-        let outputs = columns.iter_mut().map(|values| SampleSummary::of(values, settings.coverage)).collect();
+        // one sort of all the trial values per output, the outputs in parallel
+        let outputs = columns.par_iter_mut().map(|values| SampleSummary::of(values, settings.coverage)).collect();
         McResult {
             outputs,
             covariance,
@@ -402,15 +421,19 @@ impl AdaptiveRun {
     }
 }
 
-/// Estimate, standard uncertainty and the two endpoints of one sequence (§7.9.4 d); sorts `values`.
+/// Estimate, standard uncertainty and the two endpoints of one sequence (§7.9.4 d); reorders
+/// `values`. The probabilistically symmetric interval by selection (linear time), the shortest by a
+/// sort; the sums in trial order.
 fn sequence_statistics(values: &mut [f64], settings: &McSettings) -> [f64; 4] {
-    values.sort_unstable_by(f64::total_cmp);
     let n = values.len() as f64;
     let mean = values.iter().sum::<f64>() / n;
     let u = (values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0)).sqrt();
     let interval = match settings.interval {
-        IntervalKind::Symmetric => symmetric_interval(values, settings.coverage),
-        IntervalKind::Shortest => shortest_interval(values, settings.coverage),
+        IntervalKind::Symmetric => symmetric_interval_of_unsorted(values, settings.coverage),
+        IntervalKind::Shortest => {
+            sort_values(values);
+            shortest_interval(values, settings.coverage)
+        }
     };
     [mean, u, interval.low, interval.high]
 }
@@ -444,13 +467,11 @@ fn covariance(columns: &[Vec<f64>]) -> DMatrix<f64> {
     let n_out = columns.len();
     let n = columns[0].len() as f64;
     let means: Vec<f64> = columns.iter().map(|c| c.iter().sum::<f64>() / n).collect();
-    let mut cov = DMatrix::zeros(n_out, n_out);
-    for i in 0..n_out {
-        for j in 0..=i {
-            let s: f64 = columns[i].iter().zip(&columns[j]).map(|(a, b)| (a - means[i]) * (b - means[j])).sum();
-            cov[(i, j)] = s / (n - 1.0);
-            cov[(j, i)] = cov[(i, j)];
-        }
-    }
-    cov
+    // the centred columns once, then the lower triangle of the products, rows in parallel
+    let centred: Vec<Vec<f64>> = columns.par_iter().zip(&means).map(|(c, m)| c.iter().map(|v| v - m).collect()).collect();
+    let rows: Vec<Vec<f64>> = (0..n_out)
+        .into_par_iter()
+        .map(|i| (0..=i).map(|j| centred[i].iter().zip(&centred[j]).map(|(a, b)| a * b).sum::<f64>() / (n - 1.0)).collect())
+        .collect();
+    DMatrix::from_fn(n_out, n_out, |i, j| if j <= i { rows[i][j] } else { rows[j][i] })
 }

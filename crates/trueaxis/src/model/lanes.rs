@@ -1,0 +1,381 @@
+//! Structure-of-arrays arithmetic on blocks of [`LANES`] poses: every quantity of the exact chain
+//! (a coordinate, a rotation-matrix entry) is an array holding that quantity for each pose of the
+//! block, and every operation is a loop over the lanes, which the compiler turns into vector
+//! instructions (two f64 per SSE2 register, four per AVX2, eight per AVX-512).
+//!
+//! The operations are those of [`crate::geometry`] (`Pose::then`, `transform_point`, Rodrigues'
+//! formula, `rotation_exp`, `rotation_log`) with the same formulas and summation order, so a block
+//! gives the results of the scalar path to rounding.
+
+use crate::geometry::{rotation_exp, rotation_log, Mat3, Pose, Vec3};
+
+/// Poses evaluated together: 8 f64 fill one AVX-512 register or two AVX2 registers.
+pub(crate) const LANES: usize = 8;
+
+/// One scalar quantity for each pose of a block.
+pub(crate) type Lanes = [f64; LANES];
+
+/// A 3-vector per lane: `v[i][lane]`.
+pub(crate) type LaneVec = [Lanes; 3];
+
+/// A 3x3 matrix per lane, row-major: `m[row][column][lane]`.
+pub(crate) type LaneMat = [[Lanes; 3]; 3];
+
+/// `x` in every lane.
+#[inline(always)]
+pub(crate) fn splat(x: f64) -> Lanes {
+    [x; LANES]
+}
+
+/// A constant vector in every lane.
+#[inline(always)]
+pub(crate) fn splat_vec(v: &Vec3) -> LaneVec {
+    [splat(v.x), splat(v.y), splat(v.z)]
+}
+
+/// A rigid transform per lane (`x -> R x + t`, mm).
+#[derive(Clone, Copy)]
+pub(crate) struct LanePose {
+    pub rotation: LaneMat,
+    pub translation: LaneVec,
+}
+
+impl LanePose {
+    pub(crate) const IDENTITY: LanePose = LanePose {
+        rotation: [
+            [[1.0; LANES], [0.0; LANES], [0.0; LANES]],
+            [[0.0; LANES], [1.0; LANES], [0.0; LANES]],
+            [[0.0; LANES], [0.0; LANES], [1.0; LANES]],
+        ],
+        translation: [[0.0; LANES]; 3],
+    };
+
+    /// A constant pose in every lane.
+    pub(crate) fn splat(pose: &Pose) -> LanePose {
+        let mut rotation = [[splat(0.0); 3]; 3];
+        for (i, row) in rotation.iter_mut().enumerate() {
+            for (j, entry) in row.iter_mut().enumerate() {
+                *entry = splat(pose.rotation[(i, j)]);
+            }
+        }
+        LanePose { rotation, translation: splat_vec(&pose.translation) }
+    }
+
+    /// `self * other`, as [`Pose::then`].
+    #[inline(always)]
+    pub(crate) fn then(&self, other: &LanePose) -> LanePose {
+        LanePose {
+            rotation: mat_mul(&self.rotation, &other.rotation),
+            translation: add(&mat_vec(&self.rotation, &other.translation), &self.translation),
+        }
+    }
+
+    /// `self * Trans(t)`, as [`Pose::then_translation`].
+    #[inline(always)]
+    pub(crate) fn then_translation(&self, t: &LaneVec) -> LanePose {
+        LanePose { rotation: self.rotation, translation: add(&mat_vec(&self.rotation, t), &self.translation) }
+    }
+
+    /// `R x + t`, as [`Pose::transform_point`].
+    #[inline(always)]
+    pub(crate) fn transform_point(&self, x: &LaneVec) -> LaneVec {
+        add(&mat_vec(&self.rotation, x), &self.translation)
+    }
+
+    /// The pose of one lane.
+    #[cfg(test)]
+    pub(crate) fn lane(&self, l: usize) -> Pose {
+        Pose { rotation: mat_lane(&self.rotation, l), translation: vec_lane(&self.translation, l) }
+    }
+}
+
+/// The vector of one lane.
+#[inline(always)]
+pub(crate) fn vec_lane(v: &LaneVec, l: usize) -> Vec3 {
+    Vec3::new(v[0][l], v[1][l], v[2][l])
+}
+
+/// The matrix of one lane.
+#[inline(always)]
+pub(crate) fn mat_lane(m: &LaneMat, l: usize) -> Mat3 {
+    Mat3::new(m[0][0][l], m[0][1][l], m[0][2][l], m[1][0][l], m[1][1][l], m[1][2][l], m[2][0][l], m[2][1][l], m[2][2][l])
+}
+
+/// Writes `m` into lane `l`.
+#[inline(always)]
+pub(crate) fn set_mat_lane(out: &mut LaneMat, l: usize, m: &Mat3) {
+    for (i, row) in out.iter_mut().enumerate() {
+        for (j, entry) in row.iter_mut().enumerate() {
+            entry[l] = m[(i, j)];
+        }
+    }
+}
+
+#[inline(always)]
+pub(crate) fn add(a: &LaneVec, b: &LaneVec) -> LaneVec {
+    let mut out = [splat(0.0); 3];
+    for i in 0..3 {
+        for l in 0..LANES {
+            out[i][l] = a[i][l] + b[i][l];
+        }
+    }
+    out
+}
+
+#[inline(always)]
+pub(crate) fn sub(a: &LaneVec, b: &LaneVec) -> LaneVec {
+    let mut out = [splat(0.0); 3];
+    for i in 0..3 {
+        for l in 0..LANES {
+            out[i][l] = a[i][l] - b[i][l];
+        }
+    }
+    out
+}
+
+/// `a . b` per lane.
+#[inline(always)]
+pub(crate) fn dot(a: &LaneVec, b: &LaneVec) -> Lanes {
+    let mut out = splat(0.0);
+    for l in 0..LANES {
+        out[l] = a[0][l] * b[0][l] + a[1][l] * b[1][l] + a[2][l] * b[2][l];
+    }
+    out
+}
+
+/// `|a|` per lane.
+#[inline(always)]
+pub(crate) fn norm(a: &LaneVec) -> Lanes {
+    let mut out = dot(a, a);
+    for x in out.iter_mut() {
+        *x = x.sqrt();
+    }
+    out
+}
+
+/// `m v`.
+#[inline(always)]
+pub(crate) fn mat_vec(m: &LaneMat, v: &LaneVec) -> LaneVec {
+    let mut out = [splat(0.0); 3];
+    for i in 0..3 {
+        for l in 0..LANES {
+            out[i][l] = m[i][0][l] * v[0][l] + m[i][1][l] * v[1][l] + m[i][2][l] * v[2][l];
+        }
+    }
+    out
+}
+
+/// `m^T v`.
+#[inline(always)]
+pub(crate) fn mat_t_vec(m: &LaneMat, v: &LaneVec) -> LaneVec {
+    let mut out = [splat(0.0); 3];
+    for i in 0..3 {
+        for l in 0..LANES {
+            out[i][l] = m[0][i][l] * v[0][l] + m[1][i][l] * v[1][l] + m[2][i][l] * v[2][l];
+        }
+    }
+    out
+}
+
+/// `a b`.
+#[inline(always)]
+pub(crate) fn mat_mul(a: &LaneMat, b: &LaneMat) -> LaneMat {
+    let mut out = [[splat(0.0); 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            for l in 0..LANES {
+                out[i][j][l] = a[i][0][l] * b[0][j][l] + a[i][1][l] * b[1][j][l] + a[i][2][l] * b[2][j][l];
+            }
+        }
+    }
+    out
+}
+
+/// `a^T b`.
+#[inline(always)]
+pub(crate) fn mat_t_mul(a: &LaneMat, b: &LaneMat) -> LaneMat {
+    let mut out = [[splat(0.0); 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            for l in 0..LANES {
+                out[i][j][l] = a[0][i][l] * b[0][j][l] + a[1][i][l] * b[1][j][l] + a[2][i][l] * b[2][j][l];
+            }
+        }
+    }
+    out
+}
+
+/// `a b^T`.
+#[inline(always)]
+pub(crate) fn mat_mul_t(a: &LaneMat, b: &LaneMat) -> LaneMat {
+    let mut out = [[splat(0.0); 3]; 3];
+    for i in 0..3 {
+        for j in 0..3 {
+            for l in 0..LANES {
+                out[i][j][l] = a[i][0][l] * b[j][0][l] + a[i][1][l] * b[j][1][l] + a[i][2][l] * b[j][2][l];
+            }
+        }
+    }
+    out
+}
+
+/// `d I + a [w]x + b w w^T` per lane, entry by entry as `geometry::so3::rodrigues`.
+#[inline(always)]
+pub(crate) fn rodrigues(w: &LaneVec, d: &Lanes, a: &Lanes, b: &Lanes) -> LaneMat {
+    let mut m = [[splat(0.0); 3]; 3];
+    for l in 0..LANES {
+        let (x, y, z) = (w[0][l], w[1][l], w[2][l]);
+        let (d, a, b) = (d[l], a[l], b[l]);
+        m[0][0][l] = d + b * x * x;
+        m[0][1][l] = b * x * y - a * z;
+        m[0][2][l] = b * x * z + a * y;
+        m[1][0][l] = b * y * x + a * z;
+        m[1][1][l] = d + b * y * y;
+        m[1][2][l] = b * y * z - a * x;
+        m[2][0][l] = b * z * x - a * y;
+        m[2][1][l] = b * z * y + a * x;
+        m[2][2][l] = d + b * z * z;
+    }
+    m
+}
+
+/// Rotation by the angles `angle` (rad) about the constant unit vector `axis`, as
+/// [`crate::geometry::rotation_about_axis`]: one sine and cosine per lane.
+#[inline(always)]
+pub(crate) fn rotation_about_axis(axis: &LaneVec, angle: &Lanes) -> LaneMat {
+    let (mut s, mut c, mut one_minus_c) = (splat(0.0), splat(0.0), splat(0.0));
+    for l in 0..LANES {
+        (s[l], c[l]) = angle[l].sin_cos();
+        one_minus_c[l] = 1.0 - c[l];
+    }
+    rodrigues(axis, &c, &s, &one_minus_c)
+}
+
+/// `exp([eps]x)` per lane, as [`crate::geometry::rotation_exp`]: the Taylor series of its
+/// coefficients in every lane (the machine-error case, `|eps| < 0.01 rad`), the closed form for a
+/// lane beyond.
+#[inline(always)]
+pub(crate) fn rotation_exp_lanes(eps: &LaneVec) -> LaneMat {
+    const A: [f64; 3] = [1.0 / 6.0, 1.0 / 120.0, 1.0 / 5040.0];
+    const B: [f64; 3] = [1.0 / 24.0, 1.0 / 720.0, 1.0 / 40320.0];
+    let (mut d, mut a, mut b) = (splat(0.0), splat(0.0), splat(0.0));
+    let mut large = false;
+    for l in 0..LANES {
+        let t2 = eps[0][l] * eps[0][l] + eps[1][l] * eps[1][l] + eps[2][l] * eps[2][l];
+        large |= t2 >= 1e-4;
+        a[l] = 1.0 - t2 * (A[0] - t2 * (A[1] - t2 * A[2]));
+        b[l] = 0.5 - t2 * (B[0] - t2 * (B[1] - t2 * B[2]));
+        d[l] = 1.0 - b[l] * t2;
+    }
+    let mut m = rodrigues(eps, &d, &a, &b);
+    if large {
+        for l in 0..LANES {
+            let e = vec_lane(eps, l);
+            if e.norm_squared() >= 1e-4 {
+                set_mat_lane(&mut m, l, &rotation_exp(&e));
+            }
+        }
+    }
+    m
+}
+
+/// The exact small transform `Trans(c) [exp([eps]x), e; 0 1] Trans(-c)` per lane, as
+/// [`Pose::small_transform`].
+#[inline(always)]
+pub(crate) fn small_transform(eps: &LaneVec, e: &LaneVec, c: &LaneVec) -> LanePose {
+    let rotation = rotation_exp_lanes(eps);
+    LanePose { rotation, translation: sub(&add(c, e), &mat_vec(&rotation, c)) }
+}
+
+/// Rotation vector (rad) of `r` per lane, as [`crate::geometry::rotation_log`] for angles below
+/// pi: `w theta / sin(theta)` with `w` the skew part. Near the identity (every machine error,
+/// `tan(theta) <= 1e-3`) `theta / sin(theta) = atan(x) / (x cos(theta))`, `x = tan(theta)`, by the
+/// series `atan(x)/x = 1 - x^2/3 + x^4/5 - x^6/7 + x^8/9` (remainder below 1e-31); `atan2` for a
+/// lane beyond.
+#[inline(always)]
+pub(crate) fn rotation_log_lanes(r: &LaneMat) -> LaneVec {
+    let mut w = [splat(0.0); 3];
+    let mut beyond = false;
+    for l in 0..LANES {
+        let wx = (r[2][1][l] - r[1][2][l]) * 0.5;
+        let wy = (r[0][2][l] - r[2][0][l]) * 0.5;
+        let wz = (r[1][0][l] - r[0][1][l]) * 0.5;
+        let sin_theta = (wx * wx + wy * wy + wz * wz).sqrt();
+        let cos_theta = 0.5 * ((r[0][0][l] + r[1][1][l] + r[2][2][l]) - 1.0);
+        let x = sin_theta / cos_theta;
+        let x2 = x * x;
+        beyond |= !(cos_theta > 0.0 && x2 <= 1e-6);
+        let series = 1.0 - x2 * (1.0 / 3.0 - x2 * (1.0 / 5.0 - x2 * (1.0 / 7.0 - x2 * (1.0 / 9.0))));
+        let scale = series / cos_theta;
+        w[0][l] = wx * scale;
+        w[1][l] = wy * scale;
+        w[2][l] = wz * scale;
+    }
+    if beyond {
+        for l in 0..LANES {
+            let log = rotation_log(&mat_lane(r, l));
+            for (wi, v) in w.iter_mut().zip(log.iter()) {
+                wi[l] = *v;
+            }
+        }
+    }
+    w
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lanes_of(f: impl Fn(usize) -> f64) -> Lanes {
+        std::array::from_fn(f)
+    }
+
+    #[test]
+    fn exp_and_log_per_lane_equal_the_scalar_forms_on_both_sides_of_the_series() {
+        // lane l: a rotation vector of norm 10^(l - 9) rad, from 1e-9 to 0.1 (the last lanes
+        // beyond both series thresholds), against geometry::rotation_exp / rotation_log
+        let eps: LaneVec = [
+            lanes_of(|l| 0.3 * 10f64.powi(l as i32 - 9)),
+            lanes_of(|l| -0.8 * 10f64.powi(l as i32 - 9)),
+            lanes_of(|l| 0.52 * 10f64.powi(l as i32 - 9)),
+        ];
+        let r = rotation_exp_lanes(&eps);
+        let back = rotation_log_lanes(&r);
+        for l in 0..LANES {
+            let e = vec_lane(&eps, l);
+            assert!((mat_lane(&r, l) - rotation_exp(&e)).norm() <= 2e-16, "lane {l}");
+            let want = rotation_log(&rotation_exp(&e));
+            assert!((vec_lane(&back, l) - want).norm() <= 1e-15 * e.norm().max(1e-300) + 1e-300, "lane {l}");
+        }
+    }
+
+    #[test]
+    fn pose_products_per_lane_equal_the_scalar_products() {
+        let pose = |l: usize| {
+            Pose::rotation_about_line(&Vec3::new(1.0, 2.0, 2.0 + l as f64).normalize(), &Vec3::new(5.0, -3.0, l as f64), 0.3 * l as f64)
+        };
+        let other = |l: usize| {
+            Pose::small_transform(&Vec3::new(1e-4, -2e-5, l as f64 * 1e-5), &Vec3::new(0.01, 0.0, -0.02), &Vec3::new(100.0, 0.0, 50.0))
+        };
+        let mut a = LanePose::IDENTITY;
+        let mut b = LanePose::IDENTITY;
+        for l in 0..LANES {
+            set_mat_lane(&mut a.rotation, l, &pose(l).rotation);
+            set_mat_lane(&mut b.rotation, l, &other(l).rotation);
+            for i in 0..3 {
+                a.translation[i][l] = pose(l).translation[i];
+                b.translation[i][l] = other(l).translation[i];
+            }
+        }
+        let ab = a.then(&b);
+        let x = splat_vec(&Vec3::new(250.0, -125.0, 400.0));
+        for l in 0..LANES {
+            let want = pose(l).then(&other(l));
+            let got = ab.lane(l);
+            assert!((got.rotation - want.rotation).norm() <= 1e-15, "lane {l}");
+            assert!((got.translation - want.translation).norm() <= 1e-13, "lane {l}");
+            let p = vec_lane(&ab.transform_point(&x), l);
+            assert!((p - want.transform_point(&Vec3::new(250.0, -125.0, 400.0))).norm() <= 1e-12, "lane {l}");
+        }
+    }
+}
