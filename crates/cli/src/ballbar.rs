@@ -8,7 +8,7 @@ use crate::Failure;
 use anyhow::anyhow;
 use serde_json::json;
 use std::path::{Path, PathBuf};
-use trueaxis::data::write_atomically;
+use trueaxis::data::{write_atomically, OutputSet};
 use trueaxis::errors::ErrorModel;
 use trueaxis::evaluate::ballbar_diagnostics::DiagnosticOptions;
 use trueaxis::evaluate::iso230_4::{evaluate, read_circular_table};
@@ -453,6 +453,8 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     let mut residuals = Vec::new();
     // the plausibility warnings of the files, then those of the residuals, printed on success
     let mut warnings: Vec<String> = steps.iter().flat_map(|s| s.2.warnings.clone()).collect();
+    // the plots of every step, or none (docs/reliability.md)
+    let mut plots = OutputSet::new();
     for (step, path, trace, test) in &steps {
         let (angles, dl) = trace.run(*runs.last().expect("a run"));
         let mut t = test.clone();
@@ -473,7 +475,7 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
             ));
         }
         if let Some(dir) = &a.plot_dir {
-            std::fs::create_dir_all(dir).map_err(|e| Failure::input(anyhow!("{}: cannot create: {e}", dir.display())))?;
+            plots.create_directory(dir);
             let raw: Vec<f64> = dl.iter().map(|v| v * 1e3).collect();
             let comp: Vec<f64> = r.iter().map(|v| v * 1e3).collect();
             let lines: Vec<String> = last
@@ -497,10 +499,11 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
                 lines: &lines,
             })
             .map_err(Failure::computation)?;
-            write_atomically(&dir.join(format!("{}.svg", step.name())), svg.as_bytes()).map_err(Failure::input)?;
+            plots.file(dir.join(format!("{}.svg", step.name())), svg);
         }
         residuals.push((step.name(), rms, band));
     }
+    plots.commit().map_err(Failure::input)?;
     for w in &warnings {
         eprintln!("trueaxis: warning: {w}");
     }

@@ -7,7 +7,7 @@ use trueaxis::compensate::{
     axis_tables, compensation_json, residual_of_format, round4 as round, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector,
     ExportFormat, FormatOptions, TableSpec,
 };
-use trueaxis::data::{read_poses, write_atomically, PoseTable};
+use trueaxis::data::{read_poses, OutputSet, PoseTable};
 use trueaxis::errors::{ErrorModel, MachineState};
 use trueaxis::machine::Machine;
 
@@ -213,10 +213,13 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
         pose_summary = Some(summary);
     }
     let names: Vec<&str> = files.iter().map(|f| f.name.as_str()).collect();
-    refuse_foreign_files(&args.out, &names)?;
-    std::fs::create_dir_all(&args.out)
-        .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create the output directory: {e}", args.out.display())))?;
-    write_all(&args.out, &files)?;
+    // the tables go in together: the directory is swapped whole (docs/reliability.md)
+    let mut set = OutputSet::new();
+    set.directory(&args.out);
+    for f in &files {
+        set.in_directory(&args.out, &f.name, f.contents.as_bytes());
+    }
+    set.commit().map_err(Failure::input)?;
     let extent = export::largest_corrections(&input, format.coverage());
     let largest = |rotary: bool| if rotary { extent.max_urad } else { extent.max_um };
     if args.json {
@@ -270,49 +273,6 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
         }
     }
     Ok(())
-}
-
-/// Writes every file into `out` (each through a temporary and a rename); when one fails, the files
-/// already written by this call are put back as they were (removed, or their old contents
-/// restored), so that a multi-file output is written whole or not at all.
-fn write_all(out: &Path, files: &[ExportedFile]) -> Result<(), Failure> {
-    let mut done: Vec<(PathBuf, Option<Vec<u8>>)> = Vec::new();
-    for f in files {
-        let path = out.join(&f.name);
-        let old = std::fs::read(&path).ok();
-        if let Err(e) = write_atomically(&path, f.contents.as_bytes()) {
-            for (p, previous) in done.iter().rev() {
-                let _ = match previous {
-                    Some(bytes) => write_atomically(p, bytes).map_err(|_| ()),
-                    None => std::fs::remove_file(p).map_err(|_| ()),
-                };
-            }
-            return Err(Failure::input(anyhow::anyhow!("{e}; nothing was written")));
-        }
-        done.push((path, old));
-    }
-    Ok(())
-}
-
-/// Refuses to write into `out` when it holds files other than `names` (a run with another format or
-/// without `--poses` would otherwise leave stale tables next to the new ones).
-fn refuse_foreign_files(out: &Path, names: &[&str]) -> Result<(), Failure> {
-    let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
-    let mut foreign: Vec<String> = entries
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| !names.contains(&n.as_str()))
-        .collect();
-    if foreign.is_empty() {
-        return Ok(());
-    }
-    foreign.sort();
-    Err(Failure::input(anyhow::anyhow!(
-        "{}: the output directory holds files this run does not write ({}); use an empty or new directory so that tables of \
-         different runs do not mix; nothing was written",
-        out.display(),
-        foreign.join(" ")
-    )))
 }
 
 /// Temperatures of every pose (degC, the model's sensors per pose): a sensor's `T:<name>` column of

@@ -1,12 +1,12 @@
 //! `trueaxis thermal fit`: PITE/PDTE regression models validated on other runs, and the shared
 //! time constants of eq. 3.17.
 
-use super::{failure, write_plot};
+use super::{failure, plot_text, write_plot};
 use crate::iso230_2::print;
 use crate::Failure;
 use serde_json::{json, Value};
 use std::path::PathBuf;
-use trueaxis::data::write_atomically;
+use trueaxis::data::OutputSet;
 use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::thermal::campaign::Campaign;
@@ -182,8 +182,10 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
     let training_stats = residual_stats(&measured, &predicted);
     let validation: Vec<(String, Option<ResidualStats>)> =
         evaluated.iter().filter(|e| e.segment.role == Role::Validation).map(|e| (e.segment.name.clone(), e.stats())).collect();
+    // model, terms and plot together, or none of them (docs/reliability.md)
+    let mut outputs = OutputSet::new();
     if let Some(path) = &args.out {
-        write_atomically(path, model.to_toml().as_bytes()).map_err(Failure::input)?;
+        outputs.file(path, model.to_toml());
     }
     if let (Some(path), Some(parameter)) = (&args.terms_out, &args.parameter) {
         let terms = match &model {
@@ -199,11 +201,12 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
             "# thermal error model of `{error}` as error terms (factors T - 20 degC), from trueaxis thermal fit\n{}",
             terms_toml(&terms)
         );
-        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+        outputs.file(path, text);
     }
     if let Some(path) = &args.plot {
-        write_plot(path, drift_svg(&drift_plot(&error, &evaluated)))?;
+        outputs.file(path, plot_text(path, drift_svg(&drift_plot(&error, &evaluated)))?);
     }
+    outputs.commit().map_err(Failure::input)?;
     if args.json {
         let doc = json!({"model": model, "kept": kept, "training": training_stats,
                          "validation": validation.iter().map(|(r, s)| (r.clone(), json!(s))).collect::<serde_json::Map<_, _>>()});
