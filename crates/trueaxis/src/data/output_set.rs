@@ -391,3 +391,106 @@ fn without_temporary_path(e: std::io::Error) -> std::io::Error {
         _ => e,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut n: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        n.sort();
+        n
+    }
+
+    #[test]
+    fn a_set_writes_files_and_a_directory_together() {
+        let tmp = tempfile::tempdir().unwrap();
+        let (file, dir) = (tmp.path().join("a.toml"), tmp.path().join("new/deeper/tables"));
+        let mut set = OutputSet::new();
+        set.file(&file, "a = 1\n").in_directory(&dir, "X.comp", "x").in_directory(&dir, "sub/Y.comp", "y");
+        assert_eq!(set.paths(), [file.clone(), dir.join("X.comp"), dir.join("sub/Y.comp")]);
+        set.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "a = 1\n");
+        assert_eq!(std::fs::read_to_string(dir.join("sub/Y.comp")).unwrap(), "y");
+        assert_eq!(names(tmp.path()), ["a.toml", "new"]);
+        // again, with other contents: the directory is replaced whole
+        let mut set = OutputSet::new();
+        set.in_directory(&dir, "X.comp", "x2").in_directory(&dir, "sub/Y.comp", "y2");
+        set.commit().unwrap();
+        assert_eq!(std::fs::read_to_string(dir.join("X.comp")).unwrap(), "x2");
+        assert_eq!(names(dir.parent().unwrap()), ["tables"], "no temporary left beside the directory");
+    }
+
+    #[test]
+    fn nothing_is_written_when_one_output_cannot_be() {
+        let tmp = tempfile::tempdir().unwrap();
+        let first = tmp.path().join("ok.toml");
+        let dir = tmp.path().join("made/for/plots");
+        let mut set = OutputSet::new();
+        set.file(&first, "ok").create_directory(&dir).file(dir.join("p.svg"), "svg").in_directory(tmp.path().join("comp"), "X.comp", "x");
+        set.file(tmp.path().join("missing/r.csv"), "r");
+        let e = set.commit().unwrap_err().to_string();
+        assert!(e.contains("missing/r.csv") && e.ends_with("nothing was written"), "{e}");
+        assert!(!e.contains(".trueaxis-"), "the temporary's name in {e}");
+        assert_eq!(names(tmp.path()), Vec::<String>::new(), "files, temporaries or created directories left");
+    }
+
+    #[test]
+    fn a_directory_with_foreign_files_is_refused_and_left_as_it_was() {
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("comp");
+        std::fs::create_dir_all(dir.join("sub")).unwrap();
+        std::fs::write(dir.join("X.comp"), "old").unwrap();
+        std::fs::write(dir.join("sub/notes.txt"), "mine").unwrap();
+        std::fs::write(dir.join(".tmpAb12Cd"), "an earlier run's temporary: ignored").unwrap();
+        let mut set = OutputSet::new();
+        set.in_directory(&dir, "X.comp", "new").in_directory(&dir, "sub/Y.comp", "y");
+        let e = set.commit().unwrap_err().to_string();
+        assert!(e.contains("holds files this run does not write (sub/notes.txt)"), "{e}");
+        assert_eq!(std::fs::read_to_string(dir.join("X.comp")).unwrap(), "old");
+        assert_eq!(names(tmp.path()), ["comp"]);
+    }
+
+    #[test]
+    fn paths_that_cannot_be_outputs_are_refused() {
+        let tmp = tempfile::tempdir().unwrap();
+        let mut twice = OutputSet::new();
+        twice.file(tmp.path().join("a.csv"), "1").file(tmp.path().join("a.csv"), "2");
+        assert!(twice.commit().unwrap_err().to_string().contains("given for two outputs"));
+        let mut on_directory = OutputSet::new();
+        on_directory.file(tmp.path(), "x");
+        assert!(on_directory.commit().unwrap_err().to_string().contains("is a directory"));
+        let file = tmp.path().join("plain");
+        std::fs::write(&file, "x").unwrap();
+        let mut into_file = OutputSet::new();
+        into_file.in_directory(&file, "X.comp", "x");
+        assert!(into_file.commit().unwrap_err().to_string().contains("not a directory"));
+        let mut escaping = OutputSet::new();
+        escaping.in_directory(tmp.path().join("d"), "../X.comp", "x");
+        assert!(escaping.commit().unwrap_err().to_string().contains("not a path of names"));
+        assert_eq!(names(tmp.path()), ["plain"]);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn replaced_outputs_keep_their_modes() {
+        use std::os::unix::fs::PermissionsExt;
+        let tmp = tempfile::tempdir().unwrap();
+        let dir = tmp.path().join("comp");
+        let file = tmp.path().join("e.toml");
+        let mut set = OutputSet::new();
+        set.file(&file, "1").in_directory(&dir, "X.comp", "1");
+        set.commit().unwrap();
+        let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        // new outputs: the usual modes less the umask (never executable files)
+        assert_eq!(mode(&file) & 0o111, 0);
+        assert_eq!(mode(&dir) & 0o700, 0o700);
+        std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o750)).unwrap();
+        std::fs::set_permissions(dir.join("X.comp"), std::fs::Permissions::from_mode(0o640)).unwrap();
+        std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o600)).unwrap();
+        let mut set = OutputSet::new();
+        set.file(&file, "2").in_directory(&dir, "X.comp", "2");
+        set.commit().unwrap();
+        assert_eq!((mode(&dir), mode(&dir.join("X.comp")), mode(&file)), (0o750, 0o640, 0o600));
+    }
+}
