@@ -27,8 +27,11 @@ use trueaxis::model::Predictor;
 /// The name every message of a rejected fuzz input must start with.
 pub const ORIGIN: &str = "fuzz";
 
+/// A fuzz target: any bytes in, returns when they are handled (accepted or refused).
+pub type Target = fn(&[u8]);
+
 /// Every target, by name (the names of `fuzz_targets/*.rs` and of the corpus directories).
-pub const TARGETS: [(&str, fn(&[u8])); 17] = [
+pub const TARGETS: [(&str, Target); 17] = [
     ("machine_toml", machine_toml),
     ("errors_toml", errors_toml),
     ("campaign_toml", campaign_toml),

@@ -25,7 +25,7 @@ fn seeds() -> Vec<(String, Vec<PathBuf>)> {
         .collect()
 }
 
-fn target(name: &str) -> fn(&[u8]) {
+fn target(name: &str) -> targets::Target {
     targets::TARGETS.iter().find(|(n, _)| *n == name).unwrap_or_else(|| panic!("fuzz/seeds.txt names no target {name}")).1
 }
 

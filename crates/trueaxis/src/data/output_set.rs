@@ -97,15 +97,19 @@ impl OutputSet {
     pub fn commit(self) -> Result<(), DataError> {
         let several = self.paths().len() > 1;
         let mut created = Vec::new();
-        let prepared = self.prepare(&mut created);
-        let result = prepared.and_then(commit_prepared);
-        if result.is_err() {
-            // directories made for outputs that were not written: deepest first, only when empty
-            for dir in created.iter().rev() {
-                let _ = std::fs::remove_dir(dir);
+        match self.prepare(&mut created) {
+            // the commit phase only renames: an error there (a file system gone read-only between
+            // the phases) is reported as it is
+            Ok(prepared) => commit_prepared(prepared),
+            Err(e) => {
+                // the temporaries went with their handles; directories made for the run go too,
+                // deepest first, and only when empty
+                for dir in created.iter().rev() {
+                    let _ = std::fs::remove_dir(dir);
+                }
+                Err(if several { DataError::NothingWritten(Box::new(e)) } else { e })
             }
         }
-        result.map_err(|e| if several { DataError::NothingWritten(Box::new(e)) } else { e })
     }
 
     fn prepare(&self, created: &mut Vec<PathBuf>) -> Result<Prepared, DataError> {
@@ -340,7 +344,8 @@ fn commit_prepared(prepared: Prepared) -> Result<(), DataError> {
         } else {
             old.push(d.staging);
         }
-        sync_directory(&parent).map_err(&err)?;
+        // durability of the rename; the output is in place whatever this says
+        let _ = sync_directory(&parent);
     }
     for (path, tmp) in files {
         tmp.persist(&path).map_err(|e| write_error(&path)(e.error))?;
