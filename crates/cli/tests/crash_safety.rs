@@ -184,7 +184,8 @@ fn a_killed_single_file_output_is_the_old_or_the_new_file() {
     let out = tmp.path().join("out").join("prediction.csv");
     std::fs::create_dir(out.parent().unwrap()).unwrap();
     let (poses_s, out_s) = (poses_path.to_str().unwrap(), out.to_str().unwrap());
-    let args = |e: &'static str| vec!["predict", "--machine", "examples/machines/vmc3.toml", "--errors", e, "--poses", poses_s, "--out", out_s];
+    let args =
+        |e: &'static str| vec!["predict", "--machine", "examples/machines/vmc3.toml", "--errors", e, "--poses", poses_s, "--out", out_s];
     let leak = |p: &Path| -> &'static str { Box::leak(p.display().to_string().into_boxed_str()) };
     let (old_args, new_args) = (args(leak(&errors[0])), args(leak(&errors[1])));
     assert_eq!(run(&new_args).0, 0);
