@@ -8,7 +8,7 @@ use crate::Failure;
 use anyhow::anyhow;
 use serde_json::json;
 use std::path::{Path, PathBuf};
-use trueaxis::data::write_atomically;
+use trueaxis::data::{write_atomically, OutputSet};
 use trueaxis::errors::ErrorModel;
 use trueaxis::evaluate::circular_test::{cartesian_machine, centre_pose, circular_test_file, CircularTestOptions};
 use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, pige_user_value, PigeRequest};
@@ -369,8 +369,10 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     let report = identify_pige_files(&m, &request).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
     let last = report.last();
     if let Some(dir) = &a.plot_dir {
+        // the plots of every step, or none (docs/reliability.md)
+        let mut plots = OutputSet::new();
+        plots.create_directory(dir);
         for s in &report.steps {
-            std::fs::create_dir_all(dir).map_err(|e| Failure::input(anyhow!("{}: cannot create: {e}", dir.display())))?;
             let raw: Vec<f64> = s.dl.iter().map(|v| v * 1e3).collect();
             let comp: Vec<f64> = s.residual.iter().map(|v| v * 1e3).collect();
             let lines: Vec<String> = last
@@ -384,7 +386,7 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
                 .collect();
             let (u1, u2) = plane_labels(&s.geometry);
             let svg = polar_svg(&PolarPlot {
-                title: &format!("seed 001 step {}: {}", s.step.name(), s.path.display()),
+                title: &format!("step {} of Jiang (2014): {}", s.step.name(), s.path.display()),
                 axes: (&u1, &u2),
                 series: vec![
                     PolarSeries { label: "raw".into(), angles: &s.angles, dl_um: &raw },
@@ -395,8 +397,9 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
                 conditions: &[],
             })
             .map_err(Failure::computation)?;
-            write_atomically(&dir.join(format!("{}.svg", s.step.name())), svg.as_bytes()).map_err(Failure::input)?;
+            plots.file(dir.join(format!("{}.svg", s.step.name())), svg);
         }
+        plots.commit().map_err(Failure::input)?;
     }
     for w in &report.warnings {
         eprintln!("trueaxis: warning: {w}");

@@ -5,7 +5,7 @@ mod steady;
 use crate::predict::parse_point;
 use crate::Failure;
 use std::path::PathBuf;
-use trueaxis::data::write_atomically;
+use trueaxis::data::{write_atomically, OutputSet};
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{criteria_units, CriteriaUnits};
@@ -169,11 +169,14 @@ fn simulate(args: SimulateArgs) -> Result<(), Failure> {
     let readings = simulate_campaign(&campaign, &machine, &truth, (!args.noise_free).then_some(args.seed)).map_err(identify_failure)?;
     let mut text = String::new();
     let mut files = Vec::new();
+    // every data file of the campaign, or none (docs/reliability.md)
+    let mut outputs = OutputSet::new();
     for (m, r) in campaign.measurements.iter().zip(&readings) {
-        write_atomically(&m.data, measurement_csv(&machine, m, r).as_bytes()).map_err(Failure::input)?;
+        outputs.file(&m.data, measurement_csv(&machine, m, r));
         text += &format!("wrote {} ({} records, {})\n", m.data.display(), m.records(), m.instrument.channels().join(" "));
         files.push(serde_json::json!({"path": m.data.display().to_string(), "records": m.records(), "channels": m.instrument.channels()}));
     }
+    outputs.commit().map_err(Failure::input)?;
     if args.json {
         text = format!("{}\n", serde_json::json!({ "files": files }));
     }

@@ -3,7 +3,7 @@
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::checks::deviation_finding;
-use trueaxis::data::{write_atomically, CsvTable};
+use trueaxis::data::{CsvTable, OutputSet};
 use trueaxis::errors::{set_error_function, BasisSpec, Direction, ErrorModel, PeriodicSpec};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, IdentifyError};
@@ -295,13 +295,15 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
     for note in &applied.notes {
         eprintln!("trueaxis: {note}");
     }
+    // plots and error file together, or none of them (docs/reliability.md)
+    let mut outputs = OutputSet::new();
     let mut written = Vec::new();
     if let Some(path) = &args.plot {
         let unit = axis.as_ref().map_or("mm", |a| if a.kind == AxisKind::Rotary { "deg" } else { "mm" });
         for (direction, report) in &reports {
             let path = if reports.len() > 1 { plot_path_of_direction(path, direction.map(direction_symbol)) } else { path.clone() };
             let svg = trueaxis_report::direct_fit_svg(report, unit).map_err(Failure::computation)?;
-            write_atomically(&path, svg.as_bytes()).map_err(Failure::input)?;
+            outputs.file(&path, svg);
             written.push(path);
         }
     }
@@ -324,9 +326,10 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
             };
             Failure::input(anyhow::anyhow!("{e}{hint}"))
         })?;
-        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+        outputs.file(path, text);
         written.insert(0, path.clone());
     }
+    outputs.commit().map_err(Failure::input)?;
     if args.json {
         let docs: Vec<_> = reports.iter().map(|(_, r)| r.to_json()).collect();
         let metadata = table.metadata().to_json();

@@ -2,7 +2,7 @@
 
 use crate::Failure;
 use std::path::PathBuf;
-use trueaxis::data::write_atomically;
+use trueaxis::data::OutputSet;
 use trueaxis::identify::{
     error_values_text, identification_json, identify, Campaign, Identification, IdentifyError, IndirectOptions, Solver,
 };
@@ -89,17 +89,20 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
             args.campaign.display()
         )));
     }
+    let mut outputs = OutputSet::new();
     if let Some(path) = &args.out {
         let nominal_text = match &campaign.nominal_errors {
             Some(p) => std::fs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", p.display())))?,
             None => String::new(),
         };
         let text = error_values_text(&result, &campaign, &nominal, &nominal_text).map_err(failure)?;
-        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+        outputs.file(path, text);
     }
     if let Some(path) = &args.residuals {
-        write_atomically(path, residuals_csv(&campaign, &result).as_bytes()).map_err(Failure::input)?;
+        outputs.file(path, residuals_csv(&campaign, &result));
     }
+    // both or neither: a residual path that cannot be written leaves no error file either
+    outputs.commit().map_err(Failure::input)?;
     if args.json {
         return print(&format!("{}\n", identification_json(&result, &campaign)));
     }

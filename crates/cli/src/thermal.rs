@@ -65,6 +65,10 @@ fn failure(e: ThermalError) -> Failure {
 
 /// Writes an SVG figure (atomically); a figure that cannot be drawn is a failed computation.
 fn write_plot(path: &Path, svg: Result<String, ReportError>) -> Result<(), Failure> {
-    let svg = svg.map_err(|e| Failure::computation(anyhow::anyhow!("{}: {e}", path.display())))?;
-    write_atomically(path, svg.as_bytes()).map_err(Failure::input)
+    write_atomically(path, plot_text(path, svg)?.as_bytes()).map_err(Failure::input)
+}
+
+/// The text of an SVG figure for `path`; a figure that cannot be drawn is a failed computation.
+fn plot_text(path: &Path, svg: Result<String, ReportError>) -> Result<String, Failure> {
+    svg.map_err(|e| Failure::computation(anyhow::anyhow!("{}: {e}", path.display())))
 }

@@ -4,7 +4,7 @@ use crate::predict::parse_point;
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::read_poses;
-use trueaxis::data::write_atomically;
+use trueaxis::data::OutputSet;
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{solve, Campaign, Identification, IdentifyError, IndirectOptions};
 use trueaxis::machine::Machine;
@@ -309,13 +309,13 @@ fn table(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sourc
 }
 
 fn write_plots(dir: &std::path::Path, budget: &Budget, sources: &Sources) -> anyhow::Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: cannot create directory: {e}", dir.display()))?;
     let (histograms, convergence) = uncertainty_figures(budget, &sources.settings)?;
-    write_atomically(&dir.join("histograms.svg"), histograms.as_bytes())?;
+    let mut plots = OutputSet::new();
+    plots.create_directory(dir).file(dir.join("histograms.svg"), histograms);
     if let Some(svg) = convergence {
-        write_atomically(&dir.join("convergence.svg"), svg.as_bytes())?;
+        plots.file(dir.join("convergence.svg"), svg);
     }
-    Ok(())
+    Ok(plots.commit()?)
 }
 
 /// Writes to stdout; a closed pipe (`| head`) is not an error.

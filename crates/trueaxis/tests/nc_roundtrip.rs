@@ -220,6 +220,9 @@ fn what_cannot_be_corrected_is_refused_with_the_line() {
         ("%\nO1\nG68 X0 Y0 R30.\nM30\n%\n", "line 3: G68 (coordinate rotation"),
         ("%\nO1\nM99\n%\n", "line 3: M99 in the main program restarts it endlessly"),
         ("%\nO1\nGOTO 20\nM30\n%\n", "line 3: GOTO 20: no block N20"),
+        // calls nested deeper than the controllers' 10 levels (a program that calls itself)
+        ("o<r> sub\nG0 X1\no<r> call\no<r> endsub\no<r> call\nM2\n", "line 3: more than 10 nested subroutine calls"),
+        ("%\nO1001\nG0 X1\nM98 P2001001\nM30\n%\n", "line 4: more than 10 nested subroutine calls"),
     ] {
         let err = correct_program(&corrector, text, "bad.ngc", &options, &[]).unwrap_err();
         assert!(err.is_input(), "{text}");

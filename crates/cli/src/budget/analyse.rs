@@ -8,7 +8,7 @@ use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use trueaxis::budget::analysis::{Analysis, GroupShare};
 use trueaxis::budget::{analyse, BudgetSpec};
-use trueaxis::data::write_atomically;
+use trueaxis::data::OutputSet;
 use trueaxis::machine::Machine;
 use trueaxis_report::budget::{budget_section, contribution_svg};
 use trueaxis_report::calibration::VolumeMap;
@@ -55,19 +55,21 @@ pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
         check_finite(a).map_err(|m| Failure::computation(anyhow::anyhow!("{}: {m}", set.label)))?;
     }
     let suffix = |set: &PoseSet| if sets.len() > 1 { format!("_{}", set.label.replace('.', "p")) } else { String::new() };
+    // tables, plots and report together, or none of them (docs/reliability.md)
+    let mut outputs = OutputSet::new();
     if let Some(path) = &args.out {
         let mut text = String::new();
         for (k, (set, a)) in sets.iter().zip(&analyses).enumerate() {
             text += &poses_csv(machine, set, a, sets.len() > 1, k == 0);
         }
-        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+        outputs.file(path, text);
     }
     if let Some(path) = &args.sensitivity {
         let mut text = String::new();
         for (k, (set, a)) in sets.iter().zip(&analyses).enumerate() {
             text += &sensitivity_csv(machine, spec, set, a, k == 0);
         }
-        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+        outputs.file(path, text);
     }
     let mut figures = Vec::new();
     if args.plots.is_some() || args.report.is_some() {
@@ -80,9 +82,9 @@ pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
         }
     }
     if let Some(dir) = &args.plots {
-        std::fs::create_dir_all(dir).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create directory: {e}", dir.display())))?;
+        outputs.create_directory(dir);
         for (name, _, svg) in &figures {
-            write_atomically(&dir.join(name), svg.as_bytes()).map_err(Failure::input)?;
+            outputs.file(dir.join(name), svg.as_bytes());
         }
     }
     if let Some(path) = &args.report {
@@ -102,8 +104,9 @@ pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
             section.title = format!("Error budget, {}", set.label);
             report.sections.push(section);
         }
-        write_atomically(path, report.to_html().as_bytes()).map_err(Failure::input)?;
+        outputs.file(path, report.to_html());
     }
+    outputs.commit().map_err(Failure::input)?;
     if args.json {
         let sets_json: Vec<Value> = sets.iter().zip(&analyses).map(|(set, a)| analysis_json(machine, spec, set, a)).collect();
         let doc = json!({

@@ -13,7 +13,7 @@ use trueaxis::budget::form_shaping::form_shaping;
 use trueaxis::budget::ranking::{study, StudyOptions};
 use trueaxis::budget::spec::KindValues;
 use trueaxis::budget::travel::{required_travel, space_utility};
-use trueaxis::data::write_atomically;
+use trueaxis::data::OutputSet;
 use trueaxis_report::budget::{bars_svg, trends_svg, BarPanel, Series};
 
 /// Five-axis configurations: enumeration (720 / 360 / 432 / 288), ideal form-shaping functions, travel
@@ -103,7 +103,9 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         return Err(Failure::computation(anyhow::anyhow!("a configuration's stack-up is not finite")));
     }
     if let Some(dir) = &args.plots {
-        std::fs::create_dir_all(dir).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create directory: {e}", dir.display())))?;
+        // both figures or neither (docs/reliability.md)
+        let mut plots = OutputSet::new();
+        plots.create_directory(dir);
         let ratios = [0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0];
         let mut series = Vec::new();
         for (pattern, code) in [(Pattern::RotaryAtWorkpiece, "ABXYZ"), (Pattern::Split, "AXYZB"), (Pattern::RotaryAtTool, "XYZAB")] {
@@ -119,13 +121,14 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         }
         let svg = trends_svg("Space utility of a cubic part", "part edge / tool length", &[("part volume / travel volume".into(), series)])
             .map_err(Failure::computation)?;
-        write_atomically(&dir.join("space_utility.svg"), svg.as_bytes()).map_err(Failure::input)?;
+        plots.file(dir.join("space_utility.svg"), svg);
         let bars: Vec<(String, f64)> =
             ranked.iter().take(args.top.clamp(1, 30)).map(|r| (r.configuration.structure(), r.rss_rms)).collect();
         let svg =
             bars_svg("Configurations ranked", &[BarPanel { title: "RMS of the root-sum-square 3D error".into(), unit: "um".into(), bars }])
                 .map_err(Failure::computation)?;
-        write_atomically(&dir.join("ranking.svg"), svg.as_bytes()).map_err(Failure::input)?;
+        plots.file(dir.join("ranking.svg"), svg);
+        plots.commit().map_err(Failure::input)?;
     }
     if args.json {
         let travel: Vec<Value> = travel_rows

@@ -9,7 +9,7 @@ use trueaxis::budget::analysis::GroupShare;
 use trueaxis::budget::global::GeneticOptions;
 use trueaxis::budget::miniaturisation::{run as run_case, ARCSEC_URAD, SIZES};
 use trueaxis::budget::spec::KindValues;
-use trueaxis::data::write_atomically;
+use trueaxis::data::OutputSet;
 use trueaxis_report::budget::{trends_svg, Series};
 
 /// The miniaturisation case of the error budget: a three-axis machine (part on the bed, X, Y on X, Z
@@ -68,7 +68,9 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
     let cases = run_case(&args.sizes, tolerances, args.relative_accuracy, GeneticOptions { seed: args.seed, ..GeneticOptions::default() })
         .map_err(failure)?;
     if let Some(dir) = &args.plots {
-        std::fs::create_dir_all(dir).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot create directory: {e}", dir.display())))?;
+        // both figures or neither (docs/reliability.md)
+        let mut plots = OutputSet::new();
+        plots.create_directory(dir);
         let series = |f: &dyn Fn(&trueaxis::budget::miniaturisation::SizeCase) -> f64, name: &str| Series {
             name: name.into(),
             points: cases.iter().map(|c| (c.size, f(c))).collect(),
@@ -95,7 +97,7 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
             ],
         )
         .map_err(Failure::computation)?;
-        write_atomically(&dir.join("part_measures.svg"), part.as_bytes()).map_err(Failure::input)?;
+        plots.file(dir.join("part_measures.svg"), part);
         let machine = trends_svg(
             "Machine measures over part size",
             "part size (mm)",
@@ -112,7 +114,8 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
             ],
         )
         .map_err(Failure::computation)?;
-        write_atomically(&dir.join("machine_measures.svg"), machine.as_bytes()).map_err(Failure::input)?;
+        plots.file(dir.join("machine_measures.svg"), machine);
+        plots.commit().map_err(Failure::input)?;
     }
     let groups = |g: &[GroupShare]| -> Value {
         Value::Array(g.iter().map(|g| json!({"group": g.label, "share_percent": g.share, "sm_mm": g.sensitivity_mm})).collect())

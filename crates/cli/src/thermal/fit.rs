@@ -1,11 +1,11 @@
 //! `trueaxis thermal fit`: PITE/PDTE regression models validated on other runs, and the shared
 //! time constants of eq. 3.17 (fitted by `trueaxis::thermal::campaign_fit`).
 
-use super::{failure, write_plot};
+use super::{failure, plot_text, write_plot};
 use crate::iso230_2::print;
 use crate::Failure;
 use std::path::PathBuf;
-use trueaxis::data::write_atomically;
+use trueaxis::data::OutputSet;
 use trueaxis::machine::Machine;
 use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm as FitForm, TimeConstantsFit};
@@ -136,18 +136,21 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
         CampaignFit::TimeConstants(t) => return print_taus(&args, &t),
     };
     let (error, model, rows) = (&fitted.error, &fitted.model, fitted.rows);
+    // model, terms and plot together, or none of them (docs/reliability.md)
+    let mut outputs = OutputSet::new();
     if let Some(path) = &args.out {
-        write_atomically(path, model.to_toml().as_bytes()).map_err(Failure::input)?;
+        outputs.file(path, model.to_toml());
     }
     if let (Some(path), Some(parameter)) = (&args.terms_out, &args.parameter) {
         let machine = args.machine.as_ref().map(Machine::load).transpose().map_err(Failure::input)?;
         if let Some(text) = fitted.terms_text(parameter, machine.as_ref()).map_err(failure)? {
-            write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
+            outputs.file(path, text);
         }
     }
     if let Some(path) = &args.plot {
-        write_plot(path, drift_svg(&drift_plot(error, &fitted.evaluated)))?;
+        outputs.file(path, plot_text(path, drift_svg(&drift_plot(error, &fitted.evaluated)))?);
     }
+    outputs.commit().map_err(Failure::input)?;
     if args.json {
         return print(&format!("{}\n", fitted.to_json()));
     }

@@ -11,7 +11,7 @@ use super::{
     axis_tables, compensation_json, residual_of_format, round4, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector,
     ExportFormat, FormatResidual, TableSet, TableSpec, VolumetricGrid,
 };
-use crate::data::{read_poses, write_atomically, PoseTable};
+use crate::data::{read_poses, OutputSet, PoseTable};
 use crate::errors::{ErrorModel, MachineState};
 use crate::machine::Machine;
 use serde_json::{json, Value};
@@ -75,13 +75,16 @@ impl Compensation {
         self.files.iter().map(|f| f.name.as_str()).collect()
     }
 
-    /// Writes every file into `out` (created if missing), refusing a directory that holds files
-    /// this job does not write; see [`write_files`].
+    /// Writes every file into `out` (created if missing) as one set: the directory is swapped in
+    /// whole, a directory holding files this job does not write is refused, and nothing is
+    /// written when any file fails ([`crate::data::OutputSet`]).
     pub fn write(&self, out: &Path) -> Result<(), CompensateError> {
-        refuse_foreign_files(out, &self.file_names())?;
-        std::fs::create_dir_all(out)
-            .map_err(|e| CompensateError::Input(format!("{}: cannot create the output directory: {e}", out.display())))?;
-        write_files(out, &self.files)
+        let mut set = OutputSet::new();
+        set.directory(out);
+        for f in &self.files {
+            set.in_directory(out, &f.name, f.contents.as_bytes());
+        }
+        set.commit().map_err(|e| CompensateError::Input(e.to_string()))
     }
 }
 
@@ -130,49 +133,6 @@ pub fn compensation(corrector: &Corrector, request: &CompensationRequest) -> Res
         poses = Some(summary);
     }
     Ok(Compensation { tables, grid, files, left_out, residual, extent, poses })
-}
-
-/// Writes every file into `out` (each through a temporary and a rename); when one fails, the files
-/// already written by this call are put back as they were (removed, or their old contents
-/// restored), so that a multi-file output is written whole or not at all.
-pub fn write_files(out: &Path, files: &[ExportedFile]) -> Result<(), CompensateError> {
-    let mut done: Vec<(PathBuf, Option<Vec<u8>>)> = Vec::new();
-    for f in files {
-        let path = out.join(&f.name);
-        let old = std::fs::read(&path).ok();
-        if let Err(e) = write_atomically(&path, f.contents.as_bytes()) {
-            for (p, previous) in done.iter().rev() {
-                let _ = match previous {
-                    Some(bytes) => write_atomically(p, bytes).map_err(|_| ()),
-                    None => std::fs::remove_file(p).map_err(|_| ()),
-                };
-            }
-            return Err(CompensateError::Input(format!("{e}; nothing was written")));
-        }
-        done.push((path, old));
-    }
-    Ok(())
-}
-
-/// Refuses to write into `out` when it holds files other than `names` (a run with another format or
-/// without poses would otherwise leave stale tables next to the new ones).
-pub fn refuse_foreign_files(out: &Path, names: &[&str]) -> Result<(), CompensateError> {
-    let Ok(entries) = std::fs::read_dir(out) else { return Ok(()) };
-    let mut foreign: Vec<String> = entries
-        .filter_map(|e| e.ok())
-        .map(|e| e.file_name().to_string_lossy().into_owned())
-        .filter(|n| !names.contains(&n.as_str()))
-        .collect();
-    if foreign.is_empty() {
-        return Ok(());
-    }
-    foreign.sort();
-    Err(CompensateError::Input(format!(
-        "{}: the output directory holds files this run does not write ({}); use an empty or new directory so that tables of \
-         different runs do not mix; nothing was written",
-        out.display(),
-        foreign.join(" ")
-    )))
 }
 
 /// The inputs of every pose (the model's sensors per pose: degC, rpm, N, mm): a sensor's column

@@ -4,10 +4,13 @@
 pub mod checks;
 mod columns;
 mod output;
+mod output_set;
 mod poses;
+pub mod temporaries;
 
 pub use columns::{CsvTable, Layout};
-pub use output::{predictions_csv, predictions_json, write_atomically, PREDICTION_COLUMNS};
+pub use output::{predictions_csv, predictions_json, PREDICTION_COLUMNS};
+pub use output_set::{write_atomically, OutputSet};
 pub use poses::{poses_of, read_poses, read_poses_from, PoseTable};
 
 use thiserror::Error;
@@ -22,6 +25,9 @@ pub enum DataError {
     Invalid { origin: String, message: String },
     #[error("{message}")]
     NotFinite { message: String },
+    /// An output of an [`OutputSet`] of several failed before any was written.
+    #[error("{0}; nothing was written")]
+    NothingWritten(Box<DataError>),
 }
 
 impl From<crate::io::IoError> for DataError {

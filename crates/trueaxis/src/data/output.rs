@@ -1,10 +1,8 @@
-//! Prediction tables (the `predict` contract of DESIGN.md section 4) and atomic writes.
+//! Prediction tables (the `predict` contract of DESIGN.md section 4).
 
 use super::DataError;
 use crate::machine::Machine;
 use crate::model::VolumetricError;
-use std::io::Write;
-use std::path::Path;
 
 /// Error columns of `trueaxis predict`, with their units.
 pub const PREDICTION_COLUMNS: [(&str, &str); 7] =
@@ -66,42 +64,4 @@ pub fn predictions_json(
         })
         .collect();
     Ok(serde_json::json!({ "machine": machine.name, "frame": frame, "units": units, "poses": poses }))
-}
-
-/// Writes `contents` to `path` through a temporary file in the same directory and a rename, so
-/// that a reader never sees a partial file. A new file gets the usual mode `0666 & !umask` (the
-/// temporary file is created with it, the system applying the umask); a file that is replaced keeps
-/// its mode.
-pub fn write_atomically(path: &Path, contents: &[u8]) -> Result<(), DataError> {
-    let err = |source: std::io::Error| DataError::Write { path: path.display().to_string(), source: without_temporary_path(source) };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d,
-        _ => Path::new("."),
-    };
-    let mut builder = tempfile::Builder::new();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    let mut tmp = builder.tempfile_in(dir).map_err(err)?;
-    if let Ok(existing) = std::fs::metadata(path) {
-        if existing.is_file() {
-            tmp.as_file().set_permissions(existing.permissions()).map_err(err)?;
-        }
-    }
-    tmp.write_all(contents).map_err(err)?;
-    tmp.as_file().sync_all().map_err(err)?;
-    tmp.persist(path).map_err(|e| err(e.error))?;
-    Ok(())
-}
-
-/// The system error without the name of the temporary file that `tempfile` appends to it (`... at
-/// path "/dir/.tmpXXXX"`): the user asked for `path`, which the message names already.
-fn without_temporary_path(e: std::io::Error) -> std::io::Error {
-    let text = e.to_string();
-    match text.rfind(" at path \"") {
-        Some(i) if e.raw_os_error().is_none() => std::io::Error::new(e.kind(), text[..i].to_string()),
-        _ => e,
-    }
 }

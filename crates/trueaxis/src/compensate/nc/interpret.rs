@@ -19,6 +19,12 @@ use crate::machine::Machine;
 /// Most blocks one run may execute (a guard against endless loops).
 pub const MAX_STEPS: usize = 20_000_000;
 
+/// Deepest nesting of subroutine and subprogram calls: LinuxCNC's `INTERP_SUB_ROUTINE_LEVELS`
+/// (10, `src/emc/rs274ngc/interp_internal.hh`), and the 10 levels of `M98` nesting of Fanuc
+/// controls. Deeper nesting is refused as both controllers refuse it; without the bound a program
+/// that calls itself ran until `MAX_STEPS` (found by the `nc_fanuc` fuzz target).
+pub const MAX_CALL_LEVELS: usize = 10;
+
 /// What happens after a line.
 pub(super) enum Flow {
     Next,
@@ -154,6 +160,9 @@ pub fn run(machine: &Machine, mut program: Program, setup: &ProgramSetup) -> Res
             Flow::Next => pc.1 += 1,
             Flow::Jump(k) => pc.1 = k,
             Flow::End => ended = true,
+            Flow::Call(..) | Flow::CallProgram { .. } if exec.calls.len() >= MAX_CALL_LEVELS => {
+                return Err(at(format!("more than {MAX_CALL_LEVELS} nested subroutine calls (a call of itself?)"), &program));
+            }
             Flow::Call(label, args) => {
                 let (f, start, _) = program.find_sub(&label).map_err(|m| at(m, &program))?;
                 exec.enter(pc, (f, start + 1), 0, true, &args);

@@ -33,8 +33,12 @@ impl ToolTable {
             let mut tool = Tool { number: 0, offset: [0.0; 9], diameter: 0.0 };
             let mut has_number = false;
             for field in line.split_whitespace() {
-                let letter = field.as_bytes()[0].to_ascii_uppercase();
-                let value: f64 = field[1..]
+                // the letter, then the number (a field that starts with any other character,
+                // multi-byte ones included, is refused below)
+                let mut chars = field.chars();
+                let letter = chars.next().filter(char::is_ascii).map_or(b'?', |c| c.to_ascii_uppercase() as u8);
+                let value: f64 = chars
+                    .as_str()
                     .parse()
                     .ok()
                     .filter(|v: &f64| v.is_finite())
@@ -95,5 +99,8 @@ mod tests {
         assert!(ToolTable::parse("T1 Zx\n", "t").unwrap_err().contains("t: line 1"));
         assert!(ToolTable::parse("P1 Z1\n", "t").unwrap_err().contains("no tool number"));
         assert!(ToolTable::parse("T1\nT1\n", "t").unwrap_err().contains("twice"));
+        // a field that starts with a multi-byte character: once a panic, found by fuzzing
+        let e = ToolTable::parse("T1 Z1\n\u{ff}T1\n", "t").unwrap_err();
+        assert_eq!(e, "t: line 2: `\u{ff}T1` is not a letter and a number");
     }
 }
