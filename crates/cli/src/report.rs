@@ -16,8 +16,8 @@ use trueaxis::thermal::{LanczosProgress, DEFAULT_SHARE};
 use trueaxis::uncertainty::Sources;
 use trueaxis_report::calibration::CertificateFile;
 use trueaxis_report::calibration::{
-    CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, IdentificationPart, InputFile, ThermalDriftPart,
-    ThermalModesPart, Traceability, UncertaintyPart, VolumePart, CONTROLLER_FORMATS, GRID_NODES, POINTS,
+    CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, IdentificationPart, InputFile, PositioningPart,
+    ThermalDriftPart, ThermalModesPart, Traceability, UncertaintyPart, VolumePart, CONTROLLER_FORMATS, GRID_NODES, POINTS,
 };
 
 /// A calibration report (HTML with inline figures, no network access; and the same as a PDF with
@@ -36,11 +36,13 @@ trueaxis report --machine examples/machines/vmc3.toml --errors examples/errors/v
 --ballbar examples/ballbar/vmc3_xy.csv --ballbar-radius 100 --ballbar-centre 0,0,-200 --out vmc3-report.html\n\n\
   trueaxis report --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      \
 --ballbar examples/ballbar/export_xy.txt --ballbar-radius 100 --ballbar-centre 0,0,-200 \\\n      \
---certificate examples/report/vmc3.toml --controller heidenhain --out vmc3.html --pdf vmc3.pdf\n\n\
+--certificate examples/report/vmc3.toml --controller heidenhain --out vmc3.html --pdf vmc3.pdf\n  \
+trueaxis report --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      \
+--positioning examples/data/laser_x.rtl --certificate examples/report/vmc3_laser.toml --out x.html\n\n\
 Sections: certificate (always; particulars from --certificate and the files); conformity (tolerances\n\
 in --certificate); machine (always); campaign and identification (--campaign); uncertainty budget\n\
 (--sources); volumetric and compensation (--errors, or the values identified from --campaign);\n\
-ballbar (--ballbar); thermal modes (--thermal-model); thermal drift vs prediction (--thermal-error\n\
+positioning (--positioning, ISO 230-2 with its uncertainty); ballbar (--ballbar); thermal modes (--thermal-model); thermal drift vs prediction (--thermal-error\n\
 with --thermal-data); inputs (always). Each part is computed as the command that does it alone:\n\
 identify, uncertainty, ballbar iso230-4, predict --frame machine, compensate. The --ballbar-plane,\n\
 --ballbar-radius and --ballbar-centre options are given once for all circles or once per --ballbar,\n\
@@ -68,6 +70,10 @@ pub struct ReportArgs {
     /// An ISO 230-4 circle (CSV as `ballbar iso230-4` reads it); repeatable.
     #[arg(long = "ballbar")]
     ballbar: Vec<PathBuf>,
+    /// An ISO 230-2 positioning test (a table as `iso230-2` reads it, or a Renishaw `.rtl`);
+    /// repeatable.
+    #[arg(long = "positioning", value_name = "FILE")]
+    positioning: Vec<PathBuf>,
     /// Plane of the circles: xy, yz or zx (default xy).
     #[arg(long, value_parser = parse_plane)]
     ballbar_plane: Vec<Plane>,
@@ -179,6 +185,9 @@ fn input_files(args: &ReportArgs, identification: Option<&IdentificationPart>) -
     if let Some(c) = &args.certificate {
         files.push(("certificate particulars and tolerances", c.clone()));
     }
+    for p in &args.positioning {
+        files.push(("positioning test", p.clone()));
+    }
     for c in &args.ballbar {
         files.push(("ballbar circle", c.clone()));
     }
@@ -277,6 +286,9 @@ fn build<'a>(
         };
         uncertainty = Some(UncertaintyPart::evaluate(id, sources, &origin, args.point_time, &mut progress).map_err(failure)?);
     }
+    bar.set_message("positioning tests");
+    let positioning =
+        args.positioning.iter().map(|p| PositioningPart::evaluate(p, &certificate)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
     bar.set_message("ballbar circles");
     let mut circles =
         circle_inputs.into_iter().map(|c| CirclePart::evaluate(machine, c)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
@@ -335,6 +347,7 @@ fn build<'a>(
         thermal_modes,
         thermal_drift,
         circles,
+        positioning,
         compensation: Some(compensation),
         controller,
         extra: Vec::new(),
@@ -415,6 +428,24 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
                    "feed_mm_per_min": c.feed_mm_per_min, "diagnostics": diagnostics})
         })
         .collect();
+    let positioning: Vec<_> = report
+        .positioning
+        .iter()
+        .map(|p| {
+            let results: serde_json::Map<String, serde_json::Value> = p
+                .test
+                .result
+                .axis_table()
+                .iter()
+                .map(|(symbol, _, value)| (symbol.to_string(), json!({"value": value, "expanded_uncertainty": p.uncertainty.of(symbol)})))
+                .collect();
+            let budget: serde_json::Map<String, serde_json::Value> =
+                p.uncertainty.budget.iter().map(|c| (c.name.to_string(), json!(c.standard_uncertainty))).collect();
+            json!({"file": p.path.display().to_string(), "axis": p.axis(), "unit": p.test.result.unit, "coverage_factor": 2,
+                   "length": p.uncertainty.length, "results": results, "budget": budget,
+                   "temperature_correction": p.test.temperature_correction})
+        })
+        .collect();
     let inputs: Vec<_> = report
         .traceability
         .inputs
@@ -434,7 +465,7 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
         "out": out.display().to_string(), "bytes": bytes, "pdf": pdf.map(|p| p.display().to_string()), "sections": sections, "inputs": inputs,
         "conformity": conformity, "decision_rule": report.certificate.decision.rule.name(),
         "controller": report.controller.as_ref().map(|c| json!({"format": c.format, "worst_um": c.residual.worst_um, "rms_um": c.residual.rms_um, "left_out": c.left_out})),
-        "parameters": parameters, "volumetric": volumetric, "ballbar": ballbar,
+        "parameters": parameters, "volumetric": volumetric, "positioning": positioning, "ballbar": ballbar,
         "thermal_modes": thermal_modes, "thermal_drift": thermal_drift,
         "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.extent.max_um, "max_correction_urad": c.extent.max_urad})),
     })

@@ -278,7 +278,13 @@ fn demo_report_reads_well_in_the_browser_and_as_a_pdf() {
 #[test]
 fn imported_files_give_a_certificate_with_values_rounded_by_u_and_equal_to_the_json() {
     let dir = tempfile::tempdir().unwrap();
-    let s = imported_report(dir.path(), &root().join("examples/report/vmc3.toml"), &["--controller", "heidenhain"]);
+    // a ballbar export and a Renishaw laser file (ISO 230-2, with its uncertainty): both sections printed
+    let rtl = root().join("examples/data/laser_x.rtl");
+    let s = imported_report(
+        dir.path(),
+        &root().join("examples/report/vmc3.toml"),
+        &["--controller", "heidenhain", "--positioning", rtl.to_str().unwrap()],
+    );
     let html = std::fs::read_to_string(dir.path().join("vmc3.html")).unwrap();
     let text = text_of(&html);
     // the particulars: from report.toml and from the export's header (serial, date, operator)
@@ -317,6 +323,15 @@ fn imported_files_give_a_certificate_with_values_rounded_by_u_and_equal_to_the_j
                 .iter()
                 .any(|(shown, su, unit)| unit == d["unit"].as_str().unwrap() && rounds_to(v, *shown, uu) && rounds_to(uu, *su, uu)),
             "{name}: {v} ± {uu}"
+        );
+    }
+    // every ISO 230-2 result shown as value ± U (um), equal to the JSON, rounded by U
+    let positioning = &s["positioning"][0]["results"];
+    for symbol in ["A", "A+", "A-", "R", "R+", "R-", "E", "E+", "E-", "M", "B"] {
+        let (v, uu) = (positioning[symbol]["value"].as_f64().unwrap(), positioning[symbol]["expanded_uncertainty"].as_f64().unwrap());
+        assert!(
+            values.iter().any(|(shown, su, unit)| unit == "um" && rounds_to(v, *shown, uu) && rounds_to(uu, *su, uu)),
+            "ISO 230-2 {symbol}: {v} ± {uu} um not shown"
         );
     }
     // after compensation with Heidenhain tables: less than before, not zero (the vmc3 errors have

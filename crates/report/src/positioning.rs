@@ -1,6 +1,7 @@
 //! Plot of a bidirectional positioning test (ISO 230-2): every reading against its target, the
 //! mean lines of both directions and their bands `mean ± 2s`, as SVG.
 
+use super::style::{self, Swatch, WIDTH};
 use super::ReportError;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -28,12 +29,10 @@ pub struct PositioningPlot<'a> {
     pub subtitle: &'a str,
 }
 
-const WIDTH: u32 = 960;
-const HEIGHT: u32 = 580;
-const PLUS_COLOUR: RGBColor = RGBColor(31, 97, 181);
-const MINUS_COLOUR: RGBColor = RGBColor(204, 60, 40);
+const HEIGHT: u32 = 640;
 
-/// Draws the readings (`+` runs as blue circles, `-` runs as red triangles), the mean lines
+/// Draws the readings (`+` runs as blue circles, `-` runs as vermillion triangles; Okabe-Ito
+/// colours, fonts and legend strip of [`super::style`], printable at 10 pt), the mean lines
 /// `x̄↑` and `x̄↓` and the bands `x̄ ± 2s` of each direction (shaded, with edge lines).
 /// Refuses non-finite values rather than writing NaN.
 pub fn positioning_svg(plot: &PositioningPlot) -> Result<String, ReportError> {
@@ -54,8 +53,8 @@ pub fn positioning_svg(plot: &PositioningPlot) -> Result<String, ReportError> {
     let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| (a.min(y), b.max(y)));
     let xpad = 0.03 * (x1 - x0).max(1.0);
     let ypad = 0.08 * (y1 - y0).max(1e-3);
-    // Room at the top for the legend.
-    let (x0, x1, y0, y1) = (x0 - xpad, x1 + xpad, y0 - ypad, y1 + 4.0 * ypad);
+    // the legend sits in a strip above the plot, off the data
+    let (x0, x1, y0, y1) = (x0 - xpad, x1 + xpad, y0 - ypad, y1 + ypad);
 
     let mut svg = String::new();
     draw(&mut svg, plot, &positions, (x0, x1, y0, y1)).map_err(ReportError::Draw)?;
@@ -74,73 +73,60 @@ fn draw(
 ) -> Result<(), String> {
     let root = SVGBackend::with_string(svg, (WIDTH, HEIGHT)).into_drawing_area();
     root.fill(&WHITE).map_err(text)?;
-    let (head, body) = root.split_vertically(56);
+    let head_height = if plot.subtitle.is_empty() { 44 } else { 74 };
+    let (head, rest) = root.split_vertically(head_height);
+    let (strip, body) = rest.split_vertically(style::LEGEND_HEIGHT);
     let mid = WIDTH as i32 / 2;
-    head.draw(&Text::new(plot.title, (mid, 12), TextStyle::from(("sans-serif", 18).into_font()).pos(Pos::new(HPos::Center, VPos::Top))))
+    head.draw(&Text::new(plot.title, (mid, 8), TextStyle::from(style::bold(style::TITLE)).pos(Pos::new(HPos::Center, VPos::Top))))
         .map_err(text)?;
     if !plot.subtitle.is_empty() {
-        head.draw(&Text::new(
-            plot.subtitle,
-            (mid, 36),
-            TextStyle::from(("sans-serif", 13).into_font()).pos(Pos::new(HPos::Center, VPos::Top)),
-        ))
-        .map_err(text)?;
+        head.draw(&Text::new(plot.subtitle, (mid, 42), TextStyle::from(style::font(style::TICK)).pos(Pos::new(HPos::Center, VPos::Top))))
+            .map_err(text)?;
     }
+    let (plus_colour, minus_colour) = (style::colour(0), style::colour(1));
+    style::legend(
+        &strip,
+        &[
+            ("+ readings".to_string(), Swatch::Dot(plus_colour)),
+            ("- readings".to_string(), Swatch::Dot(minus_colour)),
+            ("+ mean ± 2s".to_string(), Swatch::Band(plus_colour)),
+            ("- mean ± 2s".to_string(), Swatch::Band(minus_colour)),
+        ],
+    )?;
     let mut chart = ChartBuilder::on(&body)
-        .margin(15)
-        .margin_top(4)
-        .x_label_area_size(45)
-        .y_label_area_size(65)
+        .margin(16)
+        .margin_top(6)
+        .x_label_area_size(70)
+        .y_label_area_size(100)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(text)?;
     chart
         .configure_mesh()
         .x_desc(plot.x_label)
         .y_desc(plot.y_label)
-        .label_style(("sans-serif", 12))
+        .x_labels(8)
+        .y_labels(8)
+        .label_style(style::font(style::TICK))
+        .axis_desc_style(style::font(style::LABEL))
         .light_line_style(WHITE.mix(0.0))
+        .bold_line_style(style::LIGHT)
         .draw()
         .map_err(text)?;
 
     type Pick = fn(&PositionBand) -> (f64, f64);
-    let directions: [(&str, RGBColor, Pick); 2] =
-        [("+", PLUS_COLOUR, |p| (p.mean_plus, p.s_plus)), ("-", MINUS_COLOUR, |p| (p.mean_minus, p.s_minus))];
-    for (name, colour, pick) in directions {
+    let directions: [(RGBColor, Pick); 2] = [(plus_colour, |p| (p.mean_plus, p.s_plus)), (minus_colour, |p| (p.mean_minus, p.s_minus))];
+    for (colour, pick) in directions {
         let upper: Vec<(f64, f64)> = positions.iter().map(|p| (p.target, pick(p).0 + 2.0 * pick(p).1)).collect();
         let lower: Vec<(f64, f64)> = positions.iter().map(|p| (p.target, pick(p).0 - 2.0 * pick(p).1)).collect();
         let outline: Vec<(f64, f64)> = upper.iter().copied().chain(lower.iter().rev().copied()).collect();
-        chart
-            .draw_series(std::iter::once(Polygon::new(outline, colour.mix(0.12).filled())))
-            .map_err(text)?
-            .label(format!("{name} direction: mean ± 2s"))
-            .legend(move |(x, y)| Rectangle::new([(x, y - 4), (x + 18, y + 4)], colour.mix(0.25).filled()));
+        chart.draw_series(std::iter::once(Polygon::new(outline, colour.mix(0.15).filled()))).map_err(text)?;
         for edge in [upper, lower] {
-            chart.draw_series(DashedLineSeries::new(edge, 4, 3, colour.mix(0.7).stroke_width(1))).map_err(text)?;
+            chart.draw_series(DashedLineSeries::new(edge, 6, 4, colour.mix(0.8).stroke_width(2))).map_err(text)?;
         }
-        chart
-            .draw_series(LineSeries::new(positions.iter().map(|p| (p.target, pick(p).0)), colour.stroke_width(2)))
-            .map_err(text)?
-            .label(format!("{name} direction: mean deviation"))
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
+        chart.draw_series(LineSeries::new(positions.iter().map(|p| (p.target, pick(p).0)), colour.stroke_width(3))).map_err(text)?;
     }
-    chart
-        .draw_series(plot.plus.iter().map(|p| Circle::new(*p, 3, PLUS_COLOUR.filled())))
-        .map_err(text)?
-        .label("+ direction: readings")
-        .legend(|(x, y)| Circle::new((x + 9, y), 3, PLUS_COLOUR.filled()));
-    chart
-        .draw_series(plot.minus.iter().map(|p| TriangleMarker::new(*p, 4, MINUS_COLOUR.filled())))
-        .map_err(text)?
-        .label("- direction: readings")
-        .legend(|(x, y)| TriangleMarker::new((x + 9, y), 4, MINUS_COLOUR.filled()));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperLeft)
-        .border_style(BLACK)
-        .background_style(WHITE.mix(0.85))
-        .label_font(("sans-serif", 12))
-        .draw()
-        .map_err(text)?;
+    chart.draw_series(plot.plus.iter().map(|p| Circle::new(*p, 4, plus_colour.filled()))).map_err(text)?;
+    chart.draw_series(plot.minus.iter().map(|p| TriangleMarker::new(*p, 5, minus_colour.filled()))).map_err(text)?;
     root.present().map_err(text)?;
     Ok(())
 }
@@ -166,7 +152,7 @@ pub fn iso230_2_svg(result: &Iso2302Result, data: &PositioningData, title: &str)
         minus: &points(Direction::Minus),
         positions: &bands,
         subtitle: &format!(
-            "A = {:.3} {u}, R = {:.3} {u}, E = {:.3} {u}, M = {:.3} {u}, B = {:.3} {u} (ISO 230-2:2014, coverage factor 2)",
+            "A = {:.3} {u}, R = {:.3} {u}, E = {:.3} {u}, M = {:.3} {u}, B = {:.3} {u}",
             result.a, result.r, result.e, result.m, result.b
         ),
     })

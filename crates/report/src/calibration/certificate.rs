@@ -36,9 +36,11 @@
 use super::super::html::Section;
 use super::conformity::DecisionRule;
 use super::inputs::InputFile;
+use super::positioning::POSITIONING_RESULTS;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
+use trueaxis::evaluate::positioning_uncertainty::PositioningUncertaintyInputs;
 use trueaxis::io::Metadata;
 
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
@@ -56,6 +58,8 @@ pub struct CertificateFile {
     pub decision: Decision,
     #[serde(default)]
     pub tolerances: Tolerances,
+    #[serde(default)]
+    pub positioning: PositioningSettings,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
@@ -101,6 +105,27 @@ pub struct Instrument {
     pub used_for: Option<String>,
     /// Expanded uncertainty (k = 2) of a reading, um, from its certificate.
     pub expanded_uncertainty_um: Option<f64>,
+    /// The length-proportional part of a length instrument's expanded uncertainty (k = 2), um per
+    /// metre measured (`U = expanded_uncertainty_um + expanded_uncertainty_um_per_m L`; a laser).
+    pub expanded_uncertainty_um_per_m: Option<f64>,
+    /// Expanded uncertainty (k = 2) of a temperature reading, K (a thermometer).
+    pub expanded_uncertainty_k: Option<f64>,
+}
+
+/// What the uncertainty of a positioning test needs beyond the instruments (`[positioning]` of
+/// report.toml; ISO 230-2 Annex A).
+#[derive(Clone, Debug, Default, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct PositioningSettings {
+    /// Half-width of the uncertainty of the machine's expansion coefficient, percent of it
+    /// (default 10).
+    pub expansion_uncertainty_percent: Option<f64>,
+    /// Expansion coefficient of the machine's scale, um/m/K, when the files do not record it.
+    pub expansion_um_per_m_k: Option<f64>,
+    /// Largest cosine error of the beam's alignment over the measured length, um.
+    pub misalignment_um: Option<f64>,
+    /// Environmental variation error from the drift check of ISO 230-2, um.
+    pub eve_um: Option<f64>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
@@ -131,18 +156,48 @@ pub struct Tolerances {
     /// Identified parameters by ISO name, um or urad.
     #[serde(default)]
     pub parameters: BTreeMap<String, f64>,
+    /// ISO 230-2 results (`A`, `E`, `M`, `R`, `B`, and `A+` ...) of every positioning test, um
+    /// (urad for a rotary axis).
+    #[serde(default)]
+    pub positioning: BTreeMap<String, f64>,
 }
 
 impl Tolerances {
     pub fn is_empty(&self) -> bool {
-        self.volumetric_um.is_none() && self.ballbar.is_empty() && self.parameters.is_empty()
+        self.volumetric_um.is_none() && self.ballbar.is_empty() && self.parameters.is_empty() && self.positioning.is_empty()
     }
 }
 
 impl CertificateFile {
     /// The expanded uncertainty (k = 2, um) of the readings of the instrument used for `test`.
     pub fn reading_uncertainty_um(&self, test: &str) -> Option<f64> {
-        self.instruments.iter().find(|i| i.used_for.as_deref() == Some(test)).and_then(|i| i.expanded_uncertainty_um)
+        self.instrument_for(test).and_then(|i| i.expanded_uncertainty_um)
+    }
+
+    /// The instrument used for `test` (`ballbar`, `laser`, `thermometer`).
+    pub fn instrument_for(&self, test: &str) -> Option<&Instrument> {
+        self.instruments.iter().find(|i| i.used_for.as_deref() == Some(test))
+    }
+
+    /// What the uncertainty of a positioning test is estimated from: the laser's and the
+    /// thermometer's certificates (`used_for = "laser"`, `"thermometer"`), `[positioning]`, and the
+    /// machine temperature and expansion coefficient the file records (else `[environment]`'s
+    /// machine temperature and `[positioning]`'s coefficient).
+    pub fn positioning_inputs(&self, recorded: &trueaxis::io::Environment) -> PositioningUncertaintyInputs {
+        let laser = self.instrument_for("laser");
+        let p = &self.positioning;
+        let temperature =
+            recorded.material_temperature_degc().or_else(|| self.environment.machine_temperature_degc.map(|[lo, hi]| (lo + hi) / 2.0));
+        PositioningUncertaintyInputs {
+            device_um: laser.and_then(|l| l.expanded_uncertainty_um).unwrap_or(0.0),
+            device_um_per_m: laser.and_then(|l| l.expanded_uncertainty_um_per_m).unwrap_or(0.0),
+            temperature_k: self.instrument_for("thermometer").and_then(|t| t.expanded_uncertainty_k).unwrap_or(0.0),
+            expansion_um_per_m_k: recorded.expansion_coefficient_um_per_m_k.or(p.expansion_um_per_m_k).unwrap_or(0.0),
+            expansion_fraction: p.expansion_uncertainty_percent.unwrap_or(10.0) / 100.0,
+            temperature_offset_k: temperature.map_or(0.0, |t| t - 20.0),
+            misalignment_um: p.misalignment_um.unwrap_or(0.0),
+            eve_um: p.eve_um.unwrap_or(0.0),
+        }
     }
 
     /// Reads and checks `report.toml`; errors name the file.
@@ -160,15 +215,39 @@ impl CertificateFile {
             .iter()
             .map(|v| ("volumetric_um".to_string(), *v))
             .chain(t.ballbar.iter().map(|(k, v)| (format!("ballbar.{k}"), *v)))
-            .chain(t.parameters.iter().map(|(k, v)| (format!("parameters.{k}"), *v)));
+            .chain(t.parameters.iter().map(|(k, v)| (format!("parameters.{k}"), *v)))
+            .chain(t.positioning.iter().map(|(k, v)| (format!("positioning.{k}"), *v)));
         for (name, v) in all {
             if !(v.is_finite() && v > 0.0) {
                 return Err(format!("{origin}: tolerances.{name} must be a positive number, got {v}"));
             }
         }
+        if let Some(k) = t.positioning.keys().find(|k| !POSITIONING_RESULTS.contains(&k.as_str())) {
+            return Err(format!(
+                "{origin}: tolerances.positioning.{k}: not an ISO 230-2 result; give one of {}",
+                POSITIONING_RESULTS.join(", ")
+            ));
+        }
         for i in &file.instruments {
-            if let Some(u) = i.expanded_uncertainty_um.filter(|u| !(u.is_finite() && *u > 0.0)) {
-                return Err(format!("{origin}: instrument `{}`: expanded_uncertainty_um must be a positive number of um, got {u}", i.name));
+            for (name, v) in [
+                ("expanded_uncertainty_um", i.expanded_uncertainty_um),
+                ("expanded_uncertainty_um_per_m", i.expanded_uncertainty_um_per_m),
+                ("expanded_uncertainty_k", i.expanded_uncertainty_k),
+            ] {
+                if let Some(u) = v.filter(|u| !(u.is_finite() && *u >= 0.0 && *u < 1e3)) {
+                    return Err(format!("{origin}: instrument `{}`: {name} must be a number from 0 to 1000, got {u}", i.name));
+                }
+            }
+        }
+        let p = &file.positioning;
+        for (name, v, hi) in [
+            ("expansion_uncertainty_percent", p.expansion_uncertainty_percent, 100.0),
+            ("expansion_um_per_m_k", p.expansion_um_per_m_k, 100.0),
+            ("misalignment_um", p.misalignment_um, 1e3),
+            ("eve_um", p.eve_um, 1e3),
+        ] {
+            if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0 && *v <= hi)) {
+                return Err(format!("{origin}: positioning.{name} must be a number from 0 to {hi}, got {v}"));
             }
         }
         for (name, range) in [

@@ -12,6 +12,7 @@
 //! | error values (or the identified ones) | `volumetric` (maps before / after), `compensation` |
 //! | thermal conduction model | `thermal-modes` (time constants, weights, mode shapes; [`ThermalModesPart`]) |
 //! | thermal error model and a campaign | `thermal-drift` (drift vs prediction per run; [`ThermalDriftPart`]) |
+//! | ISO 230-2 positioning tests | `positioning` (A, R, E, M, B with U and its budget, plots) |
 //! | ballbar circles | `ballbar` (polar plots, ISO 230-4 values, diagnostics) |
 //! | always | `inputs` (files with size and SHA-256, date, version) |
 //!
@@ -24,6 +25,7 @@ pub mod conformity;
 mod identification;
 mod inputs;
 mod maps;
+mod positioning;
 pub mod quantity;
 mod thermal;
 mod uncertainty;
@@ -36,6 +38,7 @@ pub use conformity::{decide, DecisionRule, Item};
 pub use identification::{IdentificationPart, ParameterRow, UncertaintyMethod};
 pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
 pub use maps::{magnitudes_um, statistics, VolumeMap, GRID};
+pub use positioning::{section as positioning_section, PositioningPart, POSITIONING_RESULTS};
 pub use thermal::{ThermalDriftPart, ThermalModesPart};
 pub use uncertainty::UncertaintyPart;
 pub use volume::{error_at_setpoints, VolumePart};
@@ -108,6 +111,8 @@ pub struct CalibrationReport<'a> {
     /// A thermal error model against a measured campaign.
     pub thermal_drift: Option<ThermalDriftPart>,
     pub circles: Vec<CirclePart>,
+    /// ISO 230-2 positioning tests.
+    pub positioning: Vec<PositioningPart>,
     pub compensation: Option<CompensationPart>,
     /// What the controller format the user chose leaves over the travel.
     pub controller: Option<ControllerPart>,
@@ -131,6 +136,9 @@ impl CalibrationReport<'_> {
                 "Measurement uncertainty by the adaptive Monte Carlo method, JCGM 101:2008 and JCGM 102:2011 (GUM supplements 1 and 2)"
                     .to_string(),
             );
+        }
+        if !self.positioning.is_empty() {
+            m.push("Positioning accuracy and repeatability of numerically controlled axes, ISO 230-2:2014, with the measurement uncertainty of its Annex A".to_string());
         }
         if !self.circles.is_empty() {
             m.push("Circular tests with a ballbar, ISO 230-4:2005".to_string());
@@ -161,6 +169,9 @@ impl CalibrationReport<'_> {
                     items.push(Item::new(format!("identified {}", p.name), "identification", p.value, p.expanded, tol, &p.unit, rule));
                 }
             }
+        }
+        for p in &self.positioning {
+            items.extend(p.conformity(&t.positioning, rule));
         }
         for c in &self.circles {
             items.extend(c.conformity(&t.ballbar, rule));
@@ -205,6 +216,9 @@ impl CalibrationReport<'_> {
         }
         out.extend(self.thermal_modes.iter().map(ThermalModesPart::section));
         out.extend(self.thermal_drift.iter().map(ThermalDriftPart::section));
+        if !self.positioning.is_empty() {
+            out.push(positioning_section(&self.positioning));
+        }
         if !self.circles.is_empty() {
             out.push(ballbar_section(&self.circles));
         }

@@ -231,6 +231,7 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
         thermal_modes: None,
         thermal_drift: None,
         circles: vec![circle],
+        positioning: Vec::new(),
         compensation: Some(compensation),
         controller: Some(controller),
         extra,
