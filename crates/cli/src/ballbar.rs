@@ -20,8 +20,8 @@ use trueaxis::machine::{Component, Machine};
 use trueaxis::uncertainty::{trial_rng, Distribution};
 use trueaxis_report::{circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
 
-/// Ballbar tests: simulated readings, the PIGEs of two rotary axes (seed 001), ISO 230-4 circular
-/// tests with diagnostics, the two-length rotary-table test (seed 002 ch. 5).
+/// Ballbar tests: simulated readings, the PIGEs of two rotary axes (Jiang (2014)), ISO 230-4 circular
+/// tests with diagnostics, the two-length rotary-table test (Zhu (2008)).
 #[derive(clap::Args)]
 #[command(after_help = "Examples (see `trueaxis ballbar <command> --help`):\n  \
 trueaxis ballbar iso230-4 examples/ballbar/vmc3_xy.csv --machine examples/machines/vmc3.toml --radius 100 --centre 0,0,-200\n  \
@@ -56,7 +56,7 @@ pub fn run(args: BallbarArgs) -> Result<(), Failure> {
     }
 }
 
-/// Bar lengths of the 5-axis tests (seed 001 Table 3.1 defaults).
+/// Bar lengths of the 5-axis tests (the defaults of Jiang (2014)).
 #[derive(clap::Args, Clone, Copy)]
 struct BarArgs {
     /// Normal bar length R (mm).
@@ -75,18 +75,18 @@ impl BarArgs {
 
 #[derive(Clone, Copy, clap::ValueEnum, PartialEq)]
 enum MethodKind {
-    /// seed 001 ch. 5: one pivot setup, normal and extended bar on each axis.
+    /// Jiang (2014), extended bar: one pivot setup, normal and extended bar on each axis.
     ExtendedBar,
-    /// seed 001 ch. 4: as ch. 5 with the outer-axis pivot moved along the outer axis (--outer-offset).
+    /// Jiang (2014), two pivots: as the extended-bar method with the outer-axis pivot moved along the outer axis (--outer-offset).
     TwoPivot,
-    /// seed 001 ch. 6 (Lee & Yang): normal bar only, each axis at two positions (--outer-positions, --inner-positions).
+    /// Lee & Yang, as in Jiang (2014): normal bar only, each axis at two positions (--outer-positions, --inner-positions).
     FourSetup,
 }
 
 /// The method of the four rotary-axis steps and its geometry.
 #[derive(clap::Args, Clone, Copy)]
 struct MethodArgs {
-    /// Which four steps: A1 A2 (outer axis) and C1 C2 (inner axis) of seed 001 ch. 5, 4 or 6.
+    /// Which four steps: A1 A2 (outer axis) and C1 C2 (inner axis) of the method of Jiang (2014).
     #[arg(long, value_enum, default_value = "extended-bar")]
     method: MethodKind,
     /// two-pivot: both balls of the outer-axis steps moved this far along the outer axis (mm).
@@ -124,7 +124,7 @@ enum DirArg {
     Both,
 }
 
-/// Simulated bar readings on the exact kinematic chain: a step of the seed 001 5-axis test (A1 A2
+/// Simulated bar readings on the exact kinematic chain: a step of the 5-axis test of Jiang (2014) (A1 A2
 /// C1 C2 on the machine's two rotary axes: table, head or one of each) or an ISO 230-4 circle.
 #[derive(clap::Args)]
 #[command(
@@ -288,7 +288,7 @@ fn print(text: &str) -> Result<(), Failure> {
     }
 }
 
-/// The 8 PIGEs of the two rotary axes from the four steps of seed 001 (ch. 5 one pivot setup by
+/// The 8 PIGEs of the two rotary axes from the four steps of Jiang (2014) (one pivot setup by
 /// default, ch. 4 two pivots, ch. 6 four setups): algebraic circle fits, the axis lines, the
 /// start-angle correction (Eq. 4.1), repeatability over runs, and the simulated compensation residual.
 #[derive(clap::Args)]
@@ -326,7 +326,7 @@ pub struct IdentifyArgs {
     pivot_offset_c: Option<[f64; 2]>,
     /// Expected noise of the bar readings (um, standard deviation): a step whose compensation
     /// residual RMS exceeds 3 times it is reported with a warning. Default: 1 um, the accuracy of a
-    /// QC20-W (seed 001 Table 4.1).
+    /// QC20-W (Jiang (2014)).
     #[arg(long, default_value_t = 1.0)]
     noise: f64,
     /// Write polar plots (raw vs compensated) of the four steps into this directory.
@@ -410,9 +410,8 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     let repeated = report.repeated();
     let single_u = &report.single_u;
     let mut out = format!(
-        "PIGEs of {} (seed 001 ch. {}, {} method, {} run(s)); D = {:.3} mm\n",
+        "PIGEs of {} (Jiang (2014), {} method, {} run(s)); D = {:.3} mm\n",
         m.name,
-        method.chapter(),
         method.name(),
         report.runs.len(),
         bars.extended_offset()
@@ -534,12 +533,12 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
     print(&out)
 }
 
-/// Two-length telescopic ballbar test of a rotary table (seed 002 ch. 5): the tilts E_x, E_y and
+/// Two-length telescopic ballbar test of a rotary table (Zhu (2008)): the tilts E_x, E_y and
 /// the axial error D_z by l2 and l-infinity, with the condition number under explicit unit scalings.
 #[derive(clap::Args)]
 #[command(after_help = "Example:\n  trueaxis ballbar tmbb --short examples/ballbar/tmbb_L1.csv --long examples/ballbar/tmbb_L2.csv\n\n\
 Each CSV has the table angle (column C or angle, deg) and dL (um) at the same angles. Defaults: the\n\
-seed 002 Table 5.1 setup (R_x = 71.842, L1 = 90.850, L2 = 217.952 mm, R_z = 0). E_x, E_y are the\n\
+setup of Zhu (2008) (R_x = 71.842, L1 = 90.850, L2 = 217.952 mm, R_z = 0). E_x, E_y are the\n\
 table tilts EAC, EBC (arcsec and urad), D_z its axial error EZC (um); residuals of the differenced\n\
 squared lengths in mm^2. D_x, D_y (coupled with the eccentricity) and E_z are not identifiable.")]
 pub struct TmbbArgs {
@@ -600,7 +599,7 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
     }
     let (h1, h2) = setup.heights().map_err(Failure::input)?;
     let mut out = format!(
-        "Two-length TMBB test of a rotary table (seed 002 ch. 5): R_x = {} mm, L1 = {} mm, L2 = {} mm, H2 - H1 = {:.3} mm, {} angles\n",
+        "Two-length TMBB test of a rotary table (Zhu (2008)): R_x = {} mm, L1 = {} mm, L2 = {} mm, H2 - H1 = {:.3} mm, {} angles\n",
         a.rx,
         a.l1,
         a.l2,

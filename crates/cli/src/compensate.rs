@@ -37,8 +37,8 @@ fn format_name(format: Format) -> String {
 }
 
 /// Compensation tables for a controller: corrections (added to the axis set-points) that cancel the
-/// predicted error of the tool point relative to the workpiece, solved on the exact chain (seed 000
-/// §2.3.5), sampled as own-axis / cross-axis tables (both directions of motion) and a volumetric grid.
+/// predicted error of the tool point relative to the workpiece, solved on the exact chain (Soons
+/// (1993)), sampled as own-axis / cross-axis tables (both directions of motion) and a volumetric grid.
 #[derive(clap::Args)]
 #[command(
     after_help = "Examples:\n  trueaxis compensate --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      --format linuxcnc --limit-um 50 --out comp\n  \

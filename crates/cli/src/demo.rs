@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use trueaxis::data::DataError;
 use trueaxis_report::demo::{self, DemoError};
 
-/// Run the main job on the built-in 5-axis machine (seed 004 KX8-Five) with known errors: simulate
+/// Run the main job on the built-in 5-axis machine (the KX8-Five of Andolfatto et al. (2011)) with known errors: simulate
 /// a 3D-ball campaign with noise and cyclic drift and ballbar circles, identify, Monte Carlo
 /// uncertainty, volumetric error before and after compensation, compensation tables, HTML report.
 #[derive(clap::Args)]

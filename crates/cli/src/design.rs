@@ -34,9 +34,9 @@ enum DesignCommand {
 }
 
 /// Poses of a 3D-ball test: the rotary axes sweep, the linear axes keep the tool point on the ball
-/// (seed 004 Fig. 2). Writes a pose CSV (axis columns, mm and deg).
+/// (Andolfatto et al. (2011)). Writes a pose CSV (axis columns, mm and deg).
 #[derive(clap::Args)]
-#[command(after_help = "Example (the seed 004 identification trajectory of the shipped campaign):\n  \
+#[command(after_help = "Example (the identification trajectory of Andolfatto et al. (2011), of the shipped campaign):\n  \
 trueaxis design trajectory --machine examples/machines/kx8five.toml --work-point 150,0,100 \\\n      \
 --sweep A=0:120 --sweep C=0:1440 --count 807 --out capball.csv\n\n\
 Every swept axis moves linearly from FROM to TO (deg) over the COUNT poses, simultaneously; axes not\n\
@@ -89,7 +89,7 @@ struct SimulateArgs {
 }
 
 /// Choose N records of a campaign (the candidate set) that minimise a design criterion, by an
-/// exchange algorithm (seed 000 §4.3-4.4).
+/// exchange algorithm (Soons (1993)).
 #[derive(clap::Args)]
 #[command(after_help = "Example:\n  \
 trueaxis design optimal --machine examples/machines/kx8five.toml \\\n      \
@@ -99,7 +99,7 @@ e = largest eigenvalue of n M^-1, g = largest n trace(X_r M^-1 X_r^T) over the c
 (the summed prediction variance of a record's readings; p at a D-optimal approximate design).\n\
 Units: rows weighted by 1/sigma (sigma in um), unknowns in their own units (um, urad, um/mm^k):\n\
 d in (u_1^2 ... u_p^2)^(1/p), a and e in u^2 when all units agree, g dimensionless; the output\n\
-also gives the values in seed 000's units (mm, rad, sigma = 1 mm), see docs/identification.md.\n\
+also gives the values in the units of Soons (1993) (mm, rad, sigma = 1 mm), see docs/identification.md.\n\
 A candidate set or a design that cannot determine every unknown is an error naming the unseen\n\
 combinations (exit 1); --count too small to hold p readings is bad input (exit 2).")]
 struct OptimalArgs {
@@ -233,7 +233,7 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     crate::identify::print(&text)
 }
 
-/// The units the criteria are computed in, and their values in seed 000's units (`design_units`).
+/// The units the criteria are computed in, and their values in the units of Soons (1993) (`design_units`).
 fn units_text(names: &[String], units: &[String], u: &CriteriaUnits, chosen: &trueaxis::identify::DesignCriteria) -> String {
     let list: Vec<String> = names.iter().zip(units).map(|(n, u)| format!("{n} {u}")).collect();
     let mut text = format!(
@@ -244,7 +244,7 @@ fn units_text(names: &[String], units: &[String], u: &CriteriaUnits, chosen: &tr
     );
     if let Some(f) = u.d_to_seed000 {
         text += &format!(
-            "  in seed 000's units (mm, rad, sigma = 1 in mm): D x {f:.4e} = {:.4e}{}\n",
+            "  in the units of Soons (1993) (mm, rad, sigma = 1 in mm): D x {f:.4e} = {:.4e}{}\n",
             f * chosen.d,
             u.a_e_to_seed000.map_or(String::new(), |g| format!(", A x {g:.4e} = {:.4e}, E x {g:.4e} = {:.4e}", g * chosen.a, g * chosen.e))
         );

@@ -17,7 +17,7 @@ enum SolverArg {
 /// Identify error parameters from a measurement campaign (3D ball, ballbar / laser lengths, probed
 /// points): weighted least squares, identifiability report, uncertainties, residuals per channel.
 #[derive(clap::Args)]
-#[command(after_help = "Example (seed 004, the 14 KX8-Five parameters from 807 CapBall poses):\n  \
+#[command(after_help = "Example (Andolfatto et al. (2011): the 14 KX8-Five parameters from 807 CapBall poses):\n  \
 trueaxis identify --machine examples/machines/kx8five.toml \\\n      \
 --campaign examples/campaigns/kx8five/campaign.toml --out identified.toml\n\n\
 Values are in um (translations), urad (rotations) or um per mm^k (polynomial powers, basis\n\

@@ -10,7 +10,7 @@ use trueaxis::instruments::{flat_face_reversal, parallelism_urad, straightness_r
 use trueaxis::io::Dimension;
 use trueaxis_report::{profiles_svg, Profiles};
 
-/// Reversal techniques (seed 003 eqs. 3.1-3.8): straightness of an axis with an imperfect test
+/// Reversal techniques (NISTIR 5236): straightness of an axis with an imperfect test
 /// arbor, parallelism of an axis to the spindle from best-fit radii, straightness and orthogonality
 /// with a flat-face disk. Positions in mm, probe readings in um, slopes in urad.
 #[derive(clap::Args)]
@@ -47,7 +47,7 @@ struct Profile {
     plot: Option<PathBuf>,
 }
 
-/// Straightness of an axis with a test arbor by reversal (seed 003 eqs. 3.1-3.3): probe 1 scans the
+/// Straightness of an axis with a test arbor by reversal (NISTIR 5236): probe 1 scans the
 /// arbor (`m1`), the arbor is turned 180 deg with the spindle and probe 2, mounted 180 deg from probe 1,
 /// scans it again at the same positions (`m2`). Straightness s = (m2 - m1)/2, arbor profile
 /// a = (m1 + m2)/2 (um).
@@ -63,8 +63,8 @@ struct ArborArgs {
     remove_line: bool,
 }
 
-/// Parallelism of an axis to the spindle axis average line from best-fit radii (seed 003
-/// eqs. 3.4-3.5): two probes 180 deg apart record one slow spindle revolution at two locations dz
+/// Parallelism of an axis to the spindle axis average line from best-fit radii (NISTIR
+/// 5236): two probes 180 deg apart record one slow spindle revolution at two locations dz
 /// apart; alpha_p = [(R21 - R11) - (R22 - R12)] / (2 dz), R_ij the mean reading of probe j at location i.
 #[derive(clap::Args)]
 #[command(after_help = "Example:\n  trueaxis reversal parallelism examples/data/reversal_parallelism.csv --dz 200 --json\n\n\
@@ -81,8 +81,8 @@ struct ParallelismArgs {
     json: bool,
 }
 
-/// Straightness and orthogonality with a flat-face disk and a spindle reversal (seed 003
-/// eqs. 3.6-3.8): one probe scans the disk face along x (`m1`), the spindle is turned 180 deg, the
+/// Straightness and orthogonality with a flat-face disk and a spindle reversal (NISTIR
+/// 5236): one probe scans the disk face along x (`m1`), the spindle is turned 180 deg, the
 /// same probe scans again (`m2`). delta_z = -(m1 + m2)/2, face error e = (m1 - m2)/2, orthogonality
 /// = slope of the least-squares line of delta_z.
 #[derive(clap::Args)]
@@ -238,7 +238,7 @@ fn arbor(a: ArborArgs) -> Result<(), Failure> {
     check["line"] = r.line.as_ref().map_or(json!(0.0), line_json);
     check_finite(&a.profile.file, &check)?;
     let plot = write_plot(&a.profile, "arbor reversal", &[("straightness s", &r.straightness_um), ("arbor a", &r.arbor_form_um)], &z)?;
-    let mut summary = vec![format!("straightness deviation {:.4} um (seed 003 eq. 3.3: s = (m2 - m1)/2)", r.straightness_deviation_um())];
+    let mut summary = vec![format!("straightness deviation {:.4} um (NISTIR 5236: s = (m2 - m1)/2)", r.straightness_deviation_um())];
     if let Some(line) = &r.line {
         summary.push(format!(
             "least-squares line removed: slope {:.3} urad, {:.4} um at 0 mm (arbor misalignment plus parallelism)",
@@ -269,8 +269,8 @@ fn parallelism(a: ParallelismArgs) -> Result<(), Failure> {
         return print(&format!("{doc}\n"));
     }
     print(&format!(
-        "best-fit radii (um, mean of each revolution, seed 003 eq. 3.4): R11 {:.4}  R21 {:.4}  R12 {:.4}  R22 {:.4}\n\
-         parallelism alpha_p = [(R21 - R11) - (R22 - R12)] / (2 dz) = {alpha:.3} urad over dz = {} mm (eq. 3.5)\n",
+        "best-fit radii (um, mean of each revolution, NISTIR 5236): R11 {:.4}  R21 {:.4}  R12 {:.4}  R22 {:.4}\n\
+         parallelism alpha_p = [(R21 - R11) - (R22 - R12)] / (2 dz) = {alpha:.3} urad over dz = {} mm\n",
         radii.probe1_location1_um, radii.probe1_location2_um, radii.probe2_location1_um, radii.probe2_location2_um, a.dz
     ))
 }
@@ -291,7 +291,7 @@ fn disk(a: DiskArgs) -> Result<(), Failure> {
     check_finite(&a.profile.file, &doc)?;
     let plot = write_plot(&a.profile, "flat-face reversal", &[("delta_z", &r.delta_z_um), ("face error e", &r.face_error_um)], &x)?;
     let summary = vec![
-        format!("orthogonality alpha_o {:.3} urad (slope of the least-squares line of delta_z, seed 003 eq. 3.8)", r.orthogonality_urad()),
+        format!("orthogonality alpha_o {:.3} urad (slope of the least-squares line of delta_z, NISTIR 5236)", r.orthogonality_urad()),
         format!("straightness deviation {:.4} um (delta_z without the line)", r.straightness_deviation_um()),
     ];
     report(

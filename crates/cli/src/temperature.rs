@@ -6,7 +6,7 @@ use crate::Failure;
 use trueaxis::instruments::{AppliedCorrection, TemperatureOptions, TemperatureSource};
 use trueaxis::io::Metadata;
 
-/// Correction of positioning readings to 20 degC (ISO 1; seed 000 §3.2.4).
+/// Correction of positioning readings to 20 degC (ISO 1).
 #[derive(clap::Args, Clone, Debug)]
 pub struct TemperatureArgs {
     /// Temperature of the machine scale (what laser software calls the material temperature of the

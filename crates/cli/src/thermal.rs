@@ -17,7 +17,7 @@ use trueaxis::data::write_atomically;
 use trueaxis::thermal::ThermalError;
 use trueaxis_report::ReportError;
 
-/// Thermal modal analysis, sensor placement and thermal error models (seed 002 ch. 3-4).
+/// Thermal modal analysis, sensor placement and thermal error models (Zhu (2008)).
 #[derive(clap::Args)]
 #[command(after_help = "Examples (see `trueaxis thermal <command> --help`):\n  \
 trueaxis thermal modes --model examples/thermal/fin.toml --count 6\n  \

@@ -17,7 +17,7 @@ use trueaxis_report::{interval_of, uncertainty_figures};
 /// Uncertainty of identified parameters: GUM propagation and adaptive Monte Carlo (JCGM 101
 /// §7.9, several outputs per JCGM 102) with the sources of a sources file (sensor noise, frame
 /// transformation, drift by the statistical or the cyclic method), and the budget per source
-/// (seed 004 Table 5).
+/// (as Andolfatto et al. (2011) tabulate it).
 #[derive(clap::Args)]
 #[command(after_help = "Examples:\n  trueaxis uncertainty --design examples/uncertainty/kx8five_design.csv \\\n      \
 --sources examples/uncertainty/kx8five_cyclic.toml --plots kx8five-uncertainty\n  \
@@ -288,7 +288,7 @@ fn table(args: &UncertaintyArgs, map: &IdentificationMap, budget: &Budget, sourc
         );
     }
     if budget.per_source.len() > 1 {
-        let _ = writeln!(out, "\nbudget: width of the {pct} % interval with each source alone (seed 004 Table 5)");
+        let _ = writeln!(out, "\nbudget: width of the {pct} % interval with each source alone (as Andolfatto et al. (2011) tabulate it)");
         let mut header = format!("{:<8} {:>5}", "param", "unit");
         for name in &budget.source_names {
             let _ = write!(header, " {:>14}", name);

@@ -15,9 +15,9 @@ use trueaxis::thermal::validation::ResidualStats;
 use trueaxis_report::{drift_plot, drift_svg, step_fit_plot};
 
 /// Fits a thermal error model to a campaign CSV (columns t, run, T:<sensor>, the error in um):
-/// PITE/PDTE regression (seed 002 eqs. 3.12-3.15 with intercepts as eqs. 4.3-4.5) or the
-/// state-space drift model (seed 000 §3.4.4), validated on the runs not trained on or on the later
-/// part of each training run; or, with --time-constants N, the eq. 3.17 fit of shared time
+/// PITE/PDTE regression (Zhu (2008), with intercepts) or the
+/// state-space drift model (Soons (1993)), validated on the runs not trained on or on the later
+/// part of each training run; or, with --time-constants N, the fit of shared time
 /// constants to the temperature records of every run.
 #[derive(clap::Args)]
 #[command(
@@ -33,7 +33,7 @@ pub struct FitArgs {
     /// Error column (um) to model.
     #[arg(long, required_unless_present = "time_constants")]
     error: Option<String>,
-    /// Model form: regression (static, seed 002 eqs. 3.12-3.15) or state-space (seed 000 §3.4.4:
+    /// Model form: regression (static, Zhu (2008)) or state-space (Soons (1993):
     /// the drift as a sum of first-order lags of the sensors' rises since the start of each run).
     #[arg(long, value_enum, default_value = "regression")]
     model: ModelForm,
@@ -44,17 +44,17 @@ pub struct FitArgs {
     /// trains on the first fraction F (0 < F < 1) of its time span and verifies on the rest.
     #[arg(long, value_name = "time-split:F")]
     validate: Option<String>,
-    /// Fit N shared time constants (eq. 3.17) to the temperature columns instead.
+    /// Fit N shared time constants (a sum of exponential step responses) to the temperature columns instead.
     #[arg(long)]
     time_constants: Option<usize>,
-    /// With --time-constants: use only the first SECONDS of each run (the step response; eq. 3.17
+    /// With --time-constants: use only the first SECONDS of each run (the step response; the fit
     /// describes a warm-up from a step, not the cool-down after it).
     #[arg(long)]
     until: Option<f64>,
     /// Sensor columns, comma separated (default: every T:<sensor> column).
     #[arg(long, value_delimiter = ',')]
     sensors: Option<Vec<String>>,
-    /// Sensor selection: `correlation:N` (the N best correlated, seed 003 §3.6) or `stepwise`.
+    /// Sensor selection: `correlation:N` (the N best correlated, NISTIR 5236) or `stepwise`.
     #[arg(long)]
     select: Option<String>,
     /// Axis column whose position enters the model (PDTE).
@@ -63,7 +63,7 @@ pub struct FitArgs {
     /// Highest power of the position (PDTE).
     #[arg(long, default_value_t = 0)]
     degree: usize,
-    /// Drop the intercept terms (eqs. 3.12-3.13 as printed).
+    /// Drop the intercept terms (as Zhu (2008) prints the model).
     #[arg(long)]
     no_intercept: bool,
     /// Geometric/thermal split: the degree of the geometric polynomial in the position (the
@@ -94,7 +94,7 @@ pub struct FitArgs {
     machine: Option<PathBuf>,
     /// Write a figure (SVG): per run the measured values against the model over time and the
     /// residual band, training and validation runs told apart (with --time-constants: each
-    /// temperature record and its eq. 3.17 fit).
+    /// temperature record and its fit of shared time constants).
     #[arg(long, value_name = "FILE.svg")]
     plot: Option<PathBuf>,
     /// Print one JSON document.
@@ -167,8 +167,7 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
         }
         ThermalErrorModel::Drift(m) => {
             let taus: Vec<String> = m.time_constants_s.iter().map(|t| format!("{:.2}", t / 60.0)).collect();
-            out +=
-                &format!("  state space (seed 000 §3.4.4), time constants {} min; gains (um/degC) per time constant:\n", taus.join(", "));
+            out += &format!("  state space (Soons (1993)), time constants {} min; gains (um/degC) per time constant:\n", taus.join(", "));
             for (s, g) in m.sensors.iter().zip(&m.gains_um_per_degc) {
                 out += &format!("  {s:<10} {}\n", g.iter().map(|v| format!("{v:+.5}")).collect::<Vec<_>>().join(" "));
             }
@@ -220,7 +219,7 @@ fn print_taus(args: &FitArgs, taus: &TimeConstantsFit) -> Result<(), Failure> {
         return print(&format!("{}\n", taus.to_json()));
     }
     let mut out = format!(
-        "shared time constants (eq. 3.17) of {} records: {} min\nresidual RMS {:.4} degC\n",
+        "shared time constants of {} records: {} min\nresidual RMS {:.4} degC\n",
         series.len(),
         fit.tau_s.iter().map(|t| format!("{:.2}", t / 60.0)).collect::<Vec<_>>().join(", "),
         fit.residual_rms

@@ -52,11 +52,11 @@ pub(super) enum PlaceMethod {
     Modal,
     Efi,
     Exhaustive,
-    /// Gauss-Legendre points along a bar (the baseline of seed 002 §3.4.2).
+    /// Gauss-Legendre points along a bar (the baseline of Zhu (2008)).
     Gauss,
 }
 
-/// Temperature sensor placement for the dominant modes: the modal rule of seed 002 §3.3.1
+/// Temperature sensor placement for the dominant modes: the modal rule of Zhu (2008)
 /// (extremes of each dominant mode, reuse, ties to the heat source), effective independence, or
 /// exhaustive search for the largest det(Phi_s^T Phi_s).
 #[derive(clap::Args)]
@@ -73,7 +73,7 @@ pub struct PlaceArgs {
     /// Cumulative weight share of the dominant modes the sensors must serve (0 < share <= 1).
     #[arg(long, default_value_t = DEFAULT_SHARE)]
     share: f64,
-    /// Placement method: modal (seed 002 §3.3.1: one sensor at the extreme of each dominant mode,
+    /// Placement method: modal (Zhu (2008): one sensor at the extreme of each dominant mode,
     /// reused where it serves several), efi (effective independence, Kammer), exhaustive (every
     /// subset of --sensors candidates, largest det(Phi_s^T Phi_s)) or gauss (the candidates nearest
     /// the Gauss-Legendre points of a bar, Gaussian integration).
