@@ -142,7 +142,10 @@ fn a_killed_compensate_leaves_the_old_or_the_new_tables_and_the_next_run_succeed
             kill(child);
         } else {
             let after = Duration::from_micros(writing[point - fractions.len()]);
-            assert!(kill_while_writing(&args, &parent, ".comp.trueaxis-", after), "kill point {point}: the run ended first");
+            // a loaded machine can deschedule the watcher past the whole write phase: try again (a
+            // run that ended first is an ordinary complete run, checked like any other below)
+            let caught = (0..20).any(|_| kill_while_writing(&args, &parent, ".comp.trueaxis-", after));
+            assert!(caught, "kill point {point}: the run ended first 20 times");
         }
         // the output directory holds one complete set; nothing else is there but temporaries
         let now = contents(&out);

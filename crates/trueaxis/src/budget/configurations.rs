@@ -115,7 +115,7 @@ impl Configuration {
     /// relative to the workpiece is the form-shaping function of the appendix wherever the bed is.
     pub fn machine(&self, travel: [f64; 3], tool_length: f64) -> Machine {
         let mut text = format!(
-            "name = \"{} ({})\"\nsource = \"seed 002 appendix C\"\nstructure = \"{}\"\n[axes]\n",
+            "name = \"{} ({})\"\nsource = \"Zhu (2008) appendix C\"\nstructure = \"{}\"\n[axes]\n",
             self.axes(),
             self.chain(),
             self.structure()

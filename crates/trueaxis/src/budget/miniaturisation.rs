@@ -30,7 +30,7 @@ pub const ARCSEC_URAD: f64 = 4.848_136_811_095_36;
 /// The machine of the case for parts of `size` mm.
 pub fn machine(size: f64) -> Machine {
     let text = format!(
-        "name = \"three-axis machine for {size} mm parts\"\nsource = \"seed 002 appendix B.2\"\nstructure = \"wbXYZt\"\n[axes]\n\
+        "name = \"three-axis machine for {size} mm parts\"\nsource = \"Zhu (2008) appendix B.2\"\nstructure = \"wbXYZt\"\n[axes]\n\
          X = {{ kind = \"linear\", direction = [1, 0, 0], range = [0, {size}] }}\n\
          Y = {{ kind = \"linear\", direction = [0, 1, 0], range = [0, {size}] }}\n\
          Z = {{ kind = \"linear\", direction = [0, 0, 1], range = [0, {size}] }}\n[tool]\npoint = [0, 0, {size}]\n"

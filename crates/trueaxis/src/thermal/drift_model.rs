@@ -77,7 +77,7 @@ impl DriftModel {
     pub fn to_toml(&self) -> String {
         let body = toml::to_string(self).expect("a drift model serialises");
         format!(
-            "# thermal drift model (seed 000 §3.4.4): tau_j dz_ij/dt = -z_ij + (T_i - T_i(start of run)), E = sum g_ij z_ij (um)\nkind = \"state_space\"\n{body}"
+            "# thermal drift model (Soons (1993) §3.4.4): tau_j dz_ij/dt = -z_ij + (T_i - T_i(start of run)), E = sum g_ij z_ij (um)\nkind = \"state_space\"\n{body}"
         )
     }
 }

@@ -75,7 +75,7 @@ impl TemperatureModel {
     pub fn to_toml(&self) -> String {
         let body = toml::to_string(self).expect("a temperature model serialises");
         format!(
-            "# temperature model (seed 000 §3.4.2): tau_j dz_ij/dt = -z_ij + (T_i - T_i(start of run)), T_o = T_o(start) + sum g_oij z_ij (degC)\nkind = \"temperature_state_space\"\n{body}"
+            "# temperature model (Soons (1993) §3.4.2): tau_j dz_ij/dt = -z_ij + (T_i - T_i(start of run)), T_o = T_o(start) + sum g_oij z_ij (degC)\nkind = \"temperature_state_space\"\n{body}"
         )
     }
 
