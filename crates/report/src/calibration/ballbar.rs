@@ -167,7 +167,8 @@ impl CirclePart {
     }
 }
 
-fn file_name(path: &std::path::Path) -> String {
+/// The file's name without its directory (the path itself when it has none).
+pub(super) fn file_name(path: &std::path::Path) -> String {
     path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
 

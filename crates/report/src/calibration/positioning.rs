@@ -6,6 +6,7 @@
 
 use super::super::html::Section;
 use super::super::iso230_2_svg;
+use super::ballbar::file_name;
 use super::certificate::CertificateFile;
 use super::conformity::{DecisionRule, Item};
 use super::quantity::{quantity, with_uncertainty};
@@ -66,10 +67,6 @@ impl PositioningPart {
         }
         items
     }
-}
-
-fn file_name(path: &Path) -> String {
-    path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
 
 /// One section with every test: its conditions, the plot, the results with U and the budget.
