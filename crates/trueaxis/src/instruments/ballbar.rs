@@ -473,15 +473,6 @@ impl Method {
             Method::FourSetup { .. } => "four-setup",
         }
     }
-
-    /// The seed 001 chapter of the method.
-    pub fn chapter(&self) -> u8 {
-        match self {
-            Method::ExtendedBar => 5,
-            Method::TwoPivot { .. } => 4,
-            Method::FourSetup { .. } => 6,
-        }
-    }
 }
 
 /// The placement of one step of `method` (see [`Method`]; built on [`jiang_spec`]).
