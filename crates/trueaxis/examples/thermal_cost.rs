@@ -8,6 +8,7 @@
 
 use std::time::Instant;
 use trueaxis::thermal::lanczos::LanczosProgress;
+use trueaxis::thermal::sparse_cholesky::factorisation_work;
 use trueaxis::thermal::{modal_analysis_with_progress, ModalOptions, SpectrumMethod};
 
 #[path = "../benches/common/cpu_clock.rs"]
@@ -32,6 +33,8 @@ fn main() {
     let (t0, c0) = (Instant::now(), process_cpu_seconds());
     let system = thermal_block::block(cells);
     println!("assembly: {} nodes, {:.2} s", system.node_count(), t0.elapsed().as_secs_f64());
+    let (nonzeros, flops) = factorisation_work(&system.conductivity, system.coordinates.as_deref()).expect("symbolic analysis");
+    println!("factor: {nonzeros:.3e} nonzeros ({:.2} GB), {flops:.3e} flops to factorise", nonzeros as f64 * 8e-9);
     let (t0, c0) = (Instant::now(), process_cpu_seconds() + 0.0 * c0);
     let mut last = (0.0, 0.0);
     let mut steps = 0;
@@ -39,7 +42,10 @@ fn main() {
         let (wall, cpu) = (t0.elapsed().as_secs_f64(), process_cpu_seconds() - c0);
         match p {
             LanczosProgress::Factorised { nonzeros } => {
-                println!("ordering + factorisation: {wall:.2} s wall, {cpu:.2} s CPU, {nonzeros:.3e} nonzeros");
+                println!(
+                    "ordering + factorisation: {wall:.2} s wall, {cpu:.2} s CPU, {nonzeros:.3e} nonzeros ({:.1} GFLOP/s per CPU second)",
+                    flops / cpu * 1e-9
+                );
                 last = (wall, cpu);
             }
             LanczosProgress::Iterating { converged, basis, .. } => {
