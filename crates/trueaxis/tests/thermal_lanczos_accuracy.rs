@@ -82,14 +82,14 @@ fn the_20_time_constants_equal_the_dense_solvers_on_1331_nodes() {
     assert_eq!(system.node_count(), 1331);
     let dense = modal_analysis(&system, &ModalOptions { count: Some(20), method: SpectrumMethod::Dense, ..Default::default() }).unwrap();
     let sparse = lanczos_lambda(10);
-    for i in 0..20 {
-        let (tau, reference) = (1.0 / sparse[i], 1.0 / dense.lambda[i]);
+    for (i, (l, d)) in sparse.iter().zip(&dense.lambda).enumerate() {
+        let (tau, reference) = (1.0 / l, 1.0 / d);
         assert!((tau - reference).abs() <= 1e-10 * reference, "tau_{i}: {tau} s vs dense {reference} s");
     }
     // and the dense solver equals the separable form (the closed form is right for this assembly)
     let exact = separable_eigenvalues(10, 20);
-    for i in 0..20 {
-        assert!((dense.lambda[i] - exact[i]).abs() <= 1e-10 * exact[i], "lambda_{i}: dense {} vs separable {}", dense.lambda[i], exact[i]);
+    for (i, (d, e)) in dense.lambda.iter().zip(&exact).enumerate() {
+        assert!((d - e).abs() <= 1e-10 * e, "lambda_{i}: dense {d} vs separable {e}");
     }
 }
 
@@ -97,8 +97,9 @@ fn the_20_time_constants_equal_the_dense_solvers_on_1331_nodes() {
 fn the_20_time_constants_equal_the_separable_closed_form_on_10648_nodes() {
     let sparse = lanczos_lambda(21);
     let exact = separable_eigenvalues(21, 20);
-    for i in 0..20 {
-        let (tau, reference) = (1.0 / sparse[i], 1.0 / exact[i]);
+    assert_eq!(sparse.len(), 20);
+    for (i, (l, e)) in sparse.iter().zip(&exact).enumerate() {
+        let (tau, reference) = (1.0 / l, 1.0 / e);
         assert!((tau - reference).abs() <= 1e-10 * reference, "tau_{i}: {tau} s vs separable {reference} s");
     }
 }
