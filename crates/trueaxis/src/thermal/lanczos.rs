@@ -2,9 +2,10 @@
 //! (K symmetric positive semi-definite, C symmetric positive definite): the `count` smallest
 //! eigenvalues by shift-invert block Lanczos with full reorthogonalisation in the C inner product.
 //!
-//! Why here: no Rust crate offers a robust sparse partial eigensolver for generalised problems
-//! (faer has sparse Cholesky/LU and dense eigensolvers only), so this file builds one on faer's
-//! sparse Cholesky.
+//! Why here: no Rust crate offers a sparse partial eigensolver for generalised problems with
+//! blocks (faer 0.24's `partial_self_adjoint_eigen` is a single-vector Krylov-Schur method in the
+//! Euclidean inner product: one pass over the 0.5 GB factor per Krylov vector on 10^5 nodes), so
+//! this file builds one on faer's sparse Cholesky.
 //!
 //! Method (Ericsson & Ruhe 1980; Grimes, Lewis & Simon 1994):
 //! - shift `sigma < 0` below the spectrum, factor `K - sigma C = P^T L L^T P` once (sparse
@@ -21,10 +22,10 @@
 //! - `lambda = sigma + 1/theta`, `phi = V s` (C-orthonormal).
 //!
 //! Cost per block step: one block solve with p right-hand sides (one pass over the factor per
-//! thread), four block products with C, and four products with the n x m basis
-//! (reorthogonalisation). Measured on a 47^3 = 103 823-node block, 20 modes, 2 threads: nested
-//! dissection and factorisation 2.4 s (6.0e7 nonzeros), 25 block steps (128 basis vectors) 4.5 s
-//! of solves and 2.1 s of reorthogonalisation, 9.3 to 11 s in all.
+//! thread), three block products with C, and four products with the n x m basis
+//! (reorthogonalisation). Measured on a 47^3 = 103 823-node block, 20 modes, 2 shared threads
+//! (issue 23, BENCHMARKS.md): nested dissection and factorisation 2.2 s (6.0e7 nonzeros), 17 Ritz
+//! steps of block 8 (160 basis vectors, 20 block solves), 7.1 CPU seconds and 5.1-7.2 s wall in all.
 
 use super::assembly::from_triplets;
 use super::sparse_cholesky::SparseCholesky;
