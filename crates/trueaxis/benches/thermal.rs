@@ -2,32 +2,19 @@
 //! in < 10 s): shift-invert block Lanczos (nested-dissection sparse Cholesky) on steel blocks of
 //! about 1e3, 1e4 and 1e5 nodes (trilinear hexahedra, four convective faces), the model of
 //! `bench/baseline_thermal.py`, which times SciPy's `eigsh` in shift-invert mode on the same K, C.
+//! The 10^6-node run (not a benchmark: about a minute and 12 GB, see BENCHMARKS.md) is
+//! `cargo run --release -p trueaxis --example thermal_cost -- 99`.
 //! Assembly (0.2 s at 1e5 nodes) is outside the timing, as in the baseline.
 //!
 //! Run: `cargo bench --bench thermal` (about 5 min; the 1e5-node case runs 10 samples).
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion};
 use std::time::Duration;
-use trueaxis::thermal::assembly::{assemble, Boundary, Material, Section, ThermalProblem, ThermalSystem};
-use trueaxis::thermal::mesh::StructuredMesh;
 use trueaxis::thermal::{modal_analysis, ModalOptions, SpectrumMethod};
 
-/// The block of `bench/baseline_thermal.py` with `cells` cells per direction.
-fn block(cells: usize) -> ThermalSystem {
-    let problem = ThermalProblem {
-        mesh: StructuredMesh::new(vec![cells; 3], vec![0.5, 0.4, 0.3]).expect("mesh"),
-        material: Material { conductivity_w_mk: 50.0, density_kg_m3: 7850.0, specific_heat_j_kgk: 460.0 },
-        section: Section::Solid,
-        lateral_convection_w_m2k: 0.0,
-        boundaries: vec![
-            [Boundary::Convection(20.0), Boundary::Convection(10.0)],
-            [Boundary::Convection(5.0), Boundary::Insulated],
-            [Boundary::Insulated, Boundary::Convection(8.0)],
-        ],
-        fluxes: vec![(0, 1.0)],
-    };
-    assemble(&problem).expect("assembly")
-}
+#[path = "common/thermal_block.rs"]
+mod thermal_block;
+use thermal_block::block;
 
 fn modes(c: &mut Criterion) {
     let options = ModalOptions { count: Some(20), method: SpectrumMethod::Lanczos, ..Default::default() };
