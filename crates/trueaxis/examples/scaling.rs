@@ -25,6 +25,8 @@ mod common;
 mod cpu_clock;
 #[path = "../benches/common/problems.rs"]
 mod problems;
+#[path = "../benches/common/thermal_block.rs"]
+mod thermal_block;
 
 /// Peak resident set of this process (bytes), from `/proc/self/status` (`VmHWM`).
 fn peak_resident_bytes() -> Option<u64> {
@@ -84,8 +86,7 @@ fn main() {
             (size, measure(|| drop(run_sequences(&model, &sources.settings, 1).expect("run"))))
         }
         "thermal" => {
-            let cells = ((size as f64).cbrt().round() as usize).saturating_sub(1).max(2);
-            let system = problems::thermal_block(cells);
+            let system = thermal_block::block(thermal_block::cells_for_nodes(size).max(2));
             let options = ModalOptions { count: Some(20), method: SpectrumMethod::Lanczos, ..Default::default() };
             (system.node_count(), measure(|| drop(modal_analysis(&system, &options).expect("modes"))))
         }
