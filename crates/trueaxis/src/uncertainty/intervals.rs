@@ -1,6 +1,6 @@
 //! Coverage intervals and summary statistics of a Monte Carlo sample (JCGM 101 §7.5-§7.7).
 
-use super::sort::sort_values;
+use super::sort::{order_statistic, sort_values, sorted_tail, End};
 use rayon::prelude::*;
 
 /// A coverage interval `[low, high]` in the unit of the quantity.
@@ -34,16 +34,19 @@ pub fn symmetric_interval(sorted: &[f64], p: f64) -> CoverageInterval {
     CoverageInterval { low: sorted[r - 1], high: sorted[r + q - 1] }
 }
 
-/// [`symmetric_interval`] of values in any order, by selection instead of a sort (two calls of
-/// `select_nth_unstable`, linear time): the same two order statistics. `values` is reordered.
+/// [`symmetric_interval`] of values in any order, by selection instead of a sort (two order
+/// statistics, each from the values beyond a sampled threshold; linear time): the same two values.
+/// `values` is left as it is (the `&mut` of an earlier form that reordered them is kept).
 pub fn symmetric_interval_of_unsorted(values: &mut [f64], p: f64) -> CoverageInterval {
+    symmetric_interval_of(values, p)
+}
+
+/// [`symmetric_interval_of_unsorted`] of shared values.
+pub(super) fn symmetric_interval_of(values: &[f64], p: f64) -> CoverageInterval {
     let m = values.len();
     let q = coverage_count(m, p);
     let r = (m - q).div_ceil(2).clamp(1, m - q);
-    let (below, high, _) = values.select_nth_unstable_by(r + q - 1, f64::total_cmp);
-    let high = *high;
-    let (_, low, _) = below.select_nth_unstable_by(r - 1, f64::total_cmp);
-    CoverageInterval { low: *low, high }
+    CoverageInterval { low: order_statistic(values, r - 1), high: order_statistic(values, r + q - 1) }
 }
 
 /// Shortest `p` coverage interval of `sorted` values (JCGM 101 §7.7.2): `[y_(r*), y_(r*+q)]`
@@ -51,34 +54,46 @@ pub fn symmetric_interval_of_unsorted(values: &mut [f64], p: f64) -> CoverageInt
 pub fn shortest_interval(sorted: &[f64], p: f64) -> CoverageInterval {
     let m = sorted.len();
     let q = coverage_count(m, p);
+    shortest_of_tails(&sorted[..m - q], &sorted[q..])
+}
+
+/// The shortest interval from the `M - q` lowest sorted values and the `M - q` highest: the
+/// candidate intervals are `[low[r], high[r]]`.
+fn shortest_of_tails(low: &[f64], high: &[f64]) -> CoverageInterval {
     let mut best = 0;
-    for r in 1..m - q {
-        if sorted[r + q] - sorted[r] < sorted[best + q] - sorted[best] {
+    for r in 1..low.len() {
+        if high[r] - low[r] < high[best] - low[best] {
             best = r;
         }
     }
-    CoverageInterval { low: sorted[best], high: sorted[best + q] }
+    CoverageInterval { low: low[best], high: high[best] }
 }
 
 /// [`shortest_interval`] of values in any order, sorting only the two tails it reads: the
 /// `M - q` smallest values (the candidate lower endpoints) and the `M - q` largest (the upper
-/// ones), each selected (`select_nth_unstable`, linear) and then sorted; for `p = 0.95` a tenth of
-/// the values. The same interval as after a full sort; `values` is reordered. At least 2 values.
-pub fn shortest_interval_of_unsorted(values: &mut [f64], p: f64) -> CoverageInterval {
+/// ones), each taken by selection and then sorted; for `p = 0.95` a twentieth of the values each.
+/// The same interval as after a full sort; `values` is left as it is. At least 2 values.
+pub fn shortest_interval_of_unsorted(values: &[f64], p: f64) -> CoverageInterval {
+    coverage_intervals_of_unsorted(values, p).1
+}
+
+/// Both coverage intervals of values in any order, `(symmetric, shortest)`: the two sorted tails
+/// of [`shortest_interval_of_unsorted`] hold the order statistics of the symmetric interval too.
+/// When the tails overlap (`p <= 1/2`) the values are sorted. Bit for bit the intervals of the
+/// sorted values.
+pub fn coverage_intervals_of_unsorted(values: &[f64], p: f64) -> (CoverageInterval, CoverageInterval) {
     let m = values.len();
     let q = coverage_count(m, p);
     let tail = m - q;
     if 2 * tail >= m {
-        // the tails overlap (p <= 1/2): sort everything
-        sort_values(values);
-        return shortest_interval(values, p);
+        let mut sorted = values.to_vec();
+        sort_values(&mut sorted);
+        return (symmetric_interval(&sorted, p), shortest_interval(&sorted, p));
     }
-    // values[..tail] the smallest, sorted; values[q..] the largest, sorted
-    values.select_nth_unstable_by(tail - 1, f64::total_cmp);
-    sort_values(&mut values[..tail]);
-    values[tail..].select_nth_unstable_by(q - tail, f64::total_cmp);
-    sort_values(&mut values[q..]);
-    shortest_interval(values, p)
+    let (low, high) = (sorted_tail(values, tail, End::Low), sorted_tail(values, tail, End::High));
+    // sorted[r - 1] and sorted[r + q - 1] with r <= M - q: low[r - 1] and high[r - 1]
+    let r = tail.div_ceil(2).clamp(1, tail);
+    (CoverageInterval { low: low[r - 1], high: high[r - 1] }, shortest_of_tails(&low, &high))
 }
 
 /// `kernel` applied to the columns four at a time (the last group padded with its first column,
@@ -119,7 +134,7 @@ impl SampleSummary {
     /// Summaries of several outputs from their values in the order given (each at least 2
     /// values), without sorting them: the sums in that order, four outputs side by side (their
     /// additions overlap instead of each waiting for the previous one), the intervals by
-    /// [`coverage_intervals_of_unsorted`] on a copy; groups of outputs in parallel. The intervals
+    /// [`coverage_intervals_of_unsorted`]; groups of outputs in parallel. The intervals
     /// equal those of [`SampleSummary::of`] exactly; the moments differ from it only by the
     /// rounding of the summation order.
     pub fn of_unsorted(columns: &[Vec<f64>], p: f64) -> Vec<SampleSummary> {
@@ -132,14 +147,11 @@ impl SampleSummary {
                 } else {
                     slices.iter().map(|&c| moments([c])[0]).collect()
                 };
-                let mut scratch = Vec::new();
-                slices
+                group
                     .iter()
                     .zip(moments)
                     .map(|(values, m)| {
-                        scratch.clear();
-                        scratch.extend_from_slice(values);
-                        let (symmetric, shortest) = coverage_intervals_of_unsorted(&mut scratch, p);
+                        let (symmetric, shortest) = coverage_intervals_of_unsorted(values, p);
                         Self::with(m, symmetric, shortest)
                     })
                     .collect()
@@ -152,13 +164,6 @@ impl SampleSummary {
         let Moments { mean, std_uncertainty, skewness, excess_kurtosis } = moments;
         SampleSummary { mean, std_uncertainty, symmetric, shortest, skewness, excess_kurtosis }
     }
-}
-
-/// Both coverage intervals of values in any order ([`shortest_interval_of_unsorted`], whose two
-/// sorted tails hold the order statistics of the symmetric interval too); `values` is reordered.
-pub fn coverage_intervals_of_unsorted(values: &mut [f64], p: f64) -> (CoverageInterval, CoverageInterval) {
-    let shortest = shortest_interval_of_unsorted(values, p);
-    (symmetric_interval(values, p), shortest)
 }
 
 /// Mean, standard deviation (divisor `M - 1`), skewness and excess kurtosis of a sample.
@@ -260,9 +265,9 @@ mod tests {
                     let bits = |c: CoverageInterval| (c.low.to_bits(), c.high.to_bits());
                     let got = symmetric_interval_of_unsorted(&mut values.clone(), p);
                     assert_eq!(bits(got), bits(want_sym), "symmetric: m {m}, case {case}, p {p}");
-                    let got = shortest_interval_of_unsorted(&mut values.clone(), p);
+                    let got = shortest_interval_of_unsorted(&values, p);
                     assert_eq!(bits(got), bits(want_short), "shortest: m {m}, case {case}, p {p}");
-                    let (sym, short) = coverage_intervals_of_unsorted(&mut values.clone(), p);
+                    let (sym, short) = coverage_intervals_of_unsorted(values, p);
                     assert_eq!((bits(sym), bits(short)), (bits(want_sym), bits(want_short)), "both: m {m}, case {case}, p {p}");
                     checked += 1;
                 }

@@ -10,7 +10,7 @@
 //! block is a function of its number, not of the blocks drawn before it) and merged in order by
 //! [`AdaptiveRun`]: a run distributed over processes or machines equals one process bit for bit.
 
-use super::intervals::{in_fours, shortest_interval_of_unsorted, symmetric_interval_of_unsorted, SampleSummary};
+use super::intervals::{in_fours, shortest_interval_of_unsorted, symmetric_interval_of, SampleSummary};
 use super::UncertaintyError;
 use nalgebra::DMatrix;
 use rand::SeedableRng;
@@ -491,7 +491,7 @@ impl AdaptiveRun {
 /// Estimate, standard uncertainty and the two endpoints of one sequence (§7.9.4 d) for each of
 /// `columns` (its values in trial order): the sums in trial order, four outputs side by side; the
 /// probabilistically symmetric interval by selection (linear time), the shortest by sorting only
-/// its two tails, each on a copy.
+/// its two tails.
 fn sequence_statistics(columns: &[&[f64]], settings: &McSettings) -> Vec<[f64; 4]> {
     let moments = in_fours(columns, |four| {
         let len = four[0].len();
@@ -512,16 +512,13 @@ fn sequence_statistics(columns: &[&[f64]], settings: &McSettings) -> Vec<[f64; 4
         }
         std::array::from_fn(|k| (mean[k], (ss[k] / (n - 1.0)).sqrt()))
     });
-    let mut scratch = Vec::new();
     columns
         .iter()
         .zip(moments)
         .map(|(values, (mean, u))| {
-            scratch.clear();
-            scratch.extend_from_slice(values);
             let interval = match settings.interval {
-                IntervalKind::Symmetric => symmetric_interval_of_unsorted(&mut scratch, settings.coverage),
-                IntervalKind::Shortest => shortest_interval_of_unsorted(&mut scratch, settings.coverage),
+                IntervalKind::Symmetric => symmetric_interval_of(values, settings.coverage),
+                IntervalKind::Shortest => shortest_interval_of_unsorted(values, settings.coverage),
             };
             [mean, u, interval.low, interval.high]
         })
