@@ -267,7 +267,7 @@ mod tests {
                     assert_eq!(bits(got), bits(want_sym), "symmetric: m {m}, case {case}, p {p}");
                     let got = shortest_interval_of_unsorted(&values, p);
                     assert_eq!(bits(got), bits(want_short), "shortest: m {m}, case {case}, p {p}");
-                    let (sym, short) = coverage_intervals_of_unsorted(values, p);
+                    let (sym, short) = coverage_intervals_of_unsorted(&values, p);
                     assert_eq!((bits(sym), bits(short)), (bits(want_sym), bits(want_short)), "both: m {m}, case {case}, p {p}");
                     checked += 1;
                 }
