@@ -4,9 +4,9 @@
 use nalgebra::{DMatrix, DVector};
 use rand_chacha::ChaCha8Rng;
 use trueaxis::uncertainty::{
-    confidence_ellipsoid, propagate, run_adaptive, run_chunk, run_sequences, trial_rng, trials_one_by_one, AdaptiveRun, Chunk, CyclicDrift, DesignMatrix, Distribution, Ellipsoid, Evaluation,
-    IdentificationMap, McResult, McSettings, MultivariateNormal, PeriodicDrift, Source, SourceKind, StartPhase, TrialModel,
-    UncertaintyError,
+    confidence_ellipsoid, propagate, run_adaptive, run_chunk, run_sequences, trial_rng, trials_one_by_one, AdaptiveRun, Chunk, CyclicDrift,
+    DesignMatrix, Distribution, Ellipsoid, Evaluation, IdentificationMap, McResult, McSettings, MultivariateNormal, PeriodicDrift, Source,
+    SourceKind, StartPhase, TrialModel, UncertaintyError,
 };
 
 /// 40 poses x 3 channels, 4 parameters: a small "3D ball" design with lever arms and times
@@ -296,7 +296,8 @@ fn a_block_of_trials_equals_the_trials_one_by_one_bit_for_bit() {
     // trial. Both start phases, with and without a non-Gaussian source (which takes the one-by-one
     // path), whole and partial blocks, late trials (large drift times)
     let map = IdentificationMap::new(design()).unwrap();
-    let gaussian = noise("sensors", &[("x", Distribution::Normal { mean: 0.1, u: 0.3 }), ("z", Distribution::Normal { mean: 0.0, u: 0.5 })]);
+    let gaussian =
+        noise("sensors", &[("x", Distribution::Normal { mean: 0.1, u: 0.3 }), ("z", Distribution::Normal { mean: 0.0, u: 0.5 })]);
     let rectangular = noise("rect", &[("y", Distribution::Rectangular { low: -0.5, high: 0.5 })]);
     let stat = Source { name: "stat".into(), kind: SourceKind::StatisticalDrift { channels: vec![("z".into(), 3.0)] } };
     let mut checked = 0;
@@ -340,6 +341,9 @@ fn a_run_split_into_chunks_equals_one_process_bit_for_bit() {
         }
         let merged = run.finish();
         assert_eq!(merged.samples, whole.samples, "{per_chunk} blocks per chunk");
-        assert_eq!(format!("{:?}{:?}{:?}", merged.outputs, merged.covariance, merged.history), format!("{:?}{:?}{:?}", whole.outputs, whole.covariance, whole.history));
+        assert_eq!(
+            format!("{:?}{:?}{:?}", merged.outputs, merged.covariance, merged.history),
+            format!("{:?}{:?}{:?}", whole.outputs, whole.covariance, whole.history)
+        );
     }
 }

@@ -24,7 +24,8 @@ pub fn measurement_time(t0: f64, trial: usize, run_duration: f64, point_time: f6
 /// quotients beyond 2^52 take `rem_euclid`. Unit: that of `x`.
 pub fn reduce_to_period(x: f64, period: f64) -> f64 {
     let mut q = (x / period).floor();
-    if x.is_sign_negative() || !(q < 4_503_599_627_370_496.0) || !(period > 0.0) {
+    let exact = q < 4_503_599_627_370_496.0 && period > 0.0;
+    if x.is_sign_negative() || !exact {
         return x.rem_euclid(period);
     }
     let mut r = (-q).mul_add(period, x);

@@ -168,16 +168,18 @@ impl SampleSummary {
 
 /// Mean, standard deviation (divisor `M - 1`), skewness and excess kurtosis of a sample.
 #[derive(Clone, Copy, Debug)]
-struct Moments {
-    mean: f64,
-    std_uncertainty: f64,
-    skewness: f64,
-    excess_kurtosis: f64,
+pub(super) struct Moments {
+    pub mean: f64,
+    pub std_uncertainty: f64,
+    pub skewness: f64,
+    pub excess_kurtosis: f64,
 }
 
 /// The [`Moments`] of `K` samples of one length, their sums side by side; each sum adds its
-/// values in the order given, as one sample alone would.
-fn moments<const K: usize>(samples: [&[f64]; K]) -> [Moments; K] {
+/// values in the order given, as one sample alone would (the index loops keep the `K` sums side
+/// by side).
+#[allow(clippy::needless_range_loop)]
+pub(super) fn moments<const K: usize>(samples: [&[f64]; K]) -> [Moments; K] {
     let len = samples[0].len();
     let n = len as f64;
     let mut sum = [-0.0f64; K];

@@ -356,8 +356,8 @@ impl<'a> LinearModel<'a> {
                 gaussian = Some(MultivariateNormal::new(DVector::zeros(n), &cov)?);
             }
         }
-        let by_blocks =
-            evaluation == Evaluation::Reduced && !compiled.iter().any(|c| matches!(c, CompiledSource::PerObservation { all_normal: false, .. }));
+        let by_blocks = evaluation == Evaluation::Reduced
+            && !compiled.iter().any(|c| matches!(c, CompiledSource::PerObservation { all_normal: false, .. }));
         Ok(LinearModel { map, evaluation, sources: compiled, gaussian, constant, by_blocks })
     }
 
@@ -508,7 +508,14 @@ impl TrialModel for LinearModel<'_> {
 
     fn workspace(&self) -> LinearWorkspace {
         let n = self.map.design.observations();
-        LinearWorkspace { errors: vec![0.0; n], observations: vec![0.0; n], normals: Vec::new(), starts: Vec::new(), cos: Vec::new(), sin: Vec::new() }
+        LinearWorkspace {
+            errors: vec![0.0; n],
+            observations: vec![0.0; n],
+            normals: Vec::new(),
+            starts: Vec::new(),
+            cos: Vec::new(),
+            sin: Vec::new(),
+        }
     }
 
     fn begin_sequence(&self, rng: &mut ChaCha8Rng) -> Vec<f64> {

@@ -10,7 +10,7 @@
 //! block is a function of its number, not of the blocks drawn before it) and merged in order by
 //! [`AdaptiveRun`]: a run distributed over processes or machines equals one process bit for bit.
 
-use super::intervals::{in_fours, shortest_interval_of_unsorted, symmetric_interval_of, SampleSummary};
+use super::intervals::{in_fours, moments, shortest_interval_of_unsorted, symmetric_interval_of, Moments, SampleSummary};
 use super::UncertaintyError;
 use nalgebra::DMatrix;
 use rand::SeedableRng;
@@ -489,33 +489,16 @@ impl AdaptiveRun {
 }
 
 /// Estimate, standard uncertainty and the two endpoints of one sequence (§7.9.4 d) for each of
-/// `columns` (its values in trial order): the sums in trial order, four outputs side by side; the
+/// `columns` (its values in trial order): the sums in trial order, four outputs side by side
+/// (the skewness and kurtosis that come with them are not used); the
 /// probabilistically symmetric interval by selection (linear time), the shortest by sorting only
 /// its two tails.
 fn sequence_statistics(columns: &[&[f64]], settings: &McSettings) -> Vec<[f64; 4]> {
-    let moments = in_fours(columns, |four| {
-        let len = four[0].len();
-        let n = len as f64;
-        let mut sum = [-0.0f64; 4];
-        for i in 0..len {
-            for k in 0..4 {
-                sum[k] += four[k][i];
-            }
-        }
-        let mean = sum.map(|s| s / n);
-        let mut ss = [-0.0f64; 4];
-        for i in 0..len {
-            for k in 0..4 {
-                let d = four[k][i] - mean[k];
-                ss[k] += d * d;
-            }
-        }
-        std::array::from_fn(|k| (mean[k], (ss[k] / (n - 1.0)).sqrt()))
-    });
+    let moments = in_fours(columns, moments);
     columns
         .iter()
         .zip(moments)
-        .map(|(values, (mean, u))| {
+        .map(|(values, Moments { mean, std_uncertainty: u, .. })| {
             let interval = match settings.interval {
                 IntervalKind::Symmetric => symmetric_interval_of(values, settings.coverage),
                 IntervalKind::Shortest => shortest_interval_of_unsorted(values, settings.coverage),
@@ -567,8 +550,7 @@ fn covariance(columns: &[Vec<f64>]) -> DMatrix<f64> {
     let means: Vec<f64> = sums.iter().map(|s| s / n).collect();
     // rows 0..split hold about half of the n_out (n_out + 1) / 2 products
     let split = ((n_out as f64 / std::f64::consts::SQRT_2).round() as usize).clamp(1, n_out);
-    let (upper, lower) =
-        rayon::join(|| centred_products(&columns, &means, 0..split), || centred_products(&columns, &means, split..n_out));
+    let (upper, lower) = rayon::join(|| centred_products(&columns, &means, 0..split), || centred_products(&columns, &means, split..n_out));
     let packed: Vec<f64> = upper.into_iter().chain(lower).collect();
     DMatrix::from_fn(n_out, n_out, |i, j| {
         let (i, j) = if j <= i { (i, j) } else { (j, i) };

@@ -197,7 +197,10 @@ mod tests {
                 sorted.sort_unstable_by(f64::total_cmp);
                 for count in [1, 2, n / 40, n / 10, n / 4, n / 2, n].into_iter().filter(|&c| c >= 1 && c <= n) {
                     assert!(same_bits(&sorted_tail(&values, count, End::Low), &sorted[..count]), "low n {n} case {case} count {count}");
-                    assert!(same_bits(&sorted_tail(&values, count, End::High), &sorted[n - count..]), "high n {n} case {case} count {count}");
+                    assert!(
+                        same_bits(&sorted_tail(&values, count, End::High), &sorted[n - count..]),
+                        "high n {n} case {case} count {count}"
+                    );
                 }
                 for rank in [0, 1, n / 40, n / 2, n - 1 - n / 40, n - 1].into_iter().filter(|&r| r < n) {
                     assert_eq!(order_statistic(&values, rank).to_bits(), sorted[rank].to_bits(), "n {n} case {case} rank {rank}");
