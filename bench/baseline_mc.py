@@ -5,8 +5,9 @@ The model is linear, so the observation errors are never drawn one by one: the p
 of the weighted design matrix once, the Gaussian sources (sensor noise, statistical drift) folded
 into one 14-dimensional normal N(0, P diag(u^2) P^T) drawn as Z A^T, the cyclic drift of each
 channel folded into two 14-vectors g, h (P e = sin(2 pi tau / T) g + cos(2 pi tau / T) h), the
-interval endpoints of each sequence by np.partition, one sort at the end. The same reduced form
-trueaxis evaluates (src/uncertainty/linear_map.rs).
+interval endpoints of each sequence and of the whole run by np.partition (no sort: trueaxis keeps
+the values in trial order and sorts only the tails of the shortest interval, which this baseline
+does not compute). The same reduced form trueaxis evaluates (src/uncertainty/linear_map.rs).
 
 BLAS on one thread (OPENBLAS_NUM_THREADS=1, set below unless given): on a loaded 2-core machine
 OpenBLAS threads slow NumPy down, and trueaxis' figures are compared thread for thread.
@@ -97,13 +98,13 @@ def sequence(estimate, factor, cyclic, trials, rng):
     return values
 
 
-def statistics(values, coverage, presorted=False):
+def statistics(values, coverage):
     """Per output: mean, u, symmetric interval endpoints (JCGM 101 §7.7.1) of one sequence, the
-    endpoints by partial selection (np.partition) unless the values are sorted."""
+    endpoints by partial selection (np.partition)."""
     m = len(values)
     q = int((1 - coverage) / 2 * m + 0.5)
     lo, hi = max(q - 1, 0), min(m - q, m - 1)
-    v = values if presorted else np.partition(values, (lo, hi), axis=0)
+    v = np.partition(values, (lo, hi), axis=0)
     return np.stack([values.mean(0), values.std(0, ddof=1), v[lo], v[hi]], -1)
 
 
@@ -127,8 +128,8 @@ def adaptive(design, sources_path, max_sequences=None, seed=4):
             s = np.stack(per_sequence).std(0, ddof=1) / np.sqrt(h)  # (p, 4)
             if (2 * s <= delta).all() or h >= cfg.get("max_sequences", 1000):
                 break
-    all_values = np.sort(np.concatenate(samples), axis=0)  # sorted, as trueaxis keeps them
-    return names, h, statistics(all_values, coverage, presorted=True)
+    # the results over all trials by selection, no sort (trueaxis keeps the values in trial order)
+    return names, h, statistics(np.concatenate(samples), coverage)
 
 
 def main():

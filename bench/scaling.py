@@ -15,12 +15,12 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-# work units: poses; rows of a 100-column design; Monte Carlo trials (one sequence; JCGM 101
-# needs at least 2000 at p = 0.95); thermal nodes (10^7 nodes would need ~60 GB of factor)
+# work units: poses; rows of a 100-column design; Monte Carlo trials (p = 0.9, sequences of at
+# most 10^6); thermal nodes (10^7 nodes would need ~60 GB of factor)
 SIZES = {
     "kinematics": [1e3, 1e4, 1e5, 1e6, 1e7],
     "identify": [1e3, 1e4, 1e5, 1e6],
-    "montecarlo": [1e4, 1e5, 1e6, 1e7],
+    "montecarlo": [1e3, 1e4, 1e5, 1e6, 1e7],
     "thermal": [1e3, 1e4, 1e5, 1e6],
 }
 FIELDS = ["workload", "work", "wall_s", "cpu_s", "peak_bytes", "threads"]

@@ -4,9 +4,9 @@
 use nalgebra::{DMatrix, DVector};
 use rand_chacha::ChaCha8Rng;
 use trueaxis::uncertainty::{
-    confidence_ellipsoid, propagate, run_adaptive, run_sequences, CyclicDrift, DesignMatrix, Distribution, Ellipsoid, Evaluation,
-    IdentificationMap, McResult, McSettings, MultivariateNormal, PeriodicDrift, Source, SourceKind, StartPhase, TrialModel,
-    UncertaintyError,
+    confidence_ellipsoid, propagate, run_adaptive, run_chunk, run_sequences, trial_rng, trials_one_by_one, AdaptiveRun, Chunk, CyclicDrift,
+    DesignMatrix, Distribution, Ellipsoid, Evaluation, IdentificationMap, McResult, McSettings, MultivariateNormal, PeriodicDrift, Source,
+    SourceKind, StartPhase, TrialModel, UncertaintyError,
 };
 
 /// 40 poses x 3 channels, 4 parameters: a small "3D ball" design with lever arms and times
@@ -287,4 +287,63 @@ fn bad_designs_and_sources_are_reported() {
     // and names the line of a bad number
     let err = DesignMatrix::from_csv_reader("channel,t,a,b\nx,0,1,2\nx,1,zz,2\nx,2,1,3\n".as_bytes(), "d.csv").unwrap_err();
     assert!(err.to_string().contains("d.csv: line 3: column a: `zz`"), "{err}");
+}
+
+#[test]
+fn a_block_of_trials_equals_the_trials_one_by_one_bit_for_bit() {
+    // the reduced model computes a block at once (normals drawn in stream order, the Gaussian
+    // factor and the drift harmonics applied output-major); the provided form calls `trial` per
+    // trial. Both start phases, with and without a non-Gaussian source (which takes the one-by-one
+    // path), whole and partial blocks, late trials (large drift times)
+    let map = IdentificationMap::new(design()).unwrap();
+    let gaussian =
+        noise("sensors", &[("x", Distribution::Normal { mean: 0.1, u: 0.3 }), ("z", Distribution::Normal { mean: 0.0, u: 0.5 })]);
+    let rectangular = noise("rect", &[("y", Distribution::Rectangular { low: -0.5, high: 0.5 })]);
+    let stat = Source { name: "stat".into(), kind: SourceKind::StatisticalDrift { channels: vec![("z".into(), 3.0)] } };
+    let mut checked = 0;
+    for phase in [StartPhase::Sequence, StartPhase::Trial] {
+        let drift = cyclic(phase);
+        for sources in [vec![&gaussian, &drift], vec![&gaussian, &stat, &drift, &rectangular], vec![&drift], vec![&gaussian]] {
+            let model = map.model(&sources, Evaluation::Reduced).unwrap();
+            let n_out = model.outputs();
+            for (block, trials) in [(0u64, 500usize), (3, 500), (7, 137), (40_000, 64)] {
+                let first = block as usize * 500;
+                let t0 = model.begin_sequence(&mut trial_rng(11, 2, u64::from(u32::MAX)));
+                let (mut ws_a, mut ws_b) = (model.workspace(), model.workspace());
+                let (mut a, mut b) = (vec![0.0; trials * n_out], vec![0.0; trials * n_out]);
+                model.trial_block(&t0, first, &mut trial_rng(11, 2, block), &mut ws_a, &mut a);
+                trials_one_by_one(&model, &t0, first, &mut trial_rng(11, 2, block), &mut ws_b, &mut b);
+                assert!(a.iter().zip(&b).all(|(x, y)| x.to_bits() == y.to_bits()), "{phase:?}, {} sources, block {block}", sources.len());
+                assert!(a.iter().all(|v| v.is_finite()) && a.iter().any(|v| *v != a[0]));
+                checked += 1;
+            }
+        }
+    }
+    assert_eq!(checked, 32);
+}
+
+#[test]
+fn a_run_split_into_chunks_equals_one_process_bit_for_bit() {
+    // chunks of 1 and 3 blocks (trial-major values, as the Python/Dask driver takes them) pushed
+    // in order give the run of one process, with M not a multiple of the block
+    let map = IdentificationMap::new(design()).unwrap();
+    let sources = all_sources();
+    let by_blocks = [&sources[1], &sources[2]];
+    let model = map.model(&by_blocks, Evaluation::Reduced).unwrap();
+    let mut s = settings(3);
+    s.trials_per_sequence = 2300;
+    let whole = run_sequences(&model, &s, 3).unwrap();
+    for per_chunk in [1, 3] {
+        let mut run = AdaptiveRun::new(model.outputs(), &s, Some(3)).unwrap();
+        while let Some(h) = run.next_sequence() {
+            let chunks: Vec<_> = Chunk::of_sequence(&s, h, per_chunk).into_iter().map(|c| (c, run_chunk(&model, &s, &c))).collect();
+            run.push_chunks(&chunks).unwrap();
+        }
+        let merged = run.finish();
+        assert_eq!(merged.samples, whole.samples, "{per_chunk} blocks per chunk");
+        assert_eq!(
+            format!("{:?}{:?}{:?}", merged.outputs, merged.covariance, merged.history),
+            format!("{:?}{:?}{:?}", whole.outputs, whole.covariance, whole.history)
+        );
+    }
 }

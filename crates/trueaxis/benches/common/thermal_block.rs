@@ -1,5 +1,5 @@
 //! The thermal benchmark model, shared by `benches/thermal.rs` and `examples/thermal_cost.rs`
-//! (and named in `bench/scaling_inputs.md` for the scaling harness): a steel block
+//! (and the scaling runs of `examples/scaling.rs`): a steel block
 //! 0.5 x 0.4 x 0.3 m on a structured grid of `cells`^3 trilinear hexahedra ((cells + 1)^3 nodes),
 //! convection on four faces, 1 W at one corner; the model of `bench/baseline_thermal.py`.
 #![allow(dead_code)]

@@ -17,6 +17,28 @@ pub fn measurement_time(t0: f64, trial: usize, run_duration: f64, point_time: f6
     t0 + trial as f64 * run_duration + point_time
 }
 
+/// `x.rem_euclid(period)` bit for bit (`period > 0`), without the software `fmod`: for `x >= 0`
+/// the remainder is `x - q period` with the integer quotient `q`, representable, so one fused
+/// multiply-add gives it exactly once `q` is right; `floor(x / period)` may be one off by rounding,
+/// which the range test corrects. Negative `x` (where `rem_euclid` rounds `fmod + period`) and
+/// quotients beyond 2^52 take `rem_euclid`. Unit: that of `x`.
+pub fn reduce_to_period(x: f64, period: f64) -> f64 {
+    let mut q = (x / period).floor();
+    let exact = q < 4_503_599_627_370_496.0 && period > 0.0;
+    if x.is_sign_negative() || !exact {
+        return x.rem_euclid(period);
+    }
+    let mut r = (-q).mul_add(period, x);
+    if r < 0.0 {
+        q -= 1.0;
+        r = (-q).mul_add(period, x);
+    } else if r >= period {
+        q += 1.0;
+        r = (-q).mul_add(period, x);
+    }
+    r
+}
+
 /// Where the random start time `t0` of the cyclic drift is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -143,6 +165,26 @@ mod tests {
             assert!((statistical_drift_uncertainty(e) - u).abs() < 0.01);
         }
         assert!((statistical_drift_uncertainty(6.95) - 2.0063).abs() < 1e-4);
+    }
+
+    #[test]
+    fn reduction_to_the_period_equals_rem_euclid_bit_for_bit() {
+        // the seed 004 times t0 + n t_m (t_m = 605.25 s, T = 1000 s) and awkward periods, values
+        // on and next to multiples of the period, negative times, signed zeros
+        let mut checked = 0;
+        for period in [1000.0, 0.1, 1.0 / 3.0, 604.999_999, 7.0e-3, 86_400.0] {
+            for t0 in [0.0, -0.0, 0.123_456_789, 333.3, 999.999_999_999_9, -17.5] {
+                for n in (0..20_000usize).step_by(7) {
+                    let x = t0 + n as f64 * 605.25;
+                    for x in [x, -x, x.next_up(), x.next_down(), period * n as f64, (period * n as f64).next_down()] {
+                        assert_eq!(reduce_to_period(x, period).to_bits(), x.rem_euclid(period).to_bits(), "x {x:e}, period {period}");
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 500_000);
+        assert_eq!(reduce_to_period(1e300, 3.0).to_bits(), 1e300f64.rem_euclid(3.0).to_bits());
     }
 
     #[test]

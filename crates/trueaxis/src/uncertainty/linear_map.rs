@@ -13,14 +13,15 @@
 //! distribution (the cyclic part trial by trial).
 
 use super::distributions::{Distribution, MultivariateNormal};
-use super::drift::{measurement_time, statistical_drift_uncertainty, PeriodicDrift, StartPhase};
-use super::monte_carlo::TrialModel;
+use super::drift::{measurement_time, reduce_to_period, statistical_drift_uncertainty, PeriodicDrift, StartPhase};
+use super::monte_carlo::{trials_one_by_one, TrialModel};
 use super::sources::{Source, SourceKind};
 use super::{DesignMatrix, UncertaintyError};
 use crate::identify::{fit_linear, IdentifyError};
 use nalgebra::{DMatrix, DVector};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution as _, StandardNormal};
 
 /// How a Monte Carlo trial is evaluated.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -202,7 +203,7 @@ struct CyclicMap {
 impl CyclicMap {
     /// `tau = t0 + (n - 1) t_m` reduced to one period (seed 004 eq. 12 without the point time).
     fn tau(&self, t0: f64, trial: usize) -> f64 {
-        measurement_time(t0, trial, self.run_duration, 0.0).rem_euclid(self.period)
+        reduce_to_period(measurement_time(t0, trial, self.run_duration, 0.0), self.period)
     }
 }
 
@@ -315,12 +316,22 @@ pub struct LinearModel<'a> {
     /// Reduced form: the Gaussian per-observation sources together, and their mean effect.
     gaussian: Option<MultivariateNormal>,
     constant: Vec<f64>,
+    /// Reduced form whose only per-trial draws are the Gaussian and the start times: a block of
+    /// trials at once ([`LinearModel::reduced_block`]).
+    by_blocks: bool,
 }
 
 /// Per-thread buffers.
 pub struct LinearWorkspace {
     errors: Vec<f64>,
     observations: Vec<f64>,
+    /// A block's standard normal variates, component-major.
+    normals: Vec<f64>,
+    /// A block's start times per cyclic source drawn per trial, source-major.
+    starts: Vec<f64>,
+    /// A block's cosine and sine of one harmonic.
+    cos: Vec<f64>,
+    sin: Vec<f64>,
 }
 
 impl<'a> LinearModel<'a> {
@@ -345,7 +356,9 @@ impl<'a> LinearModel<'a> {
                 gaussian = Some(MultivariateNormal::new(DVector::zeros(n), &cov)?);
             }
         }
-        Ok(LinearModel { map, evaluation, sources: compiled, gaussian, constant })
+        let by_blocks = evaluation == Evaluation::Reduced
+            && !compiled.iter().any(|c| matches!(c, CompiledSource::PerObservation { all_normal: false, .. }));
+        Ok(LinearModel { map, evaluation, sources: compiled, gaussian, constant, by_blocks })
     }
 
     /// Draws the error of every observation (um) into `e`: noise added, drift subtracted.
@@ -422,6 +435,60 @@ impl<'a> LinearModel<'a> {
     }
 }
 
+impl LinearModel<'_> {
+    /// [`LinearModel::reduced_trial`] for the `n = out.len() / n_par` trials from `first` on, the
+    /// values output-major (`out[r n + i]`): the draws in the order of the trials (each trial's
+    /// normals, then its start times), then every value through the same operations in the same
+    /// order as one trial alone, vectorised over the trials. Only for models whose per-trial draws
+    /// are those (`by_blocks`).
+    fn reduced_block(&self, t0: &[f64], first: usize, rng: &mut ChaCha8Rng, ws: &mut LinearWorkspace, out: &mut [f64]) {
+        let n_par = self.constant.len();
+        let n = out.len() / n_par;
+        let cyclic: Vec<&CyclicMap> = self
+            .sources
+            .iter()
+            .filter_map(|s| match s {
+                CompiledSource::Cyclic(c) => Some(c),
+                CompiledSource::PerObservation { .. } | CompiledSource::Correlated { .. } => None,
+            })
+            .collect();
+        let dimension = self.gaussian.as_ref().map_or(0, MultivariateNormal::dimension);
+        ws.normals.resize(dimension * n, 0.0);
+        ws.starts.resize(cyclic.len() * n, 0.0);
+        for i in 0..n {
+            for j in 0..dimension {
+                ws.normals[j * n + i] = StandardNormal.sample(rng);
+            }
+            for (k, c) in cyclic.iter().enumerate() {
+                ws.starts[k * n + i] = start_time(c, t0[k], rng);
+            }
+        }
+        for (o, c) in out.chunks_exact_mut(n).zip(&self.constant) {
+            o.fill(*c);
+        }
+        if let Some(g) = &self.gaussian {
+            g.add_centred_block(&ws.normals, out);
+        }
+        ws.cos.resize(n, 0.0);
+        ws.sin.resize(n, 0.0);
+        for (k, c) in cyclic.iter().enumerate() {
+            let w = 2.0 * std::f64::consts::PI / c.period;
+            for (harmonic, (g, h)) in c.harmonics.iter().enumerate() {
+                for i in 0..n {
+                    let tau = c.tau(ws.starts[k * n + i], first + i);
+                    let angle = (harmonic + 1) as f64 * w * tau;
+                    (ws.sin[i], ws.cos[i]) = angle.sin_cos();
+                }
+                for ((o, gk), hk) in out.chunks_exact_mut(n).zip(g.iter()).zip(h.iter()) {
+                    for ((o, co), s) in o.iter_mut().zip(&ws.cos).zip(&ws.sin) {
+                        *o += gk * co + hk * s;
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// The start time `t0`: the sequence's (seed 004 eq. 12), or a new one for this trial.
 fn start_time(c: &CyclicMap, sequence_t0: f64, rng: &mut ChaCha8Rng) -> f64 {
     match c.start_phase {
@@ -441,7 +508,14 @@ impl TrialModel for LinearModel<'_> {
 
     fn workspace(&self) -> LinearWorkspace {
         let n = self.map.design.observations();
-        LinearWorkspace { errors: vec![0.0; n], observations: vec![0.0; n] }
+        LinearWorkspace {
+            errors: vec![0.0; n],
+            observations: vec![0.0; n],
+            normals: Vec::new(),
+            starts: Vec::new(),
+            cos: Vec::new(),
+            sin: Vec::new(),
+        }
     }
 
     fn begin_sequence(&self, rng: &mut ChaCha8Rng) -> Vec<f64> {
@@ -452,6 +526,14 @@ impl TrialModel for LinearModel<'_> {
                 CompiledSource::PerObservation { .. } | CompiledSource::Correlated { .. } => None,
             })
             .collect()
+    }
+
+    fn trial_block(&self, t0: &Vec<f64>, first: usize, rng: &mut ChaCha8Rng, ws: &mut LinearWorkspace, out: &mut [f64]) {
+        if self.by_blocks {
+            self.reduced_block(t0, first, rng, ws, out);
+        } else {
+            trials_one_by_one(self, t0, first, rng, ws, out);
+        }
     }
 
     fn trial(&self, t0: &Vec<f64>, trial: usize, rng: &mut ChaCha8Rng, ws: &mut LinearWorkspace, out: &mut [f64]) {

@@ -21,6 +21,7 @@ mod linear_map;
 mod monte_carlo;
 mod prediction;
 mod report;
+mod sort;
 mod sources;
 
 pub use budget::{run_budget, Budget, BudgetPlan, BudgetRow, Stage};
@@ -29,12 +30,13 @@ pub use distributions::{Distribution, MultivariateNormal};
 pub use drift::{measurement_time, statistical_drift_uncertainty, PeriodicDrift, StartPhase};
 pub use gum::{confidence_ellipsoid, normal_coverage_factor, principal_axes, propagate, Ellipsoid, PrincipalAxes};
 pub use intervals::{
-    coverage_count, shortest_interval, symmetric_interval, symmetric_interval_of_unsorted, CoverageInterval, SampleSummary,
+    coverage_count, coverage_intervals_of_unsorted, shortest_interval, shortest_interval_of_unsorted, symmetric_interval,
+    symmetric_interval_of_unsorted, CoverageInterval, SampleSummary,
 };
 pub use linear_map::{Evaluation, IdentificationMap, LinearModel, LinearWorkspace};
 pub use monte_carlo::{
-    blocks_per_sequence, minimum_trials, run_adaptive, run_chunk, run_sequences, trial_rng, AdaptiveRun, Chunk, ControlVariables,
-    IntervalKind, McResult, McSettings, OutputResult, TrialModel, BLOCK, MAX_KEPT_VALUES, MAX_TRIALS_PER_SEQUENCE,
+    blocks_per_sequence, minimum_trials, run_adaptive, run_chunk, run_sequences, trial_rng, trials_one_by_one, AdaptiveRun, Chunk,
+    ControlVariables, IntervalKind, McResult, McSettings, OutputResult, TrialModel, BLOCK, MAX_KEPT_VALUES, MAX_TRIALS_PER_SEQUENCE,
 };
 pub use prediction::VolumetricUncertainty;
 pub use report::{budget_json, pose_uncertainties, PoseUncertainty};

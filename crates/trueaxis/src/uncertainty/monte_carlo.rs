@@ -10,7 +10,7 @@
 //! block is a function of its number, not of the blocks drawn before it) and merged in order by
 //! [`AdaptiveRun`]: a run distributed over processes or machines equals one process bit for bit.
 
-use super::intervals::{shortest_interval, sort_values, symmetric_interval_of_unsorted, SampleSummary};
+use super::intervals::{in_fours, moments, shortest_interval_of_unsorted, symmetric_interval_of, Moments, SampleSummary};
 use super::UncertaintyError;
 use nalgebra::DMatrix;
 use rand::SeedableRng;
@@ -42,6 +42,36 @@ pub trait TrialModel: Sync {
     fn begin_sequence(&self, rng: &mut ChaCha8Rng) -> Self::Sequence;
     /// Trial `trial` (0-based, within its sequence): fills `out` with one value per output.
     fn trial(&self, sequence: &Self::Sequence, trial: usize, rng: &mut ChaCha8Rng, ws: &mut Self::Workspace, out: &mut [f64]);
+
+    /// The trials `first .. first + n` of one block, `n = out.len() / outputs`, output-major:
+    /// `out[j n + i]` is output `j` of trial `first + i`. It must give, bit for bit, what `n` calls
+    /// of [`TrialModel::trial`] in trial order give from the same `rng` ([`trials_one_by_one`],
+    /// the provided form); a model overrides it to compute a whole block at once.
+    fn trial_block(&self, sequence: &Self::Sequence, first: usize, rng: &mut ChaCha8Rng, ws: &mut Self::Workspace, out: &mut [f64]) {
+        trials_one_by_one(self, sequence, first, rng, ws, out);
+    }
+}
+
+/// [`TrialModel::trial_block`] by one call of [`TrialModel::trial`] per trial (each on a zeroed
+/// row), the values written output-major.
+pub fn trials_one_by_one<M: TrialModel + ?Sized>(
+    model: &M,
+    sequence: &M::Sequence,
+    first: usize,
+    rng: &mut ChaCha8Rng,
+    ws: &mut M::Workspace,
+    out: &mut [f64],
+) {
+    let n_out = model.outputs();
+    let n = out.len() / n_out;
+    let mut row = vec![0.0; n_out];
+    for i in 0..n {
+        row.fill(0.0);
+        model.trial(sequence, first + i, rng, ws, &mut row);
+        for (j, v) in row.iter().enumerate() {
+            out[j * n + i] = *v;
+        }
+    }
 }
 
 /// Which coverage interval the adaptive loop stabilises (both are reported).
@@ -159,7 +189,8 @@ pub struct McResult {
     pub converged: bool,
     /// Control variables after each sequence from the second on.
     pub history: Vec<ControlVariables>,
-    /// All trial values of each output, sorted (for histograms).
+    /// All trial values of each output, in trial order (sequence after sequence; for histograms;
+    /// sort a copy for the empirical distribution function).
     pub samples: Vec<Vec<f64>>,
 }
 
@@ -188,8 +219,8 @@ fn run<M: TrialModel>(
     let mut state = AdaptiveRun::new(model.outputs(), settings, fixed)?;
     let mut buffer = Vec::new();
     while let Some(h) = state.next_sequence() {
-        run_chunk_into(model, settings, &Chunk::whole_sequence(settings, h), &mut buffer);
-        let control = state.push_sequence(&buffer)?;
+        run_blocks_into(model, settings, &Chunk::whole_sequence(settings, h), &mut buffer);
+        let control = state.push_blocks(&buffer)?;
         progress(h + 1, control.as_ref());
     }
     Ok(state.finish())
@@ -235,12 +266,24 @@ pub fn blocks_per_sequence(settings: &McSettings) -> usize {
 /// The trial values of one chunk, trial-major (`outputs` values per trial, trials in order). The
 /// blocks run in parallel (rayon); the values do not depend on the number of threads.
 pub fn run_chunk<M: TrialModel>(model: &M, settings: &McSettings, chunk: &Chunk) -> Vec<f64> {
-    let mut buffer = Vec::new();
-    run_chunk_into(model, settings, chunk, &mut buffer);
-    buffer
+    let n_out = model.outputs();
+    let mut blocks = Vec::new();
+    run_blocks_into(model, settings, chunk, &mut blocks);
+    let mut values = vec![0.0; blocks.len()];
+    for (block, rows) in blocks.chunks(BLOCK * n_out).zip(values.chunks_mut(BLOCK * n_out)) {
+        let n = block.len() / n_out;
+        for (i, row) in rows.chunks_exact_mut(n_out).enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v = block[j * n + i];
+            }
+        }
+    }
+    values
 }
 
-fn run_chunk_into<M: TrialModel>(model: &M, settings: &McSettings, chunk: &Chunk, buffer: &mut Vec<f64>) {
+/// The trial values of one chunk block by block, each block output-major (`out[j n + i]`,
+/// `n` the trials of the block): the layout [`AdaptiveRun::push_blocks`] takes. Blocks in parallel.
+fn run_blocks_into<M: TrialModel>(model: &M, settings: &McSettings, chunk: &Chunk, buffer: &mut Vec<f64>) {
     let n_out = model.outputs();
     let trials = chunk.trials(settings);
     buffer.clear();
@@ -252,10 +295,7 @@ fn run_chunk_into<M: TrialModel>(model: &M, settings: &McSettings, chunk: &Chunk
         |ws, (k, values)| {
             let block = chunk.first_block + k;
             let mut rng = trial_rng(settings.seed, sequence, block as u64);
-            for (i, out) in values.chunks_exact_mut(n_out).enumerate() {
-                out.fill(0.0);
-                model.trial(&state, block * BLOCK + i, &mut rng, ws, out);
-            }
+            model.trial_block(&state, block * BLOCK, &mut rng, ws, values);
         },
     );
 }
@@ -341,35 +381,62 @@ impl AdaptiveRun {
                 self.settings.trials_per_sequence
             )));
         }
+        self.push_columns(h, |j, column| column.extend(values.chunks_exact(n_out).map(|row| row[j])))
+    }
+
+    /// [`AdaptiveRun::push_sequence`] for values laid out block by block, each block of [`BLOCK`]
+    /// trials (the last maybe fewer) output-major, as [`run_blocks_into`] writes them.
+    fn push_blocks(&mut self, values: &[f64]) -> Result<Option<ControlVariables>, UncertaintyError> {
+        let Some(h) = self.next_sequence() else {
+            return Err(UncertaintyError::Input("the Monte Carlo run is already complete".into()));
+        };
+        let n_out = self.outputs;
+        debug_assert_eq!(values.len(), self.settings.trials_per_sequence * n_out);
+        self.push_columns(h, |j, column| {
+            for block in values.chunks(BLOCK * n_out) {
+                let n = block.len() / n_out;
+                column.extend_from_slice(&block[j * n..(j + 1) * n]);
+            }
+        })
+    }
+
+    /// Appends sequence `h` to the columns (`extend(j, column)` appends output `j`), then its
+    /// statistics and control variables.
+    fn push_columns(
+        &mut self,
+        h: usize,
+        extend: impl Fn(usize, &mut Vec<f64>) + Sync,
+    ) -> Result<Option<ControlVariables>, UncertaintyError> {
+        let m = self.settings.trials_per_sequence;
         // the outputs in parallel, each into its own column; the first output (in order) that is
         // not finite is the error
-        let settings = &self.settings;
-        let statistics: Vec<Result<[f64; 4], UncertaintyError>> = self
+        let finite: Vec<bool> = self
             .columns
             .par_iter_mut()
             .enumerate()
             .map(|(j, column)| {
-                let start = column.len();
-                column.extend(values.chunks_exact(n_out).map(|row| row[j]));
-                if column[start..].iter().any(|v| !v.is_finite()) {
-                    return Err(UncertaintyError::Computation(format!("output {} is not finite in sequence {}", j + 1, h + 1)));
-                }
-                Ok(sequence_statistics(&mut column[start..].to_vec(), settings))
+                extend(j, column);
+                column[h * m..].iter().all(|v| v.is_finite())
             })
             .collect();
-        match statistics.into_iter().collect::<Result<Vec<_>, _>>() {
-            Ok(statistics) => {
-                for (values, s) in self.sequence_values.iter_mut().zip(statistics) {
-                    values.push(s);
-                }
+        if let Some(j) = finite.iter().position(|f| !f) {
+            // the run stays as it was before this sequence
+            for column in &mut self.columns {
+                column.truncate(h * m);
             }
-            Err(e) => {
-                // the run stays as it was before this sequence
-                for column in &mut self.columns {
-                    column.truncate(h * self.settings.trials_per_sequence);
-                }
-                return Err(e);
-            }
+            return Err(UncertaintyError::Computation(format!("output {} is not finite in sequence {}", j + 1, h + 1)));
+        }
+        let settings = &self.settings;
+        let statistics: Vec<[f64; 4]> = self
+            .columns
+            .par_chunks(8)
+            .flat_map_iter(|group| {
+                let fresh: Vec<&[f64]> = group.iter().map(|c| &c[h * m..]).collect();
+                sequence_statistics(&fresh, settings)
+            })
+            .collect();
+        for (values, s) in self.sequence_values.iter_mut().zip(statistics) {
+            values.push(s);
         }
         self.sequences = h + 1;
         if self.sequences < 2 {
@@ -405,10 +472,10 @@ impl AdaptiveRun {
 
     /// The results over all the trials taken (JCGM 101 §7.9.4 g).
     pub fn finish(self) -> McResult {
-        let AdaptiveRun { settings, mut columns, history, converged, sequences, fixed, .. } = self;
+        let AdaptiveRun { settings, columns, history, converged, sequences, fixed, .. } = self;
         let covariance = covariance(&columns);
-        // one sort of all the trial values per output, the outputs in parallel
-        let outputs = columns.par_iter_mut().map(|values| SampleSummary::of(values, settings.coverage)).collect();
+        // no sort: the sums in trial order, the intervals by selection and sorted tails
+        let outputs = SampleSummary::of_unsorted(&columns, settings.coverage);
         McResult {
             outputs,
             covariance,
@@ -421,21 +488,24 @@ impl AdaptiveRun {
     }
 }
 
-/// Estimate, standard uncertainty and the two endpoints of one sequence (§7.9.4 d); reorders
-/// `values`. The probabilistically symmetric interval by selection (linear time), the shortest by a
-/// sort; the sums in trial order.
-fn sequence_statistics(values: &mut [f64], settings: &McSettings) -> [f64; 4] {
-    let n = values.len() as f64;
-    let mean = values.iter().sum::<f64>() / n;
-    let u = (values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n - 1.0)).sqrt();
-    let interval = match settings.interval {
-        IntervalKind::Symmetric => symmetric_interval_of_unsorted(values, settings.coverage),
-        IntervalKind::Shortest => {
-            sort_values(values);
-            shortest_interval(values, settings.coverage)
-        }
-    };
-    [mean, u, interval.low, interval.high]
+/// Estimate, standard uncertainty and the two endpoints of one sequence (§7.9.4 d) for each of
+/// `columns` (its values in trial order): the sums in trial order, four outputs side by side
+/// (the skewness and kurtosis that come with them are not used); the
+/// probabilistically symmetric interval by selection (linear time), the shortest by sorting only
+/// its two tails.
+fn sequence_statistics(columns: &[&[f64]], settings: &McSettings) -> Vec<[f64; 4]> {
+    let moments = in_fours(columns, moments);
+    columns
+        .iter()
+        .zip(moments)
+        .map(|(values, Moments { mean, std_uncertainty: u, .. })| {
+            let interval = match settings.interval {
+                IntervalKind::Symmetric => symmetric_interval_of(values, settings.coverage),
+                IntervalKind::Shortest => shortest_interval_of_unsorted(values, settings.coverage),
+            };
+            [mean, u, interval.low, interval.high]
+        })
+        .collect()
 }
 
 /// `s_x^2 = 1 / (h (h - 1)) sum_r (x^(r) - mean x)^2` for each of the four quantities (§7.9.4 f).
@@ -462,16 +532,50 @@ fn control_variables(h: usize, sequence_values: &[Vec<[f64; 4]>]) -> ControlVari
     ControlVariables { sequence: h, per_output, max }
 }
 
-/// Sample covariance of the outputs (columns of trial values in trial order).
+/// Sample covariance of the outputs (columns of trial values in trial order, divisor `n - 1`):
+/// each mean and each product sum in trial order, all the sums of a pass side by side (one pass
+/// over the trials instead of one per pair); the lower triangle in two parts of about equal work,
+/// in parallel.
 fn covariance(columns: &[Vec<f64>]) -> DMatrix<f64> {
     let n_out = columns.len();
-    let n = columns[0].len() as f64;
-    let means: Vec<f64> = columns.iter().map(|c| c.iter().sum::<f64>() / n).collect();
-    // the centred columns once, then the lower triangle of the products, rows in parallel
-    let centred: Vec<Vec<f64>> = columns.par_iter().zip(&means).map(|(c, m)| c.iter().map(|v| v - m).collect()).collect();
-    let rows: Vec<Vec<f64>> = (0..n_out)
-        .into_par_iter()
-        .map(|i| (0..=i).map(|j| centred[i].iter().zip(&centred[j]).map(|(a, b)| a * b).sum::<f64>() / (n - 1.0)).collect())
-        .collect();
-    DMatrix::from_fn(n_out, n_out, |i, j| if j <= i { rows[i][j] } else { rows[j][i] })
+    let len = columns[0].len();
+    let n = len as f64;
+    let columns: Vec<&[f64]> = columns.iter().map(|c| &c[..len]).collect();
+    let mut sums = vec![-0.0f64; n_out];
+    for i in 0..len {
+        for (s, c) in sums.iter_mut().zip(&columns) {
+            *s += c[i];
+        }
+    }
+    let means: Vec<f64> = sums.iter().map(|s| s / n).collect();
+    // rows 0..split hold about half of the n_out (n_out + 1) / 2 products
+    let split = ((n_out as f64 / std::f64::consts::SQRT_2).round() as usize).clamp(1, n_out);
+    let (upper, lower) = rayon::join(|| centred_products(&columns, &means, 0..split), || centred_products(&columns, &means, split..n_out));
+    let packed: Vec<f64> = upper.into_iter().chain(lower).collect();
+    DMatrix::from_fn(n_out, n_out, |i, j| {
+        let (i, j) = if j <= i { (i, j) } else { (j, i) };
+        packed[i * (i + 1) / 2 + j] / (n - 1.0)
+    })
+}
+
+/// `sum_t (x_i[t] - m_i) (x_j[t] - m_j)` for the rows `i` of `rows` and `j <= i`, packed row by
+/// row; every sum in trial order.
+fn centred_products(columns: &[&[f64]], means: &[f64], rows: std::ops::Range<usize>) -> Vec<f64> {
+    let first = rows.start * (rows.start + 1) / 2;
+    let mut sums = vec![-0.0f64; rows.end * (rows.end + 1) / 2 - first];
+    let mut d = vec![0.0; rows.end];
+    for t in 0..columns.first().map_or(0, |c| c.len()) {
+        for ((d, c), m) in d.iter_mut().zip(columns).zip(means) {
+            *d = c[t] - m;
+        }
+        let mut k = 0;
+        for i in rows.clone() {
+            let di = d[i];
+            for (s, dj) in sums[k..k + i + 1].iter_mut().zip(&d[..=i]) {
+                *s += di * dj;
+            }
+            k += i + 1;
+        }
+    }
+    sums
 }
