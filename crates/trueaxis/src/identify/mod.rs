@@ -9,6 +9,7 @@ mod direct;
 mod drift;
 pub mod export;
 mod fit;
+mod gram;
 pub mod identifiability;
 pub mod indirect;
 mod least_squares;
