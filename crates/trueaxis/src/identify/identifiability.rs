@@ -7,7 +7,7 @@
 //! §3.2.2), so the singular values are dimensionless and independent of the parameter units.
 //! Seed 000 §4.3: `lambda^T theta` is estimable iff `lambda` lies in the row space of `X`.
 
-use super::least_squares::{column_norm, weighted_column_norm};
+use super::least_squares::{column_norms, weighted_column_norm};
 use super::reduction::{reduce, reduce_by_gram, ReducedProblem, GRAM_CONDITION_LIMIT, GRAM_MIN_ENTRIES};
 use faer::Mat;
 use nalgebra::{DMatrix, DVector};
@@ -222,7 +222,7 @@ impl IdentifiabilityReport {
                 f64::from(u8::from(i == j))
             }
         });
-        let sensitivity = (0..p).map(|j| column_norm(matrix.column(j)) / (n.max(1) as f64).sqrt()).collect();
+        let sensitivity = column_norms(matrix).iter().map(|s| s / (n.max(1) as f64).sqrt()).collect();
         let independence = (0..p)
             .map(|j| {
                 let scaled = normal_inverse[(j, j)] * svd.scale[j] * svd.scale[j];
@@ -449,7 +449,9 @@ mod tests {
         let x = DMatrix::from_fn(n, p, |_, _| rng.sample::<f64, _>(rand_distr::StandardNormal));
         let truth: Vec<f64> = (0..p).map(|j| (j as f64 * 0.7).sin()).collect();
         let sigma: Vec<f64> = (0..n).map(|_| rng.gen_range(0.5..2.0)).collect();
-        let y = (0..n).map(|i| (0..p).map(|j| x[(i, j)] * truth[j]).sum::<f64>() + sigma[i] * rng.sample::<f64, _>(rand_distr::StandardNormal)).collect();
+        let y = (0..n)
+            .map(|i| (0..p).map(|j| x[(i, j)] * truth[j]).sum::<f64>() + sigma[i] * rng.sample::<f64, _>(rand_distr::StandardNormal))
+            .collect();
         (x, sigma.iter().map(|s| 1.0 / (s * s)).collect(), y)
     }
 

@@ -15,8 +15,8 @@
 //!
 //! On 10^5 x 501 (DESIGN.md section 5) the Gram reduction takes a fraction of the QR's time.
 
-use faer::dyn_stack::{MemBuffer, MemStack};
 use super::gram::weighted_gram;
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::qr::no_pivoting::factor::{qr_in_place, qr_in_place_scratch, recommended_block_size};
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::{get_global_parallelism, Mat, Par, Side};
