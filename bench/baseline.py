@@ -261,22 +261,7 @@ def main():
             cols.append((Chain(machine, plus, tables).volumetric_error(q807) - Chain(machine, minus, tables).volumetric_error(q807))[:, :3] / (2 * h))
         return np.stack(cols, -1)
     results["jacobian/batch_807"] = best(jacobian, 3)
-    # identification solves on dense problems of the shapes of benches/identify.rs: what trueaxis
-    # `solve` returns (unit-length column scaling, singular values, solution, covariance, residuals)
-    # the straightforward NumPy way, by the thin SVD of the scaled matrix (LAPACK gesdd)
-    def identify_solve(x, y):
-        scale = np.linalg.norm(x, axis=0)
-        a = x / scale
-        u, s, vt = np.linalg.svd(a, full_matrices=False)
-        solution = (vt.T @ ((u.T @ y) / s)) / scale
-        covariance = ((vt.T / s**2) @ vt) / np.outer(scale, scale)
-        residuals = y - x @ solution
-        return solution, covariance, residuals, s
-
-    for rows, cols in ((807 * 3, 14), (100_000, 500)):
-        x = rng.standard_normal((rows, cols))
-        y = rng.standard_normal(rows)
-        results[f"identify/solve_{rows}x{cols}"] = best(lambda: identify_solve(x, y), 3 if rows < 10**5 else 1)
+    # the identification solves: bench/baseline_identify.py
     print(json.dumps(results, indent=1))
 
 

@@ -11,6 +11,7 @@
 
 use super::campaign::{Campaign, DesignMatrix};
 use super::identifiability::{IdentifiabilityReport, ScaledSvd, RANK_TOLERANCE};
+use super::least_squares::design_times;
 use super::IdentifyError;
 use crate::errors::ErrorModel;
 use crate::machine::Machine;
@@ -164,8 +165,8 @@ pub fn solve(design: &DesignMatrix, start: &[f64], options: &IndirectOptions) ->
         })?,
         Solver::Svd => (svd.solve_minimum_norm(), svd.pseudo_inverse_normal()),
     };
-    let fitted = &design.matrix * DVector::from_column_slice(&delta);
-    let residuals: Vec<f64> = design.observations.iter().zip(fitted.iter()).map(|(y, f)| y - f).collect();
+    let fitted = design_times(&design.matrix, &delta);
+    let residuals: Vec<f64> = design.observations.iter().zip(&fitted).map(|(y, f)| y - f).collect();
     Ok(assemble(design, start, delta, unscaled, residuals, svd.rank, report, solver))
 }
 

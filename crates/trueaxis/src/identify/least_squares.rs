@@ -142,6 +142,40 @@ pub(crate) fn column_norm(x: nalgebra::DVectorView<f64>) -> f64 {
     weighted_column_norm(x.as_slice(), &[])
 }
 
+/// [`column_norm`] of every column of `x`; the columns in parallel from 2^20 entries (each norm a
+/// memory-bound pass, the same value on any number of threads).
+pub(crate) fn column_norms(x: &DMatrix<f64>) -> Vec<f64> {
+    use rayon::prelude::*;
+    let norm = |j: usize| column_norm(x.column(j));
+    match x.len() < PARALLEL_ENTRIES {
+        true => (0..x.ncols()).map(norm).collect(),
+        false => (0..x.ncols()).into_par_iter().map(norm).collect(),
+    }
+}
+
+/// `X beta` (rows of `X` in parallel chunks from 2^20 entries: a memory-bound pass over `X`; each
+/// row summed in the order of the columns, the same value on any number of threads).
+pub(crate) fn design_times(x: &DMatrix<f64>, beta: &[f64]) -> Vec<f64> {
+    use rayon::prelude::*;
+    const CHUNK: usize = 4096;
+    let (n, p) = x.shape();
+    let mut out = vec![0.0; n];
+    let chunk = |(c, rows): (usize, &mut [f64])| {
+        for (j, b) in beta.iter().enumerate().take(p) {
+            let column = &x.as_slice()[j * n + c * CHUNK..j * n + c * CHUNK + rows.len()];
+            rows.iter_mut().zip(column).for_each(|(o, v)| *o += v * b);
+        }
+    };
+    match x.len() < PARALLEL_ENTRIES {
+        true => out.chunks_mut(CHUNK).enumerate().for_each(chunk),
+        false => out.par_chunks_mut(CHUNK).enumerate().for_each(chunk),
+    }
+    out
+}
+
+/// Matrices with at least this many entries are worth a second thread for one pass over them.
+const PARALLEL_ENTRIES: usize = 1 << 20;
+
 /// `|diag(w) x|` as [`column_norm`], `w` the row factors (`sqrt` of the weights; empty: all 1).
 pub(crate) fn weighted_column_norm(x: &[f64], w: &[f64]) -> f64 {
     if w.is_empty() {
@@ -239,5 +273,22 @@ mod tests {
         assert!((column_norm(col.column(0)) - 5e200).abs() < 1e186);
         let tiny = DMatrix::from_column_slice(2, 1, &[3e-200, 4e-200]);
         assert!((column_norm(tiny.column(0)) - 5e-200).abs() < 1e-214);
+    }
+
+    #[test]
+    fn the_parallel_passes_equal_the_serial_formulas() {
+        // 10001 x 120 (above the parallel size, a partial last chunk)
+        let (n, p) = (10_001, 120);
+        let x = DMatrix::from_fn(n, p, |i, j| ((i * (j + 3)) as f64 * 0.0171).sin() * 10f64.powi(j as i32 % 9 - 4));
+        let beta: Vec<f64> = (0..p).map(|j| (j as f64 * 0.31).cos()).collect();
+        let reference = &x * DVector::from_column_slice(&beta);
+        let fitted = design_times(&x, &beta);
+        for (i, (a, b)) in fitted.iter().zip(reference.iter()).enumerate() {
+            // each row to 1e-14 of the sum of the magnitudes of its terms
+            let size: f64 = (0..p).map(|j| (x[(i, j)] * beta[j]).abs()).sum();
+            assert!((a - b).abs() <= 1e-14 * size, "row {i}: {a} vs {b}");
+        }
+        let norms = column_norms(&x);
+        assert!((0..p).all(|j| norms[j] == column_norm(x.column(j))));
     }
 }

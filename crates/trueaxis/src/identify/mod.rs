@@ -9,6 +9,7 @@ mod direct;
 mod drift;
 pub mod export;
 mod fit;
+mod gram;
 pub mod identifiability;
 pub mod indirect;
 mod least_squares;
@@ -33,6 +34,7 @@ pub use fit::{
     alias_wavelength, dominant_period, fit_error_function, refine_wavelength, residual_period, sampling_step, FitOptions, FittedFunction,
     ResidualPeriod,
 };
+pub use gram::weighted_gram;
 pub use identifiability::{Combination, IdentifiabilityReport, ScaledSvd};
 pub use indirect::{identify, solve, ChannelStatistics, Identification, IndirectOptions, Refinement, Solver};
 pub use least_squares::{fit_linear, t_quantile, LinearFit, RANK_TOLERANCE};

@@ -7,18 +7,19 @@
 //! - [`reduce`]: one Householder QR of the augmented matrix `[A | b]` (faer, blocked): `2 n p^2`
 //!   flops, backward stable at any condition number;
 //! - [`reduce_by_gram`]: the lower triangle of `[A | b]^T [A | b]` (a symmetric rank-n update, `n p^2`
-//!   flops at matrix-product speed), then the Cholesky factor `A^T A = R^T R` and `R^T (Q^T b) =
-//!   A^T b`. It squares the condition number: the relative error of the smallest singular value is
+//!   flops at matrix-product speed, formed from the unscaled `X` in cache-sized blocks of rows: no
+//!   scaled copy of the design matrix, [`super::gram`]), then the Cholesky factor `A^T A = R^T R`
+//!   and `R^T (Q^T b) = A^T b`. It squares the condition number: the relative error of the smallest singular value is
 //!   about `eps cond^2`, so it is used only when the scaled matrix is well conditioned
 //!   ([`GRAM_CONDITION_LIMIT`], checked on the result by the caller; see `ScaledSvd`).
 //!
 //! On 10^5 x 501 (DESIGN.md section 5) the Gram reduction takes a fraction of the QR's time.
 
+use super::gram::weighted_gram;
 use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::linalg::matmul::triangular::{matmul as triangular_matmul, BlockStructure};
 use faer::linalg::qr::no_pivoting::factor::{qr_in_place, qr_in_place_scratch, recommended_block_size};
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
-use faer::{get_global_parallelism, Accum, Mat, Par, Side};
+use faer::{get_global_parallelism, Mat, Par, Side};
 use nalgebra::{DMatrix, DVector};
 
 /// Largest condition number of the unit-length scaled matrix for which the Gram reduction is used:
@@ -80,40 +81,30 @@ fn augmented(x: &DMatrix<f64>, y: &[f64], row_factor: &[f64], column_divisor: &[
     augmented
 }
 
-/// As [`reduce`], by the Cholesky factor of the Gram matrix (module documentation): `R` upper
-/// triangular with a positive diagonal. `None` when `n < p` or the Gram matrix is not numerically
-/// positive definite; the caller must check the condition number of `R` against
+/// As [`reduce`] with unit-length column scaling, by the Cholesky factor of the Gram matrix (module
+/// documentation), formed from the unscaled `X` ([`weighted_gram`]): the column divisors are the
+/// weighted column norms `s_j = sqrt((X^T W X)_jj)` (1 for a zero column), and the scaled Gram
+/// matrix is `S^-1 X^T W X S^-1`. Returns `(s, R, Q^T b)`, `R` upper triangular with a positive
+/// diagonal; `None` when `n < p` or the scaled Gram matrix is not numerically positive definite
+/// (or not finite). The caller must check the condition number of `R` against
 /// [`GRAM_CONDITION_LIMIT`] before trusting it.
-pub fn reduce_by_gram(x: &DMatrix<f64>, y: &[f64], row_factor: &[f64], column_divisor: &[f64]) -> Option<ReducedProblem> {
+pub fn reduce_by_gram(x: &DMatrix<f64>, y: &[f64], row_factor: &[f64]) -> Option<(Vec<f64>, ReducedProblem)> {
     let (n, p) = x.shape();
     if n < p {
         return None;
     }
-    let augmented = augmented(x, y, row_factor, column_divisor);
-    let size = p + 1;
-    // lower triangle of M^T M, M = [A | b]
-    let mut gram = Mat::<f64>::zeros(size, size);
-    let par = if n * size < 1 << 20 { Par::Seq } else { get_global_parallelism() };
-    triangular_matmul(
-        gram.as_mut(),
-        BlockStructure::TriangularLower,
-        Accum::Replace,
-        augmented.transpose(),
-        BlockStructure::Rectangular,
-        augmented.as_ref(),
-        BlockStructure::Rectangular,
-        1.0,
-        par,
-    );
-    drop(augmented);
-    let factor = gram.as_ref().submatrix(0, 0, p, p).llt(Side::Lower).ok()?;
+    let gram = weighted_gram(x, y, row_factor);
+    let scale: Vec<f64> = (0..p).map(|j| gram[(j, j)].sqrt()).map(|s| if s > 0.0 && s.is_finite() { s } else { 1.0 }).collect();
+    // the lower triangle of S^-1 X^T W X S^-1, and S^-1 X^T W y (the last row of the Gram matrix)
+    let scaled = Mat::<f64>::from_fn(p, p, |i, j| if i >= j { gram[(i, j)] / (scale[i] * scale[j]) } else { 0.0 });
+    let factor = scaled.llt(Side::Lower).ok()?;
     let lower = factor.L();
     // R^T z = A^T b with R^T = L: z is Q^T b of the QR form
-    let mut qtb = Mat::<f64>::from_fn(p, 1, |i, _| gram[(p, i)]);
+    let mut qtb = Mat::<f64>::from_fn(p, 1, |i, _| gram[(p, i)] / scale[i]);
     solve_lower_triangular_in_place(lower, qtb.as_mut(), Par::Seq);
     let r = DMatrix::from_fn(p, p, |i, j| if j >= i { lower[(j, i)] } else { 0.0 });
     let qtb = DVector::from_fn(p, |i, _| qtb[(i, 0)]);
-    r.iter().chain(qtb.iter()).all(|v| v.is_finite()).then_some(ReducedProblem { r, qtb })
+    r.iter().chain(qtb.iter()).all(|v| v.is_finite()).then_some((scale, ReducedProblem { r, qtb }))
 }
 
 #[cfg(test)]
@@ -141,12 +132,18 @@ mod tests {
     #[test]
     fn the_gram_reduction_keeps_the_normal_equations_too() {
         let (n, p) = (3000, 40);
-        let x = DMatrix::from_fn(n, p, |i, j| ((i * (j + 5)) as f64 * 0.173 + j as f64).sin() + if i % p == j { 1.0 } else { 0.0 });
+        let x = DMatrix::from_fn(n, p, |i, j| {
+            (((i * (j + 5)) as f64 * 0.173 + j as f64).sin() + if i % p == j { 1.0 } else { 0.0 }) * 10f64.powi(j as i32 % 7 - 3)
+        });
         let y: Vec<f64> = (0..n).map(|i| (i as f64 * 0.011).cos() + 0.1 * (i as f64 * 1.7).sin()).collect();
         let rows: Vec<f64> = (0..n).map(|i| 1.0 + (i % 4) as f64 * 0.5).collect();
-        let cols: Vec<f64> = (0..p).map(|j| 10f64.powi(j as i32 % 7 - 3)).collect();
-        let qr = reduce(&x, &y, &rows, &cols);
-        let gram = reduce_by_gram(&x, &y, &rows, &cols).expect("positive definite");
+        let (scale, gram) = reduce_by_gram(&x, &y, &rows).expect("positive definite");
+        // the divisors are the weighted column norms, as the QR path computes them
+        for (j, s) in scale.iter().enumerate() {
+            let norm = (0..n).map(|i| (x[(i, j)] * rows[i]).powi(2)).sum::<f64>().sqrt();
+            assert!((s - norm).abs() <= 1e-14 * norm, "column {j}: {s} vs {norm}");
+        }
+        let qr = reduce(&x, &y, &rows, &scale);
         let ata = qr.r.transpose() * &qr.r;
         assert!((gram.r.transpose() * &gram.r - &ata).norm() < 1e-10 * ata.norm());
         assert!((gram.r.transpose() * &gram.qtb - qr.r.transpose() * &qr.qtb).norm() < 1e-10 * qr.qtb.norm());
@@ -155,7 +152,7 @@ mod tests {
         assert!((&a - &b).norm() < 1e-9 * a.norm(), "{} vs {}", a.norm(), (&a - &b).norm());
         // a dependent column: not positive definite (or a useless factor the caller rejects)
         let dependent = DMatrix::from_fn(n, p, |i, j| if j == 1 { 2.0 * x[(i, 0)] } else { x[(i, j)] });
-        if let Some(g) = reduce_by_gram(&dependent, &y, &rows, &cols) {
+        if let Some((_, g)) = reduce_by_gram(&dependent, &y, &rows) {
             let d: Vec<f64> = (0..p).map(|i| g.r[(i, i)].abs()).collect();
             assert!(d.iter().cloned().fold(f64::INFINITY, f64::min) < 1e-6 * d.iter().cloned().fold(0.0, f64::max));
         }
