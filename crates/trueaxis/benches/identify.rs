@@ -9,15 +9,15 @@
 //! `identify/lstsq_*` and `identify/qr_*` in bench/baseline.py.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use nalgebra::DMatrix;
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
 use trueaxis::errors::ErrorModel;
 use trueaxis::identify::{identify, solve, Campaign, DesignMatrix, IndirectOptions};
 use trueaxis::machine::Machine;
 
 #[path = "../tests/support/basis_campaign.rs"]
 mod basis_campaign;
+#[path = "common/problems.rs"]
+mod problems;
+use problems::random_design;
 
 fn root() -> &'static str {
     env!("CARGO_MANIFEST_DIR")
@@ -38,24 +38,6 @@ fn seed004_design() -> DesignMatrix {
         channels: d.channel.clone(),
         channel_names: d.channels.clone(),
         records: (0..n).map(|i| (0, i / 3)).collect(),
-    }
-}
-
-/// A dense `rows x cols` problem with independent standard normal entries (seeded), as the
-/// NumPy baseline draws it: the cost of a dense solve does not depend on the structure.
-fn random_design(rows: usize, cols: usize) -> DesignMatrix {
-    let mut rng = ChaCha8Rng::seed_from_u64(500);
-    let normal = rand_distr::StandardNormal;
-    DesignMatrix {
-        names: (0..cols).map(|j| format!("c{j}")).collect(),
-        units: vec!["um".into(); cols],
-        matrix: DMatrix::from_fn(rows, cols, |_, _| rng.sample::<f64, _>(normal)),
-        observations: (0..rows).map(|_| rng.sample::<f64, _>(normal)).collect(),
-        sigma_um: vec![1.0; rows],
-        weights: vec![1.0; rows],
-        channels: vec![0; rows],
-        channel_names: vec!["x".into()],
-        records: (0..rows).map(|i| (0, i)).collect(),
     }
 }
 

@@ -6,7 +6,7 @@
 //! Run: `cargo run --release -p trueaxis --example scaling -- <workload> <size>`, workload one of
 //! - `kinematics`: `size` poses of the KX8-Five with its 30 motion-error tables through
 //!   `Predictor::predict_batch` (the batch kernel on every core);
-//! - `identify`: the weighted least-squares solve of a dense `size x 100` design (seeded normal
+//! - `identify`: the weighted least-squares solve of a dense `size x 500` design (seeded normal
 //!   entries, as the `identify/solve_*` benchmarks);
 //! - `montecarlo`: `size` Monte Carlo trials of the seed 004 problem with its three sources
 //!   (reduced form; coverage 0.9, sequences of at most 10^6 trials), the coverage intervals of its
@@ -72,8 +72,8 @@ fn main() {
             (size, measure(|| drop(std::hint::black_box(predictor.predict_batch(&poses)))))
         }
         "identify" => {
-            let design = problems::random_design(size, 100);
-            let start = vec![0.0; 100];
+            let design = problems::random_design(size, 500);
+            let start = vec![0.0; 500];
             (size, measure(|| drop(solve(&design, &start, &IndirectOptions::default()).expect("full rank"))))
         }
         "montecarlo" => {
