@@ -17,11 +17,12 @@ import json
 import pathlib
 import subprocess
 import sys
-import time
 
 import numpy as np
 import scipy.linalg as sl
 from scipy.linalg.blas import dsyrk
+
+from baseline import best  # bench/baseline.py: the fastest of `repeat` calls
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 GRAM_CONDITION_LIMIT = 1e4
@@ -109,15 +110,6 @@ def check():
               + ", ".join(f"{k} {v:.1e}" for k, v in errors.items()))
         worst = max(worst, *errors.values())
     sys.exit(0 if worst < 1e-9 else 1)
-
-
-def best(f, repeat):
-    times = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        f()
-        times.append(time.perf_counter() - t0)
-    return min(times)
 
 
 def main():

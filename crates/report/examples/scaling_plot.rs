@@ -43,6 +43,9 @@ fn read(path: &str) -> Result<BTreeMap<String, Vec<Run>>, String> {
     Ok(runs)
 }
 
+/// A panel: its y label, its decades and the values of a run it draws (one line each).
+type Panel<'a> = (&'a str, (f64, f64), &'a dyn Fn(&Run) -> Vec<f64>);
+
 /// Decades `[10^a, 10^b]` enclosing `values`.
 fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = values.fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
@@ -60,7 +63,7 @@ fn draw(runs: &BTreeMap<String, Vec<Run>>, out: &str) -> Result<(), String> {
     let panels = plots.split_evenly((1, 2));
     let (x0, x1) = decades(runs.values().flatten().map(|r| r.work));
     let all_times = runs.values().flatten().flat_map(|r| [r.wall_s, r.cpu_s]);
-    let axes: [(&str, (f64, f64), &dyn Fn(&Run) -> Vec<f64>); 2] = [
+    let axes: [Panel; 2] = [
         ("time per run (s): wall solid, CPU dashed", decades(all_times), &|r| vec![r.wall_s, r.cpu_s]),
         ("peak resident memory (MiB)", decades(runs.values().flatten().map(|r| r.peak_mib)), &|r| vec![r.peak_mib]),
     ];

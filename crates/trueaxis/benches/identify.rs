@@ -27,18 +27,7 @@ fn root() -> &'static str {
 fn seed004_design() -> DesignMatrix {
     let d =
         trueaxis::uncertainty::DesignMatrix::read_csv(format!("{}/../../examples/uncertainty/kx8five_design.csv", root())).expect("design");
-    let n = d.observations();
-    DesignMatrix {
-        names: d.parameters.clone(),
-        units: d.units.clone(),
-        matrix: d.x.clone(),
-        observations: d.measured.clone(),
-        sigma_um: d.weight.iter().map(|w| 1.0 / w.sqrt()).collect(),
-        weights: d.weight.clone(),
-        channels: d.channel.clone(),
-        channel_names: d.channels.clone(),
-        records: (0..n).map(|i| (0, i / 3)).collect(),
-    }
+    problems::design_of_file(&d, |i| (0, i / 3))
 }
 
 fn solves(c: &mut Criterion) {

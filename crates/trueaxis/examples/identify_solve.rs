@@ -7,7 +7,10 @@
 //!
 //! Run: `cargo run --release -p trueaxis --example identify_solve -- DESIGN.csv`.
 
-use trueaxis::identify::{solve, DesignMatrix, IndirectOptions};
+use trueaxis::identify::{solve, IndirectOptions};
+
+#[path = "../benches/common/problems.rs"]
+mod problems;
 
 fn main() {
     let Some(path) = std::env::args().nth(1) else {
@@ -18,18 +21,7 @@ fn main() {
         eprintln!("{path}: {e}");
         std::process::exit(2);
     });
-    let n = d.observations();
-    let design = DesignMatrix {
-        names: d.parameters.clone(),
-        units: vec!["um".into(); d.parameters.len()],
-        matrix: d.x.clone(),
-        observations: d.measured.clone(),
-        sigma_um: d.weight.iter().map(|w| 1.0 / w.sqrt()).collect(),
-        weights: d.weight.clone(),
-        channels: d.channel.clone(),
-        channel_names: d.channels.clone(),
-        records: (0..n).map(|i| (0, i)).collect(),
-    };
+    let design = problems::design_of_file(&d, |i| (0, i));
     let result = solve(&design, &vec![0.0; d.parameters.len()], &IndirectOptions::default()).unwrap_or_else(|e| {
         eprintln!("{path}: {e}");
         std::process::exit(1);

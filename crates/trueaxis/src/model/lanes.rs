@@ -253,6 +253,12 @@ pub(crate) fn rotation_about_axis(axis: &LaneVec, angle: &Lanes) -> LaneMat {
 /// of a rotary table); a lane beyond, or not finite, takes the library's `sin_cos`.
 const REDUCED_ANGLE_LIMIT: f64 = 1.0e6;
 
+/// Whether [`sin_cos_lanes`] reduces `x` itself (finite and within [`REDUCED_ANGLE_LIMIT`]).
+#[inline(always)]
+fn is_reduced(x: f64) -> bool {
+    x.is_finite() && x.abs() <= REDUCED_ANGLE_LIMIT
+}
+
 /// `(sin x, cos x)` per lane, in vector instructions (the library's `sin_cos` is one call per
 /// lane): `x = j pi/2 + r` with `j` the nearest integer and `|r| <= pi/4` (Cody-Waite reduction in
 /// three parts of pi/2), the minimax polynomials of sine and cosine on `[-pi/4, pi/4]`, then the
@@ -260,6 +266,8 @@ const REDUCED_ANGLE_LIMIT: f64 = 1.0e6;
 ///
 /// Source: the reduction constants and polynomial coefficients are those of fdlibm
 /// (`e_rem_pio2.c`, `k_sin.c`, `k_cos.c`, Sun Microsystems 1993, used by most C libraries).
+// the constants with the digits fdlibm publishes, so that they can be checked against it
+#[allow(clippy::excessive_precision)]
 #[inline(always)]
 pub(crate) fn sin_cos_lanes(x: &Lanes) -> (Lanes, Lanes) {
     // pi/2 = PIO2_1 + PIO2_2 + PIO2_3 (+ below 1e-31), each part with at most 33 significant bits
@@ -298,11 +306,11 @@ pub(crate) fn sin_cos_lanes(x: &Lanes) -> (Lanes, Lanes) {
         let (sin_r, cos_r) = if quadrant & 1 == 0 { (s, c) } else { (c, s) };
         sin[l] = f64::from_bits(sin_r.to_bits() ^ ((quadrant & 2) << 62));
         cos[l] = f64::from_bits(cos_r.to_bits() ^ (((quadrant + 1) & 2) << 62));
-        beyond |= !(x[l].abs() <= REDUCED_ANGLE_LIMIT);
+        beyond |= !is_reduced(x[l]);
     }
     if beyond {
         for l in 0..LANES {
-            if !(x[l].abs() <= REDUCED_ANGLE_LIMIT) {
+            if !is_reduced(x[l]) {
                 (sin[l], cos[l]) = x[l].sin_cos();
             }
         }
