@@ -1,7 +1,8 @@
 //! One run of a benchmarked computation at a given size, for the scaling curves of BENCHMARKS.md:
 //! prints one JSON line with the size, the wall time and the CPU time of the computation (all
-//! threads; the fastest of four runs when one takes under 0.5 s) and the peak resident memory of the process (input included). `bench/scaling.py` runs
-//! it at sizes 10^3..10^7, one process per run so that each peak is its own.
+//! threads; the fastest of four runs when one takes under 0.5 s) and the peak resident memory of
+//! the process (input included). `bench/scaling.py` runs it at sizes 10^3..10^7, one process per
+//! run so that each peak is its own.
 //!
 //! Run: `cargo run --release -p trueaxis --example scaling -- <workload> <size>`, workload one of
 //! - `kinematics`: `size` poses of the KX8-Five with its 30 motion-error tables through
@@ -55,13 +56,13 @@ fn measure(f: impl Fn()) -> (f64, f64) {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let usage = "usage: scaling <kinematics|identify|montecarlo|thermal> <size>";
+    let usage = || -> ! {
+        eprintln!("usage: scaling <kinematics|identify|montecarlo|thermal> <size>");
+        std::process::exit(2)
+    };
     let (workload, size) = match (args.get(1), args.get(2).and_then(|s| s.parse::<f64>().ok())) {
         (Some(w), Some(s)) if s >= 1.0 => (w.as_str(), s as usize),
-        _ => {
-            eprintln!("{usage}");
-            std::process::exit(2);
-        }
+        _ => usage(),
     };
     let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
     let (work, (wall, cpu)) = match workload {
@@ -98,10 +99,7 @@ fn main() {
             let options = ModalOptions { count: Some(20), method: SpectrumMethod::Lanczos, ..Default::default() };
             (system.node_count(), measure(|| drop(modal_analysis(&system, &options).expect("modes"))))
         }
-        _ => {
-            eprintln!("{usage}");
-            std::process::exit(2);
-        }
+        _ => usage(),
     };
     let peak = peak_resident_bytes().unwrap_or(0);
     let threads = rayon::current_num_threads();
