@@ -18,10 +18,10 @@ fn trueaxis(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(ROOT).output().unwrap()
 }
 
-fn report(certificate: &str) -> (String, serde_json::Value) {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("x.html");
-    let o = trueaxis(&[
+/// `trueaxis report` of vmc3 with the Renishaw file as positioning tests and `certificate`, into
+/// `out` (HTML), the summary on stdout.
+fn run_report(certificate: &str, out: &std::path::Path) -> Output {
+    trueaxis(&[
         "report",
         "--json",
         "--machine",
@@ -34,7 +34,13 @@ fn report(certificate: &str) -> (String, serde_json::Value) {
         certificate,
         "--out",
         out.to_str().unwrap(),
-    ]);
+    ])
+}
+
+fn report(certificate: &str) -> (String, serde_json::Value) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.html");
+    let o = run_report(certificate, &out);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     (std::fs::read_to_string(&out).unwrap(), serde_json::from_slice(&o.stdout).unwrap())
 }
@@ -145,19 +151,7 @@ fn tolerances_made_to_pass_fail_and_sit_on_the_limit_are_decided_so() {
     // a tolerance on a result ISO 230-2 does not define is refused with the file named
     std::fs::write(&path, format!("{base}[tolerances.positioning]\nQ = 3\n")).unwrap();
     let out = dir.path().join("bad.html");
-    let o = trueaxis(&[
-        "report",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--positioning",
-        RTL,
-        "--certificate",
-        path.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run_report(path.to_str().unwrap(), &out);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("report.toml") && err.contains("tolerances.positioning.Q"), "{err}");
