@@ -6,6 +6,12 @@
 //! - `nc_loop/vmc3`: a LinuxCNC program whose `while` loop runs 10^4 blocks with expressions, all
 //!   expanded into plain moves (elements = executed blocks).
 //!
+//! - `grid/<machine>` (wall clock, both threads): the volumetric grid of 46 x 46 x 46 = 97,336 nodes
+//!   (elements = nodes) by `volumetric_grid` (the batch kernel in blocks of 8 nodes);
+//!   `grid_one_thread/<machine>` the same on the calling thread alone (CPU time), and
+//!   `grid_scalar_one_thread/<machine>` the same nodes corrected one by one on the scalar chain
+//!   (`Corrector::correct_state`, the path the grid took before; CPU time).
+//!
 //! Machines: vmc3, c600u, kx8five with their example errors, and kx8five with all 30 motion-error
 //! tables of `bench/kx8five_tables.toml`.
 //!
@@ -17,7 +23,8 @@
 
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use trueaxis::compensate::nc::{correct_program, NcOptions};
-use trueaxis::compensate::Corrector;
+use trueaxis::compensate::{volumetric_grid, CorrectionWorkspace, Corrector, TableSpec, VolumetricGrid};
+use trueaxis::errors::MachineState;
 use trueaxis::machine::Machine;
 
 #[allow(dead_code)] // the kinematics bench uses the rest
@@ -96,9 +103,96 @@ fn loop_program(moves: usize) -> String {
     )
 }
 
+/// The nodes of a `counts` grid over X, Y, Z with the other axes at the grid's reference pose
+/// (internal units), in the grid's node order.
+fn grid_poses(machine: &Machine, grid: &VolumetricGrid) -> Vec<f64> {
+    let n = machine.axis_count();
+    let mut poses = vec![0.0; grid.values.len()];
+    let mut user = grid.reference.clone();
+    for k in 0..grid.counts[2] {
+        for j in 0..grid.counts[1] {
+            for i in 0..grid.counts[0] {
+                let p = grid.node_position(i, j, k);
+                for d in 0..3 {
+                    user[grid.axes[d]] = p[d];
+                }
+                machine.pose_to_internal(&user, &mut poses[grid.node(i, j, k) * n..][..n]);
+            }
+        }
+    }
+    poses
+}
+
+/// The grid's machines, corrector inputs and nodes.
+fn grid_cases() -> Vec<(&'static str, Machine, trueaxis::errors::ErrorModel)> {
+    [CASES[0], CASES[2]]
+        .into_iter()
+        .map(|(label, machine_file, errors_file)| {
+            let (machine, errors) = load(machine_file, errors_file);
+            (label, machine, errors)
+        })
+        .collect()
+}
+
+const GRID_COUNTS: [usize; 3] = [46, 46, 46];
+
+fn grid_spec() -> TableSpec {
+    TableSpec { points: 2, reference: None, temperatures: vec![] }
+}
+
+/// Wall clock, both threads.
+fn grid(c: &mut Criterion) {
+    let nodes = GRID_COUNTS.iter().product::<usize>();
+    let spec = grid_spec();
+    let mut group = c.benchmark_group("grid");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(nodes as u64));
+    for (label, machine, errors) in grid_cases() {
+        let corrector = Corrector::new(&machine, &errors);
+        group.bench_function(BenchmarkId::new(label, nodes), |b| {
+            b.iter(|| volumetric_grid(&corrector, black_box(GRID_COUNTS), &spec).unwrap())
+        });
+    }
+    group.finish();
+}
+
+/// CPU time of one thread: the grid in a pool of the calling thread alone, and the same nodes
+/// corrected one by one on the scalar chain.
+fn grid_one_thread(c: &mut Criterion<ThreadCpuTime>) {
+    let nodes = GRID_COUNTS.iter().product::<usize>();
+    let spec = grid_spec();
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(1).use_current_thread().build().expect("a pool of this thread");
+    for (label, machine, errors) in grid_cases() {
+        let corrector = Corrector::new(&machine, &errors);
+        let grid = volumetric_grid(&corrector, GRID_COUNTS, &spec).expect("grid");
+        let poses = grid_poses(&machine, &grid);
+        let n = machine.axis_count();
+        let mut group = c.benchmark_group("grid_one_thread");
+        group.sample_size(10);
+        group.throughput(Throughput::Elements(nodes as u64));
+        group.bench_function(BenchmarkId::new(label, nodes), |b| {
+            b.iter(|| pool.install(|| volumetric_grid(&corrector, black_box(GRID_COUNTS), &spec).unwrap()))
+        });
+        group.finish();
+        let mut group = c.benchmark_group("grid_scalar_one_thread");
+        group.sample_size(10);
+        group.throughput(Throughput::Elements(nodes as u64));
+        let mut ws = CorrectionWorkspace::new(&machine);
+        let directions = vec![None; n];
+        let state = MachineState { directions: Some(&directions), temperatures: &[] };
+        group.bench_function(BenchmarkId::new(label, nodes), |b| {
+            b.iter(|| black_box(&poses).chunks(n).map(|q| corrector.correct_state(q, &state, &mut ws)).collect::<Vec<_>>())
+        });
+        group.finish();
+    }
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().with_measurement(ThreadCpuTime::new());
-    targets = nc
+    targets = nc, grid_one_thread
 }
-criterion_main!(benches);
+criterion_group!(wall, grid);
+// the wall-clock group first: `grid_one_thread` makes this thread a pool of its own, in which every
+// later parallel call would run
+criterion_main!(wall, benches);

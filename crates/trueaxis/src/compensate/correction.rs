@@ -225,9 +225,9 @@ pub struct Corrector<'a> {
 }
 
 /// The nominal relative position (workpiece frame) and orientation at a pose.
-struct Target {
-    position: Vec3,
-    rotation: Mat3,
+pub(super) struct Target {
+    pub position: Vec3,
+    pub rotation: Mat3,
 }
 
 impl Target {
@@ -297,7 +297,7 @@ impl<'a> Corrector<'a> {
         let solver = &warm.linearisation.as_ref().expect("linearised above").1;
         let x = Joints::from_fn(|k, _| if k < n { q[k] / self.weight(k) } else { 0.0 });
         let start = if along { warm.start(&x) } else { None };
-        let mut u = start.unwrap_or_else(Joints::zeros);
+        let u = start.unwrap_or_else(Joints::zeros);
         let mut qc = [0.0; MAX_AXES];
         let mut evaluate = |u: &Joints, ws: &mut CorrectionWorkspace| {
             for k in 0..n {
@@ -305,49 +305,21 @@ impl<'a> Corrector<'a> {
             }
             self.residual(&qc[..n], &target, state, ws)
         };
-        let (mut position, mut orientation) = evaluate(&u, ws);
-        let (mut original_position, mut original_orientation) = (position, orientation);
-        let (mut iterations, mut evaluations) = (0, 1);
-        // the result is the last checked iterate `u`; the warm start remembers the solve from it,
-        // `next`, the better estimate of the fixed point, so that the next call starts closer
+        let mut iteration = Iteration::start(u, evaluate(&u, ws), start.is_some());
         let (uncorrectable, next) = loop {
-            // the spin is removed with this pose's tool axis, so that a linearisation reused from a
-            // nearby pose does not see it
-            let step = solver.solve(&u, &position, &target.targeted(&orientation, self.options.orientation));
-            if iterations == 0 && start.is_some() {
-                // the error at q, to first order from the warm start
-                original_position -= step.position_change;
-                original_orientation -= step.orientation_change;
+            match iteration.step(self, solver, &target) {
+                Next::Evaluate(u) => {
+                    let residual = evaluate(&u, ws);
+                    iteration.checked(u, residual);
+                }
+                Next::Done { uncorrectable, next } => break (uncorrectable, next),
             }
-            let small_step = self.is_small(&(step.u - u));
-            if (position.norm() < self.options.tolerance_mm && small_step) || iterations >= self.options.max_iterations {
-                break (step.left, step.u);
-            }
-            u = step.u;
-            (position, orientation) = evaluate(&u, ws);
-            iterations += 1;
-            evaluations += 1;
         };
-        let converged = position.norm() < self.options.tolerance_mm;
-        if along && converged {
+        let correction = iteration.correction(self, uncorrectable);
+        if along && correction.converged {
             warm.remember(x, next);
         }
-        let mut dq = [0.0; MAX_AXES];
-        for (k, d) in dq.iter_mut().enumerate().take(n) {
-            *d = u[k] * self.weight(k);
-        }
-        Correction {
-            dq,
-            axis_count: n,
-            original_position,
-            original_orientation,
-            residual_position: position,
-            residual_orientation: orientation,
-            uncorrectable_orientation: uncorrectable,
-            iterations,
-            evaluations,
-            converged,
-        }
+        correction
     }
 
     /// The exact error left at pose `q` (mm, rad, canonical order) when the set-points are `q + dq`
@@ -431,7 +403,7 @@ impl<'a> Corrector<'a> {
     /// rad) with respect to each joint, in the workpiece frame: tool-side joints move the tool point,
     /// workpiece-side joints move the workpiece, so their effect on the relative position has the
     /// opposite sign. Columns are scaled to joint units `u` ([`super::solve`]).
-    fn linearise(&self, q: &[f64], ws: &mut CorrectionWorkspace) -> (Target, Solver) {
+    pub(super) fn linearise(&self, q: &[f64], ws: &mut CorrectionWorkspace) -> (Target, Solver) {
         let m = self.machine;
         let tool = nominal_chain(m, m.tool_chain(), q, Some(&mut ws.tool_parents));
         let work = nominal_chain(m, m.work_chain(), q, Some(&mut ws.work_parents));
@@ -461,11 +433,97 @@ impl<'a> Corrector<'a> {
     }
 
     /// Weight of each joint in the scaled solve: 1 (linear), 1/L (rotary).
-    fn weight(&self, k: usize) -> f64 {
+    pub(super) fn weight(&self, k: usize) -> f64 {
         match self.machine.axes().get(k).map(|a| a.kind) {
             Some(AxisKind::Rotary) => 1.0 / CHARACTERISTIC_LENGTH_MM,
             Some(AxisKind::Linear) => 1.0,
             None => 0.0,
+        }
+    }
+}
+
+/// One pose's solve in progress (the iteration of the module documentation): the last iterate
+/// checked on the exact chain and its residual. The caller evaluates the residuals the iteration
+/// asks for, so that one pose (a scalar chain, [`Corrector::correct_state`]) and many at once (the
+/// batch kernel, [`super::batch`]) run the same solve.
+pub(super) struct Iteration {
+    /// The last checked correction (scaled joint units) and its exact residual (mm, rad).
+    u: Joints,
+    position: Vec3,
+    orientation: Vec3,
+    /// The error before correction (mm, rad): the first residual, corrected to first order for a
+    /// warm start.
+    original_position: Vec3,
+    original_orientation: Vec3,
+    warm: bool,
+    iterations: usize,
+}
+
+/// What an [`Iteration`] needs next.
+pub(super) enum Next {
+    /// The exact residual at the correction `u` (scaled joint units).
+    Evaluate(Joints),
+    /// The solve has ended at the last checked iterate: the targeted orientation that the linear
+    /// model leaves (rad), and the solve from that iterate (the better estimate of the fixed point,
+    /// for a warm start).
+    Done { uncorrectable: Vec3, next: Joints },
+}
+
+impl Iteration {
+    /// Starts at the correction `u` (scaled joint units) with its exact `residual` (position mm,
+    /// orientation rad); `warm` when `u` is a warm start rather than zero.
+    pub(super) fn start(u: Joints, residual: (Vec3, Vec3), warm: bool) -> Iteration {
+        let (position, orientation) = residual;
+        Iteration { u, position, orientation, original_position: position, original_orientation: orientation, warm, iterations: 0 }
+    }
+
+    /// One linear solve from the last checked iterate (`dq_{k+1} = S(J dq_k - r(dq_k))`): the next
+    /// iterate to check, or the end (the residual is within the tolerance and the step is small, or
+    /// the iterations are used up).
+    pub(super) fn step(&mut self, corrector: &Corrector, solver: &Solver, target: &Target) -> Next {
+        let options = &corrector.options;
+        // the spin is removed with this pose's tool axis, so that a linearisation reused from a
+        // nearby pose does not see it
+        let step = solver.solve(&self.u, &self.position, &target.targeted(&self.orientation, options.orientation));
+        if self.iterations == 0 && self.warm {
+            // the error at q, to first order from the warm start
+            self.original_position -= step.position_change;
+            self.original_orientation -= step.orientation_change;
+        }
+        let small_step = corrector.is_small(&(step.u - self.u));
+        if (self.position.norm() < options.tolerance_mm && small_step) || self.iterations >= options.max_iterations {
+            Next::Done { uncorrectable: step.left, next: step.u }
+        } else {
+            Next::Evaluate(step.u)
+        }
+    }
+
+    /// The exact residual (position mm, orientation rad) at the iterate `u` that [`Self::step`]
+    /// asked for.
+    pub(super) fn checked(&mut self, u: Joints, residual: (Vec3, Vec3)) {
+        self.u = u;
+        (self.position, self.orientation) = residual;
+        self.iterations += 1;
+    }
+
+    /// The correction at the last checked iterate, once [`Self::step`] returned [`Next::Done`].
+    pub(super) fn correction(&self, corrector: &Corrector, uncorrectable: Vec3) -> Correction {
+        let n = corrector.machine.axis_count();
+        let mut dq = [0.0; MAX_AXES];
+        for (k, d) in dq.iter_mut().enumerate().take(n) {
+            *d = self.u[k] * corrector.weight(k);
+        }
+        Correction {
+            dq,
+            axis_count: n,
+            original_position: self.original_position,
+            original_orientation: self.original_orientation,
+            residual_position: self.position,
+            residual_orientation: self.orientation,
+            uncorrectable_orientation: uncorrectable,
+            iterations: self.iterations,
+            evaluations: self.iterations + 1,
+            converged: self.position.norm() < corrector.options.tolerance_mm,
         }
     }
 }

@@ -8,11 +8,11 @@
 
 use super::export::{check_limit, largest_corrections, to_micro, ExportInput, ExportedFile, Extent, Limits};
 use super::{
-    axis_tables, compensation_json, residual_of_format, round4, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector,
-    ExportFormat, FormatResidual, TableSet, TableSpec, VolumetricGrid,
+    axis_tables, compensation_json, correct_batch, residual_of_format, round4, volumetric_grid, CompensateError, Corrector, ExportFormat,
+    FormatResidual, TableSet, TableSpec, VolumetricGrid,
 };
 use crate::data::{read_poses, OutputSet, PoseTable};
-use crate::errors::{ErrorModel, MachineState};
+use crate::errors::ErrorModel;
 use crate::machine::Machine;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -156,19 +156,15 @@ pub fn correct_poses(
     let machine = corrector.machine;
     let poses = read_poses(path, machine).map_err(|e| CompensateError::Input(e.to_string()))?;
     let temperatures = pose_temperatures(corrector.errors, &poses, given_temperatures, path)?;
-    let sensors = corrector.errors.sensors().len();
     let n = machine.axis_count();
     let internal = poses.internal(machine);
-    let mut ws = CorrectionWorkspace::new(machine);
+    let corrections = correct_batch(corrector, &internal, poses.directions.as_deref(), &temperatures);
     let mut header: Vec<String> = machine.axes().iter().map(|a| a.letter.to_string()).collect();
     header.extend(machine.axes().iter().map(|a| format!("d{}", a.letter)));
     header.extend(["error_um", "residual_um", "uncorrectable_urad"].map(String::from));
     let mut text = header.join(",") + "\n";
     let (mut worst_error, mut worst_residual, mut worst_orientation) = (0.0f64, 0.0f64, 0.0f64);
-    for (i, q) in internal.chunks(n).enumerate() {
-        let directions = poses.directions.as_ref().map(|d| &d[i * n..(i + 1) * n]);
-        let state = MachineState { directions, temperatures: &temperatures[i * sensors..(i + 1) * sensors] };
-        let c = corrector.correct_state(q, &state, &mut ws);
+    for (i, c) in corrections.iter().enumerate() {
         if !c.converged {
             return Err(CompensateError::Computation(format!(
                 "{}: line {}: the correction did not converge",

@@ -6,6 +6,7 @@
 //! point lands where the nominal one would (correction = minus the error, to first order, for an
 //! error along the axis).
 
+pub mod batch;
 pub mod correction;
 pub mod coverage;
 pub mod export;
@@ -16,6 +17,7 @@ mod solve;
 mod summary;
 pub mod tables;
 
+pub use batch::correct_batch;
 pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, WarmStart, MAX_AXES};
 pub use export::residual::{residual_of_format, FormatResidual};
 pub use job::{compensation, sensor_index, sensor_temperatures, Compensation, CompensationRequest};

@@ -10,11 +10,11 @@
 //! own-axis tables). Corrections of poses off the axis lines that depend on two axes at once (Abbe
 //! terms such as EBX times z) need the volumetric grid.
 
-use super::correction::{Correction, CorrectionWorkspace, Corrector};
+use super::batch::correct_batch;
+use super::correction::{Correction, Corrector};
 use super::CompensateError;
-use crate::errors::{Direction, MachineState};
+use crate::errors::Direction;
 use crate::machine::{AxisKind, Machine};
-use rayon::prelude::*;
 
 /// One table: the correction of axis `corrected` as a function of the position of axis `driver`.
 #[derive(Clone, Debug, PartialEq)]
@@ -122,24 +122,20 @@ pub fn equally_spaced(lo: f64, hi: f64, points: usize) -> Vec<f64> {
 }
 
 /// Corrections (user units) of the poses `poses_user` (`axis_count` each), with the direction of
-/// axis `moving` set to `direction` (others at rest). Parallel over poses.
+/// axis `moving` set to `direction` (others at rest), by [`correct_batch`] (parallel, the batch
+/// kernel).
 fn corrections(corrector: &Corrector, poses_user: &[f64], moving: Option<(usize, Direction)>, temperatures: &[f64]) -> Vec<Correction> {
     let m = corrector.machine;
     let n = m.axis_count();
-    poses_user
-        .par_chunks(n)
-        .map_init(
-            || (CorrectionWorkspace::new(m), vec![0.0; n], vec![None; n]),
-            |(ws, q, dirs), user| {
-                m.pose_to_internal(user, q);
-                if let Some((k, d)) = moving {
-                    dirs[k] = Some(d);
-                }
-                let state = MachineState { directions: Some(dirs), temperatures };
-                corrector.correct_state(q, &state, ws)
-            },
-        )
-        .collect()
+    let mut poses = vec![0.0; poses_user.len()];
+    for (user, q) in poses_user.chunks(n).zip(poses.chunks_mut(n)) {
+        m.pose_to_internal(user, q);
+    }
+    let mut directions = vec![None; n];
+    if let Some((k, d)) = moving {
+        directions[k] = Some(d);
+    }
+    correct_batch(corrector, &poses, Some(&directions), temperatures)
 }
 
 fn check_converged(machine: &Machine, poses_user: &[f64], results: &[Correction]) -> Result<(), CompensateError> {
@@ -359,7 +355,7 @@ pub fn volumetric_grid(corrector: &Corrector, counts: [usize; 3], spec: &TableSp
     }
     let results = corrections(corrector, &poses, None, &spec.temperatures);
     check_converged(m, &poses, &results)?;
-    let values = results.iter().flat_map(|c| c.dq_user(m)).collect();
+    let values = results.iter().flat_map(|c| m.axes().iter().zip(&c.dq).map(|(a, &d)| a.position_to_user(d))).collect();
     let worst = |f: &dyn Fn(&Correction) -> f64| results.iter().map(f).fold(0.0, f64::max);
     Ok(VolumetricGrid {
         axes,

@@ -124,6 +124,83 @@ impl TableEvaluator {
     }
 }
 
+/// A non-directional function of its own axis's position, as the evaluation plan of
+/// [`super::ErrorModel`] holds it: the part of the error values that depends on the axis positions
+/// alone, and which the batch kernel evaluates over its lanes ([`PositionFunction::add_lanes`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum PositionFunction {
+    /// A table in internal units.
+    Table(TableEvaluator),
+    /// `sum_k coefficients[k] x^k` at the user position `x = q * position_scale` (mm or deg), times
+    /// `value_scale` (user value to internal units): the scalar evaluation of
+    /// [`ErrorFunction::Polynomial`], operation for operation.
+    Polynomial { coefficients: Vec<f64>, position_scale: f64, value_scale: f64 },
+    /// Any other function (a basis of `fit` or `identify`), evaluated as [`Evaluator::value`] does.
+    General { function: ErrorFunction, position_scale: f64, value_scale: f64 },
+}
+
+impl PositionFunction {
+    /// The plan's form of a non-directional function; `None` for a constant (summed instead).
+    pub(crate) fn of(evaluator: &Evaluator, function: &ErrorFunction) -> Option<PositionFunction> {
+        match (evaluator, function) {
+            (Evaluator::Constant(_), _) => None,
+            (Evaluator::Table(t), _) => Some(PositionFunction::Table(t.clone())),
+            (&Evaluator::General { position_scale, value_scale }, ErrorFunction::Polynomial { coefficients }) => {
+                Some(PositionFunction::Polynomial { coefficients: coefficients.clone(), position_scale, value_scale })
+            }
+            (&Evaluator::General { position_scale, value_scale }, function) => {
+                Some(PositionFunction::General { function: function.clone(), position_scale, value_scale })
+            }
+        }
+    }
+
+    /// Value (internal units) at position `q` (mm or rad).
+    #[inline]
+    pub(crate) fn value(&self, q: f64) -> f64 {
+        match self {
+            PositionFunction::Table(t) => t.value(q),
+            PositionFunction::Polynomial { coefficients, position_scale, value_scale } => {
+                horner(coefficients, q * position_scale) * value_scale
+            }
+            PositionFunction::General { function, position_scale, value_scale } => function.evaluate(q * position_scale) * value_scale,
+        }
+    }
+
+    /// Adds the value (internal units) at each position of `q` (mm or rad) to `out`, lane by lane
+    /// equal to [`Self::value`]: tables and polynomials in one loop over the lanes that the compiler
+    /// vectorises, other functions one lane at a time.
+    #[inline(always)]
+    pub(crate) fn add_lanes<const N: usize>(&self, q: &[f64; N], out: &mut [f64; N]) {
+        match self {
+            PositionFunction::Table(t) => t.add_lanes(q, out),
+            PositionFunction::Polynomial { coefficients, position_scale, value_scale } => {
+                let x: [f64; N] = std::array::from_fn(|l| q[l] * position_scale);
+                let mut acc = [0.0; N];
+                for &c in coefficients.iter().rev() {
+                    for (a, &x) in acc.iter_mut().zip(&x) {
+                        *a = *a * x + c;
+                    }
+                }
+                for (o, a) in out.iter_mut().zip(acc) {
+                    *o += a * value_scale;
+                }
+            }
+            PositionFunction::General { .. } => {
+                for (o, &q) in out.iter_mut().zip(q) {
+                    *o += self.value(q);
+                }
+            }
+        }
+    }
+}
+
+/// `sum_k coefficients[k] x^k` by Horner's rule from the highest power, as
+/// [`ErrorFunction::evaluate`].
+#[inline]
+fn horner(coefficients: &[f64], x: f64) -> f64 {
+    coefficients.iter().rev().fold(0.0, |acc, c| acc * x + c)
+}
+
 /// `floor(y)` for the moderate arguments of a periodic wrap (|y| < 2^52), without the libm call
 /// that `f64::floor` is on targets without SSE4.1.
 #[inline]
@@ -161,6 +238,49 @@ mod tests {
                 assert!((got - want).abs() <= 1e-12 * value_scale * 10.0, "{function:?} at {user}: {got} vs {want}");
             }
         }
+    }
+
+    #[test]
+    fn position_functions_over_lanes_equal_the_user_unit_function_bit_for_bit() {
+        // a polynomial in deg of a rotary axis (urad), a Legendre basis and a table in mm (um):
+        // each lane of add_lanes equals value, and value equals ErrorFunction::evaluate in user units
+        let deg = 180.0 / std::f64::consts::PI;
+        let spec = crate::errors::basis::BasisSpec {
+            family: "legendre".into(),
+            degree: 4,
+            knots: vec![],
+            continuity: vec![1],
+            constant: true,
+            constraint: "none".into(),
+            domain: [-400.0, 400.0],
+            periodic: vec![],
+        };
+        let basis = crate::errors::basis::Basis::new(spec).unwrap();
+        let coefficients = vec![0.5, -1.0, 2.0, 0.25, 0.1][..basis.len()].to_vec();
+        let cases = [
+            (ErrorFunction::polynomial(vec![2.0, 0.02, -1.5e-5, 3e-9]).unwrap(), deg, 1e-6),
+            (ErrorFunction::Basis { basis, coefficients }, 1.0, 1e-3),
+            (ErrorFunction::table(vec![-400.0, -200.0, 0.0, 200.0, 400.0], vec![-5.0, -2.0, 0.0, 3.0, 6.5], None).unwrap(), 1.0, 1e-3),
+        ];
+        for (function, position_scale, value_scale) in cases {
+            let f = PositionFunction::of(&Evaluator::new(&function, position_scale, value_scale), &function).expect("not a constant");
+            for k in 0..100 {
+                let q: [f64; 8] = std::array::from_fn(|l| (-450.0 + 0.9 * (8 * k + l) as f64 + 0.37) / position_scale);
+                let mut lanes = [1.0; 8];
+                f.add_lanes(&q, &mut lanes);
+                for l in 0..8 {
+                    let user = q[l] * position_scale;
+                    assert_eq!(lanes[l], 1.0 + f.value(q[l]), "{function:?} lane {l}");
+                    let want = function.evaluate(user) * value_scale;
+                    assert!(
+                        (f.value(q[l]) - want).abs() <= 1e-15 * want.abs().max(1e-3),
+                        "{function:?} at {user}: {} vs {want}",
+                        f.value(q[l])
+                    );
+                }
+            }
+        }
+        assert_eq!(PositionFunction::of(&Evaluator::Constant(1.0), &ErrorFunction::Constant(1.0)), None);
     }
 
     #[test]

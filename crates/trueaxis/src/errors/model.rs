@@ -2,7 +2,7 @@
 //! machine state (axis positions, directions of motion, temperatures) into the parameter vector of
 //! [`crate::machine::Machine`] (internal units mm, rad).
 
-use super::evaluator::{Evaluator, TableEvaluator};
+use super::evaluator::{Evaluator, PositionFunction};
 use super::function::ErrorFunction;
 use super::inputs::InputKind;
 use crate::machine::{AxisKind, Machine, ParameterId};
@@ -128,10 +128,11 @@ pub struct ErrorModel {
     references: Vec<f64>,
     parameter_count: usize,
     /// Evaluation plan, derived from `entries`: every constant for both directions summed into one
-    /// parameter vector (internal units); the tables for both directions as `(parameter index, own
-    /// axis, table)`; the indices of the other entries.
+    /// parameter vector (internal units); the other functions for both directions (tables,
+    /// polynomials, bases) as `(parameter index, own axis, function)`; the indices of the
+    /// directional entries.
     constants: Vec<f64>,
-    tables: Vec<(usize, usize, TableEvaluator)>,
+    positional: Vec<(usize, usize, PositionFunction)>,
     varying: Vec<usize>,
 }
 
@@ -148,7 +149,7 @@ impl ErrorModel {
             references: Vec::new(),
             parameter_count,
             constants: vec![0.0; parameter_count],
-            tables: Vec::new(),
+            positional: Vec::new(),
             varying: Vec::new(),
         }
     }
@@ -156,12 +157,15 @@ impl ErrorModel {
     /// Rebuilds the evaluation plan after a change of `entries`.
     fn plan(&mut self) {
         self.constants.fill(0.0);
-        self.tables.clear();
+        self.positional.clear();
         self.varying.clear();
         for (k, e) in self.entries.iter().enumerate() {
             match (&e.evaluator, e.direction, e.own_axis) {
                 (Evaluator::Constant(v), None, _) => self.constants[e.index] += v,
-                (Evaluator::Table(t), None, Some(axis)) => self.tables.push((e.index, axis, t.clone())),
+                (evaluator, None, Some(axis)) => match PositionFunction::of(evaluator, &e.function) {
+                    Some(f) => self.positional.push((e.index, axis, f)),
+                    None => self.varying.push(k),
+                },
                 _ => self.varying.push(k),
             }
         }
@@ -476,22 +480,22 @@ impl ErrorModel {
     pub fn values_at_state(&self, machine: &Machine, q: &[f64], state: &MachineState, values: &mut [f64]) {
         debug_assert_eq!(values.len(), self.parameter_count);
         values.copy_from_slice(&self.constants);
-        for (index, axis, table) in &self.tables {
-            values[*index] += table.value(q[*axis]);
+        for (index, axis, f) in &self.positional {
+            values[*index] += f.value(q[*axis]);
         }
         self.add_state_dependent(machine, q, state, values);
     }
 
     /// The part of the evaluation plan that does not depend on the state beyond the axis positions:
-    /// the constants summed (internal units, one per parameter) and the tables for both directions
-    /// as `(parameter index, own axis, table)`. [`ErrorModel::values_at_state`] is these plus
-    /// [`ErrorModel::add_state_dependent`].
-    pub(crate) fn position_plan(&self) -> (&[f64], &[(usize, usize, TableEvaluator)]) {
-        (&self.constants, &self.tables)
+    /// the constants summed (internal units, one per parameter) and the other functions for both
+    /// directions as `(parameter index, own axis, function)`. [`ErrorModel::values_at_state`] is
+    /// these plus [`ErrorModel::add_state_dependent`].
+    pub(crate) fn position_plan(&self) -> (&[f64], &[(usize, usize, PositionFunction)]) {
+        (&self.constants, &self.positional)
     }
 
     /// The parameters [`ErrorModel::add_state_dependent`] may change (sorted, each once): those of
-    /// the other functions (directional, polynomial, ...), product, load and drift terms.
+    /// the directional functions, product, load and drift terms.
     pub(crate) fn state_dependent_parameters(&self) -> Vec<usize> {
         let mut indices: Vec<usize> = self
             .varying
@@ -507,7 +511,7 @@ impl ErrorModel {
     }
 
     /// Adds to `values` (mm, rad) every contribution beyond [`ErrorModel::position_plan`]: the
-    /// other functions (weighted by the direction of motion), product, load and drift terms.
+    /// directional functions (weighted by the direction of motion), product, load and drift terms.
     pub(crate) fn add_state_dependent(&self, machine: &Machine, q: &[f64], state: &MachineState, values: &mut [f64]) {
         let user = |axis: usize| machine.axes()[axis].position_to_user(q[axis]);
         for e in self.varying.iter().map(|&k| &self.entries[k]) {

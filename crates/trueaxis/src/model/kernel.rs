@@ -7,9 +7,10 @@
 //! per thread). Preparation decides, once, what the scalar path decides at every pose:
 //! - which location and motion errors are zero at every pose (skipped) and which are constant
 //!   (their small transform computed once, not per pose);
-//! - which parameters come from tables (evaluated by index arithmetic over the lanes, see
-//!   `TableEvaluator::add_lanes`) and which from other functions and terms (evaluated pose by pose
-//!   by the scalar code, so the two paths cannot diverge);
+//! - which parameters come from functions of their own axis alone (`PositionFunction::add_lanes`:
+//!   tables by index arithmetic and polynomials by Horner's rule over the lanes, bases lane by
+//!   lane) and which from directional functions and terms (evaluated pose by pose by the scalar
+//!   code, so the two paths cannot diverge);
 //! - which axis is a linear translation, a rotary motion (one sine and cosine per pose) or a
 //!   translation along a coordinate direction.
 //!
@@ -18,7 +19,7 @@
 
 use super::lanes::{
     add, dot, mat_mul_t, mat_t_mul, mat_t_vec, mat_vec, norm, rotation_about_axis, rotation_log_lanes, small_transform, splat, splat_vec,
-    sub, LanePose, LaneVec, Lanes, LANES,
+    sub, LaneMat, LanePose, LaneVec, Lanes, LANES,
 };
 use super::volumetric::{Frame, Setup, VolumetricError};
 use crate::errors::{Direction, ErrorModel, MachineState};
@@ -76,7 +77,23 @@ pub struct VolumetricKernel<'a> {
     pub instruction_set: &'static str,
 }
 
-type BlockFn = fn(&VolumetricKernel, &mut KernelWorkspace, &[f64], &BlockState, &mut [VolumetricError]);
+type BlockFn = fn(&VolumetricKernel, &mut KernelWorkspace, &[f64], &BlockState, Option<&RelativeTargets>, &mut [VolumetricError]);
+
+/// Relative poses, one per lane, that a block's actual relative pose is compared with instead of
+/// the nominal one at the same set-points ([`VolumetricKernel::residual_block`]): the position of
+/// the tool point relative to the workpiece point in the workpiece frame (mm) and the rotation of
+/// the tool relative to the workpiece.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct RelativeTargets {
+    pub position: LaneVec,
+    pub rotation: LaneMat,
+}
+
+impl Default for RelativeTargets {
+    fn default() -> Self {
+        RelativeTargets { position: splat_vec(&Vec3::zeros()), rotation: LanePose::IDENTITY.rotation }
+    }
+}
 
 /// The per-pose state of one block: directions of motion and input values (temperatures, ...),
 /// `axis_count` and `sensors().len()` per pose, as in [`super::Predictor::predict_states`].
@@ -99,12 +116,13 @@ impl<'a> VolumetricKernel<'a> {
     /// Prepares the kernel for `machine` with `errors`, evaluated between the points of `setup`
     /// and expressed in `frame`.
     pub fn new(machine: &'a Machine, errors: &'a ErrorModel, setup: &Setup, frame: Frame) -> Self {
-        let (constants, tables) = errors.position_plan();
+        let (constants, positional) = errors.position_plan();
         let state_dependent = errors.state_dependent_parameters();
-        // a parameter is zero at every pose unless a constant, a table or a state-dependent part
-        // gives it a value; constant unless a table or a state-dependent part does
+        // a parameter is zero at every pose unless a constant, a function of position or a
+        // state-dependent part gives it a value; constant unless a function or a state-dependent
+        // part does
         let mut varies = vec![false; machine.parameter_count()];
-        for &i in tables.iter().map(|(i, _, _)| i).chain(&state_dependent) {
+        for &i in positional.iter().map(|(i, _, _)| i).chain(&state_dependent) {
             varies[i] = true;
         }
         let live: Vec<(usize, f64)> =
@@ -189,7 +207,27 @@ impl<'a> VolumetricKernel<'a> {
     /// Volumetric errors of up to [`LANES`] poses (`axis_count` positions each, mm, rad, canonical
     /// order) into `out` (one per pose), at the per-pose `state`.
     pub(crate) fn evaluate_block(&self, ws: &mut KernelWorkspace, poses: &[f64], state: &BlockState, out: &mut [VolumetricError]) {
-        (self.block)(self, ws, poses, state, out)
+        (self.block)(self, ws, poses, state, None, out)
+    }
+
+    /// The actual relative pose of up to [`LANES`] poses (the set-points `poses`, mm, rad) minus
+    /// `targets` (lane `l` for pose `l`; a block of fewer poses repeats its last target as it repeats
+    /// its last pose), into `out`: `position` = actual tool point relative to the workpiece point
+    /// minus the target position (mm, workpiece frame), `orientation` = rotation vector of
+    /// `R_rel,actual R_target^T` (rad), `length` = `|actual| - |target|` (mm). The error values are
+    /// taken at `poses` in `state`. With the nominal relative pose at other set-points as the target,
+    /// this is the residual of a correction (`crate::compensate::correction`). The kernel's frame
+    /// must be [`Frame::Workpiece`].
+    pub(crate) fn residual_block(
+        &self,
+        ws: &mut KernelWorkspace,
+        poses: &[f64],
+        state: &BlockState,
+        targets: &RelativeTargets,
+        out: &mut [VolumetricError],
+    ) {
+        debug_assert_eq!(self.frame, Frame::Workpiece, "residuals are in the workpiece frame");
+        (self.block)(self, ws, poses, state, Some(targets), out)
     }
 
     /// Volumetric errors of many poses (`axis_count` positions each, mm, rad), at rest and at the
@@ -212,12 +250,12 @@ fn block_for(instruction_set: &str) -> Option<BlockFn> {
         #[cfg(target_arch = "x86_64")]
         "AVX-512F" if std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512dq") => {
             // SAFETY: the CPU has the features block_avx512 is compiled for
-            Some(|k, ws, q, s, o| unsafe { block_avx512(k, ws, q, s, o) })
+            Some(|k, ws, q, s, t, o| unsafe { block_avx512(k, ws, q, s, t, o) })
         }
         #[cfg(target_arch = "x86_64")]
         "AVX2" if std::arch::is_x86_feature_detected!("avx2") => {
             // SAFETY: the CPU has the feature block_avx2 is compiled for
-            Some(|k, ws, q, s, o| unsafe { block_avx2(k, ws, q, s, o) })
+            Some(|k, ws, q, s, t, o| unsafe { block_avx2(k, ws, q, s, t, o) })
         }
         "baseline" => Some(block),
         _ => None,
@@ -235,8 +273,15 @@ fn dispatch() -> (BlockFn, &'static str) {
 /// The CPU must have AVX-512F ([`dispatch`] checks it).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,avx512dq")]
-unsafe fn block_avx512(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[f64], state: &BlockState, out: &mut [VolumetricError]) {
-    block(k, ws, poses, state, out)
+unsafe fn block_avx512(
+    k: &VolumetricKernel,
+    ws: &mut KernelWorkspace,
+    poses: &[f64],
+    state: &BlockState,
+    targets: Option<&RelativeTargets>,
+    out: &mut [VolumetricError],
+) {
+    block(k, ws, poses, state, targets, out)
 }
 
 /// [`block`] compiled with AVX2 (4 f64 per register).
@@ -245,14 +290,29 @@ unsafe fn block_avx512(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[
 /// The CPU must have AVX2 ([`dispatch`] checks it).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-unsafe fn block_avx2(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[f64], state: &BlockState, out: &mut [VolumetricError]) {
-    block(k, ws, poses, state, out)
+unsafe fn block_avx2(
+    k: &VolumetricKernel,
+    ws: &mut KernelWorkspace,
+    poses: &[f64],
+    state: &BlockState,
+    targets: Option<&RelativeTargets>,
+    out: &mut [VolumetricError],
+) {
+    block(k, ws, poses, state, targets, out)
 }
 
-/// One block: error values, both chains, the relative pose and its error. A block of fewer than
-/// [`LANES`] poses repeats its last pose in the unused lanes.
+/// One block: error values, both chains, the relative pose and its error against the nominal
+/// relative pose at the same set-points, or against `targets`. A block of fewer than [`LANES`] poses
+/// repeats its last pose in the unused lanes.
 #[inline(always)]
-fn block(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[f64], state: &BlockState, out: &mut [VolumetricError]) {
+fn block(
+    k: &VolumetricKernel,
+    ws: &mut KernelWorkspace,
+    poses: &[f64],
+    state: &BlockState,
+    targets: Option<&RelativeTargets>,
+    out: &mut [VolumetricError],
+) {
     let n_axes = k.machine.axis_count().max(1);
     let n = poses.len() / n_axes;
     debug_assert!((1..=LANES).contains(&n) && out.len() >= n);
@@ -275,12 +335,16 @@ fn block(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[f64], state: &
     let (tool_point, work_point) = (splat_vec(&k.setup.tool_point), splat_vec(&k.setup.work_point));
     let tool_point_actual = tool.transform_point(&offset(k.tool_offset, &k.setup.tool_point));
     let work_point_actual = work.transform_point(&offset(k.work_offset, &k.setup.work_point));
-    let r_nominal =
-        mat_t_vec(&work_nominal.rotation, &sub(&tool_nominal.transform_point(&tool_point), &work_nominal.transform_point(&work_point)));
+    let (r_nominal, relative_nominal) = match targets {
+        Some(t) => (t.position, t.rotation),
+        None => (
+            mat_t_vec(&work_nominal.rotation, &sub(&tool_nominal.transform_point(&tool_point), &work_nominal.transform_point(&work_point))),
+            mat_t_mul(&work_nominal.rotation, &tool_nominal.rotation),
+        ),
+    };
     let r_actual = mat_t_vec(&work.rotation, &sub(&tool_point_actual, &work_point_actual));
     let position = sub(&r_actual, &r_nominal);
     let relative_actual = mat_t_mul(&work.rotation, &tool.rotation);
-    let relative_nominal = mat_t_mul(&work_nominal.rotation, &tool_nominal.rotation);
     let orientation = rotation_log_lanes(&mat_mul_t(&relative_actual, &relative_nominal));
     let norms: Lanes = {
         let (a, b) = (norm(&r_actual), norm(&r_nominal));
@@ -309,8 +373,8 @@ fn error_values(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[f64], n
     for &(i, c) in &k.live {
         ws.values[i] = splat(c);
     }
-    for (index, axis, table) in k.errors.position_plan().1 {
-        table.add_lanes(&ws.q[*axis], &mut ws.values[*index]);
+    for (index, axis, f) in k.errors.position_plan().1 {
+        f.add_lanes(&ws.q[*axis], &mut ws.values[*index]);
     }
     if k.state_dependent.is_empty() {
         return;
