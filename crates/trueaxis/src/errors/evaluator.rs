@@ -97,8 +97,26 @@ impl TableEvaluator {
                 *o += self.value(q);
             }
         } else {
-            for (o, &q) in out.iter_mut().zip(q) {
-                *o += self.equally_spaced_value(self.offset(q));
+            // three passes, so that the arithmetic is vectorised and only the loads go lane by
+            // lane: the interval of each lane, its two values, the interpolation
+            let mut x: [f64; N] = std::array::from_fn(|l| q[l] - self.start);
+            if self.period > 0.0 {
+                for x in &mut x {
+                    *x = self.wrapped(*x);
+                }
+            }
+            let mut u = [0.0; N];
+            let mut i = [0.0; N];
+            for l in 0..N {
+                (u[l], i[l]) = self.interval(x[l]);
+            }
+            let mut a = [0.0; N];
+            let mut b = [0.0; N];
+            for l in 0..N {
+                (a[l], b[l]) = self.interval_values(i[l]);
+            }
+            for l in 0..N {
+                out[l] += a[l] + (u[l] - i[l]) * (b[l] - a[l]);
             }
         }
     }
@@ -106,21 +124,49 @@ impl TableEvaluator {
     /// `q - start`, wrapped into the first period of a periodic table.
     #[inline(always)]
     fn offset(&self, q: f64) -> f64 {
-        let mut x = q - self.start;
+        let x = q - self.start;
         if self.period > 0.0 {
-            x -= self.period * floor(x * self.inverse_period);
+            self.wrapped(x)
+        } else {
+            x
         }
-        x
+    }
+
+    /// An offset from the first position wrapped into the first period.
+    #[inline(always)]
+    fn wrapped(&self, x: f64) -> f64 {
+        x - self.period * floor(x * self.inverse_period)
     }
 
     /// The value at offset `x` from the first position of an equally spaced table: the interval by
     /// one multiplication; u = last (the end) uses the last interval with t = 1.
     #[inline(always)]
     fn equally_spaced_value(&self, x: f64) -> f64 {
-        let u = (x * self.inverse_step).clamp(0.0, self.last);
-        let i = (u as i64 as usize).min(self.values.len() - 2);
-        let (a, b) = (self.values[i], self.values[i + 1]);
-        a + (u - i as f64) * (b - a)
+        let (u, i) = self.interval(x);
+        let (a, b) = self.interval_values(i);
+        a + (u - i) * (b - a)
+    }
+
+    /// The position in steps `u` of offset `x` (in [0, last]; a NaN offset gives the first point)
+    /// and the start `i <= last - 1` of its interval, a whole number.
+    #[inline(always)]
+    fn interval(&self, x: f64) -> (f64, f64) {
+        // clamped by compare and select (the vector max and min instructions; NaN gives 0)
+        let u = x * self.inverse_step;
+        let u = if u > 0.0 { u } else { 0.0 };
+        let u = if u < self.last { u } else { self.last };
+        let i = floor(u);
+        (u, if i < self.last - 1.0 { i } else { self.last - 1.0 })
+    }
+
+    /// The values at the ends of the interval that starts at point `i` (from [`Self::interval`]).
+    #[inline(always)]
+    fn interval_values(&self, i: f64) -> (f64, f64) {
+        let k = index_of(i);
+        debug_assert!(k + 1 < self.values.len());
+        // SAFETY: 0 <= i <= last - 1 = values.len() - 2 (Self::interval), so k and k + 1 index
+        // `values`; unchecked so that the loop over the lanes has no branch
+        unsafe { (*self.values.get_unchecked(k), *self.values.get_unchecked(k + 1)) }
     }
 }
 
@@ -201,16 +247,31 @@ fn horner(coefficients: &[f64], x: f64) -> f64 {
     coefficients.iter().rev().fold(0.0, |acc, c| acc * x + c)
 }
 
-/// `floor(y)` for the moderate arguments of a periodic wrap (|y| < 2^52), without the libm call
-/// that `f64::floor` is on targets without SSE4.1.
-#[inline]
+/// `floor(y)` by floating-point operations alone, for the periodic wrap and the interval of an
+/// equally spaced table: no libm call (which `f64::floor` is on targets without SSE4.1) and no
+/// conversion to a 64-bit integer (which AVX2 does not have for vectors), so that the loops over
+/// the lanes stay vectorised. Exact for |y| < 2^51: adding and subtracting 1.5 * 2^52 rounds y to
+/// the nearest integer (no significand bits are left for a fraction), one less if that is above
+/// y. Beyond 2^51, y itself (an integer from 2^52 on); NaN stays NaN.
+#[inline(always)]
 fn floor(y: f64) -> f64 {
-    let truncated = y as i64 as f64;
-    if truncated > y {
-        truncated - 1.0
+    const ROUNDING: f64 = 6_755_399_441_055_744.0; // 1.5 * 2^52
+    const LIMIT: f64 = 2_251_799_813_685_248.0; // 2^51
+    let nearest = (y + ROUNDING) - ROUNDING;
+    let floor = if nearest > y { nearest - 1.0 } else { nearest };
+    if y.abs() < LIMIT {
+        floor
     } else {
-        truncated
+        y
     }
+}
+
+/// The index of a whole number `i` (0 <= i < 2^52) held as a float, from its bits: `i + 2^52` has
+/// `i` in the low bits of its significand (again no conversion instruction, see [`floor`]).
+#[inline(always)]
+fn index_of(i: f64) -> usize {
+    const TWO_52: f64 = 4_503_599_627_370_496.0;
+    ((i + TWO_52).to_bits() - TWO_52.to_bits()) as usize
 }
 
 #[cfg(test)]
@@ -285,8 +346,27 @@ mod tests {
 
     #[test]
     fn floor_of_the_periodic_wrap() {
-        for y in [-3.5, -3.0, -0.2, 0.0, 0.7, 1.0, 2.999999, 1e12 + 0.5, -1e12 - 0.5] {
+        for y in [
+            -3.5,
+            -3.0,
+            -0.2,
+            -0.0,
+            0.0,
+            0.7,
+            1.0,
+            2.999999,
+            1e12 + 0.5,
+            -1e12 - 0.5,
+            2.0f64.powi(51) - 0.5,
+            -(2.0f64.powi(51)) + 0.5,
+            1e17,
+            -1e17,
+        ] {
             assert_eq!(floor(y), y.floor(), "{y}");
+        }
+        assert!(floor(f64::NAN).is_nan());
+        for i in [0usize, 1, 2, 31, 32, 99_999, 1 << 40] {
+            assert_eq!(index_of(i as f64), i);
         }
     }
 
