@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Side-by-side: trueaxis (criterion) and straightforward NumPy/SciPy baselines (bench/baseline*.py),
 # in one run on the same machine, printing the ratios. Usage: bash bench/compare.sh [criterion filter]
-# Needs python3 with numpy and scipy (installed with pip if missing).
+# Needs python3 with numpy, scipy and pyamg (installed with pip if missing).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-python3 -c "import numpy, scipy" 2>/dev/null || python3 -m pip install --quiet numpy scipy
+python3 -c "import numpy, scipy, pyamg" 2>/dev/null || python3 -m pip install --quiet numpy scipy pyamg
 # the baselines run their BLAS on one thread: on a shared 2-core machine OpenBLAS threads slow NumPy
 # down 2-10x, and the ratios are stated thread for thread
 export OPENBLAS_NUM_THREADS=1 OMP_NUM_THREADS=1

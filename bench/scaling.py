@@ -16,7 +16,7 @@ import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 # work units: poses; rows of a 500-column design; Monte Carlo trials (p = 0.9, sequences of at
-# most 10^6); thermal nodes (10^7 nodes would need ~60 GB of factor)
+# most 10^6); thermal nodes (10^7 nodes would need about 57 GB with LOBPCG, more than the 24 GB here)
 SIZES = {
     "kinematics": [1e3, 1e4, 1e5, 1e6, 1e7],
     "identify": [1e3, 1e4, 1e5, 1e6],

@@ -363,7 +363,7 @@ fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<(Option<Thermal
             bar.set_message("thermal modes");
             let model = load_model(path).map_err(|e| failure(e.into()))?;
             let mut progress = |p: LanczosProgress| {
-                if let LanczosProgress::Iterating { converged, wanted, .. } = p {
+                if let LanczosProgress::Iterating { converged, wanted, .. } | LanczosProgress::Refining { converged, wanted, .. } = p {
                     bar.set_message(format!("thermal modes: {converged} of {wanted} converged"));
                 }
             };

@@ -13,7 +13,8 @@
 //!   (reduced form; coverage 0.9, sequences of at most 10^6 trials), the coverage intervals of its
 //!   14 outputs included;
 //! - `thermal`: the first 20 thermal modes of the steel block of the `thermal_modes` benchmark with
-//!   about `size` nodes (`cells^3` equal cells, `(cells + 1)^3` nodes).
+//!   about `size` nodes (`cells^3` equal cells, `(cells + 1)^3` nodes), by the solver `thermal modes`
+//!   chooses (dense, shift-invert Lanczos up to 5 x 10^4 nodes, LOBPCG with multigrid above).
 
 use std::time::Instant;
 use trueaxis::identify::{solve, IndirectOptions};
@@ -96,7 +97,8 @@ fn main() {
         }
         "thermal" => {
             let system = thermal_block::block(thermal_block::cells_for_nodes(size).max(2));
-            let options = ModalOptions { count: Some(20), method: SpectrumMethod::Lanczos, ..Default::default() };
+            // the solver `thermal modes` chooses: Lanczos up to 5 x 10^4 nodes, LOBPCG above
+            let options = ModalOptions { count: Some(20), method: SpectrumMethod::Auto, ..Default::default() };
             (system.node_count(), measure(|| drop(modal_analysis(&system, &options).expect("modes"))))
         }
         _ => usage(),

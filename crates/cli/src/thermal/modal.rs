@@ -18,6 +18,7 @@ enum MethodArg {
     Auto,
     Dense,
     Lanczos,
+    Lobpcg,
 }
 
 /// Modes of a thermal model: time constants (min) and weights |xi tau| under the model's step
@@ -35,7 +36,8 @@ pub struct ModesArgs {
     /// Cumulative weight share kept by truncation.
     #[arg(long, default_value_t = DEFAULT_SHARE)]
     share: f64,
-    /// Eigensolver: dense up to 1500 nodes and shift-invert Lanczos above (auto), or forced.
+    /// Eigensolver: dense up to 1500 nodes, shift-invert Lanczos (a sparse Cholesky factor) up to
+    /// 50,000 nodes and LOBPCG with a multigrid preconditioner above (auto), or forced.
     #[arg(long, value_enum, default_value = "auto")]
     method: MethodArg,
     /// Write a figure (SVG): the first mode shapes along the structure, the time constants with
@@ -119,6 +121,7 @@ fn analyse(model: &ThermalModel, count: usize, method: MethodArg, quiet: bool) -
         MethodArg::Auto => SpectrumMethod::Auto,
         MethodArg::Dense => SpectrumMethod::Dense,
         MethodArg::Lanczos => SpectrumMethod::Lanczos,
+        MethodArg::Lobpcg => SpectrumMethod::Lobpcg,
     };
     let count = count.min(model.system.node_count());
     let bar = crate::progress::steps(count, quiet);
@@ -128,6 +131,14 @@ fn analyse(model: &ThermalModel, count: usize, method: MethodArg, quiet: bool) -
         LanczosProgress::Iterating { converged, basis, max_basis, .. } => {
             bar.set_position(converged as u64);
             bar.set_message(format!("modes converged; Lanczos basis {basis} of at most {max_basis}"));
+        }
+        LanczosProgress::Preconditioning { nodes } => {
+            bar.set_message(format!("modes converged; multigrid preconditioner of K ({nodes} nodes)"))
+        }
+        LanczosProgress::Preconditioned { levels } => bar.set_message(format!("modes converged; multigrid of {levels} levels, LOBPCG")),
+        LanczosProgress::Refining { converged, iteration, max_iterations, .. } => {
+            bar.set_position(converged as u64);
+            bar.set_message(format!("modes converged; LOBPCG iteration {iteration} of at most {max_iterations}"));
         }
     };
     let options = ModalOptions { count: Some(count), method, ..Default::default() };

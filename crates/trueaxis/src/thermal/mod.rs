@@ -7,6 +7,7 @@
 //! degC, time in s (minutes only where named `_min`); thermal errors in um and urad, axis positions
 //! in mm or deg, as everywhere in trueaxis (DESIGN.md section 2).
 
+pub mod amg;
 pub mod assembly;
 pub mod beam;
 pub mod campaign;
@@ -17,6 +18,7 @@ pub mod error_model;
 pub mod lanczos;
 pub mod levenberg_marquardt;
 pub mod links;
+pub mod lobpcg;
 pub mod matrix_market;
 pub mod mesh;
 pub mod modal;
@@ -28,6 +30,7 @@ pub mod regression;
 pub mod response;
 pub mod segmented;
 pub mod sparse_cholesky;
+pub mod sparse_rows;
 pub mod state_space;
 pub mod temperature_model;
 pub mod time_constants;
