@@ -30,7 +30,7 @@ pub mod regression;
 pub mod response;
 pub mod segmented;
 pub mod sparse_cholesky;
-pub mod sparse_rows;
+mod sparse_rows;
 pub mod state_space;
 pub mod temperature_model;
 pub mod time_constants;

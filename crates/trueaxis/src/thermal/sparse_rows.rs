@@ -18,7 +18,7 @@ const PARALLEL_ROWS: usize = 4_000;
 /// `Y = M^T X` for a sparse M stored by columns (`m.ncols()` rows of Y, `m.nrows()` rows of X, p
 /// values per row, row-major): row j of Y is `sum_q M_qj X_q` over column j of M. For a symmetric M
 /// this is `M X`; for a prolongator P stored with its transpose, `P^T X` and `P X`.
-pub fn transpose_times_rows(m: &SparseColMat<usize, f64>, x: &[f64], p: usize, y: &mut [f64]) {
+pub(crate) fn transpose_times_rows(m: &SparseColMat<usize, f64>, x: &[f64], p: usize, y: &mut [f64]) {
     debug_assert_eq!(x.len(), m.nrows() * p);
     debug_assert_eq!(y.len(), m.ncols() * p);
     #[cfg(target_arch = "x86_64")]
