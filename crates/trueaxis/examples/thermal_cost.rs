@@ -4,7 +4,7 @@
 //! Also the 10^6-node feasibility run (`/usr/bin/time -v` for the peak memory):
 //!
 //! `cargo run --release -p trueaxis --example thermal_cost -- [lanczos|lobpcg] 99` (10^6 nodes; default
-//! 46, 103 823 nodes; default method lanczos); optional further arguments: the Lanczos block size
+//! 46, 103 823 nodes; default method lanczos; also dense); optional further arguments: the Lanczos block size
 //! and the largest basis. With lobpcg the "factorisation" line is the multigrid setup.
 
 use std::time::Instant;
@@ -26,6 +26,7 @@ fn main() {
     let method = match words.first().map(String::as_str) {
         Some("lobpcg") => Some(SpectrumMethod::Lobpcg),
         Some("lanczos") => Some(SpectrumMethod::Lanczos),
+        Some("dense") => Some(SpectrumMethod::Dense),
         _ => None,
     };
     if method.is_some() {

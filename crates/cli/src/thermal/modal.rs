@@ -36,7 +36,7 @@ pub struct ModesArgs {
     /// Cumulative weight share kept by truncation.
     #[arg(long, default_value_t = DEFAULT_SHARE)]
     share: f64,
-    /// Eigensolver: dense up to 1500 nodes, shift-invert Lanczos (a sparse Cholesky factor) up to
+    /// Eigensolver: dense up to 400 nodes, shift-invert Lanczos (a sparse Cholesky factor) up to
     /// 50,000 nodes and LOBPCG with a multigrid preconditioner above (auto), or forced.
     #[arg(long, value_enum, default_value = "auto")]
     method: MethodArg,
