@@ -14,12 +14,14 @@
 //! - which axis is a linear translation, a rotary motion (one sine and cosine per pose) or a
 //!   translation along a coordinate direction.
 //!
-//! The block function is compiled twice, for the baseline target (SSE2) and with AVX-512F, and
-//! chosen at run time by CPU feature detection (stable Rust `#[target_feature]`, no dependency).
+//! The block function is compiled for the baseline target (SSE2 on x86-64: separate products and
+//! sums, as the scalar path), with AVX2 and with AVX-512F (both with fused
+//! multiply-add, one rounding per `a b + c`), and chosen at run time by CPU feature detection
+//! (stable Rust `#[target_feature]`, no dependency).
 
 use super::lanes::{
     add, dot, mat_mul_t, mat_t_mul, mat_t_vec, mat_vec, norm, rotation_about_axis, rotation_log_lanes, small_transform, splat, splat_vec,
-    sub, LaneMat, LanePose, LaneVec, Lanes, LANES,
+    sub, Fused, LaneMat, LanePose, LaneVec, Lanes, MulAdd, Separate, LANES,
 };
 use super::volumetric::{Frame, Setup, VolumetricError};
 use crate::errors::{Direction, ErrorModel, MachineState};
@@ -248,31 +250,42 @@ pub const INSTRUCTION_SETS: [&str; 3] = ["AVX-512F", "AVX2", "baseline"];
 fn block_for(instruction_set: &str) -> Option<BlockFn> {
     match instruction_set {
         #[cfg(target_arch = "x86_64")]
-        "AVX-512F" if std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512dq") => {
+        "AVX-512F"
+            if std::arch::is_x86_feature_detected!("avx512f")
+                && std::arch::is_x86_feature_detected!("avx512dq")
+                && std::arch::is_x86_feature_detected!("fma") =>
+        {
             // SAFETY: the CPU has the features block_avx512 is compiled for
             Some(|k, ws, q, s, t, o| unsafe { block_avx512(k, ws, q, s, t, o) })
         }
         #[cfg(target_arch = "x86_64")]
-        "AVX2" if std::arch::is_x86_feature_detected!("avx2") => {
+        "AVX2" if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") => {
             // SAFETY: the CPU has the feature block_avx2 is compiled for
             Some(|k, ws, q, s, t, o| unsafe { block_avx2(k, ws, q, s, t, o) })
         }
-        "baseline" => Some(block),
+        "baseline" => Some(block::<BaselineMulAdd>),
         _ => None,
     }
 }
+
+/// The arithmetic of the baseline block function: every AArch64 CPU has fused multiply-add, an
+/// x86-64 CPU without AVX2 may not (`f64::mul_add` would then be a library call).
+#[cfg(target_arch = "aarch64")]
+type BaselineMulAdd = Fused;
+#[cfg(not(target_arch = "aarch64"))]
+type BaselineMulAdd = Separate;
 
 /// The block function for the best instruction set this CPU has.
 fn dispatch() -> (BlockFn, &'static str) {
     INSTRUCTION_SETS.iter().find_map(|&name| block_for(name).map(|f| (f, name))).expect("the baseline is always available")
 }
 
-/// [`block`] compiled with AVX-512F (8 f64 per register).
+/// [`block`] compiled with AVX-512F (8 f64 per register) and fused multiply-add.
 ///
 /// # Safety
-/// The CPU must have AVX-512F ([`dispatch`] checks it).
+/// The CPU must have AVX-512F, AVX-512DQ and FMA ([`dispatch`] checks it).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,avx512dq")]
+#[target_feature(enable = "avx512f,avx512dq,fma")]
 unsafe fn block_avx512(
     k: &VolumetricKernel,
     ws: &mut KernelWorkspace,
@@ -281,15 +294,15 @@ unsafe fn block_avx512(
     targets: Option<&RelativeTargets>,
     out: &mut [VolumetricError],
 ) {
-    block(k, ws, poses, state, targets, out)
+    block::<Fused>(k, ws, poses, state, targets, out)
 }
 
-/// [`block`] compiled with AVX2 (4 f64 per register).
+/// [`block`] compiled with AVX2 (4 f64 per register) and fused multiply-add.
 ///
 /// # Safety
-/// The CPU must have AVX2 ([`dispatch`] checks it).
+/// The CPU must have AVX2 and FMA ([`dispatch`] checks it).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 unsafe fn block_avx2(
     k: &VolumetricKernel,
     ws: &mut KernelWorkspace,
@@ -298,14 +311,14 @@ unsafe fn block_avx2(
     targets: Option<&RelativeTargets>,
     out: &mut [VolumetricError],
 ) {
-    block(k, ws, poses, state, targets, out)
+    block::<Fused>(k, ws, poses, state, targets, out)
 }
 
 /// One block: error values, both chains, the relative pose and its error against the nominal
 /// relative pose at the same set-points, or against `targets`. A block of fewer than [`LANES`] poses
 /// repeats its last pose in the unused lanes.
 #[inline(always)]
-fn block(
+fn block<M: MulAdd>(
     k: &VolumetricKernel,
     ws: &mut KernelWorkspace,
     poses: &[f64],
@@ -323,8 +336,8 @@ fn block(
         }
     }
     error_values(k, ws, poses, n, state);
-    let (tool_nominal, tool) = chain(&k.tool_steps, &ws.q, &ws.values);
-    let (work_nominal, work) = chain(&k.work_steps, &ws.q, &ws.values);
+    let (tool_nominal, tool) = chain::<M>(&k.tool_steps, &ws.q, &ws.values);
+    let (work_nominal, work) = chain::<M>(&k.work_steps, &ws.q, &ws.values);
     let offset = |index: Option<usize>, point: &Vec3| {
         let mut p = splat_vec(point);
         if let Some(i) = index {
@@ -333,28 +346,31 @@ fn block(
         p
     };
     let (tool_point, work_point) = (splat_vec(&k.setup.tool_point), splat_vec(&k.setup.work_point));
-    let tool_point_actual = tool.transform_point(&offset(k.tool_offset, &k.setup.tool_point));
-    let work_point_actual = work.transform_point(&offset(k.work_offset, &k.setup.work_point));
+    let tool_point_actual = tool.transform_point::<M>(&offset(k.tool_offset, &k.setup.tool_point));
+    let work_point_actual = work.transform_point::<M>(&offset(k.work_offset, &k.setup.work_point));
     let (r_nominal, relative_nominal) = match targets {
         Some(t) => (t.position, t.rotation),
         None => (
-            mat_t_vec(&work_nominal.rotation, &sub(&tool_nominal.transform_point(&tool_point), &work_nominal.transform_point(&work_point))),
-            mat_t_mul(&work_nominal.rotation, &tool_nominal.rotation),
+            mat_t_vec::<M>(
+                &work_nominal.rotation,
+                &sub(&tool_nominal.transform_point::<M>(&tool_point), &work_nominal.transform_point::<M>(&work_point)),
+            ),
+            mat_t_mul::<M>(&work_nominal.rotation, &tool_nominal.rotation),
         ),
     };
-    let r_actual = mat_t_vec(&work.rotation, &sub(&tool_point_actual, &work_point_actual));
+    let r_actual = mat_t_vec::<M>(&work.rotation, &sub(&tool_point_actual, &work_point_actual));
     let position = sub(&r_actual, &r_nominal);
-    let relative_actual = mat_t_mul(&work.rotation, &tool.rotation);
-    let orientation = rotation_log_lanes(&mat_mul_t(&relative_actual, &relative_nominal));
+    let relative_actual = mat_t_mul::<M>(&work.rotation, &tool.rotation);
+    let orientation = rotation_log_lanes::<M>(&mat_mul_t::<M>(&relative_actual, &relative_nominal));
     let norms: Lanes = {
-        let (a, b) = (norm(&r_actual), norm(&r_nominal));
+        let (a, b) = (norm::<M>(&r_actual), norm::<M>(&r_nominal));
         std::array::from_fn(|l| a[l] + b[l])
     };
-    let projection = dot(&position, &add(&r_actual, &r_nominal));
+    let projection = dot::<M>(&position, &add(&r_actual, &r_nominal));
     let length: Lanes = std::array::from_fn(|l| if norms[l] > 0.0 { projection[l] / norms[l] } else { 0.0 });
     let (position, orientation) = match k.frame {
         Frame::Workpiece => (position, orientation),
-        Frame::Machine => (mat_vec(&work_nominal.rotation, &position), mat_vec(&work_nominal.rotation, &orientation)),
+        Frame::Machine => (mat_vec::<M>(&work_nominal.rotation, &position), mat_vec::<M>(&work_nominal.rotation, &orientation)),
     };
     for (l, o) in out.iter_mut().enumerate().take(n) {
         *o = VolumetricError {
@@ -405,11 +421,11 @@ fn error_values(k: &VolumetricKernel, ws: &mut KernelWorkspace, poses: &[f64], n
 /// The nominal and the actual pose of the end of a chain, as `nominal_and_actual_chain`: the
 /// products start from the first factor (the identity is not multiplied).
 #[inline(always)]
-fn chain(steps: &[Step], q: &[Lanes], values: &[Lanes]) -> (LanePose, LanePose) {
+fn chain<M: MulAdd>(steps: &[Step], q: &[Lanes], values: &[Lanes]) -> (LanePose, LanePose) {
     let (mut nominal, mut actual): (Option<LanePose>, Option<LanePose>) = (None, None);
     let then = |pose: &mut Option<LanePose>, factor: &LanePose| {
         *pose = Some(match pose {
-            Some(p) => p.then(factor),
+            Some(p) => p.then::<M>(factor),
             None => *factor,
         })
     };
@@ -420,11 +436,11 @@ fn chain(steps: &[Step], q: &[Lanes], values: &[Lanes]) -> (LanePose, LanePose) 
                     Displacement::Fixed(pose) => **pose,
                     Displacement::Varying { start, centre } => {
                         let v = &values[*start..*start + 6];
-                        small_transform(&[v[3], v[4], v[5]], &[v[0], v[1], v[2]], &centre_lanes(centre, q))
+                        small_transform::<M>(&[v[3], v[4], v[5]], &[v[0], v[1], v[2]], &centre_lanes::<M>(centre, q))
                     }
                     Displacement::FixedAlong { rotation, e, centre } => {
-                        let c = centre_lanes(centre, q);
-                        LanePose { rotation: **rotation, translation: sub(&add(&c, e), &mat_vec(rotation, &c)) }
+                        let c = centre_lanes::<M>(centre, q);
+                        LanePose { rotation: **rotation, translation: sub(&add(&c, e), &mat_vec::<M>(rotation, &c)) }
                     }
                 };
                 then(&mut actual, &factor);
@@ -433,14 +449,14 @@ fn chain(steps: &[Step], q: &[Lanes], values: &[Lanes]) -> (LanePose, LanePose) 
                 let t: LaneVec = std::array::from_fn(|i| std::array::from_fn(|l| direction[i] * q[*axis][l]));
                 for pose in [&mut nominal, &mut actual] {
                     *pose = Some(match pose {
-                        Some(p) => p.then_translation(&t),
+                        Some(p) => p.then_translation::<M>(&t),
                         None => LanePose { rotation: LanePose::IDENTITY.rotation, translation: t },
                     });
                 }
             }
             Step::Rotate { axis, direction, point } => {
-                let rotation = rotation_about_axis(direction, &q[*axis]);
-                let motion = LanePose { rotation, translation: sub(point, &mat_vec(&rotation, point)) };
+                let rotation = rotation_about_axis::<M>(direction, &q[*axis]);
+                let motion = LanePose { rotation, translation: sub(point, &mat_vec::<M>(&rotation, point)) };
                 then(&mut nominal, &motion);
                 then(&mut actual, &motion);
             }
@@ -451,9 +467,17 @@ fn chain(steps: &[Step], q: &[Lanes], values: &[Lanes]) -> (LanePose, LanePose) 
 
 /// The centre of a small transform per lane.
 #[inline(always)]
-fn centre_lanes(centre: &Centre, q: &[Lanes]) -> LaneVec {
+fn centre_lanes<M: MulAdd>(centre: &Centre, q: &[Lanes]) -> LaneVec {
     match centre {
         Centre::Constant(c) => splat_vec(c),
-        Centre::Along { axis, point, direction } => std::array::from_fn(|i| std::array::from_fn(|l| point[i] + direction[i] * q[*axis][l])),
+        Centre::Along { axis, point, direction } => {
+            let mut c = [splat(0.0); 3];
+            for i in 0..3 {
+                for l in 0..LANES {
+                    c[i][l] = M::mul_add(direction[i], q[*axis][l], point[i]);
+                }
+            }
+            c
+        }
     }
 }
