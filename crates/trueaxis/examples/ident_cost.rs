@@ -5,7 +5,9 @@
 //! whole `solve`. On a machine shared with other processes the CPU time is what the computation
 //! costs; the flop rate per CPU-second compared with one core's peak is the fraction reached.
 //!
-//! Run: `cargo run --release -p trueaxis --example ident_cost [n] [p] [repeats]`.
+//! Run: `cargo run --release -p trueaxis --example ident_cost [n] [p] [repeats]`; with
+//! `PEAK_GFLOPS` set to one core's measured peak (`bench/fma_peak.c`) it also prints the fraction
+//! of the peak.
 
 use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};
@@ -15,10 +17,6 @@ use trueaxis::identify::{solve, weighted_gram, DesignMatrix, IndirectOptions};
 
 #[path = "../benches/common/cpu_clock.rs"]
 mod cpu_clock;
-
-/// Double-precision peak of one core of the benchmark machine (GFLOP/s): two 512-bit FMA pipes at
-/// 4.1 GHz, measured by bench/fma_peak.c (133-135 GFLOP/s per CPU-second).
-const PEAK_PER_CORE: f64 = 133.0;
 
 fn process_cpu_seconds() -> f64 {
     1e-9 * cpu_clock::cpu_ns(cpu_clock::PROCESS).expect("a CPU-time clock (Linux)")
@@ -47,12 +45,15 @@ fn main() {
     let flops = n as f64 * (p + 1) as f64 * (p + 2) as f64; // lower triangle with the diagonal, 2 per multiply-add
     let (wall, cpu) = best(repeats, || weighted_gram(&matrix, &observations, &ones));
     let threads = rayon::current_num_threads();
+    let per_cpu_second = 1e-9 * flops / cpu;
+    let fraction = match std::env::var("PEAK_GFLOPS").ok().and_then(|v| v.parse::<f64>().ok()) {
+        Some(peak) => format!(" = {:.0} % of one core's {peak} GFLOP/s", 100.0 * per_cpu_second / peak),
+        None => " (set PEAK_GFLOPS to one core's peak for the fraction)".to_string(),
+    };
     println!(
-        "weighted Gram {n} x {}: wall {wall:.3} s, CPU {cpu:.3} s; {:.1} GFLOP/s wall on {threads} threads, {:.1} GFLOP/s per CPU-second = {:.0} % of one core's {PEAK_PER_CORE} peak",
+        "weighted Gram {n} x {}: wall {wall:.3} s, CPU {cpu:.3} s; {:.1} GFLOP/s wall on {threads} threads, {per_cpu_second:.1} GFLOP/s per CPU-second{fraction}",
         p + 1,
         1e-9 * flops / wall,
-        1e-9 * flops / cpu,
-        100.0 * 1e-9 * flops / cpu / PEAK_PER_CORE
     );
     let design = DesignMatrix {
         names: (0..p).map(|j| format!("c{j}")).collect(),
