@@ -8,7 +8,7 @@
 //! mesh grows as `n^(4/3)` and whose work as `n^2` (10^6 nodes: 1.3e9 nonzeros, 10.6 GB, 6.7e12
 //! flops). LOBPCG needs only products with K and C and the V-cycle, all proportional to the
 //! nonzeros of K, and a number of iterations that a multigrid preconditioner keeps independent of
-//! the mesh size (about 50 for 20 modes of the benchmark block at 10^5 and 10^6 nodes).
+//! the mesh size (26-27 for 20 modes of the benchmark block at 10^5 and 10^6 nodes).
 //!
 //! Iteration (as SciPy's `lobpcg`, with soft locking): a block X of `m = count + guard`
 //! C-orthonormal vectors with Ritz values Lambda; residuals `R = K X - C X Lambda` of the columns
