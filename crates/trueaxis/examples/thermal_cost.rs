@@ -44,8 +44,7 @@ fn main() {
     let t0 = Instant::now();
     let system = thermal_block::block(cells);
     println!("assembly: {} nodes, {:.2} s", system.node_count(), t0.elapsed().as_secs_f64());
-    let lobpcg = options.method == SpectrumMethod::Lobpcg;
-    let flops = if lobpcg {
+    let flops = if options.method != SpectrumMethod::Lanczos {
         0.0
     } else {
         let (nonzeros, flops) = factorisation_work(&system.conductivity, system.coordinates.as_deref()).expect("symbolic analysis");
@@ -81,7 +80,11 @@ fn main() {
     };
     let modes = modal_analysis_with_progress(&system, &options, &mut progress).expect("modes");
     let (wall, cpu) = (t0.elapsed().as_secs_f64(), process_cpu_seconds() - c0);
-    let (name, unit) = if lobpcg { ("LOBPCG", "iterations") } else { ("Lanczos", "Ritz steps") };
+    let (name, unit) = match options.method {
+        SpectrumMethod::Lobpcg => ("LOBPCG", "iterations"),
+        SpectrumMethod::Dense => ("dense", "steps"),
+        _ => ("Lanczos", "Ritz steps"),
+    };
     println!("{name}: {:.2} s wall, {:.2} s CPU ({steps} {unit})", wall - last.0, cpu - last.1);
     println!("total: {wall:.2} s wall, {cpu:.2} s CPU");
     let tau: Vec<String> = (0..modes.len()).map(|i| format!("{:.6e}", modes.tau_s(i))).collect();

@@ -21,7 +21,8 @@
 //! preconditioner is symmetric positive definite (LOBPCG needs that). Blocks of vectors are stored
 //! row by row ([`super::sparse_rows`]).
 
-use super::sparse_rows::transpose_times_rows;
+use super::assembly::diagonal;
+use super::sparse_rows::{from_rows, to_rows, transpose_times_rows};
 use super::{computation, input, ThermalError};
 use faer::linalg::solvers::{Llt, Solve};
 use faer::sparse::linalg::matmul::sparse_sparse_matmul;
@@ -111,13 +112,10 @@ impl SmoothedAggregation {
 
     fn cycle(&self, level: usize, ws: &mut [[Vec<f64>; 3]], b: &[f64], p: usize, x: &mut [f64]) {
         let Some(l) = self.levels.get(level) else {
-            let mut rhs = Mat::from_fn(self.coarsest_nodes, p, |i, k| b[i * p + k]);
+            let mut rhs = Mat::zeros(self.coarsest_nodes, p);
+            from_rows(b, rhs.as_mut());
             self.coarsest.solve_in_place(rhs.as_mut());
-            for (i, row) in x.chunks_exact_mut(p).enumerate() {
-                for (k, v) in row.iter_mut().enumerate() {
-                    *v = rhs[(i, k)];
-                }
-            }
+            x.copy_from_slice(&to_rows(rhs.as_ref()));
             return;
         };
         let (here, coarser) = ws.split_first_mut().expect("a workspace per level");
@@ -184,10 +182,10 @@ fn memory(e: faer::sparse::FaerError) -> ThermalError {
 
 /// `1 / A_ii`; an error for a diagonal entry that is not positive.
 fn inverse_diagonal(a: &SparseColMat<usize, f64>) -> Result<Vec<f64>, ThermalError> {
-    let (cp, ri, val) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
-    (0..a.ncols())
-        .map(|j| {
-            let d: f64 = (cp[j]..cp[j + 1]).filter(|&q| ri[q] == j).map(|q| val[q]).sum();
+    diagonal(a)
+        .into_iter()
+        .enumerate()
+        .map(|(j, d)| {
             if d > 0.0 && d.is_finite() {
                 Ok(1.0 / d)
             } else {

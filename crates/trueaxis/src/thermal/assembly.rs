@@ -154,6 +154,20 @@ pub fn to_dense(a: &SparseColMat<usize, f64>) -> faer::Mat<f64> {
     m
 }
 
+/// The diagonal of a sparse matrix (duplicate entries summed, a missing one 0).
+pub(crate) fn diagonal(a: &SparseColMat<usize, f64>) -> Vec<f64> {
+    let (cp, ri, val) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
+    (0..a.ncols()).map(|j| (cp[j]..cp[j + 1]).filter(|&q| ri[q] == j).map(|q| val[q]).sum()).collect()
+}
+
+/// The Rayleigh quotient of a uniform temperature, `1^T K 1 / 1^T C 1` (1/s): the rate at which a
+/// uniform rise decays (conduction alone conserves heat: only convection and fixed temperatures
+/// make it positive), and an upper bound of the smallest eigenvalue of `K phi = lambda C phi`.
+pub(crate) fn uniform_decay_rate(k: &SparseColMat<usize, f64>, c: &SparseColMat<usize, f64>) -> f64 {
+    let total = |a: &SparseColMat<usize, f64>| a.val().iter().sum::<f64>();
+    total(k) / total(c)
+}
+
 /// A sparse matrix from triplets (duplicates summed).
 pub fn from_triplets(n: usize, triplets: &[Triplet<usize, usize, f64>]) -> Result<SparseColMat<usize, f64>, ThermalError> {
     SparseColMat::try_new_from_triplets(n, n, triplets).map_err(|e| input(format!("cannot build a sparse matrix: {e:?}")))

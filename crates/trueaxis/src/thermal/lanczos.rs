@@ -27,7 +27,7 @@
 //! (issue 23, BENCHMARKS.md): nested dissection and factorisation 2.2 s (6.0e7 nonzeros), 17 Ritz
 //! steps of block 8 (160 basis vectors, 20 block solves), 7.1 CPU seconds and 5.1-7.2 s wall in all.
 
-use super::assembly::from_triplets;
+use super::assembly::{diagonal, from_triplets, uniform_decay_rate};
 use super::sparse_cholesky::SparseCholesky;
 use super::sparse_rows::{from_rows, to_rows, transpose_times_rows};
 use super::{computation, input, ThermalError};
@@ -184,8 +184,7 @@ pub fn smallest_eigenpairs_with(
 fn shift(k: &SparseColMat<usize, f64>, c: &SparseColMat<usize, f64>, kd: &[f64], cd: &[f64]) -> f64 {
     let diagonal_bound = kd.iter().zip(cd).map(|(a, b)| a / b).filter(|r| *r > 0.0).fold(f64::INFINITY, f64::min);
     let diagonal_bound = if diagonal_bound.is_finite() { diagonal_bound } else { 1.0 };
-    let total = |a: &SparseColMat<usize, f64>| a.val().iter().sum::<f64>();
-    let constant_bound = total(k) / total(c);
+    let constant_bound = uniform_decay_rate(k, c);
     let bound = if constant_bound.is_finite() && constant_bound > 0.0 { constant_bound.min(diagonal_bound) } else { diagonal_bound };
     -(0.5 * bound).max(1e-6 * diagonal_bound)
 }
@@ -233,11 +232,6 @@ fn ritz(t: MatRef<'_, f64>, m: usize, p: usize) -> (Vec<f64>, nalgebra::DMatrix<
         })
         .collect();
     (theta, s, residual)
-}
-
-fn diagonal(a: &SparseColMat<usize, f64>) -> Vec<f64> {
-    let (cp, ri, val) = (a.symbolic().col_ptr(), a.symbolic().row_idx(), a.val());
-    (0..a.ncols()).map(|j| (cp[j]..cp[j + 1]).filter(|&q| ri[q] == j).map(|q| val[q]).sum()).collect()
 }
 
 /// A pseudo-random number in [-0.5, 0.5) (splitmix64), deterministic.

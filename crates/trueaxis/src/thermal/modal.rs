@@ -7,7 +7,7 @@
 //! `L^-1 K L^-T` (faer). Large sparse models: the partial spectrum by shift-invert block Lanczos
 //! ([`super::lanczos`]).
 
-use super::assembly::{to_dense, ThermalSystem};
+use super::assembly::{diagonal, to_dense, uniform_decay_rate, ThermalSystem};
 use super::lanczos::{smallest_eigenpairs_with, LanczosOptions, LanczosProgress};
 use super::lobpcg::{smallest_eigenpairs_lobpcg, LobpcgOptions};
 use super::{computation, input, ThermalError};
@@ -161,19 +161,12 @@ pub fn modal_analysis_with_progress(
     Ok(ModalBasis { lambda, shapes })
 }
 
-/// Whether a uniform temperature is (numerically) in the null space of K: its Rayleigh quotient
-/// `1^T K 1 / 1^T C 1`, the rate at which a uniform rise decays, is below 1e-12 of the largest
-/// `K_ii / C_ii` (conduction alone conserves heat; only convection or fixed temperatures lose it).
+/// Whether a uniform temperature is (numerically) in the null space of K: its decay rate
+/// ([`uniform_decay_rate`]) is below 1e-12 of the largest `K_ii / C_ii`.
 fn loses_no_heat(system: &ThermalSystem) -> bool {
-    let total = |a: &faer::sparse::SparseColMat<usize, f64>| a.val().iter().sum::<f64>();
-    let diagonal = |a: &faer::sparse::SparseColMat<usize, f64>, j: usize| {
-        let (cp, ri) = (a.symbolic().col_ptr(), a.symbolic().row_idx());
-        (cp[j]..cp[j + 1]).filter(|&q| ri[q] == j).map(|q| a.val()[q]).sum::<f64>()
-    };
     let (k, c) = (&system.conductivity, &system.capacity);
-    let largest = (0..k.ncols()).map(|j| diagonal(k, j) / diagonal(c, j)).filter(|r| r.is_finite()).fold(0.0f64, f64::max);
-    let uniform = total(k) / total(c);
-    largest > 0.0 && uniform.abs() <= 1e-12 * largest
+    let largest = diagonal(k).iter().zip(diagonal(c)).map(|(kd, cd)| kd / cd).filter(|r| r.is_finite()).fold(0.0f64, f64::max);
+    largest > 0.0 && uniform_decay_rate(k, c).abs() <= 1e-12 * largest
 }
 
 /// All eigenpairs (ascending) by dense Cholesky of C and the eigendecomposition of `L^-1 K L^-T`.

@@ -84,7 +84,7 @@ pub(crate) fn to_rows(x: MatRef<'_, f64>) -> Vec<f64> {
     let (n, p) = (x.nrows(), x.ncols());
     let mut rows = vec![0.0; n * p];
     for k in 0..p {
-        for (row, v) in rows.chunks_exact_mut(p).zip(x.col(k).iter()) {
+        for (row, v) in rows.chunks_exact_mut(p.max(1)).zip(x.col(k).iter()) {
             row[k] = *v;
         }
     }
@@ -95,7 +95,7 @@ pub(crate) fn to_rows(x: MatRef<'_, f64>) -> Vec<f64> {
 pub(crate) fn from_rows(rows: &[f64], mut y: MatMut<'_, f64>) {
     let p = y.ncols();
     for k in 0..p {
-        for (out, row) in y.rb_mut().col_mut(k).iter_mut().zip(rows.chunks_exact(p)) {
+        for (out, row) in y.rb_mut().col_mut(k).iter_mut().zip(rows.chunks_exact(p.max(1))) {
             *out = row[k];
         }
     }
