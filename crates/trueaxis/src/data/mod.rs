@@ -1,17 +1,27 @@
 //! Data files: tables in (read forgivingly, `columns`), pose CSVs in, prediction tables out, and
-//! atomic file writing (DESIGN.md sections 3-4: never a partially written output).
+//! the output layer (DESIGN.md sections 3-4: never a partially written output; docs/reliability.md):
+//! output sets written all or none (`output_set`, `staging`, `commit`), what an output path is
+//! (`target`), the inputs a run read (`inputs`), its temporaries (`temporaries`), and which
+//! failures are the environment's (`environment`).
 
 pub mod checks;
 mod columns;
+mod commit;
+mod environment;
+pub mod inputs;
 mod output;
 mod output_set;
 mod poses;
+mod staging;
+mod target;
 pub mod temporaries;
 
 pub use columns::{CsvTable, Layout};
+pub use environment::{environment_cause, is_environment};
 pub use output::{predictions_csv, predictions_json, PREDICTION_COLUMNS};
-pub use output_set::{write_atomically, OutputSet};
+pub use output_set::{write_atomically, write_streamed, OutputSet, PreparedSet};
 pub use poses::{poses_of, read_poses, read_poses_from, PoseTable};
+pub use target::{is_standard_output, output_name, set_standard_output_descriptor, STANDARD_OUTPUT};
 
 use thiserror::Error;
 

@@ -7,8 +7,15 @@
 //! next run writing the same target removes it once it is abandoned: its process no longer runs on
 //! this machine (Linux `/proc`), or it is older than [`ABANDONED_AFTER`] (other systems, or a
 //! process id that was reused). A temporary of another target, or of a live run, is left alone.
+//!
+//! A run that is asked to stop (SIGINT, SIGTERM, SIGHUP) or that runs out of memory removes its own
+//! temporaries first: each one is registered while it exists ([`LiveTemporary`]), and
+//! [`remove_live`] removes those registered. A commit holds a lock while it renames its
+//! temporaries into place ([`commit_lock`]), so that a removal waits until the renames are done and
+//! never leaves a set half renamed.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
 use std::time::Duration;
 
 /// Age after which a temporary is abandoned whatever its process id says (24 h).
@@ -36,6 +43,75 @@ fn parse(name: &str) -> Option<(&str, u32)> {
 pub fn is_temporary_name(name: &str) -> bool {
     let legacy = name.len() == 10 && name.starts_with(".tmp") && name[4..].chars().all(|c| c.is_ascii_alphanumeric());
     legacy || parse(name).is_some()
+}
+
+/// The temporaries of this process that exist now (files and directories).
+static LIVE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// Held by a commit while it renames temporaries into place, and by [`remove_live`].
+static COMMITTING: Mutex<()> = Mutex::new(());
+
+fn lock<T>(m: &'static Mutex<T>) -> MutexGuard<'static, T> {
+    // a panic elsewhere does not make the registry unusable
+    m.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// Held while a commit renames its temporaries: [`remove_live`] waits for it.
+pub(crate) fn commit_lock() -> MutexGuard<'static, ()> {
+    lock(&COMMITTING)
+}
+
+/// A temporary registered while it exists: unregistered when dropped (removed, or renamed into
+/// place).
+#[derive(Debug)]
+pub(crate) struct LiveTemporary(PathBuf);
+
+impl LiveTemporary {
+    pub(crate) fn register(path: &Path) -> LiveTemporary {
+        lock(&LIVE).push(path.to_path_buf());
+        LiveTemporary(path.to_path_buf())
+    }
+}
+
+impl Drop for LiveTemporary {
+    fn drop(&mut self) {
+        lock(&LIVE).retain(|p| *p != self.0);
+    }
+}
+
+/// Removes every live temporary of this process (files and whole directories) and returns how many
+/// were removed; for a handler of a signal that ends the run. Waits for a commit in progress.
+pub fn remove_live() -> usize {
+    let _commit = commit_lock();
+    remove_all(&mut lock(&LIVE))
+}
+
+/// As [`remove_live`], unless a registry is held (by the calling thread, which may be the one that
+/// ran out of memory): then nothing is removed and `None` returned.
+pub fn try_remove_live() -> Option<usize> {
+    let _commit = try_lock(&COMMITTING)?;
+    let mut live = try_lock(&LIVE)?;
+    Some(remove_all(&mut live))
+}
+
+fn try_lock<T>(m: &'static Mutex<T>) -> Option<MutexGuard<'static, T>> {
+    match m.try_lock() {
+        Ok(g) => Some(g),
+        Err(std::sync::TryLockError::Poisoned(p)) => Some(p.into_inner()),
+        Err(std::sync::TryLockError::WouldBlock) => None,
+    }
+}
+
+fn remove_all(live: &mut Vec<PathBuf>) -> usize {
+    let mut removed = 0;
+    for path in live.drain(..) {
+        let done = match path.symlink_metadata() {
+            Ok(m) if m.is_dir() => std::fs::remove_dir_all(&path),
+            Ok(_) => std::fs::remove_file(&path),
+            Err(e) => Err(e),
+        };
+        removed += usize::from(done.is_ok());
+    }
+    removed
 }
 
 /// True when the process `pid` that made a temporary modified at `age` ago is gone.
@@ -102,6 +178,26 @@ mod tests {
         assert_eq!(clean_abandoned(dir.path(), "out"), expected);
         assert_eq!(dead.exists(), expected == 0);
         assert!(mine.exists() && other_target.exists() && user.exists());
+    }
+
+    #[test]
+    fn live_temporaries_are_registered_while_they_exist_and_removed_whole() {
+        let dir = tempfile::tempdir().unwrap();
+        let (file, folder, settled) = (dir.path().join(".a.tmp"), dir.path().join(".b.tmp"), dir.path().join(".c.tmp"));
+        std::fs::write(&file, "x").unwrap();
+        std::fs::create_dir(&folder).unwrap();
+        std::fs::write(folder.join("X.comp"), "x").unwrap();
+        std::fs::write(&settled, "x").unwrap();
+        let ours = |p: &&PathBuf| p.starts_with(dir.path());
+        let guards = [LiveTemporary::register(&file), LiveTemporary::register(&folder)];
+        drop(LiveTemporary::register(&settled));
+        let mut registered: Vec<PathBuf> = lock(&LIVE).iter().filter(ours).cloned().collect();
+        assert_eq!(registered, [file.clone(), folder.clone()]);
+        drop(guards);
+        assert!(!lock(&LIVE).iter().any(|p| ours(&p)), "unregistered when dropped");
+        // the removal itself, on a registry of its own (the process's serves the other tests)
+        assert_eq!(remove_all(&mut registered), 2);
+        assert!(!file.exists() && !folder.exists() && settled.exists());
     }
 
     #[test]
