@@ -170,8 +170,8 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Write the CSV here (atomically) instead of stdout.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
 }
 
 fn parse_plane(text: &str) -> Result<Plane, String> {
@@ -330,8 +330,8 @@ pub struct IdentifyArgs {
     #[arg(long, default_value_t = 1.0)]
     noise: f64,
     /// Write polar plots (raw vs compensated) of the four steps into this directory.
-    #[arg(long)]
-    plot_dir: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::figures)]
+    plot_dir: Option<crate::outputs::OutputPath>,
     /// Scale of the plots (um per division); default: automatic.
     #[arg(long)]
     scale: Option<f64>,
@@ -483,8 +483,8 @@ pub struct Iso2304Args {
     /// Scale of the plot (um per division); default: automatic.
     #[arg(long)]
     scale: Option<f64>,
-    #[arg(long)]
-    plot: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    plot: Option<crate::outputs::OutputPath>,
     #[arg(long)]
     json: bool,
 }

@@ -61,8 +61,8 @@ pub struct CompensateArgs {
     #[arg(long, value_enum)]
     format: Format,
     /// Output directory (created if missing).
-    #[arg(long)]
-    out: PathBuf,
+    #[arg(long, value_parser = crate::outputs::directory)]
+    out: crate::outputs::OutputPath,
     /// Refuse corrections of a linear axis larger than this (um; default: the machine file's
     /// `[limits] correction_um`, else 1000).
     #[arg(long)]
@@ -195,15 +195,15 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
         CompensateError::Coverage(m) => Failure::input(anyhow::anyhow!("{}: {m}", args.errors.display())),
         e => failure(e),
     };
-    let job = compensation(&corrector, &request).map_err(named)?;
-    job.write(&args.out).map_err(failure)?;
-    let (files, names, tables, grid, extent, left_out, residual) =
-        (&job.files, job.file_names(), &job.tables, &job.grid, &job.extent, &job.left_out, &job.residual);
+    let mut job = compensation(&corrector, &request).map_err(named)?;
+    job.write(&corrector, &args.out).map_err(failure)?;
+    let (names, tables, grid, extent, left_out, residual) =
+        (job.file_names(), &job.tables, &job.grid, &job.extent, &job.left_out, &job.residual);
     let largest = |rotary: bool| if rotary { extent.max_urad } else { extent.max_um };
     if args.json {
         println!("{}", job.to_json(&machine, &args.out.display().to_string(), args.points));
     } else {
-        println!("wrote {} file(s) to {}: {}", files.len(), args.out.display(), names.join(" "));
+        println!("wrote {} file(s) to {}: {}", names.len(), args.out.display(), names.join(" "));
         println!(
             "{} tables of {} points{}; largest correction written {:.3} um (linear axes), {:.3} urad (rotary axes)",
             tables.tables.len(),

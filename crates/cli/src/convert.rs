@@ -28,8 +28,8 @@ pub struct ConvertArgs {
     #[arg(long)]
     machine: Option<PathBuf>,
     /// Write here (atomically) instead of stdout.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
 }
 
 pub fn run(args: ConvertArgs) -> Result<(), Failure> {

@@ -1,7 +1,6 @@
 //! `trueaxis demo`.
 
 use crate::Failure;
-use std::path::PathBuf;
 use trueaxis::data::DataError;
 use trueaxis_report::demo::{self, DemoError};
 
@@ -14,8 +13,8 @@ use trueaxis_report::demo::{self, DemoError};
 )]
 pub struct DemoArgs {
     /// Output directory (created if missing).
-    #[arg(long, default_value = "trueaxis-demo")]
-    out: PathBuf,
+    #[arg(long, default_value = "trueaxis-demo", value_parser = crate::outputs::directory)]
+    out: crate::outputs::OutputPath,
     /// Print a JSON summary on stdout instead of text.
     #[arg(long)]
     json: bool,

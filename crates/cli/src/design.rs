@@ -57,8 +57,8 @@ struct TrajectoryArgs {
     #[arg(long, value_parser = crate::bounds::count::<1, { crate::bounds::MAX_POSES }>)]
     count: usize,
     /// Output CSV (written atomically); stdout if absent.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
 }
 
 /// Simulated readings of every measurement of a campaign: the exact chain with known errors plus
@@ -119,8 +119,8 @@ struct OptimalArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Write the chosen records (poses, with a `measurement` column) to this CSV.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     #[arg(long)]
     json: bool,
 }
@@ -171,6 +171,8 @@ fn simulate(args: SimulateArgs) -> Result<(), Failure> {
     let mut files = Vec::new();
     // every data file of the campaign, or none (docs/reliability.md)
     let mut outputs = OutputSet::new();
+    // the job is to write the readings into the data files it read the poses from
+    outputs.updating_inputs();
     for (m, r) in campaign.measurements.iter().zip(&readings) {
         outputs.file(&m.data, measurement_csv(&machine, m, r));
         text += &format!("wrote {} ({} records, {})\n", m.data.display(), m.records(), m.instrument.channels().join(" "));

@@ -121,11 +121,11 @@ pub struct FitArgs {
     #[arg(long)]
     drift: bool,
     /// Write or update this error-values file with the fitted function (atomically, comments kept).
-    #[arg(long)]
-    errors_out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    errors_out: Option<crate::outputs::OutputPath>,
     /// Write an SVG of the data, the fit and its 95 % prediction band.
-    #[arg(long)]
-    plot: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    plot: Option<crate::outputs::OutputPath>,
     /// Print one JSON document instead of text.
     #[arg(long)]
     json: bool,
@@ -301,7 +301,7 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
     if let Some(path) = &args.plot {
         let unit = axis.as_ref().map_or("mm", |a| if a.kind == AxisKind::Rotary { "deg" } else { "mm" });
         for (direction, report) in &reports {
-            let path = if reports.len() > 1 { plot_path_of_direction(path, direction.map(direction_symbol)) } else { path.clone() };
+            let path = if reports.len() > 1 { plot_path_of_direction(path, direction.map(direction_symbol)) } else { path.to_path_buf() };
             let svg = trueaxis_report::direct_fit_svg(report, unit).map_err(Failure::computation)?;
             outputs.file(&path, svg);
             written.push(path);
@@ -327,7 +327,7 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
             Failure::input(anyhow::anyhow!("{e}{hint}"))
         })?;
         outputs.file(path, text);
-        written.insert(0, path.clone());
+        written.insert(0, path.to_path_buf());
     }
     outputs.commit().map_err(Failure::input)?;
     if args.json {

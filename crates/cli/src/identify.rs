@@ -46,11 +46,11 @@ pub struct IdentifyArgs {
     refine: bool,
     /// Write the identified values as an error-values TOML (the campaign's nominal errors with the
     /// identified parameters replaced), atomically.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// Write the residuals per row (CSV: measurement, line, channel, residual_um), atomically.
-    #[arg(long)]
-    residuals: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    residuals: Option<crate::outputs::OutputPath>,
 }
 
 pub fn failure(e: IdentifyError) -> Failure {
@@ -92,7 +92,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     let mut outputs = OutputSet::new();
     if let Some(path) = &args.out {
         let nominal_text = match &campaign.nominal_errors {
-            Some(p) => std::fs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", p.display())))?,
+            Some(p) => trueaxis::data::inputs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", p.display())))?,
             None => String::new(),
         };
         let text = error_values_text(&result, &campaign, &nominal, &nominal_text).map_err(failure)?;
@@ -106,7 +106,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     if args.json {
         return print(&format!("{}\n", identification_json(&result, &campaign)));
     }
-    print(&table(&campaign, &result, args.out.as_ref()))
+    print(&table(&campaign, &result, args.out.as_deref()))
 }
 
 fn residuals_csv(campaign: &Campaign, result: &Identification) -> String {
@@ -124,7 +124,7 @@ fn residuals_csv(campaign: &Campaign, result: &Identification) -> String {
 }
 
 /// The readable report.
-fn table(campaign: &Campaign, result: &Identification, out: Option<&PathBuf>) -> String {
+fn table(campaign: &Campaign, result: &Identification, out: Option<&std::path::Path>) -> String {
     use std::fmt::Write;
     let report = &result.identifiability;
     let mut s = String::new();

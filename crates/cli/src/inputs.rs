@@ -1,10 +1,9 @@
 //! The inputs of an error model (temperatures `T:`, spindle speeds `S:`, loads `F:`, positions
-//! `P:` and the lagged sensor rises of drift models; `trueaxis::errors::inputs`) for the rows of a
-//! pose file: its columns, else `NAME=VALUE` options; shared by `predict`, `compensate` and `verify`.
+//! `P:`; `trueaxis::errors::inputs`) given on the command line as `NAME=VALUE` options, for every
+//! row of a pose file that has no column of that name; shared by `predict`, `compensate` and `verify`.
 
 use crate::Failure;
-use std::path::Path;
-use trueaxis::errors::{pose_file_inputs, ErrorModel};
+use trueaxis::errors::ErrorModel;
 
 /// `NAME=VALUE` options (`--input`, `--temperature`) as `(name, value)`; an error names the option.
 pub fn parse_given(given: &[String], option: &str) -> Result<Vec<(String, f64)>, Failure> {
@@ -23,12 +22,6 @@ pub fn parse_given(given: &[String], option: &str) -> Result<Vec<(String, f64)>,
             Ok((name.trim().to_string(), value))
         })
         .collect()
-}
-
-/// The values of the inputs of `errors` for every row of the pose file `path` (`rows` rows):
-/// columns named like the inputs, else `given`; the drift lags from the columns `t` (s) and `run`.
-pub fn pose_inputs(errors: &ErrorModel, path: &Path, rows: usize, given: &[(String, f64)]) -> Result<Vec<f64>, Failure> {
-    pose_file_inputs(errors, path, rows, given).map_err(|m| Failure::input(anyhow::anyhow!("{m}")))
 }
 
 /// The inputs of `errors` for one state from `given` (`NAME=VALUE`), every other input at its

@@ -28,8 +28,8 @@ pub struct Iso2302Args {
     #[arg(long)]
     json: bool,
     /// Write an SVG plot of the readings, the mean deviations and the 2s bands (atomically).
-    #[arg(long)]
-    plot: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    plot: Option<crate::outputs::OutputPath>,
     #[command(flatten)]
     temperature: crate::temperature::TemperatureArgs,
 }

@@ -1,5 +1,5 @@
 //! The `trueaxis` command line: parse, call the library, print (DESIGN.md section 4).
-//! Exit status: 0 success, 1 failed computation, 2 bad input.
+//! Exit status: 0 success, 1 failed computation, 2 bad input, 3 the environment (`exit`).
 
 mod ballbar;
 mod bounds;
@@ -8,23 +8,33 @@ mod compensate;
 mod convert;
 mod demo;
 mod design;
+mod exit;
 mod fit;
 mod identify;
 mod inputs;
 mod inspect;
 mod iso230_2;
+#[cfg(unix)]
+mod memory;
 mod nc;
+mod outputs;
 mod predict;
 mod progress;
 mod report;
 mod reversal;
+mod signals;
 mod temperature;
 mod thermal;
 mod uncertainty;
 mod verify;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
+pub use exit::Failure;
 use std::process::ExitCode;
+
+#[cfg(unix)]
+#[global_allocator]
+static ALLOCATOR: memory::Watched = memory::Watched;
 
 #[derive(Parser)]
 #[command(
@@ -63,21 +73,6 @@ enum Command {
     Verify(Box<verify::VerifyArgs>),
 }
 
-/// Why a command failed: bad input (exit 2) or a failed computation (exit 1).
-pub enum Failure {
-    Input(anyhow::Error),
-    Computation(anyhow::Error),
-}
-
-impl Failure {
-    pub fn input(e: impl Into<anyhow::Error>) -> Failure {
-        Failure::Input(e.into())
-    }
-    pub fn computation(e: impl Into<anyhow::Error>) -> Failure {
-        Failure::Computation(e.into())
-    }
-}
-
 /// Restores the default action of SIGPIPE (end the process quietly), which the Rust runtime sets to
 /// "ignore" before `main`: with it ignored, a write to a closed pipe (`trueaxis predict ... | head`)
 /// returns an error and `println!` panics. With the default, the process ends like other Unix tools
@@ -97,25 +92,23 @@ fn restore_default_sigpipe() {
     }
 }
 
-/// The one-line message of an error: its own text followed by each cause in its chain that the text
-/// does not already contain. Error types that print their cause in their message (`{path}: cannot
-/// read: {source}`) and also return it as `source()` would otherwise show it twice, as `{:#}` does.
-fn message(error: &anyhow::Error) -> String {
-    let mut text = error.to_string();
-    for cause in error.chain().skip(1) {
-        let cause = cause.to_string();
-        if !text.contains(&cause) {
-            text.push_str(": ");
-            text.push_str(&cause);
-        }
-    }
-    text
-}
-
 fn main() -> ExitCode {
     #[cfg(unix)]
-    restore_default_sigpipe();
-    let cli = Cli::parse();
+    {
+        memory::reserve();
+        restore_default_sigpipe();
+    }
+    let command = Cli::command();
+    let matches = command.clone().get_matches();
+    // outputs that would destroy an input are refused before anything runs (`outputs`)
+    let (outputs, inputs) = outputs::named(&matches, &command);
+    if let Err(failure) = outputs::check(&outputs, &inputs) {
+        return failure.report();
+    }
+    outputs::route_standard_output(&outputs);
+    trueaxis::data::inputs::track();
+    signals::install();
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     let result = match cli.command {
         Command::Ballbar(args) => ballbar::run(args),
         Command::Budget(args) => budget::run(args),
@@ -137,13 +130,6 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(Failure::Input(e)) => {
-            eprintln!("trueaxis: error: {}", message(&e));
-            ExitCode::from(2)
-        }
-        Err(Failure::Computation(e)) => {
-            eprintln!("trueaxis: error: {}", message(&e));
-            ExitCode::from(1)
-        }
+        Err(failure) => failure.report(),
     }
 }

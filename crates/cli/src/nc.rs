@@ -35,8 +35,8 @@ pub struct NcArgs {
     /// The program to correct.
     program: PathBuf,
     /// Write the corrected program here (atomically) instead of stdout.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// The program's dialect: linuxcnc or fanuc (default: detected from the program).
     #[arg(long)]
     dialect: Option<String>,

@@ -1,8 +1,8 @@
 //! `trueaxis predict`.
 
 use crate::Failure;
-use std::path::PathBuf;
-use trueaxis::data::{predictions_csv, predictions_json, read_poses, write_atomically};
+use std::path::{Path, PathBuf};
+use trueaxis::data::{output_name, predict_poses, write_streamed, DataError, PoseStream, PredictionFormat};
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::Machine;
@@ -42,9 +42,10 @@ pub struct PredictArgs {
     /// Print one JSON document instead of CSV.
     #[arg(long)]
     json: bool,
-    /// Write the result to this file (atomically) instead of stdout.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    /// Write the result to this file (atomically; a device or FIFO in place, `-` standard output)
+    /// instead of stdout. Any number of poses: they are read, predicted and written in chunks.
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// Value of an input of the error model for every pose, `NAME=VALUE` (repeatable): a
     /// temperature `T:<sensor>=degC`, a spindle speed `S:<name>=rpm`, a load `F:<name>=N`, a
     /// position `P:<name>=mm`. A column of the poses file with that name takes precedence.
@@ -64,31 +65,22 @@ pub fn parse_point(text: &str) -> Result<Vec3, String> {
 pub fn run(args: PredictArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
-    let poses = read_poses(&args.poses, &machine).map_err(Failure::input)?;
     let mut predictor = Predictor::new(&machine, &errors);
     predictor.setup =
         Setup { tool_point: args.tool_point.unwrap_or(machine.tool_point), work_point: args.work_point.unwrap_or_else(Vec3::zeros) };
-    let frame_name = match args.frame {
-        FrameArg::Workpiece => "workpiece",
-        FrameArg::Machine => "machine",
+    let (frame, frame_name) = match args.frame {
+        FrameArg::Workpiece => (Frame::Workpiece, "workpiece"),
+        FrameArg::Machine => (Frame::Machine, "machine"),
     };
-    predictor.frame = match args.frame {
-        FrameArg::Workpiece => Frame::Workpiece,
-        FrameArg::Machine => Frame::Machine,
-    };
+    predictor.frame = frame;
     let given = crate::inputs::parse_given(&args.inputs, "--input")?;
     crate::inputs::state_inputs(&errors, &given, "--input")?;
-    let temperatures = crate::inputs::pose_inputs(&errors, &args.poses, poses.len(), &given)?;
-    let predictions = predictor.predict_states(&poses.internal(&machine), poses.directions.as_deref(), &temperatures);
-    let text = if args.json {
-        let doc = predictions_json(&machine, &poses.user, &predictions, frame_name).map_err(Failure::computation)?;
-        format!("{doc}\n")
-    } else {
-        predictions_csv(&machine, &poses.user, &predictions).map_err(Failure::computation)?
-    };
-    match args.out {
-        Some(path) => write_atomically(&path, text.as_bytes()).map_err(Failure::input)?,
-        None => print!("{text}"),
-    }
-    Ok(())
+    let poses = PoseStream::open(&args.poses, &machine).and_then(|p| p.with_inputs(&errors, &given)).map_err(Failure::input)?;
+    let format = if args.json { PredictionFormat::Json { frame: frame_name.into() } } else { PredictionFormat::Csv };
+    let out = args.out.as_deref().unwrap_or(Path::new(trueaxis::data::STANDARD_OUTPUT));
+    let origin = args.poses.display().to_string();
+    write_streamed(out, |w| predict_poses(&predictor, poses, &origin, format, w, &output_name(out)).map(drop)).map_err(|e| match e {
+        DataError::NotFinite { .. } => Failure::computation(e),
+        e => Failure::input(e),
+    })
 }

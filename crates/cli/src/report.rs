@@ -113,11 +113,11 @@ pub struct ReportArgs {
     #[arg(long)]
     title: Option<String>,
     /// The HTML file to write (atomically).
-    #[arg(long)]
-    out: PathBuf,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: crate::outputs::OutputPath,
     /// Also write the report as a PDF (A4), from the same content.
-    #[arg(long, value_name = "FILE.pdf")]
-    pdf: Option<PathBuf>,
+    #[arg(long, value_name = "FILE.pdf", value_parser = crate::outputs::file)]
+    pdf: Option<crate::outputs::OutputPath>,
     /// Print a JSON summary (sections, inputs, key numbers) instead of text.
     #[arg(long)]
     json: bool,
@@ -375,7 +375,8 @@ fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<(Option<Thermal
     let drift = match (&args.thermal_error, &args.thermal_data) {
         (Some(model_path), Some(data_path)) => {
             bar.set_message("thermal error model");
-            let text = std::fs::read_to_string(model_path).map_err(|e| bad(format!("{}: cannot read: {e}", model_path.display())))?;
+            let text = trueaxis::data::inputs::read_to_string(model_path)
+                .map_err(|e| bad(format!("{}: cannot read: {e}", model_path.display())))?;
             let model_origin = model_path.display().to_string();
             let model = ThermalErrorModel::from_toml_str(&text, &model_origin).map_err(|e| failure(e.into()))?;
             let campaign = ThermalCampaign::read(data_path).map_err(|e| failure(e.into()))?;

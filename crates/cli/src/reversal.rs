@@ -43,8 +43,8 @@ struct Profile {
     #[arg(long)]
     json: bool,
     /// Write an SVG of the profiles (atomically).
-    #[arg(long)]
-    plot: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    plot: Option<crate::outputs::OutputPath>,
 }
 
 /// Straightness of an axis with a test arbor by reversal (NISTIR 5236): probe 1 scans the
@@ -192,7 +192,7 @@ fn write_plot(p: &Profile, title: &str, series: &[(&str, &[f64])], positions: &[
     let plot = Profiles { title: &title, x_label: "position (mm)", y_label: "um", series: &series, symmetric: false, markers: true };
     let svg = profiles_svg(&plot).map_err(Failure::computation)?;
     write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
-    Ok(Some(path.clone()))
+    Ok(Some(path.to_path_buf()))
 }
 
 /// The per-position table and the summary lines, or the JSON document.

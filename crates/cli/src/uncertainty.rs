@@ -65,8 +65,8 @@ pub struct UncertaintyArgs {
     #[arg(long)]
     no_budget: bool,
     /// Write histograms.svg and convergence.svg into this directory.
-    #[arg(long)]
-    plots: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::figures)]
+    plots: Option<crate::outputs::OutputPath>,
     /// Print one JSON document instead of the tables.
     #[arg(long)]
     json: bool,

@@ -53,8 +53,8 @@ pub struct VerifyArgs {
     #[arg(long = "ignore-channel")]
     ignored_channels: Vec<String>,
     /// Write the residual of every reading (CSV: measurement, line, channel, residual_um).
-    #[arg(long)]
-    residuals: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    residuals: Option<crate::outputs::OutputPath>,
     /// Print one JSON document.
     #[arg(long)]
     json: bool,

@@ -108,8 +108,8 @@ pub fn compensate(
     let format = ExportFormat::parse(format, &options).map_err(input_msg)?;
     let request = CompensationRequest { format, points, grid, reference, limits, temperatures, poses };
     let corrector = Corrector::new(&machine.inner, &errors.inner);
-    let job = py.detach(|| compensation(&corrector, &request)).map_err(failure)?;
-    job.write(&out).map_err(failure)?;
+    let mut job = py.detach(|| compensation(&corrector, &request)).map_err(failure)?;
+    job.write(&corrector, &out).map_err(failure)?;
     to_py(py, &job.to_json(&machine.inner, &out.display().to_string(), points))
 }
 

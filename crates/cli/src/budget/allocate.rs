@@ -5,7 +5,6 @@ use super::{failure, number};
 use crate::Failure;
 use serde_json::{json, Value};
 use std::fmt::Write;
-use std::path::PathBuf;
 use trueaxis::budget::allocate::{allocate, AllocationOptions, Stack, Target};
 use trueaxis::budget::global::GeneticOptions;
 use trueaxis::budget::sensitivity::sensitivity;
@@ -47,8 +46,8 @@ pub struct AllocateArgs {
     #[arg(long, default_value_t = 500, value_parser = crate::bounds::count::<0, { crate::bounds::MAX_ITERATIONS }>)]
     generations: usize,
     /// Write the allocated tolerances as a budget file (TOML) to this file.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// Print one JSON document instead of tables.
     #[arg(long)]
     json: bool,

@@ -5,7 +5,7 @@ use super::{failure, number};
 use crate::Failure;
 use serde_json::{json, Value};
 use std::fmt::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use trueaxis::budget::analysis::{Analysis, GroupShare};
 use trueaxis::budget::{analyse, BudgetSpec};
 use trueaxis::data::OutputSet;
@@ -26,19 +26,19 @@ pub struct AnalyseArgs {
     #[command(flatten)]
     inputs: BudgetInputs,
     /// Write the per-pose stack-up (CSV: axis positions, rss_x ... worst_total in um) to this file.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// Write the sensitivity matrix (CSV: one row per pose and direction, one column per component,
     /// um per um or um per urad) to this file.
-    #[arg(long)]
-    sensitivity: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    sensitivity: Option<crate::outputs::OutputPath>,
     /// Write the figures (contribution chart, map of the root-sum-square error over the mid-planes of
     /// the work volume) to this directory.
-    #[arg(long)]
-    plots: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::figures)]
+    plots: Option<crate::outputs::OutputPath>,
     /// Write an HTML report of the analysis to this file.
-    #[arg(long)]
-    report: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    report: Option<crate::outputs::OutputPath>,
     /// Print one JSON document instead of tables.
     #[arg(long)]
     json: bool,

@@ -5,7 +5,6 @@ use crate::Failure;
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
 use std::fmt::Write;
-use std::path::PathBuf;
 use trueaxis::budget::configurations::{
     all_sequences, five_axis_configurations, practical_configurations, three_linear_sequences, Pattern,
 };
@@ -52,8 +51,8 @@ pub struct ConfigurationsArgs {
     #[arg(long)]
     formulas: bool,
     /// Write the figures (space utility over part size, ranking) to this directory.
-    #[arg(long)]
-    plots: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::figures)]
+    plots: Option<crate::outputs::OutputPath>,
     /// Print one JSON document instead of tables.
     #[arg(long)]
     json: bool,

@@ -4,7 +4,6 @@ use super::{failure, number};
 use crate::Failure;
 use serde_json::{json, Value};
 use std::fmt::Write;
-use std::path::PathBuf;
 use trueaxis::budget::analysis::GroupShare;
 use trueaxis::budget::global::GeneticOptions;
 use trueaxis::budget::miniaturisation::{run as run_case, ARCSEC_URAD, SIZES};
@@ -38,8 +37,8 @@ pub struct MiniaturisationArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Write the trend figures to this directory.
-    #[arg(long)]
-    plots: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::figures)]
+    plots: Option<crate::outputs::OutputPath>,
     /// Print one JSON document instead of tables.
     #[arg(long)]
     json: bool,

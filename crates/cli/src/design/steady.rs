@@ -43,8 +43,8 @@ pub struct SteadyArgs {
     #[arg(long, default_value_t = 0.02)]
     trim: f64,
     /// Write the readings here (atomically); stdout without.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
 }
 
 pub fn run(a: SteadyArgs) -> Result<(), Failure> {

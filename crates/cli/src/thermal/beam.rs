@@ -32,8 +32,8 @@ pub struct BeamArgs {
     #[arg(long)]
     errors_in: Option<PathBuf>,
     /// Write the error-values file here (atomically).
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// Print the errors along the axis at these readings, `T:name=degC` comma separated (others 20).
     #[arg(long, value_delimiter = ',')]
     at: Option<Vec<String>>,
@@ -44,8 +44,8 @@ pub struct BeamArgs {
 
 pub fn beam(args: BeamArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
-    let text =
-        std::fs::read_to_string(&args.beam).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.beam.display())))?;
+    let text = trueaxis::data::inputs::read_to_string(&args.beam)
+        .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.beam.display())))?;
     let origin = args.beam.display().to_string();
     let file = read_beam(&text, &origin).map_err(failure)?;
     let beam = Beam::new(&file, &machine, &origin).map_err(failure)?;

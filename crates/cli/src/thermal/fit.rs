@@ -81,22 +81,22 @@ pub struct FitArgs {
     #[arg(long, value_delimiter = ',')]
     train_runs: Option<Vec<String>>,
     /// Write the fitted model (TOML) here.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// ISO 230 parameter the error is (e.g. EZZ, TZ) for --terms-out.
     #[arg(long)]
     parameter: Option<String>,
     /// Write the model as [[term.NAME]] error terms (T - 20 degC) for `trueaxis predict`.
-    #[arg(long, requires = "parameter")]
-    terms_out: Option<PathBuf>,
+    #[arg(long, requires = "parameter", value_parser = crate::outputs::file)]
+    terms_out: Option<crate::outputs::OutputPath>,
     /// Machine (TOML) to check --parameter against.
     #[arg(long)]
     machine: Option<PathBuf>,
     /// Write a figure (SVG): per run the measured values against the model over time and the
     /// residual band, training and validation runs told apart (with --time-constants: each
     /// temperature record and its fit of shared time constants).
-    #[arg(long, value_name = "FILE.svg")]
-    plot: Option<PathBuf>,
+    #[arg(long, value_name = "FILE.svg", value_parser = crate::outputs::file)]
+    plot: Option<crate::outputs::OutputPath>,
     /// Print one JSON document.
     #[arg(long)]
     json: bool,

@@ -33,8 +33,8 @@ pub struct LinksArgs {
     #[arg(long)]
     errors_in: Option<PathBuf>,
     /// Write the error-values file here (atomically); else print it.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// Print one JSON document: {"links": [{"name", "terms": [{"parameter", "coefficient", "factors"}]}], "sensors": [..]}.
     #[arg(long)]
     json: bool,
@@ -42,8 +42,8 @@ pub struct LinksArgs {
 
 pub fn links(args: LinksArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
-    let text =
-        std::fs::read_to_string(&args.links).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.links.display())))?;
+    let text = trueaxis::data::inputs::read_to_string(&args.links)
+        .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.links.display())))?;
     let dir = args.links.parent().map(PathBuf::from).unwrap_or_default();
     let links = read_links(&text, &args.links.display().to_string(), &dir).map_err(failure)?;
     let mut all: Vec<(String, Vec<ErrorTerm>)> = Vec::new();
@@ -95,7 +95,9 @@ pub fn write_terms(
     groups: &[(String, &[ErrorTerm])],
 ) -> Result<(ErrorModel, String), Failure> {
     let base = match errors_in {
-        Some(p) => std::fs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", p.display())))?,
+        Some(p) => {
+            trueaxis::data::inputs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", p.display())))?
+        }
         None => String::new(),
     };
     let mut out = base.clone();

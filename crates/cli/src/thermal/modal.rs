@@ -42,8 +42,8 @@ pub struct ModesArgs {
     method: MethodArg,
     /// Write a figure (SVG): the first mode shapes along the structure, the time constants with
     /// their weights and the truncation share.
-    #[arg(long, value_name = "FILE.svg")]
-    plot: Option<PathBuf>,
+    #[arg(long, value_name = "FILE.svg", value_parser = crate::outputs::file)]
+    plot: Option<crate::outputs::OutputPath>,
     /// Print one JSON document.
     #[arg(long)]
     json: bool,
@@ -96,8 +96,8 @@ pub struct PlaceArgs {
     #[arg(long, default_value_t = 10.8)]
     expansion: f64,
     /// Write a figure (SVG): the dominant mode shapes along the structure with the sensors.
-    #[arg(long, value_name = "FILE.svg")]
-    plot: Option<PathBuf>,
+    #[arg(long, value_name = "FILE.svg", value_parser = crate::outputs::file)]
+    plot: Option<crate::outputs::OutputPath>,
     /// Print one JSON document: the sensors (node, position, modes served), the rank and condition
     /// number of the sensor-mode matrix Phi_s (null when infinite) and an explanation.
     #[arg(long)]

@@ -27,12 +27,12 @@ pub struct PredictArgs {
     #[arg(long)]
     json: bool,
     /// Write the result here (atomically) instead of stdout.
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// Write a figure (SVG): per run the prediction over time against the measured values and the
     /// residual band.
-    #[arg(long, value_name = "FILE.svg")]
-    plot: Option<PathBuf>,
+    #[arg(long, value_name = "FILE.svg", value_parser = crate::outputs::file)]
+    plot: Option<crate::outputs::OutputPath>,
 }
 
 pub fn predict(args: PredictArgs) -> Result<(), Failure> {

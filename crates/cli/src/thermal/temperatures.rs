@@ -43,8 +43,8 @@ pub struct TemperaturesArgs {
     #[arg(long, conflicts_with_all = ["inputs", "outputs", "train_runs"])]
     model: Option<PathBuf>,
     /// Fitting: write the model (TOML). Evaluating: write the predicted temperatures (CSV).
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// Print one JSON document.
     #[arg(long)]
     json: bool,
@@ -56,8 +56,8 @@ pub fn temperatures(args: TemperaturesArgs) -> Result<(), Failure> {
     let rows_of = |run: &String| campaign.rows_of(std::slice::from_ref(run)).map_err(failure);
     let (model, training) = match &args.model {
         Some(path) => {
-            let text =
-                std::fs::read_to_string(path).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", path.display())))?;
+            let text = trueaxis::data::inputs::read_to_string(path)
+                .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", path.display())))?;
             (TemperatureModel::from_toml_str(&text, &path.display().to_string()).map_err(failure)?, Vec::new())
         }
         None => {

@@ -32,16 +32,16 @@ pub struct TuneArgs {
     #[arg(long, value_delimiter = ',', required = true)]
     tune: Vec<String>,
     /// Write the tuned model file here (comments kept).
-    #[arg(long)]
-    out: Option<PathBuf>,
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// Print one JSON document.
     #[arg(long)]
     json: bool,
 }
 
 pub fn tune(args: TuneArgs) -> Result<(), Failure> {
-    let text =
-        std::fs::read_to_string(&args.model).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.model.display())))?;
+    let text = trueaxis::data::inputs::read_to_string(&args.model)
+        .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.model.display())))?;
     let dir = args.model.parent().map(PathBuf::from).unwrap_or_default();
     let measured: Vec<f64> = args.tau_min.iter().map(|t| t * 60.0).collect();
     let tuning = tune_boundaries(&text, &args.model.display().to_string(), &dir, &args.tune, &measured).map_err(failure)?;

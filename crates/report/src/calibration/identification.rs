@@ -85,9 +85,8 @@ impl IdentificationPart {
             )));
         }
         let nominal_text = match &campaign.nominal_errors {
-            Some(p) => {
-                std::fs::read_to_string(p).map_err(|source| trueaxis::data::DataError::Read { path: p.display().to_string(), source })?
-            }
+            Some(p) => trueaxis::data::inputs::read_to_string(p)
+                .map_err(|source| trueaxis::data::DataError::Read { path: p.display().to_string(), source })?,
             None => String::new(),
         };
         let errors_text = error_values_text(&result, &campaign, &nominal, &nominal_text)?;

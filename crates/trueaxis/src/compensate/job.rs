@@ -1,7 +1,8 @@
 //! A compensation job end to end, as `trueaxis compensate` and the Python package run it: the
 //! own-axis / cross-axis tables and the volumetric grid, the controller files, the error the format
 //! leaves on the exact chain, the corrections of the poses of a CSV in their own state
-//! (`corrections.csv`), the summary document, and the files written whole or not at all.
+//! (`corrections.csv`, streamed: memory does not grow with the number of poses), the summary
+//! document, and the files written whole or not at all.
 //!
 //! Units: corrections in um (linear axes) and urad (rotary axes) in CSV and JSON, positions in mm
 //! and deg, temperatures in degC.
@@ -11,11 +12,15 @@ use super::{
     axis_tables, compensation_json, correct_batch, residual_of_format, round4, volumetric_grid, CompensateError, Corrector, ExportFormat,
     FormatResidual, TableSet, TableSpec, VolumetricGrid,
 };
-use crate::data::{read_poses, OutputSet, PoseTable};
+use crate::data::{OutputSet, PoseStream, CHUNK};
 use crate::errors::ErrorModel;
 use crate::machine::Machine;
 use serde_json::{json, Value};
+use std::io::Write;
 use std::path::{Path, PathBuf};
+
+/// The file of the corrected poses.
+const CORRECTIONS: &str = "corrections.csv";
 
 /// What to compensate and how.
 #[derive(Clone, Debug)]
@@ -50,8 +55,10 @@ pub struct Compensation {
     /// The largest corrections written and residuals of the poses they were sampled at.
     pub extent: Extent,
     /// The summary of the corrected poses (`count`, `max_error_um`, `max_residual_um`,
-    /// `max_uncorrectable_urad`).
+    /// `max_uncorrectable_urad`), once [`Compensation::write`] has corrected them.
     pub poses: Option<Value>,
+    /// The poses to correct into corrections.csv as the files are written.
+    poses_request: Option<(PathBuf, Vec<Option<f64>>, Limits)>,
 }
 
 impl Compensation {
@@ -71,20 +78,31 @@ impl Compensation {
         )
     }
 
+    /// Every file written: the format's, then corrections.csv.
     pub fn file_names(&self) -> Vec<&str> {
-        self.files.iter().map(|f| f.name.as_str()).collect()
+        self.files.iter().map(|f| f.name.as_str()).chain(self.poses_request.as_ref().map(|_| CORRECTIONS)).collect()
     }
 
     /// Writes every file into `out` (created if missing) as one set: the directory is swapped in
     /// whole, a directory holding files this job does not write is refused, and nothing is
-    /// written when any file fails ([`crate::data::OutputSet`]).
-    pub fn write(&self, out: &Path) -> Result<(), CompensateError> {
+    /// written when any file fails ([`crate::data::OutputSet`]). The poses of the request are
+    /// corrected (by `corrector`, the one of [`compensation`]) as corrections.csv is streamed.
+    pub fn write(&mut self, corrector: &Corrector, out: &Path) -> Result<(), CompensateError> {
         let mut set = OutputSet::new();
         set.directory(out);
         for f in &self.files {
             set.in_directory(out, &f.name, f.contents.as_bytes());
         }
-        set.commit().map_err(|e| CompensateError::Input(e.to_string()))
+        if self.poses_request.is_some() {
+            set.streamed_in_directory(out, CORRECTIONS);
+        }
+        let mut prepared = set.prepare()?;
+        if let Some((path, temperatures, limits)) = &self.poses_request {
+            let target = out.join(CORRECTIONS);
+            let summary = correct_poses(corrector, path, temperatures, limits, prepared.stream(&target)?, &target)?;
+            self.poses = Some(summary);
+        }
+        Ok(prepared.commit()?)
     }
 }
 
@@ -116,7 +134,7 @@ pub fn compensation(corrector: &Corrector, request: &CompensationRequest) -> Res
     let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
     let grid = if request.format.wants_grid(has_xyz) { Some(volumetric_grid(corrector, request.grid, &spec)?) } else { None };
     let input = ExportInput { machine, errors: corrector.errors, tables: &tables, grid: grid.as_ref(), limits: request.limits };
-    let (mut files, exported) = request.format.export(&input)?;
+    let (files, exported) = request.format.export(&input)?;
     // what the controller format leaves: its corrections applied over the travel, on the exact chain
     let residual = match &exported {
         Some(e) => Some(residual_of_format(corrector, &temperatures, e.applied.as_ref())?),
@@ -126,73 +144,85 @@ pub fn compensation(corrector: &Corrector, request: &CompensationRequest) -> Res
     let extent = largest_corrections(&input, request.format.coverage());
     // the export borrows the tables and the grid, which the result takes
     drop(exported);
-    let mut poses = None;
+    // the poses are corrected as they are written; their file and inputs are checked now
     if let Some(path) = &request.poses {
-        let (file, summary) = correct_poses(corrector, path, &request.temperatures, &request.limits)?;
-        files.push(file);
-        poses = Some(summary);
+        pose_stream(corrector, path, &request.temperatures)?;
     }
-    Ok(Compensation { tables, grid, files, left_out, residual, extent, poses })
+    let poses_request = request.poses.clone().map(|p| (p, request.temperatures.clone(), request.limits));
+    Ok(Compensation { tables, grid, files, left_out, residual, extent, poses: None, poses_request })
 }
 
-/// The inputs of every pose (the model's sensors per pose: degC, rpm, N, mm): a sensor's column
-/// of the poses file (`T:<name>`, `S:`, `F:`, `P:`; drift lags from `t` and `run`), else its given
-/// value.
-pub fn pose_temperatures(errors: &ErrorModel, poses: &PoseTable, given: &[Option<f64>], path: &Path) -> Result<Vec<f64>, CompensateError> {
+/// The poses of `path` with the inputs of the error model per pose (the model's sensors: degC,
+/// rpm, N, mm): a sensor's column of the poses file (`T:<name>`, `S:`, `F:`, `P:`; drift lags
+/// from `t` and `run`), else its given value.
+fn pose_stream<'m>(
+    corrector: &Corrector<'m>,
+    path: &Path,
+    given: &[Option<f64>],
+) -> Result<PoseStream<'m, std::io::BufReader<std::fs::File>>, CompensateError> {
+    let errors = corrector.errors;
     let given: Vec<(String, f64)> = errors.sensors().iter().zip(given).filter_map(|(s, g)| g.map(|v| (s.clone(), v))).collect();
-    crate::errors::pose_file_inputs(errors, path, poses.len(), &given).map_err(CompensateError::Input)
+    Ok(PoseStream::open(path, corrector.machine)?.with_inputs(errors, &given)?)
 }
 
 /// Corrections of every pose of a CSV, each in its state (the `dir:<axis>` and `T:<sensor>` columns,
-/// else the given temperatures): `corrections.csv` with the axis columns, `d<axis>` (um or urad),
-/// the error before and the residual after (um), the orientation not corrected (urad); and its
-/// summary.
+/// else the given temperatures), streamed to `out` (named `target` in messages) as corrections.csv:
+/// the axis columns, `d<axis>` (um or urad), the error before and the residual after (um), the
+/// orientation not corrected (urad); returns its summary.
 pub fn correct_poses(
     corrector: &Corrector,
     path: &Path,
     given_temperatures: &[Option<f64>],
     limits: &Limits,
-) -> Result<(ExportedFile, Value), CompensateError> {
+    out: &mut dyn Write,
+    target: &Path,
+) -> Result<Value, CompensateError> {
     let machine = corrector.machine;
-    let poses = read_poses(path, machine).map_err(|e| CompensateError::Input(e.to_string()))?;
-    let temperatures = pose_temperatures(corrector.errors, &poses, given_temperatures, path)?;
+    let mut poses = pose_stream(corrector, path, given_temperatures)?;
     let n = machine.axis_count();
-    let internal = poses.internal(machine);
-    let corrections = correct_batch(corrector, &internal, poses.directions.as_deref(), &temperatures);
     let mut header: Vec<String> = machine.axes().iter().map(|a| a.letter.to_string()).collect();
     header.extend(machine.axes().iter().map(|a| format!("d{}", a.letter)));
     header.extend(["error_um", "residual_um", "uncorrectable_urad"].map(String::from));
-    let mut text = header.join(",") + "\n";
-    let (mut worst_error, mut worst_residual, mut worst_orientation) = (0.0f64, 0.0f64, 0.0f64);
-    for (i, c) in corrections.iter().enumerate() {
-        if !c.converged {
-            return Err(CompensateError::Computation(format!(
-                "{}: line {}: the correction did not converge",
-                path.display(),
-                poses.lines[i]
-            )));
+    let write = |out: &mut dyn Write, text: &str| {
+        out.write_all(text.as_bytes()).map_err(|source| crate::data::DataError::Write { path: target.display().to_string(), source })
+    };
+    write(out, &(header.join(",") + "\n"))?;
+    let (mut count, mut worst_error, mut worst_residual, mut worst_orientation) = (0, 0.0f64, 0.0f64, 0.0f64);
+    while let Some(chunk) = poses.next_chunk(CHUNK)? {
+        let (user, lines) = (&chunk.poses.user, &chunk.poses.lines);
+        let corrections = correct_batch(corrector, &chunk.poses.internal(machine), chunk.poses.directions.as_deref(), &chunk.inputs);
+        let mut text = String::with_capacity(corrections.len() * 16 * (2 * n + 3));
+        for (i, c) in corrections.iter().enumerate() {
+            if !c.converged {
+                return Err(CompensateError::Computation(format!(
+                    "{}: line {}: the correction did not converge",
+                    path.display(),
+                    lines[i]
+                )));
+            }
+            for (k, &d) in c.dq.iter().take(n).enumerate() {
+                let place = || format!("the pose of line {}", lines[i]);
+                check_limit(machine, limits, k, machine.axes()[k].position_to_user(d), &place).map_err(|e| match e {
+                    CompensateError::Limit(m) => CompensateError::Limit(format!("{}: {m}", path.display())),
+                    e => e,
+                })?;
+            }
+            let mut row: Vec<String> = user[i * n..(i + 1) * n].iter().map(|v| format!("{v}")).collect();
+            row.extend((0..n).map(|k| format!("{:.4}", to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])))));
+            let (e, r, o) = (c.original_position.norm() * 1e3, c.residual_position.norm() * 1e3, c.uncorrectable_orientation.norm() * 1e6);
+            row.extend([format!("{e:.4}"), format!("{r:.6}"), format!("{o:.3}")]);
+            text += &(row.join(",") + "\n");
+            worst_error = worst_error.max(e);
+            worst_residual = worst_residual.max(r);
+            worst_orientation = worst_orientation.max(o);
         }
-        for (k, &d) in c.dq.iter().take(n).enumerate() {
-            let place = || format!("the pose of line {}", poses.lines[i]);
-            check_limit(machine, limits, k, machine.axes()[k].position_to_user(d), &place).map_err(|e| match e {
-                CompensateError::Limit(m) => CompensateError::Limit(format!("{}: {m}", path.display())),
-                e => e,
-            })?;
-        }
-        let mut row: Vec<String> = poses.user[i * n..(i + 1) * n].iter().map(|v| format!("{v}")).collect();
-        row.extend((0..n).map(|k| format!("{:.4}", to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])))));
-        let (e, r, o) = (c.original_position.norm() * 1e3, c.residual_position.norm() * 1e3, c.uncorrectable_orientation.norm() * 1e6);
-        row.extend([format!("{e:.4}"), format!("{r:.6}"), format!("{o:.3}")]);
-        text += &(row.join(",") + "\n");
-        worst_error = worst_error.max(e);
-        worst_residual = worst_residual.max(r);
-        worst_orientation = worst_orientation.max(o);
+        write(out, &text)?;
+        count += corrections.len();
     }
-    let summary = json!({
-        "count": poses.len(),
+    Ok(json!({
+        "count": count,
         "max_error_um": round4(worst_error),
         "max_residual_um": round4(worst_residual),
         "max_uncorrectable_urad": round4(worst_orientation),
-    });
-    Ok((ExportedFile { name: "corrections.csv".into(), contents: text }, summary))
+    }))
 }

@@ -43,11 +43,15 @@ pub enum CompensateError {
     /// The computation failed (no convergence, not a finite number).
     #[error("{0}")]
     Computation(String),
+    /// A file could not be read or written (bad input, or the environment: a full disk, a
+    /// permission; `data::environment_cause` tells).
+    #[error(transparent)]
+    Data(#[from] crate::data::DataError),
 }
 
 impl CompensateError {
     /// Whether the cause is the input (exit status 2) rather than the computation (exit status 1).
     pub fn is_input(&self) -> bool {
-        matches!(self, CompensateError::Input(_) | CompensateError::Limit(_) | CompensateError::Coverage(_))
+        matches!(self, CompensateError::Input(_) | CompensateError::Limit(_) | CompensateError::Coverage(_) | CompensateError::Data(_))
     }
 }

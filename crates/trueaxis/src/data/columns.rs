@@ -18,11 +18,13 @@
 //!
 //! Errors name the file, the line and the column.
 
+use super::table_head::{find_column, header_index, TableHead};
+use super::value_column::ValueColumn;
 use super::DataError;
 use crate::io::header::{normalised, run_column, synonyms, Header, RunDirection};
 use crate::io::metadata::Metadata;
 use crate::io::rtl::RtlFile;
-use crate::io::text::{key_value, numbered_lines, parse_number, separator_of};
+use crate::io::text::{numbered_lines, parse_number};
 use crate::io::units::{canonical, Dimension, Unit};
 use crate::io::Format;
 
@@ -41,7 +43,7 @@ pub enum Layout {
 pub struct CsvTable {
     origin: String,
     headers: Vec<Header>,
-    rows: Vec<Vec<String>>,
+    pub(super) rows: Vec<Vec<String>>,
     lines: Vec<u64>,
     decimal_comma: bool,
     separator: u8,
@@ -55,7 +57,7 @@ pub struct CsvTable {
 
 /// True for the names of columns that hold positions (mm, deg) rather than error values or readings
 /// (um, urad): `target`, `position`, `angle` and axis letters (`X`, `C`, `X2`).
-fn is_position_column(name: &str) -> bool {
+pub(super) fn is_position_column(name: &str) -> bool {
     let n = name.trim();
     let mut c = n.chars();
     let axis = match (c.next(), c.as_str()) {
@@ -63,78 +65,6 @@ fn is_position_column(name: &str) -> bool {
         _ => false,
     };
     axis || matches!(n, "target" | "position" | "angle")
-}
-
-/// Splits one line into fields at `sep`, honouring double quotes (`""` inside quotes is a quote);
-/// fields trimmed.
-fn split_fields(line: &str, sep: u8) -> Vec<String> {
-    let sep = sep as char;
-    let mut out = Vec::new();
-    let mut field = String::new();
-    let mut quoted = false;
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        if quoted {
-            if c == '"' {
-                if chars.peek() == Some(&'"') {
-                    field.push('"');
-                    chars.next();
-                } else {
-                    quoted = false;
-                }
-            } else {
-                field.push(c);
-            }
-        } else if c == '"' && field.trim().is_empty() {
-            field.clear();
-            quoted = true;
-        } else if c == sep {
-            out.push(field.trim().to_string());
-            field.clear();
-        } else {
-            field.push(c);
-        }
-    }
-    out.push(field.trim().to_string());
-    out
-}
-
-fn is_comment(line: &str) -> bool {
-    let t = line.trim_start();
-    t.starts_with('#') || t.starts_with("//")
-}
-
-/// A key of a `# Key: value` comment that is a name, not prose: at most 30 characters and 4 words,
-/// without punctuation other than `(`, `)`, `/`, `-` and `.` (`Air Humid`, `Mat temp 1 (degC)`).
-fn is_simple_key(key: &str) -> bool {
-    key.chars().count() <= 30
-        && key.split_whitespace().count() <= 4
-        && key.chars().all(|c| c.is_alphanumeric() || matches!(c, ' ' | '(' | ')' | '/' | '-' | '.' | '_'))
-}
-
-/// The number of fields of a line at `sep`, without trailing empty fields.
-fn field_count(line: &str, sep: u8) -> usize {
-    let fields = split_fields(line, sep);
-    fields.len() - fields.iter().rev().take_while(|f| f.is_empty()).count().min(fields.len() - 1)
-}
-
-/// The index (into `lines`) of the header: the first line of at least two fields whose next line
-/// (blank and comment lines skipped) has as many fields at the same separator; lines before it are
-/// the file's preamble (a ballbar export's `Key: value` header, prose). Without such a pair, the
-/// first line of at least two fields, else the first line.
-fn header_index(lines: &[(u64, &str)]) -> Option<usize> {
-    let content: Vec<usize> = (0..lines.len()).filter(|&k| !lines[k].1.trim().is_empty() && !is_comment(lines[k].1)).collect();
-    let counted = |k: usize| {
-        let sep = separator_of(lines[k].1);
-        (sep, field_count(lines[k].1, sep))
-    };
-    for w in content.windows(2) {
-        let (sep, n) = counted(w[0]);
-        if n >= 2 && field_count(lines[w[1]].1, sep) == n {
-            return Some(w[0]);
-        }
-    }
-    content.iter().copied().find(|&k| counted(k).1 >= 2).or(content.first().copied())
 }
 
 impl CsvTable {
@@ -171,72 +101,22 @@ impl CsvTable {
     }
 
     fn parse_table(text: &str, origin: &str) -> Result<CsvTable, DataError> {
-        let invalid = |message: String| DataError::Invalid { origin: origin.to_string(), message };
         let lines = numbered_lines(text);
-        let h = header_index(&lines).ok_or_else(|| invalid("no data: the file is empty".into()))?;
-        // before the header: `Key: value` lines, and `# Key: value` comments whose key is one of the
-        // file's metadata or test parameters or a plain name (other comments and lines are prose)
-        let mut pairs: Vec<(String, String)> = Vec::new();
-        for (_, line) in &lines[..h] {
-            if let Some((key, value)) = key_value(line.trim_start().trim_start_matches("//")) {
-                if !is_comment(line) || crate::io::metadata::is_known_key(key) || is_simple_key(key) {
-                    pairs.push((key.to_string(), value.to_string()));
-                }
-            }
-        }
-        let (header_line, header_text) = lines[h];
-        let separator = separator_of(header_text);
-        let mut fields = split_fields(header_text, separator);
-        while fields.len() > 1 && fields.last().is_some_and(String::is_empty) {
-            fields.pop();
-        }
-        if let Some(k) = fields.iter().position(String::is_empty) {
-            return Err(invalid(format!("line {header_line}: column {} of the header has no name", k + 1)));
-        }
-        let headers: Vec<Header> = fields.iter().map(|f| Header::parse(f)).collect();
-        for (i, h) in headers.iter().enumerate() {
-            if let Some(j) = headers[..i].iter().position(|g| normalised(&g.name) == normalised(&h.name)) {
-                return Err(invalid(format!(
-                    "line {header_line}: columns {} (`{}`) and {} (`{}`) are the same column `{}`; a table names each column once: \
-                     rename or remove one",
-                    j + 1,
-                    headers[j].text,
-                    i + 1,
-                    h.text,
-                    h.name
-                )));
-            }
-        }
-        let decimal_comma = separator != b',';
+        let h = header_index(&lines)
+            .ok_or_else(|| DataError::Invalid { origin: origin.to_string(), message: "no data: the file is empty".into() })?;
+        let head = TableHead::parse(&lines[..=h], origin)?;
         let mut rows = Vec::new();
         let mut row_lines = Vec::new();
         for &(number, line) in &lines[h + 1..] {
-            if line.trim().is_empty() || is_comment(line) {
-                continue;
+            if let Some(row) = head.fields(number, line)? {
+                rows.push(row);
+                row_lines.push(number);
             }
-            let mut row = split_fields(line, separator);
-            while row.len() > headers.len() && row.last().is_some_and(String::is_empty) {
-                row.pop();
-            }
-            if row.len() != headers.len() {
-                let hint = if separator == b',' && row.len() > headers.len() && line.contains(|c: char| c.is_ascii_digit()) {
-                    " (decimal commas in a comma-separated file? separate the fields with `;`)"
-                } else {
-                    ""
-                };
-                return Err(invalid(format!(
-                    "line {number}: {} fields, but the header (line {header_line}) has {}{hint}",
-                    row.len(),
-                    headers.len()
-                )));
-            }
-            rows.push(row);
-            row_lines.push(number);
         }
         if rows.is_empty() {
-            return Err(invalid("no data: the file has a header but no rows".into()));
+            return Err(head.invalid("no data: the file has a header but no rows".into()));
         }
-        let metadata = Metadata::from_pairs(pairs.iter().map(|(k, v)| (k.as_str(), v.as_str())));
+        let TableHead { headers, separator, decimal_comma, metadata, .. } = head;
         let table = CsvTable {
             origin: origin.to_string(),
             headers,
@@ -404,30 +284,7 @@ impl CsvTable {
     /// regard to case, spaces and underscores, else a synonym; two columns answering at the same
     /// level are an error.
     pub fn find(&self, name: &str) -> Result<usize, DataError> {
-        if let Some(i) = self.headers.iter().position(|h| h.name == name) {
-            return Ok(i);
-        }
-        let wanted = std::iter::once(normalised(name)).chain(synonyms(name).iter().map(|s| normalised(s)));
-        for want in wanted {
-            let hits: Vec<usize> = (0..self.headers.len()).filter(|&i| normalised(&self.headers[i].name) == want).collect();
-            match hits.as_slice() {
-                [] => continue,
-                [i] => return Ok(*i),
-                [a, b, ..] => {
-                    return Err(self.invalid(format!(
-                        "the columns `{}` and `{}` both answer to `{name}`; rename one",
-                        self.headers[*a].text, self.headers[*b].text
-                    )))
-                }
-            }
-        }
-        let also = synonyms(name);
-        let or =
-            if also.is_empty() { String::new() } else { format!(" (or {})", also.iter().take(3).copied().collect::<Vec<_>>().join(", ")) };
-        Err(self.invalid(format!(
-            "missing column `{name}`{or}; the header has: {}",
-            self.headers.iter().map(|h| h.text.as_str()).collect::<Vec<_>>().join(",")
-        )))
+        find_column(&self.headers, name, &self.origin)
     }
 
     /// The header of the column that answers to `name`, as written (for messages).
@@ -447,39 +304,10 @@ impl CsvTable {
         self.unit_of(name).map(|u| canonical(u.dimension, is_position_column(name)))
     }
 
-    fn parse_cell(&self, column: usize, row: usize) -> Result<f64, DataError> {
-        let text = &self.rows[row][column];
-        let v = parse_number(text, self.decimal_comma).ok_or_else(|| {
-            self.invalid(format!("line {}: column {}: `{text}` is not a number", self.lines[row], self.headers[column].text))
-        })?;
-        if !v.is_finite() {
-            return Err(
-                self.invalid(format!("line {}: column {}: `{text}` is not a finite number", self.lines[row], self.headers[column].text))
-            );
-        }
-        Ok(v)
-    }
-
     fn column_in(&self, column: usize, to: Option<Unit>) -> Result<Vec<f64>, DataError> {
-        let from = self.headers[column].unit;
-        let (factor_from, to) = match (from, to) {
-            (Some(f), Some(t)) => (Some(f), t),
-            _ => (None, Unit::MM),
-        };
-        (0..self.rows.len())
-            .map(|r| {
-                let v = self.parse_cell(column, r)?;
-                let v = factor_from.map_or(v, |f| f.convert(v, to));
-                if v.is_finite() {
-                    Ok(v)
-                } else {
-                    Err(self.invalid(format!(
-                        "line {}: column {}: `{}` is too large in {}",
-                        self.lines[r], self.headers[column].text, self.rows[r][column], to.symbol
-                    )))
-                }
-            })
-            .collect()
+        // a header without a unit: the values as written
+        let reader = ValueColumn::new(&self.headers, column, to);
+        self.rows.iter().zip(&self.lines).map(|(row, &line)| reader.value(row, line, self.decimal_comma, &self.origin)).collect()
     }
 
     /// A column of finite numbers, converted from the header's unit to the unit of
@@ -494,7 +322,7 @@ impl CsvTable {
     /// than `dimension` (e.g. `dev [mm]` where an angle in urad is expected).
     pub fn numbers_as(&self, name: &str, dimension: Dimension) -> Result<Vec<f64>, DataError> {
         let i = self.find(name)?;
-        self.check_dimension(i, dimension, canonical(dimension, is_position_column(name)))?;
+        ValueColumn::of_dimension(&self.headers, i, dimension, canonical(dimension, is_position_column(name)), &self.origin)?;
         self.numbers(name)
     }
 
@@ -502,22 +330,8 @@ impl CsvTable {
     /// same dimension), taken as `unit` when the header names none.
     pub fn numbers_in(&self, name: &str, unit: Unit) -> Result<Vec<f64>, DataError> {
         let i = self.find(name)?;
-        self.check_dimension(i, unit.dimension, unit)?;
+        ValueColumn::of_dimension(&self.headers, i, unit.dimension, unit, &self.origin)?;
         self.column_in(i, Some(unit))
-    }
-
-    fn check_dimension(&self, i: usize, dimension: Dimension, expected: Unit) -> Result<(), DataError> {
-        match self.headers[i].unit {
-            Some(u) if u.dimension != dimension => Err(self.invalid(format!(
-                "column {}: {} is {}, but {} ({}) is expected here",
-                self.headers[i].text,
-                u.symbol,
-                u.dimension.name(),
-                dimension.name(),
-                expected.symbol
-            ))),
-            _ => Ok(()),
-        }
     }
 
     /// A column of text.

@@ -117,8 +117,8 @@ pub fn refuse_overlap(outputs: &[NamedOutput], inputs: &[(String, PathBuf)]) -> 
     let to_stdout: Vec<&str> = outputs.iter().filter(|o| super::is_standard_output(&o.path)).map(|o| o.option.as_str()).collect();
     if to_stdout.len() > 1 {
         return Err(DataError::Invalid {
-            origin: "-".into(),
-            message: format!("standard output is given to {}: one output at most can go there", to_stdout.join(" and ")),
+            origin: "standard output".into(),
+            message: format!("given to {}; one output at most can go there", to_stdout.join(" and ")),
         });
     }
     for output in outputs {
@@ -183,7 +183,7 @@ mod tests {
         let e = refuse_overlap(&[output("--out", Path::new("-"), false), output("--residuals", Path::new("-"), false)], &[])
             .unwrap_err()
             .to_string();
-        assert!(e.contains("standard output is given to --out and --residuals"), "{e}");
+        assert!(e.contains("standard output: given to --out and --residuals"), "{e}");
     }
 
     #[test]

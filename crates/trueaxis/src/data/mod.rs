@@ -9,18 +9,26 @@ mod columns;
 mod commit;
 mod environment;
 pub mod inputs;
+mod lines;
 mod output;
 mod output_set;
+mod pose_columns;
+mod pose_stream;
 mod poses;
+mod prediction;
 mod staging;
+mod table_head;
 mod target;
 pub mod temporaries;
+mod value_column;
 
 pub use columns::{CsvTable, Layout};
 pub use environment::{environment_cause, is_environment};
-pub use output::{predictions_csv, predictions_json, PREDICTION_COLUMNS};
+pub use output::{predictions_csv, predictions_json, PredictionFormat, PredictionWriter, PREDICTION_COLUMNS};
 pub use output_set::{write_atomically, write_streamed, OutputSet, PreparedSet};
+pub use pose_stream::{PoseChunk, PoseStream, MAX_PREAMBLE};
 pub use poses::{poses_of, read_poses, read_poses_from, PoseTable};
+pub use prediction::{predict_poses, CHUNK};
 pub use target::{is_standard_output, output_name, set_standard_output_descriptor, STANDARD_OUTPUT};
 
 use thiserror::Error;

@@ -1,47 +1,61 @@
-//! Prediction tables (the `predict` contract of DESIGN.md section 4).
+//! Prediction tables (the `predict` contract of DESIGN.md section 4): CSV with the axis columns
+//! (mm, deg) followed by `dx dy dz` (um), `drx dry drz` (urad), `dL` (um), or one JSON document
+//! `{"frame":..,"machine":..,"poses":[{"X":..,"dx":..,..}, ..],"units":{..}}`. Written whole
+//! ([`predictions_csv`], [`predictions_json`]) or block of rows after block of rows
+//! ([`PredictionWriter`]: the same bytes, in memory independent of the number of poses). No
+//! output holds a number that is not finite.
 
 use super::DataError;
 use crate::machine::Machine;
 use crate::model::VolumetricError;
+use rayon::prelude::*;
+use std::io::Write;
 
 /// Error columns of `trueaxis predict`, with their units.
 pub const PREDICTION_COLUMNS: [(&str, &str); 7] =
     [("dx", "um"), ("dy", "um"), ("dz", "um"), ("drx", "urad"), ("dry", "urad"), ("drz", "urad"), ("dL", "um")];
 
-fn check_finite(errors: &[VolumetricError]) -> Result<(), DataError> {
-    match errors.iter().position(|e| e.to_user_units().iter().any(|v| !v.is_finite())) {
-        Some(i) => Err(DataError::NotFinite { message: format!("the prediction of pose {} is not a finite number", i + 1) }),
-        None => Ok(()),
-    }
+/// The format of a prediction table.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum PredictionFormat {
+    Csv,
+    /// The JSON document, naming the frame of the components (`workpiece` or `machine`).
+    Json {
+        frame: String,
+    },
 }
 
-/// CSV with the axis columns (mm, deg) followed by `dx dy dz` (um), `drx dry drz` (urad), `dL` (um).
-pub fn predictions_csv(machine: &Machine, poses_user: &[f64], errors: &[VolumetricError]) -> Result<String, DataError> {
-    check_finite(errors)?;
-    let n = machine.axis_count().max(1);
-    let mut out = String::new();
-    let header: Vec<String> =
-        machine.axes().iter().map(|a| a.letter.to_string()).chain(PREDICTION_COLUMNS.iter().map(|(c, _)| c.to_string())).collect();
-    out.push_str(&header.join(","));
+/// Index of the first prediction that holds a number that is not finite.
+fn first_not_finite(errors: &[VolumetricError]) -> Option<usize> {
+    errors.iter().position(|e| e.to_user_units().iter().any(|v| !v.is_finite()))
+}
+
+/// One CSV row: positions as given, errors to 0.1 nm / 0.1 nrad.
+fn csv_row(out: &mut String, pose: &[f64], error: &VolumetricError) {
+    use std::fmt::Write;
+    for v in pose {
+        let _ = write!(out, "{v},");
+    }
+    for (k, v) in error.to_user_units().iter().enumerate() {
+        let _ = write!(out, "{}{v:.4}", if k == 0 { "" } else { "," });
+    }
     out.push('\n');
-    for (pose, error) in poses_user.chunks(n).zip(errors) {
-        let fields: Vec<String> =
-            pose.iter().map(|v| format!("{v}")).chain(error.to_user_units().iter().map(|v| format!("{v:.4}"))).collect();
-        out.push_str(&fields.join(","));
-        out.push('\n');
-    }
-    Ok(out)
 }
 
-/// JSON document `{"frame":..,"units":{..},"poses":[{"X":..,"dx":..,..}, ..]}`.
-pub fn predictions_json(
-    machine: &Machine,
-    poses_user: &[f64],
-    errors: &[VolumetricError],
-    frame: &str,
-) -> Result<serde_json::Value, DataError> {
-    check_finite(errors)?;
-    let n = machine.axis_count().max(1);
+/// One JSON pose: positions and errors (rounded to 1e-4) by name.
+fn json_row(machine: &Machine, pose: &[f64], error: &VolumetricError) -> serde_json::Value {
+    let mut row = serde_json::Map::new();
+    for (axis, v) in machine.axes().iter().zip(pose) {
+        row.insert(axis.letter.to_string(), (*v).into());
+    }
+    for ((c, _), v) in PREDICTION_COLUMNS.iter().zip(error.to_user_units()) {
+        row.insert((*c).into(), ((v * 1e4).round() / 1e4).into());
+    }
+    serde_json::Value::Object(row)
+}
+
+/// The JSON document without its poses.
+fn json_document(machine: &Machine, frame: &str, poses: Vec<serde_json::Value>) -> serde_json::Value {
     let mut units = serde_json::Map::new();
     for axis in machine.axes() {
         units.insert(axis.letter.to_string(), axis.position_unit().into());
@@ -49,19 +63,165 @@ pub fn predictions_json(
     for (c, u) in PREDICTION_COLUMNS {
         units.insert(c.into(), u.into());
     }
-    let poses: Vec<serde_json::Value> = poses_user
-        .chunks(n)
-        .zip(errors)
-        .map(|(pose, error)| {
-            let mut row = serde_json::Map::new();
-            for (axis, v) in machine.axes().iter().zip(pose) {
-                row.insert(axis.letter.to_string(), (*v).into());
+    serde_json::json!({ "machine": machine.name, "frame": frame, "units": units, "poses": poses })
+}
+
+/// A prediction table written block of rows after block of rows.
+pub struct PredictionWriter<'a> {
+    machine: &'a Machine,
+    format: PredictionFormat,
+    /// The JSON document after its poses.
+    tail: String,
+    rows: usize,
+    /// The output's name in messages.
+    name: String,
+    out: &'a mut dyn Write,
+}
+
+/// Rows formatted per task when a block is formatted in parallel.
+const ROWS_PER_TASK: usize = 4096;
+
+impl<'a> PredictionWriter<'a> {
+    /// Writes the head of the table (the CSV header, or the JSON document up to its poses) to
+    /// `out`, named `name` in messages.
+    pub fn begin(
+        machine: &'a Machine,
+        format: PredictionFormat,
+        out: &'a mut dyn Write,
+        name: &str,
+    ) -> Result<PredictionWriter<'a>, DataError> {
+        let write_error = |source| DataError::Write { path: name.to_string(), source };
+        let tail = match &format {
+            PredictionFormat::Csv => {
+                let header: Vec<String> = machine
+                    .axes()
+                    .iter()
+                    .map(|a| a.letter.to_string())
+                    .chain(PREDICTION_COLUMNS.iter().map(|(c, _)| c.to_string()))
+                    .collect();
+                writeln!(out, "{}", header.join(",")).map_err(write_error)?;
+                String::new()
             }
-            for ((c, _), v) in PREDICTION_COLUMNS.iter().zip(error.to_user_units()) {
-                row.insert((*c).into(), ((v * 1e4).round() / 1e4).into());
+            PredictionFormat::Json { frame } => {
+                // the document's own key order, split where its poses go
+                let empty = json_document(machine, frame, Vec::new()).to_string();
+                let at = empty.find("\"poses\":[]").expect("the poses key") + "\"poses\":[".len();
+                out.write_all(empty[..at].as_bytes()).map_err(write_error)?;
+                format!("{}\n", &empty[at..])
             }
-            serde_json::Value::Object(row)
-        })
-        .collect();
-    Ok(serde_json::json!({ "machine": machine.name, "frame": frame, "units": units, "poses": poses }))
+        };
+        Ok(PredictionWriter { machine, format, tail, rows: 0, name: name.to_string(), out })
+    }
+
+    /// Writes the rows of `poses_user` (`axis_count` positions per pose, mm and deg) and their
+    /// predictions. A prediction that is not a finite number is refused, naming its place by
+    /// `place(index in this block)`, before anything of the block is written.
+    pub fn write(&mut self, poses_user: &[f64], errors: &[VolumetricError], place: &dyn Fn(usize) -> String) -> Result<(), DataError> {
+        if let Some(i) = first_not_finite(errors) {
+            return Err(DataError::NotFinite { message: format!("the prediction of {} is not a finite number", place(i)) });
+        }
+        let n = self.machine.axis_count().max(1);
+        let machine = self.machine;
+        let format = &self.format;
+        let first = self.rows == 0;
+        let texts: Vec<String> = poses_user
+            .par_chunks(n * ROWS_PER_TASK)
+            .zip(errors.par_chunks(ROWS_PER_TASK))
+            .enumerate()
+            .map(|(task, (poses, errors))| {
+                let mut text = String::with_capacity(errors.len() * 96);
+                for (k, (pose, error)) in poses.chunks(n).zip(errors).enumerate() {
+                    match format {
+                        PredictionFormat::Csv => csv_row(&mut text, pose, error),
+                        PredictionFormat::Json { .. } => {
+                            if !(first && task == 0 && k == 0) {
+                                text.push(',');
+                            }
+                            text.push_str(&json_row(machine, pose, error).to_string());
+                        }
+                    }
+                }
+                text
+            })
+            .collect();
+        let write_error = |source| DataError::Write { path: self.name.clone(), source };
+        for t in texts {
+            self.out.write_all(t.as_bytes()).map_err(write_error)?;
+        }
+        self.rows += errors.len();
+        Ok(())
+    }
+
+    /// Ends the table (the JSON document's tail); returns the number of rows written.
+    pub fn finish(self) -> Result<usize, DataError> {
+        self.out.write_all(self.tail.as_bytes()).map_err(|source| DataError::Write { path: self.name.clone(), source })?;
+        Ok(self.rows)
+    }
+}
+
+/// The CSV table of `predictions` at `poses_user` (`axis_count` per pose), whole.
+pub fn predictions_csv(machine: &Machine, poses_user: &[f64], errors: &[VolumetricError]) -> Result<String, DataError> {
+    let mut bytes = Vec::new();
+    let mut writer = PredictionWriter::begin(machine, PredictionFormat::Csv, &mut bytes, "the prediction table")?;
+    writer.write(poses_user, errors, &|i| format!("pose {}", i + 1))?;
+    writer.finish()?;
+    Ok(String::from_utf8(bytes).expect("formatted numbers"))
+}
+
+/// The JSON document `{"frame":..,"machine":..,"poses":[{"X":..,"dx":..,..}, ..],"units":{..}}`.
+pub fn predictions_json(
+    machine: &Machine,
+    poses_user: &[f64],
+    errors: &[VolumetricError],
+    frame: &str,
+) -> Result<serde_json::Value, DataError> {
+    if let Some(i) = first_not_finite(errors) {
+        return Err(DataError::NotFinite { message: format!("the prediction of pose {} is not a finite number", i + 1) });
+    }
+    let n = machine.axis_count().max(1);
+    let poses = poses_user.chunks(n).zip(errors).map(|(pose, error)| json_row(machine, pose, error)).collect();
+    Ok(json_document(machine, frame, poses))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn streamed_tables_equal_whole_ones_byte_for_byte() {
+        let machine = Machine::from_toml_str(
+            "name = \"m\"\nstructure = \"wXbYt\"\n[axes]\nX = { kind = \"linear\", direction = [1, 0, 0], range = [-1e4, 1e4] }\n\
+             Y = { kind = \"linear\", direction = [0, 1, 0], range = [-1e4, 1e4] }\n[tool]\npoint = [0, 0, 0]\n",
+            "m.toml",
+        )
+        .unwrap();
+        let count = 2 * ROWS_PER_TASK + 17;
+        let poses: Vec<f64> = (0..2 * count).map(|k| k as f64 * 0.25 - 100.0).collect();
+        let errors: Vec<VolumetricError> = (0..count)
+            .map(|k| {
+                let mut e = VolumetricError::default();
+                e.position[0] = k as f64 * 1e-7;
+                e.orientation[2] = -(k as f64) * 3e-9;
+                e
+            })
+            .collect();
+        let whole_json = format!("{}\n", predictions_json(&machine, &poses, &errors, "machine").unwrap());
+        for (format, whole) in [
+            (PredictionFormat::Csv, predictions_csv(&machine, &poses, &errors).unwrap()),
+            (PredictionFormat::Json { frame: "machine".into() }, whole_json),
+        ] {
+            let mut bytes = Vec::new();
+            let mut w = PredictionWriter::begin(&machine, format.clone(), &mut bytes, "p.csv").unwrap();
+            // blocks of uneven sizes
+            for (start, end) in [(0, 1), (1, 5000), (5000, count)] {
+                w.write(&poses[2 * start..2 * end], &errors[start..end], &|i| format!("row {i}")).unwrap();
+            }
+            assert_eq!(w.finish().unwrap(), count);
+            assert_eq!(String::from_utf8(bytes).unwrap(), whole, "{format:?}");
+        }
+        let mut bad = errors.clone();
+        bad[3].position[1] = f64::NAN;
+        let e = predictions_csv(&machine, &poses, &bad).unwrap_err().to_string();
+        assert_eq!(e, "the prediction of pose 4 is not a finite number");
+    }
 }

@@ -40,6 +40,8 @@ pub struct OutputSet {
     pub(super) directories: Vec<DirectoryOutput>,
     /// Directories of single files created when missing (`--plots DIR`)
     pub(super) parents: Vec<PathBuf>,
+    /// Outputs may be inputs of the run ([`OutputSet::updating_inputs`]).
+    pub(super) updates_inputs: bool,
 }
 
 /// The contents of an output: given whole, or written by the caller after the prepare phase.
@@ -106,6 +108,14 @@ impl OutputSet {
         self.directory(dir);
         let entry = self.directories.iter_mut().find(|d| d.path == dir).expect("declared above");
         entry.files.push((relative.to_path_buf(), contents));
+        self
+    }
+
+    /// Lets the outputs be files the run read: a command whose job is to update its input files
+    /// in place (`design simulate` writes the readings into the campaign's data files). Without
+    /// it such an output is refused ([`super::inputs`]).
+    pub fn updating_inputs(&mut self) -> &mut OutputSet {
+        self.updates_inputs = true;
         self
     }
 

@@ -37,11 +37,12 @@ fn stage_all(set: OutputSet, created: &mut Vec<PathBuf>) -> Result<PreparedSet, 
         create_missing(dir, created).map_err(write_error(dir))?;
     }
     let mut prepared = PreparedSet::default();
+    let checked = !set.updates_inputs;
     for d in set.directories {
-        stage_directory(d, created, &mut prepared)?;
+        stage_directory(d, checked, created, &mut prepared)?;
     }
     for (path, contents) in set.files {
-        stage_file(path, contents, &mut prepared)?;
+        stage_file(path, contents, checked, &mut prepared)?;
     }
     Ok(prepared)
 }
@@ -113,7 +114,7 @@ fn file_sink(path: &Path, file: std::fs::File) -> std::io::Result<Sink> {
 
 /// Stages the single file `path`: a temporary beside a regular target (written now, or opened for
 /// the caller), or a stream written in place.
-fn stage_file(path: PathBuf, contents: Contents, prepared: &mut PreparedSet) -> Result<(), DataError> {
+fn stage_file(path: PathBuf, contents: Contents, inputs_checked: bool, prepared: &mut PreparedSet) -> Result<(), DataError> {
     let err = write_error(&path);
     let (target, existing) = match target_of(&path)? {
         Target::File { path: target, existing } => (target, existing),
@@ -122,7 +123,9 @@ fn stage_file(path: PathBuf, contents: Contents, prepared: &mut PreparedSet) -> 
     };
     let name = target_name(&target)?;
     if existing.is_some() {
-        refuse_input(&path, &target, false)?;
+        if inputs_checked {
+            refuse_input(&path, &target, false)?;
+        }
         refuse_unwritable(&path, &target)?;
     }
     let dir = parent_of(&target);
@@ -168,7 +171,12 @@ pub(super) fn open_in_place(device: Option<&Path>) -> std::io::Result<Box<dyn Wr
 
 /// Checks the directory output and writes its files into a fresh temporary directory beside it
 /// (missing parents are created and recorded in `created`); streamed files are opened there.
-fn stage_directory(output: DirectoryOutput, created: &mut Vec<PathBuf>, prepared: &mut PreparedSet) -> Result<(), DataError> {
+fn stage_directory(
+    output: DirectoryOutput,
+    inputs_checked: bool,
+    created: &mut Vec<PathBuf>,
+    prepared: &mut PreparedSet,
+) -> Result<(), DataError> {
     if super::is_standard_output(&output.path) {
         return Err(invalid(&output.path, "names standard output, but this output is a directory; give the path of a directory"));
     }
@@ -187,7 +195,9 @@ fn stage_directory(output: DirectoryOutput, created: &mut Vec<PathBuf>, prepared
         return Err(invalid(&output.path, "exists and is not a directory; give the path of a directory"));
     }
     if exists {
-        refuse_input(&output.path, &target, true)?;
+        if inputs_checked {
+            refuse_input(&output.path, &target, true)?;
+        }
         refuse_unwritable(&output.path, &target)?;
         refuse_foreign_files(&output.path, &target, &relative)?;
     }

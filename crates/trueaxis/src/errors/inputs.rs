@@ -98,96 +98,143 @@ pub struct InputSource<'a> {
 /// per row in that order; an error names an input that has neither a column nor a given value, or
 /// a lag input without times.
 pub fn input_values(inputs: &[String], source: &InputSource) -> Result<Vec<f64>, String> {
-    let n = source.rows;
-    let plain = |name: &str, kind: &InputKind| -> Result<Vec<f64>, String> {
-        match ((source.column)(name), (source.given)(name)) {
-            (Some(c), _) => Ok(c),
-            (None, Some(v)) => Ok(vec![v; n]),
-            (None, None) => Err(format!(
-                "{}: missing column `{name}` ({unit}) needed by the error model; add it or give --{} {name}={unit}",
-                source.origin,
-                if *kind == InputKind::Temperature { "temperature" } else { "input" },
-                unit = kind.unit()
-            )),
+    let (mut rows, wanted) = InputRows::new(inputs, &|name| (source.column)(name).is_some(), source.given, source.times.is_some())
+        .map_err(|m| format!("{}: {m}", source.origin))?;
+    let columns: Vec<Vec<f64>> = wanted.iter().map(|name| (source.column)(name).expect("a column the source has")).collect();
+    let mut out = Vec::with_capacity(source.rows * inputs.len());
+    let mut values = vec![0.0; columns.len()];
+    for k in 0..source.rows {
+        for (v, c) in values.iter_mut().zip(&columns) {
+            *v = c[k];
         }
-    };
-    let mut columns = Vec::with_capacity(inputs.len());
-    for name in inputs {
-        let kind = InputKind::parse(name)?;
-        let column = match &kind {
-            InputKind::Lag { sensor, tau_s } => {
-                let readings = plain(sensor, &InputKind::Temperature)?;
-                let times = source.times.ok_or_else(|| {
-                    format!("{}: the error model has a drift term (input `{name}`): the rows need the time column `t` (s)", source.origin)
-                })?;
-                lagged_rise(&readings, times, source.runs, *tau_s).map_err(|m| format!("{}: {m}", source.origin))?
-            }
-            kind => plain(name, kind)?,
-        };
-        columns.push(column);
+        let (time, run) = (source.times.map(|t| t[k]), source.runs.map_or("", |r| r[k].as_str()));
+        rows.push(&values, time, run, &mut out).map_err(|m| format!("{}: row {}: {m}", source.origin, k + 1))?;
     }
-    Ok((0..n).flat_map(|i| columns.iter().map(move |c| c[i])).collect())
+    Ok(out)
 }
 
 /// The rise of `readings` since the first row of each run through a first-order lag of time
 /// constant `tau_s` (module documentation); rows of a run in time order.
 pub fn lagged_rise(readings: &[f64], times: &[f64], runs: Option<&[String]>, tau_s: f64) -> Result<Vec<f64>, String> {
-    let mut out = vec![0.0; readings.len()];
-    // the previous row of each run: (row, lag value)
-    let mut last: Vec<(&str, usize, usize, f64)> = Vec::new(); // (run, first row, previous row, z)
-    for k in 0..readings.len() {
-        let run = runs.map_or("", |r| r[k].as_str());
-        match last.iter_mut().find(|(r, ..)| *r == run) {
-            None => last.push((run, k, k, 0.0)),
-            Some((_, first, previous, z)) => {
-                let dt = times[k] - times[*previous];
-                if dt.is_nan() || dt <= 0.0 {
-                    return Err(format!(
-                        "row {}: the time t = {} does not follow the previous time {} of its run; a drift model needs the rows of each run in time order",
-                        k + 1,
-                        times[k],
-                        times[*previous]
-                    ));
-                }
-                let decay = (-dt / tau_s).exp();
-                *z = decay * *z + (1.0 - decay) * (readings[*previous] - readings[*first]);
-                *previous = k;
-                out[k] = *z;
-            }
-        }
-    }
-    Ok(out)
+    let mut lag = Lag::new(tau_s);
+    (0..readings.len())
+        .map(|k| lag.next(readings[k], times[k], runs.map_or("", |r| r[k].as_str())).map_err(|m| format!("row {}: {m}", k + 1)))
+        .collect()
 }
 
-/// The values of the inputs of `errors` for every row of the pose or data file `path` (`rows`
-/// rows, `errors.sensors().len()` values per row): columns named like the inputs, else `given`
-/// (`(name, value)`, e.g. from `--temperature T:spindle=24.5` or `--input S:spindle=3000`); the
-/// drift lags from the columns `t` (s) and `run`. Shared by `predict`, `compensate --poses` and
-/// `verify`. An error names the file and the input that has neither a column nor a value.
-pub fn pose_file_inputs(
-    errors: &super::ErrorModel,
-    path: &std::path::Path,
-    rows: usize,
-    given: &[(String, f64)],
-) -> Result<Vec<f64>, String> {
-    if errors.sensors().is_empty() {
-        return Ok(Vec::new());
+/// The lagged rise of one sensor, row after row (module documentation): per run its first
+/// reading, the previous reading and time, and the lag's state.
+#[derive(Clone, Debug)]
+struct Lag {
+    tau_s: f64,
+    /// (run, first reading, previous reading, previous time, z)
+    runs: Vec<(String, f64, f64, f64, f64)>,
+}
+
+impl Lag {
+    fn new(tau_s: f64) -> Lag {
+        Lag { tau_s, runs: Vec::new() }
     }
-    let table = crate::data::CsvTable::read(path).map_err(|e| e.to_string())?;
-    let numbers = |name: &str| table.has_column(name).then(|| table.numbers(name)).transpose().map_err(|e| e.to_string());
-    let mut columns = Vec::new();
-    for name in errors.sensors().iter().map(String::as_str).chain(std::iter::once("t")) {
-        // a lag input is computed from its sensor's column
-        let source = name.split_once(" lag ").map_or(name, |(s, _)| s);
-        columns.push((source.to_string(), numbers(source)?));
+
+    /// The lag at a row with `reading` (degC) at `time` (s) of `run`.
+    fn next(&mut self, reading: f64, time: f64, run: &str) -> Result<f64, String> {
+        let Some((_, first, previous, previous_time, z)) = self.runs.iter_mut().find(|r| r.0 == run) else {
+            self.runs.push((run.to_string(), reading, reading, time, 0.0));
+            return Ok(0.0);
+        };
+        let dt = time - *previous_time;
+        if dt.is_nan() || dt <= 0.0 {
+            return Err(format!(
+                "the time t = {time} does not follow the previous time {previous_time} of its run; a drift model needs the rows of each \
+                 run in time order"
+            ));
+        }
+        let decay = (-dt / self.tau_s).exp();
+        *z = decay * *z + (1.0 - decay) * (*previous - *first);
+        (*previous, *previous_time) = (reading, time);
+        Ok(*z)
     }
-    let times = columns.iter().find(|(n, _)| n == "t").and_then(|(_, c)| c.clone());
-    let runs = if table.has_column("run") { Some(table.texts("run").map_err(|e| e.to_string())?) } else { None };
-    let lookup = |name: &str| columns.iter().find(|(n, _)| n == name).and_then(|(_, c)| c.clone());
-    let value = |name: &str| given.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
-    let origin = path.display().to_string();
-    let source = InputSource { rows, column: &lookup, given: &value, times: times.as_deref(), runs: runs.as_deref(), origin: &origin };
-    input_values(errors.sensors(), &source)
+}
+
+/// Where one input's value comes from, row by row.
+#[derive(Clone, Debug)]
+enum Source {
+    /// The row's value of a column (index into the wanted columns).
+    Column(usize),
+    Given(f64),
+    /// The lag of the sensor whose value is that column.
+    Lag(usize, Lag),
+}
+
+/// The inputs of an error model row after row, for a table read as a stream (a pose file of any
+/// length): each input from the row's column of that name, else a value given for every row, and
+/// each lag from its sensor's column and the row's time and run (module documentation).
+#[derive(Clone, Debug)]
+pub struct InputRows {
+    sources: Vec<Source>,
+}
+
+impl InputRows {
+    /// The plan for `inputs` (the model's names) given which columns the table has (`has_column`)
+    /// and the given values; returns it with the names of the columns [`InputRows::push`] wants
+    /// per row, in order. An error names the input that has neither a column nor a value, or a
+    /// lag without the time column (the message does not name the table: the caller does).
+    pub fn new(
+        inputs: &[String],
+        has_column: &dyn Fn(&str) -> bool,
+        given: &dyn Fn(&str) -> Option<f64>,
+        has_times: bool,
+    ) -> Result<(InputRows, Vec<String>), String> {
+        let mut wanted: Vec<String> = Vec::new();
+        let mut column_of = |name: &str, kind: &InputKind| -> Result<Source, String> {
+            if has_column(name) {
+                let i = wanted.iter().position(|w| w == name).unwrap_or_else(|| {
+                    wanted.push(name.to_string());
+                    wanted.len() - 1
+                });
+                return Ok(Source::Column(i));
+            }
+            given(name).map(Source::Given).ok_or_else(|| {
+                format!(
+                    "missing column `{name}` ({unit}) needed by the error model; add it or give --{} {name}={unit}",
+                    if *kind == InputKind::Temperature { "temperature" } else { "input" },
+                    unit = kind.unit()
+                )
+            })
+        };
+        let mut sources = Vec::with_capacity(inputs.len());
+        for name in inputs {
+            let kind = InputKind::parse(name)?;
+            sources.push(match &kind {
+                InputKind::Lag { sensor, tau_s } => {
+                    if !has_times {
+                        return Err(format!("the error model has a drift term (input `{name}`): the rows need the time column `t` (s)"));
+                    }
+                    match column_of(sensor, &InputKind::Temperature)? {
+                        Source::Column(i) => Source::Lag(i, Lag::new(*tau_s)),
+                        // a sensor held at one value does not rise
+                        _ => Source::Given(0.0),
+                    }
+                }
+                kind => column_of(name, kind)?,
+            });
+        }
+        Ok((InputRows { sources }, wanted))
+    }
+
+    /// Appends the inputs of the next row to `out`: `columns` the row's values of the wanted
+    /// columns, `time` its time (s; needed by lags), `run` its run. An error (a time out of order
+    /// within a run) does not name the row: the caller does.
+    pub fn push(&mut self, columns: &[f64], time: Option<f64>, run: &str, out: &mut Vec<f64>) -> Result<(), String> {
+        for source in &mut self.sources {
+            out.push(match source {
+                Source::Column(i) => columns[*i],
+                Source::Given(v) => *v,
+                Source::Lag(i, lag) => lag.next(columns[*i], time.unwrap_or(f64::NAN), run)?,
+            });
+        }
+        Ok(())
+    }
 }
 
 #[cfg(test)]

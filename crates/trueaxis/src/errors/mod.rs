@@ -14,7 +14,7 @@ mod write;
 
 pub use basis::{Basis, BasisSpec, PeriodicSpec};
 pub use function::ErrorFunction;
-pub use inputs::{input_values, pose_file_inputs, InputKind, InputSource};
+pub use inputs::{input_values, InputKind, InputRows, InputSource};
 pub use model::{Direction, DriftTerm, ErrorModel, LoadTerm, MachineState, ProductTerm, REFERENCE_TEMPERATURE};
 pub use quadrature::{gauss_legendre, integrate, legendre};
 pub use write::set_error_function;
@@ -45,7 +45,8 @@ impl ErrorModel {
     /// commands that add terms to an optional base start from it.)
     pub fn load(path: impl AsRef<std::path::Path>, machine: &Machine) -> Result<ErrorModel, ErrorsError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| ErrorsError::Read { path: path.display().to_string(), source })?;
+        let text =
+            crate::data::inputs::read_to_string(path).map_err(|source| ErrorsError::Read { path: path.display().to_string(), source })?;
         let model = Self::from_toml_str(&text, &path.display().to_string(), machine)?;
         if model.is_empty() {
             return Err(ErrorsError::Invalid {

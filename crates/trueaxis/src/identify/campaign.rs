@@ -200,7 +200,7 @@ impl Campaign {
 
     fn load_with(path: &Path, machine: &Machine, require_unknowns: bool) -> Result<Campaign, IdentifyError> {
         let origin = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| input(&origin, format!("cannot read campaign file: {e}")))?;
+        let text = crate::data::inputs::read_to_string(path).map_err(|e| input(&origin, format!("cannot read campaign file: {e}")))?;
         Campaign::parse_toml(&text, &origin, path.parent().unwrap_or(Path::new("")), machine, require_unknowns)
     }
 

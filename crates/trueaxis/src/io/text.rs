@@ -82,6 +82,13 @@ pub fn parse_number(text: &str, decimal_comma: bool) -> Option<f64> {
     s.parse::<f64>().ok()
 }
 
+/// Whether the number `text`, read as `value`, underflowed: it is not zero as written (a digit 1-9
+/// before its exponent) but reads as zero, being below the smallest positive double (about
+/// 4.9e-324; `1e-400`). Such a value is refused rather than silently read as 0.
+pub fn underflows(text: &str, value: f64) -> bool {
+    value == 0.0 && text.split(['e', 'E']).next().is_some_and(|mantissa| mantissa.chars().any(|c| ('1'..='9').contains(&c)))
+}
+
 /// A `Key: value` line of a header block (`Machine: DMU 50`, `# Operator: J. Smith`): the key
 /// (trimmed, at most 60 characters, starting with a letter) and the value (trimmed). `None` for
 /// other lines.

@@ -36,7 +36,7 @@ impl Campaign {
     /// Reads a campaign CSV (`#` comments allowed).
     pub fn read(path: impl AsRef<std::path::Path>) -> Result<Campaign, ThermalError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
+        let text = crate::data::inputs::read_to_string(path).map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
         Self::parse(&text, &path.display().to_string())
     }
 
