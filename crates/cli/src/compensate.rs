@@ -63,12 +63,12 @@ pub struct CompensateArgs {
     /// Output directory (created if missing).
     #[arg(long, value_parser = crate::outputs::directory)]
     out: crate::outputs::OutputPath,
-    /// Refuse corrections of a linear axis larger than this (um; default: the machine file's
-    /// `[limits] correction_um`, else 1000).
+    /// Refuse corrections of a linear axis larger than this (um, at most 10000; default: the
+    /// machine file's `[limits] correction_um`, else 1000).
     #[arg(long)]
     limit_um: Option<f64>,
-    /// Refuse corrections of a rotary axis larger than this (urad; default: the machine file's
-    /// `[limits] correction_urad`, else 10000).
+    /// Refuse corrections of a rotary axis larger than this (urad, at most 100000; default: the
+    /// machine file's `[limits] correction_urad`, else 10000).
     #[arg(long)]
     limit_urad: Option<f64>,
     /// Points per own-axis / cross-axis table (equally spaced over the travel).
@@ -155,11 +155,11 @@ fn given_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<Optio
 }
 
 /// The correction limits (um, urad): the machine file's `[limits]` (or the defaults), replaced by
-/// `--limit-um` / `--limit-urad` when given (each a positive number).
+/// `--limit-um` / `--limit-urad` when given (each a positive number, at most ten times the default).
 pub fn limits(machine: &Machine, max_um: Option<f64>, max_urad: Option<f64>) -> Result<Limits, Failure> {
-    for (name, v) in [("--limit-um", max_um), ("--limit-urad", max_urad)] {
-        if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
-            return Err(Failure::input(anyhow::anyhow!("{name} must be a positive number")));
+    for (name, v, rotary) in [("--limit-um", max_um, false), ("--limit-urad", max_urad, true)] {
+        if let Some(v) = v {
+            trueaxis::machine::check_limit_value(name, v, rotary).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
         }
     }
     Limits::with_overrides(machine, max_um, max_urad).map_err(failure)

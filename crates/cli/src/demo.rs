@@ -29,8 +29,9 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
     let result = demo::run(&args.out, &mut progress);
     bar.finish_and_clear();
     let summary = result.map_err(|e| match e {
-        // an output directory or file that cannot be written is a bad --out
-        DemoError::CreateDir { .. } | DemoError::Data(DataError::Write { .. }) => Failure::input(e),
+        // an output directory that cannot be written is a bad --out (or the environment: a full
+        // disk, a permission; `exit`)
+        DemoError::Output(_) | DemoError::Data(DataError::Write { .. }) => Failure::input(e),
         other => Failure::computation(other),
     })?;
     let pose: Vec<String> = summary.max_pose.iter().map(|(l, v)| format!("{l}={v}")).collect();

@@ -24,9 +24,9 @@ fn failure(e: CompensateError) -> PyErr {
 /// Correction limits (um, urad): the machine file's `[limits]` (or the defaults), replaced by
 /// `limit_um` / `limit_urad` when given (each positive), as the command line.
 fn limits(machine: &trueaxis::machine::Machine, max_um: Option<f64>, max_urad: Option<f64>) -> PyResult<Limits> {
-    for (name, v) in [("limit_um", max_um), ("limit_urad", max_urad)] {
-        if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
-            return Err(input_msg(format!("{name} must be a positive number")));
+    for (name, v, rotary) in [("limit_um", max_um, false), ("limit_urad", max_urad, true)] {
+        if let Some(v) = v {
+            trueaxis::machine::check_limit_value(name, v, rotary).map_err(input_msg)?;
         }
     }
     Limits::with_overrides(machine, max_um, max_urad).map_err(failure)

@@ -207,6 +207,7 @@ impl CertificateFile {
     }
 
     pub fn from_toml_str(text: &str, origin: &str) -> Result<CertificateFile, String> {
+        trueaxis::io::toml_numbers::refuse_underflow(text).map_err(|m| format!("{origin}: {m}"))?;
         let file: CertificateFile =
             toml::from_str(text).map_err(|e| format!("{origin}: {}", e.to_string().trim_end().replace('\n', " ")))?;
         let t = &file.tolerances;

@@ -12,7 +12,9 @@
 //! 6. a self-contained HTML report, built by `report::calibration` like `trueaxis report`.
 //!
 //! Everything it writes goes to the output directory, with the inputs, so that each step can be
-//! repeated with the individual `trueaxis` commands.
+//! repeated with the individual `trueaxis` commands. The directory is built in a temporary beside
+//! it and swapped in whole at the end (`trueaxis::data::WorkingDirectory`): a run that fails (a
+//! full disk) or is stopped leaves the directory as it was.
 
 mod ballbar;
 mod campaign;
@@ -24,7 +26,7 @@ use crate::calibration::{
 };
 use std::path::{Path, PathBuf};
 use thiserror::Error;
-use trueaxis::data::{write_atomically, DataError};
+use trueaxis::data::{DataError, WorkingDirectory};
 use trueaxis::errors::{ErrorModel, ErrorsError};
 use trueaxis::identify::{identification_json, IdentifyError};
 use trueaxis::instruments::ballbar::BallbarError;
@@ -64,8 +66,9 @@ pub enum DemoError {
     Ballbar(#[from] BallbarError),
     #[error(transparent)]
     Report(#[from] CalibrationError),
-    #[error("{path}: cannot create output directory: {source}")]
-    CreateDir { path: String, source: std::io::Error },
+    /// The output directory could not be written: nothing was (the directory is as it was).
+    #[error("{0}; nothing was written")]
+    Output(#[source] DataError),
 }
 
 /// What the demo found, for the command line summary.
@@ -99,34 +102,30 @@ pub fn builtin() -> Result<(Machine, ErrorModel), DemoError> {
     Ok((machine, errors))
 }
 
-/// Files are written through this, so that the summary lists them all.
+/// Files are written through this, into the working directory, so that the summary lists them all.
 pub(crate) struct Output {
-    dir: PathBuf,
-    pub files: Vec<PathBuf>,
+    work: WorkingDirectory,
 }
 
 impl Output {
-    /// The path of `name` in the output folder.
+    /// The path of `name` while the demo runs (to read it back).
     pub fn path(&self, name: &str) -> PathBuf {
-        self.dir.join(name)
+        self.work.path(name)
+    }
+
+    /// The path of `name` in the output folder, as the user will find it.
+    pub fn final_path(&self, name: &str) -> PathBuf {
+        self.work.final_path(name)
     }
 
     pub fn write(&mut self, name: &str, bytes: &[u8]) -> Result<PathBuf, DemoError> {
-        let path = self.path(name);
-        if let Some(parent) = path.parent() {
-            std::fs::create_dir_all(parent).map_err(|source| DemoError::CreateDir { path: parent.display().to_string(), source })?;
-        }
-        write_atomically(&path, bytes)?;
-        if !self.files.contains(&path) {
-            self.files.push(path.clone());
-        }
-        Ok(path)
+        self.work.write(name, bytes).map_err(DemoError::Output)
     }
 
     /// An input of the report, named relative to the output folder.
     fn input(&self, role: &str, name: &str) -> Result<InputFile, DemoError> {
-        let bytes =
-            std::fs::read(self.path(name)).map_err(|source| DataError::Read { path: self.path(name).display().to_string(), source })?;
+        let bytes = std::fs::read(self.path(name))
+            .map_err(|source| DataError::Read { path: self.final_path(name).display().to_string(), source })?;
         Ok(InputFile::of_bytes(role, name, &bytes))
     }
 }
@@ -134,8 +133,7 @@ impl Output {
 /// Runs the demo into `out_dir`; `progress(step, STEPS, message)` is called before each step.
 pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Result<DemoSummary, DemoError> {
     let (machine, truth) = builtin()?;
-    std::fs::create_dir_all(out_dir).map_err(|source| DemoError::CreateDir { path: out_dir.display().to_string(), source })?;
-    let mut out = Output { dir: out_dir.to_path_buf(), files: Vec::new() };
+    let mut out = Output { work: WorkingDirectory::create(out_dir).map_err(DemoError::Output)? };
     out.write("machine.toml", MACHINE_TOML.as_bytes())?;
     out.write("errors_true.toml", ERRORS_TOML.as_bytes())?;
 
@@ -146,12 +144,15 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     out.write("report.toml", CERTIFICATE_TOML.as_bytes())?;
     let certificate = CertificateFile::from_toml_str(CERTIFICATE_TOML, "built-in report.toml").map_err(CalibrationError::Input)?;
     let mut circle = CirclePart::evaluate(&machine, circle_input)?;
+    circle.input.path = out.final_path(ballbar::FILE);
     circle.reading_u_um = certificate.reading_uncertainty_um("ballbar");
     circle.description.push(report::circle_description());
     out.write("ballbar/xy_circle.svg", circle.svg.as_bytes())?;
 
     progress(3, STEPS, "identifying the link and setup errors");
     let mut identification = IdentificationPart::identify(&machine, &simulated.campaign_path, false)?;
+    // the report names the campaign where the user finds it
+    identification.campaign.origin = out.final_path("campaign/campaign.toml").display().to_string();
     identification.truth = Some(campaign::equivalent_truth(&machine, &truth, &identification)?);
     identification.description.push(report::campaign_description(&simulated));
     identification.notes.push(report::IDENTIFIABILITY_NOTE.into());
@@ -240,5 +241,7 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     };
     out.write("report.html", calibration.to_html().as_bytes())?;
     out.write("report.pdf", &calibration.to_pdf()?)?;
-    Ok(DemoSummary { files: out.files, ..summary })
+    let files = out.work.files();
+    out.work.commit().map_err(DemoError::Output)?;
+    Ok(DemoSummary { files, ..summary })
 }

@@ -103,6 +103,7 @@ impl BudgetSpec {
     /// Parses a budget file; every error names `origin` and the key at fault.
     pub fn from_toml_str(text: &str, origin: &str, machine: &Machine, defaults: KindValues) -> Result<BudgetSpec, BudgetError> {
         let fail = |message: String| BudgetError::Spec { origin: origin.to_string(), message };
+        crate::io::toml_numbers::refuse_underflow(text).map_err(fail)?;
         let file: SpecFile = toml::from_str(text).map_err(|e| fail(crate::machine::one_line(&e.to_string())))?;
         let parse = |name: &str, key: &str| -> Result<ParameterId, BudgetError> {
             machine.parse_parameter(name).map(|(id, _)| id).map_err(|m| fail(format!("{key}: {m}")))

@@ -21,6 +21,7 @@ mod table_head;
 mod target;
 pub mod temporaries;
 mod value_column;
+mod working_directory;
 
 pub use columns::{CsvTable, Layout};
 pub use environment::{environment_cause, is_environment};
@@ -30,6 +31,7 @@ pub use pose_stream::{PoseChunk, PoseStream, MAX_PREAMBLE};
 pub use poses::{poses_of, read_poses, read_poses_from, PoseTable};
 pub use prediction::{predict_poses, CHUNK};
 pub use target::{is_standard_output, output_name, set_standard_output_descriptor, STANDARD_OUTPUT};
+pub use working_directory::WorkingDirectory;
 
 use thiserror::Error;
 

@@ -66,7 +66,7 @@ pub(super) fn parent_of(path: &Path) -> &Path {
 
 /// A builder of temporary files (`directory == false`, mode `0666 & !umask`) or directories
 /// (`0777 & !umask`) named `prefix...suffix`.
-fn temporary_builder<'a>(prefix: &'a str, suffix: &'static str, directory: bool) -> tempfile::Builder<'a, 'static> {
+pub(super) fn temporary_builder<'a>(prefix: &'a str, suffix: &'static str, directory: bool) -> tempfile::Builder<'a, 'static> {
     let mut builder = tempfile::Builder::new();
     builder.prefix(prefix).suffix(suffix);
     #[cfg(unix)]
@@ -177,9 +177,6 @@ fn stage_directory(
     created: &mut Vec<PathBuf>,
     prepared: &mut PreparedSet,
 ) -> Result<(), DataError> {
-    if super::is_standard_output(&output.path) {
-        return Err(invalid(&output.path, "names standard output, but this output is a directory; give the path of a directory"));
-    }
     let mut relative = Vec::new();
     for (r, _) in &output.files {
         if r.as_os_str().is_empty() || !r.components().all(|c| matches!(c, Component::Normal(_))) {
@@ -187,21 +184,13 @@ fn stage_directory(
         }
         relative.push(r.clone());
     }
-    // an existing target is resolved (symbolic links, `.`) so that the swap replaces the directory
-    // itself, not a link to it
-    let exists = output.path.exists();
-    let target = if exists { output.path.canonicalize().map_err(write_error(&output.path))? } else { output.path.clone() };
-    if exists && !target.is_dir() {
-        return Err(invalid(&output.path, "exists and is not a directory; give the path of a directory"));
-    }
+    let (target, exists, name) = check_directory_target(&output.path)?;
     if exists {
         if inputs_checked {
             refuse_input(&output.path, &target, true)?;
         }
-        refuse_unwritable(&output.path, &target)?;
         refuse_foreign_files(&output.path, &target, &relative)?;
     }
-    let name = target_name(&target)?;
     let parent = parent_of(&target).to_path_buf();
     create_missing(&parent, created).map_err(write_error(&parent))?;
     clean_abandoned(&parent, &name);
@@ -238,9 +227,37 @@ fn stage_directory(
     Ok(())
 }
 
+/// The target of a directory output `given`: the directory with symbolic links and `.` resolved
+/// (so that the swap replaces the directory itself, not a link to it), whether it exists, and its
+/// name. Refuses standard output, a path that is not a directory, and a directory this user may
+/// not write.
+pub(super) fn check_directory_target(given: &Path) -> Result<(PathBuf, bool, String), DataError> {
+    if super::is_standard_output(given) {
+        return Err(invalid(given, "names standard output, but this output is a directory; give the path of a directory"));
+    }
+    let exists = given.exists();
+    let target = if exists { given.canonicalize().map_err(write_error(given))? } else { given.to_path_buf() };
+    if exists && !target.is_dir() {
+        return Err(invalid(given, "exists and is not a directory; give the path of a directory"));
+    }
+    if exists {
+        refuse_unwritable(given, &target)?;
+    }
+    let name = target_name(&target)?;
+    Ok((target, exists, name))
+}
+
+/// Refuses the staged directory `d` when its existing target holds files it does not write.
+pub(super) fn refuse_foreign_in(d: &StagedDirectory) -> Result<(), DataError> {
+    if d.exists {
+        refuse_foreign_files(&d.given, &d.target, &d.relative)?;
+    }
+    Ok(())
+}
+
 /// Creates `dir` and its missing parents, recording each one created (outermost first). A
 /// directory another run creates at the same moment is taken as it is.
-fn create_missing(dir: &Path, created: &mut Vec<PathBuf>) -> std::io::Result<()> {
+pub(super) fn create_missing(dir: &Path, created: &mut Vec<PathBuf>) -> std::io::Result<()> {
     let missing: Vec<&Path> = dir.ancestors().take_while(|d| !d.as_os_str().is_empty() && !d.exists()).collect();
     for d in missing.into_iter().rev() {
         match std::fs::create_dir(d) {

@@ -8,7 +8,7 @@ use super::function::ErrorFunction;
 use super::model::Direction;
 use super::model::ErrorModel;
 use super::ErrorsError;
-use crate::io::ranges::{line_of_key, ANGULAR_ERROR_URAD, LINEAR_ERROR_UM};
+use crate::io::ranges::{line_of_key, ANGULAR_ERROR_URAD, LINEAR_ERROR_UM, MACHINE_LENGTH_MM, ROTARY_POSITION_DEG};
 use crate::machine::{one_line, Machine, ParameterId};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -112,6 +112,7 @@ struct PolynomialFile {
 
 /// Parses an error-values TOML for `machine`; `origin` names the file in every message.
 pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, ErrorsError> {
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|message| ErrorsError::Syntax { origin: origin.into(), message })?;
     let file: ErrorValuesFile =
         toml::from_str(text).map_err(|e| ErrorsError::Syntax { origin: origin.into(), message: one_line(&e.to_string()) })?;
     let mut model = ErrorModel::zero(machine);
@@ -138,7 +139,15 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
         set("constant", name, f)?;
     }
     for (name, t) in &file.table {
-        set(&format!("table.{name}"), name, ErrorFunction::table(t.position.clone(), t.value.clone(), None))?;
+        let section = format!("table.{name}");
+        // positions of the own axis within the physical range of a position of its kind
+        let (id, _) = id_of(&section, name)?;
+        let rotary = id.axis().is_some_and(crate::machine::is_rotary_letter);
+        if let Some((i, m)) = (if rotary { ROTARY_POSITION_DEG } else { MACHINE_LENGTH_MM }).first_outside(&t.position) {
+            let line = line_of_key(text, name).map_or(String::new(), |l| format!("line {l}: "));
+            return Err(invalid(&section, name, format!("{line}position, entry {}: {m}", i + 1)));
+        }
+        set(&section, name, ErrorFunction::table(t.position.clone(), t.value.clone(), None))?;
     }
     for (name, p) in &file.polynomial {
         set(&format!("polynomial.{name}"), name, ErrorFunction::polynomial(p.coefficients.clone()))?;

@@ -212,6 +212,7 @@ impl Campaign {
 
     fn parse_toml(text: &str, origin: &str, dir: &Path, machine: &Machine, require_unknowns: bool) -> Result<Campaign, IdentifyError> {
         let origin = origin.to_string();
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(&origin, m))?;
         let file: CampaignFile = toml::from_str(text).map_err(|e| input(&origin, one_line(&e.to_string())))?;
         let _ = &file.source;
         let dir = dir.to_path_buf();

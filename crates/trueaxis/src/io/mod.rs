@@ -13,6 +13,7 @@ pub mod plausibility;
 pub mod ranges;
 pub mod rtl;
 pub mod text;
+pub mod toml_numbers;
 pub mod units;
 
 pub use metadata::{Environment, Metadata};

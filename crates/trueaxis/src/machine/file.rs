@@ -63,6 +63,7 @@ struct ToolFile {
 pub const DIRECTION_NORM_TOLERANCE: f64 = 1e-4;
 
 pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|message| MachineError::Syntax { origin: origin.to_string(), message })?;
     let file: MachineFile =
         toml::from_str(text).map_err(|e| MachineError::Syntax { origin: origin.to_string(), message: one_line(&e.to_string()) })?;
     let invalid = |message: String| MachineError::Invalid { origin: origin.to_string(), message };
@@ -99,6 +100,7 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
         };
         axes.push(axis(letter, side, spec).map_err(|m| invalid(format!("{}axis {letter}: {m}", at_line(text, key))))?);
     }
+    super::independence::refuse_dependent_linear_axes(&axes).map_err(invalid)?;
     let tool_point = finite_vector(file.tool.point).ok_or_else(|| invalid("[tool] point must be finite numbers (mm)".into()))?;
     if let Some((i, m)) = MACHINE_LENGTH_MM.first_outside(&file.tool.point) {
         let line = text

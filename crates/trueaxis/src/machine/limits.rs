@@ -12,11 +12,36 @@
 //!   rotary correction is the orientation error divided by the sine of the tilt (damped), so
 //!   orientation errors of 0.1 mrad already need a few mrad there (the shipped C600U: 3.4 mrad);
 //!   a unit slip (deg for urad, mrad for urad) is still 100 to 17 000 times beyond it.
+//!
+//! A limit set higher (in the file or for one run) is bounded too, at ten times the defaults:
+//! 10 mm for a linear axis, 0.1 rad (5.7 deg, the largest angular error value trueaxis reads,
+//! `io::ranges`) for a rotary one. A correction beyond them is not of a quasi-static error but of
+//! a wrong nominal geometry, or a value in mm read as um: a limit of `1e308` would let it through.
 
 /// Default largest correction of a linear axis (um).
 pub const DEFAULT_CORRECTION_UM: f64 = 1000.0;
 /// Default largest correction of a rotary axis (urad).
 pub const DEFAULT_CORRECTION_URAD: f64 = 10_000.0;
+/// Largest limit of a linear axis that may be set (um).
+pub const MAX_CORRECTION_UM: f64 = 10.0 * DEFAULT_CORRECTION_UM;
+/// Largest limit of a rotary axis that may be set (urad).
+pub const MAX_CORRECTION_URAD: f64 = 10.0 * DEFAULT_CORRECTION_URAD;
+
+/// Checks a correction limit (`rotary`: urad, else um) named `name` in messages: a positive
+/// number at most [`MAX_CORRECTION_UM`] or [`MAX_CORRECTION_URAD`].
+pub fn check_limit_value(name: &str, value: f64, rotary: bool) -> Result<(), String> {
+    let (max, unit) = if rotary { (MAX_CORRECTION_URAD, "urad") } else { (MAX_CORRECTION_UM, "um") };
+    if !(value.is_finite() && value > 0.0) {
+        return Err(format!("{name} = {value} must be a positive number ({unit})"));
+    }
+    if value > max {
+        return Err(format!(
+            "{name} = {value} {unit} is more than the {max} {unit} a correction limit may be (ten times the default: a larger \
+             correction is not of a machine's quasi-static errors but of a wrong geometry or unit)"
+        ));
+    }
+    Ok(())
+}
 
 /// The `[limits]` of a machine file; `None` where the file does not set a value.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -38,13 +63,13 @@ impl CorrectionLimits {
         self.correction_urad.unwrap_or(DEFAULT_CORRECTION_URAD)
     }
 
-    /// Checks the values of a `[limits]` table: positive finite numbers.
+    /// Checks the values of a `[limits]` table ([`check_limit_value`]).
     pub(super) fn validate(&self) -> Result<(), String> {
-        for (name, v) in [("correction_um", self.correction_um), ("correction_urad", self.correction_urad)] {
+        for (name, v, rotary) in
+            [("[limits] correction_um", self.correction_um, false), ("[limits] correction_urad", self.correction_urad, true)]
+        {
             if let Some(v) = v {
-                if !(v.is_finite() && v > 0.0) {
-                    return Err(format!("[limits] {name} = {v} must be a positive number"));
-                }
+                check_limit_value(name, v, rotary)?;
             }
         }
         Ok(())

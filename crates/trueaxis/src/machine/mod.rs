@@ -4,6 +4,7 @@
 mod axis;
 mod error;
 mod file;
+mod independence;
 mod limits;
 mod parameter;
 mod structure;
@@ -12,7 +13,10 @@ pub use axis::{Axis, AxisKind, Side};
 pub use error::MachineError;
 pub(crate) use file::one_line;
 pub use file::DIRECTION_NORM_TOLERANCE;
-pub use limits::{CorrectionLimits, DEFAULT_CORRECTION_UM, DEFAULT_CORRECTION_URAD};
+pub use independence::MIN_INDEPENDENCE;
+pub use limits::{
+    check_limit_value, CorrectionLimits, DEFAULT_CORRECTION_UM, DEFAULT_CORRECTION_URAD, MAX_CORRECTION_UM, MAX_CORRECTION_URAD,
+};
 pub use parameter::{is_axis_letter, is_rotary_letter, Component, ParameterId, SetupSide};
 pub use structure::Structure;
 

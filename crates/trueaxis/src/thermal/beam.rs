@@ -286,5 +286,6 @@ impl Beam {
 
 /// Reads a beam file's text.
 pub fn read_beam(text: &str, origin: &str) -> Result<BeamFile, ThermalError> {
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(format!("{origin}: {m}")))?;
     toml::from_str(text).map_err(|e| input(format!("{origin}: {}", e.to_string().split_whitespace().collect::<Vec<_>>().join(" "))))
 }

@@ -245,6 +245,7 @@ pub fn read_links(text: &str, origin: &str, dir: &std::path::Path) -> Result<Vec
         theta: Option<toml::Value>,
     }
     let one_line = |e: &dyn std::fmt::Display| e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(format!("{origin}: {m}")))?;
     let file: File = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e))))?;
     let mut links = Vec::new();
     for l in file.link {

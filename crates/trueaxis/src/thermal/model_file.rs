@@ -82,6 +82,7 @@ pub fn load_model(path: impl AsRef<Path>) -> Result<ThermalModel, ThermalError> 
 
 /// Parses a thermal model; `origin` names it in messages, `dir` resolves relative matrix paths.
 pub fn parse_model(text: &str, origin: &str, dir: &Path) -> Result<ThermalModel, ThermalError> {
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(format!("{origin}: {m}")))?;
     let f: ModelFile = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e.to_string()))))?;
     let bad = |m: String| input(format!("{origin}: {m}"));
     let need = |key: &str, v: Option<f64>| -> Result<f64, ThermalError> {

@@ -56,6 +56,7 @@ impl TemperatureModel {
     /// Reads the TOML form; `origin` names it in messages.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<TemperatureModel, ThermalError> {
         let one_line = |e: &dyn std::fmt::Display| e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(format!("{origin}: {m}")))?;
         let mut table: toml::Table = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e))))?;
         match table.remove("kind").as_ref().and_then(|k| k.as_str()) {
             Some("temperature_state_space") => {}

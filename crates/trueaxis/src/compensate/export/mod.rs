@@ -105,12 +105,13 @@ impl Limits {
     }
 
     /// The limits of `machine` with the values given for this run (um, urad) in place of the
-    /// machine file's; an error names a value that is not a positive number.
+    /// machine file's; an error names a value that is not a positive number or beyond the largest
+    /// limit ([`crate::machine::check_limit_value`]).
     pub fn with_overrides(machine: &Machine, max_um: Option<f64>, max_urad: Option<f64>) -> Result<Limits, CompensateError> {
         let mut limits = Limits::of_machine(machine);
-        for (name, v) in [("the linear correction limit (um)", max_um), ("the rotary correction limit (urad)", max_urad)] {
-            if v.is_some_and(|v| !(v.is_finite() && v > 0.0)) {
-                return Err(CompensateError::Input(format!("{name} must be a positive number")));
+        for (name, v, rotary) in [("the linear correction limit", max_um, false), ("the rotary correction limit", max_urad, true)] {
+            if let Some(v) = v {
+                crate::machine::check_limit_value(name, v, rotary).map_err(CompensateError::Input)?;
             }
         }
         if let Some(v) = max_um {
