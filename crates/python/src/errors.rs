@@ -1,7 +1,11 @@
 //! trueaxis errors as Python exceptions: `TrueaxisError`, with `InputError` for bad input (the
-//! command line's exit status 2) and `ComputationError` for a failed computation (exit status 1).
-//! The message is the command line's, without its `trueaxis: error: ` prefix. Warnings and notes
-//! the command line prints on stderr are `TrueaxisWarning`s.
+//! command line's exit status 2), `ComputationError` for a failed computation (exit status 1) and
+//! `ResourceError` for the environment (a full disk, a permission, memory: exit status 3). The kind
+//! is decided here ([`input`], [`computation`]): an error whose chain holds a system error of the
+//! environment (`trueaxis::data::environment_cause`) is a `ResourceError` whichever the caller
+//! said, as the command line decides in one place (`exit.rs`). The message is the command line's,
+//! without its `trueaxis: error: ` prefix. Warnings and notes the command line prints on stderr are
+//! `TrueaxisWarning`s.
 
 use pyo3::create_exception;
 use pyo3::PyErr;
@@ -14,6 +18,12 @@ create_exception!(
 );
 create_exception!(trueaxis, InputError, TrueaxisError, "Bad input: a file, a parameter or a value (the command line's exit status 2).");
 create_exception!(trueaxis, ComputationError, TrueaxisError, "A failed computation, e.g. a rank-deficient identification (exit status 1).");
+create_exception!(
+    trueaxis,
+    ResourceError,
+    TrueaxisError,
+    "The environment failed, not the input: a full disk or quota, a permission, a read-only file system, a device error, memory (the command line's exit status 3)."
+);
 create_exception!(
     trueaxis,
     TrueaxisWarning,
@@ -48,9 +58,12 @@ pub fn message(error: &dyn std::error::Error) -> String {
     text
 }
 
-/// Bad input from a library error.
-pub fn input(error: impl std::error::Error) -> PyErr {
-    InputError::new_err(message(&error))
+/// Bad input from a library error (or the environment, when its chain says so).
+pub fn input(error: impl std::error::Error + 'static) -> PyErr {
+    match trueaxis::data::environment_cause(&error) {
+        Some(_) => ResourceError::new_err(message(&error)),
+        None => InputError::new_err(message(&error)),
+    }
 }
 
 /// Bad input from a message.
@@ -58,9 +71,12 @@ pub fn input_msg(text: impl Into<String>) -> PyErr {
     InputError::new_err(text.into())
 }
 
-/// A failed computation from a library error.
-pub fn computation(error: impl std::error::Error) -> PyErr {
-    ComputationError::new_err(message(&error))
+/// A failed computation from a library error (or the environment, when its chain says so).
+pub fn computation(error: impl std::error::Error + 'static) -> PyErr {
+    match trueaxis::data::environment_cause(&error) {
+        Some(_) => ResourceError::new_err(message(&error)),
+        None => ComputationError::new_err(message(&error)),
+    }
 }
 
 /// A failed computation from a message.

@@ -23,6 +23,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("TrueaxisError", py.get_type::<errors::TrueaxisError>())?;
     m.add("InputError", py.get_type::<errors::InputError>())?;
     m.add("ComputationError", py.get_type::<errors::ComputationError>())?;
+    m.add("ResourceError", py.get_type::<errors::ResourceError>())?;
     m.add("TrueaxisWarning", py.get_type::<errors::TrueaxisWarning>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("PREDICTION_COLUMNS", trueaxis::data::PREDICTION_COLUMNS.iter().map(|(c, _)| *c).collect::<Vec<_>>())?;

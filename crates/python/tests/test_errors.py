@@ -1,5 +1,9 @@
 """trueaxis errors raise the exception of their kind with the command line's message:
-InputError where the CLI exits 2, ComputationError where it exits 1."""
+InputError where the CLI exits 2, ComputationError where it exits 1, ResourceError where it exits 3
+(the environment: a full disk, a permission)."""
+
+import os
+import stat
 
 import numpy as np
 import pytest
@@ -14,6 +18,29 @@ KX = EX / "machines" / "kx8five.toml"
 def test_the_classes():
     assert issubclass(ta.InputError, ta.TrueaxisError) and issubclass(ta.ComputationError, ta.TrueaxisError)
     assert issubclass(ta.TrueaxisError, Exception) and not issubclass(ta.InputError, ta.ComputationError)
+    assert issubclass(ta.ResourceError, ta.TrueaxisError) and not issubclass(ta.ResourceError, ta.InputError)
+
+
+def full_device(tmp_path):
+    """A device on which every write fails with ENOSPC: as root a private node (the numbers of
+    /dev/full), so that a regression could never replace the system's; else /dev/full."""
+    if os.geteuid() != 0:
+        return "/dev/full"
+    device = tmp_path / "full"
+    os.mknod(device, 0o666 | stat.S_IFCHR, os.makedev(1, 7))
+    return str(device)
+
+
+def test_a_full_disk_is_the_environment_with_the_cli_message(tmp_path):
+    # a device is written in place, never replaced
+    full = full_device(tmp_path)
+    campaign = EX / "thermal" / "campaign.csv"
+    code, message = cli_error("thermal", "fit", "--data", campaign, "--error", "dz", "--train-runs", "warmup", "--out", full)
+    assert code == 3 and "No space left on device" in message
+    with pytest.raises(ta.ResourceError) as e:
+        ta.thermal_fit(campaign, "dz", train_runs=["warmup"], out=full)
+    assert str(e.value) == message
+    assert stat.S_ISCHR(os.stat(full).st_mode)
 
 
 def test_a_missing_machine_file_is_bad_input_with_the_cli_message(tmp_path):

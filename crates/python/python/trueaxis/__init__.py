@@ -4,7 +4,8 @@ Python bindings of the Rust library (docs/python.md). Units as everywhere in tru
 positions in mm (linear) and deg (rotary); errors in um (translations) and urad (rotations);
 temperatures in degC; time in s. Results are numpy arrays, or dicts with the keys of the
 command line's ``--json`` documents. Errors raise ``TrueaxisError``: ``InputError`` for bad input
-(the command line's exit status 2), ``ComputationError`` for a failed computation (exit 1). What
+(the command line's exit status 2), ``ComputationError`` for a failed computation (exit 1),
+``ResourceError`` for the environment (a full disk, a permission, memory: exit 3). What
 the command line prints on stderr as warnings or notes is issued as ``TrueaxisWarning``.
 """
 
@@ -19,6 +20,7 @@ from ._native import (
     Identification,
     InputError,
     Machine,
+    ResourceError,
     Sources,
     TrueaxisError,
     TrueaxisWarning,
@@ -46,6 +48,7 @@ __all__ = [
     "Identification",
     "InputError",
     "Machine",
+    "ResourceError",
     "Sources",
     "TrueaxisError",
     "TrueaxisWarning",

@@ -26,6 +26,9 @@ class InputError(TrueaxisError):
 class ComputationError(TrueaxisError):
     """A failed computation, e.g. a rank-deficient identification (exit status 1)."""
 
+class ResourceError(TrueaxisError):
+    """The environment failed, not the input: a full disk or quota, a permission, a read-only file system, a device error, memory (the command line's exit status 3)."""
+
 class TrueaxisWarning(UserWarning):
     """A warning or note the command line prints on stderr (plausibility findings, corrections applied)."""
 

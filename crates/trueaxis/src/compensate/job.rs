@@ -144,8 +144,9 @@ pub fn compensation(corrector: &Corrector, request: &CompensationRequest) -> Res
     let extent = largest_corrections(&input, request.format.coverage());
     // the export borrows the tables and the grid, which the result takes
     drop(exported);
-    // the poses are corrected as they are written; their file and inputs are checked now
-    if let Some(path) = &request.poses {
+    // the poses are corrected as they are written; the head of a file that can be read twice (not
+    // a pipe) and the inputs it gives are checked now
+    if let Some(path) = request.poses.as_ref().filter(|p| p.is_file()) {
         pose_stream(corrector, path, &request.temperatures)?;
     }
     let poses_request = request.poses.clone().map(|p| (p, request.temperatures.clone(), request.limits));

@@ -18,7 +18,8 @@ pub const MIN_INDEPENDENCE: f64 = 0.01;
 
 /// Refuses linear axes that are parallel or dependent, naming them.
 pub(super) fn refuse_dependent_linear_axes(axes: &[Axis]) -> Result<(), String> {
-    let linear: Vec<&Axis> = axes.iter().filter(|a| a.kind == AxisKind::Linear).collect();
+    let mut linear: Vec<&Axis> = axes.iter().filter(|a| a.kind == AxisKind::Linear).collect();
+    linear.sort_by_key(|a| "XYZUVW".find(a.letter));
     let letters = |set: &[&Axis]| set.iter().map(|a| a.letter.to_string()).collect::<Vec<_>>();
     if linear.len() > 3 {
         return Err(format!(

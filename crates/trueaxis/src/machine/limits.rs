@@ -31,12 +31,13 @@ pub const MAX_CORRECTION_URAD: f64 = 10.0 * DEFAULT_CORRECTION_URAD;
 /// number at most [`MAX_CORRECTION_UM`] or [`MAX_CORRECTION_URAD`].
 pub fn check_limit_value(name: &str, value: f64, rotary: bool) -> Result<(), String> {
     let (max, unit) = if rotary { (MAX_CORRECTION_URAD, "urad") } else { (MAX_CORRECTION_UM, "um") };
+    let shown = if (1e-3..1e6).contains(&value.abs()) { format!("{value}") } else { format!("{value:e}") };
     if !(value.is_finite() && value > 0.0) {
-        return Err(format!("{name} = {value} must be a positive number ({unit})"));
+        return Err(format!("{name} = {shown} must be a positive number ({unit})"));
     }
     if value > max {
         return Err(format!(
-            "{name} = {value} {unit} is more than the {max} {unit} a correction limit may be (ten times the default: a larger \
+            "{name} = {shown} {unit} is more than the {max} {unit} a correction limit may be (ten times the default: a larger \
              correction is not of a machine's quasi-static errors but of a wrong geometry or unit)"
         ));
     }

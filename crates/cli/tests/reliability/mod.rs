@@ -1,0 +1,86 @@
+//! Reliability round two (docs/reliability.md): each defect the attacks beyond the bad-input suite
+//! found is a test here. Outputs (`outputs`): devices, FIFOs and links to them written in place,
+//! `-` and `/dev/stdout`, an output that is an input refused for every command, a file this user
+//! may not write, several runs making one directory, a full disk and a read-only file system with
+//! exit status 3. Signals (`signals`): SIGINT, SIGTERM, SIGHUP remove the run's temporaries.
+//! Memory (`memory`): predict and compensate --poses under `ulimit -v` on an input ten times the
+//! limit, and an allocation that cannot be met reported. Inputs (`inputs`): pose columns of axes
+//! the machine lacks, parallel linear axes, unbounded limits, numbers that underflow to zero,
+//! table positions out of range. Cases that need root (mknod, mount, another user) print why they
+//! are skipped when it is missing; CI runs as root.
+
+mod inputs;
+mod memory;
+mod outputs;
+mod signals;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+pub const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+
+pub fn example(path: &str) -> PathBuf {
+    Path::new(ROOT).join(path)
+}
+
+/// `trueaxis` with `args`, run in the repository.
+pub fn trueaxis(args: &[&str]) -> Command {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_trueaxis"));
+    c.args(args).current_dir(ROOT);
+    c
+}
+
+/// Runs `args`; (exit status, stdout, stderr).
+pub fn run(args: &[&str]) -> (Option<i32>, Vec<u8>, String) {
+    let Output { status, stdout, stderr } = trueaxis(args).output().unwrap();
+    (status.code(), stdout, String::from_utf8_lossy(&stderr).into_owned())
+}
+
+/// Whether the tests run as root (mknod, mount, other users).
+pub fn is_root() -> bool {
+    Command::new("id").arg("-u").output().is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0")
+}
+
+/// The names in `dir`, sorted.
+pub fn names(dir: &Path) -> Vec<String> {
+    let mut n: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    n.sort();
+    n
+}
+
+/// A tmpfs of `size` mounted at `dir` (root only), unmounted when dropped.
+pub struct Mount(PathBuf);
+
+impl Mount {
+    pub fn tmpfs(dir: &Path, options: &str) -> Mount {
+        std::fs::create_dir_all(dir).unwrap();
+        let s = Command::new("mount").args(["-t", "tmpfs", "-o", options, "tmpfs"]).arg(dir).status().unwrap();
+        assert!(s.success(), "mount -t tmpfs -o {options}");
+        Mount(dir.to_path_buf())
+    }
+}
+
+impl Drop for Mount {
+    fn drop(&mut self) {
+        let _ = Command::new("umount").arg(&self.0).status();
+    }
+}
+
+/// A full device (every write fails with ENOSPC): as root a private node in `dir` (mknod c 1 7),
+/// so that a regression could never replace the system's /dev/full; else /dev/full itself (which a
+/// user may not replace).
+pub fn full_device(dir: &Path) -> PathBuf {
+    if !is_root() {
+        return PathBuf::from("/dev/full");
+    }
+    let device = dir.join("full-device");
+    assert!(Command::new("mknod").arg(&device).args(["c", "1", "7"]).status().unwrap().success());
+    device
+}
+
+/// vmc3 files copied into `dir`: m.toml, e.toml, p.csv.
+pub fn vmc3_in(dir: &Path) {
+    std::fs::copy(example("examples/machines/vmc3.toml"), dir.join("m.toml")).unwrap();
+    std::fs::copy(example("examples/errors/vmc3.toml"), dir.join("e.toml")).unwrap();
+    std::fs::copy(example("examples/poses/vmc3.csv"), dir.join("p.csv")).unwrap();
+}
