@@ -1,7 +1,7 @@
 //! Inputs (items 6, 10, 18, 19): each refused as bad input (exit 2) with one line naming the file,
 //! the line or the option, and nothing written.
 
-use super::{example, run};
+use super::{example, run, vmc3_compensate};
 
 /// `(what, file name, contents, arguments with {f} for the file and {out} for the output, what
 /// the message must hold)`.
@@ -43,19 +43,7 @@ fn cases() -> Vec<Case> {
         "--out",
         "{out}",
     ];
-    let compensate_poses = vec![
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--format",
-        "csv",
-        "--poses",
-        "{f}",
-        "--out",
-        "{out}",
-    ];
+    let compensate_poses = vmc3_compensate(&["--poses", "{f}", "--out", "{out}"]);
     let with = |from: &str, to: &str, text: &str| {
         assert!(text.contains(from), "the example lacks `{from}`");
         text.replacen(from, to, 1)
@@ -153,37 +141,13 @@ fn correction_limits_beyond_ten_times_the_default_are_refused() {
     ] {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("comp");
-        let (code, _, err) = run(&[
-            "compensate",
-            "--machine",
-            "examples/machines/vmc3.toml",
-            "--errors",
-            "examples/errors/vmc3.toml",
-            "--format",
-            "csv",
-            option,
-            value,
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let (code, _, err) = run(&vmc3_compensate(&[option, value, "--out", out.to_str().unwrap()]));
         assert!(code == Some(2) && err.contains(expect), "{option} {value}: {code:?} {err}");
         assert!(!out.exists());
     }
     // the bound itself is allowed
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("comp");
-    let (code, _, err) = run(&[
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--format",
-        "csv",
-        "--limit-um",
-        "10000",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (code, _, err) = run(&vmc3_compensate(&["--limit-um", "10000", "--out", out.to_str().unwrap()]));
     assert_eq!(code, Some(0), "{err}");
 }

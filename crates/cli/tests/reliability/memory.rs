@@ -89,12 +89,7 @@ fn predict_and_compensate_poses_run_on_ten_times_their_memory() {
     assert_eq!(String::from_utf8(whole.stdout).unwrap().lines().collect::<Vec<_>>(), run.head);
     // compensate --poses streams corrections.csv into its output directory
     let out = dir.path().join("comp");
-    let compensate = [
-        &["compensate"][..],
-        &machine,
-        &["--format", "csv", "--grid", "3,3,3", "--points", "5", "--poses", "/dev/stdin", "--out", out.to_str().unwrap()],
-    ]
-    .concat();
+    let compensate = super::vmc3_compensate(&["--grid", "3,3,3", "--points", "5", "--poses", "/dev/stdin", "--out", out.to_str().unwrap()]);
     let run = under_limit(&compensate, ten_times);
     assert_eq!(run.code, Some(0), "{}", run.err);
     let corrections = BufReader::new(std::fs::File::open(out.join("corrections.csv")).unwrap()).lines().count() as u64;
@@ -110,8 +105,7 @@ fn an_allocation_that_cannot_be_met_is_reported() {
     let command = format!("ulimit -v {}; exec \"$0\" \"$@\"", 3 * LIMIT_KIB);
     let o = Command::new("sh")
         .args(["-c", &command, env!("CARGO_BIN_EXE_trueaxis")])
-        .args(["compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "--format", "csv"])
-        .args(["--grid", "100,100,100", "--points", "2", "--out", out.to_str().unwrap()])
+        .args(super::vmc3_compensate(&["--grid", "100,100,100", "--points", "2", "--out", out.to_str().unwrap()]))
         .current_dir(super::ROOT)
         .output()
         .unwrap();

@@ -78,6 +78,12 @@ pub fn full_device(dir: &Path) -> PathBuf {
     device
 }
 
+/// `compensate` of the vmc3 example into CSV files, with `extra` options.
+pub fn vmc3_compensate<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+    let base = ["compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "--format", "csv"];
+    [&base[..], extra].concat()
+}
+
 /// vmc3 files copied into `dir`: m.toml, e.toml, p.csv.
 pub fn vmc3_in(dir: &Path) {
     std::fs::copy(example("examples/machines/vmc3.toml"), dir.join("m.toml")).unwrap();

@@ -1,6 +1,6 @@
 //! Outputs (issue 38 items 1, 3, 9, 11, 13, 14 and the exit status of the environment).
 
-use super::{example, full_device, is_root, names, run, trueaxis, vmc3_in, Mount, ROOT};
+use super::{example, full_device, is_root, names, run, trueaxis, vmc3_compensate, vmc3_in, Mount, ROOT};
 use std::process::{Command, Stdio};
 
 fn predict_args<'a>(dir: &'a str, out: &'a str) -> Vec<String> {
@@ -187,19 +187,7 @@ fn an_output_that_is_an_input_is_refused_for_every_command() {
     let poses = d.join("comp/p.csv");
     std::fs::create_dir(d.join("comp")).unwrap();
     std::fs::copy(example("examples/poses/vmc3.csv"), &poses).unwrap();
-    let (code, _, err) = run(&[
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--format",
-        "csv",
-        "--poses",
-        poses.to_str().unwrap(),
-        "--out",
-        d.join("comp").to_str().unwrap(),
-    ]);
+    let (code, _, err) = run(&vmc3_compensate(&["--poses", poses.to_str().unwrap(), "--out", d.join("comp").to_str().unwrap()]));
     assert!(code == Some(2) && err.contains("--out is a directory this run replaces whole, and it holds the input --poses"), "{err}");
     assert!(poses.exists());
 }
@@ -310,25 +298,11 @@ fn runs_making_the_same_new_directory_at_once_all_succeed() {
     let out = tmp.path().join("new/comp");
     let children: Vec<_> = (0..6)
         .map(|_| {
-            trueaxis(&[
-                "compensate",
-                "--machine",
-                "examples/machines/vmc3.toml",
-                "--errors",
-                "examples/errors/vmc3.toml",
-                "--format",
-                "csv",
-                "--grid",
-                "5,5,5",
-                "--points",
-                "11",
-                "--out",
-                out.to_str().unwrap(),
-            ])
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
-            .spawn()
-            .unwrap()
+            trueaxis(&vmc3_compensate(&["--grid", "5,5,5", "--points", "11", "--out", out.to_str().unwrap()]))
+                .stdout(Stdio::null())
+                .stderr(Stdio::piped())
+                .spawn()
+                .unwrap()
         })
         .collect();
     for child in children {

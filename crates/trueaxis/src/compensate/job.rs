@@ -12,7 +12,7 @@ use super::{
     axis_tables, compensation_json, correct_batch, residual_of_format, round4, volumetric_grid, CompensateError, Corrector, ExportFormat,
     FormatResidual, TableSet, TableSpec, VolumetricGrid,
 };
-use crate::data::{OutputSet, PoseStream, CHUNK};
+use crate::data::{push_fixed, OutputSet, PoseStream, CHUNK};
 use crate::errors::ErrorModel;
 use crate::machine::Machine;
 use serde_json::{json, Value};
@@ -193,6 +193,7 @@ pub fn correct_poses(
         let (user, lines) = (&chunk.poses.user, &chunk.poses.lines);
         let corrections = correct_batch(corrector, &chunk.poses.internal(machine), chunk.poses.directions.as_deref(), &chunk.inputs);
         let mut text = String::with_capacity(corrections.len() * 16 * (2 * n + 3));
+        use std::fmt::Write as _;
         for (i, c) in corrections.iter().enumerate() {
             if !c.converged {
                 return Err(CompensateError::Computation(format!(
@@ -208,11 +209,18 @@ pub fn correct_poses(
                     e => e,
                 })?;
             }
-            let mut row: Vec<String> = user[i * n..(i + 1) * n].iter().map(|v| format!("{v}")).collect();
-            row.extend((0..n).map(|k| format!("{:.4}", to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])))));
+            for v in &user[i * n..(i + 1) * n] {
+                let _ = write!(text, "{v},");
+            }
+            for k in 0..n {
+                push_fixed(&mut text, to_micro(machine, k, machine.axes()[k].position_to_user(c.dq[k])), 4);
+                text.push(',');
+            }
             let (e, r, o) = (c.original_position.norm() * 1e3, c.residual_position.norm() * 1e3, c.uncorrectable_orientation.norm() * 1e6);
-            row.extend([format!("{e:.4}"), format!("{r:.6}"), format!("{o:.3}")]);
-            text += &(row.join(",") + "\n");
+            for (v, decimals, end) in [(e, 4, ','), (r, 6, ','), (o, 3, '\n')] {
+                push_fixed(&mut text, v, decimals);
+                text.push(end);
+            }
             worst_error = worst_error.max(e);
             worst_residual = worst_residual.max(r);
             worst_orientation = worst_orientation.max(o);

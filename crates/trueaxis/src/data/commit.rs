@@ -200,15 +200,8 @@ fn sync_directory(dir: &Path) -> std::io::Result<()> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::output_set::tests::names;
     use super::super::OutputSet;
-    use std::io::Write;
-    use std::path::Path;
-
-    fn names(dir: &Path) -> Vec<String> {
-        let mut n: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
-        n.sort();
-        n
-    }
 
     #[test]
     fn streamed_contents_are_committed_whole_or_not_at_all() {

@@ -25,6 +25,7 @@ mod working_directory;
 
 pub use columns::{CsvTable, Layout};
 pub use environment::{environment_cause, is_environment};
+pub(crate) use output::push_fixed;
 pub use output::{predictions_csv, predictions_json, PredictionFormat, PredictionWriter, PREDICTION_COLUMNS};
 pub use output_set::{write_atomically, write_streamed, OutputSet, PreparedSet};
 pub use pose_stream::{PoseChunk, PoseStream, MAX_PREAMBLE};

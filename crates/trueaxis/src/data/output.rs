@@ -30,6 +30,29 @@ fn first_not_finite(errors: &[VolumetricError]) -> Option<usize> {
     errors.iter().position(|e| e.to_user_units().iter().any(|v| !v.is_finite()))
 }
 
+/// Appends `v` with `decimals` digits after the point, the same text as `format!("{v:.decimals$}")`
+/// (the exact binary value rounded half to even) at a fraction of its cost: `v * 10^decimals`
+/// rounded to an integer is that rounding whenever the product (off by at most 1.1e-7 below 1e9)
+/// is not within 1e-6 of a half; near a half, and for larger values, the standard formatting is
+/// used. Tables of millions of rows spend most of their time here otherwise.
+pub(crate) fn push_fixed(out: &mut String, v: f64, decimals: usize) {
+    use std::fmt::Write;
+    const POWERS: [f64; 7] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6];
+    let scaled = v * POWERS[decimals.min(6)];
+    let rounded = scaled.round();
+    if decimals > 6 || !(rounded.abs() < 1e9) || (scaled - rounded).abs() > 0.5 - 1e-6 {
+        let _ = write!(out, "{v:.decimals$}");
+        return;
+    }
+    let n = rounded.abs() as u64;
+    let unit = 10u64.pow(decimals as u32);
+    let sign = if v.is_sign_negative() { "-" } else { "" };
+    let _ = match decimals {
+        0 => write!(out, "{sign}{n}"),
+        _ => write!(out, "{sign}{}.{:0decimals$}", n / unit, n % unit),
+    };
+}
+
 /// One CSV row: positions as given, errors to 0.1 nm / 0.1 nrad.
 fn csv_row(out: &mut String, pose: &[f64], error: &VolumetricError) {
     use std::fmt::Write;
@@ -37,7 +60,10 @@ fn csv_row(out: &mut String, pose: &[f64], error: &VolumetricError) {
         let _ = write!(out, "{v},");
     }
     for (k, v) in error.to_user_units().iter().enumerate() {
-        let _ = write!(out, "{}{v:.4}", if k == 0 { "" } else { "," });
+        if k > 0 {
+            out.push(',');
+        }
+        push_fixed(out, *v, 4);
     }
     out.push('\n');
 }
@@ -186,6 +212,32 @@ pub fn predictions_json(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn fixed_point_text_equals_the_standard_formatting() {
+        let mut rng = 0x2545f4914f6cdd1du64;
+        let mut next = || {
+            rng ^= rng << 13;
+            rng ^= rng >> 7;
+            rng ^= rng << 17;
+            rng
+        };
+        let mut values: Vec<f64> =
+            vec![0.0, -0.0, 0.5, 1.5, 2.5, -2.5, 0.00005, -0.00005, 0.00015, 1e-320, -1e-9, 99999.99995, 1e12, -3e15, 5.2001];
+        for _ in 0..200_000 {
+            let mantissa = (next() % 2_000_000_001) as f64 / 1e3 - 1e6;
+            values.push(mantissa * [1.0, 1e-3, 1e-6, 0.5, 1e3][(next() % 5) as usize]);
+            // exact halves at every scale of interest
+            values.push((next() % 100_000) as f64 / 2e4 * if next() % 2 == 0 { 1.0 } else { -1.0 });
+        }
+        for v in values {
+            for decimals in [0, 3, 4, 6] {
+                let mut fast = String::new();
+                push_fixed(&mut fast, v, decimals);
+                assert_eq!(fast, format!("{v:.decimals$}"), "{v:e} to {decimals} decimals");
+            }
+        }
+    }
 
     #[test]
     fn streamed_tables_equal_whole_ones_byte_for_byte() {

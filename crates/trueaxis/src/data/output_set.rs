@@ -167,10 +167,11 @@ pub fn write_streamed<E: From<DataError>>(path: &Path, produce: impl FnOnce(&mut
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
-    fn names(dir: &Path) -> Vec<String> {
+    /// The names in `dir`, sorted (for the tests of the output layer).
+    pub(in crate::data) fn names(dir: &Path) -> Vec<String> {
         let mut n: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
         n.sort();
         n
