@@ -45,9 +45,9 @@ fn out_of_memory(size: usize) -> ! {
         None => "its temporary files are removed by the next run",
     };
     use std::io::Write;
-    let _ = write!(
+    let _ = writeln!(
         text,
-        "trueaxis: error: out of memory: {mib:.1} MiB more could not be allocated (the limit of this process, `ulimit -v`, or the memory of the machine); the run stopped, {cleaned}\n"
+        "trueaxis: error: out of memory: {mib:.1} MiB more could not be allocated (the limit of this process, `ulimit -v`, or the memory of the machine); the run stopped, {cleaned}"
     );
     let len = 400 - text.len();
     // SAFETY: writes `len` initialised bytes of `buffer` to stderr, then ends the process without

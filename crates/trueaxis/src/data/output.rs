@@ -40,7 +40,9 @@ pub(crate) fn push_fixed(out: &mut String, v: f64, decimals: usize) {
     const POWERS: [f64; 7] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6];
     let scaled = v * POWERS[decimals.min(6)];
     let rounded = scaled.round();
-    if decimals > 6 || !(rounded.abs() < 1e9) || (scaled - rounded).abs() > 0.5 - 1e-6 {
+    // a value that is not finite, or beyond 1e9 scaled, goes to the standard formatting too
+    let within = rounded.abs() < 1e9;
+    if decimals > 6 || !within || (scaled - rounded).abs() > 0.5 - 1e-6 {
         let _ = write!(out, "{v:.decimals$}");
         return;
     }
@@ -132,7 +134,7 @@ impl<'a> PredictionWriter<'a> {
                 // the document's own key order, split where its poses go
                 let empty = json_document(machine, frame, Vec::new()).to_string();
                 let at = empty.find("\"poses\":[]").expect("the poses key") + "\"poses\":[".len();
-                out.write_all(empty[..at].as_bytes()).map_err(write_error)?;
+                out.write_all(&empty.as_bytes()[..at]).map_err(write_error)?;
                 format!("{}\n", &empty[at..])
             }
         };

@@ -58,7 +58,7 @@ fn volume(axes: &[&Axis]) -> f64 {
 }
 
 /// Every subset of `size` elements of `items` (at most three of them here).
-fn subsets<'a, T: Copy>(items: &[T], size: usize) -> Vec<Vec<T>> {
+fn subsets<T: Copy>(items: &[T], size: usize) -> Vec<Vec<T>> {
     if size == 0 {
         return vec![Vec::new()];
     }
