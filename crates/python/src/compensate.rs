@@ -78,9 +78,10 @@ fn axis_values(machine: &Machine, values: &HashMap<String, f64>, what: &str) -> 
 /// `T:<sensor>` columns, else `temperatures`), into `corrections.csv` (d<axis> in um or urad, the
 /// error before and the residual after in um, the orientation not corrected in urad). The summary
 /// says what the format leaves out and the error it leaves over the travel (`format_residual`,
-/// um), and summarises the corrected poses (`poses`), as `trueaxis compensate --json`.
+/// um), and summarises the corrected poses (`poses`), as `trueaxis compensate --json`. Files that
+/// would leave more error than they remove are refused (InputError) unless `force`.
 #[pyfunction]
-#[pyo3(signature = (machine, errors, format, out, *, points = 41, grid = [9, 9, 9], reference = None, limit_um = None, limit_urad = None, comp_type = 1, max_lattice_points = None, max_table_points = None, max_cec_tables = None, hal_component = "trueaxis_comp".to_string(), temperatures = None, poses = None))]
+#[pyo3(signature = (machine, errors, format, out, *, points = 41, grid = [9, 9, 9], reference = None, limit_um = None, limit_urad = None, comp_type = 1, max_lattice_points = None, max_table_points = None, max_cec_tables = None, hal_component = "trueaxis_comp".to_string(), temperatures = None, poses = None, force = false))]
 #[allow(clippy::too_many_arguments)]
 pub fn compensate(
     py: Python<'_>,
@@ -100,13 +101,14 @@ pub fn compensate(
     hal_component: String,
     temperatures: Option<HashMap<String, f64>>,
     poses: Option<PathBuf>,
+    force: bool,
 ) -> PyResult<Py<PyAny>> {
     let temperatures = given_temperatures(errors, temperatures)?;
     let reference = reference.map(|r| axis_values(machine, &r, "reference")).transpose()?;
     let limits = limits(&machine.inner, limit_um, limit_urad)?;
     let options = FormatOptions { comp_type, max_lattice_points, max_table_points, max_cec_tables, hal_component };
     let format = ExportFormat::parse(format, &options).map_err(input_msg)?;
-    let request = CompensationRequest { format, points, grid, reference, limits, temperatures, poses };
+    let request = CompensationRequest { format, points, grid, reference, limits, temperatures, poses, force };
     let corrector = Corrector::new(&machine.inner, &errors.inner);
     let job = py.detach(|| compensation(&corrector, &request)).map_err(failure)?;
     job.write(&out).map_err(failure)?;

@@ -424,6 +424,30 @@ impl ErrorModel {
         model
     }
 
+    /// The model without the errors of parameters `drop` selects (their functions and every term,
+    /// load and drift of them), e.g. the setup errors of a measurement (`TX .. WZ`), which belong to
+    /// the instrument's set-up and not to the machine.
+    pub fn without(&self, drop: impl Fn(&ParameterId) -> bool) -> ErrorModel {
+        let mut model = self.clone();
+        model.entries.retain(|e| !drop(&e.id));
+        model.terms.retain(|t| !drop(&t.id));
+        model.loads.retain(|l| !drop(&l.id));
+        model.drifts.retain(|d| !drop(&d.id));
+        model.plan();
+        model
+    }
+
+    /// The model's functions alone: without its product, load and drift terms (what depends on
+    /// several axes, on inputs, or on history).
+    pub fn functions_only(&self) -> ErrorModel {
+        let mut model = self.clone();
+        model.terms.clear();
+        model.loads.clear();
+        model.drifts.clear();
+        model.plan();
+        model
+    }
+
     /// Whether the model defines no error at all (no function, term, load or drift).
     pub fn is_empty(&self) -> bool {
         self.entries.is_empty() && self.terms.is_empty() && self.loads.is_empty() && self.drifts.is_empty()

@@ -10,10 +10,12 @@
 //! chosen format cannot remove, in um, at the worst pose and as an RMS over the poses. A calibration
 //! report shows this as "after compensation" with that table.
 
+use super::rigid_fit::RigidFit;
 use crate::compensate::correction::{CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget};
 use crate::compensate::tables::{table_range, AxisTable, VolumetricGrid};
 use crate::compensate::CompensateError;
 use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::geometry::Vec3;
 use crate::machine::{AxisKind, Machine};
 use rayon::prelude::*;
 
@@ -137,7 +139,10 @@ impl Applied for ModelCorrection<'_> {
 }
 
 /// The error a format leaves over the travel (exact chain, position of the tool point relative to
-/// the workpiece).
+/// the workpiece), judged up to the placement of the workpiece: before and after compensation, the
+/// reached points are aligned to the programmed ones by the least-squares rigid motion of the
+/// workpiece frame ([`RigidFit`]; a table frame that is shifted or tilted as a whole is where the
+/// workpiece datum puts it when the workpiece is probed, not an error of the machine).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FormatResidual {
     /// Largest position error left (um) ...
@@ -152,8 +157,22 @@ pub struct FormatResidual {
     pub rms_um: f64,
     /// Largest error before correction over the same poses (um).
     pub worst_error_um: f64,
+    /// Root mean square of the error before correction over the same poses (um).
+    pub rms_error_um: f64,
     /// Poses times states evaluated.
     pub samples: usize,
+    /// The workpiece frame's best placement before and after (the datum a workpiece probe would
+    /// set; rotation vector in rad, shift in mm, in the workpiece frame).
+    pub placement_before: RigidFit,
+    pub placement_after: RigidFit,
+}
+
+impl FormatResidual {
+    /// Whether the files leave more error than they remove: the worst error left is more than half
+    /// the worst error before (what is removed, `before - left`, is then less than what is left).
+    pub fn leaves_more_than_it_removes(&self) -> bool {
+        self.worst_um > 0.5 * self.worst_error_um
+    }
 }
 
 /// Poses spread over the travel: a full factorial of `levels` equally spaced positions per axis over
@@ -185,7 +204,8 @@ pub fn sample_poses(machine: &Machine) -> Result<Vec<f64>, CompensateError> {
 /// The error left when the controller applies `applied` instead of the exact correction, over
 /// [`sample_poses`] at the sensor temperatures `temperatures` (degC; empty: 20 degC), at rest and,
 /// when the error model depends on the direction of motion, with all axes moving up and all moving
-/// down. Each pose costs one exact-chain evaluation for the error before and one after.
+/// down; before and after, each up to the best placement of the workpiece frame ([`RigidFit`]).
+/// Each pose costs one exact-chain evaluation for the error before and one after.
 pub fn residual_of_format(corrector: &Corrector, temperatures: &[f64], applied: &dyn Applied) -> Result<FormatResidual, CompensateError> {
     let m = corrector.machine;
     let n = m.axis_count();
@@ -196,14 +216,15 @@ pub fn residual_of_format(corrector: &Corrector, temperatures: &[f64], applied: 
     } else {
         &[("at rest", None)]
     };
-    // (left, before, pose index, state index) per sample
-    let results: Vec<(f64, f64, usize, usize)> = (0..poses.len() / n)
+    // per sample: (nominal relative position, error before, error after, pose index, state index)
+    let samples: Vec<(Vec3, Vec3, Vec3, usize, usize)> = (0..poses.len() / n)
         .into_par_iter()
         .map_init(
             || (CorrectionWorkspace::new(m), vec![0.0; n], vec![0.0; n], vec![0.0; n]),
             |(ws, q, dq_user, dq), i| {
                 let user = &poses[i * n..(i + 1) * n];
                 m.pose_to_internal(user, q);
+                let nominal = corrector.nominal_relative_position(q);
                 states
                     .iter()
                     .enumerate()
@@ -214,29 +235,43 @@ pub fn residual_of_format(corrector: &Corrector, temperatures: &[f64], applied: 
                         for k in 0..n {
                             dq[k] = m.axes()[k].position_to_internal(dq_user[k]);
                         }
-                        let before = corrector.residual_at(q, &vec![0.0; n], &state, ws).0.norm() * 1e3;
-                        let left = corrector.residual_at(q, dq, &state, ws).0.norm() * 1e3;
-                        (left, before, i, s)
+                        let before = corrector.residual_at(q, &vec![0.0; n], &state, ws).0;
+                        let after = corrector.residual_at(q, dq, &state, ws).0;
+                        (nominal, before, after, i, s)
                     })
                     .collect::<Vec<_>>()
             },
         )
         .flatten()
         .collect();
-    if let Some(&(_, _, i, _)) = results.iter().find(|r| !(r.0.is_finite() && r.1.is_finite())) {
+    if let Some(&(_, _, _, i, _)) = samples.iter().find(|r| !(r.1.iter().chain(r.2.iter()).all(|v| v.is_finite()))) {
         return Err(CompensateError::Computation(format!(
             "the residual of the format is not finite at pose {:?}",
             &poses[i * n..(i + 1) * n]
         )));
     }
-    let worst = results.iter().max_by(|a, b| a.0.total_cmp(&b.0)).expect("at least one pose");
+    let nominal: Vec<Vec3> = samples.iter().map(|s| s.0).collect();
+    let reached =
+        |error: &dyn Fn(&(Vec3, Vec3, Vec3, usize, usize)) -> Vec3| -> Vec<Vec3> { samples.iter().map(|s| s.0 + error(s)).collect() };
+    let (reached_before, reached_after) = (reached(&|s| s.1), reached(&|s| s.2));
+    let (placement_before, placement_after) = (RigidFit::of(&nominal, &reached_before), RigidFit::of(&nominal, &reached_after));
+    // errors in um after the placement
+    let left =
+        |fit: &RigidFit, reached: &[Vec3]| -> Vec<f64> { nominal.iter().zip(reached).map(|(n, a)| fit.left(n, a).norm() * 1e3).collect() };
+    let (before, after) = (left(&placement_before, &reached_before), left(&placement_after, &reached_after));
+    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
+    let worst = (0..after.len()).max_by(|&a, &b| after[a].total_cmp(&after[b])).expect("at least one pose");
+    let (_, _, _, pose, state) = samples[worst];
     Ok(FormatResidual {
-        worst_um: worst.0,
-        worst_pose: poses[worst.2 * n..(worst.2 + 1) * n].to_vec(),
-        worst_state: states[worst.3].0,
-        error_there_um: worst.1,
-        rms_um: (results.iter().map(|r| r.0 * r.0).sum::<f64>() / results.len() as f64).sqrt(),
-        worst_error_um: results.iter().map(|r| r.1).fold(0.0, f64::max),
-        samples: results.len(),
+        worst_um: after[worst],
+        worst_pose: poses[pose * n..(pose + 1) * n].to_vec(),
+        worst_state: states[state].0,
+        error_there_um: before[worst],
+        rms_um: rms(&after),
+        worst_error_um: before.iter().copied().fold(0.0, f64::max),
+        rms_error_um: rms(&before),
+        samples: samples.len(),
+        placement_before,
+        placement_after,
     })
 }
