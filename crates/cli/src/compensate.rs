@@ -253,8 +253,10 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
         if let Some(r) = residual {
             let at: Vec<String> =
                 machine.axes().iter().zip(&r.worst_pose).map(|(a, v)| format!("{}={}", a.letter, (v * 1e3).round() / 1e3)).collect();
+            let moving =
+                if machine.axes().iter().any(|a| a.kind == trueaxis::machine::AxisKind::Rotary) { ", rotary axes moving" } else { "" };
             println!(
-                "error before (exact chain, {} poses over the travel, rotary axes moving, workpiece placed by its best fit): worst {:.3} um, RMS {:.3} um",
+                "error before (exact chain, {} poses over the travel{moving}, workpiece placed by its best fit): worst {:.3} um, RMS {:.3} um",
                 r.samples, r.worst_error_um, r.rms_error_um
             );
             println!(

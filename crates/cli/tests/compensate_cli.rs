@@ -51,6 +51,9 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
             "--temperature",
             "T:column=22",
             "--json",
+            // LinuxCNC's own-axis joint files leave more than half of this model's error (they are
+            // refused without it: files_that_leave_more_than_they_remove_are_refused)
+            "--force",
         ]);
         assert_eq!(code, 0, "{format}: {stderr}");
         let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
@@ -153,13 +156,13 @@ fn an_output_directory_with_other_files_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("comp");
     let run = |format: &str| on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", format, "--out", out.to_str().unwrap()]);
-    assert_eq!(run("linuxcnc").0, 0);
+    assert_eq!(run("heidenhain").0, 0);
     // the same run again overwrites its own files
-    assert_eq!(run("linuxcnc").0, 0);
-    // another format would mix its tables with the LinuxCNC ones: refused, nothing written
+    assert_eq!(run("heidenhain").0, 0);
+    // another format would mix its tables with the Heidenhain ones: refused, nothing written
     let (code, _, stderr) = run("csv");
     assert_eq!(code, 2);
-    assert!(stderr.contains("holds files this run does not write (X.comp Y.comp Z.comp linuxcnc-comp.ini)"), "{stderr}");
+    assert!(stderr.contains("holds files this run does not write (COMP.CMA X.COM Y.COM Z.COM)"), "{stderr}");
     assert!(!out.join("tables.csv").exists());
 }
 
@@ -244,4 +247,46 @@ fn compensate_poses_without_a_needed_temperature_column_is_refused() {
     args.extend(["--temperature", "T:column=22"]);
     let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3_backlash.toml", &args);
     assert_eq!(code, 0, "{stderr}");
+}
+
+#[test]
+fn files_that_leave_more_than_they_remove_are_refused() {
+    // vmc3's squareness errors are more than half of its error: LinuxCNC's own-axis joint files
+    // would leave more than they remove (docs/compensation.md, "Never worse")
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("joint");
+    let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("more than they remove") && stderr.contains("--format linuxcnc-hal") && stderr.contains("nothing was written"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    let (code, stdout, stderr) =
+        on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", out.to_str().unwrap(), "--force", "--json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let r = &doc["format_residual"];
+    assert_eq!(r["leaves_more_than_it_removes"], true);
+    assert!(r["worst_um"].as_f64().unwrap() > 0.5 * r["worst_error_um"].as_f64().unwrap(), "{r}");
+    assert!(out.join("X.comp").exists());
+    // a five-axis machine: the kinematic description and tables leave at most a tenth
+    let five = dir.path().join("c600u");
+    let (code, stdout, stderr) = trueaxis(&[
+        "compensate",
+        "--machine",
+        "examples/machines/c600u.toml",
+        "--errors",
+        "examples/errors/c600u.toml",
+        "--format",
+        "siemens",
+        "--out",
+        five.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let r = &doc["format_residual"];
+    assert!(r["worst_um"].as_f64().unwrap() < 0.1 * r["worst_error_um"].as_f64().unwrap(), "{r}");
+    assert!(doc["kinematics"]["axes"]["C"]["tilt_urad"].is_array() && five.join("TC_CARR.INI").exists(), "{doc}");
 }

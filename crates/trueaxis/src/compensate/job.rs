@@ -122,21 +122,30 @@ pub fn sensor_temperatures(errors: &ErrorModel, given: &[(String, f64)]) -> Resu
 /// a machine with rotary axes, a controller whose kinematic description can hold their location
 /// errors gets them there ([`crate::compensate::kinematic`]), and its tables carry what the
 /// corrected kinematics leaves (the full correction minus the kinematic one along each line).
+/// Files that would leave more error than they remove are refused unless `request.force`.
 pub fn compensation(full: &Corrector, request: &CompensationRequest) -> Result<Compensation, CompensateError> {
+    compensation_with(full, request, None, |_| ()).map(|(c, ())| c)
+}
+
+/// [`compensation`], the error before and after judged on the machine whose errors are `judge`
+/// (default: the errors compensated; a simulation judges on its true errors), and `then` called
+/// with what the controller applies with the files (`None` for the data formats) before it is
+/// dropped (a report maps it).
+pub fn compensation_with<R>(
+    full: &Corrector,
+    request: &CompensationRequest,
+    judge: Option<&ErrorModel>,
+    then: impl FnOnce(Option<&dyn Applied>) -> R,
+) -> Result<(Compensation, R), CompensateError> {
     let machine = full.machine;
-    let machine_errors = full.errors.without(|id| matches!(id, ParameterId::Setup { .. }));
+    let machine_errors = full.errors.without_setup();
     let corrector = Corrector { errors: &machine_errors, ..*full };
+    let judged_errors = judge.map(ErrorModel::without_setup);
+    let judged = Corrector { errors: judged_errors.as_ref().unwrap_or(&machine_errors), ..corrector };
     let temperatures: Vec<f64> =
         request.temperatures.iter().zip(corrector.errors.input_references()).map(|(t, r)| t.unwrap_or(*r)).collect();
     let spec = TableSpec { points: request.points, reference: request.reference.clone(), temperatures: temperatures.clone() };
-    let kinematics = match request.format.kinematics(machine) {
-        Some(carried) => {
-            let mut q = vec![0.0; machine.axis_count()];
-            machine.pose_to_internal(&reference_pose(machine, request.reference.as_deref())?, &mut q);
-            Some(KinematicCorrection::new(machine, &machine_errors, &q, &temperatures, carried))
-        }
-        None => None,
-    };
+    let kinematics = kinematic_part(&corrector, request, &temperatures)?;
     // a kinematics module carries the whole model: no tables; other descriptions get tables for the rest
     let module = matches!(request.format, ExportFormat::Linuxcnc(_)) && kinematics.is_some();
     let tables = match &kinematics {
@@ -145,7 +154,7 @@ pub fn compensation(full: &Corrector, request: &CompensationRequest) -> Result<C
     };
     let has_xyz = ['X', 'Y', 'Z'].iter().all(|&l| machine.axis_index(l).is_some());
     let grid = if request.format.wants_grid(has_xyz) { Some(volumetric_grid(&corrector, request.grid, &spec)?) } else { None };
-    let (mut files, left_out, residual, extent) = {
+    let (mut files, left_out, residual, extent, result) = {
         let input = ExportInput { machine, errors: corrector.errors, tables: &tables, grid: grid.as_ref(), limits: request.limits };
         let plan = match &kinematics {
             Some(k) if module => module_plan(&corrector, k)?,
@@ -154,12 +163,13 @@ pub fn compensation(full: &Corrector, request: &CompensationRequest) -> Result<C
         let mut left_out = setup_left_out(machine, full.errors);
         left_out.extend(plan.left_out);
         // what the controller's files leave: its corrections applied over the travel, on the exact chain
-        let residual = match plan.applied {
-            Some(applied) => Some(residual_of_format(&corrector, &temperatures, applied.as_ref())?),
+        let residual = match &plan.applied {
+            Some(applied) => Some(residual_of_format(&judged, &temperatures, applied.as_ref())?),
             None => None,
         };
         let coverage = if module { super::export::Coverage::TABLES } else { request.format.coverage() };
-        (plan.files, left_out, residual, largest_corrections(&input, coverage))
+        let result = then(plan.applied.as_deref());
+        (plan.files, left_out, residual, largest_corrections(&input, coverage), result)
     };
     if let Some(r) = residual.as_ref().filter(|r| r.leaves_more_than_it_removes() && !request.force) {
         return Err(CompensateError::Limit(worse_refusal(machine, &request.format, r)));
@@ -171,7 +181,21 @@ pub fn compensation(full: &Corrector, request: &CompensationRequest) -> Result<C
         poses = Some(summary);
     }
     let kinematics = kinematics.as_ref().map(|k| kinematics_json(machine, k, request.format.kinematics_name()));
-    Ok(Compensation { tables, grid, files, left_out, residual, extent, poses, kinematics })
+    Ok((Compensation { tables, grid, files, left_out, residual, extent, poses, kinematics }, result))
+}
+
+/// The kinematic description the format writes, if it has one and the machine rotary axes: the
+/// location errors at the reference pose and the given inputs.
+fn kinematic_part(
+    corrector: &Corrector,
+    request: &CompensationRequest,
+    temperatures: &[f64],
+) -> Result<Option<KinematicCorrection>, CompensateError> {
+    let machine = corrector.machine;
+    let Some(carried) = request.format.kinematics(machine) else { return Ok(None) };
+    let mut q = vec![0.0; machine.axis_count()];
+    machine.pose_to_internal(&reference_pose(machine, request.reference.as_deref())?, &mut q);
+    Ok(Some(KinematicCorrection::new(machine, corrector.errors, &q, temperatures, carried)))
 }
 
 /// The refusal of files that leave more error than they remove, with the better option.
@@ -182,10 +206,11 @@ fn worse_refusal(machine: &Machine, format: &ExportFormat, r: &FormatResidual) -
         ExportFormat::LinuxcncHal { .. } if rotary => "--format linuxcnc (a kinematics module generated from the identified model)",
         _ => "a corrected NC program (`trueaxis nc`), which carries every error at every point",
     };
+    let moving = if rotary { ", rotary axes moving" } else { "" };
     format!(
-        "the files of this format would leave a worst error of {:.3} um of the {:.3} um before (exact chain, {} poses over the travel, \
-         rotary axes moving): more than they remove, so they would not make the machine better; nothing was written. Use {better}, \
-         or pass --force to write them anyway (docs/compensation.md)",
+        "the files of this format would leave a worst error of {:.3} um of the {:.3} um before (exact chain, {} poses over the travel{moving}): \
+         more than they remove, so they would not make the machine better; nothing was written. Use {better}, or pass --force to write \
+         them anyway (docs/compensation.md)",
         r.worst_um, r.worst_error_um, r.samples
     )
 }

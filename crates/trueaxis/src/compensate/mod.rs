@@ -21,7 +21,7 @@ pub mod tables;
 pub use batch::correct_batch;
 pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, WarmStart, MAX_AXES};
 pub use export::residual::{residual_of_format, FormatResidual};
-pub use job::{compensation, sensor_index, sensor_temperatures, Compensation, CompensationRequest};
+pub use job::{compensation, compensation_with, sensor_index, sensor_temperatures, Compensation, CompensationRequest};
 pub use realtime::RealtimeCorrector;
 pub use summary::{compensation_json, kinematics_json, nc_json, round4, ExportFormat, FormatOptions};
 pub use tables::{axis_tables, line_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};

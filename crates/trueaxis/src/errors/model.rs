@@ -437,6 +437,12 @@ impl ErrorModel {
         model
     }
 
+    /// The model without the set-up errors of a measurement (`TX TY TZ WX WY WZ`: where a master
+    /// ball or a probe head sits), which are not errors of the machine.
+    pub fn without_setup(&self) -> ErrorModel {
+        self.without(|id| matches!(id, ParameterId::Setup { .. }))
+    }
+
     /// The model's functions alone: without its product, load and drift terms (what depends on
     /// several axes, on inputs, or on history).
     pub fn functions_only(&self) -> ErrorModel {
