@@ -267,6 +267,12 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
                 r.error_there_um,
                 r.rms_um
             );
+            if let Some(u) = &job.left_uncertainty {
+                println!(
+                    "uncertainty of the error left, from the stated uncertainties of {} error values: U = {:.3} um at most over the travel (k = 2), RMS {:.3} um",
+                    u.parameters, u.expanded_um, u.rms_expanded_um
+                );
+            }
             if r.leaves_more_than_it_removes() {
                 println!("WARNING: these files leave more error than they remove (written because of --force)");
             }

@@ -290,3 +290,56 @@ fn files_that_leave_more_than_they_remove_are_refused() {
     assert!(r["worst_um"].as_f64().unwrap() < 0.1 * r["worst_error_um"].as_f64().unwrap(), "{r}");
     assert!(doc["kinematics"]["axes"]["C"]["tilt_urad"].is_array() && five.join("TC_CARR.INI").exists(), "{doc}");
 }
+
+#[test]
+fn ballbar_identify_writes_error_values_that_compensate_reads_with_their_uncertainty() {
+    let dir = tempfile::tempdir().unwrap();
+    let piges = dir.path().join("piges.toml");
+    let files = ["A1", "A2", "C1", "C2"].map(|s| format!("examples/ballbar/{s}.csv"));
+    let (code, stdout, stderr) = trueaxis(&[
+        "ballbar",
+        "identify",
+        "--machine",
+        "examples/machines/c600u.toml",
+        "--a1",
+        &files[0],
+        "--a2",
+        &files[1],
+        "--c1",
+        &files[2],
+        "--c2",
+        &files[3],
+        "--out",
+        piges.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let text = std::fs::read_to_string(&piges).unwrap();
+    let file: toml::Table = text.parse().unwrap();
+    for (name, p) in doc["parameters"].as_object().unwrap() {
+        let value = file["constant"][name.as_str()].as_float().unwrap();
+        let u = file["uncertainty"][name.as_str()].as_float().unwrap();
+        assert!((value - p["value"].as_f64().unwrap()).abs() < 1e-4, "{name}: {value} vs {p}");
+        assert!((u - p["std_uncertainty"].as_f64().unwrap()).abs() < 1e-4, "{name}: {u} vs {p}");
+    }
+    let out = dir.path().join("comp");
+    let (code, stdout, stderr) = trueaxis(&[
+        "compensate",
+        "--machine",
+        "examples/machines/c600u.toml",
+        "--errors",
+        piges.to_str().unwrap(),
+        "--format",
+        "heidenhain",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let r = &doc["format_residual"];
+    assert!(r["worst_um"].as_f64().unwrap() < 0.1 * r["worst_error_um"].as_f64().unwrap(), "{r}");
+    let u = &doc["error_left_uncertainty"];
+    assert!(u["expanded_um"].as_f64().unwrap() > 0.1 && u["parameters"] == 8 && u["coverage_factor"] == 2, "{u}");
+}

@@ -337,6 +337,7 @@ def compensate(
     hal_component: str = "trueaxis_comp",
     temperatures: Optional[Mapping[str, float]] = None,
     poses: Optional[_Path] = None,
+    force: bool = False,
 ) -> Dict[str, Any]:
     """Writes controller tables into `out` (format: linuxcnc, linuxcnc-hal, isg, heidenhain, siemens,
     fanuc, lattice, csv, json; all files or none; `out` must hold no other files); the summary of

@@ -60,6 +60,8 @@ pub struct Compensation {
     pub poses: Option<Value>,
     /// The kinematic description written ([`super::summary::kinematics_json`]), if any.
     pub kinematics: Option<Value>,
+    /// The uncertainty of the error left from the error values' stated uncertainties, if they state any.
+    pub left_uncertainty: Option<super::LeftUncertainty>,
 }
 
 impl Compensation {
@@ -75,6 +77,7 @@ impl Compensation {
             &self.extent,
             &self.left_out,
             self.residual.as_ref(),
+            self.left_uncertainty.as_ref(),
             self.kinematics.as_ref(),
             self.poses.as_ref(),
         )
@@ -181,7 +184,11 @@ pub fn compensation_with<R>(
         poses = Some(summary);
     }
     let kinematics = kinematics.as_ref().map(|k| kinematics_json(machine, k, request.format.kinematics_name()));
-    Ok((Compensation { tables, grid, files, left_out, residual, extent, poses, kinematics }, result))
+    let left_uncertainty = match &residual {
+        Some(_) => super::uncertainty_of_error_left(&corrector, &temperatures)?,
+        None => None,
+    };
+    Ok((Compensation { tables, grid, files, left_out, residual, extent, poses, kinematics, left_uncertainty }, result))
 }
 
 /// The kinematic description the format writes, if it has one and the machine rotary axes: the

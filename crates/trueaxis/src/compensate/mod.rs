@@ -20,7 +20,7 @@ pub mod tables;
 
 pub use batch::correct_batch;
 pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, WarmStart, MAX_AXES};
-pub use export::residual::{residual_of_format, FormatResidual};
+pub use export::residual::{residual_of_format, uncertainty_of_error_left, FormatResidual, LeftUncertainty};
 pub use job::{compensation, compensation_with, sensor_index, sensor_temperatures, Compensation, CompensationRequest};
 pub use realtime::RealtimeCorrector;
 pub use summary::{compensation_json, kinematics_json, nc_json, round4, ExportFormat, FormatOptions};

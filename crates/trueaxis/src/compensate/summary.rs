@@ -201,6 +201,7 @@ pub fn compensation_json(
     extent: &Extent,
     left_out: &[String],
     residual: Option<&FormatResidual>,
+    left_uncertainty: Option<&super::LeftUncertainty>,
     kinematics: Option<&Value>,
     poses: Option<&Value>,
 ) -> Value {
@@ -226,6 +227,12 @@ pub fn compensation_json(
             "leaves_more_than_it_removes": r.leaves_more_than_it_removes(),
             "placement_before": placement_json(&r.placement_before),
             "placement_after": placement_json(&r.placement_after),
+        })),
+        "error_left_uncertainty": left_uncertainty.map(|u| json!({
+            "expanded_um": round4(u.expanded_um),
+            "rms_expanded_um": round4(u.rms_expanded_um),
+            "coverage_factor": 2,
+            "parameters": u.parameters,
         })),
         "kinematics": kinematics,
         "poses": poses,

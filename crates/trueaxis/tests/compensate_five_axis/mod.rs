@@ -549,3 +549,25 @@ fn generated_kinematics_module_run_by_linuxcnc_commands_the_corrected_set_points
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn the_uncertainty_of_the_error_values_gives_that_of_the_error_left() {
+    // vmc3 with EC0X known to 12 urad (k = 1): a squareness off by 12 urad is the shear of
+    // residual_of_each_format_against_the_squareness_closed_form, whose best-fit rest is 2.544 um at
+    // the corners of the XY travel; U = 2 u
+    let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
+    let text = "[constant]\nEC0X = 0.0\n[uncertainty]\nEC0X = 12.0\n";
+    let e = ErrorModel::from_toml_str(text, "test.toml", &m).unwrap();
+    assert_eq!(e.uncertainties(), &[(ParameterId::parse("EC0X").unwrap(), 12.0)]);
+    let u = trueaxis::compensate::uncertainty_of_error_left(&Corrector::new(&m, &e), &[]).unwrap().unwrap();
+    let theta = 12.0 * 250f64.powi(2) / (400f64.powi(2) + 250f64.powi(2));
+    let corner = (((12.0 - theta) * 250.0).powi(2) + (theta * 400.0).powi(2)).sqrt() * 1e-3;
+    assert!((u.expanded_um - 2.0 * corner).abs() < 1e-4 && u.parameters == 1, "{u:?} vs {}", 2.0 * corner);
+    // the error-values text keeps it: set_uncertainty writes it back in place
+    let written = trueaxis::errors::set_uncertainty("[constant]\nEC0X = 1.5\n", &ParameterId::parse("EC0X").unwrap(), 0.75).unwrap();
+    let back = ErrorModel::from_toml_str(&written, "written.toml", &m).unwrap();
+    assert_eq!(back.uncertainties(), &[(ParameterId::parse("EC0X").unwrap(), 0.75)]);
+    // a negative uncertainty is refused with the file and the name
+    let err = ErrorModel::from_toml_str("[uncertainty]\nEC0X = -1.0\n", "bad.toml", &m).unwrap_err().to_string();
+    assert!(err.contains("bad.toml") && err.contains("EC0X"), "{err}");
+}

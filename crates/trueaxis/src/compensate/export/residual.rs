@@ -275,3 +275,78 @@ pub fn residual_of_format(corrector: &Corrector, temperatures: &[f64], applied: 
         placement_after,
     })
 }
+
+/// What the uncertainty of the error values means for the error a compensation leaves: the files
+/// correct the values as stated; if a value is off by its standard uncertainty, its effect is left.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LeftUncertainty {
+    /// Expanded uncertainty (k = 2, um) of the error left, the largest over the poses ...
+    pub expanded_um: f64,
+    /// ... and its root mean square over them (um, k = 2).
+    pub rms_expanded_um: f64,
+    /// The parameters with a stated uncertainty that took part.
+    pub parameters: usize,
+}
+
+/// The uncertainty of the error left that follows from the standard uncertainties the error model
+/// states (`[uncertainty]`, e.g. of an identification): for each such parameter, its effect on the
+/// tool point relative to the workpiece over [`sample_poses`] (exact chain, a change of one standard
+/// uncertainty), up to the best placement of the workpiece frame ([`RigidFit`]), as the error before
+/// and after are judged; the parameters taken as independent (their effects added in quadrature);
+/// `None` when the model states none.
+pub fn uncertainty_of_error_left(corrector: &Corrector, temperatures: &[f64]) -> Result<Option<LeftUncertainty>, CompensateError> {
+    let m = corrector.machine;
+    let uncertain: Vec<(usize, f64)> = corrector
+        .errors
+        .uncertainties()
+        .iter()
+        .filter(|(_, u)| *u > 0.0)
+        .map(|(id, u)| m.parameter_index(id).map(|i| (i, u * id.component().to_internal())).map_err(CompensateError::Input))
+        .collect::<Result<_, _>>()?;
+    if uncertain.is_empty() {
+        return Ok(None);
+    }
+    let n = m.axis_count();
+    let poses = sample_poses(m)?;
+    let state = MachineState { directions: None, temperatures };
+    let count = poses.len() / n;
+    // per pose: the nominal relative position and the effect of each parameter's uncertainty (mm)
+    let effects: Vec<(Vec3, Vec<Vec3>)> = (0..count)
+        .into_par_iter()
+        .map(|i| {
+            let mut q = vec![0.0; n];
+            m.pose_to_internal(&poses[i * n..(i + 1) * n], &mut q);
+            let mut params = vec![0.0; m.parameter_count()];
+            corrector.errors.values_at_state(m, &q, &state, &mut params);
+            let at = |p: &[f64]| crate::model::volumetric_error(m, &q, p, &corrector.setup, crate::model::Frame::Workpiece).position;
+            let base = at(&params);
+            let effects = uncertain
+                .iter()
+                .map(|&(index, u)| {
+                    let mut changed = params.clone();
+                    changed[index] += u;
+                    at(&changed) - base
+                })
+                .collect();
+            (corrector.nominal_relative_position(&q), effects)
+        })
+        .collect();
+    let nominal: Vec<Vec3> = effects.iter().map(|e| e.0).collect();
+    let mut variance = vec![0.0; count];
+    for j in 0..uncertain.len() {
+        let moved: Vec<Vec3> = effects.iter().map(|(n, e)| n + e[j]).collect();
+        let fit = RigidFit::of(&nominal, &moved);
+        for (v, (n, a)) in variance.iter_mut().zip(nominal.iter().zip(&moved)) {
+            *v += fit.left(n, a).norm_squared();
+        }
+    }
+    if variance.iter().any(|v| !v.is_finite()) {
+        return Err(CompensateError::Computation("the uncertainty of the error left is not finite".into()));
+    }
+    let expanded: Vec<f64> = variance.iter().map(|v| 2.0 * v.sqrt() * 1e3).collect();
+    Ok(Some(LeftUncertainty {
+        expanded_um: expanded.iter().copied().fold(0.0, f64::max),
+        rms_expanded_um: (expanded.iter().map(|x| x * x).sum::<f64>() / count as f64).sqrt(),
+        parameters: uncertain.len(),
+    }))
+}
