@@ -294,3 +294,115 @@ fn a_node_id_that_does_not_exist_is_refused_with_exit_2() {
     ]);
     assert_eq!(out.status.code(), Some(3), "{}", String::from_utf8_lossy(&out.stderr));
 }
+
+/// Runs halcmd with arguments; its trimmed stdout.
+fn halcmd(args: &[&str]) -> String {
+    let out = Command::new("halcmd").args(args).output().unwrap();
+    String::from_utf8_lossy(&out.stdout).trim().to_string()
+}
+
+#[test]
+fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
+    let available = Command::new("halcompile").arg("--help").output().is_ok() && Command::new("halrun").arg("-h").output().is_ok();
+    if !available || !Path::new("/usr/lib/linuxcnc/modules").exists() {
+        assert!(!required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile / halrun are required but not found");
+        eprintln!("SKIPPED: halcompile / halrun (Debian linuxcnc-uspace-dev) not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut perms = std::fs::metadata(dir.path()).unwrap().permissions();
+    std::os::unix::fs::PermissionsExt::set_mode(&mut perms, 0o777);
+    std::fs::set_permissions(dir.path(), perms).unwrap();
+    // the HAL component of compensate for vmc3 without geometric errors: its output is the thermal offset
+    let name = format!("ta_live_{}", std::process::id());
+    let hal_name = name.replace('_', "-");
+    std::fs::write(dir.path().join("no_errors.toml"), "[constant]\nEXX = 0\n").unwrap();
+    let hal_dir = dir.path().join("hal");
+    let out = trueaxis(&[
+        "compensate", "--machine", &example("examples/machines/vmc3.toml"), "--errors", &dir.path().join("no_errors.toml").display().to_string(),
+        "--format", "linuxcnc-hal", "--hal-component", &name, "--out", &hal_dir.display().to_string(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let build = Command::new("halcompile").arg("--install").arg(format!("{name}.comp")).current_dir(&hal_dir).output().unwrap();
+    let log = String::from_utf8_lossy(&build.stdout).into_owned() + &String::from_utf8_lossy(&build.stderr);
+    if !build.status.success() {
+        assert!(!required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile --install failed: {log}");
+        eprintln!("SKIPPED: halcompile --install failed (not root?): {log}");
+        return;
+    }
+    let installed = log.lines().find_map(|l| l.strip_prefix(&format!("cp {name}.so ")).map(|d| Path::new(d.trim()).join(format!("{name}.so"))));
+    // LinuxCNC's motion module, the component wired by its own HAL file, two sensor pins (sum2 inputs)
+    let hal_file = std::fs::read_to_string(hal_dir.join(format!("{name}.hal"))).unwrap();
+    let script = format!(
+        "loadrt trivkins coordinates=XYZ\nloadrt tpmod\nloadrt homemod\nloadrt motmod servo_period_nsec=1000000 num_joints=3\n\
+         loadrt sum2 names=sensors\n{hal_file}start\nloadusr -w sleep 120\n"
+    );
+    std::fs::write(dir.path().join("machine.hal"), script).unwrap();
+    let mut cmd = Command::new("halrun");
+    cmd.arg("-f").arg(dir.path().join("machine.hal")).stdout(Stdio::null()).stderr(Stdio::null());
+    let root_user = Command::new("id").arg("-u").output().is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0");
+    if root_user {
+        let nobody = Command::new("id").args(["-u", "nobody"]).output().unwrap();
+        cmd.env("RTAPI_UID", String::from_utf8_lossy(&nobody.stdout).trim()).env("RTAPI_FIFO_PATH", dir.path().join("rtapi_fifo"));
+    }
+    let halrun = cmd.spawn().unwrap();
+    let start = Instant::now();
+    while halcmd(&["-s", "getp", &format!("{hal_name}.0.thermal-z")]).is_empty() {
+        assert!(start.elapsed() < Duration::from_secs(30), "halrun did not load the component");
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    // the mapping: the sensor pins, a wide rate limit (the rows of 120 s come every 0.5 s here)
+    let map = dir.path().join("map.toml");
+    let mut text = String::new();
+    for (s, pin) in [("T:p1", "sensors.in0"), ("T:p5", "sensors.in1")] {
+        text += &format!("[input.\"{s}\"]\npin = \"{pin}\"\nrange = [0.0, 80.0]\nrate_limit = 100\n");
+    }
+    for a in ["x", "y", "z"] {
+        text += &format!("[output.{}]\npin = \"{hal_name}.0.thermal-{a}\"\n", a.to_uppercase());
+    }
+    std::fs::write(&map, text).unwrap();
+    let campaign = std::fs::read_to_string(root().join("examples/thermal/campaign.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = campaign.lines().filter(|l| l.starts_with("warmup,")).take(16).map(|l| l.split(',').collect()).collect();
+    halcmd(&["setp", "sensors.in0", rows[0][2]]);
+    halcmd(&["setp", "sensors.in1", rows[0][3]]);
+    let model = example("examples/live/dz_regression.toml");
+    let log = dir.path().join("live.csv");
+    let proc = live(&[
+        "--machine", &example("examples/machines/vmc3.toml"), "--thermal-model", &model, "--map", &map.display().to_string(), "--source",
+        "hal", "--sink", "hal", "--period", "0.05", "--state", &dir.path().join("state.json").display().to_string(), "--log",
+        &log.display().to_string(),
+    ]);
+    // the predictions of thermal predict on the same readings
+    let mut data = String::from("run,t,T:p1,T:p5\n");
+    for r in &rows {
+        data += &format!("warmup,{},{},{}\n", r[1], r[2], r[3]);
+    }
+    std::fs::write(dir.path().join("rows.csv"), data).unwrap();
+    let expected = predict(&model, &dir.path().join("rows.csv"));
+    let mut checked = 0;
+    for (r, (_, _, p)) in rows.iter().zip(&expected) {
+        halcmd(&["setp", "sensors.in0", r[2]]);
+        halcmd(&["setp", "sensors.in1", r[3]]);
+        std::thread::sleep(Duration::from_millis(500));
+        // motion's external-offset input of Z, in counts of 1e-6 mm
+        let counts: f64 = halcmd(&["-s", "getp", "axis.z.eoffset-counts"]).parse().unwrap();
+        let want = (-p * 1e-3 / 1e-6).round();
+        assert!((counts - want).abs() <= 1.0, "T:p1 {} T:p5 {}: axis.z.eoffset-counts {counts}, predicted {p} um = {want} counts", r[2], r[3]);
+        let x: f64 = halcmd(&["-s", "getp", "axis.x.eoffset-counts"]).parse().unwrap();
+        assert_eq!(x, 0.0);
+        checked += 1;
+    }
+    assert_eq!(checked, 16);
+    let stderr = stop(proc);
+    let mut halrun = halrun;
+    halrun.kill().ok();
+    let _ = halrun.wait();
+    let _ = Command::new("halrun").arg("-U").output();
+    if let Some(so) = installed {
+        std::fs::remove_file(so).ok();
+    }
+    // the log is a campaign whose predictions thermal predict reproduces
+    for (lg, p) in log_rows(&log).iter().zip(predict(&model, &log)) {
+        assert!((lg.2 - p.2).abs() <= 0.5e-4 && lg.3 == -lg.2, "{lg:?} {p:?}\n{stderr}");
+    }
+}
