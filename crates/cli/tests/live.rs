@@ -131,7 +131,7 @@ fn opcua_offsets_equal_thermal_predict_over_the_whole_campaign() {
     let source = format!("opcua:{url}");
     let proc = live(&[
         "--machine", &example("examples/machines/vmc3.toml"), "--thermal-model", &model, "--map", &example("examples/live/vmc3_opcua.toml"),
-        "--source", &source, "--sink", "opcua", "--period", "0.02", "--speed", "12000", "--state", &state.display().to_string(),
+        "--source", &source, "--sink", "opcua", "--period", "0.02", "--speed", "12000", "--hold", "86400", "--state", &state.display().to_string(),
         "--log", &log.display().to_string(),
     ]);
     let doc = report(srv);
@@ -183,7 +183,7 @@ fn opcua_faults_outage_held_ramped_resumed_and_a_200_degc_jump_refused() {
     let port = free_port();
     let url = format!("opc.tcp://127.0.0.1:{port}/trueaxis/");
     // 120 s rows at 600 times real time: a row every 0.2 s; the outage: 3 s = 1800 s of machine time
-    let srv = server(port, &["--speed", "600", "--rows", "70", "--jump-row", "12", "--outage-after", "25", "--outage-s", "3"]);
+    let srv = server(port, &["--speed", "600", "--rows", "100", "--jump-row", "12", "--outage-after", "25", "--outage-s", "3"]);
     let (csv, jsonl) = (dir.path().join("live.csv"), dir.path().join("live.jsonl"));
     let model = example("examples/live/dz_drift.toml");
     let source = format!("opcua:{url}");
@@ -197,20 +197,24 @@ fn opcua_faults_outage_held_ramped_resumed_and_a_200_degc_jump_refused() {
     let stderr = stop(proc);
     let ev = events(&jsonl);
     let messages: Vec<String> = ev.iter().filter_map(|e| e["message"].as_str().map(str::to_string)).collect();
-    let find = |what: &str| messages.iter().position(|m| m.contains(what)).unwrap_or_else(|| panic!("no `{what}` in {messages:#?}\n{stderr}"));
-    let jump = find("refused: T:p1: a jump of +2");
-    let lost = find("OPC UA connection lost");
-    let held = find("the offsets are held");
-    let ramp = find("ramp to zero over 600 s");
-    let zero = find("the offsets are zero");
-    let resumed = find("resumed after");
-    assert!(jump < lost && lost < resumed && held < ramp && ramp < zero && zero < resumed, "{messages:#?}");
+    let find = |what: &str, from: usize| {
+        from + messages[from..].iter().position(|m| m.contains(what)).unwrap_or_else(|| panic!("no `{what}` in {messages:#?}\n{stderr}"))
+    };
+    let jump = find("refused: T:p1: a jump of +2", 0);
+    // after the jump: the outage is held, ramped, zero, then resumed, the connection lost before zero
+    let ramp = find("ramp to zero over 600 s", jump);
+    let held = messages[..ramp].iter().rposition(|m| m.contains("the offsets are held")).expect("held before the ramp");
+    let zero = find("the offsets are zero", ramp);
+    find("resumed after", zero);
+    let lost = find("OPC UA connection lost", jump);
+    assert!(held > jump && lost < zero, "{messages:#?}");
     // the ramp is linear from the held offset to zero, on the source's clock
     let steps: Vec<&Value> = ev.iter().filter(|e| e["phase"].is_string()).collect();
     let ramps: Vec<(f64, f64)> =
         steps.iter().filter(|e| e["phase"] == "ramping").map(|e| (e["time_s"].as_f64().unwrap(), e["offsets_um"]["Z"].as_f64().unwrap())).collect();
     assert!(ramps.len() >= 3, "{ramps:?}");
-    let before_gap = steps.iter().take_while(|e| e["phase"] != "held").filter(|e| e["drift_um"].is_object()).last().unwrap();
+    let first_ramp = steps.iter().position(|e| e["phase"] == "ramping").unwrap();
+    let before_gap = steps[..first_ramp].iter().rev().find(|e| e["drift_um"].is_object()).unwrap();
     let (t0, q) = (before_gap["time_s"].as_f64().unwrap(), before_gap["offsets_um"]["Z"].as_f64().unwrap());
     for (t, v) in &ramps {
         let expected = q * (1.0 - (t - t0 - 300.0) / 600.0);
@@ -333,9 +337,12 @@ fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
     let installed = log.lines().find_map(|l| l.strip_prefix(&format!("cp {name}.so ")).map(|d| Path::new(d.trim()).join(format!("{name}.so"))));
     // LinuxCNC's motion module, the component wired by its own HAL file, two sensor pins (sum2 inputs)
     let hal_file = std::fs::read_to_string(hal_dir.join(format!("{name}.hal"))).unwrap();
+    // halrun runs until the test creates the stop file, then unloads what it loaded
+    let stop_file = dir.path().join("stop");
     let script = format!(
         "loadrt trivkins coordinates=XYZ\nloadrt tpmod\nloadrt homemod\nloadrt motmod servo_period_nsec=1000000 num_joints=3\n\
-         loadrt sum2 names=sensors\n{hal_file}start\nloadusr -w sleep 120\n"
+         loadrt sum2 names=sensors\n{hal_file}start\nloadusr -w sh -c \"for i in $(seq 1200); do [ -e {} ] && exit 0; sleep 0.1; done\"\n",
+        stop_file.display()
     );
     std::fs::write(dir.path().join("machine.hal"), script).unwrap();
     let mut cmd = Command::new("halrun");
@@ -394,10 +401,9 @@ fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
     }
     assert_eq!(checked, 16);
     let stderr = stop(proc);
+    std::fs::write(&stop_file, "").unwrap();
     let mut halrun = halrun;
-    halrun.kill().ok();
     let _ = halrun.wait();
-    let _ = Command::new("halrun").arg("-U").output();
     if let Some(so) = installed {
         std::fs::remove_file(so).ok();
     }

@@ -23,8 +23,8 @@ fn root() -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }
 
-/// The campaign's samples as one run, `n` of them, each 120 s after the one before.
-fn samples(n: usize) -> Vec<Sample> {
+/// The campaign's readings (964 rows).
+fn rows() -> Vec<Vec<f64>> {
     let inputs = vec!["T:p1".to_string(), "T:p5".to_string()];
     let path = root().join("examples/thermal/campaign.csv");
     let mut src = CsvReplay::open(&path, &inputs, &Mapping::default(), f64::INFINITY, None).expect("the shipped campaign");
@@ -32,7 +32,12 @@ fn samples(n: usize) -> Vec<Sample> {
     while let Ok(Some(Event::Sample(s))) = src.next(Duration::ZERO) {
         rows.push(s.readings);
     }
-    (0..n).map(|k| Sample { time_s: 120.0 * k as f64, run: None, readings: rows[k % rows.len()].clone() }).collect()
+    rows
+}
+
+/// Sample k of one long run of the campaign's readings, each 120 s after the one before.
+fn sample(rows: &[Vec<f64>], k: usize) -> Sample {
+    Sample { time_s: 120.0 * k as f64, run: None, readings: rows[k % rows.len()].clone() }
 }
 
 fn engine() -> Engine {
@@ -43,18 +48,34 @@ fn engine() -> Engine {
     Engine::new(&machine, vec![model], &mapping, 600.0, 600.0).expect("engine")
 }
 
-/// Wall time per update (one thread, so CPU time on an idle core) of `n` samples through `each`.
+/// CPU time of this process (user + system, s), from /proc/self/stat (clock ticks of 10 ms).
+fn cpu_s() -> f64 {
+    let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
+    let fields: Vec<&str> = stat.rsplit(')').next().unwrap_or("").split_whitespace().collect();
+    let ticks = |k: usize| fields.get(k).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    // fields after the command name: state is 0, utime 11, stime 12
+    (ticks(11) + ticks(12)) / 100.0
+}
+
+/// Wall and CPU time per update (one thread) of `n` samples through `each`.
 fn measure(name: &str, n: usize, mut each: impl FnMut(&mut Engine, &Step)) {
-    let s = samples(n);
+    let rows = rows();
     let mut e = engine();
-    let start = Instant::now();
-    for sample in &s {
-        let step = e.update(sample).expect("a new sample");
+    let (start, cpu0) = (Instant::now(), cpu_s());
+    for k in 0..n {
+        let step = e.update(&sample(&rows, k)).expect("a new sample");
         assert!(step.write, "{:?}", step.message);
         each(&mut e, &step);
     }
     let per = start.elapsed().as_secs_f64() / n as f64;
-    println!("{name:<44} {n:>8} updates  {:>10.2} us/update  {:>12.0} updates/s", per * 1e6, 1.0 / per);
+    let cpu = (cpu_s() - cpu0) / n as f64;
+    println!(
+        "{name:<44} {n:>8} updates  wall {:>9.2} us/update ({:>8.0} updates/s)  CPU {:>9.2} us/update ({:>8.0} updates/s)",
+        per * 1e6,
+        1.0 / per,
+        cpu * 1e6,
+        1.0 / cpu
+    );
 }
 
 fn peak_rss_kib() -> Option<u64> {

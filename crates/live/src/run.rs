@@ -101,6 +101,15 @@ pub fn run(o: &Options) -> Result<Summary, LiveError> {
     }
     let mut status = Status::new(&machine, Names::of(&engine), o.status.clone());
     let mut clock = Clock::new(o.speed);
+    // a machine's source time is the Unix time: a restart during an outage still holds and ramps
+    if !o.source.starts_with("csv:") {
+        let now = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0.0, |d| d.as_secs_f64());
+        match (o.speed == 1.0, engine.state.accepted.as_ref()) {
+            (true, _) => clock.anchor(now),
+            (false, Some(a)) => clock.anchor(a.time_s),
+            (false, None) => {}
+        }
+    }
     let mut summary = Summary::default();
     status.note(&note);
     status.note(&format!("trueaxis live on {machine}: inputs {}; offsets of {}", engine.inputs.join(", "), engine.offsets.letters.iter().collect::<String>()));

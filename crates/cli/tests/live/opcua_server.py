@@ -64,7 +64,8 @@ class Recorder:
             self.values[axis].append([unix(dv.SourceTimestamp), dv.Value.Value])
 
 
-async def start_server(port, sensors, recorder):
+async def start_server(port, sensors, recorder, first):
+    """A server whose nodes hold `first` (run, campaign s, values) before it accepts clients."""
     server = Server()
     await server.init()
     server.set_endpoint(f"opc.tcp://127.0.0.1:{port}/trueaxis/")
@@ -87,6 +88,11 @@ async def start_server(port, sensors, recorder):
                 recorder.record(wv.NodeId, wv.Value)
 
     server.subscribe_server_callback(CallbackType.PostWrite, on_write)
+    run, t, values = first
+    ts = BASE + datetime.timedelta(seconds=t)
+    await write(nodes["run"], run, ts, ua.VariantType.String)
+    for s, v in zip(sensors, values):
+        await write(nodes[s], v, ts, ua.VariantType.Double)
     await server.start()
     return server, nodes
 
@@ -138,18 +144,19 @@ async def main():
     if a.rows:
         rows = rows[: a.rows]
     by_server, by_client = Recorder(), Recorder()
-    server, nodes = await start_server(a.port, sensors, by_server)
+    server, nodes = await start_server(a.port, sensors, by_server, rows[0])
     client = await subscribe_client(a.port, by_client) if a.client else None
     # the first row, then wait until trueaxis live has subscribed (its first write) or the start wait ends
-    played, last_run, previous, resume_at = [], None, None, None
+    played, last_run, previous, resume_at = [], rows[0][0], None, None
     for i, (run, t, values) in enumerate(rows):
         if i == a.outage_after:
             await server.stop()
             await asyncio.sleep(a.outage_s)
-            server, nodes = await start_server(a.port, sensors, by_server)
-            # the rows due while the server was down are lost
-            resume_at, last_run = previous + a.outage_s * a.speed, None
-            previous = resume_at
+            # the rows due while the server was down are lost; the new server starts with the next
+            resume_at = previous + a.outage_s * a.speed
+            following = next((r for r in rows[i:] if r[1] >= resume_at), rows[-1])
+            server, nodes = await start_server(a.port, sensors, by_server, following)
+            last_run, previous = following[0], resume_at
         if resume_at is not None and t < resume_at:
             continue
         if previous is not None and i != a.outage_after:
@@ -171,6 +178,12 @@ async def main():
                 if any(by_server.values.values()):
                     break
                 await asyncio.sleep(0.05)
+    # wait for the offsets of the last row (at most 60 s), then --end-wait more
+    last = played[-1][1] if played else None
+    for _ in range(1200):
+        if last is None or any(t == last for t, _ in by_server.values["Z"]):
+            break
+        await asyncio.sleep(0.05)
     await asyncio.sleep(a.end_wait)
     if client is not None:
         await client.disconnect()
