@@ -77,6 +77,16 @@ fn report(server: Child) -> Value {
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
+/// CPU time (s, user + system) and peak resident memory (KiB) of a running process.
+fn load(pid: u32) -> (f64, u64) {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
+    let fields: Vec<&str> = stat.rsplit(')').next().unwrap_or("").split_whitespace().collect();
+    let ticks = |k: usize| fields.get(k).and_then(|v| v.parse::<f64>().ok()).unwrap_or(0.0);
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).unwrap_or_default();
+    let peak = status.lines().find(|l| l.starts_with("VmHWM:")).and_then(|l| l.split_whitespace().nth(1)?.parse().ok()).unwrap_or(0);
+    ((ticks(11) + ticks(12)) / 100.0, peak)
+}
+
 fn stop(mut child: Child) -> String {
     child.kill().ok();
     let out = child.wait_with_output().unwrap();
@@ -130,12 +140,33 @@ fn opcua_offsets_equal_thermal_predict_over_the_whole_campaign() {
     let state = dir.path().join("state.json");
     let source = format!("opcua:{url}");
     let proc = live(&[
-        "--machine", &example("examples/machines/vmc3.toml"), "--thermal-model", &model, "--map", &example("examples/live/vmc3_opcua.toml"),
-        "--source", &source, "--sink", "opcua", "--period", "0.02", "--speed", "12000", "--hold", "86400", "--state", &state.display().to_string(),
-        "--log", &log.display().to_string(),
+        "--machine",
+        &example("examples/machines/vmc3.toml"),
+        "--thermal-model",
+        &model,
+        "--map",
+        &example("examples/live/vmc3_opcua.toml"),
+        "--source",
+        &source,
+        "--sink",
+        "opcua",
+        "--period",
+        "0.02",
+        "--speed",
+        "12000",
+        "--hold",
+        "86400",
+        "--state",
+        &state.display().to_string(),
+        "--log",
+        &log.display().to_string(),
     ]);
     let doc = report(srv);
+    let (cpu_s, peak_kib) = load(proc.id());
     let stderr = stop(proc);
+    // the load of one machine's process (docs/live.md §6): printed with --nocapture
+    eprintln!("MEASURED trueaxis live (OPC UA, 964 samples): CPU {cpu_s:.2} s in all, peak resident {peak_kib} KiB");
+    assert!(peak_kib > 0 && peak_kib < 200_000, "{peak_kib} KiB");
     let expected = predict(&model, &root().join("examples/thermal/campaign.csv"));
     let rows = doc["rows"].as_array().unwrap();
     assert_eq!(rows.len(), 964);
@@ -188,10 +219,30 @@ fn opcua_faults_outage_held_ramped_resumed_and_a_200_degc_jump_refused() {
     let model = example("examples/live/dz_drift.toml");
     let source = format!("opcua:{url}");
     let proc = live(&[
-        "--machine", &example("examples/machines/vmc3.toml"), "--thermal-model", &model, "--map", &example("examples/live/vmc3_opcua.toml"),
-        "--source", &source, "--sink", "opcua", "--period", "0.02", "--speed", "600", "--hold", "300", "--ramp", "600",
-        "--state", &dir.path().join("state.json").display().to_string(), "--log", &csv.display().to_string(),
-        "--log", &jsonl.display().to_string(),
+        "--machine",
+        &example("examples/machines/vmc3.toml"),
+        "--thermal-model",
+        &model,
+        "--map",
+        &example("examples/live/vmc3_opcua.toml"),
+        "--source",
+        &source,
+        "--sink",
+        "opcua",
+        "--period",
+        "0.02",
+        "--speed",
+        "600",
+        "--hold",
+        "300",
+        "--ramp",
+        "600",
+        "--state",
+        &dir.path().join("state.json").display().to_string(),
+        "--log",
+        &csv.display().to_string(),
+        "--log",
+        &jsonl.display().to_string(),
     ]);
     let doc = report(srv);
     let stderr = stop(proc);
@@ -210,8 +261,11 @@ fn opcua_faults_outage_held_ramped_resumed_and_a_200_degc_jump_refused() {
     assert!(held > jump && lost < zero, "{messages:#?}");
     // the ramp is linear from the held offset to zero, on the source's clock
     let steps: Vec<&Value> = ev.iter().filter(|e| e["phase"].is_string()).collect();
-    let ramps: Vec<(f64, f64)> =
-        steps.iter().filter(|e| e["phase"] == "ramping").map(|e| (e["time_s"].as_f64().unwrap(), e["offsets_um"]["Z"].as_f64().unwrap())).collect();
+    let ramps: Vec<(f64, f64)> = steps
+        .iter()
+        .filter(|e| e["phase"] == "ramping")
+        .map(|e| (e["time_s"].as_f64().unwrap(), e["offsets_um"]["Z"].as_f64().unwrap()))
+        .collect();
     assert!(ramps.len() >= 3, "{ramps:?}");
     let first_ramp = steps.iter().position(|e| e["phase"] == "ramping").unwrap();
     let before_gap = steps[..first_ramp].iter().rev().find(|e| e["drift_um"].is_object()).unwrap();
@@ -245,9 +299,18 @@ fn kill_9_and_restart_continue_from_the_state_file() {
     let (state, log) = (dir.path().join("state.json"), dir.path().join("live.csv"));
     let model = example("examples/live/dz_drift.toml");
     let args = [
-        "--machine", &example("examples/machines/vmc3.toml"), "--thermal-model", &model, "--source",
-        &format!("csv:{}", example("examples/thermal/campaign.csv")), "--speed", "24000", "--state", &state.display().to_string(),
-        "--log", &log.display().to_string(),
+        "--machine",
+        &example("examples/machines/vmc3.toml"),
+        "--thermal-model",
+        &model,
+        "--source",
+        &format!("csv:{}", example("examples/thermal/campaign.csv")),
+        "--speed",
+        "24000",
+        "--state",
+        &state.display().to_string(),
+        "--log",
+        &log.display().to_string(),
     ];
     let mut first = live(&args);
     std::thread::sleep(Duration::from_millis(1500));
@@ -281,8 +344,18 @@ fn a_node_id_that_does_not_exist_is_refused_with_exit_2() {
     let text = std::fs::read_to_string(root().join("examples/live/vmc3_opcua.toml")).unwrap().replace("vmc3.T_p5", "vmc3.T_missing");
     std::fs::write(&map, text).unwrap();
     let out = trueaxis(&[
-        "live", "--machine", &example("examples/machines/vmc3.toml"), "--thermal-model", &example("examples/live/dz_drift.toml"), "--map",
-        &map.display().to_string(), "--source", &format!("opcua:opc.tcp://127.0.0.1:{port}/trueaxis/"), "--sink", "opcua", "--state",
+        "live",
+        "--machine",
+        &example("examples/machines/vmc3.toml"),
+        "--thermal-model",
+        &example("examples/live/dz_drift.toml"),
+        "--map",
+        &map.display().to_string(),
+        "--source",
+        &format!("opcua:opc.tcp://127.0.0.1:{port}/trueaxis/"),
+        "--sink",
+        "opcua",
+        "--state",
         &dir.path().join("state.json").display().to_string(),
     ]);
     stop(srv);
@@ -292,8 +365,16 @@ fn a_node_id_that_does_not_exist_is_refused_with_exit_2() {
     assert!(!dir.path().join("state.json").exists());
     // a server that is not there: exit 3 (the environment)
     let out = trueaxis(&[
-        "live", "--machine", &example("examples/machines/vmc3.toml"), "--thermal-model", &example("examples/live/dz_drift.toml"), "--map",
-        &example("examples/live/vmc3_opcua.toml"), "--source", &format!("opcua:opc.tcp://127.0.0.1:{}/", free_port()), "--state",
+        "live",
+        "--machine",
+        &example("examples/machines/vmc3.toml"),
+        "--thermal-model",
+        &example("examples/live/dz_drift.toml"),
+        "--map",
+        &example("examples/live/vmc3_opcua.toml"),
+        "--source",
+        &format!("opcua:opc.tcp://127.0.0.1:{}/", free_port()),
+        "--state",
         &dir.path().join("state.json").display().to_string(),
     ]);
     assert_eq!(out.status.code(), Some(3), "{}", String::from_utf8_lossy(&out.stderr));
@@ -323,8 +404,17 @@ fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
     std::fs::write(dir.path().join("no_errors.toml"), "[constant]\nEXX = 0\n").unwrap();
     let hal_dir = dir.path().join("hal");
     let out = trueaxis(&[
-        "compensate", "--machine", &example("examples/machines/vmc3.toml"), "--errors", &dir.path().join("no_errors.toml").display().to_string(),
-        "--format", "linuxcnc-hal", "--hal-component", &name, "--out", &hal_dir.display().to_string(),
+        "compensate",
+        "--machine",
+        &example("examples/machines/vmc3.toml"),
+        "--errors",
+        &dir.path().join("no_errors.toml").display().to_string(),
+        "--format",
+        "linuxcnc-hal",
+        "--hal-component",
+        &name,
+        "--out",
+        &hal_dir.display().to_string(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let build = Command::new("halcompile").arg("--install").arg(format!("{name}.comp")).current_dir(&hal_dir).output().unwrap();
@@ -334,7 +424,8 @@ fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
         eprintln!("SKIPPED: halcompile --install failed (not root?): {log}");
         return;
     }
-    let installed = log.lines().find_map(|l| l.strip_prefix(&format!("cp {name}.so ")).map(|d| Path::new(d.trim()).join(format!("{name}.so"))));
+    let installed =
+        log.lines().find_map(|l| l.strip_prefix(&format!("cp {name}.so ")).map(|d| Path::new(d.trim()).join(format!("{name}.so"))));
     // LinuxCNC's motion module, the component wired by its own HAL file, two sensor pins (sum2 inputs)
     let hal_file = std::fs::read_to_string(hal_dir.join(format!("{name}.hal"))).unwrap();
     // halrun runs until the test creates the stop file, then unloads what it loaded
@@ -375,8 +466,21 @@ fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
     let model = example("examples/live/dz_regression.toml");
     let log = dir.path().join("live.csv");
     let proc = live(&[
-        "--machine", &example("examples/machines/vmc3.toml"), "--thermal-model", &model, "--map", &map.display().to_string(), "--source",
-        "hal", "--sink", "hal", "--period", "0.05", "--state", &dir.path().join("state.json").display().to_string(), "--log",
+        "--machine",
+        &example("examples/machines/vmc3.toml"),
+        "--thermal-model",
+        &model,
+        "--map",
+        &map.display().to_string(),
+        "--source",
+        "hal",
+        "--sink",
+        "hal",
+        "--period",
+        "0.05",
+        "--state",
+        &dir.path().join("state.json").display().to_string(),
+        "--log",
         &log.display().to_string(),
     ]);
     // the predictions of thermal predict on the same readings
@@ -394,7 +498,12 @@ fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
         // motion's external-offset input of Z, in counts of 1e-6 mm
         let counts: f64 = halcmd(&["-s", "getp", "axis.z.eoffset-counts"]).parse().unwrap();
         let want = (-p * 1e-3 / 1e-6).round();
-        assert!((counts - want).abs() <= 1.0, "T:p1 {} T:p5 {}: axis.z.eoffset-counts {counts}, predicted {p} um = {want} counts", r[2], r[3]);
+        assert!(
+            (counts - want).abs() <= 1.0,
+            "T:p1 {} T:p5 {}: axis.z.eoffset-counts {counts}, predicted {p} um = {want} counts",
+            r[2],
+            r[3]
+        );
         let x: f64 = halcmd(&["-s", "getp", "axis.x.eoffset-counts"]).parse().unwrap();
         assert_eq!(x, 0.0);
         checked += 1;

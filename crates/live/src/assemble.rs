@@ -28,7 +28,7 @@ impl Assembler {
 
     /// A reading of input `k` taken at `time_s` (non-negative).
     pub fn push(&mut self, k: usize, time_s: f64, value: f64) {
-        if self.last_formed.is_some_and(|t| time_s <= t) || !(time_s >= 0.0) {
+        if self.last_formed.is_some_and(|t| time_s <= t) || time_s.is_nan() || time_s < 0.0 {
             return;
         }
         let q = &mut self.queues[k];

@@ -80,7 +80,7 @@ impl OffsetMap {
 
     /// Why `offsets` (um) cannot be written: the first beyond the limit.
     pub fn beyond_limit(&self, offsets: &[f64]) -> Option<String> {
-        let (k, v) = offsets.iter().enumerate().find(|(_, v)| !(v.abs() <= self.limit_um))?;
+        let (k, v) = offsets.iter().enumerate().find(|(_, v)| v.is_nan() || v.abs() > self.limit_um)?;
         Some(format!(
             "the offset of {} ({v:.1} um) is beyond the correction limit of {} um ([limits] correction_um of the machine file)",
             self.letters[k], self.limit_um

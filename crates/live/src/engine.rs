@@ -86,7 +86,13 @@ pub struct Engine {
 
 impl Engine {
     /// An engine for `models` on `machine`, from a fresh state.
-    pub fn new(machine: &Machine, models: Vec<ThermalErrorModel>, mapping: &Mapping, hold_s: f64, ramp_s: f64) -> Result<Engine, LiveError> {
+    pub fn new(
+        machine: &Machine,
+        models: Vec<ThermalErrorModel>,
+        mapping: &Mapping,
+        hold_s: f64,
+        ramp_s: f64,
+    ) -> Result<Engine, LiveError> {
         if models.is_empty() {
             return Err(input("no thermal model (--thermal-model)"));
         }
@@ -181,7 +187,9 @@ impl Engine {
             readings.extend(c.inputs.iter().map(|&k| sample.readings[k]));
             let d = match c.model.step(st, sample.time_s, &readings) {
                 Ok(d) if d.is_finite() => d,
-                Ok(d) => return Some(self.refused(sample, format!("refused: the drift {} of `{}` is not a finite number", d, c.model.error()))),
+                Ok(d) => {
+                    return Some(self.refused(sample, format!("refused: the drift {} of `{}` is not a finite number", d, c.model.error())))
+                }
                 Err(err) => return Some(self.refused(sample, format!("refused: {err}"))),
             };
             e[c.component] += d;
@@ -191,7 +199,8 @@ impl Engine {
         let interval_s = last.as_ref().map(|(t, _)| sample.time_s - t);
         self.state.steps = steps;
         self.state.run_start_s.get_or_insert(sample.time_s);
-        self.state.accepted = Some(Accepted { time_s: sample.time_s, readings: sample.readings.clone(), drift_um: drift.clone(), interval_s });
+        self.state.accepted =
+            Some(Accepted { time_s: sample.time_s, readings: sample.readings.clone(), drift_um: drift.clone(), interval_s });
         self.state.samples += 1;
         let write = match self.offsets.beyond_limit(&offsets) {
             Some(why) => {

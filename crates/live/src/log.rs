@@ -70,17 +70,15 @@ pub fn utc(seconds: f64) -> String {
     let day = doy - (153 * mp + 2) / 5 + 1;
     let month = if mp < 10 { mp + 3 } else { mp - 9 };
     let year = yoe + era * 400 + i64::from(month <= 2);
-    format!(
-        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}.{:03}Z",
-        rem / 3_600_000,
-        rem / 60_000 % 60,
-        rem / 1000 % 60,
-        rem % 1000
-    )
+    format!("{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}.{:03}Z", rem / 3_600_000, rem / 60_000 % 60, rem / 1000 % 60, rem % 1000)
 }
 
 fn open_append(path: &Path) -> Result<File, LiveError> {
-    OpenOptions::new().create(true).append(true).open(path).map_err(|e| environment(format!("{}: cannot open the log: {e}", path.display())))
+    OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)
+        .map_err(|e| environment(format!("{}: cannot open the log: {e}", path.display())))
 }
 
 fn append(file: &mut File, path: &Path, text: &str) -> Result<(), LiveError> {
@@ -193,7 +191,9 @@ impl JsonLog {
 
 /// A step as a JSON object (the JSON-lines log and the status file).
 pub fn step_json(names: &Names, step: &Step) -> Value {
-    let named = |keys: &[String], values: &[f64]| -> Value { Value::Object(keys.iter().cloned().zip(values.iter().map(|v| json!(v))).collect::<Map<_, _>>()) };
+    let named = |keys: &[String], values: &[f64]| -> Value {
+        Value::Object(keys.iter().cloned().zip(values.iter().map(|v| json!(v))).collect::<Map<_, _>>())
+    };
     let errors: Vec<String> = names.models.iter().map(|(e, _, _)| e.clone()).collect();
     let axes: Vec<String> = names.axes.iter().map(char::to_string).collect();
     json!({

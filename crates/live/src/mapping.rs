@@ -102,8 +102,8 @@ impl Mapping {
 
     /// Parses mapping text; `origin` names it in messages.
     pub fn parse(text: &str, origin: &str) -> Result<Mapping, LiveError> {
-        let mut m: Mapping =
-            toml::from_str(text).map_err(|e| input(format!("{origin}: {}", e.to_string().split_whitespace().collect::<Vec<_>>().join(" "))))?;
+        let mut m: Mapping = toml::from_str(text)
+            .map_err(|e| input(format!("{origin}: {}", e.to_string().split_whitespace().collect::<Vec<_>>().join(" "))))?;
         m.origin = origin.into();
         for (name, i) in &m.input {
             let at = format!("{origin}: [input.\"{name}\"]");

@@ -150,7 +150,13 @@ pub fn connect(url: &str, nodes: Nodes, period: Duration) -> Result<(OpcUaSource
 }
 
 /// Session, node check, subscription.
-async fn open(url: &str, ids: &[(NodeId, String)], subscribed: usize, period: Duration, tx: mpsc::Sender<Incoming>) -> Result<Arc<Session>, LiveError> {
+async fn open(
+    url: &str,
+    ids: &[(NodeId, String)],
+    subscribed: usize,
+    period: Duration,
+    tx: mpsc::Sender<Incoming>,
+) -> Result<Arc<Session>, LiveError> {
     let pki = std::env::temp_dir().join("trueaxis-live-pki");
     let mut client = ClientBuilder::new()
         .application_name("trueaxis live")
@@ -190,7 +196,11 @@ async fn open(url: &str, ids: &[(NodeId, String)], subscribed: usize, period: Du
     let values = session.read(&reads, TimestampsToReturn::Neither, 0.0).await.map_err(|e| environment(format!("{url}: read: {e}")))?;
     for ((id, what), v) in ids.iter().zip(&values) {
         if let Some(code) = v.status.filter(|s| s.is_bad()) {
-            let why = if code == StatusCode::BadNodeIdUnknown { "does not exist on the server".to_string() } else { format!("cannot be read ({code})") };
+            let why = if code == StatusCode::BadNodeIdUnknown {
+                "does not exist on the server".to_string()
+            } else {
+                format!("cannot be read ({code})")
+            };
             return Err(input(format!("{url}: node `{id}` ({what}) {why}")));
         }
     }
@@ -248,7 +258,9 @@ async fn write_loop(
             })
             .collect();
         let why = match session.write(&nodes).await {
-            Ok(codes) => codes.iter().zip(&nodes).find(|(c, _)| c.is_bad()).map(|(c, n)| format!("OPC UA write of `{}` refused ({c})", n.node_id)),
+            Ok(codes) => {
+                codes.iter().zip(&nodes).find(|(c, _)| c.is_bad()).map(|(c, n)| format!("OPC UA write of `{}` refused ({c})", n.node_id))
+            }
             Err(e) => Some(format!("OPC UA write failed: {e}")),
         };
         if let Some(why) = why {
@@ -265,7 +277,8 @@ impl OpcUaSource {
             let time = v.source_timestamp.as_ref().or(v.server_timestamp.as_ref()).map(unix_seconds);
             let (Some(time), true) = (time, v.status.is_none_or(|s| s.is_good())) else {
                 let name = if k < n { self.inputs[k].as_str() } else { "run" };
-                self.pending.push_back(Event::Note(format!("{name}: reading with status {:?} and no usable time stamp left out", v.status)));
+                self.pending
+                    .push_back(Event::Note(format!("{name}: reading with status {:?} and no usable time stamp left out", v.status)));
                 continue;
             };
             match (k < n, &v.value) {
@@ -281,7 +294,11 @@ impl OpcUaSource {
             while self.runs.len() > 1 && self.runs[1].0 <= t {
                 self.runs.pop_front();
             }
-            let run = if self.has_run { Some(self.runs.front().filter(|(tr, _)| *tr <= t).map_or(String::new(), |(_, r)| r.clone())) } else { None };
+            let run = if self.has_run {
+                Some(self.runs.front().filter(|(tr, _)| *tr <= t).map_or(String::new(), |(_, r)| r.clone()))
+            } else {
+                None
+            };
             self.pending.push_back(Event::Sample(Sample { time_s: t, run, readings }));
         }
     }

@@ -76,9 +76,18 @@ pub fn engine(o: &Options, mapping: &Mapping) -> Result<(Engine, String, String)
         (false, Some(saved)) => {
             engine.resume(saved, &o.state.display().to_string())?;
             let s = &engine.state;
-            format!("continuing from {} ({} samples, run `{}`, phase {:?})", o.state.display(), s.samples, s.run.clone().unwrap_or_default(), s.phase)
+            format!(
+                "continuing from {} ({} samples, run `{}`, phase {:?})",
+                o.state.display(),
+                s.samples,
+                s.run.clone().unwrap_or_default(),
+                s.phase
+            )
         }
-        _ => format!("new state {}: the first sample is the reference state of the drift models (start on a machine at its reference temperature)", o.state.display()),
+        _ => format!(
+            "new state {}: the first sample is the reference state of the drift models (start on a machine at its reference temperature)",
+            o.state.display()
+        ),
     };
     Ok((engine, machine.name, note))
 }
@@ -112,7 +121,11 @@ pub fn run(o: &Options) -> Result<Summary, LiveError> {
     }
     let mut summary = Summary::default();
     status.note(&note);
-    status.note(&format!("trueaxis live on {machine}: inputs {}; offsets of {}", engine.inputs.join(", "), engine.offsets.letters.iter().collect::<String>()));
+    status.note(&format!(
+        "trueaxis live on {machine}: inputs {}; offsets of {}",
+        engine.inputs.join(", "),
+        engine.offsets.letters.iter().collect::<String>()
+    ));
     if let Some(mut step) = engine.last_step().filter(|_| engine.state.samples > 0) {
         step.offsets_um = engine.state.written_um.clone();
         step.write = true;
@@ -169,7 +182,9 @@ fn open_log(path: &Path, engine: &Engine) -> Result<Box<dyn Sink>, LiveError> {
     match path.extension().and_then(|e| e.to_str()) {
         Some("csv") => Ok(Box::new(CsvLog::open(path, engine)?)),
         Some("jsonl") => Ok(Box::new(JsonLog::open(path, engine)?)),
-        _ => Err(input(format!("--log {}: a log is FILE.csv (a campaign thermal predict reads) or FILE.jsonl (JSON lines)", path.display()))),
+        _ => {
+            Err(input(format!("--log {}: a log is FILE.csv (a campaign thermal predict reads) or FILE.jsonl (JSON lines)", path.display())))
+        }
     }
 }
 
@@ -193,7 +208,11 @@ fn open(o: &Options, engine: &Engine, mapping: &Mapping, period: Duration, resum
         match sink.split_once(':') {
             None if sink == "hal" => sinks.push(Box::new(HalSink::open(&engine.offsets.letters, mapping)?)),
             None if sink == "opcua" => {
-                opcua_sink_url = Some(source_url.clone().ok_or_else(|| input("--sink opcua without an OPC UA source: name the server, --sink opcua:opc.tcp://HOST:PORT"))?)
+                opcua_sink_url = Some(
+                    source_url
+                        .clone()
+                        .ok_or_else(|| input("--sink opcua without an OPC UA source: name the server, --sink opcua:opc.tcp://HOST:PORT"))?,
+                )
             }
             Some(("opcua", url)) if url.starts_with("opc.tcp://") => opcua_sink_url = Some(url.to_string()),
             _ => return Err(input(format!("--sink `{sink}`: use opcua, opcua:opc.tcp://HOST:PORT or hal"))),
@@ -229,7 +248,10 @@ fn opcua_open(
             }
         }
         if out.is_empty() {
-            return Err(input(format!("{}: the OPC UA sink needs a node per axis, e.g. [output.Z] node = \"ns=2;s=ThermalOffsetZ\"", mapping.origin)));
+            return Err(input(format!(
+                "{}: the OPC UA sink needs a node per axis, e.g. [output.Z] node = \"ns=2;s=ThermalOffsetZ\"",
+                mapping.origin
+            )));
         }
         Ok(out)
     };

@@ -45,8 +45,14 @@ pub struct CsvReplay {
 
 impl CsvReplay {
     /// Reads the campaign and its columns for `inputs`; skips what `resume` already took.
-    pub fn open(path: &Path, inputs: &[String], mapping: &Mapping, speed: f64, resume: Option<&EngineState>) -> Result<CsvReplay, LiveError> {
-        if !(speed > 0.0) {
+    pub fn open(
+        path: &Path,
+        inputs: &[String],
+        mapping: &Mapping,
+        speed: f64,
+        resume: Option<&EngineState>,
+    ) -> Result<CsvReplay, LiveError> {
+        if speed.is_nan() || speed <= 0.0 {
             return Err(input(format!("--speed {speed} must be positive (inf: as fast as possible)")));
         }
         let campaign = Campaign::read(path)?;
@@ -64,9 +70,7 @@ impl CsvReplay {
             })
             .collect();
         if let Some(state) = resume {
-            if let Some(done) = state.accepted.as_ref().and_then(|a| {
-                rows.iter().position(|s| s.run == state.run && s.time_s == a.time_s)
-            }) {
+            if let Some(done) = state.accepted.as_ref().and_then(|a| rows.iter().position(|s| s.run == state.run && s.time_s == a.time_s)) {
                 rows.drain(..=done);
             }
         }

@@ -61,7 +61,8 @@ impl Status {
         if self.terminal {
             let offsets: Vec<String> = self.names.axes.iter().zip(&step.offsets_um).map(|(a, v)| format!("{a} {v:+.2}")).collect();
             let mut err = std::io::stderr();
-            let _ = write!(err, "\r\x1b[K{:?}  t {:.0} s  offsets {} um  ({samples} samples)", step.phase, step.run_time_s, offsets.join(" "));
+            let _ =
+                write!(err, "\r\x1b[K{:?}  t {:.0} s  offsets {} um  ({samples} samples)", step.phase, step.run_time_s, offsets.join(" "));
             let _ = err.flush();
         }
         if let Some(path) = &self.file {

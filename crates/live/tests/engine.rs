@@ -45,7 +45,8 @@ fn engine(model: ThermalErrorModel) -> Engine {
 /// Every sample of the shipped campaign through the CSV replay.
 fn replay() -> Vec<Sample> {
     let inputs = vec!["T:p1".to_string(), "T:p5".to_string()];
-    let mut src = CsvReplay::open(&root().join("examples/thermal/campaign.csv"), &inputs, &Mapping::default(), f64::INFINITY, None).unwrap();
+    let mut src =
+        CsvReplay::open(&root().join("examples/thermal/campaign.csv"), &inputs, &Mapping::default(), f64::INFINITY, None).unwrap();
     let mut out = Vec::new();
     while let Some(Event::Sample(s)) = src.next(Duration::ZERO).unwrap() {
         out.push(s);
@@ -181,7 +182,8 @@ fn the_saved_state_continues_exactly() {
     // the replay skips what the state already took
     let inputs = vec!["T:p1".to_string(), "T:p5".to_string()];
     let saved = EngineState::load(&path).unwrap().unwrap();
-    let mut src = CsvReplay::open(&root().join("examples/thermal/campaign.csv"), &inputs, &Mapping::default(), f64::INFINITY, Some(&saved)).unwrap();
+    let mut src =
+        CsvReplay::open(&root().join("examples/thermal/campaign.csv"), &inputs, &Mapping::default(), f64::INFINITY, Some(&saved)).unwrap();
     match src.next(Duration::ZERO).unwrap() {
         Some(Event::Sample(s)) => assert_eq!(s, samples[300]),
         other => panic!("{other:?}"),

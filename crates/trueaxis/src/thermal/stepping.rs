@@ -98,7 +98,7 @@ impl DriftModel {
                 };
             }
             Some(previous) => {
-                if !(t_s > previous) {
+                if t_s.is_nan() || t_s <= previous {
                     return Err(input(format!("sample time {t_s} s does not follow the previous sample at {previous} s")));
                 }
                 advance(&gammas, t_s - previous, &state.rises, &mut state.lags);
