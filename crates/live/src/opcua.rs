@@ -170,11 +170,13 @@ async fn open(
         .session_retry_max(Duration::from_secs(5))
         .client()
         .map_err(|e| environment(format!("OPC UA client: {}", e.join("; "))))?;
+    reachable(url)?;
     let endpoint: EndpointDescription = (url, "None", MessageSecurityMode::None, UserTokenPolicy::anonymous()).into();
-    let (session, event_loop) = client
-        .connect_to_matching_endpoint(endpoint, IdentityToken::Anonymous)
-        .await
-        .map_err(|e| environment(format!("{url}: cannot connect to the OPC UA server: {e}")))?;
+    let (session, event_loop) =
+        tokio::time::timeout(Duration::from_secs(20), client.connect_to_matching_endpoint(endpoint, IdentityToken::Anonymous))
+            .await
+            .map_err(|_| environment(format!("{url}: no answer to GetEndpoints within 20 s")))?
+            .map_err(|e| environment(format!("{url}: cannot connect to the OPC UA server: {e}")))?;
     let notes = tx.clone();
     tokio::spawn(async move {
         let stream = event_loop.enter();
@@ -238,6 +240,28 @@ async fn open(
         }
     }
     Ok(session)
+}
+
+/// Refuses at once a server that does not accept TCP connections (the client would retry for ever).
+fn reachable(url: &str) -> Result<(), LiveError> {
+    use std::net::ToSocketAddrs;
+    let rest = url.trim_start_matches("opc.tcp://");
+    let authority = rest.split('/').next().unwrap_or(rest);
+    let with_port = if authority.rsplit_once(':').is_some_and(|(_, p)| p.parse::<u16>().is_ok()) {
+        authority.to_string()
+    } else {
+        format!("{authority}:4840")
+    };
+    let addresses: Vec<_> =
+        with_port.to_socket_addrs().map_err(|e| environment(format!("{url}: cannot resolve `{with_port}`: {e}")))?.collect();
+    let mut last = None;
+    for a in &addresses {
+        match std::net::TcpStream::connect_timeout(a, Duration::from_secs(5)) {
+            Ok(_) => return Ok(()),
+            Err(e) => last = Some(e),
+        }
+    }
+    Err(environment(format!("{url}: the OPC UA server cannot be reached ({})", last.map_or("no address".into(), |e| e.to_string()))))
 }
 
 /// Writes offsets as they come; a failed write is logged, the next one tried.
