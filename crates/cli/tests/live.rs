@@ -251,7 +251,8 @@ fn opcua_faults_outage_held_ramped_resumed_and_a_200_degc_jump_refused() {
     let find = |what: &str, from: usize| {
         from + messages[from..].iter().position(|m| m.contains(what)).unwrap_or_else(|| panic!("no `{what}` in {messages:#?}\n{stderr}"))
     };
-    let jump = find("refused: T:p1: a jump of +2", 0);
+    // the 200 degC jump (to 228.6 degC) is beyond the sensor's range [0, 80] of the mapping
+    let jump = find("refused: T:p1: 228.596 is outside the physical range [0, 80]", 0);
     // after the jump: the outage is held, ramped, zero, then resumed, the connection lost before zero
     let ramp = find("ramp to zero over 600 s", jump);
     let held = messages[..ramp].iter().rposition(|m| m.contains("the offsets are held")).expect("held before the ramp");
@@ -261,13 +262,14 @@ fn opcua_faults_outage_held_ramped_resumed_and_a_200_degc_jump_refused() {
     assert!(held > jump && lost < zero, "{messages:#?}");
     // the ramp is linear from the held offset to zero, on the source's clock
     let steps: Vec<&Value> = ev.iter().filter(|e| e["phase"].is_string()).collect();
-    let ramps: Vec<(f64, f64)> = steps
+    // the ramp of the outage: the ramping steps after the first one, until the phase changes
+    let first_ramp = steps.iter().position(|e| e["phase"] == "ramping").unwrap();
+    let ramps: Vec<(f64, f64)> = steps[first_ramp..]
         .iter()
-        .filter(|e| e["phase"] == "ramping")
+        .take_while(|e| e["phase"] == "ramping")
         .map(|e| (e["time_s"].as_f64().unwrap(), e["offsets_um"]["Z"].as_f64().unwrap()))
         .collect();
     assert!(ramps.len() >= 3, "{ramps:?}");
-    let first_ramp = steps.iter().position(|e| e["phase"] == "ramping").unwrap();
     let before_gap = steps[..first_ramp].iter().rev().find(|e| e["drift_um"].is_object()).unwrap();
     let (t0, q) = (before_gap["time_s"].as_f64().unwrap(), before_gap["offsets_um"]["Z"].as_f64().unwrap());
     for (t, v) in &ramps {

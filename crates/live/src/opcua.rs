@@ -21,7 +21,9 @@ use crate::engine::{Sample, Step};
 use crate::source::{Event, Sink, Source};
 use crate::{environment, input, LiveError};
 use futures::StreamExt;
-use opcua::client::{ClientBuilder, IdentityToken, MonitoredItemMap, OnSubscriptionNotificationCore, Session, SessionPollResult};
+use opcua::client::{
+    ClientBuilder, IdentityToken, MonitoredItemMap, OnSubscriptionNotificationCore, Session, SessionConnectMode, SessionPollResult,
+};
 use opcua::types::{
     AttributeId, DataChangeFilter, DataChangeNotification, DataChangeTrigger, DataValue, DateTime, EndpointDescription, ExtensionObject,
     MessageSecurityMode, MonitoredItemCreateRequest, MonitoringMode, MonitoringParameters, NodeId, NotificationMessage, NumericRange,
@@ -168,6 +170,8 @@ async fn open(
         .session_retry_limit(-1)
         .session_retry_initial(Duration::from_millis(500))
         .session_retry_max(Duration::from_secs(5))
+        // subscriptions are made again by this module on a new session (a restarted server)
+        .recreate_subscriptions(false)
         .client()
         .map_err(|e| environment(format!("OPC UA client: {}", e.join("; "))))?;
     reachable(url)?;
@@ -178,13 +182,23 @@ async fn open(
             .map_err(|_| environment(format!("{url}: no answer to GetEndpoints within 20 s")))?
             .map_err(|e| environment(format!("{url}: cannot connect to the OPC UA server: {e}")))?;
     let notes = tx.clone();
+    let (new_session_tx, mut new_session) = tokio::sync::mpsc::unbounded_channel::<()>();
     tokio::spawn(async move {
         let stream = event_loop.enter();
         futures::pin_mut!(stream);
+        let mut sessions = 0;
         while let Some(event) = stream.next().await {
             let note = match event {
                 Ok(SessionPollResult::ConnectionLost(code)) => format!("OPC UA connection lost ({code})"),
-                Ok(SessionPollResult::Reconnected(_)) => "OPC UA session reconnected".to_string(),
+                Ok(SessionPollResult::Reconnected(SessionConnectMode::NewSession(_))) => {
+                    sessions += 1;
+                    if sessions == 1 {
+                        continue;
+                    }
+                    let _ = new_session_tx.send(());
+                    "OPC UA session created again: subscribing again".to_string()
+                }
+                Ok(SessionPollResult::Reconnected(_)) => "OPC UA session reactivated".to_string(),
                 Ok(_) => continue,
                 Err(code) => format!("OPC UA session ended ({code})"),
             };
@@ -207,39 +221,59 @@ async fn open(
         }
     }
     if subscribed > 0 {
-        let sub = session
-            .create_subscription(period, 600, 30, 0, 0, true, Forward(tx))
-            .await
-            .map_err(|e| environment(format!("{url}: cannot create a subscription: {e}")))?;
-        let filter = DataChangeFilter { trigger: DataChangeTrigger::StatusValueTimestamp, deadband_type: 0, deadband_value: 0.0 };
-        let items: Vec<MonitoredItemCreateRequest> = ids[..subscribed]
-            .iter()
-            .enumerate()
-            .map(|(k, (id, _))| {
-                MonitoredItemCreateRequest::new(
-                    ReadValueId::from(id.clone()),
-                    MonitoringMode::Reporting,
-                    MonitoringParameters {
-                        client_handle: k as u32 + 1,
-                        sampling_interval: period.as_secs_f64() * 1e3,
-                        filter: ExtensionObject::from_message(filter.clone()),
-                        queue_size: 1000,
-                        discard_oldest: true,
-                    },
-                )
-            })
-            .collect();
-        let created = session
-            .create_monitored_items(sub, TimestampsToReturn::Both, items)
-            .await
-            .map_err(|e| environment(format!("{url}: cannot create monitored items: {e}")))?;
-        for ((id, what), c) in ids.iter().zip(&created) {
-            if c.result.status_code.is_bad() {
-                return Err(input(format!("{url}: node `{id}` ({what}) cannot be monitored ({})", c.result.status_code)));
+        subscribe(&session, url, &ids[..subscribed], period, tx.clone()).await?;
+        let (session, url, ids, notes) = (session.clone(), url.to_string(), ids[..subscribed].to_vec(), tx);
+        tokio::spawn(async move {
+            while new_session.recv().await.is_some() {
+                if let Err(e) = subscribe(&session, &url, &ids, period, notes.clone()).await {
+                    let _ = notes.send(Incoming::Note(format!("warning: {e}")));
+                }
             }
-        }
+        });
     }
     Ok(session)
+}
+
+/// One subscription with a monitored item per node (client handles 1, 2, ... in the order of `ids`).
+async fn subscribe(
+    session: &Session,
+    url: &str,
+    ids: &[(NodeId, String)],
+    period: Duration,
+    tx: mpsc::Sender<Incoming>,
+) -> Result<(), LiveError> {
+    let sub = session
+        .create_subscription(period, 600, 30, 0, 0, true, Forward(tx))
+        .await
+        .map_err(|e| environment(format!("{url}: cannot create a subscription: {e}")))?;
+    let filter = DataChangeFilter { trigger: DataChangeTrigger::StatusValueTimestamp, deadband_type: 0, deadband_value: 0.0 };
+    let items: Vec<MonitoredItemCreateRequest> = ids
+        .iter()
+        .enumerate()
+        .map(|(k, (id, _))| {
+            MonitoredItemCreateRequest::new(
+                ReadValueId::from(id.clone()),
+                MonitoringMode::Reporting,
+                MonitoringParameters {
+                    client_handle: k as u32 + 1,
+                    sampling_interval: period.as_secs_f64() * 1e3,
+                    filter: ExtensionObject::from_message(filter.clone()),
+                    queue_size: 1000,
+                    discard_oldest: true,
+                },
+            )
+        })
+        .collect();
+    let created = session
+        .create_monitored_items(sub, TimestampsToReturn::Both, items)
+        .await
+        .map_err(|e| environment(format!("{url}: cannot create monitored items: {e}")))?;
+    for ((id, what), c) in ids.iter().zip(&created) {
+        if c.result.status_code.is_bad() {
+            return Err(input(format!("{url}: node `{id}` ({what}) cannot be monitored ({})", c.result.status_code)));
+        }
+    }
+    Ok(())
 }
 
 /// Refuses at once a server that does not accept TCP connections (the client would retry for ever).
