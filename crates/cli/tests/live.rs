@@ -432,10 +432,12 @@ fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
     let hal_file = std::fs::read_to_string(hal_dir.join(format!("{name}.hal"))).unwrap();
     // halrun runs until the test creates the stop file, then unloads what it loaded
     let stop_file = dir.path().join("stop");
+    let wait = dir.path().join("wait.sh");
+    std::fs::write(&wait, format!("for i in $(seq 1200); do [ -e {} ] && exit 0; sleep 0.1; done\n", stop_file.display())).unwrap();
     let script = format!(
         "loadrt trivkins coordinates=XYZ\nloadrt tpmod\nloadrt homemod\nloadrt motmod servo_period_nsec=1000000 num_joints=3\n\
-         loadrt sum2 names=sensors\n{hal_file}start\nloadusr -w sh -c \"for i in $(seq 1200); do [ -e {} ] && exit 0; sleep 0.1; done\"\n",
-        stop_file.display()
+         loadrt sum2 names=sensors\n{hal_file}start\nloadusr -w sh {}\n",
+        wait.display()
     );
     std::fs::write(dir.path().join("machine.hal"), script).unwrap();
     let mut cmd = Command::new("halrun");
