@@ -160,6 +160,8 @@ fn opcua_offsets_equal_thermal_predict_over_the_whole_campaign() {
         &state.display().to_string(),
         "--log",
         &log.display().to_string(),
+        "--log",
+        &dir.path().join("live.jsonl").display().to_string(),
     ]);
     let doc = report(srv);
     let (cpu_s, peak_kib) = load(proc.id());
@@ -178,7 +180,18 @@ fn opcua_offsets_equal_thermal_predict_over_the_whole_campaign() {
             assert_eq!(row[0].as_str().unwrap(), run);
             let ts = row[1].as_f64().unwrap();
             let at: Vec<f64> = z.iter().filter(|(s, _)| *s == ts).map(|(_, v)| *v).collect();
-            assert!(!at.is_empty(), "{by}: no offset written for {run} t = {t} s\n{stderr}");
+            if at.is_empty() {
+                // what trueaxis live did around that sample
+                let near: Vec<String> = std::fs::read_to_string(dir.path().join("live.jsonl"))
+                    .unwrap()
+                    .lines()
+                    .filter(|l| {
+                        serde_json::from_str::<Value>(l).is_ok_and(|e| e["time_s"].as_f64().is_some_and(|s| (s - ts).abs() <= 360.0))
+                    })
+                    .map(str::to_string)
+                    .collect();
+                panic!("{by}: no offset written for {run} t = {t} s; the live log around it:\n{}\n{stderr}", near.join("\n"));
+            }
             for v in at {
                 // the written offset (mm) is -dz; thermal predict prints um to 1e-4
                 assert!((v * 1e3 + p).abs() <= 0.5e-4, "{by}: {run} t = {t}: offset {v} mm, predicted {p} um");
