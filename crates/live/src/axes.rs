@@ -75,7 +75,8 @@ impl OffsetMap {
 
     /// The offsets (um) that cancel the drift `e` (um, dx dy dz in M).
     pub fn offsets(&self, e: [f64; 3]) -> Vec<f64> {
-        (&self.solve * DVector::from_column_slice(&e)).iter().copied().collect()
+        // + 0.0: no negative zero in logs and writes
+        (&self.solve * DVector::from_column_slice(&e)).iter().map(|q| q + 0.0).collect()
     }
 
     /// Why `offsets` (um) cannot be written: the first beyond the limit.
