@@ -13,6 +13,7 @@ mod identify;
 mod inputs;
 mod inspect;
 mod iso230_2;
+mod live;
 mod nc;
 mod predict;
 mod progress;
@@ -53,6 +54,7 @@ enum Command {
     Convert(convert::ConvertArgs),
     #[command(name = "iso230-2")]
     Iso2302(iso230_2::Iso2302Args),
+    Live(Box<live::LiveArgs>),
     Predict(predict::PredictArgs),
     Reversal(reversal::ReversalArgs),
     Report(Box<report::ReportArgs>),
@@ -63,10 +65,12 @@ enum Command {
     Verify(Box<verify::VerifyArgs>),
 }
 
-/// Why a command failed: bad input (exit 2) or a failed computation (exit 1).
+/// Why a command failed: bad input (exit 2), a failed computation (exit 1) or the environment (a
+/// server that cannot be reached, a program that is missing; exit 3).
 pub enum Failure {
     Input(anyhow::Error),
     Computation(anyhow::Error),
+    Environment(anyhow::Error),
 }
 
 impl Failure {
@@ -126,6 +130,7 @@ fn main() -> ExitCode {
         Command::Inspect(args) => inspect::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Iso2302(args) => iso230_2::run(args),
+        Command::Live(args) => live::run(*args),
         Command::Predict(args) => predict::run(args),
         Command::Reversal(args) => reversal::run(args),
         Command::Report(args) => report::run(*args),
@@ -144,6 +149,10 @@ fn main() -> ExitCode {
         Err(Failure::Computation(e)) => {
             eprintln!("trueaxis: error: {}", message(&e));
             ExitCode::from(1)
+        }
+        Err(Failure::Environment(e)) => {
+            eprintln!("trueaxis: error: {}", message(&e));
+            ExitCode::from(3)
         }
     }
 }
