@@ -148,7 +148,7 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
         let system =
             systems.iter().position(|s| *s == code).ok_or_else(|| bad(format!("--offset: `{code}` is not one of G54 ... G59.3")))?;
         let values = parse_axis_values(machine, &letter_values(values), "--offset")?;
-        setup.set_work_offset(machine, system as u8 + 1, &values);
+        setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(machine), system as u8 + 1, &values);
     }
     if let Some(s) = &args.start {
         setup.start = parse_axis_values(machine, &letter_values(s), "--start")?;

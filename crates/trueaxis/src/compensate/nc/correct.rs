@@ -5,11 +5,12 @@
 //! at the piece ends by more than the tolerance.
 
 use super::modal::{Frame, MM_PER_INCH};
-use super::path::{arc_geometry, departure, directions_at, point_at, split_from, ArcGeometry, Pieces};
+use super::path::{arc_geometry, departure, point_at, split_from, ArcGeometry, Pieces};
 use super::trace::{Move, MoveKind, Role};
 use super::NcOptions;
 use crate::compensate::correction::{CorrectionWorkspace, Corrector, WarmStart};
 use crate::compensate::coverage::{check_covered, table_ranges, TableRange};
+use crate::compensate::direction_of;
 use crate::compensate::export::{check_limit, Limits};
 use crate::compensate::CompensateError;
 use crate::errors::{Direction, MachineState};
@@ -251,4 +252,25 @@ fn reversals(arc: Option<&ArcGeometry>) -> Vec<f64> {
     }
     out.push(1.0);
     out
+}
+
+/// Directions of motion at parameter `t`: the sign of the velocity of each axis; an axis that does
+/// not move keeps `previous` (the direction it last moved in, which fixes its backlash side).
+fn directions_at(m: &Move, arc: Option<&ArcGeometry>, t: f64, previous: &[Option<Direction>], out: &mut [Option<Direction>]) {
+    for k in 0..out.len() {
+        let velocity = m.end[k] - m.start[k];
+        out[k] = direction_of(velocity).or(previous[k]);
+    }
+    if let (Some(g), MoveKind::Arc { plane, .. }) = (arc, m.kind) {
+        let angle = g.start_angle + t * g.sweep;
+        let r = g.start_radius + t * (g.end_radius - g.start_radius);
+        let dr = g.end_radius - g.start_radius;
+        // d/dt (r cos a, r sin a) with a' = sweep
+        let v_first = dr * angle.cos() - r * g.sweep * angle.sin();
+        let v_second = dr * angle.sin() + r * g.sweep * angle.cos();
+        let tiny = 1e-12 * (r * g.sweep.abs()).max(1.0);
+        for (axis, v) in [(plane.first, v_first), (plane.second, v_second)] {
+            out[axis] = if v.abs() > tiny { direction_of(v) } else { previous[axis] };
+        }
+    }
 }

@@ -14,102 +14,26 @@
 //! does not move being the one it last moved in, and the tool point of the active tool length
 //! offset (the machine's tool point is the controlled point without offset).
 //!
-//! Files: [`lexer`] (reading a line), [`expr`] (expressions), [`params`] (parameters and their
-//! scopes), [`program`] (files and their control structures), [`interpret`] (control flow),
-//! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
-//! [`arcs`], [`cycles`], [`tools`] (tool table),
-//! [`dialect`], [`trace`] (what a run did), [`plan`] (what stays, what is expanded), [`correct`]
-//! (corrections along moves, [`path`]), [`write`] (the corrected text).
+//! The program is read and run by the crate `trueaxis-nc` (re-exported here: [`Dialect`],
+//! [`Move`], [`Trace`], [`ToolTable`], [`params`]...), which knows nothing of machine errors;
+//! [`correct`] computes the corrections along its moves and the pieces a move is split into.
 
-pub mod arcs;
 pub mod correct;
-pub mod cycles;
-pub mod dialect;
-pub mod execute;
-pub mod expr;
-pub mod interpret;
-pub mod lexer;
-pub mod modal;
-pub mod offsets;
-pub mod params;
-pub mod path;
-pub mod plan;
-pub mod program;
-pub mod system;
-pub mod tools;
-pub mod trace;
-pub mod write;
 
 use super::correction::Corrector;
 use super::export::Limits;
 use super::CompensateError;
+use crate::machine::AxisKind;
 use crate::machine::Machine;
-pub use dialect::Dialect;
-pub use interpret::FanucSettings;
-pub use modal::MM_PER_INCH;
-pub use program::SearchPath;
-use thiserror::Error;
-pub use tools::ToolTable;
-pub use trace::{Move, MoveKind, Role, Trace};
+pub use trueaxis_nc::{
+    dialect, lexer, modal, params, path, plan, program, tools, trace, write, AxisSpec, Dialect, FanucSettings, MachineAxes, Move, MoveKind,
+    NcError, ProgramSetup, Role, SearchPath, ToolTable, Trace, MM_PER_INCH,
+};
 
-/// Why a program cannot be run or corrected, with its file and line.
-#[derive(Debug, Error, Clone, PartialEq)]
-#[error("{file}: line {line}: {message}")]
-pub struct NcError {
-    pub file: String,
-    pub line: usize,
-    pub message: String,
-}
-
-/// Where and with what a program starts.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ProgramSetup {
-    /// Machine position before the first move (mm, deg; machine axis order); rs274 starts at 0.
-    pub start: Vec<f64>,
-    /// Parameters at the start (LinuxCNC parameter file: work offsets `#5221`..., the `G28`/`G30`
-    /// positions `#5161`/`#5181`..., the coordinate system `#5220`), machine units.
-    pub parameters: Vec<(u32, f64)>,
-    /// The tool table (machine units).
-    pub tools: ToolTable,
-    /// Machine units are inch (parameters, tool table): LinuxCNC's `rs274` without an INI file
-    /// works in inch; default mm.
-    pub machine_inch: bool,
-    /// Where subroutine files are found.
-    pub search_path: SearchPath,
-    pub fanuc: FanucSettings,
-    /// Re-read the position after a tool change (`M6`, `M61`) the way LinuxCNC's standalone
-    /// `rs274` does: from the last move in program coordinates, forgetting tool length offset
-    /// changes made since (`T1 M6 G43 H1` then reads the machine as if it had moved by the offset).
-    /// For checking corrected programs with rs274; LinuxCNC itself keeps the machine position
-    /// (default false).
-    pub rs274_tool_change: bool,
-}
-
-impl ProgramSetup {
-    /// All zero for `machine`: start at 0, no offsets, an empty tool table, mm.
-    pub fn zero(machine: &Machine) -> ProgramSetup {
-        ProgramSetup {
-            start: vec![0.0; machine.axis_count()],
-            parameters: Vec::new(),
-            tools: ToolTable::default(),
-            machine_inch: false,
-            search_path: SearchPath::default(),
-            fanuc: FanucSettings::default(),
-            rs274_tool_change: false,
-        }
-    }
-
-    /// Sets the work offset of coordinate system `system` (1 = G54 ... 9 = G59.3): the machine
-    /// position of the program zero, `values` per machine axis (mm, deg).
-    pub fn set_work_offset(&mut self, machine: &Machine, system: u8, values: &[f64]) {
-        let base = 5201 + 20 * u32::from(system);
-        for (axis, v) in machine.axes().iter().zip(values) {
-            let k = tools::AXIS_LETTERS.iter().position(|&l| l as char == axis.letter).expect("a machine axis letter");
-            let v = if self.machine_inch && modal::is_linear(k) { v / MM_PER_INCH } else { *v };
-            self.parameters.retain(|(n, _)| *n != base + k as u32);
-            self.parameters.push((base + k as u32, v));
-        }
-    }
+/// The axes of `machine` as the NC interpreter needs them: letters, linear or rotary, travel.
+pub fn machine_axes(machine: &Machine) -> MachineAxes {
+    let axes = machine.axes().iter().map(|a| AxisSpec { letter: a.letter, rotary: a.kind == AxisKind::Rotary, range: a.range }).collect();
+    MachineAxes { name: machine.name.clone(), axes }
 }
 
 /// Options of the NC correction.
@@ -144,7 +68,7 @@ impl NcOptions {
             decimals: None,
             decimals_inch: None,
             max_pieces: 10_000,
-            setup: ProgramSetup::zero(machine),
+            setup: ProgramSetup::zero(&machine_axes(machine)),
             limits: Limits::of_machine(machine),
             dialect: None,
         }
@@ -196,15 +120,13 @@ fn input_error(e: NcError) -> CompensateError {
 /// program. `origin` (the file name) prefixes messages.
 pub fn run_program(machine: &Machine, text: &str, origin: &str, options: &NcOptions) -> Result<(Trace, program::Program), CompensateError> {
     let dialect = options.dialect.unwrap_or_else(|| Dialect::detect(text));
-    let program = program::Program::new(origin, text, dialect, options.setup.search_path.clone())
-        .map_err(|(k, m)| input_error(NcError { file: origin.to_string(), line: k + 1, message: m }))?;
     let mut setup = options.setup.clone();
     if dialect == Dialect::Fanuc {
         if let Some(d) = options.decimals {
             setup.fanuc.increment_mm = 10f64.powi(-(d as i32));
         }
     }
-    interpret::run(machine, program, &setup).map_err(input_error)
+    trueaxis_nc::run(&machine_axes(machine), text, origin, Some(dialect), &setup).map_err(input_error)
 }
 
 /// The moves of a program in machine positions (mm, deg).
@@ -231,7 +153,8 @@ pub fn correct_program(
     let mut tight = *corrector;
     tight.options.tolerance_mm = tight.options.tolerance_mm.min(0.2 * resolution);
     let mut corrections = correct::Corrections::new(&tight, options.limits, temperatures);
-    let mut writer = write::Writer::new(machine, &program, &trace, &plan, decimals, decimals_inch);
+    let axes = machine_axes(machine);
+    let mut writer = write::Writer::new(&axes, &program, &trace, &plan, decimals, decimals_inch);
     writer.machine_inch = options.setup.machine_inch;
     let mut file = usize::MAX;
     let mut pieces = Vec::new();
@@ -249,7 +172,7 @@ pub fn correct_program(
         }
         writer.step(i, &pieces);
     }
-    let notes = notes(&writer.notes, dialect);
+    let notes = write::notes(&writer.notes, dialect);
     let text = writer.finish(&notes);
     let e = corrections.extremes;
     Ok(NcResult {
@@ -267,28 +190,4 @@ pub fn correct_program(
         max_residual_um: e.max_residual_um,
         max_uncorrectable_urad: e.max_uncorrectable_urad,
     })
-}
-
-/// The comment lines at the top of a corrected program that say what was expanded (at most 20).
-fn notes(expanded: &[String], dialect: Dialect) -> Vec<String> {
-    if expanded.is_empty() {
-        return Vec::new();
-    }
-    let clean = |s: &str| {
-        let s = s.replace(['(', ')'], "");
-        match dialect {
-            Dialect::Fanuc => s.to_uppercase().replace(['<', '>', '#'], " "),
-            Dialect::LinuxCnc => s,
-        }
-    };
-    let mut out = vec![clean("(trueaxis: corrected program; expanded into plain moves because the correction differs where they run:)")];
-    out[0] =
-        format!("({})", clean("trueaxis: corrected program; expanded into plain moves because the correction differs where they run:"));
-    for e in expanded.iter().take(20) {
-        out.push(format!("({})", clean(&format!("trueaxis: - {e}"))));
-    }
-    if expanded.len() > 20 {
-        out.push(format!("({})", clean(&format!("trueaxis: - and {} more", expanded.len() - 20))));
-    }
-    out
 }

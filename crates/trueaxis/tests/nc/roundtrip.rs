@@ -6,10 +6,8 @@
 //! tool length offset moves the tool point the correction is computed for; what cannot be
 //! corrected is refused with the file, the line and the reason.
 
-mod nc_common;
-
-use nc_common::oracle::Oracle;
-use nc_common::rs274::{Canon, Kind};
+use crate::common::oracle::Oracle;
+use crate::common::rs274::{Canon, Kind};
 use trueaxis::compensate::nc::{correct_program, program_moves, run_program, Dialect, MoveKind, NcOptions, SearchPath, ToolTable};
 use trueaxis::compensate::{CorrectionWorkspace, Corrector};
 use trueaxis::errors::{ErrorModel, MachineState};
@@ -29,7 +27,7 @@ fn example_options(m: &Machine) -> NcOptions {
     options.setup.tools = ToolTable::parse(&std::fs::read_to_string("../../examples/nc/tools.tbl").unwrap(), "tools.tbl").unwrap();
     let mut g54 = vec![0.0; m.axis_count()];
     g54[2] = -300.0;
-    options.setup.set_work_offset(m, 1, &g54);
+    options.setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(m), 1, &g54);
     options.setup.search_path = SearchPath(vec!["../../examples/nc".into()]);
     options.setup.start[2] = -100.0;
     options
@@ -81,7 +79,7 @@ fn corrected_examples_read_back_land_on_the_originals() {
         let original = read(&m, &text, &options);
         let corrected = read(&m, &r.text, &options);
         let moves = program_moves(&m, &text, file, &options).unwrap();
-        let (_, homes) = nc_common::canonical_homes(&m, &moves);
+        let (_, homes) = crate::common::canonical_homes(&m, &moves);
         let oracle = Oracle { machine: &m, errors: &e, temperatures: temperatures.to_vec() };
         let report = oracle
             .compare(&original, &corrected, &options.setup.start, end_um, 1.0 + end_um, &homes)

@@ -11,14 +11,14 @@
 //! (`G41`/`G42`), splines, lathe roughing cycles, scaling and coordinate rotation commands (Fanuc
 //! `G51`/`G68`), 5-axis tool-centre-point and tilted-plane modes, polar coordinate mode (Fanuc `G16`).
 
-use super::dialect::Dialect;
-use super::expr::{evaluate, parameter_number, ParamRef};
-use super::interpret::{Exec, Flow};
-use super::lexer::{Line, Operand};
-use super::modal::{FeedMode, Motion, PlaneSelect, Spindle, Vec9, AXES};
-use super::program::SourceFile;
-use super::tools::AXIS_LETTERS;
-use super::trace::{flags, Move, MoveKind, Plane, Relative, Role};
+use crate::dialect::Dialect;
+use crate::expr::{evaluate, parameter_number, ParamRef};
+use crate::interpret::{Exec, Flow};
+use crate::lexer::{Line, Operand};
+use crate::modal::{FeedMode, Motion, PlaneSelect, Spindle, Vec9, AXES};
+use crate::program::SourceFile;
+use crate::tools::AXIS_LETTERS;
+use crate::trace::{flags, Move, MoveKind, Plane, Relative, Role};
 
 /// Letters of a block: A-Z, then `@` (polar radius), `^` (polar angle), `$` (spindle).
 const LETTERS: usize = 29;
@@ -42,7 +42,7 @@ fn index_letter(i: usize) -> u8 {
 }
 
 /// The evaluated words of a block.
-pub(super) struct Words {
+pub(crate) struct Words {
     values: [Option<f64>; LETTERS],
     /// G codes (x 10) and M codes.
     g: [u16; 16],
@@ -54,41 +54,41 @@ pub(super) struct Words {
 }
 
 impl Words {
-    pub(super) fn get(&self, letter: u8) -> Option<f64> {
+    pub(crate) fn get(&self, letter: u8) -> Option<f64> {
         self.values[letter_index(letter)]
     }
 
-    pub(super) fn has(&self, letter: u8) -> bool {
+    pub(crate) fn has(&self, letter: u8) -> bool {
         self.get(letter).is_some()
     }
 
     /// The value of `letter`, marked as used.
-    pub(super) fn take(&mut self, letter: u8) -> Option<f64> {
+    pub(crate) fn take(&mut self, letter: u8) -> Option<f64> {
         let i = letter_index(letter);
         self.used |= 1 << i;
         self.values[i]
     }
 
-    pub(super) fn gs(&self) -> &[u16] {
+    pub(crate) fn gs(&self) -> &[u16] {
         &self.g[..self.ng]
     }
 
-    pub(super) fn ms(&self) -> &[u16] {
+    pub(crate) fn ms(&self) -> &[u16] {
         &self.m[..self.nm]
     }
 
     /// Axis words (interpreter axes) and whether any is present.
-    pub(super) fn axes(&self) -> ([Option<f64>; AXES], bool) {
+    pub(crate) fn axes(&self) -> ([Option<f64>; AXES], bool) {
         let a: [Option<f64>; AXES] = std::array::from_fn(|k| self.get(AXIS_LETTERS[k]));
         let any = a.iter().any(Option::is_some);
         (a, any)
     }
 
-    pub(super) fn any_axis_or_polar(&self) -> bool {
+    pub(crate) fn any_axis_or_polar(&self) -> bool {
         self.axes().1 || self.has(b'@') || self.has(b'^')
     }
 
-    pub(super) fn use_axes(&mut self) {
+    pub(crate) fn use_axes(&mut self) {
         for &l in AXIS_LETTERS.iter().chain(b"@^") {
             self.take(l);
         }
@@ -207,7 +207,7 @@ fn is_dimension(letter: u8) -> bool {
 
 impl Exec<'_> {
     /// Executes the block `line` of `file` at `pc`.
-    pub(super) fn block(&mut self, file: &SourceFile, pc: (usize, usize), line: &Line) -> Result<Flow, String> {
+    pub(crate) fn block(&mut self, file: &SourceFile, pc: (usize, usize), line: &Line) -> Result<Flow, String> {
         let step = self.begin_step(pc, 0);
         let flow = self.block_steps(file, pc, line, step);
         self.end_step(step);
@@ -415,7 +415,7 @@ impl Exec<'_> {
                     (rest[..digits].parse().ok().map(ParamRef::Numbered), digits)
                 };
                 if let Some(p) = param {
-                    use super::expr::Environment;
+                    use crate::expr::Environment;
                     let v = self.read(&p, None).unwrap_or(f64::NAN);
                     out.push_str(&format!("{v:.6}"));
                     i += 1 + len;
@@ -744,7 +744,7 @@ impl Exec<'_> {
     }
 
     /// The end point of a motion from the axis words (absolute, incremental, `G53`, polar).
-    pub(super) fn end_point(&mut self, w: &mut Words, g53: bool) -> Result<Vec9, String> {
+    pub(crate) fn end_point(&mut self, w: &mut Words, g53: bool) -> Result<Vec9, String> {
         let (axes, _) = w.axes();
         let s = &self.state;
         let mut end = s.position;
@@ -801,12 +801,12 @@ impl Exec<'_> {
     }
 
     /// A straight move to program point `end` (rapid or feed).
-    pub(super) fn straight(&mut self, rapid: bool, end: Vec9, role: Role, g53: bool, words: u16) -> Result<(), String> {
+    pub(crate) fn straight(&mut self, rapid: bool, end: Vec9, role: Role, g53: bool, words: u16) -> Result<(), String> {
         self.push_move(if rapid { MoveKind::Rapid } else { MoveKind::Feed }, end, role, g53, words, None)
     }
 
     /// Adds a move to the trace, checking that its axes exist and that it stays in the travel.
-    pub(super) fn push_move(
+    pub(crate) fn push_move(
         &mut self,
         kind: MoveKind,
         end: Vec9,
@@ -886,7 +886,7 @@ impl Exec<'_> {
                     return Err("a canned cycle with zero feed rate".into());
                 }
                 self.trace.steps[step].flags |= flags::EXPAND;
-                super::cycles::cycle(self, c, w, step)
+                crate::cycles::cycle(self, c, w, step)
             }
         }
     }
@@ -969,7 +969,7 @@ impl Exec<'_> {
         }
         let inch = self.state.frame.inch;
         let centre = match r {
-            Some(r) => super::arcs::centre_from_radius(clockwise, [start[a], start[b]], [end[a], end[b]], r, inch)?,
+            Some(r) => crate::arcs::centre_from_radius(clockwise, [start[a], start[b]], [end[a], end[b]], r, inch)?,
             None => {
                 if self.state.frame.ijk_absolute && (ia.is_none() || ib.is_none()) {
                     return Err(format!(
@@ -979,7 +979,7 @@ impl Exec<'_> {
                 }
                 let (i, j) = (ia.unwrap_or(0.0), ib.unwrap_or(0.0));
                 let c = if self.state.frame.ijk_absolute { [i, j] } else { [start[a] + i, start[b] + j] };
-                super::arcs::check_centre([start[a], start[b]], [end[a], end[b]], c, inch)?;
+                crate::arcs::check_centre([start[a], start[b]], [end[a], end[b]], c, inch)?;
                 c
             }
         };
@@ -999,7 +999,7 @@ impl Exec<'_> {
         }
         // several turns: the arc, then whole turns, the other axes sharing the total angle
         self.trace.steps[step].flags |= flags::EXPAND;
-        let sweep = super::arcs::sweep(clockwise, [start[a], start[b]], [end[a], end[b]], centre);
+        let sweep = crate::arcs::sweep(clockwise, [start[a], start[b]], [end[a], end[b]], centre);
         let total = sweep.abs() + f64::from(turns - 1) * std::f64::consts::TAU;
         let mut angle = sweep.abs();
         let along =

@@ -9,8 +9,8 @@
 //! `END` are statements. Every word keeps the byte span of its value text, so that a writer can
 //! replace a value and leave the rest of the line as it was.
 
-use super::dialect::Dialect;
-use super::expr::{ExprId, Func, Node, Op, ParamRef};
+use crate::dialect::Dialect;
+use crate::expr::{ExprId, Func, Node, Op, ParamRef};
 use std::ops::Range;
 
 /// A word's value as written.
@@ -366,7 +366,7 @@ impl Cursor<'_> {
         }
         match self.value(arena)?.0 {
             Operand::Number(v) => {
-                let n = super::expr::parameter_number(v)?;
+                let n = crate::expr::parameter_number(v)?;
                 Ok(if n == 0 && self.dialect == Dialect::Fanuc { Node::Vacant } else { Node::Param(ParamRef::Numbered(n)) })
             }
             Operand::Expr(e) => Ok(Node::Param(ParamRef::Indirect(e))),

@@ -2,19 +2,19 @@
 //! O-words: `sub`/`endsub`/`call`/`return`, `if`/`elseif`/`else`, `while`/`do`/`repeat`,
 //! `break`/`continue`; Fanuc `GOTO`, `IF`, `WHILE ... DO`/`END`, `M98`/`M99`, `G65`), the parameters
 //! an expression reads (stored, or computed from the modal state), and the [`Trace`] it leaves.
-//! The blocks themselves are executed in [`super::execute`].
+//! The blocks themselves are executed in [`crate::execute`].
 
-use super::dialect::Dialect;
-use super::expr::{evaluate, ExprId, ParamRef};
-use super::lexer::{Label, OKind, Statement};
-use super::modal::{is_linear, FeedMode, Motion, PlaneSelect, SavedModes, Spindle, State, Vec9, AXES, MM_PER_INCH};
-use super::params::{ParamKey, Params};
-use super::program::{Link, Program, SourceFile};
-use super::system::is_predefined;
-use super::tools::{ToolTable, AXIS_LETTERS};
-use super::trace::{flags, Axes, Step, Trace};
-use super::{NcError, ProgramSetup};
-use crate::machine::Machine;
+use crate::axes::MachineAxes;
+use crate::dialect::Dialect;
+use crate::expr::{evaluate, ExprId, ParamRef};
+use crate::lexer::{Label, OKind, Statement};
+use crate::modal::{is_linear, FeedMode, Motion, PlaneSelect, SavedModes, Spindle, State, Vec9, AXES, MM_PER_INCH};
+use crate::params::{ParamKey, Params};
+use crate::program::{Link, Program, SourceFile};
+use crate::system::is_predefined;
+use crate::tools::{ToolTable, AXIS_LETTERS};
+use crate::trace::{flags, Axes, Step, Trace};
+use crate::{NcError, ProgramSetup};
 
 /// Most blocks one run may execute (a guard against endless loops).
 pub const MAX_STEPS: usize = 20_000_000;
@@ -26,7 +26,7 @@ pub const MAX_STEPS: usize = 20_000_000;
 pub const MAX_CALL_LEVELS: usize = 10;
 
 /// What happens after a line.
-pub(super) enum Flow {
+pub(crate) enum Flow {
     Next,
     /// Continue at this line of the same file.
     Jump(usize),
@@ -49,7 +49,7 @@ pub(super) enum Flow {
 
 /// An active call.
 #[derive(Clone, Debug)]
-pub(super) struct Call {
+pub(crate) struct Call {
     /// File and line to continue at after the return.
     return_to: (usize, usize),
     /// First line of the body and how many more times to run it (Fanuc `L`).
@@ -58,7 +58,7 @@ pub(super) struct Call {
     /// A new level of local parameters.
     locals: bool,
     /// M73: modes to restore on return.
-    pub(super) autorestore: Option<SavedModes>,
+    pub(crate) autorestore: Option<SavedModes>,
 }
 
 /// Dialect-specific settings of the interpreter.
@@ -79,8 +79,8 @@ impl Default for FanucSettings {
 }
 
 /// The interpreter's state beside the program text.
-pub(super) struct Exec<'m> {
-    pub machine: &'m Machine,
+pub(crate) struct Exec<'m> {
+    pub machine: &'m MachineAxes,
     pub dialect: Dialect,
     pub params: Params,
     pub tools: ToolTable,
@@ -118,7 +118,7 @@ pub(super) struct Exec<'m> {
 }
 
 /// Runs `program` from `setup`; the trace of the run, or the error with its file and line.
-pub fn run(machine: &Machine, mut program: Program, setup: &ProgramSetup) -> Result<(Trace, Program), NcError> {
+pub fn run(machine: &MachineAxes, mut program: Program, setup: &ProgramSetup) -> Result<(Trace, Program), NcError> {
     let dialect = program.dialect;
     let mut exec = Exec::new(machine, dialect, setup).map_err(|m| NcError { file: program.files[0].name.clone(), line: 0, message: m })?;
     let mut pc = (0usize, program.files[0].body.start);
@@ -204,7 +204,7 @@ pub fn run(machine: &Machine, mut program: Program, setup: &ProgramSetup) -> Res
 }
 
 impl<'m> Exec<'m> {
-    fn new(machine: &'m Machine, dialect: Dialect, setup: &ProgramSetup) -> Result<Exec<'m>, String> {
+    fn new(machine: &'m MachineAxes, dialect: Dialect, setup: &ProgramSetup) -> Result<Exec<'m>, String> {
         let mut axis_map = [None; AXES];
         for (k, slot) in axis_map.iter_mut().enumerate() {
             *slot = machine.axis_index(AXIS_LETTERS[k] as char);
@@ -230,7 +230,7 @@ impl<'m> Exec<'m> {
             saved_modes: None,
             return_value: 0.0,
             value_returned: false,
-            position: [0.0; crate::compensate::MAX_AXES],
+            position: [0.0; crate::MAX_AXES],
             line_number: 0,
             setup_words: Vec::new(),
             setting_words: Vec::new(),
@@ -440,7 +440,7 @@ impl<'m> Exec<'m> {
     }
 
     /// After a change of offsets: the program position of the unchanged machine position.
-    pub fn refresh_position(&mut self, old: &super::modal::Frame) {
+    pub fn refresh_position(&mut self, old: &crate::modal::Frame) {
         let ext = old.external(&self.state.position);
         self.state.position = self.state.frame.program(&ext);
     }
@@ -627,7 +627,7 @@ impl<'m> Exec<'m> {
                 if truth(self.eval(file, *cond)?) {
                     for a in assignments {
                         let index = match &a.target {
-                            ParamRef::Indirect(e) => Some(super::expr::parameter_number(self.eval(file, *e)?)?),
+                            ParamRef::Indirect(e) => Some(crate::expr::parameter_number(self.eval(file, *e)?)?),
                             _ => None,
                         };
                         let v = self.eval(file, a.value)?;

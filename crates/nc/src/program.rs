@@ -4,9 +4,9 @@
 //! (LinuxCNC O-words), where each `N` label, `WHILE ... DO m`/`END m` pair and `O` program number is
 //! (Fanuc).
 
-use super::dialect::Dialect;
-use super::expr::Node;
-use super::lexer::{parse_line, Label, Line, OKind, Statement};
+use crate::dialect::Dialect;
+use crate::expr::Node;
+use crate::lexer::{parse_line, Label, Line, OKind, Statement};
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::PathBuf;

@@ -8,10 +8,8 @@
 //! them within 0.5 um (3 decimals: the IS-B increment 1 um, half of it from rounding) with every
 //! dimension word written with a decimal point and at most 3 decimals.
 
-mod nc_common;
-
-use nc_common::oracle::Oracle;
-use nc_common::rs274::{Canon, Kind};
+use crate::common::oracle::Oracle;
+use crate::common::rs274::{Canon, Kind};
 use trueaxis::compensate::nc::{correct_program, run_program, Dialect, MoveKind, NcOptions, ToolTable};
 use trueaxis::compensate::Corrector;
 use trueaxis::errors::ErrorModel;
@@ -323,7 +321,7 @@ fn read(machine: &Machine, text: &str, options: &NcOptions) -> Vec<Canon> {
 
 fn homes(machine: &Machine, text: &str, options: &NcOptions) -> Vec<usize> {
     let (trace, _) = run_program(machine, text, "fanuc", options).unwrap();
-    nc_common::canonical_homes(machine, &trace.moves).1
+    crate::common::canonical_homes(machine, &trace.moves).1
 }
 
 /// Every dimension word has a decimal point and at most `decimals` digits after it.
@@ -352,7 +350,7 @@ fn check(name: &str, machine_name: &str, errors: &str, text: &str, expected: &Ex
     options.setup.tools = ToolTable::parse(TOOLS, "tools").unwrap();
     let mut offset = vec![0.0; m.axis_count()];
     offset[2] = G54_Z;
-    options.setup.set_work_offset(&m, 1, &offset);
+    options.setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(&m), 1, &offset);
     options.setup.start[2] = START_Z;
     // the original, read by trueaxis, is the independent expansion
     let original = read(&m, text, &options);

@@ -13,10 +13,8 @@
 //! tolerance of the original path (the length of the vector of the linear axes; rapids: their ends
 //! only). Skipped, with the reason printed, only when rs274 is not installed.
 
-mod nc_common;
-
-use nc_common::oracle::{Oracle, Report};
-use nc_common::rs274::rs274;
+use crate::common::oracle::{Oracle, Report};
+use crate::common::rs274::rs274;
 use trueaxis::compensate::nc::{correct_program, program_moves, Dialect, NcOptions, NcResult, SearchPath, ToolTable};
 use trueaxis::compensate::Corrector;
 use trueaxis::errors::ErrorModel;
@@ -80,7 +78,7 @@ fn check(case: &Case, decimals: Option<usize>, end_um: f64) -> (NcResult, Report
     let oracle = Oracle { machine: &m, errors: &e, temperatures: case.temperatures.to_vec() };
     // trueaxis reads the same moves as rs274; the returns to the G28/G30 positions stay as they are
     let moves = program_moves(&m, case.program, case.name, &options).unwrap();
-    let (count, homes) = nc_common::canonical_homes(&m, &moves);
+    let (count, homes) = crate::common::canonical_homes(&m, &moves);
     assert_eq!(count, original.len(), "{}: moves read by trueaxis and by rs274", case.name);
     let report = oracle
         .compare(&original, &corrected, &vec![0.0; m.axis_count()], end_um, 1.05, &homes)

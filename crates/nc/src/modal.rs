@@ -11,7 +11,7 @@
 //!
 //! Interpreter axes are X Y Z A B C U V W (LinuxCNC's order), rotary A B C in degrees.
 
-use super::tools::AXIS_LETTERS;
+use crate::tools::AXIS_LETTERS;
 
 /// Interpreter axes: X Y Z A B C U V W.
 pub const AXES: usize = 9;

@@ -1,17 +1,17 @@
-//! The parameters an expression reads: stored ones ([`super::params`]) and those computed from the
+//! The parameters an expression reads: stored ones ([`crate::params`]) and those computed from the
 //! state: LinuxCNC's `#5400`-`#5413` (tool), `#5420`-`#5428` (position), the predefined named
 //! parameters (`#<_x>`, `#<_metric>`, `#<_value>` ...; `interp_namedparams.cc`); Fanuc's `#5001`...
 //! (positions), `#2001`... (tool offsets), `#4001`... (modal information). A read of a value that
 //! differs in the corrected program (the position, a return value, the line number) is marked.
 
-use super::dialect::Dialect;
-use super::expr::{Environment, ParamRef};
-use super::interpret::Exec;
-use super::modal::{FeedMode, Motion, Spindle};
-use super::tools::AXIS_LETTERS;
+use crate::dialect::Dialect;
+use crate::expr::{Environment, ParamRef};
+use crate::interpret::Exec;
+use crate::modal::{FeedMode, Motion, Spindle};
+use crate::tools::AXIS_LETTERS;
 
 /// The named system parameters LinuxCNC 2.9 predefines.
-pub(super) fn is_predefined(name: &str) -> bool {
+pub(crate) fn is_predefined(name: &str) -> bool {
     const NAMES: [&str; 57] = [
         "_vmajor",
         "_vminor",

@@ -11,10 +11,8 @@
 //! compensation `G41`/`G42`) are listed apart. The share of the others must be at least 95 %; the
 //! failures are printed.
 
-mod nc_common;
-
-use nc_common::oracle::Oracle;
-use nc_common::rs274::rs274;
+use crate::common::oracle::Oracle;
+use crate::common::rs274::rs274;
 use std::path::Path;
 use std::process::Command;
 use trueaxis::compensate::nc::{correct_program, program_moves, Dialect, NcOptions, SearchPath, ToolTable};
@@ -99,7 +97,7 @@ fn check(path: &str, machine: &Machine, errors: &ErrorModel) -> Outcome {
     };
     let oracle = Oracle { machine, errors, temperatures: vec![] };
     let Ok(moves) = program_moves(machine, &text, &name, &options) else { return Outcome::Failed("run again: differs".into()) };
-    let (count, homes) = nc_common::canonical_homes(machine, &moves);
+    let (count, homes) = crate::common::canonical_homes(machine, &moves);
     if count != original.len() {
         return Outcome::Failed(format!("trueaxis reads {count} moves, rs274 {}", original.len()));
     }
