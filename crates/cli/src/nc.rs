@@ -174,13 +174,13 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
     let temperatures = parse_temperatures(&errors, &args.temperatures)?;
-    let text = read(&args.program)?;
+    let text = std::fs::read(&args.program).map_err(|e| bad(format!("{}: cannot read: {e}", args.program.display())))?;
     let options = options(&args, &machine)?;
     let corrector = Corrector::new(&machine, &errors);
     let origin = args.program.display().to_string();
     let result = correct_program(&corrector, &text, &origin, &options, &temperatures).map_err(failure)?;
     if let Some(path) = &args.out {
-        write_atomically(path, result.text.as_bytes()).map_err(Failure::input)?;
+        write_atomically(path, &result.program).map_err(Failure::input)?;
     }
     let expanded =
         if result.expanded.is_empty() { String::new() } else { format!("; {} parts expanded into plain moves", result.expanded.len()) };
@@ -202,7 +202,7 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     } else if args.out.is_some() {
         println!("{summary}");
     } else {
-        print!("{}", result.text);
+        std::io::Write::write_all(&mut std::io::stdout(), &result.program).map_err(Failure::input)?;
         eprintln!("{summary}");
     }
     Ok(())

@@ -644,7 +644,7 @@ impl<'m> Exec<'m> {
                     Flow::Jump(end + 1)
                 }
             }
-            Statement::Do(_) => Flow::Next,
+            Statement::Do(_) | Statement::Output => Flow::Next,
             Statement::End(_) => {
                 let Link::LoopEnd { start } = link else { unreachable!("indexed END") };
                 match &file.lines[start] {

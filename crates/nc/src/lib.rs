@@ -31,6 +31,7 @@ pub mod params;
 pub mod path;
 pub mod plan;
 pub mod program;
+pub mod source;
 pub mod system;
 pub mod tools;
 pub mod trace;
@@ -113,18 +114,18 @@ impl ProgramSetup {
     }
 }
 
-/// Reads and runs a program (`dialect`: `None` detects it from the text): the trace of the run
+/// Reads and runs a program from its bytes (`dialect`: `None` detects it from the text): the trace of the run
 /// (moves in machine positions) and the loaded program. `origin` (the file name) prefixes
 /// messages.
 pub fn run(
     axes: &MachineAxes,
-    text: &str,
+    bytes: &[u8],
     origin: &str,
     dialect: Option<Dialect>,
     setup: &ProgramSetup,
 ) -> Result<(Trace, Program), NcError> {
-    let dialect = dialect.unwrap_or_else(|| Dialect::detect(text));
-    let program = Program::new(origin, text, dialect, setup.search_path.clone()).map_err(|(k, m)| NcError {
+    let dialect = dialect.unwrap_or_else(|| Dialect::detect(&String::from_utf8_lossy(bytes)));
+    let program = Program::new(origin, bytes, dialect, setup.search_path.clone()).map_err(|(k, m)| NcError {
         file: origin.to_string(),
         line: k + 1,
         message: m,

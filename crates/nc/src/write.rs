@@ -15,6 +15,7 @@ use crate::modal::{is_linear, Frame, Vec9, AXES};
 use crate::path::{arc_geometry, point_at, Pieces};
 use crate::plan::{LineOut, Plan};
 use crate::program::Program;
+use crate::source::{encode_line, Ending};
 use crate::tools::AXIS_LETTERS;
 use crate::trace::{Axes, Move, MoveKind, Relative, Role, Step, Trace};
 use std::collections::BTreeMap;
@@ -774,44 +775,59 @@ impl<'a> Writer<'a> {
         self.out[region.lines.start] = Some(lines);
     }
 
-    /// The corrected program text: the main file line by line, with a note on what was expanded.
-    pub fn finish(&self, notes: &[String]) -> String {
+    /// The corrected program as bytes: the main file line by line, each line with its own line
+    /// end and, when it was read byte for byte, its own bytes; `notes` (comment lines) after the
+    /// leading `%` and program-number lines.
+    pub fn finish(&self, notes: &[String]) -> Vec<u8> {
         let file = &self.program.files[0];
-        let mut text = String::with_capacity(file.text.len() + 64);
+        let mut out = Vec::with_capacity(file.text.len() + 64 * (notes.len() + 1));
+        if file.bom {
+            out.extend_from_slice(b"\xEF\xBB\xBF");
+        }
+        // the line end of added lines: the first line's (the file's own style)
+        let eol = match file.endings.first() {
+            Some(Ending::None) | None => Ending::Lf,
+            Some(&e) => e,
+        };
         let mut noted = notes.is_empty();
-        for (k, out) in self.plan.lines.iter().enumerate() {
+        let put_notes = |out: &mut Vec<u8>| {
+            for n in notes {
+                out.extend_from_slice(n.as_bytes());
+                out.extend_from_slice(eol.bytes());
+            }
+        };
+        for (k, plan) in self.plan.lines.iter().enumerate() {
             let keep_first =
                 |l: &Result<Line, String>| matches!(l, Ok(l) if l.percent || l.program_number.is_some() && self.dialect == Dialect::Fanuc);
             if !(noted || k < file.body.start || keep_first(&file.lines[k])) {
-                for n in notes {
-                    text.push_str(n);
-                    text.push('\n');
-                }
+                put_notes(&mut out);
                 noted = true;
             }
-            if *out == LineOut::Hidden {
+            if *plan == LineOut::Hidden {
                 continue;
             }
+            let bytewise = file.bytewise.binary_search(&k).is_ok();
+            let ending = file.endings[k];
             match &self.out[k] {
                 Some(lines) => {
-                    for l in lines {
-                        text.push_str(l);
-                        text.push('\n');
+                    for (i, l) in lines.iter().enumerate() {
+                        encode_line(l, bytewise, &mut out);
+                        out.extend_from_slice(if i + 1 == lines.len() { ending.bytes() } else { eol.bytes() });
                     }
                 }
                 None => {
-                    text.push_str(file.line_text(k));
-                    text.push('\n');
+                    encode_line(file.line_text(k), bytewise, &mut out);
+                    out.extend_from_slice(ending.bytes());
                 }
             }
         }
         if !noted {
-            for n in notes {
-                text.push_str(n);
-                text.push('\n');
+            if file.endings.last() == Some(&Ending::None) {
+                out.extend_from_slice(eol.bytes());
             }
+            put_notes(&mut out);
         }
-        text
+        out
     }
 }
 

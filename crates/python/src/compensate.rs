@@ -136,7 +136,7 @@ pub fn correct_nc(
     temperatures: Option<HashMap<String, f64>>,
 ) -> PyResult<Py<PyAny>> {
     let temperatures = self::temperatures(errors, temperatures)?;
-    let text = std::fs::read_to_string(&program).map_err(|e| input_msg(format!("{}: cannot read: {e}", program.display())))?;
+    let text = std::fs::read(&program).map_err(|e| input_msg(format!("{}: cannot read: {e}", program.display())))?;
     if !(tolerance_um.is_finite() && tolerance_um > 0.0) {
         return Err(input_msg("tolerance_um must be a positive number"));
     }
@@ -156,7 +156,7 @@ pub fn correct_nc(
     let origin = program.display().to_string();
     let result = py.detach(|| correct_program(&corrector, &text, &origin, &options, &temperatures)).map_err(failure)?;
     if let Some(path) = &out {
-        write_atomically(path, result.text.as_bytes()).map_err(input)?;
+        write_atomically(path, &result.program).map_err(input)?;
     }
     to_py(py, &nc_json(&result, out.as_ref().map(|p| p.display().to_string()).as_deref()))
 }

@@ -193,6 +193,6 @@ pub fn nc_json(result: &NcResult, out: Option<&str>) -> Value {
         "max_residual_um": result.max_residual_um,
         "max_uncorrectable_urad": result.max_uncorrectable_urad,
         "out": out,
-        "program": if out.is_none() { Some(result.text.clone()) } else { None },
+        "program": if out.is_none() { Some(result.text().into_owned()) } else { None },
     })
 }

@@ -370,16 +370,16 @@ fn check(name: &str, machine_name: &str, errors: &str, text: &str, expected: &Ex
     let corrector = Corrector::new(&m, &e);
     let r = correct_program(&corrector, text, name, &options, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
     assert_eq!(r.dialect, Dialect::Fanuc);
-    assert_eq!(r.expanded.len(), expanded, "{name}: {:?}\n{}", r.expanded, r.text);
-    check_numbers(&r.text, 3);
-    assert!(r.text.starts_with("%\nO100"), "{name}: the tape start and program number stay first:\n{}", r.text);
-    let corrected = read(&m, &r.text, &options);
+    assert_eq!(r.expanded.len(), expanded, "{name}: {:?}\n{}", r.expanded, r.text());
+    check_numbers(&r.text(), 3);
+    assert!(r.text().starts_with("%\nO100"), "{name}: the tape start and program number stay first:\n{}", r.text());
+    let corrected = read(&m, &r.text(), &options);
     let oracle = Oracle { machine: &m, errors: &e, temperatures: vec![] };
     let mut start = vec![0.0; m.axis_count()];
     start[2] = START_Z;
     let report = oracle
         .compare(&expected.moves, &corrected, &start, TOLERANCE_UM, 1.0 + TOLERANCE_UM, &homes(&m, text, &options))
-        .unwrap_or_else(|err| panic!("{name}: {err}\n{}", r.text));
+        .unwrap_or_else(|err| panic!("{name}: {err}\n{}", r.text()));
     println!(
         "{name}: {} moves, {} pieces, ends within {:.3} um, path within {:.3} um; expanded {:?}",
         report.moves, report.pieces, report.worst_end_um, report.worst_path_um, r.expanded

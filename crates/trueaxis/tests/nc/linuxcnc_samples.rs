@@ -90,7 +90,7 @@ fn check(path: &str, machine: &Machine, errors: &ErrorModel) -> Outcome {
             return if by_design.iter().any(|d| m.contains(d)) { Outcome::Refused(m) } else { Outcome::Failed(m) };
         }
     };
-    std::fs::write(dir.path().join("trueaxis-corrected.ngc"), &result.text).unwrap();
+    std::fs::write(dir.path().join("trueaxis-corrected.ngc"), &result.program).unwrap();
     let corrected = match rs.run(dir.path(), "trueaxis-corrected.ngc", Some("trueaxis-tools.tbl")) {
         Ok(m) => m,
         Err(e) => return Outcome::Failed(format!("the corrected program: {e}")),

@@ -9,5 +9,6 @@ mod bad_programs;
 mod common;
 mod fanuc;
 mod linuxcnc_samples;
+mod reading;
 mod roundtrip;
 mod rs274;

@@ -14,7 +14,7 @@ use trueaxis::errors::{ErrorModel, MachineState};
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::Machine;
 
-fn load(machine: &str, errors: &str) -> (Machine, ErrorModel) {
+pub(crate) fn load(machine: &str, errors: &str) -> (Machine, ErrorModel) {
     let m = Machine::load(format!("../../examples/machines/{machine}.toml")).unwrap();
     let e = ErrorModel::load(format!("../../examples/errors/{errors}.toml"), &m).unwrap();
     (m, e)
@@ -34,7 +34,7 @@ fn example_options(m: &Machine) -> NcOptions {
 }
 
 /// The moves trueaxis reads, as canonical moves in machine positions.
-fn read(m: &Machine, text: &str, options: &NcOptions) -> Vec<Canon> {
+pub(crate) fn read(m: &Machine, text: &str, options: &NcOptions) -> Vec<Canon> {
     let (trace, _) = run_program(m, text, "read", options).unwrap_or_else(|e| panic!("{e}"));
     trace
         .moves
@@ -77,13 +77,13 @@ fn corrected_examples_read_back_land_on_the_originals() {
         let text = std::fs::read_to_string(format!("../../examples/nc/{file}")).unwrap();
         let r = correct_program(&Corrector::new(&m, &e), &text, file, &options, temperatures).unwrap_or_else(|e| panic!("{e}"));
         let original = read(&m, &text, &options);
-        let corrected = read(&m, &r.text, &options);
+        let corrected = read(&m, &r.text(), &options);
         let moves = program_moves(&m, &text, file, &options).unwrap();
         let (_, homes) = crate::common::canonical_homes(&m, &moves);
         let oracle = Oracle { machine: &m, errors: &e, temperatures: temperatures.to_vec() };
         let report = oracle
             .compare(&original, &corrected, &options.setup.start, end_um, 1.0 + end_um, &homes)
-            .unwrap_or_else(|err| panic!("{file}: {err}\n{}", r.text));
+            .unwrap_or_else(|err| panic!("{file}: {err}\n{}", r.text()));
         assert_eq!(report.moves, original.len());
         println!(
             "{file}: {} moves, {} pieces, ends within {:.4} um, expanded {:?}",
@@ -111,7 +111,7 @@ fn zero_errors_leave_every_program_byte_for_byte() {
         let options = if with_setup { example_options(&m) } else { NcOptions::new(&m) };
         let text = std::fs::read_to_string(format!("../../examples/nc/{file}")).unwrap();
         let r = correct_program(&Corrector::new(&m, &zero), &text, file, &options, &[]).unwrap();
-        assert_eq!(r.text, text, "{file}");
+        assert_eq!(r.program, text.as_bytes(), "{file}");
         assert_eq!((r.changed_lines, r.inserted_lines, r.expanded.len()), (0, 0, 0), "{file}");
         assert!(r.moves >= 5);
     }
@@ -172,7 +172,7 @@ fn a_tool_length_offset_moves_the_tool_point_of_the_correction() {
     options.decimals = Some(7);
     let text = "G21 G90\nG43 H1\nG0 X100 Y50 Z-250\nM2\n";
     let r = correct_program(&Corrector::new(&m, &e), text, "t", &options, &[]).unwrap();
-    let corrected = program_moves(&m, &r.text, "t", &options).unwrap();
+    let corrected = program_moves(&m, &r.program, "t", &options).unwrap();
     let q_mm = [100.0, 50.0, -150.0];
     let mut corrector = Corrector::new(&m, &e);
     corrector.setup.tool_point -= Vec3::new(0.0, 0.0, 100.0);

@@ -88,7 +88,8 @@ impl NcOptions {
 /// The corrected program and what happened.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NcResult {
-    pub text: String,
+    /// The corrected program's bytes (line ends and bytes of the input kept).
+    pub program: Vec<u8>,
     pub dialect: Dialect,
     /// Moves of the run corrected.
     pub moves: usize,
@@ -112,39 +113,54 @@ pub struct NcResult {
     pub max_uncorrectable_urad: f64,
 }
 
+impl NcResult {
+    /// The corrected program as text (bytes that are not UTF-8, from comments read byte for
+    /// byte, shown as U+FFFD).
+    pub fn text(&self) -> std::borrow::Cow<'_, str> {
+        String::from_utf8_lossy(&self.program)
+    }
+}
+
 fn input_error(e: NcError) -> CompensateError {
     CompensateError::Input(e.to_string())
 }
 
 /// Runs a program without correcting it: its trace (moves in machine positions) and the loaded
 /// program. `origin` (the file name) prefixes messages.
-pub fn run_program(machine: &Machine, text: &str, origin: &str, options: &NcOptions) -> Result<(Trace, program::Program), CompensateError> {
-    let dialect = options.dialect.unwrap_or_else(|| Dialect::detect(text));
+pub fn run_program(
+    machine: &Machine,
+    bytes: impl AsRef<[u8]>,
+    origin: &str,
+    options: &NcOptions,
+) -> Result<(Trace, program::Program), CompensateError> {
+    let bytes = bytes.as_ref();
+    let dialect = options.dialect.unwrap_or_else(|| Dialect::detect(&String::from_utf8_lossy(bytes)));
     let mut setup = options.setup.clone();
     if dialect == Dialect::Fanuc {
         if let Some(d) = options.decimals {
             setup.fanuc.increment_mm = 10f64.powi(-(d as i32));
         }
     }
-    trueaxis_nc::run(&machine_axes(machine), text, origin, Some(dialect), &setup).map_err(input_error)
+    trueaxis_nc::run(&machine_axes(machine), bytes, origin, Some(dialect), &setup).map_err(input_error)
 }
 
 /// The moves of a program in machine positions (mm, deg).
-pub fn program_moves(machine: &Machine, text: &str, origin: &str, options: &NcOptions) -> Result<Vec<Move>, CompensateError> {
-    Ok(run_program(machine, text, origin, options)?.0.moves)
+pub fn program_moves(machine: &Machine, bytes: impl AsRef<[u8]>, origin: &str, options: &NcOptions) -> Result<Vec<Move>, CompensateError> {
+    Ok(run_program(machine, bytes, origin, options)?.0.moves)
 }
 
-/// Corrects a program text. `origin` (the file name) prefixes messages; `temperatures` are the error
+/// Corrects a program (its bytes, as read from the file: any line ends, a byte-order mark,
+/// comments in Latin-1; see `trueaxis_nc::source`). `origin` (the file name) prefixes messages; `temperatures` are the error
 /// model's sensor temperatures (degC) for the whole program (empty: 20 degC).
 pub fn correct_program(
     corrector: &Corrector,
-    text: &str,
+    bytes: impl AsRef<[u8]>,
     origin: &str,
     options: &NcOptions,
     temperatures: &[f64],
 ) -> Result<NcResult, CompensateError> {
     let machine = corrector.machine;
-    let (trace, program) = run_program(machine, text, origin, options)?;
+    let (trace, program) = run_program(machine, bytes, origin, options)?;
     let dialect = program.dialect;
     let plan = plan::plan(&program, &trace);
     let (decimals, decimals_inch) = options.decimals_for(dialect);
@@ -173,10 +189,10 @@ pub fn correct_program(
         writer.step(i, &pieces);
     }
     let notes = write::notes(&writer.notes, dialect);
-    let text = writer.finish(&notes);
+    let written = writer.finish(&notes);
     let e = corrections.extremes;
     Ok(NcResult {
-        text,
+        program: written,
         dialect,
         moves: trace.moves.len(),
         blocks: trace.steps.len(),
