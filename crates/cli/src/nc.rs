@@ -4,7 +4,7 @@ use crate::compensate::{failure, parse_axis_values, parse_temperatures};
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::compensate::nc::params::read_parameter_file;
-use trueaxis::compensate::nc::{correct_program, Dialect, NcOptions, SearchPath, ToolTable};
+use trueaxis::compensate::nc::{correct_program, Dialect, FileId, Header, NcOptions, SearchPath, ToolTable};
 use trueaxis::compensate::{nc_json, Corrector};
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
@@ -23,7 +23,9 @@ loops (LinuxCNC), macro variables, IF/GOTO/WHILE and M98/M99/G65 (Fanuc), tool l
 (G43 H from --tool-table), work offsets (G54-G59.3 from --parameters or --offset, G10 L2/L20),\n\
 G92, G28/G30, G53, canned cycles G73 G81-G89, arcs in G17/G18/G19, G20/G21, G93/G94/G95.\n\
 Refused with the line and the reason: probing (G38.x), spindle-synchronised motion (G33, G76,\n\
-Fanuc rigid tapping), cutter radius compensation (G41/G42). See docs/nc.md."
+Fanuc rigid tapping), cutter radius compensation (G41/G42). The corrected program starts with\n\
+a header naming the machine and error files and their SHA-256; a program with that header is\n\
+refused (it would be corrected twice) unless --force. See docs/nc.md."
 )]
 pub struct NcArgs {
     /// Machine description (TOML).
@@ -86,6 +88,10 @@ pub struct NcArgs {
     /// Print a JSON summary (with the program text when --out is not given).
     #[arg(long)]
     json: bool,
+    /// Correct a program that says it was corrected already (its header names trueaxis): the
+    /// correction is then applied twice.
+    #[arg(long)]
+    force: bool,
 }
 
 /// `X100,Y50` into `X=100,Y=50`.
@@ -175,7 +181,13 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
     let temperatures = parse_temperatures(&errors, &args.temperatures)?;
     let text = std::fs::read(&args.program).map_err(|e| bad(format!("{}: cannot read: {e}", args.program.display())))?;
-    let options = options(&args, &machine)?;
+    let mut options = options(&args, &machine)?;
+    let id = |path: &PathBuf| -> Result<FileId, Failure> {
+        let bytes = std::fs::read(path).map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
+        Ok(FileId::of(&path.display().to_string(), &bytes))
+    };
+    options.header = Some(Header { machine: id(&args.machine)?, errors: id(&args.errors)? });
+    options.force = args.force;
     let corrector = Corrector::new(&machine, &errors);
     let origin = args.program.display().to_string();
     let result = correct_program(&corrector, &text, &origin, &options, &temperatures).map_err(failure)?;
@@ -186,7 +198,7 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
         if result.expanded.is_empty() { String::new() } else { format!("; {} parts expanded into plain moves", result.expanded.len()) };
     let summary = format!(
         "{origin} ({}): {} moves corrected, {} lines changed, {} lines added{expanded}; largest correction {:.3} um, {:.3} urad; \
-         residual <= {:.4} um; uncorrectable orientation <= {:.3} urad",
+         residual <= {:.4} um (the rounding of the written numbers included); uncorrectable orientation <= {:.3} urad",
         result.dialect,
         result.moves,
         result.changed_lines,

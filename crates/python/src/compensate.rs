@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use trueaxis::compensate::export::Limits;
-use trueaxis::compensate::nc::{correct_program, Dialect, NcOptions};
+use trueaxis::compensate::nc::{correct_program, Dialect, FileId, Header, NcOptions};
 use trueaxis::compensate::{
     compensation, nc_json, sensor_temperatures, CompensateError, CompensationRequest, Corrector, ExportFormat, FormatOptions,
 };
@@ -118,9 +118,11 @@ pub fn compensate(
 /// departs from a straight blend by more than `tolerance_um`. Writes the program to `out` when
 /// given; returns the summary of `trueaxis nc --json` (with the program text when `out` is None).
 /// `dialect`: `linuxcnc` or `fanuc` (default: detected); `decimals`: digits written (default: 5 for
-/// mm and 6 for inch in LinuxCNC programs, 3 / 4 in Fanuc programs).
+/// mm and 6 for inch in LinuxCNC programs, 3 / 4 in Fanuc programs). The program starts with a
+/// header naming the machine and error files with their SHA-256; a program with that header is
+/// refused unless `force`.
 #[pyfunction]
-#[pyo3(signature = (machine, errors, program, *, out = None, tolerance_um = 1.0, decimals = None, dialect = None, limit_um = None, limit_urad = None, temperatures = None))]
+#[pyo3(signature = (machine, errors, program, *, out = None, tolerance_um = 1.0, decimals = None, dialect = None, limit_um = None, limit_urad = None, temperatures = None, force = false))]
 #[allow(clippy::too_many_arguments)]
 pub fn correct_nc(
     py: Python<'_>,
@@ -134,6 +136,7 @@ pub fn correct_nc(
     limit_um: Option<f64>,
     limit_urad: Option<f64>,
     temperatures: Option<HashMap<String, f64>>,
+    force: bool,
 ) -> PyResult<Py<PyAny>> {
     let temperatures = self::temperatures(errors, temperatures)?;
     let text = std::fs::read(&program).map_err(|e| input_msg(format!("{}: cannot read: {e}", program.display())))?;
@@ -152,6 +155,11 @@ pub fn correct_nc(
         None => None,
         Some(d) => Some(Dialect::parse(d).ok_or_else(|| input_msg(format!("dialect `{d}` is not linuxcnc or fanuc")))?),
     };
+    options.header = Some(Header {
+        machine: FileId::of(&machine.origin, machine.source.as_bytes()),
+        errors: FileId::of(&errors.origin, errors.source.as_bytes()),
+    });
+    options.force = force;
     let corrector = Corrector::new(&machine.inner, &errors.inner);
     let origin = program.display().to_string();
     let result = py.detach(|| correct_program(&corrector, &text, &origin, &options, &temperatures)).map_err(failure)?;

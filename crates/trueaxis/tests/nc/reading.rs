@@ -144,3 +144,26 @@ fn deep_and_long_expressions_are_refused_with_the_line() {
     let terms = format!("%\nO1\n#1=1{}\nG0 X#1 Z-10.\nM30\n%\n", "+1".repeat(50_000));
     assert_eq!(refusal(terms.as_bytes(), Dialect::Fanuc), "t.nc: line 3: more than 1000 terms in the expressions of one line");
 }
+
+#[test]
+fn the_reported_residual_includes_the_rounding_of_the_written_numbers() {
+    // with few decimals the written numbers, not the solve, decide where the machine goes: the
+    // residual reported must cover what the written program leaves (read back through the
+    // erroneous machine), and stay within the rounding of the solve's residual
+    let (m, e) = load("vmc3", "vmc3");
+    let text = "G21 G90\nG0 X-300 Y-200 Z-100\nG1 Z-250 F500\nX-0.3 Y-200.7\nX300 Y-150.1 Z-251.37\nY190.9\nX-251.21 Y199.99\nM2\n";
+    for decimals in [0, 1, 2, 3, 5] {
+        let mut options = NcOptions::new(&m);
+        options.decimals = Some(decimals);
+        let r = correct_program(&Corrector::new(&m, &e), text, "t.ngc", &options, &[]).unwrap();
+        let original = read(&m, text, &options);
+        let back = read(&m, &r.text(), &options);
+        let oracle = Oracle { machine: &m, errors: &e, temperatures: Vec::new() };
+        let half_um = 0.5 * 10f64.powi(-(decimals as i32)) * 1e3;
+        let bound_um = 3f64.sqrt() * half_um + 0.01;
+        let report = oracle.compare(&original, &back, &options.setup.start, bound_um, 1e9, &[]).unwrap_or_else(|e| panic!("{e}"));
+        println!("{decimals} decimals: reported {:.4} um, left {:.4} um", r.max_residual_um, report.worst_end_um);
+        assert!(r.max_residual_um >= report.worst_end_um - 1e-9, "{decimals}: {} < {}", r.max_residual_um, report.worst_end_um);
+        assert!(r.max_residual_um <= bound_um, "{decimals}: {}", r.max_residual_um);
+    }
+}

@@ -92,7 +92,14 @@ fn corrected_examples_read_back_land_on_the_originals() {
         if file == "five_axis.ngc" {
             // through the singularity at A = 0 the C correction fades in continuously
             assert!(report.pieces >= 20, "{}", report.pieces);
-            assert!(r.max_residual_um < 0.01 && (r.max_uncorrectable_urad - 349.066).abs() < 1e-3, "{r:?}");
+            // the residual includes the rounding to 5 decimals: sqrt 3 x 0.005 um of X Y Z, and A and C
+            // by 0.000005 deg each at their levers (about 0.01 um each)
+            assert!(
+                r.max_residual_um < 0.04 && (r.max_uncorrectable_urad - 349.066).abs() < 1e-3,
+                "{} {}",
+                r.max_residual_um,
+                r.max_uncorrectable_urad
+            );
         }
     }
 }

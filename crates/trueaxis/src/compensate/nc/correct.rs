@@ -8,7 +8,7 @@ use super::modal::{Frame, MM_PER_INCH};
 use super::path::{arc_geometry, departure, point_at, split_from, ArcGeometry, Pieces};
 use super::trace::{Move, MoveKind, Role};
 use super::NcOptions;
-use crate::compensate::correction::{CorrectionWorkspace, Corrector, WarmStart};
+use crate::compensate::correction::{Correction, CorrectionWorkspace, Corrector, WarmStart};
 use crate::compensate::coverage::{check_covered, table_ranges, TableRange};
 use crate::compensate::direction_of;
 use crate::compensate::export::{check_limit, Limits};
@@ -25,9 +25,27 @@ pub struct Extremes {
     /// Largest correction of a linear axis (um) and of a rotary axis (urad).
     pub max_correction_um: f64,
     pub max_correction_urad: f64,
-    /// Largest position residual after correction and largest uncorrectable orientation (um, urad).
+    /// Largest position residual after correction, the rounding of the written numbers included,
+    /// and largest uncorrectable orientation (um, urad).
     pub max_residual_um: f64,
     pub max_uncorrectable_urad: f64,
+}
+
+/// Half a unit of the last digit the corrected program is written with: mm (linear axes in mm
+/// and in inch) and deg.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Rounding {
+    pub linear_mm: f64,
+    pub linear_inch_mm: f64,
+    pub rotary_deg: f64,
+}
+
+impl Rounding {
+    /// For `decimals` in mm and deg and `decimals_inch` in inch.
+    pub fn of_decimals(decimals: usize, decimals_inch: usize) -> Rounding {
+        let half = |d: usize| 0.5 * 10f64.powi(-(d as i32));
+        Rounding { linear_mm: half(decimals), linear_inch_mm: half(decimals_inch) * super::MM_PER_INCH, rotary_deg: half(decimals) }
+    }
 }
 
 /// The corrector and its state along a program.
@@ -46,6 +64,10 @@ pub(super) struct Corrections<'a, 'b> {
     directions: Vec<Option<Direction>>,
     previous_directions: Vec<Option<Direction>>,
     temperatures: Vec<f64>,
+    /// Half a unit of the last written digit, and whether the move being corrected is programmed
+    /// in inch.
+    rounding: Rounding,
+    inch: bool,
     pub extremes: Extremes,
     /// The correction at the end of the last move: what the controller holds at the start of the
     /// next one (mm, deg).
@@ -56,7 +78,7 @@ pub(super) struct Corrections<'a, 'b> {
 }
 
 impl<'a, 'b> Corrections<'a, 'b> {
-    pub fn new(corrector: &'a Corrector<'b>, limits: Limits, temperatures: &[f64]) -> Self {
+    pub fn new(corrector: &'a Corrector<'b>, limits: Limits, temperatures: &[f64], rounding: Rounding) -> Self {
         let machine = corrector.machine;
         let n = machine.axis_count();
         Corrections {
@@ -72,6 +94,8 @@ impl<'a, 'b> Corrections<'a, 'b> {
             directions: vec![None; n],
             previous_directions: vec![None; n],
             temperatures: temperatures.to_vec(),
+            rounding,
+            inch: false,
             extremes: Extremes::default(),
             start_correction: vec![0.0; n],
             origin: String::new(),
@@ -105,6 +129,8 @@ impl<'a, 'b> Corrections<'a, 'b> {
         self.machine.pose_to_internal(&p, &mut self.q);
         let state = MachineState { directions: Some(&self.directions), temperatures: &self.temperatures };
         let c = self.corrector.correct_along(&self.q, &state, &mut self.ws, &mut self.warm);
+        let linear_half = if self.inch { self.rounding.linear_inch_mm } else { self.rounding.linear_mm };
+        let rounding = rounding_effect(&self.corrector, linear_half, self.rounding.rotary_deg, &self.q, &c, &state, &mut self.ws);
         if !c.converged || c.dq[..n].iter().any(|v| !v.is_finite()) {
             return Err(CompensateError::Computation(format!(
                 "{}: line {}: the correction did not converge at {p:?}",
@@ -128,7 +154,7 @@ impl<'a, 'b> Corrections<'a, 'b> {
         }
         let r = &mut self.extremes;
         r.corrected_points += 1;
-        r.max_residual_um = r.max_residual_um.max(c.residual_position.norm() * 1e3);
+        r.max_residual_um = r.max_residual_um.max((c.residual_position.norm() + rounding) * 1e3);
         r.max_uncorrectable_urad = r.max_uncorrectable_urad.max(c.uncorrectable_orientation.norm() * 1e6);
         for (k, axis) in self.machine.axes().iter().enumerate() {
             match axis.kind {
@@ -157,6 +183,7 @@ impl<'a, 'b> Corrections<'a, 'b> {
             return Ok(vec![(1.0, vec![0.0; n])]);
         }
         self.set_tool(frame);
+        self.inch = frame.inch;
         let arc = arc_geometry(m);
         let arc = arc.as_ref();
         let (machine, origin, line) = (self.machine, self.origin.clone(), self.line);
@@ -230,6 +257,38 @@ impl<'a, 'b> Corrections<'a, 'b> {
         let previous = self.previous_directions.clone();
         directions_at(m, arc.as_ref(), 1.0, &previous, &mut self.previous_directions);
     }
+}
+
+/// How far the tool point can move from the corrected one when every axis is written rounded to
+/// its last digit (mm): the linear axes' half units (`linear_half`, mm) add as a vector; a rotary
+/// axis's half unit (`rotary_half`, deg) moves the tool point by what the exact chain says (its
+/// lever from the axis), one chain evaluation per rotary axis.
+#[allow(clippy::too_many_arguments)]
+fn rounding_effect(
+    corrector: &Corrector,
+    linear_half: f64,
+    rotary_half: f64,
+    q: &[f64],
+    c: &Correction,
+    state: &MachineState,
+    ws: &mut CorrectionWorkspace,
+) -> f64 {
+    let n = corrector.machine.axis_count();
+    let mut sum_squares = 0.0;
+    let mut rotary = 0.0;
+    let mut shifted = [0.0; crate::compensate::MAX_AXES];
+    for (k, axis) in corrector.machine.axes().iter().enumerate() {
+        match axis.kind {
+            AxisKind::Linear => sum_squares += linear_half * linear_half,
+            AxisKind::Rotary => {
+                shifted[..n].copy_from_slice(&c.dq[..n]);
+                shifted[k] += rotary_half.to_radians();
+                let (moved, _) = corrector.residual_at(q, &shifted[..n], state, ws);
+                rotary += (moved - c.residual_position).norm();
+            }
+        }
+    }
+    sum_squares.sqrt() + rotary
 }
 
 /// Parameters `0 = t_0 < ... < t_k = 1` between which no axis reverses: for an arc, the points

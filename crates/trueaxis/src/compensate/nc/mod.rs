@@ -19,6 +19,9 @@
 //! [`correct`] computes the corrections along its moves and the pieces a move is split into.
 
 pub mod correct;
+pub mod header;
+
+pub use header::{FileId, Header};
 
 use super::correction::Corrector;
 use super::export::Limits;
@@ -56,6 +59,11 @@ pub struct NcOptions {
     pub limits: Limits,
     /// The dialect; `None`: detected from the program.
     pub dialect: Option<Dialect>,
+    /// The header naming the machine and error files the program is corrected for (none: no
+    /// header written).
+    pub header: Option<Header>,
+    /// Correct a program that says it was corrected already (default: refused).
+    pub force: bool,
 }
 
 impl NcOptions {
@@ -71,6 +79,8 @@ impl NcOptions {
             setup: ProgramSetup::zero(&machine_axes(machine)),
             limits: Limits::of_machine(machine),
             dialect: None,
+            header: None,
+            force: false,
         }
     }
 
@@ -160,6 +170,10 @@ pub fn correct_program(
     temperatures: &[f64],
 ) -> Result<NcResult, CompensateError> {
     let machine = corrector.machine;
+    let bytes = bytes.as_ref();
+    if !options.force {
+        header::check_uncorrected(bytes, origin).map_err(input_error)?;
+    }
     let (trace, program) = run_program(machine, bytes, origin, options)?;
     let dialect = program.dialect;
     let plan = plan::plan(&program, &trace);
@@ -168,7 +182,8 @@ pub fn correct_program(
     let resolution = 10f64.powi(-(decimals as i32)).min(MM_PER_INCH * 10f64.powi(-(decimals_inch as i32)));
     let mut tight = *corrector;
     tight.options.tolerance_mm = tight.options.tolerance_mm.min(0.2 * resolution);
-    let mut corrections = correct::Corrections::new(&tight, options.limits, temperatures);
+    let rounding = correct::Rounding::of_decimals(decimals, decimals_inch);
+    let mut corrections = correct::Corrections::new(&tight, options.limits, temperatures, rounding);
     let axes = machine_axes(machine);
     let mut writer = write::Writer::new(&axes, &program, &trace, &plan, decimals, decimals_inch);
     writer.machine_inch = options.setup.machine_inch;
@@ -188,7 +203,8 @@ pub fn correct_program(
         }
         writer.step(i, &pieces);
     }
-    let notes = write::notes(&writer.notes, dialect);
+    let mut notes = options.header.as_ref().map_or_else(Vec::new, |h| h.lines(dialect));
+    notes.extend(write::notes(&writer.notes, dialect));
     let written = writer.finish(&notes);
     let e = corrections.extremes;
     Ok(NcResult {
