@@ -4,7 +4,7 @@ use crate::compensate::{failure, parse_axis_values, parse_temperatures};
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::compensate::nc::params::read_parameter_file;
-use trueaxis::compensate::nc::{correct_program, Dialect, FileId, Header, NcOptions, SearchPath, ToolTable};
+use trueaxis::compensate::nc::{correct_program, Dialect, FileId, Header, NcOptions, SearchPath, ToolTable, UnknownTools};
 use trueaxis::compensate::{nc_json, Corrector};
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
@@ -46,6 +46,14 @@ pub struct NcArgs {
     /// number is looked up as a tool number.
     #[arg(long)]
     tool_table: Option<PathBuf>,
+    /// The length offset (Z, machine units) of a tool the tool table lacks, or of every tool when
+    /// no table is given: 0 (default) puts the tool tip at the machine file's tool point. The
+    /// header then states how far a real tool's length from it moves the corrected points.
+    #[arg(long)]
+    tool_length: Option<f64>,
+    /// Refuse a tool that is not in the tool table instead (the line named).
+    #[arg(long)]
+    strict_tools: bool,
     /// LinuxCNC parameter file (`.var`: work offsets #5221..., G28/G30 positions #5161/#5181...),
     /// machine units.
     #[arg(long)]
@@ -160,6 +168,12 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
         setup.start = parse_axis_values(machine, &letter_values(s), "--start")?;
         machine.check_range(&setup.start).map_err(|m| bad(format!("--start: the start point leaves the machine's travel: {m}")))?;
     }
+    setup.unknown_tools = match (args.strict_tools, args.tool_length) {
+        (true, Some(_)) => return Err(bad("--strict-tools and --tool-length exclude each other".into())),
+        (true, None) => UnknownTools::Refuse,
+        (false, Some(l)) if !l.is_finite() || l.abs() > 10_000.0 => return Err(bad(format!("--tool-length {l}: not a length (mm)"))),
+        (false, l) => UnknownTools::Assume(l.unwrap_or(0.0)),
+    };
     if !(args.peck_clearance_mm.is_finite() && args.peck_clearance_mm >= 0.0) {
         return Err(bad("--peck-clearance-mm must be a non-negative number".into()));
     }
@@ -193,6 +207,11 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     let result = correct_program(&corrector, &text, &origin, &options, &temperatures).map_err(failure)?;
     if let Some(path) = &args.out {
         write_atomically(path, &result.program).map_err(Failure::input)?;
+    }
+    if !args.json {
+        for w in &result.warnings {
+            eprintln!("trueaxis: warning: {w}");
+        }
     }
     let expanded =
         if result.expanded.is_empty() { String::new() } else { format!("; {} parts expanded into plain moves", result.expanded.len()) };

@@ -102,17 +102,26 @@ fn refusals_name_the_line_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.ngc");
     let out = dir.path().join("out.ngc");
-    for (text, message) in [
-        ("G21 G90\nG0 X1\nG38.2 Z-10 F100\nM2\n", "bad.ngc: line 3: G38.2 (probing) stops where the probe touches"),
-        ("G21 G90\nG0 X1\nG43 H1 Z-5\nM2\n", "bad.ngc: line 3: tool 1 of the offset is not in the tool table"),
-        ("G21 G90\nG42 D1\nM2\n", "bad.ngc: line 2: G42 (cutter radius compensation)"),
+    for (text, message, extra) in [
+        ("G21 G90\nG0 X1\nG38.2 Z-10 F100\nM2\n", "bad.ngc: line 3: G38.2 (probing) stops where the probe touches", None),
+        ("G21 G90\nG0 X1\nG43 H1 Z-5\nM2\n", "bad.ngc: line 3: tool 1 is not in the tool table (--strict-tools)", Some("--strict-tools")),
+        ("G21 G90\nG42 D1\nM2\n", "bad.ngc: line 2: G42 (cutter radius compensation)", None),
     ] {
         std::fs::write(&bad, text).unwrap();
-        let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        let mut args = vec![bad.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        args.extend(extra);
+        let (code, _, stderr) = nc("examples/errors/vmc3.toml", &args);
         assert_eq!(code, 2, "{text}");
         assert!(stderr.contains(message), "{stderr}");
         assert!(!out.exists());
     }
+    // without --strict-tools the tool takes the assumed length, and the header says what that costs
+    std::fs::write(&bad, "G21 G90\nG0 X1 Z-200\nG43 H1 Z-250\nM2\n").unwrap();
+    let (code, stdout, stderr) = nc("examples/errors/vmc3.toml", &[bad.to_str().unwrap(), "--tool-length", "120", "--json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(doc["assumed_tools"], serde_json::json!([1]));
+    assert!(doc["program"].as_str().unwrap().contains("(trueaxis: T1 not in a tool table, taken as 120 mm long"), "{doc}");
     // with a work offset of 200 mm the program's X300 is X500 on the machine: beyond the travel
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--offset", "G54=X200"]);
     assert_eq!(code, 2);

@@ -115,6 +115,8 @@ enum Group {
     NonModal,
     /// Codes passed through without effect on positions (Fanuc `G5.1`, `G8`, `G50`, `G67`, `G69`...).
     Other,
+    /// Not a code of the dialect: passed through with a warning when its line has no axis words.
+    Unknown,
 }
 
 /// The group of G code `code` (x 10), or why it is refused.
@@ -159,7 +161,7 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
             50..=53 => return refuse("(splines) are not supported: convert them to lines or arcs"),
             700 | 710 | 711 | 720 | 721 => return refuse("(lathe roughing cycle) is not supported"),
             171 | 181 | 191 => return refuse("(U V W planes) is not supported"),
-            _ => return Err(format!("G{} is not a G-code of LinuxCNC 2.9", gcode_text(code))),
+            _ => Unknown,
         }),
         Dialect::Fanuc => Ok(match code {
             1..=3 => Motion,
@@ -186,7 +188,7 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
             }
             660 => return refuse("(modal macro call) is not supported"),
             330 | 320 | 340 | 350 | 120 | 130 => return refuse("is not supported (threading or circle cutting cycles)"),
-            _ => return Err(format!("G{} is not a Fanuc G-code this corrector knows", gcode_text(code))),
+            _ => Unknown,
         }),
     }
 }
@@ -330,19 +332,24 @@ impl Exec<'_> {
         let mut seen: Vec<(Group, u16)> = Vec::with_capacity(w.ng);
         for &code in w.gs() {
             let g = group(code, self.dialect)?;
-            if g != Group::NonModal && g != Group::Other {
-                // a Fanuc G80 is in its own group (09), beside G00-G03
-                let fanuc_g80 = |a: u16, b: u16| {
-                    self.dialect == Dialect::Fanuc && (a == 800) != (b == 800) && [a, b].iter().all(|c| matches!(c, 0 | 10 | 20 | 30 | 800))
-                };
-                if let Some((_, other)) = seen.iter().find(|(s, c)| *s == g && !fanuc_g80(*c, code)) {
+            if g == Group::Unknown {
+                self.unknown_code(&w, format!("G{}", gcode_text(code)))?;
+            }
+            if !matches!(g, Group::NonModal | Group::Other | Group::Unknown) {
+                // G80 beside another motion code: a Fanuc's G80 is in a group of its own (09), and
+                // LinuxCNC's rs274 runs the other code (checked: `G00 G17 G40 G49 G80 G90`, the first
+                // line of most posts, and `G81 G80 ...`)
+                let beside_g80 = |a: u16, b: u16| (a == 800) != (b == 800);
+                if let Some((_, other)) = seen.iter().find(|(s, c)| *s == g && !(g == Group::Motion && beside_g80(*c, code))) {
                     return Err(format!("G{} and G{} on one line are in the same modal group", gcode_text(*other), gcode_text(code)));
                 }
             }
             seen.push((g, code));
         }
         let axis_users = w.gs().iter().filter(|&&c| matches!(c, 100 | 280 | 300 | 520 | 920 | 431 | 432)).count();
-        if axis_users > 1 || axis_users == 1 && seen.iter().any(|(g, c)| *g == Group::Motion && *c != 800) {
+        // a Fanuc reads `G00 G91 G28 Z0` (a CAM post's return home): the G00 only sets the mode
+        let motion_beside = |c: u16| if self.dialect == Dialect::Fanuc { !matches!(c, 0 | 10 | 20 | 30 | 800) } else { c != 800 };
+        if axis_users > 1 || axis_users == 1 && seen.iter().any(|(g, c)| *g == Group::Motion && motion_beside(*c)) {
             return Err("two G-codes on one line both use the axis words".into());
         }
         // the M-code groups
@@ -356,11 +363,11 @@ impl Exec<'_> {
         if self.dialect == Dialect::LinuxCnc {
             for &m in w.ms() {
                 let known = matches!(m, 0..=9 | 19 | 30 | 48..=53 | 60..=68 | 70..=73 | 100..=199);
+                if matches!(m, 98 | 99) {
+                    return Err(format!("M{m} is a Fanuc subprogram call; this program reads as LinuxCNC (choose --dialect fanuc?)"));
+                }
                 if !known {
-                    return Err(match m {
-                        98 | 99 => format!("M{m} is a Fanuc subprogram call; this program reads as LinuxCNC (choose --dialect fanuc?)"),
-                        _ => format!("M{m} is not an M-code of LinuxCNC 2.9"),
-                    });
+                    self.unknown_code(&w, format!("M{m}"))?;
                 }
             }
             // rs274 (interp_check.cc, check_other_codes): "E word with no G70, G76, M66, M67 or M68
@@ -372,6 +379,20 @@ impl Exec<'_> {
             }
         }
         Ok(w)
+    }
+
+    /// A code the dialect does not know: passed through with a warning naming the line, refused
+    /// when its line has axis words (what it does with them is not known).
+    fn unknown_code(&mut self, w: &Words, code: String) -> Result<(), String> {
+        let dialect = match self.dialect {
+            Dialect::LinuxCnc => "LinuxCNC 2.9",
+            Dialect::Fanuc => "the Fanuc dialect",
+        };
+        if w.any_axis_or_polar() {
+            return Err(format!("{code} is not a code of {dialect}: with axis words on its line it cannot be passed through"));
+        }
+        self.warn(format!("{code} is not a code of {dialect}: passed through unchanged, assumed to move nothing"));
+        Ok(())
     }
 
     /// Comments: messages with their parameters replaced (for an expanded copy), `(ABORT,...)` ends
@@ -459,8 +480,8 @@ impl Exec<'_> {
             if t < 0.0 || t.fract() != 0.0 {
                 return Err(format!("T{t} is not a tool number"));
             }
-            if !fanuc && t > 0.0 && self.tools.get(t as u32).is_none() {
-                return Err(format!("tool T{t} is not in the tool table"));
+            if !fanuc && t > 0.0 {
+                self.tool_entry(t as u32)?;
             }
             self.state.selected_tool = Some(t as u32);
         }
@@ -544,9 +565,9 @@ impl Exec<'_> {
         let mut nonmodal = Vec::new();
         for &code in &gs {
             match group(code, self.dialect)? {
-                // a Fanuc G80 beside G00-G03 cancels the cycle before the motion
-                Group::Motion if code == 800 && gs.len() > 1 && fanuc && gs.iter().any(|c| matches!(c, 0 | 10 | 20 | 30)) => {
-                    self.state.motion = Motion::None;
+                // G80 beside another motion code cancels the cycle before it
+                Group::Motion if code == 800 && gs.iter().any(|&c| c != 800 && group(c, self.dialect) == Ok(Group::Motion)) => {
+                    self.state.motion = self.after_g80();
                     self.setup_words.push((b'G', 80.0));
                 }
                 Group::Motion => motion_code = Some(code),
@@ -655,7 +676,7 @@ impl Exec<'_> {
                     }
                 }
                 930 | 940 | 950 => setup(self, b'G', f64::from(code) / 10.0),
-                _ if group(code, self.dialect)? == Group::Other => setup(self, b'G', f64::from(code) / 10.0),
+                _ if matches!(group(code, self.dialect)?, Group::Other | Group::Unknown) => setup(self, b'G', f64::from(code) / 10.0),
                 _ => {}
             }
         }
@@ -697,7 +718,16 @@ impl Exec<'_> {
                 _ => {}
             }
         }
-        // the motion
+        // the motion: a Fanuc G00-G03 beside a code that takes the axis words only sets the mode
+        if let (true, Some(code @ (0 | 10 | 20 | 30))) = (fanuc && (home.is_some() || g53_free_setting(&nonmodal)), motion_code) {
+            self.state.motion = match code {
+                0 => Motion::Rapid,
+                10 => Motion::Feed,
+                c => Motion::Arc { clockwise: c == 20 },
+            };
+            self.setup_words.push((b'G', f64::from(code) / 10.0));
+            motion_code = None;
+        }
         if let Some(code) = home {
             if g53 {
                 return Err(format!("G53 cannot be used with G{}", code / 10));
@@ -730,6 +760,9 @@ impl Exec<'_> {
         }
         if !matches!(self.state.motion, Motion::Cycle(_)) {
             self.state.cycle.initial = None;
+        }
+        if matches!(self.state.motion, Motion::Rapid | Motion::Feed | Motion::Arc { .. }) {
+            self.state.group01 = self.state.motion;
         }
         // stops
         for &m in w.ms() {
@@ -871,12 +904,18 @@ impl Exec<'_> {
                 self.arc(code == 20, w, f, words, step)
             }
             800 => {
-                self.state.motion = Motion::None;
+                self.state.motion = self.after_g80();
                 self.setup_words.push((b'G', 80.0));
-                if w.any_axis_or_polar() {
-                    return Err("axis words with G80 (G80 cancels the motion mode)".into());
+                if !w.any_axis_or_polar() {
+                    return Ok(());
                 }
-                Ok(())
+                // a Fanuc moves in its group-01 mode, which a canned cycle (group 09) left as it was
+                match self.state.motion {
+                    Motion::Rapid => self.motion(0, w, g53, step),
+                    Motion::Feed => self.motion(10, w, g53, step),
+                    Motion::Arc { clockwise } => self.motion(if clockwise { 20 } else { 30 }, w, g53, step),
+                    _ => Err("axis words with G80 (G80 cancels the motion mode)".into()),
+                }
             }
             c => {
                 if inverse {
@@ -888,6 +927,15 @@ impl Exec<'_> {
                 self.trace.steps[step].flags |= flags::EXPAND;
                 crate::cycles::cycle(self, c, w, step)
             }
+        }
+    }
+
+    /// The motion mode after G80: none in LinuxCNC (canned cycles are in group 1); a Fanuc's
+    /// group-01 mode as it was before the cycle.
+    fn after_g80(&self) -> Motion {
+        match self.dialect {
+            Dialect::LinuxCnc => Motion::None,
+            Dialect::Fanuc => self.state.group01,
         }
     }
 
@@ -1013,6 +1061,11 @@ impl Exec<'_> {
         }
         Ok(())
     }
+}
+
+/// Whether the non-modal codes of a block include one that takes the axis words (G10, G52, G92).
+fn g53_free_setting(nonmodal: &[u16]) -> bool {
+    nonmodal.iter().any(|c| matches!(c, 100 | 520 | 920))
 }
 
 /// Bits of the interpreter axes with words in the block (X = bit 0).

@@ -14,7 +14,7 @@ use crate::program::{Link, Program, SourceFile};
 use crate::system::is_predefined;
 use crate::tools::{ToolTable, AXIS_LETTERS};
 use crate::trace::{flags, Axes, Step, Trace};
-use crate::{NcError, ProgramSetup};
+use crate::{NcError, ProgramSetup, UnknownTools};
 
 /// Most blocks one run may execute (a guard against endless loops).
 pub const MAX_STEPS: usize = 20_000_000;
@@ -115,6 +115,7 @@ pub(crate) struct Exec<'m> {
     /// (mm, deg).
     pub rs274_tool_change: bool,
     pub tool_at_last_move: Vec9,
+    pub unknown_tools: UnknownTools,
 }
 
 /// Runs `program` from `setup`; the trace of the run, or the error with its file and line.
@@ -129,11 +130,9 @@ pub fn run(machine: &MachineAxes, mut program: Program, setup: &ProgramSetup) ->
             if exec.calls.is_empty() {
                 let leading_percent = file.body.start > 0;
                 if !leading_percent && dialect == Dialect::LinuxCnc {
-                    return Err(NcError {
-                        file: file.name.clone(),
-                        line: file.lines.len(),
-                        message: "the program ends without M2, M30 or a closing %".into(),
-                    });
+                    // rs274 runs the moves and then reports "File ended with no percent sign or
+                    // program end"; LinuxCNC's GUIs end the program there
+                    exec.warn_at(pc.0 as u32, file.lines.len() as u32, "the program ends without M2, M30 or a closing %".into());
                 }
                 break;
             }
@@ -237,6 +236,7 @@ impl<'m> Exec<'m> {
             stop_words: Vec::new(),
             rs274_tool_change: setup.rs274_tool_change,
             tool_at_last_move: [0.0; AXES],
+            unknown_tools: setup.unknown_tools,
         };
         let n = machine.axis_count();
         if setup.start.len() != n {
@@ -263,11 +263,14 @@ impl<'m> Exec<'m> {
                 exec.state.g92_applied = true;
             }
         }
-        exec.state.retract_to_r = false;
+        // canned cycles retract to R (G99) in LinuxCNC until G98 says otherwise (rs274 2.9:
+        // checked); a Fanuc starts in G98
+        exec.state.retract_to_r = dialect == Dialect::LinuxCnc;
         exec.state.path_mode = 640;
         // a Fanuc control starts in G00 (parameter 3402 bit G01 = 0)
         if dialect == Dialect::Fanuc {
             exec.state.motion = Motion::Rapid;
+            exec.state.group01 = Motion::Rapid;
         }
         let start = exec.machine_to_program(&exec.position);
         exec.state.position = start;
@@ -391,6 +394,39 @@ impl<'m> Exec<'m> {
         s.actions.end = actions;
         if unsafe_read {
             s.flags |= flags::READS_UNSAFE;
+        }
+    }
+
+    /// Tool `n` of the table; a tool the table lacks takes the assumed length of
+    /// [`ProgramSetup::unknown_tools`] (recorded in the trace), or is refused.
+    pub fn tool_entry(&mut self, n: u32) -> Result<crate::tools::Tool, String> {
+        if let Some(t) = self.tools.get(n) {
+            return Ok(t.clone());
+        }
+        match self.unknown_tools {
+            UnknownTools::Refuse => Err(format!("tool {n} is not in the tool table (--strict-tools)")),
+            UnknownTools::Assume(length) => {
+                if !self.trace.assumed_tools.contains(&n) {
+                    self.trace.assumed_tools.push(n);
+                }
+                let mut offset = [0.0; 9];
+                offset[2] = length;
+                Ok(crate::tools::Tool { number: n, offset, diameter: 0.0 })
+            }
+        }
+    }
+
+    /// Records a warning at the line being executed (each message once, counted).
+    pub fn warn(&mut self, message: String) {
+        let (file, line) = self.trace.steps.last().map_or((0, self.line_number as u32), |s| (s.file, s.line + 1));
+        self.warn_at(file, line, message);
+    }
+
+    /// Records a warning at `line` (1-based) of `file`.
+    pub fn warn_at(&mut self, file: u32, line: u32, message: String) {
+        match self.trace.warnings.iter_mut().find(|w| w.message == message) {
+            Some(w) => w.count += 1,
+            None => self.trace.warnings.push(crate::trace::Warning { file, line, message, count: 1 }),
         }
     }
 

@@ -43,7 +43,7 @@ pub use interpret::FanucSettings;
 pub use modal::MM_PER_INCH;
 pub use program::{Program, SearchPath};
 pub use tools::ToolTable;
-pub use trace::{Move, MoveKind, Role, Trace};
+pub use trace::{Move, MoveKind, Role, Trace, Warning};
 
 use std::fmt;
 
@@ -85,6 +85,18 @@ pub struct ProgramSetup {
     /// For checking corrected programs with rs274; LinuxCNC itself keeps the machine position
     /// (default false).
     pub rs274_tool_change: bool,
+    /// What a tool the table lacks (or every tool, without a table) is taken as.
+    pub unknown_tools: UnknownTools,
+}
+
+/// What a tool that is not in the tool table is taken as.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum UnknownTools {
+    /// Refused with the line (`--strict-tools`).
+    Refuse,
+    /// A tool of this length offset (Z, machine units): 0 puts its tip at the machine file's tool
+    /// point. The moves then hold the error of that assumption, which the corrector states.
+    Assume(f64),
 }
 
 impl ProgramSetup {
@@ -98,6 +110,7 @@ impl ProgramSetup {
             search_path: SearchPath::default(),
             fanuc: FanucSettings::default(),
             rs274_tool_change: false,
+            unknown_tools: UnknownTools::Assume(0.0),
         }
     }
 

@@ -208,6 +208,8 @@ pub struct State {
     pub position: Vec9,
     pub plane: PlaneSelect,
     pub motion: Motion,
+    /// The last of G00-G03 (a Fanuc's group 01, which its canned cycles in group 09 leave as it was).
+    pub group01: Motion,
     pub feed_mode: FeedMode,
     /// F (program units per minute, per revolution, or 1/min).
     pub feed: f64,

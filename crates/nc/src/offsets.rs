@@ -52,11 +52,11 @@ impl Exec<'_> {
     pub(crate) fn tool_length(&mut self, code: u16, w: &mut Words) -> Result<(), String> {
         let fanuc = self.dialect == Dialect::Fanuc;
         let mut offset = self.state.frame.tool;
-        let from_table = |exec: &Self, n: u32| -> Result<[f64; AXES], String> {
+        let from_table = |exec: &mut Self, n: u32| -> Result<[f64; AXES], String> {
             if n == 0 {
                 return Ok([0.0; AXES]);
             }
-            let tool = exec.tools.get(n).ok_or_else(|| format!("tool {n} of the offset is not in the tool table"))?;
+            let tool = exec.tool_entry(n)?;
             let wear = exec.wear.iter().find(|(h, _)| *h == n).map_or(0.0, |(_, v)| *v);
             Ok(std::array::from_fn(|k| {
                 if fanuc && k != 2 {

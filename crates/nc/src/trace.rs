@@ -157,6 +157,21 @@ pub struct Trace {
     pub actions: Vec<(u32, Range<u32>)>,
     /// The machine position where the program starts (mm, deg).
     pub start: Axes,
+    /// What the run passed over with a warning: each message once, with the file and line where
+    /// it first came and how many times it came.
+    pub warnings: Vec<Warning>,
+    /// Tools the table lacks that took the assumed length ([`crate::UnknownTools::Assume`]).
+    pub assumed_tools: Vec<u32>,
+}
+
+/// A warning of a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Warning {
+    pub file: u32,
+    /// 1-based.
+    pub line: u32,
+    pub message: String,
+    pub count: u32,
 }
 
 impl Trace {

@@ -9,6 +9,7 @@ mod bad_programs;
 mod common;
 mod fanuc;
 mod linuxcnc_samples;
+mod posts;
 mod reading;
 mod roundtrip;
 mod rs274;

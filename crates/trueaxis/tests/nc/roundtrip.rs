@@ -215,8 +215,6 @@ fn what_cannot_be_corrected_is_refused_with_the_line() {
         ("o1 while [1]\nG0 X1\nM2\n", "line 1: `o1 while` is never closed"),
         ("G0 X1\nG0 A10\nM2\n", "line 2: axis A is not an axis of machine"),
         ("G0 X1000\nM2\n", "line 1: the end point leaves the machine's travel"),
-        ("G0 X1\n", "line 1: the program ends without M2, M30 or a closing %"),
-        ("G43 H7\nM2\n", "line 1: tool 7 of the offset is not in the tool table"),
         ("G5.1 X1 Y1 I1 J1\nM2\n", "line 1: G5.1 (splines)"),
         ("o1 sub\no1 endsub\nM98 P100\nM2\n", "line 3: M98 is a Fanuc subprogram call"),
         ("o<nowhere> call\nM2\n", "line 1: subroutine `o<nowhere>` is neither in the program nor a file nowhere.ngc"),
@@ -233,4 +231,9 @@ fn what_cannot_be_corrected_is_refused_with_the_line() {
         assert!(err.is_input(), "{text}");
         assert!(err.to_string().starts_with("bad.ngc: ") && err.to_string().contains(needle), "{text}: {err}");
     }
+    // --strict-tools: a tool the table lacks is refused
+    let mut strict = NcOptions::new(&m);
+    strict.setup.unknown_tools = trueaxis::compensate::nc::UnknownTools::Refuse;
+    let err = correct_program(&corrector, "G43 H7\nM2\n", "bad.ngc", &strict, &[]).unwrap_err();
+    assert_eq!(err.to_string(), "bad.ngc: line 1: tool 7 is not in the tool table (--strict-tools)");
 }

@@ -54,6 +54,29 @@ impl Header {
     }
 }
 
+/// The comment line that states the tool-length assumption: the tools that were not in a tool
+/// table, the length they were taken as, and how far 100 mm of a real tool's length from it moves
+/// that tool's corrected points (um, rounded to 0.1).
+pub fn assumed_tools_line(tools: &[u32], setup: &super::ProgramSetup, um_per_100mm: f64, dialect: Dialect) -> String {
+    let mut names: Vec<String> = tools.iter().take(12).map(|t| format!("T{t}")).collect();
+    if tools.len() > 12 {
+        names.push(format!("and {} more", tools.len() - 12));
+    }
+    let length = match setup.unknown_tools {
+        super::UnknownTools::Assume(l) => l * if setup.machine_inch { super::MM_PER_INCH } else { 1.0 },
+        super::UnknownTools::Refuse => 0.0,
+    };
+    let line = format!(
+        "({MARK}: {} not in a tool table, taken as {length} mm long (0: the tip at the machine file's tool point); \
+         100 mm of a real tool's length from that moves its corrected points by up to {um_per_100mm:.1} um)",
+        names.join(" ")
+    );
+    match dialect {
+        Dialect::LinuxCnc => line,
+        Dialect::Fanuc => line.to_uppercase().replace(['<', '>', '#'], " "),
+    }
+}
+
 /// The first line (1-based) of the first 100 whose comment says the program was corrected by
 /// trueaxis (a header, or the note on expanded parts of an older version), and that comment.
 pub fn find(program: &[u8]) -> Option<(usize, String)> {

@@ -30,7 +30,7 @@ use crate::machine::AxisKind;
 use crate::machine::Machine;
 pub use trueaxis_nc::{
     dialect, lexer, modal, params, path, plan, program, tools, trace, write, AxisSpec, Dialect, FanucSettings, MachineAxes, Move, MoveKind,
-    NcError, ProgramSetup, Role, SearchPath, ToolTable, Trace, MM_PER_INCH,
+    NcError, ProgramSetup, Role, SearchPath, ToolTable, Trace, UnknownTools, MM_PER_INCH,
 };
 
 /// The axes of `machine` as the NC interpreter needs them: letters, linear or rotary, travel.
@@ -112,6 +112,14 @@ pub struct NcResult {
     pub inserted_lines: usize,
     /// What was expanded into plain moves (also noted at the top of the program).
     pub expanded: Vec<String>,
+    /// What was passed over (codes the dialect does not know, passed through unchanged; a
+    /// program without its end), each with its file and first line.
+    pub warnings: Vec<String>,
+    /// Tools that were not in the tool table and took the assumed length, and how far each 100 mm
+    /// of a real tool's length from it can move that tool's corrected points (um): the largest
+    /// orientation error left along the program times 100 mm.
+    pub assumed_tools: Vec<u32>,
+    pub tool_length_um_per_100mm: Option<f64>,
     /// Corrected points that would leave the machine's travel, kept at its end (uncorrected by
     /// what lies beyond: a move to the end of the travel, e.g. `G53 G0 Z0` at the top).
     pub clamped_points: usize,
@@ -129,6 +137,18 @@ impl NcResult {
     pub fn text(&self) -> std::borrow::Cow<'_, str> {
         String::from_utf8_lossy(&self.program)
     }
+}
+
+/// The warnings of a run as messages: `file: line N: message (and K more lines)`.
+fn warnings(trace: &Trace, program: &program::Program) -> Vec<String> {
+    trace
+        .warnings
+        .iter()
+        .map(|w| {
+            let more = if w.count > 1 { format!(" (and {} more lines)", w.count - 1) } else { String::new() };
+            format!("{}: line {}: {}{more}", program.files[w.file as usize].name, w.line, w.message)
+        })
+        .collect()
 }
 
 fn input_error(e: NcError) -> CompensateError {
@@ -203,10 +223,14 @@ pub fn correct_program(
         }
         writer.step(i, &pieces);
     }
+    let e = corrections.extremes;
+    let tool_length_um_per_100mm = (!trace.assumed_tools.is_empty()).then_some(e.max_uncorrectable_urad * 0.1);
     let mut notes = options.header.as_ref().map_or_else(Vec::new, |h| h.lines(dialect));
+    if let Some(per_100) = tool_length_um_per_100mm {
+        notes.push(header::assumed_tools_line(&trace.assumed_tools, &options.setup, per_100, dialect));
+    }
     notes.extend(write::notes(&writer.notes, dialect));
     let written = writer.finish(&notes);
-    let e = corrections.extremes;
     Ok(NcResult {
         program: written,
         dialect,
@@ -216,6 +240,9 @@ pub fn correct_program(
         changed_lines: writer.changed_lines,
         inserted_lines: writer.inserted_lines,
         expanded: writer.notes.clone(),
+        warnings: warnings(&trace, &program),
+        assumed_tools: trace.assumed_tools.clone(),
+        tool_length_um_per_100mm,
         clamped_points: writer.clamped.get(),
         max_correction_um: e.max_correction_um,
         max_correction_urad: e.max_correction_urad,
