@@ -121,7 +121,13 @@ fn refusals_name_the_line_and_write_nothing() {
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(doc["assumed_tools"], serde_json::json!([1]));
-    assert!(doc["program"].as_str().unwrap().contains("(trueaxis: T1 not in a tool table, taken as 120 mm long"), "{doc}");
+    assert!(
+        doc["program"]
+            .as_str()
+            .unwrap()
+            .contains("(trueaxis: T1 not in a tool table, taken as 120 mm long from the machine file's tool point;"),
+        "{doc}"
+    );
     // with a work offset of 200 mm the program's X300 is X500 on the machine: beyond the travel
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--offset", "G54=X200"]);
     assert_eq!(code, 2);

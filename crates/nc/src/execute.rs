@@ -168,7 +168,8 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
             44 => NonModal,
             90 | 51 | 80 | 500 | 670 | 690 | 150 | 110 => Other,
             440 => ToolLength,
-            541 => System,
+            // Haas G154 P1-P99: the additional work offsets, read like G54.1 P
+            541 | 1540 => System,
             620 | 630 => Path,
             650 => NonModal,
             931 => FeedMode,
@@ -625,9 +626,10 @@ impl Exec<'_> {
                     540..=590 => ((code - 540) / 10 + 1) as u8,
                     591..=593 => (code - 591 + 7) as u8,
                     _ => {
-                        let p = w.take(b'P').ok_or("G54.1 needs the offset number P1-P48")?;
-                        if !(1.0..=48.0).contains(&p) || p.fract() != 0.0 {
-                            return Err(format!("G54.1 P{p}: P must be 1 to 48"));
+                        let (name, most) = if code == 1540 { ("G154", 99.0) } else { ("G54.1", 48.0) };
+                        let p = w.take(b'P').ok_or_else(|| format!("{name} needs the offset number P1-P{most}"))?;
+                        if !(1.0..=most).contains(&p) || p.fract() != 0.0 {
+                            return Err(format!("{name} P{p}: P must be 1 to {most}"));
                         }
                         setup(self, b'P', p);
                         10 + p as u8 - 1

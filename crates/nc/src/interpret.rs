@@ -458,6 +458,11 @@ impl<'m> Exec<'m> {
             Dialect::LinuxCnc if n == 5400 || (5401..=5413).contains(&n) || (5420..=5428).contains(&n) => {
                 return Err(format!("#{n} is a read-only system parameter"))
             }
+            // #3000: the program stops with an alarm here
+            Dialect::Fanuc if n == 3000 => return Err(format!("the program stops with alarm {value} here (#3000 = {value})")),
+            // what macros write beside the motion: timers #3001/#3002, single block and feed hold
+            // #3003/#3004, the message stop #3006, the part counts #3901/#3902 (no effect on positions)
+            Dialect::Fanuc if matches!(n, 3001..=3004 | 3006 | 3901 | 3902) => {}
             Dialect::Fanuc if (1000..2001).contains(&n) || (2401..5201).contains(&n) || (5330..7001).contains(&n) => {
                 return Err(format!(
                 "system variable #{n} cannot be written by this corrector (supported: #1-#999, work offsets #5201-#5326 and #7001-#7948)"

@@ -121,7 +121,8 @@ impl Exec<'_> {
                     return Ok(self.tools.get(h).map_or(0.0, |t| t.offset[2]));
                 }
                 4001..=4130 | 4201..=4330 => return Ok(self.fanuc_modal(if n > 4200 { n - 200 } else { n })),
-                3901 | 3902 => return Ok(0.0),
+                // the part counts: 0 at the start (not known here), then what the program wrote
+                3901 | 3902 => return Ok(self.params.numbered(n).filter(|v| !v.is_nan()).unwrap_or(0.0)),
                 0 => return Ok(f64::NAN),
                 n if !self.params.holds(n) || (1000..2001).contains(&n) || (2401..5201).contains(&n) => {
                     return Err(format!("system variable #{n} is not supported by this corrector"))

@@ -119,3 +119,29 @@ fn without_a_tool_table_the_tool_length_is_assumed_and_its_error_stated() {
     assert!(with.assumed_tools.is_empty() && with.tool_length_um_per_100mm.is_none());
     assert_eq!(with.text(), r.text().split_once('\n').unwrap().1);
 }
+
+#[test]
+fn haas_programs_with_their_macros_and_output_are_read() {
+    let (m, e) = vmc3();
+    let c = Corrector::new(&m, &e);
+    let mut options = NcOptions::new(&m);
+    options.dialect = Some(Dialect::Fanuc);
+    let text = "%\n:1001 (HAAS STYLE)\nG103 P1\nG00 G17 G40 G49 G80 G90\nG154 P1\n#3901 = #3901 + 1\nPOPEN\nDPRNT[PART*#3901[40]]\nPCLOS\n\
+                IF [#3901 GT 1000] THEN #3000 = 1 (TOO MANY)\nT1 M06\nG43 H01 Z-10.\nG00 X10. Y5. Z-20.\n#3006 = 1 (CHECK PART)\nM30\n%\n";
+    let r = correct_program(&c, text, "haas.nc", &options, &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.moves, 2);
+    assert_eq!(r.assumed_tools, vec![1]);
+    // the program number `:1001` stays second, the output lines as they were
+    let out = r.text();
+    assert!(out.starts_with("%\n:1001 (HAAS STYLE)\n(TRUEAXIS: T1 NOT IN A TOOL TABLE"), "{out}");
+    assert!(out.contains("\nPOPEN\nDPRNT[PART*#3901[40]]\nPCLOS\n"), "{out}");
+    // G154 P1 reads its offsets from #7001... like G54.1 P1
+    let mut offset = options.clone();
+    offset.setup.parameters = vec![(7001, 5.0), (7002, -3.0)];
+    let moves = program_moves(&m, text, "haas.nc", &offset).unwrap();
+    assert_eq!((moves[1].end[0], moves[1].end[1]), (15.0, 2.0));
+    // #3000 executed: the program stops with the alarm there
+    let alarm = text.replace("GT 1000", "GT 0");
+    let err = correct_program(&c, alarm, "haas.nc", &options, &[]).unwrap_err();
+    assert_eq!(err.to_string(), "haas.nc: line 10: the program stops with alarm 1 here (#3000 = 1)");
+}

@@ -67,7 +67,7 @@ pub fn assumed_tools_line(tools: &[u32], setup: &super::ProgramSetup, um_per_100
         super::UnknownTools::Refuse => 0.0,
     };
     let line = format!(
-        "({MARK}: {} not in a tool table, taken as {length} mm long (0: the tip at the machine file's tool point); \
+        "({MARK}: {} not in a tool table, taken as {length} mm long from the machine file's tool point; \
          100 mm of a real tool's length from that moves its corrected points by up to {um_per_100mm:.1} um)",
         names.join(" ")
     );
@@ -126,6 +126,11 @@ mod tests {
             assert!(check_uncorrected(text.as_bytes(), "p.nc").unwrap_err().to_string().starts_with("p.nc: line 3: this program"));
         }
         assert_eq!(find(b"(trueaxis: corrected program; expanded into plain moves)\nG0 X1\n").map(|f| f.0), Some(1));
+        // the tool line is one comment (no parentheses inside: LinuxCNC refuses nested comments)
+        let setup = crate::compensate::nc::ProgramSetup::zero(&crate::compensate::nc::MachineAxes { name: "m".into(), axes: vec![] });
+        let tools = assumed_tools_line(&[1, 2], &setup, 3.81, Dialect::LinuxCnc);
+        assert_eq!(tools.matches('(').count() + tools.matches(')').count(), 2, "{tools}");
+        assert!(tools.ends_with("by up to 3.8 um)"), "{tools}");
         assert_eq!(find(b"G0 X1 (corrected by hand)\n; trueaxis rocks\n"), None);
     }
 }
