@@ -68,6 +68,8 @@ pub(super) struct Corrections<'a, 'b> {
     /// in inch.
     rounding: Rounding,
     inch: bool,
+    /// The rotary axes' part of the rounding at the end of the last move (mm).
+    rotary_rounding: Option<f64>,
     pub extremes: Extremes,
     /// The correction at the end of the last move: what the controller holds at the start of the
     /// next one (mm, deg).
@@ -96,6 +98,7 @@ impl<'a, 'b> Corrections<'a, 'b> {
             temperatures: temperatures.to_vec(),
             rounding,
             inch: false,
+            rotary_rounding: None,
             extremes: Extremes::default(),
             start_correction: vec![0.0; n],
             origin: String::new(),
@@ -130,7 +133,13 @@ impl<'a, 'b> Corrections<'a, 'b> {
         let state = MachineState { directions: Some(&self.directions), temperatures: &self.temperatures };
         let c = self.corrector.correct_along(&self.q, &state, &mut self.ws, &mut self.warm);
         let linear_half = if self.inch { self.rounding.linear_inch_mm } else { self.rounding.linear_mm };
-        let rounding = rounding_effect(&self.corrector, linear_half, self.rounding.rotary_deg, &self.q, &c, &state, &mut self.ws);
+        // the rotary axes' part through the chain at each move's end (t = 1, computed second of
+        // its points), reused along the move: the lever changes little within a move
+        if t == 1.0 || self.rotary_rounding.is_none() {
+            self.rotary_rounding = Some(rotary_rounding(&self.corrector, self.rounding.rotary_deg, &self.q, &c, &state, &mut self.ws));
+        }
+        let linear_axes = self.machine.axes().iter().filter(|a| a.kind == AxisKind::Linear).count() as f64;
+        let rounding = linear_half * linear_axes.sqrt() + self.rotary_rounding.unwrap_or(0.0);
         if !c.converged || c.dq[..n].iter().any(|v| !v.is_finite()) {
             return Err(CompensateError::Computation(format!(
                 "{}: line {}: the correction did not converge at {p:?}",
@@ -259,14 +268,12 @@ impl<'a, 'b> Corrections<'a, 'b> {
     }
 }
 
-/// How far the tool point can move from the corrected one when every axis is written rounded to
-/// its last digit (mm): the linear axes' half units (`linear_half`, mm) add as a vector; a rotary
-/// axis's half unit (`rotary_half`, deg) moves the tool point by what the exact chain says (its
-/// lever from the axis), one chain evaluation per rotary axis.
-#[allow(clippy::too_many_arguments)]
-fn rounding_effect(
+/// How far the tool point can move from the corrected one when each rotary axis is written rounded
+/// to its last digit (`rotary_half`, deg): the sum over the rotary axes of what the exact chain
+/// says (their levers), one chain evaluation per rotary axis (mm). The linear axes' half units
+/// add as a vector beside it.
+fn rotary_rounding(
     corrector: &Corrector,
-    linear_half: f64,
     rotary_half: f64,
     q: &[f64],
     c: &Correction,
@@ -274,21 +281,17 @@ fn rounding_effect(
     ws: &mut CorrectionWorkspace,
 ) -> f64 {
     let n = corrector.machine.axis_count();
-    let mut sum_squares = 0.0;
     let mut rotary = 0.0;
     let mut shifted = [0.0; crate::compensate::MAX_AXES];
     for (k, axis) in corrector.machine.axes().iter().enumerate() {
-        match axis.kind {
-            AxisKind::Linear => sum_squares += linear_half * linear_half,
-            AxisKind::Rotary => {
-                shifted[..n].copy_from_slice(&c.dq[..n]);
-                shifted[k] += rotary_half.to_radians();
-                let (moved, _) = corrector.residual_at(q, &shifted[..n], state, ws);
-                rotary += (moved - c.residual_position).norm();
-            }
+        if axis.kind == AxisKind::Rotary {
+            shifted[..n].copy_from_slice(&c.dq[..n]);
+            shifted[k] += rotary_half.to_radians();
+            let (moved, _) = corrector.residual_at(q, &shifted[..n], state, ws);
+            rotary += (moved - c.residual_position).norm();
         }
     }
-    sum_squares.sqrt() + rotary
+    rotary
 }
 
 /// Parameters `0 = t_0 < ... < t_k = 1` between which no axis reverses: for an arc, the points
