@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use trueaxis::compensate::export::Limits;
-use trueaxis::compensate::nc::{correct_program, Dialect, NcOptions};
+use trueaxis::compensate::nc::{correct_program, Dialect, FileId, Header, NcOptions};
 use trueaxis::compensate::{
     compensation, nc_json, sensor_temperatures, CompensateError, CompensationRequest, Corrector, ExportFormat, FormatOptions,
 };
@@ -120,9 +120,11 @@ pub fn compensate(
 /// departs from a straight blend by more than `tolerance_um`. Writes the program to `out` when
 /// given; returns the summary of `trueaxis nc --json` (with the program text when `out` is None).
 /// `dialect`: `linuxcnc` or `fanuc` (default: detected); `decimals`: digits written (default: 5 for
-/// mm and 6 for inch in LinuxCNC programs, 3 / 4 in Fanuc programs).
+/// mm and 6 for inch in LinuxCNC programs, 3 / 4 in Fanuc programs). The program starts with a
+/// header naming the machine and error files with their SHA-256; a program with that header is
+/// refused unless `force`.
 #[pyfunction]
-#[pyo3(signature = (machine, errors, program, *, out = None, tolerance_um = 1.0, decimals = None, dialect = None, limit_um = None, limit_urad = None, temperatures = None))]
+#[pyo3(signature = (machine, errors, program, *, out = None, tolerance_um = 1.0, decimals = None, dialect = None, limit_um = None, limit_urad = None, temperatures = None, force = false))]
 #[allow(clippy::too_many_arguments)]
 pub fn correct_nc(
     py: Python<'_>,
@@ -136,9 +138,10 @@ pub fn correct_nc(
     limit_um: Option<f64>,
     limit_urad: Option<f64>,
     temperatures: Option<HashMap<String, f64>>,
+    force: bool,
 ) -> PyResult<Py<PyAny>> {
     let temperatures = self::temperatures(errors, temperatures)?;
-    let text = std::fs::read_to_string(&program).map_err(|e| input_msg(format!("{}: cannot read: {e}", program.display())))?;
+    let text = std::fs::read(&program).map_err(|e| input_msg(format!("{}: cannot read: {e}", program.display())))?;
     if !(tolerance_um.is_finite() && tolerance_um > 0.0) {
         return Err(input_msg("tolerance_um must be a positive number"));
     }
@@ -154,11 +157,16 @@ pub fn correct_nc(
         None => None,
         Some(d) => Some(Dialect::parse(d).ok_or_else(|| input_msg(format!("dialect `{d}` is not linuxcnc or fanuc")))?),
     };
+    options.header = Some(Header {
+        machine: FileId::of(&machine.origin, machine.source.as_bytes()),
+        errors: FileId::of(&errors.origin, errors.source.as_bytes()),
+    });
+    options.force = force;
     let corrector = Corrector::new(&machine.inner, &errors.inner);
     let origin = program.display().to_string();
     let result = py.detach(|| correct_program(&corrector, &text, &origin, &options, &temperatures)).map_err(failure)?;
     if let Some(path) = &out {
-        write_atomically(path, result.text.as_bytes()).map_err(input)?;
+        write_atomically(path, &result.program).map_err(input)?;
     }
     to_py(py, &nc_json(&result, out.as_ref().map(|p| p.display().to_string()).as_deref()))
 }

@@ -357,6 +357,7 @@ def correct_nc(
     limit_um: Optional[float] = None,
     limit_urad: Optional[float] = None,
     temperatures: Optional[Mapping[str, float]] = None,
+    force: bool = False,
 ) -> Dict[str, Any]:
     """Corrected NC program (RS274/NGC as LinuxCNC 2.9 runs it, or the Fanuc dialect; `dialect`
     detected when None); the summary of `trueaxis nc --json`."""

@@ -292,11 +292,14 @@ pub fn nc_json(result: &NcResult, out: Option<&str>) -> Value {
         "changed_lines": result.changed_lines,
         "inserted_lines": result.inserted_lines,
         "expanded": result.expanded,
+        "warnings": result.warnings,
+        "assumed_tools": result.assumed_tools,
+        "tool_length_um_per_100mm": result.tool_length_um_per_100mm,
         "max_correction_um": result.max_correction_um,
         "max_correction_urad": result.max_correction_urad,
         "max_residual_um": result.max_residual_um,
         "max_uncorrectable_urad": result.max_uncorrectable_urad,
         "out": out,
-        "program": if out.is_none() { Some(result.text.clone()) } else { None },
+        "program": if out.is_none() { Some(result.text().into_owned()) } else { None },
     })
 }

@@ -11,14 +11,14 @@
 //! (`G41`/`G42`), splines, lathe roughing cycles, scaling and coordinate rotation commands (Fanuc
 //! `G51`/`G68`), 5-axis tool-centre-point and tilted-plane modes, polar coordinate mode (Fanuc `G16`).
 
-use super::dialect::Dialect;
-use super::expr::{evaluate, parameter_number, ParamRef};
-use super::interpret::{Exec, Flow};
-use super::lexer::{Line, Operand};
-use super::modal::{FeedMode, Motion, PlaneSelect, Spindle, Vec9, AXES};
-use super::program::SourceFile;
-use super::tools::AXIS_LETTERS;
-use super::trace::{flags, Move, MoveKind, Plane, Relative, Role};
+use crate::dialect::Dialect;
+use crate::expr::{evaluate, parameter_number, ParamRef};
+use crate::interpret::{Exec, Flow};
+use crate::lexer::{Line, Operand};
+use crate::modal::{FeedMode, Motion, PlaneSelect, Spindle, Vec9, AXES};
+use crate::program::SourceFile;
+use crate::tools::AXIS_LETTERS;
+use crate::trace::{flags, Move, MoveKind, Plane, Relative, Role};
 
 /// Letters of a block: A-Z, then `@` (polar radius), `^` (polar angle), `$` (spindle).
 const LETTERS: usize = 29;
@@ -42,7 +42,7 @@ fn index_letter(i: usize) -> u8 {
 }
 
 /// The evaluated words of a block.
-pub(super) struct Words {
+pub(crate) struct Words {
     values: [Option<f64>; LETTERS],
     /// G codes (x 10) and M codes.
     g: [u16; 16],
@@ -54,41 +54,41 @@ pub(super) struct Words {
 }
 
 impl Words {
-    pub(super) fn get(&self, letter: u8) -> Option<f64> {
+    pub(crate) fn get(&self, letter: u8) -> Option<f64> {
         self.values[letter_index(letter)]
     }
 
-    pub(super) fn has(&self, letter: u8) -> bool {
+    pub(crate) fn has(&self, letter: u8) -> bool {
         self.get(letter).is_some()
     }
 
     /// The value of `letter`, marked as used.
-    pub(super) fn take(&mut self, letter: u8) -> Option<f64> {
+    pub(crate) fn take(&mut self, letter: u8) -> Option<f64> {
         let i = letter_index(letter);
         self.used |= 1 << i;
         self.values[i]
     }
 
-    pub(super) fn gs(&self) -> &[u16] {
+    pub(crate) fn gs(&self) -> &[u16] {
         &self.g[..self.ng]
     }
 
-    pub(super) fn ms(&self) -> &[u16] {
+    pub(crate) fn ms(&self) -> &[u16] {
         &self.m[..self.nm]
     }
 
     /// Axis words (interpreter axes) and whether any is present.
-    pub(super) fn axes(&self) -> ([Option<f64>; AXES], bool) {
+    pub(crate) fn axes(&self) -> ([Option<f64>; AXES], bool) {
         let a: [Option<f64>; AXES] = std::array::from_fn(|k| self.get(AXIS_LETTERS[k]));
         let any = a.iter().any(Option::is_some);
         (a, any)
     }
 
-    pub(super) fn any_axis_or_polar(&self) -> bool {
+    pub(crate) fn any_axis_or_polar(&self) -> bool {
         self.axes().1 || self.has(b'@') || self.has(b'^')
     }
 
-    pub(super) fn use_axes(&mut self) {
+    pub(crate) fn use_axes(&mut self) {
         for &l in AXIS_LETTERS.iter().chain(b"@^") {
             self.take(l);
         }
@@ -115,6 +115,8 @@ enum Group {
     NonModal,
     /// Codes passed through without effect on positions (Fanuc `G5.1`, `G8`, `G50`, `G67`, `G69`...).
     Other,
+    /// Not a code of the dialect: passed through with a warning when its line has no axis words.
+    Unknown,
 }
 
 /// The group of G code `code` (x 10), or why it is refused.
@@ -159,14 +161,15 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
             50..=53 => return refuse("(splines) are not supported: convert them to lines or arcs"),
             700 | 710 | 711 | 720 | 721 => return refuse("(lathe roughing cycle) is not supported"),
             171 | 181 | 191 => return refuse("(U V W planes) is not supported"),
-            _ => return Err(format!("G{} is not a G-code of LinuxCNC 2.9", gcode_text(code))),
+            _ => Unknown,
         }),
         Dialect::Fanuc => Ok(match code {
             1..=3 => Motion,
             44 => NonModal,
             90 | 51 | 80 | 500 | 670 | 690 | 150 | 110 => Other,
             440 => ToolLength,
-            541 => System,
+            // Haas G154 P1-P99: the additional work offsets, read like G54.1 P
+            541 | 1540 => System,
             620 | 630 => Path,
             650 => NonModal,
             931 => FeedMode,
@@ -186,7 +189,7 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
             }
             660 => return refuse("(modal macro call) is not supported"),
             330 | 320 | 340 | 350 | 120 | 130 => return refuse("is not supported (threading or circle cutting cycles)"),
-            _ => return Err(format!("G{} is not a Fanuc G-code this corrector knows", gcode_text(code))),
+            _ => Unknown,
         }),
     }
 }
@@ -207,7 +210,7 @@ fn is_dimension(letter: u8) -> bool {
 
 impl Exec<'_> {
     /// Executes the block `line` of `file` at `pc`.
-    pub(super) fn block(&mut self, file: &SourceFile, pc: (usize, usize), line: &Line) -> Result<Flow, String> {
+    pub(crate) fn block(&mut self, file: &SourceFile, pc: (usize, usize), line: &Line) -> Result<Flow, String> {
         let step = self.begin_step(pc, 0);
         let flow = self.block_steps(file, pc, line, step);
         self.end_step(step);
@@ -330,19 +333,24 @@ impl Exec<'_> {
         let mut seen: Vec<(Group, u16)> = Vec::with_capacity(w.ng);
         for &code in w.gs() {
             let g = group(code, self.dialect)?;
-            if g != Group::NonModal && g != Group::Other {
-                // a Fanuc G80 is in its own group (09), beside G00-G03
-                let fanuc_g80 = |a: u16, b: u16| {
-                    self.dialect == Dialect::Fanuc && (a == 800) != (b == 800) && [a, b].iter().all(|c| matches!(c, 0 | 10 | 20 | 30 | 800))
-                };
-                if let Some((_, other)) = seen.iter().find(|(s, c)| *s == g && !fanuc_g80(*c, code)) {
+            if g == Group::Unknown {
+                self.unknown_code(&w, format!("G{}", gcode_text(code)))?;
+            }
+            if !matches!(g, Group::NonModal | Group::Other | Group::Unknown) {
+                // G80 beside another motion code: a Fanuc's G80 is in a group of its own (09), and
+                // LinuxCNC's rs274 runs the other code (checked: `G00 G17 G40 G49 G80 G90`, the first
+                // line of most posts, and `G81 G80 ...`)
+                let beside_g80 = |a: u16, b: u16| (a == 800) != (b == 800);
+                if let Some((_, other)) = seen.iter().find(|(s, c)| *s == g && !(g == Group::Motion && beside_g80(*c, code))) {
                     return Err(format!("G{} and G{} on one line are in the same modal group", gcode_text(*other), gcode_text(code)));
                 }
             }
             seen.push((g, code));
         }
         let axis_users = w.gs().iter().filter(|&&c| matches!(c, 100 | 280 | 300 | 520 | 920 | 431 | 432)).count();
-        if axis_users > 1 || axis_users == 1 && seen.iter().any(|(g, c)| *g == Group::Motion && *c != 800) {
+        // a Fanuc reads `G00 G91 G28 Z0` (a CAM post's return home): the G00 only sets the mode
+        let motion_beside = |c: u16| if self.dialect == Dialect::Fanuc { !matches!(c, 0 | 10 | 20 | 30 | 800) } else { c != 800 };
+        if axis_users > 1 || axis_users == 1 && seen.iter().any(|(g, c)| *g == Group::Motion && motion_beside(*c)) {
             return Err("two G-codes on one line both use the axis words".into());
         }
         // the M-code groups
@@ -356,11 +364,11 @@ impl Exec<'_> {
         if self.dialect == Dialect::LinuxCnc {
             for &m in w.ms() {
                 let known = matches!(m, 0..=9 | 19 | 30 | 48..=53 | 60..=68 | 70..=73 | 100..=199);
+                if matches!(m, 98 | 99) {
+                    return Err(format!("M{m} is a Fanuc subprogram call; this program reads as LinuxCNC (choose --dialect fanuc?)"));
+                }
                 if !known {
-                    return Err(match m {
-                        98 | 99 => format!("M{m} is a Fanuc subprogram call; this program reads as LinuxCNC (choose --dialect fanuc?)"),
-                        _ => format!("M{m} is not an M-code of LinuxCNC 2.9"),
-                    });
+                    self.unknown_code(&w, format!("M{m}"))?;
                 }
             }
             // rs274 (interp_check.cc, check_other_codes): "E word with no G70, G76, M66, M67 or M68
@@ -372,6 +380,20 @@ impl Exec<'_> {
             }
         }
         Ok(w)
+    }
+
+    /// A code the dialect does not know: passed through with a warning naming the line, refused
+    /// when its line has axis words (what it does with them is not known).
+    fn unknown_code(&mut self, w: &Words, code: String) -> Result<(), String> {
+        let dialect = match self.dialect {
+            Dialect::LinuxCnc => "LinuxCNC 2.9",
+            Dialect::Fanuc => "the Fanuc dialect",
+        };
+        if w.any_axis_or_polar() {
+            return Err(format!("{code} is not a code of {dialect}: with axis words on its line it cannot be passed through"));
+        }
+        self.warn(format!("{code} is not a code of {dialect}: passed through unchanged, assumed to move nothing"));
+        Ok(())
     }
 
     /// Comments: messages with their parameters replaced (for an expanded copy), `(ABORT,...)` ends
@@ -415,7 +437,7 @@ impl Exec<'_> {
                     (rest[..digits].parse().ok().map(ParamRef::Numbered), digits)
                 };
                 if let Some(p) = param {
-                    use super::expr::Environment;
+                    use crate::expr::Environment;
                     let v = self.read(&p, None).unwrap_or(f64::NAN);
                     out.push_str(&format!("{v:.6}"));
                     i += 1 + len;
@@ -459,8 +481,8 @@ impl Exec<'_> {
             if t < 0.0 || t.fract() != 0.0 {
                 return Err(format!("T{t} is not a tool number"));
             }
-            if !fanuc && t > 0.0 && self.tools.get(t as u32).is_none() {
-                return Err(format!("tool T{t} is not in the tool table"));
+            if !fanuc && t > 0.0 {
+                self.tool_entry(t as u32)?;
             }
             self.state.selected_tool = Some(t as u32);
         }
@@ -544,9 +566,9 @@ impl Exec<'_> {
         let mut nonmodal = Vec::new();
         for &code in &gs {
             match group(code, self.dialect)? {
-                // a Fanuc G80 beside G00-G03 cancels the cycle before the motion
-                Group::Motion if code == 800 && gs.len() > 1 && fanuc && gs.iter().any(|c| matches!(c, 0 | 10 | 20 | 30)) => {
-                    self.state.motion = Motion::None;
+                // G80 beside another motion code cancels the cycle before it
+                Group::Motion if code == 800 && gs.iter().any(|&c| c != 800 && group(c, self.dialect) == Ok(Group::Motion)) => {
+                    self.state.motion = self.after_g80();
                     self.setup_words.push((b'G', 80.0));
                 }
                 Group::Motion => motion_code = Some(code),
@@ -604,9 +626,10 @@ impl Exec<'_> {
                     540..=590 => ((code - 540) / 10 + 1) as u8,
                     591..=593 => (code - 591 + 7) as u8,
                     _ => {
-                        let p = w.take(b'P').ok_or("G54.1 needs the offset number P1-P48")?;
-                        if !(1.0..=48.0).contains(&p) || p.fract() != 0.0 {
-                            return Err(format!("G54.1 P{p}: P must be 1 to 48"));
+                        let (name, most) = if code == 1540 { ("G154", 99.0) } else { ("G54.1", 48.0) };
+                        let p = w.take(b'P').ok_or_else(|| format!("{name} needs the offset number P1-P{most}"))?;
+                        if !(1.0..=most).contains(&p) || p.fract() != 0.0 {
+                            return Err(format!("{name} P{p}: P must be 1 to {most}"));
                         }
                         setup(self, b'P', p);
                         10 + p as u8 - 1
@@ -655,7 +678,7 @@ impl Exec<'_> {
                     }
                 }
                 930 | 940 | 950 => setup(self, b'G', f64::from(code) / 10.0),
-                _ if group(code, self.dialect)? == Group::Other => setup(self, b'G', f64::from(code) / 10.0),
+                _ if matches!(group(code, self.dialect)?, Group::Other | Group::Unknown) => setup(self, b'G', f64::from(code) / 10.0),
                 _ => {}
             }
         }
@@ -697,7 +720,16 @@ impl Exec<'_> {
                 _ => {}
             }
         }
-        // the motion
+        // the motion: a Fanuc G00-G03 beside a code that takes the axis words only sets the mode
+        if let (true, Some(code @ (0 | 10 | 20 | 30))) = (fanuc && (home.is_some() || g53_free_setting(&nonmodal)), motion_code) {
+            self.state.motion = match code {
+                0 => Motion::Rapid,
+                10 => Motion::Feed,
+                c => Motion::Arc { clockwise: c == 20 },
+            };
+            self.setup_words.push((b'G', f64::from(code) / 10.0));
+            motion_code = None;
+        }
         if let Some(code) = home {
             if g53 {
                 return Err(format!("G53 cannot be used with G{}", code / 10));
@@ -731,6 +763,9 @@ impl Exec<'_> {
         if !matches!(self.state.motion, Motion::Cycle(_)) {
             self.state.cycle.initial = None;
         }
+        if matches!(self.state.motion, Motion::Rapid | Motion::Feed | Motion::Arc { .. }) {
+            self.state.group01 = self.state.motion;
+        }
         // stops
         for &m in w.ms() {
             if matches!(m, 0 | 1 | 2 | 30 | 60) {
@@ -744,7 +779,7 @@ impl Exec<'_> {
     }
 
     /// The end point of a motion from the axis words (absolute, incremental, `G53`, polar).
-    pub(super) fn end_point(&mut self, w: &mut Words, g53: bool) -> Result<Vec9, String> {
+    pub(crate) fn end_point(&mut self, w: &mut Words, g53: bool) -> Result<Vec9, String> {
         let (axes, _) = w.axes();
         let s = &self.state;
         let mut end = s.position;
@@ -801,12 +836,12 @@ impl Exec<'_> {
     }
 
     /// A straight move to program point `end` (rapid or feed).
-    pub(super) fn straight(&mut self, rapid: bool, end: Vec9, role: Role, g53: bool, words: u16) -> Result<(), String> {
+    pub(crate) fn straight(&mut self, rapid: bool, end: Vec9, role: Role, g53: bool, words: u16) -> Result<(), String> {
         self.push_move(if rapid { MoveKind::Rapid } else { MoveKind::Feed }, end, role, g53, words, None)
     }
 
     /// Adds a move to the trace, checking that its axes exist and that it stays in the travel.
-    pub(super) fn push_move(
+    pub(crate) fn push_move(
         &mut self,
         kind: MoveKind,
         end: Vec9,
@@ -871,12 +906,18 @@ impl Exec<'_> {
                 self.arc(code == 20, w, f, words, step)
             }
             800 => {
-                self.state.motion = Motion::None;
+                self.state.motion = self.after_g80();
                 self.setup_words.push((b'G', 80.0));
-                if w.any_axis_or_polar() {
-                    return Err("axis words with G80 (G80 cancels the motion mode)".into());
+                if !w.any_axis_or_polar() {
+                    return Ok(());
                 }
-                Ok(())
+                // a Fanuc moves in its group-01 mode, which a canned cycle (group 09) left as it was
+                match self.state.motion {
+                    Motion::Rapid => self.motion(0, w, g53, step),
+                    Motion::Feed => self.motion(10, w, g53, step),
+                    Motion::Arc { clockwise } => self.motion(if clockwise { 20 } else { 30 }, w, g53, step),
+                    _ => Err("axis words with G80 (G80 cancels the motion mode)".into()),
+                }
             }
             c => {
                 if inverse {
@@ -886,8 +927,17 @@ impl Exec<'_> {
                     return Err("a canned cycle with zero feed rate".into());
                 }
                 self.trace.steps[step].flags |= flags::EXPAND;
-                super::cycles::cycle(self, c, w, step)
+                crate::cycles::cycle(self, c, w, step)
             }
+        }
+    }
+
+    /// The motion mode after G80: none in LinuxCNC (canned cycles are in group 1); a Fanuc's
+    /// group-01 mode as it was before the cycle.
+    fn after_g80(&self) -> Motion {
+        match self.dialect {
+            Dialect::LinuxCnc => Motion::None,
+            Dialect::Fanuc => self.state.group01,
         }
     }
 
@@ -969,7 +1019,7 @@ impl Exec<'_> {
         }
         let inch = self.state.frame.inch;
         let centre = match r {
-            Some(r) => super::arcs::centre_from_radius(clockwise, [start[a], start[b]], [end[a], end[b]], r, inch)?,
+            Some(r) => crate::arcs::centre_from_radius(clockwise, [start[a], start[b]], [end[a], end[b]], r, inch)?,
             None => {
                 if self.state.frame.ijk_absolute && (ia.is_none() || ib.is_none()) {
                     return Err(format!(
@@ -979,7 +1029,7 @@ impl Exec<'_> {
                 }
                 let (i, j) = (ia.unwrap_or(0.0), ib.unwrap_or(0.0));
                 let c = if self.state.frame.ijk_absolute { [i, j] } else { [start[a] + i, start[b] + j] };
-                super::arcs::check_centre([start[a], start[b]], [end[a], end[b]], c, inch)?;
+                crate::arcs::check_centre([start[a], start[b]], [end[a], end[b]], c, inch)?;
                 c
             }
         };
@@ -999,7 +1049,7 @@ impl Exec<'_> {
         }
         // several turns: the arc, then whole turns, the other axes sharing the total angle
         self.trace.steps[step].flags |= flags::EXPAND;
-        let sweep = super::arcs::sweep(clockwise, [start[a], start[b]], [end[a], end[b]], centre);
+        let sweep = crate::arcs::sweep(clockwise, [start[a], start[b]], [end[a], end[b]], centre);
         let total = sweep.abs() + f64::from(turns - 1) * std::f64::consts::TAU;
         let mut angle = sweep.abs();
         let along =
@@ -1013,6 +1063,11 @@ impl Exec<'_> {
         }
         Ok(())
     }
+}
+
+/// Whether the non-modal codes of a block include one that takes the axis words (G10, G52, G92).
+fn g53_free_setting(nonmodal: &[u16]) -> bool {
+    nonmodal.iter().any(|c| matches!(c, 100 | 520 | 920))
 }
 
 /// Bits of the interpreter axes with words in the block (X = bit 0).

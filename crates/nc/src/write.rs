@@ -7,21 +7,22 @@
 //! arc centres move by the mean correction of their ends, a `G92`/`G10 L20` that takes the
 //! current position takes the shift of the corrected position into account.
 
-use super::dialect::{format_number, Dialect};
-use super::execute::gcode_text;
-use super::lexer::Line;
-use super::modal::{is_linear, Frame, Vec9, AXES};
-use super::path::{arc_geometry, point_at, Pieces};
-use super::plan::{LineOut, Plan};
-use super::program::Program;
-use super::tools::AXIS_LETTERS;
-use super::trace::{Axes, Move, MoveKind, Relative, Role, Step, Trace};
-use crate::machine::Machine;
+use crate::axes::MachineAxes;
+use crate::dialect::{format_number, Dialect};
+use crate::execute::gcode_text;
+use crate::lexer::Line;
+use crate::modal::{is_linear, Frame, Vec9, AXES};
+use crate::path::{arc_geometry, point_at, Pieces};
+use crate::plan::{LineOut, Plan};
+use crate::program::Program;
+use crate::source::{encode_line, Ending};
+use crate::tools::AXIS_LETTERS;
+use crate::trace::{Axes, Move, MoveKind, Relative, Role, Step, Trace};
 use std::collections::BTreeMap;
 
 /// Writes the corrected program.
-pub(super) struct Writer<'a> {
-    pub machine: &'a Machine,
+pub struct Writer<'a> {
+    pub machine: &'a MachineAxes,
     pub program: &'a Program,
     pub trace: &'a Trace,
     pub plan: &'a Plan,
@@ -48,7 +49,7 @@ pub(super) struct Writer<'a> {
 
 impl<'a> Writer<'a> {
     pub fn new(
-        machine: &'a Machine,
+        machine: &'a MachineAxes,
         program: &'a Program,
         trace: &'a Trace,
         plan: &'a Plan,
@@ -522,8 +523,8 @@ impl<'a> Writer<'a> {
             return v;
         }
         match (self.machine_inch, frame.inch) {
-            (true, false) => v / super::modal::MM_PER_INCH,
-            (false, true) => v * super::modal::MM_PER_INCH,
+            (true, false) => v / crate::modal::MM_PER_INCH,
+            (false, true) => v * crate::modal::MM_PER_INCH,
             _ => v,
         }
     }
@@ -539,7 +540,7 @@ impl<'a> Writer<'a> {
             b'G' => format!("G{}", gcode_text((v * 10.0).round() as u16)),
             b'M' => format!("M{}", v.round() as i64),
             l => {
-                let value = match (self.dialect, super::modal::axis_of_letter(l)) {
+                let value = match (self.dialect, crate::modal::axis_of_letter(l)) {
                     (Dialect::Fanuc, Some(k)) => self.axis_text(frame, k, v),
                     (Dialect::Fanuc, None) if matches!(l, b'I' | b'J' | b'K' | b'R' | b'Q') => {
                         format_number(v, self.decimals_of(frame, 0), Dialect::Fanuc)
@@ -583,7 +584,7 @@ impl<'a> Writer<'a> {
             };
             let words: Vec<String> = setting
                 .iter()
-                .map(|&(l, v)| match super::modal::axis_of_letter(l) {
+                .map(|&(l, v)| match crate::modal::axis_of_letter(l) {
                     Some(k) if delta[k] != 0.0 => self.word_text(l, v + delta[k], &frame0),
                     _ => self.word_text(l, v, &frame0),
                 })
@@ -676,7 +677,7 @@ impl<'a> Writer<'a> {
                     }
                 }
             }
-            if !step.has(super::trace::flags::CONTROL) || !step.actions.is_empty() {
+            if !step.has(crate::trace::flags::CONTROL) || !step.actions.is_empty() {
                 let lines = self.expanded(step, pieces, None);
                 self.region.extend(lines);
             }
@@ -751,12 +752,12 @@ impl<'a> Writer<'a> {
         self.notes.push(region.reason.clone());
         let mut lines = std::mem::take(&mut self.region);
         // parameters the region changed, visible after it
-        let mut last: BTreeMap<super::params::ParamKey, f64> = BTreeMap::new();
+        let mut last: BTreeMap<crate::params::ParamKey, f64> = BTreeMap::new();
         for s in &self.trace.steps[region.steps.clone()] {
             for (key, value) in &self.trace.writes[s.writes.start as usize..s.writes.end as usize] {
                 let global = match key {
-                    super::params::ParamKey::Numbered(n) => *n as usize > super::params::local_count(self.dialect),
-                    super::params::ParamKey::Named(n) => n.starts_with('_'),
+                    crate::params::ParamKey::Numbered(n) => *n as usize > crate::params::local_count(self.dialect),
+                    crate::params::ParamKey::Named(n) => n.starts_with('_'),
                 };
                 if s.level == region.level || global {
                     last.insert(key.clone(), *value);
@@ -774,44 +775,59 @@ impl<'a> Writer<'a> {
         self.out[region.lines.start] = Some(lines);
     }
 
-    /// The corrected program text: the main file line by line, with a note on what was expanded.
-    pub fn finish(&self, notes: &[String]) -> String {
+    /// The corrected program as bytes: the main file line by line, each line with its own line
+    /// end and, when it was read byte for byte, its own bytes; `notes` (comment lines) after the
+    /// leading `%` and program-number lines.
+    pub fn finish(&self, notes: &[String]) -> Vec<u8> {
         let file = &self.program.files[0];
-        let mut text = String::with_capacity(file.text.len() + 64);
+        let mut out = Vec::with_capacity(file.text.len() + 64 * (notes.len() + 1));
+        if file.bom {
+            out.extend_from_slice(b"\xEF\xBB\xBF");
+        }
+        // the line end of added lines: the first line's (the file's own style)
+        let eol = match file.endings.first() {
+            Some(Ending::None) | None => Ending::Lf,
+            Some(&e) => e,
+        };
         let mut noted = notes.is_empty();
-        for (k, out) in self.plan.lines.iter().enumerate() {
+        let put_notes = |out: &mut Vec<u8>| {
+            for n in notes {
+                out.extend_from_slice(n.as_bytes());
+                out.extend_from_slice(eol.bytes());
+            }
+        };
+        for (k, plan) in self.plan.lines.iter().enumerate() {
             let keep_first =
                 |l: &Result<Line, String>| matches!(l, Ok(l) if l.percent || l.program_number.is_some() && self.dialect == Dialect::Fanuc);
             if !(noted || k < file.body.start || keep_first(&file.lines[k])) {
-                for n in notes {
-                    text.push_str(n);
-                    text.push('\n');
-                }
+                put_notes(&mut out);
                 noted = true;
             }
-            if *out == LineOut::Hidden {
+            if *plan == LineOut::Hidden {
                 continue;
             }
+            let bytewise = file.bytewise.binary_search(&k).is_ok();
+            let ending = file.endings[k];
             match &self.out[k] {
                 Some(lines) => {
-                    for l in lines {
-                        text.push_str(l);
-                        text.push('\n');
+                    for (i, l) in lines.iter().enumerate() {
+                        encode_line(l, bytewise, &mut out);
+                        out.extend_from_slice(if i + 1 == lines.len() { ending.bytes() } else { eol.bytes() });
                     }
                 }
                 None => {
-                    text.push_str(file.line_text(k));
-                    text.push('\n');
+                    encode_line(file.line_text(k), bytewise, &mut out);
+                    out.extend_from_slice(ending.bytes());
                 }
             }
         }
         if !noted {
-            for n in notes {
-                text.push_str(n);
-                text.push('\n');
+            if file.endings.last() == Some(&Ending::None) {
+                out.extend_from_slice(eol.bytes());
             }
+            put_notes(&mut out);
         }
-        text
+        out
     }
 }
 
@@ -878,8 +894,8 @@ fn has_motion_word(line: &Line) -> bool {
     line.words.iter().any(|w| {
         w.letter == b'G'
             && match w.value {
-                super::lexer::Operand::Number(v) => [0.0, 1.0, 2.0, 3.0].contains(&v),
-                super::lexer::Operand::Expr(_) => true,
+                crate::lexer::Operand::Number(v) => [0.0, 1.0, 2.0, 3.0].contains(&v),
+                crate::lexer::Operand::Expr(_) => true,
             }
     })
 }
@@ -892,4 +908,28 @@ fn motion_word(m: &Move, dialect: Dialect) -> String {
         MoveKind::Arc { clockwise: true, .. } => "G2".into(),
         MoveKind::Arc { clockwise: false, .. } => "G3".into(),
     }
+}
+
+/// The comment lines at the top of a corrected program that say what was expanded (at most 20).
+pub fn notes(expanded: &[String], dialect: Dialect) -> Vec<String> {
+    if expanded.is_empty() {
+        return Vec::new();
+    }
+    let clean = |s: &str| {
+        let s = s.replace(['(', ')'], "");
+        match dialect {
+            Dialect::Fanuc => s.to_uppercase().replace(['<', '>', '#'], " "),
+            Dialect::LinuxCnc => s,
+        }
+    };
+    let mut out = vec![clean("(trueaxis: corrected program; expanded into plain moves because the correction differs where they run:)")];
+    out[0] =
+        format!("({})", clean("trueaxis: corrected program; expanded into plain moves because the correction differs where they run:"));
+    for e in expanded.iter().take(20) {
+        out.push(format!("({})", clean(&format!("trueaxis: - {e}"))));
+    }
+    if expanded.len() > 20 {
+        out.push(format!("({})", clean(&format!("trueaxis: - and {} more", expanded.len() - 20))));
+    }
+    out
 }

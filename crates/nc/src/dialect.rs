@@ -28,7 +28,8 @@ impl Dialect {
 
     /// The dialect a program is written in, from constructs only one of them has: a program
     /// number `O1234` on a line of its own, `M98`/`M99`/`G65` calls, `IF [...] GOTO`/`WHILE [...] DO`,
-    /// `G28 G91`-style reference returns with `#500`-range variables are Fanuc; O-words with
+    /// `G28 G91`-style reference returns with `#500`-range variables, the ISO program number `:1234`,
+    /// Haas's `G103`/`G154`/`G187` and `POPEN`/`DPRNT[...]` are Fanuc; O-words with
     /// `sub`/`call`/`if`..., named parameters `#<...>` and `;` comments are LinuxCNC. Without a sign
     /// of either, LinuxCNC (a plain G-code program means the same in both, apart from dimension
     /// words without a decimal point, which a Fanuc post never writes).
@@ -44,6 +45,9 @@ impl Dialect {
                 linuxcnc += 1;
             }
             let after_n = skip_sequence_number(&compact);
+            if after_n.starts_with(':') || ["POPEN", "PCLOS", "DPRNT[", "BPRNT["].iter().any(|k| after_n.starts_with(k)) {
+                fanuc += 1;
+            }
             if let Some(rest) = after_n.strip_prefix('O') {
                 let keyword = rest.trim_start_matches(|c: char| c.is_ascii_digit());
                 if rest.starts_with('<') || O_KEYWORDS.iter().any(|k| keyword.starts_with(k)) {
@@ -57,7 +61,7 @@ impl Dialect {
                 || after_n.starts_with("WHILE[") && compact.contains("DO")
                 || after_n.starts_with("END") && after_n[3..].chars().next().is_some_and(|c| c.is_ascii_digit())
                 || has_code(&compact, 'M', &[98, 99])
-                || has_code(&compact, 'G', &[65, 66])
+                || has_code(&compact, 'G', &[65, 66, 103, 154, 187])
             {
                 fanuc += 1;
             }
@@ -178,6 +182,7 @@ mod tests {
         assert_eq!(Dialect::detect(ngc), Dialect::LinuxCnc);
         assert_eq!(Dialect::detect("#<depth> = 2\nG1 Z-#<depth>\nM2\n"), Dialect::LinuxCnc);
         assert_eq!(Dialect::detect("G0 X1 Y2\nG1 Z-1 F100\nM2\n"), Dialect::LinuxCnc);
+        assert_eq!(Dialect::detect("%\n:1001\nG187 P1\nG0 X1.\nM30\n%\n"), Dialect::Fanuc);
         assert_eq!(format_number(10.0, 4, Dialect::Fanuc), "10.");
         assert_eq!(format_number(10.0, 4, Dialect::LinuxCnc), "10");
         assert_eq!(format_number(-0.00001, 4, Dialect::Fanuc), "0.");

@@ -13,10 +13,8 @@
 //! tolerance of the original path (the length of the vector of the linear axes; rapids: their ends
 //! only). Skipped, with the reason printed, only when rs274 is not installed.
 
-mod nc_common;
-
-use nc_common::oracle::{Oracle, Report};
-use nc_common::rs274::rs274;
+use crate::common::oracle::{Oracle, Report};
+use crate::common::rs274::rs274;
 use trueaxis::compensate::nc::{correct_program, program_moves, Dialect, NcOptions, NcResult, SearchPath, ToolTable};
 use trueaxis::compensate::Corrector;
 use trueaxis::errors::ErrorModel;
@@ -71,20 +69,20 @@ fn check(case: &Case, decimals: Option<usize>, end_um: f64) -> (NcResult, Report
     let result =
         correct_program(&corrector, case.program, case.name, &options, case.temperatures).unwrap_or_else(|e| panic!("{}: {e}", case.name));
     std::fs::write(dir.path().join("original.ngc"), case.program).unwrap();
-    std::fs::write(dir.path().join("corrected.ngc"), &result.text).unwrap();
+    std::fs::write(dir.path().join("corrected.ngc"), &result.program).unwrap();
     let original =
         rs.run_with(dir.path(), "original.ngc", Some("tools.tbl"), Some(&var)).unwrap_or_else(|e| panic!("{}: original: {e}", case.name));
     let corrected = rs
         .run_with(dir.path(), "corrected.ngc", Some("tools.tbl"), Some(&var))
-        .unwrap_or_else(|e| panic!("{}: corrected: {e}\n{}", case.name, result.text));
+        .unwrap_or_else(|e| panic!("{}: corrected: {e}\n{}", case.name, result.text()));
     let oracle = Oracle { machine: &m, errors: &e, temperatures: case.temperatures.to_vec() };
     // trueaxis reads the same moves as rs274; the returns to the G28/G30 positions stay as they are
     let moves = program_moves(&m, case.program, case.name, &options).unwrap();
-    let (count, homes) = nc_common::canonical_homes(&m, &moves);
+    let (count, homes) = crate::common::canonical_homes(&m, &moves);
     assert_eq!(count, original.len(), "{}: moves read by trueaxis and by rs274", case.name);
     let report = oracle
         .compare(&original, &corrected, &vec![0.0; m.axis_count()], end_um, 1.05, &homes)
-        .unwrap_or_else(|err| panic!("{} ({decimals:?} decimals): {err}\n{}", case.name, result.text));
+        .unwrap_or_else(|err| panic!("{} ({decimals:?} decimals): {err}\n{}", case.name, result.text()));
     assert_eq!(report.moves, original.len(), "{}", case.name);
     (result, report)
 }
@@ -402,7 +400,7 @@ fn rs274_sees_every_corrected_move_on_the_original() {
         let (result, report) = check(case, None, 0.05);
         assert_eq!(result.expanded.len(), case.expanded, "{}: {:?}", case.name, result.expanded);
         for keep in case.keeps {
-            assert!(result.text.contains(keep), "{}: `{keep}` is not kept:\n{}", case.name, result.text);
+            assert!(result.text().contains(keep), "{}: `{keep}` is not kept:\n{}", case.name, result.text());
         }
         assert!(result.changed_lines > 0, "{}", case.name);
         let (_, finer) = check(case, Some(6), 0.01);

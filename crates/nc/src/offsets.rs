@@ -6,17 +6,17 @@
 //! `convert_setup`, `convert_axis_offsets`); the program position is kept at the same machine
 //! position when an offset changes.
 
-use super::dialect::Dialect;
-use super::execute::{gcode_text, Words};
-use super::interpret::Exec;
-use super::modal::AXES;
-use super::tools::AXIS_LETTERS;
-use super::trace::Relative;
+use crate::dialect::Dialect;
+use crate::execute::{gcode_text, Words};
+use crate::interpret::Exec;
+use crate::modal::AXES;
+use crate::tools::AXIS_LETTERS;
+use crate::trace::Relative;
 
 impl Exec<'_> {
     /// rs274 after a tool change: the program position of the last move with the tool offset of
     /// that move; the controller believes the machine moved by the change of offset.
-    pub(super) fn rs274_resync(&mut self, step: usize) {
+    pub(crate) fn rs274_resync(&mut self, step: usize) {
         let frame = self.state.frame;
         let external = frame.external(&self.state.position);
         let mut then = frame;
@@ -25,14 +25,14 @@ impl Exec<'_> {
         let before = self.position;
         self.state.position = position;
         self.position = self.program_to_machine(&position);
-        let jump: super::trace::Axes = std::array::from_fn(|i| self.position[i] - before[i]);
+        let jump: crate::trace::Axes = std::array::from_fn(|i| self.position[i] - before[i]);
         if jump.iter().any(|&d| d != 0.0) {
             self.trace.steps[step].jump = Some(jump);
         }
     }
 
     /// `G54`-`G59.3`, `G54.1 P`: the work offsets of `system`.
-    pub(super) fn select_system(&mut self, system: u8) -> Result<(), String> {
+    pub(crate) fn select_system(&mut self, system: u8) -> Result<(), String> {
         if system == self.state.frame.system {
             return Ok(());
         }
@@ -49,14 +49,14 @@ impl Exec<'_> {
 
     /// `G43 H`, `G43` (the spindle's tool), `G43.1` (axis words), `G43.2` (added), Fanuc `G44`,
     /// `G49`: the tool offset, the program position kept at the same machine position.
-    pub(super) fn tool_length(&mut self, code: u16, w: &mut Words) -> Result<(), String> {
+    pub(crate) fn tool_length(&mut self, code: u16, w: &mut Words) -> Result<(), String> {
         let fanuc = self.dialect == Dialect::Fanuc;
         let mut offset = self.state.frame.tool;
-        let from_table = |exec: &Self, n: u32| -> Result<[f64; AXES], String> {
+        let from_table = |exec: &mut Self, n: u32| -> Result<[f64; AXES], String> {
             if n == 0 {
                 return Ok([0.0; AXES]);
             }
-            let tool = exec.tools.get(n).ok_or_else(|| format!("tool {n} of the offset is not in the tool table"))?;
+            let tool = exec.tool_entry(n)?;
             let wear = exec.wear.iter().find(|(h, _)| *h == n).map_or(0.0, |(_, v)| *v);
             Ok(std::array::from_fn(|k| {
                 if fanuc && k != 2 {
@@ -124,7 +124,7 @@ impl Exec<'_> {
     }
 
     /// `G10 L1/L2/L20` (LinuxCNC), `G10 L2/L20/L10/L11` (Fanuc work and tool offsets).
-    pub(super) fn g10(&mut self, w: &mut Words, step: usize) -> Result<(), String> {
+    pub(crate) fn g10(&mut self, w: &mut Words, step: usize) -> Result<(), String> {
         let l = w.take(b'L').ok_or("G10 needs L")?;
         let p = w.take(b'P');
         let fanuc = self.dialect == Dialect::Fanuc;
@@ -269,7 +269,7 @@ impl Exec<'_> {
     }
 
     /// `G92`, `G92.1`-`G92.3`, `G52`.
-    pub(super) fn g92(&mut self, code: u16, w: &mut Words, step: usize) -> Result<(), String> {
+    pub(crate) fn g92(&mut self, code: u16, w: &mut Words, step: usize) -> Result<(), String> {
         let (axes, any) = w.axes();
         let old = self.state.frame;
         let p = &mut self.state;

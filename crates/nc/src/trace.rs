@@ -3,9 +3,9 @@
 //! frame each move was programmed in. The writer turns a trace back into program text, line by
 //! line in place or expanded into plain moves.
 
-use super::modal::{Frame, PlaneSelect, Vec9};
-use super::params::ParamKey;
-use crate::compensate::MAX_AXES;
+use crate::modal::{Frame, PlaneSelect, Vec9};
+use crate::params::ParamKey;
+use crate::MAX_AXES;
 use std::ops::Range;
 
 /// A machine position: mm and deg, in the machine's canonical axis order (the first
@@ -132,7 +132,7 @@ pub struct Step {
     /// Codes to write between the moves of an expanded copy, in [`Trace::actions`].
     pub actions: Range<u32>,
     /// After the block, the controller believes itself moved by this (mm, deg; the rs274 tool
-    /// change reading of [`super::ProgramSetup::rs274_tool_change`]).
+    /// change reading of [`crate::ProgramSetup::rs274_tool_change`]).
     pub jump: Option<Axes>,
 }
 
@@ -157,6 +157,21 @@ pub struct Trace {
     pub actions: Vec<(u32, Range<u32>)>,
     /// The machine position where the program starts (mm, deg).
     pub start: Axes,
+    /// What the run passed over with a warning: each message once, with the file and line where
+    /// it first came and how many times it came.
+    pub warnings: Vec<Warning>,
+    /// Tools the table lacks that took the assumed length ([`crate::UnknownTools::Assume`]).
+    pub assumed_tools: Vec<u32>,
+}
+
+/// A warning of a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Warning {
+    pub file: u32,
+    /// 1-based.
+    pub line: u32,
+    pub message: String,
+    pub count: u32,
 }
 
 impl Trace {

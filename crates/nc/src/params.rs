@@ -7,7 +7,7 @@
 //! `#1`-`#33` per macro level (`G65` opens one, `M98` does not), common variables `#100`-`#199` and
 //! `#500`-`#999`, all vacant until set.
 
-use super::dialect::Dialect;
+use crate::dialect::Dialect;
 use std::collections::HashMap;
 
 /// Number of numbered parameters LinuxCNC keeps (`RS274NGC_MAX_PARAMETERS`).

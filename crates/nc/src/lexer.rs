@@ -9,8 +9,8 @@
 //! `END` are statements. Every word keeps the byte span of its value text, so that a writer can
 //! replace a value and leave the rest of the line as it was.
 
-use super::dialect::Dialect;
-use super::expr::{ExprId, Func, Node, Op, ParamRef};
+use crate::dialect::Dialect;
+use crate::expr::{ExprId, Func, Node, Op, ParamRef};
 use std::ops::Range;
 
 /// A word's value as written.
@@ -95,6 +95,9 @@ pub enum Statement {
     Do(u32),
     /// Fanuc `END m`.
     End(u32),
+    /// Fanuc/Haas external output (`POPEN`, `PCLOS`, `DPRNT[...]`, `BPRNT[...]`): data sent to a
+    /// serial port, no effect on motion.
+    Output,
 }
 
 /// One line of a program.
@@ -131,11 +134,40 @@ impl Line {
     }
 }
 
+/// Longest line LinuxCNC reads (bytes without the line end): rs274 refuses a longer one as
+/// "Command too long" (`LINELEN` of the interpreter, less the line end and the terminating NUL;
+/// measured on rs274 2.9: 252 read, 253 refused). It also bounds the nesting of expressions.
+pub const LINUXCNC_MAX_LINE: usize = 252;
+
+/// Deepest nesting of brackets a Fanuc Custom Macro B control reads (five levels, the brackets of
+/// functions included; deeper raises alarm 118).
+pub const FANUC_MAX_BRACKETS: usize = 5;
+
+/// Most expression nodes on one line and deepest nesting of values (brackets, functions, signs,
+/// `#` indirections): bounds that keep the reading and the evaluation of any line within a small
+/// stack, far beyond what a controller reads.
+pub const MAX_NODES_PER_LINE: usize = 1000;
+pub const MAX_NESTING: usize = 64;
+
 /// Reads one line; `arena` receives its expression nodes. An error says what is wrong (the caller
-/// adds file and line).
-pub fn parse_line(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node>) -> Result<Line, String> {
+/// adds file and line). `bytewise`: the line was read byte for byte (not UTF-8), its characters
+/// above U+007F are bytes.
+pub fn parse_line(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node>, bytewise: bool) -> Result<Line, String> {
+    let length = if bytewise { text.chars().count() } else { text.len() };
+    if dialect == Dialect::LinuxCnc && length > LINUXCNC_MAX_LINE {
+        return Err(format!("a line of {length} characters: LinuxCNC reads at most {LINUXCNC_MAX_LINE} (rs274: Command too long)"));
+    }
+    let first_node = arena.len();
+    let line = parse_items(text, number, dialect, arena, bytewise)?;
+    if arena.len() - first_node > MAX_NODES_PER_LINE {
+        return Err(format!("more than {MAX_NODES_PER_LINE} terms in the expressions of one line"));
+    }
+    Ok(line)
+}
+
+fn parse_items(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node>, bytewise: bool) -> Result<Line, String> {
     let mut line = Line { number, ..Line::default() };
-    let mut cur = Cursor { s: text.as_bytes(), i: 0, last: 0, dialect };
+    let mut cur = Cursor { s: text.as_bytes(), text, i: 0, last: 0, dialect, bytewise, nesting: 0, brackets: 0 };
     match cur.peek() {
         b'%' => {
             line.percent = true;
@@ -155,7 +187,8 @@ pub fn parse_line(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<N
         }
         line.sequence = Some(v as u32);
     }
-    if cur.peek() == b'o' {
+    // `:` is the ISO program-number letter a Fanuc reads like `O`
+    if cur.peek() == b'o' || cur.peek() == b':' && dialect == Dialect::Fanuc {
         cur.bump();
         match dialect {
             Dialect::LinuxCnc => line.statement = Some(cur.o_statement(arena)?),
@@ -208,7 +241,7 @@ pub fn parse_line(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<N
                 line.end_of_items = cur.last;
             }
             b',' if dialect == Dialect::Fanuc => return Err("optional chamfer and corner rounding (`,C` `,R`) are not supported".into()),
-            c => return Err(format!("unexpected character `{}`", c as char)),
+            _ => return Err(format!("unexpected {}", cur.here())),
         }
     }
     if line.words.is_empty() && line.assignments.is_empty() {
@@ -219,13 +252,35 @@ pub fn parse_line(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<N
 
 struct Cursor<'a> {
     s: &'a [u8],
+    text: &'a str,
     i: usize,
     /// Just after the last character consumed (blanks skipped before it are not counted).
     last: usize,
     dialect: Dialect,
+    bytewise: bool,
+    /// Values being read inside one another, and open brackets.
+    nesting: usize,
+    brackets: usize,
 }
 
 impl Cursor<'_> {
+    /// The character at the cursor, readably (bytes of a line read byte for byte by their code).
+    fn here(&self) -> String {
+        match self.text.get(self.i..).and_then(|s| s.chars().next()) {
+            Some(c) => crate::source::describe_char(c, self.bytewise),
+            None => "end of the line".into(),
+        }
+    }
+
+    /// Enters a nested value; refused beyond [`MAX_NESTING`].
+    fn enter(&mut self) -> Result<(), String> {
+        self.nesting += 1;
+        if self.nesting > MAX_NESTING {
+            return Err(format!("an expression nested more than {MAX_NESTING} levels deep"));
+        }
+        Ok(())
+    }
+
     fn skip_blank(&mut self) {
         while self.i < self.s.len() && matches!(self.s[self.i], b' ' | b'\t' | b'\r') {
             self.i += 1;
@@ -296,7 +351,7 @@ impl Cursor<'_> {
             Ok(v) if v.is_finite() && text.chars().any(|c| c.is_ascii_digit()) => Ok((v, start..end, point)),
             _ if text.is_empty() => Err(match self.peek() {
                 0 => "a value is missing at the end of the line".into(),
-                c => format!("a number is expected, found `{}`", c as char),
+                _ => format!("a number is expected, found {}", self.here()),
             }),
             _ => Err(format!("`{text}` is not a number")),
         }
@@ -304,9 +359,21 @@ impl Cursor<'_> {
 
     /// A value: number, parameter, bracketed expression, unary function, or a sign before one.
     fn value(&mut self, arena: &mut Vec<Node>) -> Result<(Operand, Range<usize>, bool), String> {
+        self.enter()?;
+        let v = self.value_inner(arena);
+        self.nesting -= 1;
+        v
+    }
+
+    fn value_inner(&mut self, arena: &mut Vec<Node>) -> Result<(Operand, Range<usize>, bool), String> {
         self.skip_blank();
         let start = self.i;
         let c = self.peek();
+        // a Fanuc reads one sign before a value (`X+-5` raises an alarm; LinuxCNC's rs274 reads
+        // it as -5, and so does its dialect here)
+        if self.dialect == Dialect::Fanuc && matches!(c, b'+' | b'-') && matches!(self.peek_second(), b'+' | b'-') {
+            return Err(format!("two signs `{}{}` before a value", c as char, self.peek_second() as char));
+        }
         let operand = match c {
             b'[' => Operand::Expr(self.bracketed(arena)?),
             b'#' => {
@@ -366,7 +433,7 @@ impl Cursor<'_> {
         }
         match self.value(arena)?.0 {
             Operand::Number(v) => {
-                let n = super::expr::parameter_number(v)?;
+                let n = crate::expr::parameter_number(v)?;
                 Ok(if n == 0 && self.dialect == Dialect::Fanuc { Node::Vacant } else { Node::Param(ParamRef::Numbered(n)) })
             }
             Operand::Expr(e) => Ok(Node::Param(ParamRef::Indirect(e))),
@@ -402,7 +469,14 @@ impl Cursor<'_> {
     /// The inside of brackets up to and including `]` (or `,` when `comma`), operators by
     /// precedence, left to right within one level; the node and the closing character.
     fn inner(&mut self, arena: &mut Vec<Node>, comma: bool) -> Result<(ExprId, u8), String> {
+        self.brackets += 1;
+        if self.dialect == Dialect::Fanuc && self.brackets > FANUC_MAX_BRACKETS {
+            return Err(format!("brackets nested more than {FANUC_MAX_BRACKETS} levels (a Fanuc raises alarm 118)"));
+        }
+        self.enter()?;
         let e = self.operations(arena, &|c| c == b']' || comma && c == b',')?;
+        self.nesting -= 1;
+        self.brackets -= 1;
         let end = self.peek();
         self.bump();
         Ok((e, end))
@@ -478,7 +552,7 @@ impl Cursor<'_> {
         }
         Err(match c {
             0 => "an expression without its closing `]`".into(),
-            c => format!("unknown operator at `{}`", c as char),
+            _ => format!("unknown operator at {}", self.here()),
         })
     }
 
@@ -553,7 +627,7 @@ impl Cursor<'_> {
                     return Ok(());
                 }
                 b';' => self.bump(),
-                c => return Err(format!("unexpected `{}` after the statement", c as char)),
+                _ => return Err(format!("unexpected {} after the statement", self.here())),
             }
         }
     }
@@ -666,11 +740,36 @@ impl Cursor<'_> {
             return Ok(Some(Statement::End(self.loop_number()?)));
         }
         self.i = start;
+        for word in ["popen", "pclos", "dprnt", "bprnt"] {
+            if self.keyword(word) {
+                if word.ends_with("prnt") {
+                    self.print_format()?;
+                }
+                return Ok(Some(Statement::Output));
+            }
+            self.i = start;
+        }
         if self.keyword("do") && self.peek().is_ascii_digit() {
             return Ok(Some(Statement::Do(self.loop_number()?)));
         }
         self.i = start;
         Ok(None)
+    }
+
+    /// The `[...]` of `DPRNT`/`BPRNT`: text and `#` variables with their formats, brackets nested.
+    fn print_format(&mut self) -> Result<(), String> {
+        self.expect(b'[', "after DPRNT or BPRNT")?;
+        let mut depth = 1;
+        while depth > 0 {
+            match self.s.get(self.i) {
+                None => return Err("DPRNT[ or BPRNT[ without its closing `]`".into()),
+                Some(b'[') => depth += 1,
+                Some(b']') => depth -= 1,
+                _ => {}
+            }
+            self.bump();
+        }
+        Ok(())
     }
 
     fn loop_number(&mut self) -> Result<u32, String> {
@@ -694,7 +793,7 @@ mod tests {
 
     fn parse(text: &str, dialect: Dialect) -> (Line, Vec<Node>) {
         let mut arena = Vec::new();
-        let line = parse_line(text, 1, dialect, &mut arena).unwrap_or_else(|e| panic!("{text}: {e}"));
+        let line = parse_line(text, 1, dialect, &mut arena, false).unwrap_or_else(|e| panic!("{text}: {e}"));
         (line, arena)
     }
 
@@ -735,7 +834,7 @@ mod tests {
         let (l, _) = parse("G01 X10. Y5 F#100;", Dialect::Fanuc);
         assert!(l.word(b'X').unwrap().decimal_point && !l.word(b'Y').unwrap().decimal_point);
         for bad in ["G1 X", "G1 X[1 + ]", "o100 foo", "#1 5", "G1 (open", "X[1,2]", "G1 O5"] {
-            assert!(parse_line(bad, 1, Dialect::LinuxCnc, &mut Vec::new()).is_err(), "{bad}");
+            assert!(parse_line(bad, 1, Dialect::LinuxCnc, &mut Vec::new(), false).is_err(), "{bad}");
         }
     }
 }

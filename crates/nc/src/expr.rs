@@ -12,7 +12,7 @@
 //! zero; `ATAN` gives 0 to 360 degrees; a vacant variable (`#0`, an unset local or common variable)
 //! counts as 0 in arithmetic, stays vacant when copied, and is equal only to another vacant value.
 
-use super::dialect::Dialect;
+use crate::dialect::Dialect;
 
 /// Index of a node in a file's expression arena.
 pub type ExprId = u32;

@@ -1,9 +1,8 @@
-//! Points and directions of motion along a programmed move (straight line in axis space, or a
+//! Points along a programmed move (straight line in axis space, or a
 //! circular / helical arc in its plane with the other axes interpolated linearly), and the choice of
 //! split points where the correction varies along the move more than a tolerance.
 
-use super::trace::{Move, MoveKind};
-use crate::errors::Direction;
+use crate::trace::{Move, MoveKind};
 use std::f64::consts::TAU;
 
 /// Start angle, sweep (signed, rad; counterclockwise positive in the plane's first/second axes),
@@ -44,27 +43,6 @@ pub fn point_at(m: &Move, arc: Option<&ArcGeometry>, t: f64, out: &mut [f64]) {
         let r = g.start_radius + t * (g.end_radius - g.start_radius);
         out[plane.first] = centre[0] + r * angle.cos();
         out[plane.second] = centre[1] + r * angle.sin();
-    }
-}
-
-/// Directions of motion at parameter `t`: the sign of the velocity of each axis; an axis that does
-/// not move keeps `previous` (the direction it last moved in, which fixes its backlash side).
-pub fn directions_at(m: &Move, arc: Option<&ArcGeometry>, t: f64, previous: &[Option<Direction>], out: &mut [Option<Direction>]) {
-    for k in 0..out.len() {
-        let velocity = m.end[k] - m.start[k];
-        out[k] = crate::compensate::direction_of(velocity).or(previous[k]);
-    }
-    if let (Some(g), MoveKind::Arc { plane, .. }) = (arc, m.kind) {
-        let angle = g.start_angle + t * g.sweep;
-        let r = g.start_radius + t * (g.end_radius - g.start_radius);
-        let dr = g.end_radius - g.start_radius;
-        // d/dt (r cos a, r sin a) with a' = sweep
-        let v_first = dr * angle.cos() - r * g.sweep * angle.sin();
-        let v_second = dr * angle.sin() + r * g.sweep * angle.cos();
-        let tiny = 1e-12 * (r * g.sweep.abs()).max(1.0);
-        for (axis, v) in [(plane.first, v_first), (plane.second, v_second)] {
-            out[axis] = if v.abs() > tiny { crate::compensate::direction_of(v) } else { previous[axis] };
-        }
     }
 }
 

@@ -11,7 +11,7 @@
 //!
 //! Interpreter axes are X Y Z A B C U V W (LinuxCNC's order), rotary A B C in degrees.
 
-use super::tools::AXIS_LETTERS;
+use crate::tools::AXIS_LETTERS;
 
 /// Interpreter axes: X Y Z A B C U V W.
 pub const AXES: usize = 9;
@@ -208,6 +208,8 @@ pub struct State {
     pub position: Vec9,
     pub plane: PlaneSelect,
     pub motion: Motion,
+    /// The last of G00-G03 (a Fanuc's group 01, which its canned cycles in group 09 leave as it was).
+    pub group01: Motion,
     pub feed_mode: FeedMode,
     /// F (program units per minute, per revolution, or 1/min).
     pub feed: f64,

@@ -2,19 +2,19 @@
 //! O-words: `sub`/`endsub`/`call`/`return`, `if`/`elseif`/`else`, `while`/`do`/`repeat`,
 //! `break`/`continue`; Fanuc `GOTO`, `IF`, `WHILE ... DO`/`END`, `M98`/`M99`, `G65`), the parameters
 //! an expression reads (stored, or computed from the modal state), and the [`Trace`] it leaves.
-//! The blocks themselves are executed in [`super::execute`].
+//! The blocks themselves are executed in [`crate::execute`].
 
-use super::dialect::Dialect;
-use super::expr::{evaluate, ExprId, ParamRef};
-use super::lexer::{Label, OKind, Statement};
-use super::modal::{is_linear, FeedMode, Motion, PlaneSelect, SavedModes, Spindle, State, Vec9, AXES, MM_PER_INCH};
-use super::params::{ParamKey, Params};
-use super::program::{Link, Program, SourceFile};
-use super::system::is_predefined;
-use super::tools::{ToolTable, AXIS_LETTERS};
-use super::trace::{flags, Axes, Step, Trace};
-use super::{NcError, ProgramSetup};
-use crate::machine::Machine;
+use crate::axes::MachineAxes;
+use crate::dialect::Dialect;
+use crate::expr::{evaluate, ExprId, ParamRef};
+use crate::lexer::{Label, OKind, Statement};
+use crate::modal::{is_linear, FeedMode, Motion, PlaneSelect, SavedModes, Spindle, State, Vec9, AXES, MM_PER_INCH};
+use crate::params::{ParamKey, Params};
+use crate::program::{Link, Program, SourceFile};
+use crate::system::is_predefined;
+use crate::tools::{ToolTable, AXIS_LETTERS};
+use crate::trace::{flags, Axes, Step, Trace};
+use crate::{NcError, ProgramSetup, UnknownTools};
 
 /// Most blocks one run may execute (a guard against endless loops).
 pub const MAX_STEPS: usize = 20_000_000;
@@ -26,7 +26,7 @@ pub const MAX_STEPS: usize = 20_000_000;
 pub const MAX_CALL_LEVELS: usize = 10;
 
 /// What happens after a line.
-pub(super) enum Flow {
+pub(crate) enum Flow {
     Next,
     /// Continue at this line of the same file.
     Jump(usize),
@@ -49,7 +49,7 @@ pub(super) enum Flow {
 
 /// An active call.
 #[derive(Clone, Debug)]
-pub(super) struct Call {
+pub(crate) struct Call {
     /// File and line to continue at after the return.
     return_to: (usize, usize),
     /// First line of the body and how many more times to run it (Fanuc `L`).
@@ -58,7 +58,7 @@ pub(super) struct Call {
     /// A new level of local parameters.
     locals: bool,
     /// M73: modes to restore on return.
-    pub(super) autorestore: Option<SavedModes>,
+    pub(crate) autorestore: Option<SavedModes>,
 }
 
 /// Dialect-specific settings of the interpreter.
@@ -79,8 +79,8 @@ impl Default for FanucSettings {
 }
 
 /// The interpreter's state beside the program text.
-pub(super) struct Exec<'m> {
-    pub machine: &'m Machine,
+pub(crate) struct Exec<'m> {
+    pub machine: &'m MachineAxes,
     pub dialect: Dialect,
     pub params: Params,
     pub tools: ToolTable,
@@ -115,10 +115,11 @@ pub(super) struct Exec<'m> {
     /// (mm, deg).
     pub rs274_tool_change: bool,
     pub tool_at_last_move: Vec9,
+    pub unknown_tools: UnknownTools,
 }
 
 /// Runs `program` from `setup`; the trace of the run, or the error with its file and line.
-pub fn run(machine: &Machine, mut program: Program, setup: &ProgramSetup) -> Result<(Trace, Program), NcError> {
+pub fn run(machine: &MachineAxes, mut program: Program, setup: &ProgramSetup) -> Result<(Trace, Program), NcError> {
     let dialect = program.dialect;
     let mut exec = Exec::new(machine, dialect, setup).map_err(|m| NcError { file: program.files[0].name.clone(), line: 0, message: m })?;
     let mut pc = (0usize, program.files[0].body.start);
@@ -129,11 +130,9 @@ pub fn run(machine: &Machine, mut program: Program, setup: &ProgramSetup) -> Res
             if exec.calls.is_empty() {
                 let leading_percent = file.body.start > 0;
                 if !leading_percent && dialect == Dialect::LinuxCnc {
-                    return Err(NcError {
-                        file: file.name.clone(),
-                        line: file.lines.len(),
-                        message: "the program ends without M2, M30 or a closing %".into(),
-                    });
+                    // rs274 runs the moves and then reports "File ended with no percent sign or
+                    // program end"; LinuxCNC's GUIs end the program there
+                    exec.warn_at(pc.0 as u32, file.lines.len() as u32, "the program ends without M2, M30 or a closing %".into());
                 }
                 break;
             }
@@ -204,7 +203,7 @@ pub fn run(machine: &Machine, mut program: Program, setup: &ProgramSetup) -> Res
 }
 
 impl<'m> Exec<'m> {
-    fn new(machine: &'m Machine, dialect: Dialect, setup: &ProgramSetup) -> Result<Exec<'m>, String> {
+    fn new(machine: &'m MachineAxes, dialect: Dialect, setup: &ProgramSetup) -> Result<Exec<'m>, String> {
         let mut axis_map = [None; AXES];
         for (k, slot) in axis_map.iter_mut().enumerate() {
             *slot = machine.axis_index(AXIS_LETTERS[k] as char);
@@ -230,13 +229,14 @@ impl<'m> Exec<'m> {
             saved_modes: None,
             return_value: 0.0,
             value_returned: false,
-            position: [0.0; crate::compensate::MAX_AXES],
+            position: [0.0; crate::MAX_AXES],
             line_number: 0,
             setup_words: Vec::new(),
             setting_words: Vec::new(),
             stop_words: Vec::new(),
             rs274_tool_change: setup.rs274_tool_change,
             tool_at_last_move: [0.0; AXES],
+            unknown_tools: setup.unknown_tools,
         };
         let n = machine.axis_count();
         if setup.start.len() != n {
@@ -263,11 +263,14 @@ impl<'m> Exec<'m> {
                 exec.state.g92_applied = true;
             }
         }
-        exec.state.retract_to_r = false;
+        // canned cycles retract to R (G99) in LinuxCNC until G98 says otherwise (rs274 2.9:
+        // checked); a Fanuc starts in G98
+        exec.state.retract_to_r = dialect == Dialect::LinuxCnc;
         exec.state.path_mode = 640;
         // a Fanuc control starts in G00 (parameter 3402 bit G01 = 0)
         if dialect == Dialect::Fanuc {
             exec.state.motion = Motion::Rapid;
+            exec.state.group01 = Motion::Rapid;
         }
         let start = exec.machine_to_program(&exec.position);
         exec.state.position = start;
@@ -394,6 +397,39 @@ impl<'m> Exec<'m> {
         }
     }
 
+    /// Tool `n` of the table; a tool the table lacks takes the assumed length of
+    /// [`ProgramSetup::unknown_tools`] (recorded in the trace), or is refused.
+    pub fn tool_entry(&mut self, n: u32) -> Result<crate::tools::Tool, String> {
+        if let Some(t) = self.tools.get(n) {
+            return Ok(t.clone());
+        }
+        match self.unknown_tools {
+            UnknownTools::Refuse => Err(format!("tool {n} is not in the tool table (--strict-tools)")),
+            UnknownTools::Assume(length) => {
+                if !self.trace.assumed_tools.contains(&n) {
+                    self.trace.assumed_tools.push(n);
+                }
+                let mut offset = [0.0; 9];
+                offset[2] = length;
+                Ok(crate::tools::Tool { number: n, offset, diameter: 0.0 })
+            }
+        }
+    }
+
+    /// Records a warning at the line being executed (each message once, counted).
+    pub fn warn(&mut self, message: String) {
+        let (file, line) = self.trace.steps.last().map_or((0, self.line_number as u32), |s| (s.file, s.line + 1));
+        self.warn_at(file, line, message);
+    }
+
+    /// Records a warning at `line` (1-based) of `file`.
+    pub fn warn_at(&mut self, file: u32, line: u32, message: String) {
+        match self.trace.warnings.iter_mut().find(|w| w.message == message) {
+            Some(w) => w.count += 1,
+            None => self.trace.warnings.push(crate::trace::Warning { file, line, message, count: 1 }),
+        }
+    }
+
     /// Evaluates expression `id` of `file`.
     pub fn eval(&mut self, file: &SourceFile, id: ExprId) -> Result<f64, String> {
         let dialect = self.dialect;
@@ -422,6 +458,11 @@ impl<'m> Exec<'m> {
             Dialect::LinuxCnc if n == 5400 || (5401..=5413).contains(&n) || (5420..=5428).contains(&n) => {
                 return Err(format!("#{n} is a read-only system parameter"))
             }
+            // #3000: the program stops with an alarm here
+            Dialect::Fanuc if n == 3000 => return Err(format!("the program stops with alarm {value} here (#3000 = {value})")),
+            // what macros write beside the motion: timers #3001/#3002, single block and feed hold
+            // #3003/#3004, the message stop #3006, the part counts #3901/#3902 (no effect on positions)
+            Dialect::Fanuc if matches!(n, 3001..=3004 | 3006 | 3901 | 3902) => {}
             Dialect::Fanuc if (1000..2001).contains(&n) || (2401..5201).contains(&n) || (5330..7001).contains(&n) => {
                 return Err(format!(
                 "system variable #{n} cannot be written by this corrector (supported: #1-#999, work offsets #5201-#5326 and #7001-#7948)"
@@ -440,7 +481,7 @@ impl<'m> Exec<'m> {
     }
 
     /// After a change of offsets: the program position of the unchanged machine position.
-    pub fn refresh_position(&mut self, old: &super::modal::Frame) {
+    pub fn refresh_position(&mut self, old: &crate::modal::Frame) {
         let ext = old.external(&self.state.position);
         self.state.position = self.state.frame.program(&ext);
     }
@@ -627,7 +668,7 @@ impl<'m> Exec<'m> {
                 if truth(self.eval(file, *cond)?) {
                     for a in assignments {
                         let index = match &a.target {
-                            ParamRef::Indirect(e) => Some(super::expr::parameter_number(self.eval(file, *e)?)?),
+                            ParamRef::Indirect(e) => Some(crate::expr::parameter_number(self.eval(file, *e)?)?),
                             _ => None,
                         };
                         let v = self.eval(file, a.value)?;
@@ -644,7 +685,7 @@ impl<'m> Exec<'m> {
                     Flow::Jump(end + 1)
                 }
             }
-            Statement::Do(_) => Flow::Next,
+            Statement::Do(_) | Statement::Output => Flow::Next,
             Statement::End(_) => {
                 let Link::LoopEnd { start } = link else { unreachable!("indexed END") };
                 match &file.lines[start] {

@@ -4,9 +4,10 @@
 //! (LinuxCNC O-words), where each `N` label, `WHILE ... DO m`/`END m` pair and `O` program number is
 //! (Fanuc).
 
-use super::dialect::Dialect;
-use super::expr::Node;
-use super::lexer::{parse_line, Label, Line, OKind, Statement};
+use crate::dialect::Dialect;
+use crate::expr::Node;
+use crate::lexer::{parse_line, Label, Line, OKind, Statement};
+use crate::source::{decode, Ending, SourceText};
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::PathBuf;
@@ -34,7 +35,12 @@ pub enum Link {
 #[derive(Clone, Debug)]
 pub struct SourceFile {
     pub name: String,
+    /// The lines joined by `\n` (see [`crate::source`] for line ends and bytes).
     pub text: String,
+    /// How each line ends, the lines read byte for byte, a byte-order mark at the start.
+    pub endings: Vec<Ending>,
+    pub bytewise: Vec<usize>,
+    pub bom: bool,
     /// Byte range of each line in `text`.
     pub ranges: Vec<Range<usize>>,
     /// Each line read, or why it cannot be read (an error only if the line is executed).
@@ -54,17 +60,20 @@ pub struct SourceFile {
 impl SourceFile {
     /// Reads and indexes a file; an error names the line of a control structure that does not
     /// close or match.
-    pub fn load(name: &str, text: String, dialect: Dialect) -> Result<SourceFile, (usize, String)> {
-        let mut ranges = Vec::new();
+    pub fn load(name: &str, bytes: &[u8], dialect: Dialect) -> Result<SourceFile, (usize, String)> {
+        let SourceText { text, bom, endings, bytewise } = decode(bytes)?;
+        let mut ranges = Vec::with_capacity(endings.len());
         let mut start = 0;
-        for piece in text.split_inclusive('\n') {
-            let content = piece.trim_end_matches(['\n', '\r']);
-            ranges.push(start..start + content.len());
-            start += piece.len();
+        for piece in text.split('\n').take(endings.len()) {
+            ranges.push(start..start + piece.len());
+            start += piece.len() + 1;
         }
         let mut arena = Vec::new();
-        let lines: Vec<Result<Line, String>> =
-            ranges.iter().enumerate().map(|(i, r)| parse_line(&text[r.clone()], i + 1, dialect, &mut arena)).collect();
+        let lines: Vec<Result<Line, String>> = ranges
+            .iter()
+            .enumerate()
+            .map(|(i, r)| parse_line(&text[r.clone()], i + 1, dialect, &mut arena, bytewise.binary_search(&i).is_ok()))
+            .collect();
         let first = lines.iter().position(|l| !matches!(l, Ok(l) if l.is_empty() && !l.percent));
         let body = match first {
             Some(f) if matches!(&lines[f], Ok(l) if l.percent) => {
@@ -76,6 +85,9 @@ impl SourceFile {
         let mut file = SourceFile {
             name: name.to_string(),
             text,
+            endings,
+            bytewise,
+            bom,
             ranges,
             links: vec![Link::None; lines.len()],
             lines,
@@ -248,8 +260,8 @@ pub struct Program {
 
 impl Program {
     /// The main file; an error names its line.
-    pub fn new(name: &str, text: &str, dialect: Dialect, search: SearchPath) -> Result<Program, (usize, String)> {
-        let main = SourceFile::load(name, text.to_string(), dialect)?;
+    pub fn new(name: &str, bytes: &[u8], dialect: Dialect, search: SearchPath) -> Result<Program, (usize, String)> {
+        let main = SourceFile::load(name, bytes, dialect)?;
         Ok(Program { dialect, files: vec![main], search })
     }
 
@@ -269,7 +281,7 @@ impl Program {
         let (path, text) = self.read_on_path(&candidates).ok_or_else(|| {
             format!("subroutine `{label}` is neither in the program nor a file {name}.ngc on the search path ({})", self.search_list())
         })?;
-        let file = SourceFile::load(&path, text, self.dialect).map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
+        let file = SourceFile::load(&path, &text, self.dialect).map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
         let &(start, end) = file.subs.get(label).ok_or_else(|| format!("{path} does not define `{label} sub`"))?;
         self.files.push(file);
         Ok((self.files.len() - 1, start, end))
@@ -290,17 +302,17 @@ impl Program {
                 self.search_list()
             )
         })?;
-        let file = SourceFile::load(&path, text, self.dialect).map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
+        let file = SourceFile::load(&path, &text, self.dialect).map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
         let &k = file.programs.get(&number).ok_or_else(|| format!("{path} does not start with O{number}"))?;
         self.files.push(file);
         Ok((self.files.len() - 1, k))
     }
 
-    fn read_on_path(&self, candidates: &[String]) -> Option<(String, String)> {
+    fn read_on_path(&self, candidates: &[String]) -> Option<(String, Vec<u8>)> {
         for dir in &self.search.0 {
             for c in candidates {
                 let path = dir.join(c);
-                if let Ok(text) = std::fs::read_to_string(&path) {
+                if let Ok(text) = std::fs::read(&path) {
                     return Some((path.display().to_string(), text));
                 }
             }
@@ -324,7 +336,7 @@ mod tests {
     #[test]
     fn control_structures_are_matched() {
         let text = "o1 sub\no2 if [#1 GT 0]\nG0 X1\no2 elseif [#1 LT 0]\nG0 X2\no2 else\nG0 X3\no2 endif\no3 do\no3 break\no3 while [1]\no1 endsub\nM2\n";
-        let f = SourceFile::load("t.ngc", text.into(), Dialect::LinuxCnc).unwrap();
+        let f = SourceFile::load("t.ngc", text.as_bytes(), Dialect::LinuxCnc).unwrap();
         assert_eq!(f.subs[&Label::Number(1)], (0, 11));
         assert_eq!(f.links[1], Link::Branch { next: 3, end: 7 });
         assert_eq!(f.links[3], Link::Branch { next: 5, end: 7 });
@@ -332,11 +344,11 @@ mod tests {
         assert_eq!(f.links[8], Link::LoopStart { end: 10 });
         assert_eq!(f.links[9], Link::LoopJump { start: 8, end: 10 });
         assert_eq!(f.body, 0..13);
-        let bad = SourceFile::load("t.ngc", "o1 if [1]\nG0 X1\n".into(), Dialect::LinuxCnc).unwrap_err();
+        let bad = SourceFile::load("t.ngc", b"o1 if [1]\nG0 X1\n", Dialect::LinuxCnc).unwrap_err();
         assert_eq!(bad, (0, "`o1 if` is never closed".into()));
-        assert!(SourceFile::load("t.ngc", "o1 endwhile\n".into(), Dialect::LinuxCnc).is_err());
+        assert!(SourceFile::load("t.ngc", b"o1 endwhile\n", Dialect::LinuxCnc).is_err());
         let fanuc = "%\nO0001\nN10 #1=0\nWHILE [#1 LT 2] DO 1\n#1=#1+1\nEND 1\nM30\nO2000\nM99\n%\nignored\n";
-        let f = SourceFile::load("t.nc", fanuc.into(), Dialect::Fanuc).unwrap();
+        let f = SourceFile::load("t.nc", fanuc.as_bytes(), Dialect::Fanuc).unwrap();
         assert_eq!(f.body, 1..9);
         assert_eq!(f.links[3], Link::LoopStart { end: 5 });
         assert_eq!(f.programs[&2000], 7);

@@ -8,8 +8,6 @@
 //! = 2 * 0.01 * sqrt 2 mm and `SPIRAL_RELATIVE_TOLERANCE` = 0.001, used by `arc_data_ijk` in
 //! `interp_arc.cc` (crates/trueaxis/src/compensate/nc/arcs.rs).
 
-mod nc_common;
-
 use trueaxis::compensate::nc::{correct_program, NcOptions};
 use trueaxis::compensate::Corrector;
 use trueaxis::errors::ErrorModel;
@@ -47,7 +45,7 @@ fn programs_rs274_refuses_are_refused_with_the_line() {
         ("G21 G90\nG1 X1e200 F100\nM2\n", "G21 G90\nG1 X100 F100\nM2\n", "line 2"),
     ];
     let dir = tempfile::tempdir().unwrap();
-    let rs274 = nc_common::rs274::rs274();
+    let rs274 = crate::common::rs274::rs274();
     for (bad, good, line) in cases {
         let err = correct_program(&corrector, bad, "bad.ngc", &options, &[]).expect_err(bad).to_string();
         assert!(err.contains(&format!("bad.ngc: {line}:")), "{bad:?}: {err}");

@@ -1,17 +1,17 @@
-//! The parameters an expression reads: stored ones ([`super::params`]) and those computed from the
+//! The parameters an expression reads: stored ones ([`crate::params`]) and those computed from the
 //! state: LinuxCNC's `#5400`-`#5413` (tool), `#5420`-`#5428` (position), the predefined named
 //! parameters (`#<_x>`, `#<_metric>`, `#<_value>` ...; `interp_namedparams.cc`); Fanuc's `#5001`...
 //! (positions), `#2001`... (tool offsets), `#4001`... (modal information). A read of a value that
 //! differs in the corrected program (the position, a return value, the line number) is marked.
 
-use super::dialect::Dialect;
-use super::expr::{Environment, ParamRef};
-use super::interpret::Exec;
-use super::modal::{FeedMode, Motion, Spindle};
-use super::tools::AXIS_LETTERS;
+use crate::dialect::Dialect;
+use crate::expr::{Environment, ParamRef};
+use crate::interpret::Exec;
+use crate::modal::{FeedMode, Motion, Spindle};
+use crate::tools::AXIS_LETTERS;
 
 /// The named system parameters LinuxCNC 2.9 predefines.
-pub(super) fn is_predefined(name: &str) -> bool {
+pub(crate) fn is_predefined(name: &str) -> bool {
     const NAMES: [&str; 57] = [
         "_vmajor",
         "_vminor",
@@ -121,7 +121,8 @@ impl Exec<'_> {
                     return Ok(self.tools.get(h).map_or(0.0, |t| t.offset[2]));
                 }
                 4001..=4130 | 4201..=4330 => return Ok(self.fanuc_modal(if n > 4200 { n - 200 } else { n })),
-                3901 | 3902 => return Ok(0.0),
+                // the part counts: 0 at the start (not known here), then what the program wrote
+                3901 | 3902 => return Ok(self.params.numbered(n).filter(|v| !v.is_nan()).unwrap_or(0.0)),
                 0 => return Ok(f64::NAN),
                 n if !self.params.holds(n) || (1000..2001).contains(&n) || (2401..5201).contains(&n) => {
                     return Err(format!("system variable #{n} is not supported by this corrector"))

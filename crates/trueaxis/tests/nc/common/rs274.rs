@@ -30,7 +30,7 @@ pub fn rs274() -> Option<&'static Rs274> {
         let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rs274_digits");
         std::fs::create_dir_all(&dir).unwrap();
         let shim = dir.join("rs274_digits.so");
-        let source = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/nc_common/rs274_digits.c");
+        let source = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/nc/common/rs274_digits.c");
         let partial = dir.join(format!("rs274_digits.{}.so", std::process::id()));
         let status = Command::new("gcc").args(["-shared", "-fPIC", "-O2", "-o"]).arg(&partial).arg(source).status();
         match status {

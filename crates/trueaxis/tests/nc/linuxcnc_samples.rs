@@ -11,10 +11,8 @@
 //! compensation `G41`/`G42`) are listed apart. The share of the others must be at least 95 %; the
 //! failures are printed.
 
-mod nc_common;
-
-use nc_common::oracle::Oracle;
-use nc_common::rs274::rs274;
+use crate::common::oracle::Oracle;
+use crate::common::rs274::rs274;
 use std::path::Path;
 use std::process::Command;
 use trueaxis::compensate::nc::{correct_program, program_moves, Dialect, NcOptions, SearchPath, ToolTable};
@@ -92,14 +90,14 @@ fn check(path: &str, machine: &Machine, errors: &ErrorModel) -> Outcome {
             return if by_design.iter().any(|d| m.contains(d)) { Outcome::Refused(m) } else { Outcome::Failed(m) };
         }
     };
-    std::fs::write(dir.path().join("trueaxis-corrected.ngc"), &result.text).unwrap();
+    std::fs::write(dir.path().join("trueaxis-corrected.ngc"), &result.program).unwrap();
     let corrected = match rs.run(dir.path(), "trueaxis-corrected.ngc", Some("trueaxis-tools.tbl")) {
         Ok(m) => m,
         Err(e) => return Outcome::Failed(format!("the corrected program: {e}")),
     };
     let oracle = Oracle { machine, errors, temperatures: vec![] };
     let Ok(moves) = program_moves(machine, &text, &name, &options) else { return Outcome::Failed("run again: differs".into()) };
-    let (count, homes) = nc_common::canonical_homes(machine, &moves);
+    let (count, homes) = crate::common::canonical_homes(machine, &moves);
     if count != original.len() {
         return Outcome::Failed(format!("trueaxis reads {count} moves, rs274 {}", original.len()));
     }

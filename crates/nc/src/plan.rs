@@ -10,10 +10,10 @@
 //! `GOTO`) or when a block kept as text reads a value that differs in the corrected program (the
 //! current position, a return value, the line number).
 
-use super::dialect::Dialect;
-use super::lexer::{Label, OKind, Statement};
-use super::program::{Link, Program};
-use super::trace::{flags, Trace};
+use crate::dialect::Dialect;
+use crate::lexer::{Label, OKind, Statement};
+use crate::program::{Link, Program};
+use crate::trace::{flags, Trace};
 use std::collections::HashMap;
 use std::ops::Range;
 

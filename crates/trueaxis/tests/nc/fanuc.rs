@@ -8,10 +8,8 @@
 //! them within 0.5 um (3 decimals: the IS-B increment 1 um, half of it from rounding) with every
 //! dimension word written with a decimal point and at most 3 decimals.
 
-mod nc_common;
-
-use nc_common::oracle::Oracle;
-use nc_common::rs274::{Canon, Kind};
+use crate::common::oracle::Oracle;
+use crate::common::rs274::{Canon, Kind};
 use trueaxis::compensate::nc::{correct_program, run_program, Dialect, MoveKind, NcOptions, ToolTable};
 use trueaxis::compensate::Corrector;
 use trueaxis::errors::ErrorModel;
@@ -323,7 +321,7 @@ fn read(machine: &Machine, text: &str, options: &NcOptions) -> Vec<Canon> {
 
 fn homes(machine: &Machine, text: &str, options: &NcOptions) -> Vec<usize> {
     let (trace, _) = run_program(machine, text, "fanuc", options).unwrap();
-    nc_common::canonical_homes(machine, &trace.moves).1
+    crate::common::canonical_homes(machine, &trace.moves).1
 }
 
 /// Every dimension word has a decimal point and at most `decimals` digits after it.
@@ -352,7 +350,7 @@ fn check(name: &str, machine_name: &str, errors: &str, text: &str, expected: &Ex
     options.setup.tools = ToolTable::parse(TOOLS, "tools").unwrap();
     let mut offset = vec![0.0; m.axis_count()];
     offset[2] = G54_Z;
-    options.setup.set_work_offset(&m, 1, &offset);
+    options.setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(&m), 1, &offset);
     options.setup.start[2] = START_Z;
     // the original, read by trueaxis, is the independent expansion
     let original = read(&m, text, &options);
@@ -372,16 +370,16 @@ fn check(name: &str, machine_name: &str, errors: &str, text: &str, expected: &Ex
     let corrector = Corrector::new(&m, &e);
     let r = correct_program(&corrector, text, name, &options, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
     assert_eq!(r.dialect, Dialect::Fanuc);
-    assert_eq!(r.expanded.len(), expanded, "{name}: {:?}\n{}", r.expanded, r.text);
-    check_numbers(&r.text, 3);
-    assert!(r.text.starts_with("%\nO100"), "{name}: the tape start and program number stay first:\n{}", r.text);
-    let corrected = read(&m, &r.text, &options);
+    assert_eq!(r.expanded.len(), expanded, "{name}: {:?}\n{}", r.expanded, r.text());
+    check_numbers(&r.text(), 3);
+    assert!(r.text().starts_with("%\nO100"), "{name}: the tape start and program number stay first:\n{}", r.text());
+    let corrected = read(&m, &r.text(), &options);
     let oracle = Oracle { machine: &m, errors: &e, temperatures: vec![] };
     let mut start = vec![0.0; m.axis_count()];
     start[2] = START_Z;
     let report = oracle
         .compare(&expected.moves, &corrected, &start, TOLERANCE_UM, 1.0 + TOLERANCE_UM, &homes(&m, text, &options))
-        .unwrap_or_else(|err| panic!("{name}: {err}\n{}", r.text));
+        .unwrap_or_else(|err| panic!("{name}: {err}\n{}", r.text()));
     println!(
         "{name}: {} moves, {} pieces, ends within {:.3} um, path within {:.3} um; expanded {:?}",
         report.moves, report.pieces, report.worst_end_um, report.worst_path_um, r.expanded

@@ -15,18 +15,18 @@
 //! The moves are the same canonical moves rs274 prints; dwells and spindle codes between them are
 //! recorded as actions, so that the expanded program runs the same cycle.
 
-use super::dialect::Dialect;
-use super::execute::Words;
-use super::interpret::Exec;
-use super::modal::{Motion, PlaneSelect, Spindle, Vec9, MM_PER_INCH};
-use super::tools::AXIS_LETTERS;
-use super::trace::Role;
+use crate::dialect::Dialect;
+use crate::execute::Words;
+use crate::interpret::Exec;
+use crate::modal::{Motion, PlaneSelect, Spindle, Vec9, MM_PER_INCH};
+use crate::tools::AXIS_LETTERS;
+use crate::trace::Role;
 
 /// LinuxCNC `G83_RAPID_DELTA` (inch).
 const RAPID_DELTA_INCH: f64 = 0.010;
 
 /// Runs canned cycle `code` (x 10) of the block.
-pub(super) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> Result<(), String> {
+pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> Result<(), String> {
     let fanuc = exec.dialect == Dialect::Fanuc;
     let plane = exec.state.plane;
     if fanuc && plane != PlaneSelect::Xy {
@@ -295,7 +295,7 @@ pub(super) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
 
 impl Exec<'_> {
     /// Codes an expanded copy writes before the step's next move (or after its last).
-    pub(super) fn action(&mut self, words: &[(u8, f64)]) {
+    pub(crate) fn action(&mut self, words: &[(u8, f64)]) {
         let step = self.trace.steps.last().expect("a step");
         let index = self.trace.moves.len() as u32 - step.moves.start;
         let start = self.trace.words.len() as u32;
