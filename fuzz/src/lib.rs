@@ -13,8 +13,7 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
-use trueaxis::compensate::nc::params::read_parameter_file;
-use trueaxis::compensate::nc::{correct_program, Dialect, NcOptions, ToolTable};
+use trueaxis::compensate::nc::{correct_program, NcOptions};
 use trueaxis::compensate::Corrector;
 use trueaxis::data::{poses_of, read_poses_from, CsvTable};
 use trueaxis::errors::ErrorModel;
@@ -23,6 +22,8 @@ use trueaxis::instruments::ballbar::{ballbar_header, trace_of};
 use trueaxis::io::{etalon, rtl, text_of};
 use trueaxis::machine::{AxisKind, Machine};
 use trueaxis::model::Predictor;
+use trueaxis_nc::params::read_parameter_file;
+use trueaxis_nc::{Dialect, ToolTable};
 
 /// The name every message of a rejected fuzz input must start with.
 pub const ORIGIN: &str = "fuzz";
@@ -293,13 +294,13 @@ pub fn etalon(data: &[u8]) {
     }
 }
 
-/// An NC program corrected for the vmc3 example errors in `dialect`.
+/// An NC program (any bytes: the byte reader of `trueaxis_nc::source` takes them) corrected for
+/// the vmc3 example errors in `dialect`.
 fn nc(data: &[u8], dialect: Dialect) {
-    let Some(text) = text(data) else { return };
     let m = machine("vmc3");
     let mut options = NcOptions::new(m);
     options.dialect = Some(dialect);
-    if let Err(e) = correct_program(&Corrector::new(m, vmc3_errors()), &text, ORIGIN, &options, &[]) {
+    if let Err(e) = correct_program(&Corrector::new(m, vmc3_errors()), data, ORIGIN, &options, &[]) {
         named(&e);
     }
 }

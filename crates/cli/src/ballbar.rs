@@ -294,7 +294,7 @@ fn print(text: &str) -> Result<(), Failure> {
 #[derive(clap::Args)]
 #[command(
     after_help = "Examples:\n  trueaxis ballbar identify --machine examples/machines/c600u.toml --a1 examples/ballbar/A1.csv \\\n      \
---a2 examples/ballbar/A2.csv --c1 examples/ballbar/C1.csv --c2 examples/ballbar/C2.csv --plot-dir out\n  \
+--a2 examples/ballbar/A2.csv --c1 examples/ballbar/C1.csv --c2 examples/ballbar/C2.csv --plot-dir out --out piges.toml\n  \
 trueaxis ballbar identify --machine examples/machines/c600u.toml --method four-setup --outer-positions -200,250 \\\n      \
 --inner-positions 0,78 --a1 A1.csv --a2 A2.csv --c1 C1.csv --c2 C2.csv\n\n\
 Each CSV holds the swept axis position (column A or C, or angle; deg) and dL (um, the bar reading\n\
@@ -332,6 +332,10 @@ pub struct IdentifyArgs {
     /// Write polar plots (raw vs compensated) of the four steps into this directory.
     #[arg(long, value_parser = crate::outputs::figures)]
     plot_dir: Option<crate::outputs::OutputPath>,
+    /// Write the identified PIGEs as an error-values file (TOML: `[constant]` values and their
+    /// standard uncertainties in `[uncertainty]`), which `compensate`, `predict` and `report` read.
+    #[arg(long, value_parser = crate::outputs::file)]
+    out: Option<crate::outputs::OutputPath>,
     /// Scale of the plots (um per division); default: automatic.
     #[arg(long)]
     scale: Option<f64>,
@@ -403,6 +407,11 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     }
     for w in &report.warnings {
         eprintln!("trueaxis: warning: {w}");
+    }
+    if let Some(path) = &a.out {
+        let origin = [&a.a1, &a.a2, &a.c1, &a.c2].iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ");
+        let text = report.error_values_text(&origin).map_err(|m| Failure::computation(anyhow!(m)))?;
+        write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
     }
     if a.json {
         return print(&format!("{}\n", report.to_json()));

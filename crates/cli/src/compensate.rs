@@ -104,6 +104,10 @@ pub struct CompensateArgs {
     /// used per pose) and write corrections.csv.
     #[arg(long)]
     poses: Option<PathBuf>,
+    /// Write the files even when they leave more error than they remove (refused otherwise, exit
+    /// status 2; docs/compensation.md).
+    #[arg(long)]
+    force: bool,
     /// Print one JSON summary instead of text.
     #[arg(long)]
     json: bool,
@@ -187,8 +191,16 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
         hal_component: args.hal_component.clone(),
     };
     let format = ExportFormat::parse(&format_name(args.format), &options).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
-    let request =
-        CompensationRequest { format, points: args.points, grid: args.grid, reference, limits, temperatures, poses: args.poses.clone() };
+    let request = CompensationRequest {
+        format,
+        points: args.points,
+        grid: args.grid,
+        reference,
+        limits,
+        temperatures,
+        poses: args.poses.clone(),
+        force: args.force,
+    };
     let corrector = Corrector::new(&machine, &errors);
     // an error table that does not cover the travel: the message names the error file
     let named = |e: CompensateError| match e {
@@ -217,23 +229,53 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
             extent.worst_residual_mm * 1e3,
             extent.worst_uncorrectable_rad * 1e6
         );
+        if let Some(k) = &job.kinematics {
+            println!("kinematic description: {}", k["description"].as_str().unwrap_or_default());
+            if let Some(axes) = k["axes"].as_object() {
+                for (letter, a) in axes {
+                    let triple = |key: &str| {
+                        a[key].as_array().map_or(String::new(), |v| {
+                            v.iter().map(|x| format!("{:.1}", x.as_f64().unwrap_or(0.0))).collect::<Vec<_>>().join(" ")
+                        })
+                    };
+                    println!(
+                        "  rotary axis {letter}: line shifted by ({}) um, tilted by ({}) urad, zero offset {:.1} urad",
+                        triple("shift_um"),
+                        triple("tilt_urad"),
+                        a["zero_offset_urad"].as_f64().unwrap_or(0.0)
+                    );
+                }
+            }
+        }
         for l in left_out {
             println!("not carried by this format: {l}");
         }
         if let Some(r) = residual {
             let at: Vec<String> =
                 machine.axes().iter().zip(&r.worst_pose).map(|(a, v)| format!("{}={}", a.letter, (v * 1e3).round() / 1e3)).collect();
+            let moving =
+                if machine.axes().iter().any(|a| a.kind == trueaxis::machine::AxisKind::Rotary) { ", rotary axes moving" } else { "" };
             println!(
-                "error left with this format (exact chain, {} poses over the travel): worst {:.3} um at {} ({}; {:.3} um before), RMS {:.3} um; \
-                 largest error before correction {:.3} um",
-                r.samples,
+                "error before (exact chain, {} poses over the travel{moving}, workpiece placed by its best fit): worst {:.3} um, RMS {:.3} um",
+                r.samples, r.worst_error_um, r.rms_error_um
+            );
+            println!(
+                "error left with these files: worst {:.3} um at {} ({}; {:.3} um before), RMS {:.3} um",
                 r.worst_um,
                 at.join(" "),
                 r.worst_state,
                 r.error_there_um,
-                r.rms_um,
-                r.worst_error_um
+                r.rms_um
             );
+            if let Some(u) = &job.left_uncertainty {
+                println!(
+                    "uncertainty of the error left, from the stated uncertainties of {} error values: U = {:.3} um at most over the travel (k = 2), RMS {:.3} um",
+                    u.parameters, u.expanded_um, u.rms_expanded_um
+                );
+            }
+            if r.leaves_more_than_it_removes() {
+                println!("WARNING: these files leave more error than they remove (written because of --force)");
+            }
         }
         if let Some(s) = &job.poses {
             println!("poses: {s}");

@@ -22,10 +22,13 @@ pub const INPUT: u8 = 2;
 /// The environment: disk, permission, memory, interruption.
 pub const ENVIRONMENT: u8 = 3;
 
-/// Why a command failed: bad input or a failed computation (the environment is found in either).
+/// Why a command failed: bad input, a failed computation, or the environment as the command
+/// knows it (a server that cannot be reached, a program that is missing); the environment is also
+/// found in the causes of the first two.
 pub enum Failure {
     Input(anyhow::Error),
     Computation(anyhow::Error),
+    Environment(anyhow::Error),
 }
 
 impl Failure {
@@ -41,6 +44,7 @@ impl Failure {
         let (error, said) = match self {
             Failure::Input(e) => (e, INPUT),
             Failure::Computation(e) => (e, COMPUTATION),
+            Failure::Environment(e) => (e, ENVIRONMENT),
         };
         let error: &(dyn std::error::Error + 'static) = error.as_ref();
         if trueaxis::data::environment_cause(error).is_some() {
@@ -53,7 +57,7 @@ impl Failure {
     /// Prints the one-line message on stderr and returns the exit status.
     pub fn report(self) -> ExitCode {
         let status = self.status();
-        let (Failure::Input(e) | Failure::Computation(e)) = self;
+        let (Failure::Input(e) | Failure::Computation(e) | Failure::Environment(e)) = self;
         eprintln!("trueaxis: error: {}", message(&e));
         ExitCode::from(status)
     }

@@ -14,6 +14,7 @@ mod identify;
 mod inputs;
 mod inspect;
 mod iso230_2;
+mod live;
 #[cfg(unix)]
 mod memory;
 mod nc;
@@ -63,6 +64,7 @@ enum Command {
     Convert(convert::ConvertArgs),
     #[command(name = "iso230-2")]
     Iso2302(iso230_2::Iso2302Args),
+    Live(Box<live::LiveArgs>),
     Predict(predict::PredictArgs),
     Reversal(reversal::ReversalArgs),
     Report(Box<report::ReportArgs>),
@@ -107,7 +109,8 @@ fn main() -> ExitCode {
     }
     outputs::route_standard_output(&outputs);
     trueaxis::data::inputs::track();
-    signals::install();
+    // a stop of the live service by its supervisor is its normal end
+    signals::install(matches.subcommand_name() == Some("live"));
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     let result = match cli.command {
         Command::Ballbar(args) => ballbar::run(args),
@@ -119,6 +122,7 @@ fn main() -> ExitCode {
         Command::Inspect(args) => inspect::run(args),
         Command::Convert(args) => convert::run(args),
         Command::Iso2302(args) => iso230_2::run(args),
+        Command::Live(args) => live::run(*args),
         Command::Predict(args) => predict::run(args),
         Command::Reversal(args) => reversal::run(args),
         Command::Report(args) => report::run(*args),

@@ -4,7 +4,7 @@ use crate::compensate::{failure, parse_axis_values, parse_temperatures};
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::compensate::nc::params::read_parameter_file;
-use trueaxis::compensate::nc::{correct_program, Dialect, NcOptions, SearchPath, ToolTable};
+use trueaxis::compensate::nc::{correct_program, Dialect, FileId, Header, NcOptions, SearchPath, ToolTable, UnknownTools};
 use trueaxis::compensate::{nc_json, Corrector};
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
@@ -23,7 +23,9 @@ loops (LinuxCNC), macro variables, IF/GOTO/WHILE and M98/M99/G65 (Fanuc), tool l
 (G43 H from --tool-table), work offsets (G54-G59.3 from --parameters or --offset, G10 L2/L20),\n\
 G92, G28/G30, G53, canned cycles G73 G81-G89, arcs in G17/G18/G19, G20/G21, G93/G94/G95.\n\
 Refused with the line and the reason: probing (G38.x), spindle-synchronised motion (G33, G76,\n\
-Fanuc rigid tapping), cutter radius compensation (G41/G42). See docs/nc.md."
+Fanuc rigid tapping), cutter radius compensation (G41/G42). The corrected program starts with\n\
+a header naming the machine and error files and their SHA-256; a program with that header is\n\
+refused (it would be corrected twice) unless --force. See docs/nc.md."
 )]
 pub struct NcArgs {
     /// Machine description (TOML).
@@ -44,6 +46,14 @@ pub struct NcArgs {
     /// number is looked up as a tool number.
     #[arg(long)]
     tool_table: Option<PathBuf>,
+    /// The length offset (Z, machine units) of a tool the tool table lacks, or of every tool when
+    /// no table is given: 0 (default) puts the tool tip at the machine file's tool point. The
+    /// header then states how far a real tool's length from it moves the corrected points.
+    #[arg(long)]
+    tool_length: Option<f64>,
+    /// Refuse a tool that is not in the tool table instead (the line named).
+    #[arg(long)]
+    strict_tools: bool,
     /// LinuxCNC parameter file (`.var`: work offsets #5221..., G28/G30 positions #5161/#5181...),
     /// machine units.
     #[arg(long)]
@@ -86,6 +96,10 @@ pub struct NcArgs {
     /// Print a JSON summary (with the program text when --out is not given).
     #[arg(long)]
     json: bool,
+    /// Correct a program that says it was corrected already (its header names trueaxis): the
+    /// correction is then applied twice.
+    #[arg(long)]
+    force: bool,
 }
 
 /// `X100,Y50` into `X=100,Y=50`.
@@ -148,12 +162,18 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
         let system =
             systems.iter().position(|s| *s == code).ok_or_else(|| bad(format!("--offset: `{code}` is not one of G54 ... G59.3")))?;
         let values = parse_axis_values(machine, &letter_values(values), "--offset")?;
-        setup.set_work_offset(machine, system as u8 + 1, &values);
+        setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(machine), system as u8 + 1, &values);
     }
     if let Some(s) = &args.start {
         setup.start = parse_axis_values(machine, &letter_values(s), "--start")?;
         machine.check_range(&setup.start).map_err(|m| bad(format!("--start: the start point leaves the machine's travel: {m}")))?;
     }
+    setup.unknown_tools = match (args.strict_tools, args.tool_length) {
+        (true, Some(_)) => return Err(bad("--strict-tools and --tool-length exclude each other".into())),
+        (true, None) => UnknownTools::Refuse,
+        (false, Some(l)) if !l.is_finite() || l.abs() > 10_000.0 => return Err(bad(format!("--tool-length {l}: not a length (mm)"))),
+        (false, l) => UnknownTools::Assume(l.unwrap_or(0.0)),
+    };
     if !(args.peck_clearance_mm.is_finite() && args.peck_clearance_mm >= 0.0) {
         return Err(bad("--peck-clearance-mm must be a non-negative number".into()));
     }
@@ -174,19 +194,30 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
     let temperatures = parse_temperatures(&errors, &args.temperatures)?;
-    let text = read(&args.program)?;
-    let options = options(&args, &machine)?;
+    let text = std::fs::read(&args.program).map_err(|e| bad(format!("{}: cannot read: {e}", args.program.display())))?;
+    let mut options = options(&args, &machine)?;
+    let id = |path: &PathBuf| -> Result<FileId, Failure> {
+        let bytes = std::fs::read(path).map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
+        Ok(FileId::of(&path.display().to_string(), &bytes))
+    };
+    options.header = Some(Header { machine: id(&args.machine)?, errors: id(&args.errors)? });
+    options.force = args.force;
     let corrector = Corrector::new(&machine, &errors);
     let origin = args.program.display().to_string();
     let result = correct_program(&corrector, &text, &origin, &options, &temperatures).map_err(failure)?;
     if let Some(path) = &args.out {
-        write_atomically(path, result.text.as_bytes()).map_err(Failure::input)?;
+        write_atomically(path, &result.program).map_err(Failure::input)?;
+    }
+    if !args.json {
+        for w in &result.warnings {
+            eprintln!("trueaxis: warning: {w}");
+        }
     }
     let expanded =
         if result.expanded.is_empty() { String::new() } else { format!("; {} parts expanded into plain moves", result.expanded.len()) };
     let summary = format!(
         "{origin} ({}): {} moves corrected, {} lines changed, {} lines added{expanded}; largest correction {:.3} um, {:.3} urad; \
-         residual <= {:.4} um; uncorrectable orientation <= {:.3} urad",
+         residual <= {:.4} um (the rounding of the written numbers included); uncorrectable orientation <= {:.3} urad",
         result.dialect,
         result.moves,
         result.changed_lines,
@@ -202,7 +233,7 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     } else if args.out.is_some() {
         println!("{summary}");
     } else {
-        print!("{}", result.text);
+        std::io::Write::write_all(&mut std::io::stdout(), &result.program).map_err(Failure::input)?;
         eprintln!("{summary}");
     }
     Ok(())

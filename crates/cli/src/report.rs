@@ -307,24 +307,19 @@ fn build<'a>(
     bar.set_message("compensation tables and volumetric error");
     let compensation = CompensationPart::compute(machine, errors, &origin, args.points, GRID_NODES).map_err(failure)?;
     let controller = match &args.controller {
-        Some(format) => Some(compensation.controller(machine, errors, format).map_err(failure)?),
+        Some(format) => Some(compensation.controller(machine, errors, format, None).map_err(failure)?),
         None => None,
     };
     let volume = {
-        let exported = match &args.controller {
-            Some(format) => Some(compensation.export(machine, errors, format).map_err(failure)?),
-            None => None,
-        };
-        let applied = args.controller.as_deref().zip(exported.as_ref().map(|e| e.applied.as_ref()));
-        VolumePart::compute(machine, errors, errors, &compensation, applied).map_err(failure)?.map(|mut v| {
+        VolumePart::compute(machine, errors, errors, &compensation, None).map_err(failure)?.map(|mut v| {
             v.description.push(format!(
                 "The machine is taken to have {origin}, and the corrections are computed from them. {} How well the errors themselves are known is the uncertainty of their measurement or identification.",
                 match &args.controller {
                     Some(c) => format!(
-                        "What is left after compensation is what the {} tables cannot represent (their interpolation between table points, the terms the format cannot carry).",
+                        "The map after compensation shows the exact correction at each pose; what the {} files leave is on the compensation page.",
                         trueaxis_report::calibration::controller_name(c)
                     ),
-                    None => "The exact correction leaves only the corrector's tolerance; give --controller to see what a controller's tables leave.".to_string(),
+                    None => "The exact correction leaves only the corrector's tolerance; give --controller to see what a controller's files leave.".to_string(),
                 }
             ));
             v
@@ -465,7 +460,7 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
     json!({
         "out": out.display().to_string(), "bytes": bytes, "pdf": pdf.map(|p| p.display().to_string()), "sections": sections, "inputs": inputs,
         "conformity": conformity, "decision_rule": report.certificate.decision.rule.name(),
-        "controller": report.controller.as_ref().map(|c| json!({"format": c.format, "worst_um": c.residual.worst_um, "rms_um": c.residual.rms_um, "left_out": c.left_out})),
+        "controller": report.controller.as_ref().map(|c| json!({"format": c.format, "worst_um": c.residual.worst_um, "rms_um": c.residual.rms_um, "worst_error_um": c.residual.worst_error_um, "rms_error_um": c.residual.rms_error_um, "leaves_more_than_it_removes": c.residual.leaves_more_than_it_removes(), "left_out": c.left_out, "kinematics": c.kinematics})),
         "parameters": parameters, "volumetric": volumetric, "positioning": positioning, "ballbar": ballbar,
         "thermal_modes": thermal_modes, "thermal_drift": thermal_drift,
         "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.extent.max_um, "max_correction_urad": c.extent.max_urad})),

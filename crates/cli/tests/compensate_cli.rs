@@ -51,6 +51,9 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
             "--temperature",
             "T:column=22",
             "--json",
+            // LinuxCNC's own-axis joint files leave more than half of this model's error (they are
+            // refused without it: files_that_leave_more_than_they_remove_are_refused)
+            "--force",
         ]);
         assert_eq!(code, 0, "{format}: {stderr}");
         let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
@@ -153,13 +156,13 @@ fn an_output_directory_with_other_files_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("comp");
     let run = |format: &str| on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", format, "--out", out.to_str().unwrap()]);
-    assert_eq!(run("linuxcnc").0, 0);
+    assert_eq!(run("heidenhain").0, 0);
     // the same run again overwrites its own files
-    assert_eq!(run("linuxcnc").0, 0);
-    // another format would mix its tables with the LinuxCNC ones: refused, nothing written
+    assert_eq!(run("heidenhain").0, 0);
+    // another format would mix its tables with the Heidenhain ones: refused, nothing written
     let (code, _, stderr) = run("csv");
     assert_eq!(code, 2);
-    assert!(stderr.contains("holds files this run does not write (X.comp Y.comp Z.comp linuxcnc-comp.ini)"), "{stderr}");
+    assert!(stderr.contains("holds files this run does not write (COMP.CMA X.COM Y.COM Z.COM)"), "{stderr}");
     assert!(!out.join("tables.csv").exists());
 }
 
@@ -244,4 +247,99 @@ fn compensate_poses_without_a_needed_temperature_column_is_refused() {
     args.extend(["--temperature", "T:column=22"]);
     let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3_backlash.toml", &args);
     assert_eq!(code, 0, "{stderr}");
+}
+
+#[test]
+fn files_that_leave_more_than_they_remove_are_refused() {
+    // vmc3's squareness errors are more than half of its error: LinuxCNC's own-axis joint files
+    // would leave more than they remove (docs/compensation.md, "Never worse")
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("joint");
+    let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", out.to_str().unwrap()]);
+    assert_eq!(code, 2, "{stderr}");
+    assert!(
+        stderr.contains("more than they remove") && stderr.contains("--format linuxcnc-hal") && stderr.contains("nothing was written"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    let (code, stdout, stderr) =
+        on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", out.to_str().unwrap(), "--force", "--json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let r = &doc["format_residual"];
+    assert_eq!(r["leaves_more_than_it_removes"], true);
+    assert!(r["worst_um"].as_f64().unwrap() > 0.5 * r["worst_error_um"].as_f64().unwrap(), "{r}");
+    assert!(out.join("X.comp").exists());
+    // a five-axis machine: the kinematic description and tables leave at most a tenth
+    let five = dir.path().join("c600u");
+    let (code, stdout, stderr) = trueaxis(&[
+        "compensate",
+        "--machine",
+        "examples/machines/c600u.toml",
+        "--errors",
+        "examples/errors/c600u.toml",
+        "--format",
+        "siemens",
+        "--out",
+        five.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let r = &doc["format_residual"];
+    assert!(r["worst_um"].as_f64().unwrap() < 0.1 * r["worst_error_um"].as_f64().unwrap(), "{r}");
+    assert!(doc["kinematics"]["axes"]["C"]["tilt_urad"].is_array() && five.join("TC_CARR.INI").exists(), "{doc}");
+}
+
+#[test]
+fn ballbar_identify_writes_error_values_that_compensate_reads_with_their_uncertainty() {
+    let dir = tempfile::tempdir().unwrap();
+    let piges = dir.path().join("piges.toml");
+    let files = ["A1", "A2", "C1", "C2"].map(|s| format!("examples/ballbar/{s}.csv"));
+    let (code, stdout, stderr) = trueaxis(&[
+        "ballbar",
+        "identify",
+        "--machine",
+        "examples/machines/c600u.toml",
+        "--a1",
+        &files[0],
+        "--a2",
+        &files[1],
+        "--c1",
+        &files[2],
+        "--c2",
+        &files[3],
+        "--out",
+        piges.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let text = std::fs::read_to_string(&piges).unwrap();
+    let file: toml::Table = text.parse().unwrap();
+    for (name, p) in doc["parameters"].as_object().unwrap() {
+        let value = file["constant"][name.as_str()].as_float().unwrap();
+        let u = file["uncertainty"][name.as_str()].as_float().unwrap();
+        assert!((value - p["value"].as_f64().unwrap()).abs() < 1e-4, "{name}: {value} vs {p}");
+        assert!((u - p["std_uncertainty"].as_f64().unwrap()).abs() < 1e-4, "{name}: {u} vs {p}");
+    }
+    let out = dir.path().join("comp");
+    let (code, stdout, stderr) = trueaxis(&[
+        "compensate",
+        "--machine",
+        "examples/machines/c600u.toml",
+        "--errors",
+        piges.to_str().unwrap(),
+        "--format",
+        "heidenhain",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let r = &doc["format_residual"];
+    assert!(r["worst_um"].as_f64().unwrap() < 0.1 * r["worst_error_um"].as_f64().unwrap(), "{r}");
+    let u = &doc["error_left_uncertainty"];
+    assert!(u["expanded_um"].as_f64().unwrap() > 0.1 && u["parameters"] == 8 && u["coverage_factor"] == 2, "{u}");
 }

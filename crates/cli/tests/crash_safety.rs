@@ -237,7 +237,16 @@ fn identify_writes_nothing_when_the_residuals_cannot_be_written() {
 fn temporaries_in_the_output_directory_do_not_block_the_next_run() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("comp");
-    let args = ["compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "--format", "linuxcnc"];
+    let args = [
+        "compensate",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--errors",
+        "examples/errors/vmc3.toml",
+        "--format",
+        "linuxcnc",
+        "--force",
+    ];
     let out_s = out.to_str().unwrap();
     let with_out = || args.iter().copied().chain(["--out", out_s]).collect::<Vec<_>>();
     assert_eq!(run(&with_out()).0, 0);
@@ -272,6 +281,7 @@ fn a_symbolic_link_to_the_output_directory_stays_a_link() {
         "examples/errors/vmc3.toml",
         "--format",
         "fanuc",
+        "--force",
         "--out",
         link.to_str().unwrap(),
     ]);

@@ -231,6 +231,29 @@ fn check_predict(html: &str, stdout: &str) {
     assert!((rms - report_rms).abs() <= 0.005 + 1e-3, "RMS |d| {rms} vs report {report_rms}");
 }
 
+/// `trueaxis compensate --format heidenhain` prints the error before and the error its files leave:
+/// the report's figures (2 decimals there, 3 printed).
+fn check_controller(html: &str, stdout: &str) {
+    let compensation = section(html, "compensation");
+    let caption = "What the Heidenhain files leave";
+    let rows = table(&compensation[compensation.find(&format!("<caption>{caption}")).unwrap()..], caption);
+    let value = |quantity: &str| -> f64 {
+        rows.iter().find(|r| r[0] == quantity).unwrap_or_else(|| panic!("no row {quantity}"))[1].trim_end_matches(" um").parse().unwrap()
+    };
+    let printed = |prefix: &str| -> f64 {
+        let line = stdout.lines().find(|l| l.starts_with(prefix)).unwrap_or_else(|| panic!("no `{prefix}` in {stdout}"));
+        number_after(line, "worst")
+    };
+    for (row, line) in [("largest error before compensation", "error before"), ("largest error left", "error left with these files")] {
+        let (shown, repeated) = (value(row), printed(line));
+        assert!((shown - repeated).abs() <= 0.005 + 1e-3, "{row}: report {shown} um, `trueaxis compensate` {repeated} um");
+    }
+    assert!(
+        value("largest error left") < 0.1 * value("largest error before compensation"),
+        "the demo's compensation removes most of the error"
+    );
+}
+
 /// `trueaxis compensate` prints the table count, points, largest corrections and residuals: the
 /// report's summary table, digit for digit.
 fn check_compensate(html: &str, stdout: &str) {
@@ -259,7 +282,7 @@ fn check_compensate(html: &str, stdout: &str) {
 fn every_repeat_command_of_the_report_reproduces_its_numbers(demo: &Path) {
     let html = std::fs::read_to_string(demo.join("report.html")).unwrap();
     let commands: Vec<String> = elements(section(&html, "reproduce"), "<pre", "</pre>")[0].lines().map(String::from).collect();
-    assert_eq!(commands.len(), 5, "{commands:?}");
+    assert_eq!(commands.len(), 6, "{commands:?}");
     let files = ["identified.toml", "compensation/tables.csv", "compensation/grid.csv"];
     let before: Vec<Vec<u8>> = files.iter().map(|f| std::fs::read(demo.join(f)).unwrap()).collect();
     for command in &commands {
@@ -276,7 +299,8 @@ fn every_repeat_command_of_the_report_reproduces_its_numbers(demo: &Path) {
                 check_predict(&html, &stdout);
                 assert_eq!(stdout, std::fs::read_to_string(demo.join("volumetric_map.csv")).unwrap(), "predict reproduces the map file");
             }
-            "compensate" => check_compensate(&html, &stdout),
+            "compensate" if command.contains("--format csv") => check_compensate(&html, &stdout),
+            "compensate" => check_controller(&html, &stdout),
             other => panic!("`{command}`: no check for `{other}`"),
         }
     }

@@ -1,6 +1,8 @@
 //! `trueaxis nc` end to end: the example programs of both dialects with a tool table, work offsets
 //! and a subroutine file on the search path; the JSON summary; a parameter file; refusals (exit 2,
-//! the file and line named, nothing written); correction limits; the start outside the travel.
+//! the file and line named, nothing written); correction limits; the start outside the travel; the
+//! header naming the machine and error files with their SHA-256 (checked with `sha256sum`) and
+//! the refusal to correct a corrected program again (`--force`).
 
 use std::process::Command;
 
@@ -30,7 +32,9 @@ fn the_pocket_is_corrected_with_a_json_summary() {
     assert_eq!(doc["moves"], 12);
     assert_eq!(doc["dialect"], "linuxcnc");
     assert_eq!(doc["expanded"].as_array().unwrap().len(), 0);
-    assert!(doc["max_residual_um"].as_f64().unwrap() < 0.01);
+    // the solve's residual and the rounding of the written numbers: N120 is in inch, written to 6
+    // decimals (half a unit: 0.0127 um per axis, sqrt 3 x 0.0127 = 0.022 um)
+    assert!((0.022..0.025).contains(&doc["max_residual_um"].as_f64().unwrap()), "{doc}");
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.contains("N40 G1 Z-250.00") && text.contains("(plunge)"), "{text}");
 }
@@ -50,7 +54,8 @@ fn both_dialects_run_with_a_tool_table_offsets_and_a_subroutine_file() {
     assert_eq!(expanded.len(), 4, "{expanded:?}");
     assert!(expanded[1].contains("o<hole> call (a subroutine file)"), "{expanded:?}");
     let text = std::fs::read_to_string(&out).unwrap();
-    assert!(text.starts_with("(trueaxis: corrected program; expanded into plain moves"), "{text}");
+    assert!(text.starts_with("(trueaxis 0.1.0: corrected program; do not correct it again)\n"), "{text}");
+    assert!(text.contains("sha256 ffd694b371bfcdcf26d5997bc30c6cf7255fbd5655ddb248b71d9867ffe1c84d)\n(trueaxis: corrected program; expanded into plain moves"), "{text}");
     assert!(text.contains("#<pass>=3"), "the loop's counter is set after it: {text}");
     let out = dir.path().join("drilling.nc");
     let mut args = vec!["examples/nc/drilling.nc", "--out", out.to_str().unwrap(), "--json"];
@@ -60,7 +65,11 @@ fn both_dialects_run_with_a_tool_table_offsets_and_a_subroutine_file() {
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert_eq!(doc["dialect"], "fanuc");
     let text = std::fs::read_to_string(&out).unwrap();
-    assert!(text.starts_with("%\nO1001 (BRACKET - CAM POST STYLE)\n(TRUEAXIS: CORRECTED PROGRAM"), "{text}");
+    assert!(
+        text.starts_with("%\nO1001 (BRACKET - CAM POST STYLE)\n(TRUEAXIS 0.1.0: CORRECTED PROGRAM; DO NOT CORRECT IT AGAIN)\n"),
+        "{text}"
+    );
+    assert!(text.contains("(TRUEAXIS: CORRECTED PROGRAM; EXPANDED INTO PLAIN MOVES"), "{text}");
     assert!(text.contains("N45 G00 X19.99") && text.contains("N95 M30"), "{text}");
     // --dialect linuxcnc reads the Fanuc program as LinuxCNC: its O number is no O-word
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[&["examples/nc/drilling.nc", "--dialect", "linuxcnc"][..], &setup].concat());
@@ -81,7 +90,8 @@ fn a_parameter_file_gives_the_work_offsets() {
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     let text = doc["program"].as_str().unwrap();
     // at machine X10 Y-20 Z-200 the correction is a few micrometres: X0 becomes ...
-    assert!(text.lines().nth(1).unwrap().starts_with("G0 X-0.00") || text.lines().nth(1).unwrap().starts_with("G0 X0.00"), "{text}");
+    let g0 = text.lines().find(|l| l.starts_with("G0")).unwrap();
+    assert!(g0.starts_with("G0 X-0.00") || g0.starts_with("G0 X0.00"), "{text}");
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[program.to_str().unwrap(), "--parameters", program.to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(stderr.contains("p.ngc: line 1: `G21` is not a parameter number"), "{stderr}");
@@ -92,17 +102,32 @@ fn refusals_name_the_line_and_write_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.ngc");
     let out = dir.path().join("out.ngc");
-    for (text, message) in [
-        ("G21 G90\nG0 X1\nG38.2 Z-10 F100\nM2\n", "bad.ngc: line 3: G38.2 (probing) stops where the probe touches"),
-        ("G21 G90\nG0 X1\nG43 H1 Z-5\nM2\n", "bad.ngc: line 3: tool 1 of the offset is not in the tool table"),
-        ("G21 G90\nG42 D1\nM2\n", "bad.ngc: line 2: G42 (cutter radius compensation)"),
+    for (text, message, extra) in [
+        ("G21 G90\nG0 X1\nG38.2 Z-10 F100\nM2\n", "bad.ngc: line 3: G38.2 (probing) stops where the probe touches", None),
+        ("G21 G90\nG0 X1\nG43 H1 Z-5\nM2\n", "bad.ngc: line 3: tool 1 is not in the tool table (--strict-tools)", Some("--strict-tools")),
+        ("G21 G90\nG42 D1\nM2\n", "bad.ngc: line 2: G42 (cutter radius compensation)", None),
     ] {
         std::fs::write(&bad, text).unwrap();
-        let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[bad.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+        let mut args = vec![bad.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        args.extend(extra);
+        let (code, _, stderr) = nc("examples/errors/vmc3.toml", &args);
         assert_eq!(code, 2, "{text}");
         assert!(stderr.contains(message), "{stderr}");
         assert!(!out.exists());
     }
+    // without --strict-tools the tool takes the assumed length, and the header says what that costs
+    std::fs::write(&bad, "G21 G90\nG0 X1 Z-200\nG43 H1 Z-250\nM2\n").unwrap();
+    let (code, stdout, stderr) = nc("examples/errors/vmc3.toml", &[bad.to_str().unwrap(), "--tool-length", "120", "--json"]);
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(doc["assumed_tools"], serde_json::json!([1]));
+    assert!(
+        doc["program"]
+            .as_str()
+            .unwrap()
+            .contains("(trueaxis: T1 not in a tool table, taken as 120 mm long from the machine file's tool point;"),
+        "{doc}"
+    );
     // with a work offset of 200 mm the program's X300 is X500 on the machine: beyond the travel
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--offset", "G54=X200"]);
     assert_eq!(code, 2);
@@ -132,4 +157,46 @@ fn corrections_beyond_the_limit_and_a_start_outside_the_travel_are_refused() {
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--start", "X500"]);
     assert_eq!(code, 2);
     assert!(stderr.contains("--start: the start point leaves the machine's travel: axis X at 500 mm"), "{stderr}");
+}
+
+/// `sha256sum FILE` (GNU coreutils): the digest an operator checks the header against.
+fn sha256sum(path: &str) -> Option<String> {
+    let out = Command::new("sha256sum").arg(path).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().ok()?;
+    Some(String::from_utf8(out.stdout).ok()?.split_whitespace().next()?.to_string())
+}
+
+#[test]
+fn a_corrected_program_names_its_files_and_is_not_corrected_twice() {
+    let dir = tempfile::tempdir().unwrap();
+    let drilling = ["--tool-table", "examples/nc/tools.tbl", "--offset", "G54=X0,Y0,Z-300", "--start", "X0,Y0,Z-100"];
+    for (program, name, setup) in
+        [("examples/nc/pocket.ngc", "pocket.ngc", &[][..]), ("examples/nc/drilling.nc", "drilling.nc", &drilling[..])]
+    {
+        let out = dir.path().join(name);
+        let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[&[program, "--out", out.to_str().unwrap()][..], setup].concat());
+        assert_eq!(code, 0, "{stderr}");
+        let text = std::fs::read_to_string(&out).unwrap();
+        let upper = |s: &str| if name.ends_with(".nc") { s.to_uppercase() } else { s.to_string() };
+        for file in ["examples/machines/vmc3.toml", "examples/errors/vmc3.toml"] {
+            let digest = sha256sum(file).unwrap_or_else(|| {
+                // without coreutils: the digest of the file computed in the library
+                trueaxis::compensate::nc::FileId::of(file, &std::fs::read(format!("../../{file}")).unwrap()).sha256
+            });
+            assert!(text.contains(&upper(&format!("{file} sha256 {digest})"))), "{name}: {digest}\n{text}");
+        }
+        // the header comes after the tape start (and the program number of a Fanuc program)
+        let first = text.lines().position(|l| l.to_lowercase().starts_with("(trueaxis")).unwrap();
+        assert_eq!(first, if name.ends_with(".nc") { 2 } else { 1 }, "{text}");
+        // corrected again: refused with the line, nothing written
+        let again = dir.path().join(format!("again_{name}"));
+        let (code, _, stderr) =
+            nc("examples/errors/vmc3.toml", &[&[out.to_str().unwrap(), "--out", again.to_str().unwrap()][..], setup].concat());
+        assert_eq!(code, 2, "{stderr}");
+        assert!(stderr.contains(&format!("line {}: this program was corrected by trueaxis already", first + 1)), "{stderr}");
+        assert!(!again.exists());
+        let (code, _, stderr) =
+            nc("examples/errors/vmc3.toml", &[&[out.to_str().unwrap(), "--out", again.to_str().unwrap(), "--force"][..], setup].concat());
+        assert_eq!(code, 0, "{stderr}");
+        assert!(again.exists());
+    }
 }

@@ -33,7 +33,7 @@ fn known_time_constants_and_gains_are_recovered_from_simulated_drift() {
     let run_rows = |run: &str| c.rows_of(&[run.to_string()]).unwrap();
     let simulated = |run: &str| {
         let (t, temps, _) = record(&c, &sensors(), None, &run_rows(run)).unwrap();
-        let e = truth.simulate(&t, &temps);
+        let e = truth.simulate(&t, &temps).unwrap();
         (t, temps, e.into_iter().map(|v| vec![v]).collect::<Vec<_>>())
     };
     let records = vec![simulated("warmup"), simulated("cycle")];
@@ -47,7 +47,7 @@ fn known_time_constants_and_gains_are_recovered_from_simulated_drift() {
     }
     // a held-out run is predicted; the model file reads back to the same model
     let (t, temps, e) = simulated("long");
-    for (p, m) in fitted.simulate(&t, &temps).iter().zip(&e) {
+    for (p, m) in fitted.simulate(&t, &temps).unwrap().iter().zip(&e) {
         assert!((p - m[0]).abs() < 1e-6, "{p} vs {}", m[0]);
     }
     let back = ThermalErrorModel::from_toml_str(&ThermalErrorModel::Drift(fitted.clone()).to_toml(), "drift.toml").unwrap();
@@ -55,7 +55,7 @@ fn known_time_constants_and_gains_are_recovered_from_simulated_drift() {
     // a step of 1 degC on sensor 1 alone: after many time constants the drift is the sum of its gains
     let steps: Vec<Vec<f64>> = (0..200).map(|k| vec![20.0 + f64::from(u8::from(k > 0)), 20.0]).collect();
     let times: Vec<f64> = (0..200).map(|k| 300.0 * k as f64).collect();
-    let end = *truth.simulate(&times, &steps).last().unwrap();
+    let end = *truth.simulate(&times, &steps).unwrap().last().unwrap();
     assert!((end - 1.9).abs() < 1e-6, "{end}");
 }
 

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use trueaxis::compensate::export::Limits;
-use trueaxis::compensate::nc::{correct_program, Dialect, NcOptions};
+use trueaxis::compensate::nc::{correct_program, Dialect, FileId, Header, NcOptions};
 use trueaxis::compensate::{
     compensation, nc_json, sensor_temperatures, CompensateError, CompensationRequest, Corrector, ExportFormat, FormatOptions,
 };
@@ -78,9 +78,10 @@ fn axis_values(machine: &Machine, values: &HashMap<String, f64>, what: &str) -> 
 /// `T:<sensor>` columns, else `temperatures`), into `corrections.csv` (d<axis> in um or urad, the
 /// error before and the residual after in um, the orientation not corrected in urad). The summary
 /// says what the format leaves out and the error it leaves over the travel (`format_residual`,
-/// um), and summarises the corrected poses (`poses`), as `trueaxis compensate --json`.
+/// um), and summarises the corrected poses (`poses`), as `trueaxis compensate --json`. Files that
+/// would leave more error than they remove are refused (InputError) unless `force`.
 #[pyfunction]
-#[pyo3(signature = (machine, errors, format, out, *, points = 41, grid = [9, 9, 9], reference = None, limit_um = None, limit_urad = None, comp_type = 1, max_lattice_points = None, max_table_points = None, max_cec_tables = None, hal_component = "trueaxis_comp".to_string(), temperatures = None, poses = None))]
+#[pyo3(signature = (machine, errors, format, out, *, points = 41, grid = [9, 9, 9], reference = None, limit_um = None, limit_urad = None, comp_type = 1, max_lattice_points = None, max_table_points = None, max_cec_tables = None, hal_component = "trueaxis_comp".to_string(), temperatures = None, poses = None, force = false))]
 #[allow(clippy::too_many_arguments)]
 pub fn compensate(
     py: Python<'_>,
@@ -100,13 +101,14 @@ pub fn compensate(
     hal_component: String,
     temperatures: Option<HashMap<String, f64>>,
     poses: Option<PathBuf>,
+    force: bool,
 ) -> PyResult<Py<PyAny>> {
     let temperatures = given_temperatures(errors, temperatures)?;
     let reference = reference.map(|r| axis_values(machine, &r, "reference")).transpose()?;
     let limits = limits(&machine.inner, limit_um, limit_urad)?;
     let options = FormatOptions { comp_type, max_lattice_points, max_table_points, max_cec_tables, hal_component };
     let format = ExportFormat::parse(format, &options).map_err(input_msg)?;
-    let request = CompensationRequest { format, points, grid, reference, limits, temperatures, poses };
+    let request = CompensationRequest { format, points, grid, reference, limits, temperatures, poses, force };
     let corrector = Corrector::new(&machine.inner, &errors.inner);
     let mut job = py.detach(|| compensation(&corrector, &request)).map_err(failure)?;
     job.write(&corrector, &out).map_err(failure)?;
@@ -118,9 +120,11 @@ pub fn compensate(
 /// departs from a straight blend by more than `tolerance_um`. Writes the program to `out` when
 /// given; returns the summary of `trueaxis nc --json` (with the program text when `out` is None).
 /// `dialect`: `linuxcnc` or `fanuc` (default: detected); `decimals`: digits written (default: 5 for
-/// mm and 6 for inch in LinuxCNC programs, 3 / 4 in Fanuc programs).
+/// mm and 6 for inch in LinuxCNC programs, 3 / 4 in Fanuc programs). The program starts with a
+/// header naming the machine and error files with their SHA-256; a program with that header is
+/// refused unless `force`.
 #[pyfunction]
-#[pyo3(signature = (machine, errors, program, *, out = None, tolerance_um = 1.0, decimals = None, dialect = None, limit_um = None, limit_urad = None, temperatures = None))]
+#[pyo3(signature = (machine, errors, program, *, out = None, tolerance_um = 1.0, decimals = None, dialect = None, limit_um = None, limit_urad = None, temperatures = None, force = false))]
 #[allow(clippy::too_many_arguments)]
 pub fn correct_nc(
     py: Python<'_>,
@@ -134,9 +138,10 @@ pub fn correct_nc(
     limit_um: Option<f64>,
     limit_urad: Option<f64>,
     temperatures: Option<HashMap<String, f64>>,
+    force: bool,
 ) -> PyResult<Py<PyAny>> {
     let temperatures = self::temperatures(errors, temperatures)?;
-    let text = std::fs::read_to_string(&program).map_err(|e| input_msg(format!("{}: cannot read: {e}", program.display())))?;
+    let text = std::fs::read(&program).map_err(|e| input_msg(format!("{}: cannot read: {e}", program.display())))?;
     if !(tolerance_um.is_finite() && tolerance_um > 0.0) {
         return Err(input_msg("tolerance_um must be a positive number"));
     }
@@ -152,11 +157,16 @@ pub fn correct_nc(
         None => None,
         Some(d) => Some(Dialect::parse(d).ok_or_else(|| input_msg(format!("dialect `{d}` is not linuxcnc or fanuc")))?),
     };
+    options.header = Some(Header {
+        machine: FileId::of(&machine.origin, machine.source.as_bytes()),
+        errors: FileId::of(&errors.origin, errors.source.as_bytes()),
+    });
+    options.force = force;
     let corrector = Corrector::new(&machine.inner, &errors.inner);
     let origin = program.display().to_string();
     let result = py.detach(|| correct_program(&corrector, &text, &origin, &options, &temperatures)).map_err(failure)?;
     if let Some(path) = &out {
-        write_atomically(path, result.text.as_bytes()).map_err(input)?;
+        write_atomically(path, &result.program).map_err(input)?;
     }
     to_py(py, &nc_json(&result, out.as_ref().map(|p| p.display().to_string()).as_deref()))
 }

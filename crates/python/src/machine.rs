@@ -23,9 +23,9 @@ fn read_text(path: &std::path::Path, what: &str) -> PyResult<String> {
 #[derive(Clone)]
 pub struct Machine {
     pub inner: Arc<trueaxis::machine::Machine>,
-    /// The TOML text it was read from (pickling).
-    source: String,
-    origin: String,
+    /// The TOML text it was read from (pickling; the header of a corrected NC program).
+    pub(crate) source: String,
+    pub(crate) origin: String,
 }
 
 impl Machine {
@@ -270,8 +270,8 @@ impl Machine {
 pub struct Errors {
     pub inner: Arc<ErrorModel>,
     pub machine: Machine,
-    source: String,
-    origin: String,
+    pub(crate) source: String,
+    pub(crate) origin: String,
 }
 
 impl Errors {

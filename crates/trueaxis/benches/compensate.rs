@@ -88,7 +88,7 @@ fn nc(c: &mut Criterion<ThreadCpuTime>) {
     let corrector = Corrector::new(&machine, &errors);
     let options = NcOptions::new(&machine);
     let r = correct_program(&corrector, &program, label, &options, &[]).expect("program corrected");
-    println!("nc_loop/{label}: {} blocks executed, {} moves, {} lines written", r.blocks, r.moves, r.text.lines().count());
+    println!("nc_loop/{label}: {} blocks executed, {} moves, {} lines written", r.blocks, r.moves, r.text().lines().count());
     group.throughput(Throughput::Elements(r.blocks as u64));
     group.bench_function(BenchmarkId::new(label, r.blocks), |b| {
         b.iter(|| correct_program(&corrector, black_box(&program), label, &options, &[]).unwrap())

@@ -105,7 +105,7 @@ fn drift_between_tested_positions_is_the_linear_interpolation_of_the_two_models(
     let n = model.sensors().len();
     for (run, rows) in [("warmup", 0..30), ("cycle", 30..60)] {
         let temps: Vec<Vec<f64>> = rows.clone().map(|k| vec![t34[k], t52[k]]).collect();
-        let (d0, d600) = (near.simulate(&times[rows.clone()], &temps), far.simulate(&times[rows.clone()], &temps));
+        let (d0, d600) = (near.simulate(&times[rows.clone()], &temps).unwrap(), far.simulate(&times[rows.clone()], &temps).unwrap());
         for (i, k) in rows.enumerate() {
             for (z, w) in [(0.0, 0.0), (150.0, 0.25), (450.0, 0.75), (600.0, 1.0)] {
                 let want = (1.0 - w) * d0[i] + w * d600[i];

@@ -340,6 +340,7 @@ def compensate(
     hal_component: str = "trueaxis_comp",
     temperatures: Optional[Mapping[str, float]] = None,
     poses: Optional[_Path] = None,
+    force: bool = False,
 ) -> Dict[str, Any]:
     """Writes controller tables into `out` (format: linuxcnc, linuxcnc-hal, isg, heidenhain, siemens,
     fanuc, lattice, csv, json; all files or none; `out` must hold no other files); the summary of
@@ -359,6 +360,7 @@ def correct_nc(
     limit_um: Optional[float] = None,
     limit_urad: Optional[float] = None,
     temperatures: Optional[Mapping[str, float]] = None,
+    force: bool = False,
 ) -> Dict[str, Any]:
     """Corrected NC program (RS274/NGC as LinuxCNC 2.9 runs it, or the Fanuc dialect; `dialect`
     detected when None); the summary of `trueaxis nc --json`."""

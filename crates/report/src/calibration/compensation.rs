@@ -5,9 +5,10 @@
 use super::super::html::Section;
 use super::quantity::quantity;
 use super::CalibrationError;
-use trueaxis::compensate::export::{self, Coverage, Export, ExportInput, ExportedFile, Extent, Limits};
+use trueaxis::compensate::export::{self, Coverage, ExportInput, ExportedFile, Extent, Limits};
 use trueaxis::compensate::{
-    axis_tables, residual_of_format, volumetric_grid, Corrector, FormatResidual, TableSet, TableSpec, VolumetricGrid,
+    axis_tables, compensation_with, volumetric_grid, CompensationRequest, Corrector, ExportFormat, FormatOptions, FormatResidual, TableSet,
+    TableSpec, VolumetricGrid,
 };
 
 /// The controller formats whose corrections a report can evaluate (as `trueaxis compensate
@@ -28,12 +29,17 @@ pub fn controller_name(format: &str) -> &str {
     }
 }
 
-/// What the controller table the user chose leaves of the errors over the travel.
+/// What the controller files the user chose (`trueaxis compensate --format`: the kinematic
+/// description and tables of a five-axis machine) leave of the errors over the travel.
 pub struct ControllerPart {
     pub format: String,
     pub residual: FormatResidual,
     /// What the format cannot carry, one line each with its size.
     pub left_out: Vec<String>,
+    /// The files `trueaxis compensate` writes for it.
+    pub files: Vec<ExportedFile>,
+    /// The kinematic description written, as `trueaxis compensate --json` gives it.
+    pub kinematics: Option<serde_json::Value>,
 }
 use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
@@ -66,6 +72,8 @@ impl CompensationPart {
         points: usize,
         grid_nodes: [usize; 3],
     ) -> Result<CompensationPart, CalibrationError> {
+        // the machine's errors, as `trueaxis compensate` takes them: not the set-up of a measurement
+        let errors = &errors.without_setup();
         let corrector = Corrector::new(machine, errors);
         let spec = TableSpec { points, reference: None, temperatures: Vec::new() };
         let tables = axis_tables(&corrector, &spec)?;
@@ -96,33 +104,37 @@ impl CompensationPart {
         dq
     }
 
-    /// The files of controller `format` (one of [`CONTROLLER_FORMATS`]) with the default options
-    /// of `trueaxis compensate`, and the corrections the controller applies with them.
-    pub fn export<'a>(&'a self, machine: &'a Machine, errors: &'a ErrorModel, format: &str) -> Result<Export<'a>, CalibrationError> {
-        let input = ExportInput { machine, errors, tables: &self.tables, grid: self.grid.as_ref(), limits: Limits::default() };
-        Ok(match format {
-            "heidenhain" => export::heidenhain::export(&input)?,
-            "siemens" => export::siemens::export(&input, export::siemens::SiemensLimits::default())?,
-            "fanuc" => export::fanuc::export(&input, export::fanuc::FanucLimits::default())?,
-            "linuxcnc" => export::linuxcnc::export(&input, export::linuxcnc::CompType::Positions)?,
-            "linuxcnc-hal" => export::linuxcnc_hal::export(&input, "trueaxis_comp")?,
-            "isg" => export::isg::export(&input)?,
-            "lattice" => export::lattice::export(&input, None)?,
-            other => {
-                return Err(CalibrationError::Input(format!(
-                    "`{other}` is not a controller format; give one of {}",
-                    CONTROLLER_FORMATS.join(", ")
-                )))
-            }
-        })
-    }
-
-    /// What `format` leaves over the travel, on the exact chain (`residual_of_format`).
-    pub fn controller(&self, machine: &Machine, errors: &ErrorModel, format: &str) -> Result<ControllerPart, CalibrationError> {
-        let exported = self.export(machine, errors, format)?;
-        let corrector = Corrector::new(machine, errors);
-        let residual = residual_of_format(&corrector, &[], exported.applied.as_ref())?;
-        Ok(ControllerPart { format: format.into(), residual, left_out: exported.left_out })
+    /// What the files of controller `format` (one of [`CONTROLLER_FORMATS`]) leave, as `trueaxis
+    /// compensate --format` computes them from `errors` (its defaults, the machine file's limits;
+    /// files that leave more than they remove are shown, flagged, not refused), judged on the machine
+    /// whose errors are `judge` (default `errors`; a simulation judges on its true errors).
+    pub fn controller(
+        &self,
+        machine: &Machine,
+        errors: &ErrorModel,
+        format: &str,
+        judge: Option<&ErrorModel>,
+    ) -> Result<ControllerPart, CalibrationError> {
+        if !CONTROLLER_FORMATS.contains(&format) {
+            return Err(CalibrationError::Input(format!(
+                "`{format}` is not a controller format; give one of {}",
+                CONTROLLER_FORMATS.join(", ")
+            )));
+        }
+        let request = CompensationRequest {
+            format: ExportFormat::parse(format, &FormatOptions { comp_type: 0, ..FormatOptions::default() })
+                .map_err(CalibrationError::Input)?,
+            points: self.points,
+            grid: self.grid_nodes,
+            reference: None,
+            limits: Limits::of_machine(machine),
+            temperatures: vec![None; errors.sensors().len()],
+            poses: None,
+            force: true,
+        };
+        let (job, ()) = compensation_with(&Corrector::new(machine, errors), &request, judge, |_| ())?;
+        let residual = job.residual.ok_or_else(|| CalibrationError::Computation(format!("the {format} files leave no residual")))?;
+        Ok(ControllerPart { format: format.into(), residual, left_out: job.left_out, files: job.files, kinematics: job.kinematics })
     }
 
     pub fn section(&self, controller: Option<&ControllerPart>) -> Section {
@@ -150,14 +162,29 @@ impl CompensationPart {
         );
         if let Some(c) = controller {
             let r = &c.residual;
+            if r.leaves_more_than_it_removes() {
+                s = s.note(format!(
+                    "WARNING: the {} files would leave more error than they remove ({} left of {}): `trueaxis compensate` refuses to write them; do not load them into the controller.",
+                    controller_name(&c.format),
+                    quantity(r.worst_um, 2, "um"),
+                    quantity(r.worst_error_um, 2, "um")
+                ));
+            }
+            if let Some(k) = &c.kinematics {
+                s = s.paragraph(format!(
+                    "The location errors of the rotary axes go into the controller's kinematic description ({}), as the controller's own calibration cycles put them; tables carry what remains.",
+                    k["description"].as_str().unwrap_or_default()
+                ));
+            }
             s = s.table(
                 format!(
-                    "What the {} tables leave, on the exact chain over {} poses and states of motion spread over the travel",
-                    c.format, r.samples
+                    "What the {} files leave, on the exact chain over {} poses and states of motion spread over the travel, rotary axes moving (the workpiece placed by its best fit, as `trueaxis compensate` judges it)",
+                    controller_name(&c.format), r.samples
                 ),
                 &["quantity", "value"],
                 vec![
                     vec!["largest error before compensation".into(), quantity(r.worst_error_um, 2, "um")],
+                    vec!["RMS of the error before compensation".into(), quantity(r.rms_error_um, 2, "um")],
                     vec!["largest error left".into(), quantity(r.worst_um, 2, "um")],
                     vec!["RMS of the error left".into(), quantity(r.rms_um, 2, "um")],
                     vec![

@@ -180,11 +180,15 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     }
 
     progress(6, STEPS, "volumetric error before and after compensation");
-    let controller = compensation.controller(&machine, &identification.errors, CONTROLLER)?;
-    let exported = compensation.export(&machine, &identification.errors, CONTROLLER)?;
-    let mut volume =
-        VolumePart::compute(&machine, &truth, &identification.errors, &compensation, Some((CONTROLLER, exported.applied.as_ref())))?
-            .ok_or_else(|| CalibrationError::Computation("the built-in machine has no linear axes to map".into()))?;
+    // the controller's files from the identified errors, as `trueaxis compensate` writes and judges them
+    let controller = compensation.controller(&machine, &identification.errors, CONTROLLER, None)?;
+    for f in &controller.files {
+        let name = format!("compensation-{CONTROLLER}/{}", f.name);
+        out.write(&name, f.contents.as_bytes())?;
+        compensation.files.push(name);
+    }
+    let mut volume = VolumePart::compute(&machine, &truth, &identification.errors, &compensation, None)?
+        .ok_or_else(|| CalibrationError::Computation("the built-in machine has no linear axes to map".into()))?;
     volume.description.push(report::VOLUME_NOTE.into());
     out.write("volumetric_map.csv", volume.map.csv(&machine, &volume.before)?.as_bytes())?;
     out.write("volumetric_map.svg", volume.before_svg.as_bytes())?;
@@ -204,7 +208,6 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     .iter()
     .map(|(role, name)| out.input(role, name))
     .collect::<Result<Vec<_>, _>>()?;
-    drop(exported);
     let parameters = identification.parameter_rows(Some(&uncertainty));
     let summary = DemoSummary {
         machine: machine.name.clone(),

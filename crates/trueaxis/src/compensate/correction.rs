@@ -80,6 +80,10 @@ pub struct CorrectionOptions {
     /// singularity, and the fraction `(eps^2 - sigma^2) / (eps^2 + sigma^2)` of the tilt in that
     /// direction is left and reported as uncorrectable ([`super::solve`]).
     pub orientation_threshold: f64,
+    /// Keep the rotary axes where they are and correct with the linear axes alone (what an
+    /// axis-indexed table of a five-axis controller can do: a rotary correction that cancels a
+    /// tilt depends on where both rotary axes stand).
+    pub rotary_fixed: bool,
 }
 
 impl Default for CorrectionOptions {
@@ -91,6 +95,7 @@ impl Default for CorrectionOptions {
             orientation: OrientationTarget::ToolAxis(Vec3::z()),
             singular_threshold: 1e-3,
             orientation_threshold: 0.1,
+            rotary_fixed: false,
         }
     }
 }
@@ -222,6 +227,11 @@ pub struct Corrector<'a> {
     pub errors: &'a ErrorModel,
     pub setup: Setup,
     pub options: CorrectionOptions,
+    /// The workpiece datum `D`: a constant rigid transform of the workpiece frame (mm, rad) that
+    /// the correction aims in, `D r_actual = r_nominal` (identity: the workpiece frame itself).
+    /// A kinematic description stated in another gauge than the machine's chain (the frame of the
+    /// linear axes, [`super::kinematic`]) differs from it by one.
+    pub datum: Pose,
 }
 
 /// The nominal relative position (workpiece frame) and orientation at a pose.
@@ -248,7 +258,7 @@ impl Target {
 impl<'a> Corrector<'a> {
     /// The machine's tool point relative to the workpiece origin, default options.
     pub fn new(machine: &'a Machine, errors: &'a ErrorModel) -> Corrector<'a> {
-        Corrector { machine, errors, setup: Setup::of_machine(machine), options: CorrectionOptions::default() }
+        Corrector { machine, errors, setup: Setup::of_machine(machine), options: CorrectionOptions::default(), datum: Pose::IDENTITY }
     }
 
     /// The correction of pose `q` (mm, rad, canonical order), at rest and at 20 degC.
@@ -362,20 +372,27 @@ impl<'a> Corrector<'a> {
         })
     }
 
+    /// Nominal tool point relative to the workpiece point at pose `q` (mm, rad), in the workpiece
+    /// frame (mm): what a correction aims at.
+    pub fn nominal_relative_position(&self, q: &[f64]) -> Vec3 {
+        self.target(q).position
+    }
+
     /// Nominal tool point relative to the workpiece point (workpiece frame) and relative rotation.
     fn target(&self, q: &[f64]) -> Target {
         let m = self.machine;
         let tool = nominal_chain(m, m.tool_chain(), q, None);
         let work = nominal_chain(m, m.work_chain(), q, None);
-        Self::relative(&tool, &work, &self.setup)
+        self.relative(&tool, &work)
     }
 
-    fn relative(tool: &Pose, work: &Pose, setup: &Setup) -> Target {
+    fn relative(&self, tool: &Pose, work: &Pose) -> Target {
         let rt = work.rotation.transpose();
-        Target {
-            position: rt * (tool.transform_point(&setup.tool_point) - work.transform_point(&setup.work_point)),
-            rotation: rt * tool.rotation,
-        }
+        let (position, rotation) =
+            (rt * (tool.transform_point(&self.setup.tool_point) - work.transform_point(&self.setup.work_point)), rt * tool.rotation);
+        // in the datum: D r_actual = r_nominal, so the actual relative pose aims at D^-1 of the nominal one
+        let d = self.datum.rotation.transpose();
+        Target { position: d * (position - self.datum.translation), rotation: d * rotation }
     }
 
     /// Actual relative position and rotation at the set-points `qc`, minus the target: position
@@ -418,7 +435,8 @@ impl<'a> Corrector<'a> {
                     AxisKind::Linear => Twist::of_small_transform(parent, &Vec3::zeros(), &axis.direction, &Vec3::zeros()),
                     AxisKind::Rotary => Twist::of_small_transform(parent, &axis.direction, &Vec3::zeros(), &axis.point),
                 };
-                let w = sign * self.weight(k);
+                let locked = self.options.rotary_fixed && axis.kind == AxisKind::Rotary;
+                let w = if locked { 0.0 } else { sign * self.weight(k) };
                 jp.set_column(k, &(rt * twist.displacement_of(&tool_point) * w));
                 jo.set_column(k, &(rt * twist.omega * w));
             }
@@ -429,7 +447,7 @@ impl<'a> Corrector<'a> {
             OrientationTarget::Full => OrientationRows::full(),
         };
         let solver = Solver::new(&jp, &jo, rows, self.options.singular_threshold, self.options.orientation_threshold.max(1e-9));
-        (Self::relative(&tool, &work, &self.setup), solver)
+        (self.relative(&tool, &work), solver)
     }
 
     /// Weight of each joint in the scaled solve: 1 (linear), 1/L (rotary).

@@ -11,6 +11,7 @@ pub mod correction;
 pub mod coverage;
 pub mod export;
 pub mod job;
+pub mod kinematic;
 pub mod nc;
 pub mod realtime;
 mod solve;
@@ -19,10 +20,10 @@ pub mod tables;
 
 pub use batch::correct_batch;
 pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, WarmStart, MAX_AXES};
-pub use export::residual::{residual_of_format, FormatResidual};
-pub use job::{compensation, sensor_index, sensor_temperatures, Compensation, CompensationRequest};
+pub use export::residual::{residual_of_format, uncertainty_of_error_left, FormatResidual, LeftUncertainty};
+pub use job::{compensation, compensation_with, sensor_index, sensor_temperatures, Compensation, CompensationRequest};
 pub use realtime::RealtimeCorrector;
-pub use summary::{compensation_json, nc_json, round4, ExportFormat, FormatOptions};
+pub use summary::{compensation_json, kinematics_json, nc_json, round4, ExportFormat, FormatOptions};
 pub use tables::{axis_tables, line_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};
 
 use thiserror::Error;

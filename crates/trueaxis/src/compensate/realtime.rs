@@ -138,7 +138,13 @@ impl RealtimeCorrector {
             };
         }
         let state = MachineState { directions: (!directions.is_empty()).then_some(&dirs[..n]), temperatures };
-        let corrector = Corrector { machine: &self.machine, errors: &self.errors, setup: self.setup, options: self.options };
+        let corrector = Corrector {
+            machine: &self.machine,
+            errors: &self.errors,
+            setup: self.setup,
+            options: self.options,
+            datum: crate::geometry::Pose::IDENTITY,
+        };
         let c = corrector.correct_along(&q[..n], &state, &mut self.workspace, &mut self.warm);
         if !c.converged || c.dq[..n].iter().any(|v| !v.is_finite()) {
             self.warm.reset();

@@ -5,6 +5,7 @@
 use super::export::{
     self, fanuc::FanucLimits, linuxcnc::CompType, siemens::SiemensLimits, Coverage, Export, ExportInput, ExportedFile, Extent,
 };
+use super::kinematic::{Carried, KinematicCorrection, KinematicDescription, RotaryLayout};
 use super::nc::NcResult;
 use super::{CompensateError, FormatResidual};
 use crate::machine::Machine;
@@ -114,6 +115,52 @@ impl ExportFormat {
         }
     }
 
+    /// What the format's kinematic description carries on a machine with rotary axes (`None`: the
+    /// format has none, or the machine has no rotary axis): the rotary axes' lines and zero offsets
+    /// for Heidenhain (kinematics description, cycle 451) and Siemens (swivel data, CYCLE996), their
+    /// positions and zero offsets for Fanuc (tool centre point parameters, reference position),
+    /// everything for LinuxCNC (a generated kinematics module, [`export::linuxcnc_kins`]).
+    pub fn kinematics(&self, machine: &Machine) -> Option<Carried> {
+        RotaryLayout::of(machine)?;
+        match self {
+            ExportFormat::Heidenhain | ExportFormat::Siemens(_) => Some(Carried::ROTARY_AXES),
+            ExportFormat::Linuxcnc(_) => Some(Carried::ALL),
+            ExportFormat::Fanuc(_) => Some(Carried { rotary_directions: false, ..Carried::ROTARY_AXES }),
+            _ => None,
+        }
+    }
+
+    /// What the format's kinematic description is, in the controller's words (for the summary).
+    pub fn kinematics_name(&self) -> &'static str {
+        match self {
+            ExportFormat::Heidenhain => {
+                "Heidenhain kinematics description: rotary axis positions and orientations as cycle 451 (KinematicsOpt) changes them"
+            }
+            ExportFormat::Siemens(_) => "SINUMERIK swivel data (CYCLE800 / TRAORI toolholder) with the fine offsets CYCLE996 writes",
+            ExportFormat::Fanuc(_) => "Fanuc tool centre point parameters (rotary table position and intersection offsets)",
+            ExportFormat::Linuxcnc(_) => "a LinuxCNC kinematics module generated from the identified model (halcompile)",
+            _ => "",
+        }
+    }
+
+    /// The files of the format's kinematic description (`kinematics` is what
+    /// [`Self::kinematics`] asked for), and what the description leaves out.
+    pub fn kinematic_files(
+        &self,
+        machine: &Machine,
+        kinematics: &KinematicCorrection,
+    ) -> Result<(Vec<ExportedFile>, Vec<String>), CompensateError> {
+        let layout = RotaryLayout::of(machine).expect("a machine with rotary axes");
+        let nominal = KinematicDescription::nominal(machine);
+        let written = &kinematics.written;
+        Ok(match self {
+            ExportFormat::Heidenhain => (vec![export::heidenhain_kinematics::export(machine, &layout, &nominal, written)], Vec::new()),
+            ExportFormat::Siemens(_) => (vec![export::siemens_swivel::export(machine, &layout, &nominal, written, 1)?], Vec::new()),
+            ExportFormat::Fanuc(_) => export::fanuc_tcp::export(machine, &layout, kinematics)?,
+            _ => (Vec::new(), Vec::new()),
+        })
+    }
+
     /// The files of the format, and for a controller format what the controller applies and what
     /// the format leaves out (`None` for CSV and JSON, which are data).
     pub fn export<'a>(&self, input: &ExportInput<'a>) -> Result<(Vec<ExportedFile>, Option<Export<'a>>), CompensateError> {
@@ -154,6 +201,8 @@ pub fn compensation_json(
     extent: &Extent,
     left_out: &[String],
     residual: Option<&FormatResidual>,
+    left_uncertainty: Option<&super::LeftUncertainty>,
+    kinematics: Option<&Value>,
     poses: Option<&Value>,
 ) -> Value {
     json!({
@@ -173,9 +222,64 @@ pub fn compensation_json(
             "worst_state": r.worst_state,
             "error_there_um": round4(r.error_there_um),
             "worst_error_um": round4(r.worst_error_um),
+            "rms_error_um": round4(r.rms_error_um),
             "samples": r.samples,
+            "leaves_more_than_it_removes": r.leaves_more_than_it_removes(),
+            "placement_before": placement_json(&r.placement_before),
+            "placement_after": placement_json(&r.placement_after),
         })),
+        "error_left_uncertainty": left_uncertainty.map(|u| json!({
+            "expanded_um": round4(u.expanded_um),
+            "rms_expanded_um": round4(u.rms_expanded_um),
+            "coverage_factor": 2,
+            "parameters": u.parameters,
+        })),
+        "kinematics": kinematics,
         "poses": poses,
+    })
+}
+
+/// The best placement of the workpiece frame: shift (um) and rotation vector (urad).
+fn placement_json(fit: &super::export::rigid_fit::RigidFit) -> Value {
+    let w = fit.rotation_vector() * 1e6;
+    json!({
+        "shift_um": (fit.translation * 1e3).iter().map(|v| round4(*v)).collect::<Vec<_>>(),
+        "rotation_urad": w.iter().map(|v| round4(*v)).collect::<Vec<_>>(),
+    })
+}
+
+/// The kinematic description a compensation writes, for its summary: what it carries and, per
+/// rotary axis, the shift of its line (um), its tilt (urad) and its zero offset (urad).
+pub fn kinematics_json(machine: &Machine, kinematics: &KinematicCorrection, description: &str) -> Value {
+    let nominal = KinematicDescription::nominal(machine);
+    let axes: serde_json::Map<String, Value> = machine
+        .axes()
+        .iter()
+        .enumerate()
+        .filter(|(_, a)| a.kind == crate::machine::AxisKind::Rotary)
+        .map(|(k, a)| {
+            let c = export::heidenhain_kinematics::axis_change(&nominal, &kinematics.written, k);
+            (
+                a.letter.to_string(),
+                json!({
+                    "shift_um": (c.shift * 1e3).iter().map(|v| round4(*v)).collect::<Vec<_>>(),
+                    "tilt_urad": (c.tilt * 1e6).iter().map(|v| round4(*v)).collect::<Vec<_>>(),
+                    "zero_offset_urad": round4(c.zero_offset * 1e6),
+                }),
+            )
+        })
+        .collect();
+    let c = kinematics.carried;
+    json!({
+        "description": description,
+        "carried": {
+            "rotary_positions": c.rotary_positions,
+            "rotary_directions": c.rotary_directions,
+            "zero_offsets": c.zero_offsets,
+            "linear_directions": c.linear_directions,
+            "tool_end": c.tool_end,
+        },
+        "axes": axes,
     })
 }
 
@@ -188,11 +292,14 @@ pub fn nc_json(result: &NcResult, out: Option<&str>) -> Value {
         "changed_lines": result.changed_lines,
         "inserted_lines": result.inserted_lines,
         "expanded": result.expanded,
+        "warnings": result.warnings,
+        "assumed_tools": result.assumed_tools,
+        "tool_length_um_per_100mm": result.tool_length_um_per_100mm,
         "max_correction_um": result.max_correction_um,
         "max_correction_urad": result.max_correction_urad,
         "max_residual_um": result.max_residual_um,
         "max_uncorrectable_urad": result.max_uncorrectable_urad,
         "out": out,
-        "program": if out.is_none() { Some(result.text.clone()) } else { None },
+        "program": if out.is_none() { Some(result.text().into_owned()) } else { None },
     })
 }

@@ -82,6 +82,23 @@ impl TableSet {
     pub fn table(&self, driver: usize, corrected: usize) -> Option<&AxisTable> {
         self.tables.iter().find(|t| t.driver == driver && t.corrected == corrected)
     }
+
+    /// These tables minus `other`'s, table by table and point by point (both sampled along the same
+    /// lines through the same reference pose): what tables must add to the corrections `other`
+    /// describes, e.g. on top of a controller's corrected kinematics. The residuals are this set's.
+    pub fn minus(&self, other: &TableSet) -> TableSet {
+        let tables = self
+            .tables
+            .iter()
+            .map(|t| {
+                let o = other.table(t.driver, t.corrected).expect("both sets sample every pair of axes");
+                debug_assert_eq!(t.positions, o.positions);
+                let diff = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x - y).collect();
+                AxisTable { forward: diff(&t.forward, &o.forward), reverse: diff(&t.reverse, &o.reverse), ..t.clone() }
+            })
+            .collect();
+        TableSet { tables, ..self.clone() }
+    }
 }
 
 /// The travel used for tables and grids of `axis` (mm or deg).
@@ -279,6 +296,12 @@ impl VolumetricGrid {
     pub fn node_position(&self, i: usize, j: usize, k: usize) -> [f64; 3] {
         let idx = [i, j, k];
         std::array::from_fn(|d| self.start[d] + self.step[d] * idx[d] as f64)
+    }
+
+    /// This grid minus `other` (same nodes), node by node.
+    pub fn minus(&self, other: &VolumetricGrid) -> VolumetricGrid {
+        debug_assert_eq!((self.start, self.step, self.counts), (other.start, other.step, other.counts));
+        VolumetricGrid { values: self.values.iter().zip(&other.values).map(|(a, b)| a - b).collect(), ..self.clone() }
     }
 
     /// Trilinear interpolation of the correction of axis `axis` at `p` (mm; clamped into the grid):

@@ -1,7 +1,8 @@
 //! The error-values TOML of DESIGN.md section 3:
 //! `[constant]` (um, urad), `[table.NAME]` with `position`/`value`, `[polynomial.NAME]` with
 //! `coefficients` in ascending powers of the own axis position (mm or deg), `[basis.NAME]` with a
-//! parametric basis (seed 000 ch. 3) and its `coefficients`.
+//! parametric basis (seed 000 ch. 3) and its `coefficients`, `[uncertainty]` with the standard
+//! uncertainties (k = 1, um or urad) of constant values.
 
 use super::basis::{Basis, BasisSpec};
 use super::function::ErrorFunction;
@@ -39,6 +40,10 @@ struct ErrorValuesFile {
     /// `[[drift.NAME]]`: drift models at tested axis positions (seed 000 §3.4.4).
     #[serde(default)]
     drift: BTreeMap<String, Vec<DriftFile>>,
+    /// `[uncertainty]`: standard uncertainties (k = 1, um or urad) of constant values, as an
+    /// identification states them.
+    #[serde(default)]
+    uncertainty: BTreeMap<String, f64>,
 }
 
 #[derive(Deserialize)]
@@ -129,6 +134,11 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
         };
         Ok((ParameterId::parse(stem).map_err(|m| invalid(section, name, m))?, direction))
     };
+    for (name, &u) in &file.uncertainty {
+        let id = ParameterId::parse(name).map_err(|m| invalid("uncertainty", name, m))?;
+        machine.parameter_index(&id).map_err(|m| invalid("uncertainty", name, m))?;
+        model.set_uncertainty(id, u).map_err(|m| invalid("uncertainty", name, m))?;
+    }
     let mut set = |section: &str, name: &str, f: Result<ErrorFunction, String>| -> Result<(), ErrorsError> {
         let (id, direction) = id_of(section, name)?;
         let f = f.map_err(|m| invalid(section, name, m))?;

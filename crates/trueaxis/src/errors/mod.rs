@@ -17,7 +17,7 @@ pub use function::ErrorFunction;
 pub use inputs::{input_values, InputKind, InputRows, InputSource};
 pub use model::{Direction, DriftTerm, ErrorModel, LoadTerm, MachineState, ProductTerm, REFERENCE_TEMPERATURE};
 pub use quadrature::{gauss_legendre, integrate, legendre};
-pub use write::set_error_function;
+pub use write::{set_error_function, set_uncertainty};
 
 use crate::machine::Machine;
 use thiserror::Error;

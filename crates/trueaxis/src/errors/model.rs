@@ -120,6 +120,9 @@ pub struct MachineState<'a> {
 #[derive(Clone, Debug)]
 pub struct ErrorModel {
     entries: Vec<Entry>,
+    /// Standard uncertainties (k = 1) of constant values, in the parameters' units (um, urad), as an
+    /// identification states them (`[uncertainty]` of an error-values file).
+    uncertainties: Vec<(ParameterId, f64)>,
     terms: Vec<ProductTerm>,
     loads: Vec<LoadTerm>,
     drifts: Vec<DriftTerm>,
@@ -142,6 +145,7 @@ impl ErrorModel {
         let parameter_count = machine.parameter_count();
         ErrorModel {
             entries: Vec::new(),
+            uncertainties: Vec::new(),
             terms: Vec::new(),
             loads: Vec::new(),
             drifts: Vec::new(),
@@ -422,6 +426,53 @@ impl ErrorModel {
             }
         }
         model
+    }
+
+    /// The model without the errors of parameters `drop` selects (their functions and every term,
+    /// load and drift of them), e.g. the setup errors of a measurement (`TX .. WZ`), which belong to
+    /// the instrument's set-up and not to the machine.
+    pub fn without(&self, drop: impl Fn(&ParameterId) -> bool) -> ErrorModel {
+        let mut model = self.clone();
+        model.entries.retain(|e| !drop(&e.id));
+        model.uncertainties.retain(|(id, _)| !drop(id));
+        model.terms.retain(|t| !drop(&t.id));
+        model.loads.retain(|l| !drop(&l.id));
+        model.drifts.retain(|d| !drop(&d.id));
+        model.plan();
+        model
+    }
+
+    /// The model without the set-up errors of a measurement (`TX TY TZ WX WY WZ`: where a master
+    /// ball or a probe head sits), which are not errors of the machine.
+    pub fn without_setup(&self) -> ErrorModel {
+        self.without(|id| matches!(id, ParameterId::Setup { .. }))
+    }
+
+    /// The model's functions alone: without its product, load and drift terms (what depends on
+    /// several axes, on inputs, or on history).
+    pub fn functions_only(&self) -> ErrorModel {
+        let mut model = self.clone();
+        model.terms.clear();
+        model.loads.clear();
+        model.drifts.clear();
+        model.plan();
+        model
+    }
+
+    /// Sets the standard uncertainty (k = 1, um or urad) of the constant value of `id`; an
+    /// uncertainty that is negative or not finite is refused.
+    pub fn set_uncertainty(&mut self, id: ParameterId, u: f64) -> Result<(), String> {
+        if !(u.is_finite() && u >= 0.0) {
+            return Err(format!("the standard uncertainty of {id} must be a finite number >= 0, got {u}"));
+        }
+        self.uncertainties.retain(|(i, _)| *i != id);
+        self.uncertainties.push((id, u));
+        Ok(())
+    }
+
+    /// The standard uncertainties (k = 1, um or urad) of constant values the model states.
+    pub fn uncertainties(&self) -> &[(ParameterId, f64)] {
+        &self.uncertainties
     }
 
     /// Whether the model defines no error at all (no function, term, load or drift).

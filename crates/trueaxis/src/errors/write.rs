@@ -95,3 +95,16 @@ pub fn set_error_function(text: &str, id: &ParameterId, direction: Option<Direct
     doc.insert(key, Item::Table(table));
     Ok(doc.to_string())
 }
+
+/// Sets the standard uncertainty (k = 1, um or urad) of `id` in the `[uncertainty]` table of the
+/// error-values document `text`, and returns the new text.
+pub fn set_uncertainty(text: &str, id: &ParameterId, u: f64) -> Result<String, String> {
+    let mut doc: DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| super::super::machine::one_line(&e.to_string()))?;
+    let table = doc
+        .entry("uncertainty")
+        .or_insert(Item::Table(Table::new()))
+        .as_table_mut()
+        .ok_or("`uncertainty` is not a table in the existing file")?;
+    table.insert(&id.to_string(), value(u));
+    Ok(doc.to_string())
+}

@@ -5,7 +5,7 @@ use super::campaign::Campaign;
 use super::indirect::Identification;
 use super::unknowns::UnknownKind;
 use super::IdentifyError;
-use crate::errors::{set_error_function, ErrorFunction, ErrorModel};
+use crate::errors::{set_error_function, set_uncertainty, ErrorFunction, ErrorModel};
 use crate::machine::ParameterId;
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;
@@ -23,9 +23,13 @@ pub fn error_values_text(
     nominal_text: &str,
 ) -> Result<String, IdentifyError> {
     let mut by_id: BTreeMap<ParameterId, Vec<(u32, f64)>> = BTreeMap::new();
-    for (u, value) in campaign.unknowns.iter().zip(&result.values) {
+    let mut uncertainty: BTreeMap<ParameterId, f64> = BTreeMap::new();
+    for ((u, value), std) in campaign.unknowns.iter().zip(&result.values).zip(&result.std_uncertainty) {
         if let UnknownKind::Model { id, power, .. } = u.kind {
             by_id.entry(id).or_default().push((power, *value));
+            if let (0, Some(std)) = (power, std) {
+                uncertainty.insert(id, *std);
+            }
         }
     }
     let mut names: Vec<String> = by_id.keys().chain(campaign.bases.iter().map(|b| &b.id)).map(ToString::to_string).collect();
@@ -40,7 +44,13 @@ pub fn error_values_text(
     }
     for (id, powers) in by_id {
         let existing = nominal.entries().find(|(i, _)| **i == id).map(|(_, f)| f.clone());
-        let function = if powers.iter().all(|(k, _)| *k == 0) && !matches!(existing, Some(ErrorFunction::Polynomial { .. })) {
+        let constant = powers.iter().all(|(k, _)| *k == 0) && !matches!(existing, Some(ErrorFunction::Polynomial { .. }));
+        if let Some(u) = uncertainty.get(&id).filter(|u| constant && u.is_finite()) {
+            // the standard uncertainty of an identified constant goes with it (compensate states what it
+            // means for the error left)
+            text = set_uncertainty(&text, &id, *u).map_err(nominal_file)?;
+        }
+        let function = if constant {
             ErrorFunction::Constant(powers[0].1)
         } else {
             let mut coefficients = match existing {

@@ -172,6 +172,30 @@ impl PigeReport {
         self.runs.len() > 1
     }
 
+    /// The error-values TOML of the last run's PIGEs (`trueaxis ballbar identify --out`): each in
+    /// `[constant]` (um, urad) and, where the traces allow it, its single-run standard uncertainty
+    /// (or, over several runs, the larger of it and their standard deviation) in `[uncertainty]`, so
+    /// that `compensate`, `predict` and `report` read the identified values and `compensate` states
+    /// what their uncertainty leaves.
+    pub fn error_values_text(&self, origin: &str) -> Result<String, String> {
+        let mut text = format!(
+            "# The PIGEs of the rotary axes identified by `trueaxis ballbar identify` ({} method of Jiang (2014), {} run(s)) from {origin}\n\
+             name = \"PIGEs of {}\"\n",
+            self.method.name(),
+            self.runs.len(),
+            self.machine.replace('"', "'")
+        );
+        for (k, ((id, v), (_, _, sd))) in self.last().values.iter().zip(&self.stats.parameters).enumerate() {
+            text = crate::errors::set_error_function(&text, id, None, &crate::errors::ErrorFunction::Constant(pige_user_value(id, *v).0))?;
+            let single = self.single_u.as_ref().map(|s| pige_user_value(id, s[k]).0);
+            let spread = self.repeated().then(|| pige_user_value(id, *sd).0);
+            if let Some(u) = single.into_iter().chain(spread).reduce(f64::max).filter(|u| u.is_finite()) {
+                text = crate::errors::set_uncertainty(&text, id, u)?;
+            }
+        }
+        Ok(text)
+    }
+
     /// The document of `trueaxis ballbar identify --json`: per PIGE the last run's value, the mean
     /// and standard deviation over runs (um or urad, rounded to 1e-4), the single-run standard
     /// uncertainty; the repeatability verdict, the compensation residual per step, warnings and

@@ -10,7 +10,7 @@
 //! regression (seed 002 eq. 3.12), it reproduces the lag between a sensor and the drift.
 
 use super::campaign::Campaign;
-use super::state_space::{identify_state_space, states, Record, StateSpaceModel};
+use super::state_space::{identify_state_space, Record, StateSpaceModel};
 use super::{computation, input, ThermalError};
 use serde::{Deserialize, Serialize};
 
@@ -54,23 +54,11 @@ impl DriftModel {
     }
 
     /// The drift (um) at `times_s` (increasing, from the reference state at the first time) for
-    /// sensor readings `temperatures[sample][sensor]` (degC).
-    pub fn simulate(&self, times_s: &[f64], temperatures: &[Vec<f64>]) -> Vec<f64> {
-        let rises = rises(temperatures);
-        let gammas: Vec<f64> = self.time_constants_s.iter().map(|t| 1.0 / t).collect();
-        let x = states(&gammas, times_s, &rises);
-        let m = gammas.len();
-        (0..times_s.len())
-            .map(|k| {
-                let mut e = 0.0;
-                for (i, g) in self.gains_um_per_degc.iter().enumerate() {
-                    for j in 0..m {
-                        e += g[j] * gammas[j] * x[(k, i * m + j)];
-                    }
-                }
-                e
-            })
-            .collect()
+    /// sensor readings `temperatures[sample][sensor]` (degC): the samples one by one through
+    /// [`DriftModel::step`], as a live compensation takes them.
+    pub fn simulate(&self, times_s: &[f64], temperatures: &[Vec<f64>]) -> Result<Vec<f64>, ThermalError> {
+        let mut state = super::stepping::StepState::default();
+        times_s.iter().zip(temperatures).map(|(t, readings)| self.step(&mut state, *t, readings)).collect()
     }
 
     /// The TOML form.

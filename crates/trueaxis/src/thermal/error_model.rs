@@ -106,7 +106,7 @@ impl ThermalErrorModel {
                     }
                     let run_rows: Vec<usize> = at.iter().map(|&k| rows[k]).collect();
                     let (times, temperatures, _) = record(campaign, &model.sensors, None, &run_rows)?;
-                    for (k, e) in at.iter().zip(model.simulate(&times, &temperatures)) {
+                    for (k, e) in at.iter().zip(model.simulate(&times, &temperatures)?) {
                         out[*k] = e;
                     }
                 }

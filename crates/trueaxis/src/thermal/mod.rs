@@ -32,6 +32,7 @@ pub mod segmented;
 pub mod sparse_cholesky;
 mod sparse_rows;
 pub mod state_space;
+pub mod stepping;
 pub mod temperature_model;
 pub mod time_constants;
 pub mod tuning;

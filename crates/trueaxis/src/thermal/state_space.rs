@@ -32,20 +32,27 @@ pub fn states(gammas: &[f64], times_s: &[f64], u: &[Vec<f64>]) -> DMatrix<f64> {
     let mut out = DMatrix::zeros(times_s.len(), inputs * m);
     for k in 0..times_s.len() {
         if k > 0 {
-            let dt = times_s[k] - times_s[k - 1];
-            for (j, g) in gammas.iter().enumerate() {
-                let decay = (-g * dt).exp();
-                let gain = if *g * dt > 1e-12 { (1.0 - decay) / g } else { dt };
-                for i in 0..inputs {
-                    x[i * m + j] = decay * x[i * m + j] + gain * u[k - 1][i];
-                }
-            }
+            advance(gammas, times_s[k] - times_s[k - 1], &u[k - 1], &mut x);
         }
         for (s, v) in x.iter().enumerate() {
             out[(k, s)] = *v;
         }
     }
     out
+}
+
+/// One sample interval of `dt` seconds with the inputs `u_held[i]` held (zero-order hold):
+/// `x_ij <- e^(-gamma_j dt) x_ij + (1 - e^(-gamma_j dt)) / gamma_j u_i` (state `i * m + j`). The
+/// batch [`states`] and the sample-by-sample drift model (`super::stepping`) both advance by it.
+pub fn advance(gammas: &[f64], dt: f64, u_held: &[f64], x: &mut [f64]) {
+    let m = gammas.len();
+    for (j, g) in gammas.iter().enumerate() {
+        let decay = (-g * dt).exp();
+        let gain = if *g * dt > 1e-12 { (1.0 - decay) / g } else { dt };
+        for (i, u) in u_held.iter().enumerate() {
+            x[i * m + j] = decay * x[i * m + j] + gain * u;
+        }
+    }
 }
 
 impl StateSpaceModel {

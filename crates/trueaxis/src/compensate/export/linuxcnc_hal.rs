@@ -15,6 +15,10 @@
 //! `axis.L.eoffset-counts`, with `axis.L.eoffset-scale` = [`COUNT`]). Directions of motion are not
 //! known to it: the tables hold the mean of both directions.
 //!
+//! Each axis also has an input `thermal-L` (mm, deg; default 0) added to its correction: the live
+//! thermal offset that `trueaxis live --sink hal` sets through halcmd, so that the geometric
+//! corrections and the thermal drift reach the one `axis.L.eoffset-counts` input of each axis.
+//!
 //! External offsets are added in world (axis) coordinates before the kinematics; they equal joint
 //! corrections only with identity kinematics (trivkins): the HAL file assumes joint n = axis n of the
 //! machine file.
@@ -114,6 +118,11 @@ fn component(input: &ExportInput, name: &str, tables: &[AxisTable]) -> String {
         let _ = writeln!(c, "pin in float pos_{l} \"position of {} ({u}): net from joint.{k}.pos-cmd\";", m.axes()[k].letter);
         let _ =
             writeln!(c, "pin in float applied_{l} \"external offset applied to {} ({u}): net from axis.{l}.eoffset\";", m.axes()[k].letter);
+        let _ = writeln!(
+            c,
+            "pin in float thermal_{l} \"thermal offset of {} ({u}), added to the correction: set by trueaxis live --sink hal\";",
+            m.axes()[k].letter
+        );
         let _ = writeln!(c, "pin out float offset_{l} \"correction of {} ({u})\";", m.axes()[k].letter);
         let _ = writeln!(
             c,
@@ -185,7 +194,7 @@ fn component(input: &ExportInput, name: &str, tables: &[AxisTable]) -> String {
     c.push_str("    correct(q, out);\n");
     for k in 0..n {
         let l = pin(m, k);
-        let _ = writeln!(c, "    offset_{l} = out[{k}];\n    counts_{l} = to_counts(out[{k}]);");
+        let _ = writeln!(c, "    offset_{l} = out[{k}] + thermal_{l};\n    counts_{l} = to_counts(out[{k}] + thermal_{l});");
     }
     c.push_str("    (void)k;\n}\n");
     c

@@ -10,14 +10,19 @@
 //! is left on the exact chain.
 
 pub mod fanuc;
+pub mod fanuc_tcp;
 pub mod heidenhain;
+pub mod heidenhain_kinematics;
 pub mod isg;
 pub mod lattice;
 pub mod linuxcnc;
 pub mod linuxcnc_hal;
+pub mod linuxcnc_kins;
 pub mod plain;
 pub mod residual;
+pub mod rigid_fit;
 pub mod siemens;
+pub mod siemens_swivel;
 
 use super::tables::{AxisTable, TableSet, VolumetricGrid};
 use super::CompensateError;

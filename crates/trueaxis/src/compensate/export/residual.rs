@@ -10,10 +10,12 @@
 //! chosen format cannot remove, in um, at the worst pose and as an RMS over the poses. A calibration
 //! report shows this as "after compensation" with that table.
 
+use super::rigid_fit::RigidFit;
 use crate::compensate::correction::{CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget};
 use crate::compensate::tables::{table_range, AxisTable, VolumetricGrid};
 use crate::compensate::CompensateError;
 use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::geometry::Vec3;
 use crate::machine::{AxisKind, Machine};
 use rayon::prelude::*;
 
@@ -137,7 +139,10 @@ impl Applied for ModelCorrection<'_> {
 }
 
 /// The error a format leaves over the travel (exact chain, position of the tool point relative to
-/// the workpiece).
+/// the workpiece), judged up to the placement of the workpiece: before and after compensation, the
+/// reached points are aligned to the programmed ones by the least-squares rigid motion of the
+/// workpiece frame ([`RigidFit`]; a table frame that is shifted or tilted as a whole is where the
+/// workpiece datum puts it when the workpiece is probed, not an error of the machine).
 #[derive(Clone, Debug, PartialEq)]
 pub struct FormatResidual {
     /// Largest position error left (um) ...
@@ -152,8 +157,59 @@ pub struct FormatResidual {
     pub rms_um: f64,
     /// Largest error before correction over the same poses (um).
     pub worst_error_um: f64,
+    /// Root mean square of the error before correction over the same poses (um).
+    pub rms_error_um: f64,
     /// Poses times states evaluated.
     pub samples: usize,
+    /// The workpiece frame's best placement before and after (the datum a workpiece probe would
+    /// set; rotation vector in rad, shift in mm, in the workpiece frame).
+    pub placement_before: RigidFit,
+    pub placement_after: RigidFit,
+}
+
+impl FormatResidual {
+    /// Whether the files leave more error than they remove: the worst error left is more than half
+    /// the worst error before (what is removed, `before - left`, is then less than what is left).
+    /// What is left within [`NEGLIGIBLE_LEFT_UM`] is never more: a machine without errors gets
+    /// tables of zeros, which change nothing.
+    pub fn leaves_more_than_it_removes(&self) -> bool {
+        self.worst_um > 0.5 * self.worst_error_um && self.worst_um > NEGLIGIBLE_LEFT_UM
+    }
+}
+
+/// An error left that no controller can show or act on: half the 0.1 um resolution of the
+/// controllers' compensation tables (Heidenhain, Siemens and LinuxCNC write 0.0001 mm).
+pub const NEGLIGIBLE_LEFT_UM: f64 = 0.05;
+
+#[cfg(test)]
+mod never_worse {
+    use super::*;
+
+    fn judged(before: f64, left: f64) -> bool {
+        let placement = RigidFit::identity();
+        FormatResidual {
+            worst_um: left,
+            worst_pose: vec![0.0; 3],
+            worst_state: "at rest",
+            error_there_um: before,
+            rms_um: left,
+            worst_error_um: before,
+            rms_error_um: before,
+            samples: 1,
+            placement_before: placement,
+            placement_after: placement,
+        }
+        .leaves_more_than_it_removes()
+    }
+
+    #[test]
+    fn half_the_error_before_is_the_limit_above_the_resolution() {
+        assert!(!judged(10.0, 5.0));
+        assert!(judged(10.0, 5.001));
+        assert!(!judged(0.0, 1e-9), "a machine without errors is not made worse by tables of zeros");
+        assert!(!judged(0.04, 0.049));
+        assert!(judged(0.04, 0.051));
+    }
 }
 
 /// Poses spread over the travel: a full factorial of `levels` equally spaced positions per axis over
@@ -185,7 +241,8 @@ pub fn sample_poses(machine: &Machine) -> Result<Vec<f64>, CompensateError> {
 /// The error left when the controller applies `applied` instead of the exact correction, over
 /// [`sample_poses`] at the sensor temperatures `temperatures` (degC; empty: 20 degC), at rest and,
 /// when the error model depends on the direction of motion, with all axes moving up and all moving
-/// down. Each pose costs one exact-chain evaluation for the error before and one after.
+/// down; before and after, each up to the best placement of the workpiece frame ([`RigidFit`]).
+/// Each pose costs one exact-chain evaluation for the error before and one after.
 pub fn residual_of_format(corrector: &Corrector, temperatures: &[f64], applied: &dyn Applied) -> Result<FormatResidual, CompensateError> {
     let m = corrector.machine;
     let n = m.axis_count();
@@ -196,14 +253,15 @@ pub fn residual_of_format(corrector: &Corrector, temperatures: &[f64], applied: 
     } else {
         &[("at rest", None)]
     };
-    // (left, before, pose index, state index) per sample
-    let results: Vec<(f64, f64, usize, usize)> = (0..poses.len() / n)
+    // per sample: (nominal relative position, error before, error after, pose index, state index)
+    let samples: Vec<(Vec3, Vec3, Vec3, usize, usize)> = (0..poses.len() / n)
         .into_par_iter()
         .map_init(
             || (CorrectionWorkspace::new(m), vec![0.0; n], vec![0.0; n], vec![0.0; n]),
             |(ws, q, dq_user, dq), i| {
                 let user = &poses[i * n..(i + 1) * n];
                 m.pose_to_internal(user, q);
+                let nominal = corrector.nominal_relative_position(q);
                 states
                     .iter()
                     .enumerate()
@@ -214,29 +272,118 @@ pub fn residual_of_format(corrector: &Corrector, temperatures: &[f64], applied: 
                         for k in 0..n {
                             dq[k] = m.axes()[k].position_to_internal(dq_user[k]);
                         }
-                        let before = corrector.residual_at(q, &vec![0.0; n], &state, ws).0.norm() * 1e3;
-                        let left = corrector.residual_at(q, dq, &state, ws).0.norm() * 1e3;
-                        (left, before, i, s)
+                        let before = corrector.residual_at(q, &vec![0.0; n], &state, ws).0;
+                        let after = corrector.residual_at(q, dq, &state, ws).0;
+                        (nominal, before, after, i, s)
                     })
                     .collect::<Vec<_>>()
             },
         )
         .flatten()
         .collect();
-    if let Some(&(_, _, i, _)) = results.iter().find(|r| !(r.0.is_finite() && r.1.is_finite())) {
+    if let Some(&(_, _, _, i, _)) = samples.iter().find(|r| !(r.1.iter().chain(r.2.iter()).all(|v| v.is_finite()))) {
         return Err(CompensateError::Computation(format!(
             "the residual of the format is not finite at pose {:?}",
             &poses[i * n..(i + 1) * n]
         )));
     }
-    let worst = results.iter().max_by(|a, b| a.0.total_cmp(&b.0)).expect("at least one pose");
+    let nominal: Vec<Vec3> = samples.iter().map(|s| s.0).collect();
+    let reached =
+        |error: &dyn Fn(&(Vec3, Vec3, Vec3, usize, usize)) -> Vec3| -> Vec<Vec3> { samples.iter().map(|s| s.0 + error(s)).collect() };
+    let (reached_before, reached_after) = (reached(&|s| s.1), reached(&|s| s.2));
+    let (placement_before, placement_after) = (RigidFit::of(&nominal, &reached_before), RigidFit::of(&nominal, &reached_after));
+    // errors in um after the placement
+    let left =
+        |fit: &RigidFit, reached: &[Vec3]| -> Vec<f64> { nominal.iter().zip(reached).map(|(n, a)| fit.left(n, a).norm() * 1e3).collect() };
+    let (before, after) = (left(&placement_before, &reached_before), left(&placement_after, &reached_after));
+    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len() as f64).sqrt();
+    let worst = (0..after.len()).max_by(|&a, &b| after[a].total_cmp(&after[b])).expect("at least one pose");
+    let (_, _, _, pose, state) = samples[worst];
     Ok(FormatResidual {
-        worst_um: worst.0,
-        worst_pose: poses[worst.2 * n..(worst.2 + 1) * n].to_vec(),
-        worst_state: states[worst.3].0,
-        error_there_um: worst.1,
-        rms_um: (results.iter().map(|r| r.0 * r.0).sum::<f64>() / results.len() as f64).sqrt(),
-        worst_error_um: results.iter().map(|r| r.1).fold(0.0, f64::max),
-        samples: results.len(),
+        worst_um: after[worst],
+        worst_pose: poses[pose * n..(pose + 1) * n].to_vec(),
+        worst_state: states[state].0,
+        error_there_um: before[worst],
+        rms_um: rms(&after),
+        worst_error_um: before.iter().copied().fold(0.0, f64::max),
+        rms_error_um: rms(&before),
+        samples: samples.len(),
+        placement_before,
+        placement_after,
     })
+}
+
+/// What the uncertainty of the error values means for the error a compensation leaves: the files
+/// correct the values as stated; if a value is off by its standard uncertainty, its effect is left.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LeftUncertainty {
+    /// Expanded uncertainty (k = 2, um) of the error left, the largest over the poses ...
+    pub expanded_um: f64,
+    /// ... and its root mean square over them (um, k = 2).
+    pub rms_expanded_um: f64,
+    /// The parameters with a stated uncertainty that took part.
+    pub parameters: usize,
+}
+
+/// The uncertainty of the error left that follows from the standard uncertainties the error model
+/// states (`[uncertainty]`, e.g. of an identification): for each such parameter, its effect on the
+/// tool point relative to the workpiece over [`sample_poses`] (exact chain, a change of one standard
+/// uncertainty), up to the best placement of the workpiece frame ([`RigidFit`]), as the error before
+/// and after are judged; the parameters taken as independent (their effects added in quadrature);
+/// `None` when the model states none.
+pub fn uncertainty_of_error_left(corrector: &Corrector, temperatures: &[f64]) -> Result<Option<LeftUncertainty>, CompensateError> {
+    let m = corrector.machine;
+    let uncertain: Vec<(usize, f64)> = corrector
+        .errors
+        .uncertainties()
+        .iter()
+        .filter(|(_, u)| *u > 0.0)
+        .map(|(id, u)| m.parameter_index(id).map(|i| (i, u * id.component().to_internal())).map_err(CompensateError::Input))
+        .collect::<Result<_, _>>()?;
+    if uncertain.is_empty() {
+        return Ok(None);
+    }
+    let n = m.axis_count();
+    let poses = sample_poses(m)?;
+    let state = MachineState { directions: None, temperatures };
+    let count = poses.len() / n;
+    // per pose: the nominal relative position and the effect of each parameter's uncertainty (mm)
+    let effects: Vec<(Vec3, Vec<Vec3>)> = (0..count)
+        .into_par_iter()
+        .map(|i| {
+            let mut q = vec![0.0; n];
+            m.pose_to_internal(&poses[i * n..(i + 1) * n], &mut q);
+            let mut params = vec![0.0; m.parameter_count()];
+            corrector.errors.values_at_state(m, &q, &state, &mut params);
+            let at = |p: &[f64]| crate::model::volumetric_error(m, &q, p, &corrector.setup, crate::model::Frame::Workpiece).position;
+            let base = at(&params);
+            let effects = uncertain
+                .iter()
+                .map(|&(index, u)| {
+                    let mut changed = params.clone();
+                    changed[index] += u;
+                    at(&changed) - base
+                })
+                .collect();
+            (corrector.nominal_relative_position(&q), effects)
+        })
+        .collect();
+    let nominal: Vec<Vec3> = effects.iter().map(|e| e.0).collect();
+    let mut variance = vec![0.0; count];
+    for j in 0..uncertain.len() {
+        let moved: Vec<Vec3> = effects.iter().map(|(n, e)| n + e[j]).collect();
+        let fit = RigidFit::of(&nominal, &moved);
+        for (v, (n, a)) in variance.iter_mut().zip(nominal.iter().zip(&moved)) {
+            *v += fit.left(n, a).norm_squared();
+        }
+    }
+    if variance.iter().any(|v| !v.is_finite()) {
+        return Err(CompensateError::Computation("the uncertainty of the error left is not finite".into()));
+    }
+    let expanded: Vec<f64> = variance.iter().map(|v| 2.0 * v.sqrt() * 1e3).collect();
+    Ok(Some(LeftUncertainty {
+        expanded_um: expanded.iter().copied().fold(0.0, f64::max),
+        rms_expanded_um: (expanded.iter().map(|x| x * x).sum::<f64>() / count as f64).sqrt(),
+        parameters: uncertain.len(),
+    }))
 }

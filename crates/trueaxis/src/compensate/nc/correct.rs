@@ -5,11 +5,12 @@
 //! at the piece ends by more than the tolerance.
 
 use super::modal::{Frame, MM_PER_INCH};
-use super::path::{arc_geometry, departure, directions_at, point_at, split_from, ArcGeometry, Pieces};
+use super::path::{arc_geometry, departure, point_at, split_from, ArcGeometry, Pieces};
 use super::trace::{Move, MoveKind, Role};
 use super::NcOptions;
-use crate::compensate::correction::{CorrectionWorkspace, Corrector, WarmStart};
+use crate::compensate::correction::{Correction, CorrectionWorkspace, Corrector, WarmStart};
 use crate::compensate::coverage::{check_covered, table_ranges, TableRange};
+use crate::compensate::direction_of;
 use crate::compensate::export::{check_limit, Limits};
 use crate::compensate::CompensateError;
 use crate::errors::{Direction, MachineState};
@@ -24,9 +25,27 @@ pub struct Extremes {
     /// Largest correction of a linear axis (um) and of a rotary axis (urad).
     pub max_correction_um: f64,
     pub max_correction_urad: f64,
-    /// Largest position residual after correction and largest uncorrectable orientation (um, urad).
+    /// Largest position residual after correction, the rounding of the written numbers included,
+    /// and largest uncorrectable orientation (um, urad).
     pub max_residual_um: f64,
     pub max_uncorrectable_urad: f64,
+}
+
+/// Half a unit of the last digit the corrected program is written with: mm (linear axes in mm
+/// and in inch) and deg.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Rounding {
+    pub linear_mm: f64,
+    pub linear_inch_mm: f64,
+    pub rotary_deg: f64,
+}
+
+impl Rounding {
+    /// For `decimals` in mm and deg and `decimals_inch` in inch.
+    pub fn of_decimals(decimals: usize, decimals_inch: usize) -> Rounding {
+        let half = |d: usize| 0.5 * 10f64.powi(-(d as i32));
+        Rounding { linear_mm: half(decimals), linear_inch_mm: half(decimals_inch) * super::MM_PER_INCH, rotary_deg: half(decimals) }
+    }
 }
 
 /// The corrector and its state along a program.
@@ -45,6 +64,12 @@ pub(super) struct Corrections<'a, 'b> {
     directions: Vec<Option<Direction>>,
     previous_directions: Vec<Option<Direction>>,
     temperatures: Vec<f64>,
+    /// Half a unit of the last written digit, and whether the move being corrected is programmed
+    /// in inch.
+    rounding: Rounding,
+    inch: bool,
+    /// The rotary axes' part of the rounding at the end of the last move (mm).
+    rotary_rounding: Option<f64>,
     pub extremes: Extremes,
     /// The correction at the end of the last move: what the controller holds at the start of the
     /// next one (mm, deg).
@@ -55,7 +80,7 @@ pub(super) struct Corrections<'a, 'b> {
 }
 
 impl<'a, 'b> Corrections<'a, 'b> {
-    pub fn new(corrector: &'a Corrector<'b>, limits: Limits, temperatures: &[f64]) -> Self {
+    pub fn new(corrector: &'a Corrector<'b>, limits: Limits, temperatures: &[f64], rounding: Rounding) -> Self {
         let machine = corrector.machine;
         let n = machine.axis_count();
         Corrections {
@@ -71,6 +96,9 @@ impl<'a, 'b> Corrections<'a, 'b> {
             directions: vec![None; n],
             previous_directions: vec![None; n],
             temperatures: temperatures.to_vec(),
+            rounding,
+            inch: false,
+            rotary_rounding: None,
             extremes: Extremes::default(),
             start_correction: vec![0.0; n],
             origin: String::new(),
@@ -104,6 +132,14 @@ impl<'a, 'b> Corrections<'a, 'b> {
         self.machine.pose_to_internal(&p, &mut self.q);
         let state = MachineState { directions: Some(&self.directions), temperatures: &self.temperatures };
         let c = self.corrector.correct_along(&self.q, &state, &mut self.ws, &mut self.warm);
+        let linear_half = if self.inch { self.rounding.linear_inch_mm } else { self.rounding.linear_mm };
+        // the rotary axes' part through the chain at each move's end (t = 1, computed second of
+        // its points), reused along the move: the lever changes little within a move
+        if t == 1.0 || self.rotary_rounding.is_none() {
+            self.rotary_rounding = Some(rotary_rounding(&self.corrector, self.rounding.rotary_deg, &self.q, &c, &state, &mut self.ws));
+        }
+        let linear_axes = self.machine.axes().iter().filter(|a| a.kind == AxisKind::Linear).count() as f64;
+        let rounding = linear_half * linear_axes.sqrt() + self.rotary_rounding.unwrap_or(0.0);
         if !c.converged || c.dq[..n].iter().any(|v| !v.is_finite()) {
             return Err(CompensateError::Computation(format!(
                 "{}: line {}: the correction did not converge at {p:?}",
@@ -127,7 +163,7 @@ impl<'a, 'b> Corrections<'a, 'b> {
         }
         let r = &mut self.extremes;
         r.corrected_points += 1;
-        r.max_residual_um = r.max_residual_um.max(c.residual_position.norm() * 1e3);
+        r.max_residual_um = r.max_residual_um.max((c.residual_position.norm() + rounding) * 1e3);
         r.max_uncorrectable_urad = r.max_uncorrectable_urad.max(c.uncorrectable_orientation.norm() * 1e6);
         for (k, axis) in self.machine.axes().iter().enumerate() {
             match axis.kind {
@@ -156,6 +192,7 @@ impl<'a, 'b> Corrections<'a, 'b> {
             return Ok(vec![(1.0, vec![0.0; n])]);
         }
         self.set_tool(frame);
+        self.inch = frame.inch;
         let arc = arc_geometry(m);
         let arc = arc.as_ref();
         let (machine, origin, line) = (self.machine, self.origin.clone(), self.line);
@@ -231,6 +268,32 @@ impl<'a, 'b> Corrections<'a, 'b> {
     }
 }
 
+/// How far the tool point can move from the corrected one when each rotary axis is written rounded
+/// to its last digit (`rotary_half`, deg): the sum over the rotary axes of what the exact chain
+/// says (their levers), one chain evaluation per rotary axis (mm). The linear axes' half units
+/// add as a vector beside it.
+fn rotary_rounding(
+    corrector: &Corrector,
+    rotary_half: f64,
+    q: &[f64],
+    c: &Correction,
+    state: &MachineState,
+    ws: &mut CorrectionWorkspace,
+) -> f64 {
+    let n = corrector.machine.axis_count();
+    let mut rotary = 0.0;
+    let mut shifted = [0.0; crate::compensate::MAX_AXES];
+    for (k, axis) in corrector.machine.axes().iter().enumerate() {
+        if axis.kind == AxisKind::Rotary {
+            shifted[..n].copy_from_slice(&c.dq[..n]);
+            shifted[k] += rotary_half.to_radians();
+            let (moved, _) = corrector.residual_at(q, &shifted[..n], state, ws);
+            rotary += (moved - c.residual_position).norm();
+        }
+    }
+    rotary
+}
+
 /// Parameters `0 = t_0 < ... < t_k = 1` between which no axis reverses: for an arc, the points
 /// where its angle crosses a multiple of 90 degrees (a plane axis turns around there).
 fn reversals(arc: Option<&ArcGeometry>) -> Vec<f64> {
@@ -251,4 +314,25 @@ fn reversals(arc: Option<&ArcGeometry>) -> Vec<f64> {
     }
     out.push(1.0);
     out
+}
+
+/// Directions of motion at parameter `t`: the sign of the velocity of each axis; an axis that does
+/// not move keeps `previous` (the direction it last moved in, which fixes its backlash side).
+fn directions_at(m: &Move, arc: Option<&ArcGeometry>, t: f64, previous: &[Option<Direction>], out: &mut [Option<Direction>]) {
+    for k in 0..out.len() {
+        let velocity = m.end[k] - m.start[k];
+        out[k] = direction_of(velocity).or(previous[k]);
+    }
+    if let (Some(g), MoveKind::Arc { plane, .. }) = (arc, m.kind) {
+        let angle = g.start_angle + t * g.sweep;
+        let r = g.start_radius + t * (g.end_radius - g.start_radius);
+        let dr = g.end_radius - g.start_radius;
+        // d/dt (r cos a, r sin a) with a' = sweep
+        let v_first = dr * angle.cos() - r * g.sweep * angle.sin();
+        let v_second = dr * angle.sin() + r * g.sweep * angle.cos();
+        let tiny = 1e-12 * (r * g.sweep.abs()).max(1.0);
+        for (axis, v) in [(plane.first, v_first), (plane.second, v_second)] {
+            out[axis] = if v.abs() > tiny { direction_of(v) } else { previous[axis] };
+        }
+    }
 }

@@ -14,102 +14,29 @@
 //! does not move being the one it last moved in, and the tool point of the active tool length
 //! offset (the machine's tool point is the controlled point without offset).
 //!
-//! Files: [`lexer`] (reading a line), [`expr`] (expressions), [`params`] (parameters and their
-//! scopes), [`program`] (files and their control structures), [`interpret`] (control flow),
-//! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
-//! [`arcs`], [`cycles`], [`tools`] (tool table),
-//! [`dialect`], [`trace`] (what a run did), [`plan`] (what stays, what is expanded), [`correct`]
-//! (corrections along moves, [`path`]), [`write`] (the corrected text).
+//! The program is read and run by the crate `trueaxis-nc` (re-exported here: [`Dialect`],
+//! [`Move`], [`Trace`], [`ToolTable`], [`params`]...), which knows nothing of machine errors;
+//! [`correct`] computes the corrections along its moves and the pieces a move is split into.
 
-pub mod arcs;
 pub mod correct;
-pub mod cycles;
-pub mod dialect;
-pub mod execute;
-pub mod expr;
-pub mod interpret;
-pub mod lexer;
-pub mod modal;
-pub mod offsets;
-pub mod params;
-pub mod path;
-pub mod plan;
-pub mod program;
-pub mod system;
-pub mod tools;
-pub mod trace;
-pub mod write;
+pub mod header;
+
+pub use header::{FileId, Header};
 
 use super::correction::Corrector;
 use super::export::Limits;
 use super::CompensateError;
+use crate::machine::AxisKind;
 use crate::machine::Machine;
-pub use dialect::Dialect;
-pub use interpret::FanucSettings;
-pub use modal::MM_PER_INCH;
-pub use program::SearchPath;
-use thiserror::Error;
-pub use tools::ToolTable;
-pub use trace::{Move, MoveKind, Role, Trace};
+pub use trueaxis_nc::{
+    dialect, lexer, modal, params, path, plan, program, tools, trace, write, AxisSpec, Dialect, FanucSettings, MachineAxes, Move, MoveKind,
+    NcError, ProgramSetup, Role, SearchPath, ToolTable, Trace, UnknownTools, MM_PER_INCH,
+};
 
-/// Why a program cannot be run or corrected, with its file and line.
-#[derive(Debug, Error, Clone, PartialEq)]
-#[error("{file}: line {line}: {message}")]
-pub struct NcError {
-    pub file: String,
-    pub line: usize,
-    pub message: String,
-}
-
-/// Where and with what a program starts.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ProgramSetup {
-    /// Machine position before the first move (mm, deg; machine axis order); rs274 starts at 0.
-    pub start: Vec<f64>,
-    /// Parameters at the start (LinuxCNC parameter file: work offsets `#5221`..., the `G28`/`G30`
-    /// positions `#5161`/`#5181`..., the coordinate system `#5220`), machine units.
-    pub parameters: Vec<(u32, f64)>,
-    /// The tool table (machine units).
-    pub tools: ToolTable,
-    /// Machine units are inch (parameters, tool table): LinuxCNC's `rs274` without an INI file
-    /// works in inch; default mm.
-    pub machine_inch: bool,
-    /// Where subroutine files are found.
-    pub search_path: SearchPath,
-    pub fanuc: FanucSettings,
-    /// Re-read the position after a tool change (`M6`, `M61`) the way LinuxCNC's standalone
-    /// `rs274` does: from the last move in program coordinates, forgetting tool length offset
-    /// changes made since (`T1 M6 G43 H1` then reads the machine as if it had moved by the offset).
-    /// For checking corrected programs with rs274; LinuxCNC itself keeps the machine position
-    /// (default false).
-    pub rs274_tool_change: bool,
-}
-
-impl ProgramSetup {
-    /// All zero for `machine`: start at 0, no offsets, an empty tool table, mm.
-    pub fn zero(machine: &Machine) -> ProgramSetup {
-        ProgramSetup {
-            start: vec![0.0; machine.axis_count()],
-            parameters: Vec::new(),
-            tools: ToolTable::default(),
-            machine_inch: false,
-            search_path: SearchPath::default(),
-            fanuc: FanucSettings::default(),
-            rs274_tool_change: false,
-        }
-    }
-
-    /// Sets the work offset of coordinate system `system` (1 = G54 ... 9 = G59.3): the machine
-    /// position of the program zero, `values` per machine axis (mm, deg).
-    pub fn set_work_offset(&mut self, machine: &Machine, system: u8, values: &[f64]) {
-        let base = 5201 + 20 * u32::from(system);
-        for (axis, v) in machine.axes().iter().zip(values) {
-            let k = tools::AXIS_LETTERS.iter().position(|&l| l as char == axis.letter).expect("a machine axis letter");
-            let v = if self.machine_inch && modal::is_linear(k) { v / MM_PER_INCH } else { *v };
-            self.parameters.retain(|(n, _)| *n != base + k as u32);
-            self.parameters.push((base + k as u32, v));
-        }
-    }
+/// The axes of `machine` as the NC interpreter needs them: letters, linear or rotary, travel.
+pub fn machine_axes(machine: &Machine) -> MachineAxes {
+    let axes = machine.axes().iter().map(|a| AxisSpec { letter: a.letter, rotary: a.kind == AxisKind::Rotary, range: a.range }).collect();
+    MachineAxes { name: machine.name.clone(), axes }
 }
 
 /// Options of the NC correction.
@@ -132,6 +59,11 @@ pub struct NcOptions {
     pub limits: Limits,
     /// The dialect; `None`: detected from the program.
     pub dialect: Option<Dialect>,
+    /// The header naming the machine and error files the program is corrected for (none: no
+    /// header written).
+    pub header: Option<Header>,
+    /// Correct a program that says it was corrected already (default: refused).
+    pub force: bool,
 }
 
 impl NcOptions {
@@ -144,9 +76,11 @@ impl NcOptions {
             decimals: None,
             decimals_inch: None,
             max_pieces: 10_000,
-            setup: ProgramSetup::zero(machine),
+            setup: ProgramSetup::zero(&machine_axes(machine)),
             limits: Limits::of_machine(machine),
             dialect: None,
+            header: None,
+            force: false,
         }
     }
 
@@ -164,7 +98,8 @@ impl NcOptions {
 /// The corrected program and what happened.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NcResult {
-    pub text: String,
+    /// The corrected program's bytes (line ends and bytes of the input kept).
+    pub program: Vec<u8>,
     pub dialect: Dialect,
     /// Moves of the run corrected.
     pub moves: usize,
@@ -177,6 +112,14 @@ pub struct NcResult {
     pub inserted_lines: usize,
     /// What was expanded into plain moves (also noted at the top of the program).
     pub expanded: Vec<String>,
+    /// What was passed over (codes the dialect does not know, passed through unchanged; a
+    /// program without its end), each with its file and first line.
+    pub warnings: Vec<String>,
+    /// Tools that were not in the tool table and took the assumed length, and how far each 100 mm
+    /// of a real tool's length from it can move that tool's corrected points (um): the largest
+    /// orientation error left along the program times 100 mm.
+    pub assumed_tools: Vec<u32>,
+    pub tool_length_um_per_100mm: Option<f64>,
     /// Corrected points that would leave the machine's travel, kept at its end (uncorrected by
     /// what lies beyond: a move to the end of the travel, e.g. `G53 G0 Z0` at the top).
     pub clamped_points: usize,
@@ -188,41 +131,70 @@ pub struct NcResult {
     pub max_uncorrectable_urad: f64,
 }
 
+impl NcResult {
+    /// The corrected program as text (bytes that are not UTF-8, from comments read byte for
+    /// byte, shown as U+FFFD).
+    pub fn text(&self) -> std::borrow::Cow<'_, str> {
+        String::from_utf8_lossy(&self.program)
+    }
+}
+
+/// The warnings of a run as messages: `file: line N: message (and K more lines)`.
+fn warnings(trace: &Trace, program: &program::Program) -> Vec<String> {
+    trace
+        .warnings
+        .iter()
+        .map(|w| {
+            let more = if w.count > 1 { format!(" (and {} more lines)", w.count - 1) } else { String::new() };
+            format!("{}: line {}: {}{more}", program.files[w.file as usize].name, w.line, w.message)
+        })
+        .collect()
+}
+
 fn input_error(e: NcError) -> CompensateError {
     CompensateError::Input(e.to_string())
 }
 
 /// Runs a program without correcting it: its trace (moves in machine positions) and the loaded
 /// program. `origin` (the file name) prefixes messages.
-pub fn run_program(machine: &Machine, text: &str, origin: &str, options: &NcOptions) -> Result<(Trace, program::Program), CompensateError> {
-    let dialect = options.dialect.unwrap_or_else(|| Dialect::detect(text));
-    let program = program::Program::new(origin, text, dialect, options.setup.search_path.clone())
-        .map_err(|(k, m)| input_error(NcError { file: origin.to_string(), line: k + 1, message: m }))?;
+pub fn run_program(
+    machine: &Machine,
+    bytes: impl AsRef<[u8]>,
+    origin: &str,
+    options: &NcOptions,
+) -> Result<(Trace, program::Program), CompensateError> {
+    let bytes = bytes.as_ref();
+    let dialect = options.dialect.unwrap_or_else(|| Dialect::detect(&String::from_utf8_lossy(bytes)));
     let mut setup = options.setup.clone();
     if dialect == Dialect::Fanuc {
         if let Some(d) = options.decimals {
             setup.fanuc.increment_mm = 10f64.powi(-(d as i32));
         }
     }
-    interpret::run(machine, program, &setup).map_err(input_error)
+    trueaxis_nc::run(&machine_axes(machine), bytes, origin, Some(dialect), &setup).map_err(input_error)
 }
 
 /// The moves of a program in machine positions (mm, deg).
-pub fn program_moves(machine: &Machine, text: &str, origin: &str, options: &NcOptions) -> Result<Vec<Move>, CompensateError> {
-    Ok(run_program(machine, text, origin, options)?.0.moves)
+pub fn program_moves(machine: &Machine, bytes: impl AsRef<[u8]>, origin: &str, options: &NcOptions) -> Result<Vec<Move>, CompensateError> {
+    Ok(run_program(machine, bytes, origin, options)?.0.moves)
 }
 
-/// Corrects a program text. `origin` (the file name) prefixes messages; `temperatures` are the error
+/// Corrects a program (its bytes, as read from the file: any line ends, a byte-order mark,
+/// comments in Latin-1; see `trueaxis_nc::source`). `origin` (the file name) prefixes messages; `temperatures` are the error
 /// model's sensor temperatures (degC) for the whole program (empty: 20 degC).
 pub fn correct_program(
     corrector: &Corrector,
-    text: &str,
+    bytes: impl AsRef<[u8]>,
     origin: &str,
     options: &NcOptions,
     temperatures: &[f64],
 ) -> Result<NcResult, CompensateError> {
     let machine = corrector.machine;
-    let (trace, program) = run_program(machine, text, origin, options)?;
+    let bytes = bytes.as_ref();
+    if !options.force {
+        header::check_uncorrected(bytes, origin).map_err(input_error)?;
+    }
+    let (trace, program) = run_program(machine, bytes, origin, options)?;
     let dialect = program.dialect;
     let plan = plan::plan(&program, &trace);
     let (decimals, decimals_inch) = options.decimals_for(dialect);
@@ -230,8 +202,10 @@ pub fn correct_program(
     let resolution = 10f64.powi(-(decimals as i32)).min(MM_PER_INCH * 10f64.powi(-(decimals_inch as i32)));
     let mut tight = *corrector;
     tight.options.tolerance_mm = tight.options.tolerance_mm.min(0.2 * resolution);
-    let mut corrections = correct::Corrections::new(&tight, options.limits, temperatures);
-    let mut writer = write::Writer::new(machine, &program, &trace, &plan, decimals, decimals_inch);
+    let rounding = correct::Rounding::of_decimals(decimals, decimals_inch);
+    let mut corrections = correct::Corrections::new(&tight, options.limits, temperatures, rounding);
+    let axes = machine_axes(machine);
+    let mut writer = write::Writer::new(&axes, &program, &trace, &plan, decimals, decimals_inch);
     writer.machine_inch = options.setup.machine_inch;
     let mut file = usize::MAX;
     let mut pieces = Vec::new();
@@ -249,11 +223,16 @@ pub fn correct_program(
         }
         writer.step(i, &pieces);
     }
-    let notes = notes(&writer.notes, dialect);
-    let text = writer.finish(&notes);
     let e = corrections.extremes;
+    let tool_length_um_per_100mm = (!trace.assumed_tools.is_empty()).then_some(e.max_uncorrectable_urad * 0.1);
+    let mut notes = options.header.as_ref().map_or_else(Vec::new, |h| h.lines(dialect));
+    if let Some(per_100) = tool_length_um_per_100mm {
+        notes.push(header::assumed_tools_line(&trace.assumed_tools, &options.setup, per_100, dialect));
+    }
+    notes.extend(write::notes(&writer.notes, dialect));
+    let written = writer.finish(&notes);
     Ok(NcResult {
-        text,
+        program: written,
         dialect,
         moves: trace.moves.len(),
         blocks: trace.steps.len(),
@@ -261,34 +240,13 @@ pub fn correct_program(
         changed_lines: writer.changed_lines,
         inserted_lines: writer.inserted_lines,
         expanded: writer.notes.clone(),
+        warnings: warnings(&trace, &program),
+        assumed_tools: trace.assumed_tools.clone(),
+        tool_length_um_per_100mm,
         clamped_points: writer.clamped.get(),
         max_correction_um: e.max_correction_um,
         max_correction_urad: e.max_correction_urad,
         max_residual_um: e.max_residual_um,
         max_uncorrectable_urad: e.max_uncorrectable_urad,
     })
-}
-
-/// The comment lines at the top of a corrected program that say what was expanded (at most 20).
-fn notes(expanded: &[String], dialect: Dialect) -> Vec<String> {
-    if expanded.is_empty() {
-        return Vec::new();
-    }
-    let clean = |s: &str| {
-        let s = s.replace(['(', ')'], "");
-        match dialect {
-            Dialect::Fanuc => s.to_uppercase().replace(['<', '>', '#'], " "),
-            Dialect::LinuxCnc => s,
-        }
-    };
-    let mut out = vec![clean("(trueaxis: corrected program; expanded into plain moves because the correction differs where they run:)")];
-    out[0] =
-        format!("({})", clean("trueaxis: corrected program; expanded into plain moves because the correction differs where they run:"));
-    for e in expanded.iter().take(20) {
-        out.push(format!("({})", clean(&format!("trueaxis: - {e}"))));
-    }
-    if expanded.len() > 20 {
-        out.push(format!("({})", clean(&format!("trueaxis: - and {} more", expanded.len() - 20))));
-    }
-    out
 }

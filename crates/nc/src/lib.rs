@@ -1,0 +1,147 @@
+//! NC programs as a controller runs them: reading an RS274/NGC program as LinuxCNC 2.9 does
+//! (parameters, expressions, O-word subroutines and control flow, tool length offsets, work
+//! offsets, canned cycles...) or a Fanuc program as a Fanuc control does (macro variables,
+//! `IF`/`GOTO`/`WHILE`, `M98`/`M99`/`G65`), into canonical moves in machine positions (mm, deg);
+//! planning which lines of a program can keep their text when its points move, and writing the
+//! program again with moved points. It knows the machine's axes and their travel
+//! ([`MachineAxes`]) and nothing of machine errors: the correction that moves the points is the
+//! core library's (`trueaxis::compensate::nc`).
+//!
+//! Machine positions: `machine = rotate_xy(program + G92, rotation) + work offset + tool offset`
+//! (LinuxCNC `emccanon.cc`), in mm (program units x 25.4 in G20).
+//!
+//! Files: [`lexer`] (reading a line), [`expr`] (expressions), [`params`] (parameters and their
+//! scopes), [`program`] (files and their control structures), [`interpret`] (control flow),
+//! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
+//! [`arcs`], [`cycles`], [`tools`] (tool table), [`dialect`], [`trace`] (what a run did),
+//! [`plan`] (what stays, what is expanded), [`path`] (points along moves, split points),
+//! [`write`] (the text with moved points).
+
+pub mod arcs;
+pub mod axes;
+pub mod cycles;
+pub mod dialect;
+pub mod execute;
+pub mod expr;
+pub mod interpret;
+pub mod lexer;
+pub mod modal;
+pub mod offsets;
+pub mod params;
+pub mod path;
+pub mod plan;
+pub mod program;
+pub mod source;
+pub mod system;
+pub mod tools;
+pub mod trace;
+pub mod write;
+
+pub use axes::{AxisSpec, MachineAxes, MAX_AXES};
+pub use dialect::Dialect;
+pub use interpret::FanucSettings;
+pub use modal::MM_PER_INCH;
+pub use program::{Program, SearchPath};
+pub use tools::ToolTable;
+pub use trace::{Move, MoveKind, Role, Trace, Warning};
+
+use std::fmt;
+
+/// Why a program cannot be run, with its file and line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NcError {
+    pub file: String,
+    pub line: usize,
+    pub message: String,
+}
+
+impl fmt::Display for NcError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: line {}: {}", self.file, self.line, self.message)
+    }
+}
+
+impl std::error::Error for NcError {}
+
+/// Where and with what a program starts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ProgramSetup {
+    /// Machine position before the first move (mm, deg; machine axis order); rs274 starts at 0.
+    pub start: Vec<f64>,
+    /// Parameters at the start (LinuxCNC parameter file: work offsets `#5221`..., the `G28`/`G30`
+    /// positions `#5161`/`#5181`..., the coordinate system `#5220`), machine units.
+    pub parameters: Vec<(u32, f64)>,
+    /// The tool table (machine units).
+    pub tools: ToolTable,
+    /// Machine units are inch (parameters, tool table): LinuxCNC's `rs274` without an INI file
+    /// works in inch; default mm.
+    pub machine_inch: bool,
+    /// Where subroutine files are found.
+    pub search_path: SearchPath,
+    pub fanuc: FanucSettings,
+    /// Re-read the position after a tool change (`M6`, `M61`) the way LinuxCNC's standalone
+    /// `rs274` does: from the last move in program coordinates, forgetting tool length offset
+    /// changes made since (`T1 M6 G43 H1` then reads the machine as if it had moved by the offset).
+    /// For checking corrected programs with rs274; LinuxCNC itself keeps the machine position
+    /// (default false).
+    pub rs274_tool_change: bool,
+    /// What a tool the table lacks (or every tool, without a table) is taken as.
+    pub unknown_tools: UnknownTools,
+}
+
+/// What a tool that is not in the tool table is taken as.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum UnknownTools {
+    /// Refused with the line (`--strict-tools`).
+    Refuse,
+    /// A tool of this length offset (Z, machine units): 0 puts its tip at the machine file's tool
+    /// point. The moves then hold the error of that assumption, which the corrector states.
+    Assume(f64),
+}
+
+impl ProgramSetup {
+    /// All zero for a machine with `axes`: start at 0, no offsets, an empty tool table, mm.
+    pub fn zero(axes: &MachineAxes) -> ProgramSetup {
+        ProgramSetup {
+            start: vec![0.0; axes.axis_count()],
+            parameters: Vec::new(),
+            tools: ToolTable::default(),
+            machine_inch: false,
+            search_path: SearchPath::default(),
+            fanuc: FanucSettings::default(),
+            rs274_tool_change: false,
+            unknown_tools: UnknownTools::Assume(0.0),
+        }
+    }
+
+    /// Sets the work offset of coordinate system `system` (1 = G54 ... 9 = G59.3): the machine
+    /// position of the program zero, `values` per machine axis (mm, deg).
+    pub fn set_work_offset(&mut self, axes: &MachineAxes, system: u8, values: &[f64]) {
+        let base = 5201 + 20 * u32::from(system);
+        for (axis, v) in axes.axes().iter().zip(values) {
+            let k = tools::AXIS_LETTERS.iter().position(|&l| l as char == axis.letter).expect("a machine axis letter");
+            let v = if self.machine_inch && modal::is_linear(k) { v / MM_PER_INCH } else { *v };
+            self.parameters.retain(|(n, _)| *n != base + k as u32);
+            self.parameters.push((base + k as u32, v));
+        }
+    }
+}
+
+/// Reads and runs a program from its bytes (`dialect`: `None` detects it from the text): the trace of the run
+/// (moves in machine positions) and the loaded program. `origin` (the file name) prefixes
+/// messages.
+pub fn run(
+    axes: &MachineAxes,
+    bytes: &[u8],
+    origin: &str,
+    dialect: Option<Dialect>,
+    setup: &ProgramSetup,
+) -> Result<(Trace, Program), NcError> {
+    let dialect = dialect.unwrap_or_else(|| Dialect::detect(&String::from_utf8_lossy(bytes)));
+    let program = Program::new(origin, bytes, dialect, setup.search_path.clone()).map_err(|(k, m)| NcError {
+        file: origin.to_string(),
+        line: k + 1,
+        message: m,
+    })?;
+    interpret::run(axes, program, setup)
+}
