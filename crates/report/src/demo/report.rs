@@ -7,7 +7,7 @@ use super::campaign::{Simulated, POINT_TIME_S};
 use crate::calibration::{CircleInput, CompensationPart};
 use crate::html::Section;
 
-pub const MACHINE_NOTE: &str = "Frame M at the nominal intersection of the A and C axes at home. The machine is simulated with the link and setup errors published for this machine by Andolfatto, Mayer and Lavernhe (Precision Engineering 35, 2011) (errors_true.toml): the true errors that the calibration has to find.";
+pub const MACHINE_NOTE: &str = "Frame M at the nominal intersection of the A and C axes at home. The machine is simulated with the link and setup errors published for this machine by Andolfatto, Mayer and Lavernhe (International Journal of Machine Tools and Manufacture 51, 2011) (errors_true.toml): the true errors that the calibration has to find.";
 
 /// How the campaign was simulated.
 pub fn campaign_description(s: &Simulated) -> String {
