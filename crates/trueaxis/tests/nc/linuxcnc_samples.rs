@@ -21,14 +21,14 @@ use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
 
 /// The tool table given to rs274 and trueaxis (inch: rs274's machine units without an INI file).
-fn tool_table() -> String {
+pub(crate) fn tool_table() -> String {
     let mut t: String = (1..=20).map(|n| format!("T{n} P{n} Z{:.3} D{:.3} ;tool {n}\n", 0.25 * n as f64, 0.05 * n as f64)).collect();
     t.push_str("T99999 P123 Z0.1 ;big tool number\n");
     t
 }
 
 /// A 3-axis mill: vmc3 with a travel of +-3000 mm on every axis.
-fn mill() -> Machine {
+pub(crate) fn mill() -> Machine {
     let text = std::fs::read_to_string("../../examples/machines/vmc3.toml").unwrap();
     let text = text
         .replace("range = [-400, 400]", "range = [-3000, 3000]")

@@ -7,6 +7,7 @@
 
 mod bad_programs;
 mod common;
+mod corpus;
 mod fanuc;
 mod linuxcnc_samples;
 mod posts;
