@@ -14,3 +14,4 @@ mod posts;
 mod reading;
 mod roundtrip;
 mod rs274;
+mod splines;
