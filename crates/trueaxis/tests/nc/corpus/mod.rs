@@ -179,7 +179,7 @@ fn corpus_of_posts_and_controllers_is_corrected() {
                     design += 1;
                     println!("  refused by design: {}: {m}", s.name);
                 }
-                Outcome::Failed(m) => failures.push(format!("{}: {m}", s.name)),
+                Outcome::Failed(m) => failures.push(format!("{} ({}): {m}", s.name, s.controller)),
             }
         }
     }

@@ -89,14 +89,14 @@ fn fusion_haas(k: usize) -> Vec<u8> {
     w.raw(&format!("O{:05} (PART {k})", 1000 + k));
     w.raw(&format!("(T1 D=6. CR=0. - ZMIN=-{} - FLAT END MILL)", w.num(p.depth)));
     w.raw("(T2 D=5. CR=0. TAPER=118DEG - ZMIN=-8. - DRILL)");
-    w.line(&format!("G90 G94 G17 G49 G40 G80"));
+    w.line("G90 G94 G17 G49 G40 G80");
     w.line(units(&p));
     w.line("G28 G91 Z0.");
     w.line("G90");
     w.raw("(CONTOUR2D)");
     w.line("T1 M6");
     w.line(&format!("S{} M3", p.spindle));
-    w.line(if k % 2 == 0 { "G154 P1".into() } else { "G54".to_string() }.as_str());
+    w.line(if k % 2 == 0 { "G154 P1" } else { "G54" });
     w.line("M8");
     if k % 4 == 1 {
         w.line("G187 P2 E0.05");

@@ -46,7 +46,6 @@ impl Cycle {
 /// A part: where it lies, its size, depth passes, holes; the variant `k` of a style.
 #[derive(Clone, Debug)]
 pub struct Part {
-    pub k: usize,
     pub inch: bool,
     pub x0: f64,
     pub y0: f64,
@@ -74,7 +73,6 @@ impl Part {
         let s = |mm: f64| if inch { (mm / 25.4 * 1e4).round() / 1e4 } else { mm };
         let holes = (0..2 + k % 4).map(|i| [s(-40.0 + 7.0 * u + 11.0 * i as f64), s(-30.0 + 3.0 * u - 6.0 * i as f64)]).collect();
         Part {
-            k,
             inch,
             x0: s(-50.0 + 9.0 * u),
             y0: s(-35.0 + 4.0 * u),
