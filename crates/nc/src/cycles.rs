@@ -231,7 +231,9 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
             }
             740 | 840 => {
                 let (reverse, forward) = if code == 840 { (4.0, 3.0) } else { (3.0, 4.0) };
-                exec.action(&[(b'M', 50.0), (b'P', 0.0), (b'M', 51.0), (b'P', 0.0)]);
+                // two blocks: M50 and M51 are one modal group (rs274: "Two m codes used from same modal group")
+                exec.action(&[(b'M', 50.0), (b'P', 0.0)]);
+                exec.action(&[(b'M', 51.0), (b'P', 0.0)]);
                 feed(exec, aa, bb, cc)?;
                 exec.action(&[(b'M', 5.0)]);
                 exec.action(&[(b'M', reverse)]);
@@ -239,7 +241,8 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
                 feed(exec, aa, bb, clear)?;
                 exec.action(&[(b'M', 5.0)]);
                 exec.action(&[(b'M', forward)]);
-                exec.action(&[(b'M', 50.0), (b'P', 1.0), (b'M', 51.0), (b'P', 1.0)]);
+                exec.action(&[(b'M', 50.0), (b'P', 1.0)]);
+                exec.action(&[(b'M', 51.0), (b'P', 1.0)]);
             }
             870 => {
                 let middle = if s.frame.incremental { cc + ck } else { ck };

@@ -41,7 +41,8 @@ impl Dialect {
             if compact.is_empty() {
                 continue;
             }
-            if compact.contains("#<") || raw.contains(';') && !compact.ends_with(';') {
+            // `;` followed by text is a LinuxCNC comment; at the end of the line, a Fanuc end of block
+            if compact.contains("#<") || text_after_semicolon(raw) {
                 linuxcnc += 1;
             }
             let after_n = skip_sequence_number(&compact);
@@ -118,6 +119,20 @@ fn strip_comments(line: &str) -> String {
     out
 }
 
+/// Whether the line has a `;` outside `( )` comments with more than blanks after it.
+fn text_after_semicolon(line: &str) -> bool {
+    let mut depth = 0;
+    for (i, c) in line.char_indices() {
+        match c {
+            '(' => depth += 1,
+            ')' if depth > 0 => depth -= 1,
+            ';' if depth == 0 => return !line[i + 1..].trim().is_empty(),
+            _ => {}
+        }
+    }
+    false
+}
+
 fn skip_sequence_number(compact: &str) -> &str {
     let s = compact.trim_start_matches('/');
     match s.strip_prefix('N') {
@@ -183,6 +198,10 @@ mod tests {
         assert_eq!(Dialect::detect("#<depth> = 2\nG1 Z-#<depth>\nM2\n"), Dialect::LinuxCnc);
         assert_eq!(Dialect::detect("G0 X1 Y2\nG1 Z-1 F100\nM2\n"), Dialect::LinuxCnc);
         assert_eq!(Dialect::detect("%\n:1001\nG187 P1\nG0 X1.\nM30\n%\n"), Dialect::Fanuc);
+        // `;` ending every block (as a Fanuc punches them) is no LinuxCNC comment
+        let eob = "%\nO6000 (SLOTS)\nG21 G90;\n#1 = 0;\nN10 IF [#1 GE 3] GOTO 20;\nG0 X1.;\nN20 M30;\n%\n";
+        assert_eq!(Dialect::detect(eob), Dialect::Fanuc);
+        assert_eq!(Dialect::detect("G21 ; mm\nG0 X1 ; rapid\nM2\n"), Dialect::LinuxCnc);
         assert_eq!(format_number(10.0, 4, Dialect::Fanuc), "10.");
         assert_eq!(format_number(10.0, 4, Dialect::LinuxCnc), "10");
         assert_eq!(format_number(-0.00001, 4, Dialect::Fanuc), "0.");

@@ -158,7 +158,8 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
             611 => Path,
             70 | 80 => Lathe,
             281 | 301 | 921..=923 => NonModal,
-            50..=53 => return refuse("(splines) are not supported: convert them to lines or arcs"),
+            50 | 51 => Motion,
+            52 | 53 => return refuse("(NURBS) is not supported: convert it to lines or arcs"),
             700 | 710 | 711 | 720 | 721 => return refuse("(lathe roughing cycle) is not supported"),
             171 | 181 | 191 => return refuse("(U V W planes) is not supported"),
             _ => Unknown,
@@ -746,7 +747,7 @@ impl Exec<'_> {
                         Motion::Rapid => Some(0),
                         Motion::Feed => Some(10),
                         Motion::Arc { clockwise } => Some(if clockwise { 20 } else { 30 }),
-                        Motion::Cycle(c) => Some(c),
+                        Motion::Cycle(c) | Motion::Spline(c) => Some(c),
                     }
                 }
                 None => None,
@@ -904,6 +905,14 @@ impl Exec<'_> {
                 let f = self.feed_for_move(w)?;
                 self.state.motion = Motion::Arc { clockwise: code == 20 };
                 self.arc(code == 20, w, f, words, step)
+            }
+            50 | 51 => {
+                if inverse {
+                    return Err("splines cannot run in inverse-time feed (G93)".into());
+                }
+                self.feed_for_move(w)?;
+                self.trace.steps[step].flags |= flags::EXPAND | flags::SPLINE;
+                crate::splines::spline(self, code, w)
             }
             800 => {
                 self.state.motion = self.after_g80();

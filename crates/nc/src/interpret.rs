@@ -81,6 +81,8 @@ impl Default for FanucSettings {
 /// The interpreter's state beside the program text.
 pub(crate) struct Exec<'m> {
     pub machine: &'m MachineAxes,
+    /// P Q of the last `G5` (a `G5` without I J after it mirrors them).
+    pub spline_pq: Option<(f64, f64)>,
     pub dialect: Dialect,
     pub params: Params,
     pub tools: ToolTable,
@@ -236,6 +238,7 @@ impl<'m> Exec<'m> {
             stop_words: Vec::new(),
             rs274_tool_change: setup.rs274_tool_change,
             tool_at_last_move: [0.0; AXES],
+            spline_pq: None,
             unknown_tools: setup.unknown_tools,
         };
         let n = machine.axis_count();

@@ -32,6 +32,7 @@ pub mod path;
 pub mod plan;
 pub mod program;
 pub mod source;
+pub mod splines;
 pub mod system;
 pub mod tools;
 pub mod trace;

@@ -83,6 +83,8 @@ pub enum Motion {
     },
     /// A canned cycle: G73, G74, G81-G89 (the number times 10: 730, 810, ...).
     Cycle(u16),
+    /// A LinuxCNC spline: G5 (50) or G5.1 (51).
+    Spline(u16),
 }
 
 /// Feed rate mode (group 5).

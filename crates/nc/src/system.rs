@@ -214,7 +214,7 @@ impl Exec<'_> {
                 Motion::Feed => 10.0,
                 Motion::Arc { clockwise: true } => 20.0,
                 Motion::Arc { clockwise: false } => 30.0,
-                Motion::Cycle(c) => f64::from(c),
+                Motion::Cycle(c) | Motion::Spline(c) => f64::from(c),
             },
             "_plane" => s.plane.gcode() * 10.0,
             "_ccomp" => 400.0,

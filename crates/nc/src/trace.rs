@@ -99,6 +99,8 @@ pub mod flags {
     pub const CALL: u16 = 8;
     /// A backward `GOTO` was taken (Fanuc): the program is expanded as a whole.
     pub const JUMP_BACK: u16 = 16;
+    /// A spline (`G5`, `G5.1`) run as chords.
+    pub const SPLINE: u16 = 32;
 }
 
 /// One executed line.

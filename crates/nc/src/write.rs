@@ -701,7 +701,9 @@ impl<'a> Writer<'a> {
                 let lines = self.expanded(step, pieces, sequence);
                 let text = self.program.files[0].line_text(k).to_string();
                 if self.region_changed {
-                    let what = if self.trace.step_moves(step).iter().all(|m| matches!(m.kind, MoveKind::Arc { .. })) {
+                    let what = if step.has(crate::trace::flags::SPLINE) {
+                        "spline as lines within 1 um of the curve"
+                    } else if self.trace.step_moves(step).iter().all(|m| matches!(m.kind, MoveKind::Arc { .. })) {
                         "arc of several turns"
                     } else {
                         "canned cycle"

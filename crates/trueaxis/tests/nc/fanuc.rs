@@ -295,7 +295,7 @@ fn five_axis_expansion() -> Expansion {
 }
 
 /// The moves trueaxis reads, as canonical moves.
-fn read(machine: &Machine, text: &str, options: &NcOptions) -> Vec<Canon> {
+pub(crate) fn read(machine: &Machine, text: &str, options: &NcOptions) -> Vec<Canon> {
     let (trace, _) = run_program(machine, text, "fanuc", options).unwrap_or_else(|e| panic!("{e}"));
     let letters = ['X', 'Y', 'Z', 'A', 'B', 'C'];
     trace
@@ -319,7 +319,7 @@ fn read(machine: &Machine, text: &str, options: &NcOptions) -> Vec<Canon> {
         .collect()
 }
 
-fn homes(machine: &Machine, text: &str, options: &NcOptions) -> Vec<usize> {
+pub(crate) fn homes(machine: &Machine, text: &str, options: &NcOptions) -> Vec<usize> {
     let (trace, _) = run_program(machine, text, "fanuc", options).unwrap();
     crate::common::canonical_homes(machine, &trace.moves).1
 }

@@ -7,9 +7,11 @@
 
 mod bad_programs;
 mod common;
+mod corpus;
 mod fanuc;
 mod linuxcnc_samples;
 mod posts;
 mod reading;
 mod roundtrip;
 mod rs274;
+mod splines;

@@ -215,7 +215,7 @@ fn what_cannot_be_corrected_is_refused_with_the_line() {
         ("o1 while [1]\nG0 X1\nM2\n", "line 1: `o1 while` is never closed"),
         ("G0 X1\nG0 A10\nM2\n", "line 2: axis A is not an axis of machine"),
         ("G0 X1000\nM2\n", "line 1: the end point leaves the machine's travel"),
-        ("G5.1 X1 Y1 I1 J1\nM2\n", "line 1: G5.1 (splines)"),
+        ("G5.2 X1 Y1 P1 L3\nM2\n", "line 1: G5.2 (NURBS)"),
         ("o1 sub\no1 endsub\nM98 P100\nM2\n", "line 3: M98 is a Fanuc subprogram call"),
         ("o<nowhere> call\nM2\n", "line 1: subroutine `o<nowhere>` is neither in the program nor a file nowhere.ngc"),
         ("(abort, tool broken)\nM2\n", "line 1: the program aborts here: tool broken"),

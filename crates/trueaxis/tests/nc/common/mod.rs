@@ -11,7 +11,9 @@ use trueaxis::compensate::nc::{Move, MoveKind, Role};
 
 /// The canonical moves rs274 prints for the moves trueaxis reads: one per move, but one for all
 /// the turns of a multi-turn arc (trueaxis writes its turns as separate arcs); their number and
-/// the indices of the returns to the G28/G30 positions (not corrected by design).
+/// the indices of the moves not corrected by design: the returns to the G28/G30 positions, and an
+/// intermediate point of G28/G30 where the machine already is (`G28 G91 X0. Y0.` after `G28 G91
+/// Z0.`: the controller stays where the last written point put it).
 pub fn canonical_homes(machine: &Machine, moves: &[Move]) -> (usize, Vec<usize>) {
     let mut count = 0;
     let mut homes = Vec::new();
@@ -25,7 +27,7 @@ pub fn canonical_homes(machine: &Machine, moves: &[Move]) -> (usize, Vec<usize>)
             continue;
         }
         let _ = machine;
-        if m.role == Role::Home {
+        if m.role == Role::Home || matches!(m.role, Role::Intermediate { .. }) && m.start == m.end {
             homes.push(count);
         }
         count += 1;

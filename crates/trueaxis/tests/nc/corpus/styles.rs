@@ -1,0 +1,694 @@
+//! The styles of the corpus: for each CAM post-processor (or hand-writing habit) and controller,
+//! a program written the way its published output is written (docs/nc.md lists the published
+//! programs studied and what each style takes from them), varied by the part (`Part::new(k, ..)`):
+//! header comments, safety blocks, tool changes, work offsets, number formats, arcs, cycles, ends.
+//! No published file is copied; the geometry is this module's own.
+
+use super::writer::{ArcWords, Cycle, Digits, Part, W};
+
+/// One program of the corpus.
+pub struct Sample {
+    pub post: &'static str,
+    pub controller: &'static str,
+    pub name: String,
+    pub bytes: Vec<u8>,
+    /// Written for a LinuxCNC-compatible controller (LinuxCNC, PathPilot, Mach3, grbl): checked
+    /// through LinuxCNC's rs274; otherwise by a second reading of the Fanuc-dialect program.
+    pub rs274: bool,
+}
+
+/// A style: post, controller, whether rs274 reads it, the program of variant k.
+pub type Style = (&'static str, &'static str, bool, fn(usize) -> Vec<u8>);
+
+pub const STYLES: [Style; 17] = [
+    ("Fusion 360 haas.cps", "Haas NGC", false, fusion_haas),
+    ("Fusion 360 fanuc.cps", "Fanuc 0i", false, fusion_fanuc),
+    ("Mastercam MPFAN", "Fanuc 0i", false, mastercam),
+    ("CAMWorks Fanuc post", "Fanuc 0i", false, camworks),
+    ("hand-written Haas macro", "Haas NGC", false, haas_macro),
+    ("hand-written Fanuc Custom Macro B", "Fanuc 30i", false, fanuc_macro),
+    ("Fadal format 2 (hand-written)", "Fadal 88HS", false, fadal),
+    ("Fusion 360 mach3mill.cps", "Mach3", true, fusion_mach3),
+    ("CamBam Mach3 post", "Mach3", true, cambam),
+    ("SketchUcam", "Mach3", true, sketchucam),
+    ("Fusion 360 grbl.cps (OpenBuilds)", "grbl 1.1", true, fusion_grbl),
+    ("pcb2gcode", "grbl 1.1", true, pcb2gcode),
+    ("Fusion 360 linuxcnc.cps", "LinuxCNC 2.9", true, fusion_linuxcnc),
+    ("Fusion 360 tormach.cps", "Tormach PathPilot", true, tormach),
+    ("PyCAM", "LinuxCNC 2.9", true, pycam),
+    ("HeeksCNC emc2b", "LinuxCNC 2.9", true, heekscnc),
+    ("hand-written LinuxCNC (O-words)", "LinuxCNC 2.9", true, linuxcnc_hand),
+];
+
+/// The whole corpus: `per_style` variants of each style.
+pub fn corpus(per_style: usize) -> Vec<Sample> {
+    let mut out = Vec::new();
+    for (post, controller, rs274, f) in STYLES {
+        for k in 0..per_style {
+            let slug: String = post.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
+            let ext = if rs274 { "ngc" } else { "nc" };
+            out.push(Sample { post, controller, name: format!("{slug}_{k}.{ext}"), bytes: f(k), rs274 });
+        }
+    }
+    out
+}
+
+/// CR LF line ends (Windows posts).
+fn crlf(s: String) -> Vec<u8> {
+    s.replace('\n', "\r\n").into_bytes()
+}
+
+/// Latin-1 bytes for the characters below U+0100 (European comments), others as UTF-8.
+fn latin1(s: &str) -> Vec<u8> {
+    let mut out = Vec::new();
+    for c in s.chars() {
+        if (c as u32) < 256 {
+            out.push(c as u32 as u8);
+        } else {
+            out.extend(c.to_string().bytes());
+        }
+    }
+    out
+}
+
+fn units(p: &Part) -> &'static str {
+    if p.inch {
+        "G20"
+    } else {
+        "G21"
+    }
+}
+
+/// Fusion 360 for Haas (NGC): `%`, `O0nnnn`, a tool list, the safety block, `G28 G91 Z0.`, `G154 P`
+/// or `G54`, `G43 Z.. H..`, `G187` smoothing, `M29`-less rigid tapping (`G84`), `G103 P1` around
+/// cycles, `G28 G91 X0. Y0.` at the end.
+fn fusion_haas(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 3 == 2);
+    let mut w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, true), " ");
+    w.raw("%");
+    w.raw(&format!("O{:05} (PART {k})", 1000 + k));
+    w.raw(&format!("(T1 D=6. CR=0. - ZMIN=-{} - FLAT END MILL)", w.num(p.depth)));
+    w.raw("(T2 D=5. CR=0. TAPER=118DEG - ZMIN=-8. - DRILL)");
+    w.line("G90 G94 G17 G49 G40 G80");
+    w.line(units(&p));
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.raw("(CONTOUR2D)");
+    w.line("T1 M6");
+    w.line(&format!("S{} M3", p.spindle));
+    w.line(if k % 2 == 0 { "G154 P1" } else { "G54" });
+    w.line("M8");
+    if k % 4 == 1 {
+        w.line("G187 P2 E0.05");
+    }
+    let xm = p.x0 + p.w / 2.0;
+    w.rapid(Some(xm), Some(p.y0), None);
+    w.line(&format!("G43 Z{} H1", w.num(p.clear)));
+    w.reset();
+    w.contour(&p);
+    w.line("G187");
+    w.line("M9");
+    w.line("M5");
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.reset();
+    w.raw("(DRILL)");
+    w.line("T2 M6");
+    w.line(&format!("S{} M3", p.spindle / 2));
+    w.line("G54");
+    w.line("G103 P1");
+    w.rapid(Some(p.holes[0][0]), Some(p.holes[0][1]), None);
+    w.line(&format!("G43 Z{} H2", w.num(p.clear)));
+    w.reset();
+    w.cycle(&p, "G98", p.cycle);
+    w.line("G103");
+    w.line("M5");
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.line("G28 G91 X0. Y0.");
+    w.line("G90");
+    w.line("M30");
+    w.raw("%");
+    w.out.into_bytes()
+}
+
+/// Fusion 360 for Fanuc: sequence numbers by 5, the same safety block, `G43 Z.. H..`, G83 with Q,
+/// tool radius compensation in control (`G41 D1`) in one variant of ten (refused by design).
+fn fusion_fanuc(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 4 == 3);
+    let mut w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, true), " ");
+    w.raw("%");
+    w.raw(&format!("O{} (FANUC {k})", 2000 + k));
+    w.raw("(T1  D=8. CR=0. - ZMIN=-3. - FLAT END MILL)");
+    w.seq = Some((10, 5));
+    w.line("G90 G94 G17 G49 G40 G80");
+    w.line(units(&p));
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.raw("(FACE1)");
+    w.line("T1 M06");
+    w.line(&format!("S{} M03", p.spindle));
+    w.line("G54");
+    w.line("M08");
+    w.rapid(Some(p.x0), Some(p.y0), None);
+    w.line(&format!("G43 Z{} H01", w.num(p.clear)));
+    w.reset();
+    w.facing(&p);
+    if k == 9 {
+        w.line("G41 D01");
+    }
+    w.contour(&p);
+    if k == 9 {
+        w.line("G40");
+    }
+    w.line("M09");
+    w.line("M05");
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.reset();
+    w.raw("(DRILL1)");
+    w.line("T2 M06");
+    w.line(&format!("S{} M03", p.spindle / 2));
+    w.line("G54");
+    w.rapid(Some(p.holes[0][0]), Some(p.holes[0][1]), None);
+    w.line(&format!("G43 Z{} H02", w.num(p.clear)));
+    w.reset();
+    w.cycle(&p, "G98", if p.cycle == Cycle::Bore { Cycle::Peck } else { p.cycle });
+    w.line("M05");
+    w.line("G28 G91 Z0.");
+    w.line("G28 G91 X0. Y0.");
+    w.line("G90");
+    w.line("M30");
+    w.raw("%");
+    w.out.into_bytes()
+}
+
+/// Mastercam's generic Fanuc post (MPFAN): `O0000(NAME)`, the DATE/TIME/MCX/NC FILE/MATERIAL
+/// comments, the tool table comment, `G0 G17 G40 G49 G80 G90`, `G0 G90 G54 X.. Y.. S.. M3` with
+/// the spindle on the first move, `G43 H1 Z..`, `G99` cycles, `G91 G28 Z0.`, `G28 X0. Y0.`, CR LF.
+fn mastercam(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 2 == 1);
+    let mut w = W::new(Digits::Trim(4, true), " ");
+    w.raw("%");
+    w.raw(&format!("O{:04}(MC PART {k})", 3000 + k));
+    w.raw("(DATE=DD-MM-YY - 27-11-26 TIME=HH:MM - 10:15)");
+    w.raw(&format!("(MCX FILE - C:\\USERS\\SHOP\\PART{k}.MCAM)"));
+    w.raw(&format!("(MATERIAL - ALUMINUM {} - 6061)", if p.inch { "INCH" } else { "MM" }));
+    w.raw("( T1 |  1/4 FLAT ENDMILL | H1 )");
+    w.seq = Some((100, 2));
+    w.line(units(&p));
+    w.line("G0 G17 G40 G49 G80 G90");
+    w.line("T1 M6");
+    let xm = p.x0 + p.w / 2.0;
+    w.line(&format!("G0 G90 G54 X{} Y{} S{} M3", w.num(xm), w.num(p.y0), p.spindle));
+    w.line(&format!("G43 H1 Z{}", w.num(p.clear)));
+    w.reset();
+    w.rapid(Some(xm), Some(p.y0), Some(p.clear));
+    w.contour(&p);
+    w.line("M5");
+    w.line("G91 G28 Z0.");
+    w.line("M01");
+    w.reset();
+    w.line("T2 M6");
+    w.line(&format!("G0 G90 G54 X{} Y{} S{} M3", w.num(p.holes[0][0]), w.num(p.holes[0][1]), p.spindle / 2));
+    w.line(&format!("G43 H2 Z{}", w.num(p.clear)));
+    w.reset();
+    w.cycle(&p, "G99", p.cycle);
+    w.line("M5");
+    w.line("G91 G28 Z0.");
+    w.line("G28 X0. Y0.");
+    w.line("M30");
+    w.raw("%");
+    crlf(w.out)
+}
+
+/// A CAMWorks Fanuc post: `O` number, `N1`-step sequence numbers on every block, modal codes
+/// each on the safety line, `G90 G00 G54 X.. Y..`, `G43 H.. Z..`, tool numbers as `T01`, two
+/// decimals less common: four in inch, three in mm.
+fn camworks(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 2 == 0);
+    let mut w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, true), " ");
+    w.raw("%");
+    w.raw(&format!("O{:04}", 4000 + k));
+    w.raw(&format!("(CAMWORKS PART {k} - MILL2AX)"));
+    w.seq = Some((1, 1));
+    w.line(&format!("{} G17 G40 G49 G80 G90", units(&p)));
+    w.line("T01 M06");
+    w.line(&format!("S{} M03", p.spindle));
+    w.line(&format!("G90 G00 G54 X{} Y{}", w.num(p.x0), w.num(p.y0)));
+    w.line(&format!("G43 H01 Z{} M08", w.num(p.clear)));
+    w.reset();
+    w.rapid(Some(p.x0), Some(p.y0), Some(p.clear));
+    w.modal_g = false;
+    w.facing(&p);
+    w.contour(&p);
+    w.line("M09");
+    w.line("G91 G28 Z0. M05");
+    w.line("G90");
+    w.reset();
+    w.line("T02 M06");
+    w.line(&format!("S{} M03", p.spindle / 2));
+    w.line(&format!("G90 G00 G54 X{} Y{}", w.num(p.holes[0][0]), w.num(p.holes[0][1])));
+    w.line(&format!("G43 H02 Z{}", w.num(p.clear)));
+    w.reset();
+    w.cycle(&p, "G98", p.cycle);
+    w.line("G91 G28 Z0. M05");
+    w.line("G90");
+    w.line("M30");
+    w.raw("%");
+    w.out.into_bytes()
+}
+
+/// A Haas program written at the machine: `:` or `O` program number, `G154 P`, a bolt circle in a
+/// `WHILE` loop of macro variables, a part counter `#3901`, `DPRNT` output between `POPEN`/`PCLOS`.
+fn haas_macro(k: usize) -> Vec<u8> {
+    let n = 4 + k % 5;
+    let r = 20.0 + 3.0 * k as f64;
+    let number = if k % 2 == 0 { format!(":{}", 5000 + k) } else { format!("O{:05}", 5000 + k) };
+    let offset = if k % 3 == 0 { "G54".to_string() } else { format!("G154 P{}", 1 + k % 20) };
+    format!(
+        "%\n{number} (BOLT CIRCLE {n} HOLES)\nG00 G17 G40 G49 G80 G90\nG21\n{offset}\nT3 M06 (DRILL 6.8)\nS1800 M03\n\
+         G00 X0. Y0.\nG43 H03 Z25. M08\n#100 = {n} (HOLES)\n#101 = {r:.1} (RADIUS)\n#102 = 0 (COUNT)\n#103 = {} (START ANGLE)\n\
+         WHILE [#102 LT #100] DO1\n#104 = #103 + #102 * 360. / #100\nX[#101 * COS[#104]] Y[#101 * SIN[#104]]\n\
+         G98 G81 Z-{}. R2. F120.\nG80\n#102 = #102 + 1\nEND1\nG00 Z25. M09\n#3901 = #3901 + 1\nPOPEN\nDPRNT[PART*#3901[40]*DONE]\nPCLOS\n\
+         M05\nG28 G91 Z0.\nG90\nM30\n%\n",
+        15 * (k % 3),
+        8 + k % 4
+    )
+    .into_bytes()
+}
+
+/// A Fanuc Custom Macro B program: a `G65` call of a slot macro with arguments, an `IF [...] GOTO`
+/// loop, an `M98 P.. L..` subprogram of incremental moves, `#500` common variables, `;` ends of
+/// block (as a Fanuc punches them).
+fn fanuc_macro(k: usize) -> Vec<u8> {
+    let l = 20.0 + 2.0 * k as f64;
+    let repeat = 2 + k % 3;
+    let eob = if k % 2 == 0 { ";" } else { "" };
+    let lines = [
+        "%".to_string(),
+        format!("O{} (SLOTS)", 6000 + k),
+        "G21 G17 G40 G49 G80 G90".into(),
+        "T4 M06".into(),
+        "S3000 M03".into(),
+        "G00 G54 X0. Y0.".into(),
+        "G43 H04 Z20.".into(),
+        format!("#500 = {l:.1}"),
+        "#1 = 0".into(),
+        "N10 IF [#1 GE 3] GOTO 20".into(),
+        "G65 P9010 X[#1 * 15.] Y-10. I#500 D2.".into(),
+        "#1 = #1 + 1".into(),
+        "GOTO 10".into(),
+        "N20 G00 X-30. Y20.".into(),
+        format!("M98 P1100 L{repeat}"),
+        "G90 G00 Z20.".into(),
+        "G91 G28 Z0.".into(),
+        "M30".into(),
+        "O9010 (SLOT: X Y START, I LENGTH, D DEPTH)".into(),
+        "G90 G00 X#24 Y#25".into(),
+        "Z2.".into(),
+        "G01 Z-#7 F150.".into(),
+        "G91 Y#4 F400.".into(),
+        "G90 G00 Z20.".into(),
+        "M99".into(),
+        "O1100 (STEP)".into(),
+        "G91 G01 Z-22. F150.".into(),
+        "X12. F400.".into(),
+        "G00 Z22.".into(),
+        "X3.".into(),
+        "M99".into(),
+        "%".into(),
+    ];
+    let mut s = String::new();
+    for line in lines {
+        let end = if line == "%" || line.starts_with('O') { "" } else { eob };
+        s.push_str(&line);
+        s.push_str(end);
+        s.push('\n');
+    }
+    s.into_bytes()
+}
+
+/// Fadal in format 2 (Fanuc-like), as Fadal programmers write it: `N1 O.. (NAME)` on the first
+/// line, `G0 G90 G80 G40 G17`, fixture offset `G54`, `M6 T1`, `G43 H1 Z..`, a `G81` with `G98`, an
+/// `M98` subprogram.
+fn fadal(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 2 == 0);
+    let mut w = W::new(Digits::Trim(4, true), " ");
+    w.raw("%");
+    w.seq = Some((1, 1));
+    w.line(&format!("O{} (FADAL {k})", 7000 + k));
+    w.line(&format!("G0 G90 G80 G40 G17 {}", units(&p)));
+    w.line("M6 T1");
+    w.line(&format!("G54 X{} Y{} S{} M3", w.num(p.x0), w.num(p.y0), p.spindle));
+    w.line(&format!("G43 H1 Z{} M8", w.num(p.clear)));
+    w.reset();
+    w.rapid(Some(p.x0), Some(p.y0), Some(p.clear));
+    w.facing(&p);
+    w.contour(&p);
+    w.line("G0 G91 G28 Z0. M5");
+    w.line("G90");
+    w.reset();
+    w.line("M6 T2");
+    w.line(&format!("G54 X{} Y{} S{} M3", w.num(p.holes[0][0]), w.num(p.holes[0][1]), p.spindle / 2));
+    w.line(&format!("G43 H2 Z{}", w.num(p.clear)));
+    w.reset();
+    w.cycle(&p, "G98", Cycle::Drill);
+    w.line("G0 G91 G28 Z0. M5");
+    w.line("G90");
+    w.line("M30");
+    w.raw("%");
+    w.out.into_bytes()
+}
+
+/// Fusion 360 for Mach3: `%`, the program name as a comment, `G90 G94 G91.1 G40 G49 G17`,
+/// `G28 G91 Z0.`, `T1 M6`, `G43 Z.. H1`, G83 cycles.
+fn fusion_mach3(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 3 == 1);
+    let mut w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, false), " ");
+    w.raw("%");
+    w.raw(&format!("({})", 1000 + k));
+    w.raw("(T1 D=6 CR=0 - ZMIN=-3 - FLAT END MILL)");
+    w.line("G90 G94 G91.1 G40 G49 G17");
+    w.line(units(&p));
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.raw("(2D CONTOUR1)");
+    w.line("T1 M6");
+    w.line(&format!("S{} M3", p.spindle));
+    w.line("G54");
+    w.rapid(Some(p.x0 + p.w / 2.0), Some(p.y0), None);
+    w.line(&format!("G43 Z{} H1", w.num(p.clear)));
+    w.reset();
+    w.contour(&p);
+    w.line("M5");
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.reset();
+    w.line("T2 M6");
+    w.line(&format!("S{} M3", p.spindle / 2));
+    w.rapid(Some(p.holes[0][0]), Some(p.holes[0][1]), None);
+    w.line(&format!("G43 Z{} H2", w.num(p.clear)));
+    w.reset();
+    w.cycle(&p, "G98", if p.cycle == Cycle::Tap { Cycle::Drill } else { p.cycle });
+    w.line("M5");
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.line("M30");
+    w.raw("%");
+    w.out.into_bytes()
+}
+
+/// CamBam's default Mach3 post: `( Made using CamBam - ... )`, the drawing name and date, `G21 G90
+/// ( G64 ) G40` (G64 commented out), `G0 Z3.0`, `( T1 : 6.0 )`, `G1 F300.0 Z-1.0` (feed before the
+/// axes), one-decimal numbers at least, `G81` drilling, CR LF, Latin-1 comments (a European user).
+fn cambam(k: usize) -> Vec<u8> {
+    let p = Part::new(k, false);
+    let mut w = W::new(Digits::Trim(4, true), " ");
+    w.feed_first = true;
+    w.modal_g = false;
+    let num = |v: f64| {
+        let s = format!("{v:.4}").trim_end_matches('0').to_string();
+        if s.ends_with('.') {
+            s + "0"
+        } else {
+            s
+        }
+    };
+    w.raw("( Made using CamBam - http://www.cambam.co.uk )");
+    w.raw(&format!("( Teil{k} 27.11.2026 10:15:00 )"));
+    w.raw("( T1 : 6.0 )");
+    w.raw("G21 G90 ( G64 ) G40");
+    w.raw(&format!("G0 Z{}", num(p.clear)));
+    w.raw("( T1 : 6.0 )");
+    w.raw("T1 M6");
+    w.raw(if k % 2 == 0 { "( Fräse Ø6 - Kontur )" } else { "( Profile1 )" });
+    w.raw("G17");
+    w.raw(&format!("M3 S{}", p.spindle));
+    w.digits = Digits::Trim(4, true);
+    w.contour(&p);
+    w.raw("( Bohren )");
+    w.line(&format!("G0 Z{}", num(p.clear)));
+    w.raw(&format!("G81 X{} Y{} Z{} R{} F{}", num(p.holes[0][0]), num(p.holes[0][1]), num(-p.hole_depth), num(p.safe), num(p.plunge)));
+    for h in &p.holes[1..] {
+        w.raw(&format!("X{} Y{}", num(h[0]), num(h[1])));
+    }
+    w.raw("G80");
+    w.raw(&format!("G0 Z{}", num(p.clear)));
+    w.raw("M5");
+    w.raw("M30");
+    let text = w.out.replace(".\n", ".0\n").replace(". ", ".0 ");
+    let bytes = latin1(&text);
+    if k % 3 == 0 {
+        let mut out = Vec::new();
+        for &b in &bytes {
+            if b == b'\n' {
+                out.push(b'\r');
+            }
+            out.push(b);
+        }
+        out
+    } else {
+        bytes
+    }
+}
+
+/// SketchUcam (Phlatboyz): `%`, its settings as comments in inch fractions, `G90 G20 G49 G61`,
+/// four decimals padded with blanks, lines without a motion code indented, `G17 G3 .. R` arcs with Z.
+fn sketchucam(k: usize) -> Vec<u8> {
+    let p = Part::new(k, true);
+    let mut w = W::new(Digits::Fixed(4), "   ");
+    w.arcs = ArcWords::R;
+    w.indent = "   ";
+    w.raw("%");
+    w.raw("(Generated by SketchUcam {1.1b})");
+    w.raw("(Bit diameter: 1/8\")");
+    w.raw(&format!("(Feed rate: {}\"/min)", p.feed));
+    w.raw("(Multipass enabled, Depth = 1/8\")");
+    w.raw("G90 G20 G49 G61");
+    w.raw(&format!("M3 S{}", p.spindle));
+    w.contour(&p);
+    w.holes_expanded(&p);
+    w.raw("G0 X0 Y0 (home)");
+    w.raw("M05");
+    w.raw("M30");
+    w.raw("%");
+    if k % 2 == 0 {
+        crlf(w.out)
+    } else {
+        w.out.into_bytes()
+    }
+}
+
+/// Fusion 360 for grbl (and the OpenBuilds variant): a header of comments, `G90 G94`, `G17`,
+/// `G21`, no tool length offset, tool changes commented out, drilling expanded into moves (grbl has
+/// no canned cycles), `M30` without `%`.
+fn fusion_grbl(k: usize) -> Vec<u8> {
+    let p = Part::new(k, false);
+    let mut w = W::new(Digits::Trim(3, false), " ");
+    w.raw("(Made in : Autodesk CAM Post Processor)");
+    w.raw("(G Code optimized for controller)");
+    w.raw(&format!("(Program Name : {})", 1000 + k));
+    w.raw("(Units = mm)");
+    w.raw("G90 G94");
+    w.raw("G17");
+    w.raw("G21");
+    w.raw("(T1 M6 - Flat End Mill 6mm)");
+    w.raw(&format!("S{} M3", p.spindle));
+    w.rapid(None, None, Some(p.clear));
+    w.facing(&p);
+    w.contour(&p);
+    w.holes_expanded(&p);
+    w.raw("M5");
+    w.raw("M30");
+    w.out.into_bytes()
+}
+
+/// pcb2gcode: comments after every block, `G94`, `G64 P..`, dwell `G04 P1`, `(MSG, ...)` before a
+/// tool change `M6` and a pause `M0`, five decimals, only `G1`/`G0` (an outline).
+fn pcb2gcode(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 2 == 1);
+    let mut w = W::new(Digits::Fixed(5), " ");
+    w.modal_g = false;
+    w.raw(&format!("( pcb2gcode 2.{}.0 )", k % 6));
+    w.raw("( Software-independent Gcode )");
+    w.raw("G94 ( Millimeters per minute feed rate. )");
+    w.raw(&format!("{} ( Units == {}. )", units(&p), if p.inch { "INCHES" } else { "Millimeters" }));
+    w.raw("G90 ( Absolute coordinates. )");
+    w.raw(&format!("G00 S{} ( RPM spindle speed. )", p.spindle));
+    w.raw(&format!("G64 P{} ( set maximum deviation from commanded toolpath )", if p.inch { "0.00040" } else { "0.01000" }));
+    w.raw(&format!("G01 F{} ( Feedrate. )", w.num(p.feed)));
+    w.raw(&format!("G00 Z{} (Retract to tool change height)", w.num(p.clear)));
+    w.raw("T2");
+    w.raw("M5      (Spindle stop.)");
+    w.raw("G04 P1.00000 (Wait for spindle to stop)");
+    w.raw("(MSG, Change tool bit to cutter diameter 2.00000mm)");
+    w.raw("M6      (Tool change.)");
+    w.raw("M0      (Temporary machine stop.)");
+    w.raw("M3 ( Spindle on clockwise. )");
+    w.raw("G04 P1.00000 (Wait for spindle to get up to speed)");
+    let (x0, y0, x1, y1) = (p.x0, p.y0, p.x0 + p.w, p.y0 + p.h);
+    w.rapid(Some(x0), Some(y0), None);
+    for pass in 1..=p.passes {
+        let z = -p.depth * pass as f64 / p.passes as f64;
+        w.feed(None, None, Some((z * 1e4).round() / 1e4), p.plunge);
+        for (x, y) in [(x1, y0), (x1, y1), (x0, y1), (x0, y0)] {
+            w.feed(Some(x), Some(y), None, p.feed);
+        }
+    }
+    w.raw(&format!("G00 Z{} ( retract )", w.num(p.clear)));
+    w.raw("M5 ( Spindle off. )");
+    w.raw("M9 ( Coolant off. )");
+    w.raw("M2 ( Program end. )");
+    w.out.into_bytes()
+}
+
+/// Fusion 360 for LinuxCNC: `%`, `(name)`, `G90 G94 G40 G17 G91.1`, `G53 G0 Z0.` to the top
+/// of the travel instead of G28, `T1 M6`, `G43 Z.. H1`, `G98 G83 .. Q` cycles, `G64 P` path mode.
+fn fusion_linuxcnc(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 4 == 1);
+    let mut w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, false), " ");
+    w.raw("%");
+    w.raw(&format!("({})", 1000 + k));
+    w.raw("(T1  D=6 CR=0 - ZMIN=-3 - flat end mill)");
+    w.line("G90 G94 G40 G17 G91.1");
+    w.line(units(&p));
+    w.line("G64 P0.01");
+    w.raw("(Face1)");
+    w.line("T1 M6");
+    w.line(&format!("S{} M3", p.spindle));
+    w.line("G54");
+    w.line("M8");
+    w.rapid(Some(p.x0), Some(p.y0), None);
+    w.line(&format!("G43 Z{} H1", w.num(p.clear)));
+    w.reset();
+    w.facing(&p);
+    w.contour(&p);
+    w.line("M9");
+    w.line("M5");
+    w.line(&format!("G53 G0 Z{}", if p.inch { "2" } else { "50" }));
+    w.reset();
+    w.raw("(Drill1)");
+    w.line("T2 M6");
+    w.line(&format!("S{} M3", p.spindle / 2));
+    w.rapid(Some(p.holes[0][0]), Some(p.holes[0][1]), None);
+    w.line(&format!("G43 Z{} H2", w.num(p.clear)));
+    w.reset();
+    w.cycle(&p, "G98", p.cycle);
+    w.line("M5");
+    w.line(&format!("G53 G0 Z{}", if p.inch { "2" } else { "50" }));
+    w.line("M30");
+    w.raw("%");
+    w.out.into_bytes()
+}
+
+/// Fusion 360 for Tormach PathPilot: inch by default, `G90 G94 G40 G17 G80 G49 G64 P..`, `G30`
+/// as the tool-change position, `T1 M6 G43 H1` on one line, `G98` cycles, `G30` at the end.
+fn tormach(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 3 != 2);
+    let mut w = W::new(Digits::Trim(4, true), " ");
+    w.raw("%");
+    w.raw(&format!("(Tormach {})", 1000 + k));
+    w.raw("(T1 D=0.25 CR=0. - ZMIN=-0.1 - flat end mill)");
+    w.line(units(&p));
+    w.line(&format!("G90 G94 G40 G17 G80 G49 G64 P{}", if p.inch { "0.001" } else { "0.025" }));
+    w.line("G30");
+    w.raw("(Adaptive1)");
+    w.line("T1 M6 G43 H1");
+    w.line(&format!("S{} M3", p.spindle));
+    w.line(if k % 2 == 0 { "G54" } else { "G55" });
+    w.line("M8");
+    w.rapid(Some(p.x0 + p.w / 2.0), Some(p.y0), None);
+    w.rapid(None, None, Some(p.clear));
+    w.contour(&p);
+    w.line("M9");
+    w.line("G30");
+    w.reset();
+    w.line("T2 M6 G43 H2");
+    w.line(&format!("S{} M3", p.spindle / 2));
+    w.cycle(&p, "G98", p.cycle);
+    w.line("M5 M9");
+    w.line("G30");
+    w.line("M30");
+    w.raw("%");
+    w.out.into_bytes()
+}
+
+/// PyCAM's EMC2 export: every modal code on its own line with a comment, `G61` exact path,
+/// `;PYCAM` settings comments, four decimals with all three axes on every move.
+fn pycam(k: usize) -> Vec<u8> {
+    let p = Part::new(k, false);
+    let mut w = W::new(Digits::Fixed(4), " ");
+    w.modal_axes = false;
+    w.raw("G40 (disable tool radius compensation)");
+    w.raw("G49 (disable tool length compensation)");
+    w.raw("G80 (cancel modal motion)");
+    w.raw("G54 (select coordinate system 1)");
+    w.raw("G90 (disable incremental moves)");
+    w.raw("G21 (metric)");
+    w.raw("G61 (exact path mode)");
+    w.raw(&format!("F{:.5}", p.feed));
+    w.raw(&format!("S{:.5}", p.spindle as f64));
+    w.raw(";PYCAM_TOOLPATH_SETTINGS: START");
+    w.raw(&format!(";[Tool]\n;shape = CylindricalCutter\n;radius = {:.1}", 1.5 + 0.5 * (k % 4) as f64));
+    w.raw(";PYCAM_TOOLPATH_SETTINGS: END");
+    w.raw("T1 M6");
+    w.raw(&format!("G0 Z{:.4}", p.clear));
+    w.raw("M3 (start spindle)");
+    w.raw("G04 P3 (wait for 3 seconds)");
+    w.rapid(Some(p.x0), Some(p.y0), Some(p.clear));
+    let (x0, y0, x1, y1) = (p.x0, p.y0, p.x0 + p.w, p.y0 + p.h);
+    let rows = 4 + k % 4;
+    for i in 0..=rows {
+        let y = y0 + (y1 - y0) * i as f64 / rows as f64;
+        let z = -p.depth * (1.0 + 0.3 * ((i as f64) * 0.7).sin()) / 2.0;
+        let (xa, xb) = if i % 2 == 0 { (x0, x1) } else { (x1, x0) };
+        w.feed(Some(xa), Some(y), Some((z * 1e4).round() / 1e4), p.feed);
+        w.feed(Some(xb), Some(y), Some((z * 1e4).round() / 1e4), p.feed);
+    }
+    w.rapid(Some(x0), Some(y1), Some(p.clear));
+    w.raw("M5 (stop spindle)");
+    w.raw("M2 (end program)");
+    w.out.into_bytes()
+}
+
+/// HeeksCNC's emc2b post: a `(Created with ...)` comment, `G21`, `G90`, `G17`, `T1 M06`,
+/// `G43H1` without a blank, moves with three decimals, `G02`/`G03` with I J, `M02`.
+fn heekscnc(k: usize) -> Vec<u8> {
+    let p = Part::new(k, false);
+    let mut w = W::new(Digits::Fixed(3), " ");
+    w.raw("(Created with emc2b post processor 2013/11/27 10:15)");
+    w.raw(&format!("(HEEKS PROFILE {k})"));
+    w.raw("G21");
+    w.raw("G90");
+    w.raw("G17");
+    w.raw(&format!("(tool change to {}mm Slot Cutter)", 4 + k % 4));
+    w.raw("T1 M06");
+    w.raw("G43H1");
+    w.raw(&format!("S{} M03", p.spindle));
+    w.modal_g = false;
+    let g = |s: &str| s.replace("G0 ", "G00 ").replace("G1 ", "G01 ").replace("G2 ", "G02 ").replace("G3 ", "G03 ");
+    w.contour(&p);
+    w.holes_expanded(&p);
+    w.out = w.out.lines().map(|l| g(&format!("{l} "))).map(|l| l.trim_end().to_string() + "\n").collect();
+    w.raw("M05");
+    w.raw("M02");
+    w.out.into_bytes()
+}
+
+/// A LinuxCNC program written by hand: named parameters, an `o-word` subroutine with arguments,
+/// a `while` loop of passes, `;` comments, `G10 L2` setting G55, polar-free IJ arcs, `M2`.
+fn linuxcnc_hand(k: usize) -> Vec<u8> {
+    let d = 1.0 + 0.25 * (k % 4) as f64;
+    let n = 2 + k % 3;
+    let x = -30.0 + 5.0 * k as f64;
+    format!(
+        "; pocket corners, variant {k}\nG21 G90 G17 G40 G49 G64 P0.01\n#<_depth> = {d}\n#<_passes> = {n}\nT1 M6\nG43 H1\n\
+         G10 L2 P2 X{x} Y{} Z0\nG55\no100 sub ; corner x y r\n  G0 X#1 Y#2\n  G0 Z2\n  G1 Z[-#<_depth> / #<_passes> * #4] F200\n\
+         G3 X[#1 + #3] Y[#2 + #3] I#3 J0 F800\n  G0 Z5\no100 endsub\n#<i> = 1\no110 while [#<i> LE #<_passes>]\n\
+         o100 call [10] [10] [{}] [#<i>]\n  o100 call [-20] [15] [4] [#<i>]\n  #<i> = [#<i> + 1]\no110 endwhile\nG0 Z20\nG54\nM2\n",
+        -10.0 + 2.0 * k as f64,
+        3 + k % 5
+    )
+    .into_bytes()
+}
