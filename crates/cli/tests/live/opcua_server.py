@@ -122,6 +122,10 @@ async def write(node, value, ts, variant):
     await node.write_value(ua.DataValue(ua.Variant(value, variant), SourceTimestamp=ts, ServerTimestamp=ts))
 
 
+# Seconds a stop of the server or the client may take.
+STOP_S = 5.0
+
+
 async def main():
     p = argparse.ArgumentParser()
     p.add_argument("--port", type=int, required=True)
@@ -150,7 +154,7 @@ async def main():
     played, last_run, previous, resume_at = [], rows[0][0], None, None
     for i, (run, t, values) in enumerate(rows):
         if i == a.outage_after:
-            await server.stop()
+            await stop(server)
             await asyncio.sleep(a.outage_s)
             # the rows due while the server was down are lost; the new server starts with the next
             resume_at = previous + a.outage_s * a.speed
@@ -185,10 +189,24 @@ async def main():
             break
         await asyncio.sleep(0.05)
     await asyncio.sleep(a.end_wait)
+    # the record first: a stop that waits on a connection the test has not yet closed must not hold it
+    print(json.dumps({"base": unix(BASE), "rows": played, "server": by_server.values, "client": by_client.values}), flush=True)
     if client is not None:
-        await client.disconnect()
-    await server.stop()
-    print(json.dumps({"base": unix(BASE), "rows": played, "server": by_server.values, "client": by_client.values}))
+        await asyncio.wait_for(client.disconnect(), STOP_S)
+    await stop(server)
+
+
+async def stop(server):
+    """Stops the server; asyncua 2.1's stop waits for its connections to close, which the client
+    (trueaxis live, still running) may never do: the wait is bounded and the sockets closed anyway."""
+    try:
+        await asyncio.wait_for(server.stop(), STOP_S)
+    except asyncio.TimeoutError:
+        # the listening socket closed by hand, so that the port can be bound again after an outage
+        listening = getattr(getattr(server, "bserver", None), "_server", None)
+        if listening is not None:
+            listening.close()
+        logging.error("the server did not stop within %s s; its sockets are closed", STOP_S)
 
 
 if __name__ == "__main__":

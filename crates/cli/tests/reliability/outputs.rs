@@ -127,6 +127,11 @@ fn an_output_that_is_an_input_is_refused_for_every_command() {
             "--plot-dir",
             &["ballbar", "identify", "--machine", "F", "--a1", "F", "--a2", "F", "--c1", "F", "--c2", "F", "--plot-dir", "F"],
         ),
+        (
+            "ballbar identify",
+            "--out",
+            &["ballbar", "identify", "--machine", "F", "--a1", "F", "--a2", "F", "--c1", "F", "--c2", "F", "--out", "F"],
+        ),
         ("ballbar iso230-4", "--plot", &["ballbar", "iso230-4", "F", "--plot", "F"]),
         ("budget analyse", "--out", &["budget", "analyse", "--machine", "F", "--out", "F"]),
         ("budget analyse", "--sensitivity", &["budget", "analyse", "--machine", "F", "--sensitivity", "F"]),

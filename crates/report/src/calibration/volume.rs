@@ -44,7 +44,9 @@ impl VolumePart {
     /// The machine with the errors `machine_errors`, before compensation and driven to the
     /// set-points corrected for `compensation_errors` (the same model, or an identified one): by the
     /// exact correction at each pose (seed 000 §2.3.5) and by the tables of `tables`. `None` for a
-    /// machine without two linear axes with a travel.
+    /// machine without two linear axes with a travel. The set-up errors of the measurement (where
+    /// the master ball or the probe sat) are left out of both models, as `trueaxis compensate`
+    /// leaves them out of its tables and of the error it judges: they are not errors of the machine.
     pub fn compute(
         machine: &Machine,
         machine_errors: &ErrorModel,
@@ -53,6 +55,7 @@ impl VolumePart {
         controller: Option<(&str, &dyn Applied)>,
     ) -> Result<Option<VolumePart>, CalibrationError> {
         let Some(map) = VolumeMap::new(machine) else { return Ok(None) };
+        let (machine_errors, compensation_errors) = (&machine_errors.without_setup(), &compensation_errors.without_setup());
         let mut predictor = Predictor::new(machine, machine_errors);
         predictor.frame = Frame::Machine;
         let before = predictor.predict_batch(&map.poses_internal);

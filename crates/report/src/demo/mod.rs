@@ -130,12 +130,26 @@ impl Output {
     }
 }
 
+/// The true errors of the machine alone: [`ERRORS_TOML`] without the set-up errors of the CapBall
+/// campaign (`TX TY TZ WX WY WZ`: where the balls sat), which the volumetric maps leave out
+/// (`VolumePart::compute`).
+pub fn machine_errors_toml() -> String {
+    let setup = |line: &str| ["TX", "TY", "TZ", "WX", "WY", "WZ"].iter().any(|p| line.split('=').next().map(str::trim) == Some(*p));
+    let mut text = String::from("# errors_true.toml without the set-up errors of the campaign (TX TY TZ WX WY WZ)\n");
+    for line in ERRORS_TOML.lines().filter(|l| !setup(l)) {
+        text.push_str(line);
+        text.push('\n');
+    }
+    text
+}
+
 /// Runs the demo into `out_dir`; `progress(step, STEPS, message)` is called before each step.
 pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Result<DemoSummary, DemoError> {
     let (machine, truth) = builtin()?;
     let mut out = Output { work: WorkingDirectory::create(out_dir).map_err(DemoError::Output)? };
     out.write("machine.toml", MACHINE_TOML.as_bytes())?;
     out.write("errors_true.toml", ERRORS_TOML.as_bytes())?;
+    out.write("errors_true_machine.toml", machine_errors_toml().as_bytes())?;
 
     progress(1, STEPS, "simulating the CapBall campaign (807 poses, sensor noise, cyclic drift)");
     let simulated = campaign::simulate(&machine, &truth, &mut out)?;
@@ -200,6 +214,7 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     let inputs = [
         ("machine", "machine.toml"),
         ("true errors (simulation)", "errors_true.toml"),
+        ("true errors of the machine, without the campaign's set-up", "errors_true_machine.toml"),
         ("campaign", "campaign/campaign.toml"),
         ("campaign data (simulated)", "campaign/capball.csv"),
         ("uncertainty sources", "uncertainty/sources.toml"),

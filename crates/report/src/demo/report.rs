@@ -39,7 +39,7 @@ pub fn reproduce_section(circle: &CircleInput, compensation: &CompensationPart) 
             "trueaxis identify --machine machine.toml --campaign campaign/campaign.toml --out identified.toml\n\
 trueaxis uncertainty --machine machine.toml --campaign campaign/campaign.toml --point-time {POINT_TIME_S} --sources uncertainty/sources.toml\n\
 {}\n\
-trueaxis predict --machine machine.toml --errors errors_true.toml --poses volumetric_map.csv --frame machine\n\
+trueaxis predict --machine machine.toml --errors errors_true_machine.toml --poses volumetric_map.csv --frame machine\n\
 trueaxis compensate --machine machine.toml --errors identified.toml --format csv --points {} --grid {gx},{gy},{gz} --out compensation\n\
 trueaxis compensate --machine machine.toml --errors identified.toml --format {controller} --points {} --out compensation-{controller}",
             circle.command(CIRCLE_FILE, "machine.toml"),

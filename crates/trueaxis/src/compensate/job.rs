@@ -206,7 +206,8 @@ pub fn compensation_with<R>(
         Some(_) => super::uncertainty_of_error_left(&corrector, &temperatures)?,
         None => None,
     };
-    let compensation = Compensation { tables, grid, files, left_out, residual, extent, poses: None, kinematics, left_uncertainty, poses_request };
+    let compensation =
+        Compensation { tables, grid, files, left_out, residual, extent, poses: None, kinematics, left_uncertainty, poses_request };
     Ok((compensation, result))
 }
 
