@@ -127,7 +127,10 @@ fn numbers_are_readable(text: &str, what: &str) {
         }
         let digits: String = t.chars().filter(char::is_ascii_digit).collect();
         let significant = digits.trim_start_matches('0').len();
-        let zeros = t.split_once('.').filter(|(i, _)| i.trim_start_matches('0').is_empty()).map_or(0, |(_, f)| f.len() - f.trim_start_matches('0').len());
+        let zeros = t
+            .split_once('.')
+            .filter(|(i, _)| i.trim_start_matches('0').is_empty())
+            .map_or(0, |(_, f)| f.len() - f.trim_start_matches('0').len());
         assert!(zeros <= 4 || significant == 0, "{what}: `{word}` has {zeros} zeros after the point");
         assert!(significant <= 10, "{what}: `{word}` has {significant} significant digits");
     }

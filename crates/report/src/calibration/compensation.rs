@@ -181,8 +181,8 @@ impl CompensationPart {
             }
             s = s.table(
                 format!(
-                    "What the {} files leave, on the exact chain over {} poses and states of motion spread over the travel, rotary axes moving (the workpiece placed by its best fit, as `trueaxis compensate` judges it)",
-                    controller_name(&c.format), r.samples
+                    "What the {} files leave of {}, on the exact chain over {} poses and states of motion spread over the travel, rotary axes moving (the workpiece placed by its best fit, as `trueaxis compensate` judges it; not the poses of the volumetric map)",
+                    controller_name(&c.format), self.origin, r.samples
                 ),
                 &["quantity", "value"],
                 vec![
