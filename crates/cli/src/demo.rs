@@ -37,17 +37,8 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
     let pose: Vec<String> = summary.max_pose.iter().map(|(l, v)| format!("{l}={v}")).collect();
     if args.json {
         let files: Vec<String> = summary.files.iter().map(|p| p.display().to_string()).collect();
-        let parameters: serde_json::Map<String, serde_json::Value> = summary
-            .parameters
-            .iter()
-            .map(|p| {
-                (
-                    p.name.clone(),
-                    serde_json::json!({"unit": p.unit, "true": p.truth, "value": p.value,
-                        "std_uncertainty": p.std_uncertainty, "interval95": p.interval.map(|(lo, hi)| [lo, hi])}),
-                )
-            })
-            .collect();
+        let parameters: serde_json::Map<String, serde_json::Value> =
+            summary.parameters.iter().map(|p| (p.name.clone(), p.json())).collect();
         let doc = serde_json::json!({
             "machine": summary.machine, "poses": summary.poses,
             "max_position_error_um": summary.max_um, "max_at": pose.join(" "),
@@ -64,17 +55,20 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
     }
     println!("trueaxis demo: {}", summary.machine);
     println!("  identification: {} parameters, residual RMS {:.3} um", summary.parameters.len(), summary.residual_rms_um);
-    println!("  {:<6} {:>5} {:>10} {:>12} {:>8} {:>24}", "param", "unit", "true", "identified", "u (LS)", "95 % interval (MC)");
+    println!("  {:<6} {:>5} {:>10} {:>12} {:>10} {:>24}", "param", "unit", "true", "identified", "U (k = 2)", "95 % interval (MC)");
     for p in &summary.parameters {
         println!(
-            "  {:<6} {:>5} {:>10} {:>12.2} {:>8} {:>24}",
+            "  {:<6} {:>5} {:>10} {:>12.2} {:>10} {:>24}",
             p.name,
             p.unit,
             p.truth.map_or("-".to_string(), |t| format!("{t:.2}")),
             p.value,
-            p.std_uncertainty.map_or("-".to_string(), |u| format!("{u:.2}")),
+            p.expanded.map_or("-".to_string(), |u| format!("{u:.2}")),
             p.interval.map_or("-".to_string(), |(lo, hi)| format!("[{lo:.2}, {hi:.2}]"))
         );
+    }
+    if let Some(p) = summary.parameters.first() {
+        println!("  U: {}, as in the report", p.method.describe());
     }
     println!("  Monte Carlo: {} sequences", summary.monte_carlo_sequences);
     let g: Vec<String> = summary.ballbar_g_um.iter().map(|g| format!("{g:.2}")).collect();

@@ -7,6 +7,8 @@ use std::path::{Path, PathBuf};
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::Vec3;
+use trueaxis::identify::pige_report::{bar_lengths, PigeRequest};
+use trueaxis::instruments::ballbar::Method;
 use trueaxis::instruments::ballbar::Plane;
 use trueaxis::machine::Machine;
 use trueaxis::thermal::campaign::Campaign as ThermalCampaign;
@@ -17,7 +19,8 @@ use trueaxis::uncertainty::Sources;
 use trueaxis_report::calibration::CertificateFile;
 use trueaxis_report::calibration::{
     CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, IdentificationPart, InputFile, PositioningPart,
-    ThermalDriftPart, ThermalModesPart, Traceability, UncertaintyPart, VolumePart, CONTROLLER_FORMATS, GRID_NODES, POINTS,
+    RotaryBallbarPart, ThermalDriftPart, ThermalModesPart, Traceability, UncertaintyPart, VolumePart, CONTROLLER_FORMATS, GRID_NODES,
+    POINTS,
 };
 
 /// A calibration report (HTML with inline figures, no network access; and the same as a PDF with
@@ -42,7 +45,8 @@ trueaxis report --machine examples/machines/vmc3.toml --errors examples/errors/v
 Sections: certificate (always; particulars from --certificate and the files); conformity (tolerances\n\
 in --certificate); machine (always); campaign and identification (--campaign); uncertainty budget\n\
 (--sources); volumetric and compensation (--errors, or the values identified from --campaign);\n\
-positioning (--positioning, ISO 230-2 with its uncertainty); ballbar (--ballbar); thermal modes (--thermal-model); thermal drift vs prediction (--thermal-error\n\
+positioning (--positioning, ISO 230-2 with its uncertainty); ballbar (--ballbar); rotary-axis location\n\
+errors (--rotary-ballbar A1,A2,C1,C2, with U); thermal modes (--thermal-model); thermal drift vs prediction (--thermal-error\n\
 with --thermal-data); inputs (always). Each part is computed as the command that does it alone:\n\
 identify, uncertainty, ballbar iso230-4, predict --frame machine, compensate. The --ballbar-plane,\n\
 --ballbar-radius and --ballbar-centre options are given once for all circles or once per --ballbar,\n\
@@ -83,6 +87,14 @@ pub struct ReportArgs {
     /// Programmed centre x,y,z of the circles (mm; default 0,0,0).
     #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     ballbar_centre: Vec<Vec3>,
+    /// The four steps of a rotary-axis ballbar test of a five-axis machine, A1,A2,C1,C2 in this
+    /// order (CSV as `ballbar identify` reads them; Jiang (2014), extended-bar method): the location
+    /// errors of the two rotary axes, each with U, and the traces.
+    #[arg(long, value_name = "A1,A2,C1,C2", value_delimiter = ',')]
+    rotary_ballbar: Vec<PathBuf>,
+    /// Normal and extended bar lengths R,L_e of the rotary-axis test (mm).
+    #[arg(long, value_name = "R,LE", value_delimiter = ',', default_values_t = [100.0, 150.0], requires = "rotary_ballbar")]
+    rotary_bars: Vec<f64>,
     /// Thermal conduction model (TOML or Matrix Market, as `thermal modes` reads it): its modes.
     #[arg(long, value_name = "MODEL.toml")]
     thermal_model: Option<PathBuf>,
@@ -191,6 +203,9 @@ fn input_files(args: &ReportArgs, identification: Option<&IdentificationPart>) -
     for c in &args.ballbar {
         files.push(("ballbar circle", c.clone()));
     }
+    for (c, step) in args.rotary_ballbar.iter().zip(["A1", "A2", "C1", "C2"]) {
+        files.push((step_role(step), c.clone()));
+    }
     for (role, path) in
         [("thermal model", &args.thermal_model), ("thermal error model", &args.thermal_error), ("thermal campaign", &args.thermal_data)]
     {
@@ -199,6 +214,33 @@ fn input_files(args: &ReportArgs, identification: Option<&IdentificationPart>) -
         }
     }
     files.iter().map(|(role, path)| InputFile::read(role, path).map_err(Failure::input)).collect()
+}
+
+fn step_role(step: &str) -> &'static str {
+    match step {
+        "A1" => "rotary-axis ballbar step A1",
+        "A2" => "rotary-axis ballbar step A2",
+        "C1" => "rotary-axis ballbar step C1",
+        _ => "rotary-axis ballbar step C2",
+    }
+}
+
+/// The rotary-axis ballbar test of --rotary-ballbar, if given.
+fn rotary_ballbar(args: &ReportArgs, machine: &Machine) -> Result<Option<RotaryBallbarPart>, Failure> {
+    let files = match args.rotary_ballbar.as_slice() {
+        [] => return Ok(None),
+        [a1, a2, c1, c2] => [a1.clone(), a2.clone(), c1.clone(), c2.clone()],
+        other => return Err(bad(format!("--rotary-ballbar takes the four files A1,A2,C1,C2 in this order, got {}", other.len()))),
+    };
+    let bars = match args.rotary_bars.as_slice() {
+        [normal, extended] => bar_lengths(*normal, *extended).map_err(|_| {
+            bad(format!("--rotary-bars {normal},{extended}: the extended length must exceed the normal one, both positive (mm)"))
+        })?,
+        other => return Err(bad(format!("--rotary-bars takes two lengths R,L_e in mm, got {}", other.len()))),
+    };
+    let request =
+        PigeRequest { files, method: Method::ExtendedBar, bars, pivot_offset_outer: None, pivot_offset_inner: None, noise_um: 1.0 };
+    Ok(Some(RotaryBallbarPart::evaluate(machine, request).map_err(failure)?))
 }
 
 /// The command line as typed, for the report.
@@ -217,6 +259,9 @@ pub fn run(args: ReportArgs) -> Result<(), Failure> {
     let result = build(&args, &machine, circle_inputs, &bar);
     bar.finish_and_clear();
     let report = result?;
+    if let Some(path) = &args.certificate {
+        report.check_tolerances(&path.display().to_string()).map_err(failure)?;
+    }
     let html = report.to_html();
     let pdf = match &args.pdf {
         Some(_) => Some(report.to_pdf().map_err(failure)?),
@@ -237,7 +282,7 @@ pub fn run(args: ReportArgs) -> Result<(), Failure> {
     }
     let items = report.conformity_items();
     if !items.is_empty() {
-        println!("{}", trueaxis_report::calibration::conformity::statement(&items));
+        println!("{}", trueaxis_report::calibration::conformity::statement(&items, report.certificate.decision.rule));
     }
     if let Some(v) = &report.volume {
         println!(
@@ -295,6 +340,8 @@ fn build<'a>(
     for c in &mut circles {
         c.reading_u_um = certificate.reading_uncertainty_um("ballbar");
     }
+    bar.set_message("rotary-axis ballbar steps");
+    let rotary_ballbar = rotary_ballbar(args, machine)?;
     let loaded;
     let (errors, origin): (&ErrorModel, String) = match (&args.errors, &identification) {
         (Some(path), _) => {
@@ -327,13 +374,14 @@ fn build<'a>(
     };
     let (thermal_modes, thermal_drift) = thermal_parts(args, bar)?;
     let traceability = Traceability::now(input_files(args, identification.as_ref())?, Some(command_line()));
+    let issued = certificate.issue_date(&traceability.date);
     Ok(CalibrationReport {
         title: args
             .title
             .clone()
             .or_else(|| certificate.certificate.title.clone())
             .unwrap_or_else(|| format!("Calibration report: {}", machine.name)),
-        subtitle: format!("{}; {}", traceability.date, traceability.software),
+        subtitle: format!("Date of issue {issued}; {}", traceability.software),
         machine,
         machine_notes: Vec::new(),
         identification,
@@ -342,6 +390,7 @@ fn build<'a>(
         thermal_modes,
         thermal_drift,
         circles,
+        rotary_ballbar,
         positioning,
         compensation: Some(compensation),
         controller,
@@ -385,16 +434,7 @@ fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<(Option<Thermal
 fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], bytes: usize, pdf: Option<&Path>) -> serde_json::Value {
     use serde_json::json;
     let parameters = report.identification.as_ref().map(|id| {
-        id.parameter_rows(report.uncertainty.as_ref())
-            .into_iter()
-            .map(|p| {
-                (
-                    p.name,
-                    json!({"unit": p.unit, "value": p.value, "std_uncertainty": p.std_uncertainty, "interval": p.interval.map(|(a, b)| [a, b]),
-                           "expanded_uncertainty": p.expanded, "coverage_factor": 2, "uncertainty_method": p.method.describe()}),
-                )
-            })
-            .collect::<serde_json::Map<_, _>>()
+        id.parameter_rows(report.uncertainty.as_ref()).into_iter().map(|p| (p.name.clone(), p.json())).collect::<serde_json::Map<_, _>>()
     });
     let conformity: Vec<_> = report
         .conformity_items()
@@ -442,6 +482,18 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
                    "temperature_correction": p.test.temperature_correction})
         })
         .collect();
+    let rotary_ballbar = report.rotary_ballbar.as_ref().map(|r| {
+        let errors: serde_json::Map<String, serde_json::Value> = r
+            .errors()
+            .iter()
+            .map(|e| {
+                (e.name.clone(), json!({"value": e.value, "unit": e.unit, "expanded_uncertainty": e.expanded, "coverage_factor": 2,
+                    "reported": trueaxis_report::calibration::quantity::with_uncertainty(e.value, e.expanded, e.unit, 2)}))
+            })
+            .collect();
+        json!({"method": r.report.method.name(), "runs": r.report.runs.len(), "uncertainty_method": r.uncertainty_method(), "errors": errors,
+               "residual_rms_um": r.report.steps.iter().map(|s| s.rms_um).collect::<Vec<_>>()})
+    });
     let inputs: Vec<_> = report
         .traceability
         .inputs
@@ -461,7 +513,7 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
         "out": out.display().to_string(), "bytes": bytes, "pdf": pdf.map(|p| p.display().to_string()), "sections": sections, "inputs": inputs,
         "conformity": conformity, "decision_rule": report.certificate.decision.rule.name(),
         "controller": report.controller.as_ref().map(|c| json!({"format": c.format, "worst_um": c.residual.worst_um, "rms_um": c.residual.rms_um, "worst_error_um": c.residual.worst_error_um, "rms_error_um": c.residual.rms_error_um, "leaves_more_than_it_removes": c.residual.leaves_more_than_it_removes(), "left_out": c.left_out, "kinematics": c.kinematics})),
-        "parameters": parameters, "volumetric": volumetric, "positioning": positioning, "ballbar": ballbar,
+        "parameters": parameters, "volumetric": volumetric, "positioning": positioning, "ballbar": ballbar, "rotary_ballbar": rotary_ballbar,
         "thermal_modes": thermal_modes, "thermal_drift": thermal_drift,
         "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.extent.max_um, "max_correction_urad": c.extent.max_urad})),
     })

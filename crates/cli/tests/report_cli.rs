@@ -117,8 +117,9 @@ fn a_campaign_with_sources_gives_identification_uncertainty_maps_and_compensatio
         let (v, w) = (p["value"].as_f64().unwrap(), id["parameters"][name]["value"].as_f64().unwrap());
         assert!((v - w).abs() < 1e-9, "{name}: report {v} vs identify {w}");
         let u = id["parameters"][name]["std_uncertainty"].as_f64().unwrap();
-        assert!((p["std_uncertainty"].as_f64().unwrap() - u).abs() < 1e-9, "{name} u");
-        let (lo, hi) = (p["interval"][0].as_f64().unwrap(), p["interval"][1].as_f64().unwrap());
+        assert!((p["least_squares_std_uncertainty"].as_f64().unwrap() - u).abs() < 1e-9, "{name} u");
+        assert_eq!(p["uncertainty_method"], "Monte Carlo, all sources (JCGM 101)", "{name}: the report's one U");
+        let (lo, hi) = (p["interval95"][0].as_f64().unwrap(), p["interval95"][1].as_f64().unwrap());
         assert!(lo < v && v < hi, "{name}: {v} outside [{lo}, {hi}]");
     }
     // the maps are of the identified errors without the campaign's set-up: the exact correction

@@ -117,6 +117,25 @@ fn measured_values(text: &str) -> Vec<(f64, f64, String)> {
     out
 }
 
+/// No number in `text` needs more than 4 zeros after the point before its first digit, nor has
+/// more than 10 significant digits (units chosen per quantity, every number rounded).
+fn numbers_are_readable(text: &str, what: &str) {
+    for word in text.split_whitespace() {
+        let t = word.trim_matches(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-')).trim_start_matches(['-', '+']);
+        if t.is_empty() || t.parse::<f64>().is_err() || !t.chars().all(|c| c.is_ascii_digit() || c == '.') {
+            continue;
+        }
+        let digits: String = t.chars().filter(char::is_ascii_digit).collect();
+        let significant = digits.trim_start_matches('0').len();
+        let zeros = t
+            .split_once('.')
+            .filter(|(i, _)| i.trim_start_matches('0').is_empty())
+            .map_or(0, |(_, f)| f.len() - f.trim_start_matches('0').len());
+        assert!(zeros <= 4 || significant == 0, "{what}: `{word}` has {zeros} zeros after the point");
+        assert!(significant <= 10, "{what}: `{word}` has {significant} significant digits");
+    }
+}
+
 /// `value` rounded as the report shows it equals `shown` (within half its last place).
 fn rounds_to(value: f64, shown: f64, u: f64) -> bool {
     let d = 1 - u.log10().floor() as i32;
@@ -243,6 +262,55 @@ fn check_pdf(pdf: &Path, scratch: &Path) -> String {
     all
 }
 
+/// The text of each page of a PDF, its words in reading order.
+fn page_texts(pdf: &Path) -> Vec<String> {
+    pdf_words(pdf).1.iter().map(|words| words.iter().map(|w| w.4.as_str()).collect::<Vec<_>>().join(" ")).collect()
+}
+
+/// Every page carries the identification (ISO/IEC 17025:2017 7.8.2.1 b) and "page i of n" (ibid.:
+/// the page's place in the whole and the end recognisable).
+fn identification_on_every_page(pages: &[String], identification: &[&str], what: &str) {
+    let n = pages.len();
+    assert!(n >= 2, "{what}: {n} pages");
+    for (i, page) in pages.iter().enumerate() {
+        let label = format!("page {} of {n}", i + 1);
+        assert!(page.contains(&label), "{what}, page {}: no `{label}` in `{}`", i + 1, &page[page.len().saturating_sub(300)..]);
+        for id in identification {
+            assert!(page.contains(id), "{what}, page {}: `{id}` missing", i + 1);
+        }
+    }
+}
+
+/// The HTML printed to PDF by Chromium (A4, its own header and footer off: the page's CSS margin
+/// boxes are what prints): every word inside the page, and the text of each page.
+fn print_html(browser: &str, html: &Path, scratch: &Path) -> Vec<String> {
+    let pdf = scratch.join("printed.pdf");
+    let out = Command::new(browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--no-pdf-header-footer",
+        ])
+        .arg(format!("--user-data-dir={}", scratch.join("print-profile").display()))
+        .arg(format!("--print-to-pdf={}", pdf.display()))
+        .arg(format!("file://{}", html.display()))
+        .output()
+        .unwrap();
+    assert!(pdf.exists(), "chromium printed nothing: {}", String::from_utf8_lossy(&out.stderr));
+    let (sizes, pages) = pdf_words(&pdf);
+    for (p, words) in pages.iter().enumerate() {
+        let (w, h) = sizes[p];
+        assert!((w - 595.3).abs() < 1.0 && (h - 841.9).abs() < 1.0, "printed page {} is {w} x {h} pt, not A4", p + 1);
+        for (x0, y0, x1, y1, t, _) in words {
+            assert!(*x0 >= 0.0 && *x1 <= w && *y0 >= 0.0 && *y1 <= h, "printed page {}: `{t}` outside the page", p + 1);
+        }
+    }
+    page_texts(&pdf)
+}
+
 #[test]
 fn demo_report_reads_well_in_the_browser_and_as_a_pdf() {
     let dir = tempfile::tempdir().unwrap();
@@ -256,14 +324,36 @@ fn demo_report_reads_well_in_the_browser_and_as_a_pdf() {
     }
     let values = measured_values(&text);
     assert!(values.len() >= 12 + 3 + 6, "{} values with U", values.len());
+    numbers_are_readable(&text, "demo HTML");
+    // one U per parameter: the report's, in --json and in identification.json, said how obtained
+    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let written: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(demo.join("identification.json")).unwrap()).unwrap();
+    let parameters = summary["parameters"].as_object().unwrap();
+    assert_eq!(parameters.len(), 12);
+    for (name, p) in parameters {
+        let reported = p["reported"].as_str().unwrap();
+        assert!(text.contains(reported), "{name}: `{reported}` of --json not in the report");
+        let u = p["expanded_uncertainty"].as_f64().unwrap();
+        assert_eq!(written["parameters"][name]["expanded_uncertainty"].as_f64(), Some(u), "{name}: identification.json");
+        assert_eq!(p["uncertainty_method"], "Monte Carlo, all sources (JCGM 101)");
+        assert!(p.get("std_uncertainty").is_none() && written["parameters"][name].get("std_uncertainty").is_none(), "{name}: a second u");
+    }
+    // a specimen, identified on every page as one
+    let identification = ["SPECIMEN: simulated data, not a calibration certificate", "Certificate SPECIMEN-0001", "Specimen Customer Ltd"];
     if let Some(browser) = chromium() {
         let bad = browser_overflow(&browser, &demo.join("report.html"), dir.path());
         assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+        identification_on_every_page(&print_html(&browser, &demo.join("report.html"), dir.path()), &identification, "demo HTML printed");
     }
     if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
         let scratch = dir.path().join("pages");
         std::fs::create_dir(&scratch).unwrap();
         let pdf_text = check_pdf(&demo.join("report.pdf"), &scratch);
+        identification_on_every_page(&page_texts(&demo.join("report.pdf")), &identification, "demo PDF");
+        numbers_are_readable(&pdf_text, "demo PDF");
+        for (name, p) in parameters {
+            assert!(pdf_text.contains(p["reported"].as_str().unwrap()), "{name}: not in the PDF");
+        }
         // the PDF has the same results as the HTML
         let in_pdf = measured_values(&pdf_text);
         for v in &values {
@@ -344,14 +434,45 @@ fn imported_files_give_a_certificate_with_values_rounded_by_u_and_equal_to_the_j
     assert_eq!(c["format"], "heidenhain");
     let (left, was) = (c["worst_um"].as_f64().unwrap(), c["worst_error_um"].as_f64().unwrap());
     assert!(left > 0.1 && left < was / 2.0, "{c}");
+    // ISO/IEC 17025:2017 7.8.2.1 and 7.8.4.1 items of a calibration certificate, each named
+    for item in [
+        "Certificate number",
+        "Calibration laboratory",
+        "Customer",
+        "Machine",
+        "Serial number",
+        "Location",
+        "Date of the tests",
+        "Date of issue",
+        "Operator",
+        "Approved by",
+        "Air temperature",
+        "Machine temperature",
+        "Decision rule",
+        "Measuring instruments and their own calibration",
+        "Methods and standards applied",
+        "Conformity with the tolerances",
+    ] {
+        assert!(text.contains(item), "the certificate has no `{item}`");
+    }
+    // each test's date and conditions from its own file: the laser's day and the ballbar's
+    for expected in ["2024-03-11 14:05:00 (laser_x.rtl)", "2024-03-12 10:41 (export_xy.txt)", "Date of issue 2024-03-15"] {
+        assert!(text.contains(expected), "`{expected}` not in the report");
+    }
+    assert_eq!(text.matches("UTC").count(), 1, "one date of issue; the file's writing time once, in the inputs");
+    numbers_are_readable(&text, "HTML");
+    let identification = ["Certificate EX-2024-0312, issued 2024-03-15", "Example Parts Ltd", "serial number 0001"];
     if let Some(browser) = chromium() {
         let bad = browser_overflow(&browser, &dir.path().join("vmc3.html"), dir.path());
         assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+        identification_on_every_page(&print_html(&browser, &dir.path().join("vmc3.html"), dir.path()), &identification, "HTML printed");
     }
     if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
         let scratch = dir.path().join("pages");
         std::fs::create_dir(&scratch).unwrap();
         let pdf_text = check_pdf(&dir.path().join("vmc3.pdf"), &scratch);
+        identification_on_every_page(&page_texts(&dir.path().join("vmc3.pdf")), &identification, "PDF");
+        assert!(pdf_text.contains("Calibration certificate: circular test"), "the title, whole");
         assert_eq!(measured_values(&pdf_text), values, "the PDF shows the HTML's values");
     }
 }
@@ -411,4 +532,76 @@ fn conformity_decisions_on_tolerances_made_to_pass_to_fail_and_to_be_undecided()
     assert_eq!(decision(&simple, "hysteresis"), ["pass"], "{simple:?}");
     assert_eq!(decision(&simple, "squareness"), ["FAIL"], "{simple:?}");
     assert!(text_of(&html).contains("Simple acceptance"));
+}
+
+/// A five-axis job (issue 36): the rotary-axis ballbar steps of the C600U identify the 8 location
+/// errors of its A and C axes, each reported with U in the HTML, the PDF and the JSON alike (the
+/// JSON's `reported` text in both documents), a tolerance on one of them decided, and a tolerance
+/// on an error nobody identified refused by its name.
+#[test]
+fn a_five_axis_rotary_ballbar_job_is_reported_with_u_everywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let r = root();
+    let path = |p: &str| r.join(p).display().to_string();
+    let steps = ["A1", "A2", "C1", "C2"].map(|s| path(&format!("examples/ballbar/{s}.csv"))).join(",");
+    let certificate = dir.path().join("five.toml");
+    let html = dir.path().join("five.html");
+    let pdf = dir.path().join("five.pdf");
+    let run = |toml: &str| {
+        std::fs::write(&certificate, toml).unwrap();
+        let args = [
+            "report",
+            "--machine",
+            &path("examples/machines/c600u.toml"),
+            "--errors",
+            &path("examples/ballbar/c600u_piges.toml"),
+            "--rotary-ballbar",
+            &steps,
+            "--certificate",
+            certificate.to_str().unwrap(),
+            "--out",
+            html.to_str().unwrap(),
+            "--pdf",
+            pdf.to_str().unwrap(),
+            "--json",
+        ];
+        trueaxis(&args, dir.path())
+    };
+    let head = "[certificate]\nnumber = \"FIVE-1\"\ncustomer = \"Five Axis Ltd\"\n[decision]\nrule = \"guard-band\"\n";
+    let o = run(&format!("{head}[tolerances.parameters]\nEY0A = 15\n"));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let errors = s["rotary_ballbar"]["errors"].as_object().unwrap();
+    assert_eq!(errors.len(), 8, "{errors:?}");
+    let text = text_of(&std::fs::read_to_string(&html).unwrap());
+    assert!(text.contains("Rotary axes: ballbar test (location errors)") && text.contains("Jiang (2014)"));
+    // the files were simulated with c600u_piges.toml: each value within 2 U of it, or within 1 um / 5 urad
+    let truth: toml::Value = toml::from_str(&std::fs::read_to_string(r.join("examples/ballbar/c600u_piges.toml")).unwrap()).unwrap();
+    let pdf_pages = if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() { Some(page_texts(&pdf)) } else { None };
+    for (name, e) in errors {
+        let (v, u) = (e["value"].as_f64().unwrap(), e["expanded_uncertainty"].as_f64().unwrap());
+        let t = truth["constant"][name.as_str()].as_float().unwrap();
+        assert!((v - t).abs() <= (2.0 * u).max(5.0), "{name}: {v} ± {u} vs {t}");
+        let reported = e["reported"].as_str().unwrap();
+        assert!(reported.contains(" ± "), "{name}: `{reported}`");
+        assert!(text.contains(reported), "{name}: `{reported}` not in the HTML");
+        if let Some(pages) = &pdf_pages {
+            assert!(pages.iter().any(|p| p.contains(reported)), "{name}: `{reported}` not in the PDF");
+        }
+    }
+    // EY0A (35 um as simulated) against 15 um fails; the statement says so
+    let items = s["conformity"].as_array().unwrap();
+    assert_eq!(items.len(), 1);
+    assert_eq!(items[0]["decision"], "FAIL", "{items:?}");
+    assert!(text.contains("The machine does NOT conform: the toleranced item fails"), "the statement");
+    if let Some(pages) = &pdf_pages {
+        identification_on_every_page(pages, &["Certificate FIVE-1", "Five Axis Ltd"], "five-axis PDF");
+    }
+    // a tolerance on an error this report does not identify is refused by its name, nothing written
+    std::fs::remove_file(&html).unwrap();
+    let o = run(&format!("{head}[tolerances.parameters]\nEX0A = 15\n"));
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("five.toml") && err.contains("tolerances.parameters.EX0A") && err.contains("EY0A"), "{err}");
+    assert!(!html.exists());
 }

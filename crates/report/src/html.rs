@@ -9,8 +9,12 @@ use std::fmt::Write;
 pub enum Mark {
     Pass,
     Fail,
-    /// Neither conformity nor non-conformity proven: the value lies within the expanded
-    /// uncertainty of the tolerance limit.
+    /// The measured value is beyond the limit, but by less than its expanded uncertainty (or its
+    /// uncertainty is unknown): out of tolerance as measured, non-conformity not proven under a
+    /// guard band.
+    Beyond,
+    /// Neither conformity nor non-conformity proven: the value is within the limit but within the
+    /// expanded uncertainty of it (or its uncertainty is unknown).
     Undecided,
 }
 
@@ -20,6 +24,7 @@ impl Mark {
         match self {
             Mark::Pass => "pass",
             Mark::Fail => "FAIL",
+            Mark::Beyond => "fails (within U)",
             Mark::Undecided => "not proven",
         }
     }
@@ -27,7 +32,7 @@ impl Mark {
     fn class(self) -> &'static str {
         match self {
             Mark::Pass => "pass",
-            Mark::Fail => "fail",
+            Mark::Fail | Mark::Beyond => "fail",
             Mark::Undecided => "undecided",
         }
     }
@@ -144,6 +149,10 @@ pub struct HtmlReport {
     /// One line under the title: machine, date, software version.
     pub subtitle: String,
     pub sections: Vec<Section>,
+    /// What every printed page repeats at its foot, above or beside "page i of n": the report's
+    /// unique identification (ISO/IEC 17025:2017 7.8.2.1 b: certificate number, customer, item
+    /// calibrated), one line each; a specimen says so here. Empty: the title alone.
+    pub running: Vec<String>,
 }
 
 /// Screen and print (A4) styles. Long words (file names, SHA-256) and command lines wrap instead of
@@ -160,8 +169,9 @@ table.fields th{text-align:left;width:14em}\
 figure{margin:1em 0;page-break-inside:avoid;break-inside:avoid}figure svg{display:block;width:100%;height:auto}\
 figcaption{font-size:0.9em;color:#444}.note{border-left:4px solid #d55e00;background:#fdf1e8;padding:0.5em 0.8em}\
 pre{background:#f6f6f6;padding:0.6em;white-space:pre-wrap;overflow-wrap:anywhere}\
-@page{size:A4;margin:18mm 16mm}@media print{body{max-width:none;margin:0;padding:0;font-size:10pt}nav{display:none}\
-h2{page-break-after:avoid;break-after:avoid}tr{page-break-inside:avoid;break-inside:avoid}}";
+@media print{body{max-width:none;margin:0;padding:0;font-size:10pt}nav{display:none}\
+h2{page-break-after:avoid;break-after:avoid}tr{page-break-inside:avoid;break-inside:avoid}}\
+.running{color:#555;font-size:0.9em;border:1px solid #bbb;padding:0.3em 0.6em}.running p{margin:0.1em 0}@media print{.running{display:none}}";
 
 impl HtmlReport {
     /// The complete HTML document.
@@ -169,10 +179,18 @@ impl HtmlReport {
         let mut out = String::with_capacity(1 << 16);
         let _ = write!(
             out,
-            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n",
-            escape(&self.title)
+            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>{}</title>\n<style>{STYLE}{}</style>\n</head>\n<body>\n",
+            escape(&self.title),
+            self.page_style()
         );
         let _ = writeln!(out, "<h1>{}</h1>\n<p class=\"subtitle\">{}</p>", escape(&self.title), escape(&self.subtitle));
+        if !self.running.is_empty() {
+            out.push_str("<div class=\"running\">");
+            for line in &self.running {
+                let _ = write!(out, "<p>{}</p>", escape(line));
+            }
+            out.push_str("</div>\n");
+        }
         out.push_str("<nav><ol>\n");
         for s in &self.sections {
             let _ = writeln!(out, "<li><a href=\"#{}\">{}</a></li>", escape(&s.id), escape(&s.title));
@@ -188,6 +206,51 @@ impl HtmlReport {
         out.push_str("</body>\n</html>\n");
         out
     }
+}
+
+impl HtmlReport {
+    /// The lines every page repeats: the running identification, else the title.
+    pub fn running_lines(&self) -> Vec<String> {
+        if self.running.is_empty() {
+            vec![self.title.clone()]
+        } else {
+            self.running.clone()
+        }
+    }
+
+    /// The A4 page with the running identification at its foot and "page i of n" beside it (CSS
+    /// Paged Media margin boxes, which Chromium prints), so that a printed page carries them all.
+    fn page_style(&self) -> String {
+        let running = self.running_lines();
+        let lines: Vec<String> = running.iter().map(|l| css_string(l)).collect();
+        // the margin box holds about 70 characters of 10 pt a line over 80 % of the text width;
+        // 4.6 mm a line, and room above and below
+        let wrapped: usize = running.iter().map(|l| l.chars().count().div_ceil(70).max(1)).sum();
+        let bottom_mm = 12 + (46 * wrapped).div_ceil(10);
+        format!(
+            "@page{{size:A4;margin:18mm 16mm {bottom_mm}mm 16mm;\
+@bottom-left{{content:{};white-space:pre-wrap;font-family:'Liberation Sans',Arial,sans-serif;font-size:10pt;color:#555;vertical-align:top;padding-top:3mm;width:80%}}\
+@bottom-right{{content:\"page \" counter(page) \" of \" counter(pages);font-family:'Liberation Sans',Arial,sans-serif;font-size:10pt;color:#555;vertical-align:top;padding-top:3mm}}}}",
+            lines.join(" \"\\A \" ")
+        )
+    }
+}
+
+/// A CSS string literal of `text`: quotes and backslashes escaped, line breaks as `\A`, and `<` as
+/// `\3C` so that no `</style>` can end the style sheet early.
+fn css_string(text: &str) -> String {
+    let mut out = String::from("\"");
+    for c in text.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            '\n' => out.push_str("\\A "),
+            '<' => out.push_str("\\3C "),
+            _ => out.push(c),
+        }
+    }
+    out.push('"');
+    out
 }
 
 fn write_block(out: &mut String, block: &Block) {
@@ -302,6 +365,7 @@ mod tests {
                 .paragraph("x < y")
                 .table("t", &["a", "b"], vec![vec!["1.5".into(), "EX0C".into()]])
                 .figure("f", svg)],
+            running: vec!["Certificate \"X-1\" <b>".into(), "Customer: C".into()],
         };
         let html = r.to_html();
         assert!(html.contains("<title>A &lt;b&gt; &amp; C</title>"));
@@ -312,5 +376,9 @@ mod tests {
         );
         assert!(!html.contains("<?xml"));
         assert!(html.contains("<a href=\"#one\">One</a>"));
+        // every printed page repeats the identification and its number, quoted for CSS
+        assert!(html.contains("@bottom-left{content:\"Certificate \\\"X-1\\\" \\3C b>\" \"\\A \" \"Customer: C\""), "{html}");
+        assert!(html.contains("counter(page) \" of \" counter(pages)"));
+        assert!(html.contains("<div class=\"running\"><p>Certificate &quot;X-1&quot; &lt;b&gt;</p><p>Customer: C</p></div>"));
     }
 }

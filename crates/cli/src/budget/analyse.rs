@@ -92,6 +92,7 @@ pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
             title: format!("Error budget: {}", machine.name),
             subtitle: format!("trueaxis {} budget analyse", env!("CARGO_PKG_VERSION")),
             sections: Vec::new(),
+            running: Vec::new(),
         };
         for (set, a) in sets.iter().zip(&analyses) {
             let mine: Vec<(String, String)> = figures

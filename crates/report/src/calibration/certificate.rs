@@ -76,6 +76,9 @@ pub struct Particulars {
     pub location: Option<String>,
     /// Free remarks (scope, deviations from the method, opinions).
     pub remarks: Option<String>,
+    /// A specimen (an example, simulated data): every page says so.
+    #[serde(default)]
+    pub specimen: bool,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
@@ -169,6 +172,11 @@ impl Tolerances {
 }
 
 impl CertificateFile {
+    /// The date of issue: `issue_date`, else the day the report is `made` (`YYYY-MM-DD hh:mm UTC`).
+    pub fn issue_date(&self, made: &str) -> String {
+        self.certificate.issue_date.clone().unwrap_or_else(|| made.split(' ').next().unwrap_or(made).to_string())
+    }
+
     /// The expanded uncertainty (k = 2, um) of the readings of the instrument used for `test`.
     pub fn reading_uncertainty_um(&self, test: &str) -> Option<f64> {
         self.instrument_for(test).and_then(|i| i.expanded_uncertainty_um)
@@ -265,6 +273,11 @@ impl CertificateFile {
     }
 }
 
+/// The last component of a path.
+fn file_name(path: &str) -> String {
+    Path::new(path).file_name().map_or_else(|| path.to_string(), |n| n.to_string_lossy().into_owned())
+}
+
 /// The first value any input file records for `pick`.
 fn recorded<'a>(inputs: &'a [InputFile], pick: impl Fn(&'a Metadata) -> Option<&'a String>) -> Option<String> {
     inputs.iter().filter_map(|f| f.metadata.as_ref()).find_map(|m| pick(m).cloned())
@@ -291,7 +304,85 @@ pub struct Certificate<'a> {
     pub made: &'a str,
 }
 
+/// What a specimen's pages say.
+pub const SPECIMEN: &str = "SPECIMEN: simulated data, not a calibration certificate";
+
 impl Certificate<'_> {
+    /// The item calibrated: maker and model with the machine file's name, else that name.
+    fn machine(&self) -> String {
+        let m = &self.file.machine;
+        let identity = [m.maker.clone(), m.model.clone()].into_iter().flatten().collect::<Vec<_>>().join(" ");
+        if identity.is_empty() {
+            self.machine_name.to_string()
+        } else {
+            format!("{identity} ({})", self.machine_name)
+        }
+    }
+
+    fn serial(&self) -> Option<String> {
+        self.file.machine.serial.clone().or_else(|| recorded(self.inputs, |md| md.serial.as_ref()))
+    }
+
+    /// The lines every page repeats (ISO/IEC 17025:2017 7.8.2.1 b): the certificate's number and
+    /// title, the customer, the machine and its serial number, the date of issue; a specimen says so
+    /// first.
+    pub fn running(&self, title: &str) -> Vec<String> {
+        let c = &self.file.certificate;
+        let mut lines = Vec::new();
+        if c.specimen {
+            lines.push(SPECIMEN.to_string());
+        }
+        lines.push(format!(
+            "Certificate {}, issued {}: {title}",
+            c.number.as_deref().unwrap_or("(number not stated)"),
+            self.file.issue_date(self.made)
+        ));
+        lines.push(format!(
+            "Customer: {}; machine: {}, serial number {}",
+            c.customer.as_deref().unwrap_or("not stated"),
+            self.machine(),
+            self.serial().unwrap_or_else(|| "not stated".into()),
+        ));
+        lines
+    }
+
+    /// The last words of the report (ISO/IEC 17025:2017 7.8.2.1 d: its end clearly identified).
+    pub fn end(&self) -> String {
+        match &self.file.certificate.number {
+            Some(n) => format!("End of certificate {n}."),
+            None => "End of the report.".into(),
+        }
+    }
+
+    /// The dates of the tests as the files record them, each with its file: `date (file)`.
+    fn recorded_dates(&self) -> Option<String> {
+        let dates: Vec<String> =
+            self.inputs.iter().filter_map(|f| Some(format!("{} ({})", f.metadata.as_ref()?.date.as_ref()?, file_name(&f.path)))).collect();
+        (!dates.is_empty()).then(|| dates.join("; "))
+    }
+
+    /// Each test's date and environment from its own file (ISO/IEC 17025:2017 7.8.2.1 g, 7.8.4.1 a).
+    fn tests_table(&self) -> Option<(Vec<Vec<String>>, usize)> {
+        let not = || "not recorded".to_string();
+        let rows: Vec<Vec<String>> = self
+            .inputs
+            .iter()
+            .filter_map(|f| {
+                let m = f.metadata.as_ref()?;
+                let e = &m.environment;
+                Some(vec![
+                    f.role.clone(),
+                    file_name(&f.path),
+                    m.date.clone().unwrap_or_else(not),
+                    e.air_temperature_degc.map_or_else(not, |t| format!("{t:.1} degC")),
+                    range_text(&e.material_temperatures_degc).unwrap_or_else(not),
+                ])
+            })
+            .collect();
+        let recorded = rows.iter().filter(|r| r[2..].iter().any(|c| c != "not recorded")).count();
+        (!rows.is_empty()).then_some((rows, recorded))
+    }
+
     pub fn section(&self) -> Section {
         let f = self.file;
         let c = &f.certificate;
@@ -306,19 +397,12 @@ impl Certificate<'_> {
         push("Certificate number", Some(c.number.clone().unwrap_or_else(not_stated)));
         push("Calibration laboratory", Some(c.laboratory.clone().unwrap_or_else(not_stated)));
         push("Customer", Some(c.customer.clone().unwrap_or_else(not_stated)));
-        let identity = [m.maker.clone(), m.model.clone()].into_iter().flatten().collect::<Vec<_>>().join(" ");
-        push(
-            "Machine",
-            Some(if identity.is_empty() { self.machine_name.to_string() } else { format!("{identity} ({})", self.machine_name) }),
-        );
-        push("Serial number", m.serial.clone().or_else(|| recorded(self.inputs, |md| md.serial.as_ref())).or_else(|| Some(not_stated())));
+        push("Machine", Some(self.machine()));
+        push("Serial number", self.serial().or_else(|| Some(not_stated())));
         push("Controller", m.controller.clone());
         push("Location", m.location.clone().or(c.location.clone()).or_else(|| recorded(self.inputs, |md| md.location.as_ref())));
-        push(
-            "Date of the tests",
-            c.test_date.clone().or_else(|| recorded(self.inputs, |md| md.date.as_ref())).or_else(|| Some(not_stated())),
-        );
-        push("Date of issue", Some(c.issue_date.clone().unwrap_or_else(|| self.made.to_string())));
+        push("Date of the tests", c.test_date.clone().or_else(|| self.recorded_dates()).or_else(|| Some(not_stated())));
+        push("Date of issue", Some(f.issue_date(self.made)));
         push("Operator", c.operator.clone().or_else(|| recorded(self.inputs, |md| md.operator.as_ref())).or_else(|| Some(not_stated())));
         push("Approved by", c.approved_by.clone());
         let air: Vec<f64> = self.inputs.iter().filter_map(|i| i.metadata.as_ref()?.environment.air_temperature_degc).collect();
@@ -342,7 +426,21 @@ impl Certificate<'_> {
         push("Environment", e.notes.clone());
         push("Decision rule", Some(f.decision.rule.name().to_string()));
         push("Remarks", c.remarks.clone());
-        let mut s = Section::new("certificate", "Certificate").fields(fields);
+        let mut s = Section::new("certificate", "Certificate").fields(fields).paragraph(
+            "The results relate only to the machine identified above, in the condition and on the dates stated; they include no results from external providers. The certificate may be reproduced in full only, unless the laboratory approves otherwise in writing.",
+        );
+        if let Some((rows, recorded)) = self.tests_table() {
+            let caption = if recorded == rows.len() {
+                "The tests: date and conditions as each file records them".to_string()
+            } else {
+                format!(
+                    "The tests: date and conditions as each file records them ({} of {} files record none: their conditions are those stated above)",
+                    rows.len() - recorded,
+                    rows.len()
+                )
+            };
+            s = s.table(caption, &["test", "file", "date", "air temperature", "machine temperature"], rows);
+        }
         let rows: Vec<Vec<String>> = f
             .instruments
             .iter()

@@ -3,7 +3,7 @@
 //! computes them, and what the controller's sum of tables does at any pose.
 
 use super::super::html::Section;
-use super::quantity::quantity;
+use super::quantity::{pose, quantity};
 use super::CalibrationError;
 use trueaxis::compensate::export::{self, Coverage, ExportInput, ExportedFile, Extent, Limits};
 use trueaxis::compensate::{
@@ -40,6 +40,8 @@ pub struct ControllerPart {
     pub files: Vec<ExportedFile>,
     /// The kinematic description written, as `trueaxis compensate --json` gives it.
     pub kinematics: Option<serde_json::Value>,
+    /// The machine's axis letters, in the order of a pose.
+    pub axes: Vec<char>,
 }
 use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
@@ -134,7 +136,8 @@ impl CompensationPart {
         };
         let (job, ()) = compensation_with(&Corrector::new(machine, errors), &request, judge, |_| ())?;
         let residual = job.residual.ok_or_else(|| CalibrationError::Computation(format!("the {format} files leave no residual")))?;
-        Ok(ControllerPart { format: format.into(), residual, left_out: job.left_out, files: job.files, kinematics: job.kinematics })
+        let axes = machine.axes().iter().map(|a| a.letter).collect();
+        Ok(ControllerPart { format: format.into(), residual, left_out: job.left_out, files: job.files, kinematics: job.kinematics, axes })
     }
 
     pub fn section(&self, controller: Option<&ControllerPart>) -> Section {
@@ -154,10 +157,10 @@ impl CompensationPart {
                     "grid nodes".into(),
                     self.grid.as_ref().map_or("none".into(), |g| format!("{}x{}x{}", g.counts[0], g.counts[1], g.counts[2])),
                 ],
-                vec!["largest correction written, linear axes".into(), quantity(self.extent.max_um, 3, "um")],
-                vec!["largest correction written, rotary axes".into(), quantity(self.extent.max_urad, 3, "urad")],
+                vec!["largest correction written, linear axes".into(), quantity(self.extent.max_um, 2, "um")],
+                vec!["largest correction written, rotary axes".into(), quantity(self.extent.max_urad, 1, "urad")],
                 vec!["position residual after correction".into(), quantity(self.extent.worst_residual_mm * 1e3, 4, "um")],
-                vec!["orientation not corrected".into(), quantity(self.extent.worst_uncorrectable_rad * 1e6, 3, "urad")],
+                vec!["orientation not corrected".into(), quantity(self.extent.worst_uncorrectable_rad * 1e6, 1, "urad")],
             ],
         );
         if let Some(c) = controller {
@@ -178,8 +181,8 @@ impl CompensationPart {
             }
             s = s.table(
                 format!(
-                    "What the {} files leave, on the exact chain over {} poses and states of motion spread over the travel, rotary axes moving (the workpiece placed by its best fit, as `trueaxis compensate` judges it)",
-                    controller_name(&c.format), r.samples
+                    "What the {} files leave of {}, on the exact chain over {} poses and states of motion spread over the travel, rotary axes moving (the workpiece placed by its best fit, as `trueaxis compensate` judges it; not the poses of the volumetric map)",
+                    controller_name(&c.format), self.origin, r.samples
                 ),
                 &["quantity", "value"],
                 vec![
@@ -191,7 +194,7 @@ impl CompensationPart {
                         "where the most is left".into(),
                         format!(
                             "{} ({}), where the error was {}",
-                            pose_text(&r.worst_pose),
+                            pose(&c.axes.iter().copied().zip(r.worst_pose.iter().copied()).collect::<Vec<_>>()),
                             r.worst_state,
                             quantity(r.error_there_um, 2, "um")
                         ),
@@ -207,8 +210,4 @@ impl CompensationPart {
         }
         s
     }
-}
-
-fn pose_text(pose: &[f64]) -> String {
-    format!("pose ({})", pose.iter().map(|v| format!("{v}")).collect::<Vec<_>>().join(", "))
 }

@@ -9,7 +9,7 @@
 //! diagnostic's |value|; the largest volumetric error): the value compared is `|value|`.
 
 use super::super::html::{Cell, Mark, Section};
-use super::quantity::{quantity, uncertainty, value_by};
+use super::quantity::{display_unit, quantity, uncertainty, value_by};
 use serde::Deserialize;
 
 /// How measured values are compared with their tolerances.
@@ -41,7 +41,9 @@ impl DecisionRule {
 }
 
 /// The decision for `|value|` against the upper limit `tolerance` with expanded uncertainty `u`
-/// (all in one unit). Under the guard band rule an item without U proves nothing either way.
+/// (all in one unit). Under the guard band rule an item without U proves nothing either way; a
+/// value beyond the limit by less than U is [`Mark::Beyond`]: out of tolerance as measured, its
+/// non-conformity not proven.
 pub fn decide(rule: DecisionRule, value: f64, u: Option<f64>, tolerance: f64) -> Mark {
     let v = value.abs();
     match rule {
@@ -57,6 +59,7 @@ pub fn decide(rule: DecisionRule, value: f64, u: Option<f64>, tolerance: f64) ->
             match u {
                 Some(u) if v + u <= tolerance => Mark::Pass,
                 Some(u) if v - u > tolerance => Mark::Fail,
+                _ if v > tolerance => Mark::Beyond,
                 _ => Mark::Undecided,
             }
         }
@@ -76,43 +79,93 @@ pub struct Item {
     pub tolerance: f64,
     pub unit: String,
     pub mark: Mark,
+    /// Why U is not stated and how it will be, for an item without one.
+    pub without_u: Option<String>,
 }
 
 impl Item {
     pub fn new(name: String, section: &str, value: f64, expanded: Option<f64>, tolerance: f64, unit: &str, rule: DecisionRule) -> Item {
         let mark = decide(rule, value, expanded, tolerance);
-        Item { name, section: section.into(), value, expanded, tolerance, unit: unit.into(), mark }
+        Item { name, section: section.into(), value, expanded, tolerance, unit: unit.into(), mark, without_u: None }
+    }
+
+    /// An item whose U is not evaluated, with how it will be.
+    pub fn without_u(mut self, how: impl Into<String>) -> Item {
+        self.without_u = Some(how.into());
+        self
+    }
+
+    /// The text of its U cell: `U unit`, or why there is none and how it will be evaluated.
+    fn u_text(&self, factor: f64, unit: &str) -> String {
+        match (self.expanded, &self.without_u) {
+            (Some(u), _) => format!("{} {unit}", uncertainty(u * factor)),
+            (None, Some(how)) => format!("not evaluated: {how}"),
+            (None, None) => "not evaluated".into(),
+        }
     }
 }
 
-/// The overall statement of a list of decisions.
-pub fn statement(items: &[Item]) -> String {
-    let fails = items.iter().filter(|i| i.mark == Mark::Fail).count();
-    let open = items.iter().filter(|i| i.mark == Mark::Undecided).count();
-    match (fails, open) {
-        (0, 0) => format!("The machine conforms to the {} tolerances given.", items.len()),
-        (0, k) => format!(
-            "No item is out of tolerance, but conformity is not proven for {k} of the {} items: their values lie within U of the limit.",
-            items.len()
-        ),
-        (f, _) => format!("The machine does NOT conform: {f} of the {} items are out of tolerance.", items.len()),
+fn items(n: usize) -> String {
+    if n == 1 {
+        "1 item".into()
+    } else {
+        format!("{n} items")
     }
+}
+
+/// The overall statement of a list of decisions under `rule`: an item whose measured value is
+/// beyond its limit fails, in words, whatever the rule proves; what the rule proves follows.
+pub fn statement(items_decided: &[Item], rule: DecisionRule) -> String {
+    let count = |m: Mark| items_decided.iter().filter(|i| i.mark == m).count();
+    let (fails, beyond, open, n) = (count(Mark::Fail), count(Mark::Beyond), count(Mark::Undecided), items_decided.len());
+    let within_u = |k: usize| format!("conformity is not proven for {}, within the limit by less than U", items(k));
+    if fails + beyond == 0 {
+        let all = if n == 1 { "the toleranced item is".to_string() } else { format!("all {n} toleranced items are") };
+        return match open {
+            0 => format!("The machine conforms: {all} within tolerance (decision rule: {}).", rule.name()),
+            k => format!(
+                "No measured value is beyond its tolerance ({all} within it), but {} (decision rule: {}).",
+                within_u(k),
+                rule.name()
+            ),
+        };
+    }
+    let k = fails + beyond;
+    let failing = match (n, k) {
+        (1, _) => "the toleranced item fails, its measured value beyond the tolerance".to_string(),
+        (_, 1) => format!("1 of the {n} items fails, its measured value beyond the tolerance"),
+        _ => format!("{k} of the {n} items fail, their measured values beyond the tolerance"),
+    };
+    let mut text = format!("The machine does NOT conform: {failing}");
+    if beyond > 0 {
+        text.push_str(&format!(
+            " ({}by less than U or with U unknown, so that under the {} non-conformity is not proven)",
+            if k == 1 { String::new() } else { format!("{beyond} of them ") },
+            rule.name()
+        ));
+    }
+    if open > 0 {
+        text.push_str(&format!("; {}", within_u(open)));
+    }
+    text.push('.');
+    text
 }
 
 /// The section of decisions.
-pub fn section(items: &[Item], rule: DecisionRule) -> Section {
-    let rows = items
+pub fn section(decided: &[Item], rule: DecisionRule) -> Section {
+    let rows = decided
         .iter()
         .map(|i| {
+            let (factor, unit) = display_unit(i.expanded.unwrap_or(i.value.abs()), &i.unit);
             let value = match i.expanded {
-                Some(u) => format!("{} {}", value_by(i.value.abs(), u), i.unit),
-                None => quantity(i.value.abs(), 2, &i.unit),
+                Some(u) => format!("{} {unit}", value_by(i.value.abs() * factor, u * factor)),
+                None => quantity(i.value.abs() * factor, 2, &unit),
             };
             vec![
                 Cell::link(i.name.clone(), &i.section),
                 Cell::from(value),
-                Cell::from(i.expanded.map_or("not evaluated".to_string(), |u| format!("{} {}", uncertainty(u), i.unit))),
-                Cell::from(format!("≤ {} {}", i.tolerance, i.unit)),
+                Cell::from(i.u_text(factor, &unit)),
+                Cell::from(format!("≤ {} {unit}", i.tolerance * factor)),
                 Cell::mark(i.mark),
             ]
         })
@@ -124,7 +177,7 @@ pub fn section(items: &[Item], rule: DecisionRule) -> Section {
             &["item", "measured", "U (k = 2)", "tolerance", "decision"],
             rows,
         )
-        .paragraph(statement(items))
+        .paragraph(statement(decided, rule))
 }
 
 #[cfg(test)]
@@ -140,10 +193,38 @@ mod tests {
         // guard band: pass below T - U, fail above T + U, not proven in between
         assert_eq!(decide(GuardBand, 7.9, Some(2.0), 10.0), Mark::Pass);
         assert_eq!(decide(GuardBand, 8.1, Some(2.0), 10.0), Mark::Undecided);
-        assert_eq!(decide(GuardBand, 11.9, Some(2.0), 10.0), Mark::Undecided);
+        assert_eq!(decide(GuardBand, 11.9, Some(2.0), 10.0), Mark::Beyond);
         assert_eq!(decide(GuardBand, -12.1, Some(2.0), 10.0), Mark::Fail);
         // without U nothing is proven
         assert_eq!(decide(GuardBand, 1.0, None, 10.0), Mark::Undecided);
-        assert_eq!(decide(GuardBand, 11.0, None, 10.0), Mark::Undecided);
+        assert_eq!(decide(GuardBand, 11.0, None, 10.0), Mark::Beyond);
+    }
+
+    #[test]
+    fn a_value_beyond_its_limit_fails_in_words_whatever_the_guard_band_proves() {
+        use DecisionRule::*;
+        // the case: E = 9.7 um against 8 um and R = 3.3 um against 3 um, each with U larger
+        // than its excess, and a third item within its limit but within U of it
+        let e = Item::new("E".into(), "positioning", 9.7, Some(2.0), 8.0, "um", GuardBand);
+        let r = Item::new("R".into(), "positioning", 3.3, Some(0.5), 3.0, "um", GuardBand);
+        let a = Item::new("A".into(), "positioning", 7.9, Some(0.5), 8.0, "um", GuardBand);
+        assert_eq!((e.mark, r.mark, a.mark), (Mark::Beyond, Mark::Beyond, Mark::Undecided));
+        let text = statement(&[e.clone(), r, a], GuardBand);
+        assert!(
+            text.starts_with(
+                "The machine does NOT conform: 2 of the 3 items fail, their measured values beyond the tolerance (2 of them by less than U"
+            ),
+            "{text}"
+        );
+        assert!(text.contains("guard band of U (ISO 14253-1)") && text.contains("not proven for 1 item,"), "{text}");
+        let pass = Item::new("G".into(), "ballbar", 5.0, Some(0.5), 8.0, "um", GuardBand);
+        assert_eq!(
+            statement(&[pass], GuardBand),
+            "The machine conforms: the toleranced item is within tolerance (decision rule: guard band of U (ISO 14253-1))."
+        );
+        // an item without U says how it will be evaluated
+        let v = Item::new("V".into(), "volumetric", 20.0, None, 30.0, "um", GuardBand).without_u("identify with --sources");
+        assert_eq!(v.u_text(1.0, "um"), "not evaluated: identify with --sources");
+        assert_eq!(e.u_text(1.0, "um"), "2.0 um");
     }
 }

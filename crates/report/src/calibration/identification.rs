@@ -5,7 +5,7 @@
 
 use super::super::html::{Cell, Section};
 use super::super::residuals_svg;
-use super::quantity::{quantity, with_uncertainty};
+use super::quantity::{decimals_for, display_unit, quantity, with_uncertainty};
 use super::uncertainty::UncertaintyPart;
 use super::{number, CalibrationError};
 use std::path::Path;
@@ -56,6 +56,21 @@ pub enum UncertaintyMethod {
     /// The least-squares covariance scaled by the residuals (the noise seen in this campaign only).
     LeastSquares,
     None,
+}
+
+impl ParameterRow {
+    /// The parameter as every JSON of a run states it: one uncertainty, the report's `U` (k = 2)
+    /// with the method that gave it, so that `value ± U` reads the same in the report, its PDF and
+    /// its JSON; the least-squares standard uncertainty (the residual scatter of this campaign only)
+    /// and the Monte Carlo 95 % interval are kept under names that say what they are.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({
+            "unit": self.unit, "value": self.value, "true": self.truth,
+            "expanded_uncertainty": self.expanded, "coverage_factor": 2, "uncertainty_method": self.method.describe(),
+            "reported": with_uncertainty(self.value, self.expanded, &self.unit, 2),
+            "least_squares_std_uncertainty": self.std_uncertainty, "interval95": self.interval.map(|(lo, hi)| [lo, hi]),
+        })
+    }
 }
 
 impl UncertaintyMethod {
@@ -188,9 +203,11 @@ impl IdentificationPart {
             .zip(&ident.independence)
             .map(|(p, independence)| {
                 let mut cells = vec![Cell::from(p.name.clone())];
-                let decimals = p.expanded.and_then(super::quantity::decimals_for).unwrap_or(2);
+                // the true value in the unit and to the place of the identified one
+                let (factor, unit) = display_unit(p.expanded.unwrap_or(p.value.abs()), &p.unit);
+                let decimals = p.expanded.and_then(|u| decimals_for(u * factor)).unwrap_or(2);
                 if let Some(t) = p.truth {
-                    cells.push(Cell::from(quantity(t, decimals, &p.unit)));
+                    cells.push(Cell::from(quantity(t * factor, decimals, &unit)));
                 }
                 cells.push(Cell::from(with_uncertainty(p.value, p.expanded, &p.unit, 2)));
                 cells.push(match p.method {

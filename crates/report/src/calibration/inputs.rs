@@ -72,7 +72,7 @@ impl Traceability {
             .map(|f| vec![f.role.clone(), f.path.clone(), f.bytes.to_string(), f.sha256.clone(), f.recorded.join("; ")])
             .collect();
         let mut s = Section::new("inputs", "Inputs and traceability").paragraph(format!(
-            "Made on {} by {} from the files below; `sha256sum FILE` prints the same SHA-256 for an unchanged file.",
+            "This file was written on {} by {} from the files below (the date of issue is the certificate's); `sha256sum FILE` prints the same SHA-256 for an unchanged file.",
             self.date, self.software
         ));
         if let Some(c) = &self.command {

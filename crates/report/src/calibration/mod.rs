@@ -14,6 +14,7 @@
 //! | thermal error model and a campaign | `thermal-drift` (drift vs prediction per run; [`ThermalDriftPart`]) |
 //! | ISO 230-2 positioning tests | `positioning` (A, R, E, M, B with U and its budget, plots) |
 //! | ballbar circles | `ballbar` (polar plots, ISO 230-4 values, diagnostics) |
+//! | rotary-axis ballbar steps A1 A2 C1 C2 | `rotary-ballbar` (location errors with U, traces; [`RotaryBallbarPart`]) |
 //! | always | `inputs` (files with size and SHA-256, date, version) |
 //!
 //! `trueaxis report` builds it from a user's files; `trueaxis demo` from the files it simulates.
@@ -27,18 +28,20 @@ mod inputs;
 mod maps;
 mod positioning;
 pub mod quantity;
+mod rotary_ballbar;
 mod thermal;
 mod uncertainty;
 mod volume;
 
 pub use ballbar::{section as ballbar_section, CircleInput, CirclePart, SPIKE_WIDTH_DEG};
-pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances};
+pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances, SPECIMEN};
 pub use compensation::{controller_name, CompensationPart, ControllerPart, CONTROLLER_FORMATS, GRID_NODES, POINTS};
 pub use conformity::{decide, DecisionRule, Item};
 pub use identification::{IdentificationPart, ParameterRow, UncertaintyMethod};
 pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
 pub use maps::{magnitudes_um, statistics, VolumeMap, GRID};
 pub use positioning::{section as positioning_section, PositioningPart, POSITIONING_RESULTS};
+pub use rotary_ballbar::{LocationError, RotaryBallbarPart};
 pub use thermal::{ThermalDriftPart, ThermalModesPart};
 pub use uncertainty::UncertaintyPart;
 pub use volume::{error_at_setpoints, VolumePart};
@@ -111,6 +114,8 @@ pub struct CalibrationReport<'a> {
     /// A thermal error model against a measured campaign.
     pub thermal_drift: Option<ThermalDriftPart>,
     pub circles: Vec<CirclePart>,
+    /// The rotary-axis ballbar test of a five-axis machine (Jiang 2014).
+    pub rotary_ballbar: Option<RotaryBallbarPart>,
     /// ISO 230-2 positioning tests.
     pub positioning: Vec<PositioningPart>,
     pub compensation: Option<CompensationPart>,
@@ -142,6 +147,9 @@ impl CalibrationReport<'_> {
         }
         if !self.circles.is_empty() {
             m.push("Circular tests with a ballbar, ISO 230-4:2005".to_string());
+        }
+        if self.rotary_ballbar.is_some() {
+            m.push("Location errors of the rotary axes from four ballbar tests, the method of Jiang (2014) (ISO 230-7 terms; docs/identification.md)".to_string());
         }
         if self.volume.is_some() {
             m.push("Volumetric error over the work volume from the error model, ISO/TR 230-11 terms (docs/user-guide.md)".to_string());
@@ -176,30 +184,60 @@ impl CalibrationReport<'_> {
         for c in &self.circles {
             items.extend(c.conformity(&t.ballbar, rule));
         }
+        if let Some(r) = &self.rotary_ballbar {
+            items.extend(r.conformity(&t.parameters, rule));
+        }
         if let (Some(tol), Some(v)) = (t.volumetric_um, &self.volume) {
-            items.push(Item::new(
-                "largest volumetric error |d| before compensation".into(),
-                "volumetric",
-                v.before_um.0,
-                None,
-                tol,
-                "um",
-                rule,
-            ));
+            items.push(
+                Item::new("largest volumetric error |d| before compensation".into(), "volumetric", v.before_um.0, None, tol, "um", rule)
+                    .without_u("the map is computed from error values without a propagated uncertainty; state U with the error values' [uncertainty] table and decide by simple acceptance meanwhile"),
+            );
         }
         items
     }
 
+    /// Every tolerance of `report.toml` is decided or refused by name: a tolerance for a result this
+    /// report does not have (a parameter the campaign does not identify, a diagnostic no circle
+    /// gives, a test not given) is bad input, never silently left out.
+    pub fn check_tolerances(&self, origin: &str) -> Result<(), CalibrationError> {
+        let t = &self.certificate.tolerances;
+        let rule = self.certificate.decision.rule;
+        let mut refused = Vec::new();
+        let identified: Vec<String> = (self.identification.iter().flat_map(|id| id.parameter_rows(None).into_iter().map(|p| p.name)))
+            .chain(self.rotary_ballbar.iter().flat_map(|r| r.errors().into_iter().map(|e| e.name)))
+            .collect();
+        for name in t.parameters.keys().filter(|n| !identified.contains(n)) {
+            refused.push(match identified.is_empty() {
+                true => format!(
+                    "tolerances.parameters.{name}: no parameters are identified in this report (give --campaign or --rotary-ballbar)"
+                ),
+                false => format!("tolerances.parameters.{name}: not identified in this report (it identifies {})", identified.join(", ")),
+            });
+        }
+        for (key, &tol) in &t.ballbar {
+            let one = std::collections::BTreeMap::from([(key.clone(), tol)]);
+            if self.circles.iter().all(|c| c.conformity(&one, rule).is_empty()) {
+                refused.push(match self.circles.is_empty() {
+                    true => format!("tolerances.ballbar.{key}: no ballbar test in this report (give --ballbar)"),
+                    false => format!("tolerances.ballbar.{key}: not an ISO 230-4 value (G, F, H) or a diagnostic of the circles"),
+                });
+            }
+        }
+        if let (Some(key), true) = (t.positioning.keys().next(), self.positioning.is_empty()) {
+            refused.push(format!("tolerances.positioning.{key}: no positioning test in this report (give --positioning)"));
+        }
+        if t.volumetric_um.is_some() && self.volume.is_none() {
+            refused.push("tolerances.volumetric_um: no volumetric map in this report".into());
+        }
+        match refused.is_empty() {
+            true => Ok(()),
+            false => Err(CalibrationError::Input(format!("{origin}: {}", refused.join("; ")))),
+        }
+    }
+
     /// The sections in order; a part that is absent has none.
     pub fn sections(&self) -> Vec<Section> {
-        let certificate = Certificate {
-            file: &self.certificate,
-            machine_name: &self.machine.name,
-            inputs: &self.traceability.inputs,
-            methods: self.methods(),
-            made: &self.traceability.date,
-        };
-        let mut out = vec![certificate.section()];
+        let mut out = vec![self.particulars().section()];
         if !self.certificate.tolerances.is_empty() {
             out.push(conformity::section(&self.conformity_items(), self.certificate.decision.rule));
         }
@@ -222,17 +260,40 @@ impl CalibrationReport<'_> {
         if !self.circles.is_empty() {
             out.push(ballbar_section(&self.circles));
         }
+        out.extend(self.rotary_ballbar.iter().map(RotaryBallbarPart::section));
         if let Some(c) = &self.compensation {
             out.push(c.section(self.controller.as_ref()));
         }
         out.extend(self.extra.iter().cloned());
-        out.push(self.traceability.section());
+        out.push(self.traceability.section().paragraph(self.particulars().end()));
         out
     }
 
-    /// The document (sections in order), from which the HTML and the PDF are made.
+    /// The certificate's particulars with what the files record.
+    fn particulars(&self) -> Certificate<'_> {
+        Certificate {
+            file: &self.certificate,
+            machine_name: &self.machine.name,
+            inputs: &self.traceability.inputs,
+            methods: self.methods(),
+            made: &self.traceability.date,
+        }
+    }
+
+    /// The date of issue: the certificate's, else the day the report is made.
+    pub fn issue_date(&self) -> String {
+        self.certificate.issue_date(&self.traceability.date)
+    }
+
+    /// The document (sections in order), from which the HTML and the PDF are made; every page of
+    /// both repeats the certificate's identification.
     pub fn document(&self) -> HtmlReport {
-        HtmlReport { title: self.title.clone(), subtitle: self.subtitle.clone(), sections: self.sections() }
+        HtmlReport {
+            title: self.title.clone(),
+            subtitle: self.subtitle.clone(),
+            sections: self.sections(),
+            running: self.particulars().running(&self.title),
+        }
     }
 
     /// The complete HTML document.

@@ -5,7 +5,7 @@
 use super::super::html::Section;
 use super::super::{interval_of, uncertainty_figures};
 use super::identification::IdentificationPart;
-use super::quantity::uncertainty;
+use super::quantity::{display_unit, uncertainty};
 use super::CalibrationError;
 use trueaxis::uncertainty::{self, from_identification, run_budget, Budget, ControlVariables, Evaluation, IdentificationMap, Sources};
 
@@ -66,7 +66,9 @@ impl UncertaintyPart {
             .enumerate()
             .map(|(k, row)| {
                 let mut cells = vec![row.parameter.clone()];
-                let two_digits = |w: f64| format!("{} {}", uncertainty(w), row.unit);
+                // in the unit the parameter table quotes it (per metre for a tiny per-millimetre term)
+                let (factor, unit) = display_unit(2.0 * b.total.outputs[k].std_uncertainty, &row.unit);
+                let two_digits = |w: f64| format!("{} {unit}", uncertainty(w * factor));
                 cells.extend(row.widths.iter().map(|w| two_digits(*w)));
                 cells.extend([two_digits(row.rss), two_digits(row.total), two_digits(2.0 * b.total.outputs[k].std_uncertainty)]);
                 cells

@@ -6,7 +6,7 @@ use super::super::html::Section;
 use super::compensation::controller_name;
 use super::compensation::CompensationPart;
 use super::maps::{magnitudes_um, statistics, VolumeMap};
-use super::quantity::quantity;
+use super::quantity::{pose, quantity};
 use super::CalibrationError;
 use rayon::prelude::*;
 use trueaxis::compensate::export::residual::Applied;
@@ -140,7 +140,7 @@ impl VolumePart {
     }
 
     pub fn section(&self) -> Section {
-        let at: Vec<String> = self.max_pose.iter().map(|(l, x)| format!("{l} = {x}")).collect();
+        let at = pose(&self.max_pose);
         let um = |v: f64| quantity(v, 2, "um");
         let after_how = match &self.controller {
             Some(name) => format!(
@@ -154,7 +154,7 @@ impl VolumePart {
                 "Exact volumetric error |d| of the tool point relative to the workpiece origin over the mid-planes of the linear-axis travel ({} poses, rotary axes at 0, machine frame). Before compensation: largest {} (at {}), RMS {}. After compensation, {}: largest {}, RMS {}.",
                 self.poses,
                 um(self.before_um.0),
-                at.join(", "),
+                at,
                 um(self.before_um.1),
                 after_how,
                 um(self.after_um.0),

@@ -171,8 +171,6 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     identification.description.push(report::campaign_description(&simulated));
     identification.notes.push(report::IDENTIFIABILITY_NOTE.into());
     out.write("identified.toml", identification.errors_text.as_bytes())?;
-    let json = identification_json(&identification.result, &identification.campaign);
-    out.write("identification.json", format!("{json:#}\n").as_bytes())?;
 
     progress(4, STEPS, "adaptive Monte Carlo uncertainty and budget (JCGM 101)");
     out.write("uncertainty/sources.toml", SOURCES_TOML.as_bytes())?;
@@ -184,6 +182,9 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
     if let Some(svg) = &uncertainty.convergence_svg {
         out.write("uncertainty/convergence.svg", svg.as_bytes())?;
     }
+    let mut json = identification_json(&identification.result, &identification.campaign);
+    quote_the_report(&mut json, &identification.parameter_rows(Some(&uncertainty)));
+    out.write("identification.json", format!("{json:#}\n").as_bytes())?;
 
     progress(5, STEPS, "compensation tables");
     let mut compensation =
@@ -239,9 +240,15 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
         files: Vec::new(),
     };
     let extra = vec![report::reproduce_section(&circle.input, &compensation)];
+    let traceability = Traceability::now(inputs, Some(format!("trueaxis demo --out {}", out_dir.display())));
     let calibration = CalibrationReport {
-        title: "Calibration report (demo)".into(),
-        subtitle: format!("{}: simulated calibration with known errors; trueaxis {}", machine.name, env!("CARGO_PKG_VERSION")),
+        title: certificate.certificate.title.clone().unwrap_or_else(|| "Calibration report (specimen)".into()),
+        subtitle: format!(
+            "{}: specimen of a simulated calibration with known errors; date of issue {}; trueaxis {}",
+            machine.name,
+            certificate.issue_date(&traceability.date),
+            env!("CARGO_PKG_VERSION")
+        ),
         machine: &machine,
         machine_notes: vec![report::MACHINE_NOTE.into()],
         identification: Some(identification),
@@ -250,16 +257,34 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
         thermal_modes: None,
         thermal_drift: None,
         circles: vec![circle],
+        rotary_ballbar: None,
         positioning: Vec::new(),
         compensation: Some(compensation),
         controller: Some(controller),
         extra,
-        traceability: Traceability::now(inputs, Some(format!("trueaxis demo --out {}", out_dir.display()))),
+        traceability,
         certificate,
     };
+    calibration.check_tolerances("built-in report.toml")?;
     out.write("report.html", calibration.to_html().as_bytes())?;
     out.write("report.pdf", &calibration.to_pdf()?)?;
     let files = out.work.files();
     out.work.commit().map_err(DemoError::Output)?;
     Ok(DemoSummary { files, ..summary })
+}
+
+/// The identification's JSON with the report's one uncertainty per parameter (`ParameterRow::json`):
+/// `expanded_uncertainty` (k = 2) and its method; the least-squares standard uncertainty of
+/// `trueaxis identify` renamed to say what it is.
+fn quote_the_report(json: &mut serde_json::Value, rows: &[ParameterRow]) {
+    for row in rows {
+        let Some(entry) = json["parameters"].get_mut(&row.name).and_then(|e| e.as_object_mut()) else { continue };
+        if let Some(u) = entry.remove("std_uncertainty") {
+            entry.insert("least_squares_std_uncertainty".into(), u);
+        }
+        let quoted = row.json();
+        for key in ["expanded_uncertainty", "coverage_factor", "uncertainty_method"] {
+            entry.insert(key.into(), quoted[key].clone());
+        }
+    }
 }

@@ -28,7 +28,7 @@ pub fn circle_description() -> String {
     format!("Simulated on the exact chain with the true errors and {NOISE_UM} um of noise, CCW then CW, R {RADIUS_MM} mm around the middle of the travel; the simulation is quasi-static, so the feed stated in the file adds no servo error.")
 }
 
-pub const VOLUME_NOTE: &str = "The machine has the true errors; the corrections and tables are computed from the identified errors. What remains after compensation is the error of the identification (noise and drift) and the combinations the campaign cannot see.";
+pub const VOLUME_NOTE: &str = "The machine has the true errors; the corrections and tables are computed from the identified errors. What remains after compensation is the error of the identification (noise and drift) and the combinations the campaign cannot see. The compensation page judges the Heidenhain files on another pose set (the whole travel, rotary axes moving) and against the identified errors they were made from: its error left is what the files cannot carry, not the identification's error shown here.";
 
 /// The commands that repeat each step, from the output folder.
 pub fn reproduce_section(circle: &CircleInput, compensation: &CompensationPart) -> Section {

@@ -22,9 +22,11 @@ use std::collections::HashMap;
 /// A4 in pt (210 x 297 mm).
 pub const PAGE_WIDTH_PT: f32 = 595.276;
 pub const PAGE_HEIGHT_PT: f32 = 841.89;
-/// Left, right and top margin (18 mm); the footer sits in the bottom margin.
+/// Left, right and top margin (18 mm); the footer sits in the bottom margin, its last line's
+/// baseline `FOOTER_BASE_PT` above the page's edge, the text at least `FOOTER_GAP_PT` above its first.
 pub const MARGIN_PT: f32 = 51.0;
-const BOTTOM_PT: f32 = 62.0;
+const FOOTER_BASE_PT: f32 = 30.0;
+const FOOTER_GAP_PT: f32 = 20.0;
 pub const TEXT_WIDTH_PT: f32 = PAGE_WIDTH_PT - 2.0 * MARGIN_PT;
 /// Body text, table cells, captions, commands and the footer: 10 pt; headings larger.
 pub const BODY_PT: f32 = 10.0;
@@ -53,6 +55,8 @@ pub enum Op {
 
 pub struct Pages {
     pub pages: Vec<Vec<Op>>,
+    /// The running identification, wrapped beside "page i of n" (`HtmlReport::running_lines`).
+    pub footer: Vec<String>,
     /// Section id -> (page, y) of its heading; in order.
     pub anchors: Vec<(String, String, usize, f32)>,
     pub figures: Vec<String>,
@@ -62,6 +66,8 @@ struct Flow<'a> {
     fonts: &'a Fonts,
     pages: Vec<Vec<Op>>,
     y: f32,
+    /// Where the text of a page ends (pt from the top): above the footer.
+    bottom: f32,
     anchors: Vec<(String, String, usize, f32)>,
     figures: Vec<String>,
 }
@@ -76,13 +82,9 @@ impl Flow<'_> {
         self.y = MARGIN_PT;
     }
 
-    fn bottom() -> f32 {
-        PAGE_HEIGHT_PT - BOTTOM_PT
-    }
-
     /// A new page unless `height` fits below the current position.
     fn need(&mut self, height: f32) {
-        if self.y + height > Self::bottom() && self.y > MARGIN_PT + 1.0 {
+        if self.y + height > self.bottom && self.y > MARGIN_PT + 1.0 {
             self.new_page();
         }
     }
@@ -184,7 +186,7 @@ impl Flow<'_> {
     fn figure(&mut self, caption: &str, svg: &str) -> Result<(), ReportError> {
         let (w, h) = svg::size(svg)?;
         let mut scale = TEXT_WIDTH_PT / w;
-        let room = Self::bottom() - MARGIN_PT - 3.0 * Self::line_height(BODY_PT);
+        let room = self.bottom - MARGIN_PT - 3.0 * Self::line_height(BODY_PT);
         if h * scale > room {
             scale = room / h;
         }
@@ -200,24 +202,29 @@ impl Flow<'_> {
         Ok(())
     }
 
-    /// Column widths: each column gets its widest word; what is left goes to the columns whose
-    /// text would wrap, in proportion to what they lack.
+    /// Column widths: each column gets its widest word, and a number with its U and unit whole (a
+    /// value never wraps away from its unit); what is left goes to the columns whose text would
+    /// wrap, in proportion to what they lack.
     fn columns(&self, header: &[String], rows: &[Vec<Cell>], width: f32) -> Vec<f32> {
         let n = header.len().max(rows.iter().map(Vec::len).max().unwrap_or(0));
         let mut least = vec![0f32; n];
         let mut full = vec![0f32; n];
-        let mut measure = |k: usize, text: &str, bold: bool| {
+        let mut measure = |k: usize, text: &str, bold: bool, whole: bool| {
             let face = self.fonts.face(bold);
-            let widest = text.split_whitespace().map(|w| face.width(w, BODY_PT)).fold(0.0, f32::max);
-            least[k] = least[k].max(widest.min(width / n as f32) + 2.0 * CELL_PAD);
+            let widest = match whole {
+                true => face.width(text, BODY_PT),
+                false => text.split_whitespace().map(|w| face.width(w, BODY_PT)).fold(0.0, f32::max),
+            };
+            let cap = if whole { 0.45 * width } else { width / n as f32 };
+            least[k] = least[k].max(widest.min(cap) + 2.0 * CELL_PAD);
             full[k] = full[k].max(face.width(text, BODY_PT) + 2.0 * CELL_PAD);
         };
         for (k, h) in header.iter().enumerate() {
-            measure(k, h, true);
+            measure(k, h, true, false);
         }
         for row in rows {
             for (k, c) in row.iter().enumerate() {
-                measure(k, &c.text, false);
+                measure(k, &c.text, false, c.is_numeric());
             }
         }
         let total: f32 = full.iter().sum();
@@ -251,7 +258,7 @@ impl Flow<'_> {
                 self.page().push(Op::Fill { rect: (x, top, w, height), colour });
             }
             let numeric = !bold && cell.is_some_and(Cell::is_numeric);
-            let cell_bold = bold || cell.and_then(|c| c.mark) == Some(Mark::Fail);
+            let cell_bold = bold || matches!(cell.and_then(|c| c.mark), Some(Mark::Fail | Mark::Beyond));
             let colour = if cell.is_some_and(|c| c.link.is_some()) { LINK } else { INK };
             for (i, line) in lines.iter().enumerate() {
                 let lw = self.fonts.face(cell_bold).width(line, BODY_PT);
@@ -303,7 +310,7 @@ impl Flow<'_> {
         }
         for r in rows {
             let h = self.row_height(r, &widths, false);
-            if self.y + h > Self::bottom() {
+            if self.y + h > self.bottom {
                 self.new_page();
                 if !header.is_empty() {
                     self.row(&head, &widths, true, Some(HEADER_BG));
@@ -348,14 +355,23 @@ fn mark_colour(mark: Mark) -> (u8, u8, u8) {
     // light tints of the Okabe-Ito bluish green, vermillion and yellow: the words carry the meaning
     match mark {
         Mark::Pass => (214, 238, 226),
-        Mark::Fail => (249, 214, 200),
+        Mark::Fail | Mark::Beyond => (249, 214, 200),
         Mark::Undecided => (252, 240, 196),
     }
 }
 
+/// The widest page label a report has ("page 999 of 999"), pt.
+fn page_label_width(fonts: &Fonts) -> f32 {
+    fonts.regular.width("page 999 of 999", BODY_PT)
+}
+
 /// The report laid out on pages.
 pub fn lay_out(report: &HtmlReport, fonts: &Fonts) -> Result<Pages, ReportError> {
-    let mut flow = Flow { fonts, pages: vec![Vec::new()], y: MARGIN_PT, anchors: Vec::new(), figures: Vec::new() };
+    let mut flow = Flow { fonts, pages: vec![Vec::new()], y: MARGIN_PT, bottom: PAGE_HEIGHT_PT, anchors: Vec::new(), figures: Vec::new() };
+    // the running lines wrap beside the page label; the text ends above them
+    let room = TEXT_WIDTH_PT - page_label_width(fonts) - 12.0;
+    let footer: Vec<String> = report.running_lines().iter().flat_map(|l| flow.wrap(l, BODY_PT, false, room)).collect();
+    flow.bottom = footer_top(footer.len()) - FOOTER_GAP_PT;
     flow.paragraph(&report.title, TITLE_PT, true, INK, MARGIN_PT, TEXT_WIDTH_PT);
     flow.y += 2.0;
     flow.paragraph(&report.subtitle, BODY_PT, false, GREY, MARGIN_PT, TEXT_WIDTH_PT);
@@ -376,7 +392,34 @@ pub fn lay_out(report: &HtmlReport, fonts: &Fonts) -> Result<Pages, ReportError>
             }
         }
     }
-    Ok(Pages { pages: flow.pages, anchors: flow.anchors, figures: flow.figures })
+    Ok(Pages { pages: flow.pages, footer, anchors: flow.anchors, figures: flow.figures })
+}
+
+/// The baseline of the first of `lines` footer lines, pt from the top of the page.
+fn footer_top(lines: usize) -> f32 {
+    PAGE_HEIGHT_PT - FOOTER_BASE_PT - lines.saturating_sub(1) as f32 * Flow::line_height(BODY_PT)
+}
+
+/// The footer of page `index` of `count`: a rule, the running lines at the left, the page label at
+/// the right of the first line.
+fn footer(surface: &mut Surface, fonts: &Fonts, lines: &[String], index: usize, count: usize) {
+    let top = footer_top(lines.len());
+    let rule = top - BODY_PT - 4.0;
+    let mut b = PathBuilder::new();
+    b.move_to(MARGIN_PT, rule);
+    b.line_to(MARGIN_PT + TEXT_WIDTH_PT, rule);
+    if let Some(path) = b.finish() {
+        surface.set_fill(None);
+        surface.set_stroke(Some(Stroke { paint: colour(RULE).into(), width: 0.5, ..Stroke::default() }));
+        surface.draw_path(&path);
+        surface.set_stroke(None);
+    }
+    for (i, line) in lines.iter().enumerate() {
+        text(surface, fonts, MARGIN_PT, top + i as f32 * Flow::line_height(BODY_PT), BODY_PT, false, GREY, line);
+    }
+    let label = format!("page {} of {count}", index + 1);
+    let w = fonts.regular.width(&label, BODY_PT);
+    text(surface, fonts, MARGIN_PT + TEXT_WIDTH_PT - w, top, BODY_PT, false, GREY, &label);
 }
 
 fn colour(c: (u8, u8, u8)) -> rgb::Color {
@@ -395,7 +438,8 @@ fn text(surface: &mut Surface, fonts: &Fonts, x: f32, y: f32, size: f32, bold: b
     surface.draw_glyphs(Point::from_xy(x, y), &face.glyphs(t), face.font.clone(), t, size, false);
 }
 
-/// The PDF of laid-out pages: page contents, footer "title, page i of n", outline and links.
+/// The PDF of laid-out pages: page contents, the footer (the running identification and "page i of
+/// n"), outline and links.
 pub fn render(report: &HtmlReport, fonts: &Fonts, pages: &Pages) -> Result<Vec<u8>, ReportError> {
     let mut document = Document::new();
     let size = PageSettings::from_wh(PAGE_WIDTH_PT, PAGE_HEIGHT_PT).ok_or_else(|| ReportError::Draw("A4 page size".into()))?;
@@ -435,9 +479,7 @@ pub fn render(report: &HtmlReport, fonts: &Fonts, pages: &Pages) -> Result<Vec<u
                     Op::Link { rect, section } => links.push((*rect, section.clone())),
                 }
             }
-            let footer = format!("{}    page {} of {}", report.title, index + 1, count);
-            let w = fonts.regular.width(&footer, BODY_PT);
-            text(&mut surface, fonts, PAGE_WIDTH_PT - MARGIN_PT - w, PAGE_HEIGHT_PT - 30.0, BODY_PT, false, GREY, &footer);
+            footer(&mut surface, fonts, &pages.footer, index, count);
             surface.finish();
         }
         for ((x, y, w, h), section) in links {
