@@ -536,6 +536,7 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
     for o in &result.diagnostics.omitted {
         out.push_str(&format!("  not fitted: {o}\n"));
     }
+    out += &crate::iso230_2::data_quality_text(&test.findings);
     if let Some(p) = &a.plot {
         out.push_str(&format!("wrote {}\n", p.display()));
     }

@@ -3,10 +3,9 @@
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::OutputSet;
-use trueaxis::identify::{
-    error_values_text, identification_json, identify, Campaign, Identification, IdentifyError, IndirectOptions, Solver,
-};
+use trueaxis::identify::{error_values_text, identification_json, Campaign, Identification, IdentifyError, IndirectOptions, Solver};
 use trueaxis::machine::Machine;
+use trueaxis::screen::campaign::identify_screened;
 
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum SolverArg {
@@ -51,6 +50,11 @@ pub struct IdentifyArgs {
     /// Write the residuals per row (CSV: measurement, line, channel, residual_um), atomically.
     #[arg(long, value_parser = crate::outputs::file)]
     residuals: Option<crate::outputs::OutputPath>,
+    /// Leave out the readings screening finds suspect (studentized residual over 5.5 or Cook's
+    /// distance over 0.5, stuck sensors, repeated records; docs/screening.md) and report the
+    /// result without them, next to the one with every reading. Default: flag them only.
+    #[arg(long)]
+    exclude_outliers: bool,
 }
 
 pub fn failure(e: IdentifyError) -> Failure {
@@ -78,9 +82,10 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     };
     let records: usize = campaign.measurements.iter().map(|m| m.records()).sum();
     bar.set_message(format!("identifying {} unknowns from {records} records", campaign.unknowns.len()));
-    let result = identify(&campaign, &machine, &nominal, &options);
+    let screened = identify_screened(&campaign, &machine, &nominal, &options, args.exclude_outliers);
     bar.finish_and_clear();
-    let result = result.map_err(failure)?;
+    let screened = screened.map_err(failure)?;
+    let (result, campaign) = (&screened.result, &screened.campaign);
     // values, standard uncertainties, residuals and their RMS: all finite before anything is written
     let uncertainties = result.std_uncertainty.iter().flatten();
     if result.values.iter().chain(&result.residuals).chain(uncertainties).chain([&result.residual_rms_um]).any(|v| !v.is_finite()) {
@@ -95,18 +100,43 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
             Some(p) => trueaxis::data::inputs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", p.display())))?,
             None => String::new(),
         };
-        let text = error_values_text(&result, &campaign, &nominal, &nominal_text).map_err(failure)?;
+        let text = error_values_text(result, campaign, &nominal, &nominal_text).map_err(failure)?;
         outputs.file(path, text);
     }
     if let Some(path) = &args.residuals {
-        outputs.file(path, residuals_csv(&campaign, &result));
+        outputs.file(path, residuals_csv(campaign, result));
     }
     // both or neither: a residual path that cannot be written leaves no error file either
     outputs.commit().map_err(Failure::input)?;
     if args.json {
-        return print(&format!("{}\n", identification_json(&result, &campaign)));
+        let mut doc = identification_json(result, campaign);
+        screened.add_to_json(&mut doc);
+        return print(&format!("{doc}\n"));
     }
-    print(&table(&campaign, &result, args.out.as_deref()))
+    let mut text = table(campaign, result, args.out.as_deref());
+    text += &crate::iso230_2::data_quality_text(&screened.findings);
+    if let Some(other) = &screened.other {
+        text += &comparison_text(result, other, screened.excluded_records > 0, screened.excluded_records);
+    }
+    print(&text)
+}
+
+/// The parameters of both fits side by side: the result and the other one.
+fn comparison_text(result: &Identification, other: &Identification, excluded: bool, records: usize) -> String {
+    let (this, that) = if excluded { ("without suspect", "every reading") } else { ("every reading", "without suspect") };
+    let mut s = if excluded {
+        format!("\n--exclude-outliers: {records} suspect record(s) left out; the values above are without them\n")
+    } else {
+        "\nsuspect readings are flagged only (--exclude-outliers leaves them out):\n".to_string()
+    };
+    s += &format!("  {:<16} {:>16} {:>16} {:>9}\n", "parameter", this, that, "change/u");
+    for (j, name) in result.names.iter().enumerate() {
+        let u = result.std_uncertainty[j].unwrap_or(f64::NAN);
+        let change = (other.values[j] - result.values[j]) / u;
+        let change = if change.is_finite() { format!("{change:+.1}") } else { "n/a".into() };
+        s += &format!("  {name:<16} {:>16.4} {:>16.4} {change:>9}\n", result.values[j], other.values[j]);
+    }
+    s
 }
 
 fn residuals_csv(campaign: &Campaign, result: &Identification) -> String {

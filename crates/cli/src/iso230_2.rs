@@ -72,6 +72,7 @@ pub fn run(args: Iso2302Args) -> Result<(), Failure> {
         return print(&format!("{}\n", test.to_json()));
     }
     let mut text = table_text(&name, &test.result, &test.data.metadata);
+    text += &data_quality_text(&test.findings);
     if let Some(path) = &args.plot {
         text += &format!("\nwrote {}\n", path.display());
     }
@@ -125,6 +126,18 @@ fn table_text(name: &str, result: &Iso2302Result, metadata: &trueaxis::io::Metad
     }
     if result.runs < 5 {
         let _ = writeln!(out, "\nnote: the ISO 230-2 test cycle approaches each target 5 times in each direction; here {} were used", runs);
+    }
+    out
+}
+
+/// The screening findings as a section of the printed report (empty when there are none).
+pub(crate) fn data_quality_text(findings: &[trueaxis::screen::Finding]) -> String {
+    if findings.is_empty() {
+        return String::new();
+    }
+    let mut out = format!("\ndata quality ({} finding(s), docs/screening.md):\n", findings.len());
+    for f in findings {
+        out += &format!("  {}\n", f.line());
     }
     out
 }

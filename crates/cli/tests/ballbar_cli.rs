@@ -159,9 +159,16 @@ fn simulate_writes_a_trace_that_identify_reads() {
 
 #[test]
 fn iso230_4_on_a_partial_arc_leaves_out_what_it_cannot_separate() {
-    // A1.csv is a 90 deg arc (its `angle` column): the evaluation runs, omits the inseparable terms.
-    let doc = json(&trueaxis(&["ballbar", "iso230-4", "examples/ballbar/A1.csv", "--radius", "100", "--json"]));
-    assert!((doc["runs"][0]["arc_deg"].as_f64().unwrap() - 90.0).abs() < 1e-9);
+    // the first quarter of the ccw circle of vmc3_xy.csv (angles 0.5 ... 89.5 deg): the evaluation
+    // runs and omits the inseparable terms (A1.csv, a rotary-axis test, is no XY arc: refused below)
+    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let text = std::fs::read_to_string(root.join("examples/ballbar/vmc3_xy.csv")).unwrap();
+    let quarter: Vec<&str> = text.lines().take(2 + 90).collect();
+    let path = std::env::temp_dir().join(format!("trueaxis-quarter-{}.csv", std::process::id()));
+    std::fs::write(&path, quarter.join("\n") + "\n").unwrap();
+    let doc = json(&trueaxis(&["ballbar", "iso230-4", path.to_str().unwrap(), "--radius", "100", "--json"]));
+    let _ = std::fs::remove_file(&path);
+    assert!((doc["runs"][0]["arc_deg"].as_f64().unwrap() - 89.0).abs() < 1e-9, "{}", doc["runs"][0]["arc_deg"]);
     assert!(doc["omitted"].as_array().unwrap().iter().any(|o| o.as_str().unwrap().contains("not separable")));
 }
 
@@ -180,4 +187,17 @@ fn bad_input_is_one_line_and_exit_2() {
         assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
         assert!(err.starts_with("trueaxis: error: "), "{err}");
     }
+}
+
+/// Screening (docs/screening.md): the rotary-axis test A1 (X, Y, Z still, A sweeping) is no XY
+/// circle; `ballbar iso230-4` refuses it with exit 2 naming the columns, instead of a squareness
+/// of thousands of urad. The clean circle has an empty `data_quality`.
+#[test]
+fn iso230_4_refuses_a_rotary_axis_file_and_reports_clean_circles_clean() {
+    let out = trueaxis(&["ballbar", "iso230-4", "examples/ballbar/A1.csv", "--machine", "examples/machines/c600u.toml", "--radius", "100"]);
+    assert_eq!(out.status.code(), Some(2));
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert!(message.contains("examples/ballbar/A1.csv: columns X, Y, A: geometry:") && message.lines().count() == 1, "{message}");
+    let doc = json(&trueaxis(&["ballbar", "iso230-4", "examples/ballbar/vmc3_xy.csv", "--radius", "100", "--json"]));
+    assert_eq!(doc["data_quality"], serde_json::json!([]));
 }

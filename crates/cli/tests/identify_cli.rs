@@ -247,3 +247,14 @@ fn the_documented_outputs_come_from_real_runs() {
     let sentence = format!("have G = {g:.2} for `p = 12` and a largest single-reading variance of {reading:.2}");
     assert!(guide.contains(&sentence), "the guide should say: {sentence}");
 }
+
+/// Screening (docs/screening.md): the clean campaign gives no finding and `--exclude-outliers`
+/// changes nothing on it (the same values bit for bit, nothing excluded).
+#[test]
+fn exclude_outliers_leaves_a_clean_campaign_alone() {
+    let plain = json(&trueaxis(&["identify", "--machine", MACHINE, "--campaign", CAMPAIGN, "--json"]));
+    let excluded = json(&trueaxis(&["identify", "--machine", MACHINE, "--campaign", CAMPAIGN, "--json", "--exclude-outliers"]));
+    assert_eq!(plain["data_quality"], serde_json::json!([]));
+    assert_eq!(excluded["excluded_records"], 0);
+    assert_eq!(plain["parameters"], excluded["parameters"]);
+}

@@ -283,7 +283,8 @@ fn json_has_the_contract_keys_and_the_library_values() {
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let keys: std::collections::BTreeSet<&str> = doc.as_object().unwrap().keys().map(String::as_str).collect();
     let contract = ["A", "A_plus", "A_minus", "B", "E", "E_plus", "E_minus", "M", "R", "R_plus", "R_minus"];
-    let allowed_extra = ["B_mean", "unit", "position_unit", "targets", "runs", "positions", "metadata", "temperature_correction"];
+    let allowed_extra =
+        ["B_mean", "unit", "position_unit", "targets", "runs", "positions", "metadata", "temperature_correction", "data_quality"];
     for k in contract {
         assert!(doc[k].as_f64().is_some_and(f64::is_finite), "key {k}: {}", doc[k]);
     }
@@ -292,6 +293,8 @@ fn json_has_the_contract_keys_and_the_library_values() {
     assert_eq!(doc["unit"], "um");
     assert_eq!(doc["position_unit"], "mm");
     assert!(doc["metadata"].is_object() && doc["temperature_correction"].is_null());
+    // the clean example: screening finds nothing (docs/screening.md)
+    assert_eq!(doc["data_quality"], serde_json::json!([]));
     assert_eq!(doc["targets"], 11);
     assert_eq!(doc["runs"], 5);
 
@@ -424,4 +427,47 @@ fn temperature_options_correct_the_deviations_to_20c() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("missing column `T:scale`"));
     let out = trueaxis(&["iso230-2", EXAMPLE, "--scale-expansion", "11.5"]);
     assert_eq!(out.status.code(), Some(2));
+}
+
+// ---------------------------------------------------------------------------------------------
+// (6) Screening (docs/screening.md): a run typed in mm is named in the printed report and in the
+// JSON, with the result without it beside the standard's; the evaluation itself is unchanged.
+
+#[test]
+fn a_run_in_mm_is_reported_next_to_the_standard_result() {
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let text = std::fs::read_to_string(root.join(EXAMPLE)).unwrap();
+    let damaged: String = text
+        .lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            if f.len() == 5 && f[3] == "4" {
+                format!("{},{},{},{},{}\n", f[0], f[1].parse::<f64>().unwrap() / 1000.0, f[2], f[3], f[4])
+            } else {
+                format!("{l}\n")
+            }
+        })
+        .collect();
+    let dir = std::env::temp_dir().join(format!("trueaxis-iso230-2-screening-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("run4_mm.csv");
+    std::fs::write(&path, &damaged).unwrap();
+    let p = path.to_str().unwrap();
+    let out = trueaxis(&["iso230-2", p]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let printed = String::from_utf8(out.stdout).unwrap();
+    assert!(printed.contains("data quality (1 finding(s), docs/screening.md):"), "{printed}");
+    assert!(
+        printed.contains(&format!("{p}: run 4 (lines ")) && printed.contains(": unit: ") && printed.contains("without run 4"),
+        "{printed}"
+    );
+    let json = trueaxis(&["iso230-2", p, "--json"]);
+    let doc: serde_json::Value = serde_json::from_slice(&json.stdout).unwrap();
+    let finding = &doc["data_quality"][0];
+    assert_eq!((finding["kind"].as_str(), finding["refused"].as_bool()), (Some("unit"), Some(false)));
+    assert_eq!(finding["lines"].as_array().unwrap().len(), 22);
+    // the standard's R of every reading, several times the clean one (4.1 um)
+    let clean = evaluate(&read_runs(root.join(EXAMPLE)).unwrap()).unwrap();
+    assert!(doc["R"].as_f64().unwrap() > 2.0 * clean.r);
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -208,3 +208,29 @@ fn non_finite_predictions_and_rank_deficient_fits_are_failed_computations() {
     assert_eq!(code, Some(1));
     assert!(err.contains("rank deficient") && err.contains("T:c"), "{err}");
 }
+
+/// Screening (docs/screening.md): a blank cell (a logger dropout) refuses the file naming its
+/// line; `--skip-missing` leaves the row out and lists it under `data_quality`.
+#[test]
+fn a_blank_cell_is_refused_or_skipped_on_request() {
+    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let text = std::fs::read_to_string(root.join("examples/thermal/campaign.csv")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    // line 103: a row of the warm-up with T:p5 missing
+    let cells: Vec<&str> = lines[102].split(',').collect();
+    lines[102] = format!("{},{},{},,{}", cells[0], cells[1], cells[2], cells[4]);
+    let dir = std::env::temp_dir().join(format!("trueaxis-thermal-screening-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("dropout.csv");
+    std::fs::write(&path, lines.join("\n") + "\n").unwrap();
+    let p = path.to_str().unwrap();
+    let refused = trueaxis(&["thermal", "fit", "--data", p, "--error", "dz", "--train-runs", "warmup"]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("line 103"), "{}", String::from_utf8_lossy(&refused.stderr));
+    let doc = json(&trueaxis(&["thermal", "fit", "--data", p, "--error", "dz", "--train-runs", "warmup", "--skip-missing", "--json"]));
+    assert_eq!(doc["data_quality"][0]["kind"], "missing cells");
+    assert_eq!(doc["data_quality"][0]["lines"], serde_json::json!([103]));
+    let clean = json(&fit_dz("warmup", &["--json"]));
+    assert_eq!(clean["data_quality"], serde_json::json!([]));
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -14,6 +14,7 @@ use trueaxis::identify::{
     error_values_text, identification_json, optimal_design_json, CampaignCandidates, Criterion, ExchangeOutcome, IdentifyError,
     IndirectOptions, Solver,
 };
+use trueaxis::screen::campaign::identify_screened;
 
 /// What `__reduce__` returns: the constructor and its arguments (pickling).
 pub type Reduced<T> = (Py<PyAny>, T);
@@ -97,6 +98,8 @@ pub struct Identification {
     result: trueaxis::identify::Identification,
     campaign: Campaign,
     nominal: ErrorModel,
+    /// What screening adds to the JSON document (`data_quality`, ...).
+    quality: serde_json::Value,
 }
 
 #[pymethods]
@@ -141,7 +144,11 @@ impl Identification {
 
     /// The document of `trueaxis identify --json`.
     fn to_dict(&self, py: Python<'_>) -> PyResult<Py<PyAny>> {
-        to_py(py, &identification_json(&self.result, &self.campaign.inner))
+        let mut doc = identification_json(&self.result, &self.campaign.inner);
+        if let (Some(doc), Some(quality)) = (doc.as_object_mut(), self.quality.as_object()) {
+            doc.extend(quality.clone());
+        }
+        to_py(py, &doc)
     }
 
     /// The error-values TOML that `trueaxis identify --out` writes: the campaign's nominal errors
@@ -166,7 +173,7 @@ impl Identification {
 /// the exact chain. Values and uncertainties in the parameters' units (um, urad, um/mm^k),
 /// residuals in um. The GIL is released during the computation.
 #[pyfunction]
-#[pyo3(signature = (machine, campaign, *, solver = "qr", allow_rank_deficient = false, refine = false))]
+#[pyo3(signature = (machine, campaign, *, solver = "qr", allow_rank_deficient = false, refine = false, exclude_outliers = false))]
 pub fn identify(
     py: Python<'_>,
     machine: &Machine,
@@ -174,6 +181,7 @@ pub fn identify(
     solver: &str,
     allow_rank_deficient: bool,
     refine: bool,
+    exclude_outliers: bool,
 ) -> PyResult<Identification> {
     let solver = match solver {
         "qr" => Solver::Qr,
@@ -182,11 +190,16 @@ pub fn identify(
     };
     let nominal = campaign.nominal()?;
     let options = IndirectOptions { solver, allow_rank_deficient, refine, ..IndirectOptions::default() };
-    let result = py.detach(|| trueaxis::identify::identify(&campaign.inner, &machine.inner, &nominal, &options)).map_err(identify_error)?;
+    let screened =
+        py.detach(|| identify_screened(&campaign.inner, &machine.inner, &nominal, &options, exclude_outliers)).map_err(identify_error)?;
+    let result = screened.result.clone();
     if result.values.iter().chain(&result.residuals).any(|v| !v.is_finite()) {
         return Err(computation_msg("the identification produced numbers that are not finite"));
     }
-    Ok(Identification { result, campaign: campaign.clone(), nominal })
+    let mut quality = serde_json::json!({});
+    screened.add_to_json(&mut quality);
+    let campaign = Campaign { inner: Arc::new(screened.campaign), ..campaign.clone() };
+    Ok(Identification { result, campaign, nominal, quality })
 }
 
 fn criterion(text: &str) -> PyResult<Criterion> {

@@ -87,9 +87,10 @@ pub fn thermal_fit(
         by_direction,
         ranges,
         train_runs,
+        robust: false,
         terms: terms_out.is_some(),
     };
-    let campaign = Campaign::read(&data).map_err(failure)?;
+    let (campaign, findings) = trueaxis::screen::thermal::read_screened(&data, false, false).map_err(failure)?;
     let name = data.display().to_string();
     let fitted = py.detach(|| fit_campaign(&campaign, &name, &request)).map_err(failure)?;
     if let CampaignFit::Model(m) = &fitted {
@@ -102,7 +103,9 @@ pub fn thermal_fit(
             }
         }
     }
-    to_py(py, &fitted.to_json())
+    let mut doc = fitted.to_json();
+    doc["data_quality"] = trueaxis::screen::findings_json(&findings);
+    to_py(py, &doc)
 }
 
 /// Evaluates a fitted thermal error model (the TOML file `thermal_fit(..., out=...)` or `trueaxis

@@ -15,5 +15,6 @@ pub mod instruments;
 pub mod io;
 pub mod machine;
 pub mod model;
+pub mod screen;
 pub mod thermal;
 pub mod uncertainty;

@@ -124,3 +124,5 @@ fn error_parameters_and_temperatures() {
     assert_eq!(temperature_degc(294.45, "material temperature", AT).unwrap().severity, Severity::Refuse);
     assert_eq!(temperature_degc(38.0, "material temperature", AT).unwrap().severity, Severity::Warn);
 }
+
+mod screening;

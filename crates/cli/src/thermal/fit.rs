@@ -7,7 +7,8 @@ use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::OutputSet;
 use trueaxis::machine::Machine;
-use trueaxis::thermal::campaign::Campaign;
+use trueaxis::screen::thermal::read_screened;
+use trueaxis::screen::{findings_json, Finding};
 use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm as FitForm, TimeConstantsFit};
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::regression::RegressionModel;
@@ -100,6 +101,18 @@ pub struct FitArgs {
     /// Print one JSON document.
     #[arg(long)]
     json: bool,
+    /// Leave out the rows with a blank cell (a logger dropout) and list them; without it a blank
+    /// cell refuses the file.
+    #[arg(long)]
+    skip_missing: bool,
+    /// Cut each run at its gaps in `t` (over 5 times the median sampling interval): the segment
+    /// after a gap is fitted as a run of its own, a state-space model starts again there.
+    #[arg(long)]
+    split_gaps: bool,
+    /// Fit the regression model with Huber weights (robust regression, Huber 1981): gross errors in
+    /// the error column pull the model by their clipped size only (docs/screening.md).
+    #[arg(long)]
+    robust: bool,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -109,7 +122,7 @@ enum ModelForm {
 }
 
 pub fn fit(args: FitArgs) -> Result<(), Failure> {
-    let campaign = Campaign::read(&args.data).map_err(failure)?;
+    let (campaign, findings) = read_screened(&args.data, args.skip_missing, args.split_gaps).map_err(failure)?;
     let request = FitRequest {
         error: args.error.clone(),
         model: match args.model {
@@ -129,11 +142,12 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
         by_direction: args.by_direction,
         ranges: args.ranges.clone(),
         train_runs: args.train_runs.clone(),
+        robust: args.robust,
         terms: args.terms_out.is_some(),
     };
     let fitted = match fit_campaign(&campaign, &args.data.display().to_string(), &request).map_err(failure)? {
         CampaignFit::Model(m) => m,
-        CampaignFit::TimeConstants(t) => return print_taus(&args, &t),
+        CampaignFit::TimeConstants(t) => return print_taus(&args, &t, &findings),
     };
     let (error, model, rows) = (&fitted.error, &fitted.model, fitted.rows);
     // model, terms and plot together, or none of them (docs/reliability.md)
@@ -152,7 +166,9 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
     }
     outputs.commit().map_err(Failure::input)?;
     if args.json {
-        return print(&format!("{}\n", fitted.to_json()));
+        let mut doc = fitted.to_json();
+        doc["data_quality"] = findings_json(&findings);
+        return print(&format!("{doc}\n"));
     }
     let mut out = format!("thermal error model of `{error}` (um) from {rows} rows of {}\n", args.data.display());
     match model {
@@ -178,6 +194,7 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
     for (run, s) in &fitted.validation {
         out += &stats_line(run, s);
     }
+    out += &crate::iso230_2::data_quality_text(&findings);
     print(&out)
 }
 
@@ -209,14 +226,16 @@ fn stats_line(name: &str, s: &Option<ResidualStats>) -> String {
     })
 }
 
-fn print_taus(args: &FitArgs, taus: &TimeConstantsFit) -> Result<(), Failure> {
+fn print_taus(args: &FitArgs, taus: &TimeConstantsFit, findings: &[Finding]) -> Result<(), Failure> {
     let (labels, series, fit) = (&taus.labels, &taus.series, &taus.fit);
     if let Some(path) = &args.plot {
         let names: Vec<String> = labels.iter().map(|(r, s)| format!("{r} {s}")).collect();
         write_plot(path, drift_svg(&step_fit_plot(&names, series, fit)))?;
     }
     if args.json {
-        return print(&format!("{}\n", taus.to_json()));
+        let mut doc = taus.to_json();
+        doc["data_quality"] = findings_json(findings);
+        return print(&format!("{doc}\n"));
     }
     let mut out = format!(
         "shared time constants of {} records: {} min\nresidual RMS {:.4} degC\n",
@@ -227,5 +246,6 @@ fn print_taus(args: &FitArgs, taus: &TimeConstantsFit) -> Result<(), Failure> {
     for ((r, s), (a, b)) in labels.iter().zip(fit.amplitudes.iter().zip(&fit.offsets)) {
         out += &format!("  {r:<10} {s:<10} T0 {b:.3}  A {:?}\n", a.iter().map(|v| (v * 1e4).round() / 1e4).collect::<Vec<_>>());
     }
+    out += &crate::iso230_2::data_quality_text(findings);
     print(&out)
 }

@@ -132,7 +132,13 @@ class Identification:
     def errors(self) -> Errors: ...
 
 def identify(
-    machine: Machine, campaign: Campaign, *, solver: str = "qr", allow_rank_deficient: bool = False, refine: bool = False
+    machine: Machine,
+    campaign: Campaign,
+    *,
+    solver: str = "qr",
+    allow_rank_deficient: bool = False,
+    refine: bool = False,
+    exclude_outliers: bool = False,
 ) -> Identification:
     """Weighted least squares identification (as `trueaxis identify`); GIL released."""
 

@@ -334,6 +334,18 @@ impl CsvTable {
         self.column_in(i, Some(unit))
     }
 
+    /// The table without its rows that have a blank cell (a logger dropout), with the file lines of
+    /// the rows left out (for `--skip-missing`, reported by the caller).
+    pub fn without_blank_rows(&self) -> (CsvTable, Vec<u64>) {
+        let blank = |row: &Vec<String>| row.iter().any(|c| c.trim().is_empty());
+        let dropped: Vec<u64> = self.rows.iter().zip(&self.lines).filter(|(r, _)| blank(r)).map(|(_, l)| *l).collect();
+        let mut out = self.clone();
+        let kept: Vec<(Vec<String>, u64)> =
+            self.rows.iter().zip(&self.lines).filter(|(r, _)| !blank(r)).map(|(r, l)| (r.clone(), *l)).collect();
+        (out.rows, out.lines) = kept.into_iter().unzip();
+        (out, dropped)
+    }
+
     /// A column of text.
     pub fn texts(&self, name: &str) -> Result<Vec<String>, DataError> {
         let i = self.find(name)?;

@@ -79,6 +79,9 @@ pub struct CircularTest {
     /// The runs read, the file's metadata and header, warnings of reading it.
     pub file: CircularFile,
     pub result: Iso2304Result,
+    /// What screening found suspect in the readings (`screen::ballbar::spikes`), each with G of its
+    /// run without it; the result above is of every reading.
+    pub findings: Vec<crate::screen::Finding>,
 }
 
 impl CircularTest {
@@ -87,6 +90,7 @@ impl CircularTest {
     pub fn to_json(&self) -> Value {
         let mut doc = self.result.to_json();
         doc["metadata"] = self.file.metadata.to_json();
+        doc["data_quality"] = crate::screen::findings_json(&self.findings);
         doc
     }
 }
@@ -120,7 +124,8 @@ pub fn circular_test(table: &CsvTable, machine: &Machine, options: &CircularTest
         feed: options.feed_mm_per_min,
     };
     let result = evaluate(machine, &file.runs, &diagnostic)?;
-    Ok(CircularTest { plane, radius_mm: radius, file, result })
+    let findings = crate::screen::ballbar::spikes(name, &file.runs, radius);
+    Ok(CircularTest { plane, radius_mm: radius, file, result, findings })
 }
 
 /// As [`circular_test`], reading the file at `path` (the options checked first).

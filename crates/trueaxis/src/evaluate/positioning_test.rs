@@ -1,7 +1,7 @@
 //! An ISO 230-2 positioning test from its file, end to end: the table read forgivingly (CSV or a
 //! Renishaw `.rtl`), the plausibility checks of its readings, the correction to 20 degC (the
 //! options given, else the file's recorded environment), the evaluation, and the document of
-//! `trueaxis iso230-2 --json`. The command line and the Python package both call [`evaluate_file`],
+//! `trueaxis iso230-2 --json`, with the screening of the readings (`screen::positioning`). The command line and the Python package both call [`evaluate_file`],
 //! so that they give the same result, warnings and document.
 //!
 //! Units: targets in mm (deg for a rotary axis), deviations and results in um (urad), coverage
@@ -27,6 +27,9 @@ pub struct PositioningTest {
     pub notes: Vec<String>,
     /// Where the correction to 20 degC came from (`AppliedCorrection::json`): null for none.
     pub temperature_correction: Value,
+    /// What screening found suspect in the readings (`screen::positioning`), each with the result
+    /// without it; the evaluation above is ISO 230-2's, of all readings.
+    pub findings: Vec<crate::screen::Finding>,
 }
 
 impl PositioningTest {
@@ -36,6 +39,7 @@ impl PositioningTest {
         let mut doc = self.result.to_json();
         doc["metadata"] = self.data.metadata.to_json();
         doc["temperature_correction"] = self.temperature_correction.clone();
+        doc["data_quality"] = crate::screen::findings_json(&self.findings);
         doc
     }
 }
@@ -74,6 +78,10 @@ pub fn evaluate_table(table: &CsvTable, temperature: &TemperatureOptions) -> Res
             r.dev = dev;
         }
     }
+    let findings = crate::screen::positioning::positioning(&data, Some(table));
+    if let Some(f) = findings.iter().find(|f| f.refuse) {
+        return Err(EvaluateError::Input(f.line()));
+    }
     let result = evaluate(&data)?;
-    Ok(PositioningTest { data, result, warnings, notes: applied.notes, temperature_correction: applied.json })
+    Ok(PositioningTest { data, result, warnings, notes: applied.notes, temperature_correction: applied.json, findings })
 }

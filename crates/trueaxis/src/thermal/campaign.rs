@@ -29,6 +29,8 @@ pub struct Campaign {
     pub dirs: Vec<String>,
     /// Numeric columns by name, in file order of `names`.
     pub names: Vec<String>,
+    /// The 1-based file line of each row (for messages of screening).
+    pub lines: Vec<u64>,
     columns: BTreeMap<String, Vec<f64>>,
 }
 
@@ -45,6 +47,21 @@ impl Campaign {
     pub fn parse(text: &str, origin: &str) -> Result<Campaign, ThermalError> {
         let table = crate::data::CsvTable::from_text(text, origin)
             .map_err(|e| input(e.to_string().replace("no data: the file has a header but no rows", "no data rows")))?;
+        Self::from_table(&table, origin)
+    }
+
+    /// As [`Campaign::read`], leaving out the rows with a blank cell (a logger dropout): the
+    /// campaign and the file lines left out (`--skip-missing`).
+    pub fn read_skipping_missing(path: impl AsRef<std::path::Path>) -> Result<(Campaign, Vec<u64>), ThermalError> {
+        let path = path.as_ref();
+        let origin = path.display().to_string();
+        let text = crate::data::inputs::read_to_string(path).map_err(|e| input(format!("{origin}: cannot read: {e}")))?;
+        let table = crate::data::CsvTable::from_text(&text, &origin).map_err(|e| input(e.to_string()))?;
+        let (kept, dropped) = table.without_blank_rows();
+        Ok((Self::from_table(&kept, &origin)?, dropped))
+    }
+
+    fn from_table(table: &crate::data::CsvTable, origin: &str) -> Result<Campaign, ThermalError> {
         let named = |name: &str| table.headers().iter().find(|h| h.name.eq_ignore_ascii_case(name)).map(|h| h.name.clone());
         let runs = match named("run") {
             Some(h) => table.texts(&h).map_err(|e| input(e.to_string()))?,
@@ -70,10 +87,10 @@ impl Campaign {
         let mut columns = BTreeMap::new();
         for name in &names {
             let values = table.numbers(name).map_err(|e| input(e.to_string()))?;
-            crate::data::checks::physical_range(&table, name, &values, &physical_range_of(name)).map_err(|e| input(e.to_string()))?;
+            crate::data::checks::physical_range(table, name, &values, &physical_range_of(name)).map_err(|e| input(e.to_string()))?;
             columns.insert(name.clone(), values);
         }
-        Ok(Campaign { origin: origin.into(), runs, dirs, names, columns })
+        Ok(Campaign { origin: origin.into(), runs, dirs, names, lines: table.lines().to_vec(), columns })
     }
 
     /// Whether the file has the direction column `dir`.
@@ -113,14 +130,21 @@ impl Campaign {
         out
     }
 
-    /// Row indices of the named runs.
+    /// Row indices of the named runs (with the segments of a run split at its gaps,
+    /// `screen::thermal::split_at_gaps`).
     pub fn rows_of(&self, runs: &[String]) -> Result<Vec<usize>, ThermalError> {
         for r in runs {
-            if !self.runs.contains(r) {
+            if !self.runs.iter().any(|x| Self::is_of_run(x, r)) {
                 return Err(input(format!("{}: no rows of run `{r}` (runs: {})", self.origin, self.run_names().join(", "))));
             }
         }
-        Ok((0..self.len()).filter(|&i| runs.contains(&self.runs[i])).collect())
+        Ok((0..self.len()).filter(|&i| runs.iter().any(|r| Self::is_of_run(&self.runs[i], r))).collect())
+    }
+
+    /// Whether the rows of run `row_run` belong to the run named `name`: the same name, or a
+    /// segment of it after a gap (`name [after gap k]`).
+    pub fn is_of_run(row_run: &str, name: &str) -> bool {
+        row_run == name || row_run.strip_prefix(name).is_some_and(|rest| rest.starts_with(crate::screen::thermal::AFTER_GAP))
     }
 
     /// The named columns restricted to `rows`: `[column][row]`.

@@ -11,7 +11,7 @@ use super::campaign::Campaign;
 use super::drift_model::{fit_drift_model, record};
 use super::error_model::ThermalErrorModel;
 use super::links::{add_terms, model_terms, terms_toml};
-use super::regression::{fit_regression, fit_split, fit_stepwise, select_by_correlation, RegressionModel};
+use super::regression::{fit_regression, fit_regression_huber, fit_split, fit_stepwise, select_by_correlation, RegressionModel};
 use super::segmented::{fit_segmented, Segmentation};
 use super::time_constants::{fit_time_constants, Series, TimeConstantFit};
 use super::validation::{evaluate_segments, residual_stats, segments, Evaluated, ResidualStats, Role, Segment};
@@ -63,6 +63,8 @@ pub struct FitRequest {
     pub ranges: Option<Vec<f64>>,
     /// Runs to train on (default: every row); the others validate.
     pub train_runs: Option<Vec<String>>,
+    /// Huber weights for a regression model (`regression::fit_regression_huber`).
+    pub robust: bool,
     /// Whether the model is wanted as error terms (`--terms-out`; regression models only).
     pub terms: bool,
 }
@@ -85,6 +87,7 @@ impl Default for FitRequest {
             by_direction: false,
             ranges: None,
             train_runs: None,
+            robust: false,
             terms: false,
         }
     }
@@ -197,6 +200,10 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
     let training: Vec<&Segment> = segments.iter().filter(|s| s.role == Role::Training).collect();
     let rows: Vec<usize> = training.iter().flat_map(|s| s.rows.iter().copied()).collect();
     let segmented = request.by_direction || request.ranges.is_some();
+    let plain_regression = matches!(request.model, ModelForm::Regression) && request.select.is_none() && request.geometric_degree.is_none();
+    if request.robust && (segmented || !plain_regression) {
+        return Err(input("--robust applies to a regression model without --select, --geometric-degree, --by-direction or --ranges"));
+    }
     let (model, kept) = match request.model {
         ModelForm::Regression if segmented => {
             if request.select.is_some() || request.no_intercept {
@@ -222,7 +229,15 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
                     "--select, --position, --no-intercept, --by-direction, --ranges and --terms-out apply to regression models, not to --model state-space",
                 ));
             }
-            let records = training.iter().map(|s| record(campaign, &sensors, Some(&error), &s.rows)).collect::<Result<Vec<_>, _>>()?;
+            // a state-space record starts from the state at the start of its run; after a gap
+            // (`screen::thermal::split_at_gaps`) that state is unknown, so such segments are not
+            // fitted (they are still evaluated, from a zero state)
+            let known_start = |s: &&&Segment| !s.name.contains(crate::screen::thermal::AFTER_GAP);
+            let records = training
+                .iter()
+                .filter(known_start)
+                .map(|s| record(campaign, &sensors, Some(&error), &s.rows))
+                .collect::<Result<Vec<_>, _>>()?;
             (ThermalErrorModel::Drift(fit_drift_model(&error, &sensors, &records, request.rates)?.0), None)
         }
     };
@@ -268,6 +283,9 @@ fn fit_regression_model(
         return Ok((fit_split(error, sensors, &temps, position, g, request.degree, &measured)?.0, None));
     }
     match request.select.as_deref() {
+        None if request.robust => {
+            Ok((fit_regression_huber(error, sensors, &temps, position, request.degree, intercept, &measured)?.0, None))
+        }
         None => Ok((fit_regression(error, sensors, &temps, position, request.degree, intercept, &measured)?.0, None)),
         Some("stepwise") => {
             let (m, _, k) = fit_stepwise(error, sensors, &temps, position, request.degree, intercept, &measured, 0.9999)?;

@@ -146,6 +146,42 @@ pub fn fit_regression(
     Ok((model, fit))
 }
 
+/// As [`fit_regression`] with Huber weights (robust regression, Huber 1981): iteratively
+/// reweighted least squares, each sample weighted by `screen::robust::huber_weight(r_i / s)` with
+/// s the MAD-based scale of the residuals of the previous step, until no coefficient moves by more
+/// than 1e-9 of its size (at most 50 steps). A few gross errors in the error column (a probe that
+/// missed, a logger glitch) then pull the model by their clipped size only.
+pub fn fit_regression_huber(
+    error_name: &str,
+    sensors: &[String],
+    temperatures: &[Vec<f64>],
+    position: Option<(&str, &[f64])>,
+    degree: usize,
+    intercept: bool,
+    error: &[f64],
+) -> Result<(RegressionModel, LinearFit), ThermalError> {
+    use crate::screen::robust::{huber_weight, mad_sigma};
+    check_series(sensors, temperatures, position, degree, error)?;
+    let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
+    let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
+    let mut fit = fit_linear(&design, error, None, &names).map_err(|e| fit_failure(error_name, e))?;
+    for _ in 0..50 {
+        let s = mad_sigma(&fit.residuals);
+        if s.is_nan() || s <= 0.0 {
+            break;
+        }
+        let weights: Vec<f64> = fit.residuals.iter().map(|r| huber_weight(r / s).max(1e-6)).collect();
+        let next = fit_linear(&design, error, Some(&weights), &names).map_err(|e| fit_failure(error_name, e))?;
+        let moved = next.coefficients.iter().zip(&fit.coefficients).any(|(a, b)| (a - b).abs() > 1e-9 * a.abs().max(1.0));
+        fit = next;
+        if !moved {
+            break;
+        }
+    }
+    let model = model_from_columns(error_name, sensors, position.map(|p| p.0), degree, intercept, &fit.coefficients, None);
+    Ok((model, fit))
+}
+
 /// Fits the geometric/thermal split (seed 002 §4.4.2: "the measured thermal errors were first
 /// separated into geometric errors and thermal errors. The geometric errors are usually modeled by
 /// high-order polynomials. Thermal errors are modeled by the linear regression"):

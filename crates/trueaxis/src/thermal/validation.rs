@@ -99,9 +99,10 @@ pub fn segments(campaign: &Campaign, train_runs: Option<&[String]>, split: Optio
     let t = campaign.column("t").ok();
     let mut out = Vec::new();
     for run in campaign.run_names() {
-        let run_rows = campaign.rows_of(std::slice::from_ref(&run))?;
+        // exactly this run's rows (a segment after a gap is a run of its own)
+        let run_rows: Vec<usize> = (0..campaign.len()).filter(|&i| campaign.runs[i] == run).collect();
         let name = if run.is_empty() { "all rows".to_string() } else { run.clone() };
-        let training = train_runs.is_none_or(|r| r.contains(&run));
+        let training = train_runs.is_none_or(|r| r.iter().any(|name| Campaign::is_of_run(&run, name)));
         match (training, split) {
             (true, Some(f)) => {
                 let t = t.ok_or_else(|| super::input(format!("{}: a time split needs the column t", campaign.origin)))?;
