@@ -9,6 +9,7 @@
 //! - runs of identical readings where the noise makes them improbable (`series::stuck_runs`);
 //! - records equal in every pose and reading to an earlier one (a file appended to itself, a logger
 //!   writing twice): counted as independent they shrink every uncertainty by up to sqrt 2.
+//!
 //! After the fit, each row i of the weighted problem (design row g_i, weight w_i = 1/sigma_i^2):
 //! the leverage h_i = w_i g_i^T (X^T W X)^-1 g_i, the residual studentized with the robust scale s
 //! of the weighted residuals (MAD, so that the outliers do not hide behind the s0 they inflate),

@@ -14,6 +14,7 @@
 //!   `DRIFT_LIMIT_DEGC` during the test is reported with what the change does over the travel
 //!   (11.5 um/(m K), steel, for the material; 0.93 um/(m K) for an air refractive index left
 //!   uncompensated; Edlen 1966).
+//!
 //! The evaluation itself stays as ISO 230-2 defines it: each finding states the result without the
 //! suspect run or reading beside it ("R would be 4.1 um without run 4"), nothing is removed.
 
@@ -95,7 +96,7 @@ fn runs_and_readings(data: &PositioningData) -> Vec<Finding> {
             |sel: &dyn Fn(&Reading) -> bool| median(&data.readings.iter().filter(|x| sel(x)).map(|x| x.dev.abs()).collect::<Vec<_>>());
         let (mine, others) = (size(&|x| x.run == run), size(&|x| x.run != run));
         let ratio = mine / others;
-        let unit_slip = ratio < 0.01 || ratio > 100.0;
+        let unit_slip = ratio.is_finite() && !(0.01..=100.0).contains(&ratio);
         if runs.len() < 3 || (level <= RUN_LIMIT * sigma && !unit_slip) {
             continue;
         }

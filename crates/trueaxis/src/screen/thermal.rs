@@ -9,6 +9,7 @@
 //! - Per run: gaps in `t` (`series::gaps`); steps of each temperature beyond `STEP_LIMIT` robust
 //!   sigmas and `STEP_FLOOR_DEGC` between gaps (`series::steps`: a re-seated sensor); stuck
 //!   sensors (`series::stuck_runs`); rows repeated in every column.
+//!
 //! A series split at its gaps ([`split_at_gaps`]) is fitted segment by segment: the state-space
 //! model starts again from the first sample after each gap.
 
