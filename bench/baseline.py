@@ -6,7 +6,7 @@ engineer would write in NumPy: vectorised over poses, no Python loop per pose.
   python3 bench/baseline.py check     # the NumPy chain against `trueaxis predict` (must agree)
   python3 bench/baseline.py time      # timings as JSON (seconds per call)
 
-The model is the one of DESIGN.md section 2: per axis, base outward, A_k = L_k S_k(q) J_k(q) with
+The model is the one of docs/design.md, Conventions: per axis, base outward, A_k = L_k S_k(q) J_k(q) with
 exact small transforms Trans(c) [exp([eps]x), e] Trans(-c); the volumetric error is the tool point
 relative to the workpiece point, actual minus nominal, in the workpiece frame.
 """

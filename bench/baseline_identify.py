@@ -85,13 +85,13 @@ def write_design(path, x, y, w):
 
 def check():
     rng = np.random.default_rng(23)
-    # the seed 004 design (807 poses x 3 channels, 14 parameters: the QR path) with simulated
+    # the Andolfatto et al. 2011 design (807 poses x 3 channels, 14 parameters: the QR path) with simulated
     # readings, and a dense weighted 20000 x 210 problem (the Gram path: n (p + 1) >= 2^22)
     lines = [line for line in (ROOT / "examples/uncertainty/kx8five_design.csv").read_text().splitlines() if not line.startswith("#")]
     x4 = np.loadtxt(lines[1:], delimiter=",", usecols=range(2, len(lines[0].split(","))))
     sigma4 = rng.uniform(0.2, 1.0, x4.shape[0])
     y4 = x4 @ rng.uniform(-5, 5, x4.shape[1]) + sigma4 * rng.standard_normal(x4.shape[0])
-    problems = {"seed 004 design 2421 x 14": (x4, y4, 1.0 / sigma4**2), "random weighted 20000 x 210": random_problem(rng, 20_000, 210, True)}
+    problems = {"Andolfatto et al. 2011 design 2421 x 14": (x4, y4, 1.0 / sigma4**2), "random weighted 20000 x 210": random_problem(rng, 20_000, 210, True)}
     worst = 0.0
     for name, (x, y, w) in problems.items():
         path = ROOT / "target/baseline_identify_design.csv"
@@ -117,7 +117,7 @@ def main():
         check()
     rng = np.random.default_rng(1)
     results = {}
-    # the shapes of benches/identify.rs: the seed 004 size and the dense 10^5 x 500 (unit weights)
+    # the shapes of benches/identify.rs: the Andolfatto et al. 2011 size and the dense 10^5 x 500 (unit weights)
     for rows, cols in ((807 * 3, 14), (100_000, 500)):
         x, y, w = random_problem(rng, rows, cols, False)
         results[f"identify/solve_{rows}x{cols}"] = best(lambda: solve(x, y, w), 20 if rows < 10**5 else 3)

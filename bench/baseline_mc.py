@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""NumPy implementation of the seed 004 adaptive Monte Carlo (JCGM 101 §7.9.4 with several outputs)
+"""NumPy implementation of the Andolfatto et al. 2011 adaptive Monte Carlo (JCGM 101 §7.9.4 with several outputs)
 as an expert writes it, for the side-by-side comparison of bench/compare.sh. Not part of trueaxis.
 The model is linear, so the observation errors are never drawn one by one: the pseudo-inverse P
 of the weighted design matrix once, the Gaussian sources (sensor noise, statistical drift) folded
@@ -17,7 +17,7 @@ OpenBLAS threads slow NumPy down, and trueaxis' figures are compared thread for 
 
 Model (docs/uncertainty.md, src/uncertainty): observation errors e = noise - D(t0 + (n-1) t_m + t_i)
 per channel, parameters p = p0 + P e with P = (X^T W X)^-1 X^T W; cyclic drift
-D(t) = E_VE/2 sin(2 pi t / T + phase), one uniform start time t0 per sequence (seed 004 eq. 12).
+D(t) = E_VE/2 sin(2 pi t / T + phase), one uniform start time t0 per sequence (Andolfatto et al. 2011 eq. 12).
 """
 import os
 

@@ -1,4 +1,4 @@
-"""The KX8-Five (seed 004) from Python: predict the volumetric error over random poses, identify the
+"""The KX8-Five (Andolfatto et al. 2011) from Python: predict the volumetric error over random poses, identify the
 link errors from the shipped CapBall campaign, and compute their uncertainty by adaptive Monte Carlo
 on a dask.distributed LocalCluster, checked against the same run in one process.
 

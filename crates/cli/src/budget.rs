@@ -1,4 +1,4 @@
-//! `trueaxis budget`: the error budget for machine design (seed 002 appendices B and C): forward
+//! `trueaxis budget`: the error budget for machine design (Zhu 2008 appendices B and C): forward
 //! analysis, cost-optimal allocation, five-axis configuration study, miniaturisation case.
 
 mod allocate;

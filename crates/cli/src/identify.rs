@@ -27,7 +27,7 @@ pub struct IdentifyArgs {
     /// Machine description (TOML).
     #[arg(long)]
     machine: PathBuf,
-    /// Measurement campaign (TOML, DESIGN.md section 3).
+    /// Measurement campaign (TOML, docs/design.md, Files).
     #[arg(long)]
     campaign: PathBuf,
     /// Print one JSON document.

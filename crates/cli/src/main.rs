@@ -1,4 +1,4 @@
-//! The `trueaxis` command line: parse, call the library, print (DESIGN.md section 4).
+//! The `trueaxis` command line: parse, call the library, print (docs/design.md, Command line).
 //! Exit status: 0 success, 1 failed computation, 2 bad input, 3 the environment (`exit`).
 
 mod ballbar;

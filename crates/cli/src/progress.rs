@@ -1,5 +1,5 @@
 //! Progress on stderr while a long command runs: shown on a terminal, hidden with `--json` or when
-//! stderr is not a terminal (piped, in a script), so that output stays clean (DESIGN.md section 5).
+//! stderr is not a terminal (piped, in a script), so that output stays clean (BENCHMARKS.md (targets)).
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;

@@ -1,4 +1,4 @@
-//! `trueaxis reversal arbor|parallelism|disk`: the reversal techniques of seed 003 §3.4.
+//! `trueaxis reversal arbor|parallelism|disk`: the reversal techniques of NISTIR 5236 §3.4.
 
 use crate::iso230_2::print;
 use crate::Failure;

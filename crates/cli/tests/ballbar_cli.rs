@@ -151,7 +151,7 @@ fn simulate_writes_a_trace_that_identify_reads() {
     let text = std::fs::read_to_string(&path).unwrap();
     assert_eq!(text.lines().nth(1).unwrap(), "X,Y,Z,A,C,angle,dir,dL");
     assert_eq!(text.lines().count(), 2 + 72);
-    // C1: dL = e_x0c cos c + (e_y0c + e_y0a) sin c (seed 001, digest 2.5): at c = 90 deg, -17.6 um
+    // C1: dL = e_x0c cos c + (e_y0c + e_y0a) sin c (Jiang 2014, digest 2.5): at c = 90 deg, -17.6 um
     let at_90 = text.lines().find(|l| l.starts_with("0,0,0,0,90,")).unwrap();
     let dl: f64 = at_90.rsplit(',').next().unwrap().parse().unwrap();
     assert!((dl - (-52.9 + 35.3)).abs() < 0.01, "{dl}");

@@ -1,5 +1,5 @@
 //! `trueaxis ballbar simulate|identify` round trips through the command line for every method
-//! (seed 001 ch. 4 two pivots, ch. 5 extended bar, ch. 6 four setups) and every kind of rotary
+//! (Jiang 2014 ch. 4 two pivots, ch. 5 extended bar, ch. 6 four setups) and every kind of rotary
 //! pair (table-tilting c600u, spindle-tilting head5, the KX8-Five's 45 deg A axis); independence of
 //! the simulated noise; the input checks of `identify`; ISO 230-4 significance and shares.
 

@@ -202,7 +202,7 @@ fn residual_periods_stay_above_the_sampling_limit() {
 
 #[test]
 fn an_aliased_screw_wave_is_flagged_with_its_alias_family() {
-    // a 0.635025 mm scale error of 1 um sampled every 10 mm (seed 000 §3.2.4) appears at 39.59 mm;
+    // a 0.635025 mm scale error of 1 um sampled every 10 mm (Soons 1993 §3.2.4) appears at 39.59 mm;
     // the fit cannot tell which, and warns
     let dir = tempfile::tempdir().unwrap();
     let data = dir.path().join("screw.csv");

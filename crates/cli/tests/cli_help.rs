@@ -1,7 +1,7 @@
 //! The command line is consistent: every command and sub-command (found by walking `trueaxis --help`)
 //! has `--help` with an example, `--json` where it prints results, and exit status 2 with a one-line
 //! message naming the file (and the system's reason once) when its input file does not exist
-//! (DESIGN.md section 4).
+//! (docs/design.md, Command line).
 
 use std::process::{Command, Output};
 
@@ -76,7 +76,7 @@ fn is_parent(path: &[String]) -> bool {
 fn every_command_has_help_with_an_example() {
     let tree = command_tree();
     let names: Vec<String> = tree.iter().map(|p| p.join(" ")).collect();
-    // the commands of DESIGN.md section 4 that exist, and their sub-commands: the walk found them
+    // the commands of docs/design.md, Command line that exist, and their sub-commands: the walk found them
     for expected in [
         "ballbar",
         "ballbar identify",

@@ -32,7 +32,7 @@ fn demo_end_to_end() {
 fn summary_has_the_known_errors_and_compensation_removes_most_of_the_error(demo: &Path, s: &serde_json::Value) {
     assert_eq!(s["poses"], 3 * 21 * 21);
     let (before, after) = (s["max_position_error_um"].as_f64().unwrap(), s["max_position_error_after_compensation_um"].as_f64().unwrap());
-    // seed 004 Table 1 errors over the KX8-Five travel: tens of micrometres
+    // Andolfatto et al. 2011 Table 1 errors over the KX8-Five travel: tens of micrometres
     assert!(before > 20.0 && before < 200.0, "max before {before}");
     // the identification error (drift of 7 um peak-to-valley) leaves well under a fifth
     assert!(after < before / 5.0, "after {after} vs before {before}");

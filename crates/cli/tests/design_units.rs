@@ -1,6 +1,6 @@
-//! The units of the design criteria of `design optimal`: on the 2D CMM of seed 000 §4.4 (squareness
+//! The units of the design criteria of `design optimal`: on the 2D CMM of Soons 1993 §4.4 (squareness
 //! in urad, two scale errors in um/mm, 400 mm bars, sigma 1 um) the D-optimal six bars have
-//! D = 2.5e-3 in (urad^2 (um/mm)^2 (um/mm)^2)^(1/3), which is 1e-2 times that, 2.5e-5, in seed 000's
+//! D = 2.5e-3 in (urad^2 (um/mm)^2 (um/mm)^2)^(1/3), which is 1e-2 times that, 2.5e-5, in Soons 1993's
 //! units (rad, mm/mm, sigma = 1 mm): the value of its Table 4.1 design 3.
 
 mod thermal_common;

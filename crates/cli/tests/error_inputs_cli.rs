@@ -1,6 +1,6 @@
-//! Error terms of inputs from the command line: a workpiece-load error (seed 000 eq. 3.20) through
+//! Error terms of inputs from the command line: a workpiece-load error (Soons 1993 eq. 3.20) through
 //! `predict --input` against the same error written out by hand, a drift model interpolated between
-//! two axis positions (seed 000 §3.4.4) through `predict` against `thermal predict` of the fitted
+//! two axis positions (Soons 1993 §3.4.4) through `predict` against `thermal predict` of the fitted
 //! model, and `compensate --poses` with load and spindle-speed columns against `predict`.
 
 mod thermal_common;

@@ -1,6 +1,6 @@
 //! Bidirectional functions (`EXX+` / `EXX-`), cross-coupling and temperature product terms, from
 //! the error-values file through `predict` with `dir:<axis>` and `T:<sensor>` columns
-//! (seed 000 §3.2.5 and eq. 3.19; seed 003 §3.6).
+//! (Soons 1993 §3.2.5 and eq. 3.19; NISTIR 5236 §3.6).
 
 use std::process::{Command, Output};
 

@@ -1,4 +1,4 @@
-//! Motion errors as parametric functions in a campaign (`[basis.NAME]`, seed 000 ch. 3 and eq. 4.2):
+//! Motion errors as parametric functions in a campaign (`[basis.NAME]`, Soons 1993 ch. 3 and eq. 4.2):
 //! the shipped `examples/campaigns/vmc3_tracer` campaign, whose readings were simulated on the exact
 //! chain with known piecewise-polynomial, Legendre and periodic motion errors of vmc3 (laser
 //! multilateration: lengths from four stations), is identified back within 3 standard

@@ -1,5 +1,5 @@
 //! `trueaxis identify` and `trueaxis design` end to end on the shipped KX8-Five campaign: the JSON
-//! contract of DESIGN.md section 4, the error-values output accepted by `predict`, exit statuses,
+//! contract of docs/design.md, Command line, the error-values output accepted by `predict`, exit statuses,
 //! and trajectory + simulation + identification from the command line.
 
 use std::path::Path;
@@ -20,7 +20,7 @@ fn json(out: &Output) -> serde_json::Value {
 #[test]
 fn identify_json_contract_on_the_shipped_campaign() {
     let doc = json(&trueaxis(&["identify", "--machine", MACHINE, "--campaign", CAMPAIGN, "--json"]));
-    // the shipped data: seed 004 Table 1 with the Table 3 noise; these six are separable in both
+    // the shipped data: Andolfatto et al. 2011 Table 1 with the Table 3 noise; these six are separable in both
     // parameter sets and must come back within 3 u of Table 1
     for (name, table1, unit) in [
         ("EC0Y", -8.8, "urad"),

@@ -1,5 +1,5 @@
-//! Reversal techniques (seed 003 NISTIR 5236 §3.4, eqs. 3.1-3.8) and scale thermal expansion
-//! correction to 20 degC (seed 000 §3.2.4, §5.1.1): simulate readings from known machine and
+//! Reversal techniques (NISTIR 5236 NISTIR 5236 §3.4, eqs. 3.1-3.8) and scale thermal expansion
+//! correction to 20 degC (Soons 1993 §3.2.4, §5.1.1): simulate readings from known machine and
 //! artefact errors with the seed's sign conventions, reduce them, recover the known values; the
 //! thermal worked examples are computed by hand in the comments.
 
@@ -169,7 +169,7 @@ fn uniform_expansion_worked_example() {
     assert_eq!(REFERENCE_TEMPERATURE_DEGC, 20.0);
     // steel scale 11.5 um/m/K at 25.3 degC over 500 mm: 11.5 * 5.3 * 0.5 = 30.475 um
     assert_close(uniform_expansion_um(11.5, 25.3, 500.0), 30.475, 1e-9, "E");
-    // seed 000 X scale, 9.75 um/m/K at 20.4 degC over 700 mm: 9.75 * 0.4 * 0.7 = 2.73 um
+    // Soons 1993 X scale, 9.75 um/m/K at 20.4 degC over 700 mm: 9.75 * 0.4 * 0.7 = 2.73 um
     assert_close(uniform_expansion_um(9.75, 20.4, 700.0), 2.73, 1e-9, "E");
     // below 20 degC the body is shorter: 11.5 * (-2) * 0.1 = -2.3 um
     assert_close(uniform_expansion_um(11.5, 18.0, 100.0), -2.3, 1e-12, "E");
@@ -229,7 +229,7 @@ fn per_point_temperatures() {
 
 #[test]
 fn sensors_along_the_scale_are_interpolated_and_integrated() {
-    // Three Pt-100 (seed 000) at 0, 250, 500 mm reading 21, 24, 22 degC; 11.5 um/m/K = 0.0115 um/(mm K).
+    // Three Pt-100 (Soons 1993) at 0, 250, 500 mm reading 21, 24, 22 degC; 11.5 um/m/K = 0.0115 um/(mm K).
     // E(x) = 0.0115 * integral_0^x (T(u) - 20) du, T linear between sensors, constant outside:
     //   x = 125: T(125) = 22.5, 125 * ((21 + 22.5)/2 - 20) = 218.75 K mm -> 2.515625 um
     //   x = 250: 250 * ((21 + 24)/2 - 20) = 625                           -> 7.1875 um
@@ -258,7 +258,7 @@ fn sensors_along_the_scale_are_interpolated_and_integrated() {
     assert_all_close(&single, &uniform, 1e-12, "single sensor");
 }
 
-/// Scale error at 20 degC over the seed 000 X axis (0..700 mm): -15 um offset (the "suspicious"
+/// Scale error at 20 degC over the Soons 1993 X axis (0..700 mm): -15 um offset (the "suspicious"
 /// value), a trend, a bow.
 fn scale_error_20(x: f64) -> f64 {
     -15.0 + 0.012 * x - 1.5e-5 * x * x
@@ -267,7 +267,7 @@ fn scale_error_20(x: f64) -> f64 {
 #[test]
 fn apparent_coefficient_seed_000_example() {
     // True (apparent) coefficient 13.5 um/m/K, manufacturer's 9.75; average scale temperatures
-    // 25.3 and 20.4 degC (seed 000 §5.1.1, Fig. 5.2). Fixed point at 0; run 2 homed 0.7 um off.
+    // 25.3 and 20.4 degC (Soons 1993 §5.1.1, Fig. 5.2). Fixed point at 0; run 2 homed 0.7 um off.
     let x = grid(71, 10.0);
     let alpha_true = 13.5;
     let run = |t: f64, shift: f64| -> Vec<f64> {

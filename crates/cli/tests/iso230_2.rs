@@ -274,7 +274,7 @@ fn fewer_than_five_runs_are_evaluated_with_a_note() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// (4) The JSON contract (DESIGN.md section 4), on the shipped example, and agreement with the library.
+// (4) The JSON contract (docs/design.md, Command line), on the shipped example, and agreement with the library.
 
 #[test]
 fn json_has_the_contract_keys_and_the_library_values() {
@@ -361,7 +361,7 @@ fn plot_is_written_with_axis_labels() {
 }
 
 /// `--scale-temperature` / `--scale-expansion` correct every deviation by `-alpha (T - 20) x / 1000`
-/// (machine scale, seed 000 §3.2.4) before the evaluation: the results equal those of the
+/// (machine scale, Soons 1993 §3.2.4) before the evaluation: the results equal those of the
 /// hand-corrected file; with a temperature column, point by point; an artefact corrects the other way.
 #[test]
 fn temperature_options_correct_the_deviations_to_20c() {

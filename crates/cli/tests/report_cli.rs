@@ -1,4 +1,4 @@
-//! `trueaxis report` on the shipped examples (issue 7, DESIGN.md section 4): the sections appear for
+//! `trueaxis report` on the shipped examples (issue 7, docs/design.md, Command line): the sections appear for
 //! the inputs given and only for them, each part has the numbers of the command that does that step
 //! alone (`identify`, `ballbar iso230-4`), every inline SVG parses, no NaN, no external reference,
 //! the inputs are listed with their size and SHA-256; bad input exits 2 and writes no file.
@@ -236,7 +236,7 @@ fn a_campaign_without_sources_has_no_uncertainty_and_a_deficient_one_names_its_c
     assert!(!out.exists());
     let (html, _) = report(&[&deficient[..], &["--allow-rank-deficient"]].concat());
     let notes = html.matches("<p class=\"note\">Not identifiable:").count();
-    assert_eq!(notes, 2, "the two unseen combinations of seed 004's 14 parameters");
+    assert_eq!(notes, 2, "the two unseen combinations of Andolfatto et al. 2011's 14 parameters");
 }
 
 #[test]

@@ -1,4 +1,4 @@
-//! `thermal beam`: the stress-free beam model (seed 000 §3.4.3) of the vmc3 X guideway. A uniform
+//! `thermal beam`: the stress-free beam model (Soons 1993 §3.4.3) of the vmc3 X guideway. A uniform
 //! vertical gradient gives the closed forms eps_y = alpha d x, e_z = -alpha d x^2 / 2, e_x =
 //! alpha a x; a field that varies along the beam and across it, over three stations, equals an
 //! independent numerical integration of eqs. 3.58-3.62 (Simpson, 1 mm steps). Both through the

@@ -1,4 +1,4 @@
-//! `trueaxis thermal` end to end: the JSON contract of `modes` (DESIGN.md section 4), placement,
+//! `trueaxis thermal` end to end: the JSON contract of `modes` (docs/design.md, Command line), placement,
 //! fit -> model file -> predict, error terms read by `trueaxis predict`, and bad input.
 
 mod thermal_common;

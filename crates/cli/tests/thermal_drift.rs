@@ -1,4 +1,4 @@
-//! The state-space drift model (seed 000 §3.4.4) and the time-split validation (seed 002 §3.4.3)
+//! The state-space drift model (Soons 1993 §3.4.4) and the time-split validation (Zhu 2008 §3.4.3)
 //! from the library and through `thermal fit --model state-space`, `--validate time-split:F` and
 //! `thermal predict`: known time constants and gains recovered from simulated drift, a lag model
 //! that predicts the 20-min duty cycle of the shipped campaign better than the static regression,

@@ -1,10 +1,10 @@
-//! The geometric-thermal model of NISTIR 5236 (seed 003 §3.6) from the command line: a simulated
+//! The geometric-thermal model of NISTIR 5236 (NISTIR 5236 §3.6) from the command line: a simulated
 //! characterisation of a slide (five back-and-forth runs per spindle speed through a warm-up) whose
 //! positioning error differs by direction of travel and between two position ranges, with a
 //! thermal part driven by a bed temperature and the spindle speed. `thermal fit --by-direction
 //! --ranges --geometric-degree 2 --degree 1` recovers the coefficients of every segment; the model
 //! validates on a run at another spindle speed; its error terms through `predict` equal `thermal
-//! predict`. And the geometric/thermal split alone (seed 002 §4.4.2): a cubic geometric part with a
+//! predict`. And the geometric/thermal split alone (Zhu 2008 §4.4.2): a cubic geometric part with a
 //! linear thermal part.
 
 mod thermal_common;

@@ -1,8 +1,8 @@
-//! Thermal links from the command line (seed 002 ch. 4): the steady-state link deformations of
-//! the reconfigurable arch machine of seed 002 Table 4.2 (epsilon um along x, delta um along y,
+//! Thermal links from the command line (Zhu 2008 ch. 4): the steady-state link deformations of
+//! the reconfigurable arch machine of Zhu 2008 Table 4.2 (epsilon um along x, delta um along y,
 //! theta arcsec about z) in a 2D arch machine (X table; Y slide on the arch; the spindle swivel C at
 //! -10, 0, +10 deg, the three configurations), through `thermal links` and `predict`, against the
-//! chain of link HTMs of seed 002 eq. 4.2 multiplied out independently with 4x4 matrices. The link
+//! chain of link HTMs of Zhu 2008 eq. 4.2 multiplied out independently with 4x4 matrices. The link
 //! terms are first order: the difference is second order (0.005 um for errors of 227 um, and
 //! 100 times smaller at a tenth of the deformations). And the vmc3 example file against its closed
 //! form.
@@ -12,7 +12,7 @@ use std::fmt::Write;
 use thermal_common::{json, trueaxis};
 
 const MACHINE: &str = r#"
-name = "2D arch-type reconfigurable machine (seed 002 ch. 4)"
+name = "2D arch-type reconfigurable machine (Zhu 2008 ch. 4)"
 structure = "wXbYCt"
 [axes]
 X = { kind = "linear", direction = [1, 0, 0], range = [-200, 200] }
@@ -97,7 +97,7 @@ fn link(f: [f64; 3], v: [f64; 3]) -> M4 {
 }
 
 /// Tool point relative to the workpiece origin, in the workpiece frame (mm), and the tool direction
-/// angle about z (rad): seed 002 eq. 4.2 with the link HTMs, or nominal with `with_links = false`.
+/// angle about z (rad): Zhu 2008 eq. 4.2 with the link HTMs, or nominal with `with_links = false`.
 fn chain(x: f64, y: f64, c_deg: f64, config: usize, scale: f64, with_links: bool) -> ([f64; 2], f64) {
     let links: Vec<M4> = table_4_2(scale)
         .iter()

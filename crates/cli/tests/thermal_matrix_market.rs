@@ -43,6 +43,6 @@ fn modes_of_the_imported_fin_equal_those_of_the_bar() {
             assert!((p - q).abs() <= 1e-12 * p.abs(), "mode {}: {key} {p} vs {q}", x["mode"]);
         }
     }
-    // tau_1 of the fin with insulated ends: 140.98 min (seed 002 Table 3.1)
+    // tau_1 of the fin with insulated ends: 140.98 min (Zhu 2008 Table 3.1)
     assert!((b[0]["tau_min"].as_f64().unwrap() - 140.978).abs() < 1e-3);
 }

@@ -1,4 +1,4 @@
-//! `thermal place --score` (seed 002 §3.4.2): placements compared by the error of the elongation
+//! `thermal place --score` (Zhu 2008 §3.4.2): placements compared by the error of the elongation
 //! model they lead to, Gauss points as the baseline. The elongation weights integrate a uniform
 //! rise exactly (alpha L), the Gauss placement is the nodes nearest the Gauss-Legendre points, the
 //! exhaustive yardstick has the smallest training error of all, and more Gauss sensors predict

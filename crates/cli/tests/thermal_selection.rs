@@ -1,4 +1,4 @@
-//! Temperature selection for thermal error models (seed 003 §3.6): a synthetic campaign of five
+//! Temperature selection for thermal error models (NISTIR 5236 §3.6): a synthetic campaign of five
 //! sensors where only two drive the error, `E = 5 + 3 T1 - 1.5 T3` (um, T in degC) plus 0.05 um
 //! noise. Correlation ranking and stepwise regression (partial F at 99.99 %) each pick exactly
 //! T1 and T3, and the coefficients are recovered; the same through `thermal fit --select`.

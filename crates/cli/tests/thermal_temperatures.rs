@@ -1,4 +1,4 @@
-//! The state-space model of the temperature distribution (seed 000 §3.4.2): a known two-input,
+//! The state-space model of the temperature distribution (Soons 1993 §3.4.2): a known two-input,
 //! two-output, two-rate model simulated on irregular duty cycles and recovered (time constants
 //! and gains to 1e-6) from the command line; on the shipped campaign (the bar heated at one end,
 //! sensor noise 0.02 K) the far sensor predicted from the near one within the noise on the runs not

@@ -1,4 +1,4 @@
-//! `thermal tune`: boundary conditions tuned to measured time constants (seed 002 §4.4.2). The fin
+//! `thermal tune`: boundary conditions tuned to measured time constants (Zhu 2008 §4.4.2). The fin
 //! with insulated ends has a uniform mode whose time constant is rho c A / (h P) exactly, so one
 //! measured time constant gives h in closed form; two coefficients of the elongation element are
 //! recovered from the two time constants of a model made with known values; the written file keeps
@@ -9,7 +9,7 @@ use thermal_common::{json, trueaxis};
 
 #[test]
 fn uniform_mode_of_the_fin_gives_h_in_closed_form() {
-    // seed 002 spindle: tau_1 = 363.6 min; fin of Table 3.1: rho c A / (P tau)
+    // Zhu 2008 spindle: tau_1 = 363.6 min; fin of Table 3.1: rho c A / (P tau)
     let doc = json(&trueaxis(&[
         "thermal",
         "tune",

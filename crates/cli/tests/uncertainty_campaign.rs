@@ -1,7 +1,7 @@
-//! `trueaxis uncertainty --machine M --campaign C.toml` (the DESIGN.md section 4 form): the design is
+//! `trueaxis uncertainty --machine M --campaign C.toml` (the docs/design.md, Command line form): the design is
 //! the campaign's identification. Checked against `trueaxis identify` on the same campaign: with
 //! only the stated sensor noise as a source, the GUM standard uncertainty of each parameter is the
-//! identification's least-squares one without the s0 scaling, `u_identify = s0 u_GUM` (seed 000
+//! identification's least-squares one without the s0 scaling, `u_identify = s0 u_GUM` (Soons 1993
 //! eq. 4.11 with Cov = s0^2 (X^T W X)^-1), to 1e-6 relative; and the estimates are the identified
 //! values.
 

@@ -1,4 +1,4 @@
-//! `trueaxis uncertainty` end to end: the shipped seed 004 example against the library, JSON keys,
+//! `trueaxis uncertainty` end to end: the shipped Andolfatto et al. 2011 example against the library, JSON keys,
 //! reproducibility with a seed, plots, exit codes and messages for bad input.
 
 use std::process::{Command, Output};

@@ -1,6 +1,6 @@
 //! Correlated inputs (`kind = "correlated"`, JCGM 101 §6.4.8) against the closed form of a sum of
 //! correlated normals; the uncertainty of predicted volumetric errors at poses (GUM `F Cov F^T`
-//! and its Monte Carlo counterpart) on the seed 004 campaign; the bound on the trials.
+//! and its Monte Carlo counterpart) on the Andolfatto et al. 2011 campaign; the bound on the trials.
 
 use nalgebra::DMatrix;
 use std::process::{Command, Output};
@@ -89,7 +89,7 @@ fn trials_are_bounded() {
 
 #[test]
 fn volumetric_uncertainty_at_poses_gum_and_monte_carlo() {
-    // Seed 004 campaign (examples/campaigns/kx8five) with the cyclic-drift sources, at the poses of
+    // Andolfatto et al. 2011 campaign (examples/campaigns/kx8five) with the cyclic-drift sources, at the poses of
     // examples/poses/kx8five.csv. GUM: F Cov F^T with Cov the sum of the sources' GUM covariances;
     // Monte Carlo: F Cov_MC F^T, the covariance of the parameter trials mapped through F. They
     // agree within 3 % on every standard uncertainty (the MC covariance of 3 x 10^4 or more trials

@@ -1,7 +1,7 @@
-//! `trueaxis verify` (seed 000 §5.1.1, seed 003 §4): a hole plate in the YZ plane re-measured on the
+//! `trueaxis verify` (Soons 1993 §5.1.1, NISTIR 5236 §4): a hole plate in the YZ plane re-measured on the
 //! vmc3 after compensation with `examples/errors/vmc3.toml`, simulated with a Y-Z squareness changed
-//! by wear since the calibration (the situation of seed 000 Figs. 5.8-5.9) and with the repeatability
-//! of seed 000 Table 5.1 (YZ plane: 2S_y = 1.3 um, 2S_z = 2.4 um). Checked: the verdict both ways,
+//! by wear since the calibration (the situation of Soons 1993 Figs. 5.8-5.9) and with the repeatability
+//! of Soons 1993 Table 5.1 (YZ plane: 2S_y = 1.3 um, 2S_z = 2.4 um). Checked: the verdict both ways,
 //! the worn squareness recovered, the chi-square statistic against the written residuals, the
 //! critical values against the Wilson-Hilferty approximation, compensated = off-line, the rejection
 //! rate of a correct model, the model's uncertainty from the calibration campaign.
@@ -23,7 +23,7 @@ const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 const WEAR_URAD: f64 = 40.0;
 /// The plate's misalignment on the table: translation (um) and rotation (urad) about its centre.
 const MISALIGNMENT: ([f64; 3], [f64; 3]) = ([4.0, -6.0, 3.0], [40.0, 0.0, 0.0]);
-/// Seed 000 Table 5.1, YZ plane: 2S = 1.3 um (y), 2.4 um (z); x is the probing direction.
+/// Soons 1993 Table 5.1, YZ plane: 2S = 1.3 um (y), 2.4 um (z); x is the probing direction.
 const SIGMA_UM: [f64; 3] = [1.0, 0.65, 1.2];
 
 fn machine() -> Machine {
@@ -31,7 +31,7 @@ fn machine() -> Machine {
 }
 
 /// The compensated model: the vmc3 errors with worn Y bearings, a large roll of the Y carriage
-/// (seed 000 §5.1.1: "large y_rx error caused by worn bearing surfaces").
+/// (Soons 1993 §5.1.1: "large y_rx error caused by worn bearing surfaces").
 fn model_text() -> String {
     let text = std::fs::read_to_string(Path::new(ROOT).join("examples/errors/vmc3.toml")).unwrap();
     let text = text.replace(
@@ -55,7 +55,7 @@ fn campaign_text(parameters: &str) -> String {
     format!(
         "# Hole plate in the YZ plane on the vmc3, re-measured with the compensation of model.toml active\n\
          # (simulated by crates/cli/tests/verify_cli.rs: the Y-Z squareness worn by {WEAR_URAD} urad since the calibration).\n\
-         # sigma_um: the repeatability of a hole position (seed 000 Table 5.1, YZ plane: 2S_y = 1.3 um, 2S_z = 2.4 um).\n\
+         # sigma_um: the repeatability of a hole position (Soons 1993 Table 5.1, YZ plane: 2S_y = 1.3 um, 2S_z = 2.4 um).\n\
          {parameters}\
          [[measurement]]\ninstrument = \"probe\"\nname = \"plate_yz\"\ndata = \"plate_yz.csv\"\n\
          tool_point = [0, 0, 400]\nwork_point = [0, 0, 0]\nsigma_um = [{}, {}, {}]\nplate = true              # fit the plate's misalignment\n",
@@ -143,7 +143,7 @@ fn worn_squareness_fails_the_test_and_is_found() {
     let doc = run_verify(&path, &["--compensated", "--residuals", residuals.to_str().unwrap()]);
     assert_eq!(doc["consistent"], false);
     assert_eq!(doc["test"], "chi-square");
-    // seed 000 Fig. 5.9 (YZ plane): 109 um before compensation, 11 um after, the worn squareness.
+    // Soons 1993 Fig. 5.9 (YZ plane): 109 um before compensation, 11 um after, the worn squareness.
     // Here: the model predicts about 100 um; what is measured after is the squareness left, 40
     // urad over the plate's 300 mm in z: about 10 um, far above the 1 um repeatability
     let ch: Vec<&serde_json::Value> = doc["channels"].as_array().unwrap().iter().collect();
@@ -277,7 +277,7 @@ fn model_uncertainty_from_the_calibration_widens_the_expected_residual() {
     let calibration = Campaign::load(&cal, &m).unwrap();
     let id = trueaxis::identify::identify(&calibration, &m, &model(), &Default::default()).unwrap();
     // expected rms of dy and dz: sqrt(mean(sigma^2 + Var)), Var of the volumetric error at each
-    // hole from the identification's covariance (seed 000 App. A: F Cov F^T)
+    // hole from the identification's covariance (Soons 1993 App. A: F Cov F^T)
     let campaign = Campaign::load_measurements(&plate, &m).unwrap();
     let meas = &campaign.measurements[0];
     let setup = Setup { tool_point: m.tool_point, work_point: Vec3::zeros() };

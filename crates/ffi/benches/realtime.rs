@@ -1,4 +1,4 @@
-//! The real-time corrector (DESIGN.md section 5: one pose < 1 us), called through the C ABI
+//! The real-time corrector (BENCHMARKS.md (targets): one pose < 1 us), called through the C ABI
 //! (`trueaxis_correct`, as a controller calls it):
 //! - `realtime/<machine>/servo`: one call of the real-time corrector through the C ABI
 //!   (`trueaxis_correct`, as a controller calls it) per servo cycle of 1 ms along a smooth 5-axis

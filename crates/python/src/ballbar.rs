@@ -1,4 +1,4 @@
-//! The rotary-axis ballbar test of seed 001 (the 8 PIGEs of two rotary axes from four steps) and the
+//! The rotary-axis ballbar test of Jiang 2014 (the 8 PIGEs of two rotary axes from four steps) and the
 //! sensitivity of its methods, through the library's entry points that `trueaxis ballbar identify`
 //! and `trueaxis ballbar sensitivity` use.
 
@@ -33,7 +33,7 @@ fn method_and_bars(
 }
 
 /// The 8 PIGEs (position and orientation errors of the axis lines) of the machine's two rotary
-/// axes from the four steps of seed 001: the document of `trueaxis ballbar identify --json`.
+/// axes from the four steps of Jiang 2014: the document of `trueaxis ballbar identify --json`.
 ///
 /// a1, a2 (outer axis) and c1, c2 (inner axis): files with the swept axis position (column of its
 /// letter or `angle`, deg), `dL` (um) and an optional integer `run`. method: `extended-bar`

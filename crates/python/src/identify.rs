@@ -1,5 +1,5 @@
 //! `trueaxis.Campaign`, `trueaxis.identify` and `trueaxis.Candidates`: measurement campaigns, the
-//! identification of error parameters from them, and optimal measurement designs (seed 000
+//! identification of error parameters from them, and optimal measurement designs (Soons 1993
 //! §4.3) whose random starts can be spread over processes or machines.
 
 use crate::convert::{to_py, toml_text};
@@ -19,7 +19,7 @@ use trueaxis::screen::campaign::identify_screened;
 /// What `__reduce__` returns: the constructor and its arguments (pickling).
 pub type Reduced<T> = (Py<PyAny>, T);
 
-/// A measurement campaign (DESIGN.md section 3): the parameters to identify and the measurements
+/// A measurement campaign (docs/design.md, Files): the parameters to identify and the measurements
 /// with their data files (read relative to the campaign file, or to `base_dir`).
 #[pyclass(module = "trueaxis", frozen)]
 #[derive(Clone)]

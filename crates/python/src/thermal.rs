@@ -23,9 +23,9 @@ fn failure(e: ThermalError) -> PyErr {
 /// the error in um): the document of `trueaxis thermal fit --json` (`model`, `kept`, residual
 /// statistics in um of `training` and of each `validation` run or part).
 ///
-/// model: `regression` (PITE/PDTE, seed 002 eqs. 3.12-3.15, with intercepts unless
+/// model: `regression` (PITE/PDTE, Zhu 2008 eqs. 3.12-3.15, with intercepts unless
 /// `no_intercept`; `position` names an axis column whose powers up to `degree` enter it) or
-/// `state-space` (the drift as `rates` first-order lags of the sensors' rises, seed 000 §3.4.4).
+/// `state-space` (the drift as `rates` first-order lags of the sensors' rises, Soons 1993 §3.4.4).
 /// train_runs: the runs to train on (the others validate); validate: `"time-split:F"` trains on
 /// the first fraction F of each training run and verifies on the rest. sensors: the sensor
 /// columns (default all); select: `"correlation:N"` or `"stepwise"`. geometric_degree: the

@@ -1,5 +1,5 @@
 //! `trueaxis.Sources`, `trueaxis.UncertaintyPlan` and `trueaxis.BudgetRun`: the GUM and adaptive
-//! Monte Carlo uncertainty of an identification (JCGM 101/102, seed 004 Table 5), in one process
+//! Monte Carlo uncertainty of an identification (JCGM 101/102, Andolfatto et al. 2011 Table 5), in one process
 //! (`UncertaintyPlan.run`) or cut into chunks for a distributed engine: any process computes
 //! `UncertaintyPlan.run_chunk(stage, chunk)`, the driver feeds the chunk values of each sequence
 //! in order to a `BudgetRun`, which stops each stage at the sequence one process stops at, with

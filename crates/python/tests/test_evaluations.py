@@ -138,7 +138,7 @@ def test_iso230_4_errors_carry_the_cli_messages():
         ta.iso230_4(xy, radius=100, plane="xw")
 
 
-# the rotary-axis ballbar test (seed 001)
+# the rotary-axis ballbar test (Jiang 2014)
 
 
 def test_ballbar_identify_equals_the_cli():

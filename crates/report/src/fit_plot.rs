@@ -1,5 +1,5 @@
 //! Plot of a fitted error function: the measured points, the fit and its prediction band
-//! (seed 000 Fig. 3.2), as SVG.
+//! (Soons 1993 Fig. 3.2), as SVG.
 
 use super::ReportError;
 use plotters::prelude::*;

@@ -1,6 +1,6 @@
 //! Monte Carlo plots as SVG: histograms of output distributions with their coverage interval and
-//! the Gaussian of the GUM (seed 004 Fig. 10), and the convergence history of the control
-//! variables of the adaptive procedure against the tolerance (seed 004 Fig. 13).
+//! the Gaussian of the GUM (Andolfatto et al. 2011 Fig. 10), and the convergence history of the control
+//! variables of the adaptive procedure against the tolerance (Andolfatto et al. 2011 Fig. 13).
 
 use super::style::{self, Swatch};
 use super::ReportError;

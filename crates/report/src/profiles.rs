@@ -1,5 +1,5 @@
 //! Profiles as SVG: one line per series against a position (e.g. the machine straightness and the
-//! arbor form of a reversal, seed 003 §3.4) or against the observation index (residuals).
+//! arbor form of a reversal, NISTIR 5236 §3.4) or against the observation index (residuals).
 
 use super::style::{self, Swatch};
 use super::ReportError;

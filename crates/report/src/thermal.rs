@@ -1,6 +1,6 @@
-//! Thermal plots (SVG): mode shapes along the structure (seed 002 Fig. 3.3), time constants with
-//! their mode weights and the truncation share (seed 002 §3.2.2, eq. 3.11), and a measured thermal
-//! drift against the model prediction over time with its residual band (seed 002 Fig. 3.10,
+//! Thermal plots (SVG): mode shapes along the structure (Zhu 2008 Fig. 3.3), time constants with
+//! their mode weights and the truncation share (Zhu 2008 §3.2.2, eq. 3.11), and a measured thermal
+//! drift against the model prediction over time with its residual band (Zhu 2008 Fig. 3.10,
 //! Table 4.3), training and validation runs told apart. Plain data in, SVG text out, so that the
 //! CLI (`trueaxis thermal ... --plot`) and an HTML report draw the same figures.
 

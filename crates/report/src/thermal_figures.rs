@@ -103,7 +103,7 @@ pub fn drift_plot(error: &str, evaluated: &[Evaluated]) -> DriftPlot {
     }
 }
 
-/// Each temperature record of an eq. 3.17 fit (seed 002 §3.5) and its fitted curve
+/// Each temperature record of an eq. 3.17 fit (Zhu 2008 §3.5) and its fitted curve
 /// `b + sum_j A_j (1 - exp(-t / tau_j))`; `names` label the records.
 pub fn step_fit_plot(names: &[String], series: &[Series], fit: &TimeConstantFit) -> DriftPlot {
     let taus: Vec<String> = fit.tau_s.iter().map(|t| format!("{:.2}", t / 60.0)).collect();

@@ -1,4 +1,4 @@
-//! NC-program correction throughput (DESIGN.md section 5: >= 100,000 lines/s). The real-time
+//! NC-program correction throughput (BENCHMARKS.md (targets): >= 100,000 lines/s). The real-time
 //! corrector through its C ABI is benchmarked in `crates/ffi/benches/realtime.rs`.
 //!
 //! - `nc/<machine>`: NC-program correction throughput of a generated program of 10^4 G1 moves

@@ -1,4 +1,4 @@
-//! Identification hot paths (DESIGN.md section 5): the linear solve of the seed 004 identification
+//! Identification hot paths (BENCHMARKS.md (targets)): the linear solve of the Andolfatto et al. 2011 identification
 //! (807 poses x 3 channels = 2421 readings, 14 parameters; target < 1 ms), the whole campaign
 //! (design matrix from the exact chain and its Jacobians, then the solve), a large dense solve of
 //! 10^5 readings x 500 parameters (target < 2 s), and the whole identification of the nine
@@ -23,7 +23,7 @@ fn root() -> &'static str {
     env!("CARGO_MANIFEST_DIR")
 }
 
-/// The seed 004 design of examples/uncertainty/kx8five_design.csv as an identification problem.
+/// The Andolfatto et al. 2011 design of examples/uncertainty/kx8five_design.csv as an identification problem.
 fn seed004_design() -> DesignMatrix {
     let d =
         trueaxis::uncertainty::DesignMatrix::read_csv(format!("{}/../../examples/uncertainty/kx8five_design.csv", root())).expect("design");

@@ -1,7 +1,7 @@
-//! Kinematic hot paths (DESIGN.md section 5): exact volumetric error of the KX8-Five with all 30
-//! motion-error tables and the seed 004 location/setup errors, one pose (real-time corrector
+//! Kinematic hot paths (BENCHMARKS.md (targets)): exact volumetric error of the KX8-Five with all 30
+//! motion-error tables and the Andolfatto et al. 2011 location/setup errors, one pose (real-time corrector
 //! budget < 1 us) and batches over all cores (target >= 10 M poses/s); first-order Jacobian
-//! assembly (7 x 84 per pose), one pose and the 807-pose seed 004 test.
+//! assembly (7 x 84 per pose), one pose and the 807-pose Andolfatto et al. 2011 test.
 //!
 //! Run: `cargo bench --bench kinematics`.
 

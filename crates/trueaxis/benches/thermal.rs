@@ -1,4 +1,4 @@
-//! Thermal modal analysis (DESIGN.md section 5: the first 20 modes of a 1e5-node conduction model
+//! Thermal modal analysis (BENCHMARKS.md (targets): the first 20 modes of a 1e5-node conduction model
 //! in < 10 s; issue 23: <= 4 s) on steel blocks of about 1e3, 1e4 and 1e5 nodes (trilinear
 //! hexahedra, four convective faces), the model of `bench/baseline_thermal.py`, which times SciPy on
 //! the same K, C (shift-invert `eigsh` on a SuperLU factor, and `lobpcg` with a pyamg multigrid

@@ -1,4 +1,4 @@
-//! The adaptive Monte Carlo of the seed 004 identification (DESIGN.md section 5: 807 poses, 14
+//! The adaptive Monte Carlo of the Andolfatto et al. 2011 identification (BENCHMARKS.md (targets): 807 poses, 14
 //! parameters, 3 sources with the cyclic drift, tolerance 0.05; target < 0.5 s, issue 23:
 //! <= 5 ms; the NumPy implementation of the same reduced form is bench/baseline_mc.py): one sequence of 10^4 trials and the
 //! whole adaptive run with the settings of examples/uncertainty/kx8five_cyclic.toml.

@@ -1,4 +1,4 @@
-//! CPU time of the adaptive Monte Carlo of the seed 004 problem, for BENCHMARKS.md: the design
+//! CPU time of the adaptive Monte Carlo of the Andolfatto et al. 2011 problem, for BENCHMARKS.md: the design
 //! and sources of `examples/uncertainty/kx8five_design.csv` / `kx8five_cyclic.toml` (as
 //! `benches/uncertainty.rs`), `runs` whole adaptive runs. Prints the wall time and the CPU time of
 //! the process (all threads) per run: on a machine shared with other processes the CPU time is

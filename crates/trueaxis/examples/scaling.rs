@@ -9,7 +9,7 @@
 //!   `Predictor::predict_batch` (the batch kernel on every core);
 //! - `identify`: the weighted least-squares solve of a dense `size x 500` design (seeded normal
 //!   entries, as the `identify/solve_*` benchmarks);
-//! - `montecarlo`: `size` Monte Carlo trials of the seed 004 problem with its three sources
+//! - `montecarlo`: `size` Monte Carlo trials of the Andolfatto et al. 2011 problem with its three sources
 //!   (reduced form; coverage 0.9, sequences of at most 10^6 trials), the coverage intervals of its
 //!   14 outputs included;
 //! - `thermal`: the first 20 thermal modes of the steel block of the `thermal_modes` benchmark with

@@ -1,8 +1,8 @@
 //! trueaxis: find, explain and remove the quasi-static errors of multi-axis machine tools.
 //!
-//! The modules follow the pipeline of DESIGN.md section 1; data flows one way:
+//! The modules follow the pipeline of docs/design.md, The pipeline; data flows one way:
 //! `machine` -> `model` (with `errors`) -> instruments -> identify -> uncertainty -> compensate -> `report`.
-//! Internal units are mm and rad; files and outputs use mm, deg, um and urad (DESIGN.md section 2).
+//! Internal units are mm and rad; files and outputs use mm, deg, um and urad (docs/design.md, Conventions).
 
 pub mod budget;
 pub mod compensate;

@@ -1,5 +1,5 @@
 //! Every input error gets a clear one-line message naming the file and what is wrong
-//! (DESIGN.md section 4), never a panic.
+//! (docs/design.md, Command line), never a panic.
 
 use trueaxis::data::read_poses_from;
 use trueaxis::errors::ErrorModel;

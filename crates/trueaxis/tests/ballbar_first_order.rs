@@ -1,4 +1,4 @@
-//! The exact kinematic chain reproduces the first-order double-ballbar (DBB) relations of seed 001
+//! The exact kinematic chain reproduces the first-order double-ballbar (DBB) relations of Jiang 2014
 //! (X. Jiang, PhD thesis, Univ. of Birmingham, 2014) for the table-tilting C600U of
 //! `examples/machines/c600u.toml`.
 //!
@@ -16,7 +16,7 @@
 //! D = 50 sqrt(2) = 70.71 mm, an arithmetic erratum (digest 2.3): with it the extended bar would be
 //! 122.47 mm long, not 150 mm.
 //!
-//! PIGE names (digest 1.3, DESIGN.md section 2): the thesis left-multiplies the PIGE matrix onto the
+//! PIGE names (digest 1.3, docs/design.md, Conventions): the thesis left-multiplies the PIGE matrix onto the
 //! ideal axis matrix, as the library's `L_k S_k(q) J_k(q)`, so e_y0a = EY0A, e_z0a = EZ0A,
 //! theta_y0a = EB0A, theta_z0a = EC0A, e_x0c = EX0C, e_y0c = EY0C, theta_x0c = EA0C,
 //! theta_y0c = EB0C.
@@ -212,11 +212,11 @@ fn nominal_distance_by_hand(step: Step, deg: f64) -> f64 {
 
 #[test]
 fn machine_file_is_the_design_example() {
-    // DESIGN.md section 3 minimal example; source string as asked for the shipped example.
+    // docs/design.md, Files minimal example; source string as asked for the shipped example.
     let m = machine();
     assert_eq!(m.axis_letters(), "XYZAC");
     assert_eq!(m.structure.to_string(), "wCAbYXZt");
-    assert_eq!(m.source.as_deref(), Some("seed 001 (Jiang 2014) ch. 3, Figs. 3.3-3.6, Table 3.1"));
+    assert_eq!(m.source.as_deref(), Some("Jiang 2014 ch. 3, Figs. 3.3-3.6, Table 3.1"));
     assert_eq!(m.tool_point, Vec3::zeros());
     let a = &m.axes()[m.axis_index('A').unwrap()];
     assert_eq!((a.direction, a.point, a.range), (Vec3::x(), Vec3::zeros(), Some([-20.0, 70.0])));
@@ -298,7 +298,7 @@ fn all_eight_table_3_1_piges_together_follow_the_first_order_relations() {
 
 #[test]
 fn error_values_file_gives_the_same_traces() {
-    // The same Table 3.1 state through the error-values TOML (DESIGN.md section 3; um and urad).
+    // The same Table 3.1 state through the error-values TOML (docs/design.md, Files; um and urad).
     let m = machine();
     let text = format!(
         "[constant]\nEY0A = {p}\nEZ0A = {p}\nEB0A = {o}\nEC0A = {o}\nEX0C = {p}\nEY0C = {p}\nEA0C = {o}\nEB0C = {o}\n",
@@ -321,7 +321,7 @@ fn error_values_file_gives_the_same_traces() {
 
 #[test]
 fn exact_length_is_the_difference_of_actual_and_nominal_distances() {
-    // dL = |actual| - |nominal| (DESIGN.md section 2), checked against the library's own actual and
+    // dL = |actual| - |nominal| (docs/design.md, Conventions), checked against the library's own actual and
     // nominal chains evaluated directly, all eight Table 3.1 PIGEs.
     let m = machine();
     let params = Piges::table_3_1_all().parameters(&m);

@@ -1,6 +1,6 @@
 //! ISO 230-4 circular test and ballbar diagnostics on the 3-axis machine of
 //! `examples/machines/vmc3.toml` (X and Y carry the table with directions -x, -y; ISO 841 primed
-//! axes): the squareness ellipse of seed 001 Fig. 2.14, a round trip of every diagnostic, G, F, H
+//! axes): the squareness ellipse of Jiang 2014 Fig. 2.14, a round trip of every diagnostic, G, F, H
 //! against closed forms.
 
 use trueaxis::errors::ErrorModel;
@@ -59,7 +59,7 @@ fn value(d: &trueaxis::evaluate::ballbar_diagnostics::Diagnostics, name: &str) -
 
 #[test]
 fn squareness_of_0_01_deg_gives_the_45_degree_ellipse_and_is_identified() {
-    // Seed 001 §2.3.2 / Fig. 2.14 (digest 2.2): an XY squareness of 0.01 deg on a 100 mm circle gives
+    // Jiang 2014 §2.3.2 / Fig. 2.14 (digest 2.2): an XY squareness of 0.01 deg on a 100 mm circle gives
     // an ellipse with its axes at 45 and 135 deg; to first order dL = (R alpha / 2) sin 2t with
     // amplitude R alpha / 2 = 8.727 um. The sign of the squareness decides which diagonal is the long
     // one. On vmc3 X rides on Y, so the squareness is EC0X (EC0Y turns the whole table: no signal).

@@ -1,4 +1,4 @@
-//! Identification of the 8 PIGEs of the A and C axes of the seed 001 C600U (X. Jiang, PhD thesis,
+//! Identification of the 8 PIGEs of the A and C axes of the Jiang 2014 C600U (X. Jiang, PhD thesis,
 //! 2014) from double-ballbar traces simulated on the exact chain: noise-free round trips of the
 //! Table 3.1 conditions through the ch. 5, ch. 4 and ch. 6 methods, one sign test per PIGE, the
 //! thesis errata of the digest (`specs/jiang.md`), the start-angle correction (Eq. 4.1), a Monte
@@ -305,7 +305,7 @@ fn start_angle_correction_of_eq_4_1() {
 
 #[test]
 fn compensation_residual_is_the_noise() {
-    // Seed 001 §4.3: the traces minus the model of the identified PIGEs. Noise-free: < 0.05 um (POSITION_TOL);
+    // Jiang 2014 §4.3: the traces minus the model of the identified PIGEs. Noise-free: < 0.05 um (POSITION_TOL);
     // with 1 um noise the residual RMS is the noise (0.8 ... 1.2 um) (thesis Fig. 4.8: < 1 um band
     // on the machine).
     let m = machine();

@@ -1,4 +1,4 @@
-//! Two-length telescopic ballbar (TMBB) test of a rotary table, seed 002 (Zhu 2008) ch. 5, Table 5.1
+//! Two-length telescopic ballbar (TMBB) test of a rotary table, Zhu 2008 ch. 5, Table 5.1
 //! setup: simulated on the exact chain (the C table of `examples/machines/c600u.toml` with A at 0),
 //! with the table errors of the thesis's l2 estimates (Table 5.2), radial runouts, an angular error
 //! and an eccentricity of the spindle ball; E_x, E_y and D_z come back by l2 and l-infinity, the

@@ -1,4 +1,4 @@
-//! The setup of the two-length rotary-table test (seed 002 §5.3): the choice of the table-ball
+//! The setup of the two-length rotary-table test (Zhu 2008 §5.3): the choice of the table-ball
 //! radius R_x and the effect of setup dimensions that are off, against closed forms.
 
 use trueaxis::identify::tmbb::TmbbSetup;

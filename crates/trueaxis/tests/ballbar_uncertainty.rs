@@ -1,4 +1,4 @@
-//! Uncertainty of the rotary-axis ballbar methods (seed 001 ch. 4, 5, 6) on the C600U, checked
+//! Uncertainty of the rotary-axis ballbar methods (Jiang 2014 ch. 4, 5, 6) on the C600U, checked
 //! against Monte Carlo and closed forms:
 //! - the per-PIGE standard uncertainty from a single run (the scatter of each trace about its
 //!   circle, propagated through the axis lines) equals the spread of the PIGEs over 400 simulated
@@ -87,7 +87,7 @@ fn single_run_uncertainty_and_noise_sensitivity_equal_the_monte_carlo_spread() {
 fn orientation_pige_of_the_short_arc_is_the_weakest() {
     // per um of bar noise: positions about 1 um at most (the 90 deg A arc; the full C circle far
     // less), orientations several urad, the tilt of A (90 deg arc, lever D = 111.8 mm) worst
-    // (seed 001 §6.2)
+    // (Jiang 2014 §6.2)
     let m = machine();
     let s = method_sensitivity(&m, RotaryPair::of_machine(&m).unwrap(), &steps(&m, Method::ExtendedBar)).unwrap();
     let u = |name: &str| s.noise[s.parameters.iter().position(|p| p.to_string() == name).unwrap()];

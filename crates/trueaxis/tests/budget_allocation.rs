@@ -1,4 +1,4 @@
-//! Cost-optimal tolerance allocation (seed 002 eqs. B.5-B.8) against the closed-form Lagrange
+//! Cost-optimal tolerance allocation (Zhu 2008 eqs. B.5-B.8) against the closed-form Lagrange
 //! solutions of equal costs under one root-sum-square constraint (with and without an active lower
 //! limit) and one worst-case constraint, the KKT conditions on whole work volumes, determinism for
 //! a seed, and infeasible lower limits.

@@ -1,4 +1,4 @@
-//! The five-axis configurations of seed 002 appendix C: the counts 720 / 360 / 432 / 288 (144 and 96
+//! The five-axis configurations of Zhu 2008 appendix C: the counts 720 / 360 / 432 / 288 (144 and 96
 //! per category), the ideal form-shaping functions of Table C.1, the travel of Table C.2, the space
 //! utility finding of Figure C.1, and the poses and budgets of the configuration study.
 

@@ -1,4 +1,4 @@
-//! The miniaturisation case of seed 002 appendix B.2 (three-axis machine P_T G_R X Y Z T_L, cubic
+//! The miniaturisation case of Zhu 2008 appendix B.2 (three-axis machine P_T G_R X Y Z T_L, cubic
 //! parts of 10 to 300 mm, 21 equal components) against the appendix's qualitative findings:
 //! - large parts: the axis farthest from the tool (X) is the most sensitive and contributes most,
 //!   X is the most sensitive direction of the part, both robustness indices rise, and angular and

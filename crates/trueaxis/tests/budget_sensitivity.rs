@@ -1,6 +1,6 @@
 //! The sensitivity matrix of the error budget against central differences of the exact chain, the
 //! stack-ups against direct sums (every sign combination for the worst case), and the singular
-//! values against an SVD of the homogenised matrix (seed 002 eqs. B.1-B.4, B.12-B.13).
+//! values against an SVD of the homogenised matrix (Zhu 2008 eqs. B.1-B.4, B.12-B.13).
 
 use nalgebra::DMatrix;
 use rand::{Rng, SeedableRng};

@@ -1,5 +1,5 @@
-//! The first-order model (Jacobian, seed 000 eq. 2.24 / seed 004 eq. 2) against the exact chain:
-//! the difference must scale as the square of the error size (DESIGN.md section 6). And the exact
+//! The first-order model (Jacobian, Soons 1993 eq. 2.24 / Andolfatto et al. 2011 eq. 2) against the exact chain:
+//! the difference must scale as the square of the error size (docs/verification.md). And the exact
 //! chain against an independent implementation with plain 4x4 homogeneous matrices.
 
 use nalgebra::{Matrix4, Rotation3, Unit, Vector3};
@@ -176,7 +176,7 @@ fn jacobian_batch_stacks_the_single_pose_jacobians() {
 }
 
 /// The three squareness errors of vmc3 (`wXYbZt`: X rides on Y, Z on the base), each alone at
-/// s = 12 urad, against the closed form `s * lever` (DESIGN.md section 2: the error of the carried
+/// s = 12 urad, against the closed form `s * lever` (docs/design.md, Conventions: the error of the carried
 /// body relative to its parent, tool relative to workpiece in the workpiece frame):
 /// - `EC0X`: X (with the table) turned by s about z relative to Y. The X motion stays along the
 ///   table's x; the Y motion is seen turned by -s in the table frame: `dx = s * Y`, `dy = 0`.

@@ -1,4 +1,4 @@
-//! The pose correction (seed 000 §2.3.5 iterated on the exact chain): residual after correction on
+//! The pose correction (Soons 1993 §2.3.5 iterated on the exact chain): residual after correction on
 //! the example machines, checked with the model's own `volumetric_error` (a second code path), the
 //! first-order closed form of a 3-axis machine, uncorrectable orientation, bidirectional and
 //! thermal terms.
@@ -90,7 +90,7 @@ fn residual_is_below_a_hundredth_of_a_micrometre_and_one_percent_on_every_exampl
 fn three_axis_correction_is_minus_the_error_to_first_order_and_orientation_is_uncorrectable() {
     // vmc3: X and Y carry the workpiece with directions -x, -y and Z the tool: programmed +X moves
     // the tool +x relative to the workpiece, so the joint Jacobian of the relative position is the
-    // identity and the first-order correction is dq = -d (seed 000 §2.3.5, linear model).
+    // identity and the first-order correction is dq = -d (Soons 1993 §2.3.5, linear model).
     let (m, e) = load("vmc3");
     let corrector = Corrector::new(&m, &e);
     let mut ws = CorrectionWorkspace::new(&m);

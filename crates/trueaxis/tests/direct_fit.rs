@@ -1,4 +1,4 @@
-//! Round trips of direct characterisation (seed 000 ch. 3): simulate an error with known
+//! Round trips of direct characterisation (Soons 1993 ch. 3): simulate an error with known
 //! parametric form plus noise, fit it, recover it.
 
 use trueaxis::errors::{integrate, set_error_function, Basis, BasisSpec, ErrorFunction, ErrorModel, PeriodicSpec};
@@ -18,14 +18,14 @@ fn noise(n: usize, sigma: f64, seed: u64) -> Vec<f64> {
     (0..n).map(|_| sigma * (-2.0 * uniform().ln()).sqrt() * (2.0 * std::f64::consts::PI * uniform()).cos()).collect()
 }
 
-const SCALE_PITCH: f64 = 0.635025; // mm, seed 000 §3.2.4
+const SCALE_PITCH: f64 = 0.635025; // mm, Soons 1993 §3.2.4
 
 fn periodic_spec() -> PeriodicSpec {
     PeriodicSpec { wavelength: SCALE_PITCH, phase: 0.0, degree: 2, knots: vec![1.0 / 3.0, 2.0 / 3.0], continuity: 1 }
 }
 
 /// Trend: a C1 quadratic piecewise polynomial with knots at 10 and 30 mm; the scale error: a C1
-/// periodic term of the scale pitch (seed 000 §3.2.4: quadratic pieces, C1).
+/// periodic term of the scale pitch (Soons 1993 §3.2.4: quadratic pieces, C1).
 fn truth() -> (Basis, Vec<f64>) {
     let spec = BasisSpec {
         family: "piecewise".into(),
@@ -48,7 +48,7 @@ fn truth() -> (Basis, Vec<f64>) {
 #[test]
 fn piecewise_trend_and_scale_pitch_error_are_recovered_by_stepwise_fitting() {
     let (basis, coefficients) = truth();
-    // 50 mm sampled every 0.01 mm (seed 000 §3.2.4), noise 0.05 um
+    // 50 mm sampled every 0.01 mm (Soons 1993 §3.2.4), noise 0.05 um
     let positions: Vec<f64> = (0..=5000).map(|i| 0.01 * i as f64 + 1e-4).collect();
     let e = noise(positions.len(), 0.05, 7);
     let values: Vec<f64> = positions.iter().zip(&e).map(|(x, n)| basis.eval(&coefficients, *x) + n).collect();
@@ -150,7 +150,7 @@ fn straightness_constrained_fit_has_no_trend_and_matches_the_truth() {
     for ((c, u), t) in fitted.coefficients.iter().zip(&fitted.std_uncertainties).zip(&truth) {
         assert!((c - t).abs() < 3.0 * u, "{c} +- {u} vs {t}");
     }
-    // no linear trend over the range (seed 000 eqs. 3.6-3.7): integral f = integral f x = 0
+    // no linear trend over the range (Soons 1993 eqs. 3.6-3.7): integral f = integral f x = 0
     let knots = [-150.0, 0.0, 150.0];
     let m0 = integrate(|x| fitted.function.evaluate(x), -300.0, 300.0, &knots, 8);
     let m1 = integrate(|x| fitted.function.evaluate(x) * x, -300.0, 300.0, &knots, 8);
@@ -247,7 +247,7 @@ fn residual_periods_are_searched_from_twice_the_sampling_step() {
 
 #[test]
 fn a_screw_wave_sampled_every_10_mm_is_reported_with_the_true_pitch_in_its_alias_family() {
-    // seed 000 §3.2.4: the 0.635025 mm scale error sampled every 10 mm shows at 39.59 mm; the report
+    // Soons 1993 §3.2.4: the 0.635025 mm scale error sampled every 10 mm shows at 39.59 mm; the report
     // marks it significant and gives the family 1/|k/10 +- 1/39.59|, which holds the true pitch at k = 16
     let positions: Vec<f64> = (0..=50).map(|i| 10.0 * i as f64 + 0.37).collect();
     let values: Vec<f64> = positions.iter().map(|x| 0.8 * (2.0 * std::f64::consts::PI * x / SCALE_PITCH).sin()).collect();

@@ -1,14 +1,14 @@
-//! Error terms of inputs other than the axis positions: workpiece-load errors (seed 000 eq. 3.20),
-//! drift models interpolated between tested axis positions (seed 000 §3.4.4), product terms of one
+//! Error terms of inputs other than the axis positions: workpiece-load errors (Soons 1993 eq. 3.20),
+//! drift models interpolated between tested axis positions (Soons 1993 §3.4.4), product terms of one
 //! direction of motion or one position range with a spindle-speed input (the geometric-thermal
-//! model of seed 003 §3.6). Each against its closed form or an independent implementation.
+//! model of NISTIR 5236 §3.6). Each against its closed form or an independent implementation.
 
 use trueaxis::errors::{input_values, Direction, ErrorModel, InputSource, MachineState};
 use trueaxis::machine::{Machine, ParameterId};
 use trueaxis::thermal::drift_model::DriftModel;
 
 const MACHINE: &str = r#"
-name = "milling machine of seed 000 ch. 5, X table on Y, Z ram"
+name = "milling machine of Soons 1993 ch. 5, X table on Y, Z ram"
 structure = "wXYbZt"
 [axes]
 X = { kind = "linear", direction = [1, 0, 0], range = [0, 700] }
@@ -78,7 +78,7 @@ fn drift_model(gains: [f64; 2]) -> DriftModel {
 
 #[test]
 fn drift_between_tested_positions_is_the_linear_interpolation_of_the_two_models() {
-    // seed 000 §3.4.4: models at Z = 0 (ram extended) and Z = 600 (retracted), interpolated
+    // Soons 1993 §3.4.4: models at Z = 0 (ram extended) and Z = 600 (retracted), interpolated
     let m = machine();
     let (near, far) = (drift_model([4.0, -1.5]), drift_model([7.0, 0.5]));
     let entry = |z: f64, d: &DriftModel| {

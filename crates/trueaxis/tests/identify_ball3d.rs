@@ -1,10 +1,10 @@
-//! 3D-ball round trips beyond the seed 004 CapBall test:
+//! 3D-ball round trips beyond the Andolfatto et al. 2011 CapBall test:
 //! - an R-test (`frame = "workpiece"`: sensors on the C table, ball in the spindle) on the c600u
-//!   (seed 001 machine): the rotary-axis location errors and the setup, simulated with noise on the
+//!   (Jiang 2014 machine): the rotary-axis location errors and the setup, simulated with noise on the
 //!   exact chain, identified back within 3 standard uncertainties; the three position errors the
 //!   R-test cannot tell from the ball offset are named;
 //! - a CapBall test on the KX8-Five whose sensing head is misaligned (gains, skew, a rotation of its
-//!   frame, offsets): the sensor-frame calibration of seed 004 eqs. 6-10, from a simulated cube data
+//!   frame, offsets): the sensor-frame calibration of Andolfatto et al. 2011 eqs. 6-10, from a simulated cube data
 //!   file or from the given matrix, removes it and the parameters come back; without it they do not.
 
 use std::fmt::Write;
@@ -21,7 +21,7 @@ fn root() -> PathBuf {
 }
 
 /// Pose CSV (axis columns only) of 3D-ball trajectories: each entry of `sweeps` is one trajectory of
-/// `count` poses (seed 004 Fig. 2: the rotary axes sweep, the linear axes keep the head on the ball).
+/// `count` poses (Andolfatto et al. 2011 Fig. 2: the rotary axes sweep, the linear axes keep the head on the ball).
 fn trajectories(m: &Machine, setup: &Setup, sweeps: &[&[&str]], count: usize) -> String {
     let mut csv = format!("{}\n", m.axis_letters().chars().map(String::from).collect::<Vec<_>>().join(","));
     for sweep in sweeps {
@@ -69,7 +69,7 @@ fn r_test_campaign(parameters: &str) -> String {
 #[test]
 fn r_test_in_the_workpiece_frame_round_trip() {
     // c600u (wCAbYXZt): sensor nest on the C table at (80, 0, -100) mm, ball at the spindle point;
-    // three trajectories: A and C together, C alone at A = 0, A alone at C = 90 deg; seed 001 Table 3.1
+    // three trajectories: A and C together, C alone at A = 0, A alone at C = 90 deg; Jiang 2014 Table 3.1
     // PIGE sizes (10 um, 0.01 deg) plus ball and nest offsets
     let m = Machine::load(root().join("../../examples/machines/c600u.toml")).unwrap();
     let dir = tempfile::tempdir().unwrap();
@@ -142,15 +142,15 @@ fn a_sensor_misalignment_is_calibrated_out() {
     let d = dir.path();
     let setup = Setup { tool_point: m.tool_point, work_point: Vec3::new(150.0, 0.0, 100.0) };
     let poses = trajectories(&m, &setup, &[&["A=0:120", "C=0:1440"]], 807);
-    // the head: gains 0.998 / 0.996 / 0.996 and skews of seed 004 Table 2, its frame turned by
-    // 20 mrad about z, offsets of a few um (seed 004: below 10 um)
+    // the head: gains 0.998 / 0.996 / 0.996 and skews of Andolfatto et al. 2011 Table 2, its frame turned by
+    // 20 mrad about z, offsets of a few um (Andolfatto et al. 2011: below 10 um)
     let (c, s) = (0.02f64.cos(), 0.02f64.sin());
     let turn = nalgebra::Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0);
     let a = turn * nalgebra::Matrix3::new(0.998, -0.030, -0.029, 0.0, 0.996, -0.021, 0.0, 0.0, 0.996);
     let offset = Vec3::new(4.0, -7.5, 9.0);
     let head = SensorCalibration::from_matrix(a, offset).unwrap();
     // the calibration cube: 125 programmed offsets on a 0.2 mm cube and what the head reads there
-    // (noise-free here: the noise of the cube readings is an uncertainty source of its own, seed 004
+    // (noise-free here: the noise of the cube readings is an uncertainty source of its own, Andolfatto et al. 2011
     // Table 5 "transformation", see `trueaxis uncertainty`)
     let mut cube = String::from("# programmed displacement (um), sensor readings (um)\ntx,ty,tz,sx,sy,sz\n");
     for t in SensorCalibration::cube(Vec3::zeros(), 200.0, 5) {

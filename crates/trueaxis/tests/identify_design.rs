@@ -1,4 +1,4 @@
-//! Seed 000 §4.4, Table 4.1: D-optimal design of 400 mm ball bars on a simulated 2D CMM with
+//! Soons 1993 §4.4, Table 4.1: D-optimal design of 400 mm ball bars on a simulated 2D CMM with
 //! three parameters (X-Y squareness, X and Y scale errors). The design matrix comes from the
 //! kinematic model through the `point_length` instrument (two probed poses per bar); it must equal
 //! eq. 4.21, and the three designs of Table 4.1 must give its det^(1/3) and maximum variance; the
@@ -11,7 +11,7 @@ use trueaxis::identify::{Campaign, CandidateSet, Criterion, DesignMatrix};
 use trueaxis::machine::Machine;
 
 const MACHINE: &str = r#"
-name = "2D CMM (seed 000 section 4.4)"
+name = "2D CMM (Soons 1993 section 4.4)"
 structure = "wbXYt"
 [axes]
 X = { kind = "linear", direction = [1, 0, 0], range = [0, 500] }
@@ -48,7 +48,7 @@ fn candidates() -> Vec<(f64, f64, f64)> {
     bars
 }
 
-/// Design matrix in the units of seed 000 (length deviation in mm per dimensionless parameter: rad
+/// Design matrix in the units of Soons 1993 (length deviation in mm per dimensionless parameter: rad
 /// for the squareness, mm/mm for the scales) and the bars.
 fn design() -> (DesignMatrix, DMatrix<f64>, Vec<(f64, f64, f64)>) {
     let dir = tempfile::tempdir().unwrap();

@@ -1,7 +1,7 @@
 //! Round trips through the length and probing instruments on the 3-axis machine (vmc3): a
-//! calibrated ballbar at several pivots, a machine checking gauge of unknown length (seed 000
+//! calibrated ballbar at several pivots, a machine checking gauge of unknown length (Soons 1993
 //! §5.2.2: the length appended to the parameters), a hole plate whose misalignment is removed
-//! by fitting it with the machine parameters, and bars probed at both ends (`point_length`, seed 000
+//! by fitting it with the machine parameters, and bars probed at both ends (`point_length`, Soons 1993
 //! eq. 4.5), one of them uncalibrated. Squareness and scale errors (polynomial powers) are recovered
 //! within 3 standard uncertainties, and so are the gauge and bar offsets and the plate pose.
 
@@ -110,7 +110,7 @@ fn ballbar_gauge_and_hole_plate_round_trip() {
     for ch in &result.channels {
         assert!((ch.rms / ch.sigma - 1.0).abs() < 0.25, "{}: rms {} sigma {}", ch.name, ch.rms, ch.sigma);
     }
-    // prediction variance (seed 000 eq. 4.12) of a design row equals g^T Cov g, and the volumetric
+    // prediction variance (Soons 1993 eq. 4.12) of a design row equals g^T Cov g, and the volumetric
     // covariance at a pose is positive
     let design = campaign.design_matrix(&m, &ErrorModel::zero(&m)).unwrap();
     let g: Vec<f64> = design.matrix.row(0).iter().copied().collect();
@@ -120,7 +120,7 @@ fn ballbar_gauge_and_hole_plate_round_trip() {
     assert!(cov[(0, 0)] > 0.0 && cov[(2, 2)] > 0.0);
 }
 
-/// Bars probed at both ends (`point_length`, seed 000 eq. 4.5): `length` mm long along the 13
+/// Bars probed at both ends (`point_length`, Soons 1993 eq. 4.5): `length` mm long along the 13
 /// directions of the axes, face and body diagonals, centred at four places in the work volume.
 fn bars_csv(m: &Machine, probe: &Setup, length: f64) -> String {
     let mut csv = String::from("X,Y,Z,X2,Y2,Z2\n");

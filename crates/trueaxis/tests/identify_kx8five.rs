@@ -1,4 +1,4 @@
-//! Seed 004 (Andolfatto et al. 2011): simulate the 807-pose CapBall test of the KX8-Five with the
+//! Andolfatto et al. 2011: simulate the 807-pose CapBall test of the KX8-Five with the
 //! Table 1 values and the Table 3 sensor noise, identify, and compare.
 //!
 //! In this model's ISO parameters two combinations of the paper's 14 are unseen (named by the

@@ -2,10 +2,10 @@
 //! simulated from known readings:
 //! - a raw ballbar capture (feed-in, overshoot arc with acceleration, capture arc, overshoot arc
 //!   with deceleration, feed-out, sampled at a fixed rate): the capture arc's angles and readings
-//!   recovered, the ISO 230-4 values equal to those of the true trace (seed 001 §4.2);
+//!   recovered, the ISO 230-4 values equal to those of the true trace (Jiang 2014 §4.2);
 //! - a 1000 Hz 3D-ball stream with a move, a settling oscillation and a dwell at each of the 807
 //!   poses of the KX8-Five campaign: the steady value of each pose equal to its reading within the
-//!   averaging of the sensor noise (seed 004 §3.4).
+//!   averaging of the sensor noise (Andolfatto et al. 2011 §3.4).
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -144,7 +144,7 @@ fn steady_values_of_a_1000_hz_stream_are_the_readings_of_its_poses() {
         .collect();
     assert_eq!(readings.len(), 807);
     // per pose: a 0.25 s move (cosine blend from the previous reading plus a 25 Hz oscillation of
-    // 3 um that decays with 40 ms), then a 0.45 s dwell; noise of seed 004 Table 3; 1000 Hz
+    // 3 um that decays with 40 ms), then a 0.45 s dwell; noise of Andolfatto et al. 2011 Table 3; 1000 Hz
     let rate = 1000.0;
     let sigma = [0.28, 0.28, 0.40];
     let mut rng = ChaCha8Rng::seed_from_u64(7);

@@ -1,5 +1,5 @@
 //! The general exact kinematic chain (and its first-order Jacobian) reproduces the closed-form error
-//! model of the NIST two-axis turning centre: seed 003 (NISTIR 5236) section 2.3, Fig. 2.2,
+//! model of the NIST two-axis turning centre: NISTIR 5236 section 2.3, Fig. 2.2,
 //! eqs. 2.10-2.26, with the machine `examples/machines/lathe2.toml`.
 //!
 //! NIST computes `E = T_TOOL^-1 T_WORK` (eq. 2.9), whose position part `p_E` is the workpiece point
@@ -108,7 +108,7 @@ const SYMBOLS: [(&str, &str, Field); 29] = [
 ];
 
 /// Error part of `p_E` (um) at axis positions `x`, `z` (mm) and the cutting point
-/// `x(w) = X1 + x + X4`, `z(w) = z + Z4`: seed 003 eqs. 2.24-2.26, with the eq. 2.24 erratum
+/// `x(w) = X1 + x + X4`, `z(w) = z + Z4`: NISTIR 5236 eqs. 2.24-2.26, with the eq. 2.24 erratum
 /// corrected (`- delta_x(x)` where the print repeats `- delta_x(s)`). The nominal terms
 /// `x(w) - X4 - x - X1` and `z(w) - Z4 - z` cancel at the cutting point.
 fn p_e(n: &Nist, x: f64, z: f64) -> [f64; 3] {
@@ -274,7 +274,7 @@ fn lathe2_toml_encodes_the_nist_turning_centre() {
     let m = lathe();
     assert_eq!(m.structure.to_string(), "wCbZXt");
     assert_eq!(m.axis_letters(), "XZC");
-    assert_eq!(m.source.as_deref(), Some("seed 003 (NISTIR 5236) section 2.3, Fig. 2.2, eqs. 2.10-2.26"));
+    assert_eq!(m.source.as_deref(), Some("NISTIR 5236 section 2.3, Fig. 2.2, eqs. 2.10-2.26"));
     assert!(!m.name.is_empty());
     let axis = |c: char| &m.axes()[m.axis_index(c).unwrap()];
     // eq. 2.10 / 2.11: carriage frame at (X1, 0, z), cross slide at (X1 + x, 0, z)

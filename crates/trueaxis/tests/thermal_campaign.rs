@@ -1,8 +1,8 @@
-//! A simulated warm-up / cool-down campaign on the element of seed 002 §3.4 (steel bar 1 m,
+//! A simulated warm-up / cool-down campaign on the element of Zhu 2008 §3.4 (steel bar 1 m,
 //! h = 20 W/m^2/K on all surfaces, heat entering at the fixed end): temperatures at the two sensors
 //! the modal rule places (positions 1 and 5), the free-end elongation `alpha int T dx` as the drift.
 //! A PITE model (eq. 3.12 with intercept) trained on one warm-up / cool-down test predicts the
-//! held-out tests with the warm-up shortened and lengthened by 50 % (seed 002 §3.5) and a 20-min
+//! held-out tests with the warm-up shortened and lengthened by 50 % (Zhu 2008 §3.5) and a 20-min
 //! duty cycle (§3.4.3). The same data are shipped as `examples/thermal/campaign.csv`.
 
 use std::path::Path;
@@ -14,7 +14,7 @@ use trueaxis::thermal::response::{modal_history, LoadHistory};
 use trueaxis::thermal::validation::residual_stats;
 use trueaxis::thermal::{modal_analysis, ModalOptions};
 
-const ALPHA_UM_PER_M_K: f64 = 10.8; // seed 002 Table 3.1
+const ALPHA_UM_PER_M_K: f64 = 10.8; // Zhu 2008 Table 3.1
 const ELEMENTS: usize = 24;
 
 fn noise(i: usize) -> f64 {
@@ -36,7 +36,7 @@ fn simulate() -> String {
     let nodes: Vec<usize> = (0..=ELEMENTS).collect();
     let h = 1.0 / ELEMENTS as f64;
     let mut csv = String::from(
-        "# simulated campaign: seed 002 §3.4 elongation element, 100 W at the fixed end, 20 degC ambient\nrun,t,T:p1,T:p5,dz\n",
+        "# simulated campaign: Zhu 2008 §3.4 elongation element, 100 W at the fixed end, 20 degC ambient\nrun,t,T:p1,T:p5,dz\n",
     );
     let mut k = 0;
     let on = |run: &str, t: f64| -> f64 {
@@ -92,7 +92,7 @@ fn a_model_trained_on_one_warm_up_predicts_held_out_duty_cycles() {
     let train = campaign.rows_of(&["warmup".into()]).unwrap();
     let temps = campaign.select(&sensors, &train).unwrap();
     let dz = campaign.select(&["dz".into()], &train).unwrap().remove(0);
-    // both sensors correlate with the drift (seed 003 §3.6), neither alone explains it (r = 0.88, 0.80)
+    // both sensors correlate with the drift (NISTIR 5236 §3.6), neither alone explains it (r = 0.88, 0.80)
     let ranking = correlation_ranking(&temps, &dz);
     assert!(ranking.iter().all(|r| r.1 > 0.75), "{ranking:?}");
     let (model, fit) = fit_regression("dz", &sensors, &temps, None, 0, true, &dz).unwrap();
@@ -101,7 +101,7 @@ fn a_model_trained_on_one_warm_up_predicts_held_out_duty_cycles() {
     assert!(peak > 40.0 && peak < 80.0, "{peak}");
     assert!(fit.sigma < 1.5, "training sigma {}", fit.sigma);
     // held out: warm-up -50 %, +50 %, 20-min duty cycle. Measured RMS 0.87 / 0.84 / 2.21 um and
-    // max 3.4 / 3.3 / 3.3 um for a 63 um peak: two sensors for more than two modes (seed 002 §1.4)
+    // max 3.4 / 3.3 / 3.3 um for a 63 um peak: two sensors for more than two modes (Zhu 2008 §1.4)
     let single = fit_regression("dz", &sensors[1..], &temps[1..], None, 0, true, &dz).unwrap().0;
     for (run, rms_share) in [("short", 0.02), ("long", 0.02), ("cycle", 0.05)] {
         let rows = campaign.rows_of(&[run.into()]).unwrap();

@@ -1,7 +1,7 @@
-//! Thermal error models: the eq. 3.17 fit recovers 363.6 / 61.7 / 27.0 min (seed 002 §3.5), the
+//! Thermal error models: the eq. 3.17 fit recovers 363.6 / 61.7 / 27.0 min (Zhu 2008 §3.5), the
 //! Sodick models eqs. 4.3-4.5 evaluate as printed and through the kinematic chain, the state-space
-//! model of seed 000 §3.4.2 is recovered by Levenberg-Marquardt, thermal links equal the direct
-//! rigid-body formula, and sensor placement reproduces seed 002 §3.4.2.
+//! model of Soons 1993 §3.4.2 is recovered by Levenberg-Marquardt, thermal links equal the direct
+//! rigid-body formula, and sensor placement reproduces Zhu 2008 §3.4.2.
 
 use std::path::Path;
 use trueaxis::errors::ErrorModel;
@@ -214,7 +214,7 @@ fn fin(end: Boundary, elements: usize) -> ThermalProblem {
 
 #[test]
 fn placement_reproduces_seed_002_and_the_d_optimal_design() {
-    // elongation element of seed 002 §3.4 (h = 20 on all surfaces, flux at the fixed end), 9 equally
+    // elongation element of Zhu 2008 §3.4 (h = 20 on all surfaces, flux at the fixed end), 9 equally
     // spaced candidates (positions 1..9): the modal rule places Position 5 (modes I and III) and
     // Position 1 (mode II), as in the thesis
     let sys = assemble(&fin(Boundary::Convection(20.0), 24)).unwrap();

@@ -1,4 +1,4 @@
-//! Thermal FE and modal analysis against closed forms: the fin of seed 002 Table 3.1 (analytic time
+//! Thermal FE and modal analysis against closed forms: the fin of Zhu 2008 Table 3.1 (analytic time
 //! constants of a fin with insulated ends, and the exact discrete eigenvalues of 22 linear
 //! elements), the sparse shift-invert Lanczos against the dense solver, 3D against 1D, modal
 //! superposition against time stepping, and the mode weights.
@@ -11,7 +11,7 @@ use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::response::{modal_history, step_response, time_stepping, LoadHistory};
 use trueaxis::thermal::{dominant_modes, modal_analysis, mode_weights, ModalOptions, SpectrumMethod};
 
-// seed 002 Table 3.1
+// Zhu 2008 Table 3.1
 const K: f64 = 60.5;
 const RHO: f64 = 7800.0;
 const CP: f64 = 434.0;

@@ -1,4 +1,4 @@
-//! JCGM 101 behaviour on models whose output distribution is known in closed form (DESIGN.md
+//! JCGM 101 behaviour on models whose output distribution is known in closed form (docs/design.md
 //! section 6): sums of normal inputs (normal output), sums of rectangular inputs (triangular and
 //! trapezoidal outputs, JCGM 101 §9.2), a Student t input, and a chi-square output that tells the
 //! shortest interval from the symmetric one. Also: the same result for any number of threads.

@@ -1,4 +1,4 @@
-//! Seed 004 (Andolfatto, Mayer, Lavernhe 2011) §4-5: adaptive Monte Carlo uncertainty of the 14
+//! Andolfatto et al. 2011 §4-5: adaptive Monte Carlo uncertainty of the 14
 //! link and setup errors of the Huron KX8-Five identified from 807 CapBall poses, with the sensor
 //! noise of Table 3, the frame-transformation uncertainty of §4.3 and the drift of Table 4 by the
 //! statistical and by the cyclic method.
@@ -13,13 +13,13 @@ use trueaxis::uncertainty::{
     SourceKind, StartPhase,
 };
 
-/// The 14 parameters of seed 004 eq. 1 with ISO names: the 8 link errors (tilts of A and the C
+/// The 14 parameters of Andolfatto et al. 2011 eq. 1 with ISO names: the 8 link errors (tilts of A and the C
 /// offset taken normal to the tilted A axis, see the last test) and the 6 setup errors.
 const PARAMETERS: [&str; 14] = ["EC0Y", "EA0Z", "EB0Z", "EB0A", "EA0A", "EA0C", "EB0C", "EX0C", "TX", "TY", "TZ", "WX", "WY", "WZ"];
-/// Time between two poses (s): 807 poses in about 10 minutes (seed 004 §3.4).
+/// Time between two poses (s): 807 poses in about 10 minutes (Andolfatto et al. 2011 §3.4).
 const T_I: f64 = 0.75;
 
-/// The identification trajectory of seed 004 §3.2 in the spirit of its Fig. 2: the tool point held
+/// The identification trajectory of Andolfatto et al. 2011 §3.2 in the spirit of its Fig. 2: the tool point held
 /// on a master ball at (150, 0, 50) mm on the table while A tilts clockwise from 0 to 120 deg and
 /// C turns three times clockwise; X, Y, Z follow. Rows x, y, z of each pose, pose k at k t_i.
 fn kx8five_design() -> DesignMatrix {
@@ -37,7 +37,7 @@ fn normal(name: &str, u: [f64; 3]) -> Source {
 
 /// Table 4 magnitudes of the drift (um).
 const E_VE: [f64; 3] = [6.95, 3.42, 6.63];
-/// Period of the spindle cooling cycle (s); seed 004 Fig. 9 shows cycles without stating the period.
+/// Period of the spindle cooling cycle (s); Andolfatto et al. 2011 Fig. 9 shows cycles without stating the period.
 const PERIOD: f64 = 1000.0;
 
 fn sources(cyclic: bool) -> Vec<Source> {
@@ -56,7 +56,7 @@ fn sources(cyclic: bool) -> Vec<Source> {
 }
 
 fn settings() -> McSettings {
-    // M = 10^4, 95 %, delta = 0.05 um or urad (seed 004 §4.1, Fig. 13)
+    // M = 10^4, 95 %, delta = 0.05 um or urad (Andolfatto et al. 2011 §4.1, Fig. 13)
     let mut s = McSettings::new(0.95, 0.05);
     s.seed = 4;
     s
@@ -88,12 +88,12 @@ fn seed_004_statistical_versus_cyclic_drift() {
             cyc.rows[j].rss,
             cyc.rows[j].total
         );
-        // 1. the statistical method gives narrower intervals than the cyclic method (seed 004 §5.1)
+        // 1. the statistical method gives narrower intervals than the cyclic method (Andolfatto et al. 2011 §5.1)
         assert!(st.symmetric.width() < cy.symmetric.width(), "{name}");
         // the statistical outputs are Gaussian: the GUM interval holds (half width / u = 1.96)
         assert!((0.5 * st.symmetric.width() / st.std_uncertainty - k).abs() < 0.03, "{name}");
         assert!((st.std_uncertainty - stat.rows[j].gum_total_u).abs() < 0.05, "{name}: MC and GUM");
-        // 2. the cyclic method gives non-normal outputs (seed 004 §5.1, Fig. 10): arc-sine-like,
+        // 2. the cyclic method gives non-normal outputs (Andolfatto et al. 2011 §5.1, Fig. 10): arc-sine-like,
         // excess kurtosis near -1.5 and a 95 % half width near 1.44 u instead of 1.96 u
         if j < 8 {
             assert!(cy.excess_kurtosis < -1.0, "{name}: {}", cy.excess_kurtosis);
@@ -114,7 +114,7 @@ fn seed_004_statistical_versus_cyclic_drift() {
 
 #[test]
 fn adaptive_loop_converges_like_seed_004_fig_13() {
-    // Seed 004 §5.2: M = 10^4, delta = 0.05 um or urad, convergence after h = 17..24 sequences.
+    // Andolfatto et al. 2011 §5.2: M = 10^4, delta = 0.05 um or urad, convergence after h = 17..24 sequences.
     //
     // Why the timing of eq. 12 converges at once here: point k of trial n is measured at
     // t0 + (n - 1) t_m + k t_i, so the drift phase of trial n is t0 + n t_m (mod T). With
@@ -192,7 +192,7 @@ fn adaptive_loop_converges_like_seed_004_fig_13() {
 
 #[test]
 fn iso_names_of_the_example_error_file_are_not_all_identifiable_from_one_ball() {
-    // examples/errors/kx8five.toml maps seed 004's tilts of A to EB0A, EC0A and the offset of C to
+    // examples/errors/kx8five.toml maps Andolfatto et al. 2011's tilts of A to EB0A, EC0A and the offset of C to
     // EY0C. With A tilted 45 deg in the Y-Z plane, EB0A and EC0A together hold a zero offset of A,
     // which for one ball is a tilt of C plus a workpiece shift; and EY0C's part along A is a
     // translation (user guide). The test set uses EA0A and EX0C instead (both normal to A).

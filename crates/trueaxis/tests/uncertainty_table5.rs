@@ -1,6 +1,6 @@
-//! Seed 004 Table 5 (Andolfatto, Mayer, Lavernhe 2011 §5.3: the width of the 95 % interval of
+//! Andolfatto et al. 2011 Table 5 (Andolfatto, Mayer, Lavernhe 2011 §5.3: the width of the 95 % interval of
 //! each link error with each uncertainty source alone, their root-sum-square and the total) against
-//! trueaxis, and which assumption makes the difference (docs/uncertainty.md, "Seed 004 Table 5").
+//! trueaxis, and which assumption makes the difference (docs/uncertainty.md, "Andolfatto et al. 2011 Table 5").
 //!
 //! Every width here is also computed in closed form, independently of the Monte Carlo: the
 //! identification is linear, `p = P y` with `P` the pseudo-inverse of the design, so
@@ -17,7 +17,7 @@ use kx8five_capball::{try_capball_design, Trajectory};
 use nalgebra::DMatrix;
 use trueaxis::uncertainty::{run_budget, DesignMatrix, Evaluation, IdentificationMap, McSettings, Sources};
 
-/// Seed 004 Table 5, the 8 link errors: width with the drift (cyclic method), the sensors, the
+/// Andolfatto et al. 2011 Table 5, the 8 link errors: width with the drift (cyclic method), the sensors, the
 /// frame transformation alone, their root-sum-square, the total (um/m = urad; the last row um).
 const PAPER: [[f64; 5]; 8] = [
     [8.1, 0.49, 0.68, 8.1, 8.4],    // d_gamma_Y
@@ -39,7 +39,7 @@ const SHIPPED: [&str; 14] = ["EC0Y", "EA0Z", "EB0Z", "EB0A", "EA0A", "EA0C", "EB
 /// own estimator is the Moore-Penrose pseudo-inverse, its eq. 5).
 const PAPER_NAMES: [&str; 14] = ["EC0Y", "EA0Z", "EB0Z", "EB0A", "EC0A", "EA0C", "EB0C", "EY0C", "TX", "TY", "TZ", "WX", "WY", "WZ"];
 
-/// Seed 004 Table 3 (sensor noise) and §4.3 (frame transformation): standard deviations (um) of
+/// Andolfatto et al. 2011 Table 3 (sensor noise) and §4.3 (frame transformation): standard deviations (um) of
 /// the x, y, z channels; Table 4: drift magnitude E_VE (um, peak to valley).
 const SENSORS_U: [f64; 3] = [0.28, 0.28, 0.40];
 const TRANSFORMATION_U: [f64; 3] = [0.56, 0.27, 0.69];
@@ -115,7 +115,7 @@ fn monte_carlo_budget_equals_the_closed_forms() {
             let tolerance = if k == 0 { 0.01 } else { 0.03 };
             assert!((mc / cf - 1.0).abs() < tolerance, "{} source {k}: Monte Carlo {mc:.4} vs closed form {cf:.4}", row.parameter);
         }
-        // the total is not below the largest single source (seed 004: drift dominates)
+        // the total is not below the largest single source (Andolfatto et al. 2011: drift dominates)
         assert!(row.total >= 0.99 * expected[0], "{}: total {} vs drift {}", row.parameter, row.total, expected[0]);
     }
 }

@@ -1,4 +1,4 @@
-//! `trueaxis thermal beam`: the stress-free beam model of a guideway or scale (seed 000 §3.4.3) as
+//! `trueaxis thermal beam`: the stress-free beam model of a guideway or scale (Soons 1993 §3.4.3) as
 //! error terms of the axis's motion errors (`thermal::beam`).
 
 use super::failure;

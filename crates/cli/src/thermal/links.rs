@@ -1,4 +1,4 @@
-//! `trueaxis thermal links`: thermal links of the structural loop (seed 002 ch. 4) as error terms of
+//! `trueaxis thermal links`: thermal links of the structural loop (Zhu 2008 ch. 4) as error terms of
 //! the kinematic chain, written into an error-values file for `predict`, `compensate` and `nc`.
 
 use super::failure;

@@ -1,5 +1,5 @@
 //! The compensation part of a calibration report: own-axis and cross-axis tables and a volumetric
-//! grid from an error model, solved on the exact chain (seed 000 §2.3.5), as `trueaxis compensate`
+//! grid from an error model, solved on the exact chain (Soons 1993 §2.3.5), as `trueaxis compensate`
 //! computes them, and what the controller's sum of tables does at any pose.
 
 use super::super::html::Section;
@@ -97,7 +97,7 @@ impl CompensationPart {
     /// tables: the sum of the own-axis and cross-axis tables of each corrected axis, interpolated
     /// linearly at the positions of their driving axes (mean of the two directions of motion). On
     /// the axis lines through the reference pose it is the correction; elsewhere it misses the
-    /// terms that depend on two axes at once (seed 003 §4).
+    /// terms that depend on two axes at once (NISTIR 5236 §4).
     pub fn table_correction(&self, q_user: &[f64]) -> Vec<f64> {
         let mut dq = vec![0.0; q_user.len()];
         for t in &self.tables.tables {

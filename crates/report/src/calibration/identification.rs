@@ -1,6 +1,6 @@
 //! The identification part of a calibration report: a campaign solved as `trueaxis identify` solves
-//! it (weighted least squares on the first-order Jacobian of the exact chain, seed 000 eq. 2.24 /
-//! seed 004 eq. 2), its residuals per channel, the parameters each with one expanded uncertainty
+//! it (weighted least squares on the first-order Jacobian of the exact chain, Soons 1993 eq. 2.24 /
+//! Andolfatto et al. 2011 eq. 2), its residuals per channel, the parameters each with one expanded uncertainty
 //! and the method that gave it, and the identifiability report.
 
 use super::super::html::{Cell, Section};

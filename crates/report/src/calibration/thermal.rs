@@ -1,6 +1,6 @@
 //! The thermal parts of a calibration report, each computed as the `thermal` command that does it
 //! alone: a conduction model's modes (`thermal modes --plot`: time constants, weights `|xi tau|`
-//! and their shares, the dominant modes up to a cumulative share, seed 002 §3.3) and a thermal
+//! and their shares, the dominant modes up to a cumulative share, Zhu 2008 §3.3) and a thermal
 //! error model's prediction of a measured campaign (`thermal predict --plot`: drift against
 //! prediction per run, residual RMS, largest value and band).
 

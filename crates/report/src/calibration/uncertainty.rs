@@ -1,6 +1,6 @@
 //! The uncertainty part of a calibration report: adaptive Monte Carlo (JCGM 101 §7.9, several
 //! outputs per JCGM 102) of an identification with the sources of a sources file, each source alone
-//! and all together (the budget of seed 004 Table 5), as `trueaxis uncertainty` computes it.
+//! and all together (the budget of Andolfatto et al. 2011 Table 5), as `trueaxis uncertainty` computes it.
 
 use super::super::html::Section;
 use super::super::{interval_of, uncertainty_figures};

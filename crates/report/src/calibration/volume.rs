@@ -43,7 +43,7 @@ pub struct VolumePart {
 impl VolumePart {
     /// The machine with the errors `machine_errors`, before compensation and driven to the
     /// set-points corrected for `compensation_errors` (the same model, or an identified one): by the
-    /// exact correction at each pose (seed 000 §2.3.5) and by the tables of `tables`. `None` for a
+    /// exact correction at each pose (Soons 1993 §2.3.5) and by the tables of `tables`. `None` for a
     /// machine without two linear axes with a travel. The set-up errors of the measurement (where
     /// the master ball or the probe sat) are left out of both models, as `trueaxis compensate`
     /// leaves them out of its tables and of the error it judges: they are not errors of the machine.
@@ -186,7 +186,7 @@ impl VolumePart {
 
 /// Volumetric error of the machine when the controller commands `qc` for the nominal pose `q` (mm,
 /// rad): the tool point relative to the workpiece point on the actual chain at `qc` (parameters
-/// `params` evaluated there) minus the same on the nominal chain at `q`, machine frame (DESIGN.md
+/// `params` evaluated there) minus the same on the nominal chain at `q`, machine frame (docs/design.md
 /// section 2; with `qc = q` it is `model::volumetric_error`).
 pub fn error_at_setpoints(machine: &Machine, q: &[f64], qc: &[f64], params: &[f64], setup: &Setup) -> VolumetricError {
     let offset = |side| {
@@ -244,7 +244,7 @@ mod tests {
 
     #[test]
     fn at_the_corrected_set_points_the_position_error_is_the_correction_residual() {
-        // a second formulation: the corrector's own residual at q + dq (seed 000 §2.3.5)
+        // a second formulation: the corrector's own residual at q + dq (Soons 1993 §2.3.5)
         let (machine, errors) = kx8five();
         let corrector = Corrector::new(&machine, &errors);
         let mut ws = CorrectionWorkspace::new(&machine);

@@ -1,4 +1,4 @@
-//! The demo's CapBall campaign: the 807 poses of seed 004 simulated on the exact chain with sensor
+//! The demo's CapBall campaign: the 807 poses of Andolfatto et al. 2011 simulated on the exact chain with sensor
 //! noise and a cyclic drift of the measuring chain, and the true values in the campaign's parameter
 //! set.
 

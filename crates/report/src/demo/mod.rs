@@ -1,12 +1,12 @@
-//! `trueaxis demo`: the main job end to end on the built-in machine, the Huron KX8-Five of seed 004
-//! (structure `WCAYFXZT`, A tilted 45 deg) with the link and setup errors of seed 004 Table 1:
+//! `trueaxis demo`: the main job end to end on the built-in machine, the Huron KX8-Five of Andolfatto et al. 2011
+//! (structure `WCAYFXZT`, A tilted 45 deg) with the link and setup errors of Andolfatto et al. 2011 Table 1:
 //!
-//! 1. a CapBall campaign of 807 poses (seed 004 §3.2) simulated on the exact chain with the sensor
+//! 1. a CapBall campaign of 807 poses (Andolfatto et al. 2011 §3.2) simulated on the exact chain with the sensor
 //!    noise of Table 3 and a cyclic drift of the measuring chain (§4.4.2, peak-to-valley of Table 4);
 //! 2. ISO 230-4 ballbar circles (CW and CCW) in the XY plane, with noise, and their diagnostics;
 //! 3. identification of the separable link and setup errors with the identifiability report;
 //! 4. adaptive Monte Carlo uncertainty (JCGM 101) with the statistical sources and the cyclic drift,
-//!    and the per-source budget (seed 004 Table 5);
+//!    and the per-source budget (Andolfatto et al. 2011 Table 5);
 //! 5. compensation tables from the identified errors, and the volumetric error over the work volume
 //!    before compensation and after (the true machine driven to the set-points the tables correct);
 //! 6. a self-contained HTML report, built by `report::calibration` like `trueaxis report`.
@@ -35,12 +35,12 @@ use trueaxis::uncertainty::UncertaintyError;
 
 /// The built-in machine (`examples/machines/kx8five.toml`).
 pub const MACHINE_TOML: &str = include_str!("../../../../examples/machines/kx8five.toml");
-/// The errors the machine is simulated with: seed 004 Table 1 (`examples/errors/kx8five_table1.toml`).
+/// The errors the machine is simulated with: Andolfatto et al. 2011 Table 1 (`examples/errors/kx8five_table1.toml`).
 pub const ERRORS_TOML: &str = include_str!("../../../../examples/errors/kx8five_table1.toml");
 /// The campaign: 807 CapBall poses (`examples/campaigns/kx8five/`).
 pub const CAMPAIGN_TOML: &str = include_str!("../../../../examples/campaigns/kx8five/campaign.toml");
 pub const CAMPAIGN_POSES_CSV: &str = include_str!("../../../../examples/campaigns/kx8five/capball.csv");
-/// The uncertainty sources: seed 004 Tables 3 and 4 with a cyclic drift (`examples/uncertainty/`).
+/// The uncertainty sources: Andolfatto et al. 2011 Tables 3 and 4 with a cyclic drift (`examples/uncertainty/`).
 pub const SOURCES_TOML: &str = include_str!("../../../../examples/uncertainty/kx8five_cyclic.toml");
 /// The certificate particulars, instruments, decision rule and tolerances (`examples/report/`).
 pub const CERTIFICATE_TOML: &str = include_str!("../../../../examples/report/kx8five_demo.toml");

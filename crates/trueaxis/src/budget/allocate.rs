@@ -1,4 +1,4 @@
-//! Cost-optimal tolerance allocation (seed 002 eqs. B.5-B.8): the tolerances of the components that
+//! Cost-optimal tolerance allocation (Zhu 2008 eqs. B.5-B.8): the tolerances of the components that
 //! minimise `sum_j A_j / e_j^k_j` (homogenised tolerances `e_j`) subject to the stack-up staying
 //! within the target at every pose, and `e_j >= e_j^l`.
 //!

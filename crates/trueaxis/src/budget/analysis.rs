@@ -1,4 +1,4 @@
-//! The forward analysis of a budget over a pose set (seed 002 appendix B, "error budget analysis"):
+//! The forward analysis of a budget over a pose set (Zhu 2008 appendix B, "error budget analysis"):
 //! the stack-up at each pose and over the set, the sensitivity measures, and the share of every
 //! component, axis and kind of error; with a check of the linear stack-up on the exact chain.
 
@@ -36,7 +36,7 @@ pub struct GroupShare {
     pub share: f64,
     /// Root mean square over poses of the root-sum-square 3D error of the group alone (um).
     pub rss_um: f64,
-    /// Machine sensitivity `SM` (seed 002 eqs. B.14-B.19): `rss_um` per unit norm of the group's
+    /// Machine sensitivity `SM` (Zhu 2008 eqs. B.14-B.19): `rss_um` per unit norm of the group's
     /// homogenised tolerances (mm). The printed ratio has the total error above every group; the
     /// group's own error is read here, which is what separates the groups.
     pub sensitivity_mm: f64,
@@ -155,7 +155,7 @@ pub fn analyse_sensitivity(machine: &Machine, spec: &BudgetSpec, s: Sensitivity,
             members,
         }
     };
-    // squareness errors of the linear axes are between two axes (seed 002 B.2: "three squareness
+    // squareness errors of the linear axes are between two axes (Zhu 2008 B.2: "three squareness
     // errors between each axes"): a group of their own; every other error belongs to its axis
     let between = |j: usize| {
         components[j].kind == ErrorKind::Squareness

@@ -1,11 +1,11 @@
 //! The component errors of a budget: ISO 230 parameters of the machine (motion errors of every axis,
 //! squareness of the linear axes, location errors of the rotary axes), each with its kind and the
-//! length that homogenises it (seed 002 eqs. B.1-B.2 and the paragraph after them).
+//! length that homogenises it (Zhu 2008 eqs. B.1-B.2 and the paragraph after them).
 
 use crate::machine::{AxisKind, Component, Machine, ParameterId};
 use serde::Serialize;
 
-/// The three kinds of component error of seed 002 appendix B: linear errors `D_i(j)` (every
+/// The three kinds of component error of Zhu 2008 appendix B: linear errors `D_i(j)` (every
 /// translation: positioning, straightness, radial and axial motion, position of a rotary axis),
 /// angular errors `E_i(j)` (rotational motion errors and the zero offset of a rotary axis) and
 /// squareness errors `S_ij` (orientation of an axis: squareness of linear axes, parallelism of
@@ -59,7 +59,7 @@ pub struct BudgetComponent {
     /// The axis the error belongs to.
     pub axis: char,
     /// Homogenisation length (mm) of a linear error: a tolerance of `e` um counts as `e / (L / 1000)`
-    /// um/m, comparable with urad (seed 002: "1 um over a 1 m axis is about 1 um/m angular error in
+    /// um/m, comparable with urad (Zhu 2008: "1 um over a 1 m axis is about 1 um/m angular error in
     /// manufacturing difficulty and cost"). 1000 mm for angular and squareness errors (no change).
     pub length_mm: f64,
 }
@@ -92,9 +92,9 @@ pub fn default_lengths(machine: &Machine) -> Vec<f64> {
 
 /// The standard component set of a machine:
 /// - the six motion errors of every axis (linear axis X: `EXX EYX EZX EAX EBX ECX`; rotary axis C:
-///   `EXC EYC EZC EAC EBC ECC`), the 18 motion errors of a three-axis machine of seed 002 B.2;
+///   `EXC EYC EZC EAC EBC ECC`), the 18 motion errors of a three-axis machine of Zhu 2008 B.2;
 /// - the squareness errors of the linear axes X, Y, Z that the machine has, one per pair: `EC0X`
-///   (X to Y), `EA0Z` (Y to Z), `EB0Z` (X to Z), the three of seed 002 B.2 and ISO 230-1;
+///   (X to Y), `EA0Z` (Y to Z), `EB0Z` (X to Z), the three of Zhu 2008 B.2 and ISO 230-1;
 /// - the location errors of every rotary axis (ISO 230-7): the position of its line (C: `EX0C EY0C`)
 ///   and its orientation (C: `EA0C EB0C`).
 pub fn default_components(machine: &Machine) -> Vec<ParameterId> {

@@ -1,4 +1,4 @@
-//! The five-axis configurations of seed 002 appendix C (after Bohez 2002): which axes, in which
+//! The five-axis configurations of Zhu 2008 appendix C (after Bohez 2002): which axes, in which
 //! order from the workpiece to the tool, and where the bed is. Counting rules that give the
 //! appendix's numbers:
 //!

@@ -1,4 +1,4 @@
-//! The cost-tolerance model of seed 002 eq. B.5: `cost(e) = A / e^k` per component, on the
+//! The cost-tolerance model of Zhu 2008 eq. B.5: `cost(e) = A / e^k` per component, on the
 //! homogenised tolerance `e` (um/m for linear errors, urad otherwise), with a lower limit per
 //! component (eq. B.8) below which a tolerance is not allocated.
 

@@ -1,4 +1,4 @@
-//! The ideal form-shaping function of a configuration as formulas (seed 002 Table C.1): the tool
+//! The ideal form-shaping function of a configuration as formulas (Zhu 2008 Table C.1): the tool
 //! position `(l, m, n)` and direction `(u, v, w)` in the workpiece frame as sums of products of
 //! `sin`/`cos` of the rotary positions `a b c` with one of the linear positions `x y z` or the tool
 //! length `p`. Built by applying each axis's ideal motion, from the tool back to the workpiece, to

@@ -1,5 +1,5 @@
 //! The global stage of the allocation: a real-coded genetic algorithm on the logarithms of the
-//! tolerances with a penalty for violated constraints, as the hybrid GA / SQP method of seed 002
+//! tolerances with a penalty for violated constraints, as the hybrid GA / SQP method of Zhu 2008
 //! appendix B (Table B.1: population 10, crossover probability 0.9, mutation probability 0.1). Its
 //! best point starts the local stage. Seeded (ChaCha8), so a seed gives the same result on every
 //! machine and thread count.
@@ -8,7 +8,7 @@ use super::barrier::ConvexProblem;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// Parameters of the genetic algorithm (defaults: seed 002 Table B.1, with 500 generations).
+/// Parameters of the genetic algorithm (defaults: Zhu 2008 Table B.1, with 500 generations).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GeneticOptions {
     pub population: usize,

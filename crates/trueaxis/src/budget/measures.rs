@@ -1,4 +1,4 @@
-//! Measures of a sensitivity matrix (seed 002 appendix B): its singular values and condition number
+//! Measures of a sensitivity matrix (Zhu 2008 appendix B): its singular values and condition number
 //! (the design sensitivity ellipsoid, eqs. B.12-B.13), the part measures `SP` (B.9-B.11), the machine
 //! measures `SM` per axis and per kind (B.14-B.19), and the share of each component and group in the
 //! root-sum-square volumetric error (B.20-B.21, with the exact lever arms in place of the part length).

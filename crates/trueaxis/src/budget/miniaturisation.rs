@@ -1,4 +1,4 @@
-//! The miniaturisation case of seed 002 appendix B.2: a three-axis machine `P_T G_R X Y Z T_L`
+//! The miniaturisation case of Zhu 2008 appendix B.2: a three-axis machine `P_T G_R X Y Z T_L`
 //! (structure `wbXYZt`: the part on the bed, X on the bed, Y on X, Z on Y, the tool on Z) scaled to
 //! cubic parts of 10 to 300 mm, with the 21 components of B.2 equal on every axis.
 //!

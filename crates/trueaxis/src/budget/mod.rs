@@ -1,4 +1,4 @@
-//! Error budget for machine design (seed 002, Zhu 2008, appendices B and C): which component errors
+//! Error budget for machine design (Zhu 2008, appendices B and C): which component errors
 //! matter at the tool point, how tight each must be, and which five-axis configuration suits a part.
 //!
 //! - [`components`]: the component errors of a budget (ISO 230 names), their kind (linear, angular,

@@ -1,5 +1,5 @@
 //! Pose sets of a budget: a grid over the travel of the linear axes (the work volume), or the poses
-//! that put the tool point on a grid over a part (the part size of seed 002 B.2).
+//! that put the tool point on a grid over a part (the part size of Zhu 2008 B.2).
 
 use super::BudgetError;
 use crate::geometry::Vec3;

@@ -1,5 +1,5 @@
 //! The budget of every five-axis configuration for one part, with the same component tolerances, and
-//! their ranking (seed 002 appendices B and C together): each configuration's ideal machine
+//! their ranking (Zhu 2008 appendices B and C together): each configuration's ideal machine
 //! ([`Configuration::machine`]) is analysed at the poses that put the tool on a grid over the part
 //! with the tool upright and tilted towards +-x and +-y.
 

@@ -1,6 +1,6 @@
-//! The sensitivity (error-gain) matrix `SE` of seed 002 eqs. B.1-B.2: `VE = SE e`, the tool-point
+//! The sensitivity (error-gain) matrix `SE` of Zhu 2008 eqs. B.1-B.2: `VE = SE e`, the tool-point
 //! position error `VE` (um) for component errors `e` (um, urad). It is the derivative of the exact
-//! chain at zero errors, i.e. the first-order model of [`crate::model::jacobian`] (seed 000 eq.
+//! chain at zero errors, i.e. the first-order model of [`crate::model::jacobian`] (Soons 1993 eq.
 //! 2.24), restricted to the position rows and the budget's components; the tests check it against
 //! central differences of [`crate::model::volumetric_error`].
 

@@ -1,4 +1,4 @@
-//! Stack-up of component tolerances into the volumetric error (seed 002 eqs. B.3-B.4):
+//! Stack-up of component tolerances into the volumetric error (Zhu 2008 eqs. B.3-B.4):
 //! root-sum-square `VE_i = sqrt(sum_j (SE_ij e_j)^2)` (independent zero-mean errors of standard
 //! deviation `e_j`) and worst case `VE_i = sum_j |SE_ij| e_j` (every error at its limit with the worst
 //! sign), per direction, and for the 3D error vector: its root-sum-square length

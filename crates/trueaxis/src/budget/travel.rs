@@ -1,4 +1,4 @@
-//! The travel a configuration needs for a part (seed 002 Table C.2): the largest `|x|`, `|y|`, `|z|`
+//! The travel a configuration needs for a part (Zhu 2008 Table C.2): the largest `|x|`, `|y|`, `|z|`
 //! of the linear axes over every point of a part `[0, l] x [0, m] x [0, n]` (a corner on the pivot
 //! of the rotary axes) and every position of the two rotary axes, from the inverse of the ideal
 //! form-shaping function with a tool of length `p`.
@@ -106,7 +106,7 @@ pub fn required_travel(sequence: &[char; 5], part: [f64; 3], tool_length: f64) -
     Ok(travel)
 }
 
-/// Space utility: the part's volume over the product of the travels (seed 002 Fig. C.1).
+/// Space utility: the part's volume over the product of the travels (Zhu 2008 Fig. C.1).
 pub fn space_utility(part: [f64; 3], travel: [f64; 3]) -> f64 {
     part.iter().product::<f64>() / travel.iter().product::<f64>()
 }

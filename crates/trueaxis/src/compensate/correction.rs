@@ -1,7 +1,7 @@
 //! The correction of a pose: the axis set-point changes that cancel the predicted error of the tool
-//! point relative to the workpiece (seed 000 §2.3.5; seed 003 section 4).
+//! point relative to the workpiece (Soons 1993 §2.3.5; NISTIR 5236 section 4).
 //!
-//! Seed 000 §2.3.5 adds an unknown correction to each joint and chooses the corrections by linear
+//! Soons 1993 §2.3.5 adds an unknown correction to each joint and chooses the corrections by linear
 //! least squares on the kinematic model. Here the linear solve ([`super::solve`]) is iterated on the
 //! exact chain until the position residual is below [`CorrectionOptions::tolerance_mm`] (default
 //! 0.01 um), so that the result holds for errors of any size the exact chain can represent:
@@ -268,7 +268,7 @@ impl<'a> Corrector<'a> {
 
     /// The correction of pose `q` (mm, rad) in machine state `state` (directions of motion,
     /// temperatures): finds `dq` such that the actual chain at `q + dq` puts the tool point where the
-    /// nominal chain at `q` puts it, relative to the workpiece (seed 000 §2.3.5, iterated on the exact
+    /// nominal chain at `q` puts it, relative to the workpiece (Soons 1993 §2.3.5, iterated on the exact
     /// chain). The error model is evaluated at the corrected set-points `q + dq`. A cold start
     /// (`dq = 0`): the result depends on `q` and `state` only. Allocation-free.
     pub fn correct_state(&self, q: &[f64], state: &MachineState, ws: &mut CorrectionWorkspace) -> Correction {

@@ -136,7 +136,7 @@ pub fn sensor_temperatures(errors: &ErrorModel, given: &[(String, f64)]) -> Resu
 }
 
 /// The tables, grid and files of `request` for `corrector`'s machine and errors (corrections on
-/// the exact chain, seed 000 §2.3.5), with the error the format leaves and the corrected poses.
+/// the exact chain, Soons 1993 §2.3.5), with the error the format leaves and the corrected poses.
 ///
 /// The compensation is of the machine: the set-up errors of a measurement (`TX .. WZ`, the position
 /// of a master ball and of a probe head) are left out of it and of the error before and after. On

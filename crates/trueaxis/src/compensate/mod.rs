@@ -1,4 +1,4 @@
-//! Compensation (DESIGN.md section 1, seed 003 section 4, seed 000 §2.3.5): the correction of a
+//! Compensation (docs/design.md, The pipeline, NISTIR 5236 section 4, Soons 1993 §2.3.5): the correction of a
 //! pose, own-axis / cross-axis tables and a volumetric grid, controller exporters with their limit
 //! checks, NC-program correction, and an allocation-free real-time corrector with a C ABI.
 //!

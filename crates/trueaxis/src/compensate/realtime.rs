@@ -1,6 +1,6 @@
 //! The real-time corrector: from axis positions (and temperatures, directions of motion) to axis
-//! corrections, for a controller's servo cycle (seed 003 section 4, "way of the future": the model
-//! computed by an open-architecture controller and passed to the position loop; seed 000 §2.3.5,
+//! corrections, for a controller's servo cycle (NISTIR 5236 section 4, "way of the future": the model
+//! computed by an open-architecture controller and passed to the position loop; Soons 1993 §2.3.5,
 //! real-time use). Owns its machine, error model and buffers; a call allocates nothing. The C ABI
 //! is in [`super::ffi`].
 //!

@@ -1,4 +1,4 @@
-//! The linear solve of the pose correction (seed 000 §2.3.5: unknown joint corrections chosen by
+//! The linear solve of the pose correction (Soons 1993 §2.3.5: unknown joint corrections chosen by
 //! linear least squares on the kinematic model), prioritised: the position of the tool point first
 //! (minimum-norm least squares over all joints), then the targeted orientation in the null space of
 //! the position task.

@@ -1,5 +1,5 @@
 //! Compensation tables sampled from the pose correction: own-axis and cross-axis tables,
-//! bidirectional (the lead-screw and cross-axis tables of seed 003 section 4), and a volumetric grid
+//! bidirectional (the lead-screw and cross-axis tables of NISTIR 5236 section 4), and a volumetric grid
 //! over the work volume with trilinear interpolation (the Fanuc 3D lattice of specs/anchors.md §3).
 //!
 //! Tables are taken along the axis lines through a reference pose (default: home, all axes at 0,

@@ -1,4 +1,4 @@
-//! Tables with named columns (laser, level, ballbar and other instrument data, poses; DESIGN.md
+//! Tables with named columns (laser, level, ballbar and other instrument data, poses; docs/design.md
 //! section 3), read forgivingly: every CSV input of trueaxis goes through [`CsvTable`].
 //!
 //! - `#` (or `//`) comment lines and blank lines anywhere; the header is the first line whose
@@ -11,7 +11,7 @@
 //!   (`deviation` for `dev`, `position` for `target`, `direction` for `dir`, `io::header`), and a
 //!   unit in the header (`dev [mm]`, `Dev_um`, `Position (mm)`) honoured: a column read as a
 //!   position comes in mm or deg, a deviation or reading in um or urad, a temperature in degC, a
-//!   time in s (DESIGN.md section 2);
+//!   time in s (docs/design.md, Conventions);
 //! - the wide laser layout (one row per target, one column per run and direction: `Run 1 +`,
 //!   `Run 1 -`, ...) turned into the long one (`target, dev, dir, run`);
 //! - a Renishaw `.rtl` laser file read as the table `target, dev, dir, run` of its readings.
@@ -379,7 +379,7 @@ impl CsvTable {
             .collect()
     }
 
-    /// The canonical CSV of this table (DESIGN.md section 3): the metadata as `# Key: value`
+    /// The canonical CSV of this table (docs/design.md, Files): the metadata as `# Key: value`
     /// comments, a header of the column names with their units as returned by
     /// [`CsvTable::numbers`], `,` as separator and `.` as decimal mark; numeric columns converted,
     /// text columns as written. Columns of mixed text and numbers are written as text.

@@ -1,5 +1,5 @@
 //! Data files: tables in (read forgivingly, `columns`), pose CSVs in, prediction tables out, and
-//! the output layer (DESIGN.md sections 3-4: never a partially written output; docs/reliability.md):
+//! the output layer (docs/design.md sections 3-4: never a partially written output; docs/reliability.md):
 //! output sets written all or none (`output_set`, `staging`, `commit`), what an output path is
 //! (`target`), the inputs a run read (`inputs`), its temporaries (`temporaries`), and which
 //! failures are the environment's (`environment`).

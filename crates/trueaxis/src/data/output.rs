@@ -1,4 +1,4 @@
-//! Prediction tables (the `predict` contract of DESIGN.md section 4): CSV with the axis columns
+//! Prediction tables (the `predict` contract of docs/design.md, Command line): CSV with the axis columns
 //! (mm, deg) followed by `dx dy dz` (um), `drx dry drz` (urad), `dL` (um), or one JSON document
 //! `{"frame":..,"machine":..,"poses":[{"X":..,"dx":..,..}, ..],"units":{..}}`. Written whole
 //! ([`predictions_csv`], [`predictions_json`]) or block of rows after block of rows

@@ -1,4 +1,4 @@
-//! Outputs written together: all of them or none (DESIGN.md section 3: never a partially written
+//! Outputs written together: all of them or none (docs/design.md, Files: never a partially written
 //! output; docs/reliability.md states the guarantee).
 //!
 //! An [`OutputSet`] holds the files of one run: single files at any path (`identify --out E.toml

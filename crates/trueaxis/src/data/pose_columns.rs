@@ -1,4 +1,4 @@
-//! The columns of a pose table (DESIGN.md section 3) and the reading of one row, shared by the
+//! The columns of a pose table (docs/design.md, Files) and the reading of one row, shared by the
 //! table read whole ([`super::poses_of`]) and the table read as a stream ([`super::PoseStream`]):
 //! one column per axis of the machine (`X Y Z U V W` in mm, `A B C` in deg, a unit in the header
 //! converted), `dir:<axis>` directions of motion (`+`, `-`, empty = at rest) and `T:<sensor>`

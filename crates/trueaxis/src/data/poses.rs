@@ -1,4 +1,4 @@
-//! Pose CSV files (DESIGN.md section 3): one row per sample, axis columns named by letter
+//! Pose CSV files (docs/design.md, Files): one row per sample, axis columns named by letter
 //! (`X,Y,Z` in mm, `A,B,C` in deg; `pose_columns`); other columns are ignored here, but not a
 //! column of an axis the machine lacks. Read forgivingly by [`CsvTable`] (separators, decimal
 //! commas, units in headers), whole; [`super::PoseStream`] reads one in bounded memory.

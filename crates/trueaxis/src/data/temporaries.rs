@@ -1,7 +1,7 @@
 //! Temporaries of atomic outputs: their names, and the clean-up of those a killed run left behind.
 //!
 //! Every output is first written to a temporary next to its final path and then renamed over it
-//! (DESIGN.md section 3: never a partially written output). A temporary of the output `NAME` (a file
+//! (docs/design.md, Files: never a partially written output). A temporary of the output `NAME` (a file
 //! or a directory) in the directory `D` is `D/.NAME.trueaxis-PID-XXXXXX.tmp`: hidden, named after its
 //! target and after the process that writes it. A run killed with `kill -9` cannot remove it; the
 //! next run writing the same target removes it once it is abandoned: its process no longer runs on

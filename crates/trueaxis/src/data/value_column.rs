@@ -1,5 +1,5 @@
 //! A numeric column of a table: its values read forgivingly (`io::text::parse_number`) and
-//! converted from the unit its header names to the unit trueaxis works in (DESIGN.md section 2),
+//! converted from the unit its header names to the unit trueaxis works in (docs/design.md, Conventions),
 //! each refusal naming the file, the line and the column. Shared by the table read whole
 //! ([`super::CsvTable`]) and the rows of a table read as a stream ([`super::pose_stream`]).
 

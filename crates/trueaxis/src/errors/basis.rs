@@ -1,4 +1,4 @@
-//! Basis functions for parametric errors (seed 000 ch. 3): an error is `E(x) = sum_l beta_l p_l(x)`
+//! Basis functions for parametric errors (Soons 1993 ch. 3): an error is `E(x) = sum_l beta_l p_l(x)`
 //! with `p_l` from
 //! - truncated-power piecewise polynomials with fixed knots and per-knot continuity (eqs. 3.2-3.3),
 //! - Legendre polynomials over the axis range,
@@ -157,7 +157,7 @@ enum Correction {
     Revolution(f64, f64),
 }
 
-/// An evaluated basis: functions `p_l(x)` (seed 000 eq. 3.1 / 4.2).
+/// An evaluated basis: functions `p_l(x)` (Soons 1993 eq. 3.1 / 4.2).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Basis {
     pub spec: BasisSpec,
@@ -377,9 +377,9 @@ fn bspline(t: &[f64], i: usize, k: usize, x: f64) -> f64 {
 
 /// The periodic functions of one spec: powers `w^l` and truncated powers `(w - t)_+^l` made
 /// continuous across the period boundary up to order `continuity` by subtracting
-/// `sum_{c=1..continuity+1} alpha_c w^c` (seed 000 eqs. 3.12-3.15).
+/// `sum_{c=1..continuity+1} alpha_c w^c` (Soons 1993 eqs. 3.12-3.15).
 ///
-/// ERRATUM (seed 000 eq. 3.14-3.15): the printed system `[[1,1],[1,2]] alpha = [g(1)-g(0); g'(1)-g'(0)]`
+/// ERRATUM (Soons 1993 eq. 3.14-3.15): the printed system `[[1,1],[1,2]] alpha = [g(1)-g(0); g'(1)-g'(0)]`
 /// omits the derivative of the subtracted polynomial at `w = 0` (`alpha_1`); continuity of the
 /// first derivative requires `2 alpha_2 = g'(1) - g'(0)`. In general, for derivative order `k`,
 /// `sum_c alpha_c (d^k w^c/dw^k)(1) - (d^k w^c/dw^k)(0) = g^(k)(1) - g^(k)(0)`, which is solved here.
@@ -476,7 +476,7 @@ mod tests {
 
     #[test]
     fn straightness_basis_has_no_mean_and_no_trend() {
-        // seed 000 eqs. 3.6-3.7: integral p = integral p x = 0 over the domain
+        // Soons 1993 eqs. 3.6-3.7: integral p = integral p x = 0 over the domain
         let b = Basis::new(spec("piecewise", "straightness")).unwrap();
         assert_eq!(b.len(), 3, "x loses its trend and vanishes; x^2 and the two knot terms stay");
         for l in 0..b.len() {
@@ -494,7 +494,7 @@ mod tests {
 
     #[test]
     fn revolution_basis_has_no_once_per_turn_term() {
-        // seed 000 eq. 3.10 over a full turn
+        // Soons 1993 eq. 3.10 over a full turn
         let mut s = spec("legendre", "revolution");
         s.domain = [0.0, 360.0];
         s.knots = vec![];

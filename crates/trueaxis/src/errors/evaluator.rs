@@ -1,6 +1,6 @@
 //! An error function prepared for the hot path of the exact volumetric error: evaluated at an axis
 //! position in internal units (mm, rad) and giving the value in internal units (mm, rad), with the
-//! unit conversions of DESIGN.md section 2 folded in once, and a table's interval found by one
+//! unit conversions of docs/design.md, Conventions folded in once, and a table's interval found by one
 //! multiplication when its positions are equally spaced (the usual laser or compensation table),
 //! instead of divisions and a search at every evaluation.
 

@@ -1,7 +1,7 @@
-//! The error-values TOML of DESIGN.md section 3:
+//! The error-values TOML of docs/design.md, Files:
 //! `[constant]` (um, urad), `[table.NAME]` with `position`/`value`, `[polynomial.NAME]` with
 //! `coefficients` in ascending powers of the own axis position (mm or deg), `[basis.NAME]` with a
-//! parametric basis (seed 000 ch. 3) and its `coefficients`, `[uncertainty]` with the standard
+//! parametric basis (Soons 1993 ch. 3) and its `coefficients`, `[uncertainty]` with the standard
 //! uncertainties (k = 1, um or urad) of constant values.
 
 use super::basis::{Basis, BasisSpec};
@@ -34,10 +34,10 @@ struct ErrorValuesFile {
     /// `[[term.NAME]]`: product terms (cross-coupling, temperature, spindle speed, load).
     #[serde(default)]
     term: BTreeMap<String, Vec<TermFile>>,
-    /// `[load.NAME]`: workpiece-load errors (seed 000 eq. 3.20).
+    /// `[load.NAME]`: workpiece-load errors (Soons 1993 eq. 3.20).
     #[serde(default)]
     load: BTreeMap<String, LoadFile>,
-    /// `[[drift.NAME]]`: drift models at tested axis positions (seed 000 §3.4.4).
+    /// `[[drift.NAME]]`: drift models at tested axis positions (Soons 1993 §3.4.4).
     #[serde(default)]
     drift: BTreeMap<String, Vec<DriftFile>>,
     /// `[uncertainty]`: standard uncertainties (k = 1, um or urad) of constant values, as an
@@ -125,7 +125,7 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
         origin: origin.into(),
         message: format!("[{section}] {name}: {message}"),
     };
-    // a name may end in + or - : the function of one direction of motion (seed 000 §3.2.5)
+    // a name may end in + or - : the function of one direction of motion (Soons 1993 §3.2.5)
     let id_of = |section: &str, name: &str| -> Result<(ParameterId, Option<Direction>), ErrorsError> {
         let (stem, direction) = match name.trim().chars().last() {
             Some('+') => (&name.trim()[..name.trim().len() - 1], Some(Direction::Positive)),
@@ -167,7 +167,7 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
     }
     for (name, terms) in &file.term {
         let section = format!("term.{name}");
-        // a name ending in + or - : the term holds for that direction of motion (seed 003 §3.6)
+        // a name ending in + or - : the term holds for that direction of motion (NISTIR 5236 §3.6)
         let (id, direction) = id_of(&section, name)?;
         for t in terms {
             let mut axes = Vec::new();

@@ -1,5 +1,5 @@
 //! Error functions of the own axis position: constants, tables with linear interpolation, and
-//! polynomials (DESIGN.md section 3, error-values TOML). Values are in user units (um, urad),
+//! polynomials (docs/design.md, Files, error-values TOML). Values are in user units (um, urad),
 //! positions in mm (linear axes) or deg (rotary axes).
 
 use super::basis::Basis;
@@ -15,7 +15,7 @@ pub enum ErrorFunction {
     Table { positions: Vec<f64>, values: Vec<f64>, period: Option<f64> },
     /// `sum_k coefficients[k] * q^k`, ascending powers of the position.
     Polynomial { coefficients: Vec<f64> },
-    /// `sum_l coefficients[l] p_l(q)` over a parametric basis (seed 000 eq. 3.1).
+    /// `sum_l coefficients[l] p_l(q)` over a parametric basis (Soons 1993 eq. 3.1).
     Basis { basis: Basis, coefficients: Vec<f64> },
 }
 

@@ -4,10 +4,10 @@
 //! | name | quantity | unit | a term uses |
 //! |---|---|---|---|
 //! | `T:<sensor>` | temperature | degC | `T - 20 degC` (ISO 1) |
-//! | `S:<spindle>` | spindle speed (seed 003 §3.5: "spindle speed and temperatures") | rpm | `S` |
-//! | `F:<load>` | force, e.g. the weight of the workpiece (seed 000 §3.3.3) | N | `F` |
+//! | `S:<spindle>` | spindle speed (NISTIR 5236 §3.5: "spindle speed and temperatures") | rpm | `S` |
+//! | `F:<load>` | force, e.g. the weight of the workpiece (Soons 1993 §3.3.3) | N | `F` |
 //! | `P:<name>` | a position that is not an axis, e.g. of the workpiece's centre of gravity | mm | `P` |
-//! | `<T:sensor> lag <tau> s` | the rise of a sensor since the start of its run through a first-order lag of time constant tau (s), the state of a drift model (seed 000 §3.4.4) | degC | the lag |
+//! | `<T:sensor> lag <tau> s` | the rise of a sensor since the start of its run through a first-order lag of time constant tau (s), the state of a drift model (Soons 1993 §3.4.4) | degC | the lag |
 //!
 //! The first four come from columns of a pose or data file named exactly so, or from a value given
 //! on the command line; a lag input is computed from its sensor's column and the time column `t`

@@ -1,4 +1,4 @@
-//! Parametric error functions and the error-values file (DESIGN.md section 3).
+//! Parametric error functions and the error-values file (docs/design.md, Files).
 //!
 //! This first part holds constants, tables with linear interpolation and polynomials of the own
 //! axis position.

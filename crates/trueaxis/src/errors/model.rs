@@ -11,7 +11,7 @@ use crate::machine::{AxisKind, Machine, ParameterId};
 pub const REFERENCE_TEMPERATURE: f64 = 20.0;
 
 /// Direction of motion of an axis, for bidirectional (backlash, hysteresis) models
-/// (seed 000 §3.2.5: separate models for positive and negative motion).
+/// (Soons 1993 §3.2.5: separate models for positive and negative motion).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Direction {
     Positive,
@@ -42,12 +42,12 @@ struct Entry {
 }
 
 /// A product term `coefficient * prod (axis position)^p * prod (input - reference)^p` added to a
-/// parameter: cross-coupling (seed 000 eq. 3.19, e.g. `e = b x y`), position-temperature products
-/// (seed 003 §3.6, e.g. scale expansion `alpha (T - 20) x`), spindle-speed and load terms (inputs
+/// parameter: cross-coupling (Soons 1993 eq. 3.19, e.g. `e = b x y`), position-temperature products
+/// (NISTIR 5236 §3.6, e.g. scale expansion `alpha (T - 20) x`), spindle-speed and load terms (inputs
 /// of [`super::inputs`]). Positions in mm or deg, the value in um or urad.
 ///
-/// A term of the geometric-thermal model of seed 003 §3.6 may hold for one segment only: one
-/// direction of motion of the parameter's own axis (`direction`, seed 003: "segment the data
+/// A term of the geometric-thermal model of NISTIR 5236 §3.6 may hold for one segment only: one
+/// direction of motion of the parameter's own axis (`direction`, NISTIR 5236: "segment the data
 /// depending on the direction of travel due to hysteresis") and a range `[lo, hi)` of its position
 /// (`range`, "regions of axis position"). A directional term counts half when the direction is
 /// unknown (the mean of the two directions, as for bidirectional functions).
@@ -67,7 +67,7 @@ pub struct ProductTerm {
     own_axis: Option<usize>,
 }
 
-/// A workpiece-load error (seed 000 §3.3.3, eq. 3.20): the change of a parameter under a load,
+/// A workpiece-load error (Soons 1993 §3.3.3, eq. 3.20): the change of a parameter under a load,
 /// measured as a function of its own axis position at a reference load placed at a reference
 /// position, scaled linearly with the load and with its lever arm:
 /// `e(q, F, p) = f(q) (F / F_ref) (L - p) / L`. Without a lever, `e = f(q) F / F_ref`.
@@ -88,7 +88,7 @@ pub struct LoadTerm {
     own_axis: Option<usize>,
 }
 
-/// A thermal drift model of one parameter interpolated over an axis position (seed 000 §3.4.4:
+/// A thermal drift model of one parameter interpolated over an axis position (Soons 1993 §3.4.4:
 /// "models are estimated at several characteristic positions of the machine axes. The drift at an
 /// arbitrary axis position is obtained by linear interpolation between the modelled drift at the
 /// tested positions"). At each tested position the drift is the state-space model of

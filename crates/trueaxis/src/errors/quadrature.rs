@@ -1,5 +1,5 @@
 //! Gauss-Legendre quadrature and Legendre polynomials, used to build constrained bases
-//! (seed 000 eqs. 3.5-3.10 need integrals of basis functions over the axis range).
+//! (Soons 1993 eqs. 3.5-3.10 need integrals of basis functions over the axis range).
 
 /// Legendre polynomial `P_n(u)` and its derivative, by the three-term recurrence.
 pub fn legendre(n: usize, u: f64) -> (f64, f64) {

@@ -11,7 +11,7 @@ const SECTIONS: [&str; 4] = ["constant", "table", "polynomial", "basis"];
 /// Sets `id` to `function` in the error-values document `text` (empty for a new file), as
 /// `[constant]`, `[table.NAME]`, `[polynomial.NAME]` or `[basis.NAME]`, and returns the new text.
 /// With a `direction` the function is that of one direction of motion only (`NAME+` / `NAME-`,
-/// seed 000 §3.2.5): the undirected entry and the entry of the same direction are replaced, the
+/// Soons 1993 §3.2.5): the undirected entry and the entry of the same direction are replaced, the
 /// other direction is kept. Without, every entry of the parameter is replaced.
 pub fn set_error_function(text: &str, id: &ParameterId, direction: Option<Direction>, function: &ErrorFunction) -> Result<String, String> {
     let mut doc: DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| super::super::machine::one_line(&e.to_string()))?;

@@ -1,5 +1,5 @@
 //! Ballbar diagnostics of a planar circular test, identified by a linear least-squares fit of the
-//! first-order model on the machine's own kinematic model (the `dL` row of the Jacobian, seed 000
+//! first-order model on the machine's own kinematic model (the `dL` row of the Jacobian, Soons 1993
 //! eq. 2.24, at every sample) rather than by lookup rules on the plot shape.
 //!
 //! Each diagnostic is an error function of one axis of the plane (positions `a`, `b` about the
@@ -141,7 +141,7 @@ fn axis_sample(theta: f64, phase: f64, rotation: Rotation, radius: f64, centre: 
 }
 
 /// Effects (peak to valley on the trace) below this (um) get no share: the resolution of a
-/// ballbar (0.1 um for the QC20-W, seed 001 Table 4.1).
+/// ballbar (0.1 um for the QC20-W, Jiang 2014 Table 4.1).
 pub const RESOLUTION_UM: f64 = 0.1;
 
 /// Value and standard uncertainty of a term from its fitted coefficients: one coefficient, or the

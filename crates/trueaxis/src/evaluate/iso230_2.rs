@@ -94,7 +94,7 @@ impl PositioningData {
     }
 }
 
-/// Reads a positioning test (DESIGN.md sections 3-4) from a table or a Renishaw `.rtl` file, read
+/// Reads a positioning test (docs/design.md sections 3-4) from a table or a Renishaw `.rtl` file, read
 /// forgivingly by [`CsvTable`]: columns `target` (mm; deg for a rotary axis), `dev` (um, actual
 /// minus target; urad for a rotary axis), `dir` (`+` or `-`; `up`, `down` ...), `run` (integer), or
 /// the wide layout of one column per run and direction; units in the headers honoured; other
@@ -400,7 +400,7 @@ fn axis_results(positions: Vec<PositionResult>) -> Iso2302Result {
 }
 
 impl Iso2302Result {
-    /// The JSON document of `trueaxis iso230-2 --json` (DESIGN.md section 4): the axis results `A`,
+    /// The JSON document of `trueaxis iso230-2 --json` (docs/design.md, Command line): the axis results `A`,
     /// `A_plus`, `A_minus`, `B`, `B_mean`, `E`, `E_plus`, `E_minus`, `M`, `R`, `R_plus`, `R_minus`
     /// (um), `unit`, `targets`, `runs` and the per-position values in `positions` (target in mm).
     pub fn to_json(&self) -> Value {

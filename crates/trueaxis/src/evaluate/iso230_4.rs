@@ -9,7 +9,7 @@
 //! - circular hysteresis `H`: the largest radial difference between the CW and CCW paths at the
 //!   same angle.
 //!
-//! The LSC is the algebraic circle fit of seed 001 §4.2 on the points `(R + dL_i) (cos t, sin t)`,
+//! The LSC is the algebraic circle fit of Jiang 2014 §4.2 on the points `(R + dL_i) (cos t, sin t)`,
 //! equal to the geometric LSC to first order in `dL / R`.
 
 use super::ballbar_diagnostics::{diagnose, CircularRun, DiagnosticOptions, Diagnostics, RESOLUTION_UM};

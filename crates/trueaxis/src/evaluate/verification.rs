@@ -1,19 +1,19 @@
-//! Verification of a compensation by a re-measurement (seed 003 §4: the accuracy reached after
-//! compensation; seed 000 §5.1.1: "if the developed models are correct, the compensated errors
+//! Verification of a compensation by a re-measurement (NISTIR 5236 §4: the accuracy reached after
+//! compensation; Soons 1993 §5.1.1: "if the developed models are correct, the compensated errors
 //! should be close to the observed repeatability of the hole plate measurements").
 //!
 //! The re-measurement is a campaign (any instrument of [`crate::identify`]: probed hole plates,
 //! 3D ball, lengths) measured either with the compensation active (`compensated`), when under the
 //! model every reading should be zero, or without it, when the model's prediction is subtracted
-//! off-line (seed 000 §5.1.1: "these simulated errors are used to compensate the errors in the
+//! off-line (Soons 1993 §5.1.1: "these simulated errors are used to compensate the errors in the
 //! actual measurements of the hole plate"). What the campaign lists as unknowns is fitted to the
 //! residuals: the nuisances that a verification must remove (a plate's rigid misalignment, a gauge
-//! offset) and any error parameter the user suspects is left (seed 000: a squareness changed by
+//! offset) and any error parameter the user suspects is left (Soons 1993: a squareness changed by
 //! wear), each with its uncertainty and significance.
 //!
 //! Expected residual: the repeatability of each reading (its `sigma_um`, one standard deviation),
 //! plus, when the identification the model came from is given, the uncertainty of the model's
-//! prediction `g^T Cov g` (seed 000 eq. 4.12; the digest of §4.3: "used to test whether an
+//! prediction `g^T Cov g` (Soons 1993 eq. 4.12; the digest of §4.3: "used to test whether an
 //! observed-minus-predicted residual is consistent with the model's uncertainty"). Readings share
 //! the model's parameters, so the covariance of the expected residuals is
 //! `V = diag(sigma^2) + G Cov G^T`; the fit is generalised least squares in `V` and the test

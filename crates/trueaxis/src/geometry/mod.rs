@@ -1,8 +1,8 @@
 //! Rigid-body geometry: homogeneous transforms (HTMs), small-displacement 6-vectors and their transport.
 //!
-//! Conventions (DESIGN.md section 2): lengths in mm, angles in rad. An HTM `[R t; 0 1]` maps a point
-//! `x` to `R x + t` (seed 000 eqs. 2.1-2.5). A small displacement is written translation first,
-//! `[e; eps]`, whereas seed 000 orders it rotation first; the content is the same.
+//! Conventions (docs/design.md, Conventions): lengths in mm, angles in rad. An HTM `[R t; 0 1]` maps a point
+//! `x` to `R x + t` (Soons 1993 eqs. 2.1-2.5). A small displacement is written translation first,
+//! `[e; eps]`, whereas Soons 1993 orders it rotation first; the content is the same.
 
 mod pose;
 mod so3;

@@ -3,7 +3,7 @@
 use super::so3::{rotation_about_axis, rotation_exp};
 use super::{Mat3, Vec3};
 
-/// A rigid transform `x -> R x + t`, the HTM `[R t; 0 0 0 1]` of seed 000 eq. 2.1 (mm, rad).
+/// A rigid transform `x -> R x + t`, the HTM `[R t; 0 0 0 1]` of Soons 1993 eq. 2.1 (mm, rad).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
     pub rotation: Mat3,
@@ -26,13 +26,13 @@ impl Pose {
     }
 
     /// `Trans(p) Rot(d, angle) Trans(-p)`: rotation by `angle` (rad) about the line through `p`
-    /// with unit direction `d` (DESIGN.md section 2, nominal rotary axis motion).
+    /// with unit direction `d` (docs/design.md, Conventions, nominal rotary axis motion).
     pub fn rotation_about_line(d: &Vec3, p: &Vec3, angle: f64) -> Self {
         let r = rotation_about_axis(d, angle);
         Pose { rotation: r, translation: p - r * p }
     }
 
-    /// The exact small transform of DESIGN.md section 2:
+    /// The exact small transform of docs/design.md, Conventions:
     /// `Trans(c) [exp([eps]x), e; 0 1] Trans(-c)`, rotation vector `eps` (rad) and translation `e` (mm)
     /// about the point `c` (mm).
     pub fn small_transform(eps: &Vec3, e: &Vec3, c: &Vec3) -> Self {
@@ -52,7 +52,7 @@ impl Pose {
         Pose { rotation: self.rotation, translation: self.rotation * t + self.translation }
     }
 
-    /// The inverse HTM `[R^T, -R^T t]` (seed 000 eq. 2.5).
+    /// The inverse HTM `[R^T, -R^T t]` (Soons 1993 eq. 2.5).
     pub fn inverse(&self) -> Pose {
         let rt = self.rotation.transpose();
         Pose { rotation: rt, translation: -(rt * self.translation) }

@@ -2,7 +2,7 @@
 
 use super::{Mat3, Vec3};
 
-/// The skew-symmetric matrix `[v]x` with `[v]x y = v x y` (seed 000 eq. 2.10, seed 001 section 1.3).
+/// The skew-symmetric matrix `[v]x` with `[v]x y = v x y` (Soons 1993 eq. 2.10, Jiang 2014 section 1.3).
 pub fn skew(v: &Vec3) -> Mat3 {
     Mat3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }

@@ -1,5 +1,5 @@
 //! Small displacement screws (twists) and their transport between frames: the adjoint
-//! (F-matrix) form of seed 000 eqs. 2.15-2.28.
+//! (F-matrix) form of Soons 1993 eqs. 2.15-2.28.
 
 use super::{Pose, Vec3};
 
@@ -14,7 +14,7 @@ pub struct Twist {
 impl Twist {
     /// The first-order twist of the small transform `Trans(c) [exp([eps]x), e] Trans(-c)` stated in
     /// a frame whose nominal pose in the reference frame is `frame`: `omega = R eps`,
-    /// `v = R e - omega x (frame * c)` (seed 000 eq. 2.24, adjoint transport).
+    /// `v = R e - omega x (frame * c)` (Soons 1993 eq. 2.24, adjoint transport).
     pub fn of_small_transform(frame: &Pose, eps: &Vec3, e: &Vec3, c: &Vec3) -> Twist {
         let omega = frame.rotation * eps;
         let centre = frame.transform_point(c);

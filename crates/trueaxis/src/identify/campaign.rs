@@ -1,6 +1,6 @@
-//! The measurement campaign of DESIGN.md section 3: the parameters to identify and the
+//! The measurement campaign of docs/design.md, Files: the parameters to identify and the
 //! measurements (instrument, data file, the points it relates, its frame and noise), turned into the
-//! stacked linear problem of seed 004 eqs. 3-4 / seed 000 eq. 4.9:
+//! stacked linear problem of Andolfatto et al. 2011 eqs. 3-4 / Soons 1993 eq. 4.9:
 //! `observations = design_matrix * unknowns + noise`.
 //!
 //! ```text
@@ -116,7 +116,7 @@ pub struct Measurement {
     /// when the data file has no reading columns yet (a planned measurement, see
     /// [`super::simulate_campaign`]).
     pub readings: Option<Vec<f64>>,
-    /// The sensor-frame calibration of a 3D head (seed 004 eqs. 6-10) applied to the raw readings
+    /// The sensor-frame calibration of a 3D head (Andolfatto et al. 2011 eqs. 6-10) applied to the raw readings
     /// of the data file: `reading = M [raw; 1]`.
     pub calibration: Option<SensorCalibration>,
 }
@@ -160,7 +160,7 @@ pub struct DesignMatrix {
     pub names: Vec<String>,
     pub units: Vec<String>,
     /// `rows x unknowns`, um of reading per user unit of each unknown (first order about zero
-    /// errors, seed 000 eq. 2.24 / seed 004 eq. 2).
+    /// errors, Soons 1993 eq. 2.24 / Andolfatto et al. 2011 eq. 2).
     pub matrix: DMatrix<f64>,
     /// Readings minus the exact prediction with the nominal errors (um): what the unknowns must
     /// explain.
@@ -284,7 +284,7 @@ impl Campaign {
     }
 
     /// The stacked design matrix (first order about zero errors) and the observations (readings
-    /// minus the exact prediction with `nominal`). Seed 004 eqs. 3-4; seed 000 eqs. 4.1-4.9.
+    /// minus the exact prediction with `nominal`). Andolfatto et al. 2011 eqs. 3-4; Soons 1993 eqs. 4.1-4.9.
     pub fn design_matrix(&self, machine: &Machine, nominal: &ErrorModel) -> Result<DesignMatrix, IdentifyError> {
         let (channel_names, n_rows) = self.channel_layout();
         let p = self.unknowns.len();
@@ -495,7 +495,7 @@ impl Campaign {
     /// The `7 x p` first-order effect (mm or rad per user unit, rows `dx dy dz drx dry drz dL`) of
     /// the model unknowns on the volumetric error at pose `q` (mm, rad) between the points of
     /// `setup` in `frame`; nuisance columns are zero. For propagating the covariance of the
-    /// identified parameters to predictions (seed 000 eq. 4.12, App. A eq. A.4).
+    /// identified parameters to predictions (Soons 1993 eq. 4.12, App. A eq. A.4).
     pub fn unknown_jacobian(&self, machine: &Machine, q: &[f64], setup: &Setup, frame: Frame) -> DMatrix<f64> {
         let p = self.unknowns.len();
         let mut ws = Workspace::new(machine, p);

@@ -1,4 +1,4 @@
-//! The records of a campaign as the candidates of an optimal measurement design (seed 000 §4.3):
+//! The records of a campaign as the candidates of an optimal measurement design (Soons 1993 §4.3):
 //! each record (one 3D-ball pose, one length, ...) is a block of rows of the campaign's design
 //! matrix weighted by `1/sigma`, chosen or left out as a whole; and the `trueaxis design optimal
 //! --json` document of a chosen design.
@@ -108,7 +108,7 @@ pub fn optimal_design_json(
     })
 }
 
-/// The units the criteria are computed in, and their values in seed 000's units where the
+/// The units the criteria are computed in, and their values in Soons 1993's units where the
 /// unknowns allow (`identify::design_units`).
 pub fn units_json(names: &[String], units: &[String], u: &CriteriaUnits, chosen: &DesignCriteria) -> Value {
     let parameters: serde_json::Map<String, Value> = names.iter().zip(units).map(|(n, u)| (n.clone(), json!(u))).collect();

@@ -1,17 +1,17 @@
-//! Optimal measurement design (seed 000 §4.3-4.4): D-, A-, E- and G-optimality of a design chosen
+//! Optimal measurement design (Soons 1993 §4.3-4.4): D-, A-, E- and G-optimality of a design chosen
 //! from a discrete candidate set, and an exchange algorithm (Fedorov / Mitchell type) that picks `n`
 //! not necessarily distinct candidates.
 //!
 //! A candidate is a *record*: a block of rows of the design matrix (one row for a length, three for
 //! a 3D-ball pose), already weighted by `1/sigma`, chosen or left out as a whole. The information
 //! of a design is `M = sum over chosen records of X_r^T X_r`. With `n` chosen records, the criteria
-//! are those of seed 000 Table 4.1 (sigma = 1):
+//! are those of Soons 1993 Table 4.1 (sigma = 1):
 //! - D: `det(n M^-1)^(1/p)` (the volume of the confidence ellipsoid);
 //! - A: `trace(n M^-1) / p` (average parameter variance);
 //! - E: `lambda_max(n M^-1)` (largest variance in any direction);
 //! - G: `max over candidate records r of n trace(X_r M^-1 X_r^T)`: the largest summed prediction
 //!   variance of the readings of one record (eq. 4.12 summed over the record's channels). For
-//!   one-reading records this is the largest prediction variance of seed 000 Table 4.1.
+//!   one-reading records this is the largest prediction variance of Soons 1993 Table 4.1.
 //!
 //! All four are minimised. The Kiefer-Wolfowitz equivalence theorem, in its form for records of
 //! several readings (Fedorov 1972, multiresponse designs), gives a check: at the D-optimal
@@ -294,7 +294,7 @@ impl CandidateSet {
         Some(design)
     }
 
-    /// Exchange algorithm (seed 000 §4.3: random start, excursions, until no improvement): from
+    /// Exchange algorithm (Soons 1993 §4.3: random start, excursions, until no improvement): from
     /// `starts` random designs of `n` candidates (seeded; a greedy regular start when no random one
     /// is regular), repeatedly apply the single exchange (design record out, candidate in) that
     /// improves `criterion` most, until none does; returns the best design found, sorted, with its
@@ -425,7 +425,7 @@ mod tests {
     #[test]
     fn straight_line_design_puts_half_the_points_at_each_end() {
         // y = b0 + b1 x on x in {-1, -0.5, 0, 0.5, 1}: the D-optimal 4-point design is {-1,-1,1,1},
-        // D = det(4 M^-1)^(1/2) = 4 / sqrt(16) = 1, and G = p = 2 (seed 000 §4.3, the line example)
+        // D = det(4 M^-1)^(1/2) = 4 / sqrt(16) = 1, and G = p = 2 (Soons 1993 §4.3, the line example)
         let xs = [-1.0, -0.5, 0.0, 0.5, 1.0];
         let set = CandidateSet::new(xs.iter().map(|x| DMatrix::from_row_slice(1, 2, &[1.0, *x])).collect()).unwrap();
         let (design, c) = set.exchange(4, Criterion::D, 5, 7).unwrap();

@@ -1,5 +1,5 @@
 //! The units of the design criteria of [`super::design`], and their conversion to the units of
-//! seed 000 §4.4 (Table 4.1).
+//! Soons 1993 §4.4 (Table 4.1).
 //!
 //! trueaxis computes the criteria on rows weighted by `1/sigma` with sigma in um, and the unknowns
 //! in their user units (um, urad, um/mm^k, urad/deg^k, ...): `n M^-1` is the covariance of the
@@ -10,7 +10,7 @@
 //!   have a unit only when every unknown has the same one;
 //! - G (and the reading variances) are variances of readings over sigma^2: dimensionless.
 //!
-//! Seed 000 writes its parameters without units (rad for a squareness, mm/mm for a scale error)
+//! Soons 1993 writes its parameters without units (rad for a squareness, mm/mm for a scale error)
 //! with lengths in mm and `sigma = 1` in the same unit as the lengths (Table 4.1: det^(1/3) =
 //! 2.98e-5 for 400 mm bars). With `c_j` the factor from the user unit of unknown j to mm and rad
 //! (um -> mm: 1e-3; urad -> rad: 1e-6; per deg -> per rad: 180/pi) and sigma = 1 um = 1e-3 mm:
@@ -24,10 +24,10 @@ pub struct CriteriaUnits {
     pub d: String,
     /// The unit of A and E, or `None` when the unknowns' units differ (the sum mixes them).
     pub a_e: Option<String>,
-    /// Factor that turns D into seed 000's units, `None` when a unit is not a length or an angle
+    /// Factor that turns D into Soons 1993's units, `None` when a unit is not a length or an angle
     /// (per powers of mm or deg).
     pub d_to_seed000: Option<f64>,
-    /// Factor that turns A and E into seed 000's units, when every unknown has the same factor.
+    /// Factor that turns A and E into Soons 1993's units, when every unknown has the same factor.
     pub a_e_to_seed000: Option<f64>,
 }
 

@@ -1,6 +1,6 @@
 //! The direct-measurement workflow behind `trueaxis fit`: read one measured error along its axis
 //! from a CSV, optionally keep one direction and remove per-cycle drift, fit a parametric function
-//! with stepwise selection, refine periodic wavelengths, and report (seed 000 §3.2).
+//! with stepwise selection, refine periodic wavelengths, and report (Soons 1993 §3.2).
 
 use super::drift::{remove_cycle_drift, CycleDrift};
 use super::fit::{fit_error_function, refine_wavelength, residual_period, FitOptions, FittedFunction, ResidualPeriod};
@@ -23,7 +23,7 @@ pub struct DirectFitRequest {
     pub value_column: String,
     /// Keep only rows whose `dir` column is `+` or `-` (a bidirectional model is two fits).
     pub direction: Option<char>,
-    /// Remove per-cycle linear drift using the `run` and `t` (s) columns (seed 000 §3.2.2).
+    /// Remove per-cycle linear drift using the `run` and `t` (s) columns (Soons 1993 §3.2.2).
     pub remove_drift: bool,
     /// Refine every periodic wavelength within this relative bracket before the final fit.
     pub refine_wavelength: Option<f64>,
@@ -32,12 +32,12 @@ pub struct DirectFitRequest {
     /// the parameter values themselves.
     pub model: Option<DirectModel>,
     /// Corrections of positioning readings to 20 degC (machine scale, reference artefact), applied
-    /// first (seed 000 §3.2.4).
+    /// first (Soons 1993 §3.2.4).
     pub corrections: Vec<TableCorrection>,
 }
 
 /// The measurement equation of a direct instrument (laser linear / straightness / angular optics,
-/// level) on the exact kinematic chain (seed 000 §3.2.2, sequential estimation), with the other
+/// level) on the exact kinematic chain (Soons 1993 §3.2.2, sequential estimation), with the other
 /// axes at fixed positions. Each reading `m` at position `x` gives the value `v` of the parameter
 /// that solves `reading(known errors, parameter = v; x) = m` on the exact chain: the errors already
 /// known (e.g. the angular errors fitted first) enter with their Abbe effect through the chain at

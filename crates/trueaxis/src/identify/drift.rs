@@ -1,4 +1,4 @@
-//! Per-cycle linear drift removal (seed 000 §3.2.2): within each back-and-forth cycle, the error
+//! Per-cycle linear drift removal (Soons 1993 §3.2.2): within each back-and-forth cycle, the error
 //! is fitted by a straight line against elapsed time and the time-linear part removed.
 
 use super::IdentifyError;
@@ -17,7 +17,7 @@ pub struct CycleDrift {
 ///
 /// In each cycle, `values = a + b (t - t_mean) + c d` is fitted by least squares, with `d = +1/-1` the
 /// direction of approach when `direction` is given (so that backlash, antisymmetric in time over a
-/// back-and-forth cycle, does not bias the slope; without it seed 000 §3.2.2 allows drift removal
+/// back-and-forth cycle, does not bias the slope; without it Soons 1993 §3.2.2 allows drift removal
 /// only when backlash is insignificant). The time-linear part `b (t - t_mean)` is removed, and so is
 /// the difference between the cycle's level `a` and the mean level of all cycles (drift between
 /// cycles). On a back-and-forth cycle at a uniform pace the position-dependent error is symmetric in

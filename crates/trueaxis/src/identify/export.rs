@@ -1,5 +1,5 @@
 //! Writing an indirect identification: the error-values file `predict` and `compensate` read, and
-//! the JSON document of DESIGN.md section 4 (`trueaxis identify --json`).
+//! the JSON document of docs/design.md, Command line (`trueaxis identify --json`).
 
 use super::campaign::Campaign;
 use super::indirect::Identification;
@@ -79,7 +79,7 @@ fn number(v: f64) -> Value {
     }
 }
 
-/// The JSON document of `trueaxis identify --json` (DESIGN.md section 4; extra keys documented in
+/// The JSON document of `trueaxis identify --json` (docs/design.md, Command line; extra keys documented in
 /// docs/identification.md).
 pub fn identification_json(result: &Identification, campaign: &Campaign) -> Value {
     let report = &result.identifiability;

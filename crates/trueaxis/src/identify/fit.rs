@@ -1,5 +1,5 @@
 //! Fitting a parametric error function to direct measurements of one error along its axis
-//! (seed 000 §3.2: laser, levels, straightedge data), with stepwise selection, diagnostics, aliasing
+//! (Soons 1993 §3.2: laser, levels, straightedge data), with stepwise selection, diagnostics, aliasing
 //! detection for periodic terms (§3.2.4) and nonlinear refinement of a periodic wavelength.
 
 use super::least_squares::{fit_linear, LinearFit};
@@ -54,7 +54,7 @@ impl FittedFunction {
 
 /// Apparent wavelength of a periodic error of `wavelength` sampled every `spacing` (same units):
 /// the alias `1 / |1/wavelength - k/spacing|` with the nearest integer `k`, or `None` when the
-/// sampling resolves it (spacing below half the wavelength). Seed 000 §3.2.4: 0.635025 mm sampled
+/// sampling resolves it (spacing below half the wavelength). Soons 1993 §3.2.4: 0.635025 mm sampled
 /// every 10 mm appears as about 40 mm.
 pub fn alias_wavelength(wavelength: f64, spacing: f64) -> Option<f64> {
     if spacing < 0.5 * wavelength {
@@ -126,7 +126,7 @@ pub fn sampling_step(positions: &[f64]) -> Option<f64> {
 /// Periods are searched from the sampling limit (twice the typical sampling step, the Nyquist
 /// period) to the span of the data. A sinusoid found there may also be the alias of a shorter
 /// period: with samples every `step`, the periods `1 / |1/period ± k/step|` (k = 1, 2, ...), all
-/// below the limit, give the same samples (seed 000 §3.2.4: a 0.635025 mm scale error sampled every
+/// below the limit, give the same samples (Soons 1993 §3.2.4: a 0.635025 mm scale error sampled every
 /// 10 mm appears at 39.59 mm). The data cannot tell them apart; only knowing the wavelength (a
 /// `--periodic` term, refused with its alias when unresolvable) or sampling at finer or random
 /// intervals can.
@@ -203,7 +203,7 @@ fn design(basis: &Basis, positions: &[f64]) -> DMatrix<f64> {
 }
 
 /// Fits `values` (um or urad) at `positions` (mm or deg) with the basis of `options.spec`
-/// (seed 000 eqs. 3.1-3.15), optionally selecting functions stepwise (§3.2.2).
+/// (Soons 1993 eqs. 3.1-3.15), optionally selecting functions stepwise (§3.2.2).
 ///
 /// Refuses a periodic term that a uniform sampling cannot resolve (aliasing, §3.2.4), naming the
 /// apparent wavelength.
@@ -275,7 +275,7 @@ pub fn fit_error_function(positions: &[f64], values: &[f64], options: &FitOption
 
 /// Refines the wavelength of periodic term `index` of `spec` by minimising the residual sum of
 /// squares over `[w (1 - rel), w (1 + rel)]` (a scan fine enough for the number of periods in the
-/// data, then golden-section search): the nonlinear step of seed 000 §3.2.4, after which the
+/// data, then golden-section search): the nonlinear step of Soons 1993 §3.2.4, after which the
 /// wavelength is fixed. Returns the spec with the refined wavelength.
 pub fn refine_wavelength(positions: &[f64], values: &[f64], spec: &BasisSpec, index: usize, rel: f64) -> Result<BasisSpec, IdentifyError> {
     let w0 = spec.periodic.get(index).ok_or_else(|| IdentifyError::Input(format!("no periodic term number {}", index + 1)))?.wavelength;

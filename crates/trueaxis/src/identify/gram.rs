@@ -1,5 +1,5 @@
 //! The weighted Gram matrix `M^T W M` of `M = [X | y]` (`n x (p + 1)`, `W = diag(w)`), formed
-//! from the unscaled `X` without a weighted copy of it (seed 000 §3.2.2, the normal equations).
+//! from the unscaled `X` without a weighted copy of it (Soons 1993 §3.2.2, the normal equations).
 //!
 //! Rows are taken in blocks of [`BLOCK_ROWS`]: each block is multiplied by `sqrt(w_i)` into a
 //! small buffer that stays in the core's cache, and the lower triangle of its rank-k update

@@ -3,9 +3,9 @@
 //! see (the null space, named in ISO terms), correlations, and a per-parameter sensitivity index.
 //!
 //! Scaling (stated because a condition number means nothing without it): the rows are multiplied by
-//! `sqrt(w_i)` and every column is then divided by its norm ("unit-length scaling", seed 000
+//! `sqrt(w_i)` and every column is then divided by its norm ("unit-length scaling", Soons 1993
 //! §3.2.2), so the singular values are dimensionless and independent of the parameter units.
-//! Seed 000 §4.3: `lambda^T theta` is estimable iff `lambda` lies in the row space of `X`.
+//! Soons 1993 §4.3: `lambda^T theta` is estimable iff `lambda` lies in the row space of `X`.
 
 use super::least_squares::{column_norms, weighted_column_norm};
 use super::reduction::{reduce, reduce_by_gram, ReducedProblem, GRAM_CONDITION_LIMIT, GRAM_MIN_ENTRIES};
@@ -136,7 +136,7 @@ impl ScaledSvd {
     }
 
     /// Minimum-norm (in scaled units) least-squares solution of `W^(1/2) X theta = W^(1/2) y`
-    /// (seed 004 eq. 5, the pseudo-inverse), from the retained singular values.
+    /// (Andolfatto et al. 2011 eq. 5, the pseudo-inverse), from the retained singular values.
     pub fn solve_minimum_norm(&self) -> Vec<f64> {
         let mut beta = DVector::zeros(self.scale.len());
         for k in 0..self.rank {
@@ -145,7 +145,7 @@ impl ScaledSvd {
         beta.iter().zip(&self.scale).map(|(b, s)| b / s).collect()
     }
 
-    /// The least-squares solution by back substitution `R theta = Q^T b` (QR, seed 000 §3.2.2) and
+    /// The least-squares solution by back substitution `R theta = Q^T b` (QR, Soons 1993 §3.2.2) and
     /// its unscaled covariance `(X^T W X)^-1 = S^-1 R^-1 R^-T S^-1`; `None` unless of full rank.
     pub fn solve_triangular(&self) -> Option<(Vec<f64>, DMatrix<f64>)> {
         let p = self.scale.len();

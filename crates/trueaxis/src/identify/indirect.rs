@@ -1,12 +1,12 @@
 //! Indirect identification: the parameters of a campaign from measurements that see the combined
-//! (volumetric) error (seed 004 eqs. 3-5; seed 000 §4.2-4.3).
+//! (volumetric) error (Andolfatto et al. 2011 eqs. 3-5; Soons 1993 §4.2-4.3).
 //!
-//! - Weighted least squares on the stacked design matrix, by QR (seed 000 §3.2.2, unit-length
-//!   scaling) or by SVD (minimum-norm pseudo-inverse, seed 004 eq. 5, also for rank-deficient sets
+//! - Weighted least squares on the stacked design matrix, by QR (Soons 1993 §3.2.2, unit-length
+//!   scaling) or by SVD (minimum-norm pseudo-inverse, Andolfatto et al. 2011 eq. 5, also for rank-deficient sets
 //!   when allowed).
 //! - Optional Levenberg-Marquardt refinement on the exact kinematic chain.
 //! - Covariance `s0^2 (X^T W X)^-1` with `s0^2 = r^T W r / (n - rank)` estimated from the residuals
-//!   (seed 000 eq. 4.11 with weights; `s0 = 1` when the stated noise is right), the prediction
+//!   (Soons 1993 eq. 4.11 with weights; `s0 = 1` when the stated noise is right), the prediction
 //!   variance `g^T Cov g` (eq. 4.12), residual statistics per channel.
 
 use super::campaign::{Campaign, DesignMatrix};
@@ -107,7 +107,7 @@ pub struct Identification {
 
 impl Identification {
     /// Variance (um^2) of a predicted reading with design row `g` (um per user unit), from the
-    /// parameter covariance: `g^T Cov g` (seed 000 eq. 4.12 with `Cov = s0^2 (X^T W X)^-1`).
+    /// parameter covariance: `g^T Cov g` (Soons 1993 eq. 4.12 with `Cov = s0^2 (X^T W X)^-1`).
     pub fn prediction_variance(&self, g: &[f64]) -> f64 {
         let g = DVector::from_column_slice(g);
         (g.transpose() * &self.covariance * &g)[(0, 0)].max(0.0)
@@ -115,7 +115,7 @@ impl Identification {
 
     /// Covariance (um^2) of the predicted volumetric position error `dx dy dz` at pose `q` (mm,
     /// rad) between the points of `setup` in `frame`, propagated from the identified parameters:
-    /// `F Cov F^T` (seed 000 App. A eq. A.4).
+    /// `F Cov F^T` (Soons 1993 App. A eq. A.4).
     pub fn volumetric_covariance(&self, campaign: &Campaign, machine: &Machine, q: &[f64], setup: &Setup, frame: Frame) -> Matrix3<f64> {
         let f = campaign.unknown_jacobian(machine, q, setup, frame).rows(0, 3) * 1e3;
         let c = &f * &self.covariance * f.transpose();

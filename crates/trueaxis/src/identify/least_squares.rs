@@ -1,5 +1,5 @@
-//! Linear least squares by QR with unit-length column scaling (seed 000 §3.2.2), with the
-//! statistics of seed 000 §3.2.2 and §4.3: covariance `sigma^2 (X^T X)^-1` (eq. 4.11), leverage,
+//! Linear least squares by QR with unit-length column scaling (Soons 1993 §3.2.2), with the
+//! statistics of Soons 1993 §3.2.2 and §4.3: covariance `sigma^2 (X^T X)^-1` (eq. 4.11), leverage,
 //! Cook's distance, and prediction intervals for single measurements (eq. 4.12 plus the noise).
 
 use super::IdentifyError;
@@ -14,7 +14,7 @@ pub const RANK_TOLERANCE: f64 = 1e-10;
 pub struct LinearFit {
     /// Estimated coefficients, in the units of `y` per unit of each column.
     pub coefficients: Vec<f64>,
-    /// `sigma^2 (X^T X)^-1` (seed 000 eq. 4.11).
+    /// `sigma^2 (X^T X)^-1` (Soons 1993 eq. 4.11).
     pub covariance: DMatrix<f64>,
     /// `(X^T X)^-1` without `sigma^2`, for prediction variances.
     pub unscaled_covariance: DMatrix<f64>,

@@ -1,5 +1,5 @@
 //! Identification: least squares by QR with unit-length scaling, stepwise selection, drift
-//! removal, and fitting of parametric error functions to direct measurements (seed 000 §3.2).
+//! removal, and fitting of parametric error functions to direct measurements (Soons 1993 §3.2).
 
 pub mod campaign;
 mod candidates;

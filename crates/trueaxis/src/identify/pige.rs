@@ -1,5 +1,5 @@
 //! The 8 position-independent geometric errors (PIGEs, location errors) of the two rotary axes of a
-//! table-tilting machine from double-ballbar traces (seed 001, Jiang 2014, ch. 4-6; digest
+//! table-tilting machine from double-ballbar traces (Jiang 2014, ch. 4-6; digest
 //! `specs/jiang.md` 2.6).
 //!
 //! Procedure (thesis §4.2, §5.2):
@@ -43,7 +43,7 @@ pub struct CircleFit {
     pub centre_covariance: Option<[[f64; 2]; 2]>,
 }
 
-/// Algebraic (Kåsa) least-squares circle: minimises `sum (Y^2 + Z^2 + a Y + b Z + c)^2` (seed 001
+/// Algebraic (Kåsa) least-squares circle: minimises `sum (Y^2 + Z^2 + a Y + b Z + c)^2` (Jiang 2014
 /// §4.2), solving the normal equations
 /// `[SYY SYZ SY; SYZ SZZ SZ; SY SZ N] [a b c]^T = -[S(Y^3+YZ^2); S(Y^2Z+Z^3); S(Y^2+Z^2)]`
 /// with the minus sign that the thesis omits (erratum 2 of the digest) and `N` the actual number of
@@ -134,7 +134,7 @@ pub fn angle_span_deg(angles: &[f64]) -> f64 {
     }
 }
 
-/// Start-angle error of seed 001 Eq. 4.1: `delta_e = atan((P0P0'.j) / (P0P0'.i + R))` (rad), where
+/// Start-angle error of Jiang 2014 Eq. 4.1: `delta_e = atan((P0P0'.j) / (P0P0'.i + R))` (rad), where
 /// `P0P0'` is the displacement (mm) of the actual start point of the pivot from the ideal one, `i`
 /// along the bar (radial) and `j` along the path (tangential), from a conventional centring test; the
 /// thesis writes `R` = 100 mm and once `theta_e` for `delta_e` (errata 9).
@@ -164,7 +164,7 @@ impl DbbTrace {
         Ok(DbbTrace { geometry, angles: test.angles.clone(), dl, bar_length: test.nominal_length, start_angle: 0.0 })
     }
 
-    /// Points in the plane of the pivot circle (mm, basis `u1 u2`): seed 001 §4.2 (b) and, for the
+    /// Points in the plane of the pivot circle (mm, basis `u1 u2`): Jiang 2014 §4.2 (b) and, for the
     /// extended bar, `EP_i = sqrt(L_i^2 - D^2)` (§4.2 (d)).
     pub fn points(&self) -> Result<Vec<[f64; 2]>, IdentifyError> {
         if self.angles.len() != self.dl.len() {
@@ -318,7 +318,7 @@ fn perpendicular(v: &Vec3, d: &Vec3) -> Vec3 {
     v - d * v.dot(d)
 }
 
-/// Identifies the 8 PIGEs of `pair` from traces of both axes (seed 001 ch. 4, 5 or 6): `outer`
+/// Identifies the 8 PIGEs of `pair` from traces of both axes (Jiang 2014 ch. 4, 5 or 6): `outer`
 /// traces sweep the outer axis, `inner` traces the inner one (with the outer axis at 0). Both axes
 /// must be on the same side of the chain (the outer carrying the inner): with one on each side a
 /// common shift of both lines changes no bar length, and the error says so. Each axis
@@ -417,7 +417,7 @@ pub(crate) fn propagate_centre_covariances(
     Ok(variance.iter().map(|v| v.max(0.0).sqrt()).collect())
 }
 
-/// Simulated compensation (seed 001 §4.3, Fig. 4.8): the readings minus the exact-chain readings of
+/// Simulated compensation (Jiang 2014 §4.3, Fig. 4.8): the readings minus the exact-chain readings of
 /// the identified PIGEs, `dL_comp = dL_meas - dL_model(PIGE_hat)` (mm), per sample.
 pub fn compensation_residual(machine: &Machine, test: &BallbarTest, measured: &[f64], piges: &Piges) -> Vec<f64> {
     let model = test.simulate_params(machine, &piges.parameters(machine));

@@ -1,4 +1,4 @@
-//! The rotary-axis ballbar test of seed 001 from its four files, end to end, and the sensitivity of
+//! The rotary-axis ballbar test of Jiang 2014 from its four files, end to end, and the sensitivity of
 //! its method, with the documents of `trueaxis ballbar identify --json` and `trueaxis ballbar
 //! sensitivity --json`. The command line and the Python package both call [`identify_pige_files`]
 //! and [`sensitivity_report`].
@@ -67,7 +67,7 @@ pub fn bar_lengths(normal: f64, extended: f64) -> Result<BarLengths, PigeRunErro
     Ok(BarLengths { normal, extended })
 }
 
-/// The method of the four steps by name (`extended-bar`, `two-pivot`, `four-setup`; seed 001 ch.
+/// The method of the four steps by name (`extended-bar`, `two-pivot`, `four-setup`; Jiang 2014 ch.
 /// 5, 4, 6) with its geometry: the outer offset (mm) of two-pivot, the positions p1, p2 (mm) along
 /// the outer and the inner axis of four-setup.
 pub fn method_of(
@@ -106,7 +106,7 @@ pub fn check_trace(angles: &[f64]) -> Result<(), String> {
     Ok(())
 }
 
-/// The inputs of a rotary-axis ballbar test (seed 001 ch. 4, 5, 6).
+/// The inputs of a rotary-axis ballbar test (Jiang 2014 ch. 4, 5, 6).
 #[derive(Clone, Debug)]
 pub struct PigeRequest {
     /// The files of the steps A1, A2 (outer axis) and C1, C2 (inner axis): the swept axis position
@@ -226,7 +226,7 @@ impl PigeReport {
     }
 }
 
-/// The 8 PIGEs of the machine's two rotary axes from the four steps of seed 001 (algebraic circle
+/// The 8 PIGEs of the machine's two rotary axes from the four steps of Jiang 2014 (algebraic circle
 /// fits, the axis lines, the start-angle correction of Eq. 4.1), for every run of the files;
 /// their repeatability over runs, the single-run uncertainty of the last run, and its simulated
 /// compensation residual per step.

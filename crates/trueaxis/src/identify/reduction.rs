@@ -1,4 +1,4 @@
-//! Reduction of a tall weighted least-squares problem to `p x p` (seed 000 §3.2.2).
+//! Reduction of a tall weighted least-squares problem to `p x p` (Soons 1993 §3.2.2).
 //!
 //! `min |A theta - b|` with `A` (`n x p`, `n > p`) has the same solution, singular values and right
 //! singular vectors as `min |R theta - Q^T b|` for any `R` with `R^T R = A^T A` and `R^T (Q^T b) =
@@ -13,7 +13,7 @@
 //!   about `eps cond^2`, so it is used only when the scaled matrix is well conditioned
 //!   ([`GRAM_CONDITION_LIMIT`], checked on the result by the caller; see `ScaledSvd`).
 //!
-//! On 10^5 x 501 (DESIGN.md section 5) the Gram reduction takes a fraction of the QR's time.
+//! On 10^5 x 501 (BENCHMARKS.md (targets)) the Gram reduction takes a fraction of the QR's time.
 
 use super::gram::weighted_gram;
 use faer::dyn_stack::{MemBuffer, MemStack};

@@ -1,4 +1,4 @@
-//! Stepwise selection of regressors by partial F tests (seed 000 §3.2.2: start from a generous
+//! Stepwise selection of regressors by partial F tests (Soons 1993 §3.2.2: start from a generous
 //! model, remove insignificant terms, re-admit significant ones; Montgomery & Peck).
 
 use super::least_squares::{fit_linear, LinearFit};

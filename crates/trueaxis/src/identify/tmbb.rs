@@ -1,5 +1,5 @@
 //! Rotary-table calibration with a telescopic magnetic ball bar (TMBB) at two bar lengths
-//! (seed 002, Zhu 2008, ch. 5; digest `specs/zhu.md` §5).
+//! (Zhu 2008, ch. 5; digest `specs/zhu.md` §5).
 //!
 //! Geometry (Eqs. 5.3-5.7): the table ball A at `(R_x, 0, R_z)` in the rotating table frame, the
 //! spindle ball B at `(0, 0, H)` on the table axis. A short bar `L1` and a long bar `L2` put B at
@@ -31,7 +31,7 @@ pub struct TmbbSetup {
 }
 
 impl TmbbSetup {
-    /// Seed 002 §5.4 (Table 5.1 test): `R_x = 71.8420`, `L1 = 90.850`, `L2 = 217.952` mm, table
+    /// Zhu 2008 §5.4 (Table 5.1 test): `R_x = 71.8420`, `L1 = 90.850`, `L2 = 217.952` mm, table
     /// ball in the plane of the table reference (`R_z = 0`).
     pub const ZHU_TABLE_5_1: TmbbSetup = TmbbSetup { rx: 71.8420, rz: 0.0, l1: 90.850, l2: 217.952 };
 

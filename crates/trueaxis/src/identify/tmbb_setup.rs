@@ -1,4 +1,4 @@
-//! Choosing and checking the setup of the two-length rotary-table test (seed 002 §5.3): where to
+//! Choosing and checking the setup of the two-length rotary-table test (Zhu 2008 §5.3): where to
 //! put the table ball (`R_x`, §5.3.1) and how far the setup dimensions `R_x`, `R_z`, `H` may be off
 //! (§5.3.2).
 //!

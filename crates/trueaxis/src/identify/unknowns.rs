@@ -7,7 +7,7 @@
 //! reading per user unit of the unknown. A model unknown `theta_j` enters the machine's parameter
 //! vector (mm, rad) at pose `q` as `params[index_j] += factor_j(q) theta_j`, with
 //! `factor_j = q_own^power * to_internal` for a power and `p_l(q_own) * to_internal` for basis
-//! function `l` (seed 000 eq. 3.1 / 4.2: `E(x) = sum_l beta_l p_l(x)`); so the design-matrix column
+//! function `l` (Soons 1993 eq. 3.1 / 4.2: `E(x) = sum_l beta_l p_l(x)`); so the design-matrix column
 //! of an unknown is the Jacobian column of its parameter times that factor.
 
 use crate::errors::{Basis, ErrorFunction, ErrorModel};
@@ -24,7 +24,7 @@ pub enum UnknownKind {
     /// [`BasisParameter`]s) of motion error `id` (`EXX#3`).
     Basis { id: ParameterId, index: usize, basis: usize, function: usize },
     /// The unknown constant offset (um) of every reading of length measurement `measurement`: an
-    /// uncalibrated gauge (seed 000 §4.2, §5.2.2: the artefact length appended to the parameters).
+    /// uncalibrated gauge (Soons 1993 §4.2, §5.2.2: the artefact length appended to the parameters).
     LengthOffset { measurement: usize },
     /// One of the six components (`tx ty tz` um, `wx wy wz` urad) of the rigid misalignment of the
     /// artefact of probe measurement `measurement`.

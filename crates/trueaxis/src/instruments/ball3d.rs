@@ -1,7 +1,7 @@
 //! 3D ball instruments (R-test, CapBall): the three components of the position of a tool-side
 //! point (sensing-head centre `P_t`) relative to a workpiece-side point (master-ball centre `P_w`),
-//! actual minus nominal (seed 004 §3.1, eq. 2), and the sensor-frame calibration of a 3D head from a
-//! programmed cube (seed 004 §3.3, eqs. 6-10), given as a matrix or fitted from a cube data file.
+//! actual minus nominal (Andolfatto et al. 2011 §3.1, eq. 2), and the sensor-frame calibration of a 3D head from a
+//! programmed cube (Andolfatto et al. 2011 §3.3, eqs. 6-10), given as a matrix or fitted from a cube data file.
 
 use crate::data::CsvTable;
 use crate::geometry::Vec3;
@@ -41,7 +41,7 @@ pub enum SensorCalibrationError {
 }
 
 /// The affine map from sensor readings to machine-frame displacements of a 3D head:
-/// `M_s->t = [e1 e2 e3 d; 0 0 0 1]` (seed 004 eq. 10), fitted as `M = Delta_t Delta_s^+`
+/// `M_s->t = [e1 e2 e3 d; 0 0 0 1]` (Andolfatto et al. 2011 eq. 10), fitted as `M = Delta_t Delta_s^+`
 /// (eq. 9) from programmed displacements `Delta_t` and readings `Delta_s` in homogeneous form
 /// (eqs. 6-7). Readings and displacements share one unit (um in the seed); `d` is in that unit.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -51,7 +51,7 @@ pub struct SensorCalibration {
 
 impl SensorCalibration {
     /// The programmed points of the calibration cube: `per_edge^3` points on a regular mesh of a
-    /// cube of edge `side` centred on `centre`, x fastest (seed 004: 0.2 mm, 5 per edge, 125 points).
+    /// cube of edge `side` centred on `centre`, x fastest (Andolfatto et al. 2011: 0.2 mm, 5 per edge, 125 points).
     pub fn cube(centre: Vec3, side: f64, per_edge: usize) -> Vec<Vec3> {
         let step = if per_edge > 1 { side / (per_edge - 1) as f64 } else { 0.0 };
         let offset = |i: usize| -0.5 * side + step * i as f64;
@@ -66,7 +66,7 @@ impl SensorCalibration {
         points
     }
 
-    /// `M_s->t = Delta_t Delta_s^+` (seed 004 eqs. 6-9). `programmed[i]` is the displacement
+    /// `M_s->t = Delta_t Delta_s^+` (Andolfatto et al. 2011 eqs. 6-9). `programmed[i]` is the displacement
     /// commanded in M, `readings[i]` what the sensors read. Needs at least 4 points not in a plane.
     pub fn fit(programmed: &[Vec3], readings: &[Vec3]) -> Result<SensorCalibration, SensorCalibrationError> {
         let n = programmed.len();
@@ -92,7 +92,7 @@ impl SensorCalibration {
     }
 
     /// From a given sensor map: the columns `e1 e2 e3` of `a` (machine-frame displacement per unit
-    /// of each sensor reading) and the offset `d` (um): `M = [a d; 0 1]` (seed 004 eq. 10).
+    /// of each sensor reading) and the offset `d` (um): `M = [a d; 0 1]` (Andolfatto et al. 2011 eq. 10).
     pub fn from_matrix(a: Matrix3<f64>, d: Vec3) -> Result<SensorCalibration, SensorCalibrationError> {
         let mut matrix = Matrix4::identity();
         matrix.fixed_view_mut::<3, 3>(0, 0).copy_from(&a);
@@ -101,7 +101,7 @@ impl SensorCalibration {
     }
 
     /// Fitted from a cube data file (CSV, `#` comments): one row per programmed point with the
-    /// programmed displacement `tx,ty,tz` and the sensor readings `sx,sy,sz`, all in um (seed 004:
+    /// programmed displacement `tx,ty,tz` and the sensor readings `sx,sy,sz`, all in um (Andolfatto et al. 2011:
     /// 125 points on a 0.2 mm cube). Errors name the file.
     pub fn from_cube_file(path: &Path) -> Result<SensorCalibration, SensorCalibrationError> {
         let origin = path.display().to_string();
@@ -159,12 +159,12 @@ impl SensorCalibration {
         Vec3::new(self.matrix[(0, i)], self.matrix[(1, i)], self.matrix[(2, i)])
     }
 
-    /// Norms of `e1 e2 e3` (seed 004 Table 2: 0.998 / 0.996 / 0.996): sensor gain errors.
+    /// Norms of `e1 e2 e3` (Andolfatto et al. 2011 Table 2: 0.998 / 0.996 / 0.996): sensor gain errors.
     pub fn column_norms(&self) -> [f64; 3] {
         [self.axis(0).norm(), self.axis(1).norm(), self.axis(2).norm()]
     }
 
-    /// Projections `e1.e2, e1.e3, e2.e3` (seed 004 Table 2: -0.030 / -0.029 / -0.021): lack of
+    /// Projections `e1.e2, e1.e3, e2.e3` (Andolfatto et al. 2011 Table 2: -0.030 / -0.029 / -0.021): lack of
     /// orthogonality of the sensor axes and the local squareness of the machine.
     pub fn projections(&self) -> [f64; 3] {
         [self.axis(0).dot(&self.axis(1)), self.axis(0).dot(&self.axis(2)), self.axis(1).dot(&self.axis(2))]

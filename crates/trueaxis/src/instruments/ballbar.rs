@@ -3,12 +3,12 @@
 //!
 //! A test is a [`Setup`] (spindle ball = tool-side point, pivot ball = workpiece-side point, in M at
 //! home, mm) and a list of poses. The bar reading is `dL = |actual| - |nominal|` of the vector from
-//! the pivot to the spindle ball (DESIGN.md section 2), so any machine description works.
+//! the pivot to the spindle ball (docs/design.md, Conventions), so any machine description works.
 //!
 //! Presets:
 //! - [`circle_test`]: planar circle of ISO 230-4 with two linear axes (CW or CCW);
 //! - [`rotary_test`]: one rotary axis swept with the pivot at a radius from it and the spindle ball
-//!   on the nominal axis, possibly displaced along it (seed 001, Jiang 2014): the steps A1 A2 C1 C2 of
+//!   on the nominal axis, possibly displaced along it (Jiang 2014): the steps A1 A2 C1 C2 of
 //!   ch. 5 ([`jiang_step`]), the two-pivot method of ch. 4 and the four-setup method of ch. 6
 //!   (Lee & Yang 2013) are instances with different axial positions of the balls.
 
@@ -69,7 +69,7 @@ impl Rotation {
     }
 }
 
-/// Geometry of a rotary-axis test (seed 001): which axis turns, where the balls are along it.
+/// Geometry of a rotary-axis test (Jiang 2014): which axis turns, where the balls are along it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RotaryGeometry {
     /// Index of the swept rotary axis in the machine's canonical order.
@@ -140,7 +140,7 @@ impl BallbarTest {
             .collect()
     }
 
-    /// The `dL` row of the first-order model (seed 000 eq. 2.24) at every sample: `len()` rows of
+    /// The `dL` row of the first-order model (Soons 1993 eq. 2.24) at every sample: `len()` rows of
     /// `machine.parameter_count()` (mm of bar length per mm or rad of parameter), row-major.
     pub fn dl_jacobian(&self, machine: &Machine) -> Vec<f64> {
         let n = machine.parameter_count();
@@ -278,7 +278,7 @@ fn nominal_distance(machine: &Machine, setup: &Setup, q: &[f64]) -> f64 {
     (tool - work).norm()
 }
 
-/// Where the balls of a rotary-axis test are (seed 001 ch. 4-6).
+/// Where the balls of a rotary-axis test are (Jiang 2014 ch. 4-6).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RotarySpec {
     /// Letter of the swept rotary axis.
@@ -297,7 +297,7 @@ pub struct RotarySpec {
 /// `base` (user units). The ball carried by the axis at `p + pivot_position d + radius radial`, the
 /// other on the axis at `p + spindle_position d` (`p`, `d`: the axis point and direction at home).
 /// For a workpiece-side axis (a table) the carried ball is the pivot and the spindle ball is on the
-/// axis, as in seed 001; for a tool-side axis (a head) the roles swap: the spindle ball is carried at
+/// axis, as in Jiang 2014; for a tool-side axis (a head) the roles swap: the spindle ball is carried at
 /// the radius and the table ball sits on the axis. The bar reading depends only on the distance, so
 /// the identification of [`crate::identify::pige`] is the same for both.
 pub fn rotary_test(machine: &Machine, spec: &RotarySpec, angles_deg: &[f64], base: &[f64]) -> Result<BallbarTest, BallbarError> {
@@ -357,7 +357,7 @@ pub fn rotary_test(machine: &Machine, spec: &RotarySpec, angles_deg: &[f64], bas
     })
 }
 
-/// The four steps of the one-pivot method of seed 001 ch. 5 (Fig. 5.1 / 3.6).
+/// The four steps of the one-pivot method of Jiang 2014 ch. 5 (Fig. 5.1 / 3.6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum JiangStep {
     /// Outer axis (A), normal bar: pivot on the inner table at radius R, spindle ball at the axis point.
@@ -395,7 +395,7 @@ impl JiangStep {
     }
 }
 
-/// Bar lengths of the seed 001 tests (Table 3.1): normal `R` and extended `L_e` (mm).
+/// Bar lengths of the Jiang 2014 tests (Table 3.1): normal `R` and extended `L_e` (mm).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BarLengths {
     pub normal: f64,
@@ -406,14 +406,14 @@ impl BarLengths {
     /// Table 3.1: 100 mm and 150 mm.
     pub const TABLE_3_1: BarLengths = BarLengths { normal: 100.0, extended: 150.0 };
 
-    /// Axial offset of the spindle ball for the extended step, `D = sqrt(L_e^2 - R^2)` (seed 001
+    /// Axial offset of the spindle ball for the extended step, `D = sqrt(L_e^2 - R^2)` (Jiang 2014
     /// Eq. 7.1; the printed Eq. 3.13, `D = 50 sqrt 2`, is an arithmetic erratum).
     pub fn extended_offset(&self) -> f64 {
         (self.extended * self.extended - self.normal * self.normal).max(0.0).sqrt()
     }
 }
 
-/// The two rotary axes of a five-axis machine, tested as seed 001 tests A (`outer`) and C
+/// The two rotary axes of a five-axis machine, tested as Jiang 2014 tests A (`outer`) and C
 /// (`inner`). On a table-tilting machine (`wCAbYXZt`) or a spindle-tilting one (`wXYbZCBt`) both
 /// are on one side and `outer` (the one nearer the base) carries `inner`; on a machine with one
 /// rotary axis on each side (`wCXYbZAt`) neither carries the other and `outer` is the tool-side one.
@@ -443,14 +443,14 @@ impl RotaryPair {
     }
 
     /// True when `outer` carries `inner` (both on the same side of the chain): then the inner axis
-    /// is seen through the outer's location errors (seed 001 Table 5.1).
+    /// is seen through the outer's location errors (Jiang 2014 Table 5.1).
     pub fn inner_carried_by_outer(&self, machine: &Machine) -> bool {
         let side = |letter: char| machine.axis_index(letter).map(|k| machine.tool_chain().contains(&k));
         side(self.outer) == side(self.inner)
     }
 }
 
-/// Which four steps measure the PIGEs (seed 001): the steps are always called A1 A2 (the outer
+/// Which four steps measure the PIGEs (Jiang 2014): the steps are always called A1 A2 (the outer
 /// axis) and C1 C2 (the inner axis).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
@@ -519,7 +519,7 @@ pub fn method_spec(
     }
 }
 
-/// The ballbar placement of one step of seed 001 ch. 5: the pivot on the inner table in the plane
+/// The ballbar placement of one step of Jiang 2014 ch. 5: the pivot on the inner table in the plane
 /// through the outer axis point, `R` from the axis under test: for the outer axis along
 /// `d_inner x d_outer` (A test: +Y), for the inner axis along `d_outer` (C test: +X); the spindle
 /// ball on the axis under test, moved by `-D` (outer) or `+D` (inner) for the extended steps.
@@ -556,7 +556,7 @@ pub fn sweep_angles(start: f64, span: f64, step: f64) -> Vec<f64> {
     (0..count).map(|i| start + span * i as f64 / steps as f64).collect()
 }
 
-/// A step of seed 001 ch. 5 on `machine` (all other axes at 0), swept every `step_deg`: the outer
+/// A step of Jiang 2014 ch. 5 on `machine` (all other axes at 0), swept every `step_deg`: the outer
 /// axis over its range (-20 ... 70 deg on the C600U), the inner axis over 0 ... 360 deg.
 pub fn jiang_step(
     machine: &Machine,
@@ -852,7 +852,7 @@ mod tests {
 
     #[test]
     fn jiang_steps_place_the_balls_as_the_thesis() {
-        // seed 001 ch. 5 (digest 2.4): A1 pivot (0,R,0) spindle O; A2 spindle (-D,0,0);
+        // Jiang 2014 ch. 5 (digest 2.4): A1 pivot (0,R,0) spindle O; A2 spindle (-D,0,0);
         // C1 pivot (R,0,0) spindle O; C2 spindle (0,0,D).
         let m = c600u();
         let pair = RotaryPair::of_machine(&m).unwrap();

@@ -3,10 +3,10 @@
 //! A ballbar records bar-length samples at a fixed rate, not angles. One run is a feed-in move
 //! (the bar shortened or lengthened by about 1.5 mm onto the test radius), an overshoot arc in which
 //! the machine reaches the programmed feed, the data-capture arc, an overshoot arc in which it
-//! stops, and the feed-out move (ISO 230-4 annex; seed 001 §4.2 and Table 4.1: 45 deg of overshoot
+//! stops, and the feed-out move (ISO 230-4 annex; Jiang 2014 §4.2 and Table 4.1: 45 deg of overshoot
 //! for a C-axis test, 2 deg for a 90 deg A-axis arc). At constant feed the samples of the capture
 //! arc are evenly spread over it, so sample `i` of `N + 1` lies at `theta_i = i Theta / N`
-//! (seed 001 §4.2).
+//! (Jiang 2014 §4.2).
 //!
 //! The capture arc is found in the stream as follows:
 //! 1. the arc is the stretch between the feed-in and the feed-out, where the deviation from the
@@ -92,7 +92,7 @@ pub struct CapturedArc {
 }
 
 /// Finds the capture arc in `samples` (bar-length deviations in um, in recording order) and gives
-/// each capture sample its angle, `theta_i = i Theta / N` (seed 001 §4.2).
+/// each capture sample its angle, `theta_i = i Theta / N` (Jiang 2014 §4.2).
 pub fn capture_arc(samples: &[f64], programme: &ArcProgramme) -> Result<CapturedArc, RawBallbarError> {
     let bad = |m: String| Err(RawBallbarError::Invalid(m));
     let p = programme;

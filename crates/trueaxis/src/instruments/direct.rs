@@ -1,5 +1,5 @@
-//! Direct instruments: one reading per pose of one error motion of one axis (seed 003 §3.2-3.3,
-//! seed 000 §3.2): laser interferometer optics ([`Laser`]) and electronic levels ([`Level`]), their
+//! Direct instruments: one reading per pose of one error motion of one axis (NISTIR 5236 §3.2-3.3,
+//! Soons 1993 §3.2): laser interferometer optics ([`Laser`]) and electronic levels ([`Level`]), their
 //! choice for an ISO parameter, and their simulation on the exact chain.
 
 use super::laser::{Laser, LaserError, LaserOptics};

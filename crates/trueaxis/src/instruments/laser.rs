@@ -1,4 +1,4 @@
-//! Laser interferometer readings on the exact kinematic chain (seed 003 §3.2-3.3, seed 000 §3.2):
+//! Laser interferometer readings on the exact kinematic chain (NISTIR 5236 §3.2-3.3, Soons 1993 §3.2):
 //! linear optics (displacement along the beam), straightness optics (displacement perpendicular to
 //! the beam, in a named direction) and angular optics (relative rotation about a named axis).
 //!
@@ -8,7 +8,7 @@
 //! the sensitive direction and the rotation axis are fixed in the body that carries the
 //! interferometer ([`Laser::beam_on`]) and are given in M at home (where every body frame is M).
 //!
-//! Reading (actual minus nominal, DESIGN.md section 2): the displacement of the tool-side optic
+//! Reading (actual minus nominal, docs/design.md, Conventions): the displacement of the tool-side optic
 //! relative to the workpiece-side optic, projected on the direction `d` in the frame of the
 //! interferometer's body,
 //! `r = d . (R_b^T (P_t - P_w))_actual - d . (R_b^T (P_t - P_w))_nominal`,

@@ -2,12 +2,12 @@
 //!
 //! - [`Length`]: the distance between a tool-side and a workpiece-side point at one pose: a
 //!   telescoping ballbar, a laser in distance mode, a machine checking gauge swung about a pivot
-//!   (seed 000 §5.2.2). Reading `dL = |actual| - |nominal|` (DESIGN.md section 2), the projection of
+//!   (Soons 1993 §5.2.2). Reading `dL = |actual| - |nominal|` (docs/design.md, Conventions), the projection of
 //!   the volumetric error on the bar direction to first order.
 //! - [`PointLength`]: a length measured by the machine itself between two probed points at two poses
-//!   (a bar or step gauge on a CMM or a probing machine tool, seed 000 eqs. 4.3-4.5 and 4.19-4.21).
+//!   (a bar or step gauge on a CMM or a probing machine tool, Soons 1993 eqs. 4.3-4.5 and 4.19-4.21).
 //!   Reading: measured minus calibrated length. A measuring machine reads the negative of its
-//!   positioning error (seed 000 eq. 2.31), so to first order `dL = -u . (delta_2 - delta_1)`.
+//!   positioning error (Soons 1993 eq. 2.31), so to first order `dL = -u . (delta_2 - delta_1)`.
 
 use super::measurement::nominal_vector;
 use crate::geometry::Vec3;
@@ -44,7 +44,7 @@ impl PointLength {
         (nominal[1] - nominal[0]).norm() - (actual[1] - actual[0]).norm()
     }
 
-    /// First-order row `-u . (J_2 - J_1)` (seed 000 eq. 4.5 with the sign of eq. 2.31), `u` the
+    /// First-order row `-u . (J_2 - J_1)` (Soons 1993 eq. 4.5 with the sign of eq. 2.31), `u` the
     /// unit vector from `n1` to `n2`, from the workpiece-frame Jacobians of the two poses.
     pub fn linear_row(j1: &[f64], j2: &[f64], n1: &Vec3, n2: &Vec3, p: usize, out: &mut [f64]) {
         let d = n2 - n1;

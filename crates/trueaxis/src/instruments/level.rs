@@ -1,4 +1,4 @@
-//! Electronic levels on the exact kinematic chain (seed 003 §3.3, seed 000 §3.2): a level reads the
+//! Electronic levels on the exact kinematic chain (NISTIR 5236 §3.3, Soons 1993 §3.2): a level reads the
 //! rotation of the body it stands on relative to gravity, about a horizontal axis. Gravity is fixed
 //! to the base (the machine frame M), so the reading is the rotation of the body relative to the
 //! base. A differential level pair reads the moving level minus a reference level on another body

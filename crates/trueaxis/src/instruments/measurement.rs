@@ -19,7 +19,7 @@ pub enum Instrument {
     /// distance, machine checking gauge); channel `dL`.
     Length(Length),
     /// Length between two points probed at two poses (a bar or gauge measured by the machine as a
-    /// measuring machine, seed 000 eq. 4.5); channel `dL`.
+    /// measuring machine, Soons 1993 eq. 4.5); channel `dL`.
     PointLength(PointLength),
     /// Probed points (hole plates): measured minus calibrated coordinates; channels `dx dy dz`.
     Probe(Probe),

@@ -4,20 +4,20 @@
 //!   straightness and angular optics with the Abbe effect of their position, electronic levels
 //!   (single or differential), the instrument that measures a given motion error, simulation.
 //! - [`reversal`]: straightness with an imperfect test arbor by reversal, parallelism from best-fit
-//!   circle radii, and the flat-face disk reversal for straightness and orthogonality (seed 003
+//!   circle radii, and the flat-face disk reversal for straightness and orthogonality (NISTIR 5236
 //!   NISTIR 5236 §3.4, eqs. 3.1-3.8).
 //! - [`ballbar`]: ballbar (DBB) setups and bar readings simulated on the exact chain: ISO 230-4
-//!   planar circles and the rotary-axis tests of seed 001 (ch. 4, 5, 6).
+//!   planar circles and the rotary-axis tests of Jiang 2014 (ch. 4, 5, 6).
 //! - [`ballbar_raw`]: the capture arc of a raw ballbar stream (overshoot and feed moves stripped,
-//!   sample index to angle, seed 001 §4.2).
+//!   sample index to angle, Jiang 2014 §4.2).
 //! - [`steady`]: steady values of a sampled stream (one 3D-ball reading per pose from a 1000 Hz
-//!   recording with a dwell at each pose, seed 004 §3.4).
+//!   recording with a dwell at each pose, Andolfatto et al. 2011 §3.4).
 //! - [`scale`]: correction of linear-displacement readings to the 20 degC reference temperature
 //!   (ISO 1) for the thermal expansion of the machine scale or of the reference artefact, and the
-//!   apparent expansion coefficient of a scale from two runs at two temperatures (seed 000 §3.2.4,
+//!   apparent expansion coefficient of a scale from two runs at two temperatures (Soons 1993 §3.2.4,
 //!   §5.1.1).
 //!
-//! Units at this interface are the user-facing ones of DESIGN.md section 2: positions in mm,
+//! Units at this interface are the user-facing ones of docs/design.md, Conventions: positions in mm,
 //! readings and deviations in um, slopes and angles in urad, temperatures in degC, expansion
 //! coefficients in um/m/K (= 1e-6 /K).
 

@@ -1,6 +1,6 @@
-//! Probed points and hole plates (seed 000 §4.2, §5.1.1): the machine, used as a measuring machine,
+//! Probed points and hole plates (Soons 1993 §4.2, §5.1.1): the machine, used as a measuring machine,
 //! probes points of a calibrated artefact. Reading: measured minus calibrated coordinates (mm) in the
-//! workpiece frame, the negative of the volumetric error of the probe tip (seed 000 eq. 2.31).
+//! workpiece frame, the negative of the volumetric error of the probe tip (Soons 1993 eq. 2.31).
 //!
 //! A plate clamped on the table is never exactly where it is assumed: its small rigid misalignment
 //! (three translations and three rotations about a plate centre) is estimated with the machine

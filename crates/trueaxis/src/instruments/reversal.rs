@@ -1,4 +1,4 @@
-//! Reversal techniques with test arbors and a flat-face disk (seed 003, NISTIR 5236 §3.4,
+//! Reversal techniques with test arbors and a flat-face disk (NISTIR 5236 §3.4,
 //! eqs. 3.1-3.8).
 //!
 //! Units: positions in mm, probe readings and straightness in um, slopes (parallelism,
@@ -15,7 +15,7 @@
 //! - flat-face disk (eqs. 3.6-3.7): `m1(x) = -delta_z(x) + e(x)`, `m2(x) = -delta_z(x) - e(x)`, the
 //!   second set with the spindle turned 180 deg and the same probe; `e` is the face squareness plus
 //!   mounting misalignment (it turns with the spindle), `delta_z` the z straightness of the x motion
-//!   including the orthogonality term: `delta_z(x) = delta'_z(x) + alpha_o x` (seed 003 §2.3).
+//!   including the orthogonality term: `delta_z(x) = delta'_z(x) + alpha_o x` (NISTIR 5236 §2.3).
 
 use super::least_squares_line;
 use thiserror::Error;
@@ -64,7 +64,7 @@ impl BestFitLine {
 pub struct ReversalOptions {
     /// Remove the least-squares line from the straightness (ISO 230-1 reference straight line by
     /// least squares) and report it separately: its slope is the arbor-to-axis misalignment plus
-    /// the parallelism of the axis to the spindle axis average line (seed 003 §3.4: "the best fit
+    /// the parallelism of the axis to the spindle axis average line (NISTIR 5236 §3.4: "the best fit
     /// slope subtraction on the resultant data eliminates the misalignment errors").
     pub remove_line: bool,
 }
@@ -72,10 +72,10 @@ pub struct ReversalOptions {
 /// Result of [`straightness_reversal`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct ReversalStraightness {
-    /// Machine straightness `s(z) = (m2 - m1) / 2` (seed 003 eq. 3.3), um; minus the least-squares
+    /// Machine straightness `s(z) = (m2 - m1) / 2` (NISTIR 5236 eq. 3.3), um; minus the least-squares
     /// line when [`ReversalOptions::remove_line`] is set.
     pub straightness_um: Vec<f64>,
-    /// Arbor profile `a(z) = (m1 + m2) / 2` (from seed 003 eqs. 3.1 + 3.2), um. It contains the
+    /// Arbor profile `a(z) = (m1 + m2) / 2` (from NISTIR 5236 eqs. 3.1 + 3.2), um. It contains the
     /// arbor's form error and its mounting misalignment (both turn with the spindle); no line is
     /// removed from it.
     pub arbor_form_um: Vec<f64>,
@@ -90,7 +90,7 @@ impl ReversalStraightness {
     }
 }
 
-/// Straightness of an axis and form of the test arbor by reversal (seed 003 §3.4, eqs. 3.1-3.3).
+/// Straightness of an axis and form of the test arbor by reversal (NISTIR 5236 §3.4, eqs. 3.1-3.3).
 ///
 /// `positions_mm`: the axis positions z of the readings (mm, any order, at least 2 points);
 /// `m1_um`: probe 1 readings in the first set-up; `m2_um`: probe 2 readings (probe 2 is mounted
@@ -123,7 +123,7 @@ pub fn straightness_reversal(
 }
 
 /// Best-fit circle radius of one revolution of probe readings: their mean,
-/// `R = (sum r_i) / n` (seed 003 eq. 3.4), um.
+/// `R = (sum r_i) / n` (NISTIR 5236 eq. 3.4), um.
 ///
 /// The mean is the least-squares circle radius for readings equally spaced in angle over whole
 /// revolutions (512 per revolution in the seed); it removes the eccentricity (the limacon of a
@@ -137,7 +137,7 @@ pub fn best_fit_radius(readings_um: &[f64]) -> Result<f64, ReversalError> {
     Ok(readings_um.iter().sum::<f64>() / readings_um.len() as f64)
 }
 
-/// The four best-fit radii of the parallelism test (seed 003 eq. 3.5), um. The seed's `R_ij` has the
+/// The four best-fit radii of the parallelism test (NISTIR 5236 eq. 3.5), um. The seed's `R_ij` has the
 /// location first and the probe second: `R11` = probe 1 at location 1, `R21` = probe 1 at location 2,
 /// `R12` = probe 2 at location 1, `R22` = probe 2 at location 2. The fields spell this out.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -153,7 +153,7 @@ pub struct BestFitRadii {
 }
 
 impl BestFitRadii {
-    /// The radii from four revolutions of readings, each by [`best_fit_radius`] (seed 003 eq. 3.4).
+    /// The radii from four revolutions of readings, each by [`best_fit_radius`] (NISTIR 5236 eq. 3.4).
     pub fn from_readings(
         probe1_location1_um: &[f64],
         probe1_location2_um: &[f64],
@@ -169,7 +169,7 @@ impl BestFitRadii {
     }
 }
 
-/// Parallelism between an axis and the spindle axis average line from best-fit radii (seed 003
+/// Parallelism between an axis and the spindle axis average line from best-fit radii (NISTIR 5236
 /// eq. 3.5): `alpha_p = [(R21 - R11) - (R22 - R12)] / (2 dz)`, in urad, with the radii in um and the
 /// distance `dz_mm` from location 1 to location 2 in mm (signed: negative if location 2 is at the
 /// smaller axis position).
@@ -179,7 +179,7 @@ impl BestFitRadii {
 /// axis towards probe 1 raises probe 1's radius and lowers probe 2's. So `alpha_p` is the slope of the
 /// spindle axis average line, relative to the carriage, towards probe 1, per unit of travel from
 /// location 1 to location 2. With probe 1 on the -x side of the arbor this is the slope of the x
-/// deviation of the carriage, `delta_x(z) = delta'_x(z) + alpha_p dz` (seed 003 §2.3). The
+/// deviation of the carriage, `delta_x(z) = delta'_x(z) + alpha_p dz` (NISTIR 5236 §2.3). The
 /// straightness of the axis at the two locations is not removed: `alpha_p` is the slope of the chord
 /// through the two locations.
 pub fn parallelism_urad(radii: &BestFitRadii, dz_mm: f64) -> Result<f64, ReversalError> {
@@ -196,10 +196,10 @@ pub fn parallelism_urad(radii: &BestFitRadii, dz_mm: f64) -> Result<f64, Reversa
 /// Result of [`flat_face_reversal`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct FlatFaceReversal {
-    /// `delta_z(x) = -(m1 + m2) / 2` (seed 003 eq. 3.8), um: the z straightness of the x motion
+    /// `delta_z(x) = -(m1 + m2) / 2` (NISTIR 5236 eq. 3.8), um: the z straightness of the x motion
     /// including the orthogonality term `alpha_o x`.
     pub delta_z_um: Vec<f64>,
-    /// `e(x) = (m1 - m2) / 2` (from seed 003 eqs. 3.6 - 3.7), um: disk face squareness plus its
+    /// `e(x) = (m1 - m2) / 2` (from NISTIR 5236 eqs. 3.6 - 3.7), um: disk face squareness plus its
     /// mounting misalignment, as seen by the probe.
     pub face_error_um: Vec<f64>,
     /// Least-squares line of `delta_z` against x; its slope is the orthogonality `alpha_o` between
@@ -222,7 +222,7 @@ impl FlatFaceReversal {
 }
 
 /// z straightness of the x motion and its orthogonality to the spindle axis with a flat-face disk
-/// and a spindle reversal (seed 003 §3.4, eqs. 3.6-3.8).
+/// and a spindle reversal (NISTIR 5236 §3.4, eqs. 3.6-3.8).
 ///
 /// `positions_mm`: cross-slide positions x (mm, at least 2 distinct); `m1_um`: the probe readings of
 /// the first scan; `m2_um`: the same probe after the spindle (with the disk) has been turned 180 deg

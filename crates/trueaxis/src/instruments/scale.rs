@@ -1,6 +1,6 @@
 //! Thermal expansion of a machine scale or of a reference artefact: correction of linear
 //! displacement deviations to the 20 degC reference temperature (ISO 1), and the apparent
-//! expansion coefficient of a scale from two runs at two temperatures (seed 000 §3.2.4, §5.1.1).
+//! expansion coefficient of a scale from two runs at two temperatures (Soons 1993 §3.2.4, §5.1.1).
 //!
 //! Units: positions in mm, deviations and expansions in um, temperatures in degC, expansion
 //! coefficients in um/m/K (1 um/m/K = 1e-6 /K). An expansion `alpha (T - 20) L` is
@@ -9,7 +9,7 @@
 //! # Sign convention
 //!
 //! A deviation is actual minus nominal of the machine position (ISO 230-2; the `dev` column of
-//! DESIGN.md §3): the position given by the reference (laser interferometer, step gauge, hole
+//! docs/design.md, Files): the position given by the reference (laser interferometer, step gauge, hole
 //! plate) minus the position given by the machine's scale. A body at temperature `T` with coefficient
 //! `alpha` is longer than at 20 degC: a feature nominally `L` from the body's fixed point (its thermal
 //! datum) is at `L + E`, `E = alpha (T - 20) L` (for a uniform temperature; in general the integral of
@@ -78,7 +78,7 @@ pub enum ScaleTemperature<'a> {
     /// read, as a laser's material-temperature sensor gives it. Point i expands by
     /// `alpha (T_i - 20) (x_i - datum)`.
     PerPoint(&'a [f64]),
-    /// Sensors along the axis (seed 000: three Pt-100 at the start, middle and end of the X scale):
+    /// Sensors along the axis (Soons 1993: three Pt-100 at the start, middle and end of the X scale):
     /// their axis positions (mm, strictly increasing) and temperatures (degC). The temperature
     /// between sensors is interpolated linearly along the axis and held constant beyond the end
     /// sensors; the expansion at x is `alpha * integral from datum to x of (T(u) - 20) du`.
@@ -98,7 +98,7 @@ pub enum ExpandingBody {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ThermalCorrection<'a> {
     pub body: ExpandingBody,
-    /// Expansion coefficient of the body, um/m/K (e.g. 9.75 for the seed 000 X scale, ~11.5 steel).
+    /// Expansion coefficient of the body, um/m/K (e.g. 9.75 for the Soons 1993 X scale, ~11.5 steel).
     pub alpha_um_per_m_k: f64,
     pub temperature: ScaleTemperature<'a>,
     /// Axis position (mm) of the body's fixed point, about which it expands (the fixed mounting point
@@ -137,7 +137,7 @@ pub fn uniform_expansion_um(alpha_um_per_m_k: f64, temperature_degc: f64, length
 
 /// Thermal expansion (um) of the body at each axis position relative to its datum: how far the
 /// feature or graduation nominally (at 20 degC) at `x` has moved, positive away from the datum in +x
-/// direction; `alpha` in um/m/K (seed 000 §3.2.4, §5.1.1; ISO 1). See [`ScaleTemperature`] for the
+/// direction; `alpha` in um/m/K (Soons 1993 §3.2.4, §5.1.1; ISO 1). See [`ScaleTemperature`] for the
 /// three temperature inputs.
 pub fn thermal_expansion_um(
     positions_mm: &[f64],
@@ -149,7 +149,7 @@ pub fn thermal_expansion_um(
 }
 
 /// Deviations corrected to 20 degC (um): `dev_20 = dev - E` for the machine scale, `dev_20 = dev + E`
-/// for a reference artefact, with `E` from [`thermal_expansion_um`] (seed 000 §3.2.4 / §5.1.1: the
+/// for a reference artefact, with `E` from [`thermal_expansion_um`] (Soons 1993 §3.2.4 / §5.1.1: the
 /// laser data "compensated for the thermal expansion of the X-axis measurement scale"; the sign
 /// derivation and worked examples are in the module documentation).
 pub fn correct_to_20c(positions_mm: &[f64], deviations_um: &[f64], correction: &ThermalCorrection) -> Result<Vec<f64>, ScaleError> {
@@ -165,7 +165,7 @@ pub fn correct_to_20c(positions_mm: &[f64], deviations_um: &[f64], correction: &
 }
 
 /// Apparent expansion coefficient of a machine scale from two runs at the same positions and
-/// different scale temperatures (seed 000 §5.1.1: 9.75 um/m/K from the manufacturer, 13.5 um/m/K
+/// different scale temperatures (Soons 1993 §5.1.1: 9.75 um/m/K from the manufacturer, 13.5 um/m/K
 /// apparent, scale temperatures 25.3 and 20.4 degC).
 ///
 /// Both runs are deviations against a reference that does not expand (laser), either raw
@@ -245,7 +245,7 @@ pub enum TableCorrectionError {
 
 impl TableCorrection {
     /// The deviations (um) of `table`'s rows at `positions_mm` corrected to 20 degC by
-    /// [`correct_to_20c`], each correction of `corrections` in turn (seed 000 §3.2.4; ISO 230-2
+    /// [`correct_to_20c`], each correction of `corrections` in turn (Soons 1993 §3.2.4; ISO 230-2
     /// asks for results at 20 degC).
     pub fn apply_all(
         corrections: &[TableCorrection],

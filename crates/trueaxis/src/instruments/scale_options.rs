@@ -4,7 +4,7 @@
 //! machine scale expands). Used alike by `trueaxis iso230-2`, `trueaxis fit` and the Python package.
 //!
 //! Units: temperatures in degC, expansion coefficients in um/m/K, the datum in mm. The correction
-//! itself is [`super::scale::TableCorrection`] (seed 000 §3.2.4; ISO 1 reference temperature).
+//! itself is [`super::scale::TableCorrection`] (Soons 1993 §3.2.4; ISO 1 reference temperature).
 
 use super::scale::{ExpandingBody, ScaleError, TableCorrection, TemperatureSource};
 use crate::io::plausibility::{temperature_degc, Place};

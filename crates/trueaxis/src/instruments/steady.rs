@@ -1,9 +1,9 @@
 //! Steady values of a sampled instrument stream: one reading per pose from a continuous recording.
 //!
 //! A 3D-ball test (CapBall, R-test) records its sensors continuously, 1000 samples per second in
-//! seed 004 §3.4, while the machine moves from pose to pose with an exact stop and a dwell at each
+//! Andolfatto et al. 2011 §3.4, while the machine moves from pose to pose with an exact stop and a dwell at each
 //! one. The reading of a pose is the mean of the sensors over its dwell, once the move and its
-//! settling are over (seed 004: "a steady value algorithm"). Here a sample is steady when the
+//! settling are over (Andolfatto et al. 2011: "a steady value algorithm"). Here a sample is steady when the
 //! window of `window` samples starting at it has a peak-to-peak range of at most `max_range_um` on
 //! every channel; the windows that are steady, taken together, make the plateaus; a plateau
 //! shorter than `min_samples` is a pause of the move, not a dwell. Each plateau loses `trim`

@@ -1,4 +1,4 @@
-//! Trajectories for 3D-ball tests on multi-axis machines (seed 004 §3.2, Fig. 2): the rotary axes
+//! Trajectories for 3D-ball tests on multi-axis machines (Andolfatto et al. 2011 §3.2, Fig. 2): the rotary axes
 //! sweep, and the linear axes follow so that the tool point stays nominally on the ball centre.
 //!
 //! With the rotary axes fixed, the nominal position of the tool point relative to the workpiece

@@ -229,7 +229,7 @@ pub struct Conversion {
 }
 
 impl EtalonFile {
-    /// Converts the parameters into an error-values file (DESIGN.md section 3) for `machine`:
+    /// Converts the parameters into an error-values file (docs/design.md, Files) for `machine`:
     /// position errors become `[constant]` entries, component errors `[table.NAME]` (positions in
     /// mm or deg as in the file, values scaled from mm to um and rad to urad). A parameter of an
     /// axis the machine does not have, a lookup table of a position error, and values far outside

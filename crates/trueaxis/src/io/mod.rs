@@ -1,4 +1,4 @@
-//! Files from the outside world (DESIGN.md section 1, before `instruments`): vendor files in
+//! Files from the outside world (docs/design.md, The pipeline, before `instruments`): vendor files in
 //! (Renishaw `.rtl` laser files, the Etalon exchange format of LaserTRACER / TRAC-CAL results,
 //! ballbar text exports), the pieces of the forgiving table reader that `data::CsvTable` is built
 //! on (units in headers, `;` and tab separators, decimal commas, byte-order marks, the wide laser

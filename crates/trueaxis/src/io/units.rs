@@ -1,5 +1,5 @@
 //! Units named in table headers (`dev [mm]`, `Dev_um`, `Position (mm)`) and in vendor files, and
-//! the conversion of values to the units of DESIGN.md section 2: positions in mm and deg, errors in
+//! the conversion of values to the units of docs/design.md, Conventions: positions in mm and deg, errors in
 //! um and urad (1 urad = 1 um/m), temperatures in degC, times in s.
 
 use std::fmt;
@@ -136,7 +136,7 @@ impl fmt::Display for Unit {
     }
 }
 
-/// The unit trueaxis uses for a quantity of `dimension` (DESIGN.md section 2): for a *position*
+/// The unit trueaxis uses for a quantity of `dimension` (docs/design.md, Conventions): for a *position*
 /// (an axis position, a target) mm or deg, for an *error value* (a deviation, a reading) um or urad;
 /// degC, s, mm/min and Hz otherwise.
 pub fn canonical(dimension: Dimension, position: bool) -> Unit {

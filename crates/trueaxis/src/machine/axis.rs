@@ -9,7 +9,7 @@ pub enum AxisKind {
     Rotary,
 }
 
-/// Which chain an axis belongs to (DESIGN.md section 2, structure code).
+/// Which chain an axis belongs to (docs/design.md, Conventions, structure code).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Side {
     Workpiece,
@@ -57,7 +57,7 @@ impl Axis {
         }
     }
 
-    /// Nominal motion `J_k(q)` in the parent frame, `q` in mm or rad (DESIGN.md section 2):
+    /// Nominal motion `J_k(q)` in the parent frame, `q` in mm or rad (docs/design.md, Conventions):
     /// linear `Trans(q d)`, rotary `Trans(p) Rot(d, q) Trans(-p)`.
     pub fn nominal_motion(&self, q: f64) -> Pose {
         match self.kind {

@@ -1,4 +1,4 @@
-//! The machine TOML of DESIGN.md section 3: parsing and validation.
+//! The machine TOML of docs/design.md, Files: parsing and validation.
 
 use super::axis::{Axis, AxisKind, Side};
 use super::error::MachineError;
@@ -182,7 +182,7 @@ fn finite_vector(v: [f64; 3]) -> Option<Vec3> {
     v.iter().all(|x| x.is_finite()).then(|| Vec3::new(v[0], v[1], v[2]))
 }
 
-/// TOML errors span several lines (with a source excerpt); DESIGN.md asks for one line.
+/// TOML errors span several lines (with a source excerpt); docs/design.md asks for one line.
 pub(crate) fn one_line(message: &str) -> String {
     let is_excerpt = |l: &str| l.trim_start_matches(|c: char| c.is_ascii_digit() || c == ' ').starts_with('|');
     message.lines().map(str::trim).filter(|l| !l.is_empty() && !is_excerpt(l)).collect::<Vec<_>>().join(": ")

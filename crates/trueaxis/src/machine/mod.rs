@@ -1,5 +1,5 @@
 //! Machine descriptions: axes, the structure code, ISO 230 parameter names, and the machine TOML
-//! of DESIGN.md section 3.
+//! of docs/design.md, Files.
 
 mod axis;
 mod error;

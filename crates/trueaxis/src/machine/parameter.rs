@@ -1,10 +1,10 @@
 //! ISO 230-1 / ISO 230-7 parameter names: motion errors (`EXX`, `ECC`), location errors (`EX0C`,
-//! `EB0X`) and setup errors (`TX`, `WZ`). DESIGN.md section 2.
+//! `EB0X`) and setup errors (`TX`, `WZ`). docs/design.md, Conventions.
 
 use std::fmt;
 
 /// One of the six components of a small displacement: translations along x, y, z and rotations
-/// about x, y, z (the `X Y Z A B C` of the ISO names). Translations first, unlike seed 000.
+/// about x, y, z (the `X Y Z A B C` of the ISO names). Translations first, unlike Soons 1993.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Component {
     X,
@@ -83,7 +83,7 @@ pub enum SetupSide {
     Workpiece,
 }
 
-/// The canonical id of an error parameter (DESIGN.md section 2, "Names").
+/// The canonical id of an error parameter (docs/design.md, Conventions, "Names").
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum ParameterId {
     /// Motion error of an axis, a function of its own position: `EXX`, `EBC`, ...

@@ -1,5 +1,5 @@
 //! Structure codes: `wCAbYXZt` (workpiece, workpiece-side axes down to the base, `b`, tool-side axes
-//! up to the tool, `t`) and the equivalent `WCAYFXZT` (`F` = frame = base). DESIGN.md section 2.
+//! up to the tool, `t`) and the equivalent `WCAYFXZT` (`F` = frame = base). docs/design.md, Conventions.
 
 use super::parameter::is_axis_letter;
 use std::fmt;

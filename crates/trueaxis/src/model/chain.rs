@@ -1,4 +1,4 @@
-//! Nominal and actual forward kinematics of the two serial chains (DESIGN.md section 2):
+//! Nominal and actual forward kinematics of the two serial chains (docs/design.md, Conventions):
 //! `A_k(q) = L_k S_k(q) J_k(q)`, products taken from the base outward.
 
 use crate::geometry::{Pose, Vec3};

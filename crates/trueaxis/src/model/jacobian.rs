@@ -1,6 +1,6 @@
 //! The first-order model: the Jacobian of the volumetric error with respect to every error
 //! parameter, by transporting each error's small-displacement screw to the tool point
-//! (seed 000 eqs. 2.15-2.28, the F-matrix `e = F E` of eq. 2.24; seed 004 eq. 2).
+//! (Soons 1993 eqs. 2.15-2.28, the F-matrix `e = F E` of eq. 2.24; Andolfatto et al. 2011 eq. 2).
 
 use super::chain::{error_centre, nominal_chain};
 use super::volumetric::{Frame, Setup};

@@ -1,5 +1,5 @@
 //! Nominal and actual forward kinematics, the exact volumetric error and its first-order Jacobian
-//! (DESIGN.md section 2), with batch evaluation over many poses.
+//! (docs/design.md, Conventions), with batch evaluation over many poses.
 
 mod batch;
 mod chain;

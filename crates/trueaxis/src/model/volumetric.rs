@@ -1,5 +1,5 @@
 //! The exact volumetric error between a tool-side point and a workpiece-side point
-//! (DESIGN.md section 2, "Volumetric error").
+//! (docs/design.md, Conventions, "Volumetric error").
 
 use super::chain::nominal_and_actual_chain;
 use crate::geometry::{rotation_log, Mat3, Pose, Vec3};
@@ -75,7 +75,7 @@ impl Relative {
 
 /// Exact volumetric error at pose `q` (mm, rad) for the parameter vector `params` (mm, rad):
 /// the tool point relative to the workpiece point, actual minus nominal, in `frame`
-/// (DESIGN.md section 2; the matrix form of seed 003 eq. 2.9, `E = T_TOOL^-1 T_WORK`, with the sign
+/// (docs/design.md, Conventions; the matrix form of NISTIR 5236 eq. 2.9, `E = T_TOOL^-1 T_WORK`, with the sign
 /// of the tool relative to the workpiece).
 pub fn volumetric_error(machine: &Machine, q: &[f64], params: &[f64], setup: &Setup, frame: Frame) -> VolumetricError {
     let (tool_nominal, tool) = nominal_and_actual_chain(machine, machine.tool_chain(), q, params);

@@ -1,12 +1,12 @@
 //! Assembly of the heat capacity matrix C and the conductivity matrix K (with convection) of the
-//! transient heat-conduction equation `C dT/dt + K T = Q(t)` (seed 002 eq. 3.1) on a structured
+//! transient heat-conduction equation `C dT/dt + K T = Q(t)` (Zhu 2008 eq. 3.1) on a structured
 //! mesh, and the nodal load vector of point heat fluxes.
 //!
 //! Element matrices of the bilinear/trilinear elements of a rectangular cell are tensor products of
 //! the 1D linear-element matrices `K1 = [[1,-1],[-1,1]]/h` and `M1 = h [[2,1],[1,2]]/6`:
 //! `C_e = rho c_p s prod_d M1_d`, `K_e = k s sum_d K1_d prod_(e != d) M1_e` (exact integration).
 //! Convection `h (T - T_ambient)` on a surface adds `h int N_a N_b dS` to K (the consistent
-//! "film" matrix); temperatures are rises over the ambient (seed 002 §3.4: over 20 degC).
+//! "film" matrix); temperatures are rises over the ambient (Zhu 2008 §3.4: over 20 degC).
 
 use super::mesh::StructuredMesh;
 use super::{input, ThermalError};

@@ -1,4 +1,4 @@
-//! The stress-free beam model of the thermal parametric errors (seed 000 §3.4.3, eqs. 3.56-3.62).
+//! The stress-free beam model of the thermal parametric errors (Soons 1993 §3.4.3, eqs. 3.56-3.62).
 //!
 //! A guideway (or a scale) is a Bernoulli-Euler beam along the direction of its axis whose
 //! temperature, relative to the reference state, is `T = a(x) + c(x) y + d(x) z` in each

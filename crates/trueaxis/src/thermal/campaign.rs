@@ -1,4 +1,4 @@
-//! Thermal measurement campaigns (CSV, DESIGN.md section 3): one row per sample with the time `t`
+//! Thermal measurement campaigns (CSV, docs/design.md, Files): one row per sample with the time `t`
 //! (s), optionally `run` (the duty cycle or test the row belongs to), temperature columns
 //! `T:<sensor>` (degC), error columns (um, e.g. `dz` or `EZZ`) and axis positions (mm, deg).
 

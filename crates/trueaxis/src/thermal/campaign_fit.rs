@@ -1,7 +1,7 @@
 //! A thermal error model fitted to a campaign, end to end, as `trueaxis thermal fit` and the Python
 //! package run it: the training and validation segments (other runs, or a time split of each
-//! training run), the sensor selection, the PITE/PDTE regression (seed 002 eqs. 3.12-3.15 with
-//! intercepts as eqs. 4.3-4.5) or the state-space drift model (seed 000 §3.4.4), the residuals of
+//! training run), the sensor selection, the PITE/PDTE regression (Zhu 2008 eqs. 3.12-3.15 with
+//! intercepts as eqs. 4.3-4.5) or the state-space drift model (Soons 1993 §3.4.4), the residuals of
 //! every segment, the model file and its error terms; or the eq. 3.17 fit of shared time constants
 //! to the temperature records of every run. The document of `trueaxis thermal fit --json`.
 //!
@@ -23,9 +23,9 @@ use serde_json::{json, Value};
 /// The form of a thermal error model.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ModelForm {
-    /// Static regression (seed 002 eqs. 3.12-3.15).
+    /// Static regression (Zhu 2008 eqs. 3.12-3.15).
     Regression,
-    /// State space (seed 000 §3.4.4): the drift as a sum of first-order lags of the sensors' rises
+    /// State space (Soons 1993 §3.4.4): the drift as a sum of first-order lags of the sensors' rises
     /// since the start of each run.
     StateSpace,
 }

@@ -1,4 +1,4 @@
-//! The state-space thermal drift model of seed 000 §3.4.4 (eqs. 3.65-3.66, the states of §3.4.2)
+//! The state-space thermal drift model of Soons 1993 §3.4.4 (eqs. 3.65-3.66, the states of §3.4.2)
 //! as a fitted-model file: inputs are the temperature rises of the sensors since the start of each
 //! run (the reference state), each passed through m first-order lags with time constants shared by
 //! every sensor; the drift is their weighted sum:
@@ -7,7 +7,7 @@
 //!
 //! with `z_ij(t_0) = 0`, T in degC, gains g in um/degC. This is `dx/dt = -gamma x + u`, `y = C x` of
 //! [`super::state_space`] with `gamma_j = 1/tau_j`, `z = gamma x` and `C = g gamma`. Unlike the static
-//! regression (seed 002 eq. 3.12), it reproduces the lag between a sensor and the drift.
+//! regression (Zhu 2008 eq. 3.12), it reproduces the lag between a sensor and the drift.
 
 use super::campaign::Campaign;
 use super::state_space::{identify_state_space, Record, StateSpaceModel};

@@ -1,6 +1,6 @@
 //! A fitted thermal error model of either form, as read from and written to a model file: the
-//! static regression of seed 002 eqs. 3.12-3.15 (`kind = "regression"`) or the state-space drift
-//! model of seed 000 §3.4.4 (`kind = "state_space"`).
+//! static regression of Zhu 2008 eqs. 3.12-3.15 (`kind = "regression"`) or the state-space drift
+//! model of Soons 1993 §3.4.4 (`kind = "state_space"`).
 
 use super::campaign::Campaign;
 use super::drift_model::{record, DriftModel};
@@ -16,7 +16,7 @@ pub enum ThermalErrorModel {
     Regression(RegressionModel),
     #[serde(rename = "state_space")]
     Drift(DriftModel),
-    /// The G-T model by segment of seed 003 §3.6.
+    /// The G-T model by segment of NISTIR 5236 §3.6.
     Segmented(SegmentedModel),
 }
 

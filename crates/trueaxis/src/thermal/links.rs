@@ -1,4 +1,4 @@
-//! Thermal links (seed 002 ch. 4, eqs. 4.1-4.2) and thermal error models as error terms of the
+//! Thermal links (Zhu 2008 ch. 4, eqs. 4.1-4.2) and thermal error models as error terms of the
 //! kinematic chain, so that `predict` (and later `compensate`) evaluate them from `T:<sensor>`
 //! columns without any change to the chain code.
 //!
@@ -8,7 +8,7 @@
 //! Everything carried beyond the free end moves with it: a point x goes to
 //! `x + epsilon u + delta v + theta w x (x - f)`, f the free end. That is a location error of the
 //! next axis k (a small transform about its reference point r: the axis point of a rotary axis, the
-//! origin of M for a linear axis; DESIGN.md section 2): rotation `theta w` and translation
+//! origin of M for a linear axis; docs/design.md, Conventions): rotation `theta w` and translation
 //! `e = epsilon u + delta v + theta w x (r - f)`. On the tool (after the last axis) only the
 //! translation of the tool point can be given (`TX TY TZ`).
 //!

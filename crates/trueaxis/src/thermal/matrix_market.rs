@@ -1,5 +1,5 @@
 //! Matrix Market files (NIST format), to import the capacity and conductivity matrices (and a load
-//! vector) of a model built in an external FE tool (seed 002 used MSC/NASTRAN DMAP exports).
+//! vector) of a model built in an external FE tool (Zhu 2008 used MSC/NASTRAN DMAP exports).
 //!
 //! Read: `%%MatrixMarket matrix coordinate real|integer general|symmetric` (symmetric files store one
 //! triangle, mirrored here) and `%%MatrixMarket matrix array real general` (a dense column, for a

@@ -35,7 +35,7 @@ impl StructuredMesh {
         Ok(StructuredMesh { cells, size_m })
     }
 
-    /// A bar of `length_m` with `elements` equal elements (seed 002 Table 3.1: 22 elements).
+    /// A bar of `length_m` with `elements` equal elements (Zhu 2008 Table 3.1: 22 elements).
     pub fn bar(length_m: f64, elements: usize) -> Result<StructuredMesh, ThermalError> {
         Self::new(vec![elements], vec![length_m])
     }

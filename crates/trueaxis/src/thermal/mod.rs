@@ -1,11 +1,11 @@
-//! Thermal errors (seed 002 ch. 3-4, seed 000 §3.4, seed 003 §3.5-3.6): transient heat-conduction
+//! Thermal errors (Zhu 2008 ch. 3-4, Soons 1993 §3.4, NISTIR 5236 §3.5-3.6): transient heat-conduction
 //! finite elements, thermal modal analysis, mode weights and truncation, temperature-sensor
 //! placement, time-constant fits, regression (PITE/PDTE) and state-space thermal error models,
 //! their validation, and thermal links expressed as error terms of the kinematic chain.
 //!
 //! Units: SI inside this module (m, s, W, J, K) for the heat-conduction model; temperatures in
 //! degC, time in s (minutes only where named `_min`); thermal errors in um and urad, axis positions
-//! in mm or deg, as everywhere in trueaxis (DESIGN.md section 2).
+//! in mm or deg, as everywhere in trueaxis (docs/design.md, Conventions).
 
 pub mod amg;
 pub mod assembly;

@@ -1,4 +1,4 @@
-//! Thermal modal analysis (seed 002 §3.2.1, eqs. 3.2-3.10): the generalised symmetric eigenproblem
+//! Thermal modal analysis (Zhu 2008 §3.2.1, eqs. 3.2-3.10): the generalised symmetric eigenproblem
 //! `K phi = C phi lambda` with C-orthonormal modes (`Phi^T C Phi = I`, `Phi^T K Phi = Lambda`;
 //! the seed's eq. 3.7 prints `[A]` for `Lambda`), time constants `tau = 1/lambda` (eq. 3.3), and the
 //! modal load `xi = Phi^T Q` (eq. 3.8).

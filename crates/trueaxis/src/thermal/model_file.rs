@@ -1,4 +1,4 @@
-//! The thermal model file (TOML, SI units named in the keys; DESIGN.md section 4).
+//! The thermal model file (TOML, SI units named in the keys; docs/design.md, Command line).
 //!
 //! ```toml
 //! kind = "bar1d"                # or "grid2d", "grid3d", "matrix_market"

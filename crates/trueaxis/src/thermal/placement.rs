@@ -1,4 +1,4 @@
-//! Temperature-sensor placement (seed 002 §3.3.1, §3.4.2): the modal rule of the thesis, Kammer's
+//! Temperature-sensor placement (Zhu 2008 §3.3.1, §3.4.2): the modal rule of the thesis, Kammer's
 //! effective independence, and exhaustive search as the baseline.
 //!
 //! - Modal rule (formalised from §3.3.1): for each dominant mode in order of weight, place a
@@ -10,7 +10,7 @@
 //!   with the smallest `E_D = diag(Phi_s (Phi_s^T Phi_s)^-1 Phi_s^T)` until `count` remain.
 //! - Exhaustive: every subset of `count` candidates, scored by a caller-supplied criterion (for
 //!   example `log det(Phi_s^T Phi_s)`, or the residual of the thermal error regression on
-//!   simulated temperatures, seed 002 §3.4.2 after Lo et al. 1995).
+//!   simulated temperatures, Zhu 2008 §3.4.2 after Lo et al. 1995).
 
 use super::modal::ModalBasis;
 use super::time_constants::combinations;
@@ -126,7 +126,7 @@ pub fn mode_matrix(basis: &ModalBasis, modes: &[usize], sensors: &[usize]) -> DM
 }
 
 /// How well the sensors determine the modal coordinates of the modes: the rank and condition
-/// number of the sensor-mode matrix `Phi_s` (sensors x modes; seed 002 §3.3.1: check the
+/// number of the sensor-mode matrix `Phi_s` (sensors x modes; Zhu 2008 §3.3.1: check the
 /// conditioning of Phi_s).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Conditioning {

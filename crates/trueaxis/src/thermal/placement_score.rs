@@ -1,9 +1,9 @@
-//! Sensor placements scored by the error of the thermal model they lead to (seed 002 §3.4.2: the
+//! Sensor placements scored by the error of the thermal model they lead to (Zhu 2008 §3.4.2: the
 //! modal placement "compared with other two commonly utilized methods, namely, Gaussian integration
 //! method and exhaustive search method"), on a bar whose thermal error is its elongation
 //! `e = alpha int T dx` (the free end of the elongation element; eq. 3.16).
 //!
-//! Protocol (seed 002 §3.4.3, "frequency sensitivity"): the model's step flux switched on and off
+//! Protocol (Zhu 2008 §3.4.3, "frequency sensitivity"): the model's step flux switched on and off
 //! with a period of 20 min for 4 h trains a regression `e = c0 + sum_i beta_i T_i` on the sensors'
 //! temperatures; periods of 10 and 40 min validate it. Temperatures by modal superposition over
 //! every mode (exact per sampling interval of 60 s). A placement is scored by the RMS and the

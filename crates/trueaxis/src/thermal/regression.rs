@@ -1,6 +1,6 @@
-//! Thermal error regression models (seed 002 §3.3.2, eqs. 3.12-3.15, with the intercepts of the
+//! Thermal error regression models (Zhu 2008 §3.3.2, eqs. 3.12-3.15, with the intercepts of the
 //! Sodick models eqs. 4.3-4.5), and the selection of temperatures by correlation and stepwise
-//! regression (seed 003 §3.6).
+//! regression (NISTIR 5236 §3.6).
 //!
 //! `E(P, T) = sum_(k=0..degree) P^k (c_k0 + sum_i c_ki T_i)`:
 //! - PITE (position-independent, eq. 3.12): `degree = 0`;
@@ -182,7 +182,7 @@ pub fn fit_regression_huber(
     Ok((model, fit))
 }
 
-/// Fits the geometric/thermal split (seed 002 §4.4.2: "the measured thermal errors were first
+/// Fits the geometric/thermal split (Zhu 2008 §4.4.2: "the measured thermal errors were first
 /// separated into geometric errors and thermal errors. The geometric errors are usually modeled by
 /// high-order polynomials. Thermal errors are modeled by the linear regression"):
 /// `E(P, T) = sum_(k<=g) a_k P^k + sum_(k<=h) P^k sum_i c_ki T_i`, a polynomial of degree g in the
@@ -298,7 +298,7 @@ fn model_from_columns(
 }
 
 /// Pearson correlation of each sensor series with the error, and the range of each series.
-/// Sorted by decreasing `|r|` (seed 003 §3.6: "the temperatures with the highest correlation and
+/// Sorted by decreasing `|r|` (NISTIR 5236 §3.6: "the temperatures with the highest correlation and
 /// significant variation"). Returns `(sensor index, r, range)`.
 pub fn correlation_ranking(temperatures: &[Vec<f64>], error: &[f64]) -> Vec<(usize, f64, f64)> {
     let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;

@@ -1,4 +1,4 @@
-//! Transient responses of `C dT/dt + K T = Q(t)` (seed 002 eq. 3.1) to load histories: by modal
+//! Transient responses of `C dT/dt + K T = Q(t)` (Zhu 2008 eq. 3.1) to load histories: by modal
 //! superposition (eqs. 3.8-3.10; an arbitrary history is a series of steps) and by time stepping
 //! (theta method on the sparse matrices), which checks each other.
 //!

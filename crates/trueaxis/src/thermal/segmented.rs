@@ -1,4 +1,4 @@
-//! The geometric-thermal (G-T) model of seed 003 §3.6: per error component a regression on the axis
+//! The geometric-thermal (G-T) model of NISTIR 5236 §3.6: per error component a regression on the axis
 //! position and the selected temperatures (and "currently measured parameters during the operation,
 //! such as spindle speed", §3.5), with the data "segmented depending on the direction of travel due
 //! to hysteresis" and, if needed, "into regions of axis position"; "typically quadratic functions of

@@ -1,4 +1,4 @@
-//! State-space thermal models (seed 000 §3.4.2, eqs. 3.41-3.55, and the empirical drift model of
+//! State-space thermal models (Soons 1993 §3.4.2, eqs. 3.41-3.55, and the empirical drift model of
 //! §3.4.4, eqs. 3.65-3.66): inputs `u_i(t)` (temperature rises of sensors near the heat sources,
 //! ambient), states `x_ij` with `dx_ij/dt = -gamma_j x_ij + u_i` (A block diagonal with the same m
 //! decay rates for every input, B = 1), outputs `y = C x` (temperatures at other sensors, or the

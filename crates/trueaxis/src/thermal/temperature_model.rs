@@ -1,4 +1,4 @@
-//! The empirical state-space model of the temperature distribution (seed 000 §3.4.2, eqs.
+//! The empirical state-space model of the temperature distribution (Soons 1993 §3.4.2, eqs.
 //! 3.41-3.55; ch. 5: "two temperature sensors to predict the temperature elevation of all other
 //! sensors ... three time constants"): the rises of a few input sensors near the heat sources since
 //! the start of each run pass through m first-order lags with time constants shared by every input

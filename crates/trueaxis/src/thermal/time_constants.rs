@@ -1,4 +1,4 @@
-//! Multi-exponential fit of temperature records with shared time constants (seed 002 §3.5,
+//! Multi-exponential fit of temperature records with shared time constants (Zhu 2008 §3.5,
 //! eq. 3.17): `T(t) = b + sum_j A_j (1 - exp(-t / tau_j))`, the time constants `tau_j` shared by
 //! every series (sensor and test), the amplitudes `A_j` (and the offset `b`, optional) per series.
 //!

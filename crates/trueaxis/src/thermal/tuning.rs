@@ -1,4 +1,4 @@
-//! Tuning the boundary conditions of a heat-conduction model to measured time constants (seed 002
+//! Tuning the boundary conditions of a heat-conduction model to measured time constants (Zhu 2008
 //! §4.4.2: "the boundary conditions are assigned to give rise to relatively reasonable results in
 //! terms of the agreement between simulated and measured time constants"; §1.5 of its digest: a
 //! model-updating step).

@@ -1,4 +1,4 @@
-//! Validation of thermal error models (seed 002 §3.4.3, §3.5, Table 4.3, ch. 5): residual
+//! Validation of thermal error models (Zhu 2008 §3.4.3, §3.5, Table 4.3, ch. 5): residual
 //! `e = measured - predicted`, its band (min, max), RMS, max |e|, range, mean and standard
 //! deviation; the time split of one record into training and verification parts.
 
@@ -44,7 +44,7 @@ pub fn residual_stats(measured: &[f64], predicted: &[f64]) -> Option<ResidualSta
     })
 }
 
-/// Index splitting samples at `fraction` of the time span (seed 002 §3.4.3: the first hour trains,
+/// Index splitting samples at `fraction` of the time span (Zhu 2008 §3.4.3: the first hour trains,
 /// the second verifies): rows with `t < t0 + fraction (t1 - t0)` train.
 pub fn time_split(times: &[f64], fraction: f64) -> usize {
     let (t0, t1) = (times.iter().copied().fold(f64::INFINITY, f64::min), times.iter().copied().fold(f64::NEG_INFINITY, f64::max));
@@ -86,8 +86,8 @@ pub fn prediction_segments(campaign: &Campaign) -> Vec<Segment> {
 }
 
 /// The segments of a fit: the runs in `train_runs` (every run when `None`) train and the others
-/// validate (other duty cycles, altered warm-up; seed 002 §3.5); with `split = Some(f)`, each
-/// training run trains on the samples before `t0 + f (t1 - t0)` and validates on the rest (seed 002
+/// validate (other duty cycles, altered warm-up; Zhu 2008 §3.5); with `split = Some(f)`, each
+/// training run trains on the samples before `t0 + f (t1 - t0)` and validates on the rest (Zhu 2008
 /// §3.4.3: the first hour trains, the second verifies).
 pub fn segments(campaign: &Campaign, train_runs: Option<&[String]>, split: Option<f64>) -> Result<Vec<Segment>, ThermalError> {
     if let Some(f) = split.filter(|f| !(*f > 0.0 && *f < 1.0)) {

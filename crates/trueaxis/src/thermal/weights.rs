@@ -1,11 +1,11 @@
-//! Mode weights and truncation (seed 002 §3.2.2, eq. 3.11): `w_i = |xi_i tau_i|`, the steady-state
+//! Mode weights and truncation (Zhu 2008 §3.2.2, eq. 3.11): `w_i = |xi_i tau_i|`, the steady-state
 //! modal amplitude under the representative step load Q (eq. 3.10 at t -> infinity), with
 //! `xi = Phi^T Q` on C-orthonormal modes. Keep the modes that carry a cumulative share of the total
-//! weight (default 90 %, seed 002 §3.4.1).
+//! weight (default 90 %, Zhu 2008 §3.4.1).
 
 use super::modal::ModalBasis;
 
-/// Default cumulative share of the total weight kept by truncation (seed 002 §3.4.1).
+/// Default cumulative share of the total weight kept by truncation (Zhu 2008 §3.4.1).
 pub const DEFAULT_SHARE: f64 = 0.9;
 
 /// One mode with its weight.

@@ -1,4 +1,4 @@
-//! Uncertainty budget of an identification (seed 004 §5.3, Table 5): the coverage interval of
+//! Uncertainty budget of an identification (Andolfatto et al. 2011 §5.3, Table 5): the coverage interval of
 //! each source alone, their root-sum-square, and the interval with all sources together, by
 //! adaptive Monte Carlo; with the GUM standard uncertainties alongside.
 
@@ -98,7 +98,7 @@ impl<'a> BudgetPlan<'a> {
         self.map.model(&sources, self.evaluation)
     }
 
-    /// Seed 004 Table 5 from the results of the stages, in stage order.
+    /// Andolfatto et al. 2011 Table 5 from the results of the stages, in stage order.
     pub fn assemble(&self, mut runs: Vec<McResult>) -> Result<Budget, UncertaintyError> {
         if runs.len() != self.stages() {
             return Err(UncertaintyError::Input(format!("{} Monte Carlo results for a budget of {} runs", runs.len(), self.stages())));

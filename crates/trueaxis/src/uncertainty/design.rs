@@ -1,4 +1,4 @@
-//! The design matrix of a linear identification (seed 004 eqs. 3-4, `d_chi = J_id d_p`) with what
+//! The design matrix of a linear identification (Andolfatto et al. 2011 eqs. 3-4, `d_chi = J_id d_p`) with what
 //! the uncertainty sources need per observation: its channel, its measurement time and its weight.
 //!
 //! File form (CSV, `#` comments): one row per observation; columns `channel` (text, e.g. `x`, `y`,
@@ -159,8 +159,8 @@ impl DesignMatrix {
 }
 
 /// The design of a campaign identification (`trueaxis identify`'s stacked Jacobian, observations
-/// and weights) as the linear model of the uncertainty sources (seed 004 eqs. 3-4): record `k` of a
-/// measurement is taken at `k point_time_s` (seed 004 eq. 12 with `t_i = point_time_s`). Channels
+/// and weights) as the linear model of the uncertainty sources (Andolfatto et al. 2011 eqs. 3-4): record `k` of a
+/// measurement is taken at `k point_time_s` (Andolfatto et al. 2011 eq. 12 with `t_i = point_time_s`). Channels
 /// are named by the reading without its `d` (`x`, `y`, `z`, `L`) when the campaign has one
 /// measurement, else `<measurement>:<x>` — the names the sources file uses.
 pub fn from_identification(design: &crate::identify::DesignMatrix, point_time_s: f64) -> Result<DesignMatrix, UncertaintyError> {

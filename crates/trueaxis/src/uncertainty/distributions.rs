@@ -1,6 +1,6 @@
 //! Probability distributions of input quantities (JCGM 101 §6.4, Table 1): their expectation,
 //! standard uncertainty and sampling. Quantities known only by their limits are rectangular
-//! (seed 000 App. A, WECC 19-1990).
+//! (Soons 1993 App. A, WECC 19-1990).
 
 use super::UncertaintyError;
 use nalgebra::{DMatrix, DVector};

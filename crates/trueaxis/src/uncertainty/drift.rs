@@ -1,17 +1,17 @@
-//! Drift of the measurement chain during a measurement (seed 004 §4.4): the statistical method of
+//! Drift of the measurement chain during a measurement (Andolfatto et al. 2011 §4.4): the statistical method of
 //! ISO/TR 230-9 and the cyclic method (a periodic drift function of time, a random start time per
 //! sequence, each point measured at `t0 + (n - 1) t_m + k t_i`).
 
 use super::UncertaintyError;
 use std::f64::consts::PI;
 
-/// ISO/TR 230-9 (seed 004 eq. 11): the standard uncertainty `u_EVE = E_VE / (2 sqrt 3)` of a drift
+/// ISO/TR 230-9 (Andolfatto et al. 2011 eq. 11): the standard uncertainty `u_EVE = E_VE / (2 sqrt 3)` of a drift
 /// of magnitude (peak to valley) `E_VE`, in the unit of `E_VE`. Table 4: 6.95 um -> 2.00 um.
 pub fn statistical_drift_uncertainty(e_ve: f64) -> f64 {
     e_ve / (2.0 * 3f64.sqrt())
 }
 
-/// Measurement time of seed 004 eq. 12 in s: `t_nk = t0 + (n - 1) t_m + k t_i`, written with the
+/// Measurement time of Andolfatto et al. 2011 eq. 12 in s: `t_nk = t0 + (n - 1) t_m + k t_i`, written with the
 /// 0-based trial index `trial = n - 1` and the time of the point within one run `point_time = k t_i`.
 pub fn measurement_time(t0: f64, trial: usize, run_duration: f64, point_time: f64) -> f64 {
     t0 + trial as f64 * run_duration + point_time
@@ -43,7 +43,7 @@ pub fn reduce_to_period(x: f64, period: f64) -> f64 {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Deserialize, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum StartPhase {
-    /// Once per Monte Carlo sequence, the trials following each other in time (seed 004 eq. 12).
+    /// Once per Monte Carlo sequence, the trials following each other in time (Andolfatto et al. 2011 eq. 12).
     #[default]
     Sequence,
     /// Independently for every trial (each trial a measurement at a random moment of the cycle).
@@ -159,7 +159,7 @@ mod tests {
 
     #[test]
     fn table_4_statistical_uncertainties() {
-        // seed 004 Table 4: E_VE 6.95 / 3.42 / 6.63 um -> u_EVE 2.00 / 0.99 / 1.91 um as printed;
+        // Andolfatto et al. 2011 Table 4: E_VE 6.95 / 3.42 / 6.63 um -> u_EVE 2.00 / 0.99 / 1.91 um as printed;
         // 6.95 / (2 sqrt 3) = 2.006 would round to 2.01 (a rounding slip in the table), hence 0.01
         for (e, u) in [(6.95, 2.00), (3.42, 0.99), (6.63, 1.91)] {
             assert!((statistical_drift_uncertainty(e) - u).abs() < 0.01);
@@ -169,7 +169,7 @@ mod tests {
 
     #[test]
     fn reduction_to_the_period_equals_rem_euclid_bit_for_bit() {
-        // the seed 004 times t0 + n t_m (t_m = 605.25 s, T = 1000 s) and awkward periods, values
+        // the Andolfatto et al. 2011 times t0 + n t_m (t_m = 605.25 s, T = 1000 s) and awkward periods, values
         // on and next to multiples of the period, negative times, signed zeros
         let mut checked = 0;
         for period in [1000.0, 0.1, 1.0 / 3.0, 604.999_999, 7.0e-3, 86_400.0] {

@@ -1,11 +1,11 @@
-//! The GUM law of propagation for linear(ised) models (JCGM 100 §5; seed 000 App. A eq. A.4):
+//! The GUM law of propagation for linear(ised) models (JCGM 100 §5; Soons 1993 App. A eq. A.4):
 //! `Cov{y} = F Cov{x} F^T`, principal axes of a covariance and chi-square confidence ellipsoids.
 
 use super::UncertaintyError;
 use nalgebra::{DMatrix, DVector};
 use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
 
-/// `F Cov F^T` (seed 000 eq. A.4): the covariance of `y = F x` when `x` has covariance `cov`.
+/// `F Cov F^T` (Soons 1993 eq. A.4): the covariance of `y = F x` when `x` has covariance `cov`.
 /// E.g. the identified parameters (`F` the pseudo-inverse, um per um) or predicted volumetric
 /// errors (`F` the Jacobian rows, um per parameter unit).
 pub fn propagate(f: &DMatrix<f64>, cov: &DMatrix<f64>) -> Result<DMatrix<f64>, UncertaintyError> {
@@ -28,7 +28,7 @@ pub fn normal_coverage_factor(p: f64) -> f64 {
     Normal::new(0.0, 1.0).map(|n| n.inverse_cdf(0.5 * (1.0 + p))).unwrap_or(f64::NAN)
 }
 
-/// `Cov = Gamma Lambda Gamma^T` (seed 000 App. A): variances along the principal directions,
+/// `Cov = Gamma Lambda Gamma^T` (Soons 1993 App. A): variances along the principal directions,
 /// largest first; `directions.column(i)` belongs to `variances[i]`.
 #[derive(Clone, Debug)]
 pub struct PrincipalAxes {
@@ -50,7 +50,7 @@ pub fn principal_axes(cov: &DMatrix<f64>) -> PrincipalAxes {
 }
 
 /// The region `(e - mu)^T Cov^+ (e - mu) <= chi2_nu(level)` that holds a Gaussian vector with
-/// probability `level` (seed 000 App. A, with the `chi2` quantile at the confidence level; the
+/// probability `level` (Soons 1993 App. A, with the `chi2` quantile at the confidence level; the
 /// printed "1 - chi2" is an OCR slip). `nu` is the number of nonzero eigenvalues.
 #[derive(Clone, Debug)]
 pub struct Ellipsoid {

@@ -1,4 +1,4 @@
-//! The linear identification `p = P y`, `P = (X^T W X)^-1 X^T W` (seed 004 eq. 5 with weights),
+//! The linear identification `p = P y`, `P = (X^T W X)^-1 X^T W` (Andolfatto et al. 2011 eq. 5 with weights),
 //! computed once, and the uncertainty sources compiled into linear maps to the parameters:
 //! - Gaussian sources independent per observation (sensor noise, frame transformation, statistical
 //!   drift) are Gaussian in the parameters with covariance `P Sigma P^T`: one multivariate normal of
@@ -118,7 +118,7 @@ impl IdentificationMap {
         fit_linear(&d.x, y, Some(&d.weight), &d.parameters).map(|f| f.coefficients).map_err(identify_error)
     }
 
-    /// GUM covariance of the parameters due to `source` (JCGM 100 §5.2, seed 000 eq. A.4):
+    /// GUM covariance of the parameters due to `source` (JCGM 100 §5.2, Soons 1993 eq. A.4):
     /// `P Sigma P^T` for sources independent per observation; for the cyclic drift, with `tau`
     /// uniform over the period, `sum_k (g_k g_k^T + h_k h_k^T) / 2`.
     pub fn gum_covariance(&self, source: &Source) -> Result<DMatrix<f64>, UncertaintyError> {
@@ -201,7 +201,7 @@ struct CyclicMap {
 }
 
 impl CyclicMap {
-    /// `tau = t0 + (n - 1) t_m` reduced to one period (seed 004 eq. 12 without the point time).
+    /// `tau = t0 + (n - 1) t_m` reduced to one period (Andolfatto et al. 2011 eq. 12 without the point time).
     fn tau(&self, t0: f64, trial: usize) -> f64 {
         reduce_to_period(measurement_time(t0, trial, self.run_duration, 0.0), self.period)
     }
@@ -489,7 +489,7 @@ impl LinearModel<'_> {
     }
 }
 
-/// The start time `t0`: the sequence's (seed 004 eq. 12), or a new one for this trial.
+/// The start time `t0`: the sequence's (Andolfatto et al. 2011 eq. 12), or a new one for this trial.
 fn start_time(c: &CyclicMap, sequence_t0: f64, rng: &mut ChaCha8Rng) -> f64 {
     match c.start_phase {
         StartPhase::Sequence => sequence_t0,

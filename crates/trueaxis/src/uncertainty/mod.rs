@@ -1,9 +1,9 @@
-//! Measurement uncertainty (issue 5): the GUM law of propagation (JCGM 100, seed 000 App. A),
+//! Measurement uncertainty (issue 5): the GUM law of propagation (JCGM 100, Soons 1993 App. A),
 //! the adaptive Monte Carlo method (JCGM 101 §7.9, several outputs as in JCGM 102), input
-//! distributions, drift of the measurement chain (seed 004 §4.4: statistical and cyclic methods),
-//! and budgets per source (seed 004 Table 5).
+//! distributions, drift of the measurement chain (Andolfatto et al. 2011 §4.4: statistical and cyclic methods),
+//! and budgets per source (Andolfatto et al. 2011 Table 5).
 //!
-//! The identification is linear, `p = P y` with `P = (X^T W X)^-1 X^T W` (seed 004 eq. 5): an
+//! The identification is linear, `p = P y` with `P = (X^T W X)^-1 X^T W` (Andolfatto et al. 2011 eq. 5): an
 //! [`IdentificationMap`] holds `P` once, and each uncertainty source becomes a linear map from its
 //! few random inputs to the parameters, so that a Monte Carlo trial costs a few hundred flops. A
 //! brute-force path re-solves the least squares in every trial; the tests prove both agree.

@@ -1,5 +1,5 @@
 //! The adaptive Monte Carlo method of JCGM 101 §7.9.4 for several outputs (JCGM 102 §7.8, as used
-//! in seed 004 §4.1): sequences of `M` trials until, for every output, twice the standard deviations
+//! in Andolfatto et al. 2011 §4.1): sequences of `M` trials until, for every output, twice the standard deviations
 //! of the sequence values of the estimate, the standard uncertainty and both coverage interval
 //! endpoints are below the numerical tolerance `delta`.
 //!
@@ -33,7 +33,7 @@ const SEQUENCE_STREAM: u64 = 0xffff_ffff;
 
 /// A model evaluated once per Monte Carlo trial: draws its inputs and writes its outputs.
 pub trait TrialModel: Sync {
-    /// Draws made once per sequence (e.g. the start time of the cyclic drift, seed 004 eq. 12).
+    /// Draws made once per sequence (e.g. the start time of the cyclic drift, Andolfatto et al. 2011 eq. 12).
     type Sequence: Sync;
     /// Buffers reused between the trials of one thread.
     type Workspace: Send;
@@ -90,7 +90,7 @@ pub enum IntervalKind {
 pub struct McSettings {
     /// Coverage probability `p`, e.g. 0.95.
     pub coverage: f64,
-    /// Numerical tolerance `delta` in the unit of the outputs (seed 004: 0.05 um or urad).
+    /// Numerical tolerance `delta` in the unit of the outputs (Andolfatto et al. 2011: 0.05 um or urad).
     pub tolerance: f64,
     /// Trials per sequence `M`: JCGM 101 uses `max(J, 10^4)` with `J = ceil(100 / (1 - p))`.
     pub trials_per_sequence: usize,
@@ -154,7 +154,7 @@ pub fn minimum_trials(coverage: f64) -> usize {
     (100.0 / (1.0 - coverage) - 1e-9).ceil().max(2.0) as usize
 }
 
-/// Control variables after sequence `h >= 2` (JCGM 101 §7.9.4 f; seed 004 Fig. 13): the standard
+/// Control variables after sequence `h >= 2` (JCGM 101 §7.9.4 f; Andolfatto et al. 2011 Fig. 13): the standard
 /// deviations of the averages of the sequence estimates `s_y`, standard uncertainties `s_u`, and
 /// lower and upper interval endpoints, per output and their maximum over outputs.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -643,7 +643,7 @@ mod tests {
     #[test]
     fn centred_products_equal_the_definition_bit_for_bit() {
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-        // 14 outputs as seed 004, odd counts, a tile remainder, a single trial, a single output
+        // 14 outputs as Andolfatto et al. 2011, odd counts, a tile remainder, a single trial, a single output
         for (outputs, trials) in [(14, 1000), (5, 130), (1, 64), (9, 1), (16, 257)] {
             let data: Vec<Vec<f64>> =
                 (0..outputs).map(|k| (0..trials).map(|_| rng.gen_range(-1.0..1.0) * 10f64.powi(k as i32 % 5 - 2)).collect()).collect();

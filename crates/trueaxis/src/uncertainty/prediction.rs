@@ -1,5 +1,5 @@
 //! Uncertainty of a predicted volumetric error `dx dy dz` (um) at one pose, from the covariance of
-//! the identified parameters: `Cov{e} = F Cov{p} F^T` (seed 000 App. A eq. A.4, JCGM 102 §6.3),
+//! the identified parameters: `Cov{e} = F Cov{p} F^T` (Soons 1993 App. A eq. A.4, JCGM 102 §6.3),
 //! `F` the first-order effect of the parameters on `dx dy dz` at the pose (um per parameter unit;
 //! `identify::Campaign::unknown_jacobian`). The prediction is linear in the parameters, so the
 //! Monte Carlo counterpart is the same product with the covariance of the Monte Carlo parameter

@@ -1,6 +1,6 @@
 //! The uncertainty results as one JSON document (the `trueaxis uncertainty --json` contract, also
 //! the dictionaries of the Python package), and the uncertainty of predicted volumetric errors at
-//! poses (seed 000 App. A eq. A.4).
+//! poses (Soons 1993 App. A eq. A.4).
 //!
 //! Units: parameters in their own units (um, urad), volumetric errors in um, covariances in the
 //! squares of those units.
@@ -20,7 +20,7 @@ pub struct PoseUncertainty {
     pub monte_carlo: VolumetricUncertainty,
 }
 
-/// Seed 000 App. A eq. A.4 at every pose (`poses_user`, `axis_count` positions per pose in mm and
+/// Soons 1993 App. A eq. A.4 at every pose (`poses_user`, `axis_count` positions per pose in mm and
 /// deg): the GUM covariance of the parameters (all sources) through
 /// [`Identification::volumetric_covariance`], and the Monte Carlo covariance of the parameter
 /// trials through the same `F` (the prediction is linear in the parameters); `level` is the

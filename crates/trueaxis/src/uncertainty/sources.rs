@@ -7,7 +7,7 @@
 //! seed = 4
 //! [[source]]
 //! name = "sensors"
-//! kind = "noise"           # independent per observation (seed 004 §4.2, §4.3)
+//! kind = "noise"           # independent per observation (Andolfatto et al. 2011 §4.2, §4.3)
 //! channels.x = { distribution = "normal", u = 0.28 }
 //! [[source]]
 //! name = "drift"
@@ -39,23 +39,23 @@ pub struct Source {
 #[derive(Clone, Debug, PartialEq)]
 pub enum SourceKind {
     /// An error drawn independently for every observation of a channel from the channel's
-    /// distribution (um): sensor output noise (seed 004 Table 3), or the sensor-to-machine frame
-    /// transformation modelled per point as in seed 004 §4.3.
+    /// distribution (um): sensor output noise (Andolfatto et al. 2011 Table 3), or the sensor-to-machine frame
+    /// transformation modelled per point as in Andolfatto et al. 2011 §4.3.
     Noise { channels: Vec<(String, Distribution)> },
     /// Gaussian errors correlated across channels (JCGM 101 §6.4.8, JCGM 102 §6.3): the
     /// observations of `channels` taken at the same time `t` (one point of a 3D-ball head: its x, y
     /// and z) get one joint draw from N(0, `covariance`) (um^2, in the order of `channels`);
     /// points are independent of each other.
     Correlated { channels: Vec<String>, covariance: nalgebra::DMatrix<f64> },
-    /// Drift by the statistical method of ISO/TR 230-9 (seed 004 §4.4.1): a Gaussian error with
+    /// Drift by the statistical method of ISO/TR 230-9 (Andolfatto et al. 2011 §4.4.1): a Gaussian error with
     /// `u = E_VE / (2 sqrt 3)`, independent per observation; `E_VE` in um per channel.
     StatisticalDrift { channels: Vec<(String, f64)> },
-    /// Drift by the cyclic method (seed 004 §4.4.2).
+    /// Drift by the cyclic method (Andolfatto et al. 2011 §4.4.2).
     CyclicDrift(CyclicDrift),
 }
 
 /// The cyclic drift: a periodic function of time per channel, subtracted from the simulated
-/// measurement at `t0 + (n - 1) t_m + t_k` (seed 004 eq. 12) with `t0` uniform over one period.
+/// measurement at `t0 + (n - 1) t_m + t_k` (Andolfatto et al. 2011 eq. 12) with `t0` uniform over one period.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CyclicDrift {
     /// Drift function of each channel; all share the period and the random start time.

@@ -1,12 +1,12 @@
 //! Multilateration campaigns on the 3-axis `examples/machines/vmc3.toml` whose unknowns are
 //! parametric error functions (campaign `[basis.NAME]`): laser distances (instrument `length`) from
 //! fixed stations on the table to the tool point at seeded random poses, as a laser tracer measures
-//! them (seed 000 §4.2, the artefact-free case). Random poses give every axis function many distinct
+//! them (Soons 1993 §4.2, the artefact-free case). Random poses give every axis function many distinct
 //! positions, so a basis of high degree stays identifiable.
 //!
 //! Used by `tests/identify_basis.rs`. A benchmark can include it
 //! (`#[path = "../tests/support/basis_campaign.rs"] mod basis_campaign;`) and build the large problem
-//! of DESIGN.md section 5, 10^5 readings x 501 B-spline and squareness coefficients:
+//! of BENCHMARKS.md (targets), 10^5 readings x 501 B-spline and squareness coefficients:
 //!
 //! ```text
 //! let m = Machine::load("../../examples/machines/vmc3.toml")?;
@@ -56,7 +56,7 @@ pub fn random_poses(machine: &Machine, count: usize, seed: u64) -> Vec<Vec<f64>>
 
 /// `[basis.NAME]` tables for the nine translational motion errors of the three linear axes:
 /// piecewise cubics, C2 at `knots` equally spaced interior knots over each axis range, no constant
-/// term; the six straightness errors constrained to have no linear trend (seed 000 eqs. 3.4-3.8), so
+/// term; the six straightness errors constrained to have no linear trend (Soons 1993 eqs. 3.4-3.8), so
 /// that the squareness errors stay separable. Coefficients: 3 + knots per positioning error,
 /// 2 + knots per straightness error, `21 + 9 knots` in all (with [`SQUARENESS`]: `24 + 9 knots`).
 /// Truncated powers are ill-conditioned with many knots (beyond ~10 per axis the scaled design
@@ -71,7 +71,7 @@ pub fn piecewise_bases(machine: &Machine, knots: usize) -> String {
 /// over the part of each axis range that [`random_poses`] samples (every knot interval sees poses):
 /// `knots + 3` coefficients per positioning error (no constant), `knots + 2` per straightness error
 /// (no linear trend), `21 + 9 knots` in all as [`piecewise_bases`]; with [`SQUARENESS`] `24 + 9
-/// knots` unknowns, 501 for 53 knots (DESIGN.md section 5: piecewise-polynomial error maps).
+/// knots` unknowns, 501 for 53 knots (BENCHMARKS.md (targets): piecewise-polynomial error maps).
 pub fn bspline_bases(machine: &Machine, knots: usize) -> String {
     axis_bases(machine, POSE_MARGIN, |lo, hi| format!("family = \"bspline\"\ndegree = 3\nknots = [{}]\n", equally_spaced(lo, hi, knots)))
 }

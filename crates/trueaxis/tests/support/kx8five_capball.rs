@@ -1,4 +1,4 @@
-//! The CapBall identification test of seed 004 on the Huron KX8-Five (`examples/machines/kx8five.toml`)
+//! The CapBall identification test of Andolfatto et al. 2011 on the Huron KX8-Five (`examples/machines/kx8five.toml`)
 //! as a design matrix of the first-order model (`model::jacobian_batch`, machine frame, translation
 //! rows): the tool point held on a master ball on the table while A and C sweep and X, Y, Z follow.
 //! Used by `uncertainty_seed004.rs` and `uncertainty_table5.rs`.
@@ -22,7 +22,7 @@ pub struct Trajectory {
 
 impl Trajectory {
     /// The trajectory of the shipped design (`examples/uncertainty/kx8five_design.csv`): ball at
-    /// (150, 0, 50) mm, A 0 -> 120 deg, C three turns clockwise, 807 poses (seed 004 §3.2, Fig. 2).
+    /// (150, 0, 50) mm, A 0 -> 120 deg, C three turns clockwise, 807 poses (Andolfatto et al. 2011 §3.2, Fig. 2).
     pub const SEED_004: Trajectory = Trajectory { ball: [150.0, 0.0, 50.0], a_end_deg: 120.0, c_end_deg: -1080.0, poses: 807 };
 }
 

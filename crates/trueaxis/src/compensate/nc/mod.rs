@@ -1,4 +1,4 @@
-//! NC-program correction (seed 003 section 4, "editing NC programs"): run an RS274/NGC program as
+//! NC-program correction (NISTIR 5236 section 4, "editing NC programs"): run an RS274/NGC program as
 //! LinuxCNC 2.9 does (parameters, expressions, O-word subroutines and control flow, tool length
 //! offsets, work offsets, canned cycles...) or a Fanuc program as a Fanuc control does (macro
 //! variables, `IF`/`GOTO`/`WHILE`, `M98`/`M99`/`G65`), correct every point it moves to by the pose
