@@ -349,6 +349,6 @@ fn every_link_between_the_pages_resolves() {
     assert_eq!(slug("## `trueaxis predict`"), "trueaxis-predict");
     assert_eq!(
         slug(" Scale temperature: correction to 20 degC (Soons 1993 §3.2.4, §5.1.1; ISO 1)"),
-        "scale-temperature-correction-to-20-degc-seed-000-324-511-iso-1"
+        "scale-temperature-correction-to-20-degc-soons-1993-324-511-iso-1"
     );
 }

@@ -197,15 +197,15 @@ async def main():
 
 
 async def stop(server):
-    """Stops the server; asyncua 2.1's stop waits for its connections to close, which the client
-    (trueaxis live, still running) may never do: the wait is bounded and the sockets closed anyway."""
+    """Stops the server: its listening socket first, so that a client reconnecting at once (trueaxis
+    live does) cannot open a session on a server that is going away; then the rest, bounded, since
+    asyncua 2.1's stop waits for its connections to close, which a running client may never do."""
+    listening = getattr(getattr(server, "bserver", None), "_server", None)
+    if listening is not None:
+        listening.close()
     try:
         await asyncio.wait_for(server.stop(), STOP_S)
     except asyncio.TimeoutError:
-        # the listening socket closed by hand, so that the port can be bound again after an outage
-        listening = getattr(getattr(server, "bserver", None), "_server", None)
-        if listening is not None:
-            listening.close()
         logging.error("the server did not stop within %s s; its sockets are closed", STOP_S)
 
 
