@@ -300,10 +300,17 @@ fn nc(data: &[u8], dialect: Dialect) {
     let m = machine("vmc3");
     let mut options = NcOptions::new(m);
     options.dialect = Some(dialect);
+    // an endless loop is refused after `max_blocks` blocks; the default (20 million) costs over a
+    // minute unoptimised, far beyond the smoke run's 10 s timeout; the bound itself is the same
+    // code path at any size
+    options.setup.max_blocks = FUZZ_MAX_BLOCKS;
     if let Err(e) = correct_program(&Corrector::new(m, vmc3_errors()), data, ORIGIN, &options, &[]) {
         named(&e);
     }
 }
+
+/// Most blocks one fuzzed program may run (see [`nc`]).
+const FUZZ_MAX_BLOCKS: usize = 20_000;
 
 /// A LinuxCNC (RS274/NGC) program (`examples/nc/*.ngc`).
 pub fn nc_linuxcnc(data: &[u8]) {

@@ -147,7 +147,9 @@ pub fn run(machine: &MachineAxes, mut program: Program, setup: &ProgramSetup) ->
         exec.line_number = pc.1 + 1;
         let result = match &file.lines[pc.1] {
             Err(m) => Err(m.clone()),
-            Ok(_) if exec.trace.steps.len() >= MAX_STEPS => Err(format!("more than {MAX_STEPS} blocks executed: an endless loop?")),
+            Ok(_) if exec.trace.steps.len() >= setup.max_blocks => {
+                Err(format!("more than {} blocks executed: an endless loop?", setup.max_blocks))
+            }
             Ok(line) if line.is_empty() && line.comments.is_empty() => Ok(Flow::Next),
             Ok(line) => match &line.statement {
                 Some(statement) => exec.statement(file, pc, statement),
@@ -786,5 +788,33 @@ impl Exec<'_> {
             })?;
         }
         Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::axes::{AxisSpec, MachineAxes};
+    use crate::{Dialect, ProgramSetup};
+
+    fn mill() -> MachineAxes {
+        let axis = |letter| AxisSpec { letter, rotary: false, range: None };
+        MachineAxes { name: "mill".into(), axes: vec![axis('X'), axis('Y'), axis('Z')] }
+    }
+
+    /// A loop whose counter is never advanced (a misspelt parameter, as the `nc_linuxcnc` fuzz
+    /// target found) is refused at the block limit, with the line it was on; a loop that ends
+    /// below the limit runs.
+    #[test]
+    fn an_endless_loop_is_refused_at_the_block_limit() {
+        let axes = mill();
+        let mut setup = ProgramSetup::zero(&axes);
+        setup.max_blocks = 1000;
+        let endless = b"G21 G90 F100\n#<pass> = 0\no10 while [#<pass> LT 3]\nG1 X1\n#<pasc> = [#<pass> + 1]\no10 endwhile\nM2\n";
+        let e = crate::run(&axes, endless, "p.ngc", Some(Dialect::LinuxCnc), &setup).unwrap_err();
+        assert_eq!(e.message, "more than 1000 blocks executed: an endless loop?");
+        assert!((3..=6).contains(&e.line), "line {}", e.line);
+        let ending = b"G21 G90 F100\n#<pass> = 0\no10 while [#<pass> LT 3]\nG1 X1\n#<pass> = [#<pass> + 1]\no10 endwhile\nM2\n";
+        let (trace, _) = crate::run(&axes, ending, "p.ngc", Some(Dialect::LinuxCnc), &setup).unwrap();
+        assert!(trace.steps.len() < 30, "{} blocks", trace.steps.len());
     }
 }

@@ -88,6 +88,10 @@ pub struct ProgramSetup {
     pub rs274_tool_change: bool,
     /// What a tool the table lacks (or every tool, without a table) is taken as.
     pub unknown_tools: UnknownTools,
+    /// Most blocks the run may execute before it is refused as an endless loop
+    /// ([`interpret::MAX_STEPS`] by default; the fuzz targets use far fewer so that a mutated
+    /// loop condition costs milliseconds, not minutes).
+    pub max_blocks: usize,
 }
 
 /// What a tool that is not in the tool table is taken as.
@@ -112,6 +116,7 @@ impl ProgramSetup {
             fanuc: FanucSettings::default(),
             rs274_tool_change: false,
             unknown_tools: UnknownTools::Assume(0.0),
+            max_blocks: interpret::MAX_STEPS,
         }
     }
 
