@@ -30,7 +30,8 @@ fn demo_end_to_end() {
 }
 
 fn summary_has_the_known_errors_and_compensation_removes_most_of_the_error(demo: &Path, s: &serde_json::Value) {
-    assert_eq!(s["poses"], 3 * 21 * 21);
+    // the three mid-planes (21 x 21 nodes) at 12 rotary states: A 0, 90, 180 deg x C 0, 90, 180, 270
+    assert_eq!(s["poses"], 12 * 3 * 21 * 21);
     let (before, after) = (s["max_position_error_um"].as_f64().unwrap(), s["max_position_error_after_compensation_um"].as_f64().unwrap());
     // Andolfatto et al. 2011 Table 1 errors over the KX8-Five travel: tens of micrometres
     assert!(before > 20.0 && before < 200.0, "max before {before}");
@@ -219,7 +220,7 @@ fn check_predict(html: &str, stdout: &str) {
             (f[ix] * f[ix] + f[iy] * f[iy] + f[iz] * f[iz]).sqrt()
         })
         .collect();
-    assert_eq!(d.len(), 3 * 21 * 21);
+    assert_eq!(d.len(), 12 * 3 * 21 * 21, "the mid-planes at 12 rotary states");
     let max = d.iter().cloned().fold(0.0, f64::max);
     let rms = (d.iter().map(|v| v * v).sum::<f64>() / d.len() as f64).sqrt();
     let text = unescape(section(html, "volumetric"));

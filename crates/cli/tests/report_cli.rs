@@ -122,14 +122,18 @@ fn a_campaign_with_sources_gives_identification_uncertainty_maps_and_compensatio
         let (lo, hi) = (p["interval95"][0].as_f64().unwrap(), p["interval95"][1].as_f64().unwrap());
         assert!(lo < v && v < hi, "{name}: {v} outside [{lo}, {hi}]");
     }
-    // the maps are of the identified errors without the campaign's set-up: the exact correction
-    // removes them to the corrector's tolerance (1e-5 mm); the axis-indexed tables, which cannot
-    // follow the rotary axes' location errors as they turn, to under a fifth (5.7 of 55.6 um)
+    // the maps are of the identified errors without the campaign's set-up, at 12 rotary states: the
+    // exact correction removes them to the corrector's tolerance (1e-5 mm); the axis-indexed
+    // tables, which cannot follow the rotary axes' location errors as they turn, leave more than
+    // the machine has without them (99.5 against 55.6 um), and the report says so in a note
     let v = &s["volumetric"];
     let (before, after, tables) =
         (v["max_before_um"].as_f64().unwrap(), v["max_after_um"].as_f64().unwrap(), v["max_after_tables_um"].as_f64().unwrap());
     assert!(before > 10.0 && after < 0.011, "before {before} um, after {after} um");
-    assert!(tables < before / 5.0, "before {before} um, with the tables {tables} um");
+    assert!(tables > before, "before {before} um, with the tables {tables} um");
+    let warning = "Compensation with the own-axis and cross-axis tables summed leaves a largest error of";
+    assert_eq!(html.matches(warning).count(), 1, "the volumetric section warns once");
+    assert!(html.contains("do not load them into this machine"), "and says what to do instead");
 }
 
 #[test]

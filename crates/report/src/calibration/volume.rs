@@ -1,6 +1,8 @@
 //! The volumetric part of a calibration report: the exact volumetric error over the mid-planes of
-//! the work volume before compensation, and after: the machine driven to the corrected set-points,
-//! corrected pose by pose on the exact chain or by the compensation tables.
+//! the work volume, at each of a set of rotary states spanning the rotary axes' travel
+//! ([`rotary_states`](super::maps::rotary_states)), before compensation, and after: the machine
+//! driven to the corrected set-points, corrected pose by pose on the exact chain or by the
+//! compensation tables.
 
 use super::super::html::Section;
 use super::compensation::controller_name;
@@ -9,7 +11,7 @@ use super::maps::{magnitudes_um, statistics, VolumeMap};
 use super::quantity::{pose, quantity};
 use super::CalibrationError;
 use rayon::prelude::*;
-use trueaxis::compensate::export::residual::Applied;
+use trueaxis::compensate::export::residual::{leaves_more_than_it_removes, Applied};
 use trueaxis::compensate::{CorrectionWorkspace, Corrector};
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::{rotation_log, Mat3, Pose, Vec3};
@@ -54,7 +56,7 @@ impl VolumePart {
         tables: &CompensationPart,
         controller: Option<(&str, &dyn Applied)>,
     ) -> Result<Option<VolumePart>, CalibrationError> {
-        let Some(map) = VolumeMap::new(machine) else { return Ok(None) };
+        let Some(map) = VolumeMap::over_rotary_states(machine) else { return Ok(None) };
         let (machine_errors, compensation_errors) = (&machine_errors.without_setup(), &compensation_errors.without_setup());
         let mut predictor = Predictor::new(machine, machine_errors);
         predictor.frame = Frame::Machine;
@@ -139,6 +141,34 @@ impl VolumePart {
         }))
     }
 
+    /// Warnings for each compensation of the map that leaves more error than it removes (the
+    /// rule of `trueaxis compensate`, which refuses to write such files).
+    pub fn worse_than_before(&self) -> Vec<String> {
+        let um = |v: f64| quantity(v, 2, "um");
+        let before = self.before_um.0;
+        let mut warnings = Vec::new();
+        let mut warn = |what: String, left: f64, why: &str| {
+            if leaves_more_than_it_removes(before, left) {
+                warnings.push(format!(
+                    "{what} leaves a largest error of {} against {} without compensation: more than it removes. {why}",
+                    um(left),
+                    um(before)
+                ));
+            }
+        };
+        let why_tables = "Axis-indexed tables cannot follow the errors of the rotary axes' locations as those axes turn; do not load them into this machine: correct its kinematic description instead (trueaxis compensate with --format heidenhain, siemens, fanuc or linuxcnc; docs/compensation.md, five-axis machines).";
+        match &self.controller {
+            Some(name) => warn(
+                format!("Compensation with the {} files", controller_name(name)),
+                self.after_um.0,
+                "trueaxis compensate refuses to write them (exit status 2) and names the better option.",
+            ),
+            None => warn("The exact correction at each pose".into(), self.after_um.0, "The identified errors do not describe this machine: check the identification."),
+        }
+        warn("Compensation with the own-axis and cross-axis tables summed".into(), self.after_tables_um.0, why_tables);
+        warnings
+    }
+
     pub fn section(&self) -> Section {
         let at = pose(&self.max_pose);
         let um = |v: f64| quantity(v, 2, "um");
@@ -149,10 +179,18 @@ impl VolumePart {
             ),
             None => "with the correction of every pose solved on the exact chain, as a controller that evaluates the error model or the real-time corrector applies it".to_string(),
         };
+        let states = self.map.states_text();
+        let where_ = if states.is_empty() {
+            format!("{} poses, machine frame", self.poses)
+        } else {
+            format!(
+                "at each rotary state {states}: {} poses, machine frame; each map shows at every node the largest |d| over the rotary states",
+                self.poses
+            )
+        };
         let mut s = Section::new("volumetric", "Volumetric error before and after compensation")
             .paragraph(format!(
-                "Exact volumetric error |d| of the tool point relative to the workpiece origin over the mid-planes of the linear-axis travel ({} poses, rotary axes at 0, machine frame). Before compensation: largest {} (at {}), RMS {}. After compensation, {}: largest {}, RMS {}.",
-                self.poses,
+                "Exact volumetric error |d| of the tool point relative to the workpiece origin over the mid-planes of the linear-axis travel ({where_}). Before compensation: largest {} (at {}), RMS {}. After compensation, {}: largest {}, RMS {}.",
                 um(self.before_um.0),
                 at,
                 um(self.before_um.1),
@@ -176,6 +214,9 @@ impl VolumePart {
                     vec!["after, own-axis and cross-axis tables summed".into(), um(self.after_tables_um.0), um(self.after_tables_um.1)],
                 ],
             );
+        for w in self.worse_than_before() {
+            s = s.note(w);
+        }
         for p in &self.description {
             s = s.paragraph(p.clone());
         }

@@ -173,8 +173,15 @@ impl FormatResidual {
     /// What is left within [`NEGLIGIBLE_LEFT_UM`] is never more: a machine without errors gets
     /// tables of zeros, which change nothing.
     pub fn leaves_more_than_it_removes(&self) -> bool {
-        self.worst_um > 0.5 * self.worst_error_um && self.worst_um > NEGLIGIBLE_LEFT_UM
+        leaves_more_than_it_removes(self.worst_error_um, self.worst_um)
     }
+}
+
+/// Whether a compensation that leaves `worst_left_um` of `worst_before_um` (largest errors over
+/// the same poses, um) leaves more than it removes, by the rule of
+/// [`FormatResidual::leaves_more_than_it_removes`].
+pub fn leaves_more_than_it_removes(worst_before_um: f64, worst_left_um: f64) -> bool {
+    worst_left_um > 0.5 * worst_before_um && worst_left_um > NEGLIGIBLE_LEFT_UM
 }
 
 /// An error left that no controller can show or act on: half the 0.1 um resolution of the
