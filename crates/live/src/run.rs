@@ -148,12 +148,12 @@ pub fn run(o: &Options) -> Result<Summary, LiveError> {
                     commit(&engine, &step, o, &mut sinks, &mut status)?;
                 }
             }
-            Some(Event::Note(n)) => {
-                status.note(&n);
-                sinks.iter_mut().for_each(|s| s.note(&n));
-            }
+            Some(Event::Note(n)) => broadcast(&n, &mut sinks, &mut status),
             Some(Event::End) => break,
             None => {}
+        }
+        for n in sinks.iter_mut().map(|s| s.notes()).collect::<Result<Vec<_>, _>>()?.concat() {
+            broadcast(&n, &mut sinks, &mut status);
         }
         if let Some(now) = clock.now().filter(|t| t.is_finite()) {
             if let Some(step) = engine.tick(now) {
@@ -171,6 +171,12 @@ fn commit(engine: &Engine, step: &Step, o: &Options, sinks: &mut [Box<dyn Sink>]
     engine.state.save(&o.state, !o.no_sync)?;
     deliver(step, sinks, status, engine.state.samples);
     Ok(())
+}
+
+/// A message on the status line and in every log.
+fn broadcast(message: &str, sinks: &mut [Box<dyn Sink>], status: &mut Status) {
+    status.note(message);
+    sinks.iter_mut().for_each(|s| s.note(message));
 }
 
 /// Writes a step to every sink; a failing sink is reported and the others still written.
@@ -275,8 +281,8 @@ fn opcua_open(
         }
     }
     if let Some(url) = sink_url.filter(|u| Some(u) != source_url.as_ref()) {
-        let (_, sink) = connect(&url, Nodes { outputs: outputs()?, ..Nodes::default() }, period, give_up)?;
-        sinks.push(Box::new(sink));
+        let (source, sink) = connect(&url, Nodes { outputs: outputs()?, ..Nodes::default() }, period, give_up)?;
+        sinks.push(Box::new(sink.reporting(source)));
     }
     Ok(())
 }

@@ -17,6 +17,7 @@
 //! a new one built (reconnect.rs), which is the same whatever the server did (restarted
 //! with new sessions, or the same one back after a network fault).
 
+use super::reconnect::Plan;
 use super::{Forward, Incoming};
 use crate::{environment, input, LiveError};
 use futures::{Stream, StreamExt};
@@ -82,17 +83,12 @@ pub fn session_gone(code: StatusCode) -> bool {
 }
 
 impl Link {
-    /// Connects to `url`, checks every node of `ids`, subscribes to the first `subscribed` of them
-    /// (readings to `tx`).
-    pub async fn open(
-        url: &str,
-        ids: &[(NodeId, String)],
-        subscribed: usize,
-        period: Duration,
-        tx: &mpsc::Sender<Incoming>,
-    ) -> Result<Link, LiveError> {
+    /// Connects to the plan's server, checks every node, subscribes to the inputs (readings to
+    /// `tx`); `announce`: a message sent to `tx` before the subscription's first readings.
+    pub async fn open(plan: &Plan, tx: &mpsc::Sender<Incoming>, announce: impl FnOnce() -> Option<String>) -> Result<Link, LiveError> {
+        let (url, ids, subscribed, period) = (plan.url.as_str(), &plan.ids, plan.subscribed, plan.period);
         let link = Link::connect(url, subscribed > 0, period).await?;
-        let ready = link.check_and_subscribe(url, ids, subscribed, period, tx).await;
+        let ready = link.check_and_subscribe(url, ids, subscribed, period, tx, announce).await;
         match ready {
             Ok(()) => Ok(link),
             Err(e) => {
@@ -153,6 +149,7 @@ impl Link {
         subscribed: usize,
         period: Duration,
         tx: &mpsc::Sender<Incoming>,
+        announce: impl FnOnce() -> Option<String>,
     ) -> Result<(), LiveError> {
         let reads: Vec<ReadValueId> = ids.iter().map(|(id, _)| ReadValueId::from(id.clone())).collect();
         let values =
@@ -166,6 +163,9 @@ impl Link {
                 };
                 return Err(input(format!("{url}: node `{id}` ({what}) {why}")));
             }
+        }
+        if let Some(message) = announce() {
+            let _ = tx.send(Incoming::Note(message));
         }
         if subscribed > 0 {
             subscribe(&self.session, url, &ids[..subscribed], period, tx.clone()).await?;

@@ -78,6 +78,16 @@ pub struct OpcUaSource {
 pub struct OpcUaSink {
     writes: tokio::sync::mpsc::UnboundedSender<Write>,
     outputs: Vec<(usize, f64)>,
+    /// The messages of a connection that is only a sink (no source reads them).
+    incoming: Option<mpsc::Receiver<Incoming>>,
+}
+
+impl OpcUaSink {
+    /// A sink that reports its connection's messages itself (its source side is not used).
+    pub fn reporting(mut self, source: OpcUaSource) -> OpcUaSink {
+        self.incoming = Some(source.incoming);
+        self
+    }
 }
 
 fn parse_node(id: &str, what: &str) -> Result<NodeId, LiveError> {
@@ -131,7 +141,7 @@ pub fn connect(url: &str, nodes: Nodes, period: Duration, give_up: Option<Durati
                 }
             };
             runtime.block_on(async move {
-                match Link::open(&plan.url, &plan.ids, plan.subscribed, plan.period, &tx).await {
+                match Link::open(&plan, &tx, || None).await {
                     Ok(link) => {
                         let _ = ready_tx.send(Ok(()));
                         keep_up(plan, link, write_rx, tx).await;
@@ -152,7 +162,7 @@ pub fn connect(url: &str, nodes: Nodes, period: Duration, give_up: Option<Durati
         has_run: nodes.run.is_some(),
         pending: VecDeque::new(),
     };
-    let sink = OpcUaSink { writes: write_tx, outputs: nodes.outputs.iter().map(|(k, _, f)| (*k, *f)).collect() };
+    let sink = OpcUaSink { writes: write_tx, outputs: nodes.outputs.iter().map(|(k, _, f)| (*k, *f)).collect(), incoming: None };
     Ok((source, sink))
 }
 
@@ -221,5 +231,17 @@ impl Sink for OpcUaSink {
         }
         let values = self.outputs.iter().enumerate().map(|(i, (k, f))| (i, step.offsets_um[*k] * f)).collect();
         self.writes.send((step.time_s, values)).map_err(|_| environment("the OPC UA connection ended"))
+    }
+
+    fn notes(&mut self) -> Result<Vec<String>, LiveError> {
+        let mut notes = Vec::new();
+        while let Some(m) = self.incoming.as_ref().and_then(|r| r.try_recv().ok()) {
+            match m {
+                Incoming::Note(n) => notes.push(n),
+                Incoming::Failed(why) => return Err(environment(why)),
+                Incoming::Values(_) => {}
+            }
+        }
+        Ok(notes)
     }
 }

@@ -102,16 +102,7 @@ pub async fn keep_up(plan: Plan, first: Link, mut writes: UnboundedReceiver<Writ
         ));
         let lost_at = Instant::now();
         match reconnect(&plan, &mut writes, &mut unsent, &tx, lost_at).await {
-            Some((new, attempts)) => {
-                link = new;
-                note(format!(
-                    "OPC UA reconnected to {} after {:.1} s ({attempts} attempt{}): subscribed again to {} nodes, offsets written again",
-                    plan.url,
-                    lost_at.elapsed().as_secs_f64(),
-                    if attempts == 1 { "" } else { "s" },
-                    plan.subscribed
-                ));
-            }
+            Some(new) => link = new,
             None => return,
         }
     }
@@ -144,14 +135,15 @@ async fn serve(
     }
 }
 
-/// Attempts with the backoff until one succeeds: the new connection and the attempts made.
+/// Attempts with the backoff until one succeeds: the new connection, announced (`reconnected`)
+/// before the first readings of its subscription.
 async fn reconnect(
     plan: &Plan,
     writes: &mut UnboundedReceiver<Write>,
     unsent: &mut Option<Write>,
     tx: &mpsc::Sender<Incoming>,
     lost_at: Instant,
-) -> Option<(Link, u32)> {
+) -> Option<Link> {
     let mut backoff = Backoff::default();
     loop {
         let deadline = tokio::time::Instant::now() + backoff.wait();
@@ -162,8 +154,18 @@ async fn reconnect(
                 w = writes.recv() => *unsent = Some(w?),
             }
         }
-        match Link::open(&plan.url, &plan.ids, plan.subscribed, plan.period, tx).await {
-            Ok(link) => return Some((link, backoff.attempts)),
+        let (attempts, again) = (backoff.attempts, if unsent.is_some() { ", writing the latest offsets again" } else { "" });
+        let announce = || {
+            Some(format!(
+                "OPC UA reconnected to {} after {:.1} s ({attempts} attempt{}): subscribing again to {} nodes{again}",
+                plan.url,
+                lost_at.elapsed().as_secs_f64(),
+                if attempts == 1 { "" } else { "s" },
+                plan.subscribed
+            ))
+        };
+        match Link::open(plan, tx, announce).await {
+            Ok(link) => return Some(link),
             Err(e) => {
                 let away = lost_at.elapsed();
                 if plan.give_up.is_some_and(|g| away >= g) {
