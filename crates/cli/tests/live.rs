@@ -78,8 +78,30 @@ fn server(port: u16, args: &[&str]) -> Child {
     child
 }
 
+/// The stderr of each `trueaxis live` started, drained as it comes: a pipe left full (64 KiB of
+/// messages on a loaded machine) would block the process on its next message.
+static DRAINS: std::sync::Mutex<Vec<(u32, std::thread::JoinHandle<String>)>> = std::sync::Mutex::new(Vec::new());
+
 fn live(args: &[&str]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).arg("live").args(args).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap()
+    let mut child =
+        Command::new(env!("CARGO_BIN_EXE_trueaxis")).arg("live").args(args).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
+    let mut pipe = child.stderr.take().unwrap();
+    let drain = std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let _ = std::io::Read::read_to_end(&mut pipe, &mut bytes);
+        String::from_utf8_lossy(&bytes).into_owned()
+    });
+    DRAINS.lock().unwrap_or_else(|e| e.into_inner()).push((child.id(), drain));
+    child
+}
+
+/// What the `trueaxis live` of `pid` wrote on stderr, once it has ended.
+fn stderr_of(pid: u32) -> String {
+    let mut drains = DRAINS.lock().unwrap_or_else(|e| e.into_inner());
+    match drains.iter().position(|(p, _)| *p == pid) {
+        Some(i) => drains.remove(i).1.join().unwrap_or_default(),
+        None => String::new(),
+    }
 }
 
 /// The server's JSON report once it has played its rows.
@@ -114,8 +136,8 @@ fn load(pid: u32) -> (f64, u64) {
 
 fn stop(mut child: Child) -> String {
     child.kill().ok();
-    let out = child.wait_with_output().unwrap();
-    String::from_utf8_lossy(&out.stderr).into_owned()
+    child.wait().unwrap();
+    stderr_of(child.id())
 }
 
 /// `thermal predict --json` of a model on a campaign: (run, t, predicted um).
@@ -435,15 +457,15 @@ fn opcua_server_restarted_twice_each_time_down_longer_than_the_hold_and_the_ramp
     }
 }
 
-/// Waits at most `limit` for a child to end: its status, stderr and how long it took.
-fn ended_within(child: Child, limit: Duration) -> (Option<i32>, String, Duration) {
+/// Waits at most `limit` for a `trueaxis live` to end: its status, stderr and how long it took.
+fn ended_within(mut child: Child, limit: Duration) -> (Option<i32>, String, Duration) {
     let (pid, start) = (child.id(), Instant::now());
     let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || tx.send(child.wait_with_output()));
+    std::thread::spawn(move || tx.send(child.wait()));
     match rx.recv_timeout(limit) {
-        Ok(out) => {
-            let out = out.unwrap();
-            (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned(), start.elapsed())
+        Ok(status) => {
+            let took = start.elapsed();
+            (status.unwrap().code(), stderr_of(pid), took)
         }
         Err(_) => {
             Command::new("kill").arg("-9").arg(pid.to_string()).status().ok();
@@ -496,7 +518,7 @@ fn opcua_server_that_never_comes_back_zero_offsets_attempts_logged_sigterm_and_g
         assert!(m.contains(&format!("attempt {} failed", k + 1)), "{attempts:#?}");
     }
     assert!((3..=4).contains(&attempts.len()), "{attempts:#?}");
-    let last = events(&jsonl).into_iter().filter(|e| e["phase"].is_string()).last().unwrap();
+    let last = events(&jsonl).into_iter().rfind(|e| e["phase"].is_string()).unwrap();
     assert_eq!(last["phase"], "zero", "{last}");
     assert!(["X", "Y", "Z"].iter().all(|k| last["offsets_um"][k] == 0.0), "{last}");
 }
