@@ -72,6 +72,11 @@ pub struct LiveArgs {
     /// loss).
     #[arg(long)]
     no_sync: bool,
+    /// Seconds without an OPC UA connection after which the process ends with exit status 3 (for a
+    /// supervisor to act on); default: never. A lost connection is tried again after 0.5 s, the
+    /// wait doubling to 5 s between attempts; the offsets are held, then ramped to zero meanwhile.
+    #[arg(long, default_value_t = f64::INFINITY, value_name = "S")]
+    give_up_after: f64,
 }
 
 pub fn run(a: LiveArgs) -> Result<(), Failure> {
@@ -90,6 +95,7 @@ pub fn run(a: LiveArgs) -> Result<(), Failure> {
         logs: a.log,
         status: a.status,
         no_sync: a.no_sync,
+        give_up_after_s: a.give_up_after,
     };
     match run_live(&options) {
         Ok(_) => Ok(()),

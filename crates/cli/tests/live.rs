@@ -4,8 +4,11 @@
 //! the HAL component of `compensate --format linuxcnc-hal` driving motion's external offsets.
 //! Checked: the offsets equal `trueaxis thermal predict` on the same samples to its printed
 //! precision over the whole campaign; a server outage is held, ramped and resumed, and logged; a
-//! 200 degC jump is refused and logged; `kill -9` and a restart continue from a whole state file; a
-//! node id that does not exist ends with exit status 2 naming it.
+//! server restarted twice, each time down for longer than the hold and the ramp: zero offsets,
+//! reconnected, zero written first, then the predictions again; a server that never comes back:
+//! attempts logged without a flood, SIGTERM ends the process at once, `--give-up-after` ends it with
+//! exit 3; a 200 degC jump is refused and logged; `kill -9` and a restart continue from a whole
+//! state file; a node id that does not exist ends with exit status 2 naming it.
 //!
 //! The server plays the campaign faster than real time (`--speed`), and trueaxis live times its
 //! holds and ramps on the source's clock at the same speed: the outage test stops the server for
@@ -75,8 +78,30 @@ fn server(port: u16, args: &[&str]) -> Child {
     child
 }
 
+/// The stderr of each `trueaxis live` started, drained as it comes: a pipe left full (64 KiB of
+/// messages on a loaded machine) would block the process on its next message.
+static DRAINS: std::sync::Mutex<Vec<(u32, std::thread::JoinHandle<String>)>> = std::sync::Mutex::new(Vec::new());
+
 fn live(args: &[&str]) -> Child {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).arg("live").args(args).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap()
+    let mut child =
+        Command::new(env!("CARGO_BIN_EXE_trueaxis")).arg("live").args(args).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
+    let mut pipe = child.stderr.take().unwrap();
+    let drain = std::thread::spawn(move || {
+        let mut bytes = Vec::new();
+        let _ = std::io::Read::read_to_end(&mut pipe, &mut bytes);
+        String::from_utf8_lossy(&bytes).into_owned()
+    });
+    DRAINS.lock().unwrap_or_else(|e| e.into_inner()).push((child.id(), drain));
+    child
+}
+
+/// What the `trueaxis live` of `pid` wrote on stderr, once it has ended.
+fn stderr_of(pid: u32) -> String {
+    let mut drains = DRAINS.lock().unwrap_or_else(|e| e.into_inner());
+    match drains.iter().position(|(p, _)| *p == pid) {
+        Some(i) => drains.remove(i).1.join().unwrap_or_default(),
+        None => String::new(),
+    }
 }
 
 /// The server's JSON report once it has played its rows.
@@ -111,8 +136,8 @@ fn load(pid: u32) -> (f64, u64) {
 
 fn stop(mut child: Child) -> String {
     child.kill().ok();
-    let out = child.wait_with_output().unwrap();
-    String::from_utf8_lossy(&out.stderr).into_owned()
+    child.wait().unwrap();
+    stderr_of(child.id())
 }
 
 /// `thermal predict --json` of a model on a campaign: (run, t, predicted um).
@@ -243,11 +268,56 @@ fn events(path: &Path) -> Vec<Value> {
     std::fs::read_to_string(path).unwrap().lines().map(|l| serde_json::from_str(l).unwrap()).collect()
 }
 
-/// Not run by default: `trueaxis live` does not always resume after the OPC UA server restarts on
-/// a loaded machine (its client reports "shutting down" and does not reconnect): a defect of the
-/// reconnection, open in issue 34. Run it with `cargo test -p trueaxis-cli --test live -- --ignored`.
+/// The messages of a JSON-lines log, in order.
+fn messages(events: &[Value]) -> Vec<String> {
+    events.iter().filter_map(|e| e["message"].as_str().map(str::to_string)).collect()
+}
+
+/// The index of the first message at or after `from` that contains `what`.
+fn find(messages: &[String], what: &str, from: usize, stderr: &str) -> usize {
+    from + messages[from..]
+        .iter()
+        .position(|m| m.contains(what))
+        .unwrap_or_else(|| panic!("no `{what}` after {from} in {messages:#?}\n{stderr}"))
+}
+
+/// The arguments of `trueaxis live` on the test server at 600 times real time, hold 300 s, ramp
+/// 600 s (1.5 s of wall time together), logs in `dir`.
+fn live_600(dir: &Path, url: &str, more: &[&str]) -> Child {
+    let (state, csv, jsonl) = (dir.join("state.json"), dir.join("live.csv"), dir.join("live.jsonl"));
+    let source = format!("opcua:{url}");
+    let mut args = vec![
+        "--machine".to_string(),
+        example("examples/machines/vmc3.toml"),
+        "--thermal-model".into(),
+        example("examples/live/dz_drift.toml"),
+        "--map".into(),
+        example("examples/live/vmc3_opcua.toml"),
+        "--source".into(),
+        source,
+        "--sink".into(),
+        "opcua".into(),
+        "--period".into(),
+        "0.02".into(),
+        "--speed".into(),
+        "600".into(),
+        "--hold".into(),
+        "300".into(),
+        "--ramp".into(),
+        "600".into(),
+        "--state".into(),
+        state.display().to_string(),
+        "--log".into(),
+        csv.display().to_string(),
+        "--log".into(),
+        jsonl.display().to_string(),
+    ];
+    args.extend(more.iter().map(|a| a.to_string()));
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    live(&args)
+}
+
 #[test]
-#[ignore = "trueaxis live does not always reconnect after the OPC UA server restarts (issue 34, open)"]
 fn opcua_faults_outage_held_ramped_resumed_and_a_200_degc_jump_refused() {
     if !asyncua() {
         return;
@@ -260,49 +330,21 @@ fn opcua_faults_outage_held_ramped_resumed_and_a_200_degc_jump_refused() {
     let srv = server(port, &["--speed", "600", "--rows", "100", "--jump-row", "12", "--outage-after", "25", "--outage-s", "3"]);
     let (csv, jsonl) = (dir.path().join("live.csv"), dir.path().join("live.jsonl"));
     let model = example("examples/live/dz_drift.toml");
-    let source = format!("opcua:{url}");
-    let proc = live(&[
-        "--machine",
-        &example("examples/machines/vmc3.toml"),
-        "--thermal-model",
-        &model,
-        "--map",
-        &example("examples/live/vmc3_opcua.toml"),
-        "--source",
-        &source,
-        "--sink",
-        "opcua",
-        "--period",
-        "0.02",
-        "--speed",
-        "600",
-        "--hold",
-        "300",
-        "--ramp",
-        "600",
-        "--state",
-        &dir.path().join("state.json").display().to_string(),
-        "--log",
-        &csv.display().to_string(),
-        "--log",
-        &jsonl.display().to_string(),
-    ]);
+    let proc = live_600(dir.path(), &url, &[]);
     let doc = report(srv);
     let stderr = stop(proc);
     let ev = events(&jsonl);
-    let messages: Vec<String> = ev.iter().filter_map(|e| e["message"].as_str().map(str::to_string)).collect();
-    let find = |what: &str, from: usize| {
-        from + messages[from..].iter().position(|m| m.contains(what)).unwrap_or_else(|| panic!("no `{what}` in {messages:#?}\n{stderr}"))
-    };
+    let messages = messages(&ev);
     // the 200 degC jump (to 228.6 degC) is beyond the sensor's range [0, 80] of the mapping
-    let jump = find("refused: T:p1: 228.596 is outside the physical range [0, 80]", 0);
+    let jump = find(&messages, "refused: T:p1: 228.596 is outside the physical range [0, 80]", 0, &stderr);
     // after the jump: the outage is held, ramped, zero, then resumed, the connection lost before zero
-    let ramp = find("ramp to zero over 600 s", jump);
+    let ramp = find(&messages, "ramp to zero over 600 s", jump, &stderr);
     let held = messages[..ramp].iter().rposition(|m| m.contains("the offsets are held")).expect("held before the ramp");
-    let zero = find("the offsets are zero", ramp);
-    find("resumed after", zero);
-    let lost = find("OPC UA connection lost", jump);
-    assert!(held > jump && lost < zero, "{messages:#?}");
+    let zero = find(&messages, "the offsets are zero", ramp, &stderr);
+    let resumed = find(&messages, "resumed after", zero, &stderr);
+    let lost = find(&messages, "OPC UA connection lost", jump, &stderr);
+    let reconnected = find(&messages, "OPC UA reconnected", lost, &stderr);
+    assert!(held > jump && lost < zero && reconnected < resumed, "{messages:#?}");
     // the ramp is linear from the held offset to zero, on the source's clock
     let steps: Vec<&Value> = ev.iter().filter(|e| e["phase"].is_string()).collect();
     // the ramp of the outage: the ramping steps after the first one, until the phase changes
@@ -336,6 +378,150 @@ fn opcua_faults_outage_held_ramped_resumed_and_a_200_degc_jump_refused() {
     }
     // the jump row is not in the log: only accepted samples are
     assert!(logged.iter().all(|r| r.1 != 12.0 * 120.0));
+}
+
+/// The rows the server played: (run, t s since its base time, T:p1, T:p5 as written).
+fn played(doc: &Value) -> Vec<(String, f64, f64, f64)> {
+    let base = doc["base"].as_f64().unwrap();
+    let f = |r: &Value, k: usize| r[k].as_f64().unwrap();
+    doc["rows"].as_array().unwrap().iter().map(|r| (r[0].as_str().unwrap().to_string(), f(r, 1) - base, f(r, 2), f(r, 3))).collect()
+}
+
+#[test]
+fn opcua_server_restarted_twice_each_time_down_longer_than_the_hold_and_the_ramp() {
+    if !asyncua() {
+        return;
+    }
+    let _real_time = real_time();
+    let dir = tempfile::tempdir().unwrap();
+    let port = free_port();
+    let url = format!("opc.tcp://127.0.0.1:{port}/trueaxis/");
+    // a row every 0.2 s of wall time (120 s at 600 times real time); the outages, 3 s and 4 s of
+    // wall time (1800 s and 2400 s of machine time), are longer than the hold and the ramp (900 s)
+    let outages = ["--outage-after", "25", "--outage-s", "3", "--outage-after", "60", "--outage-s", "4"];
+    let srv = server(port, &[&["--speed", "600", "--rows", "110"][..], &outages].concat());
+    let proc = live_600(dir.path(), &url, &[]);
+    let doc = report(srv);
+    let stderr = stop(proc);
+    let ev = events(&dir.path().join("live.jsonl"));
+    let messages = messages(&ev);
+    // each outage: held, ramped, zero, the connection lost before zero, reconnected, then resumed
+    let mut from = 0;
+    for _ in 0..2 {
+        let held = find(&messages, "the offsets are held", from, &stderr);
+        let zero = find(&messages, "the offsets are zero", find(&messages, "ramp to zero over 600 s", held, &stderr), &stderr);
+        let lost = find(&messages, "OPC UA connection lost", from, &stderr);
+        let reconnected = find(&messages, "OPC UA reconnected", zero, &stderr);
+        from = find(&messages, "resumed after", reconnected, &stderr) + 1;
+        assert!(lost < zero, "{messages:#?}");
+    }
+    // (the server's stop at the end of its rows is a third loss)
+    for what in ["OPC UA connection lost", "OPC UA reconnected"] {
+        assert_eq!(messages[..from].iter().filter(|m| m.contains(what)).count(), 2, "{what}: {messages:#?}\n{stderr}");
+    }
+    // the step before each resume after the outages (a gap longer than the hold and the ramp,
+    // 900 s; a loaded machine may add short gaps): zero offsets
+    let steps: Vec<&Value> = ev.iter().filter(|e| e["phase"].is_string()).collect();
+    let gap = |e: &Value| e["message"].as_str().and_then(|m| m.strip_prefix("resumed after ")?.split(' ').next()?.parse::<f64>().ok());
+    let resumes: Vec<usize> = (1..steps.len()).filter(|&i| gap(steps[i]).is_some_and(|g| g > 900.0)).collect();
+    assert_eq!(resumes.len(), 2, "{messages:#?}");
+    for i in resumes {
+        assert_eq!(steps[i - 1]["phase"], "zero", "{}", steps[i - 1]);
+        assert!(["X", "Y", "Z"].iter().all(|a| steps[i - 1]["offsets_um"][a] == 0.0), "{}", steps[i - 1]);
+    }
+    // what the server recorded: after each restart the engine's present offsets (zero) first ...
+    let base = doc["base"].as_f64().unwrap();
+    let z = recorded(&doc, "server", "Z");
+    let rows = played(&doc);
+    let restarts: Vec<f64> = doc["restarts"].as_array().unwrap().iter().map(|r| r.as_f64().unwrap() - base).collect();
+    assert_eq!(restarts.len(), 2);
+    for r in &restarts {
+        let last_before = rows.iter().filter(|row| row.1 < *r).map(|row| row.1).fold(f64::MIN, f64::max);
+        let during: Vec<&(f64, f64)> = z.iter().filter(|(s, _)| *s - base > last_before + 1e-6 && *s - base < r - 1e-6).collect();
+        assert!(during.last().is_some_and(|(_, v)| *v == 0.0), "restart at {r} s: written between {last_before} s and it: {during:?}");
+        assert!(rows.iter().filter(|row| row.1 >= *r).count() >= 10, "{rows:?}");
+    }
+    // ... then for every row the server played, before and after the restarts, the offset of
+    // thermal predict on those rows (the lags run on over each outage with the last readings held)
+    let data = dir.path().join("played.csv");
+    let text: String = rows.iter().map(|(run, t, p1, p5)| format!("{run},{t},{p1},{p5}\n")).collect();
+    std::fs::write(&data, format!("run,t,T:p1,T:p5\n{text}")).unwrap();
+    let expected = predict(&example("examples/live/dz_drift.toml"), &data);
+    assert_eq!(expected.len(), rows.len());
+    for ((_, t, _, _), (_, tp, p)) in rows.iter().zip(&expected) {
+        assert_eq!(t, tp);
+        let at: Vec<f64> = z.iter().filter(|(s, _)| (*s - base - t).abs() < 1e-6).map(|(_, v)| *v).collect();
+        assert!(!at.is_empty(), "no offset written for t = {t} s (restarts at {restarts:?})\n{messages:#?}");
+        for v in at {
+            assert!((v * 1e3 + p).abs() <= 0.5e-4, "t = {t} s: offset {v} mm, predicted {p} um");
+        }
+    }
+}
+
+/// Waits at most `limit` for a `trueaxis live` to end: its status, stderr and how long it took.
+fn ended_within(mut child: Child, limit: Duration) -> (Option<i32>, String, Duration) {
+    let (pid, start) = (child.id(), Instant::now());
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || tx.send(child.wait()));
+    match rx.recv_timeout(limit) {
+        Ok(status) => {
+            let took = start.elapsed();
+            (status.unwrap().code(), stderr_of(pid), took)
+        }
+        Err(_) => {
+            Command::new("kill").arg("-9").arg(pid.to_string()).status().ok();
+            panic!("the process did not end within {limit:?}");
+        }
+    }
+}
+
+#[test]
+fn opcua_server_that_never_comes_back_zero_offsets_attempts_logged_sigterm_and_give_up() {
+    if !asyncua() {
+        return;
+    }
+    let _real_time = real_time();
+    let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
+    let port = free_port();
+    let url = format!("opc.tcp://127.0.0.1:{port}/trueaxis/");
+    let srv = server(port, &["--speed", "600", "--rows", "15", "--end-wait", "0"]);
+    let keeps_trying = live_600(a.path(), &url, &[]);
+    let gives_up = live_600(b.path(), &url, &["--give-up-after", "3"]);
+    report(srv);
+    // the server is gone for good: the offsets go to zero, the attempts go on (0.5, 1.5, 3.5 s after the loss)
+    let jsonl = a.path().join("live.jsonl");
+    let start = Instant::now();
+    let messages = loop {
+        // the lines written so far (a line being written is left for the next look)
+        let text = std::fs::read_to_string(&jsonl).unwrap_or_default();
+        let m = messages(&text.lines().filter_map(|l| serde_json::from_str(l).ok()).collect::<Vec<Value>>());
+        if m.iter().any(|m| m.contains("the offsets are zero")) && m.iter().any(|m| m.contains("reconnection attempt 3 failed")) {
+            break m;
+        }
+        assert!(start.elapsed() < Duration::from_secs(60), "{m:#?}");
+        std::thread::sleep(Duration::from_millis(200));
+    };
+    // --give-up-after 3: exit 3 at the first failed attempt 3 s after the loss, saying why
+    let (code, stderr, _) = ended_within(gives_up, Duration::from_secs(60));
+    assert_eq!(code, Some(3), "{stderr}");
+    assert!(stderr.contains("(--give-up-after): ") && stderr.contains("cannot be reached"), "{stderr}");
+    // SIGTERM ends the process that keeps trying, with status 0, within 2 s
+    let mut keeps_trying = keeps_trying;
+    assert!(keeps_trying.try_wait().unwrap().is_none(), "trueaxis live ended while the server was away");
+    assert!(Command::new("kill").args(["-TERM", &keeps_trying.id().to_string()]).status().unwrap().success());
+    let (code, stderr, took) = ended_within(keeps_trying, Duration::from_secs(30));
+    assert_eq!(code, Some(0), "{stderr}");
+    assert!(took <= Duration::from_secs(2), "SIGTERM took {took:?}");
+    assert!(stderr.contains("stopped by SIGTERM"), "{stderr}");
+    // one line per attempt while the wait grows, numbered from 1, and the offsets left at zero
+    let attempts: Vec<&String> = messages.iter().filter(|m| m.contains("reconnection attempt")).collect();
+    for (k, m) in attempts.iter().enumerate() {
+        assert!(m.contains(&format!("attempt {} failed", k + 1)), "{attempts:#?}");
+    }
+    assert!((3..=4).contains(&attempts.len()), "{attempts:#?}");
+    let last = events(&jsonl).into_iter().rfind(|e| e["phase"].is_string()).unwrap();
+    assert_eq!(last["phase"], "zero", "{last}");
+    assert!(["X", "Y", "Z"].iter().all(|k| last["offsets_um"][k] == 0.0), "{last}");
 }
 
 #[test]

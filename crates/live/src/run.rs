@@ -42,6 +42,8 @@ pub struct Options {
     pub status: Option<PathBuf>,
     /// Skip the fsync of the state file (whole after a crash of the process, not a power loss).
     pub no_sync: bool,
+    /// Seconds without an OPC UA connection after which the run ends (exit 3); infinite: never.
+    pub give_up_after_s: f64,
 }
 
 /// How a run ended.
@@ -97,6 +99,9 @@ pub fn run(o: &Options) -> Result<Summary, LiveError> {
     if !(o.period_s.is_finite() && o.period_s > 0.0) {
         return Err(input(format!("--period {} must be a positive number of seconds", o.period_s)));
     }
+    if o.give_up_after_s.is_nan() || o.give_up_after_s <= 0.0 {
+        return Err(input(format!("--give-up-after {} must be a positive number of seconds (inf: never)", o.give_up_after_s)));
+    }
     let mapping = match &o.map {
         Some(p) => Mapping::read(p)?,
         None => Mapping::default(),
@@ -143,12 +148,12 @@ pub fn run(o: &Options) -> Result<Summary, LiveError> {
                     commit(&engine, &step, o, &mut sinks, &mut status)?;
                 }
             }
-            Some(Event::Note(n)) => {
-                status.note(&n);
-                sinks.iter_mut().for_each(|s| s.note(&n));
-            }
+            Some(Event::Note(n)) => broadcast(&n, &mut sinks, &mut status),
             Some(Event::End) => break,
             None => {}
+        }
+        for n in sinks.iter_mut().map(|s| s.notes()).collect::<Result<Vec<_>, _>>()?.concat() {
+            broadcast(&n, &mut sinks, &mut status);
         }
         if let Some(now) = clock.now().filter(|t| t.is_finite()) {
             if let Some(step) = engine.tick(now) {
@@ -166,6 +171,12 @@ fn commit(engine: &Engine, step: &Step, o: &Options, sinks: &mut [Box<dyn Sink>]
     engine.state.save(&o.state, !o.no_sync)?;
     deliver(step, sinks, status, engine.state.samples);
     Ok(())
+}
+
+/// A message on the status line and in every log.
+fn broadcast(message: &str, sinks: &mut [Box<dyn Sink>], status: &mut Status) {
+    status.note(message);
+    sinks.iter_mut().for_each(|s| s.note(message));
 }
 
 /// Writes a step to every sink; a failing sink is reported and the others still written.
@@ -227,7 +238,7 @@ fn open(o: &Options, engine: &Engine, mapping: &Mapping, period: Duration, resum
 #[cfg(feature = "opcua")]
 #[allow(clippy::too_many_arguments)]
 fn opcua_open(
-    _o: &Options,
+    o: &Options,
     engine: &Engine,
     mapping: &Mapping,
     period: Duration,
@@ -238,6 +249,7 @@ fn opcua_open(
 ) -> Result<(), LiveError> {
     use crate::mapping::AddressKind;
     use crate::opcua::{connect, Nodes};
+    let give_up = o.give_up_after_s.is_finite().then(|| Duration::from_secs_f64(o.give_up_after_s));
     let outputs = || -> Result<Vec<(usize, String, f64)>, LiveError> {
         let mut out = Vec::new();
         for (k, l) in engine.offsets.letters.iter().enumerate() {
@@ -262,15 +274,15 @@ fn opcua_open(
             run: mapping.run_address(AddressKind::Node),
             outputs: if sink_url.as_ref() == Some(url) { outputs()? } else { Vec::new() },
         };
-        let (src, sink) = connect(url, nodes, period)?;
+        let (src, sink) = connect(url, nodes, period, give_up)?;
         *source = Some(Box::new(src));
         if sink_url.as_ref() == Some(url) {
             sinks.push(Box::new(sink));
         }
     }
     if let Some(url) = sink_url.filter(|u| Some(u) != source_url.as_ref()) {
-        let (_, sink) = connect(&url, Nodes { outputs: outputs()?, ..Nodes::default() }, period)?;
-        sinks.push(Box::new(sink));
+        let (source, sink) = connect(&url, Nodes { outputs: outputs()?, ..Nodes::default() }, period, give_up)?;
+        sinks.push(Box::new(sink.reporting(source)));
     }
     Ok(())
 }

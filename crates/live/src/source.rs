@@ -34,6 +34,12 @@ pub trait Sink {
 
     /// A message that is not a step (connection lost, restart); logs record it.
     fn note(&mut self, _message: &str) {}
+
+    /// The sink's own messages since the last call (a connection lost, reconnected); an error
+    /// ends the run (a connection given up).
+    fn notes(&mut self) -> Result<Vec<String>, LiveError> {
+        Ok(Vec::new())
+    }
 }
 
 /// The CSV replay.

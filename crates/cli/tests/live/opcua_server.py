@@ -10,11 +10,14 @@ paced at --speed times real time. The offsets written by the client are recorded
 server (every Write service call, with its source timestamp) and by an asyncua client subscribed
 to the offset nodes (trigger StatusValueTimestamp, so that a repeated value is still reported).
 
-Faults: --outage-after N stops the server after N rows for --outage-s wall seconds and starts a
-new one on the same port (the rows due meanwhile are lost); --jump-row N adds --jump degC to
---jump-sensor in row N.
+Faults: --outage-after N stops the server after N rows (once the offsets of row N-1 have been
+written) for --outage-s wall seconds and starts a new one on the same port (the rows due meanwhile are lost); repeat both for several outages. The
+new server holds the row due at its start and waits (at most --rejoin-wait s) for the client's
+first write before it plays on, as at the start. --jump-row N adds --jump degC to --jump-sensor in
+row N.
 
-Prints one JSON document on stdout at the end: {"base": unix s, "rows": [[run, unix s], ...],
+Prints one JSON document on stdout at the end: {"base": unix s, "rows": [[run, unix s, values as
+written...], ...], "restarts": [unix s of the row each new server started with, ...],
 "server": {"X": [[unix s, mm], ...], ...}, "client": {...}}.
 """
 
@@ -135,13 +138,17 @@ async def main():
     p.add_argument("--rows", type=int, default=0, help="play only the first N rows (0: all)")
     p.add_argument("--start-wait", type=float, default=20.0, help="wall s to wait for the client's subscription")
     p.add_argument("--end-wait", type=float, default=2.0)
-    p.add_argument("--outage-after", type=int, default=-1)
-    p.add_argument("--outage-s", type=float, default=0.0)
+    p.add_argument("--outage-after", type=int, action="append", default=[])
+    p.add_argument("--outage-s", type=float, action="append", default=[])
+    p.add_argument("--rejoin-wait", type=float, default=30.0, help="wall s to wait for the client after a restart")
     p.add_argument("--jump-row", type=int, default=-1)
     p.add_argument("--jump-sensor", default="T:p1")
     p.add_argument("--jump", type=float, default=200.0)
     p.add_argument("--client", action="store_true", help="also record through an asyncua client subscription")
     a = p.parse_args()
+    if len(a.outage_after) != len(a.outage_s):
+        p.error("give one --outage-s per --outage-after")
+    outages = dict(zip(a.outage_after, a.outage_s))
     logging.basicConfig(level=logging.ERROR)
     sensors = a.sensors.split(",")
     rows = read_campaign(a.campaign, sensors)
@@ -151,19 +158,28 @@ async def main():
     server, nodes = await start_server(a.port, sensors, by_server, rows[0])
     client = await subscribe_client(a.port, by_client) if a.client else None
     # the first row, then wait until trueaxis live has subscribed (its first write) or the start wait ends
-    played, last_run, previous, resume_at = [], rows[0][0], None, None
+    played, last_run, previous, resume_at, restarts = [], rows[0][0], None, None, []
     for i, (run, t, values) in enumerate(rows):
-        if i == a.outage_after:
+        if i in outages:
+            # the outage starts once the offsets of the last row played have come (at most 10 s)
+            await wait_for_offsets(by_server, played[-1][1] if played else None, 10.0)
             await stop(server)
-            await asyncio.sleep(a.outage_s)
+            await asyncio.sleep(outages[i])
             # the rows due while the server was down are lost; the new server starts with the next
-            resume_at = previous + a.outage_s * a.speed
+            resume_at = previous + outages[i] * a.speed
             following = next((r for r in rows[i:] if r[1] >= resume_at), rows[-1])
+            recorded = sum(len(v) for v in by_server.values.values())
             server, nodes = await start_server(a.port, sensors, by_server, following)
+            restarts.append(unix(BASE + datetime.timedelta(seconds=following[1])))
             last_run, previous = following[0], resume_at
+            # the client back (its first write on the new server), as at the start
+            for _ in range(int(a.rejoin_wait / 0.05)):
+                if sum(len(v) for v in by_server.values.values()) > recorded:
+                    break
+                await asyncio.sleep(0.05)
         if resume_at is not None and t < resume_at:
             continue
-        if previous is not None and i != a.outage_after:
+        if previous is not None and i not in outages:
             await asyncio.sleep(max(0.0, (t - previous) / a.speed))
         previous = t
         ts = BASE + datetime.timedelta(seconds=t)
@@ -171,11 +187,10 @@ async def main():
             await write(nodes["run"], run, ts, ua.VariantType.String)
             await asyncio.sleep(0.05)
             last_run = run
-        for s, v in zip(sensors, values):
-            if i == a.jump_row and s == a.jump_sensor:
-                v += a.jump
+        written = [v + a.jump if i == a.jump_row and s == a.jump_sensor else v for s, v in zip(sensors, values)]
+        for s, v in zip(sensors, written):
             await write(nodes[s], v, ts, ua.VariantType.Double)
-        played.append([run, unix(ts)])
+        played.append([run, unix(ts)] + written)
         if i == 0:
             # wait until trueaxis live has subscribed and written its first offsets
             for _ in range(int(a.start_wait / 0.05)):
@@ -183,17 +198,21 @@ async def main():
                     break
                 await asyncio.sleep(0.05)
     # wait for the offsets of the last row (at most 60 s), then --end-wait more
-    last = played[-1][1] if played else None
-    for _ in range(1200):
-        if last is None or any(t == last for t, _ in by_server.values["Z"]):
-            break
-        await asyncio.sleep(0.05)
+    await wait_for_offsets(by_server, played[-1][1] if played else None, 60.0)
     await asyncio.sleep(a.end_wait)
     # the record first: a stop that waits on a connection the test has not yet closed must not hold it
-    print(json.dumps({"base": unix(BASE), "rows": played, "server": by_server.values, "client": by_client.values}), flush=True)
+    print(json.dumps({"base": unix(BASE), "rows": played, "restarts": restarts, "server": by_server.values, "client": by_client.values}), flush=True)
     if client is not None:
         await asyncio.wait_for(client.disconnect(), STOP_S)
     await stop(server)
+
+
+async def wait_for_offsets(recorder, unix_s, limit_s):
+    """Waits (at most limit_s) until an offset of Z with the source timestamp unix_s was written."""
+    for _ in range(int(limit_s / 0.05)):
+        if unix_s is None or any(t == unix_s for t, _ in recorder.values["Z"]):
+            return
+        await asyncio.sleep(0.05)
 
 
 async def stop(server):
