@@ -3,7 +3,7 @@
 
 use crate::convert::{array2, point3, to_py, toml_text, with_array2};
 use crate::errors::{computation, input, input_msg};
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -51,8 +51,15 @@ impl Machine {
                 shape[1]
             )));
         }
-        for (i, pose) in user.chunks(n_axes.max(1)).enumerate() {
-            self.inner.check_range(pose).map_err(|m| input_msg(format!("poses: row {i}: {m}")))?;
+        // the test of `Axis::in_range` (travel widened by 1e-9) over all poses without branches;
+        // an axis without travel accepts every finite position; NaN fails every comparison
+        let bounds: Vec<[f64; 2]> =
+            self.inner.axes().iter().map(|a| a.range.map_or([-f64::MAX, f64::MAX], |[lo, hi]| [lo - 1e-9, hi + 1e-9])).collect();
+        let inside = |pose: &[f64]| pose.iter().zip(&bounds).fold(true, |ok, (&v, &[lo, hi])| ok & (v >= lo) & (v <= hi));
+        if !user.chunks_exact(n_axes.max(1)).fold(true, |ok, pose| ok & inside(pose)) {
+            for (i, pose) in user.chunks(n_axes.max(1)).enumerate() {
+                self.inner.check_range(pose).map_err(|m| input_msg(format!("poses: row {i}: {m}")))?;
+            }
         }
         Ok(shape[0])
     }
@@ -201,8 +208,10 @@ impl Machine {
     /// — the `dir:<axis>` columns of a pose file; without `directions` every axis is at rest, so a
     /// bidirectional error is the mean of its two directions (as for a pose file without them).
     /// Any array-like of numbers (float32, int64, lists) is converted to float64; a C-contiguous
-    /// float64 array is read in place. The batch kernel writes the returned array in place.
-    #[pyo3(signature = (errors, poses, *, tool_point = None, work_point = None, frame = "workpiece", temperatures = None, directions = None, with_dl = false))]
+    /// float64 array is read in place. The batch kernel writes the returned array in place; `out`, a
+    /// C-contiguous float64 array of shape (N, 6) or (N, 7), is written instead of a new array and
+    /// returned (as NumPy's `out=`), so that a loop over batches allocates nothing.
+    #[pyo3(signature = (errors, poses, *, tool_point = None, work_point = None, frame = "workpiece", temperatures = None, directions = None, with_dl = false, out = None))]
     #[allow(clippy::too_many_arguments)]
     fn predict<'py>(
         &self,
@@ -215,6 +224,7 @@ impl Machine {
         temperatures: Option<&Bound<'py, PyAny>>,
         directions: Option<&Bound<'py, PyAny>>,
         with_dl: bool,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let directions_given = directions;
         let setup = self.setup(tool_point, work_point)?;
@@ -224,16 +234,30 @@ impl Machine {
             let count = self.check_poses(user, shape)?;
             let directions = directions_given.map(|d| self.directions_of(d, count)).transpose()?;
             let temperatures = self.temperatures_of(&errors.inner, temperatures, count)?;
-            // SAFETY: every element is written below (one row per pose) before Python sees the array
-            let out = unsafe { PyArray2::<f64>::new(py, [count, columns], false) };
+            let out = match out {
+                Some(o) => {
+                    let o = o.cast::<PyArray2<f64>>().map_err(|_| input_msg("out: expected a float64 numpy array"))?.clone();
+                    if o.shape() != [count, columns] || !o.is_c_contiguous() {
+                        return Err(input_msg(format!(
+                            "out: expected a C-contiguous float64 array of shape ({count}, {columns}), got shape {:?}",
+                            o.shape()
+                        )));
+                    }
+                    o
+                }
+                // SAFETY: every element is written below (one row per pose) before Python sees it
+                None => unsafe { PyArray2::<f64>::new(py, [count, columns], false) },
+            };
             {
-                let mut written = out.readwrite();
+                let mut written = out.try_readwrite().map_err(|e| input_msg(format!("out: {e}")))?;
                 let values = written.as_slice_mut().expect("a new array is contiguous");
                 let mut predictor = Predictor::new(&self.inner, &errors.inner);
                 predictor.setup = setup;
                 predictor.frame = frame;
                 py.detach(|| predictor.predict_user_into(user, directions.as_deref(), &temperatures, columns, values));
-                if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+                // all finite (a fold without branches), else the first pose that is not
+                if !values.iter().fold(true, |ok, v| ok & v.is_finite()) {
+                    let i = values.iter().position(|v| !v.is_finite()).unwrap_or(0);
                     return Err(computation(trueaxis::data::DataError::NotFinite {
                         message: format!("the prediction of pose {} is not a finite number", i / columns + 1),
                     }));

@@ -276,3 +276,21 @@ def test_predict_in_place_on_a_non_multiple_of_the_block_and_many_chunks():
     # rows equal to a pose-by-pose evaluation (each pose alone)
     one_by_one = np.vstack([machine.predict(errors, many[i:i + 1], with_dl=True) for i in range(0, len(many), 97)])
     assert np.max(np.abs(one_by_one - full[::97])) < 1e-9
+
+
+def test_predict_into_out_writes_and_returns_that_array():
+    machine = ta.Machine.from_file(KX)
+    errors = ta.Errors.from_file(KX_ERRORS, machine)
+    poses = machine.read_poses(EX / "poses" / "kx8five.csv")
+    expected = machine.predict(errors, poses, with_dl=True)
+    buffer = np.full((len(poses), 7), np.nan)
+    got = machine.predict(errors, poses, with_dl=True, out=buffer)
+    assert got is buffer and np.array_equal(buffer, expected)
+    for bad, text in [(np.empty((len(poses), 6)), r"shape \(5, 7\)"), (np.empty((len(poses), 7), dtype=np.float32), "float64"),
+                      (np.empty((7, len(poses))).T, "C-contiguous"), ([[0.0] * 7] * len(poses), "float64")]:
+        with pytest.raises(ta.InputError, match=text):
+            machine.predict(errors, poses, with_dl=True, out=bad)
+    frozen = np.empty((len(poses), 7))
+    frozen.flags.writeable = False
+    with pytest.raises(ta.InputError, match="out: "):
+        machine.predict(errors, poses, with_dl=True, out=frozen)

@@ -69,6 +69,7 @@ class Machine:
         temperatures: Optional[_Array] = None,
         directions: Optional[npt.ArrayLike] = None,
         with_dl: bool = False,
+        out: Optional[_Array] = None,
     ) -> _Array:
         """Volumetric error at (N, axes) poses (mm, deg): (N, 6) dx dy dz in um, drx dry drz in
         urad, the columns PREDICTION_COLUMNS (N, 7 with dL in um when with_dl:
@@ -76,7 +77,7 @@ class Machine:
         released. Any array-like of numbers is converted to float64. temperatures: (N, sensors)
         degC in the order of errors.sensors; directions: (N, axes) of -1, 0, +1 (e.g. int8), the
         direction of motion of each axis (0 at rest; without directions every axis is at rest and
-        EXX+/EXX- give their mean)."""
+        EXX+/EXX- give their mean). out: a C-contiguous float64 (N, 6 or 7) array written and returned."""
     def predict_file(
         self,
         errors: Errors,
