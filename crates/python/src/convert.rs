@@ -57,10 +57,16 @@ fn to_toml(obj: &Bound<'_, PyAny>, at: &str) -> PyResult<toml::Value> {
 }
 
 /// A 2-D float64 array from any array-like (numpy array of any dtype or memory layout, nested
-/// lists), copied row-major: `(values, [rows, columns])`. Arrays received from other processes
-/// (e.g. unpickled by Dask) may be unaligned; `numpy.require` makes an aligned C-contiguous copy
-/// first when needed. `what` names the argument in messages.
+/// lists), copied row-major: `(values, [rows, columns])`. `what` names the argument in messages.
 pub fn array2(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<(Vec<f64>, [usize; 2])> {
+    with_array2(obj, what, |values, shape| Ok((values.to_vec(), shape)))
+}
+
+/// Calls `f` with the row-major float64 values of a 2-D array-like and its shape, without a copy
+/// when `obj` is already an aligned C-contiguous float64 array; any other dtype (float32, int64,
+/// ...), layout or nested lists are converted to one first by `numpy.require` (arrays unpickled by
+/// Dask may be unaligned, which `numpy.require` also fixes). `what` names the argument in messages.
+pub fn with_array2<R>(obj: &Bound<'_, PyAny>, what: &str, f: impl FnOnce(&[f64], [usize; 2]) -> PyResult<R>) -> PyResult<R> {
     use numpy::{PyArrayMethods, PyUntypedArrayMethods};
     let np = obj.py().import("numpy")?;
     let required = np
@@ -72,6 +78,34 @@ pub fn array2(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<(Vec<f64>, [usize;
     })?;
     let shape = array.shape();
     let readonly = array.readonly();
-    let values = readonly.as_slice().map_err(|e| input_msg(format!("{what}: {e}")))?.to_vec();
-    Ok((values, [shape[0], shape[1]]))
+    let values = readonly.as_slice().map_err(|e| input_msg(format!("{what}: {e}")))?;
+    f(values, [shape[0], shape[1]])
+}
+
+/// A point of 3 coordinates (mm) from any sequence of 3 numbers; `what` names it in messages.
+pub fn point3(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<trueaxis::geometry::Vec3> {
+    let values: Vec<f64> =
+        obj.extract().map_err(|_| input_msg(format!("{what}: expected 3 numbers x, y, z in mm, got a {}", type_name(obj))))?;
+    match values[..] {
+        [x, y, z] if values.iter().all(|v| v.is_finite()) => Ok(trueaxis::geometry::Vec3::new(x, y, z)),
+        [_, _, _] => Err(input_msg(format!("{what}: x, y, z must be finite numbers (mm)"))),
+        _ => Err(input_msg(format!("{what}: expected 3 numbers x, y, z in mm, got {}", values.len()))),
+    }
+}
+
+fn type_name(obj: &Bound<'_, PyAny>) -> String {
+    obj.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "value".into())
+}
+
+/// A `pandas.DataFrame` of named columns (pandas is optional: without it an ImportError that says
+/// how to install it); `what` names the method in the message.
+pub fn dataframe<'py>(py: Python<'py>, columns: Vec<(&str, Bound<'py, PyAny>)>, what: &str) -> PyResult<Bound<'py, PyAny>> {
+    let pandas = py.import("pandas").map_err(|_| {
+        pyo3::exceptions::PyImportError::new_err(format!("{what} needs pandas, which is not installed: pip install pandas"))
+    })?;
+    let data = PyDict::new(py);
+    for (name, values) in columns {
+        data.set_item(name, values)?;
+    }
+    pandas.call_method1("DataFrame", (data,))
 }

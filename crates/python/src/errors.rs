@@ -42,6 +42,37 @@ pub fn warn(py: pyo3::Python<'_>, messages: &[String]) -> pyo3::PyResult<()> {
     Ok(())
 }
 
+/// `text` with every number of more than 12 characters (e.g. a position of 1e300 printed in full,
+/// 301 digits) written with 7 significant digits in scientific notation (`1e300`,
+/// `1.234568e-17`), so that a message stays one readable line.
+pub fn short(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
+        out.push_str(&rest[..start]);
+        let end = rest[start..].find(|c: char| !(c.is_ascii_digit() || c == '.')).map_or(rest.len(), |e| start + e);
+        let token = &rest[start..end];
+        match token.parse::<f64>() {
+            Ok(v) if token.len() > 12 && v.is_finite() => out.push_str(&scientific(v)),
+            _ => out.push_str(token),
+        }
+        rest = &rest[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// `v` with 7 significant digits in scientific notation, trailing zeros of the mantissa dropped.
+fn scientific(v: f64) -> String {
+    let text = format!("{v:.6e}");
+    match text.split_once('e') {
+        Some((mantissa, exponent)) if mantissa.contains('.') => {
+            format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'))
+        }
+        _ => text,
+    }
+}
+
 /// The one-line message of an error as the command line prints it: its text followed by each
 /// cause that the text does not already contain.
 pub fn message(error: &dyn std::error::Error) -> String {
@@ -55,7 +86,7 @@ pub fn message(error: &dyn std::error::Error) -> String {
         }
         cause = c.source();
     }
-    text
+    short(&text)
 }
 
 /// Bad input from a library error (or the environment, when its chain says so).
@@ -68,7 +99,7 @@ pub fn input(error: impl std::error::Error + 'static) -> PyErr {
 
 /// Bad input from a message.
 pub fn input_msg(text: impl Into<String>) -> PyErr {
-    InputError::new_err(text.into())
+    InputError::new_err(short(&text.into()))
 }
 
 /// A failed computation from a library error (or the environment, when its chain says so).
@@ -81,7 +112,7 @@ pub fn computation(error: impl std::error::Error + 'static) -> PyErr {
 
 /// A failed computation from a message.
 pub fn computation_msg(text: impl Into<String>) -> PyErr {
-    ComputationError::new_err(text.into())
+    ComputationError::new_err(short(&text.into()))
 }
 
 /// An error of the identification: rank deficiency is a failed computation, the rest bad input.

@@ -1,14 +1,13 @@
 //! Standard evaluations from their files: ISO 230-2 positioning tests and ISO 230-4 circular tests,
 //! through the library's entry points that `trueaxis iso230-2` and `trueaxis ballbar iso230-4` use.
 
-use crate::convert::to_py;
+use crate::convert::{point3, to_py};
 use crate::errors::{evaluate as failure, input_msg, warn};
 use crate::machine::Machine;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use trueaxis::evaluate::circular_test::{cartesian_machine, circular_test_file, CircularTestOptions};
 use trueaxis::evaluate::positioning_test::evaluate_file;
-use trueaxis::geometry::Vec3;
 use trueaxis::instruments::ballbar::Plane;
 use trueaxis::instruments::{TemperatureOptions, TemperatureSource};
 
@@ -93,7 +92,7 @@ pub fn iso230_4(
     machine: Option<&Machine>,
     plane: Option<&str>,
     radius: Option<f64>,
-    centre: Option<[f64; 3]>,
+    centre: Option<&Bound<'_, PyAny>>,
     feed: Option<f64>,
     pitch: Option<f64>,
     spike_width: f64,
@@ -102,7 +101,7 @@ pub fn iso230_4(
     let options = CircularTestOptions {
         plane,
         radius_mm: radius,
-        centre_mm: centre.map(|c| Vec3::new(c[0], c[1], c[2])),
+        centre_mm: centre.map(|c| point3(c, "centre")).transpose()?,
         feed_mm_per_min: feed,
         pitch_mm: pitch,
         spike_width_deg: spike_width,

@@ -2,9 +2,10 @@
 //! identification of error parameters from them, and optimal measurement designs (Soons 1993
 //! §4.3) whose random starts can be spread over processes or machines.
 
-use crate::convert::{to_py, toml_text};
+use crate::convert::{dataframe, to_py, toml_text};
 use crate::errors::{computation_msg, identify as identify_error, input_msg};
 use crate::machine::{Errors, Machine};
+use crate::progress::Progress;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
@@ -140,6 +141,18 @@ impl Identification {
     #[getter]
     fn residuals<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         PyArray1::from_slice(py, &self.result.residuals)
+    }
+
+    /// A pandas DataFrame, one row per unknown: `name`, `unit`, `value`, `std_uncertainty`
+    /// (parameter units; NaN where not identifiable). pandas is optional (ImportError without it).
+    fn to_dataframe<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let columns = vec![
+            ("name", self.names().into_pyobject(py)?.into_any()),
+            ("unit", self.units().into_pyobject(py)?.into_any()),
+            ("value", self.values(py).into_any()),
+            ("std_uncertainty", self.std_uncertainty(py).into_any()),
+        ];
+        dataframe(py, columns, "Identification.to_dataframe")
     }
 
     /// The document of `trueaxis identify --json`.
@@ -291,12 +304,34 @@ impl Candidates {
     }
 
     /// The optimal design of `count` records from `starts` random starts in this process (the
-    /// document of `trueaxis design optimal --json`).
-    #[pyo3(signature = (count, *, criterion = "d", starts = 5, seed = 1))]
-    fn exchange(&self, py: Python<'_>, count: usize, criterion: &str, starts: usize, seed: u64) -> PyResult<Py<PyAny>> {
+    /// document of `trueaxis design optimal --json`). `progress(done, total)`, if given, is called
+    /// after each round of starts (one per core); an exception it raises stops the run at the next
+    /// round and is raised here.
+    #[pyo3(signature = (count, *, criterion = "d", starts = 5, seed = 1, progress = None))]
+    fn exchange(
+        &self,
+        py: Python<'_>,
+        count: usize,
+        criterion: &str,
+        starts: usize,
+        seed: u64,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Py<PyAny>> {
         self.check(count, starts)?;
         let c = self::criterion(criterion)?;
-        let outcomes = py.detach(|| self.inner.set.exchange_starts(count, c, seed, 0..starts));
+        let progress = Progress::new(progress)?;
+        // without a callable all starts at once; with one, a round of one start per core
+        let round = if progress.wanted() { std::thread::available_parallelism().map_or(1, |n| n.get()) } else { starts };
+        let outcomes = py.detach(|| {
+            let mut outcomes = Vec::with_capacity(starts);
+            while outcomes.len() < starts && !progress.failed() {
+                let first = outcomes.len();
+                outcomes.extend(self.inner.set.exchange_starts(count, c, seed, first..(first + round).min(starts)));
+                progress.report(outcomes.len(), starts);
+            }
+            outcomes
+        });
+        progress.finish()?;
         self.document(py, count, criterion, &outcomes)
     }
 

@@ -12,6 +12,7 @@ mod errors;
 mod evaluate;
 mod identify;
 mod machine;
+mod progress;
 mod thermal;
 mod uncertainty;
 
@@ -26,7 +27,13 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("ResourceError", py.get_type::<errors::ResourceError>())?;
     m.add("TrueaxisWarning", py.get_type::<errors::TrueaxisWarning>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
-    m.add("PREDICTION_COLUMNS", trueaxis::data::PREDICTION_COLUMNS.iter().map(|(c, _)| *c).collect::<Vec<_>>())?;
+    // the columns of `Machine.predict`: 6 by default, 7 (dL last) with `with_dl=True`
+    let columns: Vec<&str> = trueaxis::data::PREDICTION_COLUMNS.iter().map(|(c, _)| *c).collect();
+    let units: Vec<&str> = trueaxis::data::PREDICTION_COLUMNS.iter().map(|(_, u)| *u).collect();
+    m.add("PREDICTION_COLUMNS", columns[..6].to_vec())?;
+    m.add("PREDICTION_COLUMNS_WITH_DL", columns)?;
+    m.add("PREDICTION_UNITS", units[..6].to_vec())?;
+    m.add("PREDICTION_UNITS_WITH_DL", units)?;
     m.add("BLOCK", trueaxis::uncertainty::BLOCK)?;
     m.add_class::<machine::Machine>()?;
     m.add_class::<machine::Errors>()?;

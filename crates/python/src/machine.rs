@@ -1,9 +1,9 @@
 //! `trueaxis.Machine` and `trueaxis.Errors`: a machine description and its error model, from
 //! files, TOML text or dictionaries; the volumetric error of many poses at once.
 
-use crate::convert::{array2, to_py, toml_text};
+use crate::convert::{array2, point3, to_py, toml_text, with_array2};
 use crate::errors::{computation, input, input_msg};
-use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -36,8 +36,13 @@ impl Machine {
 
     /// `(N, axes)` positions (mm, deg) as a flat row-major vector and N, checked against the travel.
     pub fn poses_of(&self, poses: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, usize)> {
+        with_array2(poses, "poses", |user, shape| Ok((user.to_vec(), self.check_poses(user, shape)?)))
+    }
+
+    /// The number of poses of a `(N, axes)` array of positions (mm, deg), each checked against the
+    /// travel of its axes.
+    pub fn check_poses(&self, user: &[f64], shape: [usize; 2]) -> PyResult<usize> {
         let n_axes = self.inner.axis_count();
-        let (user, shape) = array2(poses, "poses")?;
         if shape[1] != n_axes {
             return Err(input_msg(format!(
                 "poses: expected an array of shape (N, {n_axes}) with the axes {} in mm and deg, got ({}, {})",
@@ -46,10 +51,17 @@ impl Machine {
                 shape[1]
             )));
         }
-        for (i, pose) in user.chunks(n_axes.max(1)).enumerate() {
-            self.inner.check_range(pose).map_err(|m| input_msg(format!("poses: row {i}: {m}")))?;
+        // the test of `Axis::in_range` (travel widened by 1e-9) over all poses without branches;
+        // an axis without travel accepts every finite position; NaN fails every comparison
+        let bounds: Vec<[f64; 2]> =
+            self.inner.axes().iter().map(|a| a.range.map_or([-f64::MAX, f64::MAX], |[lo, hi]| [lo - 1e-9, hi + 1e-9])).collect();
+        let inside = |pose: &[f64]| pose.iter().zip(&bounds).fold(true, |ok, (&v, &[lo, hi])| ok & (v >= lo) & (v <= hi));
+        if !user.chunks_exact(n_axes.max(1)).fold(true, |ok, pose| ok & inside(pose)) {
+            for (i, pose) in user.chunks(n_axes.max(1)).enumerate() {
+                self.inner.check_range(pose).map_err(|m| input_msg(format!("poses: row {i}: {m}")))?;
+            }
         }
-        Ok((user, shape[0]))
+        Ok(shape[0])
     }
 
     /// `(count, axes)` directions of motion from -1, 0, +1 (`None` at rest), checked.
@@ -86,11 +98,30 @@ impl Machine {
             .collect()
     }
 
-    fn setup(&self, tool_point: Option<[f64; 3]>, work_point: Option<[f64; 3]>) -> Setup {
-        Setup {
-            tool_point: tool_point.map_or(self.inner.tool_point, |p| Vec3::new(p[0], p[1], p[2])),
-            work_point: work_point.map_or_else(Vec3::zeros, |p| Vec3::new(p[0], p[1], p[2])),
+    /// `(count, sensors)` temperatures (degC) in the order of `model.sensors()`, flat; empty for
+    /// a model without temperature terms.
+    fn temperatures_of(&self, model: &ErrorModel, temperatures: Option<&Bound<'_, PyAny>>, count: usize) -> PyResult<Vec<f64>> {
+        let sensors = model.sensors();
+        match temperatures.map(|t| array2(t, "temperatures")).transpose()? {
+            Some((t, shape)) if shape == [count, sensors.len()] => Ok(t),
+            Some((_, shape)) => Err(input_msg(format!(
+                "temperatures: expected an array of shape ({count}, {}) for the sensors {:?} (degC), got {:?}",
+                sensors.len(),
+                sensors,
+                shape
+            ))),
+            None if sensors.is_empty() => Ok(Vec::new()),
+            None => Err(input_msg(format!("temperatures: the error model needs the sensors {sensors:?} (degC)"))),
         }
+    }
+
+    /// The setup of a prediction: tool and work points (mm, machine frame at home), each a
+    /// sequence of 3 numbers, by default the machine's tool point and the origin.
+    pub fn setup(&self, tool_point: Option<&Bound<'_, PyAny>>, work_point: Option<&Bound<'_, PyAny>>) -> PyResult<Setup> {
+        Ok(Setup {
+            tool_point: tool_point.map(|p| point3(p, "tool_point")).transpose()?.unwrap_or(self.inner.tool_point),
+            work_point: work_point.map(|p| point3(p, "work_point")).transpose()?.unwrap_or_else(Vec3::zeros),
+        })
     }
 }
 
@@ -165,87 +196,94 @@ impl Machine {
 
     /// Volumetric error at each pose by the exact kinematic chain, vectorised (the GIL is released).
     ///
-    /// poses: float64 array (N, axes) in mm and deg. Returns (N, 6): dx dy dz in um and drx dry
-    /// drz in urad, of the tool point relative to the workpiece point, actual minus nominal, in
-    /// the workpiece frame (or `frame="machine"`); with `with_dl=True` (N, 7), the last column the
-    /// length change dL in um. `temperatures`: (N, sensors) in degC, in the order of
+    /// poses: float64 array (N, axes) in mm and deg. Returns (N, 6) in the columns
+    /// `PREDICTION_COLUMNS`: dx dy dz in um and drx dry drz in urad, of the tool point relative to
+    /// the workpiece point, actual minus nominal, in the workpiece frame (or `frame="machine"`);
+    /// with `with_dl=True` (N, 7), the last column the length change dL in um
+    /// (`PREDICTION_COLUMNS_WITH_DL`). `temperatures`: (N, sensors) in degC, in the order of
     /// `errors.sensors`, when the error model has temperature terms. Tool and work points in mm,
     /// in the machine frame at home (defaults: the machine's tool point, the origin).
     /// `directions`: (N, axes) of -1, 0, +1 (any integer or float dtype, e.g. int8), the direction
     /// of motion of each axis at each pose (0: at rest), for bidirectional errors (`EXX+`/`EXX-`)
-    /// — the `dir:<axis>` columns of a pose file.
-    #[pyo3(signature = (errors, poses, *, tool_point = None, work_point = None, frame = "workpiece", temperatures = None, directions = None, with_dl = false))]
+    /// — the `dir:<axis>` columns of a pose file; without `directions` every axis is at rest, so a
+    /// bidirectional error is the mean of its two directions (as for a pose file without them).
+    /// Any array-like of numbers (float32, int64, lists) is converted to float64; a C-contiguous
+    /// float64 array is read in place. The batch kernel writes the returned array in place; `out`, a
+    /// C-contiguous float64 array of shape (N, 6) or (N, 7), is written instead of a new array and
+    /// returned (as NumPy's `out=`), so that a loop over batches allocates nothing.
+    #[pyo3(signature = (errors, poses, *, tool_point = None, work_point = None, frame = "workpiece", temperatures = None, directions = None, with_dl = false, out = None))]
     #[allow(clippy::too_many_arguments)]
     fn predict<'py>(
         &self,
         py: Python<'py>,
         errors: &Errors,
         poses: &Bound<'py, PyAny>,
-        tool_point: Option<[f64; 3]>,
-        work_point: Option<[f64; 3]>,
+        tool_point: Option<&Bound<'py, PyAny>>,
+        work_point: Option<&Bound<'py, PyAny>>,
         frame: &str,
         temperatures: Option<&Bound<'py, PyAny>>,
         directions: Option<&Bound<'py, PyAny>>,
         with_dl: bool,
+        out: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
-        let (user, count) = self.poses_of(poses)?;
-        let directions = directions.map(|d| self.directions_of(d, count)).transpose()?;
-        let sensors = errors.inner.sensors();
-        let temperatures: Vec<f64> = match temperatures.map(|t| array2(t, "temperatures")).transpose()? {
-            Some((t, shape)) if shape == [count, sensors.len()] => t,
-            Some((_, shape)) => {
-                return Err(input_msg(format!(
-                    "temperatures: expected an array of shape ({count}, {}) for the sensors {:?} (degC), got {:?}",
-                    sensors.len(),
-                    sensors,
-                    shape
-                )))
-            }
-            None if sensors.is_empty() => Vec::new(),
-            None => return Err(input_msg(format!("temperatures: the error model needs the sensors {sensors:?} (degC)"))),
-        };
-        let setup = self.setup(tool_point, work_point);
+        let directions_given = directions;
+        let setup = self.setup(tool_point, work_point)?;
         let frame = parse_frame(frame)?;
-        let machine = self.inner.clone();
-        let model = errors.inner.clone();
         let columns = if with_dl { 7 } else { 6 };
-        let values = py.detach(move || {
-            let mut internal = vec![0.0; user.len()];
-            let n = machine.axis_count().max(1);
-            for (u, q) in user.chunks(n).zip(internal.chunks_mut(n)) {
-                machine.pose_to_internal(u, q);
+        with_array2(poses, "poses", |user, shape| {
+            let count = self.check_poses(user, shape)?;
+            let directions = directions_given.map(|d| self.directions_of(d, count)).transpose()?;
+            let temperatures = self.temperatures_of(&errors.inner, temperatures, count)?;
+            let out = match out {
+                Some(o) => {
+                    let o = o.cast::<PyArray2<f64>>().map_err(|_| input_msg("out: expected a float64 numpy array"))?.clone();
+                    if o.shape() != [count, columns] || !o.is_c_contiguous() {
+                        return Err(input_msg(format!(
+                            "out: expected a C-contiguous float64 array of shape ({count}, {columns}), got shape {:?}",
+                            o.shape()
+                        )));
+                    }
+                    o
+                }
+                // SAFETY: every element is written below (one row per pose) before Python sees it
+                None => unsafe { PyArray2::<f64>::new(py, [count, columns], false) },
+            };
+            {
+                let mut written = out.try_readwrite().map_err(|e| input_msg(format!("out: {e}")))?;
+                let values = written.as_slice_mut().expect("a new array is contiguous");
+                let mut predictor = Predictor::new(&self.inner, &errors.inner);
+                predictor.setup = setup;
+                predictor.frame = frame;
+                py.detach(|| predictor.predict_user_into(user, directions.as_deref(), &temperatures, columns, values));
+                // all finite (a fold without branches), else the first pose that is not
+                if !values.iter().fold(true, |ok, v| ok & v.is_finite()) {
+                    let i = values.iter().position(|v| !v.is_finite()).unwrap_or(0);
+                    return Err(computation(trueaxis::data::DataError::NotFinite {
+                        message: format!("the prediction of pose {} is not a finite number", i / columns + 1),
+                    }));
+                }
             }
-            let mut predictor = Predictor::new(&machine, &model);
-            predictor.setup = setup;
-            predictor.frame = frame;
-            let predictions = predictor.predict_states(&internal, directions.as_deref(), &temperatures);
-            predictions.iter().flat_map(|p| p.to_user_units().into_iter().take(columns)).collect::<Vec<f64>>()
-        });
-        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
-            return Err(computation(trueaxis::data::DataError::NotFinite {
-                message: format!("the prediction of pose {} is not a finite number", i / columns + 1),
-            }));
-        }
-        PyArray1::from_vec(py, values).reshape([count, columns])
+            Ok(out)
+        })
     }
 
     /// The document of `trueaxis predict --json` for a pose CSV file: per pose the axis positions
     /// and dx dy dz dL (um), drx dry drz (urad), rounded to 1e-4 as the command line prints them.
     #[pyo3(signature = (errors, poses, *, tool_point = None, work_point = None, frame = "workpiece"))]
-    fn predict_file(
+    fn predict_file<'py>(
         &self,
-        py: Python<'_>,
+        py: Python<'py>,
         errors: &Errors,
         poses: PathBuf,
-        tool_point: Option<[f64; 3]>,
-        work_point: Option<[f64; 3]>,
+        tool_point: Option<&Bound<'py, PyAny>>,
+        work_point: Option<&Bound<'py, PyAny>>,
         frame: &str,
     ) -> PyResult<Py<PyAny>> {
         let table = read_poses(&poses, &self.inner).map_err(input)?;
         let frame_value = parse_frame(frame)?;
         let temperatures = table.temperatures_of(errors.inner.sensors()).map_err(|m| input_msg(format!("{}: {m}", poses.display())))?;
         let mut predictor = Predictor::new(&self.inner, &errors.inner);
-        predictor.setup = self.setup(tool_point, work_point);
+        predictor.setup = self.setup(tool_point, work_point)?;
         predictor.frame = frame_value;
         let internal = table.internal(&self.inner);
         let predictions = py.detach(|| predictor.predict_states(&internal, table.directions.as_deref(), &temperatures));

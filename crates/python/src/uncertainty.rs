@@ -9,13 +9,12 @@ use crate::convert::{array2, to_py, toml_text};
 use crate::errors::{identify as identify_error, input_msg, uncertainty as uncertainty_error};
 use crate::identify::{Campaign, Reduced};
 use crate::machine::{parse_frame, Machine};
+use crate::progress::Progress;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
-use trueaxis::geometry::Vec3;
 use trueaxis::identify::{solve, Identification, IndirectOptions};
-use trueaxis::model::Setup;
 use trueaxis::uncertainty::{
     budget_json, from_identification, pose_uncertainties, run_chunk, AdaptiveRun, BudgetPlan, Chunk, DesignMatrix, Evaluation,
     IdentificationMap, McResult, McSettings, Source,
@@ -155,8 +154,8 @@ impl UncertaintyPlan {
         py: Python<'_>,
         runs: Vec<McResult>,
         poses: Option<&Bound<'_, PyAny>>,
-        tool_point: Option<[f64; 3]>,
-        work_point: Option<[f64; 3]>,
+        tool_point: Option<&Bound<'_, PyAny>>,
+        work_point: Option<&Bound<'_, PyAny>>,
         frame: &str,
     ) -> PyResult<Py<PyAny>> {
         let budget = self.plan()?.assemble(runs).map_err(uncertainty_error)?;
@@ -170,10 +169,7 @@ impl UncertaintyPlan {
             (Some(p), Some(ctx)) => {
                 let m = &ctx.machine;
                 let (user, _) = m.poses_of(p)?;
-                let setup = Setup {
-                    tool_point: tool_point.map_or(m.inner.tool_point, |p| Vec3::new(p[0], p[1], p[2])),
-                    work_point: work_point.map_or_else(Vec3::zeros, |p| Vec3::new(p[0], p[1], p[2])),
-                };
+                let setup = m.setup(tool_point, work_point)?;
                 pose_uncertainties(
                     &m.inner,
                     &ctx.campaign.inner,
@@ -323,24 +319,38 @@ impl UncertaintyPlan {
 
     /// The whole budget in this process (threads), the document of `trueaxis uncertainty --json`;
     /// `poses` (N, axes) in mm and deg gives the uncertainty of the predicted dx dy dz there (a
-    /// plan from a campaign). The GIL is released during the Monte Carlo.
-    #[pyo3(signature = (*, poses = None, tool_point = None, work_point = None, frame = "workpiece"))]
+    /// plan from a campaign). The GIL is released during the Monte Carlo. `progress(done, total)`,
+    /// if given, is called after each sequence of trials: `done` sequences of at most `total`
+    /// (every stage's most; the adaptive run stops earlier once its results are stable); an
+    /// exception it raises is raised once the current stage ends.
+    #[pyo3(signature = (*, poses = None, tool_point = None, work_point = None, frame = "workpiece", progress = None))]
+    #[allow(clippy::too_many_arguments)]
     fn run(
         &self,
         py: Python<'_>,
         poses: Option<&Bound<'_, PyAny>>,
-        tool_point: Option<[f64; 3]>,
-        work_point: Option<[f64; 3]>,
+        tool_point: Option<&Bound<'_, PyAny>>,
+        work_point: Option<&Bound<'_, PyAny>>,
         frame: &str,
+        progress: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<Py<PyAny>> {
         let plan = self.plan()?;
-        let runs = py
-            .detach(|| {
-                (0..plan.stages())
-                    .map(|k| trueaxis::uncertainty::run_adaptive(&plan.model(k)?, &self.settings, &mut |_, _| {}))
-                    .collect::<Result<Vec<_>, _>>()
-            })
-            .map_err(uncertainty_error)?;
+        let progress = Progress::new(progress)?;
+        let most = self.settings.max_sequences;
+        let total = plan.stages() * most;
+        let runs = py.detach(|| {
+            let mut runs = Vec::with_capacity(plan.stages());
+            for k in 0..plan.stages() {
+                if progress.failed() {
+                    break;
+                }
+                let mut report = |h: usize, _: Option<&_>| progress.report(k * most + h, total);
+                runs.push(trueaxis::uncertainty::run_adaptive(&plan.model(k)?, &self.settings, &mut report)?);
+            }
+            Ok::<_, trueaxis::uncertainty::UncertaintyError>(runs)
+        });
+        progress.finish()?;
+        let runs = runs.map_err(uncertainty_error)?;
         self.document(py, runs, poses, tool_point, work_point, frame)
     }
 }
@@ -398,8 +408,8 @@ impl BudgetRun {
         &mut self,
         py: Python<'_>,
         poses: Option<&Bound<'_, PyAny>>,
-        tool_point: Option<[f64; 3]>,
-        work_point: Option<[f64; 3]>,
+        tool_point: Option<&Bound<'_, PyAny>>,
+        work_point: Option<&Bound<'_, PyAny>>,
         frame: &str,
     ) -> PyResult<Py<PyAny>> {
         if !self.done() {

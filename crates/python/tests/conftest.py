@@ -31,6 +31,16 @@ def trueaxis_binary() -> Path:
 BIN = trueaxis_binary()
 
 
+def pandas():
+    """pandas (the optional dependency of the tables), skipping the test where it is not installed,
+    unless TRUEAXIS_REQUIRE_PANDAS is set (CI, once installed)."""
+    if os.environ.get("TRUEAXIS_REQUIRE_PANDAS"):
+        import pandas as pd
+
+        return pd
+    return pytest.importorskip("pandas")
+
+
 def run_cli(*args, cwd=ROOT):
     """Runs `trueaxis ARGS` in the repository root: (exit status, stdout, stderr)."""
     p = subprocess.run([str(BIN), *map(str, args)], cwd=cwd, capture_output=True, text=True)

@@ -111,3 +111,45 @@ def test_array_shape_and_range_errors_name_the_problem():
         machine.predict(errors, poses)
     with pytest.raises(ta.InputError, match="frame `tool`"):
         machine.predict(errors, np.zeros((1, 5)), frame="tool")
+
+
+def test_bad_points_and_pose_types_are_input_errors():
+    machine = ta.Machine.from_file(KX)
+    errors = ta.Errors.from_file(EX / "errors" / "kx8five.toml", machine)
+    poses = np.zeros((2, 5))
+    for point, text in [((1, 2), "expected 3 numbers x, y, z in mm, got 2"), ("abc", "expected 3 numbers"),
+                        ((0, 0, float("nan")), "x, y, z must be finite")]:
+        with pytest.raises(ta.InputError, match=f"tool_point: {text}"):
+            machine.predict(errors, poses, tool_point=point)
+        with pytest.raises(ta.InputError, match=f"work_point: {text}"):
+            machine.predict(errors, poses, work_point=point)
+    with pytest.raises(ta.InputError, match="poses: not an array of numbers"):
+        machine.predict(errors, [["a", 0, 0, 0, 0]])
+    with pytest.raises(ta.InputError, match="expected a 2-dimensional array, got 1"):
+        machine.predict(errors, np.zeros(5))
+    with pytest.raises(ta.InputError, match="not -1, 0 or"):
+        machine.predict(errors, poses, directions=np.full((2, 5), 2))
+
+
+def test_a_huge_number_gives_a_short_message():
+    machine = ta.Machine.from_file(KX)
+    errors = ta.Errors.from_file(EX / "errors" / "kx8five.toml", machine)
+    poses = np.zeros((2, 5))
+    poses[1, 1] = 1e300
+    with pytest.raises(ta.InputError) as e:
+        machine.predict(errors, poses)
+    assert str(e.value).startswith("poses: row 1: axis Y at 1e300 mm is outside its range")
+    assert len(str(e.value)) < 100, str(e.value)
+    poses[1, 0] = 123456789.123456789
+    with pytest.raises(ta.InputError, match=r"axis X at 1\.234568e8 mm is outside"):
+        machine.predict(errors, poses)
+
+
+def test_conversions_are_documented_and_give_the_same_numbers():
+    """float32, int64 and nested lists are converted to float64 (docs/python.md)."""
+    machine = ta.Machine.from_file(KX)
+    errors = ta.Errors.from_file(EX / "errors" / "kx8five.toml", machine)
+    poses = np.array([[100, -50, -200, 10, 30], [0, 0, 0, 0, 0]], dtype=np.int64)
+    expected = machine.predict(errors, poses.astype(float))
+    for p in (poses, poses.astype(np.float32), poses.tolist(), np.asfortranarray(poses.astype(float))):
+        assert np.array_equal(machine.predict(errors, p), expected)

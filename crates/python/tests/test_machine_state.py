@@ -34,7 +34,7 @@ def test_predict_with_directions_and_temperatures_equals_the_cli():
     assert set(directions[:, 0]) == {1, -1} and temperatures.std() > 1
     got = machine.predict(errors, poses, directions=directions, temperatures=temperatures, with_dl=True)
     expected = cli_json("predict", "--machine", VMC3, "--errors", BACKLASH, "--poses", POSES_T)
-    rounded = np.array([[p[c] for c in ta.PREDICTION_COLUMNS] for p in expected["poses"]])
+    rounded = np.array([[p[c] for c in ta.PREDICTION_COLUMNS_WITH_DL] for p in expected["poses"]])
     assert np.max(np.abs(got - rounded)) <= 0.5e-4 + 1e-12
     # the file's own path gives the same document
     assert machine.predict_file(errors, POSES_T) == expected

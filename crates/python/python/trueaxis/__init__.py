@@ -12,6 +12,9 @@ the command line prints on stderr as warnings or notes is issued as ``TrueaxisWa
 from ._native import (
     BLOCK,
     PREDICTION_COLUMNS,
+    PREDICTION_COLUMNS_WITH_DL,
+    PREDICTION_UNITS,
+    PREDICTION_UNITS_WITH_DL,
     BudgetRun,
     Campaign,
     Candidates,
@@ -40,6 +43,9 @@ from ._native import (
 __all__ = [
     "BLOCK",
     "PREDICTION_COLUMNS",
+    "PREDICTION_COLUMNS_WITH_DL",
+    "PREDICTION_UNITS",
+    "PREDICTION_UNITS_WITH_DL",
     "BudgetRun",
     "Campaign",
     "Candidates",

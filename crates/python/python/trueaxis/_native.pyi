@@ -1,18 +1,22 @@
 """Type stubs of the extension module trueaxis._native (units: mm, deg, um, urad, degC, s)."""
 
 from os import PathLike
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 import numpy.typing as npt
 
 _Path = Union[str, PathLike[str]]
-_Point = Tuple[float, float, float]
+_Point = Sequence[float]
+_Progress = Callable[[int, int], Any]
 _Chunk = Tuple[int, int, int]
 _Array = npt.NDArray[np.float64]
 
 __version__: str
 PREDICTION_COLUMNS: List[str]
+PREDICTION_COLUMNS_WITH_DL: List[str]
+PREDICTION_UNITS: List[str]
+PREDICTION_UNITS_WITH_DL: List[str]
 """Columns of a prediction: dx dy dz (um), drx dry drz (urad), dL (um)."""
 BLOCK: int
 """Trials per random-number stream (a Monte Carlo chunk is a whole number of blocks)."""
@@ -65,11 +69,15 @@ class Machine:
         temperatures: Optional[_Array] = None,
         directions: Optional[npt.ArrayLike] = None,
         with_dl: bool = False,
+        out: Optional[_Array] = None,
     ) -> _Array:
         """Volumetric error at (N, axes) poses (mm, deg): (N, 6) dx dy dz in um, drx dry drz in
-        urad (N, 7 with dL in um when with_dl); exact chain, vectorised, GIL released.
-        temperatures: (N, sensors) degC in the order of errors.sensors; directions: (N, axes) of
-        -1, 0, +1 (e.g. int8), the direction of motion of each axis (0 at rest), for EXX+/EXX-."""
+        urad, the columns PREDICTION_COLUMNS (N, 7 with dL in um when with_dl:
+        PREDICTION_COLUMNS_WITH_DL); exact chain, batch kernel writing the array in place, GIL
+        released. Any array-like of numbers is converted to float64. temperatures: (N, sensors)
+        degC in the order of errors.sensors; directions: (N, axes) of -1, 0, +1 (e.g. int8), the
+        direction of motion of each axis (0 at rest; without directions every axis is at rest and
+        EXX+/EXX- give their mean). out: a C-contiguous float64 (N, 6 or 7) array written and returned."""
     def predict_file(
         self,
         errors: Errors,
@@ -125,6 +133,8 @@ class Identification:
     def covariance(self) -> _Array: ...
     @property
     def residuals(self) -> _Array: ...
+    def to_dataframe(self) -> Any:
+        """pandas DataFrame: name, unit, value, std_uncertainty per unknown (pandas optional)."""
     def to_dict(self) -> Dict[str, Any]:
         """The document of `trueaxis identify --json`."""
     def errors_toml(self) -> str:
@@ -155,7 +165,10 @@ class Candidates:
         self, count: int, outcomes: Sequence[Tuple[int, Optional[List[int]], Optional[float]]], *, criterion: str = "d"
     ) -> Dict[str, Any]:
         """Merge of chunks: the document of `trueaxis design optimal --json`."""
-    def exchange(self, count: int, *, criterion: str = "d", starts: int = 5, seed: int = 1) -> Dict[str, Any]: ...
+    def exchange(
+        self, count: int, *, criterion: str = "d", starts: int = 5, seed: int = 1, progress: Optional[_Progress] = None
+    ) -> Dict[str, Any]:
+        """The document of `trueaxis design optimal --json`; progress(done, total) after each round of starts."""
 
 class Sources:
     """Uncertainty sources and Monte Carlo settings (a sources TOML file)."""
@@ -207,8 +220,10 @@ class UncertaintyPlan:
         tool_point: Optional[_Point] = None,
         work_point: Optional[_Point] = None,
         frame: str = "workpiece",
+        progress: Optional[_Progress] = None,
     ) -> Dict[str, Any]:
-        """The document of `trueaxis uncertainty --json`, in this process."""
+        """The document of `trueaxis uncertainty --json`, in this process; progress(done, total)
+        after each Monte Carlo sequence (total: the most sequences of every stage)."""
 
 class BudgetRun:
     """A budget being assembled from chunks, sequence by sequence, per stage."""
