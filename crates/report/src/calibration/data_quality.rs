@@ -87,7 +87,7 @@ impl DataQualityPart {
             .files
             .iter()
             .flat_map(|f| {
-                let clean = vec![f.file.clone(), f.role.clone(), "-".into(), "no finding".into(), "-".into(), "-".into()];
+                let clean = vec![f.file.clone(), f.role.clone(), "-".into(), "-".into(), "no finding".into(), "-".into()];
                 let found = f.findings.iter().map(move |x| {
                     let consequence = if x.consequence.is_empty() { "-".into() } else { x.consequence.clone() };
                     vec![f.file.clone(), f.role.clone(), x.place.clone(), x.kind.name().into(), x.message.clone(), consequence]
