@@ -109,7 +109,7 @@ pub struct ModelFit {
     /// Per validation segment, its residual statistics.
     pub validation: Vec<(String, Option<ResidualStats>)>,
     /// What a robust regression did (`--robust`).
-    pub robust: Option<RobustSummary>,
+    pub robust: Option<Box<RobustSummary>>,
 }
 
 /// A robust regression's method, coefficients with their standard uncertainties (M-estimator
@@ -320,6 +320,9 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
     Ok(CampaignFit::Model(ModelFit { error, model, kept, rows: rows.len(), evaluated, training: training_stats, validation, robust }))
 }
 
+/// A regression model, the sensors or terms a selection kept, what a robust fit did.
+type RegressionFit = (RegressionModel, Option<Vec<String>>, Option<Box<RobustSummary>>);
+
 /// The PITE/PDTE regression on the training rows, with the sensor selection of `select`; the
 /// names of the kept terms or sensors when selected; what a robust fit did.
 fn fit_regression_model(
@@ -328,7 +331,7 @@ fn fit_regression_model(
     rows: &[usize],
     sensors: &[String],
     error: &str,
-) -> Result<(RegressionModel, Option<Vec<String>>, Option<RobustSummary>), ThermalError> {
+) -> Result<RegressionFit, ThermalError> {
     let temps = campaign.select(sensors, rows)?;
     let measured = campaign.select(&[error.to_string()], rows)?.remove(0);
     let positions = match &request.position {
@@ -349,7 +352,7 @@ fn fit_regression_model(
             Some(w) => {
                 let (m, fit, weights) = fit_regression_robust(error, sensors, &temps, position, request.degree, intercept, &measured, w)?;
                 let names = super::regression::column_names(sensors, position.map(|p| p.0), request.degree, intercept);
-                Ok((m, None, Some(RobustSummary::new(campaign, rows, names, &fit, weights))))
+                Ok((m, None, Some(Box::new(RobustSummary::new(campaign, rows, names, &fit, weights)))))
             }
             None => Ok((fit_regression(error, sensors, &temps, position, request.degree, intercept, &measured)?.0, None, None)),
         },
