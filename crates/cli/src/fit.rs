@@ -451,6 +451,7 @@ fn print_fit(parameter: &ParameterId, direction: Option<Direction>, report: &Dir
     for w in &report.wavelengths {
         println!("  periodic wavelength {w}");
     }
+    print!("{}", crate::iso230_2::data_quality_text(&report.findings));
     if let Some(r) = &report.residual_period {
         let verdict = if r.significant { "significant at 1 %" } else { "not significant at 1 %" };
         println!(

@@ -5,7 +5,9 @@ use std::path::PathBuf;
 use trueaxis::data::OutputSet;
 use trueaxis::identify::{error_values_text, identification_json, Campaign, Identification, IdentifyError, IndirectOptions, Solver};
 use trueaxis::machine::Machine;
-use trueaxis::screen::campaign::identify_screened;
+use trueaxis::screen::campaign::{identify_screened, ScreenedIdentification};
+use trueaxis::screen::campaign_robust::identify_robust;
+use trueaxis::screen::irls::Weighting;
 
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum SolverArg {
@@ -53,8 +55,29 @@ pub struct IdentifyArgs {
     /// Leave out the readings screening finds suspect (studentized residual over 5.5 or Cook's
     /// distance over 0.5, stuck sensors, repeated records; docs/screening.md) and report the
     /// result without them, next to the one with every reading. Default: flag them only.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "robust")]
     exclude_outliers: bool,
+    /// Robust fit (M-estimation by iteratively reweighted least squares, Huber 1981): each reading
+    /// weighted by its residual in MAD-based standard deviations, Huber (k = 1.345) or Tukey
+    /// bisquare (c = 4.685); the readings left with a weight under 0.1 are listed, the uncertainty
+    /// is the M-estimator's covariance, and the least-squares values are printed beside it.
+    #[arg(long, value_enum, conflicts_with = "refine")]
+    robust: Option<RobustArg>,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum RobustArg {
+    Huber,
+    Tukey,
+}
+
+impl RobustArg {
+    fn weighting(self) -> Weighting {
+        match self {
+            RobustArg::Huber => Weighting::Huber,
+            RobustArg::Tukey => Weighting::Tukey,
+        }
+    }
 }
 
 pub fn failure(e: IdentifyError) -> Failure {
@@ -82,7 +105,10 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     };
     let records: usize = campaign.measurements.iter().map(|m| m.records()).sum();
     bar.set_message(format!("identifying {} unknowns from {records} records", campaign.unknowns.len()));
-    let screened = identify_screened(&campaign, &machine, &nominal, &options, args.exclude_outliers);
+    let screened = match args.robust {
+        Some(r) => identify_robust(&campaign, &machine, &nominal, &options, r.weighting()),
+        None => identify_screened(&campaign, &machine, &nominal, &options, args.exclude_outliers),
+    };
     bar.finish_and_clear();
     let screened = screened.map_err(failure)?;
     let (result, campaign) = (&screened.result, &screened.campaign);
@@ -115,19 +141,28 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     }
     let mut text = table(campaign, result, args.out.as_deref());
     text += &crate::iso230_2::data_quality_text(&screened.findings);
+    if let Some(robust) = &screened.robust {
+        text += &format!("\n{}", robust.text());
+    }
     if let Some(other) = &screened.other {
-        text += &comparison_text(result, other, screened.excluded_records > 0, screened.excluded_records);
+        text += &comparison_text(result, other, &screened);
     }
     print(&text)
 }
 
 /// The parameters of both fits side by side: the result and the other one.
-fn comparison_text(result: &Identification, other: &Identification, excluded: bool, records: usize) -> String {
-    let (this, that) = if excluded { ("without suspect", "every reading") } else { ("every reading", "without suspect") };
-    let mut s = if excluded {
-        format!("\n--exclude-outliers: {records} suspect record(s) left out; the values above are without them\n")
+fn comparison_text(result: &Identification, other: &Identification, screened: &ScreenedIdentification) -> String {
+    let records = screened.excluded_records;
+    let ((this, that), mut s) = if let Some(robust) = &screened.robust {
+        let name = robust.weights.weighting.name();
+        ((name, "least squares"), format!("\nthe values above are of the robust fit ({name}); least squares beside them:\n"))
+    } else if records > 0 {
+        (
+            ("without suspect", "every reading"),
+            format!("\n--exclude-outliers: {records} suspect record(s) left out; the values above are without them\n"),
+        )
     } else {
-        "\nsuspect readings are flagged only (--exclude-outliers leaves them out):\n".to_string()
+        (("every reading", "without suspect"), "\nsuspect readings are flagged only (--exclude-outliers leaves them out):\n".to_string())
     };
     s += &format!("  {:<16} {:>16} {:>16} {:>9}\n", "parameter", this, that, "change/u");
     for (j, name) in result.names.iter().enumerate() {

@@ -11,16 +11,16 @@ use trueaxis::identify::pige_report::{bar_lengths, PigeRequest};
 use trueaxis::instruments::ballbar::Method;
 use trueaxis::instruments::ballbar::Plane;
 use trueaxis::machine::Machine;
-use trueaxis::thermal::campaign::Campaign as ThermalCampaign;
+use trueaxis::screen::thermal::read_screened;
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::{LanczosProgress, DEFAULT_SHARE};
 use trueaxis::uncertainty::Sources;
 use trueaxis_report::calibration::CertificateFile;
 use trueaxis_report::calibration::{
-    CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, IdentificationPart, InputFile, PositioningPart,
-    RotaryBallbarPart, ThermalDriftPart, ThermalModesPart, Traceability, UncertaintyPart, VolumePart, CONTROLLER_FORMATS, GRID_NODES,
-    POINTS,
+    CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, DataQualityPart, IdentificationPart, InputFile,
+    PositioningPart, RotaryBallbarPart, ThermalDriftPart, ThermalModesPart, Traceability, UncertaintyPart, VolumePart, CONTROLLER_FORMATS,
+    GRID_NODES, POINTS,
 };
 
 /// A calibration report (HTML with inline figures, no network access; and the same as a PDF with
@@ -372,7 +372,11 @@ fn build<'a>(
             v
         })
     };
-    let (thermal_modes, thermal_drift) = thermal_parts(args, bar)?;
+    let (thermal_modes, thermal_drift, thermal_findings) = thermal_parts(args, bar)?;
+    let mut data_quality = DataQualityPart::of_parts(&positioning, &circles, identification.as_ref()).map_err(failure)?;
+    if let (Some(path), Some(findings)) = (&args.thermal_data, thermal_findings) {
+        data_quality.add(&path.display().to_string(), "thermal campaign", findings).map_err(failure)?;
+    }
     let traceability = Traceability::now(input_files(args, identification.as_ref())?, Some(command_line()));
     let issued = certificate.issue_date(&traceability.date);
     Ok(CalibrationReport {
@@ -392,6 +396,7 @@ fn build<'a>(
         circles,
         rotary_ballbar,
         positioning,
+        data_quality: (!data_quality.files.is_empty()).then_some(data_quality),
         compensation: Some(compensation),
         controller,
         extra: Vec::new(),
@@ -400,8 +405,11 @@ fn build<'a>(
     })
 }
 
-/// The thermal modes of --thermal-model and the prediction of --thermal-data by --thermal-error.
-fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<(Option<ThermalModesPart>, Option<ThermalDriftPart>), Failure> {
+/// The thermal modes of --thermal-model and the prediction of --thermal-data by --thermal-error,
+/// with the screening findings of --thermal-data.
+type ThermalParts = (Option<ThermalModesPart>, Option<ThermalDriftPart>, Option<Vec<trueaxis::screen::Finding>>);
+
+fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<ThermalParts, Failure> {
     let modes = match &args.thermal_model {
         Some(path) => {
             bar.set_message("thermal modes");
@@ -423,12 +431,14 @@ fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<(Option<Thermal
                 .map_err(|e| bad(format!("{}: cannot read: {e}", model_path.display())))?;
             let model_origin = model_path.display().to_string();
             let model = ThermalErrorModel::from_toml_str(&text, &model_origin).map_err(|e| failure(e.into()))?;
-            let campaign = ThermalCampaign::read(data_path).map_err(|e| failure(e.into()))?;
-            Some(ThermalDriftPart::compute(&model, &model_origin, &campaign, &data_path.display().to_string()).map_err(failure)?)
+            let (campaign, findings) = read_screened(data_path, false, false).map_err(|e| failure(e.into()))?;
+            let part = ThermalDriftPart::compute(&model, &model_origin, &campaign, &data_path.display().to_string()).map_err(failure)?;
+            Some((part, findings))
         }
         _ => None,
     };
-    Ok((modes, drift))
+    let (drift, findings) = drift.unzip();
+    Ok((modes, drift, findings))
 }
 
 fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], bytes: usize, pdf: Option<&Path>) -> serde_json::Value {
@@ -515,6 +525,7 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
         "controller": report.controller.as_ref().map(|c| json!({"format": c.format, "worst_um": c.residual.worst_um, "rms_um": c.residual.rms_um, "worst_error_um": c.residual.worst_error_um, "rms_error_um": c.residual.rms_error_um, "leaves_more_than_it_removes": c.residual.leaves_more_than_it_removes(), "left_out": c.left_out, "kinematics": c.kinematics})),
         "parameters": parameters, "volumetric": volumetric, "positioning": positioning, "ballbar": ballbar, "rotary_ballbar": rotary_ballbar,
         "thermal_modes": thermal_modes, "thermal_drift": thermal_drift,
+        "data_quality": report.data_quality.as_ref().map(|d| d.to_json()),
         "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.extent.max_um, "max_correction_urad": c.extent.max_urad})),
     })
 }

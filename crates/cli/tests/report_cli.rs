@@ -23,7 +23,7 @@ const VMC3: [&str; 10] = [
     "--ballbar-centre",
     "0,0,-200",
 ];
-const SECTIONS: [&str; 12] = [
+const SECTIONS: [&str; 13] = [
     "certificate",
     "conformity",
     "machine",
@@ -35,6 +35,7 @@ const SECTIONS: [&str; 12] = [
     "thermal-drift",
     "ballbar",
     "compensation",
+    "data-quality",
     "inputs",
 ];
 
@@ -96,7 +97,10 @@ fn hex(b: &[u8]) -> String {
 fn a_campaign_with_sources_gives_identification_uncertainty_maps_and_compensation() {
     let (html, s) = report(&[&KX8[..], &["--sources", "examples/uncertainty/kx8five_cyclic.toml"]].concat());
     let ids = sections_of(&html, &s);
-    assert_eq!(ids, ["certificate", "machine", "campaign", "identification", "uncertainty", "volumetric", "compensation", "inputs"]);
+    assert_eq!(
+        ids,
+        ["certificate", "machine", "campaign", "identification", "uncertainty", "volumetric", "compensation", "data-quality", "inputs"]
+    );
     assert!(html.matches("<figure>").count() >= 5, "residuals, histograms, convergence, two maps");
     assert_inputs(
         &s,
@@ -140,7 +144,7 @@ fn a_campaign_with_sources_gives_identification_uncertainty_maps_and_compensatio
 fn error_values_and_a_circle_give_maps_ballbar_and_compensation_only() {
     let (html, s) = report(&VMC3);
     let ids = sections_of(&html, &s);
-    assert_eq!(ids, ["certificate", "machine", "volumetric", "ballbar", "compensation", "inputs"]);
+    assert_eq!(ids, ["certificate", "machine", "volumetric", "ballbar", "compensation", "data-quality", "inputs"]);
     assert_inputs(&s, &["examples/machines/vmc3.toml", "examples/errors/vmc3.toml", "examples/ballbar/vmc3_xy.csv"]);
     assert!(s["parameters"].is_null() && !s["volumetric"].is_null());
     // the ballbar values are `ballbar iso230-4`'s
@@ -183,7 +187,7 @@ fn thermal_inputs_give_the_modes_and_the_drift_of_the_thermal_commands() {
     let (html, s) = report(&[&VMC3[..4], &thermal[..]].concat());
     assert_eq!(
         sections_of(&html, &s),
-        ["certificate", "machine", "volumetric", "thermal-modes", "thermal-drift", "compensation", "inputs"]
+        ["certificate", "machine", "volumetric", "thermal-modes", "thermal-drift", "compensation", "data-quality", "inputs"]
     );
     assert_inputs(&s, &[model, campaign, fitted]);
     // the modes are `thermal modes`'s
@@ -228,7 +232,10 @@ fn thermal_inputs_give_the_modes_and_the_drift_of_the_thermal_commands() {
 #[test]
 fn a_campaign_without_sources_has_no_uncertainty_and_a_deficient_one_names_its_combinations() {
     let (html, s) = report(&KX8);
-    assert_eq!(sections_of(&html, &s), ["certificate", "machine", "campaign", "identification", "volumetric", "compensation", "inputs"]);
+    assert_eq!(
+        sections_of(&html, &s),
+        ["certificate", "machine", "campaign", "identification", "volumetric", "compensation", "data-quality", "inputs"]
+    );
     assert!(!html.contains("interval (MC)"), "no Monte Carlo column without sources");
 
     let deficient = ["--machine", "examples/machines/kx8five.toml", "--campaign", "examples/campaigns/kx8five/paper14.toml"];

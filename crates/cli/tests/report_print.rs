@@ -605,3 +605,56 @@ fn a_five_axis_rotary_ballbar_job_is_reported_with_u_everywhere() {
     assert!(err.contains("five.toml") && err.contains("tolerances.parameters.EX0A") && err.contains("EY0A"), "{err}");
     assert!(!html.exists());
 }
+
+/// The data-quality part: an ISO 230-2 test with run 4 in mm (examples/data/iso230_2_x.csv
+/// damaged) beside the clean ballbar export. The section names the file, the run, the kind and
+/// the result without the run, and "no finding" for the export; the JSON carries the same; the
+/// HTML does not overflow in Chromium and the PDF (pdftotext) keeps every word on its page.
+#[test]
+fn the_data_quality_part_names_each_finding_and_each_clean_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(root().join("examples/data/iso230_2_x.csv")).unwrap();
+    let damaged: String = text
+        .lines()
+        .map(|l| {
+            let cells: Vec<&str> = l.split(',').collect();
+            match (cells.len(), cells.get(3)) {
+                (5, Some(&"4")) => {
+                    format!("{},{},{},{},{}\n", cells[0], cells[1].parse::<f64>().unwrap() / 1000.0, cells[2], cells[3], cells[4])
+                }
+                _ => format!("{l}\n"),
+            }
+        })
+        .collect();
+    let path = dir.path().join("run4_mm.csv");
+    std::fs::write(&path, damaged).unwrap();
+    let s = imported_report(dir.path(), &root().join("examples/report/vmc3.toml"), &["--positioning", path.to_str().unwrap()]);
+    let quality = s["data_quality"].as_array().unwrap();
+    assert_eq!(quality.len(), 2, "{quality:?}");
+    let positioning = quality.iter().find(|f| f["file"].as_str().unwrap().ends_with("run4_mm.csv")).unwrap();
+    let export = quality.iter().find(|f| f["file"].as_str().unwrap().ends_with("export_xy.txt")).unwrap();
+    assert_eq!(export["findings"].as_array().unwrap().len(), 0);
+    let finding = &positioning["findings"][0];
+    assert_eq!(finding["kind"], "unit");
+    assert!(finding["place"].as_str().unwrap().starts_with("run 4"), "{finding}");
+    let consequence = finding["consequence"].as_str().unwrap();
+    assert!(consequence.contains("without run 4"), "{consequence}");
+    let html = std::fs::read_to_string(dir.path().join("vmc3.html")).unwrap();
+    let section = &html[html.find("<section id=\"data-quality\">").expect("the data-quality section")..];
+    let section = text_of(&section[..section.find("</section>").unwrap()]);
+    for expected in ["Data quality", "run4_mm.csv", "run 4", "unit", "without run 4", "export_xy.txt", "no finding"] {
+        assert!(section.contains(expected), "`{expected}` not in the data-quality section: {section}");
+    }
+    if let Some(browser) = chromium() {
+        let bad = browser_overflow(&browser, &dir.path().join("vmc3.html"), dir.path());
+        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+    }
+    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
+        let scratch = dir.path().join("pages");
+        std::fs::create_dir(&scratch).unwrap();
+        let pdf_text = check_pdf(&dir.path().join("vmc3.pdf"), &scratch);
+        for expected in ["Data quality", "no finding", "without run 4"] {
+            assert!(pdf_text.contains(expected), "`{expected}` not in the PDF");
+        }
+    }
+}

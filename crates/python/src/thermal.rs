@@ -7,6 +7,7 @@ use crate::machine::Machine;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
+use trueaxis::screen::irls::Weighting;
 use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm};
 use trueaxis::thermal::campaign_predict::{predict_campaign, read_model_file};
@@ -36,9 +37,13 @@ fn failure(e: ThermalError) -> PyErr {
 /// eq. 3.17 fit of N shared time constants (min) to the temperature records instead, over the
 /// first `until` s of each run. out: write the model file (TOML) for `thermal_predict`;
 /// terms_out with parameter (e.g. `"EZZ"`): the model as error terms (T - 20 degC) for
-/// `Errors.from_file`, checked against `machine` when given.
+/// `Errors.from_file`, checked against `machine` when given. As the command's options
+/// (docs/screening.md): skip_missing leaves out the rows with a blank cell (a logger dropout) and
+/// lists them under `data_quality`; split_gaps cuts each run at its gaps in `t`; robust
+/// (`"huber"` or `"tukey"`) fits the regression by M-estimation, its weights, coefficient
+/// uncertainties and downweighted samples under `robust`.
 #[pyfunction]
-#[pyo3(signature = (data, error = None, *, model = "regression", rates = 2, validate = None, time_constants = None, until = None, sensors = None, select = None, position = None, degree = 0, no_intercept = false, geometric_degree = None, by_direction = false, ranges = None, train_runs = None, out = None, parameter = None, terms_out = None, machine = None))]
+#[pyo3(signature = (data, error = None, *, model = "regression", rates = 2, validate = None, time_constants = None, until = None, sensors = None, select = None, position = None, degree = 0, no_intercept = false, geometric_degree = None, by_direction = false, ranges = None, train_runs = None, out = None, parameter = None, terms_out = None, machine = None, skip_missing = false, split_gaps = false, robust = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn thermal_fit(
     py: Python<'_>,
@@ -62,7 +67,14 @@ pub fn thermal_fit(
     parameter: Option<String>,
     terms_out: Option<PathBuf>,
     machine: Option<&Machine>,
+    skip_missing: bool,
+    split_gaps: bool,
+    robust: Option<&str>,
 ) -> PyResult<Py<PyAny>> {
+    let robust = match robust {
+        None => None,
+        Some(name) => Some(Weighting::parse(name).ok_or_else(|| input_msg(format!("robust `{name}`: expected huber or tukey")))?),
+    };
     let model = match model {
         "regression" => ModelForm::Regression,
         "state-space" | "state_space" => ModelForm::StateSpace,
@@ -87,10 +99,10 @@ pub fn thermal_fit(
         by_direction,
         ranges,
         train_runs,
-        robust: false,
+        robust,
         terms: terms_out.is_some(),
     };
-    let (campaign, findings) = trueaxis::screen::thermal::read_screened(&data, false, false).map_err(failure)?;
+    let (campaign, findings) = trueaxis::screen::thermal::read_screened(&data, skip_missing, split_gaps).map_err(failure)?;
     let name = data.display().to_string();
     let fitted = py.detach(|| fit_campaign(&campaign, &name, &request)).map_err(failure)?;
     if let CampaignFit::Model(m) = &fitted {

@@ -89,3 +89,29 @@ def test_thermal_errors_carry_the_cli_messages(tmp_path):
         ta.thermal_fit(CAMPAIGN, "dz", model="ridge")
     with pytest.raises(ta.InputError, match="terms_out needs parameter"):
         ta.thermal_fit(CAMPAIGN, "dz", terms_out=tmp_path / "t.toml")
+
+
+def test_screening_options_equal_the_cli(tmp_path):
+    """skip_missing, split_gaps and robust as --skip-missing, --split-gaps and --robust: a logger
+    dropout (one blank cell) and a gross dz reading (+40 um) in the warm-up run."""
+    lines = CAMPAIGN.read_text().splitlines()
+    cells = lines[11].split(",")
+    cells[3] = ""
+    lines[11] = ",".join(cells)
+    cells = lines[50].split(",")
+    cells[4] = f"{float(cells[4]) + 40.0:.2f}"
+    lines[50] = ",".join(cells)
+    damaged = tmp_path / "damaged.csv"
+    damaged.write_text("\n".join(lines) + "\n")
+    code, message = cli_error("thermal", "fit", "--data", damaged, "--error", "dz")
+    assert code == 2 and "line 12" in message, message
+    for robust in ["huber", "tukey"]:
+        options = ["--train-runs", "warmup", "--skip-missing", "--split-gaps", "--robust", robust]
+        expected = cli_json("thermal", "fit", "--data", damaged, "--error", "dz", *options)
+        got = ta.thermal_fit(damaged, "dz", train_runs=["warmup"], skip_missing=True, split_gaps=True, robust=robust)
+        assert got == expected
+        assert [f["kind"] for f in got["data_quality"]] == ["missing cells"] and got["data_quality"][0]["lines"] == [12]
+        assert got["robust"]["weighting"] == robust
+        assert [d["line"] for d in got["robust"]["downweighted"]] == [51]
+    with pytest.raises(ta.InputError, match="robust `bisquare`"):
+        ta.thermal_fit(damaged, "dz", skip_missing=True, robust="bisquare")

@@ -7,9 +7,10 @@ use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::OutputSet;
 use trueaxis::machine::Machine;
+use trueaxis::screen::irls::Weighting;
 use trueaxis::screen::thermal::read_screened;
 use trueaxis::screen::{findings_json, Finding};
-use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm as FitForm, TimeConstantsFit};
+use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm as FitForm, RobustSummary, TimeConstantsFit};
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::regression::RegressionModel;
 use trueaxis::thermal::validation::ResidualStats;
@@ -109,10 +110,13 @@ pub struct FitArgs {
     /// after a gap is fitted as a run of its own, a state-space model starts again there.
     #[arg(long)]
     split_gaps: bool,
-    /// Fit the regression model with Huber weights (robust regression, Huber 1981): gross errors in
-    /// the error column pull the model by their clipped size only (docs/screening.md).
-    #[arg(long)]
-    robust: bool,
+    /// Fit the regression model by M-estimation (robust regression, Huber 1981), Huber weights
+    /// (k = 1.345, the default) or Tukey bisquare (c = 4.685) of the residuals in MAD-based
+    /// sigmas: gross errors in the error column pull the model by their clipped size only (Huber)
+    /// or not at all (Tukey); the samples left with a weight under 0.1 are listed and each
+    /// coefficient gets its uncertainty from the M-estimator covariance (docs/screening.md).
+    #[arg(long, value_name = "WEIGHTS", num_args = 0..=1, default_missing_value = "huber", value_parser = ["huber", "tukey"])]
+    robust: Option<String>,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -142,7 +146,7 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
         by_direction: args.by_direction,
         ranges: args.ranges.clone(),
         train_runs: args.train_runs.clone(),
-        robust: args.robust,
+        robust: args.robust.as_deref().and_then(Weighting::parse),
         terms: args.terms_out.is_some(),
     };
     let fitted = match fit_campaign(&campaign, &args.data.display().to_string(), &request).map_err(failure)? {
@@ -189,6 +193,9 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
             }
         }
     }
+    if let Some(r) = &fitted.robust {
+        out += &robust_text(r);
+    }
     out += "residuals (measured - predicted):\n";
     out += &stats_line("training", &fitted.training);
     for (run, s) in &fitted.validation {
@@ -213,6 +220,34 @@ fn regression_text(model: &RegressionModel) -> String {
             .chain(model.sensors.iter().zip(&row[1..]).map(|(s, c)| format!("{} {s}", number(*c))))
             .collect();
         out += &format!("  [{}]{p}\n", terms.join(" "));
+    }
+    out
+}
+
+/// The robust fit's method, coefficients with their uncertainties and the samples it left out in
+/// effect.
+fn robust_text(r: &RobustSummary) -> String {
+    let w = &r.weights;
+    let mut out = format!(
+        "robust fit: {}, {} iterations{}, scale s = {:.3} um; coefficients with u (k=1) from the M-estimator covariance (Huber 1981 7.6):\n",
+        w.weighting.describe(),
+        w.iterations,
+        if w.converged { "" } else { " (not converged)" },
+        w.scale
+    );
+    for (n, (c, u)) in r.names.iter().zip(r.coefficients.iter().zip(&r.uncertainties)) {
+        out += &format!("  {n:<16} {c:+.5} +- {u:.5}\n");
+    }
+    out += &format!("  {} sample(s) with weight under 0.1 (as good as left out)", r.downweighted.len());
+    out += if r.downweighted.is_empty() { "\n" } else { ":\n" };
+    for (run, line, e, weight) in r.downweighted.iter().take(40) {
+        out += &format!("    line {line} (run {run}): residual {e:+.3} um, weight {weight:.3}\n");
+    }
+    if r.downweighted.len() > 40 {
+        out += &format!("    ... and {} more (all in --json)\n", r.downweighted.len() - 40);
+    }
+    if let Some(note) = r.systematic_note() {
+        out += &format!("  note: {note}\n");
     }
     out
 }

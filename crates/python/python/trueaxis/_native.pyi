@@ -332,12 +332,17 @@ def thermal_fit(
     parameter: Optional[str] = None,
     terms_out: Optional[_Path] = None,
     machine: Optional[Machine] = None,
+    skip_missing: bool = False,
+    split_gaps: bool = False,
+    robust: Optional[str] = None,
 ) -> Dict[str, Any]:
     """The document of `trueaxis thermal fit --json` for a campaign CSV (t in s, T:<sensor> in degC,
     the error in um): model regression | state-space, residual statistics (um) of training and
     validation; geometric_degree: the geometric/thermal split; by_direction / ranges (mm or deg):
     the segmented G-T model; or, with time_constants, the eq. 3.17 time constants (min). out: the model file;
-    terms_out (with parameter): the model as error terms (T - 20 degC)."""
+    terms_out (with parameter): the model as error terms (T - 20 degC). skip_missing, split_gaps,
+    robust ("huber" | "tukey"): as the command's --skip-missing, --split-gaps, --robust
+    (docs/screening.md); robust fits give coefficient uncertainties (um/degC) under `robust`."""
 
 def thermal_predict(model: _Path, data: _Path) -> Dict[str, Any]:
     """The document of `trueaxis thermal predict --json`: per row the prediction (um), the measured

@@ -67,6 +67,8 @@ pub struct CirclePart {
     pub metadata: trueaxis::io::Metadata,
     /// Paragraphs on how the test was done.
     pub description: Vec<String>,
+    /// Spikes away from the axis reversals (`trueaxis::screen::ballbar::spikes`).
+    pub findings: Vec<trueaxis::screen::Finding>,
 }
 
 impl CirclePart {
@@ -108,6 +110,7 @@ impl CirclePart {
         ];
         let title = format!("Circular test (ISO 230-4): {}", file_name(&input.path));
         let svg = circle_svg(&title, (&format!("+{ia}"), &format!("+{ib}")), &runs, None, &[], &conditions)?;
+        let findings = trueaxis::screen::ballbar::spikes(&input.path.display().to_string(), &runs, input.radius);
         Ok(CirclePart {
             input,
             result,
@@ -117,6 +120,7 @@ impl CirclePart {
             reading_u_um: None,
             metadata: file.metadata,
             description: Vec::new(),
+            findings,
         })
     }
 

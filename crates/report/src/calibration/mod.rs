@@ -23,6 +23,7 @@ mod ballbar;
 mod certificate;
 mod compensation;
 pub mod conformity;
+mod data_quality;
 mod identification;
 mod inputs;
 mod maps;
@@ -37,6 +38,7 @@ pub use ballbar::{section as ballbar_section, CircleInput, CirclePart, SPIKE_WID
 pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances, SPECIMEN};
 pub use compensation::{controller_name, CompensationPart, ControllerPart, CONTROLLER_FORMATS, GRID_NODES, POINTS};
 pub use conformity::{decide, DecisionRule, Item};
+pub use data_quality::{DataQualityPart, ScreenedFile};
 pub use identification::{IdentificationPart, ParameterRow, UncertaintyMethod};
 pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
 pub use maps::{magnitudes_um, statistics, VolumeMap, GRID};
@@ -121,6 +123,8 @@ pub struct CalibrationReport<'a> {
     pub compensation: Option<CompensationPart>,
     /// What the controller format the user chose leaves over the travel.
     pub controller: Option<ControllerPart>,
+    /// The screening of every input file (docs/screening.md); `None`: not screened.
+    pub data_quality: Option<DataQualityPart>,
     /// Further sections before the inputs (the demo's "repeat each step").
     pub extra: Vec<Section>,
     pub traceability: Traceability,
@@ -264,6 +268,7 @@ impl CalibrationReport<'_> {
         if let Some(c) = &self.compensation {
             out.push(c.section(self.controller.as_ref()));
         }
+        out.extend(self.data_quality.iter().map(DataQualityPart::section));
         out.extend(self.extra.iter().cloned());
         out.push(self.traceability.section().paragraph(self.particulars().end()));
         out

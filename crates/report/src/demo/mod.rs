@@ -259,6 +259,7 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
         circles: vec![circle],
         rotary_ballbar: None,
         positioning: Vec::new(),
+        data_quality: None,
         compensation: Some(compensation),
         controller: Some(controller),
         extra,

@@ -11,6 +11,7 @@ use crate::instruments::{motion_error_axis, DirectInstrument, TableCorrection, T
 use crate::io::header::RunDirection;
 use crate::io::units::Dimension;
 use crate::machine::{Machine, ParameterId};
+use crate::screen::direct::{fit_outliers, DirectObservations};
 use serde_json::json;
 
 /// What to fit and how.
@@ -123,6 +124,8 @@ pub struct DirectFitReport {
     pub wavelengths: Vec<f64>,
     /// Strongest sinusoid left in the residuals, above the sampling limit.
     pub residual_period: Option<ResidualPeriod>,
+    /// Readings the fit does not explain (`screen::direct`); the fit is of every reading.
+    pub findings: Vec<crate::screen::Finding>,
 }
 
 /// Runs the workflow on a table.
@@ -194,7 +197,18 @@ pub fn run_direct_fit(table: &CsvTable, request: &DirectFitRequest) -> Result<Di
     let fitted = fit_error_function(&positions, &values, &options)?;
     let residual_period = residual_period(&positions, &fitted.fit.residuals, fitted.fit.sigma);
     let wavelengths = options.spec.periodic.iter().map(|p| p.wavelength).collect();
-    Ok(DirectFitReport { parameter: request.parameter, fitted, positions, values, drift, wavelengths, residual_period })
+    let unit = if p.component().is_rotation() { "urad" } else { "um" };
+    let observations = DirectObservations {
+        table,
+        rows: &keep,
+        positions: &positions,
+        values: &values,
+        options: &options,
+        position_column: &request.position_column,
+        unit,
+    };
+    let findings = fit_outliers(&observations, &fitted)?;
+    Ok(DirectFitReport { parameter: request.parameter, fitted, positions, values, drift, wavelengths, residual_period, findings })
 }
 
 impl DirectFitReport {
@@ -249,6 +263,7 @@ impl DirectFitReport {
             "max_prediction_half_width_95": f.max_prediction_half_width,
             "wavelengths": self.wavelengths,
             "drift": self.drift.iter().map(|d| json!({"run": d.cycle, "rate_per_s": d.rate, "offset": d.offset})).collect::<Vec<_>>(),
+            "data_quality": crate::screen::findings_json(&self.findings),
             "residual_period": self.residual_period.as_ref().map(|r| json!({
                 "period": r.period,
                 "amplitude": r.amplitude,

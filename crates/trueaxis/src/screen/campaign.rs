@@ -235,6 +235,32 @@ pub struct ScreenedIdentification {
     pub other: Option<Identification>,
     /// Records left out of `result` (0 unless `exclude`).
     pub excluded_records: usize,
+    /// The robust fit's weights when `result` is robust (`campaign_robust::identify_robust`);
+    /// `other` is then the least-squares fit.
+    pub robust: Option<super::campaign_robust::RobustFit>,
+}
+
+/// The findings before the fit (a refusing one is an input error), the least-squares fit of every
+/// reading, and the findings after it (outliers).
+pub fn screen_and_fit(
+    campaign: &Campaign,
+    machine: &crate::machine::Machine,
+    nominal: &crate::errors::ErrorModel,
+    options: &crate::identify::IndirectOptions,
+) -> Result<(Vec<Finding>, Identification), crate::identify::IdentifyError> {
+    use crate::identify::{identify, IdentifyError};
+    let mut findings = before_fit(campaign);
+    if let Some(f) = findings.iter().find(|f| f.refuse) {
+        return Err(IdentifyError::Input(f.line()));
+    }
+    let all = identify(campaign, machine, nominal, options)?;
+    if campaign.measurements.iter().all(|m| m.readings.is_some()) {
+        let design = campaign.design_matrix(machine, nominal)?;
+        if design.rows() == all.residuals.len() {
+            findings.extend(after_fit(campaign, &design, &all));
+        }
+    }
+    Ok((findings, all))
 }
 
 /// Screens `campaign`, identifies, screens the residuals and, where records are suspect (outliers,
@@ -248,22 +274,19 @@ pub fn identify_screened(
     options: &crate::identify::IndirectOptions,
     exclude: bool,
 ) -> Result<ScreenedIdentification, crate::identify::IdentifyError> {
-    use crate::identify::{identify, IdentifyError};
-    let mut findings = before_fit(campaign);
-    if let Some(f) = findings.iter().find(|f| f.refuse) {
-        return Err(IdentifyError::Input(f.line()));
-    }
-    let all = identify(campaign, machine, nominal, options)?;
-    if campaign.measurements.iter().all(|m| m.readings.is_some()) {
-        let design = campaign.design_matrix(machine, nominal)?;
-        if design.rows() == all.residuals.len() {
-            findings.extend(after_fit(campaign, &design, &all));
-        }
-    }
+    use crate::identify::identify;
+    let (mut findings, all) = screen_and_fit(campaign, machine, nominal, options)?;
     let reduced = excluding(campaign, &findings);
     let excluded_records: usize = campaign.measurements.iter().zip(&reduced.measurements).map(|(a, b)| a.records() - b.records()).sum();
     if excluded_records == 0 {
-        return Ok(ScreenedIdentification { result: all, campaign: campaign.clone(), findings, other: None, excluded_records: 0 });
+        return Ok(ScreenedIdentification {
+            result: all,
+            campaign: campaign.clone(),
+            findings,
+            other: None,
+            excluded_records: 0,
+            robust: None,
+        });
     }
     let without = identify(&reduced, machine, nominal, options)?;
     let change = largest_change(&all, &without);
@@ -271,9 +294,16 @@ pub fn identify_screened(
         f.consequence = if f.consequence.is_empty() { change.clone() } else { format!("{}; {change}", f.consequence) };
     }
     Ok(if exclude {
-        ScreenedIdentification { result: without, campaign: reduced, findings, other: Some(all), excluded_records }
+        ScreenedIdentification { result: without, campaign: reduced, findings, other: Some(all), excluded_records, robust: None }
     } else {
-        ScreenedIdentification { result: all, campaign: campaign.clone(), findings, other: Some(without), excluded_records: 0 }
+        ScreenedIdentification {
+            result: all,
+            campaign: campaign.clone(),
+            findings,
+            other: Some(without),
+            excluded_records: 0,
+            robust: None,
+        }
     })
 }
 
@@ -302,8 +332,15 @@ impl ScreenedIdentification {
     pub fn add_to_json(&self, doc: &mut serde_json::Value) {
         doc["data_quality"] = super::findings_json(&self.findings);
         doc["excluded_records"] = self.excluded_records.into();
+        if let Some(robust) = &self.robust {
+            doc["robust"] = robust.json();
+        }
         if let Some(other) = &self.other {
-            let key = if self.excluded_records > 0 { "with_all_readings" } else { "without_suspect_readings" };
+            let key = match (&self.robust, self.excluded_records) {
+                (Some(_), _) => "least_squares",
+                (None, 0) => "without_suspect_readings",
+                (None, _) => "with_all_readings",
+            };
             doc[key] = other.names.iter().zip(&other.values).map(|(n, v)| (n.clone(), serde_json::json!(v))).collect();
         }
     }

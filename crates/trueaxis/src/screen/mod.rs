@@ -18,7 +18,10 @@
 
 pub mod ballbar;
 pub mod campaign;
+pub mod campaign_robust;
+pub mod direct;
 pub mod finding;
+pub mod irls;
 pub mod positioning;
 pub mod robust;
 pub mod series;

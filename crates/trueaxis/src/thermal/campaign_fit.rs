@@ -11,13 +11,14 @@ use super::campaign::Campaign;
 use super::drift_model::{fit_drift_model, record};
 use super::error_model::ThermalErrorModel;
 use super::links::{add_terms, model_terms, terms_toml};
-use super::regression::{fit_regression, fit_regression_huber, fit_split, fit_stepwise, select_by_correlation, RegressionModel};
+use super::regression::{fit_regression, fit_regression_robust, fit_split, fit_stepwise, select_by_correlation, RegressionModel};
 use super::segmented::{fit_segmented, Segmentation};
 use super::time_constants::{fit_time_constants, Series, TimeConstantFit};
 use super::validation::{evaluate_segments, residual_stats, segments, Evaluated, ResidualStats, Role, Segment};
 use super::{input, ThermalError};
 use crate::errors::ErrorModel;
 use crate::machine::Machine;
+use crate::screen::irls::{RobustWeights, Weighting};
 use serde_json::{json, Value};
 
 /// The form of a thermal error model.
@@ -63,8 +64,8 @@ pub struct FitRequest {
     pub ranges: Option<Vec<f64>>,
     /// Runs to train on (default: every row); the others validate.
     pub train_runs: Option<Vec<String>>,
-    /// Huber weights for a regression model (`regression::fit_regression_huber`).
-    pub robust: bool,
+    /// Robust weights (Huber or Tukey) for a regression model (`regression::fit_regression_robust`).
+    pub robust: Option<Weighting>,
     /// Whether the model is wanted as error terms (`--terms-out`; regression models only).
     pub terms: bool,
 }
@@ -87,7 +88,7 @@ impl Default for FitRequest {
             by_direction: false,
             ranges: None,
             train_runs: None,
-            robust: false,
+            robust: None,
             terms: false,
         }
     }
@@ -107,6 +108,61 @@ pub struct ModelFit {
     pub training: Option<ResidualStats>,
     /// Per validation segment, its residual statistics.
     pub validation: Vec<(String, Option<ResidualStats>)>,
+    /// What a robust regression did (`--robust`).
+    pub robust: Option<Box<RobustSummary>>,
+}
+
+/// A robust regression's method, coefficients with their standard uncertainties (M-estimator
+/// covariance, `screen::irls`) and the training samples it as good as left out (weight under 0.1).
+#[derive(Clone, Debug)]
+pub struct RobustSummary {
+    pub weights: RobustWeights,
+    pub names: Vec<String>,
+    pub coefficients: Vec<f64>,
+    pub uncertainties: Vec<f64>,
+    /// (run, file line, residual um, weight) of each sample left with a weight under 0.1.
+    pub downweighted: Vec<(String, u64, f64, f64)>,
+}
+
+impl RobustSummary {
+    fn new(campaign: &Campaign, rows: &[usize], names: Vec<String>, fit: &crate::identify::LinearFit, weights: RobustWeights) -> Self {
+        let downweighted = weights
+            .listed()
+            .into_iter()
+            .map(|i| (campaign.runs[rows[i]].clone(), campaign.lines[rows[i]], fit.residuals[i], weights.weights[i]))
+            .collect();
+        RobustSummary { names, coefficients: fit.coefficients.clone(), uncertainties: fit.standard_uncertainties(), downweighted, weights }
+    }
+
+    /// When most downweighted samples come in runs of successive samples, the model misses a
+    /// systematic part of the error (a transient, a missing sensor): robust weights are meant for
+    /// isolated gross readings, and leaving such runs out hides the misfit instead.
+    pub fn systematic_note(&self) -> Option<String> {
+        let listed: Vec<usize> = self.weights.listed();
+        let neighboured = listed.iter().filter(|&&i| listed.contains(&(i + 1)) || (i > 0 && listed.contains(&(i - 1)))).count();
+        (listed.len() >= 4 && 2 * neighboured > listed.len()).then(|| {
+            format!(
+                "{neighboured} of the {} downweighted samples come in runs of successive samples: the model misses a systematic part \
+                 of the error there (a transient, a sensor it lacks), not isolated gross readings; the robust fit leaves that part out \
+                 instead of modelling it",
+                listed.len()
+            )
+        })
+    }
+
+    /// `robust` of `thermal fit --json`.
+    pub fn to_json(&self) -> Value {
+        let w = &self.weights;
+        json!({
+            "weighting": w.weighting.name(), "tuning_constant": w.weighting.constant(), "scale_um": w.scale,
+            "iterations": w.iterations, "converged": w.converged, "effective_samples": w.effective_readings(),
+            "coefficients": self.names.iter().zip(self.coefficients.iter().zip(&self.uncertainties))
+                .map(|(n, (c, u))| json!({"term": n, "value": c, "u": u})).collect::<Vec<_>>(),
+            "downweighted": self.downweighted.iter()
+                .map(|(r, l, e, w)| json!({"run": r, "line": l, "residual_um": e, "weight": w})).collect::<Vec<_>>(),
+            "note": self.systematic_note(),
+        })
+    }
 }
 
 /// Shared time constants fitted to temperature records.
@@ -138,8 +194,12 @@ impl CampaignFit {
 impl ModelFit {
     /// `{"model", "kept", "training", "validation": {segment: statistics}}`.
     pub fn to_json(&self) -> Value {
-        json!({"model": self.model, "kept": self.kept, "training": self.training,
-               "validation": self.validation.iter().map(|(r, s)| (r.clone(), json!(s))).collect::<serde_json::Map<_, _>>()})
+        let mut doc = json!({"model": self.model, "kept": self.kept, "training": self.training,
+               "validation": self.validation.iter().map(|(r, s)| (r.clone(), json!(s))).collect::<serde_json::Map<_, _>>()});
+        if let Some(r) = &self.robust {
+            doc["robust"] = r.to_json();
+        }
+        doc
     }
 
     /// The model as `[[term.NAME]]` error terms (factors T - 20 degC) of ISO parameter `parameter`
@@ -201,9 +261,10 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
     let rows: Vec<usize> = training.iter().flat_map(|s| s.rows.iter().copied()).collect();
     let segmented = request.by_direction || request.ranges.is_some();
     let plain_regression = matches!(request.model, ModelForm::Regression) && request.select.is_none() && request.geometric_degree.is_none();
-    if request.robust && (segmented || !plain_regression) {
+    if request.robust.is_some() && (segmented || !plain_regression) {
         return Err(input("--robust applies to a regression model without --select, --geometric-degree, --by-direction or --ranges"));
     }
+    let mut robust = None;
     let (model, kept) = match request.model {
         ModelForm::Regression if segmented => {
             if request.select.is_some() || request.no_intercept {
@@ -220,7 +281,8 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
             (ThermalErrorModel::Segmented(fit_segmented(campaign, &rows, &error, &sensors, position, &segmentation)?), None)
         }
         ModelForm::Regression => {
-            let (model, kept) = fit_regression_model(request, campaign, &rows, &sensors, &error)?;
+            let (model, kept, summary) = fit_regression_model(request, campaign, &rows, &sensors, &error)?;
+            robust = summary;
             (ThermalErrorModel::Regression(model), kept)
         }
         ModelForm::StateSpace => {
@@ -255,18 +317,21 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
     let training_stats = residual_stats(&measured, &predicted);
     let validation: Vec<(String, Option<ResidualStats>)> =
         evaluated.iter().filter(|e| e.segment.role == Role::Validation).map(|e| (e.segment.name.clone(), e.stats())).collect();
-    Ok(CampaignFit::Model(ModelFit { error, model, kept, rows: rows.len(), evaluated, training: training_stats, validation }))
+    Ok(CampaignFit::Model(ModelFit { error, model, kept, rows: rows.len(), evaluated, training: training_stats, validation, robust }))
 }
 
+/// A regression model, the sensors or terms a selection kept, what a robust fit did.
+type RegressionFit = (RegressionModel, Option<Vec<String>>, Option<Box<RobustSummary>>);
+
 /// The PITE/PDTE regression on the training rows, with the sensor selection of `select`; the
-/// names of the kept terms or sensors when selected.
+/// names of the kept terms or sensors when selected; what a robust fit did.
 fn fit_regression_model(
     request: &FitRequest,
     campaign: &Campaign,
     rows: &[usize],
     sensors: &[String],
     error: &str,
-) -> Result<(RegressionModel, Option<Vec<String>>), ThermalError> {
+) -> Result<RegressionFit, ThermalError> {
     let temps = campaign.select(sensors, rows)?;
     let measured = campaign.select(&[error.to_string()], rows)?.remove(0);
     let positions = match &request.position {
@@ -280,16 +345,20 @@ fn fit_regression_model(
         if request.select.is_some() || !intercept {
             return Err(input("--geometric-degree does not combine with --select or --no-intercept"));
         }
-        return Ok((fit_split(error, sensors, &temps, position, g, request.degree, &measured)?.0, None));
+        return Ok((fit_split(error, sensors, &temps, position, g, request.degree, &measured)?.0, None, None));
     }
     match request.select.as_deref() {
-        None if request.robust => {
-            Ok((fit_regression_huber(error, sensors, &temps, position, request.degree, intercept, &measured)?.0, None))
-        }
-        None => Ok((fit_regression(error, sensors, &temps, position, request.degree, intercept, &measured)?.0, None)),
+        None => match request.robust {
+            Some(w) => {
+                let (m, fit, weights) = fit_regression_robust(error, sensors, &temps, position, request.degree, intercept, &measured, w)?;
+                let names = super::regression::column_names(sensors, position.map(|p| p.0), request.degree, intercept);
+                Ok((m, None, Some(Box::new(RobustSummary::new(campaign, rows, names, &fit, weights)))))
+            }
+            None => Ok((fit_regression(error, sensors, &temps, position, request.degree, intercept, &measured)?.0, None, None)),
+        },
         Some("stepwise") => {
             let (m, _, k) = fit_stepwise(error, sensors, &temps, position, request.degree, intercept, &measured, 0.9999)?;
-            Ok((m, Some(k)))
+            Ok((m, Some(k), None))
         }
         Some(s) if s.starts_with("correlation:") => {
             let n = match s["correlation:".len()..].parse::<usize>() {
@@ -305,7 +374,7 @@ fn fit_regression_model(
             let names: Vec<String> = chosen.iter().map(|&i| sensors[i].clone()).collect();
             let t: Vec<Vec<f64>> = chosen.iter().map(|&i| temps[i].clone()).collect();
             let (m, _) = fit_regression(error, &names, &t, position, request.degree, intercept, &measured)?;
-            Ok((m, Some(names)))
+            Ok((m, Some(names), None))
         }
         Some(other) => Err(input(format!("--select {other}: expected correlation:N or stepwise"))),
     }

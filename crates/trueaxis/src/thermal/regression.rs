@@ -146,12 +146,14 @@ pub fn fit_regression(
     Ok((model, fit))
 }
 
-/// As [`fit_regression`] with Huber weights (robust regression, Huber 1981): iteratively
-/// reweighted least squares, each sample weighted by `screen::robust::huber_weight(r_i / s)` with
-/// s the MAD-based scale of the residuals of the previous step, until no coefficient moves by more
-/// than 1e-9 of its size (at most 50 steps). A few gross errors in the error column (a probe that
-/// missed, a logger glitch) then pull the model by their clipped size only.
-pub fn fit_regression_huber(
+/// As [`fit_regression`] by M-estimation (robust regression, Huber 1981; `screen::irls`):
+/// iteratively reweighted least squares with Huber (k = 1.345) or Tukey (c = 4.685) weights of the
+/// residuals in units of their MAD-based scale, so that a few gross errors in the error column (a
+/// probe that missed, a logger glitch) pull the model by their clipped size only, or not at all.
+/// The returned fit's covariance is the M-estimator's (`RobustWeights::covariance_factor` times
+/// (X^T X)^-1), its `sigma` the robust scale; the weights of every sample come with it.
+#[allow(clippy::too_many_arguments)]
+pub fn fit_regression_robust(
     error_name: &str,
     sensors: &[String],
     temperatures: &[Vec<f64>],
@@ -159,27 +161,22 @@ pub fn fit_regression_huber(
     degree: usize,
     intercept: bool,
     error: &[f64],
-) -> Result<(RegressionModel, LinearFit), ThermalError> {
-    use crate::screen::robust::{huber_weight, mad_sigma};
+    weighting: crate::screen::irls::Weighting,
+) -> Result<(RegressionModel, LinearFit, crate::screen::irls::RobustWeights), ThermalError> {
     check_series(sensors, temperatures, position, degree, error)?;
     let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
     let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
-    let mut fit = fit_linear(&design, error, None, &names).map_err(|e| fit_failure(error_name, e))?;
-    for _ in 0..50 {
-        let s = mad_sigma(&fit.residuals);
-        if s.is_nan() || s <= 0.0 {
-            break;
-        }
-        let weights: Vec<f64> = fit.residuals.iter().map(|r| huber_weight(r / s).max(1e-6)).collect();
-        let next = fit_linear(&design, error, Some(&weights), &names).map_err(|e| fit_failure(error_name, e))?;
-        let moved = next.coefficients.iter().zip(&fit.coefficients).any(|(a, b)| (a - b).abs() > 1e-9 * a.abs().max(1.0));
-        fit = next;
-        if !moved {
-            break;
-        }
-    }
+    let unweighted = fit_linear(&design, error, None, &names).map_err(|e| fit_failure(error_name, e))?;
+    let (mut fit, weights) = crate::screen::irls::irls(weighting, &vec![1.0; error.len()], |extra| {
+        let fit = fit_linear(&design, error, Some(extra), &names).map_err(|e| fit_failure(error_name, e))?;
+        let (c, r) = (fit.coefficients.clone(), fit.residuals.clone());
+        Ok::<_, ThermalError>((fit, c, r))
+    })?;
+    fit.covariance = &unweighted.unscaled_covariance * weights.covariance_factor(names.len());
+    fit.unscaled_covariance = unweighted.unscaled_covariance;
+    fit.sigma = weights.scale;
     let model = model_from_columns(error_name, sensors, position.map(|p| p.0), degree, intercept, &fit.coefficients, None);
-    Ok((model, fit))
+    Ok((model, fit, weights))
 }
 
 /// Fits the geometric/thermal split (Zhu 2008 §4.4.2: "the measured thermal errors were first
@@ -247,7 +244,7 @@ fn fit_failure(error_name: &str, e: crate::identify::IdentifyError) -> ThermalEr
     }
 }
 
-fn column_names(sensors: &[String], position: Option<&str>, degree: usize, intercept: bool) -> Vec<String> {
+pub(crate) fn column_names(sensors: &[String], position: Option<&str>, degree: usize, intercept: bool) -> Vec<String> {
     let mut names = Vec::new();
     for k in 0..=degree {
         let p = match (k, position) {

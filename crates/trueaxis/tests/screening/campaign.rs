@@ -4,29 +4,38 @@
 //! records give the clean values within their uncertainty.
 
 use super::damage::{example, example_path, Csv};
-use trueaxis::identify::{Campaign, IndirectOptions};
+use trueaxis::errors::ErrorModel;
+use trueaxis::identify::{Campaign, IdentifyError, IndirectOptions};
 use trueaxis::machine::Machine;
 use trueaxis::screen::campaign::{identify_screened, ScreenedIdentification};
 use trueaxis::screen::Kind;
 
-const DATA: &str = "examples/campaigns/kx8five/capball.csv";
+pub const DATA: &str = "examples/campaigns/kx8five/capball.csv";
 
-/// The campaign with `capball` as its data file, written to a folder of its own, identified with
-/// screening.
-fn identify(name: &str, capball: &str, exclude: bool) -> Result<ScreenedIdentification, String> {
+/// The campaign with `capball` as its data file, written to a folder of its own, given to `fit`
+/// with the machine and the nominal errors.
+pub fn with_capball<R>(
+    name: &str,
+    capball: &str,
+    fit: impl FnOnce(&Campaign, &Machine, &ErrorModel) -> Result<R, IdentifyError>,
+) -> Result<R, String> {
     let dir = std::env::temp_dir().join(format!("trueaxis-screening-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join("campaign.toml"), example("examples/campaigns/kx8five/campaign.toml")).unwrap();
     std::fs::write(dir.join("capball.csv"), capball).unwrap();
     let machine = Machine::load(example_path("examples/machines/kx8five.toml")).unwrap();
-    let campaign = Campaign::load(dir.join("campaign.toml"), &machine).map_err(|e| e.to_string())?;
-    let nominal = campaign.nominal_errors(&machine).map_err(|e| e.to_string())?;
-    let out = identify_screened(&campaign, &machine, &nominal, &IndirectOptions::default(), exclude).map_err(|e| e.to_string());
+    let loaded = Campaign::load(dir.join("campaign.toml"), &machine).and_then(|c| c.nominal_errors(&machine).map(|n| (c, n)));
+    let out = loaded.and_then(|(campaign, nominal)| fit(&campaign, &machine, &nominal)).map_err(|e| e.to_string());
     let _ = std::fs::remove_dir_all(&dir);
     out
 }
 
-fn value(s: &ScreenedIdentification, name: &str) -> (f64, f64) {
+/// The campaign with `capball` as its data file identified with screening.
+fn identify(name: &str, capball: &str, exclude: bool) -> Result<ScreenedIdentification, String> {
+    with_capball(name, capball, |c, m, n| identify_screened(c, m, n, &IndirectOptions::default(), exclude))
+}
+
+pub fn value(s: &ScreenedIdentification, name: &str) -> (f64, f64) {
     let j = s.result.names.iter().position(|n| n == name).unwrap();
     (s.result.values[j], s.result.std_uncertainty[j].unwrap())
 }

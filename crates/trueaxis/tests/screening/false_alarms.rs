@@ -95,3 +95,23 @@ fn spikes_stuck_readings_and_steps_rarely_flag_clean_series() {
     assert!(stuck <= ALLOWED, "{stuck} of {SETS} clean 3D-ball channels flagged as stuck");
     assert!(jumps <= ALLOWED, "{jumps} of {SETS} clean warm-ups flagged with a step");
 }
+
+/// The outlier check of `trueaxis fit` (`screen::direct`) on the readings of the same simulated
+/// ISO 230-2 tests, written as the test's CSV: a data set counts as flagged when the fit of both
+/// directions or that of the + direction gives a finding.
+#[test]
+fn the_direct_fit_rarely_flags_clean_tests() {
+    let mut rng = ChaCha8Rng::seed_from_u64(2303);
+    let flagged = (0..SETS)
+        .filter(|_| {
+            let data = positioning_set(&mut rng);
+            let mut text = String::from("target,dev,dir,run\n");
+            for r in &data.readings {
+                text += &format!("{},{},{},{}\n", r.target, r.dev, if r.direction == Direction::Plus { "+" } else { "-" }, r.run);
+            }
+            [None, Some('+')].iter().any(|&d| !super::positioning::direct_fit_of(&text, d).findings.is_empty())
+        })
+        .count();
+    eprintln!("false alarms: fit (studentized residual, Cook's distance) {flagged} of {SETS}");
+    assert!(flagged <= ALLOWED, "{flagged} of {SETS} clean direct fits flagged");
+}

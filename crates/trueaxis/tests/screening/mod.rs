@@ -8,4 +8,5 @@ mod campaign;
 mod damage;
 mod false_alarms;
 mod positioning;
+mod robust;
 mod thermal;
