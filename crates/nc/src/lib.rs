@@ -44,7 +44,7 @@ pub use interpret::FanucSettings;
 pub use modal::MM_PER_INCH;
 pub use program::{Program, SearchPath};
 pub use tools::ToolTable;
-pub use trace::{Move, MoveKind, Role, Trace, Warning};
+pub use trace::{CycleHole, Move, MoveKind, Role, Trace, Warning};
 
 use std::fmt;
 
@@ -88,6 +88,10 @@ pub struct ProgramSetup {
     pub rs274_tool_change: bool,
     /// What a tool the table lacks (or every tool, without a table) is taken as.
     pub unknown_tools: UnknownTools,
+    /// Write drilling and boring cycles as plain moves (`--expand-cycles`); by default a canned
+    /// cycle run in G90 stays a cycle (its hole position and levels corrected). Tapping is always
+    /// kept as a cycle.
+    pub expand_cycles: bool,
 }
 
 /// What a tool that is not in the tool table is taken as.
@@ -112,6 +116,7 @@ impl ProgramSetup {
             fanuc: FanucSettings::default(),
             rs274_tool_change: false,
             unknown_tools: UnknownTools::Assume(0.0),
+            expand_cycles: false,
         }
     }
 
