@@ -54,6 +54,11 @@ pub struct NcArgs {
     /// Refuse a tool that is not in the tool table instead (the line named).
     #[arg(long)]
     strict_tools: bool,
+    /// Write drilling and boring cycles (G73 G81-G83 G85 G86 G89) as plain moves, each point
+    /// corrected, instead of keeping them as cycles with the hole position, the bottom and R
+    /// corrected at the hole (the default; see docs/nc.md). Tapping stays a cycle.
+    #[arg(long)]
+    expand_cycles: bool,
     /// LinuxCNC parameter file (`.var`: work offsets #5221..., G28/G30 positions #5161/#5181...),
     /// machine units.
     #[arg(long)]
@@ -178,6 +183,7 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
         return Err(bad("--peck-clearance-mm must be a non-negative number".into()));
     }
     setup.fanuc.peck_clearance_mm = args.peck_clearance_mm;
+    setup.expand_cycles = args.expand_cycles;
     let mut dirs = args.search_path.clone();
     if dirs.is_empty() {
         dirs.push(

@@ -71,6 +71,14 @@ fn both_dialects_run_with_a_tool_table_offsets_and_a_subroutine_file() {
     );
     assert!(text.contains("(TRUEAXIS: CORRECTED PROGRAM; EXPANDED INTO PLAIN MOVES"), "{text}");
     assert!(text.contains("N45 G00 X19.99") && text.contains("N95 M30"), "{text}");
+    // the G83 pattern stays a cycle, its holes corrected; --expand-cycles writes its moves
+    assert!(text.contains("N55 G98 G83 X19.99") && text.contains("\nN60 X39.99"), "{text}");
+    assert_eq!(doc["expanded"].as_array().unwrap().len(), 1, "{doc}");
+    let (code, stdout, stderr) = nc("examples/errors/vmc3.toml", &[&args[..], &["--expand-cycles"]].concat());
+    assert_eq!(code, 0, "{stderr}");
+    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let expanded: Vec<&str> = doc["expanded"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
+    assert_eq!(expanded[..3], ["line 13, canned cycle", "line 14, canned cycle", "line 15, canned cycle"], "{doc}");
     // --dialect linuxcnc reads the Fanuc program as LinuxCNC: its O number is no O-word
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[&["examples/nc/drilling.nc", "--dialect", "linuxcnc"][..], &setup].concat());
     assert_eq!(code, 2);

@@ -8,12 +8,18 @@
 //!   G89 dwell, feed out; G86 dwell, spindle stop, rapid out, spindle restart; G73 pecks of Q with a
 //!   retraction of 0.010 inch (Fanuc: the peck clearance setting); G83 pecks of Q back to R and down
 //!   to that clearance above the last depth; G74/G84 (LinuxCNC floating tapping) feed in, spindle
-//!   reversed, dwell, feed out, spindle restored, overrides off meanwhile; G87 back boring;
+//!   reversed, dwell, feed out, spindle restored, overrides off meanwhile; Fanuc G74/G84 (rigid
+//!   tapping, after `M29 S..` or not) feed in, dwell, feed out to R, then to the initial level with
+//!   G98; G87 back boring;
 //! - the retraction goes to R (G99) or to the initial level (G98) when that is above R;
 //! - in G91, R is an increment from the initial level and the bottom an increment from R.
 //!
 //! The moves are the same canonical moves rs274 prints; dwells and spindle codes between them are
-//! recorded as actions, so that the expanded program runs the same cycle.
+//! recorded as actions, so that an expanded copy runs the same cycle. A cycle run in G90 (no polar
+//! words, not G87) is recorded as a [`crate::trace::CycleHole`], to be written as a cycle again with
+//! its hole position and levels corrected; otherwise, or with `expand_cycles`, its block is
+//! expanded. Tapping follows the spindle and cannot become plain moves: it is always kept, and
+//! refused in G91.
 
 use crate::dialect::Dialect;
 use crate::execute::Words;
@@ -57,6 +63,7 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
     };
     let s = exec.state;
     let old_cc = s.cycle.initial.unwrap_or(s.position[c]);
+    let initial_level = old_cc;
     exec.state.cycle.initial = Some(old_cc);
     let (mut aa, mut bb, r, cc, inc_a, inc_b, inc_radius, inc_angle);
     let (polar_r, polar_t) = (w.get(b'@'), w.get(b'^').map(f64::to_radians));
@@ -85,6 +92,17 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
         (aa, bb) = (s.position[a], s.position[b]);
     }
     w.use_axes();
+    let tapping = matches!(code, 740 | 840);
+    let absolute = !s.frame.incremental && polar_r.is_none() && polar_t.is_none() && !s.frame.diameter && code != 870;
+    if tapping && !absolute {
+        return Err(format!(
+            "{name} in G91 (incremental) or with polar words: a tapping cycle follows the spindle, so it is kept as a cycle, which is written in G90 with its hole position only"
+        ));
+    }
+    let keep = absolute && (tapping || !exec.expand_cycles);
+    if !keep {
+        exec.trace.steps[step].flags |= crate::trace::flags::EXPAND;
+    }
     if r < cc {
         return Err(format!("the R level {r} of {name} is below its bottom {cc}"));
     }
@@ -124,7 +142,8 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
     if matches!(code, 860 | 870) && spindle == Spindle::Stopped {
         return Err(format!("{name} needs the spindle turning"));
     }
-    if matches!(code, 740 | 840) {
+    // a Fanuc taps rigidly after `M29 S..` without M3
+    if tapping && !fanuc {
         match (code, spindle) {
             (_, Spindle::Stopped) => return Err(format!("{name} needs the spindle turning")),
             (840, Spindle::CounterClockwise) => return Err("G84 with the spindle turning counterclockwise".into()),
@@ -146,6 +165,8 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
         p[c] = pc;
         p
     };
+    // the moves of the block, from the rise to R if there is one
+    let first_move = exec.trace.moves.len();
     let mut current_cc = s.position[c];
     let mut old_cc = old_cc;
     if old_cc < r {
@@ -161,6 +182,8 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
         exec.action(&[(b'G', 61.0)]);
     }
     let ccw_code = if spindle == Spindle::Clockwise { 3.0 } else { 4.0 };
+    let since_first = |exec: &Exec| (exec.trace.moves.len() - 1 - first_move) as u32;
+    let mut r_move = 0;
     for repeat in 0..repeats {
         aa += inc_a;
         bb += inc_b;
@@ -187,6 +210,9 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
             if clear > r {
                 rapid(exec, aa, bb, r)?;
             }
+        }
+        if repeat == 0 {
+            r_move = since_first(exec);
         }
         let dwell_action = |exec: &mut Exec| exec.action(&[(b'G', 4.0), (b'P', dwell)]);
         match code {
@@ -228,6 +254,15 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
                 }
                 feed(exec, aa, bb, cc)?;
                 rapid(exec, aa, bb, clear)?;
+            }
+            740 | 840 if fanuc => {
+                // rigid tapping: in to the bottom, out to R, to the initial level with G98
+                feed(exec, aa, bb, cc)?;
+                dwell_action(exec);
+                feed(exec, aa, bb, r)?;
+                if clear > r {
+                    rapid(exec, aa, bb, clear)?;
+                }
             }
             740 | 840 => {
                 let (reverse, forward) = if code == 840 { (4.0, 3.0) } else { (3.0, 4.0) };
@@ -279,7 +314,27 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
         }
         exec.action(&restore);
     }
-    let _ = step;
+    if keep {
+        // the bottom: the first move after R that ends there
+        let after_r = first_move + r_move as usize + 1;
+        let bottom_move =
+            exec.trace.moves[after_r..].iter().position(|m| m.program_end[c] == cc).map_or(0, |k| (k + after_r - first_move) as u32);
+        exec.trace.holes.push(crate::trace::CycleHole {
+            step: step as u32,
+            code,
+            plane,
+            r,
+            bottom: cc,
+            clear,
+            initial: initial_level,
+            retract_to_r: s.retract_to_r,
+            first: s.cycle.initial.is_none(),
+            peck,
+            dwell,
+            r_move,
+            bottom_move,
+        });
+    }
     let st = &mut exec.state;
     st.position[a] = aa;
     st.position[b] = bb;
@@ -294,6 +349,18 @@ pub(crate) fn cycle(exec: &mut Exec, code: u16, w: &mut Words, step: usize) -> R
     st.motion = Motion::Cycle(code);
     exec.position = exec.program_to_machine(&exec.state.position);
     Ok(())
+}
+
+/// The pecks of a G73 or G83 before the last feed to the bottom, as the loop above makes them:
+/// the feeds to `r - k q` while above the bottom.
+pub fn pecks(r: f64, bottom: f64, q: f64) -> u32 {
+    let mut depth = r - q;
+    let mut n = 0;
+    while depth > bottom {
+        n += 1;
+        depth -= q;
+    }
+    n
 }
 
 impl Exec<'_> {

@@ -7,8 +7,7 @@
 //! codes, its axis-setting command, its stop codes) is recorded beside them.
 //!
 //! Refused with the reason: probing (`G38.x`, Fanuc `G31`), spindle-synchronised motion (`G33`,
-//! `G33.1`, `G76` threading, Fanuc rigid tapping `G74`/`G84`), cutter radius compensation
-//! (`G41`/`G42`), splines, lathe roughing cycles, scaling and coordinate rotation commands (Fanuc
+//! `G33.1`, `G76` threading), cutter radius compensation (`G41`/`G42`), NURBS, lathe roughing cycles, scaling and coordinate rotation commands (Fanuc
 //! `G51`/`G68`), 5-axis tool-centre-point and tilted-plane modes, polar coordinate mode (Fanuc `G16`).
 
 use crate::dialect::Dialect;
@@ -175,7 +174,8 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
             650 => NonModal,
             931 => FeedMode,
             930 => FeedMode,
-            740 | 840 => return refuse("(tapping) on a Fanuc is synchronised with the spindle and cannot be split or shifted"),
+            // tapping (rigid with `M29 S..` before it): kept as a cycle
+            740 | 840 => Motion,
             760 | 870 => {
                 return refuse("(boring with spindle orientation and shift) cannot be expanded: the shift direction is a machine parameter")
             }
@@ -935,7 +935,6 @@ impl Exec<'_> {
                 if self.state.feed == 0.0 {
                     return Err("a canned cycle with zero feed rate".into());
                 }
-                self.trace.steps[step].flags |= flags::EXPAND;
                 crate::cycles::cycle(self, c, w, step)
             }
         }

@@ -118,6 +118,7 @@ pub(crate) struct Exec<'m> {
     pub rs274_tool_change: bool,
     pub tool_at_last_move: Vec9,
     pub unknown_tools: UnknownTools,
+    pub expand_cycles: bool,
 }
 
 /// Runs `program` from `setup`; the trace of the run, or the error with its file and line.
@@ -239,6 +240,7 @@ impl<'m> Exec<'m> {
             setting_words: Vec::new(),
             stop_words: Vec::new(),
             rs274_tool_change: setup.rs274_tool_change,
+            expand_cycles: setup.expand_cycles,
             tool_at_last_move: [0.0; AXES],
             spline_pq: None,
             unknown_tools: setup.unknown_tools,

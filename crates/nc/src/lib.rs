@@ -44,7 +44,7 @@ pub use interpret::FanucSettings;
 pub use modal::MM_PER_INCH;
 pub use program::{Program, SearchPath};
 pub use tools::ToolTable;
-pub use trace::{Move, MoveKind, Role, Trace, Warning};
+pub use trace::{CycleHole, Move, MoveKind, Role, Trace, Warning};
 
 use std::fmt;
 
@@ -92,6 +92,10 @@ pub struct ProgramSetup {
     /// ([`interpret::MAX_STEPS`] by default; the fuzz targets use far fewer so that a mutated
     /// loop condition costs milliseconds, not minutes).
     pub max_blocks: usize,
+    /// Write drilling and boring cycles as plain moves (`--expand-cycles`); by default a canned
+    /// cycle run in G90 stays a cycle (its hole position and levels corrected). Tapping is always
+    /// kept as a cycle.
+    pub expand_cycles: bool,
 }
 
 /// What a tool that is not in the tool table is taken as.
@@ -117,6 +121,7 @@ impl ProgramSetup {
             rs274_tool_change: false,
             unknown_tools: UnknownTools::Assume(0.0),
             max_blocks: interpret::MAX_STEPS,
+            expand_cycles: false,
         }
     }
 

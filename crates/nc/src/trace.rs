@@ -164,6 +164,43 @@ pub struct Trace {
     pub warnings: Vec<Warning>,
     /// Tools the table lacks that took the assumed length ([`crate::UnknownTools::Assume`]).
     pub assumed_tools: Vec<u32>,
+    /// The canned-cycle blocks to be written as cycles (in step order).
+    pub holes: Vec<CycleHole>,
+}
+
+/// A canned-cycle block kept as a cycle in the corrected program: one hole position in the plane
+/// and the levels along the cycle axis (Z in G17), in program units, absolute (the block was run in
+/// G90). The corrected block carries the hole position and the bottom of the correction at the
+/// bottom, and the R level of the correction at R.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CycleHole {
+    pub step: u32,
+    /// The cycle's G code times 10 (810, 840...).
+    pub code: u16,
+    pub plane: PlaneSelect,
+    /// R level, bottom, and the level it retracts to (R with G99, the initial level with G98).
+    pub r: f64,
+    pub bottom: f64,
+    pub clear: f64,
+    /// The initial level of the run of cycles (the level before its first block).
+    pub initial: f64,
+    pub retract_to_r: bool,
+    /// The first cycle block of a run of cycles (its initial level is the current position).
+    pub first: bool,
+    /// Peck depth (G73, G83; 0 otherwise) and dwell at the bottom (s; 0: none).
+    pub peck: f64,
+    pub dwell: f64,
+    /// The moves of the step (from its first) that end at R at the hole and at the bottom (first
+    /// repeat).
+    pub r_move: u32,
+    pub bottom_move: u32,
+}
+
+impl CycleHole {
+    /// Tapping follows the spindle: its moves cannot be written as plain moves.
+    pub fn tapping(&self) -> bool {
+        matches!(self.code, 740 | 840)
+    }
 }
 
 /// A warning of a run.
@@ -183,6 +220,11 @@ impl Trace {
             self.frames.push(*frame);
         }
         (self.frames.len() - 1) as u32
+    }
+
+    /// The kept cycle of step `index`, if it is one.
+    pub fn hole_of(&self, index: usize) -> Option<&CycleHole> {
+        self.holes.binary_search_by_key(&(index as u32), |h| h.step).ok().map(|k| &self.holes[k])
     }
 
     pub fn step_moves(&self, step: &Step) -> &[Move] {

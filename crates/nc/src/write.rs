@@ -20,6 +20,9 @@ use crate::tools::AXIS_LETTERS;
 use crate::trace::{Axes, Move, MoveKind, Relative, Role, Step, Trace};
 use std::collections::BTreeMap;
 
+mod cycle;
+pub use cycle::HoleReport;
+
 /// Writes the corrected program.
 pub struct Writer<'a> {
     pub machine: &'a MachineAxes,
@@ -45,6 +48,16 @@ pub struct Writer<'a> {
     pub clamped: std::cell::Cell<usize>,
     /// What was expanded, for the note at the top.
     pub notes: Vec<String>,
+    /// The holes of the canned cycles kept as cycles.
+    pub holes: Vec<HoleReport>,
+    /// The R and bottom levels the controller remembers from the last cycle it ran (program
+    /// units), whether it runs the cycle the original runs (no expanded copy since), and the
+    /// initial level of the run of cycles (original, corrected).
+    cycle_words: Option<(f64, f64)>,
+    cycle_valid: bool,
+    cycle_initial: Option<f64>,
+    /// The peck depth of the original and the one written for it (program units).
+    cycle_q: Option<(f64, f64)>,
 }
 
 impl<'a> Writer<'a> {
@@ -74,6 +87,11 @@ impl<'a> Writer<'a> {
             machine_inch: false,
             clamped: std::cell::Cell::new(0),
             notes: Vec::new(),
+            holes: Vec::new(),
+            cycle_words: None,
+            cycle_valid: false,
+            cycle_initial: None,
+            cycle_q: None,
         }
     }
 
@@ -554,6 +572,10 @@ impl<'a> Writer<'a> {
 
     /// An expanded copy of a step.
     pub fn expanded(&mut self, step: &Step, pieces: &[Pieces], keep_sequence: Option<u32>) -> Vec<String> {
+        if !step.moves.is_empty() {
+            // the controller no longer runs the cycles the original runs
+            self.cycle_valid = false;
+        }
         let frame0 = self.trace.frames[step.frame as usize];
         let mut out = Vec::new();
         let mut first: Vec<String> = Vec::new();
@@ -677,7 +699,11 @@ impl<'a> Writer<'a> {
                     }
                 }
             }
-            if !step.has(crate::trace::flags::CONTROL) || !step.actions.is_empty() {
+            if let Some(hole) = self.trace.hole_of(index).filter(|h| h.tapping()) {
+                let lines = self.cycle_block(hole, step, pieces);
+                self.region.extend(lines);
+                self.region_changed = true;
+            } else if !step.has(crate::trace::flags::CONTROL) || !step.actions.is_empty() {
                 let lines = self.expanded(step, pieces, None);
                 self.region.extend(lines);
             }
@@ -691,49 +717,59 @@ impl<'a> Writer<'a> {
         }
         let k = step.line as usize;
         match self.plan.lines[k] {
-            LineOut::InPlace(s) if s as usize == index => {
-                let lines = self.in_place(step, pieces);
-                self.out[k] = Some(lines);
-            }
-            LineOut::Single(s) if s as usize == index => {
-                let sequence = self.program.files[0].lines[k].as_ref().ok().and_then(|l| l.sequence);
-                self.region_changed = false;
-                let lines = self.expanded(step, pieces, sequence);
-                let text = self.program.files[0].line_text(k).to_string();
-                if self.region_changed {
-                    let what = if step.has(crate::trace::flags::SPLINE) {
-                        "spline as lines within 1 um of the curve"
-                    } else if self.trace.step_moves(step).iter().all(|m| matches!(m.kind, MoveKind::Arc { .. })) {
-                        "arc of several turns"
-                    } else {
-                        "canned cycle"
-                    };
-                    self.notes.push(format!("line {}, {what}", k + 1));
-                    self.changed_lines += 1;
-                    self.inserted_lines += lines.len().saturating_sub(1);
-                    let mut lines = lines;
-                    if let Some(c) = comment_of(&text) {
-                        if let Some(first) = lines.first_mut() {
-                            if !first.contains(&c) {
-                                first.push_str(&format!(" {c}"));
-                            }
-                        }
-                    }
+            LineOut::InPlace(s) if s as usize == index => match self.trace.hole_of(index) {
+                Some(hole) => match self.kept_cycle(hole, step, pieces) {
+                    Some(lines) => self.out[k] = Some(lines),
+                    None => self.single(step, pieces, k),
+                },
+                None => {
+                    let lines = self.in_place(step, pieces);
                     self.out[k] = Some(lines);
-                } else {
-                    let moves = self.trace.step_moves(step);
-                    if let Some(m) = moves.last() {
-                        self.written = m.end;
-                    }
-                    self.out[k] = Some(vec![text]);
                 }
-            }
+            },
+            LineOut::Single(s) if s as usize == index => self.single(step, pieces, k),
             _ => {
                 // a step of a line kept as it is (a comment, a block without moves)
                 for m in self.trace.step_moves(step) {
                     self.written = m.end;
                 }
             }
+        }
+    }
+
+    /// A block replaced by its moves where it stands (a canned cycle, an arc of several turns, a
+    /// spline), or its text when nothing changes at the written resolution.
+    fn single(&mut self, step: &Step, pieces: &[Pieces], k: usize) {
+        let sequence = self.program.files[0].lines[k].as_ref().ok().and_then(|l| l.sequence);
+        self.region_changed = false;
+        let lines = self.expanded(step, pieces, sequence);
+        let text = self.program.files[0].line_text(k).to_string();
+        if self.region_changed {
+            let what = if step.has(crate::trace::flags::SPLINE) {
+                "spline as lines within 1 um of the curve"
+            } else if self.trace.step_moves(step).iter().all(|m| matches!(m.kind, MoveKind::Arc { .. })) {
+                "arc of several turns"
+            } else {
+                "canned cycle"
+            };
+            self.notes.push(format!("line {}, {what}", k + 1));
+            self.changed_lines += 1;
+            self.inserted_lines += lines.len().saturating_sub(1);
+            let mut lines = lines;
+            if let Some(c) = comment_of(&text) {
+                if let Some(first) = lines.first_mut() {
+                    if !first.contains(&c) {
+                        first.push_str(&format!(" {c}"));
+                    }
+                }
+            }
+            self.out[k] = Some(lines);
+        } else {
+            let moves = self.trace.step_moves(step);
+            if let Some(m) = moves.last() {
+                self.written = m.end;
+            }
+            self.out[k] = Some(vec![text]);
         }
     }
 

@@ -109,7 +109,8 @@ fn check(path: &str, machine: &Machine, errors: &ErrorModel) -> Outcome {
     }
     let (_, homes) = crate::common::canonical_homes(machine, moves);
     let original = if plain.len() < moves.len() { crate::fanuc::read(machine, &text, &options) } else { original };
-    match oracle.compare(&original, &corrected, &vec![0.0; machine.axis_count()], 0.05, 1.05, &homes) {
+    let slack = crate::common::hole_slack(moves, &result.holes);
+    match oracle.compare_with(&original, &corrected, &vec![0.0; machine.axis_count()], 0.05, 1.05, &homes, &slack) {
         Ok(r) => Outcome::Corrected { moves: r.moves, pieces: r.pieces, expanded: result.expanded.len(), worst_um: r.worst_end_um },
         Err(e) => Outcome::Failed(e),
     }

@@ -219,7 +219,7 @@ fn what_cannot_be_corrected_is_refused_with_the_line() {
         ("o1 sub\no1 endsub\nM98 P100\nM2\n", "line 3: M98 is a Fanuc subprogram call"),
         ("o<nowhere> call\nM2\n", "line 1: subroutine `o<nowhere>` is neither in the program nor a file nowhere.ngc"),
         ("(abort, tool broken)\nM2\n", "line 1: the program aborts here: tool broken"),
-        ("%\nO1\nG84 X0 Y0 Z-5 R2 F100\nM30\n%\n", "line 3: G84 (tapping)"),
+        ("%\nO1\nG91 G84 X0 Y0 Z-5 R-2 F100\nM30\n%\n", "line 3: G84 in G91 (incremental) or with polar words: a tapping cycle"),
         ("%\nO1\nG68 X0 Y0 R30.\nM30\n%\n", "line 3: G68 (coordinate rotation"),
         ("%\nO1\nM99\n%\n", "line 3: M99 in the main program restarts it endlessly"),
         ("%\nO1\nGOTO 20\nM30\n%\n", "line 3: GOTO 20: no block N20"),

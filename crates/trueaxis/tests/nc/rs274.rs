@@ -65,6 +65,7 @@ fn check(case: &Case, decimals: Option<usize>, end_um: f64) -> (NcResult, Report
     options.setup.tools = ToolTable::parse(TOOLS, "tools.tbl").unwrap();
     options.setup.parameters = trueaxis::compensate::nc::params::read_parameter_file(&var, "var").unwrap();
     options.setup.search_path = SearchPath(vec![dir.path().to_path_buf()]);
+    options.setup.expand_cycles = case.name.ends_with("_expanded");
     let corrector = Corrector::new(&m, &e);
     let result =
         correct_program(&corrector, case.program, case.name, &options, case.temperatures).unwrap_or_else(|e| panic!("{}: {e}", case.name));
@@ -81,7 +82,15 @@ fn check(case: &Case, decimals: Option<usize>, end_um: f64) -> (NcResult, Report
     let (count, homes) = crate::common::canonical_homes(&m, &moves);
     assert_eq!(count, original.len(), "{}: moves read by trueaxis and by rs274", case.name);
     let report = oracle
-        .compare(&original, &corrected, &vec![0.0; m.axis_count()], end_um, 1.05, &homes)
+        .compare_with(
+            &original,
+            &corrected,
+            &vec![0.0; m.axis_count()],
+            end_um,
+            1.05,
+            &homes,
+            &crate::common::hole_slack(&moves, &result.holes),
+        )
         .unwrap_or_else(|err| panic!("{} ({decimals:?} decimals): {err}\n{}", case.name, result.text()));
     assert_eq!(report.moves, original.len(), "{}", case.name);
     (result, report)
@@ -156,6 +165,8 @@ G82 X50 Z-4 R1 P0.5
 G85 X60 Z-4 R1
 G86 X70 Z-4 R1 P0.2
 G89 X80 Z-4 R1 P0.2
+G99 G84 X90 Z-6 R1 P0.3
+X95
 G91 G81 X5 Y3 Z-4 R-8 L3
 G90 G80
 G0 X0 Y-20 Z10
@@ -341,8 +352,21 @@ fn rs274_sees_every_corrected_move_on_the_original() {
             temperatures: &[20.0],
             program: CYCLES,
             parameters: &work,
+            // the G83 after a G99 hole at R (its corrected R below the level the controller
+            // stands at would drop the rise to the initial level), and the G91 cycle
+            expanded: 2,
+            keeps: &["T1 M6 G43 H1", "G90 G80", "G99 G81 X9.9", "G73 X39.9", "G82 X49.9", "G99 G84 X89.9", "G18 G81 X9.9", "G81 Y9.9"],
+        },
+        Case {
+            name: "cycles_expanded",
+            machine: "vmc3",
+            errors: "vmc3_backlash",
+            temperatures: &[20.0],
+            program: CYCLES,
+            parameters: &work,
+            // every drilling and boring block; the two tapping blocks stay cycles
             expanded: 11,
-            keeps: &["T1 M6 G43 H1", "G90 G80"],
+            keeps: &["T1 M6 G43 H1", "G90 G80", "G99 G84 X89.9"],
         },
         Case {
             name: "offsets",
@@ -403,6 +427,25 @@ fn rs274_sees_every_corrected_move_on_the_original() {
             assert!(result.text().contains(keep), "{}: `{keep}` is not kept:\n{}", case.name, result.text());
         }
         assert!(result.changed_lines > 0, "{}", case.name);
+        // the holes kept as cycles: bottoms exact (within 0.05 um), R levels exact along Z, the
+        // lean and the clearance points within what is reported (checked by the comparison)
+        let holes = match case.name {
+            "cycles" => 11,
+            "cycles_expanded" => 2,
+            _ => 0,
+        };
+        assert_eq!(result.holes.len(), holes, "{}: {:?}", case.name, result.holes);
+        assert_eq!(report.holes > 0, holes > 0, "{}", case.name);
+        assert!(report.worst_along_um <= 0.05, "{}: R {} um off its level", case.name, report.worst_along_um);
+        let warned = result.warnings.iter().filter(|w| w.contains("kept as a cycle")).count();
+        assert_eq!(warned, result.holes.iter().filter(|h| h.lean_um.max(h.clearance_um) > 0.01).count(), "{:?}", result.warnings);
+        if holes > 0 {
+            let (lean, clearance) = result.holes.iter().fold((0.0f64, 0.0f64), |(l, c), h| (l.max(h.lean_um), c.max(h.clearance_um)));
+            println!(
+                "{}: {holes} holes kept, R within {:.4} um along Z; lean up to {lean:.3} um, clearance points up to {clearance:.3} um",
+                case.name, report.worst_along_um
+            );
+        }
         let (_, finer) = check(case, Some(6), 0.01);
         println!(
             "{}: {} moves, {} pieces, ends within {:.4} um (5 decimals) / {:.4} um (6 decimals), path within {:.3} um; expanded: {:?}",

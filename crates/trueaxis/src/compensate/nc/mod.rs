@@ -129,6 +129,10 @@ pub struct NcResult {
     /// Largest position residual after correction and largest uncorrectable orientation (um, urad).
     pub max_residual_um: f64,
     pub max_uncorrectable_urad: f64,
+    /// The canned cycles kept as cycles, per hole: its line, its moves in the run, how far the
+    /// plunge leans between R and the bottom and how far its clearance moves stand off (um); the
+    /// bottom and R of every hole are exact.
+    pub holes: Vec<write::HoleReport>,
 }
 
 impl NcResult {
@@ -231,6 +235,8 @@ pub fn correct_program(
     }
     notes.extend(write::notes(&writer.notes, dialect));
     let written = writer.finish(&notes);
+    let mut warnings = warnings(&trace, &program);
+    warnings.extend(hole_warnings(&writer.holes, &program.files[0].name, resolution * 1e3));
     Ok(NcResult {
         program: written,
         dialect,
@@ -240,7 +246,7 @@ pub fn correct_program(
         changed_lines: writer.changed_lines,
         inserted_lines: writer.inserted_lines,
         expanded: writer.notes.clone(),
-        warnings: warnings(&trace, &program),
+        warnings,
         assumed_tools: trace.assumed_tools.clone(),
         tool_length_um_per_100mm,
         clamped_points: writer.clamped.get(),
@@ -248,5 +254,25 @@ pub fn correct_program(
         max_correction_urad: e.max_correction_urad,
         max_residual_um: e.max_residual_um,
         max_uncorrectable_urad: e.max_uncorrectable_urad,
+        holes: writer.holes.clone(),
     })
+}
+
+/// A warning per hole kept as a cycle whose plunge leans, or whose clearance moves stand off,
+/// by more than the written resolution (`resolution_um`): the bottom and R are exact, a cycle
+/// carries one hole position.
+fn hole_warnings(holes: &[write::HoleReport], origin: &str, resolution_um: f64) -> Vec<String> {
+    holes
+        .iter()
+        .filter(|h| h.lean_um.max(h.clearance_um) > resolution_um)
+        .map(|h| {
+            format!(
+                "{origin}: line {}: G{} kept as a cycle, its bottom and R corrected at the hole; the plunge from R leans {:.2} um across the hole (the correction's change between R and the bottom), its clearance moves stand up to {:.2} um off",
+                h.line,
+                trueaxis_nc::execute::gcode_text(h.code),
+                h.lean_um,
+                h.clearance_um
+            )
+        })
+        .collect()
 }

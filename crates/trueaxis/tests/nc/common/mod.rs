@@ -35,6 +35,38 @@ pub fn canonical_homes(machine: &Machine, moves: &[Move]) -> (usize, Vec<usize>)
     (count, homes)
 }
 
+/// The slack of the canned cycles kept as cycles, per canonical move (see [`canonical_homes`]):
+/// the bottom of each hole exact (its path within the hole's clearance), its R point exact along
+/// the cycle axis and within the reported lean across it, its other points within the reported
+/// clearance.
+pub fn hole_slack(moves: &[Move], holes: &[trueaxis::compensate::nc::write::HoleReport]) -> Vec<oracle::Slack> {
+    let mut canonical = Vec::with_capacity(moves.len());
+    let mut count = 0usize;
+    for (i, m) in moves.iter().enumerate() {
+        let turn = i > 0
+            && m.role == Role::Generated
+            && matches!(m.kind, MoveKind::Arc { .. })
+            && moves[i - 1].step == m.step
+            && matches!(moves[i - 1].kind, MoveKind::Arc { .. });
+        canonical.push(if turn { count - 1 } else { count });
+        count += usize::from(!turn);
+    }
+    let mut slack = vec![oracle::Slack::default(); count];
+    for h in holes {
+        for i in h.moves.clone() {
+            let path_um = h.clearance_um.max(h.lean_um) + 0.01;
+            slack[canonical[i as usize]] = if i == h.bottom_move {
+                oracle::Slack { end_um: 0.0, along_exact: false, axis: h.axis, path_um }
+            } else if i == h.r_move {
+                oracle::Slack { end_um: h.lean_um + 0.01, along_exact: true, axis: h.axis, path_um }
+            } else {
+                oracle::Slack { end_um: h.clearance_um + 0.01, along_exact: false, axis: h.axis, path_um }
+            };
+        }
+    }
+    slack
+}
+
 use trueaxis::compensate::{CorrectionWorkspace, Corrector};
 use trueaxis::errors::{Direction, MachineState};
 use trueaxis::machine::Machine;

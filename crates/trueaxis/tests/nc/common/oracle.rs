@@ -29,6 +29,24 @@ pub struct Report {
     /// from the original path (um).
     pub worst_end_um: f64,
     pub worst_path_um: f64,
+    /// Original moves of kept canned cycles (checked with their slack), and the largest distance
+    /// of an R point from its target along the cycle axis (um).
+    pub holes: usize,
+    pub worst_along_um: f64,
+}
+
+/// What a kept canned cycle leaves at one of its original moves (um, beyond the end tolerance):
+/// the written hole position carries the correction at the bottom, so its other points stand off
+/// theirs by what the corrector reports per hole.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Slack {
+    /// Allowed distance of the end from its target beyond `end_um`; with `along_exact` only across
+    /// the cycle axis (`axis`: 0 X, 1 Y, 2 Z), the end along it within `end_um` (the R point).
+    pub end_um: f64,
+    pub along_exact: bool,
+    pub axis: usize,
+    /// Allowed distance of the path's points beyond `path_um`.
+    pub path_um: f64,
 }
 
 /// An arc of a path: machine axes of its plane (first, second), centre, signed sweep (rad), start
@@ -191,6 +209,22 @@ impl Oracle<'_> {
         path_um: f64,
         uncorrected: &[usize],
     ) -> Result<Report, String> {
+        self.compare_with(original, corrected, start, end_um, path_um, uncorrected, &[])
+    }
+
+    /// [`Self::compare`] with the slack of kept canned cycles (`slack[i]` for original move `i`;
+    /// a shorter list: none beyond it).
+    #[allow(clippy::too_many_arguments)]
+    pub fn compare_with(
+        &self,
+        original: &[Canon],
+        corrected: &[Canon],
+        start: &[f64],
+        end_um: f64,
+        path_um: f64,
+        uncorrected: &[usize],
+        slack: &[Slack],
+    ) -> Result<Report, String> {
         let o = self.paths(original, start)?;
         let c = self.paths(corrected, start)?;
         let n = self.machine.axis_count();
@@ -232,7 +266,16 @@ impl Oracle<'_> {
                 }
             };
             let zero_length = i > 0 && op.arc.is_none() && (self.nominal(&o[i - 1].end, o[i - 1].tool) - target).norm() < 1e-9;
-            let lands = |j: usize| (landing(j) - target).norm() * 1e3 <= end_um;
+            let sl = slack.get(i).copied().unwrap_or_default();
+            let lands = |j: usize| {
+                let v = (landing(j) - target) * 1e3;
+                if sl.along_exact {
+                    let along = v[sl.axis];
+                    along.abs() <= end_um && (v.norm_squared() - along * along).max(0.0).sqrt() <= end_um + sl.end_um
+                } else {
+                    v.norm() <= end_um + sl.end_um
+                }
+            };
             // a zero-length original move may have no corrected copy (written only when it moves)
             let found = if k < c.len() && lands(k) {
                 Some(k)
@@ -251,7 +294,14 @@ impl Oracle<'_> {
                     op.end
                 ));
             };
-            report.worst_end_um = report.worst_end_um.max((landing(j) - target).norm() * 1e3);
+            let v = (landing(j) - target) * 1e3;
+            if sl.end_um == 0.0 {
+                report.worst_end_um = report.worst_end_um.max(v.norm());
+            }
+            if sl.along_exact {
+                report.worst_along_um = report.worst_along_um.max(v[sl.axis].abs());
+            }
+            report.holes += usize::from(sl != Slack::default());
             // the corrected path from k to j follows the original move
             for (jj, cp) in c.iter().enumerate().take(j + 1).skip(k.min(j + 1)) {
                 // a rapid: only its end matters; the first move starts where the machine stood,
@@ -291,7 +341,7 @@ impl Oracle<'_> {
                     let x = self.actual(&q, cp.tool, &d);
                     let dist = self.nearest(&x, op).1 * 1e3;
                     report.worst_path_um = report.worst_path_um.max(dist);
-                    if dist > path_um {
+                    if dist > path_um + sl.path_um {
                         return Err(format!(
                             "corrected move {} ({:?} to {:?}, a piece of original move {} to {:?}) leaves the original path by {dist:.4} um at t = {t}",
                             jj + 1,

@@ -27,8 +27,32 @@ use trueaxis::machine::Machine;
 /// Variants of each style.
 const PER_STYLE: usize = 10;
 
+/// The holes kept as canned cycles: how many, the largest distance of an R point from its level
+/// (um, read back), the largest lean and clearance reported.
+#[derive(Clone, Copy, Default)]
+struct Holes {
+    count: usize,
+    along_um: f64,
+    lean_um: f64,
+    clearance_um: f64,
+}
+
+impl Holes {
+    fn of(holes: &[trueaxis::compensate::nc::write::HoleReport], along_um: f64) -> Holes {
+        let max = |f: &dyn Fn(&trueaxis::compensate::nc::write::HoleReport) -> f64| holes.iter().map(f).fold(0.0, f64::max);
+        Holes { count: holes.len(), along_um, lean_um: max(&|h| h.lean_um), clearance_um: max(&|h| h.clearance_um) }
+    }
+
+    fn add(&mut self, o: &Holes) {
+        self.count += o.count;
+        self.along_um = self.along_um.max(o.along_um);
+        self.lean_um = self.lean_um.max(o.lean_um);
+        self.clearance_um = self.clearance_um.max(o.clearance_um);
+    }
+}
+
 enum Outcome {
-    Corrected { moves: usize, worst_um: f64 },
+    Corrected { moves: usize, worst_um: f64, holes: Holes },
     ByDesign(String),
     Failed(String),
 }
@@ -82,9 +106,10 @@ fn check_rs274(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
     if count != original.len() {
         return Outcome::Failed(format!("trueaxis reads {count} moves, rs274 {}", original.len()));
     }
+    let slack = crate::common::hole_slack(&moves, &result.holes);
     let oracle = Oracle { machine, errors, temperatures: vec![] };
-    match oracle.compare(&original, &corrected, &vec![0.0; machine.axis_count()], 0.05, 1.05, &homes) {
-        Ok(r) => Outcome::Corrected { moves: r.moves, worst_um: r.worst_end_um },
+    match oracle.compare_with(&original, &corrected, &vec![0.0; machine.axis_count()], 0.05, 1.05, &homes, &slack) {
+        Ok(r) => Outcome::Corrected { moves: r.moves, worst_um: r.worst_end_um, holes: Holes::of(&result.holes, r.worst_along_um) },
         Err(e) => Outcome::Failed(e),
     }
 }
@@ -127,9 +152,11 @@ fn check_fanuc(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
         )
         .unwrap();
     }
+    let moves = program_moves(machine, &s.bytes, &s.name, &options).unwrap();
+    let slack = crate::common::hole_slack(&moves, &result.holes);
     let oracle = Oracle { machine, errors, temperatures: vec![] };
-    match oracle.compare(&original, &corrected, &vec![0.0; machine.axis_count()], tolerance, 1.0 + tolerance, &homes) {
-        Ok(r) => Outcome::Corrected { moves: r.moves, worst_um: r.worst_end_um },
+    match oracle.compare_with(&original, &corrected, &vec![0.0; machine.axis_count()], tolerance, 1.0 + tolerance, &homes, &slack) {
+        Ok(r) => Outcome::Corrected { moves: r.moves, worst_um: r.worst_end_um, holes: Holes::of(&result.holes, r.worst_along_um) },
         Err(e) => Outcome::Failed(e),
     }
 }
@@ -160,6 +187,8 @@ fn corpus_of_posts_and_controllers_is_corrected() {
         })
         .collect();
     let (mut ok, mut design, mut no_table, mut moves, mut worst) = (0, 0, 0, 0, 0.0f64);
+    // holes read back by rs274, and by the library's second reading (Fanuc)
+    let (mut holes_rs274, mut holes_fanuc) = (Holes::default(), Holes::default());
     let mut failures = Vec::new();
     for (post, controller, _, _) in STYLES {
         let mine: Vec<_> = samples.iter().zip(&outcomes).filter(|(s, _)| s.post == post).collect();
@@ -170,10 +199,11 @@ fn corpus_of_posts_and_controllers_is_corrected() {
         for (s, (o, t)) in &mine {
             no_table += usize::from(*t);
             match o {
-                Outcome::Corrected { moves: m, worst_um } => {
+                Outcome::Corrected { moves: m, worst_um, holes } => {
                     ok += 1;
                     moves += m;
                     worst = worst.max(*worst_um);
+                    if s.rs274 { &mut holes_rs274 } else { &mut holes_fanuc }.add(holes);
                 }
                 Outcome::ByDesign(m) => {
                     design += 1;
@@ -192,6 +222,13 @@ fn corpus_of_posts_and_controllers_is_corrected() {
         100.0 * share,
         100.0 * no_table as f64 / n as f64
     );
+    for (h, by) in [(holes_rs274, "rs274"), (holes_fanuc, "the second reading")] {
+        println!(
+            "{} holes kept as canned cycles, read back by {by}: R points within {:.4} um of their level; lean reported up to {:.3} um, clearance points up to {:.3} um",
+            h.count, h.along_um, h.lean_um, h.clearance_um
+        );
+    }
+    assert!(holes_rs274.count >= 50 && holes_rs274.along_um <= 0.05, "R levels through rs274: {} um", holes_rs274.along_um);
     for f in &failures {
         println!("FAILED: {f}");
     }
