@@ -112,6 +112,12 @@ def test_screening_options_equal_the_cli(tmp_path):
         assert got == expected
         assert [f["kind"] for f in got["data_quality"]] == ["missing cells"] and got["data_quality"][0]["lines"] == [12]
         assert got["robust"]["weighting"] == robust
-        assert [d["line"] for d in got["robust"]["downweighted"]] == [51]
+        lines_down = [d["line"] for d in got["robust"]["downweighted"]]
+        if robust == "huber":
+            assert lines_down == [51]
+        else:
+            # Tukey's redescending weights also drop the heat-on and heat-off transients that the
+            # regression model cannot follow (docs/screening.md): the +40 um reading among them
+            assert 51 in lines_down and len(lines_down) < 40, lines_down
     with pytest.raises(ta.InputError, match="robust `bisquare`"):
         ta.thermal_fit(damaged, "dz", skip_missing=True, robust="bisquare")
