@@ -402,15 +402,7 @@ impl<'a> Writer<'a> {
                 Role::Generated => unreachable!("generated moves are expanded"),
             }
         }
-        let mut new = text.to_string();
-        if !appended.is_empty() {
-            let at = line.end_of_items.min(new.len());
-            new.insert_str(at, &format!(" {}", appended.join(" ")));
-        }
-        edits.sort_by_key(|(r, _)| std::cmp::Reverse(r.start));
-        for (range, t) in edits {
-            new.replace_range(range, &t);
-        }
+        let new = edited_line(text, line, &appended, edits);
         if new != text {
             self.changed_lines += 1;
         }
@@ -871,6 +863,21 @@ impl<'a> Writer<'a> {
 
 /// The frame the axis words of a position-relative setting are read in: `G10 L20` reads them in
 /// the coordinates of its system, with that system's rotation.
+/// `text` (the line's source) with the words of `edits` replaced (byte ranges of `text`) and the
+/// words of `appended` added after its last item, before any comment.
+pub(crate) fn edited_line(text: &str, line: &Line, appended: &[String], mut edits: Vec<(std::ops::Range<usize>, String)>) -> String {
+    let mut new = text.to_string();
+    if !appended.is_empty() {
+        let at = line.end_of_items.min(new.len());
+        new.insert_str(at, &format!(" {}", appended.join(" ")));
+    }
+    edits.sort_by_key(|(r, _)| std::cmp::Reverse(r.start));
+    for (range, t) in edits {
+        new.replace_range(range, &t);
+    }
+    new
+}
+
 fn setting_frame(frame: &Frame, relative: Relative) -> Frame {
     let mut f = *frame;
     if let Relative::G10L20 { rotation, .. } = relative {

@@ -132,21 +132,13 @@ impl Writer<'_> {
             || positioning(levels.before_original, hole.initial, hole.r, hole.retract_to_r)
                 == positioning(levels.before[c], initial, r, hole.retract_to_r);
         let peck = self.peck_word(hole, line, &frame, r, z, &mut edits, &mut appended);
-        if !(moves_kept && rotary_held && peck.is_some()) && !hole.tapping() {
+        if !(hole.tapping() || moves_kept && rotary_held && peck.is_some()) {
             return None;
         }
         let clear = if hole.retract_to_r { r } else { initial.max(r) };
         self.report_hole(hole, step, &levels, [ha, hb, z, r, clear, peck.unwrap_or(hole.peck)]);
         self.cycle_ends(hole, &levels, [ha, hb, r, z, clear], initial, peck);
-        let mut new = text.clone();
-        if !appended.is_empty() {
-            let at = line.end_of_items.min(new.len());
-            new.insert_str(at, &format!(" {}", appended.join(" ")));
-        }
-        edits.sort_by_key(|(r, _)| std::cmp::Reverse(r.start));
-        for (range, t) in edits {
-            new.replace_range(range, &t);
-        }
+        let new = super::edited_line(&text, line, &appended, edits);
         if new != text {
             self.changed_lines += 1;
         }

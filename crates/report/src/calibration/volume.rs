@@ -163,7 +163,11 @@ impl VolumePart {
                 self.after_um.0,
                 "trueaxis compensate refuses to write them (exit status 2) and names the better option.",
             ),
-            None => warn("The exact correction at each pose".into(), self.after_um.0, "The identified errors do not describe this machine: check the identification."),
+            None => warn(
+                "The exact correction at each pose".into(),
+                self.after_um.0,
+                "The identified errors do not describe this machine: check the identification.",
+            ),
         }
         warn("Compensation with the own-axis and cross-axis tables summed".into(), self.after_tables_um.0, why_tables);
         warnings

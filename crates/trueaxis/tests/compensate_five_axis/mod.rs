@@ -176,9 +176,9 @@ fn read_carr(text: &str) -> HashMap<usize, String> {
 }
 
 /// The Siemens toolholder model, from the public W1 / CYCLE800 documentation: offset vectors l1..l4
-/// (basic + fine), rotary axis vectors v1, v2, axis offsets; table: x_machine = l2 + R1 (l3 + R2 (l4
-/// + x_table)); head: reference - tip = l1 + R1 (l2 + R2 (l3 + T)); R_i the rotation about v_i by the
-/// axis position minus its offset.
+/// (basic + fine), rotary axis vectors v1, v2, axis offsets; table: x_machine = l2 + R1 (l3 +
+/// R2 (l4 + x_table)); head: reference - tip = l1 + R1 (l2 + R2 (l3 + T)); R_i the rotation about
+/// v_i by the axis position minus its offset.
 struct Swivel {
     kind: String,
     l: [Vec3; 4],

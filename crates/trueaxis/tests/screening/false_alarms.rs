@@ -49,7 +49,7 @@ fn positioning_set(rng: &mut ChaCha8Rng) -> PositioningData {
 
 #[test]
 fn positioning_checks_rarely_flag_clean_tests() {
-    let mut rng = ChaCha8Rng::seed_from_u64(230_2);
+    let mut rng = ChaCha8Rng::seed_from_u64(2302);
     let flagged = (0..SETS).filter(|_| !positioning(&positioning_set(&mut rng), None).is_empty()).count();
     eprintln!("false alarms: ISO 230-2 (runs, readings, targets) {flagged} of {SETS}");
     assert!(flagged <= ALLOWED, "{flagged} of {SETS} clean positioning tests flagged");

@@ -295,9 +295,9 @@ pub fn residual_of_format(corrector: &Corrector, temperatures: &[f64], applied: 
         )));
     }
     let nominal: Vec<Vec3> = samples.iter().map(|s| s.0).collect();
-    let reached =
-        |error: &dyn Fn(&(Vec3, Vec3, Vec3, usize, usize)) -> Vec3| -> Vec<Vec3> { samples.iter().map(|s| s.0 + error(s)).collect() };
-    let (reached_before, reached_after) = (reached(&|s| s.1), reached(&|s| s.2));
+    // the points reached before and after: nominal plus the error before (`.1`) or left (`.2`)
+    let reached_before: Vec<Vec3> = samples.iter().map(|s| s.0 + s.1).collect();
+    let reached_after: Vec<Vec3> = samples.iter().map(|s| s.0 + s.2).collect();
     let (placement_before, placement_after) = (RigidFit::of(&nominal, &reached_before), RigidFit::of(&nominal, &reached_after));
     // errors in um after the placement
     let left =
