@@ -153,16 +153,8 @@ for(const el of document.querySelectorAll('table,figure,svg,pre,p')){const r=el.
 document.body.setAttribute('data-overflow',JSON.stringify(bad));document.body.setAttribute('data-checked','yes');</script></body>";
     let checked = scratch.join("checked.html");
     std::fs::write(&checked, page.replace("</body>", script)).unwrap();
-    let out = Command::new(browser)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--window-size=794,1123",
-        ])
-        .arg(format!("--user-data-dir={}", scratch.join("profile").display()))
+    let out = headless(browser, &scratch.join("profile"))
+        .arg("--window-size=794,1123")
         .arg("--dump-dom")
         .arg(format!("file://{}", checked.display()))
         .output()
@@ -281,20 +273,21 @@ fn identification_on_every_page(pages: &[String], identification: &[&str], what:
     }
 }
 
+/// Chromium without a window, sandbox, GPU, first-run page or network chatter, with its own
+/// profile directory.
+fn headless(browser: &str, profile: &Path) -> Command {
+    let mut c = Command::new(browser);
+    c.args(["--headless", "--no-sandbox", "--disable-gpu", "--no-first-run", "--disable-background-networking"])
+        .arg(format!("--user-data-dir={}", profile.display()));
+    c
+}
+
 /// The HTML printed to PDF by Chromium (A4, its own header and footer off: the page's CSS margin
 /// boxes are what prints): every word inside the page, and the text of each page.
 fn print_html(browser: &str, html: &Path, scratch: &Path) -> Vec<String> {
     let pdf = scratch.join("printed.pdf");
-    let out = Command::new(browser)
-        .args([
-            "--headless",
-            "--no-sandbox",
-            "--disable-gpu",
-            "--no-first-run",
-            "--disable-background-networking",
-            "--no-pdf-header-footer",
-        ])
-        .arg(format!("--user-data-dir={}", scratch.join("print-profile").display()))
+    let out = headless(browser, &scratch.join("print-profile"))
+        .arg("--no-pdf-header-footer")
         .arg(format!("--print-to-pdf={}", pdf.display()))
         .arg(format!("file://{}", html.display()))
         .output()

@@ -18,11 +18,7 @@ pub fn canonical_homes(machine: &Machine, moves: &[Move]) -> (usize, Vec<usize>)
     let mut count = 0;
     let mut homes = Vec::new();
     for (i, m) in moves.iter().enumerate() {
-        let turn = i > 0
-            && m.role == Role::Generated
-            && matches!(m.kind, MoveKind::Arc { .. })
-            && moves[i - 1].step == m.step
-            && matches!(moves[i - 1].kind, MoveKind::Arc { .. });
+        let turn = continues_arc(moves, i);
         if turn {
             continue;
         }
@@ -35,6 +31,17 @@ pub fn canonical_homes(machine: &Machine, moves: &[Move]) -> (usize, Vec<usize>)
     (count, homes)
 }
 
+/// Whether move `i` is a generated arc continuing the arc before it in the same block (one
+/// canonical arc for rs274, several moves for the interpreter: a multi-turn arc's turns).
+fn continues_arc(moves: &[Move], i: usize) -> bool {
+    let m = &moves[i];
+    i > 0
+        && m.role == Role::Generated
+        && matches!(m.kind, MoveKind::Arc { .. })
+        && moves[i - 1].step == m.step
+        && matches!(moves[i - 1].kind, MoveKind::Arc { .. })
+}
+
 /// The slack of the canned cycles kept as cycles, per canonical move (see [`canonical_homes`]):
 /// the bottom of each hole exact (its path within the hole's clearance), its R point exact along
 /// the cycle axis and within the reported lean across it, its other points within the reported
@@ -42,12 +49,8 @@ pub fn canonical_homes(machine: &Machine, moves: &[Move]) -> (usize, Vec<usize>)
 pub fn hole_slack(moves: &[Move], holes: &[trueaxis::compensate::nc::write::HoleReport]) -> Vec<oracle::Slack> {
     let mut canonical = Vec::with_capacity(moves.len());
     let mut count = 0usize;
-    for (i, m) in moves.iter().enumerate() {
-        let turn = i > 0
-            && m.role == Role::Generated
-            && matches!(m.kind, MoveKind::Arc { .. })
-            && moves[i - 1].step == m.step
-            && matches!(moves[i - 1].kind, MoveKind::Arc { .. });
+    for i in 0..moves.len() {
+        let turn = continues_arc(moves, i);
         canonical.push(if turn { count - 1 } else { count });
         count += usize::from(!turn);
     }
