@@ -7,8 +7,7 @@ use std::path::{Path, PathBuf};
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::Vec3;
-use trueaxis::identify::pige_report::{bar_lengths, PigeRequest};
-use trueaxis::instruments::ballbar::Method;
+use trueaxis::identify::pige_report::{bar_lengths, method_of, PigeRequest};
 use trueaxis::instruments::ballbar::Plane;
 use trueaxis::machine::Machine;
 use trueaxis::screen::thermal::read_screened;
@@ -88,10 +87,30 @@ pub struct ReportArgs {
     #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
     ballbar_centre: Vec<Vec3>,
     /// The four steps of a rotary-axis ballbar test of a five-axis machine, A1,A2,C1,C2 in this
-    /// order (CSV as `ballbar identify` reads them; Jiang (2014), extended-bar method): the location
-    /// errors of the two rotary axes, each with U, and the traces.
+    /// order (CSV as `ballbar identify` reads them; Jiang (2014)): the location errors of the two
+    /// rotary axes, each with U, and the traces.
     #[arg(long, value_name = "A1,A2,C1,C2", value_delimiter = ',')]
     rotary_ballbar: Vec<PathBuf>,
+    /// The method of the four steps, as `ballbar identify --method`: extended-bar (Jiang (2014)
+    /// ch. 5), two-pivot (ch. 4, with --rotary-outer-offset) or four-setup (ch. 6, with
+    /// --rotary-outer-positions and --rotary-inner-positions).
+    #[arg(long, value_name = "METHOD", default_value = "extended-bar", value_parser = ["extended-bar", "two-pivot", "four-setup"], requires = "rotary_ballbar")]
+    rotary_method: String,
+    /// two-pivot: both balls of the outer-axis steps moved this far along the outer axis (mm).
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, requires = "rotary_ballbar")]
+    rotary_outer_offset: Option<f64>,
+    /// four-setup: positions p1,p2 along the outer axis of steps A1 and A2 (mm).
+    #[arg(long, value_name = "P1,P2", value_parser = parse_pair, allow_hyphen_values = true, requires = "rotary_ballbar")]
+    rotary_outer_positions: Option<[f64; 2]>,
+    /// four-setup: positions p1,p2 along the inner axis of steps C1 and C2 (mm).
+    #[arg(long, value_name = "P1,P2", value_parser = parse_pair, allow_hyphen_values = true, requires = "rotary_ballbar")]
+    rotary_inner_positions: Option<[f64; 2]>,
+    /// Misplacement radial,tangential (mm) of the outer-axis pivot from a centring test (Eq. 4.1).
+    #[arg(long, value_name = "R,T", value_parser = parse_pair, allow_hyphen_values = true, requires = "rotary_ballbar")]
+    rotary_pivot_offset_a: Option<[f64; 2]>,
+    /// Misplacement radial,tangential (mm) of the inner-axis pivot.
+    #[arg(long, value_name = "R,T", value_parser = parse_pair, allow_hyphen_values = true, requires = "rotary_ballbar")]
+    rotary_pivot_offset_c: Option<[f64; 2]>,
     /// Normal and extended bar lengths R,L_e of the rotary-axis test (mm).
     #[arg(long, value_name = "R,LE", value_delimiter = ',', default_values_t = [100.0, 150.0], requires = "rotary_ballbar")]
     rotary_bars: Vec<f64>,
@@ -137,6 +156,13 @@ pub struct ReportArgs {
 
 fn parse_plane(text: &str) -> Result<Plane, String> {
     Plane::parse(text).ok_or_else(|| format!("`{text}` is not a plane (xy, yz, zx)"))
+}
+
+fn parse_pair(text: &str) -> Result<[f64; 2], String> {
+    match text.split(',').map(|v| v.trim().parse::<f64>()).collect::<Result<Vec<_>, _>>().as_deref() {
+        Ok([a, b]) if a.is_finite() && b.is_finite() => Ok([*a, *b]),
+        _ => Err(format!("`{text}` is not two numbers a,b")),
+    }
 }
 
 fn failure(e: CalibrationError) -> Failure {
@@ -238,8 +264,16 @@ fn rotary_ballbar(args: &ReportArgs, machine: &Machine) -> Result<Option<RotaryB
         })?,
         other => return Err(bad(format!("--rotary-bars takes two lengths R,L_e in mm, got {}", other.len()))),
     };
-    let request =
-        PigeRequest { files, method: Method::ExtendedBar, bars, pivot_offset_outer: None, pivot_offset_inner: None, noise_um: 1.0 };
+    let method = method_of(&args.rotary_method, args.rotary_outer_offset, args.rotary_outer_positions, args.rotary_inner_positions)
+        .map_err(|e| bad(e.to_string().replace("--", "--rotary-")))?;
+    let request = PigeRequest {
+        files,
+        method,
+        bars,
+        pivot_offset_outer: args.rotary_pivot_offset_a,
+        pivot_offset_inner: args.rotary_pivot_offset_c,
+        noise_um: 1.0,
+    };
     Ok(Some(RotaryBallbarPart::evaluate(machine, request).map_err(failure)?))
 }
 

@@ -152,8 +152,8 @@ impl CalibrationReport<'_> {
         if !self.circles.is_empty() {
             m.push("Circular tests with a ballbar, ISO 230-4:2005".to_string());
         }
-        if self.rotary_ballbar.is_some() {
-            m.push("Location errors of the rotary axes from four ballbar tests, the method of Jiang (2014) (ISO 230-7 terms; docs/identification.md)".to_string());
+        if let Some(r) = &self.rotary_ballbar {
+            m.push(format!("Location errors of the rotary axes from four ballbar tests by {} (ISO 230-7 terms; docs/ballbar.md)", r.method_text()));
         }
         if self.volume.is_some() {
             m.push("Volumetric error over the work volume from the error model, ISO/TR 230-11 terms (docs/user-guide.md)".to_string());

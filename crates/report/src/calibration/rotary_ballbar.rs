@@ -1,6 +1,7 @@
 //! The rotary-axis ballbar test of a five-axis machine in a calibration report: the location errors
 //! of its two rotary axes (ISO 230-1 names: EY0A EZ0A EB0A EC0A of the outer axis, EX0C EY0C EA0C
 //! EB0C of the inner one, um and urad) identified from the four steps A1, A2, C1, C2 of Jiang (2014)
+//! by any of its methods (ch. 5 extended bar, ch. 4 two pivots, ch. 6 four setups after Lee and Yang)
 //! by `trueaxis::identify::pige_report` (the code of `trueaxis ballbar identify`), each quoted with
 //! one expanded uncertainty U = 2 u (k = 2). u is what `ballbar identify --out` writes in
 //! `[uncertainty]`: the single-run standard uncertainty from the scatter of each trace about its
@@ -15,7 +16,7 @@ use super::CalibrationError;
 use crate::{polar_svg, PolarPlot, PolarSeries};
 use std::collections::BTreeMap;
 use trueaxis::identify::pige_report::{identify_pige_files, pige_user_value, PigeReport, PigeRequest};
-use trueaxis::instruments::ballbar::RotaryGeometry;
+use trueaxis::instruments::ballbar::{Method, RotaryGeometry};
 use trueaxis::machine::{Component, Machine};
 
 /// One identified location error: ISO name, value and U (k = 2) in its unit (um or urad).
@@ -74,6 +75,23 @@ impl RotaryBallbarPart {
         }
     }
 
+    /// The method with its chapter of Jiang (2014) and its setup: bar lengths, pivot offset or the
+    /// positions along the axes (mm).
+    pub fn method_text(&self) -> String {
+        let b = &self.request.bars;
+        let bars = format!("normal bar R = {} mm and extended bar L_e = {} mm", b.normal, b.extended);
+        match self.request.method {
+            Method::ExtendedBar => format!("the extended-bar method of Jiang (2014) ch. 5 ({bars})"),
+            Method::TwoPivot { outer_offset } => {
+                format!("the two-pivot method of Jiang (2014) ch. 4 ({bars}; the outer-axis pivot {outer_offset} mm along the outer axis)")
+            }
+            Method::FourSetup { outer, inner } => format!(
+                "the four-setup method of Lee and Yang as in Jiang (2014) ch. 6 (normal bar R = {} mm only; the outer axis at {} and {} mm along it, the inner at {} and {} mm)",
+                b.normal, outer[0], outer[1], inner[0], inner[1]
+            ),
+        }
+    }
+
     /// Toleranced location errors by ISO name (`[tolerances.parameters]`, um or urad).
     pub fn conformity(&self, tolerances: &BTreeMap<String, f64>, rule: DecisionRule) -> Vec<Item> {
         self.errors()
@@ -110,7 +128,6 @@ impl RotaryBallbarPart {
 
     pub fn section(&self) -> Section {
         let r = &self.report;
-        let b = &self.request.bars;
         let rows: Vec<Vec<Cell>> = self
             .errors()
             .iter()
@@ -120,12 +137,11 @@ impl RotaryBallbarPart {
             r.steps.iter().map(|s| vec![s.step.name().to_string(), file_name(&s.path), um(s.rms_um), um(s.band_um)]).collect();
         let mut s = Section::new("rotary-ballbar", "Rotary axes: ballbar test (location errors)")
             .paragraph(format!(
-                "The location errors of {}'s two rotary axes from the four ballbar steps A1, A2 (outer axis) and C1, C2 (inner axis) of Jiang (2014), {} method, bar lengths {} and {} mm, {} run(s): circle fits of each trace, the axis lines and the start-angle correction, as `trueaxis ballbar identify` computes them. U (k = 2): {}.",
+                "The location errors of {}'s two rotary axes from the four ballbar steps A1, A2 (outer axis) and C1, C2 (inner axis) of {}, {} run(s): circle fits of each trace, the axis lines and the start-angle correction, as `trueaxis ballbar identify --method {}` computes them. U (k = 2): {}.",
                 r.machine,
-                r.method.name(),
-                b.normal,
-                b.extended,
+                self.method_text(),
                 r.runs.len(),
+                r.method.name(),
                 self.uncertainty_method()
             ))
             .cells("Location errors of the rotary axes (ISO 230-1 names)", &["error", "value ± U (k = 2)"], rows)
