@@ -6,15 +6,15 @@ mod tmbb_setup;
 use crate::predict::parse_point;
 use crate::Failure;
 use anyhow::anyhow;
-use serde_json::json;
 use std::path::{Path, PathBuf};
 use trueaxis::data::{write_atomically, OutputSet};
 use trueaxis::errors::ErrorModel;
 use trueaxis::evaluate::circular_test::{cartesian_machine, centre_pose, circular_test_file, CircularTestOptions};
 use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, pige_user_value, PigeRequest};
-use trueaxis::identify::tmbb::{conditioning, differenced, fit_l2, fit_linf, observability, TmbbEstimate, TmbbSetup, UNIDENTIFIABLE};
+use trueaxis::identify::tmbb::{observability, TmbbSetup, UNIDENTIFIABLE};
+use trueaxis::identify::tmbb_report::tmbb_files;
 use trueaxis::instruments::ballbar::{
-    circle_test, method_step, read_trace, sweep_angles, BallbarTest, BarLengths, CircleSpec, JiangStep, Method, Plane, RotaryPair, Rotation,
+    circle_test, method_step, sweep_angles, BallbarTest, BarLengths, CircleSpec, JiangStep, Method, Plane, RotaryPair, Rotation,
 };
 use trueaxis::machine::{Component, Machine};
 use trueaxis::uncertainty::{trial_rng, Distribution};
@@ -570,43 +570,17 @@ pub struct TmbbArgs {
 
 fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
     let setup = TmbbSetup { rx: a.rx, rz: a.rz, l1: a.l1, l2: a.l2 };
-    setup.heights().map_err(Failure::input)?;
-    let short = read_trace(&a.short, &["C", "angle"]).map_err(Failure::input)?;
-    let long = read_trace(&a.long, &["C", "angle"]).map_err(Failure::input)?;
-    if short.angles_deg.len() != long.angles_deg.len() || short.angles_deg.iter().zip(&long.angles_deg).any(|(x, y)| (x - y).abs() > 1e-6) {
-        return Err(Failure::input(anyhow!(
-            "{} and {}: the two bars must be read at the same table angles",
-            a.short.display(),
-            a.long.display()
-        )));
-    }
-    let angles: Vec<f64> = short.angles_deg.iter().map(|d| d.to_radians()).collect();
-    let mm = |t: &trueaxis::instruments::ballbar::TraceFile| t.dl_um.iter().map(|v| v * 1e-3).collect::<Vec<f64>>();
-    let delta = differenced(&setup, &mm(&short), &mm(&long)).map_err(Failure::input)?;
-    let fail = |e: trueaxis::identify::IdentifyError| match e {
-        trueaxis::identify::IdentifyError::Input(_) => Failure::input(e),
-        _ => Failure::computation(e),
-    };
-    let l2 = fit_l2(&setup, &angles, &delta).map_err(fail)?;
-    let linf = fit_linf(&setup, &angles, &delta).map_err(fail)?;
-    let cond = conditioning(&setup, &angles).map_err(fail)?;
-    let obs = observability(&setup, &angles).map_err(fail)?;
-    crate::iso230_2::warn(&[short.warnings.clone(), long.warnings.clone()].concat());
-    let arcsec = |r: f64| r * 180.0 / std::f64::consts::PI * 3600.0;
-    let fit_json = |f: &TmbbEstimate| {
-        json!({"E_x": {"value": round(arcsec(f.ex), 4), "unit": "arcsec", "urad": round(f.ex * 1e6, 4), "parameter": "EAC"},
-               "E_y": {"value": round(arcsec(f.ey), 4), "unit": "arcsec", "urad": round(f.ey * 1e6, 4), "parameter": "EBC"},
-               "D_z": {"value": round(f.dz * 1e3, 4), "unit": "um", "parameter": "EZC"},
-               "max_abs_residual_mm2": round(f.max_abs, 6), "range_mm2": round(f.range, 6), "rms_mm2": round(f.rms, 6)})
-    };
+    let report = tmbb_files(&setup, &a.short, &a.long).map_err(|e| match e {
+        trueaxis::identify::IdentifyError::RankDeficient { .. } => Failure::computation(e),
+        _ => Failure::input(e),
+    })?;
+    crate::iso230_2::warn(&report.warnings());
     if a.json {
-        let unident: Vec<_> = UNIDENTIFIABLE.iter().map(|(n, p, why)| json!({"name": n, "parameter": p, "reason": why})).collect();
-        let doc = json!({"l2": fit_json(&l2), "linf": fit_json(&linf),
-            "condition_number": {"mm_rad": round(cond.mm_rad, 4), "m_rad": round(cond.m_rad, 4), "unit_columns": round(cond.unit_columns, 4)},
-            "unidentifiable": unident, "samples": angles.len(),
-            "metadata": {"short": short.metadata.to_json(), "long": long.metadata.to_json()}});
-        return print(&format!("{doc}\n"));
+        return print(&format!("{}\n", report.to_json()));
     }
+    let obs = observability(&setup, &report.angles).map_err(Failure::computation)?;
+    let (l2, linf, cond, angles) = (&report.l2, &report.linf, &report.conditioning, &report.angles);
+    let arcsec = |r: f64| r * 180.0 / std::f64::consts::PI * 3600.0;
     let (h1, h2) = setup.heights().map_err(Failure::input)?;
     let mut out = format!(
         "Two-length TMBB test of a rotary table (Zhu (2008)): R_x = {} mm, L1 = {} mm, L2 = {} mm, H2 - H1 = {:.3} mm, {} angles\n",
@@ -623,6 +597,22 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
     out.push_str(&format!("{:>16} {:>12.5} {:>12.5}\n", "max|e| (mm^2)", l2.max_abs, linf.max_abs));
     out.push_str(&format!("{:>16} {:>12.5} {:>12.5}\n", "range e (mm^2)", l2.range, linf.range));
     out.push_str(&format!("{:>16} {:>12.5} {:>12.5}\n", "RMS e (mm^2)", l2.rms, linf.rms));
+    let [ux, uy, uz] = report.std_uncertainty;
+    out.push_str(&format!(
+        "standard uncertainty of the l2 estimate (residual scatter): E_x {:.4}\", E_y {:.4}\", D_z {:.4} um\n",
+        arcsec(ux),
+        arcsec(uy),
+        uz * 1e3
+    ));
+    for b in &report.bars {
+        out.push_str(&format!(
+            "left of the {} mm bar ({}) without the identified errors and the centring: RMS {:.3} um, band {:.3} um\n",
+            b.length_mm,
+            b.path.display(),
+            b.rms_um,
+            b.band_um
+        ));
+    }
     out.push_str(&format!(
         "cond(J): {:.2} (lengths in mm, angles in rad), {:.2} (m, rad), {:.3} (unit-length columns)\n",
         cond.mm_rad, cond.m_rad, cond.unit_columns

@@ -8,6 +8,7 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use trueaxis::identify::tmbb::{conditioning, differenced, fit_l2, fit_linf, observability, TmbbSetup, UNIDENTIFIABLE};
+use trueaxis::identify::tmbb_report::l2_uncertainty;
 use trueaxis::instruments::ballbar::{rotary_test, sweep_angles, RotarySpec};
 use trueaxis::machine::Machine;
 
@@ -136,4 +137,39 @@ fn noisy_readings_l2_and_linf() {
     assert!(l2.rms <= linf.rms + 1e-12);
     let c = conditioning(&setup, &angles).unwrap();
     assert!(c.m_rad < c.mm_rad);
+}
+
+#[test]
+fn the_l2_standard_uncertainty_from_the_residuals_matches_the_spread_of_repeated_tests() {
+    // 400 repeated tests with 0.5 um of bar noise: the standard uncertainty of one test (from its
+    // residual scatter) equals on average the closed form sigma_Delta sqrt(diag (J^T J)^-1), with
+    // sigma_Delta = 2 sqrt(L1^2 + L2^2) sigma (first order of 2 L dL), within 5 %, and the observed
+    // standard deviation of the estimates within 12 % (400 trials: 3.5 % standard error of a sd).
+    let m = machine();
+    let setup = TmbbSetup::ZHU_TABLE_5_1;
+    let (angles, d1, d2) = simulate(&m, &setup, &truth());
+    let sigma = 0.5e-3;
+    let j = setup.design_matrix(&angles, 1.0).unwrap();
+    let inverse = (j.transpose() * &j).try_inverse().unwrap();
+    let sigma_delta = 2.0 * (setup.l1.powi(2) + setup.l2.powi(2)).sqrt() * sigma;
+    let closed = [0, 1, 2].map(|k| sigma_delta * inverse[(k, k)].sqrt());
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let noise = Normal::new(0.0, sigma).unwrap();
+    let trials = 400;
+    let (mut estimates, mut mean_u) = (Vec::new(), [0.0; 3]);
+    for _ in 0..trials {
+        let n1: Vec<f64> = d1.iter().map(|v| v + noise.sample(&mut rng)).collect();
+        let n2: Vec<f64> = d2.iter().map(|v| v + noise.sample(&mut rng)).collect();
+        let fit = fit_l2(&setup, &angles, &differenced(&setup, &n1, &n2).unwrap()).unwrap();
+        let u = l2_uncertainty(&setup, &angles, &fit).unwrap();
+        (0..3).for_each(|k| mean_u[k] += u[k] / trials as f64);
+        estimates.push([fit.ex, fit.ey, fit.dz]);
+    }
+    for k in 0..3 {
+        let mean = estimates.iter().map(|e| e[k]).sum::<f64>() / trials as f64;
+        let sd = (estimates.iter().map(|e| (e[k] - mean).powi(2)).sum::<f64>() / (trials - 1) as f64).sqrt();
+        eprintln!("column {k}: closed form {:.4e}, mean u {:.4e}, observed sd {sd:.4e}", closed[k], mean_u[k]);
+        assert!((mean_u[k] / closed[k] - 1.0).abs() < 0.05, "column {k}: mean u {} vs {}", mean_u[k], closed[k]);
+        assert!((sd / closed[k] - 1.0).abs() < 0.12, "column {k}: sd {sd} vs {}", closed[k]);
+    }
 }

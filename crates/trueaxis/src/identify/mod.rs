@@ -20,6 +20,7 @@ mod reduction;
 pub mod simulate;
 mod stepwise;
 pub mod tmbb;
+pub mod tmbb_report;
 pub mod tmbb_setup;
 pub mod unknowns;
 
