@@ -8,6 +8,7 @@ use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::pige_report::{bar_lengths, method_of, PigeRequest};
+use trueaxis::identify::tmbb::TmbbSetup;
 use trueaxis::instruments::ballbar::Plane;
 use trueaxis::machine::Machine;
 use trueaxis::screen::thermal::read_screened;
@@ -18,8 +19,8 @@ use trueaxis::uncertainty::Sources;
 use trueaxis_report::calibration::CertificateFile;
 use trueaxis_report::calibration::{
     CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, DataQualityPart, IdentificationPart, InputFile,
-    PositioningPart, RotaryBallbarPart, ThermalDriftPart, ThermalModesPart, Traceability, UncertaintyPart, VolumePart, CONTROLLER_FORMATS,
-    GRID_NODES, POINTS,
+    PositioningPart, RotaryBallbarPart, ThermalDriftPart, ThermalModesPart, TmbbPart, Traceability, UncertaintyPart, VolumePart,
+    CONTROLLER_FORMATS, GRID_NODES, POINTS,
 };
 
 /// A calibration report (HTML with inline figures, no network access; and the same as a PDF with
@@ -111,6 +112,14 @@ pub struct ReportArgs {
     /// Misplacement radial,tangential (mm) of the inner-axis pivot.
     #[arg(long, value_name = "R,T", value_parser = parse_pair, allow_hyphen_values = true, requires = "rotary_ballbar")]
     rotary_pivot_offset_c: Option<[f64; 2]>,
+    /// A two-length ballbar test of a rotary table, the short and the long bar's files SHORT,LONG
+    /// (CSV as `ballbar tmbb` reads them; Zhu (2008)): the table's tilts and axial error, each with U.
+    #[arg(long, value_name = "SHORT,LONG", value_delimiter = ',')]
+    tmbb: Vec<PathBuf>,
+    /// The setup of the two-length test RX,RZ,L1,L2 (mm): table-ball radius and height, short and
+    /// long bar (default: the setup of Zhu (2008)).
+    #[arg(long, value_name = "RX,RZ,L1,L2", value_delimiter = ',', allow_hyphen_values = true, default_values_t = [71.842, 0.0, 90.85, 217.952], requires = "tmbb")]
+    tmbb_setup: Vec<f64>,
     /// Normal and extended bar lengths R,L_e of the rotary-axis test (mm).
     #[arg(long, value_name = "R,LE", value_delimiter = ',', default_values_t = [100.0, 150.0], requires = "rotary_ballbar")]
     rotary_bars: Vec<f64>,
@@ -232,6 +241,9 @@ fn input_files(args: &ReportArgs, identification: Option<&IdentificationPart>) -
     for (c, step) in args.rotary_ballbar.iter().zip(["A1", "A2", "C1", "C2"]) {
         files.push((step_role(step), c.clone()));
     }
+    for (c, role) in args.tmbb.iter().zip(["two-length ballbar test, short bar", "two-length ballbar test, long bar"]) {
+        files.push((role, c.clone()));
+    }
     for (role, path) in
         [("thermal model", &args.thermal_model), ("thermal error model", &args.thermal_error), ("thermal campaign", &args.thermal_data)]
     {
@@ -275,6 +287,28 @@ fn rotary_ballbar(args: &ReportArgs, machine: &Machine) -> Result<Option<RotaryB
         noise_um: 1.0,
     };
     Ok(Some(RotaryBallbarPart::evaluate(machine, request).map_err(failure)?))
+}
+
+/// The two-length rotary-table test of --tmbb, if given.
+fn tmbb(args: &ReportArgs) -> Result<Option<TmbbPart>, Failure> {
+    let (short, long) = match args.tmbb.as_slice() {
+        [] => return Ok(None),
+        [short, long] => (short, long),
+        other => return Err(bad(format!("--tmbb takes the two files SHORT,LONG (short bar first), got {}", other.len()))),
+    };
+    let setup = match args.tmbb_setup.as_slice() {
+        &[rx, rz, l1, l2] => TmbbSetup { rx, rz, l1, l2 },
+        other => return Err(bad(format!("--tmbb-setup takes RX,RZ,L1,L2 in mm, got {} numbers", other.len()))),
+    };
+    Ok(Some(TmbbPart::evaluate(&setup, short, long).map_err(|e| failure(prefixed("--tmbb", e)))?))
+}
+
+/// A bad input of an option's files, named by the option.
+fn prefixed(option: &str, e: CalibrationError) -> CalibrationError {
+    match e {
+        CalibrationError::Input(m) => CalibrationError::Input(format!("{option}: {m}")),
+        other => other,
+    }
 }
 
 /// The command line as typed, for the report.
@@ -376,6 +410,8 @@ fn build<'a>(
     }
     bar.set_message("rotary-axis ballbar steps");
     let rotary_ballbar = rotary_ballbar(args, machine)?;
+    bar.set_message("two-length rotary-table test");
+    let tmbb = tmbb(args)?;
     let loaded;
     let (errors, origin): (&ErrorModel, String) = match (&args.errors, &identification) {
         (Some(path), _) => {
@@ -429,6 +465,7 @@ fn build<'a>(
         thermal_drift,
         circles,
         rotary_ballbar,
+        tmbb,
         positioning,
         data_quality: (!data_quality.files.is_empty()).then_some(data_quality),
         compensation: Some(compensation),
@@ -527,16 +564,14 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
         })
         .collect();
     let rotary_ballbar = report.rotary_ballbar.as_ref().map(|r| {
-        let errors: serde_json::Map<String, serde_json::Value> = r
-            .errors()
-            .iter()
-            .map(|e| {
-                (e.name.clone(), json!({"value": e.value, "unit": e.unit, "expanded_uncertainty": e.expanded, "coverage_factor": 2,
-                    "reported": trueaxis_report::calibration::quantity::with_uncertainty(e.value, e.expanded, e.unit, 2)}))
-            })
-            .collect();
+        let errors: serde_json::Map<String, serde_json::Value> = r.errors().iter().map(|e| (e.name.clone(), e.json())).collect();
         json!({"method": r.report.method.name(), "runs": r.report.runs.len(), "uncertainty_method": r.uncertainty_method(), "errors": errors,
                "residual_rms_um": r.report.steps.iter().map(|s| s.rms_um).collect::<Vec<_>>()})
+    });
+    let tmbb = report.tmbb.as_ref().map(|t| {
+        let errors: serde_json::Map<String, serde_json::Value> = t.errors().iter().map(|e| (e.name.clone(), e.json())).collect();
+        json!({"method": "two-length ballbar, Zhu (2008)", "estimator": "least squares (l2)", "errors": errors,
+               "left_rms_um": t.report.bars.iter().map(|b| b.rms_um).collect::<Vec<_>>()})
     });
     let inputs: Vec<_> = report
         .traceability
@@ -557,7 +592,7 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
         "out": out.display().to_string(), "bytes": bytes, "pdf": pdf.map(|p| p.display().to_string()), "sections": sections, "inputs": inputs,
         "conformity": conformity, "decision_rule": report.certificate.decision.rule.name(),
         "controller": report.controller.as_ref().map(|c| json!({"format": c.format, "worst_um": c.residual.worst_um, "rms_um": c.residual.rms_um, "worst_error_um": c.residual.worst_error_um, "rms_error_um": c.residual.rms_error_um, "leaves_more_than_it_removes": c.residual.leaves_more_than_it_removes(), "left_out": c.left_out, "kinematics": c.kinematics})),
-        "parameters": parameters, "volumetric": volumetric, "positioning": positioning, "ballbar": ballbar, "rotary_ballbar": rotary_ballbar,
+        "parameters": parameters, "volumetric": volumetric, "positioning": positioning, "ballbar": ballbar, "rotary_ballbar": rotary_ballbar, "tmbb": tmbb,
         "thermal_modes": thermal_modes, "thermal_drift": thermal_drift,
         "data_quality": report.data_quality.as_ref().map(|d| d.to_json()),
         "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.extent.max_um, "max_correction_urad": c.extent.max_urad})),

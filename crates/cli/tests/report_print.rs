@@ -651,3 +651,205 @@ fn the_data_quality_part_names_each_finding_and_each_clean_file() {
         }
     }
 }
+
+/// `path` with a deterministic noise of about `sigma_um` added to its `dL` column (the last one),
+/// comment lines and the header kept: a test file in the style of the shipped ones.
+fn with_noise(path: &Path, out: &Path, sigma_um: f64, seed: u64) {
+    let mut state = seed;
+    let mut uniform = || {
+        state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let text: String = std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .map(|l| match l.rsplit_once(',') {
+            Some((head, v)) if v.trim().parse::<f64>().is_ok() && !l.starts_with('#') => {
+                // the sum of 12 uniforms less 6: a normal deviate to within 1e-3 of its quantiles
+                let z = (0..12).map(|_| uniform()).sum::<f64>() - 6.0;
+                format!("{head},{:.4}\n", v.trim().parse::<f64>().unwrap() + sigma_um * z)
+            }
+            _ => format!("{l}\n"),
+        })
+        .collect();
+    std::fs::write(out, text).unwrap();
+}
+
+/// The number of `key` in a `ballbar ... --json` document, and its expanded uncertainty from `u_key`.
+fn value_and_u(doc: &serde_json::Value, key: &str, u_key: &str) -> (f64, f64) {
+    (doc[key].as_f64().unwrap(), 2.0 * doc[u_key].as_f64().unwrap())
+}
+
+/// The other ballbar methods (issue 36): the four-setup method of Jiang (2014) ch. 6 and the
+/// two-length rotary-table test of Zhu (2008) in one report, each error with the value and U of
+/// `ballbar identify --json` / `ballbar tmbb --json` (U = 2 u; both documents round to 1e-4),
+/// printed as `value ± U` in the HTML and the PDF alike, tolerances on them decided, every word on
+/// its page and no number unreadable; the two-pivot method (ch. 4) gives `identify`'s numbers too.
+#[test]
+fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let r = root();
+    let path = |p: &str| r.join(p).display().to_string();
+    let machine = path("examples/machines/c600u.toml");
+    let simulate = |method: &[&str], prefix: &str| -> Vec<String> {
+        ["a1", "a2", "c1", "c2"]
+            .iter()
+            .map(|s| {
+                let out = d.join(format!("{prefix}{s}.csv")).display().to_string();
+                let truth = path("examples/ballbar/c600u_piges.toml");
+                let args = [
+                    &["ballbar", "simulate", "--machine", &machine, "--errors", &truth, "--test", s][..],
+                    method,
+                    &["--noise", "0.3", "--seed", "7", "--out", &out],
+                ]
+                .concat();
+                assert!(trueaxis(&args, d).status.success());
+                out
+            })
+            .collect()
+    };
+    let identify = |method: &[&str], files: &[String]| -> serde_json::Value {
+        let steps = ["--a1", &files[0], "--a2", &files[1], "--c1", &files[2], "--c2", &files[3]];
+        let o = trueaxis(&[&["ballbar", "identify", "--machine", &machine, "--json"][..], method, &steps].concat(), d);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let four = ["--method", "four-setup", "--outer-positions", "-200,250", "--inner-positions", "0,78"];
+    let files = simulate(&four, "six_");
+    let expected = identify(&four, &files);
+    // the shipped two-length files are noise free: 0.5 um of noise on each bar gives a U to quote
+    let (short, long) = (d.join("short.csv"), d.join("long.csv"));
+    with_noise(&r.join("examples/ballbar/tmbb_L1.csv"), &short, 0.5, 1);
+    with_noise(&r.join("examples/ballbar/tmbb_L2.csv"), &long, 0.5, 2);
+    let o = trueaxis(&["ballbar", "tmbb", "--short", short.to_str().unwrap(), "--long", long.to_str().unwrap(), "--json"], d);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let table: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let certificate = d.join("six.toml");
+    std::fs::write(
+        &certificate,
+        "[certificate]\nnumber = \"SIX-1\"\ncustomer = \"Rotary Table Ltd\"\n[decision]\nrule = \"guard-band\"\n[tolerances.parameters]\nEY0A = 50\nEAC = 20\n",
+    )
+    .unwrap();
+    let (html, pdf) = (d.join("six.html"), d.join("six.pdf"));
+    let tmbb_files = format!("{},{}", short.display(), long.display());
+    let args = [
+        "report",
+        "--machine",
+        &machine,
+        "--errors",
+        &path("examples/ballbar/c600u_piges.toml"),
+        "--rotary-ballbar",
+        &files.join(","),
+        "--rotary-method",
+        "four-setup",
+        "--rotary-outer-positions",
+        "-200,250",
+        "--rotary-inner-positions",
+        "0,78",
+        "--tmbb",
+        &tmbb_files,
+        "--certificate",
+        certificate.to_str().unwrap(),
+        "--out",
+        html.to_str().unwrap(),
+        "--pdf",
+        pdf.to_str().unwrap(),
+        "--json",
+    ];
+    let o = trueaxis(&args, d);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(s["rotary_ballbar"]["method"], "four-setup");
+    let mut reported = Vec::new();
+    for (name, e) in s["rotary_ballbar"]["errors"].as_object().unwrap() {
+        let (v, u) = value_and_u(&expected["parameters"][name], "value", "std_uncertainty");
+        let (rv, ru) = (e["value"].as_f64().unwrap(), e["expanded_uncertainty"].as_f64().unwrap());
+        assert!((rv - v).abs() <= 0.5e-4 + 1e-9 && (ru - u).abs() <= 1e-4 + 1e-9, "{name}: report {rv} ± {ru}, identify {v} ± {u}");
+        reported.push(e["reported"].as_str().unwrap().to_string());
+    }
+    let l2 = &table["l2"];
+    for (name, key, unit_key) in [("EAC", "E_x", "urad"), ("EBC", "E_y", "urad"), ("EZC", "D_z", "value")] {
+        let u_key = if unit_key == "urad" { "std_uncertainty_urad" } else { "std_uncertainty" };
+        let (v, u) = value_and_u(&l2[key], unit_key, u_key);
+        let e = &s["tmbb"]["errors"][name];
+        let (rv, ru) = (e["value"].as_f64().unwrap(), e["expanded_uncertainty"].as_f64().unwrap());
+        assert!((rv - v).abs() <= 0.5e-4 + 1e-9 && (ru - u).abs() <= 1e-4 + 1e-9, "{name}: report {rv} ± {ru}, tmbb {v} ± {u}");
+        // the noise-free truth (examples/ballbar/tmbb_errors.toml) within U
+        let truth = [("EAC", 38.45), ("EBC", 35.78), ("EZC", 2.68)].iter().find(|t| t.0 == name).unwrap().1;
+        assert!((rv - truth).abs() <= ru, "{name}: {rv} ± {ru} vs {truth}");
+        reported.push(e["reported"].as_str().unwrap().to_string());
+    }
+    // EY0A (35 um) within 50 passes, EAC (38 urad) beyond 20 fails
+    let decisions: Vec<(String, String)> = s["conformity"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| (i["item"].as_str().unwrap().to_string(), i["decision"].as_str().unwrap().to_string()))
+        .collect();
+    assert_eq!(decisions.len(), 2, "{decisions:?}");
+    assert!(
+        decisions.iter().any(|(i, d)| i.ends_with("EY0A") && d == "pass")
+            && decisions.iter().any(|(i, d)| i.ends_with("EAC") && d == "FAIL")
+    );
+    let text = text_of(&std::fs::read_to_string(&html).unwrap());
+    for expected in
+        ["four-setup method of Lee and Yang as in Jiang (2014) ch. 6", "Zhu (2008) ch. 5", "Rotary table: two-length ballbar test"]
+    {
+        assert!(text.contains(expected), "`{expected}` not in the report");
+    }
+    for r in &reported {
+        assert!(text.contains(r.as_str()), "`{r}` not in the HTML");
+    }
+    let values = measured_values(&text);
+    numbers_are_readable(&text, "ballbar methods HTML");
+    if let Some(browser) = chromium() {
+        let bad = browser_overflow(&browser, &html, d);
+        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+    }
+    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
+        let scratch = d.join("pages");
+        std::fs::create_dir(&scratch).unwrap();
+        let pdf_text = check_pdf(&pdf, &scratch);
+        numbers_are_readable(&pdf_text, "ballbar methods PDF");
+        let pages = page_texts(&pdf);
+        identification_on_every_page(&pages, &["Certificate SIX-1", "Rotary Table Ltd"], "ballbar methods PDF");
+        for r in &reported {
+            assert!(pages.iter().any(|p| p.contains(r.as_str())), "`{r}` not in the PDF");
+        }
+        assert_eq!(measured_values(&pdf_text), values, "the PDF shows the HTML's values");
+    }
+    // the two-pivot method (ch. 4): the same numbers as `ballbar identify`
+    let two = ["--method", "two-pivot", "--outer-offset", "60"];
+    let files = simulate(&two, "four_");
+    let expected = identify(&two, &files);
+    let args = [
+        "report",
+        "--machine",
+        &machine,
+        "--errors",
+        &path("examples/ballbar/c600u_piges.toml"),
+        "--rotary-ballbar",
+        &files.join(","),
+        "--rotary-method",
+        "two-pivot",
+        "--rotary-outer-offset",
+        "60",
+        "--out",
+        html.to_str().unwrap(),
+        "--json",
+    ];
+    let o = trueaxis(&args, d);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    for (name, e) in s["rotary_ballbar"]["errors"].as_object().unwrap() {
+        let (v, u) = value_and_u(&expected["parameters"][name], "value", "std_uncertainty");
+        assert!((e["value"].as_f64().unwrap() - v).abs() <= 0.5e-4 + 1e-9, "{name}");
+        assert!((e["expanded_uncertainty"].as_f64().unwrap() - u).abs() <= 1e-4 + 1e-9, "{name}");
+    }
+    assert!(text_of(&std::fs::read_to_string(&html).unwrap()).contains("two-pivot method of Jiang (2014) ch. 4"));
+    // a method without its setup is refused by name, exit status 2
+    let o = trueaxis(&[&args[..7], &["--rotary-method", "four-setup", "--out", html.to_str().unwrap()]].concat(), d);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--rotary-outer-positions"));
+}

@@ -15,6 +15,7 @@
 //! | ISO 230-2 positioning tests | `positioning` (A, R, E, M, B with U and its budget, plots) |
 //! | ballbar circles | `ballbar` (polar plots, ISO 230-4 values, diagnostics) |
 //! | rotary-axis ballbar steps A1 A2 C1 C2 | `rotary-ballbar` (location errors with U, traces; [`RotaryBallbarPart`]) |
+//! | a two-length rotary-table ballbar test | `tmbb` (table tilts and axial error with U, traces; [`TmbbPart`]) |
 //! | always | `inputs` (files with size and SHA-256, date, version) |
 //!
 //! `trueaxis report` builds it from a user's files; `trueaxis demo` from the files it simulates.
@@ -31,6 +32,7 @@ mod positioning;
 pub mod quantity;
 mod rotary_ballbar;
 mod thermal;
+mod tmbb;
 mod uncertainty;
 mod volume;
 
@@ -43,8 +45,9 @@ pub use identification::{IdentificationPart, ParameterRow, UncertaintyMethod};
 pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
 pub use maps::{magnitudes_um, statistics, VolumeMap, GRID};
 pub use positioning::{section as positioning_section, PositioningPart, POSITIONING_RESULTS};
-pub use rotary_ballbar::{LocationError, RotaryBallbarPart};
+pub use rotary_ballbar::{IdentifiedError, RotaryBallbarPart};
 pub use thermal::{ThermalDriftPart, ThermalModesPart};
+pub use tmbb::TmbbPart;
 pub use uncertainty::UncertaintyPart;
 pub use volume::{error_at_setpoints, VolumePart};
 
@@ -118,6 +121,8 @@ pub struct CalibrationReport<'a> {
     pub circles: Vec<CirclePart>,
     /// The rotary-axis ballbar test of a five-axis machine (Jiang 2014).
     pub rotary_ballbar: Option<RotaryBallbarPart>,
+    /// The two-length ballbar test of a rotary table (Zhu 2008).
+    pub tmbb: Option<TmbbPart>,
     /// ISO 230-2 positioning tests.
     pub positioning: Vec<PositioningPart>,
     pub compensation: Option<CompensationPart>,
@@ -153,7 +158,13 @@ impl CalibrationReport<'_> {
             m.push("Circular tests with a ballbar, ISO 230-4:2005".to_string());
         }
         if let Some(r) = &self.rotary_ballbar {
-            m.push(format!("Location errors of the rotary axes from four ballbar tests by {} (ISO 230-7 terms; docs/ballbar.md)", r.method_text()));
+            m.push(format!(
+                "Location errors of the rotary axes from four ballbar tests by {} (ISO 230-7 terms; docs/ballbar.md)",
+                r.method_text()
+            ));
+        }
+        if self.tmbb.is_some() {
+            m.push("Tilts and axial error of a rotary table from a two-length telescopic ballbar test, the method of Zhu (2008) ch. 5 (ISO 230-1 terms; docs/ballbar.md)".to_string());
         }
         if self.volume.is_some() {
             m.push("Volumetric error over the work volume from the error model, ISO/TR 230-11 terms (docs/user-guide.md)".to_string());
@@ -191,6 +202,9 @@ impl CalibrationReport<'_> {
         if let Some(r) = &self.rotary_ballbar {
             items.extend(r.conformity(&t.parameters, rule));
         }
+        if let Some(r) = &self.tmbb {
+            items.extend(r.conformity(&t.parameters, rule));
+        }
         if let (Some(tol), Some(v)) = (t.volumetric_um, &self.volume) {
             items.push(
                 Item::new("largest volumetric error |d| before compensation".into(), "volumetric", v.before_um.0, None, tol, "um", rule)
@@ -209,11 +223,12 @@ impl CalibrationReport<'_> {
         let mut refused = Vec::new();
         let identified: Vec<String> = (self.identification.iter().flat_map(|id| id.parameter_rows(None).into_iter().map(|p| p.name)))
             .chain(self.rotary_ballbar.iter().flat_map(|r| r.errors().into_iter().map(|e| e.name)))
+            .chain(self.tmbb.iter().flat_map(|r| r.errors().into_iter().map(|e| e.name)))
             .collect();
         for name in t.parameters.keys().filter(|n| !identified.contains(n)) {
             refused.push(match identified.is_empty() {
                 true => format!(
-                    "tolerances.parameters.{name}: no parameters are identified in this report (give --campaign or --rotary-ballbar)"
+                    "tolerances.parameters.{name}: no parameters are identified in this report (give --campaign, --rotary-ballbar or --tmbb)"
                 ),
                 false => format!("tolerances.parameters.{name}: not identified in this report (it identifies {})", identified.join(", ")),
             });
@@ -265,6 +280,7 @@ impl CalibrationReport<'_> {
             out.push(ballbar_section(&self.circles));
         }
         out.extend(self.rotary_ballbar.iter().map(RotaryBallbarPart::section));
+        out.extend(self.tmbb.iter().map(TmbbPart::section));
         if let Some(c) = &self.compensation {
             out.push(c.section(self.controller.as_ref()));
         }

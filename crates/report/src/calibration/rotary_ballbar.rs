@@ -19,13 +19,53 @@ use trueaxis::identify::pige_report::{identify_pige_files, pige_user_value, Pige
 use trueaxis::instruments::ballbar::{Method, RotaryGeometry};
 use trueaxis::machine::{Component, Machine};
 
-/// One identified location error: ISO name, value and U (k = 2) in its unit (um or urad).
+/// One error identified by a ballbar test: ISO name, value and U (k = 2) in its unit (um or urad).
 #[derive(Clone, Debug, PartialEq)]
-pub struct LocationError {
+pub struct IdentifiedError {
     pub name: String,
     pub value: f64,
     pub expanded: Option<f64>,
     pub unit: &'static str,
+}
+
+impl IdentifiedError {
+    /// `value ± U unit`, rounded by U, as the report prints it.
+    pub fn reported(&self) -> String {
+        with_uncertainty(self.value, self.expanded, self.unit, 2)
+    }
+
+    /// Its entry in `report --json`: the numbers and the text the report prints.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({"value": self.value, "unit": self.unit, "expanded_uncertainty": self.expanded, "coverage_factor": 2,
+                           "reported": self.reported()})
+    }
+
+    /// Its row of a results table: the name and `value ± U`.
+    pub fn row(&self) -> Vec<Cell> {
+        vec![Cell::from(self.name.clone()), Cell::from(self.reported())]
+    }
+}
+
+/// The toleranced errors of `errors` (`[tolerances.parameters]`, by ISO name, um or urad), each
+/// decided under `rule`; `test` names the test in the item, `section` links to it, `without_u`
+/// says how a U not evaluated will be.
+pub(super) fn identified_conformity(
+    errors: Vec<IdentifiedError>,
+    tolerances: &BTreeMap<String, f64>,
+    rule: DecisionRule,
+    (test, section, without_u): (&str, &str, &str),
+) -> Vec<Item> {
+    errors
+        .into_iter()
+        .filter_map(|e| {
+            let tol = *tolerances.get(&e.name)?;
+            let item = Item::new(format!("{test}: {}", e.name), section, e.value, e.expanded, tol, e.unit, rule);
+            Some(match e.expanded {
+                Some(_) => item,
+                None => item.without_u(without_u),
+            })
+        })
+        .collect()
 }
 
 /// A rotary-axis ballbar test and what it identified.
@@ -49,7 +89,7 @@ impl RotaryBallbarPart {
     }
 
     /// The location errors of the last run, each with U = 2 u.
-    pub fn errors(&self) -> Vec<LocationError> {
+    pub fn errors(&self) -> Vec<IdentifiedError> {
         let r = &self.report;
         r.last()
             .values
@@ -61,7 +101,7 @@ impl RotaryBallbarPart {
                 let single = r.single_u.as_ref().map(|s| pige_user_value(id, s[k]).0);
                 let spread = r.repeated().then(|| pige_user_value(id, *sd).0);
                 let u = single.into_iter().chain(spread).reduce(f64::max).filter(|u| u.is_finite() && *u > 0.0);
-                LocationError { name: id.to_string(), value, expanded: u.map(|u| 2.0 * u), unit }
+                IdentifiedError { name: id.to_string(), value, expanded: u.map(|u| 2.0 * u), unit }
             })
             .collect()
     }
@@ -94,18 +134,8 @@ impl RotaryBallbarPart {
 
     /// Toleranced location errors by ISO name (`[tolerances.parameters]`, um or urad).
     pub fn conformity(&self, tolerances: &BTreeMap<String, f64>, rule: DecisionRule) -> Vec<Item> {
-        self.errors()
-            .into_iter()
-            .filter_map(|e| {
-                let tol = *tolerances.get(&e.name)?;
-                let item =
-                    Item::new(format!("rotary axes: {} (ballbar)", e.name), "rotary-ballbar", e.value, e.expanded, tol, e.unit, rule);
-                Some(match e.expanded {
-                    Some(_) => item,
-                    None => item.without_u("repeat the ballbar test (several runs in the files) to state U"),
-                })
-            })
-            .collect()
+        let how = "repeat the ballbar test (several runs in the files) to state U";
+        identified_conformity(self.errors(), tolerances, rule, ("rotary axes (ballbar)", "rotary-ballbar", how))
     }
 
     fn plot(&self, s: &trueaxis::identify::pige_report::StepResidual) -> Result<String, CalibrationError> {
@@ -128,11 +158,7 @@ impl RotaryBallbarPart {
 
     pub fn section(&self) -> Section {
         let r = &self.report;
-        let rows: Vec<Vec<Cell>> = self
-            .errors()
-            .iter()
-            .map(|e| vec![Cell::from(e.name.clone()), Cell::from(with_uncertainty(e.value, e.expanded, e.unit, 2))])
-            .collect();
+        let rows: Vec<Vec<Cell>> = self.errors().iter().map(IdentifiedError::row).collect();
         let steps: Vec<Vec<String>> =
             r.steps.iter().map(|s| vec![s.step.name().to_string(), file_name(&s.path), um(s.rms_um), um(s.band_um)]).collect();
         let mut s = Section::new("rotary-ballbar", "Rotary axes: ballbar test (location errors)")
@@ -163,11 +189,11 @@ impl RotaryBallbarPart {
     }
 }
 
-fn um(v: f64) -> String {
+pub(super) fn um(v: f64) -> String {
     quantity(v, 2, "um")
 }
 
-fn file_name(path: &std::path::Path) -> String {
+pub(super) fn file_name(path: &std::path::Path) -> String {
     path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
 

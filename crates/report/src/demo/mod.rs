@@ -258,6 +258,7 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
         thermal_drift: None,
         circles: vec![circle],
         rotary_ballbar: None,
+        tmbb: None,
         positioning: Vec::new(),
         data_quality: None,
         compensation: Some(compensation),

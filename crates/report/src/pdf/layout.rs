@@ -169,7 +169,8 @@ impl Flow<'_> {
     fn code(&mut self, text: &str) {
         let h = Self::line_height(BODY_PT);
         for command in text.lines() {
-            let lines = self.wrap(command, BODY_PT, false, TEXT_WIDTH_PT - 16.0);
+            // continuation lines start 18 pt in; every line keeps 6 pt clear of the box's right edge
+            let lines = self.wrap(command, BODY_PT, false, TEXT_WIDTH_PT - 24.0);
             for (i, line) in lines.iter().enumerate() {
                 self.need(h);
                 let top = self.y;
