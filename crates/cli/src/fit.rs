@@ -28,7 +28,7 @@ pub struct FitArgs {
     /// Measured data: a table (read forgivingly: `;` or tab, decimal commas, units in the headers,
     /// one column per run and direction) or a Renishaw .rtl laser file.
     #[arg(long)]
-    data: PathBuf,
+    pub(crate) data: PathBuf,
     /// ISO 230 name of the measured error, e.g. EXX, EBX, EYZ.
     #[arg(long)]
     parameter: String,
@@ -174,7 +174,27 @@ fn input(message: impl std::fmt::Display) -> Failure {
     Failure::input(anyhow::anyhow!("{message}"))
 }
 
-pub fn run(args: FitArgs) -> Result<(), Failure> {
+/// What one `fit` computes before it writes anything: the parameter, the machine and the measured
+/// axis, the table read, its temperature correction, warnings, and one fit per direction.
+pub(crate) struct FitRun {
+    pub parameter: ParameterId,
+    pub machine: Option<Machine>,
+    pub axis: Option<trueaxis::machine::Axis>,
+    pub table: CsvTable,
+    pub applied: trueaxis::instruments::AppliedCorrection,
+    pub warnings: Vec<String>,
+    pub reports: Vec<(Option<Direction>, DirectFitReport)>,
+}
+
+impl FitRun {
+    /// The unit of the axis positions: deg for a rotary axis, else mm.
+    pub fn position_unit(&self) -> &'static str {
+        self.axis.as_ref().map_or("mm", |a| if a.kind == AxisKind::Rotary { "deg" } else { "mm" })
+    }
+}
+
+/// Reads the data and fits the parameter (each direction asked for), as `trueaxis fit` does.
+pub(crate) fn compute(args: &FitArgs) -> Result<FitRun, Failure> {
     let parameter = ParameterId::parse(&args.parameter).map_err(|m| input(format!("--parameter: {m}")))?;
     // only a motion error is a function of its axis position: refuse the others before reading anything
     if !matches!(parameter, ParameterId::Motion { .. }) {
@@ -256,7 +276,7 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
         periodic,
     };
     let model = match &machine {
-        Some(m) => Some(direct_model(m, &parameter, &args)?),
+        Some(m) => Some(direct_model(m, &parameter, args)?),
         None => None,
     };
     let directions: Vec<Option<Direction>> = match args.direction.as_deref() {
@@ -291,6 +311,14 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
         reports.push((direction, report));
     }
 
+    Ok(FitRun { parameter, machine, axis, table, applied, warnings, reports })
+}
+
+pub fn run(args: FitArgs) -> Result<(), Failure> {
+    let run = compute(&args)?;
+    let unit = run.position_unit();
+    let FitRun { parameter, machine, table, applied, warnings, reports, .. } = run;
+    let directions: Vec<Option<Direction>> = reports.iter().map(|(d, _)| *d).collect();
     crate::iso230_2::warn(&warnings);
     for note in &applied.notes {
         eprintln!("trueaxis: {note}");
@@ -299,7 +327,6 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
     let mut outputs = OutputSet::new();
     let mut written = Vec::new();
     if let Some(path) = &args.plot {
-        let unit = axis.as_ref().map_or("mm", |a| if a.kind == AxisKind::Rotary { "deg" } else { "mm" });
         for (direction, report) in &reports {
             let path = if reports.len() > 1 { plot_path_of_direction(path, direction.map(direction_symbol)) } else { path.to_path_buf() };
             let svg = trueaxis_report::direct_fit_svg(report, unit).map_err(Failure::computation)?;

@@ -1,5 +1,7 @@
 //! `trueaxis report`: a self-contained HTML calibration report from a user's own files.
 
+mod fits;
+
 use crate::predict::parse_point;
 use crate::Failure;
 use indicatif::ProgressBar;
@@ -18,8 +20,8 @@ use trueaxis::thermal::{LanczosProgress, DEFAULT_SHARE};
 use trueaxis::uncertainty::Sources;
 use trueaxis_report::calibration::CertificateFile;
 use trueaxis_report::calibration::{
-    CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, DataQualityPart, IdentificationPart, InputFile,
-    PositioningPart, RotaryBallbarPart, ThermalDriftPart, ThermalModesPart, TmbbPart, Traceability, UncertaintyPart, VolumePart,
+    CalibrationError, CalibrationReport, CircleInput, CirclePart, CompensationPart, DataQualityPart, FitPart, IdentificationPart,
+    InputFile, PositioningPart, RotaryBallbarPart, ThermalDriftPart, ThermalModesPart, TmbbPart, Traceability, UncertaintyPart, VolumePart,
     CONTROLLER_FORMATS, GRID_NODES, POINTS,
 };
 
@@ -212,7 +214,7 @@ fn circles(args: &ReportArgs) -> Result<Vec<CircleInput>, Failure> {
 
 /// The input files with their roles: the machine, errors, campaign (and its data and nominal
 /// errors), sources, circles.
-fn input_files(args: &ReportArgs, identification: Option<&IdentificationPart>) -> Result<Vec<InputFile>, Failure> {
+fn input_files(args: &ReportArgs, identification: Option<&IdentificationPart>, fits: &[FitPart]) -> Result<Vec<InputFile>, Failure> {
     let mut files: Vec<(&str, PathBuf)> = vec![("machine", args.machine.clone())];
     if let Some(e) = &args.errors {
         files.push(("error values", e.clone()));
@@ -240,6 +242,9 @@ fn input_files(args: &ReportArgs, identification: Option<&IdentificationPart>) -
     }
     for (c, step) in args.rotary_ballbar.iter().zip(["A1", "A2", "C1", "C2"]) {
         files.push((step_role(step), c.clone()));
+    }
+    for f in fits.iter().filter(|f| f.direction != Some('-')) {
+        files.push(("direct measurement (fit)", f.file.clone()));
     }
     for (c, role) in args.tmbb.iter().zip(["two-length ballbar test, short bar", "two-length ballbar test, long bar"]) {
         files.push((role, c.clone()));
@@ -447,7 +452,12 @@ fn build<'a>(
     if let (Some(path), Some(findings)) = (&args.thermal_data, thermal_findings) {
         data_quality.add(&path.display().to_string(), "thermal campaign", findings).map_err(failure)?;
     }
-    let traceability = Traceability::now(input_files(args, identification.as_ref())?, Some(command_line()));
+    bar.set_message("direct measurements");
+    let fits = match &args.certificate {
+        Some(path) => fits::fit_parts(&certificate, &args.machine, path)?,
+        None => Vec::new(),
+    };
+    let traceability = Traceability::now(input_files(args, identification.as_ref(), &fits)?, Some(command_line()));
     let issued = certificate.issue_date(&traceability.date);
     Ok(CalibrationReport {
         title: args
@@ -466,6 +476,7 @@ fn build<'a>(
         circles,
         rotary_ballbar,
         tmbb,
+        fits,
         positioning,
         data_quality: (!data_quality.files.is_empty()).then_some(data_quality),
         compensation: Some(compensation),
@@ -593,6 +604,7 @@ fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], byt
         "conformity": conformity, "decision_rule": report.certificate.decision.rule.name(),
         "controller": report.controller.as_ref().map(|c| json!({"format": c.format, "worst_um": c.residual.worst_um, "rms_um": c.residual.rms_um, "worst_error_um": c.residual.worst_error_um, "rms_error_um": c.residual.rms_error_um, "leaves_more_than_it_removes": c.residual.leaves_more_than_it_removes(), "left_out": c.left_out, "kinematics": c.kinematics})),
         "parameters": parameters, "volumetric": volumetric, "positioning": positioning, "ballbar": ballbar, "rotary_ballbar": rotary_ballbar, "tmbb": tmbb,
+        "fits": report.fits.iter().map(FitPart::json).collect::<Vec<_>>(),
         "thermal_modes": thermal_modes, "thermal_drift": thermal_drift,
         "data_quality": report.data_quality.as_ref().map(|d| d.to_json()),
         "compensation": report.compensation.as_ref().map(|c| json!({"max_correction_um": c.extent.max_um, "max_correction_urad": c.extent.max_urad})),

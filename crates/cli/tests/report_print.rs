@@ -109,7 +109,8 @@ fn measured_values(text: &str) -> Vec<(f64, f64, String)> {
         );
         assert_eq!(decimals(value), decimals(u), "`{value} ± {u} {unit}`: the value is not rounded to the place of U");
         assert!(
-            ["um", "urad", "um/m", "deg", "mm", "%"].contains(&unit.trim_end_matches([',', '.', ';', ')'])),
+            ["um", "urad", "um/m", "um/m^2", "um/m^3", "urad/m", "urad/m^2", "deg", "mm", "%"]
+                .contains(&unit.trim_end_matches([',', '.', ';', ')'])),
             "`{value} ± {u} {unit}`: unit"
         );
         out.push((value.parse().unwrap(), u.parse().unwrap(), unit.trim_end_matches([',', '.', ';', ')']).to_string()));
@@ -852,4 +853,163 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
     let o = trueaxis(&[&args[..7], &["--rotary-method", "four-setup", "--out", html.to_str().unwrap()]].concat(), d);
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--rotary-outer-positions"));
+}
+
+/// The documents of `trueaxis fit ... --json` for `args` (both directions: `plus`, `minus`).
+fn fit_json(args: &[&str], dir: &Path) -> serde_json::Value {
+    let o = trueaxis(&[&["fit", "--json"][..], args].concat(), dir);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+/// The report's fit (its JSON entry) has the coefficients, U = 2 u and residuals of `trueaxis fit --json`.
+fn same_fit(reported: &serde_json::Value, fit: &serde_json::Value) {
+    let (a, b) = (reported["terms"].as_array().unwrap(), fit["terms"].as_array().unwrap());
+    assert_eq!(a.len(), b.len());
+    for (r, f) in a.iter().zip(b) {
+        assert_eq!(r["function"], f["function"]);
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * y.abs().max(1e-12);
+        assert!(close(r["coefficient"].as_f64().unwrap(), f["coefficient"].as_f64().unwrap()), "{r} {f}");
+        assert!(close(r["expanded_uncertainty"].as_f64().unwrap(), 2.0 * f["std_uncertainty"].as_f64().unwrap()), "{r} {f}");
+    }
+    for key in ["residual_std", "residual_rms", "max_abs_residual"] {
+        assert!((reported[key].as_f64().unwrap() - fit[key].as_f64().unwrap()).abs() < 1e-12, "{key}");
+    }
+}
+
+/// Direct measurements (issue 36): the pitch EBX from a level and the positioning error EXX from a
+/// laser (both directions) of examples/report/vmc3_fits.toml, and a straightness EYX written here,
+/// reported with the numbers of `trueaxis fit --json`; the range a tolerance is decided on equals
+/// its closed forms: a straight line's |b| L with U = 2 u(b) L over the travel L, and a parabola's
+/// straightness about its least-squares line c (L/2)^2 on a symmetric travel; every `value ± U`
+/// in the HTML and the PDF alike, on its page, readable.
+#[test]
+fn direct_fits_are_reported_with_the_numbers_of_trueaxis_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let r = root();
+    let path = |p: &str| r.join(p).display().to_string();
+    let machine = path("examples/machines/vmc3.toml");
+    // a straightness of X (EYX) in the style of the shipped level and laser files: a bow of
+    // 2e-5 um/mm^2 and a slope (the setup's alignment), read every 20 mm with +-0.05 um of noise
+    let mut csv = String::from(
+        "# Laser straightness optics, X axis of examples/machines/vmc3.toml, Y = 0, Z = -200.\n# target (mm), dev (um).\ntarget,dev\n",
+    );
+    for (k, x) in (-20..=20).map(|k| (k, f64::from(k) * 20.0)) {
+        csv.push_str(&format!("{x},{:.4}\n", 2e-5 * x * x + 0.004 * x + if k % 2 == 0 { 0.05 } else { -0.05 }));
+    }
+    std::fs::write(d.join("straightness_x.csv"), csv).unwrap();
+    let shipped = std::fs::read_to_string(r.join("examples/report/vmc3_fits.toml")).unwrap();
+    let certificate = d.join("fits.toml");
+    let toml = shipped.replace("../data/", &format!("{}/", path("examples/data"))).replace("EXX = 12", "EXX = 12\nEYX = 2")
+        + "\n[[fit]]\ndata = \"straightness_x.csv\"\nparameter = \"EYX\"\nat = \"Z=-200\"\n";
+    std::fs::write(&certificate, toml).unwrap();
+    let (html, pdf) = (d.join("fits.html"), d.join("fits.pdf"));
+    let args = [
+        "report",
+        "--machine",
+        &machine,
+        "--errors",
+        &path("examples/errors/vmc3.toml"),
+        "--certificate",
+        certificate.to_str().unwrap(),
+        "--out",
+        html.to_str().unwrap(),
+        "--pdf",
+        pdf.to_str().unwrap(),
+        "--json",
+    ];
+    let o = trueaxis(&args, d);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let fits = s["fits"].as_array().unwrap();
+    assert_eq!(fits.len(), 4, "EBX, EXX+, EXX-, EYX");
+    let level = path("examples/data/level_x.csv");
+    let ebx = fit_json(&["--data", &level, "--parameter", "EBX", "--machine", &machine, "--instrument", "level", "--degree", "1"], d);
+    same_fit(&fits[0], &ebx);
+    let laser = path("examples/data/laser_x.csv");
+    let exx = fit_json(
+        &[
+            "--data",
+            &laser,
+            "--parameter",
+            "EXX",
+            "--machine",
+            &machine,
+            "--at",
+            "Z=-200",
+            "--knot-spacing",
+            "100",
+            "--stepwise",
+            "0.9999",
+            "--drift",
+            "--direction",
+            "both",
+        ],
+        d,
+    );
+    same_fit(&fits[1], &exx["plus"]);
+    same_fit(&fits[2], &exx["minus"]);
+    let eyx = fit_json(
+        &["--data", d.join("straightness_x.csv").to_str().unwrap(), "--parameter", "EYX", "--machine", &machine, "--at", "Z=-200"],
+        d,
+    );
+    same_fit(&fits[3], &eyx);
+    // the level's straight line over its 800 mm: range |b| L, U = 2 u(b) L
+    let b = &ebx["terms"][1];
+    let (slope, u_slope) = (b["coefficient"].as_f64().unwrap(), b["std_uncertainty"].as_f64().unwrap());
+    let range = &fits[0]["range"];
+    assert!((range["value"].as_f64().unwrap() - slope.abs() * 800.0).abs() < 1e-9, "{range}");
+    assert!((range["expanded_uncertainty"].as_f64().unwrap() - 2.0 * u_slope * 800.0).abs() < 1e-9, "{range}");
+    // the straightness about its least-squares line: c (L/2)^2 = c 400^2, whatever the slope
+    let c = eyx["terms"].as_array().unwrap().iter().find(|t| t["function"] == "x^2").unwrap()["coefficient"].as_f64().unwrap();
+    let range = &fits[3]["range"];
+    assert_eq!(range["about_least_squares_line"], true);
+    assert!((range["value"].as_f64().unwrap() - c.abs() * 400.0 * 400.0).abs() < 1e-9, "{range} vs c = {c}");
+    assert!((c.abs() - 2e-5).abs() < 1e-6, "the bow comes back: {c}");
+    // EBX 16 urad within 25 and EXX 2.1 um within 12 pass; the straightness 3.2 um beyond 2 fails
+    let decisions: Vec<String> = s["conformity"].as_array().unwrap().iter().map(|i| i["decision"].as_str().unwrap().to_string()).collect();
+    assert_eq!(decisions, ["pass", "pass", "pass", "FAIL"], "{}", s["conformity"]);
+    let text = text_of(&std::fs::read_to_string(&html).unwrap());
+    assert!(text.contains("Direct measurements: fitted error motions") && text.contains("Soons (1993)"));
+    let reported: Vec<String> = fits
+        .iter()
+        .flat_map(|f| {
+            f["terms"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|t| t["reported"].as_str().unwrap().to_string())
+                .chain([f["range"]["reported"].as_str().unwrap().to_string()])
+        })
+        .collect();
+    for r in &reported {
+        assert!(text.contains(r.as_str()), "`{r}` not in the HTML");
+    }
+    let values = measured_values(&text);
+    numbers_are_readable(&text, "fits HTML");
+    if let Some(browser) = chromium() {
+        let bad = browser_overflow(&browser, &html, d);
+        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+    }
+    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
+        let scratch = d.join("pages");
+        std::fs::create_dir(&scratch).unwrap();
+        let pdf_text = check_pdf(&pdf, &scratch);
+        numbers_are_readable(&pdf_text, "fits PDF");
+        let pages = page_texts(&pdf);
+        identification_on_every_page(&pages, &["Certificate EX-2024-0313", "Example Parts Ltd"], "fits PDF");
+        for r in &reported {
+            assert!(pages.iter().any(|p| p.contains(r.as_str())), "`{r}` not in the PDF");
+        }
+        assert_eq!(measured_values(&pdf_text), values, "the PDF shows the HTML's values");
+    }
+    // an option the report gives itself is refused by name, nothing written
+    std::fs::remove_file(&html).unwrap();
+    std::fs::write(&certificate, "[[fit]]\ndata = \"straightness_x.csv\"\nparameter = \"EYX\"\nplot = \"x.svg\"\n").unwrap();
+    let o = trueaxis(&args, d);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("fits.toml: [[fit]] 1") && err.contains("`plot`"), "{err}");
+    assert!(!html.exists());
 }

@@ -1,6 +1,7 @@
 //! Plot of a fitted error function: the measured points, the fit and its prediction band
 //! (Soons 1993 Fig. 3.2), as SVG.
 
+use super::style::{self, Swatch};
 use super::ReportError;
 use plotters::prelude::*;
 use trueaxis::identify::DirectFitReport;
@@ -15,7 +16,9 @@ pub struct FitPlot<'a> {
     pub band_label: &'a str,
 }
 
-/// Draws the data, the fitted curve and the band `value +- half_width`.
+/// Draws the data (grey dots), the fitted curve (a vermillion line) and the band `value +-
+/// half_width` (shaded, blue), in the print style of [`super::style`] (printable at 10 pt, the
+/// legend in a strip above the plot).
 pub fn fit_plot_svg(plot: &FitPlot) -> Result<String, ReportError> {
     let finite = plot.points.iter().all(|(x, y)| x.is_finite() && y.is_finite())
         && plot.curve.iter().all(|(x, y, h)| x.is_finite() && y.is_finite() && h.is_finite());
@@ -26,51 +29,47 @@ pub fn fit_plot_svg(plot: &FitPlot) -> Result<String, ReportError> {
     let (x0, x1) = xs.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
     let ys = plot.points.iter().map(|p| p.1).chain(plot.curve.iter().flat_map(|c| [c.1 - c.2, c.1 + c.2]));
     let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| (a.min(y), b.max(y)));
-    let pad = 0.05 * (y1 - y0).max(1e-6);
+    let pad = 0.08 * (y1 - y0).max(1e-6);
+    let xpad = 0.02 * (x1 - x0).max(1e-6);
+    let text = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
+    let (band, fit, dots) = (style::PALETTE[0], style::PALETTE[1], style::GREY);
     let mut svg = String::new();
     {
-        let text = |e: &dyn std::fmt::Display| e.to_string();
-        let root = SVGBackend::with_string(&mut svg, (900, 520)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| ReportError::Draw(text(&e)))?;
+        let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 560)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| text(&e))?;
+        style::title(&root, plot.title, 8).map_err(ReportError::Draw)?;
+        let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
+        let (_, strip) = top.split_vertically(44);
+        let entries = [
+            ("measured".to_string(), Swatch::Dot(dots)),
+            ("fit".to_string(), Swatch::Line(fit, 3)),
+            (plot.band_label.to_string(), Swatch::Band(band)),
+        ];
+        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
         let mut chart = ChartBuilder::on(&root)
-            .caption(plot.title, ("sans-serif", 18))
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(65)
-            .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
-            .map_err(|e| ReportError::Draw(text(&e)))?;
+            .margin(12)
+            .margin_right(30)
+            .x_label_area_size(64)
+            .y_label_area_size(90)
+            .build_cartesian_2d((x0 - xpad)..(x1 + xpad), (y0 - pad)..(y1 + pad))
+            .map_err(|e| text(&e))?;
         chart
             .configure_mesh()
             .x_desc(plot.x_label)
             .y_desc(plot.y_label)
-            .label_style(("sans-serif", 12))
+            .x_labels(6)
+            .y_labels(6)
+            .label_style(style::font(style::TICK))
+            .axis_desc_style(style::font(style::TICK))
+            .light_line_style(RGBColor(235, 235, 235))
             .draw()
-            .map_err(|e| ReportError::Draw(text(&e)))?;
-        let band = RGBColor(120, 160, 220);
-        for sign in [-1.0, 1.0] {
-            chart
-                .draw_series(LineSeries::new(plot.curve.iter().map(|c| (c.0, c.1 + sign * c.2)), band.stroke_width(1)))
-                .map_err(|e| ReportError::Draw(text(&e)))?
-                .label(if sign > 0.0 { plot.band_label } else { "" })
-                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], band));
-        }
-        chart
-            .draw_series(plot.points.iter().map(|p| Circle::new(*p, 2, RGBColor(90, 90, 90).filled())))
-            .map_err(|e| ReportError::Draw(text(&e)))?
-            .label("measured")
-            .legend(|(x, y)| Circle::new((x + 9, y), 3, RGBColor(90, 90, 90).filled()));
-        chart
-            .draw_series(LineSeries::new(plot.curve.iter().map(|c| (c.0, c.1)), RED.stroke_width(2)))
-            .map_err(|e| ReportError::Draw(text(&e)))?
-            .label("fit")
-            .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], RED.stroke_width(2)));
-        chart
-            .configure_series_labels()
-            .border_style(BLACK)
-            .background_style(WHITE.mix(0.8))
-            .draw()
-            .map_err(|e| ReportError::Draw(text(&e)))?;
-        root.present().map_err(|e| ReportError::Draw(text(&e)))?;
+            .map_err(|e| text(&e))?;
+        let outline: Vec<(f64, f64)> =
+            plot.curve.iter().map(|c| (c.0, c.1 + c.2)).chain(plot.curve.iter().rev().map(|c| (c.0, c.1 - c.2))).collect();
+        chart.draw_series(std::iter::once(Polygon::new(outline, band.mix(0.3).filled()))).map_err(|e| text(&e))?;
+        chart.draw_series(plot.points.iter().map(|p| Circle::new(*p, 3, dots.filled()))).map_err(|e| text(&e))?;
+        chart.draw_series(LineSeries::new(plot.curve.iter().map(|c| (c.0, c.1)), fit.stroke_width(3))).map_err(|e| text(&e))?;
+        root.present().map_err(|e| text(&e))?;
     }
     Ok(svg)
 }

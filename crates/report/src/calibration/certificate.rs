@@ -60,6 +60,10 @@ pub struct CertificateFile {
     pub tolerances: Tolerances,
     #[serde(default)]
     pub positioning: PositioningSettings,
+    /// Direct measurements to fit and report (`[[fit]]`): each table holds the long options of
+    /// `trueaxis fit` by name (`data`, `parameter`, `knot_spacing` ...), read by the command line.
+    #[serde(default, rename = "fit")]
+    pub fits: Vec<toml::Table>,
 }
 
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]

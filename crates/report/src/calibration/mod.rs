@@ -16,6 +16,7 @@
 //! | ballbar circles | `ballbar` (polar plots, ISO 230-4 values, diagnostics) |
 //! | rotary-axis ballbar steps A1 A2 C1 C2 | `rotary-ballbar` (location errors with U, traces; [`RotaryBallbarPart`]) |
 //! | a two-length rotary-table ballbar test | `tmbb` (table tilts and axial error with U, traces; [`TmbbPart`]) |
+//! | direct measurements of error motions (laser, level) | `fits` (the fitted functions with U, residuals; [`FitPart`]) |
 //! | always | `inputs` (files with size and SHA-256, date, version) |
 //!
 //! `trueaxis report` builds it from a user's files; `trueaxis demo` from the files it simulates.
@@ -25,6 +26,8 @@ mod certificate;
 mod compensation;
 pub mod conformity;
 mod data_quality;
+mod fit_tables;
+mod fits;
 mod identification;
 mod inputs;
 mod maps;
@@ -41,6 +44,8 @@ pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances, SPEC
 pub use compensation::{controller_name, CompensationPart, ControllerPart, CONTROLLER_FORMATS, GRID_NODES, POINTS};
 pub use conformity::{decide, DecisionRule, Item};
 pub use data_quality::{DataQualityPart, ScreenedFile};
+pub use fit_tables::fit_arguments;
+pub use fits::{FitPart, Range};
 pub use identification::{IdentificationPart, ParameterRow, UncertaintyMethod};
 pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
 pub use maps::{magnitudes_um, statistics, VolumeMap, GRID};
@@ -123,6 +128,8 @@ pub struct CalibrationReport<'a> {
     pub rotary_ballbar: Option<RotaryBallbarPart>,
     /// The two-length ballbar test of a rotary table (Zhu 2008).
     pub tmbb: Option<TmbbPart>,
+    /// Error motions fitted to direct measurements (laser, level).
+    pub fits: Vec<FitPart>,
     /// ISO 230-2 positioning tests.
     pub positioning: Vec<PositioningPart>,
     pub compensation: Option<CompensationPart>,
@@ -162,6 +169,9 @@ impl CalibrationReport<'_> {
                 "Location errors of the rotary axes from four ballbar tests by {} (ISO 230-7 terms; docs/ballbar.md)",
                 r.method_text()
             ));
+        }
+        if !self.fits.is_empty() {
+            m.push("Error motions of the axes from direct measurements (laser interferometer, level), fitted as parametric functions, Soons (1993) §3.2 (ISO 230-1 terms; docs/laser.md)".to_string());
         }
         if self.tmbb.is_some() {
             m.push("Tilts and axial error of a rotary table from a two-length telescopic ballbar test, the method of Zhu (2008) ch. 5 (ISO 230-1 terms; docs/ballbar.md)".to_string());
@@ -205,6 +215,9 @@ impl CalibrationReport<'_> {
         if let Some(r) = &self.tmbb {
             items.extend(r.conformity(&t.parameters, rule));
         }
+        for f in &self.fits {
+            items.extend(f.conformity(&t.parameters, rule));
+        }
         if let (Some(tol), Some(v)) = (t.volumetric_um, &self.volume) {
             items.push(
                 Item::new("largest volumetric error |d| before compensation".into(), "volumetric", v.before_um.0, None, tol, "um", rule)
@@ -224,11 +237,12 @@ impl CalibrationReport<'_> {
         let identified: Vec<String> = (self.identification.iter().flat_map(|id| id.parameter_rows(None).into_iter().map(|p| p.name)))
             .chain(self.rotary_ballbar.iter().flat_map(|r| r.errors().into_iter().map(|e| e.name)))
             .chain(self.tmbb.iter().flat_map(|r| r.errors().into_iter().map(|e| e.name)))
+            .chain(self.fits.iter().map(|f| f.report.parameter.to_string()))
             .collect();
         for name in t.parameters.keys().filter(|n| !identified.contains(n)) {
             refused.push(match identified.is_empty() {
                 true => format!(
-                    "tolerances.parameters.{name}: no parameters are identified in this report (give --campaign, --rotary-ballbar or --tmbb)"
+                    "tolerances.parameters.{name}: no parameters are identified in this report (give --campaign, --rotary-ballbar, --tmbb or a [[fit]])"
                 ),
                 false => format!("tolerances.parameters.{name}: not identified in this report (it identifies {})", identified.join(", ")),
             });
@@ -281,6 +295,9 @@ impl CalibrationReport<'_> {
         }
         out.extend(self.rotary_ballbar.iter().map(RotaryBallbarPart::section));
         out.extend(self.tmbb.iter().map(TmbbPart::section));
+        if !self.fits.is_empty() {
+            out.push(fits::section(&self.fits));
+        }
         if let Some(c) = &self.compensation {
             out.push(c.section(self.controller.as_ref()));
         }

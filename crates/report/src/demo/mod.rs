@@ -259,6 +259,7 @@ pub fn run(out_dir: &Path, progress: &mut dyn FnMut(usize, usize, &str)) -> Resu
         circles: vec![circle],
         rotary_ballbar: None,
         tmbb: None,
+        fits: Vec::new(),
         positioning: Vec::new(),
         data_quality: None,
         compensation: Some(compensation),
