@@ -320,3 +320,29 @@ fn bad_input_exits_2_with_one_line_and_writes_nothing() {
     let leftovers: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert!(leftovers.is_empty(), "{leftovers:?}");
 }
+
+/// A length campaign (issue 36): the laser-tracer multilateration of the vmc3 (instrument `length`,
+/// four stations, motion errors as functions of their axes) gives the parameters of `trueaxis
+/// identify --json`, each with U = 2 u (least squares, no sources) printed in the report.
+#[test]
+fn a_length_campaign_is_reported_with_the_numbers_of_identify() {
+    let campaign = ["--machine", "examples/machines/vmc3.toml", "--campaign", "examples/campaigns/vmc3_tracer/campaign.toml"];
+    let (html, s) = report(&campaign);
+    assert_eq!(
+        sections_of(&html, &s),
+        ["certificate", "machine", "campaign", "identification", "volumetric", "compensation", "data-quality", "inputs"]
+    );
+    let id = trueaxis(&[&["identify", "--json"][..], &campaign].concat());
+    assert!(id.status.success(), "{}", String::from_utf8_lossy(&id.stderr));
+    let id: serde_json::Value = serde_json::from_slice(&id.stdout).unwrap();
+    let params = s["parameters"].as_object().unwrap();
+    assert_eq!(params.len(), id["parameters"].as_object().unwrap().len());
+    assert!(params.len() >= 10, "{} parameters", params.len());
+    for (name, p) in params {
+        let (v, w) = (p["value"].as_f64().unwrap(), id["parameters"][name]["value"].as_f64().unwrap());
+        assert!((v - w).abs() < 1e-9, "{name}: report {v} vs identify {w}");
+        let u = id["parameters"][name]["std_uncertainty"].as_f64().unwrap();
+        assert!((p["expanded_uncertainty"].as_f64().unwrap() - 2.0 * u).abs() < 1e-9, "{name}: U = 2 u");
+        assert!(html.contains(p["reported"].as_str().unwrap()), "{name}: `{}` not in the report", p["reported"]);
+    }
+}
