@@ -48,8 +48,10 @@ Sections: certificate (always; particulars from --certificate and the files); co
 in --certificate); machine (always); campaign and identification (--campaign); uncertainty budget\n\
 (--sources); volumetric and compensation (--errors, or the values identified from --campaign);\n\
 positioning (--positioning, ISO 230-2 with its uncertainty); ballbar (--ballbar); rotary-axis location\n\
-errors (--rotary-ballbar A1,A2,C1,C2, with U); thermal modes (--thermal-model); thermal drift vs prediction (--thermal-error\n\
-with --thermal-data); inputs (always). Each part is computed as the command that does it alone:\n\
+errors (--rotary-ballbar A1,A2,C1,C2 with --rotary-method, with U); rotary table (--tmbb SHORT,LONG,\n\
+the two-length test of Zhu (2008), with U); direct measurements (the [[fit]] tables of --certificate:\n\
+the options of `trueaxis fit`); thermal modes (--thermal-model); thermal drift vs prediction\n\
+(--thermal-error with --thermal-data); inputs (always). Each part is computed as the command that does it alone:\n\
 identify, uncertainty, ballbar iso230-4, predict --frame machine, compensate. The --ballbar-plane,\n\
 --ballbar-radius and --ballbar-centre options are given once for all circles or once per --ballbar,\n\
 in order. The report.toml keys are described in docs/report.md.")]
