@@ -450,15 +450,19 @@ fn build<'a>(
         })
     };
     let (thermal_modes, thermal_drift, thermal_findings) = thermal_parts(args, bar)?;
-    let mut data_quality = DataQualityPart::of_parts(&positioning, &circles, identification.as_ref()).map_err(failure)?;
-    if let (Some(path), Some(findings)) = (&args.thermal_data, thermal_findings) {
-        data_quality.add(&path.display().to_string(), "thermal campaign", findings).map_err(failure)?;
-    }
     bar.set_message("direct measurements");
     let fits = match &args.certificate {
         Some(path) => fits::fit_parts(&certificate, &args.machine, path)?,
         None => Vec::new(),
     };
+    let mut data_quality = DataQualityPart::of_parts(&positioning, &circles, identification.as_ref()).map_err(failure)?;
+    for f in &fits {
+        let role = format!("direct measurement ({})", f.name());
+        data_quality.add(&f.file.display().to_string(), &role, f.report.findings.clone()).map_err(failure)?;
+    }
+    if let (Some(path), Some(findings)) = (&args.thermal_data, thermal_findings) {
+        data_quality.add(&path.display().to_string(), "thermal campaign", findings).map_err(failure)?;
+    }
     let traceability = Traceability::now(input_files(args, identification.as_ref(), &fits)?, Some(command_line()));
     let issued = certificate.issue_date(&traceability.date);
     Ok(CalibrationReport {

@@ -955,6 +955,11 @@ fn direct_fits_are_reported_with_the_numbers_of_trueaxis_fit() {
         d,
     );
     same_fit(&fits[3], &eyx);
+    // each fit's readings screened as `fit` screens them, in the data-quality part
+    let screened: Vec<&str> = s["data_quality"].as_array().unwrap().iter().map(|f| f["input"].as_str().unwrap()).collect();
+    for name in ["EBX", "EXX+", "EXX-", "EYX"] {
+        assert!(screened.contains(&format!("direct measurement ({name})").as_str()), "{name}: {screened:?}");
+    }
     // the level's straight line over its 800 mm: range |b| L, U = 2 u(b) L
     let b = &ebx["terms"][1];
     let (slope, u_slope) = (b["coefficient"].as_f64().unwrap(), b["std_uncertainty"].as_f64().unwrap());

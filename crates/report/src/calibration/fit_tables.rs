@@ -12,6 +12,23 @@ const REFUSED: [&str; 4] = ["machine", "json", "errors_out", "plot"];
 /// Options that name a file, relative to report.toml.
 const FILES: [&str; 2] = ["data", "errors_in"];
 
+/// `folder/name` with each `..` after a folder name taken out (`examples/report/../data/x.csv` is
+/// `examples/data/x.csv`), as the report names the file.
+fn joined(folder: &Path, name: &str) -> String {
+    use std::path::Component;
+    let path = folder.join(name);
+    let mut out: Vec<Component> = Vec::new();
+    for c in path.components() {
+        match (c, out.last()) {
+            (Component::ParentDir, Some(Component::Normal(_))) => {
+                out.pop();
+            }
+            _ => out.push(c),
+        }
+    }
+    out.iter().collect::<std::path::PathBuf>().display().to_string()
+}
+
 /// The `trueaxis fit` arguments of one table (`--knot-spacing 100` for `knot_spacing = 100`; true
 /// for a flag; a list of texts as a repeated option, a list of numbers joined by commas), file
 /// names joined to `folder`.
@@ -24,7 +41,7 @@ pub fn fit_arguments(table: &toml::Table, folder: &Path) -> Result<Vec<String>, 
         }
         let option = format!("--{}", key.replace('_', "-"));
         let scalar = |v: &toml::Value| match v {
-            toml::Value::String(s) if FILES.contains(&key.as_str()) => Some(folder.join(s).display().to_string()),
+            toml::Value::String(s) if FILES.contains(&key.as_str()) => Some(joined(folder, s)),
             toml::Value::String(s) => Some(s.clone()),
             toml::Value::Integer(i) => Some(i.to_string()),
             toml::Value::Float(f) => Some(f.to_string()),
