@@ -293,7 +293,12 @@ fn rotary_ballbar(args: &ReportArgs, machine: &Machine) -> Result<Option<RotaryB
         pivot_offset_inner: args.rotary_pivot_offset_c,
         noise_um: 1.0,
     };
-    Ok(Some(RotaryBallbarPart::evaluate(machine, request).map_err(failure)?))
+    let part = RotaryBallbarPart::evaluate(machine, request).map_err(|e| match e {
+        // the library names the options of `ballbar identify`; here they are --rotary-...
+        CalibrationError::Input(m) => CalibrationError::Input(m.replace("--pivot-offset-", "--rotary-pivot-offset-")),
+        other => other,
+    });
+    Ok(Some(part.map_err(failure)?))
 }
 
 /// The two-length rotary-table test of --tmbb, if given.
