@@ -799,27 +799,15 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
     {
         assert!(text.contains(expected), "`{expected}` not in the report");
     }
-    for r in &reported {
-        assert!(text.contains(r.as_str()), "`{r}` not in the HTML");
-    }
-    let values = measured_values(&text);
-    numbers_are_readable(&text, "ballbar methods HTML");
-    if let Some(browser) = chromium() {
-        let bad = browser_overflow(&browser, &html, d);
-        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
-    }
-    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
-        let scratch = d.join("pages");
-        std::fs::create_dir(&scratch).unwrap();
-        let pdf_text = check_pdf(&pdf, &scratch);
-        numbers_are_readable(&pdf_text, "ballbar methods PDF");
-        let pages = page_texts(&pdf);
-        identification_on_every_page(&pages, &["Certificate SIX-1", "Rotary Table Ltd"], "ballbar methods PDF");
-        for r in &reported {
-            assert!(pages.iter().any(|p| p.contains(r.as_str())), "`{r}` not in the PDF");
-        }
-        assert_eq!(measured_values(&pdf_text), values, "the PDF shows the HTML's values");
-    }
+    as_printed(&Printed {
+        html: &html,
+        pdf: &pdf,
+        dir: d,
+        text: &text,
+        reported: &reported,
+        identification: &["Certificate SIX-1", "Rotary Table Ltd"],
+        what: "ballbar methods",
+    });
     // the two-pivot method (ch. 4): the same numbers as `ballbar identify`
     let two = ["--method", "two-pivot", "--outer-offset", "60"];
     let files = simulate(&two, "four_");
@@ -988,27 +976,15 @@ fn direct_fits_are_reported_with_the_numbers_of_trueaxis_fit() {
                 .chain([f["range"]["reported"].as_str().unwrap().to_string()])
         })
         .collect();
-    for r in &reported {
-        assert!(text.contains(r.as_str()), "`{r}` not in the HTML");
-    }
-    let values = measured_values(&text);
-    numbers_are_readable(&text, "fits HTML");
-    if let Some(browser) = chromium() {
-        let bad = browser_overflow(&browser, &html, d);
-        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
-    }
-    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
-        let scratch = d.join("pages");
-        std::fs::create_dir(&scratch).unwrap();
-        let pdf_text = check_pdf(&pdf, &scratch);
-        numbers_are_readable(&pdf_text, "fits PDF");
-        let pages = page_texts(&pdf);
-        identification_on_every_page(&pages, &["Certificate EX-2024-0313", "Example Parts Ltd"], "fits PDF");
-        for r in &reported {
-            assert!(pages.iter().any(|p| p.contains(r.as_str())), "`{r}` not in the PDF");
-        }
-        assert_eq!(measured_values(&pdf_text), values, "the PDF shows the HTML's values");
-    }
+    as_printed(&Printed {
+        html: &html,
+        pdf: &pdf,
+        dir: d,
+        text: &text,
+        reported: &reported,
+        identification: &["Certificate EX-2024-0313", "Example Parts Ltd"],
+        what: "fits",
+    });
     // an option the report gives itself is refused by name, nothing written
     std::fs::remove_file(&html).unwrap();
     std::fs::write(&certificate, "[[fit]]\ndata = \"straightness_x.csv\"\nparameter = \"EYX\"\nplot = \"x.svg\"\n").unwrap();
@@ -1017,4 +993,41 @@ fn direct_fits_are_reported_with_the_numbers_of_trueaxis_fit() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("fits.toml: [[fit]] 1") && err.contains("`plot`"), "{err}");
     assert!(!html.exists());
+}
+
+/// A report as a customer sees it: every reported `value ± U` in the HTML text and in the PDF,
+/// readable numbers in both, no overflowing box in Chromium, the PDF's pages inside their margins
+/// and identified, the same measured values in HTML and PDF.
+struct Printed<'a> {
+    html: &'a std::path::Path,
+    pdf: &'a std::path::Path,
+    dir: &'a std::path::Path,
+    text: &'a str,
+    reported: &'a [String],
+    identification: &'a [&'a str],
+    what: &'a str,
+}
+
+fn as_printed(p: &Printed) {
+    for r in p.reported {
+        assert!(p.text.contains(r.as_str()), "`{r}` not in the HTML");
+    }
+    let values = measured_values(p.text);
+    numbers_are_readable(p.text, &format!("{} HTML", p.what));
+    if let Some(browser) = chromium() {
+        let bad = browser_overflow(&browser, p.html, p.dir);
+        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+    }
+    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
+        let scratch = p.dir.join("pages");
+        std::fs::create_dir(&scratch).unwrap();
+        let pdf_text = check_pdf(p.pdf, &scratch);
+        numbers_are_readable(&pdf_text, &format!("{} PDF", p.what));
+        let pages = page_texts(p.pdf);
+        identification_on_every_page(&pages, p.identification, &format!("{} PDF", p.what));
+        for r in p.reported {
+            assert!(pages.iter().any(|page| page.contains(r.as_str())), "`{r}` not in the PDF");
+        }
+        assert_eq!(measured_values(&pdf_text), values, "the PDF shows the HTML's values");
+    }
 }
