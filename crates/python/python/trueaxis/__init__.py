@@ -2,8 +2,9 @@
 
 Python bindings of the Rust library (docs/python.md). Units as everywhere in trueaxis: axis
 positions in mm (linear) and deg (rotary); errors in um (translations) and urad (rotations);
-temperatures in degC; time in s. Results are numpy arrays, or dicts with the keys of the
-command line's ``--json`` documents. Errors raise ``TrueaxisError``: ``InputError`` for bad input
+temperatures in degC; time in s. Results are numpy arrays, or typed results
+(``trueaxis.results``: named fields with numpy arrays, ``to_dict()`` the command line's ``--json``
+document, ``to_dataframe()`` its tables). Errors raise ``TrueaxisError``: ``InputError`` for bad input
 (the command line's exit status 2), ``ComputationError`` for a failed computation (exit 1),
 ``ResourceError`` for the environment (a full disk, a permission, memory: exit 3). What
 the command line prints on stderr as warnings or notes is issued as ``TrueaxisWarning``.
@@ -39,6 +40,21 @@ from ._native import (
     thermal_fit,
     thermal_predict,
 )
+from .results import (
+    BallbarIdentification,
+    BallbarSensitivity,
+    CircularTest,
+    Compensation,
+    NcCorrection,
+    OptimalDesign,
+    PositioningTest,
+    Prediction,
+    Record,
+    Result,
+    ThermalFit,
+    ThermalPrediction,
+    UncertaintyBudget,
+)
 
 __all__ = [
     "BLOCK",
@@ -69,4 +85,17 @@ __all__ = [
     "iso230_4",
     "thermal_fit",
     "thermal_predict",
+    "BallbarIdentification",
+    "BallbarSensitivity",
+    "CircularTest",
+    "Compensation",
+    "NcCorrection",
+    "OptimalDesign",
+    "PositioningTest",
+    "Prediction",
+    "Record",
+    "Result",
+    "ThermalFit",
+    "ThermalPrediction",
+    "UncertaintyBudget",
 ]
