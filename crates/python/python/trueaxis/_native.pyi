@@ -3,6 +3,9 @@
 from os import PathLike
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 from .results import (
+    BudgetAllocation,
+    BudgetAnalysis,
+    BudgetConfigurations,
     BallbarIdentification,
     BallbarSensitivity,
     CircularTest,
@@ -322,6 +325,65 @@ def ballbar_sensitivity(
     """The document of `trueaxis ballbar sensitivity --json`: each PIGE's change per um of each setup
     error (um/um, urad/um), per um of bar noise, and its combined standard uncertainty (um, urad)
     for setup_u, bar_u and noise (standard uncertainties in um)."""
+
+_Part = Union[float, Tuple[float, float, float]]
+
+class BudgetProblem:
+    """An error-budget problem (Zhu 2008 appendix B): machine, tolerances (um, urad), points (mm),
+    frame and pose sets (mm, deg), as the options of `trueaxis budget analyse` and `allocate`."""
+
+    def __init__(
+        self,
+        machine: Machine,
+        *,
+        budget: Optional[_Path] = None,
+        linear_um: float = 5.0,
+        angular_urad: float = 10.0,
+        squareness_urad: float = 10.0,
+        poses: Optional[_Path] = None,
+        parts: Optional[Sequence[_Part]] = None,
+        grid: Optional[int] = None,
+        part_nodes: int = 5,
+        rotary: Optional[Mapping[str, float]] = None,
+        tool_point: Optional[_Point] = None,
+        work_point: Optional[_Point] = None,
+        frame: str = "workpiece",
+    ) -> None: ...
+    @property
+    def sets(self) -> List[str]: ...
+    @property
+    def poses(self) -> List[npt.NDArray[np.float64]]: ...
+    @property
+    def components(self) -> List[str]: ...
+    def analyse(self, *, out: Optional[_Path] = None, sensitivity: Optional[_Path] = None) -> BudgetAnalysis:
+        """The document of `trueaxis budget analyse --json`: stack-up per pose set (um), singular
+        values and part sensitivities (mm), shares (%) of every axis, kind and component."""
+    def allocate(
+        self,
+        *,
+        target_um: Optional[float] = None,
+        target_xyz: Optional[Tuple[float, float, float]] = None,
+        stack: str = "rss",
+        seed: int = 1,
+        generations: int = 500,
+        out: Optional[_Path] = None,
+    ) -> BudgetAllocation:
+        """The document of `trueaxis budget allocate --json`: cost-optimal tolerances (um, urad)
+        for a target volumetric error in um."""
+
+def budget_configurations(
+    *,
+    part: Optional[_Part] = None,
+    tool_length: float = 100.0,
+    linear_um: float = 5.0,
+    angular_urad: float = 10.0,
+    squareness_urad: float = 10.0,
+    nodes: int = 3,
+    tilt_deg: float = 30.0,
+    progress: Optional[_Progress] = None,
+) -> BudgetConfigurations:
+    """The document of `trueaxis budget configurations --json`: the 288 five-axis configurations
+    ranked by the RMS of the root-sum-square 3D error (um), travel in mm."""
 
 def thermal_fit(
     data: _Path,

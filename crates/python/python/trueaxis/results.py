@@ -387,3 +387,55 @@ class NcCorrection(Result):
     program and its statistics."""
 
     __slots__ = ()
+
+
+class BudgetAnalysis(Result):
+    """The forward analysis of an error budget (Zhu 2008 appendix B; `trueaxis budget analyse
+    --json`): per pose set (``sets``, one per part size) the root-sum-square and worst-case stack-up
+    (um), singular values and part sensitivities (mm), and the shares (%) of every axis, kind and
+    component. The tables hold the rows of every set, with its label in column ``set``."""
+
+    __slots__ = ()
+    _tables = {"components": ("components", "set"), "per_pose": ("per_pose", "set"), "by_axis": ("by_axis", "set"),
+               "by_kind": ("by_kind", "set")}
+
+    def _rows(self, table: str) -> List[dict]:
+        key = self._tables[table][0]
+        return [{"set": s["label"], **row} for s in self._doc["sets"] for row in s[key]]
+
+    @property
+    def rss_max(self) -> np.ndarray:
+        """Largest root-sum-square 3D error (um) of each set."""
+        return np.array([s["rss_um"]["max"] for s in self._doc["sets"]], dtype=np.float64)
+
+    @property
+    def worst_case_max(self) -> np.ndarray:
+        """Largest worst-case 3D error (um) of each set."""
+        return np.array([s["worst_case_um"]["max"] for s in self._doc["sets"]], dtype=np.float64)
+
+
+class BudgetAllocation(Result):
+    """Cost-optimal tolerances for a target volumetric error (Zhu 2008 eqs. B.5-B.8; `trueaxis
+    budget allocate --json`): per component (table ``components``) the tolerance (um, urad), its
+    homogenised value, lower limit and cost; the binding constraints (table ``active``)."""
+
+    __slots__ = ()
+    _tables = {"components": ("components", "name"), "active": ("active", "name")}
+
+    @property
+    def names(self) -> List[str]:
+        return [c["name"] for c in self._doc["components"]]
+
+    @property
+    def tolerances(self) -> np.ndarray:
+        """The allocated tolerances (um for linear, urad for angular and squareness errors)."""
+        return self.column("components", "tolerance").astype(np.float64)
+
+
+class BudgetConfigurations(Result):
+    """The five-axis configuration study (Zhu 2008 appendix C; `trueaxis budget configurations
+    --json`): the 288 configurations ranked by the RMS of their root-sum-square 3D error (table
+    ``ranking``, um), the travel (mm) and space utility per category (table ``travel``)."""
+
+    __slots__ = ()
+    _tables = {"ranking": ("ranking", "name"), "travel": ("travel", "name")}

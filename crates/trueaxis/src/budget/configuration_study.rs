@@ -70,7 +70,7 @@ impl ConfigurationStudy {
         if ranked.iter().any(|r| !(r.rss_rms.is_finite() && r.worst_max.is_finite())) {
             return Err(BudgetError::Computation("a configuration's stack-up is not finite".into()));
         }
-        Ok(ConfigurationStudy { options: options.clone(), counts, travel, ranked })
+        Ok(ConfigurationStudy { options: *options, counts, travel, ranked })
     }
 
     /// The document of `trueaxis budget configurations --json`.
