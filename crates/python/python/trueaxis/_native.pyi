@@ -2,25 +2,11 @@
 
 from os import PathLike
 from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple, Union
-from .results import (
-    BudgetAllocation,
-    BudgetAnalysis,
-    BudgetConfigurations,
-    BallbarIdentification,
-    BallbarSensitivity,
-    CircularTest,
-    Compensation,
-    NcCorrection,
-    OptimalDesign,
-    PositioningTest,
-    Prediction,
-    ThermalFit,
-    ThermalPrediction,
-    UncertaintyBudget,
-)
 
 import numpy as np
 import numpy.typing as npt
+
+from . import results
 
 _Path = Union[str, PathLike[str]]
 _Point = Sequence[float]
@@ -102,7 +88,7 @@ class Machine:
         tool_point: Optional[_Point] = None,
         work_point: Optional[_Point] = None,
         frame: str = "workpiece",
-    ) -> Prediction:
+    ) -> results.Prediction:
         """The document of `trueaxis predict --json` for a pose CSV."""
 
 class Errors:
@@ -179,11 +165,11 @@ class Candidates:
         """Starts start..stop of the exchange algorithm (a chunk), each on its own random stream."""
     def best_of(
         self, count: int, outcomes: Sequence[Tuple[int, Optional[List[int]], Optional[float]]], *, criterion: str = "d"
-    ) -> OptimalDesign:
+    ) -> results.OptimalDesign:
         """Merge of chunks: the document of `trueaxis design optimal --json`."""
     def exchange(
         self, count: int, *, criterion: str = "d", starts: int = 5, seed: int = 1, progress: Optional[_Progress] = None
-    ) -> OptimalDesign:
+    ) -> results.OptimalDesign:
         """The document of `trueaxis design optimal --json`; progress(done, total) after each round of starts."""
 
 class Sources:
@@ -237,7 +223,7 @@ class UncertaintyPlan:
         work_point: Optional[_Point] = None,
         frame: str = "workpiece",
         progress: Optional[_Progress] = None,
-    ) -> UncertaintyBudget:
+    ) -> results.UncertaintyBudget:
         """The document of `trueaxis uncertainty --json`, in this process; progress(done, total)
         after each Monte Carlo sequence (total: the most sequences of every stage)."""
 
@@ -254,7 +240,7 @@ class BudgetRun:
         tool_point: Optional[_Point] = None,
         work_point: Optional[_Point] = None,
         frame: str = "workpiece",
-    ) -> UncertaintyBudget: ...
+    ) -> results.UncertaintyBudget: ...
 
 def iso230_2(
     path: _Path,
@@ -265,7 +251,7 @@ def iso230_2(
     artefact_expansion: Optional[float] = None,
     temperature_datum: float = 0.0,
     no_file_temperature: bool = False,
-) -> PositioningTest:
+) -> results.PositioningTest:
     """The document of `trueaxis iso230-2 --json` for a table or a Renishaw .rtl file (um, urad for a
     rotary axis; coverage factor 2): deviations corrected to 20 degC with the scale's and/or the
     artefact's temperature (degC, or a column name) and expansion coefficient (um/m/K) about
@@ -282,7 +268,7 @@ def iso230_4(
     feed: Optional[float] = None,
     pitch: Optional[float] = None,
     spike_width: float = 3.0,
-) -> CircularTest:
+) -> results.CircularTest:
     """The document of `trueaxis ballbar iso230-4 --json`: G, F, H (um), diagnostics on the machine's
     model. plane xy|yz|zx, radius (mm, the bar length), centre (mm), feed (mm/min), pitch (mm),
     spike_width (deg); plane and radius default to the file's header."""
@@ -303,7 +289,7 @@ def ballbar_identify(
     pivot_offset_a: Optional[Tuple[float, float]] = None,
     pivot_offset_c: Optional[Tuple[float, float]] = None,
     noise: float = 1.0,
-) -> BallbarIdentification:
+) -> results.BallbarIdentification:
     """The document of `trueaxis ballbar identify --json`: the 8 PIGEs of the two rotary axes (um,
     urad) with their single-run standard uncertainty, repeatability over runs, compensation
     residual per step (um). method extended-bar | two-pivot (outer_offset, mm) | four-setup
@@ -321,7 +307,7 @@ def ballbar_sensitivity(
     setup_u: float = 1.0,
     bar_u: float = 1.0,
     noise: float = 1.0,
-) -> BallbarSensitivity:
+) -> results.BallbarSensitivity:
     """The document of `trueaxis ballbar sensitivity --json`: each PIGE's change per um of each setup
     error (um/um, urad/um), per um of bar noise, and its combined standard uncertainty (um, urad)
     for setup_u, bar_u and noise (standard uncertainties in um)."""
@@ -355,7 +341,7 @@ class BudgetProblem:
     def poses(self) -> List[npt.NDArray[np.float64]]: ...
     @property
     def components(self) -> List[str]: ...
-    def analyse(self, *, out: Optional[_Path] = None, sensitivity: Optional[_Path] = None) -> BudgetAnalysis:
+    def analyse(self, *, out: Optional[_Path] = None, sensitivity: Optional[_Path] = None) -> results.BudgetAnalysis:
         """The document of `trueaxis budget analyse --json`: stack-up per pose set (um), singular
         values and part sensitivities (mm), shares (%) of every axis, kind and component."""
     def allocate(
@@ -367,7 +353,7 @@ class BudgetProblem:
         seed: int = 1,
         generations: int = 500,
         out: Optional[_Path] = None,
-    ) -> BudgetAllocation:
+    ) -> results.BudgetAllocation:
         """The document of `trueaxis budget allocate --json`: cost-optimal tolerances (um, urad)
         for a target volumetric error in um."""
 
@@ -381,7 +367,7 @@ def budget_configurations(
     nodes: int = 3,
     tilt_deg: float = 30.0,
     progress: Optional[_Progress] = None,
-) -> BudgetConfigurations:
+) -> results.BudgetConfigurations:
     """The document of `trueaxis budget configurations --json`: the 288 five-axis configurations
     ranked by the RMS of the root-sum-square 3D error (um), travel in mm."""
 
@@ -410,7 +396,7 @@ def thermal_fit(
     skip_missing: bool = False,
     split_gaps: bool = False,
     robust: Optional[str] = None,
-) -> ThermalFit:
+) -> results.ThermalFit:
     """The document of `trueaxis thermal fit --json` for a campaign CSV (t in s, T:<sensor> in degC,
     the error in um): model regression | state-space, residual statistics (um) of training and
     validation; geometric_degree: the geometric/thermal split; by_direction / ranges (mm or deg):
@@ -419,7 +405,7 @@ def thermal_fit(
     robust ("huber" | "tukey"): as the command's --skip-missing, --split-gaps, --robust
     (docs/screening.md); robust fits give coefficient uncertainties (um/degC) under `robust`."""
 
-def thermal_predict(model: _Path, data: _Path) -> ThermalPrediction:
+def thermal_predict(model: _Path, data: _Path) -> results.ThermalPrediction:
     """The document of `trueaxis thermal predict --json`: per row the prediction (um), the measured
     value and the residual when the error column is present; residual statistics per run (um)."""
 
@@ -442,7 +428,7 @@ def compensate(
     temperatures: Optional[Mapping[str, float]] = None,
     poses: Optional[_Path] = None,
     force: bool = False,
-) -> Compensation:
+) -> results.Compensation:
     """Writes controller tables into `out` (format: linuxcnc, linuxcnc-hal, isg, heidenhain, siemens,
     fanuc, lattice, csv, json; all files or none; `out` must hold no other files); the summary of
     `trueaxis compensate --json`, with what the format leaves out and the error it leaves over the
@@ -462,6 +448,6 @@ def correct_nc(
     limit_urad: Optional[float] = None,
     temperatures: Optional[Mapping[str, float]] = None,
     force: bool = False,
-) -> NcCorrection:
+) -> results.NcCorrection:
     """Corrected NC program (RS274/NGC as LinuxCNC 2.9 runs it, or the Fanuc dialect; `dialect`
     detected when None); the summary of `trueaxis nc --json`."""
