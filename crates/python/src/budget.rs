@@ -5,14 +5,14 @@
 //! errors) and urad (angular and squareness errors), volumetric errors in um, part sizes, points
 //! and travel in mm, rotary positions and tilts in deg.
 
-use crate::convert::typed;
+use crate::convert::{typed, with_array2};
 use crate::errors::{computation, input, input_msg};
 use crate::identify::Reduced;
 use crate::machine::{parse_frame, Machine};
 use crate::progress::Progress;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyString};
 use std::collections::HashMap;
 use std::path::PathBuf;
 use trueaxis::budget::allocate::{AllocationOptions, Stack, Target};
@@ -70,7 +70,7 @@ fn target(target_um: Option<f64>, target_xyz: Option<[f64; 3]>) -> PyResult<Targ
 #[pymethods]
 impl BudgetProblem {
     /// Tolerances: `budget` (a budget file, TOML) or `linear_um`, `angular_urad`, `squareness_urad`
-    /// for every component. Poses: `poses` (a pose CSV, mm and deg), `parts` (sizes in mm, each L or
+    /// for every component. Poses: `poses` (a pose CSV, or an array (poses, axes), mm and deg), `parts` (sizes in mm, each L or
     /// (L, M, N): the tool point on a grid of `part_nodes` points per edge over the part, centred on
     /// the workpiece point) or `grid` (points per linear axis over the travel; the default, with
     /// 5); `rotary` the rotary axes' positions for parts and grids, e.g. `{"A": 30}` (deg, default
@@ -85,7 +85,7 @@ impl BudgetProblem {
         linear_um: f64,
         angular_urad: f64,
         squareness_urad: f64,
-        poses: Option<PathBuf>,
+        poses: Option<&Bound<'_, PyAny>>,
         parts: Option<Vec<Bound<'_, PyAny>>>,
         grid: Option<usize>,
         part_nodes: usize,
@@ -99,7 +99,7 @@ impl BudgetProblem {
         kwargs.set_item("linear_um", linear_um)?;
         kwargs.set_item("angular_urad", angular_urad)?;
         kwargs.set_item("squareness_urad", squareness_urad)?;
-        kwargs.set_item("poses", &poses)?;
+        kwargs.set_item("poses", poses)?;
         kwargs.set_item("parts", &parts)?;
         kwargs.set_item("grid", grid)?;
         kwargs.set_item("part_nodes", part_nodes)?;
@@ -113,10 +113,16 @@ impl BudgetProblem {
         let given: Vec<(char, f64)> = rotary.iter().flatten().map(|(c, v)| (c.to_ascii_uppercase(), *v)).collect();
         let rotary = rotary_positions(&m, &given).map_err(failure)?;
         let sizes: Vec<[f64; 3]> = parts.iter().flatten().map(part_size).collect::<PyResult<_>>()?;
-        let source = match (&poses, sizes.is_empty(), grid) {
-            (Some(path), true, None) => PoseSource::File(path),
-            (None, false, None) => PoseSource::Parts { sizes: &sizes, nodes: part_nodes },
-            (None, true, grid) => PoseSource::Grid(grid.unwrap_or(5)),
+        let (path, given) = match poses {
+            Some(p) if p.is_instance_of::<PyString>() || p.hasattr("__fspath__")? => (Some(p.extract::<PathBuf>()?), None),
+            Some(p) => (None, Some(with_array2(p, "poses", |values, _| Ok(values.to_vec()))?)),
+            None => (None, None),
+        };
+        let source = match (&path, &given, sizes.is_empty(), grid) {
+            (Some(path), None, true, None) => PoseSource::File(path),
+            (None, Some(user), true, None) => PoseSource::Given { label: "poses", user },
+            (None, None, false, None) => PoseSource::Parts { sizes: &sizes, nodes: part_nodes },
+            (None, None, true, grid) => PoseSource::Grid(grid.unwrap_or(5)),
             _ => return Err(input_msg("poses, parts and grid: give one of them (default: a grid of 5 points per axis)")),
         };
         let sets = pose_sets(&m, &setup, &source, &rotary).map_err(failure)?;

@@ -104,3 +104,22 @@ def test_budget_refusals_carry_the_cli_messages():
     with pytest.raises(ta.InputError) as e:
         ta.budget_configurations(tool_length=0)
     assert code == 2 and str(e.value) == message
+
+
+def test_poses_as_an_array_equal_the_pose_file():
+    vmc3 = ta.Machine.from_file(VMC3)
+    path = EX / "poses" / "vmc3.csv"
+    expected = cli_json("budget", "analyse", "--machine", VMC3, "--poses", path)
+    from_file = ta.BudgetProblem(vmc3, poses=path).analyse()
+    assert from_file == expected
+    poses = vmc3.read_poses(path)
+    got = ta.BudgetProblem(vmc3, poses=poses).analyse()
+    doc, ref = got.to_dict(), expected
+    assert doc["sets"][0].pop("label") == "poses" and ref["sets"][0].pop("label") == str(path)
+    assert doc == ref
+    far = poses.copy()
+    far[1, 0] = 1e4
+    with pytest.raises(ta.InputError, match=r"poses: pose 2: axis X at 10000 mm is outside its range"):
+        ta.BudgetProblem(vmc3, poses=far)
+    with pytest.raises(ta.InputError, match="poses: expected a 2-dimensional array"):
+        ta.BudgetProblem(vmc3, poses=[1.0, 2.0, 3.0])

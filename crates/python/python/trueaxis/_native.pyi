@@ -326,7 +326,7 @@ class BudgetProblem:
         linear_um: float = 5.0,
         angular_urad: float = 10.0,
         squareness_urad: float = 10.0,
-        poses: Optional[_Path] = None,
+        poses: Union[_Path, npt.ArrayLike, None] = None,
         parts: Optional[Sequence[_Part]] = None,
         grid: Optional[int] = None,
         part_nodes: int = 5,

@@ -24,6 +24,8 @@ pub enum PoseSource<'a> {
     Parts { sizes: &'a [[f64; 3]], nodes: usize },
     /// A grid of `nodes` points per linear axis over the travel.
     Grid(usize),
+    /// Poses given in user units (mm, deg; `machine.axis_count()` per pose), named `label`.
+    Given { label: &'a str, user: &'a [f64] },
 }
 
 /// One pose set: a label (the part size or the source), the part size, poses in user and internal
@@ -101,6 +103,20 @@ pub fn pose_sets(machine: &Machine, setup: &Setup, source: &PoseSource<'_>, rota
             }
             let label = |s: &[f64; 3]| format!("{}x{}x{}", s[0], s[1], s[2]);
             sizes.iter().map(|s| Ok(set(label(s), Some(*s), part_grid(machine, setup, *s, *nodes, rotary)?))).collect()
+        }
+        PoseSource::Given { label, user } => {
+            let n = machine.axis_count();
+            if user.is_empty() || user.len() % n != 0 {
+                return Err(BudgetError::Input(format!(
+                    "{label}: expected poses of {n} axis positions ({}), got {} values",
+                    machine.axis_letters(),
+                    user.len()
+                )));
+            }
+            for (i, pose) in user.chunks(n).enumerate() {
+                machine.check_range(pose).map_err(|m| BudgetError::Input(format!("{label}: pose {}: {m}", i + 1)))?;
+            }
+            Ok(vec![set(label.to_string(), None, user.to_vec())])
         }
         PoseSource::Grid(nodes) => {
             if *nodes < 2 {
