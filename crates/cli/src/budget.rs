@@ -45,12 +45,3 @@ fn failure(e: BudgetError) -> Failure {
         Failure::computation(e)
     }
 }
-
-/// `nan`-free number for JSON: `null` when not finite.
-fn number(v: f64) -> serde_json::Value {
-    if v.is_finite() {
-        serde_json::json!(v)
-    } else {
-        serde_json::Value::Null
-    }
-}

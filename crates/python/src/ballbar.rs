@@ -2,7 +2,7 @@
 //! sensitivity of its methods, through the library's entry points that `trueaxis ballbar identify`
 //! and `trueaxis ballbar sensitivity` use.
 
-use crate::convert::to_py;
+use crate::convert::typed;
 use crate::errors::{computation, input, warn};
 use crate::machine::Machine;
 use pyo3::prelude::*;
@@ -75,7 +75,7 @@ pub fn ballbar_identify(
     let m = machine.inner.as_ref();
     let report = py.detach(|| identify_pige_files(m, &request)).map_err(failure)?;
     warn(py, &report.warnings)?;
-    to_py(py, &report.to_json())
+    typed(py, "BallbarIdentification", &report.to_json())
 }
 
 /// How a rotary-axis ballbar method reacts to its setup and to bar noise, before it is run: the
@@ -104,5 +104,5 @@ pub fn ballbar_sensitivity(
     let (method, bars) = method_and_bars(method, outer_offset, outer_positions, inner_positions, normal_length, extended_length)?;
     let m = machine.inner.as_ref();
     let report = py.detach(|| sensitivity_report(m, method, bars, setup_u, bar_u, noise)).map_err(failure)?;
-    to_py(py, &report.to_json())
+    typed(py, "BallbarSensitivity", &report.to_json())
 }

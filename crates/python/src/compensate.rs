@@ -1,6 +1,6 @@
 //! Compensation tables for controllers and the correction of NC programs, on the exact chain.
 
-use crate::convert::to_py;
+use crate::convert::typed;
 use crate::errors::{computation, input, input_msg};
 use crate::machine::{Errors, Machine};
 use pyo3::prelude::*;
@@ -112,7 +112,7 @@ pub fn compensate(
     let corrector = Corrector::new(&machine.inner, &errors.inner);
     let mut job = py.detach(|| compensation(&corrector, &request)).map_err(failure)?;
     job.write(&corrector, &out).map_err(failure)?;
-    to_py(py, &job.to_json(&machine.inner, &out.display().to_string(), points))
+    typed(py, "Compensation", &job.to_json(&machine.inner, &out.display().to_string(), points))
 }
 
 /// Corrects an RS274/NGC program file (as `trueaxis nc`): every programmed point moves by the
@@ -168,5 +168,5 @@ pub fn correct_nc(
     if let Some(path) = &out {
         write_atomically(path, &result.program).map_err(input)?;
     }
-    to_py(py, &nc_json(&result, out.as_ref().map(|p| p.display().to_string()).as_deref()))
+    typed(py, "NcCorrection", &nc_json(&result, out.as_ref().map(|p| p.display().to_string()).as_deref()))
 }

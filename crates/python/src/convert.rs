@@ -12,6 +12,13 @@ pub fn to_py(py: Python<'_>, value: &serde_json::Value) -> PyResult<Py<PyAny>> {
     Ok(py.import("json")?.call_method1("loads", (value.to_string(),))?.unbind())
 }
 
+/// A typed result (the class `class` of `trueaxis.results`) holding the JSON document `value`: its
+/// fields as attributes with numpy arrays, `to_dict()` the document (docs/python.md).
+pub fn typed(py: Python<'_>, class: &str, value: &serde_json::Value) -> PyResult<Py<PyAny>> {
+    let doc = to_py(py, value)?;
+    Ok(py.import("trueaxis.results")?.getattr(class)?.call1((doc,))?.unbind())
+}
+
 /// TOML text of a Python mapping (nested dicts, lists, tuples, numpy arrays, numbers, strings,
 /// booleans); `what` names it in messages.
 pub fn toml_text(obj: &Bound<'_, PyAny>, what: &str) -> PyResult<String> {

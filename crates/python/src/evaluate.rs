@@ -1,7 +1,7 @@
 //! Standard evaluations from their files: ISO 230-2 positioning tests and ISO 230-4 circular tests,
 //! through the library's entry points that `trueaxis iso230-2` and `trueaxis ballbar iso230-4` use.
 
-use crate::convert::{point3, to_py};
+use crate::convert::{point3, typed};
 use crate::errors::{evaluate as failure, input_msg, warn};
 use crate::machine::Machine;
 use pyo3::prelude::*;
@@ -69,7 +69,7 @@ pub fn iso230_2(
     let test = py.detach(|| evaluate_file(&path, &options)).map_err(failure)?;
     warn(py, &test.warnings)?;
     warn(py, &test.notes)?;
-    to_py(py, &test.to_json())
+    typed(py, "PositioningTest", &test.to_json())
 }
 
 /// ISO 230-4 circular test with a ballbar: the document of `trueaxis ballbar iso230-4 --json`
@@ -116,5 +116,5 @@ pub fn iso230_4(
     };
     let test = py.detach(|| circular_test_file(&path, m, &options)).map_err(failure)?;
     warn(py, &test.file.warnings)?;
-    to_py(py, &test.to_json())
+    typed(py, "CircularTest", &test.to_json())
 }

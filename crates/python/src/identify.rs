@@ -2,7 +2,7 @@
 //! identification of error parameters from them, and optimal measurement designs (Soons 1993
 //! §4.3) whose random starts can be spread over processes or machines.
 
-use crate::convert::{dataframe, to_py, toml_text};
+use crate::convert::{dataframe, to_py, toml_text, typed};
 use crate::errors::{computation_msg, identify as identify_error, input_msg};
 use crate::machine::{Errors, Machine};
 use crate::progress::Progress;
@@ -245,7 +245,7 @@ impl Candidates {
         let all: Vec<usize> = (0..set.len()).collect();
         let full = set.criteria(&all).map_err(self.failure(count))?;
         let doc = optimal_design_json(&self.campaign.inner, &self.inner, criterion(criterion_name)?, count, &chosen, &criteria, &full);
-        to_py(py, &doc)
+        typed(py, "OptimalDesign", &doc)
     }
 }
 

@@ -2,10 +2,11 @@
 //! library's machines, error models, prediction, identification, uncertainty (with the chunks of
 //! a Monte Carlo run for distributed engines), optimal design, compensation, NC correction and
 //! ISO 230 evaluations (positioning, circular tests, the rotary-axis ballbar test), thermal error
-//! models, with numpy arrays in and out and the command line's JSON documents as
+//! models, the error budget for machine design, with numpy arrays in and out and the command line's JSON documents as
 //! dictionaries. Units as everywhere in trueaxis: positions in mm and deg, errors in um and urad.
 
 mod ballbar;
+mod budget;
 mod compensate;
 mod convert;
 mod errors;
@@ -43,6 +44,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<uncertainty::Sources>()?;
     m.add_class::<uncertainty::UncertaintyPlan>()?;
     m.add_class::<uncertainty::BudgetRun>()?;
+    m.add_class::<budget::BudgetProblem>()?;
     m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate::iso230_2, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate::iso230_4, m)?)?;
@@ -50,6 +52,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(ballbar::ballbar_sensitivity, m)?)?;
     m.add_function(wrap_pyfunction!(thermal::thermal_fit, m)?)?;
     m.add_function(wrap_pyfunction!(thermal::thermal_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(budget::budget_configurations, m)?)?;
     m.add_function(wrap_pyfunction!(compensate::compensate, m)?)?;
     m.add_function(wrap_pyfunction!(compensate::correct_nc, m)?)?;
     Ok(())

@@ -1,7 +1,7 @@
 //! `trueaxis.Machine` and `trueaxis.Errors`: a machine description and its error model, from
 //! files, TOML text or dictionaries; the volumetric error of many poses at once.
 
-use crate::convert::{array2, point3, to_py, toml_text, with_array2};
+use crate::convert::{array2, point3, toml_text, typed, with_array2};
 use crate::errors::{computation, input, input_msg};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -288,7 +288,7 @@ impl Machine {
         let internal = table.internal(&self.inner);
         let predictions = py.detach(|| predictor.predict_states(&internal, table.directions.as_deref(), &temperatures));
         let doc = predictions_json(&self.inner, &table.user, &predictions, frame).map_err(computation)?;
-        to_py(py, &doc)
+        typed(py, "Prediction", &doc)
     }
 
     fn __reduce__(slf: &Bound<'_, Self>) -> PyResult<(Py<PyAny>, (String, String))> {

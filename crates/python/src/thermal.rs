@@ -1,7 +1,7 @@
 //! Thermal error models fitted to a campaign and evaluated on one, through the library's entry
 //! points that `trueaxis thermal fit` and `trueaxis thermal predict` use.
 
-use crate::convert::to_py;
+use crate::convert::typed;
 use crate::errors::{computation, input, input_msg};
 use crate::machine::Machine;
 use pyo3::prelude::*;
@@ -117,7 +117,7 @@ pub fn thermal_fit(
     }
     let mut doc = fitted.to_json();
     doc["data_quality"] = trueaxis::screen::findings_json(&findings);
-    to_py(py, &doc)
+    typed(py, "ThermalFit", &doc)
 }
 
 /// Evaluates a fitted thermal error model (the TOML file `thermal_fit(..., out=...)` or `trueaxis
@@ -129,5 +129,5 @@ pub fn thermal_predict(py: Python<'_>, model: PathBuf, data: PathBuf) -> PyResul
     let model = read_model_file(&model).map_err(failure)?;
     let campaign = Campaign::read(&data).map_err(failure)?;
     let prediction = py.detach(|| predict_campaign(&model, &campaign)).map_err(failure)?;
-    to_py(py, &prediction.to_json())
+    typed(py, "ThermalPrediction", &prediction.to_json())
 }

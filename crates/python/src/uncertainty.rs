@@ -5,7 +5,7 @@
 //! in order to a `BudgetRun`, which stops each stage at the sequence one process stops at, with
 //! the same numbers (every chunk draws only from its own counter-based random streams).
 
-use crate::convert::{array2, to_py, toml_text};
+use crate::convert::{array2, toml_text, typed};
 use crate::errors::{identify as identify_error, input_msg, uncertainty as uncertainty_error};
 use crate::identify::{Campaign, Reduced};
 use crate::machine::{parse_frame, Machine};
@@ -183,7 +183,7 @@ impl UncertaintyPlan {
                 .map_err(uncertainty_error)?
             }
         };
-        to_py(py, &budget_json(&self.design_origin, &self.map, &budget, &self.settings, &poses))
+        typed(py, "UncertaintyBudget", &budget_json(&self.design_origin, &self.map, &budget, &self.settings, &poses))
     }
 }
 

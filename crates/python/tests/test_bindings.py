@@ -218,7 +218,7 @@ def test_compensate_equals_the_cli(tmp_path, fmt):
     expected = cli_json("compensate", "--machine", vmc, "--errors", errors, "--format", fmt, "--out", a, "--points", "21",
                         "--grid", "5,4,3", "--limit-um", "200", "--force")
     machine = ta.Machine.from_file(vmc)
-    got = ta.compensate(machine, ta.Errors.from_file(errors, machine), fmt, b, points=21, grid=(5, 4, 3), limit_um=200, force=True)
+    got = ta.compensate(machine, ta.Errors.from_file(errors, machine), fmt, b, points=21, grid=(5, 4, 3), limit_um=200, force=True).to_dict()
     assert got.pop("out") == str(b) and expected.pop("out") == str(a)
     assert got == expected
     for name in expected["files"]:

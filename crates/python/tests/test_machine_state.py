@@ -94,7 +94,7 @@ def test_compensate_with_poses_equals_the_cli(tmp_path, fmt):
     a, b = tmp_path / "cli", tmp_path / "py"
     expected = cli_json("compensate", "--machine", VMC3, "--errors", BACKLASH, "--format", fmt, "--out", a, "--poses", POSES_T,
                         "--points", "21", "--reference", "X=10,Z=-200")
-    got = ta.compensate(machine, errors, fmt, b, poses=POSES_T, points=21, reference={"X": 10, "Z": -200})
+    got = ta.compensate(machine, errors, fmt, b, poses=POSES_T, points=21, reference={"X": 10, "Z": -200}).to_dict()
     assert got.pop("out") == str(b) and expected.pop("out") == str(a)
     assert got == expected
     assert "corrections.csv" in got["files"] and got["poses"]["count"] == 5
@@ -118,7 +118,7 @@ def test_compensate_poses_temperature_and_directory_errors(tmp_path):
     a, b = tmp_path / "c", tmp_path / "d"
     expected = cli_json("compensate", "--machine", VMC3, "--errors", BACKLASH, "--format", "csv", "--out", a, "--poses", poses,
                         "--temperature", "T:column=24.5")
-    got = ta.compensate(machine, errors, "csv", b, poses=poses, temperatures={"T:column": 24.5})
+    got = ta.compensate(machine, errors, "csv", b, poses=poses, temperatures={"T:column": 24.5}).to_dict()
     assert got.pop("out") == str(b) and expected.pop("out") == str(a) and got == expected
     assert (a / "corrections.csv").read_bytes() == (b / "corrections.csv").read_bytes()
     # an unknown sensor, and an output directory holding other files

@@ -1,13 +1,13 @@
 //! `trueaxis budget allocate`: cost-optimal tolerances for a target volumetric error.
 
-use super::inputs::{BudgetInputs, Loaded};
-use super::{failure, number};
+use super::failure;
+use super::inputs::BudgetInputs;
 use crate::Failure;
-use serde_json::{json, Value};
 use std::fmt::Write;
-use trueaxis::budget::allocate::{allocate, AllocationOptions, Stack, Target};
+use trueaxis::budget::allocate::{AllocationOptions, Stack, Target};
+use trueaxis::budget::documents::{direction_name, stack_name, target_text};
 use trueaxis::budget::global::GeneticOptions;
-use trueaxis::budget::sensitivity::sensitivity;
+use trueaxis::budget::problem::BudgetProblem;
 use trueaxis::data::write_atomically;
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -62,11 +62,7 @@ fn parse_xyz(text: &str) -> Result<[f64; 3], String> {
 }
 
 pub fn run(args: AllocateArgs) -> Result<(), Failure> {
-    let Loaded { machine, spec, setup, frame, sets } = args.inputs.load()?;
-    if sets.len() > 1 {
-        return Err(Failure::input(anyhow::anyhow!("allocate takes one pose set: give one --part (or --poses, --grid)")));
-    }
-    let set = &sets[0];
+    let problem = args.inputs.load()?;
     let target = match (args.target_um, args.target_xyz) {
         (Some(v), _) if v.is_finite() && v > 0.0 => Target::Total(v),
         (Some(v), _) => return Err(Failure::input(anyhow::anyhow!("--target-um {v}: the target must be a positive number of um"))),
@@ -77,67 +73,23 @@ pub fn run(args: AllocateArgs) -> Result<(), Failure> {
         StackArg::Rss => Stack::Rss,
         StackArg::WorstCase => Stack::WorstCase,
     };
-    let s = sensitivity(&machine, &spec.components, &set.internal, &setup, frame);
     let options = AllocationOptions {
         stack,
         target,
         genetic: GeneticOptions { generations: args.generations, seed: args.seed, ..GeneticOptions::default() },
     };
-    let a = allocate(&spec, &s, &options).map_err(failure)?;
-    if !(a.cost.is_finite() && a.tolerances.iter().all(|t| t.is_finite())) {
-        return Err(Failure::computation(anyhow::anyhow!("the allocation is not finite")));
-    }
-    let allocated = spec.with_tolerances(a.tolerances.clone());
-    let (target_text, target_json) = match target {
-        Target::Total(v) => (format!("{v} um (3D)"), json!({"total_um": v})),
-        Target::PerDirection(v) => {
-            (format!("{} / {} / {} um (x / y / z)", v[0], v[1], v[2]), json!({"x_um": v[0], "y_um": v[1], "z_um": v[2]}))
-        }
-    };
-    let stack_name = match stack {
-        Stack::Rss => "root-sum-square",
-        Stack::WorstCase => "worst case",
-    };
+    let (a, s) = problem.allocate(&options).map_err(failure)?;
     if let Some(path) = &args.out {
-        let header = format!(
-            "Cost-optimal tolerances for machine `{}` (trueaxis budget allocate)\n{stack_name} target {target_text} at {} poses ({}); cost {:.6e}",
-            machine.name,
-            s.poses(),
-            set.label,
-            a.cost
-        );
-        write_atomically(path, allocated.to_toml(&machine, &header).as_bytes()).map_err(Failure::input)?;
+        write_atomically(path, problem.allocation_toml(&a, &options, s.poses()).as_bytes()).map_err(Failure::input)?;
     }
-    let direction = |d: Option<usize>| d.map_or("3D", |d| ["x", "y", "z"][d]);
     if args.json {
-        let components: Vec<Value> = spec
-            .components
-            .iter()
-            .enumerate()
-            .map(|(j, c)| {
-                json!({
-                    "name": c.id.to_string(), "kind": c.kind.name(), "tolerance": a.tolerances[j], "unit": c.kind.unit(),
-                    "homogenised": a.tolerances[j] / c.scale(), "homogenised_unit": if c.kind.unit() == "um" { "um/m" } else { "urad" },
-                    "lower": spec.cost.terms[j].lower, "at_lower": a.at_lower.contains(&j), "allocated": a.allocated[j],
-                    "cost": if a.allocated[j] { number(spec.cost.terms[j].a / (a.tolerances[j] / c.scale()).powf(spec.cost.terms[j].k)) } else { Value::Null },
-                })
-            })
-            .collect();
-        let active: Vec<Value> = a
-            .active
-            .iter()
-            .map(|c| json!({"pose": c.pose + 1, "direction": direction(c.direction), "multiplier": c.multiplier, "marginal_cost_per_um": c.marginal_cost_per_um}))
-            .collect();
-        let doc = json!({
-            "machine": machine.name, "poses": s.poses(), "stack": stack_name, "target": target_json,
-            "cost": a.cost, "global_stage_cost": a.global_cost, "achieved_um": a.achieved,
-            "kkt_residual": a.kkt_residual, "smallest_multiplier": a.smallest_multiplier, "duality_gap": a.duality_gap,
-            "newton_steps": a.newton_steps, "cutting_rounds": a.cutting_rounds, "seed": args.seed,
-            "active": active, "components": components,
-        });
-        println!("{doc}");
+        println!("{}", problem.allocation_json(&a, &options, s.poses()));
         return Ok(());
     }
+    let BudgetProblem { machine, spec, sets, .. } = &problem;
+    let (stack_name, target_text) = (stack_name(stack), target_text(target).0);
+    let set = &sets[0];
+    let direction = direction_name;
     let mut out = String::new();
     let _ = writeln!(
         out,

@@ -1,12 +1,13 @@
 //! `trueaxis budget analyse`: the forward analysis of a budget.
 
-use super::inputs::{frame_name, BudgetInputs, Loaded, PoseSet};
-use super::{failure, number};
+use super::failure;
+use super::inputs::BudgetInputs;
 use crate::Failure;
-use serde_json::{json, Value};
 use std::fmt::Write;
 use std::path::Path;
-use trueaxis::budget::analysis::{Analysis, GroupShare};
+use trueaxis::budget::analysis::Analysis;
+use trueaxis::budget::poses::to_internal;
+use trueaxis::budget::problem::{BudgetProblem, PoseSet};
 use trueaxis::budget::{analyse, BudgetSpec};
 use trueaxis::data::OutputSet;
 use trueaxis::machine::Machine;
@@ -45,31 +46,17 @@ pub struct AnalyseArgs {
 }
 
 pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
-    let loaded = args.inputs.load()?;
-    let Loaded { machine, spec, setup, frame, sets } = &loaded;
-    let mut analyses = Vec::new();
-    for set in sets {
-        analyses.push(analyse(machine, spec, &set.internal, setup, *frame).map_err(failure)?);
-    }
-    for (set, a) in sets.iter().zip(&analyses) {
-        check_finite(a).map_err(|m| Failure::computation(anyhow::anyhow!("{}: {m}", set.label)))?;
-    }
+    let problem = args.inputs.load()?;
+    let analyses = problem.analyse().map_err(failure)?;
+    let BudgetProblem { machine, spec, sets, .. } = &problem;
     let suffix = |set: &PoseSet| if sets.len() > 1 { format!("_{}", set.label.replace('.', "p")) } else { String::new() };
     // tables, plots and report together, or none of them (docs/reliability.md)
     let mut outputs = OutputSet::new();
     if let Some(path) = &args.out {
-        let mut text = String::new();
-        for (k, (set, a)) in sets.iter().zip(&analyses).enumerate() {
-            text += &poses_csv(machine, set, a, sets.len() > 1, k == 0);
-        }
-        outputs.file(path, text);
+        outputs.file(path, problem.poses_csv(&analyses));
     }
     if let Some(path) = &args.sensitivity {
-        let mut text = String::new();
-        for (k, (set, a)) in sets.iter().zip(&analyses).enumerate() {
-            text += &sensitivity_csv(machine, spec, set, a, k == 0);
-        }
-        outputs.file(path, text);
+        outputs.file(path, problem.sensitivity_csv(&analyses));
     }
     let mut figures = Vec::new();
     if args.plots.is_some() || args.report.is_some() {
@@ -77,7 +64,7 @@ pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
             let svg = contribution_svg(spec, a, 12).map_err(Failure::computation)?;
             figures.push((format!("contributions{}.svg", suffix(set)), format!("Shares in the root-sum-square error, {}", set.label), svg));
         }
-        if let Some(svg) = volume_map(machine, spec, &loaded)? {
+        if let Some(svg) = volume_map(&problem)? {
             figures.push(("volume_map.svg".into(), "Root-sum-square 3D error over the mid-planes of the travel".into(), svg));
         }
     }
@@ -109,14 +96,7 @@ pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
     }
     outputs.commit().map_err(Failure::input)?;
     if args.json {
-        let sets_json: Vec<Value> = sets.iter().zip(&analyses).map(|(set, a)| analysis_json(machine, spec, set, a)).collect();
-        let doc = json!({
-            "machine": machine.name,
-            "frame": frame_name(*frame),
-            "units": {"tolerance": "um (linear) / urad (angular, squareness)", "volumetric_error": "um", "homogenised_sensitivity": "mm"},
-            "sets": sets_json,
-        });
-        println!("{doc}");
+        println!("{}", problem.analysis_json(&analyses));
     } else {
         let mut text = String::new();
         for (set, a) in sets.iter().zip(&analyses) {
@@ -127,17 +107,13 @@ pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-fn check_finite(a: &Analysis) -> Result<(), String> {
-    let ok = a.poses.iter().all(|p| p.stack.rss_total.is_finite() && p.stack.worst_total.is_finite()) && a.rss_rms.is_finite();
-    ok.then_some(()).ok_or_else(|| "the stack-up is not finite (check the machine and tolerances)".into())
-}
-
 /// The map of the root-sum-square 3D error over the mid-planes of the travel, with the rotary axes
 /// where the pose options put them; `None` for a machine with fewer than two linear axes.
-fn volume_map(machine: &Machine, spec: &BudgetSpec, loaded: &Loaded) -> Result<Option<String>, Failure> {
+fn volume_map(problem: &BudgetProblem) -> Result<Option<String>, Failure> {
+    let machine = &problem.machine;
     let Some(mut map) = VolumeMap::new(machine) else { return Ok(None) };
     let n = machine.axis_count();
-    let base = &loaded.sets[0].user[..n];
+    let base = &problem.sets[0].user[..n];
     for (k, axis) in machine.axes().iter().enumerate() {
         if axis.kind == trueaxis::machine::AxisKind::Rotary {
             for pose in map.poses_user.chunks_mut(n) {
@@ -145,120 +121,10 @@ fn volume_map(machine: &Machine, spec: &BudgetSpec, loaded: &Loaded) -> Result<O
             }
         }
     }
-    map.poses_internal = super::inputs::internal(machine, &map.poses_user);
-    let a = analyse(machine, spec, &map.poses_internal, &loaded.setup, loaded.frame).map_err(failure)?;
+    map.poses_internal = to_internal(machine, &map.poses_user);
+    let a = analyse(machine, &problem.spec, &map.poses_internal, &problem.setup, problem.frame).map_err(failure)?;
     let values: Vec<f64> = a.poses.iter().map(|p| p.stack.rss_total).collect();
     Ok(Some(map.heatmap("Root-sum-square volumetric error (um)", &values, None).map_err(|e| Failure::computation(anyhow::anyhow!("{e}")))?))
-}
-
-fn pose_columns(machine: &Machine) -> Vec<String> {
-    machine.axes().iter().map(|a| a.letter.to_string()).collect()
-}
-
-fn poses_csv(machine: &Machine, set: &PoseSet, a: &Analysis, with_part: bool, first: bool) -> String {
-    let mut out = String::new();
-    let header = pose_columns(machine).join(",");
-    let part = if with_part { "part," } else { "" };
-    if first {
-        let _ = writeln!(out, "{part}pose,{header},rss_x,rss_y,rss_z,rss_total,worst_x,worst_y,worst_z,worst_total,sigma_max_mm,condition");
-    }
-    for (i, (pose, r)) in set.user.chunks(machine.axis_count()).zip(&a.poses).enumerate() {
-        let s = &r.stack;
-        let positions: Vec<String> = pose.iter().map(|v| format!("{v}")).collect();
-        let label = if with_part { format!("{},", set.label) } else { String::new() };
-        let _ = writeln!(
-            out,
-            "{label}{},{},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.6},{:.4},{}",
-            i + 1,
-            positions.join(","),
-            s.rss[0],
-            s.rss[1],
-            s.rss[2],
-            s.rss_total,
-            s.worst[0],
-            s.worst[1],
-            s.worst[2],
-            s.worst_total,
-            r.singular_values[0],
-            r.condition.map_or(String::new(), |c| format!("{c:.4}"))
-        );
-    }
-    out
-}
-
-fn sensitivity_csv(machine: &Machine, spec: &BudgetSpec, set: &PoseSet, a: &Analysis, header: bool) -> String {
-    let mut out = String::new();
-    if header {
-        let names: Vec<String> = spec.components.iter().map(|c| c.id.to_string()).collect();
-        let _ = writeln!(out, "set,pose,{},direction,{}", pose_columns(machine).join(","), names.join(","));
-    }
-    for (p, pose) in set.user.chunks(machine.axis_count()).enumerate() {
-        let positions: Vec<String> = pose.iter().map(|v| format!("{v}")).collect();
-        for (d, name) in ["x", "y", "z"].iter().enumerate() {
-            let values: Vec<String> = a.sensitivity.row(p, d).iter().map(|v| format!("{v:.9e}")).collect();
-            let _ = writeln!(out, "{},{},{},{name},{}", set.label, p + 1, positions.join(","), values.join(","));
-        }
-    }
-    out
-}
-
-fn group_json(groups: &[GroupShare]) -> Value {
-    Value::Array(
-        groups.iter().map(|g| json!({"group": g.label, "share_percent": g.share, "rss_um": g.rss_um, "sm_mm": g.sensitivity_mm})).collect(),
-    )
-}
-
-fn analysis_json(machine: &Machine, spec: &BudgetSpec, set: &PoseSet, a: &Analysis) -> Value {
-    let (rss_pose, rss) = a.rss_max();
-    let (worst_pose, worst) = a.worst_max();
-    let components: Vec<Value> = spec
-        .components
-        .iter()
-        .zip(&spec.tolerances)
-        .zip(&a.components)
-        .map(|((c, t), s)| {
-            let rotation = c.id.component().is_rotation();
-            json!({
-                "name": c.id.to_string(), "kind": c.kind.name(), "axis": c.axis.to_string(), "tolerance": t, "unit": c.kind.unit(),
-                "homogenisation_length_mm": c.length_mm, "gain": s.gain, "gain_unit": if rotation { "um/urad" } else { "um/um" },
-                "lever_mm": if rotation { number(s.gain * 1000.0) } else { Value::Null },
-                "rss_um": s.rss_um, "share_percent": s.share,
-            })
-        })
-        .collect();
-    let per_pose: Vec<Value> = set
-        .user
-        .chunks(machine.axis_count())
-        .zip(&a.poses)
-        .enumerate()
-        .map(|(i, (pose, r))| {
-            let positions: serde_json::Map<String, Value> =
-                machine.axes().iter().zip(pose).map(|(ax, v)| (ax.letter.to_string(), json!(v))).collect();
-            json!({
-                "pose": i + 1, "position": positions,
-                "rss_um": {"x": r.stack.rss[0], "y": r.stack.rss[1], "z": r.stack.rss[2], "total": r.stack.rss_total},
-                "worst_case_um": {"x": r.stack.worst[0], "y": r.stack.worst[1], "z": r.stack.worst[2], "total": r.stack.worst_total},
-                "singular_values_mm": r.singular_values, "condition_number": r.condition.map_or(Value::Null, number),
-            })
-        })
-        .collect();
-    let dmax = |d: usize, worst: bool| a.direction_max(d, worst).1;
-    json!({
-        "label": set.label,
-        "part_mm": set.part,
-        "poses": a.poses.len(),
-        "rss_um": {"max": rss, "max_pose": rss_pose + 1, "rms": a.rss_rms, "x_max": dmax(0, false), "y_max": dmax(1, false), "z_max": dmax(2, false)},
-        "worst_case_um": {"max": worst, "max_pose": worst_pose + 1, "x_max": dmax(0, true), "y_max": dmax(1, true), "z_max": dmax(2, true)},
-        "exact_check": {"pose": a.exact_check.pose + 1, "linear_um": a.exact_check.linear_um, "exact_um": a.exact_check.exact_um},
-        "singular_values_mm": a.singular_values,
-        "condition_number": a.condition.map_or(Value::Null, number),
-        "part_sensitivity_mm": {"x": a.part_sensitivity[0], "y": a.part_sensitivity[1], "z": a.part_sensitivity[2]},
-        "by_axis": group_json(&a.by_axis),
-        "by_kind": group_json(&a.by_kind),
-        "components": components,
-        "no_effect": a.no_effect.iter().map(|&j| spec.components[j].id.to_string()).collect::<Vec<_>>(),
-        "per_pose": per_pose,
-    })
 }
 
 fn analysis_text(machine: &Machine, spec: &BudgetSpec, set: &PoseSet, a: &Analysis, inputs: &BudgetInputs) -> String {

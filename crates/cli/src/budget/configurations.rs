@@ -1,15 +1,12 @@
 //! `trueaxis budget configurations`: the five-axis configuration study.
 
-use super::{failure, number};
+use super::failure;
 use crate::Failure;
-use serde_json::{json, Value};
-use std::collections::BTreeMap;
 use std::fmt::Write;
-use trueaxis::budget::configurations::{
-    all_sequences, five_axis_configurations, practical_configurations, three_linear_sequences, Pattern,
-};
+use trueaxis::budget::configuration_study::ConfigurationStudy;
+use trueaxis::budget::configurations::Pattern;
 use trueaxis::budget::form_shaping::form_shaping;
-use trueaxis::budget::ranking::{study, StudyOptions};
+use trueaxis::budget::ranking::StudyOptions;
 use trueaxis::budget::spec::KindValues;
 use trueaxis::budget::travel::{required_travel, space_utility};
 use trueaxis::data::OutputSet;
@@ -60,35 +57,6 @@ pub struct ConfigurationsArgs {
 
 pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
     let part = super::inputs::parse_part(&args.part).map_err(|m| Failure::input(anyhow::anyhow!("--part: {m}")))?;
-    for (name, v) in [
-        ("--tool-length", args.tool_length),
-        ("--linear-um", args.linear_um),
-        ("--angular-urad", args.angular_urad),
-        ("--squareness-urad", args.squareness_urad),
-    ] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Failure::input(anyhow::anyhow!("{name} {v}: must be a positive number")));
-        }
-    }
-    if args.nodes < 2 || !(args.tilt_deg.is_finite() && args.tilt_deg.abs() < 90.0) {
-        return Err(Failure::input(anyhow::anyhow!("--nodes must be at least 2 and --tilt-deg within (-90, 90) deg")));
-    }
-    let progress = crate::progress::spinner(args.json);
-    progress.set_message("enumerating the configurations");
-    let counts = [all_sequences().len(), three_linear_sequences().len(), practical_configurations().len()];
-    let five = five_axis_configurations();
-    // travel by category and order of the rotary axes (the order of the linear axes does not matter)
-    let mut travel_rows: BTreeMap<(Pattern, String), ([char; 5], [f64; 3])> = BTreeMap::new();
-    for c in &five {
-        let rotary: String = c.sequence.iter().filter(|a| "ABC".contains(**a)).collect();
-        let key = (c.pattern(), rotary);
-        if let std::collections::btree_map::Entry::Vacant(e) = travel_rows.entry(key) {
-            let representative = representative(c.pattern(), &e.key().1);
-            let travel = required_travel(&representative, part, args.tool_length).map_err(failure)?;
-            e.insert((representative, travel));
-        }
-    }
-    progress.set_message(format!("budgets of {} configurations", five.len()));
     let options = StudyOptions {
         part,
         tool_length: args.tool_length,
@@ -96,11 +64,12 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         nodes: args.nodes,
         tilt_deg: args.tilt_deg,
     };
-    let ranked = study(&five, &options).map_err(failure)?;
+    let progress = crate::progress::spinner(args.json);
+    progress.set_message("budgets of the five-axis configurations");
+    let report = |done: usize, total: usize| progress.set_message(format!("budgets of the configurations: {done} of {total}"));
+    let study = ConfigurationStudy::run(&options, &report).map_err(failure)?;
     progress.finish_and_clear();
-    if ranked.iter().any(|r| !(r.rss_rms.is_finite() && r.worst_max.is_finite())) {
-        return Err(Failure::computation(anyhow::anyhow!("a configuration's stack-up is not finite")));
-    }
+    let ConfigurationStudy { counts, travel: travel_rows, ranked, .. } = &study;
     if let Some(dir) = &args.plots {
         // both figures or neither (docs/reliability.md)
         let mut plots = OutputSet::new();
@@ -130,35 +99,7 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         plots.commit().map_err(Failure::input)?;
     }
     if args.json {
-        let travel: Vec<Value> = travel_rows
-            .iter()
-            .map(|((pattern, rotary), (seq, t))| {
-                json!({"category": pattern.notation(), "rotary": rotary, "axes": seq.iter().collect::<String>(), "travel_mm": t,
-                       "space_utility": space_utility(part, *t)})
-            })
-            .collect();
-        let rows: Vec<Value> = ranked
-            .iter()
-            .enumerate()
-            .map(|(i, r)| {
-                let f = &r.form_shaping;
-                json!({
-                    "rank": i + 1, "axes": r.configuration.axes(), "chain": r.configuration.chain(), "structure": r.configuration.structure(),
-                    "category": r.configuration.pattern().notation(), "travel_mm": r.travel, "space_utility": number(r.space_utility),
-                    "rss_rms_um": r.rss_rms, "rss_max_um": r.rss_max, "worst_case_max_um": r.worst_max, "poses": r.poses,
-                    "share_percent": {"linear": r.kind_shares[0], "angular": r.kind_shares[1], "squareness": r.kind_shares[2]},
-                    "form_shaping": {"l": f.position[0].to_string(), "m": f.position[1].to_string(), "n": f.position[2].to_string(),
-                                     "u": f.orientation[0].to_string(), "v": f.orientation[1].to_string(), "w": f.orientation[2].to_string()},
-                })
-            })
-            .collect();
-        let doc = json!({
-            "part_mm": part, "tool_length_mm": args.tool_length,
-            "tolerances": {"linear_um": args.linear_um, "angular_urad": args.angular_urad, "squareness_urad": args.squareness_urad},
-            "counts": {"five_of_six_axes": counts[0], "three_linear_axes": counts[1], "three_categories": counts[2], "five_degrees_of_freedom": five.len()},
-            "travel": travel, "ranking": rows,
-        });
-        println!("{doc}");
+        println!("{}", study.to_json());
         return Ok(());
     }
     let mut out = String::new();
@@ -170,8 +111,8 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         counts[0],
         counts[1],
         counts[2],
-        five.len(),
-        five.len() / 3
+        counts[3],
+        counts[3] / 3
     );
     let _ = writeln!(
         out,
@@ -179,7 +120,7 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
         part[0], part[1], part[2], args.tool_length
     );
     let _ = writeln!(out, "  category     axes      X          Y          Z          space utility");
-    for ((pattern, _), (seq, t)) in &travel_rows {
+    for ((pattern, _), (seq, t)) in travel_rows {
         let _ = writeln!(
             out,
             "  {:<12} {:<9}{:>9.2}  {:>9.2}  {:>9.2}  {:>10.4}",
@@ -224,15 +165,4 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
     }
     print!("{out}");
     Ok(())
-}
-
-/// The configuration of a category with the rotary axes `rotary` (in chain order) and the linear
-/// axes in the order X Y Z (the rows of the appendix's tables).
-fn representative(pattern: Pattern, rotary: &str) -> [char; 5] {
-    let r: Vec<char> = rotary.chars().collect();
-    match pattern {
-        Pattern::RotaryAtWorkpiece => [r[0], r[1], 'X', 'Y', 'Z'],
-        Pattern::Split => [r[0], 'X', 'Y', 'Z', r[1]],
-        _ => ['X', 'Y', 'Z', r[0], r[1]],
-    }
 }

@@ -1,15 +1,15 @@
 //! The inputs shared by `budget analyse` and `budget allocate`: machine, budget file or tolerances by
-//! kind, and the poses (a file, part sizes or a grid over the work volume).
+//! kind, and the poses (a file, part sizes or a grid over the work volume), parsed into the
+//! library's budget problem.
 
 use super::failure;
 use crate::predict::parse_point;
 use crate::Failure;
 use std::path::PathBuf;
-use trueaxis::budget::poses::{part_grid, volume_grid};
-use trueaxis::budget::spec::{BudgetSpec, KindValues};
-use trueaxis::data::read_poses;
+use trueaxis::budget::problem::{budget_spec, pose_sets, rotary_positions, BudgetProblem, PoseSource};
+use trueaxis::budget::spec::KindValues;
 use trueaxis::geometry::Vec3;
-use trueaxis::machine::{AxisKind, Machine};
+use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Setup};
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -62,22 +62,6 @@ pub struct BudgetInputs {
     pub frame: FrameArg,
 }
 
-/// One pose set: a label (the part size or the source) and its poses in user and internal units.
-pub struct PoseSet {
-    pub label: String,
-    pub part: Option<[f64; 3]>,
-    pub user: Vec<f64>,
-    pub internal: Vec<f64>,
-}
-
-pub struct Loaded {
-    pub machine: Machine,
-    pub spec: BudgetSpec,
-    pub setup: Setup,
-    pub frame: Frame,
-    pub sets: Vec<PoseSet>,
-}
-
 pub fn parse_part(text: &str) -> Result<[f64; 3], String> {
     let values: Result<Vec<f64>, _> = text.split(['x', 'X']).map(|p| p.trim().parse::<f64>()).collect();
     match values {
@@ -97,19 +81,12 @@ fn parse_rotary(text: &str) -> Result<(char, f64), String> {
 }
 
 impl BudgetInputs {
-    pub fn load(&self) -> Result<Loaded, Failure> {
+    /// The budget problem of the options: the machine, the budget, the points, the frame and the
+    /// pose sets (trueaxis::budget::problem).
+    pub fn load(&self) -> Result<BudgetProblem, Failure> {
         let machine = Machine::load(&self.machine).map_err(Failure::input)?;
-        let kinds = [("--linear-um", self.linear_um), ("--angular-urad", self.angular_urad), ("--squareness-urad", self.squareness_urad)];
-        for (name, v) in kinds {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Failure::input(anyhow::anyhow!("{name} {v}: a tolerance must be a positive number")));
-            }
-        }
         let defaults = KindValues([self.linear_um, self.angular_urad, self.squareness_urad]);
-        let spec = match &self.budget {
-            Some(path) => BudgetSpec::load(path, &machine, defaults).map_err(failure)?,
-            None => BudgetSpec::standard(&machine, defaults),
-        };
+        let spec = budget_spec(&machine, self.budget.as_deref(), defaults).map_err(failure)?;
         let setup =
             Setup { tool_point: self.tool_point.unwrap_or(machine.tool_point), work_point: self.work_point.unwrap_or_else(Vec3::zeros) };
         let frame = match self.frame {
@@ -126,67 +103,13 @@ impl BudgetInputs {
             .iter()
             .map(|p| parse_part(p).map_err(|m| Failure::input(anyhow::anyhow!("--part: {m}"))))
             .collect::<Result<_, _>>()?;
-        let mut rotary = Vec::new();
-        for axis in machine.axes().iter().filter(|a| a.kind == AxisKind::Rotary) {
-            rotary.push(given.iter().find(|(c, _)| *c == axis.letter).map_or(0.0, |r| r.1));
-        }
-        for (c, _) in &given {
-            if !machine.axes().iter().any(|a| a.letter == *c && a.kind == AxisKind::Rotary) {
-                return Err(Failure::input(anyhow::anyhow!(
-                    "--rotary {c}=...: machine `{}` has no rotary axis {c} (axes: {})",
-                    machine.name,
-                    machine.axis_letters()
-                )));
-            }
-        }
-        let mut sets = Vec::new();
-        if let Some(path) = &self.poses {
-            let table = read_poses(path, &machine).map_err(Failure::input)?;
-            if table.is_empty() {
-                return Err(Failure::input(anyhow::anyhow!("{}: no poses", path.display())));
-            }
-            for (i, pose) in table.user.chunks(machine.axis_count()).enumerate() {
-                machine
-                    .check_range(pose)
-                    .map_err(|m| Failure::input(anyhow::anyhow!("{}: line {}: {m}", path.display(), table.lines[i])))?;
-            }
-            sets.push(PoseSet { label: path.display().to_string(), part: None, internal: table.internal(&machine), user: table.user });
-        } else if !parts.is_empty() {
-            if self.part_nodes < 2 {
-                return Err(Failure::input(anyhow::anyhow!("--part-nodes {}: at least 2 points per edge", self.part_nodes)));
-            }
-            for size in &parts {
-                let user = part_grid(&machine, &setup, *size, self.part_nodes, &rotary).map_err(failure)?;
-                sets.push(PoseSet {
-                    label: format!("{}x{}x{}", size[0], size[1], size[2]),
-                    part: Some(*size),
-                    internal: internal(&machine, &user),
-                    user,
-                });
-            }
-        } else {
-            let nodes = self.grid.unwrap_or(5);
-            if nodes < 2 {
-                return Err(Failure::input(anyhow::anyhow!("--grid {nodes}: at least 2 points per axis")));
-            }
-            let user = volume_grid(&machine, nodes, &rotary).map_err(failure)?;
-            sets.push(PoseSet { label: "work volume".into(), part: None, internal: internal(&machine, &user), user });
-        }
-        Ok(Loaded { machine, spec, setup, frame, sets })
-    }
-}
-
-pub fn internal(machine: &Machine, user: &[f64]) -> Vec<f64> {
-    let mut out = vec![0.0; user.len()];
-    for (u, q) in user.chunks(machine.axis_count()).zip(out.chunks_mut(machine.axis_count())) {
-        machine.pose_to_internal(u, q);
-    }
-    out
-}
-
-pub fn frame_name(frame: Frame) -> &'static str {
-    match frame {
-        Frame::Workpiece => "workpiece",
-        Frame::Machine => "machine",
+        let rotary = rotary_positions(&machine, &given).map_err(failure)?;
+        let source = match (&self.poses, parts.is_empty()) {
+            (Some(path), _) => PoseSource::File(path),
+            (None, false) => PoseSource::Parts { sizes: &parts, nodes: self.part_nodes },
+            (None, true) => PoseSource::Grid(self.grid.unwrap_or(5)),
+        };
+        let sets = pose_sets(&machine, &setup, &source, &rotary).map_err(failure)?;
+        Ok(BudgetProblem { machine, spec, setup, frame, sets })
     }
 }

@@ -1,10 +1,11 @@
 //! `trueaxis budget miniaturisation`: the three-axis miniaturisation case.
 
-use super::{failure, number};
+use super::failure;
 use crate::Failure;
 use serde_json::{json, Value};
 use std::fmt::Write;
 use trueaxis::budget::analysis::GroupShare;
+use trueaxis::budget::documents::number;
 use trueaxis::budget::global::GeneticOptions;
 use trueaxis::budget::miniaturisation::{run as run_case, ARCSEC_URAD, SIZES};
 use trueaxis::budget::spec::KindValues;

@@ -2,8 +2,9 @@
 
 Python bindings of the Rust library (docs/python.md). Units as everywhere in trueaxis: axis
 positions in mm (linear) and deg (rotary); errors in um (translations) and urad (rotations);
-temperatures in degC; time in s. Results are numpy arrays, or dicts with the keys of the
-command line's ``--json`` documents. Errors raise ``TrueaxisError``: ``InputError`` for bad input
+temperatures in degC; time in s. Results are numpy arrays, or typed results
+(``trueaxis.results``: named fields with numpy arrays, ``to_dict()`` the command line's ``--json``
+document, ``to_dataframe()`` its tables). Errors raise ``TrueaxisError``: ``InputError`` for bad input
 (the command line's exit status 2), ``ComputationError`` for a failed computation (exit 1),
 ``ResourceError`` for the environment (a full disk, a permission, memory: exit 3). What
 the command line prints on stderr as warnings or notes is issued as ``TrueaxisWarning``.
@@ -15,6 +16,7 @@ from ._native import (
     PREDICTION_COLUMNS_WITH_DL,
     PREDICTION_UNITS,
     PREDICTION_UNITS_WITH_DL,
+    BudgetProblem,
     BudgetRun,
     Campaign,
     Candidates,
@@ -31,6 +33,7 @@ from ._native import (
     __version__,
     ballbar_identify,
     ballbar_sensitivity,
+    budget_configurations,
     compensate,
     correct_nc,
     identify,
@@ -39,6 +42,24 @@ from ._native import (
     thermal_fit,
     thermal_predict,
 )
+from .results import (
+    BudgetAllocation,
+    BudgetAnalysis,
+    BudgetConfigurations,
+    BallbarIdentification,
+    BallbarSensitivity,
+    CircularTest,
+    Compensation,
+    NcCorrection,
+    OptimalDesign,
+    PositioningTest,
+    Prediction,
+    Record,
+    Result,
+    ThermalFit,
+    ThermalPrediction,
+    UncertaintyBudget,
+)
 
 __all__ = [
     "BLOCK",
@@ -46,6 +67,7 @@ __all__ = [
     "PREDICTION_COLUMNS_WITH_DL",
     "PREDICTION_UNITS",
     "PREDICTION_UNITS_WITH_DL",
+    "BudgetProblem",
     "BudgetRun",
     "Campaign",
     "Candidates",
@@ -62,6 +84,7 @@ __all__ = [
     "__version__",
     "ballbar_identify",
     "ballbar_sensitivity",
+    "budget_configurations",
     "compensate",
     "correct_nc",
     "identify",
@@ -69,4 +92,20 @@ __all__ = [
     "iso230_4",
     "thermal_fit",
     "thermal_predict",
+    "BallbarIdentification",
+    "BallbarSensitivity",
+    "BudgetAllocation",
+    "BudgetAnalysis",
+    "BudgetConfigurations",
+    "CircularTest",
+    "Compensation",
+    "NcCorrection",
+    "OptimalDesign",
+    "PositioningTest",
+    "Prediction",
+    "Record",
+    "Result",
+    "ThermalFit",
+    "ThermalPrediction",
+    "UncertaintyBudget",
 ]

@@ -6,6 +6,8 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 import numpy.typing as npt
 
+from . import results
+
 _Path = Union[str, PathLike[str]]
 _Point = Sequence[float]
 _Progress = Callable[[int, int], Any]
@@ -86,7 +88,7 @@ class Machine:
         tool_point: Optional[_Point] = None,
         work_point: Optional[_Point] = None,
         frame: str = "workpiece",
-    ) -> Dict[str, Any]:
+    ) -> results.Prediction:
         """The document of `trueaxis predict --json` for a pose CSV."""
 
 class Errors:
@@ -163,11 +165,11 @@ class Candidates:
         """Starts start..stop of the exchange algorithm (a chunk), each on its own random stream."""
     def best_of(
         self, count: int, outcomes: Sequence[Tuple[int, Optional[List[int]], Optional[float]]], *, criterion: str = "d"
-    ) -> Dict[str, Any]:
+    ) -> results.OptimalDesign:
         """Merge of chunks: the document of `trueaxis design optimal --json`."""
     def exchange(
         self, count: int, *, criterion: str = "d", starts: int = 5, seed: int = 1, progress: Optional[_Progress] = None
-    ) -> Dict[str, Any]:
+    ) -> results.OptimalDesign:
         """The document of `trueaxis design optimal --json`; progress(done, total) after each round of starts."""
 
 class Sources:
@@ -221,7 +223,7 @@ class UncertaintyPlan:
         work_point: Optional[_Point] = None,
         frame: str = "workpiece",
         progress: Optional[_Progress] = None,
-    ) -> Dict[str, Any]:
+    ) -> results.UncertaintyBudget:
         """The document of `trueaxis uncertainty --json`, in this process; progress(done, total)
         after each Monte Carlo sequence (total: the most sequences of every stage)."""
 
@@ -238,7 +240,7 @@ class BudgetRun:
         tool_point: Optional[_Point] = None,
         work_point: Optional[_Point] = None,
         frame: str = "workpiece",
-    ) -> Dict[str, Any]: ...
+    ) -> results.UncertaintyBudget: ...
 
 def iso230_2(
     path: _Path,
@@ -249,7 +251,7 @@ def iso230_2(
     artefact_expansion: Optional[float] = None,
     temperature_datum: float = 0.0,
     no_file_temperature: bool = False,
-) -> Dict[str, Any]:
+) -> results.PositioningTest:
     """The document of `trueaxis iso230-2 --json` for a table or a Renishaw .rtl file (um, urad for a
     rotary axis; coverage factor 2): deviations corrected to 20 degC with the scale's and/or the
     artefact's temperature (degC, or a column name) and expansion coefficient (um/m/K) about
@@ -266,7 +268,7 @@ def iso230_4(
     feed: Optional[float] = None,
     pitch: Optional[float] = None,
     spike_width: float = 3.0,
-) -> Dict[str, Any]:
+) -> results.CircularTest:
     """The document of `trueaxis ballbar iso230-4 --json`: G, F, H (um), diagnostics on the machine's
     model. plane xy|yz|zx, radius (mm, the bar length), centre (mm), feed (mm/min), pitch (mm),
     spike_width (deg); plane and radius default to the file's header."""
@@ -287,7 +289,7 @@ def ballbar_identify(
     pivot_offset_a: Optional[Tuple[float, float]] = None,
     pivot_offset_c: Optional[Tuple[float, float]] = None,
     noise: float = 1.0,
-) -> Dict[str, Any]:
+) -> results.BallbarIdentification:
     """The document of `trueaxis ballbar identify --json`: the 8 PIGEs of the two rotary axes (um,
     urad) with their single-run standard uncertainty, repeatability over runs, compensation
     residual per step (um). method extended-bar | two-pivot (outer_offset, mm) | four-setup
@@ -305,10 +307,69 @@ def ballbar_sensitivity(
     setup_u: float = 1.0,
     bar_u: float = 1.0,
     noise: float = 1.0,
-) -> Dict[str, Any]:
+) -> results.BallbarSensitivity:
     """The document of `trueaxis ballbar sensitivity --json`: each PIGE's change per um of each setup
     error (um/um, urad/um), per um of bar noise, and its combined standard uncertainty (um, urad)
     for setup_u, bar_u and noise (standard uncertainties in um)."""
+
+_Part = Union[float, Tuple[float, float, float]]
+
+class BudgetProblem:
+    """An error-budget problem (Zhu 2008 appendix B): machine, tolerances (um, urad), points (mm),
+    frame and pose sets (mm, deg), as the options of `trueaxis budget analyse` and `allocate`."""
+
+    def __init__(
+        self,
+        machine: Machine,
+        *,
+        budget: Optional[_Path] = None,
+        linear_um: float = 5.0,
+        angular_urad: float = 10.0,
+        squareness_urad: float = 10.0,
+        poses: Union[_Path, npt.ArrayLike, None] = None,
+        parts: Optional[Sequence[_Part]] = None,
+        grid: Optional[int] = None,
+        part_nodes: int = 5,
+        rotary: Optional[Mapping[str, float]] = None,
+        tool_point: Optional[_Point] = None,
+        work_point: Optional[_Point] = None,
+        frame: str = "workpiece",
+    ) -> None: ...
+    @property
+    def sets(self) -> List[str]: ...
+    @property
+    def poses(self) -> List[npt.NDArray[np.float64]]: ...
+    @property
+    def components(self) -> List[str]: ...
+    def analyse(self, *, out: Optional[_Path] = None, sensitivity: Optional[_Path] = None) -> results.BudgetAnalysis:
+        """The document of `trueaxis budget analyse --json`: stack-up per pose set (um), singular
+        values and part sensitivities (mm), shares (%) of every axis, kind and component."""
+    def allocate(
+        self,
+        *,
+        target_um: Optional[float] = None,
+        target_xyz: Optional[Tuple[float, float, float]] = None,
+        stack: str = "rss",
+        seed: int = 1,
+        generations: int = 500,
+        out: Optional[_Path] = None,
+    ) -> results.BudgetAllocation:
+        """The document of `trueaxis budget allocate --json`: cost-optimal tolerances (um, urad)
+        for a target volumetric error in um."""
+
+def budget_configurations(
+    *,
+    part: Optional[_Part] = None,
+    tool_length: float = 100.0,
+    linear_um: float = 5.0,
+    angular_urad: float = 10.0,
+    squareness_urad: float = 10.0,
+    nodes: int = 3,
+    tilt_deg: float = 30.0,
+    progress: Optional[_Progress] = None,
+) -> results.BudgetConfigurations:
+    """The document of `trueaxis budget configurations --json`: the 288 five-axis configurations
+    ranked by the RMS of the root-sum-square 3D error (um), travel in mm."""
 
 def thermal_fit(
     data: _Path,
@@ -335,7 +396,7 @@ def thermal_fit(
     skip_missing: bool = False,
     split_gaps: bool = False,
     robust: Optional[str] = None,
-) -> Dict[str, Any]:
+) -> results.ThermalFit:
     """The document of `trueaxis thermal fit --json` for a campaign CSV (t in s, T:<sensor> in degC,
     the error in um): model regression | state-space, residual statistics (um) of training and
     validation; geometric_degree: the geometric/thermal split; by_direction / ranges (mm or deg):
@@ -344,7 +405,7 @@ def thermal_fit(
     robust ("huber" | "tukey"): as the command's --skip-missing, --split-gaps, --robust
     (docs/screening.md); robust fits give coefficient uncertainties (um/degC) under `robust`."""
 
-def thermal_predict(model: _Path, data: _Path) -> Dict[str, Any]:
+def thermal_predict(model: _Path, data: _Path) -> results.ThermalPrediction:
     """The document of `trueaxis thermal predict --json`: per row the prediction (um), the measured
     value and the residual when the error column is present; residual statistics per run (um)."""
 
@@ -367,7 +428,7 @@ def compensate(
     temperatures: Optional[Mapping[str, float]] = None,
     poses: Optional[_Path] = None,
     force: bool = False,
-) -> Dict[str, Any]:
+) -> results.Compensation:
     """Writes controller tables into `out` (format: linuxcnc, linuxcnc-hal, isg, heidenhain, siemens,
     fanuc, lattice, csv, json; all files or none; `out` must hold no other files); the summary of
     `trueaxis compensate --json`, with what the format leaves out and the error it leaves over the
@@ -387,6 +448,6 @@ def correct_nc(
     limit_urad: Optional[float] = None,
     temperatures: Optional[Mapping[str, float]] = None,
     force: bool = False,
-) -> Dict[str, Any]:
+) -> results.NcCorrection:
     """Corrected NC program (RS274/NGC as LinuxCNC 2.9 runs it, or the Fanuc dialect; `dialect`
     detected when None); the summary of `trueaxis nc --json`."""

@@ -15,6 +15,7 @@ from __future__ import annotations
 from typing import Any, Dict, List, Optional, Tuple
 
 from ._native import Candidates, UncertaintyPlan
+from .results import OptimalDesign, UncertaintyBudget
 
 
 def _run_chunk(plan: UncertaintyPlan, stage: int, chunk: Tuple[int, int, int]):
@@ -49,8 +50,9 @@ def run_uncertainty(
     tool_point=None,
     work_point=None,
     frame: str = "workpiece",
-) -> Dict[str, Any]:
-    """The uncertainty budget of ``plan`` computed on ``executor``: the same dict as ``plan.run()``.
+) -> UncertaintyBudget:
+    """The uncertainty budget of ``plan`` computed on ``executor``: the same ``UncertaintyBudget``
+    as ``plan.run()``.
 
     Every stage (each source alone, then all together) runs at the same time; each keeps up to
     ``lookahead`` sequences in flight, each sequence cut into chunks of ``blocks_per_chunk`` blocks
@@ -107,10 +109,10 @@ def optimal_design(
     starts: int = 5,
     seed: int = 1,
     starts_per_chunk: int = 1,
-) -> Dict[str, Any]:
+) -> OptimalDesign:
     """The optimal design of ``count`` records from ``starts`` random starts of the exchange
-    algorithm spread over ``executor`` in chunks of ``starts_per_chunk`` starts: the same dict as
-    ``candidates.exchange(count, criterion=..., starts=..., seed=...)``."""
+    algorithm spread over ``executor`` in chunks of ``starts_per_chunk`` starts: the same
+    ``OptimalDesign`` as ``candidates.exchange(count, criterion=..., starts=..., seed=...)``."""
     candidates.check(count, starts)
     shared = _share(executor, candidates)
     step = max(1, starts_per_chunk)

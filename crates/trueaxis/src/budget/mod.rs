@@ -13,7 +13,10 @@
 //!   local stage on the convex form of the problem, with a KKT check.
 //! - [`configurations`], [`form_shaping`], [`travel`], [`ranking`]: the five-axis configurations of
 //!   appendix C, their ideal form-shaping functions (Table C.1), required travel (Table C.2) and their
-//!   budgets; [`miniaturisation`]: the three-axis case of appendix B.2 (parts 10 to 300 mm).
+//!   budgets; [`miniaturisation`]: the three-axis case of appendix B.2 (parts 10 to 300 mm);
+//!   [`configuration_study`]: the whole study of `trueaxis budget configurations`.
+//! - [`problem`]: a budget problem (machine, budget, points, frame, pose sets) as the command line
+//!   and the Python package state it; [`documents`]: its JSON documents and CSV tables.
 //!
 //! Units: component tolerances in um (translations) and urad (rotations); volumetric errors in um;
 //! homogenised tolerances in um/m (linear errors divided by their axis length) or urad.
@@ -22,13 +25,16 @@ pub mod allocate;
 pub mod analysis;
 pub mod barrier;
 pub mod components;
+pub mod configuration_study;
 pub mod configurations;
 pub mod cost;
+pub mod documents;
 pub mod form_shaping;
 pub mod global;
 pub mod measures;
 pub mod miniaturisation;
 pub mod poses;
+pub mod problem;
 pub mod ranking;
 pub mod sensitivity;
 pub mod spec;
@@ -55,10 +61,13 @@ pub enum BudgetError {
     Infeasible(String),
     #[error("{0}")]
     Computation(String),
+    /// A pose file that cannot be read (its cause kept: a full disk is not bad input).
+    #[error(transparent)]
+    Data(#[from] crate::data::DataError),
 }
 
 impl BudgetError {
     pub fn is_input(&self) -> bool {
-        matches!(self, BudgetError::Spec { .. } | BudgetError::Input(_))
+        matches!(self, BudgetError::Spec { .. } | BudgetError::Input(_) | BudgetError::Data(_))
     }
 }

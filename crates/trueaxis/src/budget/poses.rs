@@ -111,3 +111,14 @@ pub fn part_grid(machine: &Machine, setup: &Setup, size: [f64; 3], nodes: usize,
     }
     Ok(poses)
 }
+
+/// Poses in internal units (mm, rad) of poses in user units (mm, deg), `machine.axis_count()`
+/// values per pose.
+pub fn to_internal(machine: &Machine, user: &[f64]) -> Vec<f64> {
+    let n = machine.axis_count().max(1);
+    let mut out = vec![0.0; user.len()];
+    for (u, q) in user.chunks(n).zip(out.chunks_mut(n)) {
+        machine.pose_to_internal(u, q);
+    }
+    out
+}

@@ -7,7 +7,7 @@ use super::analysis::analyse;
 use super::components::ErrorKind;
 use super::configurations::{axis_direction, Configuration, Pattern};
 use super::form_shaping::{form_shaping, FormShaping};
-use super::poses::linspace;
+use super::poses::{linspace, to_internal};
 use super::spec::{BudgetSpec, KindValues};
 use super::travel::{linear_positions, required_travel, space_utility};
 use super::BudgetError;
@@ -117,6 +117,16 @@ pub fn study_poses(configuration: &Configuration, machine: &Machine, options: &S
 /// The budgets of `configurations`, ranked by the root mean square of the root-sum-square error
 /// (smallest first; ties by axes and bed).
 pub fn study(configurations: &[Configuration], options: &StudyOptions) -> Result<Vec<ConfigurationBudget>, BudgetError> {
+    study_with_progress(configurations, options, &|_, _| {})
+}
+
+/// [`study`], calling `progress(done, total)` after each configuration's budget (from the worker
+/// threads, in the order they finish).
+pub fn study_with_progress(
+    configurations: &[Configuration],
+    options: &StudyOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<ConfigurationBudget>, BudgetError> {
     if options.part.iter().chain([&options.tool_length]).any(|v| !(v.is_finite() && *v > 0.0)) {
         return Err(BudgetError::Input(format!(
             "part {:?} mm and tool length {} mm must be positive lengths",
@@ -131,6 +141,7 @@ pub fn study(configurations: &[Configuration], options: &StudyOptions) -> Result
             e.insert(required_travel(&c.sequence, options.part, options.tool_length)?);
         }
     }
+    let done = std::sync::atomic::AtomicUsize::new(0);
     let mut out: Vec<ConfigurationBudget> = configurations
         .par_iter()
         .map(|c| -> Result<ConfigurationBudget, BudgetError> {
@@ -139,12 +150,10 @@ pub fn study(configurations: &[Configuration], options: &StudyOptions) -> Result
             let machine = c.machine(margin, options.tool_length);
             let spec = BudgetSpec::standard(&machine, options.tolerances);
             let user = study_poses(c, &machine, options);
-            let mut internal = vec![0.0; user.len()];
-            for (u, q) in user.chunks(machine.axis_count()).zip(internal.chunks_mut(machine.axis_count())) {
-                machine.pose_to_internal(u, q);
-            }
+            let internal = to_internal(&machine, &user);
             let analysis = analyse(&machine, &spec, &internal, &Setup::of_machine(&machine), Frame::Workpiece)?;
             let kind_shares = ErrorKind::ALL.map(|k| analysis.by_kind.iter().find(|g| g.label == k.name()).map_or(0.0, |g| g.share));
+            progress(done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1, configurations.len());
             Ok(ConfigurationBudget {
                 configuration: *c,
                 form_shaping: form_shaping(&c.sequence),
