@@ -11,7 +11,10 @@
 //! - a Fanuc starts in G00 and in G98 (rs274: no motion mode, G99): `G98` is put first;
 //! - canned cycles are group 09, G00-G03 group 01: axis words after `G80` (or before any motion
 //!   code) move in the group-01 mode, written out on such a line;
-//! - a `G00` beside `G28` only sets the mode: it goes on a line of its own before;
+//! - a G00-G03 on a line without axis words (or beside `G28`) only sets the mode (rs274 would move
+//!   to where it is): it is written on the next line with axis words, as every line with axis words
+//!   and no motion code outside a cycle gets it;
+//! - `G80` beside a G00-G03 is dropped (rs274 would run that code as a move without axis words);
 //! - Haas's `G103` (look-ahead), `G187` (smoothness), `POPEN`, `PCLOS`, `DPRNT[...]` move nothing:
 //!   comments; `M29` (rigid tapping mode) is dropped (rs274's `G84` makes the same moves);
 //!   `G154 P1` becomes `G59.3` (the tests give no work offsets: both zero);
@@ -19,7 +22,9 @@
 //!   `[ ]` expressions, `SIN`/`COS` in degrees and `LT`/`GE` mean the same in both languages (an
 //!   assigned expression is bracketed, as RS274/NGC asks).
 //!
-//! A program with what it does not rewrite (`M98`, `G65`, `IF`, `GOTO`, `M99`) gives `None`.
+//! A program with what it does not rewrite (`M98`, `G65`, `IF`, `GOTO`, `M99`) gives `None`, and
+//! so does tapping (`G74`, `G84`): a Fanuc feeds out to R and then, in G98, rapids up to the
+//! initial level, where LinuxCNC's G84 feeds out to the clear level in one move.
 
 /// The RS274/NGC text of a Fanuc-family program, or `None`.
 pub fn translate(text: &str) -> Option<String> {
@@ -80,6 +85,8 @@ impl Translator {
             return self.emit(&format!("{number}(HAAS {})", join(words)), comments);
         }
         self.inch = if g.contains(&20.0) { true } else { self.inch && !g.contains(&21.0) };
+        let moving_code = g.iter().any(|c| [0.0, 1.0, 2.0, 3.0].contains(c));
+        let axis_words = words.iter().any(|(l, _)| b"XYZABC".contains(l));
         let mut out: Vec<(u8, String)> = Vec::new();
         let mut motion = None;
         for (l, v) in words {
@@ -93,11 +100,14 @@ impl Translator {
                         motion = Some(["G0", "G1", "G2", "G3"][c as usize]);
                     } else if c == 80.0 {
                         self.cycle = false;
-                    } else if c == 73.0 || c == 74.0 || c == 76.0 || (81.0..=89.0).contains(&c) {
+                    } else if c == 74.0 || c == 84.0 {
+                        return None;
+                    } else if c == 73.0 || c == 76.0 || (81.0..=89.0).contains(&c) {
                         self.cycle = true;
                         motion = None;
                     }
-                    if !(g.contains(&28.0) && [0.0, 1.0].contains(&c)) {
+                    let mode_only = [0.0, 1.0, 2.0, 3.0].contains(&c) && (g.contains(&28.0) || !axis_words);
+                    if !(mode_only || c == 80.0 && moving_code) {
                         out.push((b'G', v.clone()));
                     }
                 }
@@ -111,8 +121,8 @@ impl Translator {
         if let Some(m) = motion {
             self.group01 = m;
             self.cycle = false;
-            if g.contains(&28.0) {
-                self.emit(&format!("{m} (the G00 beside G28 sets the mode)"), "")?;
+            if !axis_words || g.contains(&28.0) {
+                motion = None;
             }
         }
         let axes = out.iter().any(|(l, _)| b"XYZABC".contains(l));
@@ -168,10 +178,15 @@ fn split(line: &str) -> (String, String) {
 fn words(body: &str) -> Option<Vec<(u8, String)>> {
     let b: Vec<u8> = body.bytes().filter(|c| *c != b' ' && *c != b'\t').collect();
     if b.first() == Some(&b'#') {
-        // RS274/NGC takes an expression as a value in brackets only
+        // RS274/NGC takes an expression as a value in brackets only; a line may hold several
+        // assignments (`#1=2 #3=4`), each starting at a `#` outside brackets after a value
         let text = String::from_utf8(b[1..].to_vec()).ok()?;
-        let (target, value) = text.split_once('=')?;
-        return Some(vec![(b'#', format!("{target}=[{value}]"))]);
+        let mut out = Vec::new();
+        for one in assignments(&text) {
+            let (target, value) = one.split_once('=')?;
+            out.push((b'#', format!("{target}=[{value}]")));
+        }
+        return Some(out);
     }
     let mut out = Vec::new();
     let mut i = 0;
@@ -195,4 +210,29 @@ fn words(body: &str) -> Option<Vec<(u8, String)>> {
         out.push((letter, String::from_utf8(b[start..i].to_vec()).ok()?));
     }
     Some(out)
+}
+
+/// `1=2#3=[#1+4]` (after the first `#`) split into `1=2` and `3=[#1+4]`.
+fn assignments(text: &str) -> Vec<&str> {
+    let (mut parts, mut start, mut depth, mut seen_eq) = (Vec::new(), 0, 0, false);
+    for (i, c) in text.char_indices() {
+        match c {
+            '[' => depth += 1,
+            ']' => depth -= 1,
+            '=' if depth == 0 => seen_eq = true,
+            '#' if depth == 0 && seen_eq && text[start..i].ends_with(|p: char| p.is_ascii_digit() || p == '.' || p == ']') => {
+                // `#` right after a value: the next assignment (a `#` read as a value follows `=` or an operator)
+                let rest = &text[i + 1..];
+                let digits = rest.chars().take_while(char::is_ascii_digit).count();
+                if rest[digits..].starts_with('=') {
+                    parts.push(&text[start..i]);
+                    start = i + 1;
+                    seen_eq = false;
+                }
+            }
+            _ => {}
+        }
+    }
+    parts.push(&text[start..]);
+    parts
 }
