@@ -234,6 +234,9 @@ impl Exec<'_> {
                 }
             }
         }
+        if let Some((letter, why)) = self.table.refused_words.iter().find(|(l, _)| w.has(*l)) {
+            return Err(format!("{}{} {why}", *letter as char, w.get(*letter).unwrap_or(0.0)));
+        }
         // one G-code per modal group
         let mut seen: Vec<(Group, u16)> = Vec::with_capacity(w.ng);
         for &code in w.gs() {

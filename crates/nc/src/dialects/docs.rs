@@ -95,6 +95,7 @@ fn refused_text(t: &DialectTable) -> String {
         }
     }
     let mut parts: Vec<String> = reasons.into_iter().map(|(why, codes)| format!("{} {}", list(codes.into_iter()), why)).collect();
+    parts.extend(t.refused_words.iter().map(|(l, why)| format!("`{}` words {why}", *l as char)));
     parts.extend(t.m_refused.iter().map(|m| format!("{} {}", m_range(m.from, m.to), m.refused.unwrap_or(""))));
     parts.join("; ")
 }

@@ -61,6 +61,7 @@ pub static GRBL: DialectTable = DialectTable {
     // grbl's modal groups M4 (stopping), M7 (spindle), M8 (coolant: M7 and M8 together is error:21)
     m_groups: &[&[0, 1, 2, 30], &[3, 4, 5], &[7, 8, 9]],
     axis_codes: &[100, 280, 300, 920, 431],
+    refused_words: &[],
     numbers: RS274_NUMBERS,
     comments: Comments::ParenthesesAndSemicolon,
     unknown: Unknown::Alarm("grbl 1.1 stops here with error:20 (unsupported or invalid g-code command)"),

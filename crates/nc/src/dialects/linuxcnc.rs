@@ -115,6 +115,7 @@ pub static LINUXCNC: DialectTable = DialectTable {
     m_refused: &[m_refused(98, 99, FANUC_SUBPROGRAM)],
     m_groups: M_GROUPS,
     axis_codes: AXIS_CODES,
+    refused_words: &[],
     numbers: RS274_NUMBERS,
     comments: Comments::ParenthesesAndSemicolon,
     unknown: Unknown::PassThrough,

@@ -152,6 +152,8 @@ pub struct DialectTable {
     pub m_groups: &'static [&'static [u16]],
     /// G codes other than motion that take the line's axis words (x 10).
     pub axis_codes: &'static [u16],
+    /// Words refused wherever they stand, and why (`E` fixture offsets on a Fadal).
+    pub refused_words: &'static [(u8, &'static str)],
     pub numbers: Numbers,
     pub comments: Comments,
     pub unknown: Unknown,

@@ -63,6 +63,7 @@ pub static SIEMENS: DialectTable = DialectTable {
     m_refused: &[],
     m_groups: &[&[0, 1, 2, 17, 30], &[3, 4, 5]],
     axis_codes: &[1530],
+    refused_words: &[],
     numbers: Numbers { integers_are_increments: false, decimals_mm: 4, decimals_inch: 5 },
     comments: Comments::Semicolon,
     unknown: Unknown::Alarm("the SINUMERIK stops with alarm 12470 (unknown G function)"),

@@ -148,3 +148,39 @@ fn haas_programs_with_their_macros_and_output_are_read() {
     let err = correct_program(&c, alarm, "haas.nc", &options, &[]).unwrap_err();
     assert_eq!(err.to_string(), "haas.nc: line 10: the program stops with alarm 1 here (#3000 = 1)");
 }
+
+/// Each dialect's own refusals (its table's data), with the line: grbl stops at a code it does not
+/// know (error:20), Mach3 subprograms and Haas `M97` are not read, a Fadal `E` fixture offset is not
+/// read; the same codes pass where the dialect knows them.
+#[test]
+fn dialects_refuse_what_their_controller_does_not_run() {
+    let (m, e) = vmc3();
+    let c = Corrector::new(&m, &e);
+    let run = |text: &str, dialect: Controller| {
+        let mut options = NcOptions::new(&m);
+        options.dialect = Some(dialect);
+        correct_program(&c, text, "p.nc", &options, &[]).map(|r| r.moves).map_err(|e| e.to_string())
+    };
+    let lines = "G21 G90\nG0 X10 Y10 Z-5\nT1 M6\nG1 Z-20 F100\nM2\n";
+    assert_eq!(run(lines, Controller::LinuxCnc), Ok(2));
+    assert_eq!(
+        run(lines, Controller::Grbl),
+        Err("p.nc: line 3: M6 is not a code of grbl 1.1: grbl 1.1 stops here with error:20 (unsupported or invalid g-code command)".into())
+    );
+    let sub = "G21 G90\nG0 X10 Y10 Z-5\nM98 P100 L2\nM30\n";
+    assert!(run(sub, Controller::Mach3)
+        .unwrap_err()
+        .starts_with("p.nc: line 3: M98 (subprogram call and return) is not supported in the Mach3/Mach4"));
+    let fadal = "%\nO1\nG0 G90 G21 E1 X10. Y10. Z-5.\nM30\n%\n";
+    assert_eq!(run(fadal, Controller::Fanuc), Ok(1));
+    assert_eq!(
+        run(fadal, Controller::Fadal),
+        Err("p.nc: line 3: E1 (a Fadal fixture offset) is not read yet: select the work offset with G54-G59".into())
+    );
+    let haas = "%\nO1\nG0 G90 G21 X10. Y10. Z-5.\nM97 P100\nM30\n%\n";
+    assert_eq!(run(haas, Controller::Fanuc), Ok(1));
+    assert!(run(haas, Controller::Haas).unwrap_err().starts_with("p.nc: line 4: M97 (Haas local subprogram call"));
+    // detection names the controller from its codes
+    assert_eq!(Controller::detect(haas), Controller::Haas);
+    assert_eq!(Controller::detect("%\nO1\n# V1 = 2\nG0 X1.\nM30\n%\n"), Controller::Fadal);
+}
