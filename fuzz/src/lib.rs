@@ -23,7 +23,7 @@ use trueaxis::io::{etalon, rtl, text_of};
 use trueaxis::machine::{AxisKind, Machine};
 use trueaxis::model::Predictor;
 use trueaxis_nc::params::read_parameter_file;
-use trueaxis_nc::{Dialect, ToolTable};
+use trueaxis_nc::{Controller, Dialect, ToolTable};
 
 /// The name every message of a rejected fuzz input must start with.
 pub const ORIGIN: &str = "fuzz";
@@ -295,11 +295,13 @@ pub fn etalon(data: &[u8]) {
 }
 
 /// An NC program (any bytes: the byte reader of `trueaxis_nc::source` takes them) corrected for
-/// the vmc3 example errors in `dialect`.
-fn nc(data: &[u8], dialect: Dialect) {
+/// the vmc3 example errors in a dialect of `family`: the controller picked by the input's length
+/// (LinuxCNC, Mach3, Mach4, grbl; Fanuc, Haas, Fadal).
+fn nc(data: &[u8], family: Dialect) {
     let m = machine("vmc3");
     let mut options = NcOptions::new(m);
-    options.dialect = Some(dialect);
+    let of_family: Vec<Controller> = Controller::ALL.into_iter().filter(|&c| c.family() == family && c != Controller::Siemens).collect();
+    options.dialect = Some(of_family[data.len() % of_family.len()]);
     // an endless loop is refused after `max_blocks` blocks; the default (20 million) costs over a
     // minute unoptimised, far beyond the smoke run's 10 s timeout; the bound itself is the same
     // code path at any size

@@ -4,7 +4,7 @@ use crate::compensate::{failure, parse_axis_values, parse_temperatures};
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::compensate::nc::params::read_parameter_file;
-use trueaxis::compensate::nc::{correct_program, Dialect, FileId, Header, NcOptions, SearchPath, ToolTable, UnknownTools};
+use trueaxis::compensate::nc::{correct_program, Controller, FileId, Header, NcOptions, SearchPath, ToolTable, UnknownTools};
 use trueaxis::compensate::{nc_json, Corrector};
 use trueaxis::data::write_atomically;
 use trueaxis::errors::ErrorModel;
@@ -39,7 +39,8 @@ pub struct NcArgs {
     /// Write the corrected program here (atomically) instead of stdout.
     #[arg(long, value_parser = crate::outputs::file)]
     out: Option<crate::outputs::OutputPath>,
-    /// The program's dialect: linuxcnc or fanuc (default: detected from the program).
+    /// The program's dialect: linuxcnc, fanuc, haas, mach3, mach4, grbl, fadal or siemens (default:
+    /// detected from the program; docs/nc.md has each dialect's codes).
     #[arg(long)]
     dialect: Option<String>,
     /// Tool table in LinuxCNC's format (`T1 P1 Z50.5 D6 ;comment`), machine units; a Fanuc H
@@ -146,7 +147,7 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
     }
     options.dialect = match &args.dialect {
         None => None,
-        Some(d) => Some(Dialect::parse(d).ok_or_else(|| bad(format!("--dialect `{d}` is not linuxcnc or fanuc")))?),
+        Some(d) => Some(Controller::parse(d).ok_or_else(|| bad(format!("--dialect `{d}` is not one of {}", Controller::names())))?),
     };
     let setup = &mut options.setup;
     setup.machine_inch = match args.machine_units.to_ascii_lowercase().as_str() {

@@ -55,7 +55,12 @@ fn both_dialects_run_with_a_tool_table_offsets_and_a_subroutine_file() {
     assert!(expanded[1].contains("o<hole> call (a subroutine file)"), "{expanded:?}");
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.starts_with("(trueaxis 0.1.0: corrected program; do not correct it again)\n"), "{text}");
-    assert!(text.contains("sha256 ffd694b371bfcdcf26d5997bc30c6cf7255fbd5655ddb248b71d9867ffe1c84d)\n(trueaxis: corrected program; expanded into plain moves"), "{text}");
+    assert!(
+        text.contains(
+            "sha256 ffd694b371bfcdcf26d5997bc30c6cf7255fbd5655ddb248b71d9867ffe1c84d)\n(trueaxis dialect linuxcnc: LinuxCNC 2.9 - detected from the program)\n(trueaxis: corrected program; expanded into plain moves"
+        ),
+        "{text}"
+    );
     assert!(text.contains("#<pass>=3"), "the loop's counter is set after it: {text}");
     let out = dir.path().join("drilling.nc");
     let mut args = vec!["examples/nc/drilling.nc", "--out", out.to_str().unwrap(), "--json"];
@@ -142,7 +147,19 @@ fn refusals_name_the_line_and_write_nothing() {
     assert!(stderr.contains("line 7: the end point leaves the machine's travel: axis X at 500 mm"), "{stderr}");
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &["examples/nc/pocket.ngc", "--dialect", "heidenhain"]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("--dialect `heidenhain` is not linuxcnc or fanuc"), "{stderr}");
+    assert!(stderr.contains("--dialect `heidenhain` is not one of linuxcnc|fanuc|haas|mach3|mach4|grbl|fadal|siemens"), "{stderr}");
+    // a grbl program with a code grbl does not know: refused as grbl refuses it
+    let grbl = dir.path().join("drill.gcode");
+    std::fs::write(&grbl, "G21 G90\nG0 X10 Y10 Z-5\nG81 Z-20 R-10 F100\nM2\n").unwrap();
+    let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[grbl.to_str().unwrap(), "--dialect", "grbl"]);
+    assert_eq!(code, 2);
+    assert!(stderr.ends_with("drill.gcode: line 3: G81 is not a code of grbl 1.1: grbl 1.1 stops here with error:20 (unsupported or invalid g-code command)\n"), "{stderr}");
+    // a Siemens program: recognised, refused with the line of its first native construct
+    let siemens = dir.path().join("part.mpf");
+    std::fs::write(&siemens, "; SINUMERIK 840D\nN10 G17 G90 G54\nN20 G0 X10 Y10\nN30 G2 X20 Y20 CR=10\nM30\n").unwrap();
+    let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[siemens.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("part.mpf: line 4: the program is in the SINUMERIK 840D native language"), "{stderr}");
 }
 
 #[test]

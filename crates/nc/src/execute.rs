@@ -11,6 +11,7 @@
 //! `G51`/`G68`), 5-axis tool-centre-point and tilted-plane modes, polar coordinate mode (Fanuc `G16`).
 
 use crate::dialect::Dialect;
+use crate::dialects::{Group, Unknown};
 use crate::expr::{evaluate, parameter_number, ParamRef};
 use crate::interpret::{Exec, Flow};
 use crate::lexer::{Line, Operand};
@@ -91,107 +92,6 @@ impl Words {
         for &l in AXIS_LETTERS.iter().chain(b"@^") {
             self.take(l);
         }
-    }
-}
-
-/// Modal groups of G codes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Group {
-    Motion,
-    Plane,
-    Distance,
-    ArcDistance,
-    FeedMode,
-    Units,
-    CutterComp,
-    ToolLength,
-    Retract,
-    System,
-    Path,
-    SpindleMode,
-    Lathe,
-    /// G4, G10, G28, G30, G52, G53, G92.x and the like.
-    NonModal,
-    /// Codes passed through without effect on positions (Fanuc `G5.1`, `G8`, `G50`, `G67`, `G69`...).
-    Other,
-    /// Not a code of the dialect: passed through with a warning when its line has no axis words.
-    Unknown,
-}
-
-/// The group of G code `code` (x 10), or why it is refused.
-fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
-    use Group::*;
-    let refuse = |why: &str| Err(format!("G{} {why}", gcode_text(code)));
-    let common = match code {
-        0 | 10 | 20 | 30 | 730 | 800 | 810 | 820 | 830 | 850 | 860 | 890 => Some(Motion),
-        170 | 180 | 190 => Some(Plane),
-        900 | 910 => Some(Distance),
-        200 | 210 => Some(Units),
-        400 => Some(CutterComp),
-        430 | 490 => Some(ToolLength),
-        980 | 990 => Some(Retract),
-        540 | 550 | 560 | 570 | 580 | 590 => Some(System),
-        610 | 640 => Some(Path),
-        40 | 100 | 280 | 300 | 520 | 530 | 920 => Some(NonModal),
-        940 | 950 => Some(FeedMode),
-        960 | 970 => Some(SpindleMode),
-        410 | 420 | 411 | 421 => return refuse(
-            "(cutter radius compensation) cannot be corrected point by point: program the tool-centre path (CAM: compensation in computer)",
-        ),
-        382..=385 => return refuse("(probing) stops where the probe touches: the moves after it are not known beforehand"),
-        330 | 331 | 760 if dialect == Dialect::LinuxCnc => {
-            return refuse("(spindle-synchronised motion) is locked to the spindle position and cannot be split or shifted")
-        }
-        _ => None,
-    };
-    if let Some(g) = common {
-        return Ok(g);
-    }
-    match dialect {
-        Dialect::LinuxCnc => Ok(match code {
-            740 | 840 | 870 | 880 => Motion,
-            901 | 911 => ArcDistance,
-            930 => FeedMode,
-            431 | 432 => ToolLength,
-            591..=593 => System,
-            611 => Path,
-            70 | 80 => Lathe,
-            281 | 301 | 921..=923 => NonModal,
-            50 | 51 => Motion,
-            52 | 53 => return refuse("(NURBS) is not supported: convert it to lines or arcs"),
-            700 | 710 | 711 | 720 | 721 => return refuse("(lathe roughing cycle) is not supported"),
-            171 | 181 | 191 => return refuse("(U V W planes) is not supported"),
-            _ => Unknown,
-        }),
-        Dialect::Fanuc => Ok(match code {
-            1..=3 => Motion,
-            44 => NonModal,
-            90 | 51 | 80 | 500 | 670 | 690 | 150 | 110 => Other,
-            440 => ToolLength,
-            // Haas G154 P1-P99: the additional work offsets, read like G54.1 P
-            541 | 1540 => System,
-            620 | 630 => Path,
-            650 => NonModal,
-            931 => FeedMode,
-            930 => FeedMode,
-            // tapping (rigid with `M29 S..` before it): kept as a cycle
-            740 | 840 => Motion,
-            760 | 870 => {
-                return refuse("(boring with spindle orientation and shift) cannot be expanded: the shift direction is a machine parameter")
-            }
-            880 => return refuse("(boring with manual retraction) cannot be expanded"),
-            160 => return refuse("(polar coordinate command) is not supported"),
-            310 => return refuse("(skip function) stops where a signal comes: the moves after it are not known beforehand"),
-            270 | 290 => return refuse("(reference position check/return from reference) is not supported"),
-            510 | 511 => return refuse("(scaling/mirroring) is not supported"),
-            680 | 682 | 683 => return refuse("(coordinate rotation / tilted working plane) is not supported"),
-            434 | 435 | 531 => {
-                return refuse("(tool centre point / tool axis direction control) is not supported: correct the program in machine axes")
-            }
-            660 => return refuse("(modal macro call) is not supported"),
-            330 | 320 | 340 | 350 | 120 | 130 => return refuse("is not supported (threading or circle cutting cycles)"),
-            _ => Unknown,
-        }),
     }
 }
 
@@ -295,7 +195,11 @@ impl Exec<'_> {
                 continue; // a vacant Fanuc variable: the word is ignored
             }
             let letter = word.letter;
-            if self.dialect == Dialect::Fanuc && is_dimension(letter) && !word.decimal_point && matches!(word.value, Operand::Number(_)) {
+            if self.table.numbers.integers_are_increments
+                && is_dimension(letter)
+                && !word.decimal_point
+                && matches!(word.value, Operand::Number(_))
+            {
                 let increment = if self.state.frame.inch { self.fanuc.increment_mm / 10.0 } else { self.fanuc.increment_mm };
                 v *= increment;
             }
@@ -330,10 +234,13 @@ impl Exec<'_> {
                 }
             }
         }
+        if let Some((letter, why)) = self.table.refused_words.iter().find(|(l, _)| w.has(*l)) {
+            return Err(format!("{}{} {why}", *letter as char, w.get(*letter).unwrap_or(0.0)));
+        }
         // one G-code per modal group
         let mut seen: Vec<(Group, u16)> = Vec::with_capacity(w.ng);
         for &code in w.gs() {
-            let g = group(code, self.dialect)?;
+            let g = self.table.group(code)?;
             if g == Group::Unknown {
                 self.unknown_code(&w, format!("G{}", gcode_text(code)))?;
             }
@@ -348,30 +255,25 @@ impl Exec<'_> {
             }
             seen.push((g, code));
         }
-        let axis_users = w.gs().iter().filter(|&&c| matches!(c, 100 | 280 | 300 | 520 | 920 | 431 | 432)).count();
+        let axis_users = w.gs().iter().filter(|&&c| self.table.uses_axes(c)).count();
         // a Fanuc reads `G00 G91 G28 Z0` (a CAM post's return home): the G00 only sets the mode
         let motion_beside = |c: u16| if self.dialect == Dialect::Fanuc { !matches!(c, 0 | 10 | 20 | 30 | 800) } else { c != 800 };
         if axis_users > 1 || axis_users == 1 && seen.iter().any(|(g, c)| *g == Group::Motion && motion_beside(*c)) {
             return Err("two G-codes on one line both use the axis words".into());
         }
         // the M-code groups
-        let groups: [&[u16]; 5] = [&[0, 1, 2, 30, 60], &[3, 4, 5], &[6, 61], &[48, 49, 50, 51, 52, 53], &[70, 71, 72, 73]];
-        for grp in groups {
+        for grp in self.table.m_groups {
             let found: Vec<u16> = w.ms().iter().copied().filter(|m| grp.contains(m)).collect();
             if found.len() > 1 {
                 return Err(format!("M{} and M{} on one line are in the same modal group", found[0], found[1]));
             }
         }
-        if self.dialect == Dialect::LinuxCnc {
-            for &m in w.ms() {
-                let known = matches!(m, 0..=9 | 19 | 30 | 48..=53 | 60..=68 | 70..=73 | 100..=199);
-                if matches!(m, 98 | 99) {
-                    return Err(format!("M{m} is a Fanuc subprogram call; this program reads as LinuxCNC (choose --dialect fanuc?)"));
-                }
-                if !known {
-                    self.unknown_code(&w, format!("M{m}"))?;
-                }
+        for &m in w.ms() {
+            if !self.table.m_known(m)? {
+                self.unknown_code(&w, format!("M{m}"))?;
             }
+        }
+        if self.dialect == Dialect::LinuxCnc {
             // rs274 (interp_check.cc, check_other_codes): "E word with no G70, G76, M66, M67 or M68
             // to use it"; also what `X1e200` reads as (X1 and E200: RS274/NGC has no exponents)
             let uses_e = w.gs().iter().any(|&c| c == 700 || c == 760) || w.ms().iter().any(|&m| matches!(m, 66..=68));
@@ -386,10 +288,10 @@ impl Exec<'_> {
     /// A code the dialect does not know: passed through with a warning naming the line, refused
     /// when its line has axis words (what it does with them is not known).
     fn unknown_code(&mut self, w: &Words, code: String) -> Result<(), String> {
-        let dialect = match self.dialect {
-            Dialect::LinuxCnc => "LinuxCNC 2.9",
-            Dialect::Fanuc => "the Fanuc dialect",
-        };
+        let dialect = self.table.title;
+        if let Unknown::Alarm(alarm) = self.table.unknown {
+            return Err(format!("{code} is not a code of {dialect}: {alarm}"));
+        }
         if w.any_axis_or_polar() {
             return Err(format!("{code} is not a code of {dialect}: with axis words on its line it cannot be passed through"));
         }
@@ -566,9 +468,9 @@ impl Exec<'_> {
         let mut motion_code = None;
         let mut nonmodal = Vec::new();
         for &code in &gs {
-            match group(code, self.dialect)? {
+            match self.table.group(code)? {
                 // G80 beside another motion code cancels the cycle before it
-                Group::Motion if code == 800 && gs.iter().any(|&c| c != 800 && group(c, self.dialect) == Ok(Group::Motion)) => {
+                Group::Motion if code == 800 && gs.iter().any(|&c| c != 800 && self.table.group(c) == Ok(Group::Motion)) => {
                     self.state.motion = self.after_g80();
                     self.setup_words.push((b'G', 80.0));
                 }
@@ -622,7 +524,7 @@ impl Exec<'_> {
             }
         }
         for &code in &gs {
-            if group(code, self.dialect)? == Group::System {
+            if self.table.group(code)? == Group::System {
                 let system = match code {
                     540..=590 => ((code - 540) / 10 + 1) as u8,
                     591..=593 => (code - 591 + 7) as u8,
@@ -679,7 +581,7 @@ impl Exec<'_> {
                     }
                 }
                 930 | 940 | 950 => setup(self, b'G', f64::from(code) / 10.0),
-                _ if matches!(group(code, self.dialect)?, Group::Other | Group::Unknown) => setup(self, b'G', f64::from(code) / 10.0),
+                _ if matches!(self.table.group(code)?, Group::Other | Group::Unknown) => setup(self, b'G', f64::from(code) / 10.0),
                 _ => {}
             }
         }

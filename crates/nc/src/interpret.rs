@@ -84,6 +84,8 @@ pub(crate) struct Exec<'m> {
     /// P Q of the last `G5` (a `G5` without I J after it mirrors them).
     pub spline_pq: Option<(f64, f64)>,
     pub dialect: Dialect,
+    /// The controller's codes.
+    pub table: &'static crate::dialects::DialectTable,
     pub params: Params,
     pub tools: ToolTable,
     /// Fanuc tool length wear (`G10 L11`), by offset number.
@@ -125,6 +127,7 @@ pub(crate) struct Exec<'m> {
 pub fn run(machine: &MachineAxes, mut program: Program, setup: &ProgramSetup) -> Result<(Trace, Program), NcError> {
     let dialect = program.dialect;
     let mut exec = Exec::new(machine, dialect, setup).map_err(|m| NcError { file: program.files[0].name.clone(), line: 0, message: m })?;
+    exec.table = program.controller.table();
     let mut pc = (0usize, program.files[0].body.start);
     let mut ended = false;
     while !ended {
@@ -220,6 +223,7 @@ impl<'m> Exec<'m> {
         let mut exec = Exec {
             machine,
             dialect,
+            table: crate::Controller::of_family(dialect).table(),
             params,
             tools: setup.tools.clone(),
             wear: Vec::new(),
@@ -812,11 +816,11 @@ mod tests {
         let mut setup = ProgramSetup::zero(&axes);
         setup.max_blocks = 1000;
         let endless = b"G21 G90 F100\n#<pass> = 0\no10 while [#<pass> LT 3]\nG1 X1\n#<pasc> = [#<pass> + 1]\no10 endwhile\nM2\n";
-        let e = crate::run(&axes, endless, "p.ngc", Some(Dialect::LinuxCnc), &setup).unwrap_err();
+        let e = crate::run(&axes, endless, "p.ngc", Some(Dialect::LinuxCnc.into()), &setup).unwrap_err();
         assert_eq!(e.message, "more than 1000 blocks executed: an endless loop?");
         assert!((3..=6).contains(&e.line), "line {}", e.line);
         let ending = b"G21 G90 F100\n#<pass> = 0\no10 while [#<pass> LT 3]\nG1 X1\n#<pass> = [#<pass> + 1]\no10 endwhile\nM2\n";
-        let (trace, _) = crate::run(&axes, ending, "p.ngc", Some(Dialect::LinuxCnc), &setup).unwrap();
+        let (trace, _) = crate::run(&axes, ending, "p.ngc", Some(Dialect::LinuxCnc.into()), &setup).unwrap();
         assert!(trace.steps.len() < 30, "{} blocks", trace.steps.len());
     }
 }

@@ -13,7 +13,8 @@
 //! Files: [`lexer`] (reading a line), [`expr`] (expressions), [`params`] (parameters and their
 //! scopes), [`program`] (files and their control structures), [`interpret`] (control flow),
 //! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
-//! [`arcs`], [`cycles`], [`tools`] (tool table), [`dialect`], [`trace`] (what a run did),
+//! [`arcs`], [`cycles`], [`tools`] (tool table), [`dialect`] (the two families of grammar),
+//! [`dialects`] (each controller's codes, as data), [`trace`] (what a run did),
 //! [`plan`] (what stays, what is expanded), [`path`] (points along moves, split points),
 //! [`write`] (the text with moved points).
 
@@ -21,6 +22,7 @@ pub mod arcs;
 pub mod axes;
 pub mod cycles;
 pub mod dialect;
+pub mod dialects;
 pub mod execute;
 pub mod expr;
 pub mod interpret;
@@ -40,6 +42,7 @@ pub mod write;
 
 pub use axes::{AxisSpec, MachineAxes, MAX_AXES};
 pub use dialect::Dialect;
+pub use dialects::Controller;
 pub use interpret::FanucSettings;
 pub use modal::MM_PER_INCH;
 pub use program::{Program, SearchPath};
@@ -138,21 +141,26 @@ impl ProgramSetup {
     }
 }
 
-/// Reads and runs a program from its bytes (`dialect`: `None` detects it from the text): the trace of the run
-/// (moves in machine positions) and the loaded program. `origin` (the file name) prefixes
-/// messages.
+/// Reads and runs a program from its bytes (`controller`: `None` detects it from the text): the
+/// trace of the run (moves in machine positions) and the loaded program. `origin` (the file name)
+/// prefixes messages.
 pub fn run(
     axes: &MachineAxes,
     bytes: &[u8],
     origin: &str,
-    dialect: Option<Dialect>,
+    controller: Option<Controller>,
     setup: &ProgramSetup,
 ) -> Result<(Trace, Program), NcError> {
-    let dialect = dialect.unwrap_or_else(|| Dialect::detect(&String::from_utf8_lossy(bytes)));
-    let program = Program::new(origin, bytes, dialect, setup.search_path.clone()).map_err(|(k, m)| NcError {
+    let controller = controller.unwrap_or_else(|| Controller::detect(&String::from_utf8_lossy(bytes)));
+    if controller == Controller::Siemens {
+        let line = dialects::siemens_line(&String::from_utf8_lossy(bytes));
+        return Err(NcError { file: origin.to_string(), line, message: dialects::SIEMENS_NOT_READ.into() });
+    }
+    let mut program = Program::new(origin, bytes, controller.family(), setup.search_path.clone()).map_err(|(k, m)| NcError {
         file: origin.to_string(),
         line: k + 1,
         message: m,
     })?;
+    program.controller = controller;
     interpret::run(axes, program, setup)
 }

@@ -254,6 +254,8 @@ pub struct SearchPath(pub Vec<PathBuf>);
 #[derive(Clone, Debug)]
 pub struct Program {
     pub dialect: Dialect,
+    /// The controller whose codes it is run with (of the family `dialect`).
+    pub controller: crate::Controller,
     pub files: Vec<SourceFile>,
     pub search: SearchPath,
 }
@@ -262,7 +264,7 @@ impl Program {
     /// The main file; an error names its line.
     pub fn new(name: &str, bytes: &[u8], dialect: Dialect, search: SearchPath) -> Result<Program, (usize, String)> {
         let main = SourceFile::load(name, bytes, dialect)?;
-        Ok(Program { dialect, files: vec![main], search })
+        Ok(Program { dialect, controller: crate::Controller::of_family(dialect), files: vec![main], search })
     }
 
     /// The file holding subroutine `label`: the main file, a file loaded before, or `<name>.ngc`

@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use trueaxis::compensate::export::Limits;
-use trueaxis::compensate::nc::{correct_program, Dialect, FileId, Header, NcOptions};
+use trueaxis::compensate::nc::{correct_program, Controller, FileId, Header, NcOptions};
 use trueaxis::compensate::{
     compensation, nc_json, sensor_temperatures, CompensateError, CompensationRequest, Corrector, ExportFormat, FormatOptions,
 };
@@ -119,8 +119,9 @@ pub fn compensate(
 /// correction that cancels the predicted error there, long moves are split where the correction
 /// departs from a straight blend by more than `tolerance_um`. Writes the program to `out` when
 /// given; returns the summary of `trueaxis nc --json` (with the program text when `out` is None).
-/// `dialect`: `linuxcnc` or `fanuc` (default: detected); `decimals`: digits written (default: 5 for
-/// mm and 6 for inch in LinuxCNC programs, 3 / 4 in Fanuc programs). The program starts with a
+/// `dialect`: `linuxcnc`, `fanuc`, `haas`, `mach3`, `mach4`, `grbl`, `fadal` or `siemens` (default:
+/// detected); `decimals`: digits written (default: 5 for mm and 6 for inch in LinuxCNC-family
+/// programs, 3 / 4 in Fanuc-family programs). The program starts with a
 /// header naming the machine and error files with their SHA-256; a program with that header is
 /// refused unless `force`.
 #[pyfunction]
@@ -155,7 +156,7 @@ pub fn correct_nc(
     options.decimals = decimals;
     options.dialect = match dialect {
         None => None,
-        Some(d) => Some(Dialect::parse(d).ok_or_else(|| input_msg(format!("dialect `{d}` is not linuxcnc or fanuc")))?),
+        Some(d) => Some(Controller::parse(d).ok_or_else(|| input_msg(format!("dialect `{d}` is not one of {}", Controller::names())))?),
     };
     options.header = Some(Header {
         machine: FileId::of(&machine.origin, machine.source.as_bytes()),

@@ -383,7 +383,7 @@ fn check(name: &str, machine_name: &str, errors: &str, text: &str, expected: &Ex
     // corrected, read back, through the erroneous machine
     let corrector = Corrector::new(&m, &e);
     let r = correct_program(&corrector, text, name, &options, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
-    assert_eq!(r.dialect, Dialect::Fanuc);
+    assert_eq!(r.dialect.family(), Dialect::Fanuc);
     assert_eq!(r.expanded.len(), expanded, "{name}: {:?}\n{}", r.expanded, r.text());
     check_numbers(&r.text(), 3);
     assert!(r.text().starts_with("%\nO100"), "{name}: the tape start and program number stay first:\n{}", r.text());

@@ -77,7 +77,7 @@ fn check(path: &str, machine: &Machine, errors: &ErrorModel) -> Outcome {
     }
     let text = std::fs::read_to_string(source).unwrap_or_default();
     let mut options = NcOptions::new(machine);
-    options.dialect = Some(Dialect::LinuxCnc);
+    options.dialect = Some(Dialect::LinuxCnc.into());
     options.setup.machine_inch = true;
     options.setup.rs274_tool_change = true;
     options.setup.tools = ToolTable::parse(&tools, "tools").unwrap();

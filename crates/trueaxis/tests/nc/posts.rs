@@ -3,7 +3,7 @@
 //! moves, or the same refusal), the Fanuc manuals' rules otherwise (canned cycles in group 09 leave
 //! the group-01 mode as it was; a G00 beside G28 sets the mode only).
 
-use trueaxis::compensate::nc::{correct_program, program_moves, Dialect, NcOptions};
+use trueaxis::compensate::nc::{correct_program, program_moves, Controller, Dialect, NcOptions};
 use trueaxis::compensate::Corrector;
 use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
@@ -15,7 +15,7 @@ fn vmc3() -> (Machine, ErrorModel) {
 /// The end points (X Y Z, mm) of the moves trueaxis reads.
 fn ends(m: &Machine, text: &str, dialect: Dialect) -> Vec<[f64; 3]> {
     let mut options = NcOptions::new(m);
-    options.dialect = Some(dialect);
+    options.dialect = Some(dialect.into());
     program_moves(m, text, "p", &options)
         .unwrap_or_else(|e| panic!("{e}\n{text}"))
         .iter()
@@ -72,7 +72,7 @@ fn unknown_codes_pass_through_with_a_warning_unless_they_have_axis_words() {
     let (m, e) = vmc3();
     let c = Corrector::new(&m, &e);
     let mut options = NcOptions::new(&m);
-    options.dialect = Some(Dialect::Fanuc);
+    options.dialect = Some(Dialect::Fanuc.into());
     // Haas G187 (smoothness), G103 (look-ahead) and a machine M code
     let text = "%\nO1\nG187 P1\nG103 P1\nG00 X10. Y5. Z-20.\nM45\nG103\nM30\n%\n";
     let r = correct_program(&c, text, "haas.nc", &options, &[]).unwrap();
@@ -80,15 +80,18 @@ fn unknown_codes_pass_through_with_a_warning_unless_they_have_axis_words() {
     assert_eq!(
         r.warnings,
         vec![
-            "haas.nc: line 3: G187 is not a code of the Fanuc dialect: passed through unchanged, assumed to move nothing",
-            "haas.nc: line 4: G103 is not a code of the Fanuc dialect: passed through unchanged, assumed to move nothing (and 1 more lines)",
+            "haas.nc: line 3: G187 is not a code of Fanuc 0i/30i (Custom Macro B): passed through unchanged, assumed to move nothing",
+            "haas.nc: line 4: G103 is not a code of Fanuc 0i/30i (Custom Macro B): passed through unchanged, assumed to move nothing (and 1 more lines)",
         ]
     );
     assert!(r.text().contains("\nG187 P1\nG103 P1\n"));
+    // detected as Haas (its G187, G103): codes of its own, passed through without a warning
+    let haas = correct_program(&c, text, "haas.nc", &NcOptions::new(&m), &[]).unwrap();
+    assert_eq!((haas.dialect, haas.moves, haas.warnings.len(), haas.text()), (Controller::Haas, 1, 0, r.text()));
     let err = correct_program(&c, "%\nO1\nG187 X10. Y5.\nM30\n%\n", "haas.nc", &options, &[]).unwrap_err();
     assert_eq!(
         err.to_string(),
-        "haas.nc: line 3: G187 is not a code of the Fanuc dialect: with axis words on its line it cannot be passed through"
+        "haas.nc: line 3: G187 is not a code of Fanuc 0i/30i (Custom Macro B): with axis words on its line it cannot be passed through"
     );
     // LinuxCNC: a user M code beyond M199 and a program without M2 (rs274 runs both moves and
     // then reports the missing end)
@@ -125,7 +128,7 @@ fn haas_programs_with_their_macros_and_output_are_read() {
     let (m, e) = vmc3();
     let c = Corrector::new(&m, &e);
     let mut options = NcOptions::new(&m);
-    options.dialect = Some(Dialect::Fanuc);
+    options.dialect = Some(Controller::Haas);
     let text = "%\n:1001 (HAAS STYLE)\nG103 P1\nG00 G17 G40 G49 G80 G90\nG154 P1\n#3901 = #3901 + 1\nPOPEN\nDPRNT[PART*#3901[40]]\nPCLOS\n\
                 IF [#3901 GT 1000] THEN #3000 = 1 (TOO MANY)\nT1 M06\nG43 H01 Z-10.\nG00 X10. Y5. Z-20.\n#3006 = 1 (CHECK PART)\nM30\n%\n";
     let r = correct_program(&c, text, "haas.nc", &options, &[]).unwrap_or_else(|e| panic!("{e}"));
@@ -144,4 +147,40 @@ fn haas_programs_with_their_macros_and_output_are_read() {
     let alarm = text.replace("GT 1000", "GT 0");
     let err = correct_program(&c, alarm, "haas.nc", &options, &[]).unwrap_err();
     assert_eq!(err.to_string(), "haas.nc: line 10: the program stops with alarm 1 here (#3000 = 1)");
+}
+
+/// Each dialect's own refusals (its table's data), with the line: grbl stops at a code it does not
+/// know (error:20), Mach3 subprograms and Haas `M97` are not read, a Fadal `E` fixture offset is not
+/// read; the same codes pass where the dialect knows them.
+#[test]
+fn dialects_refuse_what_their_controller_does_not_run() {
+    let (m, e) = vmc3();
+    let c = Corrector::new(&m, &e);
+    let run = |text: &str, dialect: Controller| {
+        let mut options = NcOptions::new(&m);
+        options.dialect = Some(dialect);
+        correct_program(&c, text, "p.nc", &options, &[]).map(|r| r.moves).map_err(|e| e.to_string())
+    };
+    let lines = "G21 G90\nG0 X10 Y10 Z-5\nT1 M6\nG1 Z-20 F100\nM2\n";
+    assert_eq!(run(lines, Controller::LinuxCnc), Ok(2));
+    assert_eq!(
+        run(lines, Controller::Grbl),
+        Err("p.nc: line 3: M6 is not a code of grbl 1.1: grbl 1.1 stops here with error:20 (unsupported or invalid g-code command)".into())
+    );
+    let sub = "G21 G90\nG0 X10 Y10 Z-5\nM98 P100 L2\nM30\n";
+    assert!(run(sub, Controller::Mach3)
+        .unwrap_err()
+        .starts_with("p.nc: line 3: M98 (subprogram call and return) is not supported in the Mach3/Mach4"));
+    let fadal = "%\nO1\nG0 G90 G21 E1 X10. Y10. Z-5.\nM30\n%\n";
+    assert_eq!(run(fadal, Controller::Fanuc), Ok(1));
+    assert_eq!(
+        run(fadal, Controller::Fadal),
+        Err("p.nc: line 3: E1 (a Fadal fixture offset) is not read yet: select the work offset with G54-G59".into())
+    );
+    let haas = "%\nO1\nG0 G90 G21 X10. Y10. Z-5.\nM97 P100\nM30\n%\n";
+    assert_eq!(run(haas, Controller::Fanuc), Ok(1));
+    assert!(run(haas, Controller::Haas).unwrap_err().starts_with("p.nc: line 4: M97 (Haas local subprogram call"));
+    // detection names the controller from its codes
+    assert_eq!(Controller::detect(haas), Controller::Haas);
+    assert_eq!(Controller::detect("%\nO1\n# V1 = 2\nG0 X1.\nM30\n%\n"), Controller::Fadal);
 }

@@ -33,7 +33,7 @@ fn program(eol: &str, comment: &[u8]) -> Vec<u8> {
 fn corrected(bytes: &[u8], dialect: Dialect) -> Vec<u8> {
     let (m, e) = load("vmc3", "vmc3");
     let mut options = NcOptions::new(&m);
-    options.dialect = Some(dialect);
+    options.dialect = Some(dialect.into());
     let r = correct_program(&Corrector::new(&m, &e), bytes, "t.nc", &options, &[]).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(r.moves, 4);
     let original = read(&m, &String::from_utf8_lossy(bytes), &options);
@@ -77,7 +77,7 @@ fn refusal(bytes: &[u8], dialect: Dialect) -> String {
     let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
     let zero = ErrorModel::zero(&m);
     let mut options = NcOptions::new(&m);
-    options.dialect = Some(dialect);
+    options.dialect = Some(dialect.into());
     match correct_program(&Corrector::new(&m, &zero), bytes, "t.nc", &options, &[]) {
         Ok(r) => panic!("accepted: {}", r.text()),
         Err(e) => {
@@ -107,7 +107,7 @@ fn double_signs_are_read_as_each_controller_reads_them() {
     // reads one sign before a value
     let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
     let mut options = NcOptions::new(&m);
-    options.dialect = Some(Dialect::LinuxCnc);
+    options.dialect = Some(Dialect::LinuxCnc.into());
     let moves = program_moves(&m, "G21 G90\nG0 X+-5 Y--7 Z-10\nM2\n", "t.ngc", &options).unwrap();
     assert_eq!((moves[0].end[0], moves[0].end[1], moves[0].end[2]), (-5.0, 7.0, -10.0));
     if let Some(rs) = crate::common::rs274::rs274() {

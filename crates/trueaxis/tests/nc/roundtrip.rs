@@ -135,7 +135,7 @@ fn assert_ends(got: Vec<[f64; 3]>, want: &[[f64; 3]]) {
 fn ends(text: &str, dialect: Dialect) -> Vec<[f64; 3]> {
     let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
     let mut options = NcOptions::new(&m);
-    options.dialect = Some(dialect);
+    options.dialect = Some(dialect.into());
     program_moves(&m, text, "t", &options).unwrap_or_else(|e| panic!("{e}")).iter().map(|mv| [mv.end[0], mv.end[1], mv.end[2]]).collect()
 }
 

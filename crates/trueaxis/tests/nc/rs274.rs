@@ -58,7 +58,7 @@ fn check(case: &Case, decimals: Option<usize>, end_um: f64) -> (NcResult, Report
     std::fs::write(dir.path().join("tools.tbl"), TOOLS).unwrap();
     let var = var_file(case.parameters);
     let mut options = NcOptions::new(&m);
-    options.dialect = Some(Dialect::LinuxCnc);
+    options.dialect = Some(Dialect::LinuxCnc.into());
     options.decimals = decimals;
     options.setup.machine_inch = true;
     options.setup.rs274_tool_change = true;

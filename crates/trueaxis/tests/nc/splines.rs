@@ -39,7 +39,7 @@ fn splines_become_chords_on_the_curve_and_are_corrected() {
     let machine = crate::linuxcnc_samples::mill();
     let errors = ErrorModel::load("../../examples/errors/vmc3.toml", &machine).unwrap();
     let mut options = NcOptions::new(&machine);
-    options.dialect = Some(Dialect::LinuxCnc);
+    options.dialect = Some(Dialect::LinuxCnc.into());
     options.setup.machine_inch = true;
     let (trace, _) = run_program(&machine, PROGRAM, "splines.ngc", &options).unwrap();
     // rs274: the moves that are not chords, in order

@@ -5,9 +5,10 @@
 //! applied twice), unless forced.
 //!
 //! Each header line stays within LinuxCNC's 252 characters (file names are shortened to their
-//! last 100 characters); a Fanuc-family dialect gets it in upper case, without `<>#`.
+//! last 100 characters); a Fanuc-family dialect gets it in upper case, without `<>#`. A line
+//! names the dialect the program was read in.
 
-use super::{Dialect, NcError};
+use super::{Controller, Dialect, NcError};
 use sha2::{Digest, Sha256};
 
 /// A file by its name (as given) and the SHA-256 of its bytes (lower-case hexadecimal).
@@ -47,10 +48,25 @@ impl Header {
             format!("({MARK} machine {} sha256 {})", short(&self.machine.name), self.machine.sha256),
             format!("({MARK} errors {} sha256 {})", short(&self.errors.name), self.errors.sha256),
         ];
-        match dialect {
-            Dialect::LinuxCnc => lines.to_vec(),
-            Dialect::Fanuc => lines.iter().map(|l| l.to_uppercase().replace(['<', '>', '#'], " ")).collect(),
-        }
+        lines.into_iter().map(|l| in_family(l, dialect)).collect()
+    }
+}
+
+/// The comment line that names the dialect the program was read in, and whether it was detected
+/// from the program or given (`--dialect`).
+pub fn dialect_line(controller: Controller, detected: bool) -> String {
+    let how = if detected { "detected from the program" } else { "as given" };
+    // no parentheses inside the comment (a Fanuc does not nest them), no comma (`,C` is a chamfer)
+    let title = controller.table().title.replace(['(', ')'], "");
+    let line = format!("({MARK} dialect {controller}: {title} - {how})");
+    in_family(line, controller.family())
+}
+
+/// A comment line as the family writes it: a Fanuc's in upper case, without `<>#`.
+fn in_family(line: String, dialect: Dialect) -> String {
+    match dialect {
+        Dialect::LinuxCnc => line,
+        Dialect::Fanuc => line.to_uppercase().replace(['<', '>', '#'], " "),
     }
 }
 
@@ -71,10 +87,7 @@ pub fn assumed_tools_line(tools: &[u32], setup: &super::ProgramSetup, um_per_100
          100 mm of a real tool's length from that moves its corrected points by up to {um_per_100mm:.1} um)",
         names.join(" ")
     );
-    match dialect {
-        Dialect::LinuxCnc => line,
-        Dialect::Fanuc => line.to_uppercase().replace(['<', '>', '#'], " "),
-    }
+    in_family(line, dialect)
 }
 
 /// The first line (1-based) of the first 100 whose comment says the program was corrected by

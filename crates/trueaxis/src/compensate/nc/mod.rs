@@ -29,8 +29,8 @@ use super::CompensateError;
 use crate::machine::AxisKind;
 use crate::machine::Machine;
 pub use trueaxis_nc::{
-    dialect, lexer, modal, params, path, plan, program, tools, trace, write, AxisSpec, Dialect, FanucSettings, MachineAxes, Move, MoveKind,
-    NcError, ProgramSetup, Role, SearchPath, ToolTable, Trace, UnknownTools, MM_PER_INCH,
+    dialect, dialects, lexer, modal, params, path, plan, program, tools, trace, write, AxisSpec, Controller, Dialect, FanucSettings,
+    MachineAxes, Move, MoveKind, NcError, ProgramSetup, Role, SearchPath, ToolTable, Trace, UnknownTools, MM_PER_INCH,
 };
 
 /// The axes of `machine` as the NC interpreter needs them: letters, linear or rotary, travel.
@@ -57,8 +57,8 @@ pub struct NcOptions {
     pub setup: ProgramSetup,
     /// Refuse the program when a correction exceeds these (um, urad; the machine's by default).
     pub limits: Limits,
-    /// The dialect; `None`: detected from the program.
-    pub dialect: Option<Dialect>,
+    /// The dialect (the controller's); `None`: detected from the program.
+    pub dialect: Option<Controller>,
     /// The header naming the machine and error files the program is corrected for (none: no
     /// header written).
     pub header: Option<Header>,
@@ -84,12 +84,10 @@ impl NcOptions {
         }
     }
 
-    /// The decimals in mm/deg and in inch for `dialect`.
-    pub fn decimals_for(&self, dialect: Dialect) -> (usize, usize) {
-        let (mm, inch) = match dialect {
-            Dialect::LinuxCnc => (5, 6),
-            Dialect::Fanuc => (3, 4),
-        };
+    /// The decimals in mm/deg and in inch for `controller` (its table's, unless given).
+    pub fn decimals_for(&self, controller: Controller) -> (usize, usize) {
+        let numbers = controller.table().numbers;
+        let (mm, inch) = (numbers.decimals_mm, numbers.decimals_inch);
         let mm = self.decimals.unwrap_or(mm);
         (mm, self.decimals_inch.unwrap_or(if self.decimals.is_some() { mm + 1 } else { inch }))
     }
@@ -100,7 +98,8 @@ impl NcOptions {
 pub struct NcResult {
     /// The corrected program's bytes (line ends and bytes of the input kept).
     pub program: Vec<u8>,
-    pub dialect: Dialect,
+    /// The dialect it was read in (detected, or as given).
+    pub dialect: Controller,
     /// Moves of the run corrected.
     pub moves: usize,
     /// Blocks executed.
@@ -168,14 +167,14 @@ pub fn run_program(
     options: &NcOptions,
 ) -> Result<(Trace, program::Program), CompensateError> {
     let bytes = bytes.as_ref();
-    let dialect = options.dialect.unwrap_or_else(|| Dialect::detect(&String::from_utf8_lossy(bytes)));
+    let controller = options.dialect.unwrap_or_else(|| Controller::detect(&String::from_utf8_lossy(bytes)));
     let mut setup = options.setup.clone();
-    if dialect == Dialect::Fanuc {
+    if controller.table().numbers.integers_are_increments {
         if let Some(d) = options.decimals {
             setup.fanuc.increment_mm = 10f64.powi(-(d as i32));
         }
     }
-    trueaxis_nc::run(&machine_axes(machine), bytes, origin, Some(dialect), &setup).map_err(input_error)
+    trueaxis_nc::run(&machine_axes(machine), bytes, origin, Some(controller), &setup).map_err(input_error)
 }
 
 /// The moves of a program in machine positions (mm, deg).
@@ -199,9 +198,9 @@ pub fn correct_program(
         header::check_uncorrected(bytes, origin).map_err(input_error)?;
     }
     let (trace, program) = run_program(machine, bytes, origin, options)?;
-    let dialect = program.dialect;
+    let (dialect, controller) = (program.dialect, program.controller);
     let plan = plan::plan(&program, &trace);
-    let (decimals, decimals_inch) = options.decimals_for(dialect);
+    let (decimals, decimals_inch) = options.decimals_for(controller);
     // the solve stops well inside the written resolution: a fifth of its last digit
     let resolution = 10f64.powi(-(decimals as i32)).min(MM_PER_INCH * 10f64.powi(-(decimals_inch as i32)));
     let mut tight = *corrector;
@@ -230,6 +229,9 @@ pub fn correct_program(
     let e = corrections.extremes;
     let tool_length_um_per_100mm = (!trace.assumed_tools.is_empty()).then_some(e.max_uncorrectable_urad * 0.1);
     let mut notes = options.header.as_ref().map_or_else(Vec::new, |h| h.lines(dialect));
+    if options.header.is_some() {
+        notes.push(header::dialect_line(controller, options.dialect.is_none()));
+    }
     if let Some(per_100) = tool_length_um_per_100mm {
         notes.push(header::assumed_tools_line(&trace.assumed_tools, &options.setup, per_100, dialect));
     }
@@ -239,7 +241,7 @@ pub fn correct_program(
     warnings.extend(hole_warnings(&writer.holes, &program.files[0].name, resolution * 1e3));
     Ok(NcResult {
         program: written,
-        dialect,
+        dialect: controller,
         moves: trace.moves.len(),
         blocks: trace.steps.len(),
         corrected_points: e.corrected_points,

@@ -5,11 +5,14 @@
 //! No published file is copied; the geometry is this module's own.
 
 use super::writer::{ArcWords, Cycle, Digits, Part, W};
+use trueaxis::compensate::nc::Controller;
 
 /// One program of the corpus.
 pub struct Sample {
     pub post: &'static str,
     pub controller: &'static str,
+    /// The dialect its user names (`--dialect`).
+    pub dialect: Controller,
     pub name: String,
     pub bytes: Vec<u8>,
     /// Written for a LinuxCNC-compatible controller (LinuxCNC, PathPilot, Mach3, grbl): checked
@@ -17,37 +20,38 @@ pub struct Sample {
     pub rs274: bool,
 }
 
-/// A style: post, controller, whether rs274 reads it, the program of variant k.
-pub type Style = (&'static str, &'static str, bool, fn(usize) -> Vec<u8>);
+/// A style: post, controller, its dialect, whether rs274 reads it, the program of variant k.
+pub type Style = (&'static str, &'static str, Controller, bool, fn(usize) -> Vec<u8>);
 
-pub const STYLES: [Style; 17] = [
-    ("Fusion 360 haas.cps", "Haas NGC", false, fusion_haas),
-    ("Fusion 360 fanuc.cps", "Fanuc 0i", false, fusion_fanuc),
-    ("Mastercam MPFAN", "Fanuc 0i", false, mastercam),
-    ("CAMWorks Fanuc post", "Fanuc 0i", false, camworks),
-    ("hand-written Haas macro", "Haas NGC", false, haas_macro),
-    ("hand-written Fanuc Custom Macro B", "Fanuc 30i", false, fanuc_macro),
-    ("Fadal format 2 (hand-written)", "Fadal 88HS", false, fadal),
-    ("Fusion 360 mach3mill.cps", "Mach3", true, fusion_mach3),
-    ("CamBam Mach3 post", "Mach3", true, cambam),
-    ("SketchUcam", "Mach3", true, sketchucam),
-    ("Fusion 360 grbl.cps (OpenBuilds)", "grbl 1.1", true, fusion_grbl),
-    ("pcb2gcode", "grbl 1.1", true, pcb2gcode),
-    ("Fusion 360 linuxcnc.cps", "LinuxCNC 2.9", true, fusion_linuxcnc),
-    ("Fusion 360 tormach.cps", "Tormach PathPilot", true, tormach),
-    ("PyCAM", "LinuxCNC 2.9", true, pycam),
-    ("HeeksCNC emc2b", "LinuxCNC 2.9", true, heekscnc),
-    ("hand-written LinuxCNC (O-words)", "LinuxCNC 2.9", true, linuxcnc_hand),
+pub const STYLES: [Style; 18] = [
+    ("Fusion 360 haas.cps", "Haas NGC", Controller::Haas, false, fusion_haas),
+    ("Fusion 360 fanuc.cps", "Fanuc 0i", Controller::Fanuc, false, fusion_fanuc),
+    ("Mastercam MPFAN", "Fanuc 0i", Controller::Fanuc, false, mastercam),
+    ("CAMWorks Fanuc post", "Fanuc 0i", Controller::Fanuc, false, camworks),
+    ("hand-written Haas macro", "Haas NGC", Controller::Haas, false, haas_macro),
+    ("hand-written Fanuc Custom Macro B", "Fanuc 30i", Controller::Fanuc, false, fanuc_macro),
+    ("Fadal format 2 (hand-written)", "Fadal 88HS", Controller::Fadal, false, fadal),
+    ("Fusion 360 mach3mill.cps", "Mach3", Controller::Mach3, true, fusion_mach3),
+    ("CamBam Mach3 post", "Mach3", Controller::Mach3, true, cambam),
+    ("SketchUcam", "Mach3", Controller::Mach3, true, sketchucam),
+    ("Fusion 360 grbl.cps (OpenBuilds)", "grbl 1.1", Controller::Grbl, true, fusion_grbl),
+    ("pcb2gcode --nog64 --nom6", "grbl 1.1", Controller::Grbl, true, pcb2gcode_grbl),
+    ("pcb2gcode", "LinuxCNC 2.9", Controller::LinuxCnc, true, pcb2gcode),
+    ("Fusion 360 linuxcnc.cps", "LinuxCNC 2.9", Controller::LinuxCnc, true, fusion_linuxcnc),
+    ("Fusion 360 tormach.cps", "Tormach PathPilot", Controller::LinuxCnc, true, tormach),
+    ("PyCAM", "LinuxCNC 2.9", Controller::LinuxCnc, true, pycam),
+    ("HeeksCNC emc2b", "LinuxCNC 2.9", Controller::LinuxCnc, true, heekscnc),
+    ("hand-written LinuxCNC (O-words)", "LinuxCNC 2.9", Controller::LinuxCnc, true, linuxcnc_hand),
 ];
 
 /// The whole corpus: `per_style` variants of each style.
 pub fn corpus(per_style: usize) -> Vec<Sample> {
     let mut out = Vec::new();
-    for (post, controller, rs274, f) in STYLES {
+    for (post, controller, dialect, rs274, f) in STYLES {
         for k in 0..per_style {
             let slug: String = post.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
             let ext = if rs274 { "ngc" } else { "nc" };
-            out.push(Sample { post, controller, name: format!("{slug}_{k}.{ext}"), bytes: f(k), rs274 });
+            out.push(Sample { post, controller, dialect, name: format!("{slug}_{k}.{ext}"), bytes: f(k), rs274 });
         }
     }
     out
@@ -507,6 +511,16 @@ fn fusion_grbl(k: usize) -> Vec<u8> {
 /// pcb2gcode: comments after every block, `G94`, `G64 P..`, dwell `G04 P1`, `(MSG, ...)` before a
 /// tool change `M6` and a pause `M0`, five decimals, only `G1`/`G0` (an outline).
 fn pcb2gcode(k: usize) -> Vec<u8> {
+    pcb2gcode_flavour(k, false)
+}
+
+/// pcb2gcode for grbl (its options `--nog64 --nom6`: grbl knows neither G64 nor M6): the tool
+/// change is a message and a pause.
+fn pcb2gcode_grbl(k: usize) -> Vec<u8> {
+    pcb2gcode_flavour(k, true)
+}
+
+fn pcb2gcode_flavour(k: usize, grbl: bool) -> Vec<u8> {
     let p = Part::new(k, k % 2 == 1);
     let mut w = W::new(Digits::Fixed(5), " ");
     w.modal_g = false;
@@ -516,14 +530,18 @@ fn pcb2gcode(k: usize) -> Vec<u8> {
     w.raw(&format!("{} ( Units == {}. )", units(&p), if p.inch { "INCHES" } else { "Millimeters" }));
     w.raw("G90 ( Absolute coordinates. )");
     w.raw(&format!("G00 S{} ( RPM spindle speed. )", p.spindle));
-    w.raw(&format!("G64 P{} ( set maximum deviation from commanded toolpath )", if p.inch { "0.00040" } else { "0.01000" }));
+    if !grbl {
+        w.raw(&format!("G64 P{} ( set maximum deviation from commanded toolpath )", if p.inch { "0.00040" } else { "0.01000" }));
+    }
     w.raw(&format!("G01 F{} ( Feedrate. )", w.num(p.feed)));
     w.raw(&format!("G00 Z{} (Retract to tool change height)", w.num(p.clear)));
     w.raw("T2");
     w.raw("M5      (Spindle stop.)");
     w.raw("G04 P1.00000 (Wait for spindle to stop)");
     w.raw("(MSG, Change tool bit to cutter diameter 2.00000mm)");
-    w.raw("M6      (Tool change.)");
+    if !grbl {
+        w.raw("M6      (Tool change.)");
+    }
     w.raw("M0      (Temporary machine stop.)");
     w.raw("M3 ( Spindle on clockwise. )");
     w.raw("G04 P1.00000 (Wait for spindle to get up to speed)");

@@ -1,0 +1,151 @@
+//! Which controller a program was written for: its family from [`Dialect::detect`], then codes
+//! only one controller of that family has, then a controller named in a comment (a post's
+//! header, `(POST: HAAS VF2)`). Siemens's native language is told by its own constructs first.
+//!
+//! - Siemens 840D: `CYCLE81(`...`CYCLE83(`, `CYCLE800(`, `CYCLE832(`, `MCALL`, `CR=`, `AR=`, a
+//!   line starting `TRANS`/`ATRANS`/`MSG(`, `R1=` assignments, `DEF REAL`/`DEF INT`;
+//! - Haas: `G103`, `G154`, `G187`, `M97`, `POPEN`, `PCLOS`, `DPRNT[`, `BPRNT[`;
+//! - Fadal: its macro statements, a line starting `#` and a blank or a keyword (`# V1 = 2`,
+//!   `#:LOOP`, `# IF`, `# CLEAR`, `# PRINT`);
+//! - grbl: its system commands, a line starting `$` (`$H` homing, `$X` unlock, `$J=` jogging,
+//!   `$32=1` a setting);
+//! - a comment naming HAAS, FADAL, GRBL, MACH3/MACH 3, MACH4/MACH 4, or SINUMERIK/840D.
+
+use super::Controller;
+use crate::dialect::Dialect;
+
+pub(super) fn controller(text: &str) -> Controller {
+    let family = Dialect::detect(text);
+    let mut marks = [0usize; 8];
+    let mut named = [0usize; 8];
+    let index = |c: Controller| Controller::ALL.iter().position(|&x| x == c).expect("every controller is in ALL");
+    for raw in text.lines().take(20_000) {
+        let upper = raw.trim().to_ascii_uppercase();
+        let (code, comment) = split_comment(&upper);
+        if let Some(c) = marker(&code) {
+            marks[index(c)] += 1;
+        }
+        if let Some(c) = named_in(&comment) {
+            named[index(c)] += 1;
+        }
+    }
+    if marks[index(Controller::Siemens)] > 0 {
+        return Controller::Siemens;
+    }
+    let of_family: Vec<Controller> = Controller::ALL.into_iter().filter(|c| c.family() == family).collect();
+    let best = |counts: &[usize; 8]| of_family.iter().copied().filter(|&c| counts[index(c)] > 0).max_by_key(|&c| counts[index(c)]);
+    best(&marks).or_else(|| best(&named)).unwrap_or(Controller::of_family(family))
+}
+
+/// The first line (1-based) whose code marks `controller`.
+pub(super) fn first_line(text: &str, controller: Controller) -> Option<usize> {
+    text.lines().position(|raw| marker(&split_comment(&raw.trim().to_ascii_uppercase()).0) == Some(controller)).map(|k| k + 1)
+}
+
+/// The code part of an upper-case line and its comments (`( )`, and what follows `;`).
+fn split_comment(line: &str) -> (String, String) {
+    let (mut code, mut comment) = (String::new(), String::new());
+    let mut depth = 0;
+    for (i, c) in line.char_indices() {
+        match c {
+            '(' if depth == 0 && !code.ends_with(|p: char| p.is_ascii_alphanumeric() || p == '=') => depth = 1,
+            ')' if depth > 0 => depth = 0,
+            ';' if depth == 0 => {
+                comment.push_str(&line[i + 1..]);
+                break;
+            }
+            _ if depth > 0 => comment.push(c),
+            _ => code.push(c),
+        }
+    }
+    (code, comment)
+}
+
+/// The controller only whose programs hold this code line.
+fn marker(code: &str) -> Option<Controller> {
+    let compact: String = code.chars().filter(|c| !c.is_whitespace()).collect();
+    let after_n = compact.trim_start_matches('/');
+    let after_n = match after_n.strip_prefix('N') {
+        Some(rest) => rest.trim_start_matches(|c: char| c.is_ascii_digit()),
+        None => after_n,
+    };
+    let siemens = ["CYCLE81(", "CYCLE82(", "CYCLE83(", "CYCLE800(", "CYCLE832(", "MCALL", "CR=", "AR="].iter().any(|k| compact.contains(k))
+        || ["TRANS", "ATRANS", "MSG(", "DEFREAL", "DEFINT"].iter().any(|k| after_n.starts_with(k))
+        || r_assignment(after_n);
+    if siemens {
+        return Some(Controller::Siemens);
+    }
+    if ["POPEN", "PCLOS", "DPRNT[", "BPRNT["].iter().any(|k| after_n.starts_with(k))
+        || ["G103", "G154", "G187", "M97"].iter().any(|k| has_code(&compact, k))
+    {
+        return Some(Controller::Haas);
+    }
+    let fadal_macro = code.trim_start().strip_prefix('#').is_some_and(|rest| {
+        rest.starts_with([' ', ':'])
+            || ["IF", "CLEAR", "PRINT", "GOTO", "V", "R"].iter().any(|k| rest.starts_with(k) && !rest[k.len()..].starts_with('['))
+                && !rest.starts_with(|c: char| c.is_ascii_digit())
+    });
+    if fadal_macro {
+        return Some(Controller::Fadal);
+    }
+    if code.trim_start().starts_with('$') {
+        return Some(Controller::Grbl);
+    }
+    None
+}
+
+/// `R12=...`: a Siemens R parameter assignment (an `R` word is never followed by `=` elsewhere).
+fn r_assignment(s: &str) -> bool {
+    s.strip_prefix('R').is_some_and(|rest| {
+        let digits = rest.chars().take_while(char::is_ascii_digit).count();
+        digits > 0 && rest[digits..].starts_with('=')
+    })
+}
+
+/// Whether `code` (`G103`) stands as a word in the compact line, not inside a longer number.
+fn has_code(compact: &str, code: &str) -> bool {
+    compact.match_indices(code).any(|(i, _)| {
+        let before_ok = i == 0 || !compact.as_bytes()[i - 1].is_ascii_alphabetic();
+        let after = &compact[i + code.len()..];
+        before_ok && !after.starts_with(|c: char| c.is_ascii_digit() || c == '.')
+    })
+}
+
+/// The controller a comment names.
+fn named_in(comment: &str) -> Option<Controller> {
+    let names: [(&[&str], Controller); 6] = [
+        (&["SINUMERIK", "840D"], Controller::Siemens),
+        (&["HAAS"], Controller::Haas),
+        (&["FADAL"], Controller::Fadal),
+        (&["GRBL"], Controller::Grbl),
+        (&["MACH3", "MACH 3"], Controller::Mach3),
+        (&["MACH4", "MACH 4"], Controller::Mach4),
+    ];
+    names.iter().find(|(keys, _)| keys.iter().any(|k| comment.contains(k))).map(|(_, c)| *c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn controllers_told_apart() {
+        let haas = "%\nO1001 (PART)\nG00 G17 G40 G49 G80 G90\nG154 P1\nG187 P1 E0.01\nM30\n%\n";
+        assert_eq!(controller(haas), Controller::Haas);
+        assert_eq!(controller("%\nO1001\nG0 X1.\nM30\n%\n"), Controller::Fanuc);
+        assert_eq!(controller("%\nO1001 (POST: FADAL 88HS)\nG0 X1.\nM30\n%\n"), Controller::Fadal);
+        assert_eq!(controller("%\nO1\n# V1 = 2\n#:LOOP\nG0 X1.\nM30\n%\n"), Controller::Fadal);
+        assert_eq!(controller("$H\nG21 G90\nG0 X1 Y1\nM2\n"), Controller::Grbl);
+        assert_eq!(controller("(Exported for GRBL)\nG21 G90\nG0 X1 Y1\nM2\n"), Controller::Grbl);
+        assert_eq!(controller("(Mach3 post)\nG21 G90\nG0 X1 Y1\nM30\n"), Controller::Mach3);
+        assert_eq!(controller("G21 G90\nG0 X1 Y1\nM2\n"), Controller::LinuxCnc);
+        let siemens = "; SINUMERIK\nN10 G17 G90 G54\nR1=5\nN20 G2 X10 Y10 CR=5\nMCALL CYCLE81(10,0,2,-5)\nM30\n";
+        assert_eq!(controller(siemens), Controller::Siemens);
+        assert_eq!(controller("N10 G0 X10 Y10\nN20 TRANS X5\nM30\n"), Controller::Siemens);
+        // a Fanuc macro variable `#100 = 2` and a LinuxCNC `#<x>` are no Fadal macro statements
+        assert_eq!(controller("%\nO1\n#100 = 2\nG0 X#100\nM30\n%\n"), Controller::Fanuc);
+        assert_eq!(controller("#<x> = 2\nG0 X#<x>\nM2\n"), Controller::LinuxCnc);
+        // a Haas code named in a comment only is no Haas code
+        assert_eq!(controller("%\nO1 (NO G187 HERE)\nG0 X1.\nM30\n%\n"), Controller::Fanuc);
+    }
+}
