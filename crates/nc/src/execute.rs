@@ -157,8 +157,7 @@ fn group(code: u16, dialect: Dialect) -> Result<Group, String> {
             611 => Path,
             70 | 80 => Lathe,
             281 | 301 | 921..=923 => NonModal,
-            50 | 51 => Motion,
-            52 | 53 => return refuse("(NURBS) is not supported: convert it to lines or arcs"),
+            50..=53 => Motion,
             700 | 710 | 711 | 720 | 721 => return refuse("(lathe roughing cycle) is not supported"),
             171 | 181 | 191 => return refuse("(U V W planes) is not supported"),
             _ => Unknown,
@@ -888,6 +887,9 @@ impl Exec<'_> {
     fn motion(&mut self, code: u16, w: &mut Words, g53: bool, step: usize) -> Result<(), String> {
         let inverse = self.state.feed_mode == FeedMode::InverseTime;
         let words = axis_mask(w);
+        if self.nurbs.is_some() && !matches!(code, 52 | 53) {
+            return Err("a G5.2 NURBS must be ended by G5.3 before another motion (LinuxCNC drops an unfinished one)".into());
+        }
         match code {
             0 | 10 => {
                 self.state.motion = if code == 0 { Motion::Rapid } else { Motion::Feed };
@@ -913,6 +915,19 @@ impl Exec<'_> {
                 self.feed_for_move(w)?;
                 self.trace.steps[step].flags |= flags::EXPAND | flags::SPLINE;
                 crate::splines::spline(self, code, w)
+            }
+            52 | 53 => {
+                if inverse {
+                    return Err("a NURBS cannot run in inverse-time feed (G93)".into());
+                }
+                self.feed_for_move(w)?;
+                let curve = if code == 53 { flags::SPLINE } else { 0 };
+                self.trace.steps[step].flags |= flags::EXPAND | flags::NURBS | curve;
+                if code == 52 {
+                    crate::nurbs::control_point(self, w)
+                } else {
+                    crate::nurbs::finish(self, w)
+                }
             }
             800 => {
                 self.state.motion = self.after_g80();

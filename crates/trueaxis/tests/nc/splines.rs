@@ -98,3 +98,151 @@ fn splines_become_chords_on_the_curve_and_are_corrected() {
     let report = oracle.compare(&original, &corrected, &vec![0.0; machine.axis_count()], 0.05, 1.05, &[]).unwrap();
     println!("corrected: {} moves, ends within {:.4} um, path within {:.4} um", report.moves, report.worst_end_um, report.worst_path_um);
 }
+
+/// NURBS blocks in the styles seen in published programs: the LinuxCNC manual's layout (control
+/// points on continuation lines, `L3`, a heavier last point), a quarter circle as a rational
+/// quadratic, a cubic Bézier written as an order-4 NURBS with expressions (as font tracers write
+/// glyph outlines), and a cubic B-spline of six points with unequal weights in G91.
+const NURBS: &str = "G21 G17 G90 G94\nG0 X-30 Y-20 Z5\nG1 Z-1 F400\n(quadratic, the default order)\n\
+                     G5.2 X-30 Y-10 P1 L3\n     X-20 Y-5 P1\n     X-20 Y-15 P1\n     X-10 Y-20 P2\nG5.3\n\
+                     (a quarter circle about X-10 Y0)\nG5.2 X10 Y-20 P[SQRT[2]/2]\nX10 Y0 P1\nG5.3\n\
+                     #3 = 2\n#5 = 10\n#6 = 0\nG5.2 X[3*#3+#5] Y[4*#3+#6] L4 P1\nX[6*#3+#5] Y[2*#3+#6] P1\nX[8*#3+#5] Y[5*#3+#6] P1\nG5.3\n\
+                     G91\nG5.2 X5 Y-10 P1 L4\nX10 Y5 P0.5\nX15 Y-5 P2\nX20 Y10 P1\nX25 Y0 P1\nG5.3\nG90 G1 Z10\nM2\n";
+
+/// The control points (X, Y, weight) and order of each curve of `NURBS`, by hand from the
+/// manual's rules: the current position first (weight 1), G91 points counted from the start.
+fn nurbs_controls() -> Vec<(Vec<[f64; 3]>, usize)> {
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    vec![
+        (vec![[-30.0, -20.0, 1.0], [-30.0, -10.0, 1.0], [-20.0, -5.0, 1.0], [-20.0, -15.0, 1.0], [-10.0, -20.0, 2.0]], 3),
+        (vec![[-10.0, -20.0, 1.0], [10.0, -20.0, h], [10.0, 0.0, 1.0]], 3),
+        (vec![[10.0, 0.0, 1.0], [16.0, 8.0, 1.0], [22.0, 4.0, 1.0], [26.0, 10.0, 1.0]], 4),
+        (vec![[26.0, 10.0, 1.0], [31.0, 0.0, 1.0], [36.0, 15.0, 0.5], [41.0, 5.0, 2.0], [46.0, 20.0, 1.0], [51.0, 10.0, 1.0]], 4),
+    ]
+}
+
+/// The NURBS by its definition: Cox-de Boor basis functions on LinuxCNC's clamped uniform knots
+/// (0 k times, then 1, 2, ..., then n - k + 2 k times), u in [0, n - k + 2].
+fn nurbs_point(c: &[[f64; 3]], k: usize, u: f64) -> [f64; 2] {
+    let n = c.len() - 1;
+    let top = (n + 2 - k) as f64;
+    let t: Vec<f64> = (0..=n + k)
+        .map(|i| {
+            if i < k {
+                0.0
+            } else if i <= n {
+                (i + 1 - k) as f64
+            } else {
+                top
+            }
+        })
+        .collect();
+    fn basis(t: &[f64], i: usize, k: usize, u: f64, top: f64) -> f64 {
+        if k == 1 {
+            let inside = t[i] <= u && (u < t[i + 1] || (u == top && t[i + 1] == top && t[i] < top));
+            return if inside { 1.0 } else { 0.0 };
+        }
+        let left = if t[i + k - 1] > t[i] { (u - t[i]) / (t[i + k - 1] - t[i]) * basis(t, i, k - 1, u, top) } else { 0.0 };
+        let right = if t[i + k] > t[i + 1] { (t[i + k] - u) / (t[i + k] - t[i + 1]) * basis(t, i + 1, k - 1, u, top) } else { 0.0 };
+        left + right
+    }
+    let (mut x, mut y, mut w) = (0.0, 0.0, 0.0);
+    for (i, p) in c.iter().enumerate() {
+        let b = basis(&t, i, k, u, top) * p[2];
+        x += b * p[0];
+        y += b * p[1];
+        w += b;
+    }
+    [x / w, y / w]
+}
+
+/// The distance of `p` from the curve `f` on [0, top]: the nearest of 20,000 samples, then a
+/// ternary search around it.
+fn distance_to_curve(f: &dyn Fn(f64) -> [f64; 2], top: f64, p: [f64; 2]) -> f64 {
+    let dist = |u: f64| {
+        let c = f(u);
+        (c[0] - p[0]).hypot(c[1] - p[1])
+    };
+    let n = 20_000;
+    let i = (0..=n).min_by(|&a, &b| dist(top * a as f64 / n as f64).total_cmp(&dist(top * b as f64 / n as f64))).unwrap();
+    let (mut lo, mut hi) = (top * (i as f64 - 1.0).max(0.0) / n as f64, top * (i as f64 + 1.0).min(n as f64) / n as f64);
+    for _ in 0..80 {
+        let (a, b) = (lo + (hi - lo) / 3.0, hi - (hi - lo) / 3.0);
+        if dist(a) < dist(b) {
+            hi = b;
+        } else {
+            lo = a;
+        }
+    }
+    dist(0.5 * (lo + hi))
+}
+
+#[test]
+fn nurbs_become_chords_within_a_micrometre_of_the_curve_and_are_corrected() {
+    let Some(rs) = rs274() else { return };
+    let machine = crate::linuxcnc_samples::mill();
+    let errors = ErrorModel::load("../../examples/errors/vmc3.toml", &machine).unwrap();
+    let mut options = NcOptions::new(&machine);
+    options.dialect = Some(Dialect::LinuxCnc);
+    options.setup.machine_inch = true;
+    let (trace, _) = run_program(&machine, NURBS, "nurbs.ngc", &options).unwrap();
+    // rs274 runs each curve as NURBS_FEED without its points: the moves around them, which start
+    // where each curve ends, are the ones trueaxis reads
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("nurbs.ngc"), NURBS).unwrap();
+    let theirs = rs.run(dir.path(), "nurbs.ngc", None).unwrap();
+    let ours: Vec<_> = trace.moves.iter().filter(|m| m.role != Role::Generated).collect();
+    assert_eq!(ours.len(), theirs.len());
+    for (a, b) in ours.iter().zip(&theirs) {
+        assert!((0..3).all(|k| (a.end[k] - b.end[k]).abs() < 1e-9), "{:?} vs {:?}", a.end, b.end);
+    }
+    let steps: std::collections::BTreeSet<u32> = trace.moves.iter().filter(|m| m.role == Role::Generated).map(|m| m.step).collect();
+    assert_eq!(steps.len(), 4);
+    let (mut on, mut middle): (f64, f64) = (0.0, 0.0);
+    for ((c, k), step) in nurbs_controls().iter().zip(&steps) {
+        let chords: Vec<_> = trace.moves.iter().filter(|m| m.step == *step).collect();
+        let top = (c.len() + 1 - k) as f64;
+        let f = |u: f64| nurbs_point(c, *k, u);
+        let last = chords.last().unwrap().end;
+        assert!((last[0] - c[c.len() - 1][0]).abs() < 1e-12 && (last[1] - c[c.len() - 1][1]).abs() < 1e-12);
+        for m in &chords {
+            on = on.max(distance_to_curve(&f, top, [m.end[0], m.end[1]]));
+            middle = middle.max(distance_to_curve(&f, top, [(m.start[0] + m.end[0]) / 2.0, (m.start[1] + m.end[1]) / 2.0]));
+        }
+        println!("order {k}, {} control points: {} chords", c.len(), chords.len());
+    }
+    println!("chord ends at most {on:.1e} mm from the curve, chord middles at most {:.3} um", middle * 1e3);
+    assert!(on < 1e-9, "{on}");
+    assert!(middle <= 0.001 + 1e-9 && middle > 0.0002, "{middle}");
+    // second formulations: the rational quadratic is a circle, the order-4 curve of four points
+    // is the cubic Bézier of its points (G5's curve)
+    let circle: Vec<_> = trace.moves.iter().filter(|m| m.step == *steps.iter().nth(1).unwrap()).collect();
+    assert!(circle.iter().all(|m| ((m.end[0] + 10.0).hypot(m.end[1]) - 20.0).abs() < 1e-9));
+    let cubic = [[10.0, 0.0], [16.0, 8.0], [22.0, 4.0], [26.0, 10.0]];
+    for m in trace.moves.iter().filter(|m| m.step == *steps.iter().nth(2).unwrap()) {
+        assert!(distance_to_curve(&|t| curve(&cubic, t), 1.0, [m.end[0], m.end[1]]) < 1e-9);
+    }
+    // corrected: written as lines, run by rs274, through the erroneous machine onto the chords
+    let corrector = Corrector::new(&machine, &errors);
+    let r = correct_program(&corrector, NURBS, "nurbs.ngc", &options, &[]).unwrap();
+    assert_eq!(
+        r.expanded.iter().filter(|e| e.contains("NURBS (G5.2-G5.3) as lines within 1 um of the curve")).count(),
+        4,
+        "{:?}",
+        r.expanded
+    );
+    let text = String::from_utf8_lossy(&r.program);
+    assert!(text.lines().all(|l| !l.trim_start().starts_with("G5")), "{text}");
+    assert_eq!(text.matches("(NURBS control point").count(), 14, "{text}");
+    std::fs::write(dir.path().join("corrected.ngc"), &r.program).unwrap();
+    let corrected = rs.run(dir.path(), "corrected.ngc", None).unwrap();
+    let original = crate::fanuc::read(&machine, NURBS, &options);
+    let oracle = Oracle { machine: &machine, errors: &errors, temperatures: vec![] };
+    let report = oracle.compare(&original, &corrected, &vec![0.0; machine.axis_count()], 0.05, 1.05, &[]).unwrap();
+    println!("corrected: {} moves, ends within {:.4} um, path within {:.4} um", report.moves, report.worst_end_um, report.worst_path_um);
+    // nothing to correct: every NURBS stays as it was
+    let zero = ErrorModel::zero(&machine);
+    let r = correct_program(&Corrector::new(&machine, &zero), NURBS, "nurbs.ngc", &options, &[]).unwrap();
+    assert!(r.program == NURBS.as_bytes(), "{:?}", r.expanded);
+    assert_eq!((r.changed_lines, r.inserted_lines), (0, 0));
+}
