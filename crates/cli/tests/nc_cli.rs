@@ -79,9 +79,19 @@ fn both_dialects_run_with_a_tool_table_offsets_and_a_subroutine_file() {
     // the G83 pattern stays a cycle, its holes corrected; --expand-cycles writes its moves
     assert!(text.contains("N55 G98 G83 X19.99") && text.contains("\nN60 X39.99"), "{text}");
     assert_eq!(doc["expanded"].as_array().unwrap().len(), 1, "{doc}");
+    // one report per hole kept as a cycle: the three of lines 13-15 (N55 N60 N65), drilled along Z
+    let holes = doc["holes"].as_array().unwrap();
+    let lines: Vec<u64> = holes.iter().map(|h| h["line"].as_u64().unwrap()).collect();
+    assert_eq!(lines, [13, 14, 15], "{doc}");
+    for h in holes {
+        assert_eq!((h["cycle"].as_str(), h["axis"].as_str()), (Some("G83"), Some("Z")), "{h}");
+        let (lean, clearance) = (h["lean_um"].as_f64().unwrap(), h["clearance_um"].as_f64().unwrap());
+        assert!((0.0..1.0).contains(&lean) && (0.0..5.0).contains(&clearance), "{h}");
+    }
     let (code, stdout, stderr) = nc("examples/errors/vmc3.toml", &[&args[..], &["--expand-cycles"]].concat());
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    assert_eq!(doc["holes"].as_array().map(Vec::len), Some(0), "no hole stays a cycle: {doc}");
     let expanded: Vec<&str> = doc["expanded"].as_array().unwrap().iter().map(|v| v.as_str().unwrap()).collect();
     assert_eq!(expanded[..3], ["line 13, canned cycle", "line 14, canned cycle", "line 15, canned cycle"], "{doc}");
     // --dialect linuxcnc reads the Fanuc program as LinuxCNC: its O number is no O-word

@@ -790,6 +790,9 @@ impl Exec<'_> {
     fn motion(&mut self, code: u16, w: &mut Words, g53: bool, step: usize) -> Result<(), String> {
         let inverse = self.state.feed_mode == FeedMode::InverseTime;
         let words = axis_mask(w);
+        if self.nurbs.is_some() && !matches!(code, 52 | 53) {
+            return Err("a G5.2 NURBS must be ended by G5.3 before another motion (LinuxCNC drops an unfinished one)".into());
+        }
         match code {
             0 | 10 => {
                 self.state.motion = if code == 0 { Motion::Rapid } else { Motion::Feed };
@@ -815,6 +818,19 @@ impl Exec<'_> {
                 self.feed_for_move(w)?;
                 self.trace.steps[step].flags |= flags::EXPAND | flags::SPLINE;
                 crate::splines::spline(self, code, w)
+            }
+            52 | 53 => {
+                if inverse {
+                    return Err("a NURBS cannot run in inverse-time feed (G93)".into());
+                }
+                self.feed_for_move(w)?;
+                let curve = if code == 53 { flags::SPLINE } else { 0 };
+                self.trace.steps[step].flags |= flags::EXPAND | flags::NURBS | curve;
+                if code == 52 {
+                    crate::nurbs::control_point(self, w)
+                } else {
+                    crate::nurbs::finish(self, w)
+                }
             }
             800 => {
                 self.state.motion = self.after_g80();

@@ -83,6 +83,8 @@ pub(crate) struct Exec<'m> {
     pub machine: &'m MachineAxes,
     /// P Q of the last `G5` (a `G5` without I J after it mirrors them).
     pub spline_pq: Option<(f64, f64)>,
+    /// The NURBS being collected between `G5.2` and `G5.3`.
+    pub nurbs: Option<crate::nurbs::Pending>,
     pub dialect: Dialect,
     /// The controller's codes.
     pub table: &'static crate::dialects::DialectTable,
@@ -207,6 +209,10 @@ pub fn run(machine: &MachineAxes, mut program: Program, setup: &ProgramSetup) ->
             }
         }
     }
+    if let Some(nurbs) = &exec.nurbs {
+        let message = "the G5.2 NURBS is not ended by G5.3 (LinuxCNC would not run it)".into();
+        return Err(NcError { file: program.files[0].name.clone(), line: nurbs.line, message });
+    }
     Ok((exec.trace, program))
 }
 
@@ -247,6 +253,7 @@ impl<'m> Exec<'m> {
             expand_cycles: setup.expand_cycles,
             tool_at_last_move: [0.0; AXES],
             spline_pq: None,
+            nurbs: None,
             unknown_tools: setup.unknown_tools,
         };
         let n = machine.axis_count();

@@ -13,8 +13,8 @@
 //! Files: [`lexer`] (reading a line), [`expr`] (expressions), [`params`] (parameters and their
 //! scopes), [`program`] (files and their control structures), [`interpret`] (control flow),
 //! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
-//! [`arcs`], [`cycles`], [`tools`] (tool table), [`dialect`] (the two families of grammar),
-//! [`dialects`] (each controller's codes, as data), [`trace`] (what a run did),
+//! [`arcs`], [`splines`] and [`nurbs`] (as chords), [`cycles`], [`tools`] (tool table), [`dialect`] (the two
+//! families of grammar), [`dialects`] (each controller's codes, as data), [`trace`] (what a run did),
 //! [`plan`] (what stays, what is expanded), [`path`] (points along moves, split points),
 //! [`write`] (the text with moved points).
 
@@ -28,6 +28,7 @@ pub mod expr;
 pub mod interpret;
 pub mod lexer;
 pub mod modal;
+pub mod nurbs;
 pub mod offsets;
 pub mod params;
 pub mod path;

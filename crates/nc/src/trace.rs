@@ -101,6 +101,9 @@ pub mod flags {
     pub const JUMP_BACK: u16 = 16;
     /// A spline (`G5`, `G5.1`) run as chords.
     pub const SPLINE: u16 = 32;
+    /// A line of a NURBS (`G5.2` control points, `G5.3` running it as chords): always written
+    /// as its chords.
+    pub const NURBS: u16 = 64;
 }
 
 /// One executed line.

@@ -40,6 +40,8 @@ pub struct Writer<'a> {
     pub out: Vec<Option<Vec<String>>>,
     region: Vec<String>,
     region_changed: bool,
+    /// Lines of the NURBS being written (its control points), commented out unless it is kept.
+    nurbs_lines: Vec<usize>,
     pub changed_lines: usize,
     pub inserted_lines: usize,
     /// Parameters and the tool table are in inch.
@@ -82,6 +84,7 @@ impl<'a> Writer<'a> {
             out: vec![None; program.files[0].lines.len()],
             region: Vec::new(),
             region_changed: false,
+            nurbs_lines: Vec::new(),
             changed_lines: 0,
             inserted_lines: 0,
             machine_inch: false,
@@ -269,7 +272,7 @@ impl<'a> Writer<'a> {
     }
 
     /// Whether the move's corrected pieces differ from the original move at the written resolution.
-    fn move_changes(&self, m: &Move, frame: &Frame, pieces: &Pieces) -> bool {
+    fn move_changes(&self, m: &Move, frame: &Frame, pieces: &Pieces, from_start: bool) -> bool {
         if pieces.len() > 1 {
             return true;
         }
@@ -277,7 +280,8 @@ impl<'a> Writer<'a> {
         (0..self.machine.axis_count()).any(|i| {
             let k = self.axis_map.iter().position(|&x| x == Some(i)).unwrap_or(0);
             let unit = if is_linear(k) { s } else { 1.0 };
-            pieces[0].1[i].abs() / unit >= self.half(frame, k) || (self.written[i] - m.start[i]).abs() / unit >= self.half(frame, k)
+            pieces[0].1[i].abs() / unit >= self.half(frame, k)
+                || (from_start && (self.written[i] - m.start[i]).abs() / unit >= self.half(frame, k))
         })
     }
 
@@ -636,7 +640,10 @@ impl<'a> Writer<'a> {
                     out.push(words.join(" "));
                 }
                 Role::Words | Role::Generated => {
-                    if self.move_changes(m, &frame, p) {
+                    // the chords of a curve start where the rounded chord before ended: only the
+                    // first start counts
+                    let from_start = i == 0 || !step.has(crate::trace::flags::SPLINE);
+                    if self.move_changes(m, &frame, p, from_start) {
                         self.region_changed = true;
                     }
                     let hold = if p.len() == 1 { full_circle(m) } else { 0 };
@@ -734,10 +741,21 @@ impl<'a> Writer<'a> {
     fn single(&mut self, step: &Step, pieces: &[Pieces], k: usize) {
         let sequence = self.program.files[0].lines[k].as_ref().ok().and_then(|l| l.sequence);
         self.region_changed = false;
-        let lines = self.expanded(step, pieces, sequence);
+        let mut lines = self.expanded(step, pieces, sequence);
         let text = self.program.files[0].line_text(k).to_string();
+        let nurbs = step.has(crate::trace::flags::NURBS);
+        if nurbs && !step.has(crate::trace::flags::SPLINE) {
+            // a control point: the curve is written as chords at its G5.3 if they change
+            lines.push(format!("(NURBS control point, written as lines at G5.3: {})", text.trim().replace(['(', ')'], "")));
+            self.out[k] = Some(lines);
+            self.nurbs_lines.push(k);
+            return;
+        }
+        let control_points = std::mem::take(&mut self.nurbs_lines);
         if self.region_changed {
-            let what = if step.has(crate::trace::flags::SPLINE) {
+            let what = if nurbs {
+                "NURBS (G5.2-G5.3) as lines within 1 um of the curve"
+            } else if step.has(crate::trace::flags::SPLINE) {
                 "spline as lines within 1 um of the curve"
             } else if self.trace.step_moves(step).iter().all(|m| matches!(m.kind, MoveKind::Arc { .. })) {
                 "arc of several turns"
@@ -745,9 +763,8 @@ impl<'a> Writer<'a> {
                 "canned cycle"
             };
             self.notes.push(format!("line {}, {what}", k + 1));
-            self.changed_lines += 1;
+            self.changed_lines += 1 + control_points.len();
             self.inserted_lines += lines.len().saturating_sub(1);
-            let mut lines = lines;
             if let Some(c) = comment_of(&text) {
                 if let Some(first) = lines.first_mut() {
                     if !first.contains(&c) {
@@ -762,6 +779,9 @@ impl<'a> Writer<'a> {
                 self.written = m.end;
             }
             self.out[k] = Some(vec![text]);
+            for c in control_points {
+                self.out[c] = Some(vec![self.program.files[0].line_text(c).to_string()]);
+            }
         }
     }
 

@@ -283,6 +283,9 @@ pub fn kinematics_json(machine: &Machine, kinematics: &KinematicCorrection, desc
     })
 }
 
+/// The drilling axes of canned cycles (G19, G18, G17).
+const AXIS_NAMES: [&str; 3] = ["X", "Y", "Z"];
+
 /// The summary of `trueaxis nc --json`; the program text when it was not written to `out`.
 pub fn nc_json(result: &NcResult, out: Option<&str>) -> Value {
     json!({
@@ -299,6 +302,13 @@ pub fn nc_json(result: &NcResult, out: Option<&str>) -> Value {
         "max_correction_urad": result.max_correction_urad,
         "max_residual_um": result.max_residual_um,
         "max_uncorrectable_urad": result.max_uncorrectable_urad,
+        "holes": result.holes.iter().map(|h| json!({
+            "line": h.line,
+            "cycle": format!("G{}", trueaxis_nc::execute::gcode_text(h.code)),
+            "axis": AXIS_NAMES[h.axis.min(2)],
+            "lean_um": round4(h.lean_um),
+            "clearance_um": round4(h.clearance_um),
+        })).collect::<Vec<_>>(),
         "out": out,
         "program": if out.is_none() { Some(result.text().into_owned()) } else { None },
     })
