@@ -15,7 +15,8 @@
 //! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
 //! [`arcs`], [`cycles`], [`tools`] (tool table), [`dialect`], [`trace`] (what a run did),
 //! [`plan`] (what stays, what is expanded), [`path`] (points along moves, split points),
-//! [`write`] (the text with moved points).
+//! [`write`] (the text with moved points), [`parts`] (a file read in parts, for programs of any
+//! length).
 
 pub mod arcs;
 pub mod axes;
@@ -28,6 +29,7 @@ pub mod lexer;
 pub mod modal;
 pub mod offsets;
 pub mod params;
+pub mod parts;
 pub mod path;
 pub mod plan;
 pub mod program;
@@ -40,7 +42,7 @@ pub mod write;
 
 pub use axes::{AxisSpec, MachineAxes, MAX_AXES};
 pub use dialect::Dialect;
-pub use interpret::FanucSettings;
+pub use interpret::{FanucSettings, Progress, Runner};
 pub use modal::MM_PER_INCH;
 pub use program::{Program, SearchPath};
 pub use tools::ToolTable;
