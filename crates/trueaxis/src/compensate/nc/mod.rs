@@ -197,7 +197,7 @@ pub fn correct_program(
     let mut out = Vec::new();
     match stream::correct_streamed(corrector, bytes, origin, options, temperatures, stream::Spool::Memory(Vec::new()), &mut out)? {
         stream::Streamed::Done(r) => Ok(NcResult { program: out, ..*r }),
-        stream::Streamed::NeedsWhole => correct_whole(corrector, bytes, origin, options, temperatures),
+        stream::Streamed::NeedsWhole(_) => correct_whole(corrector, bytes, origin, options, temperatures),
     }
 }
 
@@ -213,7 +213,7 @@ pub fn correct_whole(
     let mut out = Vec::new();
     match stream::correct_streamed(corrector, bytes, origin, &whole, temperatures, stream::Spool::Memory(Vec::new()), &mut out)? {
         stream::Streamed::Done(r) => Ok(NcResult { program: out, ..*r }),
-        stream::Streamed::NeedsWhole => unreachable!("a program of one part is whole"),
+        stream::Streamed::NeedsWhole(_) => unreachable!("a program of one part is whole"),
     }
 }
 

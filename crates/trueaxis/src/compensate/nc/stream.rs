@@ -77,10 +77,10 @@ impl Spool {
 }
 
 /// What a streamed correction gave: the summary (its `program` empty: the text went to the
-/// output), or the need of the whole program.
+/// output), or the need of the whole program and why.
 pub enum Streamed {
     Done(Box<NcResult>),
-    NeedsWhole,
+    NeedsWhole(String),
 }
 
 /// The program's parts with what reading them needs across parts.
@@ -150,13 +150,13 @@ pub fn correct_streamed(
     let Some(first) = source.next(first_lines)? else { unreachable!("a first part, empty or not") };
     let lf = first.bytes.iter().filter(|&&b| b == b'\n').count();
     if !first.last && options.dialect.is_none() && lf < DETECTION_LINES {
-        return Ok(Streamed::NeedsWhole);
+        return Ok(Streamed::NeedsWhole(format!("the dialect is detected on {DETECTION_LINES} lines ended by LF")));
     }
     let dialect = options.dialect.unwrap_or_else(|| Dialect::detect(&String::from_utf8_lossy(&first.bytes)));
     let file = match source.load(&first, dialect) {
         Ok(f) => f,
         Err(PartError::Input(e)) => return Err(e),
-        Err(PartError::Whole) => return Ok(Streamed::NeedsWhole),
+        Err(PartError::Whole) => return Ok(Streamed::NeedsWhole("a control structure spans parts".into())),
     };
     let setup = super::setup_for(options, dialect);
     let mut program = Program { dialect, files: vec![file], search: setup.search_path.clone() };
@@ -169,18 +169,18 @@ pub fn correct_streamed(
     let mut ended = false;
     loop {
         if program.files[0].continues && source.state.leading_percent.is_none() {
-            return Ok(Streamed::NeedsWhole);
+            return Ok(Streamed::NeedsWhole("a part of empty lines only".into()));
         }
         if !ended {
             match runner.advance(&mut program).map_err(input_error)? {
                 Progress::Ended => ended = true,
                 Progress::PartDone => {}
-                Progress::NeedsWhole(_) => return Ok(Streamed::NeedsWhole),
+                Progress::NeedsWhole(line) => return Ok(Streamed::NeedsWhole(format!("control flow at line {line}"))),
             }
         }
         let trace = runner.take_trace();
-        if !run.part(&program, &trace, runner.in_parts, &mut spool)? {
-            return Ok(Streamed::NeedsWhole);
+        if let Some(why) = run.part(&program, &trace, runner.in_parts, &mut spool)? {
+            return Ok(Streamed::NeedsWhole(why));
         }
         if part.last {
             break;
@@ -189,7 +189,7 @@ pub fn correct_streamed(
         program.files[0] = match source.load(&part, dialect) {
             Ok(f) => f,
             Err(PartError::Input(e)) => return Err(e),
-            Err(PartError::Whole) => return Ok(Streamed::NeedsWhole),
+            Err(PartError::Whole) => return Ok(Streamed::NeedsWhole("a control structure spans parts".into())),
         };
         runner.start_part(&program);
     }
@@ -235,11 +235,11 @@ impl<'a, 'b> PartsRun<'a, 'b> {
     }
 
     /// Corrects and writes the trace of one part (`in_parts`: the program is read in parts);
-    /// false when the part needs the whole program.
-    fn part(&mut self, program: &Program, trace: &Trace, in_parts: bool, spool: &mut Spool) -> Result<bool, CompensateError> {
+    /// why the part needs the whole program, if it does.
+    fn part(&mut self, program: &Program, trace: &Trace, in_parts: bool, spool: &mut Spool) -> Result<Option<String>, CompensateError> {
         let plan = plan::plan(program, trace);
         if in_parts && (plan.flattened.is_some() || !plan.regions.is_empty()) {
-            return Ok(false);
+            return Ok(Some(plan.flattened.unwrap_or_else(|| "a part is expanded".into())));
         }
         let main = &program.files[0];
         let mut writer = write::Writer::new(&self.axes, program, trace, &plan, self.decimals.0, self.decimals.1);
@@ -288,7 +288,7 @@ impl<'a, 'b> PartsRun<'a, 'b> {
             }
         }
         self.carry = Some(writer.carry());
-        Ok(true)
+        Ok(None)
     }
 
     /// The notes put in at the top (after the leading `%` and program-number lines) and the
