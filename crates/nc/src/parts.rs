@@ -39,10 +39,33 @@ impl<R: Read> PartReader<R> {
             return Ok(None);
         }
         let lines = lines.max(1);
+        self.fill(lines)?;
+        if self.ends >= lines {
+            let rest = self.pending.split_off(self.cut);
+            let bytes = std::mem::replace(&mut self.pending, rest);
+            self.scanned -= self.cut;
+            (self.ends, self.cut) = (0, 0);
+            return Ok(Some(Part { bytes, last: false }));
+        }
+        self.done = true;
+        Ok(Some(Part { bytes: std::mem::take(&mut self.pending), last: true }))
+    }
+
+    /// The next `lines` lines (or the rest of the file) without taking them: what the next parts
+    /// will hold, and whether that is the rest of the file.
+    pub fn peek(&mut self, lines: usize) -> std::io::Result<(&[u8], bool)> {
+        self.fill(lines)?;
+        let end = if self.ends >= lines { self.cut } else { self.pending.len() };
+        (self.scanned, self.ends, self.cut) = (0, 0, 0);
+        Ok((&self.pending[..end], self.eof && end == self.pending.len()))
+    }
+
+    /// Reads until `lines` line ends are counted or the input ends.
+    fn fill(&mut self, lines: usize) -> std::io::Result<()> {
         loop {
             self.scan(lines);
             if self.ends >= lines || self.eof {
-                break;
+                return Ok(());
             }
             let old = self.pending.len();
             self.pending.resize(old + BLOCK, 0);
@@ -55,15 +78,6 @@ impl<R: Read> PartReader<R> {
             self.pending.truncate(old + *read.as_ref().unwrap_or(&0));
             self.eof = read? == 0;
         }
-        if self.ends >= lines {
-            let rest = self.pending.split_off(self.cut);
-            let bytes = std::mem::replace(&mut self.pending, rest);
-            self.scanned -= self.cut;
-            (self.ends, self.cut) = (0, 0);
-            return Ok(Some(Part { bytes, last: false }));
-        }
-        self.done = true;
-        Ok(Some(Part { bytes: std::mem::take(&mut self.pending), last: true }))
     }
 
     /// Counts line ends in the unscanned bytes up to the `lines`-th.
@@ -107,6 +121,7 @@ mod tests {
             }
         }
         let mut r = PartReader::new(Dribble(bytes, chunk));
+        assert_eq!(r.peek(lines + 1).unwrap().0.len(), r.peek(lines + 1).unwrap().0.len());
         std::iter::from_fn(|| r.next_part(lines).unwrap()).collect()
     }
 
@@ -123,5 +138,9 @@ mod tests {
         let p = parts(b"G0 X1\rM2\r", 1, 1);
         assert_eq!(p.iter().map(|p| p.bytes.len()).collect::<Vec<_>>(), [6, 3, 0]);
         assert_eq!(parts(b"", 5, 4), [Part { bytes: vec![], last: true }]);
+        let mut r = PartReader::new(&text[..]);
+        assert_eq!(r.peek(3).unwrap(), (&b"G0 X1\r\nG1 Y2\rG1 Z3\n"[..], false));
+        assert_eq!(r.peek(9).unwrap(), (&text[..], true));
+        assert_eq!(r.next_part(1).unwrap().unwrap().bytes, b"G0 X1\r\n");
     }
 }

@@ -66,7 +66,7 @@ pub struct NcOptions {
     /// Correct a program that says it was corrected already (default: refused).
     pub force: bool,
     /// Lines read, run, corrected and written at a time ([`stream`]): what the memory of a long
-    /// program is bounded by (default 20,000: about 20 MB).
+    /// program is bounded by (default 4096: about 8 MB).
     pub part_lines: usize,
 }
 
@@ -85,7 +85,7 @@ impl NcOptions {
             dialect: None,
             header: None,
             force: false,
-            part_lines: 20_000,
+            part_lines: 4096,
         }
     }
 

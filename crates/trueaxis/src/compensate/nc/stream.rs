@@ -22,8 +22,8 @@ use trueaxis_nc::source::Ending;
 use trueaxis_nc::trace::Warning;
 use trueaxis_nc::{Dialect, Progress, Runner};
 
-/// Lines the dialect detection reads (`Dialect::detect`): a first part that is not the whole
-/// program must hold as many, so that detection sees what it sees on the whole text.
+/// Lines the dialect detection reads (`Dialect::detect`): it is given as many from the start of
+/// the file, so that it sees what it sees on the whole text.
 const DETECTION_LINES: usize = 20_000;
 
 /// Where the corrected lines wait for the notes at the top.
@@ -146,13 +146,16 @@ pub fn correct_streamed(
         origin: origin.to_string(),
         force: options.force,
     };
-    let first_lines = if options.dialect.is_some() { options.part_lines } else { options.part_lines.max(DETECTION_LINES) };
-    let Some(first) = source.next(first_lines)? else { unreachable!("a first part, empty or not") };
-    let lf = first.bytes.iter().filter(|&&b| b == b'\n').count();
-    if !first.last && options.dialect.is_none() && lf < DETECTION_LINES {
+    // the dialect is detected on the first lines ended by LF, as on the whole text (a file with
+    // other line ends is detected as one text)
+    let read_error = |source| crate::data::DataError::Read { path: origin.to_string(), source };
+    let (head, rest) = source.reader.peek(DETECTION_LINES).map_err(read_error)?;
+    let detected = rest || head.iter().filter(|&&b| b == b'\n').count() >= DETECTION_LINES;
+    if options.dialect.is_none() && !detected {
         return Ok(Streamed::NeedsWhole(format!("the dialect is detected on {DETECTION_LINES} lines ended by LF")));
     }
-    let dialect = options.dialect.unwrap_or_else(|| Dialect::detect(&String::from_utf8_lossy(&first.bytes)));
+    let dialect = options.dialect.unwrap_or_else(|| Dialect::detect(&String::from_utf8_lossy(head)));
+    let Some(first) = source.next(options.part_lines)? else { unreachable!("a first part, empty or not") };
     let file = match source.load(&first, dialect) {
         Ok(f) => f,
         Err(PartError::Input(e)) => return Err(e),
