@@ -80,17 +80,7 @@ pub fn assumed_tools_line(tools: &[u32], setup: &super::ProgramSetup, um_per_100
 /// The first line (1-based) of the first 100 whose comment says the program was corrected by
 /// trueaxis (a header, or the note on expanded parts of an older version), and that comment.
 pub fn find(program: &[u8]) -> Option<(usize, String)> {
-    find_from(program, &mut 0)
-}
-
-/// [`find`] in a part of a program after `seen` lines that are not empty (counted on).
-pub fn find_from(program: &[u8], seen: &mut usize) -> Option<(usize, String)> {
-    for line in program.split(|&b| b == b'\n' || b == b'\r').filter(|l| !l.is_empty()) {
-        if *seen >= 100 {
-            return None;
-        }
-        *seen += 1;
-        let k = *seen - 1;
+    for (k, line) in program.split(|&b| b == b'\n' || b == b'\r').filter(|l| !l.is_empty()).take(100).enumerate() {
         let text = String::from_utf8_lossy(line).to_ascii_lowercase();
         for comment in text.split(['(', ';']).skip(1) {
             let body = comment.trim_start();
@@ -105,12 +95,7 @@ pub fn find_from(program: &[u8], seen: &mut usize) -> Option<(usize, String)> {
 
 /// Refuses a program that carries the mark of a correction.
 pub fn check_uncorrected(program: &[u8], origin: &str) -> Result<(), NcError> {
-    check_part(program, origin, &mut 0)
-}
-
-/// [`check_uncorrected`] on a part of a program after `seen` lines that are not empty.
-pub fn check_part(program: &[u8], origin: &str, seen: &mut usize) -> Result<(), NcError> {
-    match find_from(program, seen) {
+    match find(program) {
         None => Ok(()),
         Some((line, comment)) => Err(NcError {
             file: origin.to_string(),

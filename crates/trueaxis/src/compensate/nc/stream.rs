@@ -88,10 +88,7 @@ struct Source<R> {
     reader: PartReader<R>,
     part_lines: usize,
     state: PartState,
-    /// Lines that are not empty seen by the check for a corrected program's header.
-    header_lines: usize,
     origin: String,
-    force: bool,
 }
 
 /// A part that could not be read alone: an error of the part (with the line in the file), or the
@@ -108,9 +105,6 @@ impl<R: Read> Source<R> {
 
     /// Reads `part` as the next part of the main file.
     fn load(&mut self, part: &Part, dialect: Dialect) -> Result<SourceFile, PartError> {
-        if !self.force && self.header_lines < 100 {
-            header::check_part(&part.bytes, &self.origin, &mut self.header_lines).map_err(|e| PartError::Input(input_error(e)))?;
-        }
         let first = self.state.lines == 0;
         let before = self.state;
         SourceFile::load_part(&self.origin, &part.bytes, dialect, &mut self.state, part.last).map_err(|(k, m)| {
@@ -138,14 +132,8 @@ pub fn correct_streamed(
     mut spool: Spool,
     out: &mut dyn Write,
 ) -> Result<Streamed, CompensateError> {
-    let mut source = Source {
-        reader: PartReader::new(reader),
-        part_lines: options.part_lines,
-        state: PartState::default(),
-        header_lines: 0,
-        origin: origin.to_string(),
-        force: options.force,
-    };
+    let mut source =
+        Source { reader: PartReader::new(reader), part_lines: options.part_lines, state: PartState::default(), origin: origin.to_string() };
     // the dialect is detected on the first lines ended by LF, as on the whole text (a file with
     // other line ends is detected as one text)
     let read_error = |source| crate::data::DataError::Read { path: origin.to_string(), source };
@@ -153,6 +141,11 @@ pub fn correct_streamed(
     let detected = rest || head.iter().filter(|&&b| b == b'\n').count() >= DETECTION_LINES;
     if options.dialect.is_none() && !detected {
         return Ok(Streamed::NeedsWhole(format!("the dialect is detected on {DETECTION_LINES} lines ended by LF")));
+    }
+    // a corrected program is refused before anything runs (its header is in the first 100 lines
+    // that are not empty, which 20,000 lines hold but in a file of blank lines)
+    if !options.force {
+        header::check_uncorrected(head, origin).map_err(input_error)?;
     }
     let dialect = options.dialect.unwrap_or_else(|| Dialect::detect(&String::from_utf8_lossy(head)));
     let Some(first) = source.next(options.part_lines)? else { unreachable!("a first part, empty or not") };
