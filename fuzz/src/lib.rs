@@ -296,7 +296,7 @@ pub fn etalon(data: &[u8]) {
 
 /// An NC program (any bytes: the byte reader of `trueaxis_nc::source` takes them) corrected for
 /// the vmc3 example errors in a dialect of `family`: the controller picked by the input's length
-/// (LinuxCNC, Mach3, Mach4, grbl; Fanuc, Haas, Fadal).
+/// (LinuxCNC, Mach3, Mach4, grbl; Fanuc, Haas, Fadal), read in parts of 1 to 8 lines.
 fn nc(data: &[u8], family: Dialect) {
     let m = machine("vmc3");
     let mut options = NcOptions::new(m);
@@ -306,6 +306,9 @@ fn nc(data: &[u8], family: Dialect) {
     // minute unoptimised, far beyond the smoke run's 10 s timeout; the bound itself is the same
     // code path at any size
     options.setup.max_blocks = FUZZ_MAX_BLOCKS;
+    // parts of a few lines (the last byte chooses how many), so that the fuzzed programs cross the
+    // parts a long program is read in
+    options.part_lines = 1 + usize::from(data.last().copied().unwrap_or(0) % 8);
     if let Err(e) = correct_program(&Corrector::new(m, vmc3_errors()), data, ORIGIN, &options, &[]) {
         named(&e);
     }

@@ -2,11 +2,11 @@
 
 use crate::compensate::{failure, parse_axis_values, parse_temperatures};
 use crate::Failure;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use trueaxis::compensate::nc::params::read_parameter_file;
-use trueaxis::compensate::nc::{correct_program, Controller, FileId, Header, NcOptions, SearchPath, ToolTable, UnknownTools};
+use trueaxis::compensate::nc::{correct_file, Controller, FileId, Header, NcOptions, NcResult, SearchPath, ToolTable, UnknownTools};
 use trueaxis::compensate::{nc_json, Corrector};
-use trueaxis::data::write_atomically;
+use trueaxis::data::write_streamed;
 use trueaxis::errors::ErrorModel;
 use trueaxis::machine::Machine;
 
@@ -201,7 +201,6 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
     let temperatures = parse_temperatures(&errors, &args.temperatures)?;
-    let text = std::fs::read(&args.program).map_err(|e| bad(format!("{}: cannot read: {e}", args.program.display())))?;
     let mut options = options(&args, &machine)?;
     let id = |path: &PathBuf| -> Result<FileId, Failure> {
         let bytes = std::fs::read(path).map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
@@ -211,10 +210,22 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     options.force = args.force;
     let corrector = Corrector::new(&machine, &errors);
     let origin = args.program.display().to_string();
-    let result = correct_program(&corrector, &text, &origin, &options, &temperatures).map_err(failure)?;
-    if let Some(path) = &args.out {
-        write_atomically(path, &result.program).map_err(Failure::input)?;
-    }
+    // the program streams from its file to the output (or standard output), in parts; with
+    // --json and no --out its text goes into the JSON document
+    let correct = |w: &mut dyn std::io::Write| correct_file(&corrector, &args.program, &origin, &options, &temperatures, w);
+    let result = match (&args.out, args.json) {
+        (None, true) => {
+            let mut text = Vec::new();
+            let r = correct(&mut text).map_err(failure)?;
+            NcResult { program: text, ..r }
+        }
+        (out, _) => {
+            let out = out.as_deref().unwrap_or(Path::new(trueaxis::data::STANDARD_OUTPUT));
+            let mut result = None;
+            write_streamed(out, |w| correct(w).map(|r| result = Some(r))).map_err(failure)?;
+            result.expect("written")
+        }
+    };
     if !args.json {
         for w in &result.warnings {
             eprintln!("trueaxis: warning: {w}");
@@ -240,7 +251,6 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     } else if args.out.is_some() {
         println!("{summary}");
     } else {
-        std::io::Write::write_all(&mut std::io::stdout(), &result.program).map_err(Failure::input)?;
         eprintln!("{summary}");
     }
     Ok(())

@@ -110,8 +110,10 @@ pub(crate) struct Exec<'m> {
     pub value_returned: bool,
     /// Machine position of the current point (mm, deg), machine axis order.
     pub position: Axes,
-    /// The line being executed (1-based), for `#<_line>` and messages.
+    /// The line being executed (1-based, in its file), for `#<_line>` and messages.
     pub line_number: usize,
+    /// The line of the main file that line 0 of the part being run is (a file read in parts).
+    pub line_offset: u32,
     /// Words of the block being executed for an expanded copy: before its moves, its axis-setting
     /// command, its stop codes.
     pub setup_words: Vec<(u8, f64)>,
@@ -127,93 +129,179 @@ pub(crate) struct Exec<'m> {
 
 /// Runs `program` from `setup`; the trace of the run, or the error with its file and line.
 pub fn run(machine: &MachineAxes, mut program: Program, setup: &ProgramSetup) -> Result<(Trace, Program), NcError> {
-    let dialect = program.dialect;
-    let mut exec = Exec::new(machine, dialect, setup).map_err(|m| NcError { file: program.files[0].name.clone(), line: 0, message: m })?;
-    exec.table = program.controller.table();
-    let mut pc = (0usize, program.files[0].body.start);
-    let mut ended = false;
-    while !ended {
-        let file = &program.files[pc.0];
-        if pc.1 >= file.body.end {
-            if exec.calls.is_empty() {
-                let leading_percent = file.body.start > 0;
-                if !leading_percent && dialect == Dialect::LinuxCnc {
-                    // rs274 runs the moves and then reports "File ended with no percent sign or
-                    // program end"; LinuxCNC's GUIs end the program there
-                    exec.warn_at(pc.0 as u32, file.lines.len() as u32, "the program ends without M2, M30 or a closing %".into());
+    let mut runner = Runner::new(machine, &program, setup)?;
+    runner.advance(&mut program)?;
+    Ok((runner.exec.trace, program))
+}
+
+/// The end of a run: a NURBS left without its `G5.3` is refused (LinuxCNC would drop it).
+fn ended(exec: &Exec, program: &Program) -> Result<Progress, NcError> {
+    match &exec.nurbs {
+        Some(nurbs) => Err(NcError {
+            file: program.files[0].name.clone(),
+            line: nurbs.line,
+            message: "the G5.2 NURBS is not ended by G5.3 (LinuxCNC would not run it)".into(),
+        }),
+        None => Ok(Progress::Ended),
+    }
+}
+
+/// How far a run got through the part of the program it was given.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Progress {
+    /// The program ended (M2, M30, a closing `%`, or its last line).
+    Ended,
+    /// The lines of this part are done; the body continues in the next part.
+    PartDone,
+    /// A run in parts ([`Runner::in_parts`]) met what needs the whole program: a control statement,
+    /// a call, a return or a jump (at this 1-based line of the file).
+    NeedsWhole(usize),
+}
+
+/// A run that can be given its main file in parts (a program read as a stream): the interpreter's
+/// state and where it stands; the trace of each part is taken before the next part is run.
+pub struct Runner<'m> {
+    exec: Exec<'m>,
+    pc: (usize, usize),
+    max_blocks: usize,
+    /// Blocks executed in the parts whose traces were taken.
+    blocks_before: usize,
+    /// Stop with [`Progress::NeedsWhole`] at control flow (the main file is given in parts).
+    pub in_parts: bool,
+}
+
+impl<'m> Runner<'m> {
+    /// A run of `program` (its main file, or the first part of it) from `setup`.
+    pub fn new(machine: &'m MachineAxes, program: &Program, setup: &ProgramSetup) -> Result<Runner<'m>, NcError> {
+        let main = &program.files[0];
+        let mut exec = Exec::new(machine, program.dialect, setup).map_err(|m| NcError { file: main.name.clone(), line: 0, message: m })?;
+        exec.table = program.controller.table();
+        Ok(Runner { exec, pc: (0, main.body.start), max_blocks: setup.max_blocks, blocks_before: 0, in_parts: false })
+    }
+
+    /// Blocks executed so far.
+    pub fn blocks(&self) -> usize {
+        self.blocks_before + self.exec.trace.steps.len()
+    }
+
+    /// The trace of the run since the last call, leaving an empty one that continues it (its start
+    /// the current position).
+    pub fn take_trace(&mut self) -> Trace {
+        let mut next = Trace { start: self.exec.position, ..Trace::default() };
+        next.frame_index(&self.exec.state.frame);
+        let done = std::mem::replace(&mut self.exec.trace, next);
+        self.blocks_before += done.steps.len();
+        done
+    }
+
+    /// Goes on with the next part of the main file, `program` (whose line 0 follows the last line
+    /// of the part before).
+    pub fn start_part(&mut self, program: &Program) {
+        let main = &program.files[0];
+        self.pc = (0, main.body.start);
+        self.exec.line_offset = main.first_line as u32;
+    }
+
+    /// The trace of the last part.
+    pub fn into_trace(self) -> Trace {
+        self.exec.trace
+    }
+
+    /// Runs from where the run stands until the program ends or leaves the part of the main file
+    /// it has; an error names the file and line.
+    pub fn advance(&mut self, program: &mut Program) -> Result<Progress, NcError> {
+        let dialect = program.dialect;
+        let exec = &mut self.exec;
+        loop {
+            let pc = self.pc;
+            let file = &program.files[pc.0];
+            if pc.1 >= file.body.end {
+                if exec.calls.is_empty() {
+                    if file.continues {
+                        // a NURBS is written at its G5.3 with its control points: one part holds it
+                        return Ok(match &exec.nurbs {
+                            Some(nurbs) => Progress::NeedsWhole(nurbs.line),
+                            None => Progress::PartDone,
+                        });
+                    }
+                    if !file.leading_percent && dialect == Dialect::LinuxCnc {
+                        // rs274 runs the moves and then reports "File ended with no percent sign or
+                        // program end"; LinuxCNC's GUIs end the program there
+                        let last = (file.first_line + file.lines.len()) as u32;
+                        exec.warn_at(pc.0 as u32, last, "the program ends without M2, M30 or a closing %".into());
+                    }
+                    return ended(exec, program);
                 }
-                break;
+                return Err(NcError {
+                    file: file.name.clone(),
+                    line: file.first_line + file.lines.len(),
+                    message: "the subroutine file ends inside a subroutine (no endsub / M99)".into(),
+                });
             }
-            return Err(NcError {
-                file: file.name.clone(),
-                line: file.lines.len(),
-                message: "the subroutine file ends inside a subroutine (no endsub / M99)".into(),
-            });
-        }
-        exec.line_number = pc.1 + 1;
-        let result = match &file.lines[pc.1] {
-            Err(m) => Err(m.clone()),
-            Ok(_) if exec.trace.steps.len() >= setup.max_blocks => {
-                Err(format!("more than {} blocks executed: an endless loop?", setup.max_blocks))
+            let here_line = file.first_line + pc.1 + 1;
+            let at = |m: String, program: &Program| NcError { file: program.files[pc.0].name.clone(), line: here_line, message: m };
+            if self.in_parts && matches!(&file.lines[pc.1], Ok(l) if l.statement.is_some()) {
+                return Ok(Progress::NeedsWhole(here_line));
             }
-            Ok(line) if line.is_empty() && line.comments.is_empty() => Ok(Flow::Next),
-            Ok(line) => match &line.statement {
-                Some(statement) => exec.statement(file, pc, statement),
-                None => exec.block(file, pc, line),
-            },
-        };
-        let here = pc;
-        let at = |m: String, program: &Program| NcError { file: program.files[here.0].name.clone(), line: here.1 + 1, message: m };
-        let flow = result.map_err(|m| at(m, &program))?;
-        match flow {
-            Flow::Next => pc.1 += 1,
-            Flow::Jump(k) => pc.1 = k,
-            Flow::End => ended = true,
-            Flow::Call(..) | Flow::CallProgram { .. } if exec.calls.len() >= MAX_CALL_LEVELS => {
-                return Err(at(format!("more than {MAX_CALL_LEVELS} nested subroutine calls (a call of itself?)"), &program));
-            }
-            Flow::Call(label, args) => {
-                let (f, start, _) = program.find_sub(&label).map_err(|m| at(m, &program))?;
-                exec.enter(pc, (f, start + 1), 0, true, &args);
-                pc = (f, start + 1);
-            }
-            Flow::CallProgram { number, repeat, args } => {
-                let (f, k) = program.find_program(number).map_err(|m| at(m, &program))?;
-                if repeat == 0 {
-                    pc.1 += 1;
-                    continue;
+            exec.line_number = here_line;
+            let result = match &file.lines[pc.1] {
+                Err(m) => Err(m.clone()),
+                Ok(_) if self.blocks_before + exec.trace.steps.len() >= self.max_blocks => {
+                    Err(format!("more than {} blocks executed: an endless loop?", self.max_blocks))
                 }
-                let locals = args.is_some();
-                exec.enter(pc, (f, k + 1), repeat - 1, locals, args.as_deref().unwrap_or(&[]));
-                pc = (f, k + 1);
-            }
-            Flow::Return { value, sequence } => {
-                let Some(call) = exec.calls.last_mut() else {
-                    let m = match dialect {
-                        Dialect::Fanuc => "M99 in the main program restarts it endlessly".into(),
-                        Dialect::LinuxCnc => "return outside a subroutine call".into(),
+                Ok(line) if line.is_empty() && line.comments.is_empty() => Ok(Flow::Next),
+                Ok(line) => match &line.statement {
+                    Some(statement) => exec.statement(file, pc, statement),
+                    None => exec.block(file, pc, line),
+                },
+            };
+            let flow = result.map_err(|m| at(m, program))?;
+            match flow {
+                Flow::Next => self.pc.1 += 1,
+                Flow::End => return ended(exec, program),
+                _ if self.in_parts => return Ok(Progress::NeedsWhole(here_line)),
+                Flow::Jump(k) => self.pc.1 = k,
+                Flow::Call(..) | Flow::CallProgram { .. } if exec.calls.len() >= MAX_CALL_LEVELS => {
+                    return Err(at(format!("more than {MAX_CALL_LEVELS} nested subroutine calls (a call of itself?)"), program));
+                }
+                Flow::Call(label, args) => {
+                    let (f, start, _) = program.find_sub(&label).map_err(|m| at(m, program))?;
+                    exec.enter(pc, (f, start + 1), 0, true, &args);
+                    self.pc = (f, start + 1);
+                }
+                Flow::CallProgram { number, repeat, args } => {
+                    let (f, k) = program.find_program(number).map_err(|m| at(m, program))?;
+                    if repeat == 0 {
+                        self.pc.1 += 1;
+                        continue;
+                    }
+                    let locals = args.is_some();
+                    exec.enter(pc, (f, k + 1), repeat - 1, locals, args.as_deref().unwrap_or(&[]));
+                    self.pc = (f, k + 1);
+                }
+                Flow::Return { value, sequence } => {
+                    let Some(call) = exec.calls.last_mut() else {
+                        let m = match dialect {
+                            Dialect::Fanuc => "M99 in the main program restarts it endlessly".into(),
+                            Dialect::LinuxCnc => "return outside a subroutine call".into(),
+                        };
+                        return Err(at(m, program));
                     };
-                    return Err(at(m, &program));
-                };
-                if call.repeat > 0 {
-                    call.repeat -= 1;
-                    pc = call.body;
-                    continue;
-                }
-                let call = exec.leave(value);
-                pc = call.return_to;
-                if let Some(n) = sequence {
-                    let target = program.files[pc.0].sequence.get(&n).and_then(|v| v.first().copied());
-                    pc.1 = target.ok_or_else(|| at(format!("M99 P{n}: no block N{n} in the calling program"), &program))?;
+                    if call.repeat > 0 {
+                        call.repeat -= 1;
+                        self.pc = call.body;
+                        continue;
+                    }
+                    let call = exec.leave(value);
+                    self.pc = call.return_to;
+                    if let Some(n) = sequence {
+                        let target = program.files[self.pc.0].sequence.get(&n).and_then(|v| v.first().copied());
+                        self.pc.1 = target.ok_or_else(|| at(format!("M99 P{n}: no block N{n} in the calling program"), program))?;
+                    }
                 }
             }
         }
     }
-    if let Some(nurbs) = &exec.nurbs {
-        let message = "the G5.2 NURBS is not ended by G5.3 (LinuxCNC would not run it)".into();
-        return Err(NcError { file: program.files[0].name.clone(), line: nurbs.line, message });
-    }
-    Ok((exec.trace, program))
 }
 
 impl<'m> Exec<'m> {
@@ -246,6 +334,7 @@ impl<'m> Exec<'m> {
             value_returned: false,
             position: [0.0; crate::MAX_AXES],
             line_number: 0,
+            line_offset: 0,
             setup_words: Vec::new(),
             setting_words: Vec::new(),
             stop_words: Vec::new(),
@@ -436,7 +525,10 @@ impl<'m> Exec<'m> {
 
     /// Records a warning at the line being executed (each message once, counted).
     pub fn warn(&mut self, message: String) {
-        let (file, line) = self.trace.steps.last().map_or((0, self.line_number as u32), |s| (s.file, s.line + 1));
+        let (file, line) = self.trace.steps.last().map_or((0, self.line_number as u32), |s| {
+            let offset = if s.file == 0 { self.line_offset } else { 0 };
+            (s.file, s.line + 1 + offset)
+        });
         self.warn_at(file, line, message);
     }
 

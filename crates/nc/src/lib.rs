@@ -16,7 +16,8 @@
 //! [`arcs`], [`splines`] and [`nurbs`] (as chords), [`cycles`], [`tools`] (tool table), [`dialect`] (the two
 //! families of grammar), [`dialects`] (each controller's codes, as data), [`trace`] (what a run did),
 //! [`plan`] (what stays, what is expanded), [`path`] (points along moves, split points),
-//! [`write`] (the text with moved points).
+//! [`write`] (the text with moved points), [`parts`] (a file read in parts, for programs of any
+//! length).
 
 pub mod arcs;
 pub mod axes;
@@ -31,6 +32,7 @@ pub mod modal;
 pub mod nurbs;
 pub mod offsets;
 pub mod params;
+pub mod parts;
 pub mod path;
 pub mod plan;
 pub mod program;
@@ -44,7 +46,7 @@ pub mod write;
 pub use axes::{AxisSpec, MachineAxes, MAX_AXES};
 pub use dialect::Dialect;
 pub use dialects::Controller;
-pub use interpret::FanucSettings;
+pub use interpret::{FanucSettings, Progress, Runner};
 pub use modal::MM_PER_INCH;
 pub use program::{Program, SearchPath};
 pub use tools::ToolTable;

@@ -7,7 +7,7 @@
 use crate::dialect::Dialect;
 use crate::expr::Node;
 use crate::lexer::{parse_line, Label, Line, OKind, Statement};
-use crate::source::{decode, Ending, SourceText};
+use crate::source::{decode_part, Ending, SourceText};
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::PathBuf;
@@ -55,13 +55,38 @@ pub struct SourceFile {
     pub programs: HashMap<u32, usize>,
     /// The lines to run: after a leading `%` up to the next `%` (or the end).
     pub body: Range<usize>,
+    /// A part of a file read in parts ([`crate::parts`]): the 0-based line of the file its line 0
+    /// is (0 for a whole file), whether the file's first line is a `%`, and whether the lines to
+    /// run continue in the next part.
+    pub first_line: usize,
+    pub leading_percent: bool,
+    pub continues: bool,
+}
+
+/// Where a file read in parts stands after the parts read so far: whether its first line that
+/// is not empty was a `%` (unknown until one is read), and whether its body has ended (a
+/// closing `%`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PartState {
+    pub leading_percent: Option<bool>,
+    pub closed: bool,
+    /// Lines read so far.
+    pub lines: usize,
 }
 
 impl SourceFile {
     /// Reads and indexes a file; an error names the line of a control structure that does not
     /// close or match.
     pub fn load(name: &str, bytes: &[u8], dialect: Dialect) -> Result<SourceFile, (usize, String)> {
-        let SourceText { text, bom, endings, bytewise } = decode(bytes)?;
+        let mut whole = PartState::default();
+        Self::load_part(name, bytes, dialect, &mut whole, true)
+    }
+
+    /// Reads and indexes the part of a file that follows the parts `state` has seen (`last`: it
+    /// ends the file); line numbers of an error are those of the part. The body of a part runs
+    /// from its first line, or after the file's leading `%`, to a closing `%` or its end.
+    pub fn load_part(name: &str, bytes: &[u8], dialect: Dialect, state: &mut PartState, last: bool) -> Result<SourceFile, (usize, String)> {
+        let SourceText { text, bom, endings, bytewise } = decode_part(bytes, state.lines == 0)?;
         let mut ranges = Vec::with_capacity(endings.len());
         let mut start = 0;
         for piece in text.split('\n').take(endings.len()) {
@@ -74,14 +99,28 @@ impl SourceFile {
             .enumerate()
             .map(|(i, r)| parse_line(&text[r.clone()], i + 1, dialect, &mut arena, bytewise.binary_search(&i).is_ok()))
             .collect();
-        let first = lines.iter().position(|l| !matches!(l, Ok(l) if l.is_empty() && !l.percent));
-        let body = match first {
-            Some(f) if matches!(&lines[f], Ok(l) if l.percent) => {
-                let end = (f + 1..lines.len()).find(|&k| matches!(&lines[k], Ok(l) if l.percent)).unwrap_or(lines.len());
-                f + 1..end
-            }
-            _ => 0..lines.len(),
+        let percent = |k: usize| matches!(&lines[k], Ok(l) if l.percent);
+        let closing = |from: usize| (from..lines.len()).find(|&k| percent(k));
+        let first_line = state.lines;
+        let body = match state.leading_percent {
+            _ if state.closed => lines.len()..lines.len(),
+            Some(true) => 0..closing(0).unwrap_or(lines.len()),
+            Some(false) => 0..lines.len(),
+            None => match lines.iter().position(|l| !matches!(l, Ok(l) if l.is_empty() && !l.percent)) {
+                Some(f) if percent(f) => {
+                    state.leading_percent = Some(true);
+                    f + 1..closing(f + 1).unwrap_or(lines.len())
+                }
+                Some(_) => {
+                    state.leading_percent = Some(false);
+                    0..lines.len()
+                }
+                None => 0..lines.len(),
+            },
         };
+        let leading_percent = state.leading_percent == Some(true);
+        state.closed |= leading_percent && body.end < lines.len();
+        state.lines += lines.len();
         let mut file = SourceFile {
             name: name.to_string(),
             text,
@@ -95,7 +134,10 @@ impl SourceFile {
             subs: HashMap::new(),
             sequence: HashMap::new(),
             programs: HashMap::new(),
+            continues: !last && !state.closed,
             body,
+            first_line,
+            leading_percent,
         };
         match dialect {
             Dialect::LinuxCnc => file.index_owords()?,

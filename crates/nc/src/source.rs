@@ -48,9 +48,15 @@ pub struct SourceText {
 
 /// Reads program bytes; an error gives the 0-based line and the reason.
 pub fn decode(bytes: &[u8]) -> Result<SourceText, (usize, String)> {
+    decode_part(bytes, true)
+}
+
+/// Reads a part of a program's bytes that starts at a line (`first`: the start of the file, where
+/// a byte-order mark may stand) and ends after a line end (or at the end of the file).
+pub fn decode_part(bytes: &[u8], first: bool) -> Result<SourceText, (usize, String)> {
     let (bom, bytes) = match bytes.strip_prefix(b"\xEF\xBB\xBF") {
-        Some(rest) => (true, rest),
-        None => (false, bytes),
+        Some(rest) if first => (true, rest),
+        _ => (false, bytes),
     };
     let mut out = SourceText { text: String::with_capacity(bytes.len()), bom, ..SourceText::default() };
     let mut start = 0;

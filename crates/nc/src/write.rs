@@ -60,6 +60,28 @@ pub struct Writer<'a> {
     cycle_initial: Option<f64>,
     /// The peck depth of the original and the one written for it (program units).
     cycle_q: Option<(f64, f64)>,
+    /// The line of the main file that line 0 of the program's main file is, and the moves of the
+    /// run before the trace's (a file written in parts); the line end of added lines (the file's
+    /// first line's).
+    pub line_offset: u32,
+    pub move_offset: u32,
+    pub eol: Ending,
+}
+
+/// What a writer hands to the writer of the next part of a program written in parts: where the
+/// corrected program stands, the counts, the notes, the holes, the canned-cycle state.
+pub struct Carry {
+    written: Axes,
+    pub changed_lines: usize,
+    pub inserted_lines: usize,
+    pub clamped: usize,
+    pub notes: Vec<String>,
+    pub holes: Vec<HoleReport>,
+    cycle_words: Option<(f64, f64)>,
+    cycle_valid: bool,
+    cycle_initial: Option<f64>,
+    cycle_q: Option<(f64, f64)>,
+    pub eol: Ending,
 }
 
 impl<'a> Writer<'a> {
@@ -95,7 +117,45 @@ impl<'a> Writer<'a> {
             cycle_valid: false,
             cycle_initial: None,
             cycle_q: None,
+            line_offset: 0,
+            move_offset: 0,
+            eol: match program.files[0].endings.first() {
+                Some(Ending::None) | None => Ending::Lf,
+                Some(&e) => e,
+            },
         }
+    }
+
+    /// What the next part's writer continues from.
+    pub fn carry(self) -> Carry {
+        Carry {
+            written: self.written,
+            changed_lines: self.changed_lines,
+            inserted_lines: self.inserted_lines,
+            clamped: self.clamped.get(),
+            notes: self.notes,
+            holes: self.holes,
+            cycle_words: self.cycle_words,
+            cycle_valid: self.cycle_valid,
+            cycle_initial: self.cycle_initial,
+            cycle_q: self.cycle_q,
+            eol: self.eol,
+        }
+    }
+
+    /// Continues from the writer of the part before.
+    pub fn resume(&mut self, c: Carry) {
+        self.written = c.written;
+        self.changed_lines = c.changed_lines;
+        self.inserted_lines = c.inserted_lines;
+        self.clamped.set(c.clamped);
+        self.notes = c.notes;
+        self.holes = c.holes;
+        self.cycle_words = c.cycle_words;
+        self.cycle_valid = c.cycle_valid;
+        self.cycle_initial = c.cycle_initial;
+        self.cycle_q = c.cycle_q;
+        self.eol = c.eol;
     }
 
     fn decimals_of(&self, frame: &Frame, k: usize) -> usize {
@@ -762,7 +822,7 @@ impl<'a> Writer<'a> {
             } else {
                 "canned cycle"
             };
-            self.notes.push(format!("line {}, {what}", k + 1));
+            self.notes.push(format!("line {}, {what}", k + 1 + self.line_offset as usize));
             self.changed_lines += 1 + control_points.len();
             self.inserted_lines += lines.len().saturating_sub(1);
             if let Some(c) = comment_of(&text) {
@@ -825,32 +885,17 @@ impl<'a> Writer<'a> {
         self.out[region.lines.start] = Some(lines);
     }
 
-    /// The corrected program as bytes: the main file line by line, each line with its own line
-    /// end and, when it was read byte for byte, its own bytes; `notes` (comment lines) after the
-    /// leading `%` and program-number lines.
-    pub fn finish(&self, notes: &[String]) -> Vec<u8> {
+    /// Appends the lines of the main file (or of the part of it this writer has) to `out`; the
+    /// offset in `out` where the notes go, unless `noted` (placed in a part before) or no line of
+    /// this part is after the leading `%` and program-number lines.
+    pub fn write_lines(&self, out: &mut Vec<u8>, mut noted: bool) -> Option<usize> {
         let file = &self.program.files[0];
-        let mut out = Vec::with_capacity(file.text.len() + 64 * (notes.len() + 1));
-        if file.bom {
-            out.extend_from_slice(b"\xEF\xBB\xBF");
-        }
-        // the line end of added lines: the first line's (the file's own style)
-        let eol = match file.endings.first() {
-            Some(Ending::None) | None => Ending::Lf,
-            Some(&e) => e,
-        };
-        let mut noted = notes.is_empty();
-        let put_notes = |out: &mut Vec<u8>| {
-            for n in notes {
-                out.extend_from_slice(n.as_bytes());
-                out.extend_from_slice(eol.bytes());
-            }
-        };
+        let mut at = None;
         for (k, plan) in self.plan.lines.iter().enumerate() {
             let keep_first =
                 |l: &Result<Line, String>| matches!(l, Ok(l) if l.percent || l.program_number.is_some() && self.dialect == Dialect::Fanuc);
             if !(noted || k < file.body.start || keep_first(&file.lines[k])) {
-                put_notes(&mut out);
+                at = Some(out.len());
                 noted = true;
             }
             if *plan == LineOut::Hidden {
@@ -861,23 +906,17 @@ impl<'a> Writer<'a> {
             match &self.out[k] {
                 Some(lines) => {
                     for (i, l) in lines.iter().enumerate() {
-                        encode_line(l, bytewise, &mut out);
-                        out.extend_from_slice(if i + 1 == lines.len() { ending.bytes() } else { eol.bytes() });
+                        encode_line(l, bytewise, out);
+                        out.extend_from_slice(if i + 1 == lines.len() { ending.bytes() } else { self.eol.bytes() });
                     }
                 }
                 None => {
-                    encode_line(file.line_text(k), bytewise, &mut out);
+                    encode_line(file.line_text(k), bytewise, out);
                     out.extend_from_slice(ending.bytes());
                 }
             }
         }
-        if !noted {
-            if file.endings.last() == Some(&Ending::None) {
-                out.extend_from_slice(eol.bytes());
-            }
-            put_notes(&mut out);
-        }
-        out
+        at
     }
 }
 

@@ -1,6 +1,7 @@
 //! Item 8: memory is bounded by the run, not by its input. `predict` and `compensate --poses` run
-//! under `ulimit -v` (the address space of the process) on a pose stream ten times that limit, and
-//! an allocation that cannot be met ends the run with a message and exit status 3, not an abort.
+//! under `ulimit -v` (the address space of the process) on a pose stream ten times that limit, `nc`
+//! on a program whose correction held whole would need ten times it, and an allocation that cannot
+//! be met ends the run with a message and exit status 3, not an abort.
 
 use super::trueaxis;
 use std::io::{BufRead, BufReader, Write};
@@ -120,4 +121,58 @@ fn an_allocation_that_cannot_be_met_is_reported() {
         "{err}"
     );
     assert_eq!(super::names(dir.path()), Vec::<String>::new(), "nothing written, no temporary");
+}
+
+/// The raster of `bench/nc_memory.py`: `lines` G1 moves across vmc3's travel, and the control
+/// flow of an `o1 if` before `M2` when `whole` (a program the correction holds whole).
+fn raster(lines: usize, whole: bool) -> String {
+    let mut text = String::from("(raster)\nG21 G90 G17 G94\n");
+    for i in 0..lines {
+        let t = (i as f64 / 200.0).fract();
+        let u = if t < 0.5 { 2.0 * t } else { 2.0 - 2.0 * t };
+        let (x, y, z) = (-400.0 + 800.0 * u, -250.0 + 500.0 * (i / 200 % 100) as f64 / 99.0, -280.0 + 80.0 * (i / 200 % 3) as f64);
+        text += &format!("G1 X{x:.3} Y{y:.3} Z{z:.3} F3000\n");
+    }
+    if whole {
+        text += "o1 if [1]\no1 endif\n";
+    }
+    text + "M2\n"
+}
+
+/// `nc` under the limit: a straight program whose correction held whole would need ten times the
+/// memory the run gets to work in (about 1.6 kB per line whole: 164 MiB for 10^5 lines,
+/// bench/nc_memory.py; 40 MiB x 10 / 1.6 kB = 260,000 lines) is corrected in parts under the limit,
+/// line for line; the same program with control flow at its end, which the correction holds whole,
+/// ends with the out-of-memory report and exit status 3, nothing written, no temporary left.
+#[cfg(unix)]
+#[test]
+fn nc_corrects_a_program_of_ten_times_its_memory() {
+    let dir = tempfile::tempdir().unwrap();
+    let lines = 260_000;
+    let command = format!("ulimit -v {}; exec \"$0\" \"$@\"", limit_kib());
+    let machine = ["--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml"];
+    let run = |whole: bool| {
+        let name = if whole { "whole" } else { "straight" };
+        let program = dir.path().join(format!("{name}.ngc"));
+        std::fs::write(&program, raster(lines, whole)).unwrap();
+        let out = dir.path().join(format!("{name}_corrected.ngc"));
+        let o = Command::new("sh")
+            .args(["-c", &command, env!("CARGO_BIN_EXE_trueaxis"), "nc"])
+            .args(machine)
+            .args([program.to_str().unwrap(), "--out", out.to_str().unwrap()])
+            .current_dir(super::ROOT)
+            .output()
+            .unwrap();
+        (o.status.code(), String::from_utf8_lossy(&o.stdout).into_owned(), String::from_utf8_lossy(&o.stderr).into_owned(), out)
+    };
+    let (code, summary, err, out) = run(false);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(summary.contains(&format!("{lines} moves corrected")), "{summary}");
+    let added: usize = summary.split(" lines added").next().and_then(|s| s.rsplit(' ').next()).and_then(|n| n.parse().ok()).unwrap();
+    let written = BufReader::new(std::fs::File::open(&out).unwrap()).lines().count();
+    assert_eq!(written, lines + 3 + 3 + added, "the program, its 3 header lines and the lines added");
+    let (code, _, err, _) = run(true);
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.starts_with("trueaxis: error: out of memory: ") && err.lines().count() == 1, "{err}");
+    assert_eq!(super::names(dir.path()), ["straight.ngc", "straight_corrected.ngc", "whole.ngc"], "nothing written, no temporary");
 }

@@ -294,12 +294,12 @@ impl Writer<'_> {
                 clearance = clearance.max(off);
             }
         }
-        let first = step.moves.start;
+        let first = step.moves.start + self.move_offset;
         self.holes.push(HoleReport {
-            line: step.line + 1,
+            line: step.line + 1 + self.line_offset,
             code: hole.code,
             axis: c,
-            moves: step.moves.clone(),
+            moves: first..step.moves.end + self.move_offset,
             r_move: first + hole.r_move,
             bottom_move: first + hole.bottom_move,
             lean_um: lean,

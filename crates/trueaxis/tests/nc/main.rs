@@ -10,6 +10,7 @@ mod common;
 mod corpus;
 mod fanuc;
 mod linuxcnc_samples;
+mod parts;
 mod posts;
 mod reading;
 mod roundtrip;

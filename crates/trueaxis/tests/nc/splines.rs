@@ -231,6 +231,11 @@ fn nurbs_become_chords_within_a_micrometre_of_the_curve_and_are_corrected() {
     let text = String::from_utf8_lossy(&r.program);
     assert!(text.lines().all(|l| !l.trim_start().starts_with("G5")), "{text}");
     assert_eq!(text.matches("(NURBS control point").count(), 14, "{text}");
+    // read in parts, a NURBS that crosses from one part into the next sends the program whole; the
+    // others go in parts: the same bytes either way
+    let corrector = Corrector::new(&bench.machine, &bench.errors);
+    let went = crate::parts::compare(&corrector, NURBS.as_bytes(), "nurbs.ngc", &bench.options);
+    assert!(matches!(&went[0], crate::parts::Went::Whole(why) if why.contains("a NURBS across parts, at line 5")), "{went:?}");
     // nothing to correct: every NURBS stays as it was
     let zero = ErrorModel::zero(&bench.machine);
     let r = correct_program(&Corrector::new(&bench.machine, &zero), NURBS, "nurbs.ngc", &bench.options, &[]).unwrap();

@@ -20,6 +20,7 @@
 
 pub mod correct;
 pub mod header;
+pub mod stream;
 
 pub use header::{FileId, Header};
 
@@ -64,6 +65,9 @@ pub struct NcOptions {
     pub header: Option<Header>,
     /// Correct a program that says it was corrected already (default: refused).
     pub force: bool,
+    /// Lines read, run, corrected and written at a time ([`stream`]): what the memory of a long
+    /// program is bounded by (default 4096: about 8 MB).
+    pub part_lines: usize,
 }
 
 impl NcOptions {
@@ -81,6 +85,7 @@ impl NcOptions {
             dialect: None,
             header: None,
             force: false,
+            part_lines: 4096,
         }
     }
 
@@ -142,19 +147,7 @@ impl NcResult {
     }
 }
 
-/// The warnings of a run as messages: `file: line N: message (and K more lines)`.
-fn warnings(trace: &Trace, program: &program::Program) -> Vec<String> {
-    trace
-        .warnings
-        .iter()
-        .map(|w| {
-            let more = if w.count > 1 { format!(" (and {} more lines)", w.count - 1) } else { String::new() };
-            format!("{}: line {}: {}{more}", program.files[w.file as usize].name, w.line, w.message)
-        })
-        .collect()
-}
-
-fn input_error(e: NcError) -> CompensateError {
+pub(super) fn input_error(e: NcError) -> CompensateError {
     CompensateError::Input(e.to_string())
 }
 
@@ -168,13 +161,19 @@ pub fn run_program(
 ) -> Result<(Trace, program::Program), CompensateError> {
     let bytes = bytes.as_ref();
     let controller = options.dialect.unwrap_or_else(|| Controller::detect(&String::from_utf8_lossy(bytes)));
+    trueaxis_nc::run(&machine_axes(machine), bytes, origin, Some(controller), &setup_for(options, controller)).map_err(input_error)
+}
+
+/// The program setup of `options` for `controller`: a Fanuc reads a number without a decimal point
+/// in units of the last written decimal.
+fn setup_for(options: &NcOptions, controller: Controller) -> ProgramSetup {
     let mut setup = options.setup.clone();
     if controller.table().numbers.integers_are_increments {
         if let Some(d) = options.decimals {
             setup.fanuc.increment_mm = 10f64.powi(-(d as i32));
         }
     }
-    trueaxis_nc::run(&machine_axes(machine), bytes, origin, Some(controller), &setup).map_err(input_error)
+    setup
 }
 
 /// The moves of a program in machine positions (mm, deg).
@@ -184,7 +183,8 @@ pub fn program_moves(machine: &Machine, bytes: impl AsRef<[u8]>, origin: &str, o
 
 /// Corrects a program (its bytes, as read from the file: any line ends, a byte-order mark,
 /// comments in Latin-1; see `trueaxis_nc::source`). `origin` (the file name) prefixes messages; `temperatures` are the error
-/// model's sensor temperatures (degC) for the whole program (empty: 20 degC).
+/// model's sensor temperatures (degC) for the whole program (empty: 20 degC). The program is
+/// corrected in parts of [`NcOptions::part_lines`] lines, or whole when it needs to be ([`stream`]).
 pub fn correct_program(
     corrector: &Corrector,
     bytes: impl AsRef<[u8]>,
@@ -192,78 +192,66 @@ pub fn correct_program(
     options: &NcOptions,
     temperatures: &[f64],
 ) -> Result<NcResult, CompensateError> {
-    let machine = corrector.machine;
     let bytes = bytes.as_ref();
-    if !options.force {
-        header::check_uncorrected(bytes, origin).map_err(input_error)?;
+    let mut out = Vec::new();
+    match stream::correct_streamed(corrector, bytes, origin, options, temperatures, stream::Spool::Memory(Vec::new()), &mut out)? {
+        stream::Streamed::Done(r) => Ok(NcResult { program: out, ..*r }),
+        stream::Streamed::NeedsWhole(_) => correct_whole(corrector, bytes, origin, options, temperatures),
     }
-    let (trace, program) = run_program(machine, bytes, origin, options)?;
-    let (dialect, controller) = (program.dialect, program.controller);
-    let plan = plan::plan(&program, &trace);
-    let (decimals, decimals_inch) = options.decimals_for(controller);
-    // the solve stops well inside the written resolution: a fifth of its last digit
-    let resolution = 10f64.powi(-(decimals as i32)).min(MM_PER_INCH * 10f64.powi(-(decimals_inch as i32)));
-    let mut tight = *corrector;
-    tight.options.tolerance_mm = tight.options.tolerance_mm.min(0.2 * resolution);
-    let rounding = correct::Rounding::of_decimals(decimals, decimals_inch);
-    let mut corrections = correct::Corrections::new(&tight, options.limits, temperatures, rounding);
-    let axes = machine_axes(machine);
-    let mut writer = write::Writer::new(&axes, &program, &trace, &plan, decimals, decimals_inch);
-    writer.machine_inch = options.setup.machine_inch;
-    let mut file = usize::MAX;
-    let mut pieces = Vec::new();
-    for (i, step) in trace.steps.iter().enumerate() {
-        if step.file as usize != file {
-            file = step.file as usize;
-            corrections.origin.clone_from(&program.files[file].name);
+}
+
+/// Corrects a program held whole in memory (one part: every construct of the language).
+pub fn correct_whole(
+    corrector: &Corrector,
+    bytes: &[u8],
+    origin: &str,
+    options: &NcOptions,
+    temperatures: &[f64],
+) -> Result<NcResult, CompensateError> {
+    let whole = NcOptions { part_lines: usize::MAX, ..options.clone() };
+    let mut out = Vec::new();
+    match stream::correct_streamed(corrector, bytes, origin, &whole, temperatures, stream::Spool::Memory(Vec::new()), &mut out)? {
+        stream::Streamed::Done(r) => Ok(NcResult { program: out, ..*r }),
+        stream::Streamed::NeedsWhole(_) => unreachable!("a program of one part is whole"),
+    }
+}
+
+/// Corrects the program of file `path` into `out` (the returned summary's `program` is empty):
+/// a regular file is read in parts, its corrected lines spooled in an unnamed temporary file, so
+/// that memory does not grow with the program's length; a program that needs its whole text
+/// (control flow), and a stream that cannot be read twice (a FIFO, standard input), are read whole.
+pub fn correct_file(
+    corrector: &Corrector,
+    path: &std::path::Path,
+    origin: &str,
+    options: &NcOptions,
+    temperatures: &[f64],
+    out: &mut dyn std::io::Write,
+) -> Result<NcResult, CompensateError> {
+    let read_error = |source| crate::data::DataError::Read { path: origin.to_string(), source };
+    let mut file = std::fs::File::open(path).map_err(read_error)?;
+    if file.metadata().map_err(read_error)?.is_file() {
+        let spool = stream::Spool::file().map_err(read_error)?;
+        if let stream::Streamed::Done(r) = stream::correct_streamed(corrector, &mut file, origin, options, temperatures, spool, out)? {
+            return Ok(*r);
         }
-        corrections.line = step.line as usize + 1;
-        pieces.clear();
-        for m in trace.step_moves(step) {
-            let frame = trace.frames[m.frame as usize];
-            pieces.push(corrections.pieces(m, &frame, options)?);
-            corrections.finish(m);
-        }
-        writer.step(i, &pieces);
+        file = std::fs::File::open(path).map_err(read_error)?;
     }
-    let e = corrections.extremes;
-    let tool_length_um_per_100mm = (!trace.assumed_tools.is_empty()).then_some(e.max_uncorrectable_urad * 0.1);
-    let mut notes = options.header.as_ref().map_or_else(Vec::new, |h| h.lines(dialect));
-    if options.header.is_some() {
-        notes.push(header::dialect_line(controller, options.dialect.is_none()));
-    }
-    if let Some(per_100) = tool_length_um_per_100mm {
-        notes.push(header::assumed_tools_line(&trace.assumed_tools, &options.setup, per_100, dialect));
-    }
-    notes.extend(write::notes(&writer.notes, dialect));
-    let written = writer.finish(&notes);
-    let mut warnings = warnings(&trace, &program);
-    warnings.extend(hole_warnings(&writer.holes, &program.files[0].name, resolution * 1e3));
-    Ok(NcResult {
-        program: written,
-        dialect: controller,
-        moves: trace.moves.len(),
-        blocks: trace.steps.len(),
-        corrected_points: e.corrected_points,
-        changed_lines: writer.changed_lines,
-        inserted_lines: writer.inserted_lines,
-        expanded: writer.notes.clone(),
-        warnings,
-        assumed_tools: trace.assumed_tools.clone(),
-        tool_length_um_per_100mm,
-        clamped_points: writer.clamped.get(),
-        max_correction_um: e.max_correction_um,
-        max_correction_urad: e.max_correction_urad,
-        max_residual_um: e.max_residual_um,
-        max_uncorrectable_urad: e.max_uncorrectable_urad,
-        holes: writer.holes.clone(),
-    })
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(&mut file, &mut bytes).map_err(read_error)?;
+    let r = if file.metadata().map_err(read_error)?.is_file() {
+        correct_whole(corrector, &bytes, origin, options, temperatures)?
+    } else {
+        correct_program(corrector, &bytes, origin, options, temperatures)?
+    };
+    out.write_all(&r.program).map_err(|source| crate::data::DataError::Write { path: "the corrected program".into(), source })?;
+    Ok(NcResult { program: Vec::new(), ..r })
 }
 
 /// A warning per hole kept as a cycle whose plunge leans, or whose clearance moves stand off,
 /// by more than the written resolution (`resolution_um`): the bottom and R are exact, a cycle
 /// carries one hole position.
-fn hole_warnings(holes: &[write::HoleReport], origin: &str, resolution_um: f64) -> Vec<String> {
+pub(super) fn hole_warnings(holes: &[write::HoleReport], origin: &str, resolution_um: f64) -> Vec<String> {
     holes
         .iter()
         .filter(|h| h.lean_um.max(h.clearance_um) > resolution_um)

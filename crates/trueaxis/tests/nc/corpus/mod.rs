@@ -15,7 +15,7 @@
 //! refused by design (cutter radius compensation, probing, threading) must be at least 90 %, in all
 //! and in every dialect; the outcome of every style and dialect is printed (docs/nc.md reports it).
 
-mod styles;
+pub(crate) mod styles;
 mod writer;
 
 use crate::common::fanuc_to_ngc;
@@ -67,7 +67,7 @@ enum Outcome {
 }
 
 /// The Fanuc-dialect tool table (mm).
-const FANUC_TOOLS: &str = "T1 P1 Z100\nT2 P2 Z120\nT3 P3 Z95\nT4 P4 Z110\n";
+pub(crate) const FANUC_TOOLS: &str = "T1 P1 Z100\nT2 P2 Z120\nT3 P3 Z95\nT4 P4 Z110\n";
 
 /// The refusals that are by design.
 fn by_design(message: &str) -> bool {
