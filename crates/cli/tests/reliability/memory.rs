@@ -170,7 +170,7 @@ fn nc_corrects_a_program_of_ten_times_its_memory() {
     assert!(summary.contains(&format!("{lines} moves corrected")), "{summary}");
     let added: usize = summary.split(" lines added").next().and_then(|s| s.rsplit(' ').next()).and_then(|n| n.parse().ok()).unwrap();
     let written = BufReader::new(std::fs::File::open(&out).unwrap()).lines().count();
-    assert_eq!(written, lines + 3 + 3 + added, "the program, its 3 header lines and the lines added");
+    assert_eq!(written, lines + 3 + 4 + added, "the program, its 4 header lines (files, dialect) and the lines added");
     let (code, _, err, _) = run(true);
     assert_eq!(code, Some(3), "{err}");
     assert!(err.starts_with("trueaxis: error: out of memory: ") && err.lines().count() == 1, "{err}");
