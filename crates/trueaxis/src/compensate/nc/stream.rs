@@ -20,7 +20,7 @@ use trueaxis_nc::parts::{Part, PartReader};
 use trueaxis_nc::program::{PartState, Program, SourceFile};
 use trueaxis_nc::source::Ending;
 use trueaxis_nc::trace::Warning;
-use trueaxis_nc::{Controller, Dialect, Progress, Runner};
+use trueaxis_nc::{dialects, Controller, Dialect, Progress, Runner};
 
 /// Lines the dialect detection reads (`Dialect::detect`): it is given as many from the start of
 /// the file, so that it sees what it sees on the whole text.
@@ -149,8 +149,10 @@ pub fn correct_streamed(
     }
     let controller = options.dialect.unwrap_or_else(|| Controller::detect(&String::from_utf8_lossy(head)));
     if controller == Controller::Siemens {
-        // the whole path refuses it, naming the line of its first native construct
-        return Ok(Streamed::NeedsWhole("a Siemens 840D native program".into()));
+        // not read yet: refused with the line of its first native construct
+        let text = String::from_utf8_lossy(head);
+        let (line, message) = (dialects::siemens_line(&text), dialects::SIEMENS_NOT_READ.to_string());
+        return Err(input_error(trueaxis_nc::NcError { file: origin.to_string(), line, message }));
     }
     let dialect = controller.family();
     let Some(first) = source.next(options.part_lines)? else { unreachable!("a first part, empty or not") };
