@@ -15,15 +15,12 @@ is given beside the wall time, which a loaded machine stretches.
 The programs are kept in target/nc-memory/ (about 36 bytes per line: 350 MiB for 10^7), made once.
 """
 
-import os
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-BIN = os.environ.get("TRUEAXIS_BIN", str(ROOT / "target" / "release" / "trueaxis"))
+from peak import BIN, ROOT, measure
+
 MACHINE = ROOT / "examples" / "machines" / "vmc3.toml"
 ERRORS = ROOT / "examples" / "errors" / "vmc3.toml"
 # the travel of examples/machines/vmc3.toml (mm)
@@ -59,18 +56,6 @@ def program(n, whole):
         f.write("M2\n")
     tmp.rename(path)
     return path
-
-
-def measure(args):
-    """(wall s, CPU s, peak resident MiB) of one run of trueaxis with args."""
-    start = time.perf_counter()
-    p = subprocess.Popen([BIN, *map(str, args)], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(p.pid, 0)
-    wall = time.perf_counter() - start
-    err = p.stderr.read().decode()
-    if os.waitstatus_to_exitcode(status) != 0:
-        sys.exit(f"trueaxis {' '.join(map(str, args))} failed: {err}")
-    return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024
 
 
 def main():

@@ -14,17 +14,14 @@ threads) is given beside the wall time, which a loaded machine stretches.
 The pose files are kept in target/stream-memory/ (40 bytes per pose: 385 MiB for 10^7), made once.
 """
 
-import os
 import random
 import shutil
-import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-BIN = os.environ.get("TRUEAXIS_BIN", str(ROOT / "target" / "release" / "trueaxis"))
+from peak import BIN, ROOT, measure
+
 MACHINE = ROOT / "examples" / "machines" / "kx8five.toml"
 ERRORS = ROOT / "bench" / "kx8five_tables.toml"
 # the travel of examples/machines/kx8five.toml (mm, deg)
@@ -51,18 +48,6 @@ def pose_file(n):
             f.write("\n".join(block) + "\n")
     tmp.rename(path)
     return path
-
-
-def measure(args):
-    """(wall s, CPU s, peak resident MiB) of one run of trueaxis with args."""
-    start = time.perf_counter()
-    p = subprocess.Popen([BIN, *map(str, args)], cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(p.pid, 0)
-    wall = time.perf_counter() - start
-    err = p.stderr.read().decode()
-    if os.waitstatus_to_exitcode(status) != 0:
-        sys.exit(f"trueaxis {' '.join(map(str, args))} failed: {err}")
-    return wall, usage.ru_utime + usage.ru_stime, usage.ru_maxrss / 1024
 
 
 def main():

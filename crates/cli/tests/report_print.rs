@@ -758,9 +758,7 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
         pdf.to_str().unwrap(),
         "--json",
     ];
-    let o = trueaxis(&args, d);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let s = report_json(&args, d);
     assert_eq!(s["rotary_ballbar"]["method"], "four-setup");
     let mut reported = Vec::new();
     for (name, e) in s["rotary_ballbar"]["errors"].as_object().unwrap() {
@@ -828,9 +826,7 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
         html.to_str().unwrap(),
         "--json",
     ];
-    let o = trueaxis(&args, d);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let s = report_json(&args, d);
     for (name, e) in s["rotary_ballbar"]["errors"].as_object().unwrap() {
         let (v, u) = value_and_u(&expected["parameters"][name], "value", "std_uncertainty");
         assert!((e["value"].as_f64().unwrap() - v).abs() <= 0.5e-4 + 1e-9, "{name}");
@@ -907,9 +903,7 @@ fn direct_fits_are_reported_with_the_numbers_of_trueaxis_fit() {
         pdf.to_str().unwrap(),
         "--json",
     ];
-    let o = trueaxis(&args, d);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let s = report_json(&args, d);
     let fits = s["fits"].as_array().unwrap();
     assert_eq!(fits.len(), 4, "EBX, EXX+, EXX-, EYX");
     let level = path("examples/data/level_x.csv");
@@ -1030,4 +1024,11 @@ fn as_printed(p: &Printed) {
         }
         assert_eq!(measured_values(&pdf_text), values, "the PDF shows the HTML's values");
     }
+}
+
+/// Runs `trueaxis` with `args` (a `report ... --json`), which must succeed; its JSON summary.
+fn report_json(args: &[&str], dir: &Path) -> serde_json::Value {
+    let o = trueaxis(args, dir);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
 }
