@@ -52,6 +52,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(ballbar::ballbar_sensitivity, m)?)?;
     m.add_function(wrap_pyfunction!(thermal::thermal_fit, m)?)?;
     m.add_function(wrap_pyfunction!(thermal::thermal_predict, m)?)?;
+    m.add_function(wrap_pyfunction!(thermal::thermal_modes, m)?)?;
     m.add_function(wrap_pyfunction!(budget::budget_configurations, m)?)?;
     m.add_function(wrap_pyfunction!(compensate::compensate, m)?)?;
     m.add_function(wrap_pyfunction!(compensate::correct_nc, m)?)?;

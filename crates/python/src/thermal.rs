@@ -4,6 +4,7 @@
 use crate::convert::typed;
 use crate::errors::{computation, input, input_msg};
 use crate::machine::Machine;
+use crate::progress::Progress;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
@@ -11,7 +12,9 @@ use trueaxis::screen::irls::Weighting;
 use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm};
 use trueaxis::thermal::campaign_predict::{predict_campaign, read_model_file};
-use trueaxis::thermal::ThermalError;
+use trueaxis::thermal::model_file::load_model;
+use trueaxis::thermal::modes_report::ModesReport;
+use trueaxis::thermal::{LanczosProgress, SpectrumMethod, ThermalError, DEFAULT_SHARE};
 
 fn failure(e: ThermalError) -> PyErr {
     match e {
@@ -130,4 +133,42 @@ pub fn thermal_predict(py: Python<'_>, model: PathBuf, data: PathBuf) -> PyResul
     let campaign = Campaign::read(&data).map_err(failure)?;
     let prediction = py.detach(|| predict_campaign(&model, &campaign)).map_err(failure)?;
     typed(py, "ThermalPrediction", &prediction.to_json())
+}
+
+/// The thermal modes of a model file (`examples/thermal/*.toml`, docs/thermal.md): the document of
+/// `trueaxis thermal modes --json` (per mode the time constant in min and s, its weight under the
+/// model's step load, its share, whether it is dominant; the dominant modes carry `share` of the
+/// weight). `method`: `auto`, `dense`, `lanczos` or `lobpcg`. `progress(done, total)`, if given, is
+/// called as the modes converge (`total` = the modes asked, at most one per node).
+#[pyfunction]
+#[pyo3(signature = (model, *, count = 10, share = DEFAULT_SHARE, method = "auto", progress = None))]
+pub fn thermal_modes(
+    py: Python<'_>,
+    model: PathBuf,
+    count: usize,
+    share: f64,
+    method: &str,
+    progress: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Py<PyAny>> {
+    let method = match method {
+        "auto" => SpectrumMethod::Auto,
+        "dense" => SpectrumMethod::Dense,
+        "lanczos" => SpectrumMethod::Lanczos,
+        "lobpcg" => SpectrumMethod::Lobpcg,
+        other => return Err(input_msg(format!("method `{other}`: expected auto, dense, lanczos or lobpcg"))),
+    };
+    let model = load_model(&model).map_err(failure)?;
+    let total = count.min(model.system.node_count());
+    let progress = Progress::new(progress)?;
+    let report = py.detach(|| {
+        ModesReport::new(&model, count, method, share, &mut |p| match p {
+            LanczosProgress::Iterating { converged, .. } | LanczosProgress::Refining { converged, .. } => {
+                progress.report(converged.min(total), total)
+            }
+            _ => {}
+        })
+    });
+    progress.report(total, total);
+    progress.finish()?;
+    typed(py, "ThermalModes", &report.map_err(failure)?.to_json())
 }

@@ -121,3 +121,58 @@ def test_screening_options_equal_the_cli(tmp_path):
             assert 51 in lines_down and len(lines_down) < 40, lines_down
     with pytest.raises(ta.InputError, match="robust `bisquare`"):
         ta.thermal_fit(damaged, "dz", skip_missing=True, robust="bisquare")
+
+
+MODES = [
+    ("fin.toml", dict(count=6), ["--count", "6"]),
+    ("plate.toml", dict(count=8, share=0.8), ["--count", "8", "--share", "0.8"]),
+    ("fin.toml", dict(count=4, method="dense"), ["--count", "4", "--method", "dense"]),
+    ("elongation.toml", dict(), []),
+]
+
+
+@pytest.mark.parametrize("model,kwargs,options", MODES)
+def test_thermal_modes_equal_the_cli(model, kwargs, options):
+    path = EX / "thermal" / model
+    expected = cli_json("thermal", "modes", "--model", path, *options)
+    calls = []
+    got = ta.thermal_modes(path, progress=lambda done, total: calls.append((done, total)), **kwargs)
+    assert isinstance(got, ta.ThermalModes) and got.to_dict() == expected
+    # the weights' shares add up to one, the time constants fall, and the dominant modes are the
+    # fewest, taken by weight, whose shares reach `share` (the rule, applied here again)
+    share = kwargs.get("share", 0.9)
+    assert got.share.sum() == pytest.approx(1.0, abs=1e-12)
+    assert all(a >= b for a, b in zip(got.tau_s, got.tau_s[1:]))
+    by_weight = sorted(expected["modes"], key=lambda m: -m["weight"])
+    total, dominant = 0.0, []
+    for m in by_weight:
+        if total >= share - 1e-12 or m["weight"] == 0:
+            break
+        total += m["share"]
+        dominant.append(m["mode"])
+    assert sorted(dominant) == sorted(got.dominant)
+    assert len(got.to_dataframe("modes")) == len(expected["modes"]) if _has_pandas() else True
+    # progress: from the solver as modes converge, ending at (total, total)
+    assert calls and calls[-1][0] == calls[-1][1] == len(expected["modes"])
+    assert all(a[0] <= b[0] for a, b in zip(calls, calls[1:]))
+
+
+def _has_pandas():
+    try:
+        import pandas  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+@pytest.mark.parametrize(
+    "kwargs,message",
+    [
+        (dict(share=0.0), "the share 0 of the weight must lie in (0, 1]"),
+        (dict(count=0), "the number of modes must be at least 1"),
+        (dict(method="qr"), "method `qr`: expected auto, dense, lanczos or lobpcg"),
+    ],
+)
+def test_thermal_modes_refuse_bad_input(kwargs, message):
+    with pytest.raises(ta.InputError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[")):
+        ta.thermal_modes(EX / "thermal" / "fin.toml", **kwargs)

@@ -6,6 +6,7 @@ use crate::Failure;
 use serde_json::{json, Value};
 use std::path::PathBuf;
 use trueaxis::thermal::model_file::{load_model, ThermalModel};
+use trueaxis::thermal::modes_report::ModesReport;
 use trueaxis::thermal::placement::{conditioning, effective_independence, exhaustive, log_det_information, modal_rule};
 use trueaxis::thermal::placement_score::gauss_points;
 use trueaxis::thermal::{
@@ -117,13 +118,28 @@ fn analyse(model: &ThermalModel, count: usize, method: MethodArg, quiet: bool) -
     if count == 0 {
         return Err(Failure::input(anyhow::anyhow!("--count must be at least 1")));
     }
-    let method = match method {
-        MethodArg::Auto => SpectrumMethod::Auto,
-        MethodArg::Dense => SpectrumMethod::Dense,
-        MethodArg::Lanczos => SpectrumMethod::Lanczos,
-        MethodArg::Lobpcg => SpectrumMethod::Lobpcg,
-    };
     let count = count.min(model.system.node_count());
+    let options = ModalOptions { count: Some(count), method: method.into(), ..Default::default() };
+    with_bar(count, quiet, |progress| modal_analysis_with_progress(&model.system, &options, progress))
+}
+
+impl From<MethodArg> for SpectrumMethod {
+    fn from(m: MethodArg) -> SpectrumMethod {
+        match m {
+            MethodArg::Auto => SpectrumMethod::Auto,
+            MethodArg::Dense => SpectrumMethod::Dense,
+            MethodArg::Lanczos => SpectrumMethod::Lanczos,
+            MethodArg::Lobpcg => SpectrumMethod::Lobpcg,
+        }
+    }
+}
+
+/// Runs `solve` with the eigensolver's progress on a bar of `count` modes (hidden when `quiet`).
+fn with_bar<T>(
+    count: usize,
+    quiet: bool,
+    solve: impl FnOnce(&mut dyn FnMut(LanczosProgress)) -> Result<T, trueaxis::thermal::ThermalError>,
+) -> Result<T, Failure> {
     let bar = crate::progress::steps(count, quiet);
     let mut progress = |p: LanczosProgress| match p {
         LanczosProgress::Factorising { nodes } => bar.set_message(format!("modes converged; factorising K - sigma C ({nodes} nodes)")),
@@ -141,8 +157,7 @@ fn analyse(model: &ThermalModel, count: usize, method: MethodArg, quiet: bool) -
             bar.set_message(format!("modes converged; LOBPCG iteration {iteration} of at most {max_iterations}"));
         }
     };
-    let options = ModalOptions { count: Some(count), method, ..Default::default() };
-    let result = modal_analysis_with_progress(&model.system, &options, &mut progress);
+    let result = solve(&mut progress);
     bar.finish_and_clear();
     result.map_err(failure)
 }
@@ -150,25 +165,16 @@ fn analyse(model: &ThermalModel, count: usize, method: MethodArg, quiet: bool) -
 pub fn modes(args: ModesArgs) -> Result<(), Failure> {
     check_fraction("--share", args.share)?;
     let model = load_model(&args.model).map_err(failure)?;
-    let basis = analyse(&model, args.count, args.method, args.json)?;
-    let weights = mode_weights(&basis, &model.system.load);
-    let dominant = dominant_modes(&weights, args.share);
+    let count = args.count.min(model.system.node_count());
+    let report = with_bar(count, args.json, |progress| ModesReport::new(&model, args.count, args.method.into(), args.share, progress))?;
+    let (basis, weights, dominant) = (&report.basis, &report.weights, &report.dominant);
     if let Some(path) = &args.plot {
         let first: Vec<usize> = (0..basis.len()).collect();
-        let shapes = mode_shapes_plot(&model, &basis, &first, &[]);
-        write_plot(path, modes_svg(&shapes, &time_constants_plot(&model.name, &weights, &dominant, args.share)))?;
+        let shapes = mode_shapes_plot(&model, basis, &first, &[]);
+        write_plot(path, modes_svg(&shapes, &time_constants_plot(&model.name, weights, dominant, args.share)))?;
     }
     if args.json {
-        let modes: Vec<Value> = weights
-            .iter()
-            .map(|w| {
-                json!({"mode": w.mode + 1, "tau_min": w.tau_s / 60.0, "tau_s": w.tau_s, "weight": w.weight, "share": w.share,
-                       "dominant": dominant.contains(&w.mode)})
-            })
-            .collect();
-        let doc = json!({"model": model.name, "nodes": model.system.node_count(), "share": args.share,
-                         "dominant": dominant.iter().map(|m| m + 1).collect::<Vec<_>>(), "modes": modes});
-        return print(&format!("{doc}\n"));
+        return print(&format!("{}\n", report.to_json()));
     }
     let mut out = format!(
         "thermal modes of {} ({} nodes), weights |xi tau| under the step flux, sorted by decreasing time constant\n{:>5} {:>12} {:>12} {:>8}  dominant\n",
@@ -179,7 +185,7 @@ pub fn modes(args: ModesArgs) -> Result<(), Failure> {
         "weight",
         "share"
     );
-    for w in &weights {
+    for w in weights {
         out += &format!(
             "{:>5} {:>12.3} {:>12.4e} {:>7.1}%  {}\n",
             w.mode + 1,

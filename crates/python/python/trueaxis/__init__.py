@@ -41,6 +41,7 @@ from ._native import (
     iso230_4,
     thermal_fit,
     thermal_predict,
+    thermal_modes,
 )
 from .results import (
     BudgetAllocation,
@@ -57,6 +58,7 @@ from .results import (
     Record,
     Result,
     ThermalFit,
+    ThermalModes,
     ThermalPrediction,
     UncertaintyBudget,
 )
@@ -92,6 +94,7 @@ __all__ = [
     "iso230_4",
     "thermal_fit",
     "thermal_predict",
+    "thermal_modes",
     "BallbarIdentification",
     "BallbarSensitivity",
     "BudgetAllocation",
@@ -106,6 +109,7 @@ __all__ = [
     "Record",
     "Result",
     "ThermalFit",
+    "ThermalModes",
     "ThermalPrediction",
     "UncertaintyBudget",
 ]

@@ -409,6 +409,18 @@ def thermal_predict(model: _Path, data: _Path) -> results.ThermalPrediction:
     """The document of `trueaxis thermal predict --json`: per row the prediction (um), the measured
     value and the residual when the error column is present; residual statistics per run (um)."""
 
+def thermal_modes(
+    model: _Path,
+    *,
+    count: int = 10,
+    share: float = 0.9,
+    method: str = "auto",
+    progress: Optional[_Progress] = None,
+) -> results.ThermalModes:
+    """The document of `trueaxis thermal modes --json` for a model file: per mode (numbered from 1)
+    tau_min, tau_s, weight, share, dominant; the dominant modes carry `share` of the weight.
+    method: auto | dense | lanczos | lobpcg; progress(done, total) as the modes converge."""
+
 def compensate(
     machine: Machine,
     errors: Errors,

@@ -367,6 +367,25 @@ class ThermalPrediction(Result):
         return self.column("samples", "predicted")
 
 
+class ThermalModes(Result):
+    """The thermal modes of a model (`trueaxis thermal modes --json`): per mode (table ``modes``)
+    the time constant (``tau_min``, ``tau_s``), the weight under the model's step load, its share
+    and whether it is dominant; ``dominant`` lists the dominant modes (numbered from 1)."""
+
+    __slots__ = ()
+    _tables = {"modes": ("modes", "mode")}
+
+    @property
+    def tau_s(self) -> np.ndarray:
+        """Time constants (s), longest first."""
+        return self.column("modes", "tau_s")
+
+    @property
+    def share(self) -> np.ndarray:
+        """Each mode's share of the computed modes' total weight."""
+        return self.column("modes", "share")
+
+
 class Prediction(Result):
     """Predicted errors at the poses of a file (`trueaxis predict --json`): per pose (table
     ``poses``) the axis positions (mm, deg) and dx dy dz (um), drx dry drz (urad), dL (um)."""

@@ -23,6 +23,7 @@ pub mod matrix_market;
 pub mod mesh;
 pub mod modal;
 pub mod model_file;
+pub mod modes_report;
 pub mod ordering;
 pub mod placement;
 pub mod placement_score;
