@@ -58,7 +58,8 @@ const M_GROUPS: &[&[u16]] = &[&[0, 1, 2, 30], &[3, 4, 5]];
 
 const FANUC_NUMBERS: Numbers = Numbers { integers_are_increments: true, decimals_mm: 3, decimals_inch: 4 };
 
-pub static FANUC: DialectTable = DialectTable {
+/// The Fanuc table, from which the controllers of its family (Haas, Fadal) differ in a few fields.
+const FANUC_BASE: DialectTable = DialectTable {
     name: "fanuc",
     title: "Fanuc 0i/30i (Custom Macro B)",
     source: "Fanuc Series 0i-MF and 30i-B operator's manuals (B-64604EN, B-64484EN): G code lists, Custom Macro B",
@@ -73,6 +74,8 @@ pub static FANUC: DialectTable = DialectTable {
     comments: Comments::ParenthesesSemicolonEndsBlock,
     unknown: Unknown::PassThrough,
 };
+
+pub static FANUC: DialectTable = FANUC_BASE;
 
 /// Haas's codes beyond a Fanuc's.
 const HAAS_OWN: &[GCodes] = &[
@@ -93,30 +96,15 @@ pub static HAAS: DialectTable = DialectTable {
     name: "haas",
     title: "Haas (NGC and classic control)",
     source: "Haas Mill Operator's Manual (Next Generation Control): G-codes, M-codes, macros",
-    family: Dialect::Fanuc,
     g_codes: &[HAAS_OWN, COMMON, OWN],
-    m_codes: None,
     m_refused: &[m_refused(97, 97, "(Haas local subprogram call to an N label) is not supported yet: use M98 with an O program")],
-    m_groups: M_GROUPS,
-    axis_codes: AXIS_CODES,
-    refused_words: &[],
-    numbers: FANUC_NUMBERS,
-    comments: Comments::ParenthesesSemicolonEndsBlock,
-    unknown: Unknown::PassThrough,
+    ..FANUC_BASE
 };
 
 pub static FADAL: DialectTable = DialectTable {
     name: "fadal",
     title: "Fadal (format 2)",
     source: "Fadal VMC programming manual: format 2 (Fanuc-compatible codes)",
-    family: Dialect::Fanuc,
-    g_codes: &[COMMON, OWN],
-    m_codes: None,
-    m_refused: &[],
-    m_groups: M_GROUPS,
-    axis_codes: AXIS_CODES,
     refused_words: &[(b'E', "(a Fadal fixture offset) is not read yet: select the work offset with G54-G59")],
-    numbers: FANUC_NUMBERS,
-    comments: Comments::ParenthesesSemicolonEndsBlock,
-    unknown: Unknown::PassThrough,
+    ..FANUC_BASE
 };

@@ -46,7 +46,8 @@ const M_REFUSED: &[MCodes] = &[
     m_refused(98, 99, "(subprogram call and return) is not supported in the Mach3/Mach4 dialect yet: let the post expand subprograms"),
 ];
 
-pub static MACH3: DialectTable = DialectTable {
+/// The Mach3 table; Mach4 adds refusals of its own.
+const MACH3_BASE: DialectTable = DialectTable {
     name: "mach3",
     title: "Mach3",
     source: "Using Mach3Mill, G- and M-code language reference",
@@ -62,18 +63,12 @@ pub static MACH3: DialectTable = DialectTable {
     unknown: Unknown::PassThrough,
 };
 
+pub static MACH3: DialectTable = MACH3_BASE;
+
 pub static MACH4: DialectTable = DialectTable {
     name: "mach4",
     title: "Mach4",
     source: "Mach4 Mill G and M code reference",
-    family: Dialect::LinuxCnc,
     g_codes: &[MACH4_OWN, OWN, COMMON],
-    m_codes: Some(&[M_CODES]),
-    m_refused: M_REFUSED,
-    m_groups: M_GROUPS,
-    axis_codes: AXIS_CODES,
-    refused_words: &[],
-    numbers: RS274_NUMBERS,
-    comments: Comments::ParenthesesAndSemicolon,
-    unknown: Unknown::PassThrough,
+    ..MACH3_BASE
 };
