@@ -16,7 +16,7 @@ use std::sync::OnceLock;
 use trueaxis::compensate::nc::{correct_program, NcOptions};
 use trueaxis::compensate::Corrector;
 use trueaxis::data::{poses_of, read_poses_from, CsvTable};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::iso230_2::{evaluate, plausibility, read_runs_from_str, runs_of};
 use trueaxis::instruments::ballbar::{ballbar_header, trace_of};
 use trueaxis::io::{etalon, rtl, text_of};

@@ -8,7 +8,7 @@ use crate::Failure;
 use anyhow::anyhow;
 use std::path::{Path, PathBuf};
 use trueaxis::data::{write_atomically, OutputSet};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::circular_test::{cartesian_machine, centre_pose, circular_test_file, CircularTestOptions};
 use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, pige_user_value, PigeRequest};
 use trueaxis::identify::tmbb::{observability, TmbbSetup, UNIDENTIFIABLE};

@@ -4,7 +4,7 @@ use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::compensate::export::Limits;
 use trueaxis::compensate::{compensation, sensor_index, CompensateError, CompensationRequest, Corrector, ExportFormat, FormatOptions};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

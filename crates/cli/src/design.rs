@@ -6,7 +6,7 @@ use crate::predict::parse_point;
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::{write_atomically, OutputSet};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{criteria_units, CriteriaUnits};
 use trueaxis::identify::{measurement_csv, optimal_design_json, simulate_campaign, Campaign, CampaignCandidates, Criterion, IdentifyError};

@@ -4,7 +4,7 @@ use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::checks::deviation_finding;
 use trueaxis::data::{CsvTable, OutputSet};
-use trueaxis::errors::{set_error_function, BasisSpec, Direction, ErrorModel, PeriodicSpec};
+use trueaxis::error_model::{set_error_function, BasisSpec, Direction, ErrorModel, PeriodicSpec};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, IdentifyError};
 use trueaxis::instruments::{motion_error_axis, DirectError, DirectInstrument, DirectKind, DirectSetup, LevelBody};

@@ -1,9 +1,9 @@
 //! The inputs of an error model (temperatures `T:`, spindle speeds `S:`, loads `F:`, positions
-//! `P:`; `trueaxis::errors::inputs`) given on the command line as `NAME=VALUE` options, for every
+//! `P:`; `trueaxis::error_model::inputs`) given on the command line as `NAME=VALUE` options, for every
 //! row of a pose file that has no column of that name; shared by `predict`, `compensate` and `verify`.
 
 use crate::Failure;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 
 /// `NAME=VALUE` options (`--input`, `--temperature`) as `(name, value)`; an error names the option.
 pub fn parse_given(given: &[String], option: &str) -> Result<Vec<(String, f64)>, Failure> {

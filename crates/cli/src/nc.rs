@@ -7,7 +7,7 @@ use trueaxis::compensate::nc::params::read_parameter_file;
 use trueaxis::compensate::nc::{correct_file, Controller, FileId, Header, NcOptions, NcResult, SearchPath, ToolTable, UnknownTools};
 use trueaxis::compensate::{nc_json, Corrector};
 use trueaxis::data::write_streamed;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 /// Corrects an NC program, RS274/NGC (LinuxCNC 2.9) or Fanuc: every point the program moves to is

@@ -3,7 +3,7 @@
 use crate::Failure;
 use std::path::{Path, PathBuf};
 use trueaxis::data::{output_name, predict_poses, write_streamed, DataError, PoseStream, PredictionFormat};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Predictor, Setup};

@@ -7,7 +7,7 @@ use crate::Failure;
 use indicatif::ProgressBar;
 use std::path::{Path, PathBuf};
 use trueaxis::data::write_atomically;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::pige_report::{bar_lengths, method_of, PigeRequest};
 use trueaxis::identify::tmbb::TmbbSetup;

@@ -6,7 +6,7 @@ use crate::Failure;
 use std::fmt::Write;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::verification::{verify, Verification, VerificationOptions};
 use trueaxis::identify::{identify, Campaign, IndirectOptions};
 use trueaxis::machine::Machine;

@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::process::{Command, Output};
 use trueaxis::data::read_poses;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Predictor};
 

@@ -23,13 +23,13 @@ fn generated(x: f64) -> f64 {
 
 /// The fitted EXX of the + direction (`[basis."EXX+"]`).
 fn fitted_exx(errors_file: &std::path::Path) -> impl Fn(f64) -> f64 {
-    fitted_exx_of(errors_file, trueaxis::errors::Direction::Positive)
+    fitted_exx_of(errors_file, trueaxis::error_model::Direction::Positive)
 }
 
-fn fitted_exx_of(errors_file: &std::path::Path, direction: trueaxis::errors::Direction) -> impl Fn(f64) -> f64 {
+fn fitted_exx_of(errors_file: &std::path::Path, direction: trueaxis::error_model::Direction) -> impl Fn(f64) -> f64 {
     let machine =
         trueaxis::machine::Machine::load(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."), "/examples/machines/vmc3.toml")).unwrap();
-    let model = trueaxis::errors::ErrorModel::load(errors_file, &machine).unwrap();
+    let model = trueaxis::error_model::ErrorModel::load(errors_file, &machine).unwrap();
     let exx = trueaxis::machine::ParameterId::parse("EXX").unwrap();
     let f = model.directional_entries().find(|(id, d, _)| **id == exx && *d == Some(direction)).unwrap().2.clone();
     move |x| f.evaluate(x)
@@ -79,7 +79,7 @@ fn fit_with_the_machine_recovers_the_error_with_the_sign_of_a_table_axis() {
     // bidirectional: the reading of the + approach is 0.8 um above that of the - approach (the
     // generated backlash), so EXX+ - EXX- = -0.8 um; tolerance 0.2 um = 4.5 standard uncertainties
     // of the difference of the two fitted constants (0.03 um each)
-    let exx_minus = fitted_exx_of(&errors, trueaxis::errors::Direction::Negative);
+    let exx_minus = fitted_exx_of(&errors, trueaxis::error_model::Direction::Negative);
     for x in [-300.0, 0.0, 300.0] {
         let b = exx(x) - exx_minus(x);
         assert!((b + 0.8).abs() < 0.2, "EXX+ - EXX- at {x}: {b}");

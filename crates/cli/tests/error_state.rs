@@ -78,7 +78,7 @@ fn missing_state_columns_and_bad_state_files_are_refused() {
     let machine =
         trueaxis::machine::Machine::load(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."), "/examples/machines/vmc3.toml")).unwrap();
     let bad = |text: &str, fragment: &str| {
-        let err = trueaxis::errors::ErrorModel::from_toml_str(text, "e.toml", &machine).unwrap_err().to_string();
+        let err = trueaxis::error_model::ErrorModel::from_toml_str(text, "e.toml", &machine).unwrap_err().to_string();
         assert!(err.contains(fragment), "expected `{fragment}` in {err}");
     };
     bad("[constant]\n\"EXX+\" = 0.4\n", "EXX+ is given without EXX-");

@@ -12,7 +12,7 @@ mod basis_campaign;
 use basis_campaign::{bspline_bases, piecewise_bases, random_poses, simulate_into, write_campaign, SQUARENESS, STATIONS};
 use std::path::PathBuf;
 use std::process::Command;
-use trueaxis::errors::{ErrorFunction, ErrorModel};
+use trueaxis::error_model::{ErrorFunction, ErrorModel};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{error_values_text, identify, Campaign, IndirectOptions};
 use trueaxis::machine::{Machine, ParameterId};

@@ -8,7 +8,7 @@ mod thermal_common;
 use std::fmt::Write;
 use std::path::Path;
 use thermal_common::{json, trueaxis};
-use trueaxis::errors::{ErrorModel, MachineState};
+use trueaxis::error_model::{ErrorModel, MachineState};
 use trueaxis::machine::{Machine, ParameterId};
 
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");

@@ -10,7 +10,7 @@ mod thermal_common;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use thermal_common::{json, trueaxis};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::verification::{verify, VerificationOptions};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{measurement_csv, Campaign};

@@ -5,7 +5,7 @@
 use std::ffi::{c_char, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use trueaxis::compensate::realtime::{RealtimeCorrector, RealtimeStatus};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 /// Copies `message` into the caller's buffer (NUL-terminated, truncated to fit).

@@ -7,7 +7,7 @@ use std::cell::Cell;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use trueaxis::compensate::realtime::RealtimeStatus;
 use trueaxis::compensate::{CorrectionWorkspace, Corrector, RealtimeCorrector};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::{AxisKind, Machine};
 
 struct Counting;
@@ -79,10 +79,10 @@ fn a_call_allocates_nothing_and_matches_the_pose_corrector() {
         for (p, r) in valid.iter().zip(results.chunks(n)) {
             let mut q = vec![0.0; n];
             m.pose_to_internal(p, &mut q);
-            let dirs = vec![Some(trueaxis::errors::Direction::Positive); n];
+            let dirs = vec![Some(trueaxis::error_model::Direction::Positive); n];
             let c = corrector.correct_state(
                 &q,
-                &trueaxis::errors::MachineState { directions: Some(&dirs), temperatures: &temperatures },
+                &trueaxis::error_model::MachineState { directions: Some(&dirs), temperatures: &temperatures },
                 &mut ws,
             );
             // the real-time call starts from the previous one (warm start); both stop within the

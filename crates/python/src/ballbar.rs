@@ -3,7 +3,7 @@
 //! and `trueaxis ballbar sensitivity` use.
 
 use crate::convert::typed;
-use crate::errors::{computation, input, warn};
+use crate::exceptions::{computation, input, warn};
 use crate::machine::Machine;
 use pyo3::prelude::*;
 use std::path::PathBuf;

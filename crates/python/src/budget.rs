@@ -6,7 +6,7 @@
 //! and travel in mm, rotary positions and tilts in deg.
 
 use crate::convert::{typed, with_array2};
-use crate::errors::{computation, input, input_msg};
+use crate::exceptions::{computation, input, input_msg};
 use crate::identify::Reduced;
 use crate::machine::{parse_frame, Machine};
 use crate::progress::Progress;

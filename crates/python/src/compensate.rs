@@ -1,7 +1,7 @@
 //! Compensation tables for controllers and the correction of NC programs, on the exact chain.
 
 use crate::convert::typed;
-use crate::errors::{computation, input, input_msg};
+use crate::exceptions::{computation, input, input_msg};
 use crate::machine::{Errors, Machine};
 use pyo3::prelude::*;
 use std::collections::HashMap;

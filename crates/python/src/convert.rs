@@ -2,7 +2,7 @@
 //! the file readers parse (so a dictionary is checked exactly like a file), a JSON document becomes
 //! plain Python objects (dict, list, float, int, str, bool, None).
 
-use crate::errors::input_msg;
+use crate::exceptions::input_msg;
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 

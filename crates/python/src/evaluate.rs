@@ -2,7 +2,7 @@
 //! through the library's entry points that `trueaxis iso230-2` and `trueaxis ballbar iso230-4` use.
 
 use crate::convert::{point3, typed};
-use crate::errors::{evaluate as failure, input_msg, warn};
+use crate::exceptions::{evaluate as failure, input_msg, warn};
 use crate::machine::Machine;
 use pyo3::prelude::*;
 use std::path::PathBuf;

@@ -3,14 +3,14 @@
 //! §4.3) whose random starts can be spread over processes or machines.
 
 use crate::convert::{dataframe, to_py, toml_text, typed};
-use crate::errors::{computation_msg, identify as identify_error, input_msg};
+use crate::exceptions::{computation_msg, identify as identify_error, input_msg};
 use crate::machine::{Errors, Machine};
 use crate::progress::Progress;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::identify::{
     error_values_text, identification_json, optimal_design_json, CampaignCandidates, Criterion, ExchangeOutcome, IdentifyError,
     IndirectOptions, Solver,

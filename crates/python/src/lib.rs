@@ -9,7 +9,7 @@ mod ballbar;
 mod budget;
 mod compensate;
 mod convert;
-mod errors;
+mod exceptions;
 mod evaluate;
 mod identify;
 mod machine;
@@ -22,11 +22,11 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = m.py();
-    m.add("TrueaxisError", py.get_type::<errors::TrueaxisError>())?;
-    m.add("InputError", py.get_type::<errors::InputError>())?;
-    m.add("ComputationError", py.get_type::<errors::ComputationError>())?;
-    m.add("ResourceError", py.get_type::<errors::ResourceError>())?;
-    m.add("TrueaxisWarning", py.get_type::<errors::TrueaxisWarning>())?;
+    m.add("TrueaxisError", py.get_type::<exceptions::TrueaxisError>())?;
+    m.add("InputError", py.get_type::<exceptions::InputError>())?;
+    m.add("ComputationError", py.get_type::<exceptions::ComputationError>())?;
+    m.add("ResourceError", py.get_type::<exceptions::ResourceError>())?;
+    m.add("TrueaxisWarning", py.get_type::<exceptions::TrueaxisWarning>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // the columns of `Machine.predict`: 6 by default, 7 (dL last) with `with_dl=True`
     let columns: Vec<&str> = trueaxis::data::PREDICTION_COLUMNS.iter().map(|(c, _)| *c).collect();

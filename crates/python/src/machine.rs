@@ -2,13 +2,13 @@
 //! files, TOML text or dictionaries; the volumetric error of many poses at once.
 
 use crate::convert::{array2, point3, toml_text, typed, with_array2};
-use crate::errors::{computation, input, input_msg};
+use crate::exceptions::{computation, input, input_msg};
 use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
 use trueaxis::data::{predictions_json, read_poses};
-use trueaxis::errors::{Direction, ErrorModel};
+use trueaxis::error_model::{Direction, ErrorModel};
 use trueaxis::geometry::Vec3;
 use trueaxis::model::{Frame, Predictor, Setup};
 

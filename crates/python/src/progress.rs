@@ -21,7 +21,7 @@ impl Progress {
     pub fn new(callable: Option<&Bound<'_, PyAny>>) -> PyResult<Progress> {
         if let Some(c) = callable {
             if !c.is_callable() {
-                return Err(crate::errors::input_msg(format!(
+                return Err(crate::exceptions::input_msg(format!(
                     "progress: expected a callable progress(done, total), got a {}",
                     c.get_type().name()?
                 )));

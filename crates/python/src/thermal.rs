@@ -2,7 +2,7 @@
 //! points that `trueaxis thermal fit` and `trueaxis thermal predict` use.
 
 use crate::convert::typed;
-use crate::errors::{computation, input, input_msg};
+use crate::exceptions::{computation, input, input_msg};
 use crate::machine::Machine;
 use crate::progress::Progress;
 use pyo3::prelude::*;

@@ -6,7 +6,7 @@
 //! the same numbers (every chunk draws only from its own counter-based random streams).
 
 use crate::convert::{array2, toml_text, typed};
-use crate::errors::{identify as identify_error, input_msg, uncertainty as uncertainty_error};
+use crate::exceptions::{identify as identify_error, input_msg, uncertainty as uncertainty_error};
 use crate::identify::{Campaign, Reduced};
 use crate::machine::{parse_frame, Machine};
 use crate::progress::Progress;

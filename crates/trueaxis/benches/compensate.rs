@@ -24,7 +24,7 @@
 use criterion::{black_box, criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use trueaxis::compensate::nc::{correct_program, NcOptions};
 use trueaxis::compensate::{volumetric_grid, CorrectionWorkspace, Corrector, TableSpec, VolumetricGrid};
-use trueaxis::errors::MachineState;
+use trueaxis::error_model::MachineState;
 use trueaxis::machine::Machine;
 
 #[allow(dead_code)] // the kinematics bench uses the rest
@@ -124,7 +124,7 @@ fn grid_poses(machine: &Machine, grid: &VolumetricGrid) -> Vec<f64> {
 }
 
 /// The grid's machines, corrector inputs and nodes.
-fn grid_cases() -> Vec<(&'static str, Machine, trueaxis::errors::ErrorModel)> {
+fn grid_cases() -> Vec<(&'static str, Machine, trueaxis::error_model::ErrorModel)> {
     [CASES[0], CASES[2]]
         .into_iter()
         .map(|(label, machine_file, errors_file)| {

@@ -9,7 +9,7 @@
 //! `identify/lstsq_*` and `identify/qr_*` in bench/baseline.py.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::identify::{identify, solve, Campaign, DesignMatrix, IndirectOptions};
 use trueaxis::machine::Machine;
 

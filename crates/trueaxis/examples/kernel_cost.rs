@@ -7,7 +7,7 @@
 //! Run: `cargo run --release -p trueaxis --example kernel_cost [AVX-512F|AVX2|baseline] [repeats]`.
 
 use std::time::Instant;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Setup, VolumetricError, VolumetricKernel, INSTRUCTION_SETS};
 

@@ -1,13 +1,13 @@
 //! trueaxis: find, explain and remove the quasi-static errors of multi-axis machine tools.
 //!
 //! The modules follow the pipeline of docs/design.md, The pipeline; data flows one way:
-//! `machine` -> `model` (with `errors`) -> instruments -> identify -> uncertainty -> compensate -> `report`.
+//! `machine` -> `model` (with `error_model`) -> instruments -> identify -> uncertainty -> compensate -> `report`.
 //! Internal units are mm and rad; files and outputs use mm, deg, um and urad (docs/design.md, Conventions).
 
 pub mod budget;
 pub mod compensate;
 pub mod data;
-pub mod errors;
+pub mod error_model;
 pub mod evaluate;
 pub mod geometry;
 pub mod identify;

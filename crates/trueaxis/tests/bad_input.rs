@@ -2,7 +2,7 @@
 //! (docs/design.md, Command line), never a panic.
 
 use trueaxis::data::read_poses_from;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 const GOOD: &str = r#"

@@ -21,7 +21,7 @@
 //! theta_y0a = EB0A, theta_z0a = EC0A, e_x0c = EX0C, e_y0c = EY0C, theta_x0c = EA0C,
 //! theta_y0c = EB0C.
 
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::Machine;
 use trueaxis::model::{actual_chain, nominal_chain, volumetric_error, Frame, Setup};

@@ -3,7 +3,7 @@
 //! axes): the squareness ellipse of Jiang 2014 Fig. 2.14, a round trip of every diagnostic, G, F, H
 //! against closed forms.
 
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::ballbar_diagnostics::{diagnose, CircularRun, DiagnosticOptions};
 use trueaxis::evaluate::iso230_4::{circular_values, evaluate};
 use trueaxis::instruments::ballbar::{circle_test, sweep_angles, CircleSpec, Plane, Rotation};

@@ -8,7 +8,7 @@
 use proptest::prelude::*;
 use proptest::test_runner::RngSeed;
 use std::path::Path;
-use trueaxis::errors::{Direction, ErrorModel, MachineState};
+use trueaxis::error_model::{Direction, ErrorModel, MachineState};
 use trueaxis::machine::Machine;
 use trueaxis::model::{volumetric_error, Frame, Predictor, Setup, VolumetricError, VolumetricKernel, INSTRUCTION_SETS};
 

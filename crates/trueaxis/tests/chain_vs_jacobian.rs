@@ -188,7 +188,7 @@ fn jacobian_batch_stacks_the_single_pose_jacobians() {
 /// position error at any pose. Tolerance 1e-4 um (second-order terms are s^2 * 500 mm = 7e-5 um).
 #[test]
 fn vmc3_squareness_errors_give_s_times_lever() {
-    use trueaxis::errors::{ErrorFunction, ErrorModel};
+    use trueaxis::error_model::{ErrorFunction, ErrorModel};
     use trueaxis::machine::ParameterId;
     use trueaxis::model::Predictor;
     let m = machine(0);

@@ -9,7 +9,7 @@
 
 use std::path::Path;
 use trueaxis::compensate::{correct_batch, volumetric_grid, Correction, CorrectionWorkspace, Corrector, OrientationTarget, TableSpec};
-use trueaxis::errors::{Direction, ErrorModel, MachineState};
+use trueaxis::error_model::{Direction, ErrorModel, MachineState};
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::{AxisKind, Machine};
 

@@ -11,7 +11,7 @@ use trueaxis::compensate::export::{self, fanuc::FanucLimits, siemens::SiemensLim
 use trueaxis::compensate::{
     axis_tables, residual_of_format, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, TableSet, TableSpec,
 };
-use trueaxis::errors::{Direction, ErrorFunction, ErrorModel, MachineState};
+use trueaxis::error_model::{Direction, ErrorFunction, ErrorModel, MachineState};
 use trueaxis::machine::{Machine, ParameterId};
 
 mod compensate_five_axis;

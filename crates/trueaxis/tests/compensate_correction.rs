@@ -4,7 +4,7 @@
 //! thermal terms.
 
 use trueaxis::compensate::{Correction, CorrectionWorkspace, Corrector, OrientationTarget};
-use trueaxis::errors::{Direction, ErrorModel, MachineState};
+use trueaxis::error_model::{Direction, ErrorModel, MachineState};
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::Machine;
 use trueaxis::model::{nominal_chain, volumetric_error, Frame};

@@ -3,7 +3,7 @@
 
 use trueaxis::compensate::export::{self, linuxcnc::CompType, ExportInput, ExportedFile, Limits};
 use trueaxis::compensate::{axis_tables, volumetric_grid, CompensateError, CorrectionWorkspace, Corrector, TableSet, TableSpec};
-use trueaxis::errors::{ErrorModel, MachineState};
+use trueaxis::error_model::{ErrorModel, MachineState};
 use trueaxis::machine::Machine;
 
 fn load(machine: &str, errors: &str) -> (Machine, ErrorModel) {
@@ -190,7 +190,7 @@ fn heidenhain_tables_have_equidistant_columns_per_axis() {
     // a C table over one turn closes for a periodic model; a radial error of C that grows with the
     // angle (0.01 um/deg, not periodic) does not
     let mut broken = e.clone();
-    broken.set(&m, "EXC".parse_id(), trueaxis::errors::ErrorFunction::polynomial(vec![0.0, 0.01]).unwrap()).unwrap();
+    broken.set(&m, "EXC".parse_id(), trueaxis::error_model::ErrorFunction::polynomial(vec![0.0, 0.01]).unwrap()).unwrap();
     let corrector = Corrector::new(&m, &broken);
     let tables = axis_tables(&corrector, &spec(37)).unwrap();
     let err = export::heidenhain::export(&export_input(&m, &broken, &tables, None, Limits::default())).unwrap_err();

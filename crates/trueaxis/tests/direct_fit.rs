@@ -1,7 +1,7 @@
 //! Round trips of direct characterisation (Soons 1993 ch. 3): simulate an error with known
 //! parametric form plus noise, fit it, recover it.
 
-use trueaxis::errors::{integrate, set_error_function, Basis, BasisSpec, ErrorFunction, ErrorModel, PeriodicSpec};
+use trueaxis::error_model::{integrate, set_error_function, Basis, BasisSpec, ErrorFunction, ErrorModel, PeriodicSpec};
 use trueaxis::identify::{
     alias_wavelength, dominant_period, fit_error_function, refine_wavelength, remove_cycle_drift, residual_period, sampling_step,
     FitOptions,

@@ -3,7 +3,7 @@
 //! direction of motion or one position range with a spindle-speed input (the geometric-thermal
 //! model of NISTIR 5236 §3.6). Each against its closed form or an independent implementation.
 
-use trueaxis::errors::{input_values, Direction, ErrorModel, InputSource, MachineState};
+use trueaxis::error_model::{input_values, Direction, ErrorModel, InputSource, MachineState};
 use trueaxis::machine::{Machine, ParameterId};
 use trueaxis::thermal::drift_model::DriftModel;
 

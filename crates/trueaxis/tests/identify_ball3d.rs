@@ -9,7 +9,7 @@
 
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{identify, measurement_csv, simulate_campaign, Campaign, Identification, IdentifyError, IndirectOptions};
 use trueaxis::instruments::{ball_trajectory, SensorCalibration, Sweep};

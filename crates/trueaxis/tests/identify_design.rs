@@ -6,7 +6,7 @@
 
 use nalgebra::DMatrix;
 use std::fmt::Write;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::identify::{Campaign, CandidateSet, Criterion, DesignMatrix};
 use trueaxis::machine::Machine;
 

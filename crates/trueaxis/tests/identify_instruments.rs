@@ -7,7 +7,7 @@
 
 use std::fmt::Write;
 use std::path::Path;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{identify, measurement_csv, simulate_campaign, Campaign, IndirectOptions};
 use trueaxis::instruments::{ball_trajectory, nominal_vector, plate_displacement};

@@ -6,7 +6,7 @@
 //! along those combinations) within 3 standard uncertainties, with residuals matching the noise.
 
 use std::path::{Path, PathBuf};
-use trueaxis::errors::{ErrorFunction, ErrorModel};
+use trueaxis::error_model::{ErrorFunction, ErrorModel};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{identify, measurement_csv, simulate_campaign, Campaign, IdentifyError, IndirectOptions};
 use trueaxis::instruments::{ball_trajectory, Sweep};

@@ -3,7 +3,7 @@
 //! simulate -> fit -> recover with the errors of examples/errors/vmc3.toml as the truth.
 
 use trueaxis::data::CsvTable;
-use trueaxis::errors::{BasisSpec, ErrorFunction, ErrorModel};
+use trueaxis::error_model::{BasisSpec, ErrorFunction, ErrorModel};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{run_direct_fit, DirectFitRequest, DirectModel, FitOptions};
 use trueaxis::instruments::{DirectInstrument, DirectKind, DirectSetup, Laser, LaserOptics, Level, LevelBody};

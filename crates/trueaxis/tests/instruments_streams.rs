@@ -10,7 +10,7 @@
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::iso230_4::circular_values;
 use trueaxis::instruments::ballbar::{circle_test, CircleSpec, Plane, Rotation};
 use trueaxis::instruments::{capture_arc, steady_values, ArcProgramme, SteadySettings};

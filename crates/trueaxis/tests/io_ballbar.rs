@@ -5,7 +5,7 @@
 //! lengths instead of deviations; the checks of radians, radius and arc, tripped and not.
 
 use trueaxis::data::CsvTable;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::ballbar_diagnostics::DiagnosticOptions;
 use trueaxis::evaluate::iso230_4::{evaluate, read_circular_table, CircularFile};
 use trueaxis::instruments::ballbar::{circle_test, read_trace, trace_of, CircleSpec, Plane, Rotation};

@@ -3,7 +3,7 @@
 //! parameter values (um, urad) at every position and the same volumetric errors as the errors
 //! written directly; the shipped example against examples/errors/vmc3.toml; refusals naming the line.
 
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::io::etalon::parse;
 use trueaxis::machine::Machine;
 use trueaxis::model::{volumetric_error, Frame, Setup};

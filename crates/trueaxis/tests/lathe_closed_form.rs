@@ -15,7 +15,7 @@
 //! corrected form.
 
 use nalgebra::Vector3;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::model::{jacobian, volumetric_error, Frame, JacobianWorkspace, Predictor, Setup, JACOBIAN_ROWS};
 

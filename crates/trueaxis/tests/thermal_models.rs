@@ -4,7 +4,7 @@
 //! rigid-body formula, and sensor placement reproduces Zhu 2008 §3.4.2.
 
 use std::path::Path;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::model::Predictor;
 use trueaxis::thermal::assembly::{assemble, Boundary, Material, Section, ThermalProblem};

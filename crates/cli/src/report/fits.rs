@@ -33,7 +33,7 @@ pub fn fit_parts(certificate: &CertificateFile, machine: &Path, origin: &Path) -
         let unit = run.position_unit();
         let notes: Vec<String> = run.warnings.iter().chain(&run.applied.notes).cloned().collect();
         for (direction, report) in run.reports {
-            let symbol = direction.map(|d| if d == trueaxis::errors::Direction::Positive { '+' } else { '-' });
+            let symbol = direction.map(|d| if d == trueaxis::error_model::Direction::Positive { '+' } else { '-' });
             let part = FitPart::new(args.args.data.clone(), symbol, unit, report, notes.clone());
             parts.push(part.map_err(|e| Failure::computation(anyhow::anyhow!("{place}: {e}")))?);
         }

@@ -6,7 +6,7 @@ use crate::iso230_2::print;
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::thermal::links::{add_terms, link_terms, read_links, terms_toml, ErrorTerm};
 

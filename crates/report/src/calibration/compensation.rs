@@ -43,7 +43,7 @@ pub struct ControllerPart {
     /// The machine's axis letters, in the order of a pose.
     pub axes: Vec<char>,
 }
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 /// Points per table and grid nodes: the defaults of `trueaxis compensate` (`--points 41 --grid 9,9,9`).

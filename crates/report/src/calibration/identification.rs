@@ -9,7 +9,7 @@ use super::quantity::{decimals_for, display_unit, quantity, with_uncertainty};
 use super::uncertainty::UncertaintyPart;
 use super::{number, CalibrationError};
 use std::path::Path;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::identify::{self, error_values_text, Campaign, DesignMatrix, Identification, IndirectOptions};
 use trueaxis::machine::Machine;
 

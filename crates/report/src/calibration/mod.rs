@@ -67,7 +67,7 @@ pub enum CalibrationError {
     #[error(transparent)]
     Machine(#[from] trueaxis::machine::MachineError),
     #[error(transparent)]
-    Errors(#[from] trueaxis::errors::ErrorsError),
+    Errors(#[from] trueaxis::error_model::ErrorModelError),
     #[error(transparent)]
     Data(#[from] trueaxis::data::DataError),
     #[error(transparent)]

@@ -13,7 +13,7 @@ use super::CalibrationError;
 use rayon::prelude::*;
 use trueaxis::compensate::export::residual::{leaves_more_than_it_removes, Applied};
 use trueaxis::compensate::{CorrectionWorkspace, Corrector};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::{rotation_log, Mat3, Pose, Vec3};
 use trueaxis::machine::{Component, Machine, SetupSide};
 use trueaxis::model::{actual_chain, nominal_chain, Frame, Predictor, Setup, VolumetricError};

@@ -7,7 +7,7 @@ use crate::calibration::CircleInput;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::instruments::ballbar::{circle_test, CircleSpec, Plane, Rotation};
 use trueaxis::machine::Machine;

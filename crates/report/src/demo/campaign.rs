@@ -5,7 +5,7 @@
 use super::{DemoError, Output, CAMPAIGN_POSES_CSV, CAMPAIGN_TOML, SOURCES_TOML};
 use crate::calibration::IdentificationPart;
 use std::path::PathBuf;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::identify::{self, measurement_csv, simulate_campaign, Campaign, IndirectOptions};
 use trueaxis::machine::Machine;
 use trueaxis::uncertainty::{SourceKind, Sources};

@@ -27,7 +27,7 @@ use crate::calibration::{
 use std::path::{Path, PathBuf};
 use thiserror::Error;
 use trueaxis::data::{DataError, WorkingDirectory};
-use trueaxis::errors::{ErrorModel, ErrorsError};
+use trueaxis::error_model::{ErrorModel, ErrorModelError};
 use trueaxis::identify::{identification_json, IdentifyError};
 use trueaxis::instruments::ballbar::BallbarError;
 use trueaxis::machine::{Machine, MachineError};
@@ -55,7 +55,7 @@ pub enum DemoError {
     #[error(transparent)]
     Machine(#[from] MachineError),
     #[error(transparent)]
-    Errors(#[from] ErrorsError),
+    Errors(#[from] ErrorModelError),
     #[error(transparent)]
     Data(#[from] DataError),
     #[error(transparent)]

@@ -2,7 +2,7 @@
 //! (`bench/kx8five_tables.toml`, written by `bench/make_tables.py`) and a deterministic pose set
 //! that `bench/baseline.py` reproduces exactly.
 
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 pub fn kx8five_with_tables() -> (Machine, ErrorModel) {

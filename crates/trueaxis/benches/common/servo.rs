@@ -3,7 +3,7 @@
 #![allow(dead_code)]
 
 use criterion::measurement::{Measurement, ValueFormatter, WallTime};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::{AxisKind, Machine};
 
 /// The workspace root (examples/ and bench/ live there).

@@ -13,7 +13,7 @@
 
 use super::correction::{Correction, CorrectionWorkspace, Corrector, Iteration, Next, Target};
 use super::solve::{Joints, Solver, MAX_AXES};
-use crate::errors::Direction;
+use crate::error_model::Direction;
 use crate::geometry::Vec3;
 use crate::model::{set_mat_lane, BlockState, Frame, RelativeTargets, VolumetricError, VolumetricKernel, LANES};
 use rayon::prelude::*;

@@ -31,7 +31,7 @@
 
 pub use super::solve::MAX_AXES;
 use super::solve::{Block, Joints, OrientationRows, Solver, CHARACTERISTIC_LENGTH_MM};
-use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::error_model::{Direction, ErrorModel, MachineState};
 use crate::geometry::{rotation_log, Mat3, Pose, Twist, Vec3};
 use crate::machine::{AxisKind, Component, Machine, SetupSide};
 use crate::model::{actual_chain, nominal_chain, Setup};

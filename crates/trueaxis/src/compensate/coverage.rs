@@ -1,11 +1,11 @@
 //! Coverage of the error tables: an error table of a motion error holds its end values past its
-//! ends (`errors::function`), so a correction beyond a table's range rests on values nobody
+//! ends (`error_model::function`), so a correction beyond a table's range rests on values nobody
 //! measured. Compensation refuses it: tables and grids whose travel a table does not cover, NC
 //! points outside a table's range (docs/limits.md). Periodic tables (a rotary axis over a full
 //! turn) cover everything.
 
 use super::CompensateError;
-use crate::errors::{ErrorFunction, ErrorModel};
+use crate::error_model::{ErrorFunction, ErrorModel};
 use crate::machine::{Machine, ParameterId};
 
 /// The range (mm or deg) of one error table of a motion error of axis `axis` (index).

@@ -17,7 +17,7 @@ use super::{
     Corrector, ExportFormat, FormatResidual, TableSet, TableSpec, VolumetricGrid,
 };
 use crate::data::{push_fixed, OutputSet, PoseStream, CHUNK};
-use crate::errors::ErrorModel;
+use crate::error_model::ErrorModel;
 use crate::machine::{Machine, ParameterId};
 use serde_json::{json, Value};
 use std::io::Write;

@@ -11,7 +11,7 @@
 use super::correction::{Correction, CorrectionOptions, CorrectionWorkspace, Corrector, WarmStart, MAX_AXES};
 use super::export::Limits;
 use super::CompensateError;
-use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::error_model::{Direction, ErrorModel, MachineState};
 use crate::machine::Machine;
 use crate::model::Setup;
 

@@ -13,7 +13,7 @@
 use super::batch::correct_batch;
 use super::correction::{Correction, Corrector};
 use super::CompensateError;
-use crate::errors::Direction;
+use crate::error_model::Direction;
 use crate::machine::{AxisKind, Machine};
 
 /// One table: the correction of axis `corrected` as a function of the position of axis `driver`.

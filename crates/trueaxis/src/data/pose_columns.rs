@@ -7,7 +7,7 @@
 
 use super::value_column::ValueColumn;
 use super::{DataError, PoseTable};
-use crate::errors::Direction;
+use crate::error_model::Direction;
 use crate::io::header::{normalised, Header, RunDirection};
 use crate::io::ranges::TEMPERATURE_DEGC;
 use crate::io::units::{canonical, Dimension};

@@ -2,7 +2,7 @@
 //! (docs/reliability.md: `predict` and `compensate --poses` on 10^7 poses): the same forgiving
 //! reading as the table read whole ([`super::CsvTable`], [`super::poses_of`]) through the shared
 //! head, row splitting and pose columns, and the inputs of an error model per pose
-//! (`errors::InputRows`: columns `T:` `S:` `F:` `P:`, given values, drift lags over `t` and `run`).
+//! (`error_model::InputRows`: columns `T:` `S:` `F:` `P:`, given values, drift lags over `t` and `run`).
 //!
 //! The header is the first line of at least two fields that the next content line repeats; the
 //! lines before it are kept to find it (at most [`MAX_PREAMBLE`] bytes). A file of another kind (a
@@ -13,7 +13,7 @@ use super::pose_columns::PoseColumns;
 use super::table_head::{find_column, header_index, is_content, is_header_pair, TableHead};
 use super::value_column::ValueColumn;
 use super::{DataError, PoseTable};
-use crate::errors::{ErrorModel, InputRows};
+use crate::error_model::{ErrorModel, InputRows};
 use crate::io::units::canonical;
 use crate::machine::Machine;
 use std::collections::VecDeque;

@@ -5,7 +5,7 @@
 
 use super::pose_columns::PoseColumns;
 use super::{CsvTable, DataError};
-use crate::errors::Direction;
+use crate::error_model::Direction;
 use crate::machine::Machine;
 use std::io::Read;
 

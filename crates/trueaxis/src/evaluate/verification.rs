@@ -23,7 +23,7 @@
 //! - repeatability estimated from `nu_r` degrees of freedom (e.g. 5 repeats of each of 8 holes:
 //!   `nu_r = 32`): `F = (chi2 / nu)` against `F(nu, nu_r)(level)`.
 
-use crate::errors::ErrorModel;
+use crate::error_model::ErrorModel;
 use crate::identify::{Campaign, Identification, IdentifyError};
 use crate::machine::Machine;
 use nalgebra::{DMatrix, DVector};

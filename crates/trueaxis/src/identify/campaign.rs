@@ -19,7 +19,7 @@
 use super::unknowns::{parameter_factors, BasisParameter, Unknown, UnknownKind};
 use super::IdentifyError;
 use crate::data::{read_poses, CsvTable};
-use crate::errors::{Basis, BasisSpec, ErrorModel};
+use crate::error_model::{Basis, BasisSpec, ErrorModel};
 use crate::geometry::Vec3;
 use crate::instruments::{
     nominal_vector, plate_displacement, plate_rows, Ball3d, Instrument, Length, PointLength, Probe, SensorCalibration,

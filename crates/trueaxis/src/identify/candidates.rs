@@ -6,7 +6,7 @@
 use super::design::{CandidateSet, Criterion, DesignCriteria};
 use super::design_units::{criteria_units, CriteriaUnits};
 use super::{Campaign, IdentifyError};
-use crate::errors::ErrorModel;
+use crate::error_model::ErrorModel;
 use crate::machine::Machine;
 use serde_json::{json, Value};
 

@@ -6,7 +6,7 @@ use super::drift::{remove_cycle_drift, CycleDrift};
 use super::fit::{fit_error_function, refine_wavelength, residual_period, FitOptions, FittedFunction, ResidualPeriod};
 use super::IdentifyError;
 use crate::data::CsvTable;
-use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::error_model::{Direction, ErrorModel, MachineState};
 use crate::instruments::{motion_error_axis, DirectInstrument, TableCorrection, TableCorrectionError};
 use crate::io::header::RunDirection;
 use crate::io::units::Dimension;

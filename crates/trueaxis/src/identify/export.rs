@@ -5,7 +5,7 @@ use super::campaign::Campaign;
 use super::indirect::Identification;
 use super::unknowns::UnknownKind;
 use super::IdentifyError;
-use crate::errors::{set_error_function, set_uncertainty, ErrorFunction, ErrorModel};
+use crate::error_model::{set_error_function, set_uncertainty, ErrorFunction, ErrorModel};
 use crate::machine::ParameterId;
 use serde_json::{json, Map, Value};
 use std::collections::BTreeMap;

@@ -5,7 +5,7 @@
 use super::least_squares::{fit_linear, LinearFit};
 use super::stepwise::stepwise;
 use super::IdentifyError;
-use crate::errors::{Basis, BasisSpec, ErrorFunction};
+use crate::error_model::{Basis, BasisSpec, ErrorFunction};
 use nalgebra::DMatrix;
 
 /// How to fit.

@@ -13,7 +13,7 @@ use super::campaign::{Campaign, DesignMatrix};
 use super::identifiability::{IdentifiabilityReport, ScaledSvd, RANK_TOLERANCE};
 use super::least_squares::design_times;
 use super::IdentifyError;
-use crate::errors::ErrorModel;
+use crate::error_model::ErrorModel;
 use crate::machine::Machine;
 use crate::model::{Frame, Setup};
 use nalgebra::{DMatrix, DVector, Matrix3};

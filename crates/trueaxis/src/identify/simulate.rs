@@ -4,7 +4,7 @@
 
 use super::campaign::{Campaign, Measurement};
 use super::IdentifyError;
-use crate::errors::ErrorModel;
+use crate::error_model::ErrorModel;
 use crate::geometry::Vec3;
 use crate::machine::Machine;
 use rand::SeedableRng;

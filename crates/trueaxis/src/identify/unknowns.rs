@@ -10,7 +10,7 @@
 //! function `l` (Soons 1993 eq. 3.1 / 4.2: `E(x) = sum_l beta_l p_l(x)`); so the design-matrix column
 //! of an unknown is the Jacobian column of its parameter times that factor.
 
-use crate::errors::{Basis, ErrorFunction, ErrorModel};
+use crate::error_model::{Basis, ErrorFunction, ErrorModel};
 use crate::machine::{Machine, ParameterId};
 
 /// What an unknown is.
@@ -218,7 +218,7 @@ pub fn parameter_factors(unknowns: &[Unknown], bases: &[BasisParameter], machine
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::errors::BasisSpec;
+    use crate::error_model::BasisSpec;
 
     fn kx8five() -> Machine {
         Machine::from_toml_str(include_str!("../../../../examples/machines/kx8five.toml"), "kx8five").unwrap()

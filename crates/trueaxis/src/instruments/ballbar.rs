@@ -13,7 +13,7 @@
 //!   (Lee & Yang 2013) are instances with different axial positions of the balls.
 
 use crate::data::{CsvTable, DataError};
-use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::error_model::{Direction, ErrorModel, MachineState};
 use crate::geometry::Vec3;
 use crate::io::ballbar::BallbarHeader;
 use crate::io::plausibility::{self, Finding, Place, Severity};

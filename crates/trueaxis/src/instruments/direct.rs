@@ -4,7 +4,7 @@
 
 use super::laser::{Laser, LaserError, LaserOptics};
 use super::level::{Level, LevelBody, LevelError};
-use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::error_model::{Direction, ErrorModel, MachineState};
 use crate::geometry::Vec3;
 use crate::machine::{AxisKind, Machine, ParameterId, Side};
 use crate::model::{nominal_chain, Setup};

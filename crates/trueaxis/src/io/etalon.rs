@@ -24,7 +24,7 @@
 use super::plausibility;
 use super::text::{clip, numbered_lines, parse_number};
 use super::IoError;
-use crate::errors::{set_error_function, ErrorFunction, ErrorModel};
+use crate::error_model::{set_error_function, ErrorFunction, ErrorModel};
 use crate::machine::{Machine, ParameterId};
 
 /// The value of one parameter block.

@@ -6,7 +6,7 @@ use super::jacobian::{jacobian, JacobianWorkspace, JACOBIAN_ROWS};
 use super::kernel::{BlockState, KernelWorkspace, VolumetricKernel};
 use super::lanes::LANES;
 use super::volumetric::{volumetric_error, Frame, Setup, VolumetricError};
-use crate::errors::{Direction, ErrorModel};
+use crate::error_model::{Direction, ErrorModel};
 use crate::machine::Machine;
 use rayon::prelude::*;
 

@@ -24,7 +24,7 @@ use super::lanes::{
     sub, Fused, LaneMat, LanePose, LaneVec, Lanes, MulAdd, Separate, LANES,
 };
 use super::volumetric::{Frame, Setup, VolumetricError};
-use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::error_model::{Direction, ErrorModel, MachineState};
 use crate::geometry::{rotation_exp, Pose, Vec3};
 use crate::machine::{AxisKind, Component, Machine, SetupSide};
 

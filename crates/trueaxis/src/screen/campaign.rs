@@ -245,7 +245,7 @@ pub struct ScreenedIdentification {
 pub fn screen_and_fit(
     campaign: &Campaign,
     machine: &crate::machine::Machine,
-    nominal: &crate::errors::ErrorModel,
+    nominal: &crate::error_model::ErrorModel,
     options: &crate::identify::IndirectOptions,
 ) -> Result<(Vec<Finding>, Identification), crate::identify::IdentifyError> {
     use crate::identify::{identify, IdentifyError};
@@ -270,7 +270,7 @@ pub fn screen_and_fit(
 pub fn identify_screened(
     campaign: &Campaign,
     machine: &crate::machine::Machine,
-    nominal: &crate::errors::ErrorModel,
+    nominal: &crate::error_model::ErrorModel,
     options: &crate::identify::IndirectOptions,
     exclude: bool,
 ) -> Result<ScreenedIdentification, crate::identify::IdentifyError> {

@@ -13,7 +13,7 @@
 
 use super::campaign::{screen_and_fit, ScreenedIdentification};
 use super::irls::{irls, RobustWeights, Weighting};
-use crate::errors::ErrorModel;
+use crate::error_model::ErrorModel;
 use crate::identify::{solve, Campaign, DesignMatrix, Identification, IdentifyError, IndirectOptions};
 use crate::machine::Machine;
 

@@ -16,7 +16,7 @@ use super::segmented::{fit_segmented, Segmentation};
 use super::time_constants::{fit_time_constants, Series, TimeConstantFit};
 use super::validation::{evaluate_segments, residual_stats, segments, Evaluated, ResidualStats, Role, Segment};
 use super::{input, ThermalError};
-use crate::errors::ErrorModel;
+use crate::error_model::ErrorModel;
 use crate::machine::Machine;
 use crate::screen::irls::{RobustWeights, Weighting};
 use serde_json::{json, Value};

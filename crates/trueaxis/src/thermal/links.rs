@@ -18,7 +18,7 @@
 
 use super::regression::RegressionModel;
 use super::{input, ThermalError};
-use crate::errors::{Direction, ErrorModel, InputKind, REFERENCE_TEMPERATURE};
+use crate::error_model::{Direction, ErrorModel, InputKind, REFERENCE_TEMPERATURE};
 use crate::machine::{AxisKind, Machine, ParameterId};
 use std::fmt::Write;
 

@@ -17,7 +17,7 @@ use super::modal::ModalBasis;
 use super::model_file::ThermalModel;
 use super::response::{modal_history, LoadHistory};
 use super::{input, ThermalError};
-use crate::errors::gauss_legendre;
+use crate::error_model::gauss_legendre;
 use crate::identify::fit_linear;
 use nalgebra::{DMatrix, DVector};
 

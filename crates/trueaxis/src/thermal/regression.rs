@@ -60,8 +60,8 @@ impl RegressionModel {
             return Err("a model with powers of the position needs `position` (the axis letter)".into());
         }
         for s in &self.sensors {
-            match crate::errors::InputKind::parse(s) {
-                Ok(crate::errors::InputKind::Lag { .. }) | Err(_) => {
+            match crate::error_model::InputKind::parse(s) {
+                Ok(crate::error_model::InputKind::Lag { .. }) | Err(_) => {
                     return Err(format!(
                         "input `{s}` must be a temperature `T:<name>` (degC) or another input column: a spindle speed `S:<name>` (rpm), a force `F:<name>` (N)"
                     ))

@@ -22,7 +22,7 @@ use trueaxis::compensate::kinematic::{Carried, KinematicCorrection, RotaryLayout
 use trueaxis::compensate::{
     compensation, CompensateError, Compensation, CompensationRequest, CorrectionWorkspace, Corrector, ExportFormat, FormatOptions,
 };
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::{rotation_about_axis, Vec3};
 use trueaxis::machine::{AxisKind, Machine, ParameterId};
 
@@ -107,7 +107,7 @@ fn files_that_leave_more_than_they_remove_are_refused_for_every_controller() {
     let (vmc3, vmc3_errors) = load("vmc3", "vmc3");
     // an X pitch of 0.5 urad/mm: an Abbe error that depends on X and Z at once, which tables leave
     let mut pitch = ErrorModel::zero(&vmc3);
-    pitch.set(&vmc3, ParameterId::parse("EBX").unwrap(), trueaxis::errors::ErrorFunction::polynomial(vec![0.0, 0.5]).unwrap()).unwrap();
+    pitch.set(&vmc3, ParameterId::parse("EBX").unwrap(), trueaxis::error_model::ErrorFunction::polynomial(vec![0.0, 0.5]).unwrap()).unwrap();
     // a thermal growth of Z with a sensor at 40 degC: the ISG file carries no temperature
     let mut thermal = ErrorModel::zero(&vmc3);
     thermal.add_term(&vmc3, ParameterId::parse("EZZ").unwrap(), 0.05, &[('Z', 1)], &[("T:column", 1)]).unwrap();
@@ -129,15 +129,15 @@ fn files_that_leave_more_than_they_remove_are_refused_for_every_controller() {
                 b.set_directional(
                     &c600u,
                     ParameterId::parse("ECC").unwrap(),
-                    Some(trueaxis::errors::Direction::Positive),
-                    trueaxis::errors::ErrorFunction::Constant(3000.0),
+                    Some(trueaxis::error_model::Direction::Positive),
+                    trueaxis::error_model::ErrorFunction::Constant(3000.0),
                 )
                 .unwrap();
                 b.set_directional(
                     &c600u,
                     ParameterId::parse("ECC").unwrap(),
-                    Some(trueaxis::errors::Direction::Negative),
-                    trueaxis::errors::ErrorFunction::Constant(-3000.0),
+                    Some(trueaxis::error_model::Direction::Negative),
+                    trueaxis::error_model::ErrorFunction::Constant(-3000.0),
                 )
                 .unwrap();
                 b
@@ -564,7 +564,7 @@ fn the_uncertainty_of_the_error_values_gives_that_of_the_error_left() {
     let corner = (((12.0 - theta) * 250.0).powi(2) + (theta * 400.0).powi(2)).sqrt() * 1e-3;
     assert!((u.expanded_um - 2.0 * corner).abs() < 1e-4 && u.parameters == 1, "{u:?} vs {}", 2.0 * corner);
     // the error-values text keeps it: set_uncertainty writes it back in place
-    let written = trueaxis::errors::set_uncertainty("[constant]\nEC0X = 1.5\n", &ParameterId::parse("EC0X").unwrap(), 0.75).unwrap();
+    let written = trueaxis::error_model::set_uncertainty("[constant]\nEC0X = 1.5\n", &ParameterId::parse("EC0X").unwrap(), 0.75).unwrap();
     let back = ErrorModel::from_toml_str(&written, "written.toml", &m).unwrap();
     assert_eq!(back.uncertainties(), &[(ParameterId::parse("EC0X").unwrap(), 0.75)]);
     // a negative uncertainty is refused with the file and the name

@@ -12,7 +12,7 @@ use crate::common::oracle::Oracle;
 use crate::common::rs274::{Canon, Kind};
 use trueaxis::compensate::nc::{correct_program, program_moves, run_program, Dialect, MoveKind, NcOptions, ToolTable};
 use trueaxis::compensate::Corrector;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 /// G54 of the tests: program zero 300 mm below the spindle's home on vmc3; the machine starts

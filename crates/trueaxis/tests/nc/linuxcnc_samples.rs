@@ -18,7 +18,7 @@ use std::process::Command;
 use trueaxis::compensate::nc::trace::flags;
 use trueaxis::compensate::nc::{correct_program, run_program, Dialect, Move, NcOptions, SearchPath, ToolTable};
 use trueaxis::compensate::Corrector;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 /// The tool table given to rs274 and trueaxis (inch: rs274's machine units without an INI file).

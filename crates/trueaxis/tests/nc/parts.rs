@@ -13,7 +13,7 @@ use crate::corpus::styles::corpus;
 use trueaxis::compensate::nc::stream::{correct_streamed, Spool, Streamed};
 use trueaxis::compensate::nc::{correct_whole, Controller, Dialect, NcOptions, NcResult, ToolTable};
 use trueaxis::compensate::Corrector;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 /// How a program went in parts.

@@ -5,7 +5,7 @@
 
 use trueaxis::compensate::nc::{correct_program, program_moves, Controller, Dialect, NcOptions};
 use trueaxis::compensate::Corrector;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 fn vmc3() -> (Machine, ErrorModel) {

@@ -9,7 +9,7 @@ use crate::common::oracle::Oracle;
 use crate::roundtrip::{load, read};
 use trueaxis::compensate::nc::{correct_program, program_moves, Dialect, NcOptions};
 use trueaxis::compensate::Corrector;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 /// A small program (vmc3: Z from -400 to 0) whose lines end in `eol`, with a comment `comment`.

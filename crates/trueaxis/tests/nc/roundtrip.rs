@@ -10,7 +10,7 @@ use crate::common::oracle::Oracle;
 use crate::common::rs274::{Canon, Kind};
 use trueaxis::compensate::nc::{correct_program, program_moves, run_program, Dialect, MoveKind, NcOptions, SearchPath, ToolTable};
 use trueaxis::compensate::{CorrectionWorkspace, Corrector};
-use trueaxis::errors::{ErrorModel, MachineState};
+use trueaxis::error_model::{ErrorModel, MachineState};
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::Machine;
 

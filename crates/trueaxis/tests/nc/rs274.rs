@@ -17,7 +17,7 @@ use crate::common::oracle::{Oracle, Report};
 use crate::common::rs274::rs274;
 use trueaxis::compensate::nc::{correct_program, program_moves, Dialect, NcOptions, NcResult, SearchPath, ToolTable};
 use trueaxis::compensate::Corrector;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 /// Tool table (inch, rs274's machine units without an INI file).

@@ -9,7 +9,7 @@ use crate::common::oracle::Oracle;
 use crate::common::rs274::rs274;
 use trueaxis::compensate::nc::{correct_program, run_program, Dialect, Move, NcOptions, NcResult, Role, Trace};
 use trueaxis::compensate::Corrector;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 
 const PROGRAM: &str = "G21 G17 G90\nG0 X-20 Y-10 Z5\nG1 Z-1 F300\nG5.1 X0 Y-10 I10 J15\nG5 X25 Y5 I4 J6 P-6 Q-3\n\
                        G5 X40 Y-5 P-2 Q5\nG1 Z5\nG91\nG5 X10 Y10 I5 J0 P0 Q-5\nG90 G1 Z10\nM2\n";

@@ -4,7 +4,7 @@
 //! records give the clean values within their uncertainty.
 
 use super::damage::{example, example_path, Csv};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::identify::{Campaign, IdentifyError, IndirectOptions};
 use trueaxis::machine::Machine;
 use trueaxis::screen::campaign::{identify_screened, ScreenedIdentification};

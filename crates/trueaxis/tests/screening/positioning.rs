@@ -109,7 +109,7 @@ fn an_air_temperature_drift_is_reported_with_its_effect() {
 /// `trueaxis fit` of the test's readings (EXX, piecewise cubic with a knot every 100 mm, the
 /// command's defaults otherwise) of one direction or both, with its screening.
 pub fn direct_fit_of(text: &str, direction: Option<char>) -> trueaxis::identify::DirectFitReport {
-    use trueaxis::errors::BasisSpec;
+    use trueaxis::error_model::BasisSpec;
     use trueaxis::identify::{run_direct_fit, DirectFitRequest, FitOptions};
     let table = CsvTable::from_text(text, "damaged.csv").unwrap();
     let spec = BasisSpec {

@@ -18,7 +18,7 @@
 
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::identify::{measurement_csv, simulate_campaign, Campaign};
 use trueaxis::machine::Machine;
 

@@ -26,7 +26,7 @@
 use super::residual::ModelCorrection;
 use super::{check_equal_spacing, check_user_limits, direction_left_out, Export, ExportInput, ExportedFile};
 use crate::compensate::CompensateError;
-use crate::errors::{ErrorFunction, ErrorModel};
+use crate::error_model::{ErrorFunction, ErrorModel};
 use crate::machine::{Component, ParameterId, SetupSide};
 use std::fmt::Write;
 

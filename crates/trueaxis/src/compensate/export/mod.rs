@@ -26,7 +26,7 @@ pub mod siemens_swivel;
 
 use super::tables::{AxisTable, TableSet, VolumetricGrid};
 use super::CompensateError;
-use crate::errors::ErrorModel;
+use crate::error_model::ErrorModel;
 use crate::machine::{AxisKind, Machine};
 
 /// One output file: a name (relative to the output directory) and its text.

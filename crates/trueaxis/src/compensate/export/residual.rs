@@ -14,7 +14,7 @@ use super::rigid_fit::RigidFit;
 use crate::compensate::correction::{CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget};
 use crate::compensate::tables::{table_range, AxisTable, VolumetricGrid};
 use crate::compensate::CompensateError;
-use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::error_model::{Direction, ErrorModel, MachineState};
 use crate::geometry::Vec3;
 use crate::machine::{AxisKind, Machine};
 use rayon::prelude::*;

@@ -14,7 +14,7 @@ use crate::compensate::correction::{CorrectionOptions, CorrectionWorkspace, Corr
 use crate::compensate::export::residual::Applied;
 use crate::compensate::tables::{axis_tables, TableSet, TableSpec};
 use crate::compensate::CompensateError;
-use crate::errors::{Direction, ErrorModel, MachineState};
+use crate::error_model::{Direction, ErrorModel, MachineState};
 use crate::geometry::{Pose, Vec3};
 use crate::machine::{AxisKind, Component, Machine, ParameterId};
 
@@ -79,7 +79,7 @@ impl KinematicCorrection {
     pub fn new(machine: &Machine, errors: &ErrorModel, reference: &[f64], temperatures: &[f64], carried: Carried) -> KinematicCorrection {
         let carried = carried.for_machine(machine);
         let mut params = vec![0.0; machine.parameter_count()];
-        let state = crate::errors::MachineState { directions: None, temperatures };
+        let state = crate::error_model::MachineState { directions: None, temperatures };
         errors.values_at_state(machine, reference, &state, &mut params);
         let raw = KinematicDescription::actual(machine, &params);
         let (actual, turn) = raw.in_frame_of_linear_axes(machine);

@@ -13,7 +13,7 @@ use crate::compensate::coverage::{check_covered, table_ranges, TableRange};
 use crate::compensate::direction_of;
 use crate::compensate::export::{check_limit, Limits};
 use crate::compensate::CompensateError;
-use crate::errors::{Direction, MachineState};
+use crate::error_model::{Direction, MachineState};
 use crate::geometry::Vec3;
 use crate::machine::{AxisKind, Machine};
 

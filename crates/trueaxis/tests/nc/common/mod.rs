@@ -72,7 +72,7 @@ pub fn hole_slack(moves: &[Move], holes: &[trueaxis::compensate::nc::write::Hole
 }
 
 use trueaxis::compensate::{CorrectionWorkspace, Corrector};
-use trueaxis::errors::{Direction, MachineState};
+use trueaxis::error_model::{Direction, MachineState};
 use trueaxis::machine::Machine;
 
 /// A move as a consumer sees it: end point (mm, deg, machine axis order) and, for an arc, its plane

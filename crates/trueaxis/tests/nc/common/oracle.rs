@@ -7,7 +7,7 @@
 //! middle of every move, three points of every arc) within `path_um` of the original path.
 
 use super::rs274::{Canon, Kind};
-use trueaxis::errors::{Direction, ErrorModel, MachineState};
+use trueaxis::error_model::{Direction, ErrorModel, MachineState};
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::{AxisKind, Machine};
 use trueaxis::model::{nominal_chain, volumetric_error, Frame, Setup};

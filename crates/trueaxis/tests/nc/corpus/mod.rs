@@ -24,7 +24,7 @@ use crate::common::rs274::rs274;
 use styles::{corpus, Sample, STYLES};
 use trueaxis::compensate::nc::{correct_program, program_moves, Controller, Dialect, NcOptions, SearchPath, ToolTable};
 use trueaxis::compensate::Corrector;
-use trueaxis::errors::ErrorModel;
+use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
 /// Variants of each style.

@@ -22,7 +22,7 @@ use super::ExportedFile;
 use crate::compensate::kinematic::KinematicCorrection;
 use crate::compensate::tables::table_range;
 use crate::compensate::CompensateError;
-use crate::errors::{ErrorFunction, ErrorModel};
+use crate::error_model::{ErrorFunction, ErrorModel};
 use crate::geometry::Pose;
 use crate::machine::{AxisKind, Component, Machine, ParameterId, SetupSide};
 use std::fmt::Write;

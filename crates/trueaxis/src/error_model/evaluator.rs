@@ -306,7 +306,7 @@ mod tests {
         // a polynomial in deg of a rotary axis (urad), a Legendre basis and a table in mm (um):
         // each lane of add_lanes equals value, and value equals ErrorFunction::evaluate in user units
         let deg = 180.0 / std::f64::consts::PI;
-        let spec = crate::errors::basis::BasisSpec {
+        let spec = crate::error_model::basis::BasisSpec {
             family: "legendre".into(),
             degree: 4,
             knots: vec![],
@@ -316,7 +316,7 @@ mod tests {
             domain: [-400.0, 400.0],
             periodic: vec![],
         };
-        let basis = crate::errors::basis::Basis::new(spec).unwrap();
+        let basis = crate::error_model::basis::Basis::new(spec).unwrap();
         let coefficients = vec![0.5, -1.0, 2.0, 0.25, 0.1][..basis.len()].to_vec();
         let cases = [
             (ErrorFunction::polynomial(vec![2.0, 0.02, -1.5e-5, 3e-9]).unwrap(), deg, 1e-6),

@@ -8,7 +8,7 @@ use super::basis::{Basis, BasisSpec};
 use super::function::ErrorFunction;
 use super::model::Direction;
 use super::model::ErrorModel;
-use super::ErrorsError;
+use super::ErrorModelError;
 use crate::io::ranges::{line_of_key, ANGULAR_ERROR_URAD, LINEAR_ERROR_UM, MACHINE_LENGTH_MM, ROTARY_POSITION_DEG};
 use crate::machine::{one_line, Machine, ParameterId};
 use serde::Deserialize;
@@ -116,17 +116,17 @@ struct PolynomialFile {
 }
 
 /// Parses an error-values TOML for `machine`; `origin` names the file in every message.
-pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, ErrorsError> {
-    crate::io::toml_numbers::refuse_underflow(text).map_err(|message| ErrorsError::Syntax { origin: origin.into(), message })?;
+pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, ErrorModelError> {
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|message| ErrorModelError::Syntax { origin: origin.into(), message })?;
     let file: ErrorValuesFile =
-        toml::from_str(text).map_err(|e| ErrorsError::Syntax { origin: origin.into(), message: one_line(&e.to_string()) })?;
+        toml::from_str(text).map_err(|e| ErrorModelError::Syntax { origin: origin.into(), message: one_line(&e.to_string()) })?;
     let mut model = ErrorModel::zero(machine);
-    let invalid = |section: &str, name: &str, message: String| ErrorsError::Invalid {
+    let invalid = |section: &str, name: &str, message: String| ErrorModelError::Invalid {
         origin: origin.into(),
         message: format!("[{section}] {name}: {message}"),
     };
     // a name may end in + or - : the function of one direction of motion (Soons 1993 §3.2.5)
-    let id_of = |section: &str, name: &str| -> Result<(ParameterId, Option<Direction>), ErrorsError> {
+    let id_of = |section: &str, name: &str| -> Result<(ParameterId, Option<Direction>), ErrorModelError> {
         let (stem, direction) = match name.trim().chars().last() {
             Some('+') => (&name.trim()[..name.trim().len() - 1], Some(Direction::Positive)),
             Some('-') => (&name.trim()[..name.trim().len() - 1], Some(Direction::Negative)),
@@ -139,7 +139,7 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
         machine.parameter_index(&id).map_err(|m| invalid("uncertainty", name, m))?;
         model.set_uncertainty(id, u).map_err(|m| invalid("uncertainty", name, m))?;
     }
-    let mut set = |section: &str, name: &str, f: Result<ErrorFunction, String>| -> Result<(), ErrorsError> {
+    let mut set = |section: &str, name: &str, f: Result<ErrorFunction, String>| -> Result<(), ErrorModelError> {
         let (id, direction) = id_of(section, name)?;
         let f = f.map_err(|m| invalid(section, name, m))?;
         model.set_directional(machine, id, direction, f).map_err(|m| invalid(section, name, m))
@@ -227,7 +227,7 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
                 .map_err(|m| invalid(&section, name, m))?;
         }
     }
-    model.check_directions().map_err(|m| ErrorsError::Invalid { origin: origin.into(), message: m })?;
+    model.check_directions().map_err(|m| ErrorModelError::Invalid { origin: origin.into(), message: m })?;
     check_physical_ranges(&model, machine, text, origin)?;
     Ok(model)
 }
@@ -237,7 +237,7 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
 /// equally spaced positions over the travel of the own axis of a motion error (one turn of a
 /// rotary axis without a range), the value itself for a location or setup error. The message
 /// names the file, the line, the parameter and the position.
-fn check_physical_ranges(model: &ErrorModel, machine: &Machine, text: &str, origin: &str) -> Result<(), ErrorsError> {
+fn check_physical_ranges(model: &ErrorModel, machine: &Machine, text: &str, origin: &str) -> Result<(), ErrorModelError> {
     const SAMPLES: usize = 65;
     for (id, direction, function) in model.directional_entries() {
         let range = if id.component().is_rotation() { ANGULAR_ERROR_URAD } else { LINEAR_ERROR_UM };
@@ -254,7 +254,7 @@ fn check_physical_ranges(model: &ErrorModel, machine: &Machine, text: &str, orig
                 let name = format!("{id}{}", direction.map_or(String::new(), |d| d.symbol().to_string()));
                 let line = line_of_key(text, &name).map_or(String::new(), |l| format!("line {l}: "));
                 let at = travel.map_or(String::new(), |_| format!(" at {}{q}", id.axis().unwrap_or(' ')));
-                return Err(ErrorsError::Invalid { origin: origin.into(), message: format!("{line}{name}{at}: {m}") });
+                return Err(ErrorModelError::Invalid { origin: origin.into(), message: format!("{line}{name}{at}: {m}") });
             }
         }
     }

@@ -24,7 +24,7 @@ use thiserror::Error;
 
 /// Errors reading an error-values file; every message names the file.
 #[derive(Debug, Error)]
-pub enum ErrorsError {
+pub enum ErrorModelError {
     #[error("{path}: cannot read error-values file: {source}")]
     Read { path: String, source: std::io::Error },
     #[error("{origin}: {message}")]
@@ -35,7 +35,7 @@ pub enum ErrorsError {
 
 impl ErrorModel {
     /// Parses an error-values TOML for `machine`.
-    pub fn from_toml_str(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, ErrorsError> {
+    pub fn from_toml_str(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, ErrorModelError> {
         file::parse(text, origin, machine)
     }
 
@@ -43,13 +43,13 @@ impl ErrorModel {
     /// refused (most likely the wrong file; docs/limits.md): an error-free machine is stated with
     /// `[constant]` and `EXX = 0`. ([`ErrorModel::from_toml_str`] accepts an empty text: the
     /// commands that add terms to an optional base start from it.)
-    pub fn load(path: impl AsRef<std::path::Path>, machine: &Machine) -> Result<ErrorModel, ErrorsError> {
+    pub fn load(path: impl AsRef<std::path::Path>, machine: &Machine) -> Result<ErrorModel, ErrorModelError> {
         let path = path.as_ref();
         let text =
-            crate::data::inputs::read_to_string(path).map_err(|source| ErrorsError::Read { path: path.display().to_string(), source })?;
+            crate::data::inputs::read_to_string(path).map_err(|source| ErrorModelError::Read { path: path.display().to_string(), source })?;
         let model = Self::from_toml_str(&text, &path.display().to_string(), machine)?;
         if model.is_empty() {
-            return Err(ErrorsError::Invalid {
+            return Err(ErrorModelError::Invalid {
                 origin: path.display().to_string(),
                 message: "the file defines no error ([constant], [table.NAME], [polynomial.NAME], [basis.NAME], [[term.NAME]], \
                           [load.NAME], [[drift.NAME]]); to state an error-free machine, write `[constant]` with `EXX = 0`"
