@@ -238,7 +238,7 @@ pub fn ballbar_csv(data: &[u8]) {
 /// A thermal campaign (`examples/thermal/campaign.csv`: time, temperatures, drifts, runs).
 pub fn thermal_csv(data: &[u8]) {
     let Some(text) = text(data) else { return };
-    if let Err(e) = trueaxis::thermal::campaign::Campaign::parse(&text, ORIGIN) {
+    if let Err(e) = trueaxis::thermal::thermal_campaign::Campaign::parse(&text, ORIGIN) {
         named(&e);
     }
 }

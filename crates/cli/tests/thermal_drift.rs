@@ -7,9 +7,9 @@
 mod thermal_common;
 
 use thermal_common::{fit_dz, json, trueaxis};
-use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::drift_model::{fit_drift_model, record, DriftModel};
 use trueaxis::thermal::error_model::ThermalErrorModel;
+use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis::thermal::validation::{evaluate_segments, segments, Role};
 
 fn campaign() -> Campaign {

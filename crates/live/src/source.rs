@@ -9,7 +9,7 @@ use crate::state::EngineState;
 use crate::{input, LiveError};
 use std::path::Path;
 use std::time::{Duration, Instant};
-use trueaxis::thermal::campaign::Campaign;
+use trueaxis::thermal::thermal_campaign::Campaign;
 
 /// What a source has to say.
 #[derive(Clone, Debug, PartialEq)]

@@ -6,10 +6,10 @@
 use std::path::PathBuf;
 use std::time::Duration;
 use trueaxis::machine::Machine;
-use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::campaign_predict::{predict_campaign, read_model_file};
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::regression::RegressionModel;
+use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis_live::engine::{Engine, Sample};
 use trueaxis_live::mapping::Mapping;
 use trueaxis_live::source::{CsvReplay, Event, Source};

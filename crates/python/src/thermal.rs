@@ -9,11 +9,11 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
 use trueaxis::screen::irls::Weighting;
-use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm};
 use trueaxis::thermal::campaign_predict::{predict_campaign, read_model_file};
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::modes_report::ModesReport;
+use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis::thermal::{LanczosProgress, SpectrumMethod, ThermalError, DEFAULT_SHARE};
 
 fn failure(e: ThermalError) -> PyErr {

@@ -7,7 +7,7 @@
 use trueaxis::data::{read_poses_from, CsvTable, Layout};
 use trueaxis::evaluate::iso230_2::{evaluate, read_runs_from_str, Iso2302Result};
 use trueaxis::machine::Machine;
-use trueaxis::thermal::campaign::Campaign;
+use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis::uncertainty::DesignMatrix;
 
 /// A positioning test: 4 targets, 3 bidirectional runs, deviations in um with 4 decimals.

@@ -7,10 +7,10 @@
 
 use std::path::Path;
 use trueaxis::thermal::assembly::{assemble, Boundary, Material, Section, ThermalProblem};
-use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::mesh::StructuredMesh;
 use trueaxis::thermal::regression::{correlation_ranking, fit_regression};
 use trueaxis::thermal::response::{modal_history, LoadHistory};
+use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis::thermal::validation::residual_stats;
 use trueaxis::thermal::{modal_analysis, ModalOptions};
 

@@ -6,8 +6,8 @@ use crate::iso230_2::print;
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
-use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::campaign_predict::{predict_campaign, read_model_file};
+use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis_report::{drift_plot, drift_svg};
 
 /// Evaluates a fitted thermal error model on a campaign CSV; with the measured error column

@@ -9,8 +9,8 @@ use serde_json::json;
 use std::fmt::Write;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
-use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::temperature_model::{fit_temperature_model, predict_run, TemperatureModel};
+use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis::thermal::validation::ResidualStats;
 
 /// Fits the temperatures of output sensors as first-order lags (time constants shared) of the rises

@@ -7,9 +7,9 @@
 use super::super::html::Section;
 use super::super::{drift_plot, drift_svg, mode_shapes_plot, modes_svg, time_constants_plot};
 use super::{number, CalibrationError};
-use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::model_file::ThermalModel;
+use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis::thermal::validation::{evaluate_segments, prediction_segments, ResidualStats};
 use trueaxis::thermal::{
     dominant_modes, modal_analysis_with_progress, mode_weights, LanczosProgress, ModalOptions, ModeWeight, ThermalError,

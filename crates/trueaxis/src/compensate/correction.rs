@@ -463,7 +463,7 @@ impl<'a> Corrector<'a> {
 /// One pose's solve in progress (the iteration of the module documentation): the last iterate
 /// checked on the exact chain and its residual. The caller evaluates the residuals the iteration
 /// asks for, so that one pose (a scalar chain, [`Corrector::correct_state`]) and many at once (the
-/// batch kernel, [`super::batch`]) run the same solve.
+/// batch kernel, [`super::batch_correction`]) run the same solve.
 pub(super) struct Iteration {
     /// The last checked correction (scaled joint units) and its exact residual (mm, rad).
     u: Joints,

@@ -6,7 +6,7 @@
 //! point lands where the nominal one would (correction = minus the error, to first order, for an
 //! error along the axis).
 
-pub mod batch;
+pub mod batch_correction;
 pub mod correction;
 pub mod coverage;
 pub mod export;
@@ -18,7 +18,7 @@ mod solve;
 mod summary;
 pub mod tables;
 
-pub use batch::correct_batch;
+pub use batch_correction::correct_batch;
 pub use correction::{direction_of, Correction, CorrectionOptions, CorrectionWorkspace, Corrector, OrientationTarget, WarmStart, MAX_AXES};
 pub use export::residual::{residual_of_format, uncertainty_of_error_left, FormatResidual, LeftUncertainty};
 pub use job::{compensation, compensation_with, sensor_index, sensor_temperatures, Compensation, CompensationRequest};

@@ -10,7 +10,7 @@
 //! own-axis tables). Corrections of poses off the axis lines that depend on two axes at once (Abbe
 //! terms such as EBX times z) need the volumetric grid.
 
-use super::batch::correct_batch;
+use super::batch_correction::correct_batch;
 use super::correction::{Correction, Corrector};
 use super::CompensateError;
 use crate::error_model::Direction;

@@ -3,8 +3,8 @@
 //! matrix weighted by `1/sigma`, chosen or left out as a whole; and the `trueaxis design optimal
 //! --json` document of a chosen design.
 
-use super::design::{CandidateSet, Criterion, DesignCriteria};
 use super::design_units::{criteria_units, CriteriaUnits};
+use super::optimal_design::{CandidateSet, Criterion, DesignCriteria};
 use super::{Campaign, IdentifyError};
 use crate::error_model::ErrorModel;
 use crate::machine::Machine;

@@ -1,4 +1,4 @@
-//! The units of the design criteria of [`super::design`], and their conversion to the units of
+//! The units of the design criteria of [`super::optimal_design`], and their conversion to the units of
 //! Soons 1993 §4.4 (Table 4.1).
 //!
 //! trueaxis computes the criteria on rows weighted by `1/sigma` with sigma in um, and the unknowns

@@ -2,7 +2,7 @@
 //! from a CSV, optionally keep one direction and remove per-cycle drift, fit a parametric function
 //! with stepwise selection, refine periodic wavelengths, and report (Soons 1993 §3.2).
 
-use super::drift::{remove_cycle_drift, CycleDrift};
+use super::cycle_drift::{remove_cycle_drift, CycleDrift};
 use super::fit::{fit_error_function, refine_wavelength, residual_period, FitOptions, FittedFunction, ResidualPeriod};
 use super::IdentifyError;
 use crate::data::CsvTable;

@@ -3,16 +3,16 @@
 
 pub mod campaign;
 mod candidates;
-pub mod design;
+mod cycle_drift;
 pub mod design_units;
 mod direct;
-mod drift;
 pub mod export;
 mod fit;
 mod gram;
 pub mod identifiability;
 pub mod indirect;
 mod least_squares;
+pub mod optimal_design;
 pub mod pige;
 pub mod pige_report;
 pub mod pige_sensitivity;
@@ -26,10 +26,9 @@ pub mod unknowns;
 
 pub use campaign::{Campaign, DesignMatrix, Measurement};
 pub use candidates::{optimal_design_json, CampaignCandidates};
-pub use design::{start_rng, CandidateSet, Criterion, DesignCriteria, ExchangeOutcome};
+pub use cycle_drift::{remove_cycle_drift, CycleDrift};
 pub use design_units::{criteria_units, CriteriaUnits};
 pub use direct::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel};
-pub use drift::{remove_cycle_drift, CycleDrift};
 pub use export::{error_values_text, identification_json};
 pub use fit::{
     alias_wavelength, dominant_period, fit_error_function, refine_wavelength, residual_period, sampling_step, FitOptions, FittedFunction,
@@ -39,6 +38,7 @@ pub use gram::weighted_gram;
 pub use identifiability::{Combination, IdentifiabilityReport, ScaledSvd};
 pub use indirect::{identify, solve, ChannelStatistics, Identification, IndirectOptions, Refinement, Solver};
 pub use least_squares::{fit_linear, t_quantile, LinearFit, RANK_TOLERANCE};
+pub use optimal_design::{start_rng, CandidateSet, Criterion, DesignCriteria, ExchangeOutcome};
 pub use simulate::{measurement_csv, simulate_campaign};
 pub use stepwise::{f_critical, stepwise, StepwiseResult};
 pub use unknowns::{Unknown, UnknownKind};

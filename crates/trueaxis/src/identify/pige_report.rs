@@ -186,7 +186,12 @@ impl PigeReport {
             self.machine.replace('"', "'")
         );
         for (k, ((id, v), (_, _, sd))) in self.last().values.iter().zip(&self.stats.parameters).enumerate() {
-            text = crate::error_model::set_error_function(&text, id, None, &crate::error_model::ErrorFunction::Constant(pige_user_value(id, *v).0))?;
+            text = crate::error_model::set_error_function(
+                &text,
+                id,
+                None,
+                &crate::error_model::ErrorFunction::Constant(pige_user_value(id, *v).0),
+            )?;
             let single = self.single_u.as_ref().map(|s| pige_user_value(id, s[k]).0);
             let spread = self.repeated().then(|| pige_user_value(id, *sd).0);
             if let Some(u) = single.into_iter().chain(spread).reduce(f64::max).filter(|u| u.is_finite()) {

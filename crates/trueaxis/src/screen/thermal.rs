@@ -15,7 +15,7 @@
 
 use super::finding::{lines_text, Finding, Kind};
 use super::series::{duplicate_rows, gaps, steps, stuck_runs};
-use crate::thermal::campaign::Campaign;
+use crate::thermal::thermal_campaign::Campaign;
 
 /// A temperature step beyond this many robust sigmas of all jumps (and the floor) is flagged.
 pub const STEP_LIMIT: f64 = 10.0;

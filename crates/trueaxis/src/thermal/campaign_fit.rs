@@ -7,12 +7,12 @@
 //!
 //! Units: times in s (time constants reported in min), temperatures in degC, errors in um.
 
-use super::campaign::Campaign;
 use super::drift_model::{fit_drift_model, record};
 use super::error_model::ThermalErrorModel;
 use super::links::{add_terms, model_terms, terms_toml};
 use super::regression::{fit_regression, fit_regression_robust, fit_split, fit_stepwise, select_by_correlation, RegressionModel};
 use super::segmented::{fit_segmented, Segmentation};
+use super::thermal_campaign::Campaign;
 use super::time_constants::{fit_time_constants, Series, TimeConstantFit};
 use super::validation::{evaluate_segments, residual_stats, segments, Evaluated, ResidualStats, Role, Segment};
 use super::{input, ThermalError};

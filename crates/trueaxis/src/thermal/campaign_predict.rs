@@ -5,8 +5,8 @@
 //!
 //! Units: times in s, errors in um.
 
-use super::campaign::Campaign;
 use super::error_model::ThermalErrorModel;
+use super::thermal_campaign::Campaign;
 use super::validation::{evaluate_segments, prediction_segments, Evaluated, ResidualStats};
 use super::{input, ThermalError};
 use serde_json::{json, Value};

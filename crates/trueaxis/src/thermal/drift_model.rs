@@ -9,8 +9,8 @@
 //! [`super::state_space`] with `gamma_j = 1/tau_j`, `z = gamma x` and `C = g gamma`. Unlike the static
 //! regression (Zhu 2008 eq. 3.12), it reproduces the lag between a sensor and the drift.
 
-use super::campaign::Campaign;
 use super::state_space::{identify_state_space, Record, StateSpaceModel};
+use super::thermal_campaign::Campaign;
 use super::{computation, input, ThermalError};
 use serde::{Deserialize, Serialize};
 

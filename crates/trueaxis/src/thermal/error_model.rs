@@ -2,10 +2,10 @@
 //! static regression of Zhu 2008 eqs. 3.12-3.15 (`kind = "regression"`) or the state-space drift
 //! model of Soons 1993 §3.4.4 (`kind = "state_space"`).
 
-use super::campaign::Campaign;
 use super::drift_model::{record, DriftModel};
 use super::regression::RegressionModel;
 use super::segmented::SegmentedModel;
+use super::thermal_campaign::Campaign;
 use super::{input, ThermalError};
 use serde::{Deserialize, Serialize};
 

@@ -10,7 +10,6 @@
 pub mod amg;
 pub mod assembly;
 pub mod beam;
-pub mod campaign;
 pub mod campaign_fit;
 pub mod campaign_predict;
 pub mod drift_model;
@@ -35,6 +34,7 @@ mod sparse_rows;
 pub mod state_space;
 pub mod stepping;
 pub mod temperature_model;
+pub mod thermal_campaign;
 pub mod time_constants;
 pub mod tuning;
 pub mod validation;

@@ -10,9 +10,9 @@
 //! geometric/thermal split of degrees of [`super::regression::fit_split`]. As error terms of the
 //! chain (`[[term."EXX+"]]` with `range`) the segments evaluate exactly as here.
 
-use super::campaign::Campaign;
 use super::links::{model_terms, ErrorTerm};
 use super::regression::{fit_split, RegressionModel};
+use super::thermal_campaign::Campaign;
 use super::{input, ThermalError};
 use serde::{Deserialize, Serialize};
 

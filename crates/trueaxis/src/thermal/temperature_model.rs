@@ -10,9 +10,9 @@
 //! [`super::state_space::identify_state_space`] (Levenberg-Marquardt on the rates, the gains by
 //! least squares). Each run starts from its reference state.
 
-use super::campaign::Campaign;
 use super::drift_model::{identify_lags, rises};
 use super::state_space::{states, Record};
+use super::thermal_campaign::Campaign;
 use super::validation::{residual_stats, ResidualStats};
 use super::{computation, input, ThermalError};
 use serde::{Deserialize, Serialize};

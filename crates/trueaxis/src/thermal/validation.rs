@@ -2,8 +2,8 @@
 //! `e = measured - predicted`, its band (min, max), RMS, max |e|, range, mean and standard
 //! deviation; the time split of one record into training and verification parts.
 
-use super::campaign::Campaign;
 use super::error_model::ThermalErrorModel;
+use super::thermal_campaign::Campaign;
 use super::{computation, ThermalError};
 use serde::Serialize;
 

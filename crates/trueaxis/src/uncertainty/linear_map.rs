@@ -12,8 +12,8 @@
 //! With the same seed the last two give the same trials; the reduced form gives the same
 //! distribution (the cyclic part trial by trial).
 
+use super::chain_drift::{measurement_time, reduce_to_period, statistical_drift_uncertainty, PeriodicDrift, StartPhase};
 use super::distributions::{Distribution, MultivariateNormal};
-use super::drift::{measurement_time, reduce_to_period, statistical_drift_uncertainty, PeriodicDrift, StartPhase};
 use super::monte_carlo::{trials_one_by_one, TrialModel};
 use super::sources::{Source, SourceKind};
 use super::{DesignMatrix, UncertaintyError};

@@ -12,9 +12,9 @@
 //! in s. Results are reproducible from a seed and identical for any number of threads.
 
 mod budget;
-mod design;
+mod chain_drift;
+mod design_matrix;
 mod distributions;
-mod drift;
 mod gum;
 mod intervals;
 mod linear_map;
@@ -25,9 +25,9 @@ mod sort;
 mod sources;
 
 pub use budget::{run_budget, Budget, BudgetPlan, BudgetRow, Stage};
-pub use design::{from_identification, DesignMatrix};
+pub use chain_drift::{measurement_time, statistical_drift_uncertainty, PeriodicDrift, StartPhase};
+pub use design_matrix::{from_identification, DesignMatrix};
 pub use distributions::{Distribution, MultivariateNormal};
-pub use drift::{measurement_time, statistical_drift_uncertainty, PeriodicDrift, StartPhase};
 pub use gum::{confidence_ellipsoid, normal_coverage_factor, principal_axes, propagate, Ellipsoid, PrincipalAxes};
 pub use intervals::{
     coverage_count, coverage_intervals_of_unsorted, shortest_interval, shortest_interval_of_unsorted, symmetric_interval,

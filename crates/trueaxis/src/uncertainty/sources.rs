@@ -22,8 +22,8 @@
 //! correlation = [[1, 0.5, 0], [0.5, 1, 0], [0, 0, 1]]
 //! ```
 
+use super::chain_drift::{PeriodicDrift, StartPhase};
 use super::distributions::Distribution;
-use super::drift::{PeriodicDrift, StartPhase};
 use super::monte_carlo::{IntervalKind, McSettings};
 use super::{DesignMatrix, UncertaintyError};
 use serde::Deserialize;

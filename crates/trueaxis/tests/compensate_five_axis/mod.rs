@@ -107,7 +107,9 @@ fn files_that_leave_more_than_they_remove_are_refused_for_every_controller() {
     let (vmc3, vmc3_errors) = load("vmc3", "vmc3");
     // an X pitch of 0.5 urad/mm: an Abbe error that depends on X and Z at once, which tables leave
     let mut pitch = ErrorModel::zero(&vmc3);
-    pitch.set(&vmc3, ParameterId::parse("EBX").unwrap(), trueaxis::error_model::ErrorFunction::polynomial(vec![0.0, 0.5]).unwrap()).unwrap();
+    pitch
+        .set(&vmc3, ParameterId::parse("EBX").unwrap(), trueaxis::error_model::ErrorFunction::polynomial(vec![0.0, 0.5]).unwrap())
+        .unwrap();
     // a thermal growth of Z with a sensor at 40 degC: the ISG file carries no temperature
     let mut thermal = ErrorModel::zero(&vmc3);
     thermal.add_term(&vmc3, ParameterId::parse("EZZ").unwrap(), 0.05, &[('Z', 1)], &[("T:column", 1)]).unwrap();

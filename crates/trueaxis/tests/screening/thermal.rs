@@ -4,9 +4,9 @@
 use super::damage::{example, of_run, Csv};
 use trueaxis::screen::thermal::read_screened;
 use trueaxis::screen::{Finding, Kind};
-use trueaxis::thermal::campaign::Campaign;
 use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm};
 use trueaxis::thermal::error_model::ThermalErrorModel;
+use trueaxis::thermal::thermal_campaign::Campaign;
 
 const FILE: &str = "examples/thermal/campaign.csv";
 
