@@ -38,6 +38,16 @@ impl Failure {
     pub fn computation(e: impl Into<anyhow::Error>) -> Failure {
         Failure::Computation(e.into())
     }
+    /// The failure of a library error, by its kind (`trueaxis::ErrorKind`): the one place where
+    /// the kinds of the core become exit statuses.
+    pub fn of(e: impl Into<trueaxis::Error>) -> Failure {
+        let e = e.into();
+        match e.kind() {
+            trueaxis::ErrorKind::Input => Failure::Input(e.into()),
+            trueaxis::ErrorKind::Computation => Failure::Computation(e.into()),
+            trueaxis::ErrorKind::Environment => Failure::Environment(e.into()),
+        }
+    }
 
     /// The exit status (module documentation).
     pub fn status(&self) -> u8 {

@@ -89,6 +89,20 @@ pub fn message(error: &dyn std::error::Error) -> String {
     short(&text)
 }
 
+/// The exception of a library error, by its kind (`trueaxis::ErrorKind`; the environment also when
+/// its chain says so): the one place where the kinds of the core become exceptions.
+pub fn of(error: impl Into<trueaxis::Error>) -> PyErr {
+    let error = error.into();
+    if error.is_environment() {
+        return ResourceError::new_err(message(&error));
+    }
+    match error.kind() {
+        trueaxis::ErrorKind::Input => InputError::new_err(message(&error)),
+        trueaxis::ErrorKind::Computation => ComputationError::new_err(message(&error)),
+        trueaxis::ErrorKind::Environment => ResourceError::new_err(message(&error)),
+    }
+}
+
 /// Bad input from a library error (or the environment, when its chain says so).
 pub fn input(error: impl std::error::Error + 'static) -> PyErr {
     match trueaxis::data::environment_cause(&error) {

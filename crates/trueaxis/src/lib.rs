@@ -7,6 +7,7 @@
 pub mod budget;
 pub mod compensate;
 pub mod data;
+pub mod error;
 pub mod error_model;
 pub mod evaluate;
 pub mod geometry;
@@ -18,3 +19,5 @@ pub mod model;
 pub mod screen;
 pub mod thermal;
 pub mod uncertainty;
+
+pub use error::{Error, ErrorKind, Origin};
