@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use trueaxis::data::OutputSet;
 use trueaxis::identify::{error_values_text, identification_json, Campaign, Identification, IdentifyError, IndirectOptions, Solver};
 use trueaxis::machine::Machine;
-use trueaxis::screen::campaign::{identify_screened, ScreenedIdentification};
-use trueaxis::screen::campaign_robust::identify_robust;
+use trueaxis::identify::campaign_screening::{identify_screened, ScreenedIdentification};
+use trueaxis::identify::robust_campaign::identify_robust;
 use trueaxis::screen::irls::Weighting;
 
 #[derive(Clone, Copy, clap::ValueEnum)]

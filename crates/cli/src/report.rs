@@ -13,7 +13,7 @@ use trueaxis::identify::pige_report::{bar_lengths, method_of, PigeRequest};
 use trueaxis::identify::tmbb::TmbbSetup;
 use trueaxis::instruments::ballbar::Plane;
 use trueaxis::machine::Machine;
-use trueaxis::screen::thermal::read_screened;
+use trueaxis::thermal::thermal_screening::read_screened;
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::{LanczosProgress, DEFAULT_SHARE};

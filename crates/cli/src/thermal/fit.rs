@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use trueaxis::data::OutputSet;
 use trueaxis::machine::Machine;
 use trueaxis::screen::irls::Weighting;
-use trueaxis::screen::thermal::read_screened;
+use trueaxis::thermal::thermal_screening::read_screened;
 use trueaxis::screen::{findings_json, Finding};
 use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm as FitForm, RobustSummary, TimeConstantsFit};
 use trueaxis::thermal::error_model::ThermalErrorModel;

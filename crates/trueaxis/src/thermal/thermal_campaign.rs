@@ -131,7 +131,7 @@ impl Campaign {
     }
 
     /// Row indices of the named runs (with the segments of a run split at its gaps,
-    /// `screen::thermal::split_at_gaps`).
+    /// `thermal::thermal_screening::split_at_gaps`).
     pub fn rows_of(&self, runs: &[String]) -> Result<Vec<usize>, ThermalError> {
         for r in runs {
             if !self.runs.iter().any(|x| Self::is_of_run(x, r)) {
@@ -144,7 +144,7 @@ impl Campaign {
     /// Whether the rows of run `row_run` belong to the run named `name`: the same name, or a
     /// segment of it after a gap (`name [after gap k]`).
     pub fn is_of_run(row_run: &str, name: &str) -> bool {
-        row_run == name || row_run.strip_prefix(name).is_some_and(|rest| rest.starts_with(crate::screen::thermal::AFTER_GAP))
+        row_run == name || row_run.strip_prefix(name).is_some_and(|rest| rest.starts_with(crate::thermal::thermal_screening::AFTER_GAP))
     }
 
     /// The named columns restricted to `rows`: `[column][row]`.

@@ -11,8 +11,8 @@
 //!   transient of the test (a feed-rate overshoot, a knock on the bar). Each finding states G of
 //!   its run without the spike.
 
-use super::finding::{Finding, Kind};
-use super::series::neighbour_outliers;
+use crate::screen::finding::{Finding, Kind};
+use crate::screen::series::neighbour_outliers;
 use crate::data::CsvTable;
 use crate::evaluate::ballbar_diagnostics::CircularRun;
 use crate::evaluate::iso230_4::circular_values;

@@ -14,9 +14,9 @@
 //! (`dir`), and the finding states the fit without the flagged readings: its residual standard
 //! deviation and the largest change of the fitted function at the observed positions.
 
-use super::campaign::STUDENTIZED_LIMIT;
-use super::finding::{lines_text, Finding, Kind};
-use super::robust::mad_sigma;
+use super::campaign_screening::STUDENTIZED_LIMIT;
+use crate::screen::finding::{lines_text, Finding, Kind};
+use crate::screen::robust::mad_sigma;
 use crate::data::CsvTable;
 use crate::identify::{fit_error_function, FitOptions, FittedFunction, IdentifyError};
 
