@@ -16,10 +16,10 @@
 //! t_i = sqrt(w_i) r_i / (s sqrt(1 - h_i)), and Cook's distance D_i = t_i^2 h_i / (p (1 - h_i))
 //! (Cook 1977). A row with |t_i| > `STUDENTIZED_LIMIT` or D_i > `COOK_LIMIT` is flagged.
 
+use crate::identify::{Campaign, DesignMatrix, Identification};
 use crate::screen::finding::{lines_text, Finding, Kind};
 use crate::screen::robust::{difference_sigma, mad_sigma, median};
 use crate::screen::series::{duplicate_rows, stuck_runs};
-use crate::identify::{Campaign, DesignMatrix, Identification};
 use std::collections::BTreeSet;
 
 /// A studentized residual beyond this is an outlier (false alarm of a clean 2,400-row campaign

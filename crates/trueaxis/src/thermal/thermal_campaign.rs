@@ -38,7 +38,7 @@ impl Campaign {
     /// Reads a campaign CSV (`#` comments allowed).
     pub fn read(path: impl AsRef<std::path::Path>) -> Result<Campaign, ThermalError> {
         let path = path.as_ref();
-        let text = crate::data::inputs::read_to_string(path).map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
+        let text = crate::files::inputs::read_to_string(path).map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
         Self::parse(&text, &path.display().to_string())
     }
 
@@ -55,7 +55,7 @@ impl Campaign {
     pub fn read_skipping_missing(path: impl AsRef<std::path::Path>) -> Result<(Campaign, Vec<u64>), ThermalError> {
         let path = path.as_ref();
         let origin = path.display().to_string();
-        let text = crate::data::inputs::read_to_string(path).map_err(|e| input(format!("{origin}: cannot read: {e}")))?;
+        let text = crate::files::inputs::read_to_string(path).map_err(|e| input(format!("{origin}: cannot read: {e}")))?;
         let table = crate::data::CsvTable::from_text(&text, &origin).map_err(|e| input(e.to_string()))?;
         let (kept, dropped) = table.without_blank_rows();
         Ok((Self::from_table(&kept, &origin)?, dropped))

@@ -70,7 +70,12 @@ fn spikes_stuck_readings_and_steps_rarely_flag_clean_series() {
             })
             .collect();
         spikes += usize::from(
-            !neighbour_outliers(&circle, trueaxis::evaluate::ballbar_screening::SPIKE_LIMIT, trueaxis::evaluate::ballbar_screening::SPIKE_FLOOR_UM).is_empty(),
+            !neighbour_outliers(
+                &circle,
+                trueaxis::evaluate::ballbar_screening::SPIKE_LIMIT,
+                trueaxis::evaluate::ballbar_screening::SPIKE_FLOOR_UM,
+            )
+            .is_empty(),
         );
         // a 3D-ball channel along a trajectory: smooth tens of um, noise 0.2 ... 0.5 um, 4 decimals
         let noise = Normal::new(0.0, rng.gen_range(0.2..0.5)).unwrap();
@@ -88,7 +93,10 @@ fn spikes_stuck_readings_and_steps_rarely_flag_clean_series() {
                     / 1e3
             })
             .collect();
-        jumps += usize::from(!steps(&t, &x, trueaxis::thermal::thermal_screening::STEP_LIMIT, trueaxis::thermal::thermal_screening::STEP_FLOOR_DEGC).is_empty());
+        jumps += usize::from(
+            !steps(&t, &x, trueaxis::thermal::thermal_screening::STEP_LIMIT, trueaxis::thermal::thermal_screening::STEP_FLOOR_DEGC)
+                .is_empty(),
+        );
     }
     eprintln!("false alarms: ballbar spikes {spikes}, stuck 3D-ball channels {stuck}, thermal steps {jumps} of {SETS}");
     assert!(spikes <= ALLOWED, "{spikes} of {SETS} clean circles flagged with a spike");
