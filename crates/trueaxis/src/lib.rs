@@ -17,6 +17,7 @@ pub mod io;
 pub mod machine;
 pub mod model;
 pub mod screen;
+pub mod simulation;
 pub mod thermal;
 pub mod uncertainty;
 
