@@ -2,7 +2,6 @@
 
 pub mod budget;
 pub mod calibration;
-pub mod demo;
 pub mod html;
 pub mod pdf;
 

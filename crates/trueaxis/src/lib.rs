@@ -19,6 +19,7 @@ pub mod machine;
 pub mod model;
 pub mod poses;
 pub mod screen;
+pub mod simulation;
 pub mod thermal;
 pub mod uncertainty;
 

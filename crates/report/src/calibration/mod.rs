@@ -19,8 +19,10 @@
 //! | direct measurements of error motions (laser, level) | `fits` (the fitted functions with U, residuals; [`FitPart`]) |
 //! | always | `inputs` (files with size and SHA-256, date, version) |
 //!
-//! `trueaxis report` builds it from a user's files; `trueaxis demo` from the files it simulates.
+//! [`assemble`] builds it from a [`ReportRequest`] (a user's files and the options of `trueaxis
+//! report`); `trueaxis demo` from the files it simulates.
 
+mod assemble;
 mod ballbar;
 mod certificate;
 mod compensation;
@@ -34,11 +36,13 @@ mod maps;
 mod positioning;
 pub mod quantity;
 mod rotary_ballbar;
+mod summary;
 mod thermal;
 mod tmbb;
 mod uncertainty;
 mod volume;
 
+pub use assemble::{assemble, ReportRequest};
 pub use ballbar::{section as ballbar_section, CircleInput, CirclePart, SPIKE_WIDTH_DEG};
 pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances, SPECIMEN};
 pub use compensation::{controller_name, CompensationPart, ControllerPart, CONTROLLER_FORMATS, GRID_NODES, POINTS};
@@ -51,6 +55,7 @@ pub use inputs::{sha256, utc_date_time, InputFile, Traceability};
 pub use maps::{magnitudes_um, statistics, VolumeMap, GRID};
 pub use positioning::{section as positioning_section, PositioningPart, POSITIONING_RESULTS};
 pub use rotary_ballbar::{IdentifiedError, RotaryBallbarPart};
+pub use summary::summary_json;
 pub use thermal::{ThermalDriftPart, ThermalModesPart};
 pub use tmbb::TmbbPart;
 pub use uncertainty::UncertaintyPart;

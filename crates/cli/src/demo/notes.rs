@@ -2,15 +2,16 @@
 //! identifiability of the KX8-Five parameter set, and the commands that repeat each step from the
 //! output folder (each reproduces the report's numbers; `tests/demo.rs` runs them).
 
-use super::ballbar::{FILE as CIRCLE_FILE, NOISE_UM, RADIUS_MM};
-use super::campaign::{Simulated, POINT_TIME_S};
-use crate::calibration::{CircleInput, CompensationPart};
-use crate::html::Section;
+use super::job::{CIRCLE_FILE, CONTROLLER};
+use trueaxis::simulation::capball::{SimulatedCampaign, POINT_TIME_S};
+use trueaxis::simulation::circle::{NOISE_UM, RADIUS_MM};
+use trueaxis_report::calibration::{CircleInput, CompensationPart};
+use trueaxis_report::html::Section;
 
 pub const MACHINE_NOTE: &str = "Frame M at the nominal intersection of the A and C axes at home. The machine is simulated with the link and setup errors published for this machine by Andolfatto, Mayer and Lavernhe (International Journal of Machine Tools and Manufacture 51, 2011) (errors_true.toml): the true errors that the calibration has to find.";
 
 /// How the campaign was simulated.
-pub fn campaign_description(s: &Simulated) -> String {
+pub fn campaign_description(s: &SimulatedCampaign) -> String {
     let drift: Vec<String> = s.drift.iter().map(|(c, p)| format!("{c} {p:.2} um")).collect();
     format!(
         "Simulated CapBall test (a 3D probe on a master ball, as Andolfatto et al. measured this machine): {} poses; the A axis sweeps 0..120 deg while C turns four times, the linear axes following so that the sensing head stays on the master ball at [150, 0, 100] mm on the table. Readings dx, dy, dz in the machine frame, computed on the exact kinematic chain with the true errors, Gaussian sensor noise of {} um and a cyclic drift of the measuring chain (period {} s, peak-to-valley {}), both as published for this test, one point every {} s. The slow wave in the residuals is the drift cycle, which the link errors cannot absorb.",
@@ -45,6 +46,6 @@ trueaxis compensate --machine machine.toml --errors identified.toml --format {co
             circle.command(CIRCLE_FILE, "machine.toml"),
             compensation.points,
             compensation.points,
-            controller = super::CONTROLLER,
+            controller = CONTROLLER,
         ))
 }

@@ -1,0 +1,32 @@
+//! Why the demo failed: the error of the library step that failed, or an output directory that
+//! could not be written (then nothing was: the directory is as it was).
+
+use thiserror::Error;
+use trueaxis::data::DataError;
+use trueaxis::error_model::ErrorModelError;
+use trueaxis::identify::IdentifyError;
+use trueaxis::instruments::ballbar::BallbarError;
+use trueaxis::machine::MachineError;
+use trueaxis::uncertainty::UncertaintyError;
+use trueaxis_report::calibration::CalibrationError;
+
+#[derive(Debug, Error)]
+pub enum DemoError {
+    #[error(transparent)]
+    Machine(#[from] MachineError),
+    #[error(transparent)]
+    Errors(#[from] ErrorModelError),
+    #[error(transparent)]
+    Data(#[from] DataError),
+    #[error(transparent)]
+    Identify(#[from] IdentifyError),
+    #[error(transparent)]
+    Uncertainty(#[from] UncertaintyError),
+    #[error(transparent)]
+    Ballbar(#[from] BallbarError),
+    #[error(transparent)]
+    Report(#[from] CalibrationError),
+    /// The output directory could not be written: nothing was (the directory is as it was).
+    #[error("{0}; nothing was written")]
+    Output(#[source] DataError),
+}
