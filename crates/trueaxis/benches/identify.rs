@@ -13,7 +13,7 @@ use trueaxis::error_model::ErrorModel;
 use trueaxis::identify::{identify, solve, Campaign, DesignMatrix, IndirectOptions};
 use trueaxis::machine::Machine;
 
-#[path = "../tests/support/basis_campaign.rs"]
+#[path = "../tests/it/support/basis_campaign.rs"]
 mod basis_campaign;
 #[path = "common/problems.rs"]
 mod problems;

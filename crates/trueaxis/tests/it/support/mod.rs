@@ -1,0 +1,5 @@
+//! Helpers shared by several tests. `basis_campaign` is also included by path by
+//! `benches/identify.rs` and `crates/cli/tests/identify_basis.rs`.
+
+pub mod basis_campaign;
+pub mod kx8five_capball;
