@@ -1,7 +1,7 @@
 //! The CapBall identification test of Andolfatto et al. 2011 on the Huron KX8-Five (`examples/machines/kx8five.toml`)
 //! as a design matrix of the first-order model (`model::jacobian_batch`, machine frame, translation
 //! rows): the tool point held on a master ball on the table while A and C sweep and X, Y, Z follow.
-//! Used by `uncertainty_seed004.rs` and `uncertainty_table5.rs`.
+//! Used by `uncertainty/kx8five.rs` and `uncertainty/kx8five_table5.rs`.
 #![allow(dead_code)]
 
 use nalgebra::DMatrix;

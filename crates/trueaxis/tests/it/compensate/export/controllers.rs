@@ -29,7 +29,7 @@ fn spec(points: usize) -> TableSpec {
 fn input<'a>(m: &'a Machine, e: &'a ErrorModel, t: &'a TableSet, g: Option<&'a trueaxis::compensate::VolumetricGrid>) -> ExportInput<'a> {
     // the read-back tests use corner references, where the C600U's cross-axis table A -> Y reaches
     // 1.23 mm (a 400 mm lever on its rotary errors), beyond the default 1 mm limit; the limit is
-    // tested in compensate_export.rs and the command line's bad_input.rs, not here
+    // tested in formats.rs and the command line's bad_input.rs, not here
     let limits = Limits::with_overrides(m, Some(10_000.0), None).unwrap();
     ExportInput { machine: m, errors: e, tables: t, grid: g, limits }
 }

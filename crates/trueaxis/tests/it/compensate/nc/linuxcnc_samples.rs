@@ -100,7 +100,7 @@ fn check(path: &str, machine: &Machine, errors: &ErrorModel) -> Outcome {
     let Ok((trace, _)) = run_program(machine, &text, &name, &options) else { return Outcome::Failed("run again: differs".into()) };
     let moves = &trace.moves;
     // rs274 prints a spline as NURBS_FEED without its points: the moves around it are compared,
-    // and the chords trueaxis reads (checked against the curve in tests/nc/splines.rs) stand for it
+    // and the chords trueaxis reads (checked against the curve in splines.rs) stand for it
     let spline = |m: &Move| trace.steps[m.step as usize].has(flags::SPLINE);
     let plain: Vec<Move> = moves.iter().filter(|m| !spline(m)).copied().collect();
     let (count, _) = super::common::canonical_homes(machine, &plain);
