@@ -2,4 +2,5 @@
 //! `benches/identify.rs` and `crates/cli/tests/identify_basis.rs`.
 
 pub mod basis_campaign;
+pub mod examples;
 pub mod kx8five_capball;

@@ -6,11 +6,7 @@ use trueaxis::compensate::{axis_tables, volumetric_grid, CompensateError, Correc
 use trueaxis::error_model::{ErrorModel, MachineState};
 use trueaxis::machine::Machine;
 
-fn load(machine: &str, errors: &str) -> (Machine, ErrorModel) {
-    let m = Machine::load(format!("../../examples/machines/{machine}.toml")).unwrap();
-    let e = ErrorModel::load(format!("../../examples/errors/{errors}.toml"), &m).unwrap();
-    (m, e)
-}
+use crate::support::examples::load;
 
 fn spec(points: usize) -> TableSpec {
     TableSpec { points, reference: None, temperatures: vec![] }

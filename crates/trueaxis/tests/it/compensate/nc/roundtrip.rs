@@ -14,11 +14,7 @@ use trueaxis::error_model::{ErrorModel, MachineState};
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::Machine;
 
-pub(crate) fn load(machine: &str, errors: &str) -> (Machine, ErrorModel) {
-    let m = Machine::load(format!("../../examples/machines/{machine}.toml")).unwrap();
-    let e = ErrorModel::load(format!("../../examples/errors/{errors}.toml"), &m).unwrap();
-    (m, e)
-}
+pub(crate) use crate::support::examples::load;
 
 /// The options of the example programs: the example tool table, G54 300 mm down, the examples
 /// directory on the search path, the machine 100 mm below the top of its travel.

@@ -28,11 +28,7 @@ use trueaxis::machine::{AxisKind, Machine, ParameterId};
 
 const FIVE_AXIS: [&str; 3] = ["c600u", "kx8five", "head5"];
 
-fn load(machine: &str, errors: &str) -> (Machine, ErrorModel) {
-    let m = Machine::load(format!("../../examples/machines/{machine}.toml")).unwrap();
-    let e = ErrorModel::load(format!("../../examples/errors/{errors}.toml"), &m).unwrap();
-    (m, e)
-}
+use crate::support::examples::load;
 
 fn request(m: &Machine, format: &str, force: bool) -> CompensationRequest {
     CompensationRequest {
@@ -366,10 +362,6 @@ fn fanuc_tool_centre_point_parameters_hold_the_positions_and_name_the_tilts() {
     }
 }
 
-fn required(variable: &str) -> bool {
-    std::env::var(variable).is_ok_and(|v| v == "1")
-}
-
 /// A HAL component that calls the loaded kinematics module as motmod does (kinematicsInverse, then
 /// kinematicsForward of the joints it returned) and times 100 inverse calls.
 const PROBE: &str = r#"component PROBE "calls the inverse and forward kinematics of the loaded kinematics module";
@@ -410,10 +402,7 @@ FUNCTION(probe) {
 
 #[test]
 fn generated_kinematics_module_run_by_linuxcnc_commands_the_corrected_set_points() {
-    let available = Command::new("halcompile").arg("--help").output().is_ok() && Command::new("halrun").arg("-h").output().is_ok();
-    if !available {
-        assert!(!required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile / halrun are required but not found");
-        eprintln!("SKIPPED: halcompile / halrun (Debian linuxcnc-uspace-dev) not installed");
+    if !super::linuxcnc_tools_found() {
         return;
     }
     let pid = std::process::id();
@@ -426,7 +415,7 @@ fn generated_kinematics_module_run_by_linuxcnc_commands_the_corrected_set_points
         let build = Command::new("halcompile").arg("--install").arg(file).current_dir(&dir).output().unwrap();
         let log = String::from_utf8_lossy(&build.stdout).into_owned() + &String::from_utf8_lossy(&build.stderr);
         if !build.status.success() {
-            assert!(!required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile --install {file} failed: {log}");
+            assert!(!super::required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile --install {file} failed: {log}");
             eprintln!("SKIPPED: halcompile --install failed (not root?): {log}");
             return None;
         }

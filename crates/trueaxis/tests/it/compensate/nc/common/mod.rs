@@ -93,6 +93,17 @@ pub struct SeenArc {
     pub sense: f64,
 }
 
+/// The direction of a motion `v` (mm or deg), `None` below 1e-12 (no motion).
+pub fn direction_of(v: f64) -> Option<Direction> {
+    if v > 1e-12 {
+        Some(Direction::Positive)
+    } else if v < -1e-12 {
+        Some(Direction::Negative)
+    } else {
+        None
+    }
+}
+
 /// Directions of motion at the end of each move (an axis that does not move keeps its last
 /// direction; along an arc the sign of the tangent at the end), then the correction there (mm, deg).
 pub fn expected_corrections(
@@ -106,15 +117,7 @@ pub fn expected_corrections(
     let mut ws = CorrectionWorkspace::new(machine);
     let mut dirs: Vec<Option<Direction>> = vec![None; n];
     let mut previous = start.to_vec();
-    let sign = |v: f64| {
-        if v > 1e-12 {
-            Some(Direction::Positive)
-        } else if v < -1e-12 {
-            Some(Direction::Negative)
-        } else {
-            None
-        }
-    };
+    let sign = direction_of;
     let mut out = Vec::new();
     for mv in moves {
         for k in 0..n {

@@ -79,19 +79,7 @@ impl Path {
     fn directions(&self, t: f64) -> Vec<Option<Direction>> {
         let h = 1e-6;
         let (p0, p1) = (self.point((t - h).max(0.0)), self.point((t + h).min(1.0)));
-        p0.iter()
-            .zip(&p1)
-            .map(|(a, b)| {
-                let v = b - a;
-                if v > 1e-12 {
-                    Some(Direction::Positive)
-                } else if v < -1e-12 {
-                    Some(Direction::Negative)
-                } else {
-                    None
-                }
-            })
-            .collect()
+        p0.iter().zip(&p1).map(|(a, b)| super::direction_of(b - a)).collect()
     }
 }
 
