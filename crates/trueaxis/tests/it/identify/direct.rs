@@ -45,13 +45,19 @@ fn truth() -> (Basis, Vec<f64>) {
     (basis, c)
 }
 
+/// The truth over 50 mm sampled every 0.01 mm (Soons 1993 §3.2.4) with 0.05 um of noise (`seed`):
+/// the positions and the readings.
+fn sampled(basis: &Basis, coefficients: &[f64], seed: u64) -> (Vec<f64>, Vec<f64>) {
+    let positions: Vec<f64> = (0..=5000).map(|i| 0.01 * i as f64 + 1e-4).collect();
+    let e = noise(positions.len(), 0.05, seed);
+    let values: Vec<f64> = positions.iter().zip(&e).map(|(x, n)| basis.eval(coefficients, *x) + n).collect();
+    (positions, values)
+}
+
 #[test]
 fn piecewise_trend_and_scale_pitch_error_are_recovered_by_stepwise_fitting() {
     let (basis, coefficients) = truth();
-    // 50 mm sampled every 0.01 mm (Soons 1993 §3.2.4), noise 0.05 um
-    let positions: Vec<f64> = (0..=5000).map(|i| 0.01 * i as f64 + 1e-4).collect();
-    let e = noise(positions.len(), 0.05, 7);
-    let values: Vec<f64> = positions.iter().zip(&e).map(|(x, n)| basis.eval(&coefficients, *x) + n).collect();
+    let (positions, values) = sampled(&basis, &coefficients, 7);
     // a generous candidate model: knots every 5 mm (only 10 and 30 are real)
     let mut spec = basis.spec.clone();
     spec.knots = (1..10).map(|k| 5.0 * k as f64).collect();
@@ -75,9 +81,7 @@ fn piecewise_trend_and_scale_pitch_error_are_recovered_by_stepwise_fitting() {
 #[test]
 fn wavelength_is_refined_from_a_wrong_start() {
     let (basis, coefficients) = truth();
-    let positions: Vec<f64> = (0..=5000).map(|i| 0.01 * i as f64 + 1e-4).collect();
-    let e = noise(positions.len(), 0.05, 11);
-    let values: Vec<f64> = positions.iter().zip(&e).map(|(x, n)| basis.eval(&coefficients, *x) + n).collect();
+    let (positions, values) = sampled(&basis, &coefficients, 11);
     let mut spec = basis.spec.clone();
     spec.periodic[0].wavelength = SCALE_PITCH * 1.0008; // 0.08 % off: 6 % of a period at 50 mm
     let refined = refine_wavelength(&positions, &values, &spec, 0, 0.002).unwrap();
