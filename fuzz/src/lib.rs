@@ -8,7 +8,7 @@
 //! origin (`fuzz`) in the message, like every input error of trueaxis.
 //!
 //! Used by the cargo-fuzz binaries in `fuzz_targets/` and, through `#[path]`, by
-//! `crates/trueaxis/tests/fuzz_replay.rs`, which replays the seed corpus (`seeds.txt`) and the
+//! `crates/trueaxis/tests/it/fuzz_replay.rs`, which replays the seed corpus (`seeds.txt`) and the
 //! regressions (`regressions/<target>/`) in every `cargo test`.
 
 use std::path::{Path, PathBuf};

@@ -181,7 +181,7 @@ fn cases() -> Vec<Case> {
             unc,
             &["trials_per_sequence", "more than"],
         ),
-        // NC, both dialects (rs274 refuses the same programs: crates/trueaxis/tests/nc/bad_programs.rs)
+        // NC, both dialects (rs274 refuses the same programs: crates/trueaxis/tests/it/compensate/nc/bad_programs.rs)
         case("nc arc radius", "p.ngc", "G21 G90 G17\nG0 X0 Y0 Z-10\nG2 X10 Y0 I1 J0 F100\nM2\n".into(), nc, &["line 3", "radius"]),
         case("nc two motion codes", "p.ngc", "G21 G90\nG0 G1 X10 F100\nM2\n".into(), nc, &["line 2", "G0 and G1", "modal group"]),
         case("nc malformed", "p.ngc", "G21 G90\nG1 X1..2 F100\nM2\n".into(), nc, &["line 2"]),

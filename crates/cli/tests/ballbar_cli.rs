@@ -17,7 +17,7 @@ fn json(out: &Output) -> serde_json::Value {
 fn identify_recovers_the_piges_the_examples_were_simulated_with() {
     // examples/ballbar/A1..C2.csv: simulated from c600u_piges.toml with 0.3 um noise (seed 7). The
     // tolerances are 3 standard deviations of each PIGE at 0.3 um noise: 0.3 x the 1 um standard
-    // deviations of the Monte Carlo in tests/ballbar_pige.rs (EY0A 0.99, EZ0A 0.51, EX0C 0.08,
+    // deviations of the Monte Carlo in crates/trueaxis/tests/it/identify/pige.rs (EY0A 0.99, EZ0A 0.51, EX0C 0.08,
     // EY0C 0.99 um; EB0A 8.5, EC0A 16.5, EA0C 1.24, EB0C 8.7 urad): the A-axis orientation from a
     // 90 deg arc is the weakest value, as the thesis found.
     let out = trueaxis(&[

@@ -45,7 +45,7 @@ fn round_trip(dir: &Path, machine: &str, errors: &str, method: &[&str], noise: &
 }
 
 /// Every value of `truth` (um or urad) within 0.05 um / 0.5 urad (the noise-free tolerances of
-/// tests/ballbar_pige.rs: second-order terms of the first-order method), and nothing else named.
+/// crates/trueaxis/tests/it/identify/pige.rs: second-order terms of the first-order method), and nothing else named.
 fn assert_truth(doc: &serde_json::Value, truth: &[(&str, f64)], what: &str) {
     let params = doc["parameters"].as_object().unwrap();
     assert_eq!(params.len(), truth.len(), "{what}: {params:?}");

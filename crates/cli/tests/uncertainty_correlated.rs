@@ -37,7 +37,7 @@ fn correlated_channels_against_the_sum_of_correlated_normals() {
         let s = sources(rho);
         let gum = map.gum_covariance(&s.sources[0]).unwrap()[(0, 0)].sqrt();
         assert!((gum - closed).abs() < 1e-12, "rho {rho}: GUM {gum} vs {closed}");
-        // (BruteForce equals PerObservation trial by trial: tests/uncertainty_linear.rs)
+        // (BruteForce equals PerObservation trial by trial: crates/trueaxis/tests/it/uncertainty/linear_map.rs)
         for evaluation in [Evaluation::Reduced, Evaluation::PerObservation] {
             let model = map.model(&[&s.sources[0]], evaluation).unwrap();
             let r = run_adaptive(&model, &s.settings, &mut |_, _| {}).unwrap();

@@ -1,5 +1,5 @@
 """Every binding against the command line's JSON on the shipped examples, and the predictions
-against the library's reference values (crates/trueaxis/tests/python_reference.rs) to 1e-9."""
+against the library's reference values (crates/trueaxis/tests/it/python_reference.rs) to 1e-9."""
 
 import csv
 import pickle

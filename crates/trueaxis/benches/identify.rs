@@ -3,7 +3,7 @@
 //! (design matrix from the exact chain and its Jacobians, then the solve), a large dense solve of
 //! 10^5 readings x 500 parameters (target < 2 s), and the whole identification of the nine
 //! translational error maps of the 3-axis vmc3 as cubic splines with 53 knots (B-splines) from 10^5
-//! laser-tracer lengths (501 basis and squareness coefficients, tests/support/basis_campaign.rs).
+//! laser-tracer lengths (501 basis and squareness coefficients, tests/it/support/basis_campaign.rs).
 //!
 //! Run: `cargo bench --bench identify`. The NumPy/SciPy baselines of the same solves are
 //! `identify/lstsq_*` and `identify/qr_*` in bench/baseline.py.
@@ -13,7 +13,7 @@ use trueaxis::error_model::ErrorModel;
 use trueaxis::identify::{identify, solve, Campaign, DesignMatrix, IndirectOptions};
 use trueaxis::machine::Machine;
 
-#[path = "../tests/support/basis_campaign.rs"]
+#[path = "../tests/it/support/basis_campaign.rs"]
 mod basis_campaign;
 #[path = "common/problems.rs"]
 mod problems;

@@ -1,0 +1,6 @@
+//! Error budgets (`trueaxis::budget`): allocation, configurations, miniaturisation, sensitivity.
+
+mod allocate;
+mod configurations;
+mod miniaturisation;
+mod sensitivity;

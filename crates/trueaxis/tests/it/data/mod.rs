@@ -1,0 +1,3 @@
+//! Input tables (`trueaxis::data`).
+
+mod tables;

@@ -1,0 +1,3 @@
+//! The error model (`trueaxis::error_model`).
+
+mod inputs;
