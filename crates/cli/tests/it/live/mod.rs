@@ -61,7 +61,7 @@ fn free_port() -> u16 {
 
 /// Starts the test server and waits until it listens.
 fn server(port: u16, args: &[&str]) -> Child {
-    let script = root().join("crates/cli/tests/live/opcua_server.py");
+    let script = root().join("crates/cli/tests/it/live/opcua_server.py");
     let child = Command::new("python3")
         .arg(script)
         .args(["--port", &port.to_string(), "--campaign", &example("examples/thermal/campaign.csv")])

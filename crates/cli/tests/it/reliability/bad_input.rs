@@ -9,9 +9,6 @@
 use std::path::Path;
 use std::process::Command;
 
-// reliability round two: outputs, signals, memory, inputs (docs/reliability.md)
-mod reliability;
-
 const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 
 fn example(path: &str) -> String {

@@ -4,10 +4,9 @@
 //! independent numerical integration of eqs. 3.58-3.62 (Simpson, 1 mm steps). Both through the
 //! written error terms, read back as an error model of the machine.
 
-mod thermal_common;
 use std::fmt::Write;
 use std::path::Path;
-use thermal_common::{json, trueaxis};
+use crate::support::thermal::{json, trueaxis};
 use trueaxis::error_model::{ErrorModel, MachineState};
 use trueaxis::machine::{Machine, ParameterId};
 
@@ -28,7 +27,7 @@ fn values(errors: &ErrorModel, m: &Machine, x: f64, readings: &[(&str, f64)]) ->
 
 fn write_terms(beam: &Path, dir: &Path) -> ErrorModel {
     let out = dir.join("beam_terms.toml");
-    thermal_common::ok(&trueaxis(&[
+    crate::support::thermal::ok(&trueaxis(&[
         "thermal",
         "beam",
         "--machine",

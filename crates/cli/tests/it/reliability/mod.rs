@@ -9,6 +9,9 @@
 //! table positions out of range. Cases that need root (mknod, mount, another user) print why they
 //! are skipped when it is missing; CI runs as root.
 
+mod bad_input;
+mod crash_safety;
+mod determinism;
 mod inputs;
 mod memory;
 mod outputs;

@@ -3,8 +3,7 @@
 //! two axis positions (Soons 1993 §3.4.4) through `predict` against `thermal predict` of the fitted
 //! model, and `compensate --poses` with load and spindle-speed columns against `predict`.
 
-mod thermal_common;
-use thermal_common::{json, ok, trueaxis};
+use crate::support::thermal::{json, ok, trueaxis};
 
 fn poses_json(errors: &str, poses: &str, extra: &[&str]) -> Vec<serde_json::Value> {
     let mut args = vec!["predict", "--machine", "examples/machines/vmc3.toml", "--errors", errors, "--poses", poses, "--json"];

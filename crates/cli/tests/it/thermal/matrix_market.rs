@@ -3,10 +3,9 @@
 //! `matrix_market::write_symmetric`; its modes equal those of the bar it came from, through the
 //! command line.
 
-mod thermal_common;
 
 use std::path::Path;
-use thermal_common::{json, trueaxis};
+use crate::support::thermal::{json, trueaxis};
 use trueaxis::thermal::matrix_market::write_symmetric;
 use trueaxis::thermal::model_file::load_model;
 

@@ -4,8 +4,7 @@
 //! recovered from the two time constants of a model made with known values; the written file keeps
 //! its comments and has the tuned time constants.
 
-mod thermal_common;
-use thermal_common::{json, trueaxis};
+use crate::support::thermal::{json, trueaxis};
 
 #[test]
 fn uniform_mode_of_the_fin_gives_h_in_closed_form() {

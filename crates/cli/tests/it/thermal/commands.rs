@@ -1,10 +1,9 @@
 //! `trueaxis thermal` end to end: the JSON contract of `modes` (docs/design.md, Command line), placement,
 //! fit -> model file -> predict, error terms read by `trueaxis predict`, and bad input.
 
-mod thermal_common;
 
 use std::process::Output;
-use thermal_common::{fit_dz, json, trueaxis};
+use crate::support::thermal::{fit_dz, json, trueaxis};
 
 #[test]
 fn modes_json_is_sorted_by_decreasing_time_constant() {

@@ -6,10 +6,9 @@
 //! critical values against the Wilson-Hilferty approximation, compensated = off-line, the rejection
 //! rate of a correct model, the model's uncertainty from the calibration campaign.
 
-mod thermal_common;
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
-use thermal_common::{json, trueaxis};
+use crate::support::thermal::{json, trueaxis};
 use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::verification::{verify, VerificationOptions};
 use trueaxis::geometry::Vec3;
@@ -85,7 +84,7 @@ fn simulate(dir: &Path, parameters: &str, wear: f64, seed: u64, compensated: boo
     let centre = meas.plate_centre.unwrap();
     let (t, w) = (Vec3::from(MISALIGNMENT.0) * 1e-3, Vec3::from(MISALIGNMENT.1) * 1e-6);
     let probe = Setup { tool_point: m.tool_point, work_point: Vec3::zeros() };
-    let mut normal = thermal_common::normal(seed);
+    let mut normal = crate::support::thermal::normal(seed);
     let mut readings = Vec::new();
     let mut q = vec![0.0; 3];
     for r in 0..meas.records() {

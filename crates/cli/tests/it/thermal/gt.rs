@@ -7,9 +7,8 @@
 //! predict`. And the geometric/thermal split alone (Zhu 2008 §4.4.2): a cubic geometric part with a
 //! linear thermal part.
 
-mod thermal_common;
 use std::fmt::Write;
-use thermal_common::{json, ok, trueaxis};
+use crate::support::thermal::{json, ok, trueaxis};
 
 /// Truth of the segment (direction, range): geometric quadratic [a0, a1, a2] (um, um/mm, um/mm^2)
 /// and thermal rows [c_bed, c_S] for P^0 and P^1 (um/degC, um/rpm, per mm).
@@ -30,7 +29,7 @@ fn error(x: f64, plus: bool, bed: f64, spindle: f64) -> f64 {
 /// runs of X over 0..400 mm in 20 mm steps through a warm-up of the bed; noise 0.05 um.
 fn campaign(noise: f64) -> String {
     let mut text = String::from("run,t,X,dir,T:bed,S:spindle,dx\n");
-    let mut gauss = thermal_common::normal(7);
+    let mut gauss = crate::support::thermal::normal(7);
     for rpm in [1000.0, 3000.0, 5000.0, 4000.0] {
         let mut t = 0.0;
         for cycle in 0..5 {

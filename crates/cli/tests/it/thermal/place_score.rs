@@ -4,9 +4,8 @@
 //! exhaustive yardstick has the smallest training error of all, and more Gauss sensors predict
 //! better.
 
-mod thermal_common;
 use std::path::Path;
-use thermal_common::{json, trueaxis};
+use crate::support::thermal::{json, trueaxis};
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::placement_score::{elongation_weights, gauss_points};
 

@@ -7,9 +7,8 @@
 //! 100 times smaller at a tenth of the deformations). And the vmc3 example file against its closed
 //! form.
 
-mod thermal_common;
 use std::fmt::Write;
-use thermal_common::{json, trueaxis};
+use crate::support::thermal::{json, trueaxis};
 
 const MACHINE: &str = r#"
 name = "2D arch-type reconfigurable machine (Zhu 2008 ch. 4)"
@@ -226,7 +225,7 @@ fn vmc3_links_example_is_its_closed_form() {
     // with the geometric errors, as one file predict and compensate read
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("vmc3_links.toml");
-    thermal_common::ok(&trueaxis(&[
+    crate::support::thermal::ok(&trueaxis(&[
         "thermal",
         "links",
         "--machine",

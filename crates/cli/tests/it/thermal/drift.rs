@@ -4,9 +4,8 @@
 //! that predicts the 20-min duty cycle of the shipped campaign better than the static regression,
 //! the model file read back, and bad input.
 
-mod thermal_common;
 
-use thermal_common::{fit_dz, json, trueaxis};
+use crate::support::thermal::{fit_dz, json, trueaxis};
 use trueaxis::thermal::drift_model::{fit_drift_model, record, DriftModel};
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::thermal_campaign::Campaign;

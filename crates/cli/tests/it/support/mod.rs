@@ -1,0 +1,3 @@
+//! Shared by the modules of the test binary.
+
+pub mod thermal;
