@@ -2,28 +2,13 @@
 //! round trip (allocate -> budget file -> analyse meets the target), the configuration counts and
 //! ranking, the miniaturisation findings, the figures and files, and bad input.
 
+use crate::support::{json, trueaxis, trueaxis_in, ROOT};
 use std::path::Path;
-use std::process::{Command, Output};
 use trueaxis::budget::analyse;
 use trueaxis::budget::poses::part_grid;
 use trueaxis::budget::spec::{BudgetSpec, KindValues};
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Setup};
-
-const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-
-fn trueaxis_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(dir).output().unwrap()
-}
-
-fn trueaxis(args: &[&str]) -> Output {
-    trueaxis_in(Path::new(ROOT), args)
-}
-
-fn json(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
 
 fn close(a: f64, b: f64, tolerance: f64) -> bool {
     (a - b).abs() <= tolerance * b.abs().max(1e-9)

@@ -1,21 +1,12 @@
-//! `trueaxis compensate` end to end: files written, JSON summaries, exit codes (`trueaxis nc`: nc_cli.rs).
+//! `trueaxis compensate` end to end: files written, JSON summaries, exit codes (`trueaxis nc`: nc.rs).
 
-use std::process::Command;
-
-fn trueaxis(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_trueaxis"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .unwrap();
-    (out.status.code().unwrap(), String::from_utf8(out.stdout).unwrap(), String::from_utf8(out.stderr).unwrap())
-}
+use crate::support::{outcome, read};
 
 /// `trueaxis COMMAND --machine examples/machines/vmc3.toml --errors ERRORS REST...`
 fn on_vmc3(command: &str, errors: &str, rest: &[&str]) -> (i32, String, String) {
     let mut args = vec![command, "--machine", "examples/machines/vmc3.toml", "--errors", errors];
     args.extend(rest);
-    trueaxis(&args)
+    outcome(&args)
 }
 
 #[test]
@@ -34,7 +25,7 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
         ("json", vec!["compensation.json"]),
     ] {
         let out = dir.path().join(format);
-        let (code, stdout, stderr) = trueaxis(&[
+        let (code, stdout, stderr) = outcome(&[
             "compensate",
             "--machine",
             "examples/machines/vmc3.toml",
@@ -77,7 +68,7 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     }
     // a 5-axis machine with per-pose corrections
     let out = dir.path().join("c600u");
-    let (code, stdout, stderr) = trueaxis(&[
+    let (code, stdout, stderr) = outcome(&[
         "compensate",
         "--machine",
         "examples/machines/c600u.toml",
@@ -98,7 +89,7 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     assert!(csv.starts_with("X,Y,Z,A,C,dX,dY,dZ,dA,dC,error_um,residual_um,uncorrectable_urad\n"));
     // beyond the user's limit: refused, exit 2, nothing written
     let out = dir.path().join("limited");
-    let (code, _, stderr) = trueaxis(&[
+    let (code, _, stderr) = outcome(&[
         "compensate",
         "--machine",
         "examples/machines/vmc3.toml",
@@ -114,7 +105,7 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     assert_eq!(code, 2);
     assert!(stderr.contains("beyond the limit of 5 um"), "{stderr}");
     assert!(!out.exists());
-    let (code, _, stderr) = trueaxis(&[
+    let (code, _, stderr) = outcome(&[
         "compensate",
         "--machine",
         "examples/machines/vmc3.toml",
@@ -170,7 +161,7 @@ fn an_output_directory_with_other_files_is_refused() {
 /// on the sensor T:p1, both sensors in examples/thermal/poses_with_T.csv.
 fn gt_model(dir: &std::path::Path) -> std::path::PathBuf {
     let path = dir.join("vmc3_gt.toml");
-    let base = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/errors/vmc3_backlash.toml")).unwrap();
+    let base = read("examples/errors/vmc3_backlash.toml");
     std::fs::write(&path, base + "\n[[term.EZZ]]\ncoefficient = 1.5e-2\nfactors = { Z = 1, \"T:p1\" = 1 }\n").unwrap();
     path
 }
@@ -210,7 +201,7 @@ fn compensate_poses_uses_the_temperature_columns_and_cancels_what_predict_report
     // the same file with T:p1 at 20 degC: row 3 (Z -200 mm, T:p1 24.5 degC) loses the thermal term
     // 0.015 um/(mm K) x -200 mm x 4.5 K = -13.5 um of EZZ, so its Z correction drops by 13.5 um
     let cold = dir.path().join("poses_p1_20.csv");
-    let text = std::fs::read_to_string(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(poses)).unwrap();
+    let text = read(poses);
     let rewritten: Vec<String> = text
         .lines()
         .map(|l| {
@@ -272,7 +263,7 @@ fn files_that_leave_more_than_they_remove_are_refused() {
     assert!(out.join("X.comp").exists());
     // a five-axis machine: the kinematic description and tables leave at most a tenth
     let five = dir.path().join("c600u");
-    let (code, stdout, stderr) = trueaxis(&[
+    let (code, stdout, stderr) = outcome(&[
         "compensate",
         "--machine",
         "examples/machines/c600u.toml",
@@ -296,7 +287,7 @@ fn ballbar_identify_writes_error_values_that_compensate_reads_with_their_uncerta
     let dir = tempfile::tempdir().unwrap();
     let piges = dir.path().join("piges.toml");
     let files = ["A1", "A2", "C1", "C2"].map(|s| format!("examples/ballbar/{s}.csv"));
-    let (code, stdout, stderr) = trueaxis(&[
+    let (code, stdout, stderr) = outcome(&[
         "ballbar",
         "identify",
         "--machine",
@@ -324,7 +315,7 @@ fn ballbar_identify_writes_error_values_that_compensate_reads_with_their_uncerta
         assert!((u - p["std_uncertainty"].as_f64().unwrap()).abs() < 1e-4, "{name}: {u} vs {p}");
     }
     let out = dir.path().join("comp");
-    let (code, stdout, stderr) = trueaxis(&[
+    let (code, stdout, stderr) = outcome(&[
         "compensate",
         "--machine",
         "examples/machines/c600u.toml",

@@ -5,19 +5,8 @@
 //! line naming the file, the column and the fix) and warnings (exit 0, stderr) of the plausibility
 //! checks; a `fit` range error names the file, line and column.
 
+use crate::support::{json_of, read, trueaxis};
 use serde_json::Value;
-use std::path::Path;
-use std::process::{Command, Output};
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
-
-fn json(args: &[&str]) -> Value {
-    let out = trueaxis(args);
-    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{args:?}: {e}"))
-}
 
 fn close(name: &str, a: &Value, b: &Value, tol: f64) {
     let (x, y) = (a.as_f64().unwrap_or_else(|| panic!("{name}: {a}")), b.as_f64().unwrap_or_else(|| panic!("{name}: {b}")));
@@ -28,8 +17,8 @@ const KEYS: [&str; 12] = ["A", "A_plus", "A_minus", "B", "B_mean", "E", "E_plus"
 
 #[test]
 fn iso230_2_of_the_rtl_equals_its_csv_with_and_without_the_file_temperature() {
-    let csv = json(&["iso230-2", "examples/data/laser_x.csv", "--json"]);
-    let raw = json(&["iso230-2", "examples/data/laser_x.rtl", "--json", "--no-file-temperature"]);
+    let csv = json_of(&["iso230-2", "examples/data/laser_x.csv", "--json"]);
+    let raw = json_of(&["iso230-2", "examples/data/laser_x.rtl", "--json", "--no-file-temperature"]);
     for k in KEYS {
         close(k, &raw[k], &csv[k], 1e-9);
     }
@@ -43,7 +32,7 @@ fn iso230_2_of_the_rtl_equals_its_csv_with_and_without_the_file_temperature() {
     let note = String::from_utf8_lossy(&file.stderr);
     assert!(note.contains("material temperature 21.200 degC") && note.contains("11.5 um/m/K"), "{note}");
     let file: Value = serde_json::from_slice(&file.stdout).unwrap();
-    let options = json(&["iso230-2", "examples/data/laser_x.csv", "--json", "--scale-temperature", "21.2", "--scale-expansion", "11.5"]);
+    let options = json_of(&["iso230-2", "examples/data/laser_x.csv", "--json", "--scale-temperature", "21.2", "--scale-expansion", "11.5"]);
     for k in KEYS {
         close(k, &file[k], &options[k], 1e-9);
     }
@@ -61,8 +50,8 @@ fn convert_writes_canonical_csv_that_reads_to_the_same_results() {
     assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.contains("# Machine: VMC3 example machine") && text.contains("target [mm],dev [um],dir,run\n"), "{text}");
-    let a = json(&["iso230-2", out.to_str().unwrap(), "--json"]);
-    let b = json(&["iso230-2", "examples/data/laser_x.rtl", "--json"]);
+    let a = json_of(&["iso230-2", out.to_str().unwrap(), "--json"]);
+    let b = json_of(&["iso230-2", "examples/data/laser_x.rtl", "--json"]);
     for k in KEYS {
         close(k, &a[k], &b[k], 1e-9);
     }
@@ -97,7 +86,7 @@ fn fit_and_reversal_read_rtl_files() {
     };
     let run = |data: &str| {
         let a = args(data);
-        json(&a.iter().map(String::as_str).collect::<Vec<_>>())
+        json_of(&a.iter().map(String::as_str).collect::<Vec<_>>())
     };
     let (rtl, csv) = (run("examples/data/laser_x.rtl"), run("examples/data/laser_x.csv"));
     for side in ["plus", "minus"] {
@@ -111,7 +100,7 @@ fn fit_and_reversal_read_rtl_files() {
     assert_eq!(rtl["metadata"]["axis"], "X");
     // a reversal from a laser file of two runs: run 1 is m1, run 2 is m2
     let dir = tempfile::tempdir().unwrap();
-    let arbor = std::fs::read_to_string(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/data/reversal_arbor.csv"))).unwrap();
+    let arbor = read("examples/data/reversal_arbor.csv");
     let rows: Vec<Vec<f64>> = arbor
         .lines()
         .filter(|l| !l.starts_with('#') && !l.starts_with("position"))
@@ -131,8 +120,8 @@ fn fit_and_reversal_read_rtl_files() {
     // the second scan listed in the same order: both runs + (a straightness scan, not a positioning run)
     let path = dir.path().join("arbor.rtl");
     std::fs::write(&path, rtl).unwrap();
-    let a = json(&["reversal", "arbor", path.to_str().unwrap(), "--json"]);
-    let b = json(&["reversal", "arbor", "examples/data/reversal_arbor.csv", "--json"]);
+    let a = json_of(&["reversal", "arbor", path.to_str().unwrap(), "--json"]);
+    let b = json_of(&["reversal", "arbor", "examples/data/reversal_arbor.csv", "--json"]);
     for (x, y) in a["straightness_um"].as_array().unwrap().iter().zip(b["straightness_um"].as_array().unwrap()) {
         close("straightness", x, y, 1e-9);
     }
@@ -140,7 +129,7 @@ fn fit_and_reversal_read_rtl_files() {
 
 #[test]
 fn ballbar_exports_and_inspect() {
-    let export = json(&[
+    let export = json_of(&[
         "ballbar",
         "iso230-4",
         "examples/ballbar/export_xy.txt",
@@ -184,7 +173,7 @@ fn ballbar_exports_and_inspect() {
         sim.to_str().unwrap(),
     ]);
     assert!(out.status.success());
-    let csv = json(&[
+    let csv = json_of(&[
         "ballbar",
         "iso230-4",
         sim.to_str().unwrap(),
@@ -203,16 +192,16 @@ fn ballbar_exports_and_inspect() {
     }
     close("H", &export["H_um"], &csv["H_um"], 1e-9);
     // inspect says what it found
-    let i = json(&["inspect", "examples/ballbar/export_xy.txt", "--json"]);
+    let i = json_of(&["inspect", "examples/ballbar/export_xy.txt", "--json"]);
     assert_eq!(i["separator"], ";");
     assert_eq!(i["readings"]["header"]["radius_mm"], 100.0);
     assert_eq!(i["readings"]["angles_from"], "sample numbers, radius, feed rate and sample rate");
-    let i = json(&["inspect", "examples/data/laser_x.rtl", "--json"]);
+    let i = json_of(&["inspect", "examples/data/laser_x.rtl", "--json"]);
     assert_eq!(i["format"], "Renishaw laser file (.rtl)");
     assert_eq!(i["readings"]["targets"], 41);
     assert_eq!(i["readings"]["runs"].as_array().unwrap().len(), 10);
     assert!(i["commands"].as_array().unwrap().iter().any(|c| c["command"] == "iso230-2"));
-    let i = json(&["inspect", "examples/data/vmc3_etalon.exc", "--json"]);
+    let i = json_of(&["inspect", "examples/data/vmc3_etalon.exc", "--json"]);
     assert_eq!(i["parameters"].as_array().unwrap().len(), 22);
     let text = trueaxis(&["inspect", "examples/data/iso230_2_x.csv"]);
     assert!(String::from_utf8_lossy(&text.stdout).contains("iso230-2"));
@@ -238,7 +227,7 @@ fn etalon_files_convert_to_errors_that_predict_reads() {
     let poses = dir.path().join("grid.csv");
     std::fs::write(&poses, "X,Y,Z\n-400,-250,-400\n-150,100,-200\n200,-50,-50\n400,250,0\n").unwrap();
     let run = |e: &str| {
-        json(&["predict", "--machine", "examples/machines/vmc3.toml", "--errors", e, "--poses", poses.to_str().unwrap(), "--json"])
+        json_of(&["predict", "--machine", "examples/machines/vmc3.toml", "--errors", e, "--poses", poses.to_str().unwrap(), "--json"])
     };
     let (a, b) = (run(errors.to_str().unwrap()), run("examples/errors/vmc3.toml"));
     for (p, q) in a["poses"].as_array().unwrap().iter().zip(b["poses"].as_array().unwrap()) {
@@ -287,8 +276,8 @@ fn implausible_files_are_refused_and_suspicious_ones_warned() {
     assert!(trueaxis(&["iso230-2", &write("um.csv", &um)]).status.success());
     // the fix works: the same file with its unit in the header
     let labelled = std::fs::read_to_string(&mm).unwrap().replacen("dev", "dev [mm]", 1);
-    let fixed = json(&["iso230-2", &write("labelled.csv", &labelled), "--json"]);
-    let plain = json(&["iso230-2", &dir.path().join("um.csv").to_string_lossy(), "--json"]);
+    let fixed = json_of(&["iso230-2", &write("labelled.csv", &labelled), "--json"]);
+    let plain = json_of(&["iso230-2", &dir.path().join("um.csv").to_string_lossy(), "--json"]);
     close("A", &fixed["A"], &plain["A"], 1e-9);
     // a target written with other digits in one run
     let near = std::fs::read_to_string(dir.path().join("um.csv")).unwrap().replacen("100,3,+,2", "100.0004,3,+,2", 1);

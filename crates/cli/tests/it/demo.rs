@@ -4,16 +4,13 @@
 //! screenshot that shows a rendered page. The browser check needs `chromium` (CI installs it and sets
 //! TRUEAXIS_REQUIRE_BROWSER=1; elsewhere it is skipped with a message when chromium is missing).
 
+use crate::support::trueaxis_in;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn trueaxis(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(dir).output().unwrap()
-}
+use std::process::Command;
 
 fn run_demo() -> (tempfile::TempDir, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
-    let out = trueaxis(&["demo", "--out", "demo", "--json"], dir.path());
+    let out = trueaxis_in(dir.path(), &["demo", "--out", "demo", "--json"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(out.stderr.is_empty(), "no progress output when piped: {}", String::from_utf8_lossy(&out.stderr));
     (dir, serde_json::from_slice(&out.stdout).unwrap())
@@ -291,7 +288,7 @@ fn every_repeat_command_of_the_report_reproduces_its_numbers(demo: &Path) {
     for command in &commands {
         let args: Vec<&str> = command.split_whitespace().collect();
         assert_eq!(args[0], "trueaxis");
-        let out = trueaxis(&args[1..], demo);
+        let out = trueaxis_in(demo, &args[1..]);
         assert!(out.status.success(), "`{command}`: {}", String::from_utf8_lossy(&out.stderr));
         let stdout = String::from_utf8(out.stdout).unwrap();
         match args[1] {

@@ -3,7 +3,7 @@
 //! D = 2.5e-3 in (urad^2 (um/mm)^2 (um/mm)^2)^(1/3), which is 1e-2 times that, 2.5e-5, in Soons 1993's
 //! units (rad, mm/mm, sigma = 1 mm): the value of its Table 4.1 design 3.
 
-use crate::support::thermal::{json, trueaxis};
+use crate::support::{json, trueaxis};
 
 #[test]
 fn criteria_state_their_units_and_seed_000_values() {

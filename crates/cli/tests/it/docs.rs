@@ -25,11 +25,11 @@
 
 #![cfg(unix)]
 
+use crate::support::{BIN, ROOT};
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-const BIN: &str = env!("CARGO_BIN_EXE_trueaxis");
 /// Options whose value is a file or directory the command writes.
 const OUTPUT_OPTIONS: [&str; 7] = ["--out", "--plot", "--plots", "--plot-dir", "--errors-out", "--terms-out", "--residuals"];
 /// Longest a single documented command may take in the test profile.
@@ -245,7 +245,7 @@ fn documentation_files(root: &Path) -> Vec<PathBuf> {
 
 #[test]
 fn every_shell_example_of_the_documentation_runs() {
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = Path::new(ROOT);
     let files = documentation_files(root);
     let per_file: Vec<Vec<Example>> = files.iter().map(|f| examples_of(f)).collect();
     for (f, ex) in files.iter().zip(&per_file) {
@@ -266,7 +266,7 @@ fn every_shell_example_of_the_documentation_runs() {
 
 #[test]
 fn every_code_fence_names_its_language() {
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = Path::new(ROOT);
     let mut bare = Vec::new();
     for file in documentation_files(root) {
         let text = std::fs::read_to_string(&file).unwrap();
@@ -318,7 +318,7 @@ fn anchors(text: &str) -> Vec<String> {
 
 #[test]
 fn every_link_between_the_pages_resolves() {
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = Path::new(ROOT);
     let mut broken = Vec::new();
     for file in documentation_files(root) {
         let text = std::fs::read_to_string(&file).unwrap();

@@ -2,11 +2,7 @@
 //! known pitch error, backlash, drift and noise), the sign of a workpiece-carrying slide, the Abbe
 //! subtraction of known angular errors, and bad input.
 
-use std::process::{Command, Output};
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
+use crate::support::{json_of, root, trueaxis};
 
 /// The positioning error the example data were generated with (um, x in mm): the laser reading
 /// (tool relative to workpiece, actual minus target) without backlash, drift and noise.
@@ -27,8 +23,7 @@ fn fitted_exx(errors_file: &std::path::Path) -> impl Fn(f64) -> f64 {
 }
 
 fn fitted_exx_of(errors_file: &std::path::Path, direction: trueaxis::error_model::Direction) -> impl Fn(f64) -> f64 {
-    let machine =
-        trueaxis::machine::Machine::load(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."), "/examples/machines/vmc3.toml")).unwrap();
+    let machine = trueaxis::machine::Machine::load(root().join("examples/machines/vmc3.toml")).unwrap();
     let model = trueaxis::error_model::ErrorModel::load(errors_file, &machine).unwrap();
     let exx = trueaxis::machine::ParameterId::parse("EXX").unwrap();
     let f = model.directional_entries().find(|(id, d, _)| **id == exx && *d == Some(direction)).unwrap().2.clone();
@@ -54,7 +49,7 @@ const FIT: [&str; 12] = [
 fn fit_with_the_machine_recovers_the_error_with_the_sign_of_a_table_axis() {
     let dir = tempfile::tempdir().unwrap();
     let errors = dir.path().join("errors.toml");
-    std::fs::copy(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."), "/examples/errors/vmc3.toml"), &errors).unwrap();
+    std::fs::copy(root().join("examples/errors/vmc3.toml"), &errors).unwrap();
     let plot = dir.path().join("exx.svg");
     let mut args = FIT.to_vec();
     let (e, p) = (errors.to_str().unwrap(), plot.to_str().unwrap());
@@ -93,12 +88,6 @@ fn fit_with_the_machine_recovers_the_error_with_the_sign_of_a_table_axis() {
     assert!(!plot.exists(), "with both directions the plots are exx_plus.svg and exx_minus.svg");
     assert!(dir.path().join("exx_minus.svg").exists());
     assert!(svg.contains("95 % prediction interval") && svg.contains("EXX (um)"));
-}
-
-fn json_of(args: &[&str]) -> serde_json::Value {
-    let out = trueaxis(args);
-    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
 }
 
 fn coefficients(doc: &serde_json::Value) -> Vec<f64> {
@@ -239,8 +228,7 @@ fn temperature_options_correct_the_readings_to_20c() {
     // options equals the fit of the hand-corrected data
     let dir = tempfile::tempdir().unwrap();
     let corrected = dir.path().join("corrected.csv");
-    let table =
-        trueaxis::data::CsvTable::read(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."), "/examples/data/laser_x.csv")).unwrap();
+    let table = trueaxis::data::CsvTable::read(root().join("examples/data/laser_x.csv")).unwrap();
     let (x, dev, dir_col) = (table.numbers("target").unwrap(), table.numbers("dev").unwrap(), table.texts("dir").unwrap());
     let mut text = String::from("target,dev,dir\n");
     for i in 0..x.len() {

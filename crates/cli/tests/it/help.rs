@@ -3,11 +3,7 @@
 //! message naming the file (and the system's reason once) when its input file does not exist
 //! (docs/design.md, Command line).
 
-use std::process::{Command, Output};
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).output().expect("run trueaxis")
-}
+use crate::support::{trueaxis, trueaxis_in};
 
 /// The sub-command names listed under `Commands:` of a help text (without `help`).
 fn subcommands(help: &str) -> Vec<String> {
@@ -201,7 +197,7 @@ fn a_missing_input_file_is_bad_input_with_exit_2() {
             unlisted.push(name);
             continue;
         };
-        let out = Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(&args).current_dir(dir.path()).output().unwrap();
+        let out = trueaxis_in(dir.path(), &args);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "`trueaxis {}`: {stderr}", args.join(" "));
         assert!(stderr.starts_with("trueaxis: error: "), "`{name}`: {stderr}");

@@ -2,15 +2,11 @@
 //! (1) a hand-calculated data set, (2) synthetic data with a known line, backlash and bounded noise,
 //! (3) bad input through the binary, (4) the JSON contract, (5) the SVG plot; plus the shipped example.
 
+use crate::support::{trueaxis, ROOT};
 use std::path::Path;
-use std::process::{Command, Output};
 use trueaxis::evaluate::iso230_2::{evaluate, read_runs, read_runs_from, Iso2302Result};
 
 const EXAMPLE: &str = "examples/data/iso230_2_x.csv";
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
 
 fn evaluate_text(text: &str) -> Iso2302Result {
     evaluate(&read_runs_from(text.as_bytes(), "test.csv").unwrap()).unwrap()
@@ -298,7 +294,7 @@ fn json_has_the_contract_keys_and_the_library_values() {
     assert_eq!(doc["targets"], 11);
     assert_eq!(doc["runs"], 5);
 
-    let lib = evaluate(&read_runs(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(EXAMPLE)).unwrap()).unwrap();
+    let lib = evaluate(&read_runs(Path::new(ROOT).join(EXAMPLE)).unwrap()).unwrap();
     for (k, v) in
         contract.iter().zip([lib.a, lib.a_plus, lib.a_minus, lib.b, lib.e, lib.e_plus, lib.e_minus, lib.m, lib.r, lib.r_plus, lib.r_minus])
     {
@@ -327,7 +323,7 @@ fn the_table_lists_every_position_and_the_axis_results() {
     let out = trueaxis(&["iso230-2", EXAMPLE]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
-    let lib = evaluate(&read_runs(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(EXAMPLE)).unwrap()).unwrap();
+    let lib = evaluate(&read_runs(Path::new(ROOT).join(EXAMPLE)).unwrap()).unwrap();
     assert!(text.contains("ISO 230-2"));
     assert!(text.contains("target (mm)"));
     for p in &lib.positions {
@@ -366,7 +362,7 @@ fn plot_is_written_with_axis_labels() {
 #[test]
 fn temperature_options_correct_the_deviations_to_20c() {
     let dir = tempfile::tempdir().unwrap();
-    let data = read_runs(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(EXAMPLE)).unwrap();
+    let data = read_runs(Path::new(ROOT).join(EXAMPLE)).unwrap();
     // hand corrections: uniform 23.4 degC, and a per-reading temperature 21 + 0.001 * run * target
     let write = |name: &str, body: String| {
         let path = dir.path().join(name);
@@ -435,7 +431,7 @@ fn temperature_options_correct_the_deviations_to_20c() {
 
 #[test]
 fn a_run_in_mm_is_reported_next_to_the_standard_result() {
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = Path::new(ROOT);
     let text = std::fs::read_to_string(root.join(EXAMPLE)).unwrap();
     let damaged: String = text
         .lines()

@@ -4,22 +4,14 @@
 //! header naming the machine and error files with their SHA-256 (checked with `sha256sum`) and
 //! the refusal to correct a corrected program again (`--force`).
 
+use crate::support::{outcome, ROOT};
 use std::process::Command;
-
-fn trueaxis(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_trueaxis"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .unwrap();
-    (out.status.code().unwrap(), String::from_utf8(out.stdout).unwrap(), String::from_utf8(out.stderr).unwrap())
-}
 
 /// `trueaxis nc --machine vmc3 --errors ERRORS REST...`
 fn nc(errors: &str, rest: &[&str]) -> (i32, String, String) {
     let mut args = vec!["nc", "--machine", "examples/machines/vmc3.toml", "--errors", errors];
     args.extend(rest);
-    trueaxis(&args)
+    outcome(&args)
 }
 
 #[test]
@@ -196,7 +188,7 @@ fn corrections_beyond_the_limit_and_a_start_outside_the_travel_are_refused() {
 
 /// `sha256sum FILE` (GNU coreutils): the digest an operator checks the header against.
 fn sha256sum(path: &str) -> Option<String> {
-    let out = Command::new("sha256sum").arg(path).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().ok()?;
+    let out = Command::new("sha256sum").arg(path).current_dir(ROOT).output().ok()?;
     Some(String::from_utf8(out.stdout).ok()?.split_whitespace().next()?.to_string())
 }
 

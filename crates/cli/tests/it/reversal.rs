@@ -3,6 +3,7 @@
 //! artefact errors with the seed's sign conventions, reduce them, recover the known values; the
 //! thermal worked examples are computed by hand in the comments.
 
+use crate::support::{json_of, trueaxis, ROOT};
 use std::f64::consts::PI;
 use trueaxis::instruments::{
     apparent_expansion_coefficient, best_fit_radius, correct_to_20c, flat_face_reversal, parallelism_urad, straightness_reversal,
@@ -475,27 +476,13 @@ fn scale_errors() {
 // ---- the `trueaxis reversal` command on the shipped examples (examples/data/reversal_*.csv, whose
 // comment lines give the simulated truth), against the closed forms and the library ----
 
-fn trueaxis(args: &[&str]) -> std::process::Output {
-    std::process::Command::new(env!("CARGO_BIN_EXE_trueaxis"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .unwrap()
-}
-
-fn json_of(args: &[&str]) -> serde_json::Value {
-    let out = trueaxis(args);
-    assert!(out.status.success(), "{args:?}: {}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
-
 fn numbers(v: &serde_json::Value) -> Vec<f64> {
     v.as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect()
 }
 
 /// The position, m1, m2 columns of a shipped example.
 fn scans(path: &str) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let t = trueaxis::data::CsvTable::read(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(path)).unwrap();
+    let t = trueaxis::data::CsvTable::read(std::path::Path::new(ROOT).join(path)).unwrap();
     (t.numbers("position").unwrap(), t.numbers("m1").unwrap(), t.numbers("m2").unwrap())
 }
 

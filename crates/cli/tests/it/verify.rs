@@ -6,9 +6,9 @@
 //! critical values against the Wilson-Hilferty approximation, compensated = off-line, the rejection
 //! rate of a correct model, the model's uncertainty from the calibration campaign.
 
+use crate::support::{json, trueaxis, ROOT};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
-use crate::support::thermal::{json, trueaxis};
 use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::verification::{verify, VerificationOptions};
 use trueaxis::geometry::Vec3;
@@ -17,7 +17,6 @@ use trueaxis::instruments::{nominal_vector, plate_displacement};
 use trueaxis::machine::Machine;
 use trueaxis::model::Setup;
 
-const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 /// The Y-Z squareness change by wear (urad): EA0Z = -20 in the model, -20 + 40 on the machine.
 const WEAR_URAD: f64 = 40.0;
 /// The plate's misalignment on the table: translation (um) and rotation (urad) about its centre.
@@ -37,7 +36,7 @@ fn model_text() -> String {
         "[polynomial.EAY]\ncoefficients = [0.0, 0.03]",
         "[polynomial.EAY]   # worn Y bearings: roll of 280 urad at Y = 200 mm\ncoefficients = [0.0, 0.6, 0.004]",
     );
-    format!("# The error model loaded into the controller of the vmc3 before the re-measurement of plate_yz.toml:\n# examples/errors/vmc3.toml with a large Y roll (worn bearings; written by crates/cli/tests/verify_cli.rs).\n{text}")
+    format!("# The error model loaded into the controller of the vmc3 before the re-measurement of plate_yz.toml:\n# examples/errors/vmc3.toml with a large Y roll (worn bearings; written by crates/cli/tests/it/verify.rs).\n{text}")
 }
 
 fn model() -> ErrorModel {
@@ -53,7 +52,7 @@ fn truth(wear: f64) -> ErrorModel {
 fn campaign_text(parameters: &str) -> String {
     format!(
         "# Hole plate in the YZ plane on the vmc3, re-measured with the compensation of model.toml active\n\
-         # (simulated by crates/cli/tests/verify_cli.rs: the Y-Z squareness worn by {WEAR_URAD} urad since the calibration).\n\
+         # (simulated by crates/cli/tests/it/verify.rs: the Y-Z squareness worn by {WEAR_URAD} urad since the calibration).\n\
          # sigma_um: the repeatability of a hole position (Soons 1993 Table 5.1, YZ plane: 2S_y = 1.3 um, 2S_z = 2.4 um).\n\
          {parameters}\
          [[measurement]]\ninstrument = \"probe\"\nname = \"plate_yz\"\ndata = \"plate_yz.csv\"\n\

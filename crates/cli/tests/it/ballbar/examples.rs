@@ -2,16 +2,7 @@
 //! (`examples/ballbar/`, the commands of docs/ballbar.md): JSON values against the error files the
 //! examples were simulated from, exit status 2 with a one-line message for bad input.
 
-use std::process::{Command, Output};
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
-
-fn json(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
+use crate::support::{json, trueaxis, ROOT};
 
 #[test]
 fn identify_recovers_the_piges_the_examples_were_simulated_with() {
@@ -161,7 +152,7 @@ fn simulate_writes_a_trace_that_identify_reads() {
 fn iso230_4_on_a_partial_arc_leaves_out_what_it_cannot_separate() {
     // the first quarter of the ccw circle of vmc3_xy.csv (angles 0.5 ... 89.5 deg): the evaluation
     // runs and omits the inseparable terms (A1.csv, a rotary-axis test, is no XY arc: refused below)
-    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = std::path::Path::new(ROOT);
     let text = std::fs::read_to_string(root.join("examples/ballbar/vmc3_xy.csv")).unwrap();
     let quarter: Vec<&str> = text.lines().take(2 + 90).collect();
     let path = std::env::temp_dir().join(format!("trueaxis-quarter-{}.csv", std::process::id()));

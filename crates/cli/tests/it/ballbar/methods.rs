@@ -3,17 +3,9 @@
 //! pair (table-tilting c600u, spindle-tilting head5, the KX8-Five's 45 deg A axis); independence of
 //! the simulated noise; the input checks of `identify`; ISO 230-4 significance and shares.
 
+use crate::support::{json, trueaxis};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
-
-fn json(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
+use std::process::Output;
 
 fn bad(out: &Output, expect: &[&str]) {
     let err = String::from_utf8_lossy(&out.stderr);

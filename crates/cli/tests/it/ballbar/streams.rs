@@ -2,31 +2,15 @@
 //! `ballbar iso230-4` as its capture arc, `design steady` on a 3D-ball recording, the single-run
 //! PIGE uncertainty of `ballbar identify`, `ballbar sensitivity` and `ballbar tmbb-setup`.
 
-use std::process::{Command, Output};
+use crate::support::{json_of, utf8, trueaxis, ROOT};
 use trueaxis::identify::pige_sensitivity::method_sensitivity;
 use trueaxis::instruments::ballbar::{method_step, BarLengths, JiangStep, Method, RotaryPair};
 use trueaxis::machine::Machine;
 
-const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(ROOT).output().unwrap()
-}
-
-fn json(args: &[&str]) -> serde_json::Value {
-    let out = trueaxis(args);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).into_owned()
-}
-
 #[test]
 fn raw_capture_gives_the_circle_of_its_capture_arc() {
     let iso = |file: &str| {
-        json(&["ballbar", "iso230-4", file, "--machine", "examples/machines/vmc3.toml", "--centre", "0,0,-200", "--json"])["runs"][0]
+        json_of(&["ballbar", "iso230-4", file, "--machine", "examples/machines/vmc3.toml", "--centre", "0,0,-200", "--json"])["runs"][0]
             .clone()
     };
     // raw_xy.txt is the counter-clockwise run of export_xy.txt with its feed moves and 45 deg
@@ -49,8 +33,8 @@ fn raw_capture_gives_the_circle_of_its_capture_arc() {
     std::fs::write(&no_arc, text.replace("Arc: 360 deg\n", "")).unwrap();
     let out =
         trueaxis(&["ballbar", "iso230-4", no_arc.to_str().unwrap(), "--machine", "examples/machines/vmc3.toml", "--centre", "0,0,-200"]);
-    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
-    assert!(stderr(&out).contains("`Arc: <deg>`"), "{}", stderr(&out));
+    assert_eq!(out.status.code(), Some(2), "{}", utf8(&out.stderr));
+    assert!(utf8(&out.stderr).contains("`Arc: <deg>`"), "{}", utf8(&out.stderr));
     // without the overshoot: every sample is taken, and the feed moves are pointed out
     let no_overshoot = dir.path().join("no_overshoot.txt");
     std::fs::write(&no_overshoot, text.lines().filter(|l| !l.starts_with("Overshoot")).collect::<Vec<_>>().join("\n")).unwrap();
@@ -63,7 +47,7 @@ fn raw_capture_gives_the_circle_of_its_capture_arc() {
         "--centre",
         "0,0,-200",
     ]);
-    assert!(stderr(&out).contains("state `Overshoot: <deg>`"), "{}", stderr(&out));
+    assert!(utf8(&out.stderr).contains("state `Overshoot: <deg>`"), "{}", utf8(&out.stderr));
 }
 
 #[test]
@@ -79,8 +63,8 @@ fn design_steady_reduces_a_recording_to_the_readings_of_its_poses() {
         "--out",
         out_path.to_str().unwrap(),
     ]);
-    assert!(out.status.success(), "{}", stderr(&out));
-    assert!(stderr(&out).contains("20 dwells for 20 poses"), "{}", stderr(&out));
+    assert!(out.status.success(), "{}", utf8(&out.stderr));
+    assert!(utf8(&out.stderr).contains("20 dwells for 20 poses"), "{}", utf8(&out.stderr));
     let rows = |text: &str| -> Vec<Vec<f64>> {
         text.lines().filter(|l| !l.starts_with('#')).skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect()
     };
@@ -100,15 +84,15 @@ fn design_steady_reduces_a_recording_to_the_readings_of_its_poses() {
     std::fs::write(&extra, format!("{poses}151,0,-200,1,2\n")).unwrap();
     let out = trueaxis(&["design", "steady", "examples/campaigns/kx8five/stream_20.csv", "--poses", extra.to_str().unwrap()]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(stderr(&out).contains("20 steady stretches found for 21 poses"), "{}", stderr(&out));
+    assert!(utf8(&out.stderr).contains("20 steady stretches found for 21 poses"), "{}", utf8(&out.stderr));
     let out =
         trueaxis(&["design", "steady", "examples/campaigns/kx8five/poses_20.csv", "--poses", "examples/campaigns/kx8five/poses_20.csv"]);
-    assert_eq!(out.status.code(), Some(2), "a pose file is no recording: {}", stderr(&out));
+    assert_eq!(out.status.code(), Some(2), "a pose file is no recording: {}", utf8(&out.stderr));
 }
 
 #[test]
 fn single_run_pige_uncertainty_covers_the_simulated_truth() {
-    let doc = json(&[
+    let doc = json_of(&[
         "ballbar",
         "identify",
         "--machine",
@@ -135,7 +119,7 @@ fn single_run_pige_uncertainty_covers_the_simulated_truth() {
 
 #[test]
 fn sensitivity_and_tmbb_setup_agree_with_the_library_and_the_closed_forms() {
-    let doc = json(&["ballbar", "sensitivity", "--machine", "examples/machines/c600u.toml", "--json"]);
+    let doc = json_of(&["ballbar", "sensitivity", "--machine", "examples/machines/c600u.toml", "--json"]);
     let m = Machine::load(format!("{ROOT}/examples/machines/c600u.toml")).unwrap();
     let pair = RotaryPair::of_machine(&m).unwrap();
     let bars = BarLengths { normal: 100.0, extended: 150.0 };
@@ -156,7 +140,7 @@ fn sensitivity_and_tmbb_setup_agree_with_the_library_and_the_closed_forms() {
     assert_eq!(ey0a["name"], "EY0A");
     let a1_y = ey0a["setup"].as_array().unwrap().iter().find(|s| s["step"] == "A1" && s["source"] == "tool-side ball Y").unwrap();
     assert!((a1_y["per_um"].as_f64().unwrap().abs() - 1.0).abs() < 0.01, "{a1_y}");
-    let doc = json(&["ballbar", "tmbb-setup", "--rx-scan", "20:80:20", "--deviations", "1", "--json"]);
+    let doc = json_of(&["ballbar", "tmbb-setup", "--rx-scan", "20:80:20", "--deviations", "1", "--json"]);
     let rx: Vec<f64> = doc["rx"].as_array().unwrap().iter().map(|r| r["rx_mm"].as_f64().unwrap()).collect();
     assert_eq!(rx, [20.0, 40.0, 60.0, 80.0]);
     let u: Vec<f64> = doc["rx"].as_array().unwrap().iter().map(|r| r["u_ex_urad"].as_f64().unwrap()).collect();

@@ -9,9 +9,9 @@
 #[path = "../../../../trueaxis/tests/support/basis_campaign.rs"]
 mod basis_campaign;
 
+use crate::support::{json, root, trueaxis};
 use basis_campaign::{bspline_bases, piecewise_bases, random_poses, simulate_into, write_campaign, SQUARENESS, STATIONS};
-use std::path::PathBuf;
-use std::process::Command;
+
 use trueaxis::error_model::{ErrorFunction, ErrorModel};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{error_values_text, identify, Campaign, IndirectOptions};
@@ -19,10 +19,6 @@ use trueaxis::machine::{Machine, ParameterId};
 use trueaxis::model::{Predictor, Setup};
 
 const EXAMPLE: &str = "examples/campaigns/vmc3_tracer";
-
-fn root() -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-}
 
 fn machine() -> Machine {
     Machine::load(root().join("examples/machines/vmc3.toml")).unwrap()
@@ -91,29 +87,34 @@ fn piecewise_legendre_and_periodic_motion_errors_round_trip() {
     assert!((rms / 0.2 - 1.0).abs() < 0.1, "readings minus predictions: RMS {rms} um for 0.2 um noise");
 
     // the same from the command line: identify --out, then predict on the station 1 poses
-    let bin = env!("CARGO_BIN_EXE_trueaxis");
-    let out = Command::new(bin)
-        .args(["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", path.to_str().unwrap(), "--json", "--out"])
-        .arg(d.join("cli.toml"))
-        .current_dir(root())
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let cli = d.join("cli.toml");
+    let cli = cli.to_str().unwrap();
+    let doc = json(&trueaxis(&[
+        "identify",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--campaign",
+        path.to_str().unwrap(),
+        "--json",
+        "--out",
+        cli,
+    ]));
     assert_eq!(doc["parameters"]["EXX#6"]["function"], "(x-200)_+^3");
     assert_eq!(doc["parameters"]["EYY#1"]["unit"], "um");
     let station = format!("{},{},{}", STATIONS[0][0], STATIONS[0][1], STATIONS[0][2]);
-    let out = Command::new(bin)
-        .args(["predict", "--machine", "examples/machines/vmc3.toml", "--errors"])
-        .arg(d.join("cli.toml"))
-        .arg("--poses")
-        .arg(root().join(EXAMPLE).join("station1.csv"))
-        .args(["--work-point", &station, "--json"])
-        .current_dir(root())
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let predicted: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let poses = root().join(EXAMPLE).join("station1.csv");
+    let predicted = json(&trueaxis(&[
+        "predict",
+        "--machine",
+        "examples/machines/vmc3.toml",
+        "--errors",
+        cli,
+        "--poses",
+        poses.to_str().unwrap(),
+        "--work-point",
+        &station,
+        "--json",
+    ]));
     let first = &campaign.measurements[0];
     for r in [0, 100, 299] {
         let dl = predicted["poses"][r]["dL"].as_f64().unwrap();

@@ -2,20 +2,11 @@
 //! contract of docs/design.md, Command line, the error-values output accepted by `predict`, exit statuses,
 //! and trajectory + simulation + identification from the command line.
 
+use crate::support::{json, read, trueaxis, ROOT};
 use std::path::Path;
-use std::process::{Command, Output};
 
 const MACHINE: &str = "examples/machines/kx8five.toml";
 const CAMPAIGN: &str = "examples/campaigns/kx8five/campaign.toml";
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
-
-fn json(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
 
 #[test]
 fn identify_json_contract_on_the_shipped_campaign() {
@@ -97,7 +88,7 @@ fn trajectory_simulate_identify_and_predict_from_the_command_line() {
         poses.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let campaign = std::fs::read_to_string(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(CAMPAIGN)).unwrap();
+    let campaign = read(CAMPAIGN);
     std::fs::write(d.join("campaign.toml"), &campaign).unwrap();
     let c = d.join("campaign.toml");
     let out = trueaxis(&[
@@ -201,7 +192,7 @@ fn design_optimal_refuses_designs_that_cannot_determine_the_unknowns() {
 
 /// The body lines of the ```text block that follows the first line containing `marker` in the guide.
 fn documented_block(marker: &str) -> Vec<String> {
-    let guide = std::fs::read_to_string(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("docs/identification.md")).unwrap();
+    let guide = std::fs::read_to_string(Path::new(ROOT).join("docs/identification.md")).unwrap();
     let after = &guide[guide.find(marker).unwrap_or_else(|| panic!("`{marker}` not in the guide"))..];
     let body = &after[after.find("```text\n").unwrap() + 8..];
     body[..body.find("```").unwrap()].lines().map(str::to_string).collect()
@@ -243,7 +234,7 @@ fn the_documented_outputs_come_from_real_runs() {
     let (g, reading) = (doc["criteria"]["g"].as_f64().unwrap(), doc["criteria"]["max_reading_variance"].as_f64().unwrap());
     assert!((12.0..12.0 * 1.05).contains(&g), "G {g} for p = 12");
     assert!(reading < g / 2.0, "single reading {reading}");
-    let guide = std::fs::read_to_string(Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("docs/identification.md")).unwrap();
+    let guide = std::fs::read_to_string(Path::new(ROOT).join("docs/identification.md")).unwrap();
     let sentence = format!("have G = {g:.2} for `p = 12` and a largest single-reading variance of {reading:.2}");
     assert!(guide.contains(&sentence), "the guide should say: {sentence}");
 }

@@ -14,22 +14,15 @@
 //! holds and ramps on the source's clock at the same speed: the outage test stops the server for
 //! 3 s of wall time, which is 30 min of machine time at 600 times real time.
 
+use crate::support::{alone, root, trueaxis, Alone, Run};
 use serde_json::Value;
 use std::net::TcpListener;
-use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
-
-fn root() -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-}
 
 fn example(path: &str) -> String {
     root().join(path).display().to_string()
-}
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).output().unwrap()
 }
 
 fn required(variable: &str) -> bool {
@@ -46,13 +39,11 @@ fn asyncua() -> bool {
     ok
 }
 
-/// One OPC UA test at a time: each plays a campaign in real time against a running `trueaxis
-/// live`, and two at once on a 2-core machine starve each other of the periods they time.
-static REAL_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-/// The real-time lock (a test that failed while holding it does not fail the others).
-fn real_time() -> std::sync::MutexGuard<'static, ()> {
-    REAL_TIME.lock().unwrap_or_else(|e| e.into_inner())
+/// One real-time test at a time, with no other test's run beside it: each plays a campaign in
+/// real time against a running `trueaxis live`, and two at once on a 2-core machine starve each
+/// other of the periods they time (a test that failed while holding it does not fail the others).
+fn real_time() -> Alone {
+    alone()
 }
 
 fn free_port() -> u16 {
@@ -83,8 +74,7 @@ fn server(port: u16, args: &[&str]) -> Child {
 static DRAINS: std::sync::Mutex<Vec<(u32, std::thread::JoinHandle<String>)>> = std::sync::Mutex::new(Vec::new());
 
 fn live(args: &[&str]) -> Child {
-    let mut child =
-        Command::new(env!("CARGO_BIN_EXE_trueaxis")).arg("live").args(args).stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
+    let mut child = Run::new(live_args(args)).command().stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
     let mut pipe = child.stderr.take().unwrap();
     let drain = std::thread::spawn(move || {
         let mut bytes = Vec::new();
@@ -93,6 +83,11 @@ fn live(args: &[&str]) -> Child {
     });
     DRAINS.lock().unwrap_or_else(|e| e.into_inner()).push((child.id(), drain));
     child
+}
+
+/// `live ARGS`.
+fn live_args<'a>(args: &[&'a str]) -> Vec<&'a str> {
+    [&["live"], args].concat()
 }
 
 /// What the `trueaxis live` of `pid` wrote on stderr, once it has ended.
@@ -526,6 +521,8 @@ fn opcua_server_that_never_comes_back_zero_offsets_attempts_logged_sigterm_and_g
 
 #[test]
 fn kill_9_and_restart_continue_from_the_state_file() {
+    // killed after a time: the samples taken by then depend on having the machine
+    let _real_time = real_time();
     let dir = tempfile::tempdir().unwrap();
     let (state, log) = (dir.path().join("state.json"), dir.path().join("live.csv"));
     let model = example("examples/live/dz_drift.toml");
@@ -550,7 +547,7 @@ fn kill_9_and_restart_continue_from_the_state_file() {
     let saved: Value = serde_json::from_str(&std::fs::read_to_string(&state).unwrap()).expect("the state file is whole JSON");
     let taken = saved["samples"].as_u64().unwrap();
     assert!(taken > 10 && taken < 964, "killed after {taken} samples: choose another --speed");
-    let out = Command::new(env!("CARGO_BIN_EXE_trueaxis")).arg("live").args(args).output().unwrap();
+    let out = trueaxis(&live_args(&args));
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stderr).contains(&format!("continuing from {} ({taken} samples", state.display())));
     // the log holds every row once, and equals thermal predict on the whole campaign

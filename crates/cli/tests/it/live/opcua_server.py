@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""OPC UA test server of crates/cli/tests/live.rs, on asyncua (PyPI): a controller that plays a
+"""OPC UA test server of crates/cli/tests/it/live/mod.rs, on asyncua (PyPI): a controller that plays a
 thermal campaign (examples/thermal) into its temperature nodes and takes the offsets that
 `trueaxis live` writes back.
 

@@ -3,7 +3,7 @@
 //! two axis positions (Soons 1993 §3.4.4) through `predict` against `thermal predict` of the fitted
 //! model, and `compensate --poses` with load and spindle-speed columns against `predict`.
 
-use crate::support::thermal::{json, ok, trueaxis};
+use crate::support::{json, ok, read, trueaxis};
 
 fn poses_json(errors: &str, poses: &str, extra: &[&str]) -> Vec<serde_json::Value> {
     let mut args = vec!["predict", "--machine", "examples/machines/vmc3.toml", "--errors", errors, "--poses", poses, "--json"];
@@ -106,7 +106,7 @@ fn interpolated_drift_through_predict_equals_thermal_predict_of_the_models() {
     )
     .unwrap();
     // poses: the campaign's rows at Z = -300 (a quarter of the way: 1.25 times the drift of Z = -400)
-    let campaign = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/thermal/campaign.csv")).unwrap();
+    let campaign = read("examples/thermal/campaign.csv");
     let mut lines = campaign.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |n: &str| header.iter().position(|h| *h == n).unwrap();

@@ -2,11 +2,7 @@
 //! the error-values file through `predict` with `dir:<axis>` and `T:<sensor>` columns
 //! (Soons 1993 §3.2.5 and eq. 3.19; NISTIR 5236 §3.6).
 
-use std::process::{Command, Output};
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
+use crate::support::{root, trueaxis};
 
 const ERRORS: &str = r#"
 [constant]
@@ -75,8 +71,7 @@ fn missing_state_columns_and_bad_state_files_are_refused() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("`sideways` is not +, - or empty"));
 
-    let machine =
-        trueaxis::machine::Machine::load(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."), "/examples/machines/vmc3.toml")).unwrap();
+    let machine = trueaxis::machine::Machine::load(root().join("examples/machines/vmc3.toml")).unwrap();
     let bad = |text: &str, fragment: &str| {
         let err = trueaxis::error_model::ErrorModel::from_toml_str(text, "e.toml", &machine).unwrap_err().to_string();
         assert!(err.contains(fragment), "expected `{fragment}` in {err}");

@@ -1,18 +1,15 @@
 //! The command line end to end: `predict` on all five example machines (CSV and JSON agree with the
 //! library), exit status 2 with a one-line message for bad input, `demo` output files.
 
+use crate::support::{trueaxis, Run, ROOT};
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
 use trueaxis::data::read_poses;
 use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Predictor};
 
 const EXAMPLES: [&str; 5] = ["vmc3", "lathe2", "c600u", "kx8five", "head5"];
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
 
 fn example(kind: &str, name: &str, ext: &str) -> String {
     format!("examples/{kind}/{name}.{ext}")
@@ -27,7 +24,7 @@ fn predict(name: &str, extra: &[&str]) -> Output {
 
 #[test]
 fn predict_answers_for_every_example_machine_and_matches_the_library() {
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = Path::new(ROOT);
     for name in EXAMPLES {
         let out = predict(name, &["--json"]);
         assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
@@ -87,7 +84,7 @@ fn machine_frame_rotates_the_vector_and_keeps_its_length() {
 
 #[test]
 fn tool_and_work_points_change_the_lever_arms() {
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = Path::new(ROOT);
     let out = predict("vmc3", &["--json", "--tool-point", "0,0,500", "--work-point", "-10,20,5"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -194,13 +191,7 @@ fn every_command_has_help_with_an_example() {
 fn with_closed_pipe(args: &[&str], dir: &Path, keep: usize) -> (std::process::ExitStatus, String) {
     use std::io::Read;
     use std::process::Stdio;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_trueaxis"))
-        .args(args)
-        .current_dir(dir)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = Run::new(args).dir(dir).command().stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
     let mut stdout = child.stdout.take().unwrap();
     let mut head = vec![0u8; keep];
     stdout.read_exact(&mut head).unwrap();
@@ -216,7 +207,7 @@ fn with_closed_pipe(args: &[&str], dir: &Path, keep: usize) -> (std::process::Ex
 fn a_closed_pipe_ends_the_command_quietly() {
     use std::os::unix::process::ExitStatusExt;
     let dir = tempfile::tempdir().unwrap();
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = Path::new(ROOT);
     // 20000 poses: far more output than a pipe holds, so the writer meets the closed pipe
     let mut poses = String::from("X,Y,Z\n");
     for i in 0..20000 {

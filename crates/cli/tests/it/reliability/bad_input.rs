@@ -6,14 +6,9 @@
 //! and the line or parameter and the cause, and that no output file was written. Fixtures are the
 //! shipped examples with one value changed, written to a temporary directory.
 
+use crate::support::{alone, read as example, Run, ROOT};
 use std::path::Path;
-use std::process::Command;
-
-const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
-
-fn example(path: &str) -> String {
-    std::fs::read_to_string(Path::new(ROOT).join(path)).unwrap()
-}
+use std::time::Duration;
 
 /// One case: the file to write (name, text), the command (`{f}` = that file, `{out}` = the output
 /// path that must stay absent), and what the message must contain besides the file name.
@@ -241,7 +236,7 @@ fn every_bad_input_is_refused_with_its_file_line_and_cause_and_nothing_is_writte
             .iter()
             .map(|a| a.replace("{f}", file.to_str().unwrap()).replace("{out}", out.to_str().unwrap()).replace("{dir}", d.to_str().unwrap()))
             .collect();
-        let o = Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(&args).current_dir(ROOT).output().unwrap();
+        let o = Run::new(&args).output();
         let stderr = String::from_utf8_lossy(&o.stderr).to_string();
         let message = stderr.lines().find(|l| l.starts_with("trueaxis: error:")).unwrap_or("").to_string();
         let mut problems = Vec::new();
@@ -267,6 +262,8 @@ fn every_bad_input_is_refused_with_its_file_line_and_cause_and_nothing_is_writte
 
 #[test]
 fn options_beyond_what_memory_and_time_allow_are_refused_before_allocating() {
+    // a time limit: on a machine not shared with the other tests
+    let _alone = alone();
     for (args, expect) in [
         (
             vec![
@@ -321,7 +318,7 @@ fn options_beyond_what_memory_and_time_allow_are_refused_before_allocating() {
             args.extend(["--out".to_string(), dir.path().join("o").display().to_string()]);
         }
         let start = std::time::Instant::now();
-        let o = Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(&args).current_dir(ROOT).output().unwrap();
+        let o = Run::new(&args).limit(Duration::from_secs(20)).output();
         let stderr = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
         assert!(stderr.contains(expect), "{args:?}: {stderr}");

@@ -3,24 +3,22 @@
 //! the temporaries it leaves are ignored by the next run, which succeeds and removes them; a set
 //! whose last output cannot be written writes nothing.
 
+use crate::support::{alone, root, utf8, Run};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
+/// `trueaxis ARGS` to spawn and kill, its stdout discarded.
 fn command(args: &[&str]) -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_trueaxis"));
-    c.args(args).current_dir(root()).stdout(Stdio::null()).stderr(Stdio::piped());
+    let mut c = Run::new(args).command();
+    c.stdout(Stdio::null()).stderr(Stdio::piped());
     c
 }
 
 fn run(args: &[&str]) -> (i32, String) {
-    let out = command(args).output().unwrap();
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stderr).into_owned())
+    let out = Run::new(args).output();
+    (out.status.code().unwrap_or(-1), utf8(&out.stderr))
 }
 
 /// Every file below `dir` (relative path -> bytes).
@@ -107,6 +105,8 @@ fn kill_while_writing(args: &[&str], parent: &Path, prefix: &str, after: Duratio
 
 #[test]
 fn a_killed_compensate_leaves_the_old_or_the_new_tables_and_the_next_run_succeeds() {
+    // kill points timed from a measured run: on a machine not shared with the other tests
+    let _alone = alone();
     let tmp = tempfile::tempdir().unwrap();
     let old_errors = scaled_errors(tmp.path(), 1.0);
     let new_errors = scaled_errors(tmp.path(), 2.0);
@@ -175,6 +175,8 @@ fn a_killed_compensate_leaves_the_old_or_the_new_tables_and_the_next_run_succeed
 
 #[test]
 fn a_killed_single_file_output_is_the_old_or_the_new_file() {
+    // kills timed into a write phase: on a machine not shared with the other tests
+    let _alone = alone();
     let tmp = tempfile::tempdir().unwrap();
     // 40 000 poses of vmc3: a prediction table of a few MB
     let mut poses = String::from("X,Y,Z\n");

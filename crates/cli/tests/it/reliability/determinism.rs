@@ -4,26 +4,19 @@
 //! (Parallel sums are reduced in a fixed order and every Monte Carlo trial draws from its own
 //! seeded stream, so the thread count cannot change a bit.)
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use crate::support::{utf8, Run};
+use std::path::Path;
 
 /// Runs `args` with `threads` worker threads; `{out}` in an argument is replaced by `dir`.
 /// Returns stdout and every file written into `dir` (name, bytes), sorted.
 fn run(args: &[&str], threads: usize, dir: &Path) -> (Vec<u8>, Vec<(String, Vec<u8>)>) {
     let args: Vec<String> = args.iter().map(|a| a.replace("{out}", &dir.display().to_string())).collect();
-    let out = Command::new(env!("CARGO_BIN_EXE_trueaxis"))
-        .args(&args)
-        .current_dir(root())
+    let out = Run::new(&args)
         .env("RAYON_NUM_THREADS", threads.to_string())
         // the report's date: fixed, as reproducible builds fix it
         .env("SOURCE_DATE_EPOCH", "1767225600")
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(0), "{args:?} with {threads} threads: {}", String::from_utf8_lossy(&out.stderr));
+        .output();
+    assert_eq!(out.status.code(), Some(0), "{args:?} with {threads} threads: {}", utf8(&out.stderr));
     let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| {

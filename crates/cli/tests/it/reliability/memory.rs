@@ -11,7 +11,7 @@ use std::process::{Command, Stdio};
 /// executable file, and its threads' stacks) plus 40 MiB to work in. The executable grows with the
 /// commands it has (the OPC UA client of `live` added 15 MB), so the limit follows it.
 fn limit_kib() -> u64 {
-    let code = std::fs::metadata(env!("CARGO_BIN_EXE_trueaxis")).map(|m| m.len()).unwrap_or(0) >> 10;
+    let code = std::fs::metadata(crate::support::BIN).map(|m| m.len()).unwrap_or(0) >> 10;
     code + (40 << 10)
 }
 
@@ -39,7 +39,7 @@ struct Limited {
 fn under_limit(args: &[&str], bytes: u64) -> Limited {
     let command = format!("ulimit -v {}; exec \"$0\" \"$@\"", limit_kib());
     let mut child = Command::new("sh")
-        .args(["-c", &command, env!("CARGO_BIN_EXE_trueaxis")])
+        .args(["-c", &command, crate::support::BIN])
         .args(args)
         .current_dir(super::ROOT)
         .stdin(Stdio::piped())
@@ -109,7 +109,7 @@ fn an_allocation_that_cannot_be_met_is_reported() {
     // a grid of 10^6 nodes needs more than the limit
     let command = format!("ulimit -v {}; exec \"$0\" \"$@\"", 3 * limit_kib());
     let o = Command::new("sh")
-        .args(["-c", &command, env!("CARGO_BIN_EXE_trueaxis")])
+        .args(["-c", &command, crate::support::BIN])
         .args(super::vmc3_compensate(&["--grid", "100,100,100", "--points", "2", "--out", out.to_str().unwrap()]))
         .current_dir(super::ROOT)
         .output()
@@ -157,7 +157,7 @@ fn nc_corrects_a_program_of_ten_times_its_memory() {
         std::fs::write(&program, raster(lines, whole)).unwrap();
         let out = dir.path().join(format!("{name}_corrected.ngc"));
         let o = Command::new("sh")
-            .args(["-c", &command, env!("CARGO_BIN_EXE_trueaxis"), "nc"])
+            .args(["-c", &command, crate::support::BIN, "nc"])
             .args(machine)
             .args([program.to_str().unwrap(), "--out", out.to_str().unwrap()])
             .current_dir(super::ROOT)

@@ -17,10 +17,10 @@ mod memory;
 mod outputs;
 mod signals;
 
+use crate::support::Run;
+pub use crate::support::ROOT;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-pub const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 
 pub fn example(path: &str) -> PathBuf {
     Path::new(ROOT).join(path)
@@ -28,14 +28,12 @@ pub fn example(path: &str) -> PathBuf {
 
 /// `trueaxis` with `args`, run in the repository.
 pub fn trueaxis(args: &[&str]) -> Command {
-    let mut c = Command::new(env!("CARGO_BIN_EXE_trueaxis"));
-    c.args(args).current_dir(ROOT);
-    c
+    Run::new(args).command()
 }
 
 /// Runs `args`; (exit status, stdout, stderr).
 pub fn run(args: &[&str]) -> (Option<i32>, Vec<u8>, String) {
-    let Output { status, stdout, stderr } = trueaxis(args).output().unwrap();
+    let Output { status, stdout, stderr } = Run::new(args).output();
     (status.code(), stdout, String::from_utf8_lossy(&stderr).into_owned())
 }
 

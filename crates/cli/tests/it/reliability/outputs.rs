@@ -285,13 +285,13 @@ fn a_file_this_user_may_not_write_is_not_replaced() {
     // root owns the file; the run is of another user (uid 65534) in the directory open to all
     let as_other = |args: &[String]| {
         let mut c = Command::new("setpriv");
-        c.args(["--reuid=65534", "--regid=65534", "--clear-groups", env!("CARGO_BIN_EXE_trueaxis")]).args(args).current_dir(ROOT);
+        c.args(["--reuid=65534", "--regid=65534", "--clear-groups", crate::support::BIN]).args(args).current_dir(ROOT);
         c.output()
     };
     match as_other(&["--version".to_string()]) {
         Ok(o) if o.status.success() => {}
         other => {
-            println!("skipped another user's file: uid 65534 cannot run {} here ({other:?})", env!("CARGO_BIN_EXE_trueaxis"));
+            println!("skipped another user's file: uid 65534 cannot run {} here ({other:?})", crate::support::BIN);
             return;
         }
     }

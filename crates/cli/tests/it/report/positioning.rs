@@ -4,19 +4,15 @@
 //! each result rounded by its U; the conformity decisions under the guard band follow from value,
 //! U and tolerance; the certificate takes the serial number from the file.
 
-use std::process::{Command, Output};
+use crate::support::{trueaxis, ROOT};
+use std::process::Output;
 use trueaxis::evaluate::iso230_2::{evaluate, Iso2302Result};
 use trueaxis::evaluate::positioning_test::evaluate_file;
 use trueaxis::evaluate::positioning_uncertainty::{positioning_uncertainty, PositioningUncertaintyInputs};
 use trueaxis::instruments::TemperatureOptions;
 use trueaxis_report::calibration::quantity::with_uncertainty;
 
-const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 const RTL: &str = "examples/data/laser_x.rtl";
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(ROOT).output().unwrap()
-}
 
 /// `trueaxis report` of vmc3 with the Renishaw file as positioning tests and `certificate`, into
 /// `out` (HTML), the summary on stdout.

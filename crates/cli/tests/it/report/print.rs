@@ -8,16 +8,10 @@
 //! Chromium and poppler-utils are skipped with a message when missing, unless CI requires them
 //! (TRUEAXIS_REQUIRE_BROWSER, TRUEAXIS_REQUIRE_POPPLER).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn root() -> PathBuf {
-    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-}
-
-fn trueaxis(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(dir).output().unwrap()
-}
+use crate::support::root;
+use crate::support::trueaxis_in;
+use std::path::Path;
+use std::process::Command;
 
 fn tool(name: &str, require: &str) -> Option<String> {
     if Command::new(name).arg("-v").output().is_ok() || Command::new(name).arg("--version").output().is_ok() {
@@ -65,7 +59,7 @@ fn imported_report(dir: &Path, certificate: &Path, extra: &[&str]) -> serde_json
         pdf.to_str().unwrap(),
         "--json",
     ];
-    let o = trueaxis(&[&args[..], extra].concat(), dir);
+    let o = trueaxis_in(dir, &[&args[..], extra].concat());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     serde_json::from_slice(&o.stdout).unwrap()
 }
@@ -308,7 +302,7 @@ fn print_html(browser: &str, html: &Path, scratch: &Path) -> Vec<String> {
 #[test]
 fn demo_report_reads_well_in_the_browser_and_as_a_pdf() {
     let dir = tempfile::tempdir().unwrap();
-    let o = trueaxis(&["demo", "--out", "demo", "--json"], dir.path());
+    let o = trueaxis_in(dir.path(), &["demo", "--out", "demo", "--json"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let demo = dir.path().join("demo");
     let html = std::fs::read_to_string(demo.join("report.html")).unwrap();
@@ -559,7 +553,7 @@ fn a_five_axis_rotary_ballbar_job_is_reported_with_u_everywhere() {
             pdf.to_str().unwrap(),
             "--json",
         ];
-        trueaxis(&args, dir.path())
+        trueaxis_in(dir.path(), &args)
     };
     let head = "[certificate]\nnumber = \"FIVE-1\"\ncustomer = \"Five Axis Ltd\"\n[decision]\nrule = \"guard-band\"\n";
     let o = run(&format!("{head}[tolerances.parameters]\nEY0A = 15\n"));
@@ -705,14 +699,14 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
                     &["--noise", "0.3", "--seed", "7", "--out", &out],
                 ]
                 .concat();
-                assert!(trueaxis(&args, d).status.success());
+                assert!(trueaxis_in(d, &args).status.success());
                 out
             })
             .collect()
     };
     let identify = |method: &[&str], files: &[String]| -> serde_json::Value {
         let steps = ["--a1", &files[0], "--a2", &files[1], "--c1", &files[2], "--c2", &files[3]];
-        let o = trueaxis(&[&["ballbar", "identify", "--machine", &machine, "--json"][..], method, &steps].concat(), d);
+        let o = trueaxis_in(d, &[&["ballbar", "identify", "--machine", &machine, "--json"][..], method, &steps].concat());
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         serde_json::from_slice(&o.stdout).unwrap()
     };
@@ -723,7 +717,7 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
     let (short, long) = (d.join("short.csv"), d.join("long.csv"));
     with_noise(&r.join("examples/ballbar/tmbb_L1.csv"), &short, 0.5, 1);
     with_noise(&r.join("examples/ballbar/tmbb_L2.csv"), &long, 0.5, 2);
-    let o = trueaxis(&["ballbar", "tmbb", "--short", short.to_str().unwrap(), "--long", long.to_str().unwrap(), "--json"], d);
+    let o = trueaxis_in(d, &["ballbar", "tmbb", "--short", short.to_str().unwrap(), "--long", long.to_str().unwrap(), "--json"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let table: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let certificate = d.join("six.toml");
@@ -834,14 +828,14 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
     }
     assert!(text_of(&std::fs::read_to_string(&html).unwrap()).contains("two-pivot method of Jiang (2014) ch. 4"));
     // a method without its setup is refused by name, exit status 2
-    let o = trueaxis(&[&args[..7], &["--rotary-method", "four-setup", "--out", html.to_str().unwrap()]].concat(), d);
+    let o = trueaxis_in(d, &[&args[..7], &["--rotary-method", "four-setup", "--out", html.to_str().unwrap()]].concat());
     assert_eq!(o.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&o.stderr).contains("--rotary-outer-positions"));
 }
 
 /// The documents of `trueaxis fit ... --json` for `args` (both directions: `plus`, `minus`).
 fn fit_json(args: &[&str], dir: &Path) -> serde_json::Value {
-    let o = trueaxis(&[&["fit", "--json"][..], args].concat(), dir);
+    let o = trueaxis_in(dir, &[&["fit", "--json"][..], args].concat());
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     serde_json::from_slice(&o.stdout).unwrap()
 }
@@ -982,7 +976,7 @@ fn direct_fits_are_reported_with_the_numbers_of_trueaxis_fit() {
     // an option the report gives itself is refused by name, nothing written
     std::fs::remove_file(&html).unwrap();
     std::fs::write(&certificate, "[[fit]]\ndata = \"straightness_x.csv\"\nparameter = \"EYX\"\nplot = \"x.svg\"\n").unwrap();
-    let o = trueaxis(&args, d);
+    let o = trueaxis_in(d, &args);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("fits.toml: [[fit]] 1") && err.contains("`plot`"), "{err}");
@@ -1028,7 +1022,7 @@ fn as_printed(p: &Printed) {
 
 /// Runs `trueaxis` with `args` (a `report ... --json`), which must succeed; its JSON summary.
 fn report_json(args: &[&str], dir: &Path) -> serde_json::Value {
-    let o = trueaxis(args, dir);
+    let o = trueaxis_in(dir, args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     serde_json::from_slice(&o.stdout).unwrap()
 }

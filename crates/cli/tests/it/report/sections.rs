@@ -3,12 +3,8 @@
 //! alone (`identify`, `ballbar iso230-4`), every inline SVG parses, no NaN, no external reference,
 //! the inputs are listed with their size and SHA-256; bad input exits 2 and writes no file.
 
+use crate::support::{trueaxis, ROOT};
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
 
 const KX8: [&str; 4] = ["--machine", "examples/machines/kx8five.toml", "--campaign", "examples/campaigns/kx8five/campaign.toml"];
 const VMC3: [&str; 10] = [
@@ -79,7 +75,7 @@ fn sections_of(html: &str, summary: &serde_json::Value) -> Vec<String> {
 /// The inputs table lists each file with its size and its SHA-256.
 fn assert_inputs(summary: &serde_json::Value, files: &[&str]) {
     let inputs = summary["inputs"].as_array().unwrap();
-    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = Path::new(ROOT);
     for f in files {
         let entry =
             inputs.iter().find(|i| i["path"].as_str().unwrap().ends_with(f)).unwrap_or_else(|| panic!("{f} not listed: {inputs:?}"));

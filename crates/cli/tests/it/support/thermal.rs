@@ -1,24 +1,8 @@
-//! Shared by the `thermal` command-line tests: run the binary from the repository root, read its
-//! JSON document.
-#![allow(dead_code)]
+//! Shared by the `thermal` command-line tests (and those of other commands that read thermal
+//! models): the fit of the shipped campaign, reproducible normal numbers.
 
-use std::process::{Command, Output};
-
-/// `trueaxis ARGS` run in the repository root (so that `examples/...` resolves).
-pub fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
-
-/// The JSON document of a successful run.
-pub fn json(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
-
-/// A successful run.
-pub fn ok(out: &Output) {
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-}
+use super::trueaxis;
+use std::process::Output;
 
 /// `trueaxis thermal fit` of the error `dz` of the shipped campaign (examples/thermal/campaign.csv)
 /// trained on `train_runs`, with the further arguments `extra`.

@@ -4,13 +4,11 @@
 //! independent numerical integration of eqs. 3.58-3.62 (Simpson, 1 mm steps). Both through the
 //! written error terms, read back as an error model of the machine.
 
+use crate::support::{json, trueaxis, ROOT};
 use std::fmt::Write;
 use std::path::Path;
-use crate::support::thermal::{json, trueaxis};
 use trueaxis::error_model::{ErrorModel, MachineState};
 use trueaxis::machine::{Machine, ParameterId};
-
-const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 
 /// Motion errors of X (um, urad) at X = `x` with the beam's sensors at `readings`.
 fn values(errors: &ErrorModel, m: &Machine, x: f64, readings: &[(&str, f64)]) -> [f64; 6] {
@@ -27,7 +25,7 @@ fn values(errors: &ErrorModel, m: &Machine, x: f64, readings: &[(&str, f64)]) ->
 
 fn write_terms(beam: &Path, dir: &Path) -> ErrorModel {
     let out = dir.join("beam_terms.toml");
-    crate::support::thermal::ok(&trueaxis(&[
+    crate::support::ok(&trueaxis(&[
         "thermal",
         "beam",
         "--machine",

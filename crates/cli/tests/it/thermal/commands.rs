@@ -1,9 +1,9 @@
 //! `trueaxis thermal` end to end: the JSON contract of `modes` (docs/design.md, Command line), placement,
 //! fit -> model file -> predict, error terms read by `trueaxis predict`, and bad input.
 
-
+use crate::support::thermal::fit_dz;
+use crate::support::{json, read, trueaxis, ROOT};
 use std::process::Output;
-use crate::support::thermal::{fit_dz, json, trueaxis};
 
 #[test]
 fn modes_json_is_sorted_by_decreasing_time_constant() {
@@ -187,7 +187,7 @@ fn non_finite_predictions_and_rank_deficient_fits_are_failed_computations() {
     assert!(err.contains("not a finite number") && err.contains("data row 1 in warmup"), "{err}");
     assert!(!out_file.exists() && out.stdout.is_empty());
     // a sensor that reads a constant cannot be separated from the intercept: exit 1, as identify
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/thermal/campaign.csv")).unwrap();
+    let text = read("examples/thermal/campaign.csv");
     let constant: String = text
         .lines()
         .map(|l| {
@@ -212,7 +212,7 @@ fn non_finite_predictions_and_rank_deficient_fits_are_failed_computations() {
 /// line; `--skip-missing` leaves the row out and lists it under `data_quality`.
 #[test]
 fn a_blank_cell_is_refused_or_skipped_on_request() {
-    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = std::path::Path::new(ROOT);
     let text = std::fs::read_to_string(root.join("examples/thermal/campaign.csv")).unwrap();
     let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
     // line 103: a row of the warm-up with T:p5 missing

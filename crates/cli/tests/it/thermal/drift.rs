@@ -4,15 +4,15 @@
 //! that predicts the 20-min duty cycle of the shipped campaign better than the static regression,
 //! the model file read back, and bad input.
 
-
-use crate::support::thermal::{fit_dz, json, trueaxis};
+use crate::support::thermal::fit_dz;
+use crate::support::{json, root, trueaxis};
 use trueaxis::thermal::drift_model::{fit_drift_model, record, DriftModel};
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis::thermal::validation::{evaluate_segments, segments, Role};
 
 fn campaign() -> Campaign {
-    Campaign::read(concat!(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."), "/examples/thermal/campaign.csv")).unwrap()
+    Campaign::read(root().join("examples/thermal/campaign.csv")).unwrap()
 }
 
 fn sensors() -> Vec<String> {

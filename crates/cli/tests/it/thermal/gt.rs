@@ -7,8 +7,8 @@
 //! predict`. And the geometric/thermal split alone (Zhu 2008 §4.4.2): a cubic geometric part with a
 //! linear thermal part.
 
+use crate::support::{json, ok, trueaxis};
 use std::fmt::Write;
-use crate::support::thermal::{json, ok, trueaxis};
 
 /// Truth of the segment (direction, range): geometric quadratic [a0, a1, a2] (um, um/mm, um/mm^2)
 /// and thermal rows [c_bed, c_S] for P^0 and P^1 (um/degC, um/rpm, per mm).
@@ -139,7 +139,7 @@ fn gt_segments_are_recovered_and_enter_the_chain() {
 fn shipped_campaign_is_the_simulation() {
     // examples/thermal/gt_slide.csv: the same characterisation with 0.05 um of noise
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/thermal/gt_slide.csv");
-    let text = format!("# A slide characterised through warm-ups at four spindle speeds (simulated by crates/cli/tests/thermal_gt.rs):\n# X (mm), dir (+/-), T:bed (degC), S:spindle (rpm), dx (um, positioning error), noise 0.05 um\n{}", campaign(0.05));
+    let text = format!("# A slide characterised through warm-ups at four spindle speeds (simulated by crates/cli/tests/it/thermal/gt.rs):\n# X (mm), dir (+/-), T:bed (degC), S:spindle (rpm), dx (um, positioning error), noise 0.05 um\n{}", campaign(0.05));
     if std::env::var_os("TRUEAXIS_REGENERATE").is_some() {
         std::fs::write(&path, &text).unwrap();
     }

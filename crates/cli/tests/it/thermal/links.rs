@@ -7,8 +7,8 @@
 //! 100 times smaller at a tenth of the deformations). And the vmc3 example file against its closed
 //! form.
 
+use crate::support::{json, read, trueaxis};
 use std::fmt::Write;
-use crate::support::thermal::{json, trueaxis};
 
 const MACHINE: &str = r#"
 name = "2D arch-type reconfigurable machine (Zhu 2008 ch. 4)"
@@ -225,7 +225,7 @@ fn vmc3_links_example_is_its_closed_form() {
     // with the geometric errors, as one file predict and compensate read
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("vmc3_links.toml");
-    crate::support::thermal::ok(&trueaxis(&[
+    crate::support::ok(&trueaxis(&[
         "thermal",
         "links",
         "--machine",
@@ -238,7 +238,7 @@ fn vmc3_links_example_is_its_closed_form() {
         out.to_str().unwrap(),
     ]));
     let text = std::fs::read_to_string(&out).unwrap();
-    assert!(text.starts_with(&std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/errors/vmc3.toml")).unwrap()));
+    assert!(text.starts_with(&read("examples/errors/vmc3.toml")));
     // a slope on the tool is refused
     let bad = dir.path().join("bad.toml");
     std::fs::write(

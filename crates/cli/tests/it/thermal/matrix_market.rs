@@ -3,14 +3,13 @@
 //! `matrix_market::write_symmetric`; its modes equal those of the bar it came from, through the
 //! command line.
 
-
+use crate::support::{json, trueaxis, ROOT};
 use std::path::Path;
-use crate::support::thermal::{json, trueaxis};
 use trueaxis::thermal::matrix_market::write_symmetric;
 use trueaxis::thermal::model_file::load_model;
 
 fn example(name: &str) -> std::path::PathBuf {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join("examples/thermal").join(name)
+    Path::new(ROOT).join("examples/thermal").join(name)
 }
 
 #[test]

@@ -4,12 +4,10 @@
 //! exhaustive yardstick has the smallest training error of all, and more Gauss sensors predict
 //! better.
 
+use crate::support::{json, trueaxis, ROOT};
 use std::path::Path;
-use crate::support::thermal::{json, trueaxis};
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::placement_score::{elongation_weights, gauss_points};
-
-const ROOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
 
 #[test]
 fn weights_and_gauss_points_of_the_elongation_element() {

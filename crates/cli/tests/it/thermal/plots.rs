@@ -3,9 +3,9 @@
 //! stems and the truncation share, measured and predicted drift with the residual band, training
 //! and validation told apart; non-finite data refused; `--plot` on the `thermal` commands.
 
-
+use crate::support::thermal::fit_dz;
+use crate::support::{ok, trueaxis};
 use roxmltree::Document;
-use crate::support::thermal::{fit_dz, ok, trueaxis};
 use trueaxis_report::{
     drift_svg, mode_shapes_svg, time_constants_svg, DriftPlot, DriftRun, ModeBar, ModeShapeCurve, ModeShapesPlot, RunRole,
     TimeConstantsPlot,

@@ -3,9 +3,8 @@
 //! noise. Correlation ranking and stepwise regression (partial F at 99.99 %) each pick exactly
 //! T1 and T3, and the coefficients are recovered; the same through `thermal fit --select`.
 
-
+use crate::support::{json, trueaxis};
 use std::f64::consts::PI;
-use crate::support::thermal::{json, trueaxis};
 use trueaxis::thermal::regression::{correlation_ranking, fit_regression, fit_stepwise, select_by_correlation};
 
 const SAMPLES: usize = 1200;

@@ -4,8 +4,8 @@
 //! sensor noise 0.02 K) the far sensor predicted from the near one within the noise on the runs not
 //! trained on; the model file evaluated again equals the fit.
 
+use crate::support::{json, trueaxis};
 use std::fmt::Write;
-use crate::support::thermal::{json, trueaxis};
 use trueaxis::thermal::temperature_model::TemperatureModel;
 
 fn truth() -> TemperatureModel {

@@ -4,7 +4,7 @@
 //! recovered from the two time constants of a model made with known values; the written file keeps
 //! its comments and has the tuned time constants.
 
-use crate::support::thermal::{json, trueaxis};
+use crate::support::{json, read, trueaxis};
 
 #[test]
 fn uniform_mode_of_the_fin_gives_h_in_closed_form() {
@@ -29,7 +29,7 @@ fn uniform_mode_of_the_fin_gives_h_in_closed_form() {
 #[test]
 fn two_coefficients_are_recovered_from_two_time_constants() {
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/thermal/elongation.toml")).unwrap();
+    let text = read("examples/thermal/elongation.toml");
     let truth = dir.path().join("truth.toml");
     std::fs::write(
         &truth,

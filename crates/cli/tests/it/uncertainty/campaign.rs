@@ -5,17 +5,7 @@
 //! eq. 4.11 with Cov = s0^2 (X^T W X)^-1), to 1e-6 relative; and the estimates are the identified
 //! values.
 
-use std::process::Command;
-
-fn trueaxis(args: &[&str]) -> serde_json::Value {
-    let out = Command::new(env!("CARGO_BIN_EXE_trueaxis"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
+use crate::support::json_of;
 
 #[test]
 fn campaign_form_agrees_with_identify() {
@@ -29,8 +19,8 @@ fn campaign_form_agrees_with_identify() {
     )
     .unwrap();
     let (m, c) = ("examples/machines/kx8five.toml", "examples/campaigns/kx8five/campaign.toml");
-    let u = trueaxis(&["uncertainty", "--machine", m, "--campaign", c, "--sources", sources.to_str().unwrap(), "--json"]);
-    let id = trueaxis(&["identify", "--machine", m, "--campaign", c, "--json"]);
+    let u = json_of(&["uncertainty", "--machine", m, "--campaign", c, "--sources", sources.to_str().unwrap(), "--json"]);
+    let id = json_of(&["identify", "--machine", m, "--campaign", c, "--json"]);
     let s0 = id["sigma0"].as_f64().unwrap();
     let names = u["parameter_order"].as_array().unwrap();
     assert_eq!(names.len(), 12);

@@ -1,32 +1,25 @@
 //! `trueaxis uncertainty` end to end: the shipped Andolfatto et al. 2011 example against the library, JSON keys,
 //! reproducibility with a seed, plots, exit codes and messages for bad input.
 
-use std::process::{Command, Output};
+use crate::support::{utf8, trueaxis, ROOT};
 use trueaxis::uncertainty::{run_budget, DesignMatrix, Evaluation, IdentificationMap, Sources};
 
 const DESIGN: &str = "examples/uncertainty/kx8five_design.csv";
 const CYCLIC: &str = "examples/uncertainty/kx8five_cyclic.toml";
 const STATISTICAL: &str = "examples/uncertainty/kx8five_statistical.toml";
 
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
-
+/// The JSON document of a successful run that printed nothing on stderr.
 fn json(args: &[&str]) -> serde_json::Value {
     let out = trueaxis(args);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(out.stderr.is_empty(), "quiet with --json: {}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
-
-fn stderr(out: &Output) -> String {
-    String::from_utf8_lossy(&out.stderr).to_string()
+    let doc = crate::support::json(&out);
+    assert!(out.stderr.is_empty(), "quiet with --json: {}", utf8(&out.stderr));
+    doc
 }
 
 #[test]
 fn json_matches_the_library_and_is_reproducible() {
     let doc = json(&["uncertainty", "--design", DESIGN, "--sources", CYCLIC, "--json"]);
-    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let root = std::path::Path::new(ROOT);
     let map = IdentificationMap::new(DesignMatrix::read_csv(root.join(DESIGN)).unwrap()).unwrap();
     let sources = Sources::load(root.join(CYCLIC)).unwrap();
     let budget = run_budget(&map, &sources.sources, &sources.settings, Evaluation::Reduced, true, &mut |_, _, _| {}).unwrap();
@@ -108,8 +101,8 @@ fn bad_input_exits_2_with_one_line_naming_the_problem() {
     ];
     for (d, s, expected) in cases {
         let out = trueaxis(&["uncertainty", "--design", &d, "--sources", &s, "--json"]);
-        assert_eq!(out.status.code(), Some(2), "{expected}: {}", stderr(&out));
-        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{expected}: {}", utf8(&out.stderr));
+        let err = utf8(&out.stderr);
         assert!(err.contains(expected), "expected `{expected}` in: {err}");
         assert_eq!(err.trim_end().lines().count(), 1, "{err}");
         assert!(out.stdout.is_empty());
@@ -117,6 +110,6 @@ fn bad_input_exits_2_with_one_line_naming_the_problem() {
     // a rank-deficient design is a failed computation (exit 1) naming the parameters
     let deficient = write("d2.csv", "channel,t,a,b\nx,1,1,2\ny,2,2,4\nx,3,1,2\ny,4,3,6\n");
     let out = trueaxis(&["uncertainty", "--design", &deficient, "--sources", &write("s10.toml", good)]);
-    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
-    assert!(stderr(&out).contains("b cannot be separated from a"), "{}", stderr(&out));
+    assert_eq!(out.status.code(), Some(1), "{}", utf8(&out.stderr));
+    assert!(utf8(&out.stderr).contains("b cannot be separated from a"), "{}", utf8(&out.stderr));
 }

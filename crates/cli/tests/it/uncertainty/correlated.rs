@@ -2,13 +2,9 @@
 //! correlated normals; the uncertainty of predicted volumetric errors at poses (GUM `F Cov F^T`
 //! and its Monte Carlo counterpart) on the Andolfatto et al. 2011 campaign; the bound on the trials.
 
+use crate::support::trueaxis;
 use nalgebra::DMatrix;
-use std::process::{Command, Output};
 use trueaxis::uncertainty::{run_adaptive, DesignMatrix, Evaluation, IdentificationMap, McSettings, Sources};
-
-fn trueaxis(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_trueaxis")).args(args).current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).output().unwrap()
-}
 
 /// Three points of two channels x, y (t = 1, 2, 3 s) and one parameter `a` read by every
 /// observation with sensitivity 1: `a` is the mean of the six observations.
