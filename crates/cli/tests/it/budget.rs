@@ -2,7 +2,7 @@
 //! round trip (allocate -> budget file -> analyse meets the target), the configuration counts and
 //! ranking, the miniaturisation findings, the figures and files, and bad input.
 
-use crate::support::{json, trueaxis, trueaxis_in, ROOT};
+use crate::support::{json, trueaxis, trueaxis_in, vmc3, ROOT};
 use std::path::Path;
 use trueaxis::budget::analyse;
 use trueaxis::budget::poses::part_grid;
@@ -16,17 +16,7 @@ fn close(a: f64, b: f64, tolerance: f64) -> bool {
 
 #[test]
 fn analyse_equals_the_library_and_shows_the_abbe_effect() {
-    let out = trueaxis(&[
-        "budget",
-        "analyse",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--part",
-        "200x150x100",
-        "--part",
-        "600x400x300",
-        "--json",
-    ]);
+    let out = trueaxis(&vmc3(&["budget", "analyse"], &["--part", "200x150x100", "--part", "600x400x300", "--json"]));
     let doc = json(&out);
     let sets = doc["sets"].as_array().unwrap();
     assert_eq!(sets.len(), 2);
@@ -69,7 +59,7 @@ fn analyse_equals_the_library_and_shows_the_abbe_effect() {
     };
     assert!(angular(&sets[1]) > angular(&sets[0]));
     // the table output names the groups
-    let text = trueaxis(&["budget", "analyse", "--machine", "examples/machines/vmc3.toml", "--part", "200"]);
+    let text = trueaxis(&vmc3(&["budget", "analyse"], &["--part", "200"]));
     let text = String::from_utf8(text.stdout).unwrap();
     for needle in ["root-sum-square, largest", "worst case, largest", "condition number", "squareness", "mm lever"] {
         assert!(text.contains(needle), "{needle}: {text}");

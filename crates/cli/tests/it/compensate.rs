@@ -1,6 +1,6 @@
 //! `trueaxis compensate` end to end: files written, JSON summaries, exit codes (`trueaxis nc`: nc.rs).
 
-use crate::support::{outcome, read};
+use crate::support::{outcome, read, vmc3};
 
 /// `trueaxis COMMAND --machine examples/machines/vmc3.toml --errors ERRORS REST...`
 fn on_vmc3(command: &str, errors: &str, rest: &[&str]) -> (i32, String, String) {
@@ -89,35 +89,17 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     assert!(csv.starts_with("X,Y,Z,A,C,dX,dY,dZ,dA,dC,error_um,residual_um,uncorrectable_urad\n"));
     // beyond the user's limit: refused, exit 2, nothing written
     let out = dir.path().join("limited");
-    let (code, _, stderr) = outcome(&[
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--format",
-        "linuxcnc",
-        "--limit-um",
-        "5",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (code, _, stderr) = outcome(&vmc3(
+        &["compensate"],
+        &["--errors", "examples/errors/vmc3.toml", "--format", "linuxcnc", "--limit-um", "5", "--out", out.to_str().unwrap()],
+    ));
     assert_eq!(code, 2);
     assert!(stderr.contains("beyond the limit of 5 um"), "{stderr}");
     assert!(!out.exists());
-    let (code, _, stderr) = outcome(&[
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--format",
-        "csv",
-        "--reference",
-        "Q=1",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let (code, _, stderr) = outcome(&vmc3(
+        &["compensate"],
+        &["--errors", "examples/errors/vmc3.toml", "--format", "csv", "--reference", "Q=1", "--out", out.to_str().unwrap()],
+    ));
     assert_eq!(code, 2);
     assert!(stderr.contains("no axis Q"), "{stderr}");
 }

@@ -5,7 +5,7 @@
 //! line naming the file, the column and the fix) and warnings (exit 0, stderr) of the plausibility
 //! checks; a `fit` range error names the file, line and column.
 
-use crate::support::{json_of, read, trueaxis};
+use crate::support::{failed, json_of, read, trueaxis, vmc3};
 use serde_json::Value;
 
 fn close(name: &str, a: &Value, b: &Value, tol: f64) {
@@ -58,8 +58,7 @@ fn convert_writes_canonical_csv_that_reads_to_the_same_results() {
     assert_eq!(a["metadata"], b["metadata"], "the metadata survive the conversion");
     // an Etalon file is refused as readings and converted as errors
     let bad = trueaxis(&["convert", "examples/data/vmc3_etalon.exc", "--to", "csv"]);
-    assert_eq!(bad.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("use --to errors --machine"));
+    failed(&bad, 2, &["use --to errors --machine"]);
 }
 
 #[test]
@@ -129,16 +128,7 @@ fn fit_and_reversal_read_rtl_files() {
 
 #[test]
 fn ballbar_exports_and_inspect() {
-    let export = json_of(&[
-        "ballbar",
-        "iso230-4",
-        "examples/ballbar/export_xy.txt",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--centre",
-        "0,0,-200",
-        "--json",
-    ]);
+    let export = json_of(&vmc3(&["ballbar", "iso230-4", "examples/ballbar/export_xy.txt"], &["--centre", "0,0,-200", "--json"]));
     assert_eq!(export["radius_mm"], 100.0);
     assert_eq!(export["plane"], "xy");
     assert_eq!(export["metadata"]["operator"], "A. Example");
@@ -146,32 +136,31 @@ fn ballbar_exports_and_inspect() {
     // the simulation the export was written from (its first line), through the CSV path
     let dir = tempfile::tempdir().unwrap();
     let sim = dir.path().join("sim.csv");
-    let out = trueaxis(&[
-        "ballbar",
-        "simulate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/ballbar/vmc3_circle.toml",
-        "--test",
-        "circle",
-        "--plane",
-        "xy",
-        "--radius",
-        "100",
-        "--centre",
-        "0,0,-200",
-        "--dir",
-        "both",
-        "--step",
-        "0.954929658551372",
-        "--noise",
-        "0.15",
-        "--seed",
-        "7",
-        "--out",
-        sim.to_str().unwrap(),
-    ]);
+    let out = trueaxis(&vmc3(
+        &["ballbar", "simulate"],
+        &[
+            "--errors",
+            "examples/ballbar/vmc3_circle.toml",
+            "--test",
+            "circle",
+            "--plane",
+            "xy",
+            "--radius",
+            "100",
+            "--centre",
+            "0,0,-200",
+            "--dir",
+            "both",
+            "--step",
+            "0.954929658551372",
+            "--noise",
+            "0.15",
+            "--seed",
+            "7",
+            "--out",
+            sim.to_str().unwrap(),
+        ],
+    ));
     assert!(out.status.success());
     let csv = json_of(&[
         "ballbar",
@@ -211,24 +200,13 @@ fn ballbar_exports_and_inspect() {
 fn etalon_files_convert_to_errors_that_predict_reads() {
     let dir = tempfile::tempdir().unwrap();
     let errors = dir.path().join("vmc3_etalon.toml");
-    let out = trueaxis(&[
-        "convert",
-        "examples/data/vmc3_etalon.exc",
-        "--to",
-        "errors",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--out",
-        errors.to_str().unwrap(),
-    ]);
+    let out = trueaxis(&vmc3(&["convert", "examples/data/vmc3_etalon.exc", "--to", "errors"], &["--out", errors.to_str().unwrap()]));
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stderr).contains("[P0Z]"), "the skipped ISG parameter is named");
     // at poses on the 50 mm grid the converted tables equal the example's polynomials
     let poses = dir.path().join("grid.csv");
     std::fs::write(&poses, "X,Y,Z\n-400,-250,-400\n-150,100,-200\n200,-50,-50\n400,250,0\n").unwrap();
-    let run = |e: &str| {
-        json_of(&["predict", "--machine", "examples/machines/vmc3.toml", "--errors", e, "--poses", poses.to_str().unwrap(), "--json"])
-    };
+    let run = |e: &str| json_of(&vmc3(&["predict"], &["--errors", e, "--poses", poses.to_str().unwrap(), "--json"]));
     let (a, b) = (run(errors.to_str().unwrap()), run("examples/errors/vmc3.toml"));
     for (p, q) in a["poses"].as_array().unwrap().iter().zip(b["poses"].as_array().unwrap()) {
         for k in ["dx", "dy", "dz", "drx", "dry", "drz"] {
@@ -236,8 +214,7 @@ fn etalon_files_convert_to_errors_that_predict_reads() {
         }
     }
     let out = trueaxis(&["convert", "examples/data/vmc3_etalon.exc", "--to", "errors", "--machine", "examples/machines/lathe2.toml"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("refers to axis"));
+    failed(&out, 2, &["refers to axis"]);
 }
 
 /// Exit 2, one line, naming the file and every fragment.
@@ -300,32 +277,12 @@ fn implausible_files_are_refused_and_suspicious_ones_warned() {
     );
     // a radius that disagrees with the file's
     refused(
-        &[
-            "ballbar",
-            "iso230-4",
-            "examples/ballbar/export_xy.txt",
-            "--radius",
-            "150",
-            "--machine",
-            "examples/machines/vmc3.toml",
-            "--centre",
-            "0,0,-200",
-        ],
+        &vmc3(&["ballbar", "iso230-4", "examples/ballbar/export_xy.txt", "--radius", "150"], &["--centre", "0,0,-200"]),
         &["export_xy.txt", "radius 100 mm", "150 mm"],
     );
     // an axis-position circle of another radius
     refused(
-        &[
-            "ballbar",
-            "iso230-4",
-            "examples/ballbar/vmc3_xy.csv",
-            "--radius",
-            "150",
-            "--machine",
-            "examples/machines/vmc3.toml",
-            "--centre",
-            "0,0,-200",
-        ],
+        &vmc3(&["ballbar", "iso230-4", "examples/ballbar/vmc3_xy.csv", "--radius", "150"], &["--centre", "0,0,-200"]),
         &["vmc3_xy.csv", "column `X, Y`", "radius 100.000 mm", "150 mm"],
     );
 }

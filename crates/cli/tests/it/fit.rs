@@ -2,7 +2,7 @@
 //! known pitch error, backlash, drift and noise), the sign of a workpiece-carrying slide, the Abbe
 //! subtraction of known angular errors, and bad input.
 
-use crate::support::{json_of, root, trueaxis};
+use crate::support::{failed, json_of, root, trueaxis, vmc3};
 
 /// The positioning error the example data were generated with (um, x in mm): the laser reading
 /// (tool relative to workpiece, actual minus target) without backlash, drift and noise.
@@ -82,7 +82,7 @@ fn fit_with_the_machine_recovers_the_error_with_the_sign_of_a_table_axis() {
     // the file is still a valid error-values file for predict, with the other errors kept
     let text = std::fs::read_to_string(&errors).unwrap();
     assert!(text.contains("[basis.\"EXX+\"]") && text.contains("[basis.EXX-]") && text.contains("EC0X = 12.0"), "{text}");
-    let pred = trueaxis(&["predict", "--machine", "examples/machines/vmc3.toml", "--errors", e, "--poses", "examples/poses/vmc3.csv"]);
+    let pred = trueaxis(&vmc3(&["predict"], &["--errors", e, "--poses", "examples/poses/vmc3.csv"]));
     assert!(pred.status.success(), "{}", String::from_utf8_lossy(&pred.stderr));
     let svg = std::fs::read_to_string(dir.path().join("exx_plus.svg")).unwrap();
     assert!(!plot.exists(), "with both directions the plots are exx_plus.svg and exx_minus.svg");
@@ -115,8 +115,7 @@ fn without_a_machine_the_readings_are_the_values() {
     let mut args = FIT.to_vec();
     args.extend(["--errors-out", errors.to_str().unwrap()]);
     let out = trueaxis(&args);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--errors-out needs --machine"));
+    failed(&out, 2, &["--errors-out needs --machine"]);
     assert!(!errors.exists());
 }
 
@@ -261,8 +260,7 @@ fn temperature_options_correct_the_readings_to_20c() {
         "--scale-expansion",
         "11.5",
     ]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("applies to positioning readings along the axis"));
+    failed(&out, 2, &["applies to positioning readings along the axis"]);
 }
 
 #[test]
@@ -365,18 +363,10 @@ fn bad_fit_input_is_refused_with_status_2() {
 fn one_direction_alone_is_refused_with_a_hint_and_no_file() {
     let dir = tempfile::tempdir().unwrap();
     let errors = dir.path().join("one.toml");
-    let out = trueaxis(&[
-        "fit",
-        "--data",
-        "examples/data/laser_x.csv",
-        "--parameter",
-        "EXX",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--direction=+",
-        "--errors-out",
-        errors.to_str().unwrap(),
-    ]);
+    let out = trueaxis(&vmc3(
+        &["fit", "--data", "examples/data/laser_x.csv", "--parameter", "EXX"],
+        &["--direction=+", "--errors-out", errors.to_str().unwrap()],
+    ));
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("EXX+ is given without EXX-") && stderr.contains("--direction both"), "{stderr}");

@@ -2,7 +2,7 @@
 //! (1) a hand-calculated data set, (2) synthetic data with a known line, backlash and bounded noise,
 //! (3) bad input through the binary, (4) the JSON contract, (5) the SVG plot; plus the shipped example.
 
-use crate::support::{trueaxis, ROOT};
+use crate::support::{failed, trueaxis, ROOT};
 use std::path::Path;
 use trueaxis::evaluate::iso230_2::{evaluate, read_runs, read_runs_from, Iso2302Result};
 
@@ -236,8 +236,7 @@ fn bad_input_is_refused_with_one_line_and_status_2() {
     refuse(d, "empty.csv", "target,dev,dir,run\n", &["no data"]);
     refuse(d, "blank.csv", "target,dev,dir,run\n0,1,+,1\n\n# comment\n\n0,2,+,x\n0,0,-,1\n0,1,-,2\n", &["line 6", "column run", "`x`"]);
     let out = trueaxis(&["iso230-2", d.join("absent.csv").to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("absent.csv"));
+    failed(&out, 2, &["absent.csv"]);
 }
 
 #[test]
@@ -419,8 +418,7 @@ fn temperature_options_correct_the_deviations_to_20c() {
     assert!((raw["E"].as_f64().unwrap() - corrected["E"].as_f64().unwrap()).abs() > 5.0);
     // bad input: a missing column, an expansion without a temperature
     let out = trueaxis(&["iso230-2", EXAMPLE, "--scale-temperature", "T:scale", "--scale-expansion", "11.5"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("missing column `T:scale`"));
+    failed(&out, 2, &["missing column `T:scale`"]);
     let out = trueaxis(&["iso230-2", EXAMPLE, "--scale-expansion", "11.5"]);
     assert_eq!(out.status.code(), Some(2));
 }

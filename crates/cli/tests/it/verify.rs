@@ -6,7 +6,7 @@
 //! critical values against the Wilson-Hilferty approximation, compensated = off-line, the rejection
 //! rate of a correct model, the model's uncertainty from the calibration campaign.
 
-use crate::support::{json, trueaxis, ROOT};
+use crate::support::{json, trueaxis, vmc3, ROOT};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use trueaxis::error_model::ErrorModel;
@@ -205,17 +205,10 @@ fn correct_model_passes_and_offline_equals_compensated() {
     assert!((offline["chi2"].as_f64().unwrap() - doc["chi2"].as_f64().unwrap()).abs() < 1e-3 * doc["chi2"].as_f64().unwrap());
     assert_eq!(offline["compensated"], false);
     let text = String::from_utf8(
-        trueaxis(&[
-            "verify",
-            "--machine",
-            "examples/machines/vmc3.toml",
-            "--errors",
-            "examples/verification/vmc3/model.toml",
-            "--campaign",
-            path.to_str().unwrap(),
-            "--ignore-channel",
-            "plate_yz:dx",
-        ])
+        trueaxis(&vmc3(
+            &["verify"],
+            &["--errors", "examples/verification/vmc3/model.toml", "--campaign", path.to_str().unwrap(), "--ignore-channel", "plate_yz:dx"],
+        ))
         .stdout,
     )
     .unwrap();

@@ -2,7 +2,7 @@
 //! (`examples/ballbar/`, the commands of docs/ballbar.md): JSON values against the error files the
 //! examples were simulated from, exit status 2 with a one-line message for bad input.
 
-use crate::support::{json, trueaxis, ROOT};
+use crate::support::{json, trueaxis, vmc3, ROOT};
 
 #[test]
 fn identify_recovers_the_piges_the_examples_were_simulated_with() {
@@ -57,22 +57,10 @@ fn identify_recovers_the_piges_the_examples_were_simulated_with() {
 #[test]
 fn iso230_4_example_gives_the_simulated_diagnostics() {
     // examples/ballbar/vmc3_xy.csv: simulated from vmc3_circle.toml with 0.1 um noise.
-    let out = trueaxis(&[
-        "ballbar",
-        "iso230-4",
-        "examples/ballbar/vmc3_xy.csv",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--radius",
-        "100",
-        "--centre",
-        "0,0,-200",
-        "--feed",
-        "1000",
-        "--pitch",
-        "10",
-        "--json",
-    ]);
+    let out = trueaxis(&vmc3(
+        &["ballbar", "iso230-4", "examples/ballbar/vmc3_xy.csv"],
+        &["--radius", "100", "--centre", "0,0,-200", "--feed", "1000", "--pitch", "10", "--json"],
+    ));
     let doc = json(&out);
     // a term refitted out as not significant (listed in "omitted") counts as 0
     let value = |name: &str| match doc["diagnostics"].as_array().unwrap().iter().find(|d| d["name"] == name) {
@@ -168,7 +156,7 @@ fn bad_input_is_one_line_and_exit_2() {
     let cases: [&[&str]; 4] = [
         &["ballbar", "tmbb", "--short", "examples/ballbar/tmbb_L1.csv", "--long", "examples/ballbar/A1.csv"],
         &["ballbar", "iso230-4", "examples/ballbar/tmbb_poses.csv", "--radius", "100"],
-        &["ballbar", "simulate", "--machine", "examples/machines/vmc3.toml", "--test", "a1"],
+        &vmc3(&["ballbar", "simulate"], &["--test", "a1"]),
         &["ballbar", "iso230-4", "examples/ballbar/vmc3_xy.csv", "--radius", "100", "--pitch", "0"],
     ];
     for args in cases {

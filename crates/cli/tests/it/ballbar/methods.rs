@@ -3,18 +3,8 @@
 //! pair (table-tilting c600u, spindle-tilting head5, the KX8-Five's 45 deg A axis); independence of
 //! the simulated noise; the input checks of `identify`; ISO 230-4 significance and shares.
 
-use crate::support::{json, trueaxis};
+use crate::support::{json, refused, trueaxis, vmc3};
 use std::path::Path;
-use std::process::Output;
-
-fn bad(out: &Output, expect: &[&str]) {
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
-    for e in expect {
-        assert!(err.contains(e), "`{e}` not in: {err}");
-    }
-}
 
 /// Simulates the four steps of `method` (extra CLI arguments) into `dir` and identifies them.
 fn round_trip(dir: &Path, machine: &str, errors: &str, method: &[&str], noise: &str) -> serde_json::Value {
@@ -136,7 +126,7 @@ fn one_rotary_axis_on_each_side_simulates_but_is_not_identified() {
     }
     let out =
         trueaxis(&["ballbar", "identify", "--machine", m, "--a1", &files[0], "--a2", &files[1], "--c1", &files[2], "--c2", &files[3]]);
-    bad(&out, &["different sides of the chain", "changes no bar length", "wCAbYXZt", "wXYbZCBt"]);
+    refused(&out, 2, &["different sides of the chain", "changes no bar length", "wCAbYXZt", "wXYbZCBt"]);
 }
 
 /// Pearson correlation of two equally long series.
@@ -151,24 +141,10 @@ fn correlation(a: &[f64], b: &[f64]) -> f64 {
 
 /// The noise (um) of a simulated error-free circle, CCW then CW run.
 fn circle_noise(seed: &str) -> (Vec<f64>, Vec<f64>) {
-    let out = trueaxis(&[
-        "ballbar",
-        "simulate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--test",
-        "circle",
-        "--centre",
-        "0,0,-200",
-        "--dir",
-        "both",
-        "--step",
-        "0.5",
-        "--noise",
-        "1",
-        "--seed",
-        seed,
-    ]);
+    let out = trueaxis(&vmc3(
+        &["ballbar", "simulate"],
+        &["--test", "circle", "--centre", "0,0,-200", "--dir", "both", "--step", "0.5", "--noise", "1", "--seed", seed],
+    ));
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
     let (mut ccw, mut cw) = (Vec::new(), Vec::new());
@@ -230,11 +206,15 @@ fn identify_refuses_what_it_cannot_fit() {
     };
     let [a1, a2, c1, c2] = ["A1", "A2", "C1", "C2"].map(|s| format!("examples/ballbar/{s}.csv"));
     let steps = |first: &str| identify([first, &a2, &c1, &c2], &[]);
-    bad(&steps(three.to_str().unwrap()), &["a1_3.csv", "step A1", "3 readings over 20.0 deg", "at least 8 readings over at least 45 deg"]);
-    bad(&steps(&c1), &["C1.csv", "step A1", "over 0.0 deg"]);
-    bad(&steps(empty.to_str().unwrap()), &["empty.csv", "the file is empty"]);
-    bad(&identify([&a1, &a2, &c1, &c2], &["--pivot-offset-a", "0,100"]), &["--pivot-offset-a", "100.000 mm", "below 10 mm"]);
-    bad(&identify([&a1, &a2, &c1, &c2], &["--method", "two-pivot"]), &["--outer-offset"]);
+    refused(
+        &steps(three.to_str().unwrap()),
+        2,
+        &["a1_3.csv", "step A1", "3 readings over 20.0 deg", "at least 8 readings over at least 45 deg"],
+    );
+    refused(&steps(&c1), 2, &["C1.csv", "step A1", "over 0.0 deg"]);
+    refused(&steps(empty.to_str().unwrap()), 2, &["empty.csv", "the file is empty"]);
+    refused(&identify([&a1, &a2, &c1, &c2], &["--pivot-offset-a", "0,100"]), 2, &["--pivot-offset-a", "100.000 mm", "below 10 mm"]);
+    refused(&identify([&a1, &a2, &c1, &c2], &["--method", "two-pivot"]), 2, &["--outer-offset"]);
     // swapped C files: accepted (each is a full circle) but warned about, with the residual
     let swapped = identify([&a1, &a2, &c2, &c1], &["--json"]);
     let doc = json(&swapped);
@@ -250,13 +230,10 @@ fn simulate_bounds_its_inputs() {
         a.extend_from_slice(extra);
         trueaxis(&a)
     };
-    bad(&circle(&["--step", "1e-9"]), &["--step", "at most 1000000"]);
-    bad(&circle(&["--noise", "inf"]), &["--noise"]);
-    bad(&circle(&["--radius", "0"]), &["--radius"]);
-    bad(
-        &trueaxis(&["ballbar", "simulate", "--machine", "examples/machines/vmc3.toml", "--test", "a1"]),
-        &["rotary axes", "need exactly two"],
-    );
+    refused(&circle(&["--step", "1e-9"]), 2, &["--step", "at most 1000000"]);
+    refused(&circle(&["--noise", "inf"]), 2, &["--noise"]);
+    refused(&circle(&["--radius", "0"]), 2, &["--radius"]);
+    refused(&trueaxis(&vmc3(&["ballbar", "simulate"], &["--test", "a1"])), 2, &["rotary axes", "need exactly two"]);
 }
 
 fn iso(file: &str) -> serde_json::Value {

@@ -2,7 +2,7 @@
 //! `ballbar iso230-4` as its capture arc, `design steady` on a 3D-ball recording, the single-run
 //! PIGE uncertainty of `ballbar identify`, `ballbar sensitivity` and `ballbar tmbb-setup`.
 
-use crate::support::{json_of, utf8, trueaxis, ROOT};
+use crate::support::{json_of, trueaxis, utf8, ROOT};
 use trueaxis::identify::pige_sensitivity::method_sensitivity;
 use trueaxis::instruments::ballbar::{method_step, BarLengths, JiangStep, Method, RotaryPair};
 use trueaxis::machine::Machine;

@@ -2,7 +2,7 @@
 //! contract of docs/design.md, Command line, the error-values output accepted by `predict`, exit statuses,
 //! and trajectory + simulation + identification from the command line.
 
-use crate::support::{json, read, trueaxis, ROOT};
+use crate::support::{failed, json, read, trueaxis, ROOT};
 use std::path::Path;
 
 const MACHINE: &str = "examples/machines/kx8five.toml";
@@ -62,8 +62,7 @@ fn rank_deficiency_is_exit_1_unless_allowed_and_bad_input_is_exit_2() {
     std::fs::write(&bad, "parameters = [\"EX0C\"]\n[[measurement]]\ninstrument = \"ball3d\"\ndata = \"missing.csv\"\nsigma_um = 1\n")
         .unwrap();
     let out = trueaxis(&["identify", "--machine", MACHINE, "--campaign", bad.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("missing.csv"));
+    failed(&out, 2, &["missing.csv"]);
 }
 
 #[test]

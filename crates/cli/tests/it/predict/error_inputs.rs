@@ -3,7 +3,7 @@
 //! two axis positions (Soons 1993 §3.4.4) through `predict` against `thermal predict` of the fitted
 //! model, and `compensate --poses` with load and spindle-speed columns against `predict`.
 
-use crate::support::{json, ok, read, trueaxis};
+use crate::support::{failed, json, ok, read, trueaxis, vmc3};
 
 fn poses_json(errors: &str, poses: &str, extra: &[&str]) -> Vec<serde_json::Value> {
     let mut args = vec!["predict", "--machine", "examples/machines/vmc3.toml", "--errors", errors, "--poses", poses, "--json"];
@@ -36,34 +36,16 @@ fn load_error_from_the_command_line_equals_the_scaled_table() {
     }
     assert!(largest > 1.0, "the load error is seen: {largest}");
     // a load column in the poses file takes precedence over nothing given; a missing one is named
-    let out = trueaxis(&[
-        "predict",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        load.to_str().unwrap(),
-        "--poses",
-        "examples/poses/vmc3.csv",
-    ]);
+    let out = trueaxis(&vmc3(&["predict"], &["--errors", load.to_str().unwrap(), "--poses", "examples/poses/vmc3.csv"]));
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
         stderr.contains("missing column `F:workpiece` (N) needed by the error model; add it or give --input F:workpiece=N"),
         "{stderr}"
     );
-    let out = trueaxis(&[
-        "predict",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        load.to_str().unwrap(),
-        "--poses",
-        "examples/poses/vmc3.csv",
-        "--input",
-        "F:other=1",
-    ]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("the error model has no input `F:other` (inputs: F:workpiece, P:workpiece_z)"));
+    let out =
+        trueaxis(&vmc3(&["predict"], &["--errors", load.to_str().unwrap(), "--poses", "examples/poses/vmc3.csv", "--input", "F:other=1"]));
+    failed(&out, 2, &["the error model has no input `F:other` (inputs: F:workpiece, P:workpiece_z)"]);
 }
 
 #[test]
@@ -145,21 +127,21 @@ fn compensate_poses_use_load_and_spindle_columns() {
     std::fs::write(&poses, "X,Y,Z,F:workpiece,S:spindle\n100,0,-100,3000,6000\n-200,50,-300,500,1000\n").unwrap();
     let predicted = poses_json(errors.to_str().unwrap(), poses.to_str().unwrap(), &[]);
     let out_dir = dir.path().join("comp");
-    ok(&trueaxis(&[
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        errors.to_str().unwrap(),
-        "--format",
-        "csv",
-        "--poses",
-        poses.to_str().unwrap(),
-        "--out",
-        out_dir.to_str().unwrap(),
-        "--input",
-        "S:spindle=0",
-    ]));
+    ok(&trueaxis(&vmc3(
+        &["compensate"],
+        &[
+            "--errors",
+            errors.to_str().unwrap(),
+            "--format",
+            "csv",
+            "--poses",
+            poses.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--input",
+            "S:spindle=0",
+        ],
+    )));
     let corrections = std::fs::read_to_string(out_dir.join("corrections.csv")).unwrap();
     let mut rows = corrections.lines();
     let header: Vec<&str> = rows.next().unwrap().split(',').collect();

@@ -2,7 +2,7 @@
 //! the error-values file through `predict` with `dir:<axis>` and `T:<sensor>` columns
 //! (Soons 1993 §3.2.5 and eq. 3.19; NISTIR 5236 §3.6).
 
-use crate::support::{root, trueaxis};
+use crate::support::{failed, root, trueaxis, vmc3};
 
 const ERRORS: &str = r#"
 [constant]
@@ -25,16 +25,7 @@ fn predict_uses_directions_and_temperatures() {
     std::fs::write(&errors, ERRORS).unwrap();
     let poses = dir.path().join("poses.csv");
     std::fs::write(&poses, "X,Y,Z,dir:X,T:scale\n200,100,0,+,25\n200,100,0,-,25\n200,100,0,,20\n-300,-200,0,+,18\n").unwrap();
-    let out = trueaxis(&[
-        "predict",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        errors.to_str().unwrap(),
-        "--poses",
-        poses.to_str().unwrap(),
-        "--json",
-    ]);
+    let out = trueaxis(&vmc3(&["predict"], &["--errors", errors.to_str().unwrap(), "--poses", poses.to_str().unwrap(), "--json"]));
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     // vmc3's X and Y carry the table (directions -x, -y): the tool moves opposite to the table
@@ -62,14 +53,12 @@ fn missing_state_columns_and_bad_state_files_are_refused() {
     let run = |poses: &str| {
         let p = dir.path().join("p.csv");
         std::fs::write(&p, poses).unwrap();
-        trueaxis(&["predict", "--machine", "examples/machines/vmc3.toml", "--errors", e, "--poses", p.to_str().unwrap()])
+        trueaxis(&vmc3(&["predict"], &["--errors", e, "--poses", p.to_str().unwrap()]))
     };
     let out = run("X,Y,Z\n0,0,0\n");
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("missing column `T:scale`"));
+    failed(&out, 2, &["missing column `T:scale`"]);
     let out = run("X,Y,Z,dir:X,T:scale\n0,0,0,sideways,20\n");
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("`sideways` is not +, - or empty"));
+    failed(&out, 2, &["`sideways` is not +, - or empty"]);
 
     let machine = trueaxis::machine::Machine::load(root().join("examples/machines/vmc3.toml")).unwrap();
     let bad = |text: &str, fragment: &str| {

@@ -1,7 +1,7 @@
 //! The command line end to end: `predict` on all five example machines (CSV and JSON agree with the
 //! library), exit status 2 with a one-line message for bad input, `demo` output files.
 
-use crate::support::{trueaxis, Run, ROOT};
+use crate::support::{failed, refused, trueaxis, vmc3, Run, ROOT};
 use std::path::Path;
 use std::process::Output;
 use trueaxis::data::read_poses;
@@ -101,12 +101,7 @@ fn tool_and_work_points_change_the_lever_arms() {
 }
 
 fn assert_bad_input(out: &Output, fragments: &[&str]) {
-    assert_eq!(out.status.code(), Some(2), "stderr: {}", String::from_utf8_lossy(&out.stderr));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
-    for f in fragments {
-        assert!(err.contains(f), "expected `{f}` in: {err}");
-    }
+    refused(out, 2, fragments);
     assert!(out.stdout.is_empty(), "nothing on stdout for a failed command");
 }
 
@@ -119,15 +114,7 @@ fn bad_input_exits_with_status_2_and_one_line() {
     let out = trueaxis(&["predict", "--machine", bad, "--errors", "examples/errors/vmc3.toml", "--poses", "examples/poses/vmc3.csv"]);
     assert_bad_input(&out, &["bad.toml", "zero vector"]);
 
-    let out = trueaxis(&[
-        "predict",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/kx8five.toml",
-        "--poses",
-        "examples/poses/vmc3.csv",
-    ]);
+    let out = trueaxis(&vmc3(&["predict"], &["--errors", "examples/errors/kx8five.toml", "--poses", "examples/poses/vmc3.csv"]));
     assert_bad_input(&out, &["examples/errors/kx8five.toml", "axis C"]);
 
     let out = trueaxis(&[
@@ -146,8 +133,7 @@ fn bad_input_exits_with_status_2_and_one_line() {
     assert_bad_input(&out, &["missing.toml", "cannot read"]);
 
     let out = predict("vmc3", &["--tool-point", "1,2"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("not a point x,y,z"));
+    failed(&out, 2, &["not a point x,y,z"]);
 }
 
 #[test]

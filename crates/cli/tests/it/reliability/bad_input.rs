@@ -6,7 +6,7 @@
 //! and the line or parameter and the cause, and that no output file was written. Fixtures are the
 //! shipped examples with one value changed, written to a temporary directory.
 
-use crate::support::{alone, read as example, Run, ROOT};
+use crate::support::{alone, read as example, vmc3, Run, ROOT};
 use std::path::Path;
 use std::time::Duration;
 
@@ -41,25 +41,14 @@ fn cases() -> Vec<Case> {
     let sources = example("examples/uncertainty/kx8five_statistical.toml");
     let predict_m =
         &["predict", "--machine", "{f}", "--errors", "examples/errors/vmc3.toml", "--poses", "examples/poses/vmc3.csv", "--out", "{out}"];
-    let predict_e =
-        &["predict", "--machine", "examples/machines/vmc3.toml", "--errors", "{f}", "--poses", "examples/poses/vmc3.csv", "--out", "{out}"];
-    let predict_p = &[
-        "predict",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--poses",
-        "{f}",
-        "--out",
-        "{out}",
-    ];
+    let predict_e = &vmc3(&["predict"], &["--errors", "{f}", "--poses", "examples/poses/vmc3.csv", "--out", "{out}"]);
+    let predict_p = &vmc3(&["predict"], &["--errors", "examples/errors/vmc3.toml", "--poses", "{f}", "--out", "{out}"]);
     let iso4 = &["ballbar", "iso230-4", "{f}", "--radius", "100", "--plot", "{out}"];
     let iso2 = &["iso230-2", "{f}", "--plot", "{out}"];
     let tfit = &["thermal", "fit", "--data", "{f}", "--error", "dz", "--train-runs", "warmup", "--plot", "{out}"];
     let unc = &["uncertainty", "--design", "examples/uncertainty/kx8five_design.csv", "--sources", "{f}", "--plots", "{out}"];
-    let identify = &["identify", "--machine", "examples/machines/vmc3.toml", "--campaign", "{dir}/campaign.toml", "--out", "{out}"];
-    let nc = &["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "examples/errors/vmc3.toml", "{f}", "--out", "{out}"];
+    let identify = &vmc3(&["identify"], &["--campaign", "{dir}/campaign.toml", "--out", "{out}"]);
+    let nc = &vmc3(&["nc"], &["--errors", "examples/errors/vmc3.toml", "{f}", "--out", "{out}"]);
     let mut cases = vec![
         // machine file
         case("machine malformed", "m.toml", with(&machine, "structure = \"wXYbZt\"", "structure = "), predict_m, &["line"]),
@@ -183,7 +172,7 @@ fn cases() -> Vec<Case> {
             "nc correction limit",
             "p.ngc",
             "G21 G90\nG0 X-400 Y-250 Z-100\nM2\n".into(),
-            &["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "{dir}/e.toml", "{f}", "--out", "{out}"],
+            &vmc3(&["nc"], &["--errors", "{dir}/e.toml", "{f}", "--out", "{out}"]),
             &["line 2", "beyond the limit of 1000 um", "correction_um"],
         ),
     ];
@@ -193,14 +182,14 @@ fn cases() -> Vec<Case> {
         "compensate table shorter than the travel",
         "e.toml",
         short.clone(),
-        &["compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "{f}", "--format", "csv", "--out", "{out}"],
+        &vmc3(&["compensate"], &["--errors", "{f}", "--format", "csv", "--out", "{out}"]),
         &["EXX", "covers X from -300 to 300 mm", "the travel of X reaches -400 mm"],
     ));
     cases.push(case(
         "nc beyond a table",
         "e.toml",
         short,
-        &["nc", "--machine", "examples/machines/vmc3.toml", "--errors", "{f}", "{dir}/p.ngc", "--out", "{out}"],
+        &vmc3(&["nc"], &["--errors", "{f}", "{dir}/p.ngc", "--out", "{out}"]),
         &["p.ngc: line 2", "EXX", "the program reaches -350 mm"],
     ));
     // the unit slip of the issue: EC0X = 1e12 is refused by the physical range before any table
@@ -208,7 +197,7 @@ fn cases() -> Vec<Case> {
         "compensate unit slip",
         "e.toml",
         "name = \"slip\"\n[constant]\nEC0X = 1e12\n".into(),
-        &["compensate", "--machine", "examples/machines/vmc3.toml", "--errors", "{f}", "--format", "linuxcnc", "--out", "{out}"],
+        &vmc3(&["compensate"], &["--errors", "{f}", "--format", "linuxcnc", "--out", "{out}"]),
         &["line 3", "EC0X", "physical range"],
     ));
     cases

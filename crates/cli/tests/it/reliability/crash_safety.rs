@@ -3,7 +3,7 @@
 //! the temporaries it leaves are ignored by the next run, which succeeds and removes them; a set
 //! whose last output cannot be written writes nothing.
 
-use crate::support::{alone, root, utf8, Run};
+use crate::support::{alone, root, utf8, vmc3, Run};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -218,17 +218,17 @@ fn a_killed_single_file_output_is_the_old_or_the_new_file() {
 fn identify_writes_nothing_when_the_residuals_cannot_be_written() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("ok.toml");
-    let (code, err) = run(&[
-        "identify",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--campaign",
-        "examples/campaigns/vmc3_tracer/campaign.toml",
-        "--out",
-        out.to_str().unwrap(),
-        "--residuals",
-        "/nonexistent/r.csv",
-    ]);
+    let (code, err) = run(&vmc3(
+        &["identify"],
+        &[
+            "--campaign",
+            "examples/campaigns/vmc3_tracer/campaign.toml",
+            "--out",
+            out.to_str().unwrap(),
+            "--residuals",
+            "/nonexistent/r.csv",
+        ],
+    ));
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("/nonexistent/r.csv") && err.contains("nothing was written"), "{err}");
     assert!(!out.exists(), "the error file was written although the residuals were not");
@@ -275,18 +275,10 @@ fn a_symbolic_link_to_the_output_directory_stays_a_link() {
     std::fs::create_dir(&real).unwrap();
     let link = tmp.path().join("link");
     std::os::unix::fs::symlink(&real, &link).unwrap();
-    let (code, err) = run(&[
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--format",
-        "fanuc",
-        "--force",
-        "--out",
-        link.to_str().unwrap(),
-    ]);
+    let (code, err) = run(&vmc3(
+        &["compensate"],
+        &["--errors", "examples/errors/vmc3.toml", "--format", "fanuc", "--force", "--out", link.to_str().unwrap()],
+    ));
     assert_eq!(code, 0, "{err}");
     assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
     assert_eq!(names_in(&real), ["pitch_error.nc"]);

@@ -4,7 +4,7 @@
 //! (Parallel sums are reduced in a fixed order and every Monte Carlo trial draws from its own
 //! seeded stream, so the thread count cannot change a bit.)
 
-use crate::support::{utf8, Run};
+use crate::support::{utf8, vmc3, Run};
 use std::path::Path;
 
 /// Runs `args` with `threads` worker threads; `{out}` in an argument is replaced by `dir`.
@@ -96,25 +96,26 @@ fn monte_carlo_is_the_same_for_1_2_and_8_threads() {
 #[test]
 fn thermal_fit_is_the_same_for_1_2_and_8_threads() {
     same_for_every_thread_count(
-        &[
-            "thermal",
-            "fit",
-            "--data",
-            "examples/thermal/campaign.csv",
-            "--error",
-            "dz",
-            "--train-runs",
-            "warmup",
-            "--json",
-            "--out",
-            "{out}/dz_model.toml",
-            "--parameter",
-            "EZZ",
-            "--terms-out",
-            "{out}/dz_terms.toml",
-            "--machine",
-            "examples/machines/vmc3.toml",
-        ],
+        &vmc3(
+            &[
+                "thermal",
+                "fit",
+                "--data",
+                "examples/thermal/campaign.csv",
+                "--error",
+                "dz",
+                "--train-runs",
+                "warmup",
+                "--json",
+                "--out",
+                "{out}/dz_model.toml",
+                "--parameter",
+                "EZZ",
+                "--terms-out",
+                "{out}/dz_terms.toml",
+            ],
+            &[],
+        ),
         2,
     );
 }

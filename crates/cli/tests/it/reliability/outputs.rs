@@ -1,6 +1,7 @@
 //! Outputs (issue 38 items 1, 3, 9, 11, 13, 14 and the exit status of the environment).
 
 use super::{example, full_device, is_root, make_device, names, run, trueaxis, vmc3_compensate, vmc3_in, Mount, ROOT};
+use crate::support::vmc3;
 use std::process::{Command, Stdio};
 
 fn predict_args<'a>(dir: &'a str, out: &'a str) -> Vec<String> {
@@ -70,15 +71,7 @@ fn devices_fifos_and_links_to_them_are_written_in_place() {
         assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink(), "{link}");
     }
     // `-` for an output of a command that also prints: the output alone on stdout, the rest on stderr
-    let (code, out, err) = run(&[
-        "identify",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--campaign",
-        "examples/campaigns/vmc3_tracer/campaign.toml",
-        "--out",
-        "-",
-    ]);
+    let (code, out, err) = run(&vmc3(&["identify"], &["--campaign", "examples/campaigns/vmc3_tracer/campaign.toml", "--out", "-"]));
     assert_eq!(code, Some(0), "{err}");
     let text = String::from_utf8(out).unwrap();
     assert!(text.contains("[constant]") && !text.contains("Identification:"), "{text}");
@@ -244,15 +237,7 @@ fn a_file_named_inside_an_input_is_not_overwritten() {
     let before = std::fs::read(d.join("station1.csv")).unwrap();
     let campaign = d.join("campaign.toml");
     let residuals = d.join("station1.csv");
-    let (code, _, err) = run(&[
-        "identify",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--campaign",
-        campaign.to_str().unwrap(),
-        "--residuals",
-        residuals.to_str().unwrap(),
-    ]);
+    let (code, _, err) = run(&vmc3(&["identify"], &["--campaign", campaign.to_str().unwrap(), "--residuals", residuals.to_str().unwrap()]));
     assert!(code == Some(2) && err.contains("is the input") && err.contains("station1.csv of this run"), "{err}");
     assert_eq!(std::fs::read(d.join("station1.csv")).unwrap(), before);
 }

@@ -4,7 +4,7 @@
 //! each result rounded by its U; the conformity decisions under the guard band follow from value,
 //! U and tolerance; the certificate takes the serial number from the file.
 
-use crate::support::{trueaxis, ROOT};
+use crate::support::{trueaxis, vmc3, ROOT};
 use std::process::Output;
 use trueaxis::evaluate::iso230_2::{evaluate, Iso2302Result};
 use trueaxis::evaluate::positioning_test::evaluate_file;
@@ -17,20 +17,10 @@ const RTL: &str = "examples/data/laser_x.rtl";
 /// `trueaxis report` of vmc3 with the Renishaw file as positioning tests and `certificate`, into
 /// `out` (HTML), the summary on stdout.
 fn run_report(certificate: &str, out: &std::path::Path) -> Output {
-    trueaxis(&[
-        "report",
-        "--json",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--positioning",
-        RTL,
-        "--certificate",
-        certificate,
-        "--out",
-        out.to_str().unwrap(),
-    ])
+    trueaxis(&vmc3(
+        &["report", "--json"],
+        &["--errors", "examples/errors/vmc3.toml", "--positioning", RTL, "--certificate", certificate, "--out", out.to_str().unwrap()],
+    ))
 }
 
 fn report(certificate: &str) -> (String, serde_json::Value) {

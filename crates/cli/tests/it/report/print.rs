@@ -8,8 +8,8 @@
 //! Chromium and poppler-utils are skipped with a message when missing, unless CI requires them
 //! (TRUEAXIS_REQUIRE_BROWSER, TRUEAXIS_REQUIRE_POPPLER).
 
-use crate::support::root;
 use crate::support::trueaxis_in;
+use crate::support::{failed, root};
 use std::path::Path;
 use std::process::Command;
 
@@ -829,8 +829,7 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
     assert!(text_of(&std::fs::read_to_string(&html).unwrap()).contains("two-pivot method of Jiang (2014) ch. 4"));
     // a method without its setup is refused by name, exit status 2
     let o = trueaxis_in(d, &[&args[..7], &["--rotary-method", "four-setup", "--out", html.to_str().unwrap()]].concat());
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("--rotary-outer-positions"));
+    failed(&o, 2, &["--rotary-outer-positions"]);
 }
 
 /// The documents of `trueaxis fit ... --json` for `args` (both directions: `plus`, `minus`).

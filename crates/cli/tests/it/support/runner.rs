@@ -1,6 +1,6 @@
 //! The one way the tests run `trueaxis`: the built binary with arguments, in the repository root
-//! (so that `examples/...` resolves) or another directory, with an optional standard input,
-//! environment and time limit; the result is the process's `Output` (status, stdout, stderr), read
+//! (so that `examples/...` resolves) or another directory, with an optional environment and time
+//! limit; the result is the process's `Output` (status, stdout, stderr), read
 //! with `json`, `ok`, `text` and `refused`.
 //!
 //! All tests share this process. A test whose assertions depend on having the machine to itself
@@ -10,7 +10,7 @@
 
 use std::cell::Cell;
 use std::ffi::OsStr;
-use std::io::{Read, Write};
+use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
 use std::sync::{PoisonError, RwLock, RwLockReadGuard, RwLockWriteGuard};
@@ -64,7 +64,6 @@ fn shared() -> Option<RwLockReadGuard<'static, ()>> {
 /// One run of `trueaxis`, built up and then `output()` (or `spawn()`ed).
 pub struct Run {
     command: Command,
-    stdin: Option<Vec<u8>>,
     limit: Option<Duration>,
 }
 
@@ -73,7 +72,7 @@ impl Run {
     pub fn new<S: AsRef<OsStr>>(args: impl IntoIterator<Item = S>) -> Run {
         let mut command = Command::new(BIN);
         command.args(args).current_dir(ROOT);
-        Run { command, stdin: None, limit: None }
+        Run { command, limit: None }
     }
 
     /// Run in `dir` instead.
@@ -85,12 +84,6 @@ impl Run {
     /// With `key=value` in the environment of the run (never of this process).
     pub fn env(mut self, key: &str, value: impl AsRef<OsStr>) -> Run {
         self.command.env(key, value);
-        self
-    }
-
-    /// With `bytes` on standard input.
-    pub fn stdin(mut self, bytes: impl Into<Vec<u8>>) -> Run {
-        self.stdin = Some(bytes.into());
         self
     }
 
@@ -108,18 +101,16 @@ impl Run {
     /// Runs to the end: status, stdout, stderr.
     pub fn output(mut self) -> Output {
         let _shared = shared();
-        if self.stdin.is_none() && self.limit.is_none() {
+        let Some(limit) = self.limit else {
             return self.command.output().unwrap_or_else(|e| panic!("{BIN}: {e}"));
-        }
-        let stdin = if self.stdin.is_some() { Stdio::piped() } else { Stdio::null() };
-        let child = self.command.stdin(stdin).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
-        finish(child, self.stdin.take(), self.limit)
+        };
+        let child = self.command.stdin(Stdio::null()).stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+        finish(child, limit)
     }
 }
 
-/// Feeds `stdin` to `child`, drains its output and waits for it, at most `limit`.
-fn finish(mut child: Child, stdin: Option<Vec<u8>>, limit: Option<Duration>) -> Output {
-    let feeder = child.stdin.take().zip(stdin).map(|(mut pipe, bytes)| std::thread::spawn(move || pipe.write_all(&bytes)));
+/// Drains the output of `child` and waits for it, at most `limit`.
+fn finish(mut child: Child, limit: Duration) -> Output {
     let drain = |mut pipe: Box<dyn Read + Send>| {
         std::thread::spawn(move || {
             let mut bytes = Vec::new();
@@ -134,16 +125,13 @@ fn finish(mut child: Child, stdin: Option<Vec<u8>>, limit: Option<Duration>) -> 
         if let Some(status) = child.try_wait().unwrap() {
             break status;
         }
-        if limit.is_some_and(|limit| start.elapsed() > limit) {
+        if start.elapsed() > limit {
             child.kill().ok();
             child.wait().ok();
             panic!("{BIN} ran longer than {limit:?}");
         }
         std::thread::sleep(Duration::from_millis(10));
     };
-    if let Some(feeder) = feeder {
-        feeder.join().unwrap().ok();
-    }
     Output { status, stdout: stdout.join().unwrap(), stderr: stderr.join().unwrap() }
 }
 
@@ -180,15 +168,22 @@ pub fn json_of(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{args:?}: {e}"))
 }
 
-/// A run refused with exit status `code` and a one-line message holding every one of `fragments`;
-/// the message.
-pub fn refused(out: &Output, code: i32, fragments: &[&str]) -> String {
+/// A run that ended with exit status `code` and a message holding every one of `fragments`; the
+/// message.
+pub fn failed(out: &Output, code: i32, fragments: &[&str]) -> String {
     let err = utf8(&out.stderr);
     assert_eq!(out.status.code(), Some(code), "{err}");
-    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     for f in fragments {
         assert!(err.contains(f), "`{f}` not in: {err}");
     }
+    err
+}
+
+/// A run refused with exit status `code` and a one-line message holding every one of `fragments`;
+/// the message.
+pub fn refused(out: &Output, code: i32, fragments: &[&str]) -> String {
+    let err = failed(out, code, fragments);
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
     err
 }
 

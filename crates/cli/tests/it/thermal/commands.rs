@@ -2,8 +2,7 @@
 //! fit -> model file -> predict, error terms read by `trueaxis predict`, and bad input.
 
 use crate::support::thermal::fit_dz;
-use crate::support::{json, read, trueaxis, ROOT};
-use std::process::Output;
+use crate::support::{failed, json, read, refused, trueaxis, vmc3, ROOT};
 
 #[test]
 fn modes_json_is_sorted_by_decreasing_time_constant() {
@@ -70,16 +69,7 @@ fn fit_writes_a_model_that_predict_and_the_chain_evaluate() {
     // the error terms give the same dz through the kinematic chain (Z carries the tool: dz = EZZ)
     let poses = dir.path().join("poses.csv");
     std::fs::write(&poses, "X,Y,Z,T:p1,T:p5\n10,20,-100,31.5,24.25\n").unwrap();
-    let out = trueaxis(&[
-        "predict",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        terms.to_str().unwrap(),
-        "--poses",
-        poses.to_str().unwrap(),
-        "--json",
-    ]);
+    let out = trueaxis(&vmc3(&["predict"], &["--errors", terms.to_str().unwrap(), "--poses", poses.to_str().unwrap(), "--json"]));
     let dz = json(&out)["poses"][0]["dz"].as_f64().unwrap();
     let want = c[0] + c[1] * 31.5 + c[2] * 24.25;
     assert!((dz - want).abs() < 1e-4, "{dz} vs {want}");
@@ -104,36 +94,20 @@ fn bad_input_is_reported_with_exit_status_2() {
     )
     .unwrap();
     let out = trueaxis(&["thermal", "modes", "--model", bad.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("loses no heat"));
+    failed(&out, 2, &["loses no heat"]);
     let out = trueaxis(&["thermal", "fit", "--data", "examples/thermal/campaign.csv", "--error", "dq"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("missing column `dq`"));
-}
-
-/// Exit status and the one line on stderr.
-fn failed(out: &Output) -> (Option<i32>, String) {
-    let err = String::from_utf8_lossy(&out.stderr).trim_end().to_string();
-    assert_eq!(err.lines().count(), 1, "one line expected: {err}");
-    (out.status.code(), err)
+    failed(&out, 2, &["missing column `dq`"]);
 }
 
 #[test]
 fn out_of_range_options_are_refused_naming_the_option() {
     let place = |reuse: &str| trueaxis(&["thermal", "place", "--model", "examples/thermal/fin.toml", &format!("--reuse={reuse}")]);
     for reuse in ["nan", "5", "0", "-0.5"] {
-        let (code, err) = failed(&place(reuse));
-        assert_eq!(code, Some(2), "--reuse {reuse}");
-        assert!(err.contains("--reuse") && err.contains("(0, 1]"), "{err}");
+        refused(&place(reuse), 2, &["--reuse", "(0, 1]"]);
     }
-    let (code, err) =
-        failed(&trueaxis(&["thermal", "fit", "--data", "examples/thermal/campaign.csv", "--time-constants", "2", "--until", "nan"]));
-    assert_eq!(code, Some(2));
-    assert!(err.contains("--until NaN"), "{err}");
-    let (code, err) =
-        failed(&trueaxis(&["thermal", "fit", "--data", "examples/thermal/campaign.csv", "--error", "dz", "--select", "correlation:0"]));
-    assert_eq!(code, Some(2));
-    assert!(err.contains("--select correlation:0") && err.contains("N >= 1"), "{err}");
+    let fit = |more: &[&str]| trueaxis(&[&["thermal", "fit", "--data", "examples/thermal/campaign.csv"][..], more].concat());
+    refused(&fit(&["--time-constants", "2", "--until", "nan"]), 2, &["--until NaN"]);
+    refused(&fit(&["--error", "dz", "--select", "correlation:0"]), 2, &["--select correlation:0", "N >= 1"]);
     // the descriptions of place and predict options are all there
     let help = String::from_utf8_lossy(&trueaxis(&["thermal", "place", "--help"]).stdout).to_string();
     for text in ["Placement method", "Cumulative weight share", "candidates", "Print one JSON document"] {
@@ -182,9 +156,7 @@ fn non_finite_predictions_and_rank_deficient_fits_are_failed_computations() {
         "--out",
         out_file.to_str().unwrap(),
     ]);
-    let (code, err) = failed(&out);
-    assert_eq!(code, Some(1));
-    assert!(err.contains("not a finite number") && err.contains("data row 1 in warmup"), "{err}");
+    refused(&out, 1, &["not a finite number", "data row 1 in warmup"]);
     assert!(!out_file.exists() && out.stdout.is_empty());
     // a sensor that reads a constant cannot be separated from the intercept: exit 1, as identify
     let text = read("examples/thermal/campaign.csv");
@@ -203,9 +175,7 @@ fn non_finite_predictions_and_rank_deficient_fits_are_failed_computations() {
         .join("\n");
     let data = dir.path().join("constant.csv");
     std::fs::write(&data, constant).unwrap();
-    let (code, err) = failed(&trueaxis(&["thermal", "fit", "--data", data.to_str().unwrap(), "--error", "dz"]));
-    assert_eq!(code, Some(1));
-    assert!(err.contains("rank deficient") && err.contains("T:c"), "{err}");
+    refused(&trueaxis(&["thermal", "fit", "--data", data.to_str().unwrap(), "--error", "dz"]), 1, &["rank deficient", "T:c"]);
 }
 
 /// Screening (docs/screening.md): a blank cell (a logger dropout) refuses the file naming its

@@ -7,7 +7,7 @@
 //! predict`. And the geometric/thermal split alone (Zhu 2008 §4.4.2): a cubic geometric part with a
 //! linear thermal part.
 
-use crate::support::{json, ok, trueaxis};
+use crate::support::{json, ok, trueaxis, vmc3};
 use std::fmt::Write;
 
 /// Truth of the segment (direction, range): geometric quadratic [a0, a1, a2] (um, um/mm, um/mm^2)
@@ -115,16 +115,8 @@ fn gt_segments_are_recovered_and_enter_the_chain() {
     }
     let poses_path = dir.path().join("poses.csv");
     std::fs::write(&poses_path, poses).unwrap();
-    let predicted = json(&trueaxis(&[
-        "predict",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        terms.to_str().unwrap(),
-        "--poses",
-        poses_path.to_str().unwrap(),
-        "--json",
-    ]));
+    let predicted =
+        json(&trueaxis(&vmc3(&["predict"], &["--errors", terms.to_str().unwrap(), "--poses", poses_path.to_str().unwrap(), "--json"])));
     for ((x, plus, bed, s), p) in states.iter().zip(predicted["poses"].as_array().unwrap()) {
         let want = error(*x, *plus, *bed, *s);
         let dx = p["dx"].as_f64().unwrap();

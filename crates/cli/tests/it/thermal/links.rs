@@ -7,7 +7,7 @@
 //! 100 times smaller at a tenth of the deformations). And the vmc3 example file against its closed
 //! form.
 
-use crate::support::{json, read, trueaxis};
+use crate::support::{json, read, trueaxis, vmc3};
 use std::fmt::Write;
 
 const MACHINE: &str = r#"
@@ -193,15 +193,7 @@ fn table_4_2_links_through_the_chain_equal_the_link_htms_to_second_order() {
 
 #[test]
 fn vmc3_links_example_is_its_closed_form() {
-    let doc = json(&trueaxis(&[
-        "thermal",
-        "links",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--links",
-        "examples/thermal/links_vmc3.toml",
-        "--json",
-    ]));
+    let doc = json(&trueaxis(&vmc3(&["thermal", "links"], &["--links", "examples/thermal/links_vmc3.toml", "--json"])));
     assert_eq!(doc["sensors"], serde_json::json!(["T:col_front", "T:col_back", "T:spindle"]));
     // the column: theta = -18 urad/K of the front-back difference about w = z x y = -x gives EA0Z
     // = +18 urad per K of the front; the slope moves the Z reference (origin) by w x (0 - f) theta
@@ -225,18 +217,10 @@ fn vmc3_links_example_is_its_closed_form() {
     // with the geometric errors, as one file predict and compensate read
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("vmc3_links.toml");
-    crate::support::ok(&trueaxis(&[
-        "thermal",
-        "links",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--links",
-        "examples/thermal/links_vmc3.toml",
-        "--errors-in",
-        "examples/errors/vmc3.toml",
-        "--out",
-        out.to_str().unwrap(),
-    ]));
+    crate::support::ok(&trueaxis(&vmc3(
+        &["thermal", "links"],
+        &["--links", "examples/thermal/links_vmc3.toml", "--errors-in", "examples/errors/vmc3.toml", "--out", out.to_str().unwrap()],
+    )));
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.starts_with(&read("examples/errors/vmc3.toml")));
     // a slope on the tool is refused
@@ -246,7 +230,7 @@ fn vmc3_links_example_is_its_closed_form() {
         "[[link]]\nname = \"ram\"\ntarget = \"tool\"\nfree_end_mm = [0, 0, 400]\nalong = [0, 0, 1]\nacross = [1, 0, 0]\ntheta = 3.0\n",
     )
     .unwrap();
-    let o = trueaxis(&["thermal", "links", "--machine", "examples/machines/vmc3.toml", "--links", bad.to_str().unwrap()]);
+    let o = trueaxis(&vmc3(&["thermal", "links"], &["--links", bad.to_str().unwrap()]));
     assert_eq!(o.status.code(), Some(2));
     assert!(
         String::from_utf8_lossy(&o.stderr).contains("link `ram`: a slope theta cannot be given to the tool"),

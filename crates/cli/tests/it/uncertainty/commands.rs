@@ -1,7 +1,7 @@
 //! `trueaxis uncertainty` end to end: the shipped Andolfatto et al. 2011 example against the library, JSON keys,
 //! reproducibility with a seed, plots, exit codes and messages for bad input.
 
-use crate::support::{utf8, trueaxis, ROOT};
+use crate::support::{trueaxis, utf8, ROOT};
 use trueaxis::uncertainty::{run_budget, DesignMatrix, Evaluation, IdentificationMap, Sources};
 
 const DESIGN: &str = "examples/uncertainty/kx8five_design.csv";
