@@ -3,8 +3,8 @@
 mod sensitivity;
 mod tmbb_setup;
 
-use crate::predict::parse_point;
-use crate::Failure;
+use crate::output::{self, print, text_or_file};
+use crate::{parse, Failure};
 use anyhow::anyhow;
 use std::path::{Path, PathBuf};
 use trueaxis::data::{write_atomically, OutputSet};
@@ -93,10 +93,10 @@ struct MethodArgs {
     #[arg(long, allow_hyphen_values = true)]
     outer_offset: Option<f64>,
     /// four-setup: positions p1,p2 along the outer axis of steps A1 and A2 (mm from its point).
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::pair, allow_hyphen_values = true)]
     outer_positions: Option<[f64; 2]>,
     /// four-setup: positions p1,p2 along the inner axis of steps C1 and C2 (mm).
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::pair, allow_hyphen_values = true)]
     inner_positions: Option<[f64; 2]>,
 }
 
@@ -147,13 +147,13 @@ pub struct SimulateArgs {
     #[command(flatten)]
     method: MethodArgs,
     /// Circle: plane (xy, yz, zx).
-    #[arg(long, default_value = "xy", value_parser = parse_plane)]
+    #[arg(long, default_value = "xy", value_parser = parse::plane)]
     plane: Plane,
     /// Circle: radius (mm).
     #[arg(long, default_value_t = 100.0)]
     radius: f64,
     /// Circle: programmed centre x,y,z (mm); other axes at 0.
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     centre: Option<trueaxis::geometry::Vec3>,
     /// Circle: sense of the run(s).
     #[arg(long, value_enum, default_value = "both")]
@@ -170,12 +170,8 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Write the CSV here (atomically) instead of stdout.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
-}
-
-fn parse_plane(text: &str) -> Result<Plane, String> {
-    Plane::parse(text).ok_or_else(|| format!("`{text}` is not a plane (xy, yz, zx)"))
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
 }
 
 fn load(machine: &Path, errors: Option<&Path>) -> Result<(Machine, ErrorModel), Failure> {
@@ -263,29 +259,12 @@ fn simulate(a: SimulateArgs) -> Result<(), Failure> {
             out.push_str(&format!("{},{},{},{:.4}\n", user.join(","), round(test.angles[i].to_degrees(), 9), rotation.name(), v));
         }
     }
-    emit(a.out.as_deref(), &out)
+    text_or_file(a.out.as_deref(), &out)
 }
 
 fn round(v: f64, digits: i32) -> f64 {
     let f = 10f64.powi(digits);
     (v * f).round() / f
-}
-
-fn emit(path: Option<&Path>, text: &str) -> Result<(), Failure> {
-    match path {
-        Some(p) => write_atomically(p, text.as_bytes()).map_err(Failure::input),
-        None => print(text),
-    }
-}
-
-/// Writes to stdout; a closed pipe is not an error.
-fn print(text: &str) -> Result<(), Failure> {
-    use std::io::Write;
-    let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::computation(anyhow!("cannot write to stdout: {e}"))),
-        _ => Ok(()),
-    }
 }
 
 /// The 8 PIGEs of the two rotary axes from the four steps of Jiang (2014) (one pivot setup by
@@ -319,10 +298,10 @@ pub struct IdentifyArgs {
     #[command(flatten)]
     method: MethodArgs,
     /// Misplacement of the outer-axis pivot from a centring test: radial,tangential (mm), Eq. 4.1.
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::pair, allow_hyphen_values = true)]
     pivot_offset_a: Option<[f64; 2]>,
     /// Misplacement of the inner-axis pivot: radial,tangential (mm), Eq. 4.1.
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::pair, allow_hyphen_values = true)]
     pivot_offset_c: Option<[f64; 2]>,
     /// Expected noise of the bar readings (um, standard deviation): a step whose compensation
     /// residual RMS exceeds 3 times it is reported with a warning. Default: 1 um, the accuracy of a
@@ -330,29 +309,17 @@ pub struct IdentifyArgs {
     #[arg(long, default_value_t = 1.0)]
     noise: f64,
     /// Write polar plots (raw vs compensated) of the four steps into this directory.
-    #[arg(long, value_parser = crate::outputs::figures)]
-    plot_dir: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::figures)]
+    plot_dir: Option<crate::output::OutputPath>,
     /// Write the identified PIGEs as an error-values file (TOML: `[constant]` values and their
     /// standard uncertainties in `[uncertainty]`), which `compensate`, `predict` and `report` read.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Scale of the plots (um per division); default: automatic.
     #[arg(long)]
     scale: Option<f64>,
     #[arg(long)]
     json: bool,
-}
-
-fn parse_pair(text: &str) -> Result<[f64; 2], String> {
-    let v: Vec<f64> = text
-        .split(',')
-        .map(|s| s.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("`{text}` is not two numbers a,b"))?;
-    match v.as_slice() {
-        [a, b] if a.is_finite() && b.is_finite() => Ok([*a, *b]),
-        _ => Err(format!("`{text}` is not two numbers a,b")),
-    }
 }
 
 fn identify(a: IdentifyArgs) -> Result<(), Failure> {
@@ -405,16 +372,14 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         }
         plots.commit().map_err(Failure::input)?;
     }
-    for w in &report.warnings {
-        eprintln!("trueaxis: warning: {w}");
-    }
+    output::warn(&report.warnings);
     if let Some(path) = &a.out {
         let origin = [&a.a1, &a.a2, &a.c1, &a.c2].iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ");
         let text = report.error_values_text(&origin).map_err(|m| Failure::computation(anyhow!(m)))?;
         write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
     }
     if a.json {
-        return print(&format!("{}\n", report.to_json()));
+        return output::json(&report.to_json());
     }
     let repeated = report.repeated();
     let single_u = &report.single_u;
@@ -472,13 +437,13 @@ pub struct Iso2304Args {
     #[arg(long)]
     machine: Option<PathBuf>,
     /// Plane of the circle: xy, yz or zx (default: the file's `Plane:`, else xy).
-    #[arg(long, value_parser = parse_plane)]
+    #[arg(long, value_parser = parse::plane)]
     plane: Option<Plane>,
     /// Nominal radius (mm): the bar length (default: the file's `Radius:`).
     #[arg(long)]
     radius: Option<f64>,
     /// Programmed centre x,y,z (mm).
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     centre: Option<trueaxis::geometry::Vec3>,
     /// Feed rate (mm/min), to state the servo mismatch in ms.
     #[arg(long)]
@@ -492,8 +457,8 @@ pub struct Iso2304Args {
     /// Scale of the plot (um per division); default: automatic.
     #[arg(long)]
     scale: Option<f64>,
-    #[arg(long, value_parser = crate::outputs::file)]
-    plot: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    plot: Option<crate::output::OutputPath>,
     #[arg(long)]
     json: bool,
 }
@@ -516,7 +481,7 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
     let (plane, radius, file, result) = (test.plane, test.radius_mm, &test.file, &test.result);
     let runs = &file.runs;
     let (ia, ib, _) = plane.letters();
-    crate::iso230_2::warn(&file.warnings);
+    output::warn(&file.warnings);
     let lines = result.summary_lines();
     if let Some(path) = &a.plot {
         let title = format!("ISO 230-4 circular test, {} plane, R {} mm: {}", plane.name(), radius, a.file.display());
@@ -524,7 +489,7 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
         write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
     }
     if a.json {
-        return print(&format!("{}\n", test.to_json()));
+        return output::json(&test.to_json());
     }
     let mut out = format!("ISO 230-4 circular test: {} ({} plane, R = {} mm, {})\n", a.file.display(), plane.name(), radius, m.name);
     for l in file.metadata.lines() {
@@ -536,7 +501,7 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
     for o in &result.diagnostics.omitted {
         out.push_str(&format!("  not fitted: {o}\n"));
     }
-    out += &crate::iso230_2::data_quality_text(&test.findings);
+    out += &crate::output::data_quality_text(&test.findings);
     if let Some(p) = &a.plot {
         out.push_str(&format!("wrote {}\n", p.display()));
     }
@@ -574,9 +539,9 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
         trueaxis::identify::IdentifyError::RankDeficient { .. } => Failure::computation(e),
         _ => Failure::input(e),
     })?;
-    crate::iso230_2::warn(&report.warnings());
+    output::warn(&report.warnings());
     if a.json {
-        return print(&format!("{}\n", report.to_json()));
+        return output::json(&report.to_json());
     }
     let obs = observability(&setup, &report.angles).map_err(Failure::computation)?;
     let (l2, linf, cond, angles) = (&report.l2, &report.linf, &report.conditioning, &report.angles);

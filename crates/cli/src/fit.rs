@@ -1,6 +1,6 @@
 //! `trueaxis fit`.
 
-use crate::Failure;
+use crate::{output, parse, Failure};
 use std::path::PathBuf;
 use trueaxis::data::checks::deviation_finding;
 use trueaxis::data::{CsvTable, OutputSet};
@@ -8,6 +8,7 @@ use trueaxis::error_model::{set_error_function, BasisSpec, Direction, ErrorModel
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, IdentifyError};
 use trueaxis::instruments::{motion_error_axis, DirectError, DirectInstrument, DirectKind, DirectSetup, LevelBody};
+use trueaxis::io::plausibility::split_findings;
 use trueaxis::io::Dimension;
 use trueaxis::machine::{AxisKind, Machine, ParameterId, Side};
 use trueaxis::model::Setup;
@@ -45,7 +46,7 @@ pub struct FitArgs {
     /// in the two coordinates perpendicular to the beam (y,z for a beam along x; x,z along y; x,y
     /// along z), at the measurement pose (default 0,0: both optics at the tool point). The Abbe
     /// terms of known angular errors (--errors-in) then come from the chain.
-    #[arg(long, value_parser = parse_pair_any, allow_hyphen_values = true, value_name = "A,B")]
+    #[arg(long, value_parser = parse::offsets, allow_hyphen_values = true, value_name = "A,B")]
     optics_offset: Option<[f64; 2]>,
     /// The body that carries the interferometer (fixes the beam): tool or workpiece. Default: the
     /// side that does not carry the measured axis.
@@ -63,11 +64,11 @@ pub struct FitArgs {
     errors_in: Option<PathBuf>,
     /// Tool point x,y,z in mm, in M at home, that the optics are placed from (default: the machine's
     /// tool point); with --work-point, the tool-side optic itself.
-    #[arg(long, value_parser = crate::predict::parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     tool_point: Option<Vec3>,
     /// The workpiece-side optic x,y,z in mm, in M at home: with --tool-point, places the two optics
     /// explicitly (instead of --optics-offset).
-    #[arg(long, value_parser = crate::predict::parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     work_point: Option<Vec3>,
     /// Positions of the other axes during the measurement, e.g. `Y=0,Z=-200` (default 0).
     #[arg(long, allow_hyphen_values = true)]
@@ -79,7 +80,7 @@ pub struct FitArgs {
     #[arg(long, default_value = "dev")]
     value: String,
     /// Basis domain MIN,MAX (default: the axis range, else the data range).
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::interval, allow_hyphen_values = true)]
     domain: Option<[f64; 2]>,
     /// Basis family: piecewise (truncated powers), bspline (the same splines of continuity degree - 1,
     /// well conditioned with many knots), legendre, none.
@@ -121,33 +122,14 @@ pub struct FitArgs {
     #[arg(long)]
     drift: bool,
     /// Write or update this error-values file with the fitted function (atomically, comments kept).
-    #[arg(long, value_parser = crate::outputs::file)]
-    errors_out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    errors_out: Option<crate::output::OutputPath>,
     /// Write an SVG of the data, the fit and its 95 % prediction band.
-    #[arg(long, value_parser = crate::outputs::file)]
-    plot: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    plot: Option<crate::output::OutputPath>,
     /// Print one JSON document instead of text.
     #[arg(long)]
     json: bool,
-}
-
-fn parse_pair_any(text: &str) -> Result<[f64; 2], String> {
-    let v: Vec<f64> = text
-        .split(',')
-        .map(|p| p.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("`{text}` is not two numbers A,B"))?;
-    match v.as_slice() {
-        [a, b] if a.is_finite() && b.is_finite() => Ok([*a, *b]),
-        _ => Err(format!("`{text}` is not two finite numbers A,B")),
-    }
-}
-
-fn parse_pair(text: &str) -> Result<[f64; 2], String> {
-    match parse_pair_any(text) {
-        Ok([a, b]) if a < b => Ok([a, b]),
-        _ => Err(format!("`{text}` is not MIN,MAX with MIN < MAX")),
-    }
 }
 
 fn parse_periodic(text: &str) -> Result<PeriodicSpec, String> {
@@ -168,6 +150,13 @@ fn parse_periodic(text: &str) -> Result<PeriodicSpec, String> {
         return Err(bad());
     }
     Ok(PeriodicSpec { wavelength, phase: 0.0, degree, knots, continuity: degree.saturating_sub(1).min(1) })
+}
+
+/// Sorts the findings of plausibility checks (`io::plausibility::split_findings`): the first
+/// refusal is the error; the warnings (with those of reading the file) are returned, to be printed
+/// with `output::warn` once the command has succeeded (a refused command prints its one line only).
+fn report_findings(findings: Vec<trueaxis::io::Finding>, warnings: &[String]) -> Result<Vec<String>, Failure> {
+    split_findings(findings, warnings).map_err(|m| Failure::input(anyhow::anyhow!(m)))
 }
 
 fn input(message: impl std::fmt::Display) -> Failure {
@@ -232,7 +221,7 @@ pub(crate) fn compute(args: &FitArgs) -> Result<FitRun, Failure> {
         Ok(values) => deviation_finding(&table, &args.value, &values).into_iter().collect(),
         Err(_) => Vec::new(),
     };
-    let warnings = crate::iso230_2::report_findings(findings, table.warnings())?;
+    let warnings = report_findings(findings, table.warnings())?;
     let mut applied = args.temperature.applied(table.metadata(), &data_name)?;
     let positioning = matches!(parameter, ParameterId::Motion { axis, component } if component.letter() == axis);
     if applied.json.get("source").and_then(|s| s.as_str()) == Some("file") && !positioning {
@@ -319,7 +308,7 @@ pub fn run(args: FitArgs) -> Result<(), Failure> {
     let unit = run.position_unit();
     let FitRun { parameter, machine, table, applied, warnings, reports, .. } = run;
     let directions: Vec<Option<Direction>> = reports.iter().map(|(d, _)| *d).collect();
-    crate::iso230_2::warn(&warnings);
+    output::warn(&warnings);
     for note in &applied.notes {
         eprintln!("trueaxis: {note}");
     }
@@ -478,7 +467,7 @@ fn print_fit(parameter: &ParameterId, direction: Option<Direction>, report: &Dir
     for w in &report.wavelengths {
         println!("  periodic wavelength {w}");
     }
-    print!("{}", crate::iso230_2::data_quality_text(&report.findings));
+    print!("{}", output::data_quality_text(&report.findings));
     if let Some(r) = &report.residual_period {
         let verdict = if r.significant { "significant at 1 %" } else { "not significant at 1 %" };
         println!(

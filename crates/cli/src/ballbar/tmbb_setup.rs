@@ -1,6 +1,7 @@
 //! `trueaxis ballbar tmbb-setup`: choosing and checking the setup of the two-length rotary-table test.
 
-use super::{print, round};
+use super::round;
+use crate::output::{self, print};
 use crate::Failure;
 use anyhow::anyhow;
 use serde_json::json;
@@ -104,7 +105,7 @@ pub fn run(a: TmbbSetupArgs) -> Result<(), Failure> {
             })
             .collect();
         let doc = json!({"l1_mm": a.l1, "l2_mm": a.l2, "rz_mm": a.rz, "noise_um": a.noise, "angles": angles.len(), "rx": rx, "setup_deviations": dev});
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     let mut out = format!(
         "Two-length rotary-table test, L1 = {} mm, L2 = {} mm, {} angles, bar noise {} um\n{:>8} {:>9} {:>10} {:>9} {:>9} {:>10} {:>10} {:>9}\n",

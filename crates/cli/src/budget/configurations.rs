@@ -48,8 +48,8 @@ pub struct ConfigurationsArgs {
     #[arg(long)]
     formulas: bool,
     /// Write the figures (space utility over part size, ranking) to this directory.
-    #[arg(long, value_parser = crate::outputs::figures)]
-    plots: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::figures)]
+    plots: Option<crate::output::OutputPath>,
     /// Print one JSON document instead of tables.
     #[arg(long)]
     json: bool,
