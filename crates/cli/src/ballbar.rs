@@ -13,11 +13,9 @@ use trueaxis::evaluate::circular_test::{cartesian_machine, centre_pose, circular
 use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, pige_user_value, PigeRequest};
 use trueaxis::identify::tmbb::{observability, TmbbSetup, UNIDENTIFIABLE};
 use trueaxis::identify::tmbb_report::tmbb_files;
-use trueaxis::instruments::ballbar::{
-    circle_test, method_step, sweep_angles, BallbarTest, BarLengths, CircleSpec, JiangStep, Method, Plane, RotaryPair, Rotation,
-};
+use trueaxis::instruments::ballbar::{method_step, BarLengths, JiangStep, Method, Plane, RotaryPair, Rotation};
+use trueaxis::instruments::ballbar_simulation::{circle_runs, noise_stream, readings_csv, SimulationSettings};
 use trueaxis::machine::{Component, Machine};
-use trueaxis::uncertainty::{trial_rng, Distribution};
 use trueaxis_report::{circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
 
 /// Ballbar tests: simulated readings, the PIGEs of two rotary axes (Jiang (2014)), ISO 230-4 circular
@@ -183,88 +181,44 @@ fn load(machine: &Path, errors: Option<&Path>) -> Result<(Machine, ErrorModel), 
     Ok((m, e))
 }
 
-/// Gaussian noise (um, standard deviation `sigma`) of one run: the ChaCha8 generator of `seed` on
-/// its own stream (the project's seeded stream-splittable generator, `uncertainty::trial_rng`),
-/// so different seeds, tests and runs (CW, CCW) draw independent numbers.
-fn noise(seed: u64, stream: u64, n: usize, sigma: f64) -> Vec<f64> {
-    let mut rng = trial_rng(seed, stream, 0);
-    let normal = Distribution::Normal { mean: 0.0, u: sigma };
-    (0..n).map(|_| normal.sample(&mut rng)).collect()
+impl TestKind {
+    /// The step of Jiang (2014) (`None`: the circle).
+    fn step(self) -> Option<JiangStep> {
+        match self {
+            TestKind::A1 => Some(JiangStep::A1),
+            TestKind::A2 => Some(JiangStep::A2),
+            TestKind::C1 => Some(JiangStep::C1),
+            TestKind::C2 => Some(JiangStep::C2),
+            TestKind::Circle => None,
+        }
+    }
 }
 
-/// Most samples one simulated run may have (1 deg steps give 360; 0.001 deg 360 000).
-const MAX_SAMPLES: f64 = 1e6;
-
-fn simulate(a: SimulateArgs) -> Result<(), Failure> {
-    let (m, e) = load(&a.machine, a.errors.as_deref())?;
-    if !(a.step > 0.0 && a.step <= 90.0) {
-        return Err(Failure::input(anyhow!("--step must be in (0, 90] deg, got {}", a.step)));
-    }
-    if 360.0 / a.step > MAX_SAMPLES {
-        return Err(Failure::input(anyhow!(
-            "--step {} deg gives {:.0} samples per turn; at most {MAX_SAMPLES:.0} are simulated (use --step >= {} deg)",
-            a.step,
-            360.0 / a.step,
-            360.0 / MAX_SAMPLES
-        )));
-    }
-    if !(a.noise >= 0.0 && a.noise.is_finite()) {
-        return Err(Failure::input(anyhow!("--noise must be a finite standard deviation >= 0 um, got {}", a.noise)));
-    }
-    if !(a.radius > 0.0 && a.radius.is_finite()) {
-        return Err(Failure::input(anyhow!("--radius must be a positive number of mm, got {}", a.radius)));
-    }
-    if !a.start.is_finite() {
-        return Err(Failure::input(anyhow!("--start must be a finite angle (deg), got {}", a.start)));
-    }
-    let mut tests: Vec<(Rotation, BallbarTest)> = Vec::new();
-    // each test kind and run draws its own noise stream from the seed
-    let stream = a.test as u64 * 2;
-    if a.test == TestKind::Circle {
-        let dirs = match a.dir {
+impl DirArg {
+    fn rotations(self) -> Vec<Rotation> {
+        match self {
             DirArg::Ccw => vec![Rotation::Ccw],
             DirArg::Cw => vec![Rotation::Cw],
             DirArg::Both => vec![Rotation::Ccw, Rotation::Cw],
-        };
-        for rotation in dirs {
-            let angles = sweep_angles(a.start, 360.0 * rotation.sign(), a.step).iter().map(|d| d.to_radians()).collect();
-            let spec = CircleSpec { plane: a.plane, centre: centre_pose(&m, a.centre), radius: a.radius, angles, rotation };
-            tests.push((rotation, circle_test(&m, &spec).map_err(Failure::input)?));
-        }
-    } else {
-        let step = match a.test {
-            TestKind::A1 => JiangStep::A1,
-            TestKind::A2 => JiangStep::A2,
-            TestKind::C1 => JiangStep::C1,
-            _ => JiangStep::C2,
-        };
-        let pair = RotaryPair::of_machine(&m).map_err(Failure::input)?;
-        let method = a.method.method()?;
-        tests.push((Rotation::Ccw, method_step(&m, pair, method, step, a.bars.lengths()?, a.step).map_err(Failure::input)?));
-    }
-    let mut out = String::new();
-    let letters: Vec<String> = m.axes().iter().map(|x| x.letter.to_string()).collect();
-    out.push_str(&format!("# trueaxis ballbar simulate: {}\n", tests.iter().map(|t| t.1.name.clone()).collect::<Vec<_>>().join("; ")));
-    out.push_str(&format!("{},angle,dir,dL\n", letters.join(",")));
-    for (k, (rotation, test)) in tests.iter().enumerate() {
-        let dl = test.simulate(&m, &e);
-        let extra = noise(a.seed, stream + k as u64, dl.len(), a.noise);
-        for i in 0..test.len() {
-            let user: Vec<String> =
-                m.axes().iter().zip(test.pose(i)).map(|(ax, q)| format!("{}", round(ax.position_to_user(*q), 9))).collect();
-            let v = dl[i] * 1e3 + extra[i];
-            if !v.is_finite() {
-                return Err(Failure::computation(anyhow!("the reading at sample {} is not a finite number", i + 1)));
-            }
-            out.push_str(&format!("{},{},{},{:.4}\n", user.join(","), round(test.angles[i].to_degrees(), 9), rotation.name(), v));
         }
     }
-    text_or_file(a.out.as_deref(), &out)
 }
 
-fn round(v: f64, digits: i32) -> f64 {
-    let f = 10f64.powi(digits);
-    (v * f).round() / f
+/// The readings of the test (`instruments::ballbar_simulation`), written as CSV.
+fn simulate(a: SimulateArgs) -> Result<(), Failure> {
+    let (m, e) = load(&a.machine, a.errors.as_deref())?;
+    let settings = SimulationSettings { step_deg: a.step, noise_um: a.noise, seed: a.seed, radius_mm: a.radius, start_deg: a.start };
+    settings.check().map_err(Failure::of)?;
+    let runs = match a.test.step() {
+        None => circle_runs(&m, a.plane, &centre_pose(&m, a.centre), &settings, &a.dir.rotations()).map_err(Failure::input)?,
+        Some(step) => {
+            let pair = RotaryPair::of_machine(&m).map_err(Failure::input)?;
+            let method = a.method.method()?;
+            vec![(Rotation::Ccw, method_step(&m, pair, method, step, a.bars.lengths()?, a.step).map_err(Failure::input)?)]
+        }
+    };
+    let csv = readings_csv(&m, &e, &runs, &settings, noise_stream(a.test.step())).map_err(Failure::of)?;
+    text_or_file(a.out.as_deref(), &csv)
 }
 
 /// The 8 PIGEs of the two rotary axes from the four steps of Jiang (2014) (one pivot setup by

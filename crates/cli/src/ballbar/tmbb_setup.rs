@@ -1,6 +1,5 @@
 //! `trueaxis ballbar tmbb-setup`: choosing and checking the setup of the two-length rotary-table test.
 
-use super::round;
 use crate::output::{self, print};
 use crate::Failure;
 use anyhow::anyhow;
@@ -151,4 +150,10 @@ pub fn run(a: TmbbSetupArgs) -> Result<(), Failure> {
     }
     out.push_str("a height error of either ball is an axial offset of the table: D_z takes it one for one\n");
     print(&out)
+}
+
+/// `v` rounded to `digits` decimals (the values of the JSON document).
+fn round(v: f64, digits: i32) -> f64 {
+    let f = 10f64.powi(digits);
+    (v * f).round() / f
 }
