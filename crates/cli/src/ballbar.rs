@@ -3,8 +3,8 @@
 mod sensitivity;
 mod tmbb_setup;
 
-use crate::predict::parse_point;
-use crate::Failure;
+use crate::output::{self, print, text_or_file};
+use crate::{parse, Failure};
 use anyhow::anyhow;
 use std::path::{Path, PathBuf};
 use trueaxis::data::{write_atomically, OutputSet};
@@ -13,11 +13,9 @@ use trueaxis::evaluate::circular_test::{cartesian_machine, centre_pose, circular
 use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, pige_user_value, PigeRequest};
 use trueaxis::identify::tmbb::{observability, TmbbSetup, UNIDENTIFIABLE};
 use trueaxis::identify::tmbb_report::tmbb_files;
-use trueaxis::instruments::ballbar::{
-    circle_test, method_step, sweep_angles, BallbarTest, BarLengths, CircleSpec, JiangStep, Method, Plane, RotaryPair, Rotation,
-};
+use trueaxis::instruments::ballbar::{method_step, BarLengths, JiangStep, Method, Plane, RotaryPair, Rotation};
+use trueaxis::instruments::ballbar_simulation::{circle_runs, noise_stream, readings_csv, SimulationSettings};
 use trueaxis::machine::{Component, Machine};
-use trueaxis::uncertainty::{trial_rng, Distribution};
 use trueaxis_report::{circular_runs_svg, polar_svg, PolarPlot, PolarSeries};
 
 /// Ballbar tests: simulated readings, the PIGEs of two rotary axes (Jiang (2014)), ISO 230-4 circular
@@ -93,10 +91,10 @@ struct MethodArgs {
     #[arg(long, allow_hyphen_values = true)]
     outer_offset: Option<f64>,
     /// four-setup: positions p1,p2 along the outer axis of steps A1 and A2 (mm from its point).
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::pair, allow_hyphen_values = true)]
     outer_positions: Option<[f64; 2]>,
     /// four-setup: positions p1,p2 along the inner axis of steps C1 and C2 (mm).
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::pair, allow_hyphen_values = true)]
     inner_positions: Option<[f64; 2]>,
 }
 
@@ -147,13 +145,13 @@ pub struct SimulateArgs {
     #[command(flatten)]
     method: MethodArgs,
     /// Circle: plane (xy, yz, zx).
-    #[arg(long, default_value = "xy", value_parser = parse_plane)]
+    #[arg(long, default_value = "xy", value_parser = parse::plane)]
     plane: Plane,
     /// Circle: radius (mm).
     #[arg(long, default_value_t = 100.0)]
     radius: f64,
     /// Circle: programmed centre x,y,z (mm); other axes at 0.
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     centre: Option<trueaxis::geometry::Vec3>,
     /// Circle: sense of the run(s).
     #[arg(long, value_enum, default_value = "both")]
@@ -170,12 +168,8 @@ pub struct SimulateArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Write the CSV here (atomically) instead of stdout.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
-}
-
-fn parse_plane(text: &str) -> Result<Plane, String> {
-    Plane::parse(text).ok_or_else(|| format!("`{text}` is not a plane (xy, yz, zx)"))
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
 }
 
 fn load(machine: &Path, errors: Option<&Path>) -> Result<(Machine, ErrorModel), Failure> {
@@ -187,105 +181,44 @@ fn load(machine: &Path, errors: Option<&Path>) -> Result<(Machine, ErrorModel), 
     Ok((m, e))
 }
 
-/// Gaussian noise (um, standard deviation `sigma`) of one run: the ChaCha8 generator of `seed` on
-/// its own stream (the project's seeded stream-splittable generator, `uncertainty::trial_rng`),
-/// so different seeds, tests and runs (CW, CCW) draw independent numbers.
-fn noise(seed: u64, stream: u64, n: usize, sigma: f64) -> Vec<f64> {
-    let mut rng = trial_rng(seed, stream, 0);
-    let normal = Distribution::Normal { mean: 0.0, u: sigma };
-    (0..n).map(|_| normal.sample(&mut rng)).collect()
+impl TestKind {
+    /// The step of Jiang (2014) (`None`: the circle).
+    fn step(self) -> Option<JiangStep> {
+        match self {
+            TestKind::A1 => Some(JiangStep::A1),
+            TestKind::A2 => Some(JiangStep::A2),
+            TestKind::C1 => Some(JiangStep::C1),
+            TestKind::C2 => Some(JiangStep::C2),
+            TestKind::Circle => None,
+        }
+    }
 }
 
-/// Most samples one simulated run may have (1 deg steps give 360; 0.001 deg 360 000).
-const MAX_SAMPLES: f64 = 1e6;
-
-fn simulate(a: SimulateArgs) -> Result<(), Failure> {
-    let (m, e) = load(&a.machine, a.errors.as_deref())?;
-    if !(a.step > 0.0 && a.step <= 90.0) {
-        return Err(Failure::input(anyhow!("--step must be in (0, 90] deg, got {}", a.step)));
-    }
-    if 360.0 / a.step > MAX_SAMPLES {
-        return Err(Failure::input(anyhow!(
-            "--step {} deg gives {:.0} samples per turn; at most {MAX_SAMPLES:.0} are simulated (use --step >= {} deg)",
-            a.step,
-            360.0 / a.step,
-            360.0 / MAX_SAMPLES
-        )));
-    }
-    if !(a.noise >= 0.0 && a.noise.is_finite()) {
-        return Err(Failure::input(anyhow!("--noise must be a finite standard deviation >= 0 um, got {}", a.noise)));
-    }
-    if !(a.radius > 0.0 && a.radius.is_finite()) {
-        return Err(Failure::input(anyhow!("--radius must be a positive number of mm, got {}", a.radius)));
-    }
-    if !a.start.is_finite() {
-        return Err(Failure::input(anyhow!("--start must be a finite angle (deg), got {}", a.start)));
-    }
-    let mut tests: Vec<(Rotation, BallbarTest)> = Vec::new();
-    // each test kind and run draws its own noise stream from the seed
-    let stream = a.test as u64 * 2;
-    if a.test == TestKind::Circle {
-        let dirs = match a.dir {
+impl DirArg {
+    fn rotations(self) -> Vec<Rotation> {
+        match self {
             DirArg::Ccw => vec![Rotation::Ccw],
             DirArg::Cw => vec![Rotation::Cw],
             DirArg::Both => vec![Rotation::Ccw, Rotation::Cw],
-        };
-        for rotation in dirs {
-            let angles = sweep_angles(a.start, 360.0 * rotation.sign(), a.step).iter().map(|d| d.to_radians()).collect();
-            let spec = CircleSpec { plane: a.plane, centre: centre_pose(&m, a.centre), radius: a.radius, angles, rotation };
-            tests.push((rotation, circle_test(&m, &spec).map_err(Failure::input)?));
-        }
-    } else {
-        let step = match a.test {
-            TestKind::A1 => JiangStep::A1,
-            TestKind::A2 => JiangStep::A2,
-            TestKind::C1 => JiangStep::C1,
-            _ => JiangStep::C2,
-        };
-        let pair = RotaryPair::of_machine(&m).map_err(Failure::input)?;
-        let method = a.method.method()?;
-        tests.push((Rotation::Ccw, method_step(&m, pair, method, step, a.bars.lengths()?, a.step).map_err(Failure::input)?));
-    }
-    let mut out = String::new();
-    let letters: Vec<String> = m.axes().iter().map(|x| x.letter.to_string()).collect();
-    out.push_str(&format!("# trueaxis ballbar simulate: {}\n", tests.iter().map(|t| t.1.name.clone()).collect::<Vec<_>>().join("; ")));
-    out.push_str(&format!("{},angle,dir,dL\n", letters.join(",")));
-    for (k, (rotation, test)) in tests.iter().enumerate() {
-        let dl = test.simulate(&m, &e);
-        let extra = noise(a.seed, stream + k as u64, dl.len(), a.noise);
-        for i in 0..test.len() {
-            let user: Vec<String> =
-                m.axes().iter().zip(test.pose(i)).map(|(ax, q)| format!("{}", round(ax.position_to_user(*q), 9))).collect();
-            let v = dl[i] * 1e3 + extra[i];
-            if !v.is_finite() {
-                return Err(Failure::computation(anyhow!("the reading at sample {} is not a finite number", i + 1)));
-            }
-            out.push_str(&format!("{},{},{},{:.4}\n", user.join(","), round(test.angles[i].to_degrees(), 9), rotation.name(), v));
         }
     }
-    emit(a.out.as_deref(), &out)
 }
 
-fn round(v: f64, digits: i32) -> f64 {
-    let f = 10f64.powi(digits);
-    (v * f).round() / f
-}
-
-fn emit(path: Option<&Path>, text: &str) -> Result<(), Failure> {
-    match path {
-        Some(p) => write_atomically(p, text.as_bytes()).map_err(Failure::input),
-        None => print(text),
-    }
-}
-
-/// Writes to stdout; a closed pipe is not an error.
-fn print(text: &str) -> Result<(), Failure> {
-    use std::io::Write;
-    let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::computation(anyhow!("cannot write to stdout: {e}"))),
-        _ => Ok(()),
-    }
+/// The readings of the test (`instruments::ballbar_simulation`), written as CSV.
+fn simulate(a: SimulateArgs) -> Result<(), Failure> {
+    let (m, e) = load(&a.machine, a.errors.as_deref())?;
+    let settings = SimulationSettings { step_deg: a.step, noise_um: a.noise, seed: a.seed, radius_mm: a.radius, start_deg: a.start };
+    settings.check().map_err(Failure::of)?;
+    let runs = match a.test.step() {
+        None => circle_runs(&m, a.plane, &centre_pose(&m, a.centre), &settings, &a.dir.rotations()).map_err(Failure::input)?,
+        Some(step) => {
+            let pair = RotaryPair::of_machine(&m).map_err(Failure::input)?;
+            let method = a.method.method()?;
+            vec![(Rotation::Ccw, method_step(&m, pair, method, step, a.bars.lengths()?, a.step).map_err(Failure::input)?)]
+        }
+    };
+    let csv = readings_csv(&m, &e, &runs, &settings, noise_stream(a.test.step())).map_err(Failure::of)?;
+    text_or_file(a.out.as_deref(), &csv)
 }
 
 /// The 8 PIGEs of the two rotary axes from the four steps of Jiang (2014) (one pivot setup by
@@ -319,10 +252,10 @@ pub struct IdentifyArgs {
     #[command(flatten)]
     method: MethodArgs,
     /// Misplacement of the outer-axis pivot from a centring test: radial,tangential (mm), Eq. 4.1.
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::pair, allow_hyphen_values = true)]
     pivot_offset_a: Option<[f64; 2]>,
     /// Misplacement of the inner-axis pivot: radial,tangential (mm), Eq. 4.1.
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::pair, allow_hyphen_values = true)]
     pivot_offset_c: Option<[f64; 2]>,
     /// Expected noise of the bar readings (um, standard deviation): a step whose compensation
     /// residual RMS exceeds 3 times it is reported with a warning. Default: 1 um, the accuracy of a
@@ -330,29 +263,17 @@ pub struct IdentifyArgs {
     #[arg(long, default_value_t = 1.0)]
     noise: f64,
     /// Write polar plots (raw vs compensated) of the four steps into this directory.
-    #[arg(long, value_parser = crate::outputs::figures)]
-    plot_dir: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::figures)]
+    plot_dir: Option<crate::output::OutputPath>,
     /// Write the identified PIGEs as an error-values file (TOML: `[constant]` values and their
     /// standard uncertainties in `[uncertainty]`), which `compensate`, `predict` and `report` read.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Scale of the plots (um per division); default: automatic.
     #[arg(long)]
     scale: Option<f64>,
     #[arg(long)]
     json: bool,
-}
-
-fn parse_pair(text: &str) -> Result<[f64; 2], String> {
-    let v: Vec<f64> = text
-        .split(',')
-        .map(|s| s.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("`{text}` is not two numbers a,b"))?;
-    match v.as_slice() {
-        [a, b] if a.is_finite() && b.is_finite() => Ok([*a, *b]),
-        _ => Err(format!("`{text}` is not two numbers a,b")),
-    }
 }
 
 fn identify(a: IdentifyArgs) -> Result<(), Failure> {
@@ -405,16 +326,14 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         }
         plots.commit().map_err(Failure::input)?;
     }
-    for w in &report.warnings {
-        eprintln!("trueaxis: warning: {w}");
-    }
+    output::warn(&report.warnings);
     if let Some(path) = &a.out {
         let origin = [&a.a1, &a.a2, &a.c1, &a.c2].iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ");
         let text = report.error_values_text(&origin).map_err(|m| Failure::computation(anyhow!(m)))?;
         write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
     }
     if a.json {
-        return print(&format!("{}\n", report.to_json()));
+        return output::json(&report.to_json());
     }
     let repeated = report.repeated();
     let single_u = &report.single_u;
@@ -472,13 +391,13 @@ pub struct Iso2304Args {
     #[arg(long)]
     machine: Option<PathBuf>,
     /// Plane of the circle: xy, yz or zx (default: the file's `Plane:`, else xy).
-    #[arg(long, value_parser = parse_plane)]
+    #[arg(long, value_parser = parse::plane)]
     plane: Option<Plane>,
     /// Nominal radius (mm): the bar length (default: the file's `Radius:`).
     #[arg(long)]
     radius: Option<f64>,
     /// Programmed centre x,y,z (mm).
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     centre: Option<trueaxis::geometry::Vec3>,
     /// Feed rate (mm/min), to state the servo mismatch in ms.
     #[arg(long)]
@@ -492,8 +411,8 @@ pub struct Iso2304Args {
     /// Scale of the plot (um per division); default: automatic.
     #[arg(long)]
     scale: Option<f64>,
-    #[arg(long, value_parser = crate::outputs::file)]
-    plot: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    plot: Option<crate::output::OutputPath>,
     #[arg(long)]
     json: bool,
 }
@@ -516,7 +435,7 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
     let (plane, radius, file, result) = (test.plane, test.radius_mm, &test.file, &test.result);
     let runs = &file.runs;
     let (ia, ib, _) = plane.letters();
-    crate::iso230_2::warn(&file.warnings);
+    output::warn(&file.warnings);
     let lines = result.summary_lines();
     if let Some(path) = &a.plot {
         let title = format!("ISO 230-4 circular test, {} plane, R {} mm: {}", plane.name(), radius, a.file.display());
@@ -524,7 +443,7 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
         write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
     }
     if a.json {
-        return print(&format!("{}\n", test.to_json()));
+        return output::json(&test.to_json());
     }
     let mut out = format!("ISO 230-4 circular test: {} ({} plane, R = {} mm, {})\n", a.file.display(), plane.name(), radius, m.name);
     for l in file.metadata.lines() {
@@ -536,7 +455,7 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
     for o in &result.diagnostics.omitted {
         out.push_str(&format!("  not fitted: {o}\n"));
     }
-    out += &crate::iso230_2::data_quality_text(&test.findings);
+    out += &crate::output::data_quality_text(&test.findings);
     if let Some(p) = &a.plot {
         out.push_str(&format!("wrote {}\n", p.display()));
     }
@@ -574,9 +493,9 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
         trueaxis::identify::IdentifyError::RankDeficient { .. } => Failure::computation(e),
         _ => Failure::input(e),
     })?;
-    crate::iso230_2::warn(&report.warnings());
+    output::warn(&report.warnings());
     if a.json {
-        return print(&format!("{}\n", report.to_json()));
+        return output::json(&report.to_json());
     }
     let obs = observability(&setup, &report.angles).map_err(Failure::computation)?;
     let (l2, linf, cond, angles) = (&report.l2, &report.linf, &report.conditioning, &report.angles);

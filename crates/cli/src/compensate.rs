@@ -1,9 +1,10 @@
 //! `trueaxis compensate`.
 
+use crate::inputs::given_temperatures;
+use crate::parse::{axis_values, correction_limits};
 use crate::Failure;
 use std::path::PathBuf;
-use trueaxis::compensate::export::Limits;
-use trueaxis::compensate::{compensation, sensor_index, CompensateError, CompensationRequest, Corrector, ExportFormat, FormatOptions};
+use trueaxis::compensate::{compensation, CompensateError, CompensationRequest, Corrector, ExportFormat, FormatOptions};
 use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 
@@ -61,8 +62,8 @@ pub struct CompensateArgs {
     #[arg(long, value_enum)]
     format: Format,
     /// Output directory (created if missing).
-    #[arg(long, value_parser = crate::outputs::directory)]
-    out: crate::outputs::OutputPath,
+    #[arg(long, value_parser = crate::output::directory)]
+    out: crate::output::OutputPath,
     /// Refuse corrections of a linear axis larger than this (um, at most 10000; default: the
     /// machine file's `[limits] correction_um`, else 1000).
     #[arg(long)]
@@ -119,56 +120,6 @@ fn parse_counts(text: &str) -> Result<[usize; 3], String> {
     <[usize; 3]>::try_from(v).map_err(|_| format!("`{text}` is not three counts NX,NY,NZ"))
 }
 
-/// `X=1,Y=2` into a full pose (mm, deg) of `machine`, unspecified axes 0.
-pub fn parse_axis_values(machine: &Machine, text: &str, what: &str) -> Result<Vec<f64>, Failure> {
-    let mut pose = vec![0.0; machine.axis_count()];
-    for part in text.split(',').map(str::trim).filter(|p| !p.is_empty()) {
-        let bad = || Failure::input(anyhow::anyhow!("{what}: `{part}` is not AXIS=VALUE (e.g. X=10)"));
-        let (letter, value) = part.split_once('=').ok_or_else(bad)?;
-        let letter = letter.trim().chars().next().filter(|_| letter.trim().len() == 1).ok_or_else(bad)?.to_ascii_uppercase();
-        let value: f64 = value.trim().parse().ok().filter(|v: &f64| v.is_finite()).ok_or_else(bad)?;
-        let axis = machine.axis_index(letter).ok_or_else(|| {
-            Failure::input(anyhow::anyhow!("{what}: machine `{}` has no axis {letter} (axes: {})", machine.name, machine.axis_letters()))
-        })?;
-        pose[axis] = value;
-    }
-    Ok(pose)
-}
-
-/// Sensor temperatures from `T:name=value` options, in the model's order (20 degC when not given).
-pub fn parse_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<f64>, Failure> {
-    Ok(given_temperatures(errors, given)?.into_iter().zip(errors.input_references()).map(|(t, r)| t.unwrap_or(*r)).collect())
-}
-
-/// Sensor temperatures from `T:name=value` options, in the model's order (`None`: not given).
-fn given_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<Option<f64>>, Failure> {
-    let mut values = vec![None; errors.sensors().len()];
-    for g in given {
-        let (name, value) = g.rsplit_once('=').ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}` is not T:name=degC")))?;
-        let i = sensor_index(errors, name).map_err(failure)?;
-        values[i] = Some(
-            value
-                .trim()
-                .parse()
-                .ok()
-                .filter(|v: &f64| v.is_finite())
-                .ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}`: not a number")))?,
-        );
-    }
-    Ok(values)
-}
-
-/// The correction limits (um, urad): the machine file's `[limits]` (or the defaults), replaced by
-/// `--limit-um` / `--limit-urad` when given (each a positive number, at most ten times the default).
-pub fn limits(machine: &Machine, max_um: Option<f64>, max_urad: Option<f64>) -> Result<Limits, Failure> {
-    for (name, v, rotary) in [("--limit-um", max_um, false), ("--limit-urad", max_urad, true)] {
-        if let Some(v) = v {
-            trueaxis::machine::check_limit_value(name, v, rotary).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
-        }
-    }
-    Limits::with_overrides(machine, max_um, max_urad).map_err(failure)
-}
-
 pub fn failure(e: CompensateError) -> Failure {
     if e.is_input() {
         Failure::input(e)
@@ -181,8 +132,8 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
     let temperatures = given_temperatures(&errors, &args.temperatures)?;
-    let reference = args.reference.as_deref().map(|r| parse_axis_values(&machine, r, "--reference")).transpose()?;
-    let limits = limits(&machine, args.limit_um, args.limit_urad)?;
+    let reference = args.reference.as_deref().map(|r| axis_values(&machine, r, "--reference")).transpose()?;
+    let limits = correction_limits(&machine, args.limit_um, args.limit_urad)?;
     let options = FormatOptions {
         comp_type: args.comp_type,
         max_lattice_points: args.max_lattice_points,

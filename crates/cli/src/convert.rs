@@ -1,6 +1,6 @@
 //! `trueaxis convert`: an instrument file into trueaxis's own files.
 
-use crate::iso230_2::print;
+use crate::output::print;
 use crate::Failure;
 use anyhow::anyhow;
 use std::path::PathBuf;
@@ -28,8 +28,8 @@ pub struct ConvertArgs {
     #[arg(long)]
     machine: Option<PathBuf>,
     /// Write here (atomically) instead of stdout.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
 }
 
 pub fn run(args: ConvertArgs) -> Result<(), Failure> {
@@ -63,9 +63,7 @@ pub fn run(args: ConvertArgs) -> Result<(), Failure> {
         }
         _ => {
             let table = CsvTable::from_text(&text, &name).map_err(Failure::input)?;
-            for w in table.warnings() {
-                eprintln!("trueaxis: warning: {w}");
-            }
+            crate::output::warn(table.warnings());
             table.to_canonical_csv().map_err(Failure::input)?
         }
     };

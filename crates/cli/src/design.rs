@@ -2,8 +2,8 @@
 
 mod steady;
 
-use crate::predict::parse_point;
-use crate::Failure;
+use crate::output::{json, print, text_or_file};
+use crate::{parse, Failure};
 use std::path::PathBuf;
 use trueaxis::data::{write_atomically, OutputSet};
 use trueaxis::error_model::ErrorModel;
@@ -45,10 +45,10 @@ struct TrajectoryArgs {
     #[arg(long)]
     machine: PathBuf,
     /// Ball centre at home, x,y,z in mm in M.
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     work_point: Vec3,
     /// Sensing-head centre at home, x,y,z in mm in M (default: the machine's tool point).
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     tool_point: Option<Vec3>,
     /// A rotary sweep AXIS=FROM:TO in deg (repeat for several axes).
     #[arg(long = "sweep", value_parser = Sweep::parse, required = true, allow_hyphen_values = true)]
@@ -57,8 +57,8 @@ struct TrajectoryArgs {
     #[arg(long, value_parser = crate::bounds::count::<1, { crate::bounds::MAX_POSES }>)]
     count: usize,
     /// Output CSV (written atomically); stdout if absent.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
 }
 
 /// Simulated readings of every measurement of a campaign: the exact chain with known errors plus
@@ -119,8 +119,8 @@ struct OptimalArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Write the chosen records (poses, with a `measurement` column) to this CSV.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     #[arg(long)]
     json: bool,
 }
@@ -152,10 +152,7 @@ fn trajectory(args: TrajectoryArgs) -> Result<(), Failure> {
         text += &pose.iter().map(|v| format!("{}", (v * 1e9).round() / 1e9 + 0.0)).collect::<Vec<_>>().join(",");
         text.push('\n');
     }
-    match args.out {
-        Some(path) => write_atomically(&path, text.as_bytes()).map_err(Failure::input),
-        None => crate::identify::print(&text),
-    }
+    text_or_file(args.out.as_deref(), &text)
 }
 
 fn identify_failure(e: IdentifyError) -> Failure {
@@ -182,7 +179,7 @@ fn simulate(args: SimulateArgs) -> Result<(), Failure> {
     if args.json {
         text = format!("{}\n", serde_json::json!({ "files": files }));
     }
-    crate::identify::print(&text)
+    print(&text)
 }
 
 fn optimal(args: OptimalArgs) -> Result<(), Failure> {
@@ -208,7 +205,7 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     }
     let doc = optimal_design_json(&campaign, &candidates, args.criterion, args.count, &chosen, &criteria, &full);
     if args.json {
-        return crate::identify::print(&format!("{doc}\n"));
+        return json(&doc);
     }
     let mut text = format!(
         "{:?}-optimal design of {} records out of {} candidates, {} unknowns\n",
@@ -232,7 +229,7 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
         text += &format!(" {}:{}", r["measurement"].as_str().unwrap_or(""), r["line"]);
     }
     text.push('\n');
-    crate::identify::print(&text)
+    print(&text)
 }
 
 /// The units the criteria are computed in, and their values in the units of Soons (1993) (`design_units`).

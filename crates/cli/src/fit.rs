@@ -1,15 +1,16 @@
 //! `trueaxis fit`.
 
-use crate::Failure;
-use std::path::PathBuf;
+use crate::{output, parse, Failure};
+use std::path::{Path, PathBuf};
 use trueaxis::data::checks::deviation_finding;
 use trueaxis::data::{CsvTable, OutputSet};
 use trueaxis::error_model::{set_error_function, BasisSpec, Direction, ErrorModel, PeriodicSpec};
 use trueaxis::geometry::Vec3;
-use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, IdentifyError};
-use trueaxis::instruments::{motion_error_axis, DirectError, DirectInstrument, DirectKind, DirectSetup, LevelBody};
+use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, IdentifyError, ResidualPeriod};
+use trueaxis::instruments::{motion_error_axis, AppliedCorrection, DirectError, DirectInstrument, DirectKind, DirectSetup, LevelBody};
+use trueaxis::io::plausibility::split_findings;
 use trueaxis::io::Dimension;
-use trueaxis::machine::{AxisKind, Machine, ParameterId, Side};
+use trueaxis::machine::{Axis, AxisKind, Machine, ParameterId, Side};
 use trueaxis::model::Setup;
 
 /// Fit a parametric error function (piecewise polynomial, Legendre, periodic terms) to one error
@@ -45,7 +46,7 @@ pub struct FitArgs {
     /// in the two coordinates perpendicular to the beam (y,z for a beam along x; x,z along y; x,y
     /// along z), at the measurement pose (default 0,0: both optics at the tool point). The Abbe
     /// terms of known angular errors (--errors-in) then come from the chain.
-    #[arg(long, value_parser = parse_pair_any, allow_hyphen_values = true, value_name = "A,B")]
+    #[arg(long, value_parser = parse::offsets, allow_hyphen_values = true, value_name = "A,B")]
     optics_offset: Option<[f64; 2]>,
     /// The body that carries the interferometer (fixes the beam): tool or workpiece. Default: the
     /// side that does not carry the measured axis.
@@ -63,11 +64,11 @@ pub struct FitArgs {
     errors_in: Option<PathBuf>,
     /// Tool point x,y,z in mm, in M at home, that the optics are placed from (default: the machine's
     /// tool point); with --work-point, the tool-side optic itself.
-    #[arg(long, value_parser = crate::predict::parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     tool_point: Option<Vec3>,
     /// The workpiece-side optic x,y,z in mm, in M at home: with --tool-point, places the two optics
     /// explicitly (instead of --optics-offset).
-    #[arg(long, value_parser = crate::predict::parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     work_point: Option<Vec3>,
     /// Positions of the other axes during the measurement, e.g. `Y=0,Z=-200` (default 0).
     #[arg(long, allow_hyphen_values = true)]
@@ -79,7 +80,7 @@ pub struct FitArgs {
     #[arg(long, default_value = "dev")]
     value: String,
     /// Basis domain MIN,MAX (default: the axis range, else the data range).
-    #[arg(long, value_parser = parse_pair, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::interval, allow_hyphen_values = true)]
     domain: Option<[f64; 2]>,
     /// Basis family: piecewise (truncated powers), bspline (the same splines of continuity degree - 1,
     /// well conditioned with many knots), legendre, none.
@@ -121,33 +122,14 @@ pub struct FitArgs {
     #[arg(long)]
     drift: bool,
     /// Write or update this error-values file with the fitted function (atomically, comments kept).
-    #[arg(long, value_parser = crate::outputs::file)]
-    errors_out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    errors_out: Option<crate::output::OutputPath>,
     /// Write an SVG of the data, the fit and its 95 % prediction band.
-    #[arg(long, value_parser = crate::outputs::file)]
-    plot: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    plot: Option<crate::output::OutputPath>,
     /// Print one JSON document instead of text.
     #[arg(long)]
     json: bool,
-}
-
-fn parse_pair_any(text: &str) -> Result<[f64; 2], String> {
-    let v: Vec<f64> = text
-        .split(',')
-        .map(|p| p.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("`{text}` is not two numbers A,B"))?;
-    match v.as_slice() {
-        [a, b] if a.is_finite() && b.is_finite() => Ok([*a, *b]),
-        _ => Err(format!("`{text}` is not two finite numbers A,B")),
-    }
-}
-
-fn parse_pair(text: &str) -> Result<[f64; 2], String> {
-    match parse_pair_any(text) {
-        Ok([a, b]) if a < b => Ok([a, b]),
-        _ => Err(format!("`{text}` is not MIN,MAX with MIN < MAX")),
-    }
 }
 
 fn parse_periodic(text: &str) -> Result<PeriodicSpec, String> {
@@ -170,6 +152,13 @@ fn parse_periodic(text: &str) -> Result<PeriodicSpec, String> {
     Ok(PeriodicSpec { wavelength, phase: 0.0, degree, knots, continuity: degree.saturating_sub(1).min(1) })
 }
 
+/// Sorts the findings of plausibility checks (`io::plausibility::split_findings`): the first
+/// refusal is the error; the warnings (with those of reading the file) are returned, to be printed
+/// with `output::warn` once the command has succeeded (a refused command prints its one line only).
+fn report_findings(findings: Vec<trueaxis::io::Finding>, warnings: &[String]) -> Result<Vec<String>, Failure> {
+    split_findings(findings, warnings).map_err(|m| Failure::input(anyhow::anyhow!(m)))
+}
+
 fn input(message: impl std::fmt::Display) -> Failure {
     Failure::input(anyhow::anyhow!("{message}"))
 }
@@ -179,9 +168,9 @@ fn input(message: impl std::fmt::Display) -> Failure {
 pub(crate) struct FitRun {
     pub parameter: ParameterId,
     pub machine: Option<Machine>,
-    pub axis: Option<trueaxis::machine::Axis>,
+    pub axis: Option<Axis>,
     pub table: CsvTable,
-    pub applied: trueaxis::instruments::AppliedCorrection,
+    pub applied: AppliedCorrection,
     pub warnings: Vec<String>,
     pub reports: Vec<(Option<Direction>, DirectFitReport)>,
 }
@@ -195,62 +184,110 @@ impl FitRun {
 
 /// Reads the data and fits the parameter (each direction asked for), as `trueaxis fit` does.
 pub(crate) fn compute(args: &FitArgs) -> Result<FitRun, Failure> {
-    let parameter = ParameterId::parse(&args.parameter).map_err(|m| input(format!("--parameter: {m}")))?;
-    // only a motion error is a function of its axis position: refuse the others before reading anything
-    if !matches!(parameter, ParameterId::Motion { .. }) {
-        return Err(input(format!("--parameter: {}", DirectError::NotMotion(parameter))));
-    }
+    let parameter = motion_error(&args.parameter)?;
     let machine = args.machine.as_ref().map(Machine::load).transpose().map_err(Failure::input)?;
     let axis = match &machine {
         Some(m) => Some(m.axes()[motion_error_axis(m, &parameter).map_err(|e| input(format!("--parameter: {e}")))?].clone()),
-        None => None,
-    };
-    if machine.is_none() {
-        let needs_machine = [
-            ("--errors-out", args.errors_out.is_some()),
-            ("--errors-in", args.errors_in.is_some()),
-            ("--at", args.at.is_some()),
-            ("--instrument", args.instrument.is_some()),
-            ("--optics-offset", args.optics_offset.is_some()),
-            ("--beam-on", args.beam_on.is_some()),
-            ("--tool-point", args.tool_point.is_some()),
-            ("--work-point", args.work_point.is_some()),
-        ];
-        if let Some((option, _)) = needs_machine.iter().find(|(_, given)| *given) {
-            return Err(input(format!(
-                "{option} needs --machine (the error-values file is checked against the machine, and the measurement equation uses \
-                 its kinematic chain)"
-            )));
+        None => {
+            refuse_without_machine(args)?;
+            None
         }
-    }
+    };
     let table = CsvTable::read(&args.data).map_err(Failure::input)?;
-    let data_name = args.data.display().to_string();
-    // plausibility of the readings' unit (a column that answers to the value name, read in the
-    // parameter's unit); a missing or bad column is reported by the fit itself
+    let warnings = plausibility_warnings(&table, &args.value, &parameter)?;
+    let applied = temperature_correction(args, &table, &parameter)?;
+    let position_column = position_column(args, &table, &parameter)?;
+    let spec = basis_spec(args, axis.as_ref(), &table, &position_column)?;
+    let model = machine.as_ref().map(|m| direct_model(m, &parameter, args)).transpose()?;
+    let request = DirectFitRequest {
+        model,
+        parameter,
+        position_column,
+        value_column: args.value.clone(),
+        direction: None,
+        remove_drift: args.drift,
+        refine_wavelength: args.refine_wavelength,
+        options: FitOptions { spec, stepwise_level: args.stepwise, prediction_level: 0.95 },
+        corrections: applied.corrections.clone(),
+    };
+    let reports = fit_each_direction(args, &table, &request)?;
+    Ok(FitRun { parameter, machine, axis, table, applied, warnings, reports })
+}
+
+/// The parameter of `--parameter`: only a motion error is a function of its axis position, the
+/// others are refused before anything is read.
+fn motion_error(name: &str) -> Result<ParameterId, Failure> {
+    let parameter = ParameterId::parse(name).map_err(|m| input(format!("--parameter: {m}")))?;
+    if !matches!(parameter, ParameterId::Motion { .. }) {
+        return Err(input(format!("--parameter: {}", DirectError::NotMotion(parameter))));
+    }
+    Ok(parameter)
+}
+
+/// Refuses the options that need `--machine` when it is not given.
+fn refuse_without_machine(args: &FitArgs) -> Result<(), Failure> {
+    let needs_machine = [
+        ("--errors-out", args.errors_out.is_some()),
+        ("--errors-in", args.errors_in.is_some()),
+        ("--at", args.at.is_some()),
+        ("--instrument", args.instrument.is_some()),
+        ("--optics-offset", args.optics_offset.is_some()),
+        ("--beam-on", args.beam_on.is_some()),
+        ("--tool-point", args.tool_point.is_some()),
+        ("--work-point", args.work_point.is_some()),
+    ];
+    match needs_machine.iter().find(|(_, given)| *given) {
+        Some((option, _)) => Err(input(format!(
+            "{option} needs --machine (the error-values file is checked against the machine, and the measurement equation uses \
+             its kinematic chain)"
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The warnings of the plausibility of the readings' unit (a column that answers to the value
+/// name, read in the parameter's unit; a missing or bad column is reported by the fit itself).
+fn plausibility_warnings(table: &CsvTable, value: &str, parameter: &ParameterId) -> Result<Vec<String>, Failure> {
     let value_dimension = if parameter.component().is_rotation() { Dimension::Angle } else { Dimension::Length };
-    let findings = match table.numbers_as(&args.value, value_dimension) {
-        Ok(values) => deviation_finding(&table, &args.value, &values).into_iter().collect(),
+    let findings = match table.numbers_as(value, value_dimension) {
+        Ok(values) => deviation_finding(table, value, &values).into_iter().collect(),
         Err(_) => Vec::new(),
     };
-    let warnings = crate::iso230_2::report_findings(findings, table.warnings())?;
+    report_findings(findings, table.warnings())
+}
+
+/// The correction to 20 degC of the options or of the file; the file's material temperature
+/// applies to a positioning error only.
+fn temperature_correction(args: &FitArgs, table: &CsvTable, parameter: &ParameterId) -> Result<AppliedCorrection, Failure> {
+    let data_name = args.data.display().to_string();
     let mut applied = args.temperature.applied(table.metadata(), &data_name)?;
-    let positioning = matches!(parameter, ParameterId::Motion { axis, component } if component.letter() == axis);
+    let positioning = matches!(parameter, ParameterId::Motion { axis, component } if component.letter() == *axis);
     if applied.json.get("source").and_then(|s| s.as_str()) == Some("file") && !positioning {
         applied.corrections.clear();
         applied.json = serde_json::Value::Null;
         applied.notes =
             vec![format!("{data_name}: the file's material temperature is not applied: {parameter} is not a positioning error")];
     }
-    let position_column = match (&args.position, parameter.axis()) {
-        (Some(p), _) => p.clone(),
-        (None, _) if table.has_column("target") => "target".into(),
-        (None, Some(a)) => a.to_string(),
-        (None, None) => return Err(Failure::input(anyhow::anyhow!("--position: name the position column"))),
-    };
-    let domain = match (args.domain, axis.as_ref().and_then(|a| a.range)) {
+    Ok(applied)
+}
+
+/// `--position`, else `target` when the table has it, else the letter of the parameter's axis.
+fn position_column(args: &FitArgs, table: &CsvTable, parameter: &ParameterId) -> Result<String, Failure> {
+    match (&args.position, parameter.axis()) {
+        (Some(p), _) => Ok(p.clone()),
+        (None, _) if table.has_column("target") => Ok("target".into()),
+        (None, Some(a)) => Ok(a.to_string()),
+        (None, None) => Err(Failure::input(anyhow::anyhow!("--position: name the position column"))),
+    }
+}
+
+/// The basis of the fitted function: its family, degree and constraint, over `--domain` (else the
+/// axis range, else the range of the positions), with the knots and periodic terms asked for.
+fn basis_spec(args: &FitArgs, axis: Option<&Axis>, table: &CsvTable, position_column: &str) -> Result<BasisSpec, Failure> {
+    let domain = match (args.domain, axis.and_then(|a| a.range)) {
         (Some(d), _) | (None, Some(d)) => d,
         (None, None) => {
-            let p = table.numbers(&position_column).map_err(Failure::input)?;
+            let p = table.numbers(position_column).map_err(Failure::input)?;
             let (lo, hi) = p.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(*x), b.max(*x)));
             [lo, hi]
         }
@@ -265,7 +302,7 @@ pub(crate) fn compute(args: &FitArgs) -> Result<FitRun, Failure> {
     };
     let periodic =
         args.periodic.iter().map(|p| parse_periodic(p)).collect::<Result<Vec<_>, _>>().map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
-    let spec = BasisSpec {
+    Ok(BasisSpec {
         family: args.family.clone(),
         degree: args.degree,
         knots,
@@ -274,11 +311,15 @@ pub(crate) fn compute(args: &FitArgs) -> Result<FitRun, Failure> {
         constraint: args.constraint.clone(),
         domain,
         periodic,
-    };
-    let model = match &machine {
-        Some(m) => Some(direct_model(m, &parameter, args)?),
-        None => None,
-    };
+    })
+}
+
+/// One fit of `request` per direction of `--direction` (both, +, -, or the rows of either).
+fn fit_each_direction(
+    args: &FitArgs,
+    table: &CsvTable,
+    request: &DirectFitRequest,
+) -> Result<Vec<(Option<Direction>, DirectFitReport)>, Failure> {
     let directions: Vec<Option<Direction>> = match args.direction.as_deref() {
         Some("both") => vec![Some(Direction::Positive), Some(Direction::Negative)],
         Some("+") => vec![Some(Direction::Positive)],
@@ -286,104 +327,104 @@ pub(crate) fn compute(args: &FitArgs) -> Result<FitRun, Failure> {
         _ => vec![None],
     };
     let mut reports = Vec::new();
-    for &direction in &directions {
-        let request = DirectFitRequest {
-            model: model.clone(),
-            parameter,
-            position_column: position_column.clone(),
-            value_column: args.value.clone(),
-            direction: direction.map(direction_symbol),
-            remove_drift: args.drift,
-            refine_wavelength: args.refine_wavelength,
-            options: FitOptions { spec: spec.clone(), stepwise_level: args.stepwise, prediction_level: 0.95 },
-            corrections: applied.corrections.clone(),
-        };
-        let report = run_direct_fit(&table, &request).map_err(|e| match e {
+    for direction in directions {
+        let request = DirectFitRequest { direction: direction.map(direction_symbol), ..request.clone() };
+        let report = run_direct_fit(table, &request).map_err(|e| match e {
             IdentifyError::RankDeficient { .. } => Failure::computation(e),
             other => Failure::input(other),
         })?;
         if let Some(what) = report.non_finite() {
             return Err(Failure::computation(anyhow::anyhow!(
-                "{}: the fit of {parameter} overflowed: {what} is not a finite number (readings too large?); nothing written",
-                args.data.display()
+                "{}: the fit of {} overflowed: {what} is not a finite number (readings too large?); nothing written",
+                args.data.display(),
+                request.parameter
             )));
         }
         reports.push((direction, report));
     }
-
-    Ok(FitRun { parameter, machine, axis, table, applied, warnings, reports })
+    Ok(reports)
 }
 
 pub fn run(args: FitArgs) -> Result<(), Failure> {
     let run = compute(&args)?;
-    let unit = run.position_unit();
-    let FitRun { parameter, machine, table, applied, warnings, reports, .. } = run;
-    let directions: Vec<Option<Direction>> = reports.iter().map(|(d, _)| *d).collect();
-    crate::iso230_2::warn(&warnings);
-    for note in &applied.notes {
+    output::warn(&run.warnings);
+    for note in &run.applied.notes {
         eprintln!("trueaxis: {note}");
     }
-    // plots and error file together, or none of them (docs/reliability.md)
+    let written = write_outputs(&args, &run)?;
+    if args.json {
+        return output::json(&fit_json(&run));
+    }
+    let mut text: String = run.table.metadata().lines().iter().map(|line| format!("{line}\n")).collect();
+    for (direction, report) in &run.reports {
+        text += &fit_text(&run.parameter, *direction, report);
+    }
+    for path in written {
+        text += &format!("  wrote {}\n", path.display());
+    }
+    output::print(&text)
+}
+
+/// Writes the plots and the error-values file, all or none (docs/reliability.md); returns the
+/// paths written, the error-values file first.
+fn write_outputs(args: &FitArgs, run: &FitRun) -> Result<Vec<PathBuf>, Failure> {
     let mut outputs = OutputSet::new();
     let mut written = Vec::new();
     if let Some(path) = &args.plot {
-        for (direction, report) in &reports {
-            let path = if reports.len() > 1 { plot_path_of_direction(path, direction.map(direction_symbol)) } else { path.to_path_buf() };
-            let svg = trueaxis_report::direct_fit_svg(report, unit).map_err(Failure::computation)?;
+        for (direction, report) in &run.reports {
+            let path =
+                if run.reports.len() > 1 { plot_path_of_direction(path, direction.map(direction_symbol)) } else { path.to_path_buf() };
+            let svg = trueaxis_report::direct_fit_svg(report, run.position_unit()).map_err(Failure::computation)?;
             outputs.file(&path, svg);
             written.push(path);
         }
     }
     if let Some(path) = &args.errors_out {
-        let mut text = if path.exists() {
-            std::fs::read_to_string(path).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", path.display())))?
-        } else {
-            String::new()
-        };
-        for (direction, report) in &reports {
-            text = set_error_function(&text, &parameter, *direction, &report.fitted.function)
-                .map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", path.display())))?;
-        }
-        let m = machine.as_ref().expect("--errors-out needs --machine, checked above");
-        ErrorModel::from_toml_str(&text, &path.display().to_string(), m).map_err(|e| {
-            let hint = if directions.len() == 1 && directions[0].is_some() {
-                " (fit the other direction into the same file too, or use --direction both)"
-            } else {
-                ""
-            };
-            Failure::input(anyhow::anyhow!("{e}{hint}"))
-        })?;
-        outputs.file(path, text);
+        outputs.file(path, error_values_text(path, run)?);
         written.insert(0, path.to_path_buf());
     }
     outputs.commit().map_err(Failure::input)?;
-    if args.json {
-        let docs: Vec<_> = reports.iter().map(|(_, r)| r.to_json()).collect();
-        let metadata = table.metadata().to_json();
-        match docs.as_slice() {
-            [one] => {
-                let mut one = one.clone();
-                one["metadata"] = metadata;
-                one["temperature_correction"] = applied.json;
-                println!("{one}")
-            }
-            _ => println!(
-                "{}",
-                serde_json::json!({ "plus": docs[0], "minus": docs[1], "metadata": metadata, "temperature_correction": applied.json })
-            ),
+    Ok(written)
+}
+
+/// The error-values file at `path` (or a new one) with the fitted functions set, checked to load
+/// on the machine.
+fn error_values_text(path: &Path, run: &FitRun) -> Result<String, Failure> {
+    let mut text = if path.exists() {
+        std::fs::read_to_string(path).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", path.display())))?
+    } else {
+        String::new()
+    };
+    for (direction, report) in &run.reports {
+        text = set_error_function(&text, &run.parameter, *direction, &report.fitted.function)
+            .map_err(|m| Failure::input(anyhow::anyhow!("{}: {m}", path.display())))?;
+    }
+    let m = run.machine.as_ref().expect("--errors-out needs --machine, checked above");
+    ErrorModel::from_toml_str(&text, &path.display().to_string(), m).map_err(|e| {
+        let hint = if run.reports.len() == 1 && run.reports[0].0.is_some() {
+            " (fit the other direction into the same file too, or use --direction both)"
+        } else {
+            ""
+        };
+        Failure::input(anyhow::anyhow!("{e}{hint}"))
+    })?;
+    Ok(text)
+}
+
+/// The JSON document: the fit (or the fits `plus` and `minus`), the file's metadata and the
+/// correction to 20 degC.
+fn fit_json(run: &FitRun) -> serde_json::Value {
+    let docs: Vec<_> = run.reports.iter().map(|(_, r)| r.to_json()).collect();
+    let metadata = run.table.metadata().to_json();
+    match docs.as_slice() {
+        [one] => {
+            let mut one = one.clone();
+            one["metadata"] = metadata;
+            one["temperature_correction"] = run.applied.json.clone();
+            one
         }
-        return Ok(());
+        _ => serde_json::json!({ "plus": docs[0], "minus": docs[1], "metadata": metadata, "temperature_correction": run.applied.json }),
     }
-    for line in table.metadata().lines() {
-        println!("{line}");
-    }
-    for (direction, report) in &reports {
-        print_fit(&parameter, *direction, report);
-    }
-    for path in written {
-        println!("  wrote {}", path.display());
-    }
-    Ok(())
 }
 
 /// The measurement equation of the fit on machine `m`: known errors, the other axes' positions,
@@ -393,30 +434,8 @@ fn direct_model(m: &Machine, parameter: &ParameterId, args: &FitArgs) -> Result<
         Some(path) => ErrorModel::load(path, m).map_err(Failure::input)?,
         None => ErrorModel::zero(m),
     };
-    let mut fixed_pose = vec![0.0; m.axis_count()];
-    for item in args.at.iter().flat_map(|s| s.split(',')).filter(|s| !s.trim().is_empty()) {
-        let (letter, value) = item.split_once('=').ok_or_else(|| input(format!("--at `{item}`: expected AXIS=POSITION")))?;
-        let i = letter
-            .trim()
-            .chars()
-            .next()
-            .and_then(|c| m.axis_index(c))
-            .ok_or_else(|| input(format!("--at: the machine has no axis `{letter}`")))?;
-        fixed_pose[i] =
-            value.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| input(format!("--at `{item}`: not a number")))?;
-    }
-    let level_reference = match args.level_reference.trim() {
-        "base" => LevelBody::Base,
-        other => match other.chars().collect::<Vec<_>>().as_slice() {
-            [c] if m.axis_index(c.to_ascii_uppercase()).is_some() => LevelBody::CarriedBy(c.to_ascii_uppercase()),
-            _ => {
-                return Err(input(format!(
-                    "--level-reference `{other}`: expected base or an axis letter of the machine ({})",
-                    m.axis_letters()
-                )))
-            }
-        },
-    };
+    let fixed_pose = fixed_pose(m, args.at.as_deref())?;
+    let level_reference = level_reference(m, &args.level_reference)?;
     let setup = DirectSetup {
         setup: Setup { tool_point: args.tool_point.unwrap_or(m.tool_point), work_point: args.work_point.unwrap_or_else(Vec3::zeros) },
         beam_on: args.beam_on.as_deref().map(|b| if b == "tool" { Side::Tool } else { Side::Workpiece }),
@@ -440,6 +459,34 @@ fn direct_model(m: &Machine, parameter: &ParameterId, args: &FitArgs) -> Result<
     Ok(DirectModel { machine: m.clone(), known, fixed_pose, instrument })
 }
 
+/// The positions of the other axes, `--at Y=0,Z=-200` (mm, deg; 0 when not given).
+fn fixed_pose(m: &Machine, at: Option<&str>) -> Result<Vec<f64>, Failure> {
+    let mut fixed_pose = vec![0.0; m.axis_count()];
+    for item in at.iter().flat_map(|s| s.split(',')).filter(|s| !s.trim().is_empty()) {
+        let (letter, value) = item.split_once('=').ok_or_else(|| input(format!("--at `{item}`: expected AXIS=POSITION")))?;
+        let i = letter
+            .trim()
+            .chars()
+            .next()
+            .and_then(|c| m.axis_index(c))
+            .ok_or_else(|| input(format!("--at: the machine has no axis `{letter}`")))?;
+        fixed_pose[i] =
+            value.trim().parse::<f64>().ok().filter(|v| v.is_finite()).ok_or_else(|| input(format!("--at `{item}`: not a number")))?;
+    }
+    Ok(fixed_pose)
+}
+
+/// The body of the reference level, `--level-reference`: base or an axis letter of the machine.
+fn level_reference(m: &Machine, text: &str) -> Result<LevelBody, Failure> {
+    match text.trim() {
+        "base" => Ok(LevelBody::Base),
+        other => match other.chars().collect::<Vec<_>>().as_slice() {
+            [c] if m.axis_index(c.to_ascii_uppercase()).is_some() => Ok(LevelBody::CarriedBy(c.to_ascii_uppercase())),
+            _ => Err(input(format!("--level-reference `{other}`: expected base or an axis letter of the machine ({})", m.axis_letters()))),
+        },
+    }
+}
+
 fn direction_symbol(d: Direction) -> char {
     match d {
         Direction::Positive => '+',
@@ -456,44 +503,51 @@ fn plot_path_of_direction(path: &std::path::Path, direction: Option<char>) -> st
 }
 
 /// The readable summary of one fit.
-fn print_fit(parameter: &ParameterId, direction: Option<Direction>, report: &DirectFitReport) {
+fn fit_text(parameter: &ParameterId, direction: Option<Direction>, report: &DirectFitReport) -> String {
     let f = &report.fitted;
     let unit = parameter.unit();
     let suffix = direction.map(|d| direction_symbol(d).to_string()).unwrap_or_default();
-    println!(
-        "{parameter}{suffix}: {} observations, {} functions kept ({} removed by stepwise selection)",
+    let mut out = format!(
+        "{parameter}{suffix}: {} observations, {} functions kept ({} removed by stepwise selection)\n",
         report.positions.len(),
         f.names.len(),
         f.removed.len()
     );
     for ((n, c), u) in f.names.iter().zip(&f.coefficients).zip(&f.std_uncertainties) {
-        println!("  {n:<40} {c:>14.6e} +- {u:.2e}");
+        out += &format!("  {n:<40} {c:>14.6e} +- {u:.2e}\n");
     }
-    println!(
-        "  residual standard deviation {:.4} {unit}, RMS {:.4} {unit}, largest |residual| {:.4} {unit}",
+    out += &format!(
+        "  residual standard deviation {:.4} {unit}, RMS {:.4} {unit}, largest |residual| {:.4} {unit}\n",
         f.fit.sigma, f.rms, f.max_abs_residual
     );
-    println!("  95 % prediction interval: +- {:.4} {unit} at most", f.max_prediction_half_width);
-    println!("  largest Cook's distance {:.3} (observation {})", f.max_cooks_distance.1, f.max_cooks_distance.0 + 1);
+    out += &format!("  95 % prediction interval: +- {:.4} {unit} at most\n", f.max_prediction_half_width);
+    out += &format!("  largest Cook's distance {:.3} (observation {})\n", f.max_cooks_distance.1, f.max_cooks_distance.0 + 1);
     for w in &report.wavelengths {
-        println!("  periodic wavelength {w}");
+        out += &format!("  periodic wavelength {w}\n");
     }
-    print!("{}", crate::iso230_2::data_quality_text(&report.findings));
+    out += &output::data_quality_text(&report.findings);
     if let Some(r) = &report.residual_period {
-        let verdict = if r.significant { "significant at 1 %" } else { "not significant at 1 %" };
-        println!(
-            "  strongest periodic residual: period {:.4}, amplitude {:.4} {unit} ({verdict}; periods from {:.4}, twice the sampling step, searched)",
-            r.period, r.amplitude, r.limit
-        );
-        let aliases = r.aliases(2);
-        if r.significant && !aliases.is_empty() {
-            let list: Vec<String> = aliases.iter().map(|a| format!("{a:.4}")).collect();
-            println!(
-                "  warning: samples every {:.4} cannot tell this period from its aliases {}, ... (1/|k/step +- 1/period|): a periodic error \
-                 of such a wavelength (scale pitch, screw lead) looks the same; name it with --periodic or sample at finer or random intervals",
-                r.uniform_step.unwrap_or(0.0),
-                list.join(", ")
-            );
-        }
+        out += &residual_period_text(r, unit);
     }
+    out
+}
+
+/// The strongest periodic residual, and the aliases a uniform sampling cannot tell it from.
+fn residual_period_text(r: &ResidualPeriod, unit: &str) -> String {
+    let verdict = if r.significant { "significant at 1 %" } else { "not significant at 1 %" };
+    let mut out = format!(
+        "  strongest periodic residual: period {:.4}, amplitude {:.4} {unit} ({verdict}; periods from {:.4}, twice the sampling step, searched)\n",
+        r.period, r.amplitude, r.limit
+    );
+    let aliases = r.aliases(2);
+    if r.significant && !aliases.is_empty() {
+        let list: Vec<String> = aliases.iter().map(|a| format!("{a:.4}")).collect();
+        out += &format!(
+            "  warning: samples every {:.4} cannot tell this period from its aliases {}, ... (1/|k/step +- 1/period|): a periodic error \
+             of such a wavelength (scale pitch, screw lead) looks the same; name it with --periodic or sample at finer or random intervals\n",
+            r.uniform_step.unwrap_or(0.0),
+            list.join(", ")
+        );
+    }
+    out
 }

@@ -1,5 +1,6 @@
 //! `trueaxis identify`: parameters from indirect measurements (3D ball, lengths, probing).
 
+use crate::output::{data_quality_text, json, print};
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::OutputSet;
@@ -47,11 +48,11 @@ pub struct IdentifyArgs {
     refine: bool,
     /// Write the identified values as an error-values TOML (the campaign's nominal errors with the
     /// identified parameters replaced), atomically.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Write the residuals per row (CSV: measurement, line, channel, residual_um), atomically.
-    #[arg(long, value_parser = crate::outputs::file)]
-    residuals: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    residuals: Option<crate::output::OutputPath>,
     /// Leave out the readings screening finds suspect (studentized residual over 5.5 or Cook's
     /// distance over 0.5, stuck sensors, repeated records; docs/screening.md) and report the
     /// result without them, next to the one with every reading. Default: flag them only.
@@ -137,10 +138,10 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     if args.json {
         let mut doc = identification_json(result, campaign);
         screened.add_to_json(&mut doc);
-        return print(&format!("{doc}\n"));
+        return json(&doc);
     }
     let mut text = table(campaign, result, args.out.as_deref());
-    text += &crate::iso230_2::data_quality_text(&screened.findings);
+    text += &data_quality_text(&screened.findings);
     if let Some(robust) = &screened.robust {
         text += &format!("\n{}", robust.text());
     }
@@ -280,15 +281,5 @@ fn significant(v: f64) -> String {
         format!("{v:.4}")
     } else {
         format!("{v:.4e}")
-    }
-}
-
-/// Writes to stdout; a closed pipe (`| head`) is not an error.
-pub fn print(text: &str) -> Result<(), Failure> {
-    use std::io::Write;
-    let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::computation(anyhow::anyhow!("cannot write to stdout: {e}"))),
-        _ => Ok(()),
     }
 }

@@ -1,6 +1,6 @@
 //! `trueaxis inspect`: what trueaxis reads in a file.
 
-use crate::iso230_2::print;
+use crate::output::{self, print};
 use crate::Failure;
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -269,7 +269,7 @@ pub fn run(args: InspectArgs) -> Result<(), Failure> {
     };
     doc["file"] = json!(name);
     if args.json {
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     print(&text_of(&name, &doc))
 }

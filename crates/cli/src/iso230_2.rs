@@ -1,12 +1,12 @@
 //! `trueaxis iso230-2`.
 
+use crate::output::{data_quality_text, json, print, warn};
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
 use trueaxis::evaluate::iso230_2::Iso2302Result;
 use trueaxis::evaluate::positioning_test::evaluate_file;
 use trueaxis::evaluate::EvaluateError;
-use trueaxis::io::plausibility::split_findings;
 
 /// Accuracy and repeatability of positioning of an axis after ISO 230-2:2014 (A, R, E, M, B and
 /// their unidirectional values, coverage factor 2) from bidirectional runs, e.g. laser readings.
@@ -28,8 +28,8 @@ pub struct Iso2302Args {
     #[arg(long)]
     json: bool,
     /// Write an SVG plot of the readings, the mean deviations and the 2s bands (atomically).
-    #[arg(long, value_parser = crate::outputs::file)]
-    plot: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    plot: Option<crate::output::OutputPath>,
     #[command(flatten)]
     temperature: crate::temperature::TemperatureArgs,
 }
@@ -39,20 +39,6 @@ fn failure(e: EvaluateError) -> Failure {
         Failure::input(e)
     } else {
         Failure::computation(e)
-    }
-}
-
-/// Sorts the findings of plausibility checks (`io::plausibility::split_findings`): the first
-/// refusal is the error; the warnings (with those of reading the file) are returned, to be printed
-/// with [`warn`] once the command has succeeded (a refused command prints its one line only).
-pub(crate) fn report_findings(findings: Vec<trueaxis::io::Finding>, warnings: &[String]) -> Result<Vec<String>, Failure> {
-    split_findings(findings, warnings).map_err(|m| Failure::input(anyhow::anyhow!(m)))
-}
-
-/// Prints warnings and notes on stderr.
-pub(crate) fn warn(warnings: &[String]) {
-    for w in warnings {
-        eprintln!("trueaxis: warning: {w}");
     }
 }
 
@@ -69,7 +55,7 @@ pub fn run(args: Iso2302Args) -> Result<(), Failure> {
         write_atomically(path, svg.as_bytes()).map_err(Failure::input)?;
     }
     if args.json {
-        return print(&format!("{}\n", test.to_json()));
+        return json(&test.to_json());
     }
     let mut text = table_text(&name, &test.result, &test.data.metadata);
     text += &data_quality_text(&test.findings);
@@ -128,26 +114,4 @@ fn table_text(name: &str, result: &Iso2302Result, metadata: &trueaxis::io::Metad
         let _ = writeln!(out, "\nnote: the ISO 230-2 test cycle approaches each target 5 times in each direction; here {} were used", runs);
     }
     out
-}
-
-/// The screening findings as a section of the printed report (empty when there are none).
-pub(crate) fn data_quality_text(findings: &[trueaxis::screen::Finding]) -> String {
-    if findings.is_empty() {
-        return String::new();
-    }
-    let mut out = format!("\ndata quality ({} finding(s), docs/screening.md):\n", findings.len());
-    for f in findings {
-        out += &format!("  {}\n", f.line());
-    }
-    out
-}
-
-/// Writes to stdout; a closed pipe (`| head`) is not an error.
-pub(crate) fn print(text: &str) -> Result<(), Failure> {
-    use std::io::Write;
-    let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::computation(anyhow::anyhow!("cannot write to stdout: {e}"))),
-        _ => Ok(()),
-    }
 }

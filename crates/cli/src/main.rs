@@ -18,7 +18,8 @@ mod live;
 #[cfg(unix)]
 mod memory;
 mod nc;
-mod outputs;
+mod output;
+mod parse;
 mod predict;
 mod progress;
 mod report;
@@ -102,12 +103,12 @@ fn main() -> ExitCode {
     }
     let command = Cli::command();
     let matches = command.clone().get_matches();
-    // outputs that would destroy an input are refused before anything runs (`outputs`)
-    let (outputs, inputs) = outputs::named(&matches, &command);
-    if let Err(failure) = outputs::check(&outputs, &inputs) {
+    // outputs that would destroy an input are refused before anything runs (`output`)
+    let (outputs, inputs) = output::named(&matches, &command);
+    if let Err(failure) = output::check(&outputs, &inputs) {
         return failure.report();
     }
-    outputs::route_standard_output(&outputs);
+    output::route_standard_output(&outputs);
     trueaxis::files::inputs::track();
     // a stop of the live service by its supervisor is its normal end
     signals::install(matches.subcommand_name() == Some("live"));

@@ -1,6 +1,8 @@
 //! `trueaxis nc`.
 
-use crate::compensate::{failure, parse_axis_values, parse_temperatures};
+use crate::compensate::failure;
+use crate::inputs::temperatures;
+use crate::parse::{axis_values, correction_limits};
 use crate::Failure;
 use std::path::{Path, PathBuf};
 use trueaxis::compensate::nc::params::read_parameter_file;
@@ -37,8 +39,8 @@ pub struct NcArgs {
     /// The program to correct.
     program: PathBuf,
     /// Write the corrected program here (atomically) instead of stdout.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// The program's dialect: linuxcnc, fanuc, haas, mach3, mach4, grbl, fadal or siemens (default:
     /// detected from the program; docs/nc.md has each dialect's codes).
     #[arg(long)]
@@ -133,7 +135,7 @@ fn read(path: &PathBuf) -> Result<String, Failure> {
 /// The options of the command line.
 fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
     let mut options = NcOptions::new(machine);
-    options.limits = crate::compensate::limits(machine, args.limit_um, args.limit_urad)?;
+    options.limits = correction_limits(machine, args.limit_um, args.limit_urad)?;
     if !(args.tolerance_um.is_finite() && args.tolerance_um > 0.0) {
         return Err(bad("--tolerance-um must be a positive number".into()));
     }
@@ -167,11 +169,11 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
         let code = code.trim().to_ascii_uppercase();
         let system =
             systems.iter().position(|s| *s == code).ok_or_else(|| bad(format!("--offset: `{code}` is not one of G54 ... G59.3")))?;
-        let values = parse_axis_values(machine, &letter_values(values), "--offset")?;
+        let values = axis_values(machine, &letter_values(values), "--offset")?;
         setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(machine), system as u8 + 1, &values);
     }
     if let Some(s) = &args.start {
-        setup.start = parse_axis_values(machine, &letter_values(s), "--start")?;
+        setup.start = axis_values(machine, &letter_values(s), "--start")?;
         machine.check_range(&setup.start).map_err(|m| bad(format!("--start: the start point leaves the machine's travel: {m}")))?;
     }
     setup.unknown_tools = match (args.strict_tools, args.tool_length) {
@@ -200,7 +202,7 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
 pub fn run(args: NcArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
-    let temperatures = parse_temperatures(&errors, &args.temperatures)?;
+    let temperatures = temperatures(&errors, &args.temperatures)?;
     let mut options = options(&args, &machine)?;
     let id = |path: &PathBuf| -> Result<FileId, Failure> {
         let bytes = std::fs::read(path).map_err(|e| bad(format!("{}: cannot read: {e}", path.display())))?;
@@ -227,9 +229,7 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
         }
     };
     if !args.json {
-        for w in &result.warnings {
-            eprintln!("trueaxis: warning: {w}");
-        }
+        crate::output::warn(&result.warnings);
     }
     let expanded =
         if result.expanded.is_empty() { String::new() } else { format!("; {} parts expanded into plain moves", result.expanded.len()) };

@@ -1,6 +1,6 @@
 //! `trueaxis predict`.
 
-use crate::Failure;
+use crate::{parse, Failure};
 use std::path::{Path, PathBuf};
 use trueaxis::data::{output_name, write_streamed, DataError};
 use trueaxis::error_model::ErrorModel;
@@ -32,10 +32,10 @@ pub struct PredictArgs {
     #[arg(long)]
     poses: PathBuf,
     /// Tool-side point x,y,z in mm, in M at home (default: the machine's tool point).
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     tool_point: Option<Vec3>,
     /// Workpiece-side point x,y,z in mm, in M at home (default: 0,0,0).
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     work_point: Option<Vec3>,
     /// Frame of the error components.
     #[arg(long, value_enum, default_value = "workpiece")]
@@ -45,22 +45,13 @@ pub struct PredictArgs {
     json: bool,
     /// Write the result to this file (atomically; a device or FIFO in place, `-` standard output)
     /// instead of stdout. Any number of poses: they are read, predicted and written in chunks.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Value of an input of the error model for every pose, `NAME=VALUE` (repeatable): a
     /// temperature `T:<sensor>=degC`, a spindle speed `S:<name>=rpm`, a load `F:<name>=N`, a
     /// position `P:<name>=mm`. A column of the poses file with that name takes precedence.
     #[arg(long = "input", visible_alias = "temperature", value_name = "NAME=VALUE", allow_hyphen_values = true)]
     inputs: Vec<String>,
-}
-
-pub fn parse_point(text: &str) -> Result<Vec3, String> {
-    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let values: Result<Vec<f64>, _> = parts.iter().map(|p| p.parse::<f64>()).collect();
-    match values {
-        Ok(v) if v.len() == 3 && v.iter().all(|x| x.is_finite()) => Ok(Vec3::new(v[0], v[1], v[2])),
-        _ => Err(format!("`{text}` is not a point x,y,z in mm (three finite numbers separated by commas)")),
-    }
 }
 
 pub fn run(args: PredictArgs) -> Result<(), Failure> {

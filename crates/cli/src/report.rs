@@ -2,7 +2,7 @@
 
 mod fits;
 
-use crate::predict::parse_point;
+use crate::parse::point as parse_point;
 use crate::Failure;
 use std::path::{Path, PathBuf};
 use trueaxis::data::write_atomically;
@@ -144,11 +144,11 @@ pub struct ReportArgs {
     #[arg(long)]
     title: Option<String>,
     /// The HTML file to write (atomically).
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: crate::outputs::OutputPath,
+    #[arg(long, value_parser = crate::output::file)]
+    out: crate::output::OutputPath,
     /// Also write the report as a PDF (A4), from the same content.
-    #[arg(long, value_name = "FILE.pdf", value_parser = crate::outputs::file)]
-    pdf: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_name = "FILE.pdf", value_parser = crate::output::file)]
+    pdf: Option<crate::output::OutputPath>,
     /// Print a JSON summary (sections, inputs, key numbers) instead of text.
     #[arg(long)]
     json: bool,

@@ -1,6 +1,6 @@
 //! `trueaxis reversal arbor|parallelism|disk`: the reversal techniques of NISTIR 5236 §3.4.
 
-use crate::iso230_2::print;
+use crate::output::{self, print};
 use crate::Failure;
 use anyhow::anyhow;
 use serde_json::{json, Value};
@@ -43,8 +43,8 @@ struct Profile {
     #[arg(long)]
     json: bool,
     /// Write an SVG of the profiles (atomically).
-    #[arg(long, value_parser = crate::outputs::file)]
-    plot: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    plot: Option<crate::output::OutputPath>,
 }
 
 /// Straightness of an axis with a test arbor by reversal (NISTIR 5236): probe 1 scans the
@@ -206,7 +206,7 @@ fn report(
 ) -> Result<(), Failure> {
     use std::fmt::Write;
     if json_out {
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     let mut out = String::new();
     let _ = writeln!(out, "{}", header.iter().map(|h| format!("{h:>16}")).collect::<String>());
@@ -266,7 +266,7 @@ fn parallelism(a: ParallelismArgs) -> Result<(), Failure> {
     });
     check_finite(&a.file, &doc)?;
     if a.json {
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     print(&format!(
         "best-fit radii (um, mean of each revolution, NISTIR 5236): R11 {:.4}  R21 {:.4}  R12 {:.4}  R22 {:.4}\n\

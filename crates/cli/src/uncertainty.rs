@@ -1,6 +1,7 @@
 //! `trueaxis uncertainty`.
 
-use crate::predict::parse_point;
+use crate::output::print;
+use crate::parse;
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::OutputSet;
@@ -44,10 +45,10 @@ pub struct UncertaintyArgs {
     #[arg(long, requires = "campaign")]
     poses: Option<PathBuf>,
     /// With --poses: tool-side point x,y,z in mm, in M at home (default: the machine's tool point).
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true, requires = "poses")]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true, requires = "poses")]
     tool_point: Option<Vec3>,
     /// With --poses: workpiece-side point x,y,z in mm, in M at home (default: 0,0,0).
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true, requires = "poses")]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true, requires = "poses")]
     work_point: Option<Vec3>,
     /// With --poses: frame of dx dy dz.
     #[arg(long, value_enum, default_value = "workpiece")]
@@ -65,8 +66,8 @@ pub struct UncertaintyArgs {
     #[arg(long)]
     no_budget: bool,
     /// Write histograms.svg and convergence.svg into this directory.
-    #[arg(long, value_parser = crate::outputs::figures)]
-    plots: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::figures)]
+    plots: Option<crate::output::OutputPath>,
     /// Print one JSON document instead of the tables.
     #[arg(long)]
     json: bool,
@@ -316,14 +317,4 @@ fn write_plots(dir: &std::path::Path, budget: &Budget, sources: &Sources) -> any
         plots.file(dir.join("convergence.svg"), svg);
     }
     Ok(plots.commit()?)
-}
-
-/// Writes to stdout; a closed pipe (`| head`) is not an error.
-fn print(text: &str) -> Result<(), Failure> {
-    use std::io::Write;
-    let mut stdout = std::io::stdout().lock();
-    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
-        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::computation(anyhow::anyhow!("cannot write to stdout: {e}"))),
-        _ => Ok(()),
-    }
 }

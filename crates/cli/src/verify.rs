@@ -1,7 +1,8 @@
 //! `trueaxis verify`: a re-measurement after compensation against the model's prediction, with the
 //! residuals tested against the repeatability (`trueaxis::evaluate::verification`).
 
-use crate::identify::{failure, print};
+use crate::identify::failure;
+use crate::output::{self, print};
 use crate::Failure;
 use std::fmt::Write;
 use std::path::PathBuf;
@@ -53,8 +54,8 @@ pub struct VerifyArgs {
     #[arg(long = "ignore-channel")]
     ignored_channels: Vec<String>,
     /// Write the residual of every reading (CSV: measurement, line, channel, residual_um).
-    #[arg(long, value_parser = crate::outputs::file)]
-    residuals: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    residuals: Option<crate::output::OutputPath>,
     /// Print one JSON document.
     #[arg(long)]
     json: bool,
@@ -90,7 +91,7 @@ pub fn run(args: VerifyArgs) -> Result<(), Failure> {
         let mut doc = serde_json::to_value(&result).map_err(Failure::computation)?;
         doc["unit"] = serde_json::json!("um");
         doc["residuals"] = serde_json::json!(null);
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     print(&text(&args, &result))
 }

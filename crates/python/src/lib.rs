@@ -50,6 +50,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(evaluate::iso230_4, m)?)?;
     m.add_function(wrap_pyfunction!(ballbar::ballbar_identify, m)?)?;
     m.add_function(wrap_pyfunction!(ballbar::ballbar_sensitivity, m)?)?;
+    m.add_function(wrap_pyfunction!(ballbar::ballbar_simulate, m)?)?;
     m.add_function(wrap_pyfunction!(thermal::thermal_fit, m)?)?;
     m.add_function(wrap_pyfunction!(thermal::thermal_predict, m)?)?;
     m.add_function(wrap_pyfunction!(thermal::thermal_modes, m)?)?;

@@ -1,5 +1,5 @@
 """ISO 230-2 (with the correction to 20 degC), ISO 230-4 and the rotary-axis ballbar test (identify,
-sensitivity) against the command line: the same library entry points, so the same documents
+sensitivity, simulate) against the command line: the same library entry points, so the same documents
 (exact), the same warnings and the same error messages."""
 
 import warnings
@@ -210,3 +210,25 @@ def test_ballbar_sensitivity_equals_the_cli():
     with pytest.raises(ta.InputError) as e:
         ta.ballbar_sensitivity(machine, noise=2000)
     assert code == 2 and str(e.value) == message
+
+
+def test_ballbar_simulate_equals_the_cli():
+    """The same CSV, byte for byte: a step of the four-setup method on an erroneous machine with noise,
+    and a circle in both senses with noise; the same refusal of a bad step."""
+    machine = ta.Machine.from_file(C600U)
+    errors = ta.Errors.from_file(BALLBAR / "c600u_piges.toml", machine)
+    got = ta.ballbar_simulate(machine, "a1", errors=errors, method="four-setup", outer_positions=(-200, 250),
+                              inner_positions=(0, 78), noise=0.5, seed=3, step=5)
+    code, expected, err = run_cli("ballbar", "simulate", "--machine", C600U, "--errors", BALLBAR / "c600u_piges.toml",
+                                  "--test", "a1", "--method", "four-setup", "--outer-positions", "-200,250",
+                                  "--inner-positions", "0,78", "--noise", "0.5", "--seed", "3", "--step", "5")
+    assert code == 0 and got == expected, err
+    vmc3 = ta.Machine.from_file(EX / "machines" / "vmc3.toml")
+    circle = ["ballbar", "simulate", "--machine", EX / "machines" / "vmc3.toml", "--test", "circle", "--centre", "0,0,-200"]
+    assert ta.ballbar_simulate(vmc3, "circle", centre=(0, 0, -200), step=10, noise=1) == run_cli(*circle, "--step", "10",
+                                                                                                "--noise", "1")[1]
+    code, message = cli_error(*circle, "--step", "0")
+    with pytest.raises(ta.InputError) as e:
+        ta.ballbar_simulate(vmc3, "circle", step=0)
+    assert code == 2 and str(e.value) == message
+

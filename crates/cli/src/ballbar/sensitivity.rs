@@ -1,6 +1,7 @@
 //! `trueaxis ballbar sensitivity`: how a rotary-axis method reacts to its setup and to bar noise.
 
-use super::{print, BarArgs, MethodArgs};
+use super::{BarArgs, MethodArgs};
+use crate::output::{self, print};
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::identify::pige_report::{pige_user_value, sensitivity_report};
@@ -49,7 +50,7 @@ pub fn run(a: SensitivityArgs) -> Result<(), Failure> {
         }
     })?;
     if a.json {
-        return print(&format!("{}\n", report.to_json()));
+        return output::json(&report.to_json());
     }
     let (s, combined) = (&report.sensitivity, &report.combined);
     let per_um = |p: usize, v: f64| report.per_um(p, v);

@@ -1,6 +1,6 @@
 //! `trueaxis ballbar tmbb-setup`: choosing and checking the setup of the two-length rotary-table test.
 
-use super::{print, round};
+use crate::output::{self, print};
 use crate::Failure;
 use anyhow::anyhow;
 use serde_json::json;
@@ -104,7 +104,7 @@ pub fn run(a: TmbbSetupArgs) -> Result<(), Failure> {
             })
             .collect();
         let doc = json!({"l1_mm": a.l1, "l2_mm": a.l2, "rz_mm": a.rz, "noise_um": a.noise, "angles": angles.len(), "rx": rx, "setup_deviations": dev});
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     let mut out = format!(
         "Two-length rotary-table test, L1 = {} mm, L2 = {} mm, {} angles, bar noise {} um\n{:>8} {:>9} {:>10} {:>9} {:>9} {:>10} {:>10} {:>9}\n",
@@ -150,4 +150,10 @@ pub fn run(a: TmbbSetupArgs) -> Result<(), Failure> {
     }
     out.push_str("a height error of either ball is an axial offset of the table: D_z takes it one for one\n");
     print(&out)
+}
+
+/// `v` rounded to `digits` decimals (the values of the JSON document).
+fn round(v: f64, digits: i32) -> f64 {
+    let f = 10f64.powi(digits);
+    (v * f).round() / f
 }

@@ -46,8 +46,8 @@ pub struct AllocateArgs {
     #[arg(long, default_value_t = 500, value_parser = crate::bounds::count::<0, { crate::bounds::MAX_ITERATIONS }>)]
     generations: usize,
     /// Write the allocated tolerances as a budget file (TOML) to this file.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Print one JSON document instead of tables.
     #[arg(long)]
     json: bool,

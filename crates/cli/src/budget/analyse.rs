@@ -27,19 +27,19 @@ pub struct AnalyseArgs {
     #[command(flatten)]
     inputs: BudgetInputs,
     /// Write the per-pose stack-up (CSV: axis positions, rss_x ... worst_total in um) to this file.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Write the sensitivity matrix (CSV: one row per pose and direction, one column per component,
     /// um per um or um per urad) to this file.
-    #[arg(long, value_parser = crate::outputs::file)]
-    sensitivity: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    sensitivity: Option<crate::output::OutputPath>,
     /// Write the figures (contribution chart, map of the root-sum-square error over the mid-planes of
     /// the work volume) to this directory.
-    #[arg(long, value_parser = crate::outputs::figures)]
-    plots: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::figures)]
+    plots: Option<crate::output::OutputPath>,
     /// Write an HTML report of the analysis to this file.
-    #[arg(long, value_parser = crate::outputs::file)]
-    report: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    report: Option<crate::output::OutputPath>,
     /// Print one JSON document instead of tables.
     #[arg(long)]
     json: bool,

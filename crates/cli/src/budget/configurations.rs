@@ -1,14 +1,14 @@
 //! `trueaxis budget configurations`: the five-axis configuration study.
 
 use super::failure;
-use crate::Failure;
+use crate::{output, Failure};
 use std::fmt::Write;
-use trueaxis::budget::configuration_study::ConfigurationStudy;
-use trueaxis::budget::configurations::Pattern;
+use std::path::Path;
+use trueaxis::budget::configuration_study::{space_utility_trend, ConfigurationStudy};
 use trueaxis::budget::form_shaping::form_shaping;
 use trueaxis::budget::ranking::StudyOptions;
 use trueaxis::budget::spec::KindValues;
-use trueaxis::budget::travel::{required_travel, space_utility};
+use trueaxis::budget::travel::space_utility;
 use trueaxis::data::OutputSet;
 use trueaxis_report::budget::{bars_svg, trends_svg, BarPanel, Series};
 
@@ -48,8 +48,8 @@ pub struct ConfigurationsArgs {
     #[arg(long)]
     formulas: bool,
     /// Write the figures (space utility over part size, ranking) to this directory.
-    #[arg(long, value_parser = crate::outputs::figures)]
-    plots: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::figures)]
+    plots: Option<crate::output::OutputPath>,
     /// Print one JSON document instead of tables.
     #[arg(long)]
     json: bool,
@@ -69,58 +69,66 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
     let report = |done: usize, total: usize| progress.set_message(format!("budgets of the configurations: {done} of {total}"));
     let study = ConfigurationStudy::run(&options, &report).map_err(failure)?;
     progress.finish_and_clear();
-    let ConfigurationStudy { counts, travel: travel_rows, ranked, .. } = &study;
     if let Some(dir) = &args.plots {
-        // both figures or neither (docs/reliability.md)
-        let mut plots = OutputSet::new();
-        plots.create_directory(dir);
-        let ratios = [0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0];
-        let mut series = Vec::new();
-        for (pattern, code) in [(Pattern::RotaryAtWorkpiece, "ABXYZ"), (Pattern::Split, "AXYZB"), (Pattern::RotaryAtTool, "XYZAB")] {
-            let s: Vec<char> = code.chars().collect();
-            let sequence = [s[0], s[1], s[2], s[3], s[4]];
-            let mut points = Vec::new();
-            for r in ratios {
-                let part = [r * args.tool_length; 3];
-                let travel = required_travel(&sequence, part, args.tool_length).map_err(failure)?;
-                points.push((r, space_utility(part, travel)));
-            }
-            series.push(Series { name: format!("{} ({code})", pattern.notation()), points });
-        }
-        let svg = trends_svg("Space utility of a cubic part", "part edge / tool length", &[("part volume / travel volume".into(), series)])
-            .map_err(Failure::computation)?;
-        plots.file(dir.join("space_utility.svg"), svg);
-        let bars: Vec<(String, f64)> =
-            ranked.iter().take(args.top.clamp(1, 30)).map(|r| (r.configuration.structure(), r.rss_rms)).collect();
-        let svg =
-            bars_svg("Configurations ranked", &[BarPanel { title: "RMS of the root-sum-square 3D error".into(), unit: "um".into(), bars }])
-                .map_err(Failure::computation)?;
-        plots.file(dir.join("ranking.svg"), svg);
-        plots.commit().map_err(Failure::input)?;
+        write_figures(dir, &args, &study)?;
     }
     if args.json {
-        println!("{}", study.to_json());
-        return Ok(());
+        return output::json(&study.to_json());
     }
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
+    output::print(&(counts_text(&study.counts) + &travel_text(&args, &study) + &ranking_text(&args, &study)))
+}
+
+/// The figures: the space utility of a cubic part over its size, and the ranking; both or neither
+/// (docs/reliability.md).
+fn write_figures(dir: &Path, args: &ConfigurationsArgs, study: &ConfigurationStudy) -> Result<(), Failure> {
+    let mut plots = OutputSet::new();
+    plots.create_directory(dir);
+    let series: Vec<Series> = space_utility_trend(args.tool_length)
+        .map_err(failure)?
+        .into_iter()
+        .map(|(pattern, sequence, points)| Series {
+            name: format!("{} ({})", pattern.notation(), sequence.iter().collect::<String>()),
+            points,
+        })
+        .collect();
+    let svg = trends_svg("Space utility of a cubic part", "part edge / tool length", &[("part volume / travel volume".into(), series)])
+        .map_err(Failure::computation)?;
+    plots.file(dir.join("space_utility.svg"), svg);
+    let bars: Vec<(String, f64)> =
+        study.ranked.iter().take(args.top.clamp(1, 30)).map(|r| (r.configuration.structure(), r.rss_rms)).collect();
+    let svg =
+        bars_svg("Configurations ranked", &[BarPanel { title: "RMS of the root-sum-square 3D error".into(), unit: "um".into(), bars }])
+            .map_err(Failure::computation)?;
+    plots.file(dir.join("ranking.svg"), svg);
+    plots.commit().map_err(Failure::input)
+}
+
+/// The counts of the enumeration.
+fn counts_text(counts: &[usize; 4]) -> String {
+    format!(
         "Five-axis configurations: {} orders of five of the axes X Y Z A B C, {} with the three linear axes,\n\
          {} with both rotary axes next to the workpiece, one at each end, or both next to the tool and the bed between two axes,\n\
-         {} of them with five degrees of freedom ({} per category)",
+         {} of them with five degrees of freedom ({} per category)\n",
         counts[0],
         counts[1],
         counts[2],
         counts[3],
         counts[3] / 3
-    );
+    )
+}
+
+/// The travel and space utility per category and order of the rotary axes (with `--formulas`, the
+/// form-shaping functions).
+fn travel_text(args: &ConfigurationsArgs, study: &ConfigurationStudy) -> String {
+    let part = study.options.part;
+    let mut out = String::new();
     let _ = writeln!(
         out,
         "\ntravel for a {} x {} x {} mm part, tool length {} mm (largest |position|, mm)",
         part[0], part[1], part[2], args.tool_length
     );
     let _ = writeln!(out, "  category     axes      X          Y          Z          space utility");
-    for ((pattern, _), (seq, t)) in travel_rows {
+    for ((pattern, _), (seq, t)) in &study.travel {
         let _ = writeln!(
             out,
             "  {:<12} {:<9}{:>9.2}  {:>9.2}  {:>9.2}  {:>10.4}",
@@ -138,6 +146,13 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
             }
         }
     }
+    out
+}
+
+/// The first `--top` rows of the ranking.
+fn ranking_text(args: &ConfigurationsArgs, study: &ConfigurationStudy) -> String {
+    let ranked = &study.ranked;
+    let mut out = String::new();
     let _ = writeln!(
         out,
         "\nranking by the root mean square of the root-sum-square 3D error (linear {} um, angular {} urad, squareness {} urad; {} poses each)",
@@ -163,6 +178,5 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
             r.kind_shares[2]
         );
     }
-    print!("{out}");
-    Ok(())
+    out
 }

@@ -3,8 +3,7 @@
 //! library's budget problem.
 
 use super::failure;
-use crate::predict::parse_point;
-use crate::Failure;
+use crate::{parse, Failure};
 use std::path::PathBuf;
 use trueaxis::budget::problem::{budget_spec, pose_sets, rotary_positions, BudgetProblem, PoseSource};
 use trueaxis::budget::spec::KindValues;
@@ -52,10 +51,10 @@ pub struct BudgetInputs {
     #[arg(long)]
     pub rotary: Vec<String>,
     /// Tool-side point x,y,z in mm, in M at home (default: the machine's tool point).
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     pub tool_point: Option<Vec3>,
     /// Workpiece-side point x,y,z in mm, in M at home (default: 0,0,0).
-    #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+    #[arg(long, value_parser = parse::point, allow_hyphen_values = true)]
     pub work_point: Option<Vec3>,
     /// Frame of the volumetric error components.
     #[arg(long, value_enum, default_value = "workpiece")]

@@ -38,8 +38,8 @@ pub struct MiniaturisationArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Write the trend figures to this directory.
-    #[arg(long, value_parser = crate::outputs::figures)]
-    plots: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::figures)]
+    plots: Option<crate::output::OutputPath>,
     /// Print one JSON document instead of tables.
     #[arg(long)]
     json: bool,

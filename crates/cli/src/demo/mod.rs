@@ -39,8 +39,8 @@ use trueaxis::data::DataError;
 )]
 pub struct DemoArgs {
     /// Output directory (created if missing).
-    #[arg(long, default_value = "trueaxis-demo", value_parser = crate::outputs::directory)]
-    out: crate::outputs::OutputPath,
+    #[arg(long, default_value = "trueaxis-demo", value_parser = crate::output::directory)]
+    out: crate::output::OutputPath,
     /// Print a JSON summary on stdout instead of text.
     #[arg(long)]
     json: bool,

@@ -1,9 +1,10 @@
 //! `trueaxis design steady`: one 3D-ball reading per pose from a continuous recording.
 
+use crate::output::text_or_file;
 use crate::Failure;
 use anyhow::anyhow;
 use std::path::PathBuf;
-use trueaxis::data::{write_atomically, CsvTable};
+use trueaxis::data::CsvTable;
 use trueaxis::instruments::{steady_values, SteadySettings};
 use trueaxis::io::units::Dimension;
 
@@ -43,8 +44,8 @@ pub struct SteadyArgs {
     #[arg(long, default_value_t = 0.02)]
     trim: f64,
     /// Write the readings here (atomically); stdout without.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
 }
 
 pub fn run(a: SteadyArgs) -> Result<(), Failure> {
@@ -104,8 +105,5 @@ pub fn run(a: SteadyArgs) -> Result<(), Failure> {
     }
     let worst = dwells.iter().map(|d| d.std.iter().fold(0.0f64, |m, s| m.max(*s))).fold(0.0f64, f64::max);
     eprintln!("trueaxis: {} dwells for {} poses; largest standard deviation within a dwell {worst:.3} um", dwells.len(), poses.len());
-    match &a.out {
-        Some(p) => write_atomically(p, out.as_bytes()).map_err(Failure::input),
-        None => crate::identify::print(&out),
-    }
+    text_or_file(a.out.as_deref(), &out)
 }

@@ -3,7 +3,7 @@
 
 use super::failure;
 use super::links::write_terms;
-use crate::iso230_2::print;
+use crate::output::{self, print};
 use crate::Failure;
 use std::fmt::Write;
 use std::path::PathBuf;
@@ -32,8 +32,8 @@ pub struct BeamArgs {
     #[arg(long)]
     errors_in: Option<PathBuf>,
     /// Write the error-values file here (atomically).
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Print the errors along the axis at these readings, `T:name=degC` comma separated (others 20).
     #[arg(long, value_delimiter = ',')]
     at: Option<Vec<String>>,
@@ -76,7 +76,7 @@ pub fn beam(args: BeamArgs) -> Result<(), Failure> {
                 "position_mm": x, "e_x_um": e[0], "e_y_um": e[1], "e_z_um": e[2], "eps_y_urad": eps[0], "eps_z_urad": eps[1]})).collect::<Vec<_>>()),
             "out": args.out.as_ref().map(|p| p.display().to_string()),
         });
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     let mut s = String::new();
     if args.at.is_some() {

@@ -2,7 +2,7 @@
 //! time constants of eq. 3.17 (fitted by `trueaxis::thermal::campaign_fit`).
 
 use super::{failure, plot_text, write_plot};
-use crate::iso230_2::print;
+use crate::output::{self, print};
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::OutputSet;
@@ -83,22 +83,22 @@ pub struct FitArgs {
     #[arg(long, value_delimiter = ',')]
     train_runs: Option<Vec<String>>,
     /// Write the fitted model (TOML) here.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// ISO 230 parameter the error is (e.g. EZZ, TZ) for --terms-out.
     #[arg(long)]
     parameter: Option<String>,
     /// Write the model as [[term.NAME]] error terms (T - 20 degC) for `trueaxis predict`.
-    #[arg(long, requires = "parameter", value_parser = crate::outputs::file)]
-    terms_out: Option<crate::outputs::OutputPath>,
+    #[arg(long, requires = "parameter", value_parser = crate::output::file)]
+    terms_out: Option<crate::output::OutputPath>,
     /// Machine (TOML) to check --parameter against.
     #[arg(long)]
     machine: Option<PathBuf>,
     /// Write a figure (SVG): per run the measured values against the model over time and the
     /// residual band, training and validation runs told apart (with --time-constants: each
     /// temperature record and its fit of shared time constants).
-    #[arg(long, value_name = "FILE.svg", value_parser = crate::outputs::file)]
-    plot: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_name = "FILE.svg", value_parser = crate::output::file)]
+    plot: Option<crate::output::OutputPath>,
     /// Print one JSON document.
     #[arg(long)]
     json: bool,
@@ -172,7 +172,7 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
     if args.json {
         let mut doc = fitted.to_json();
         doc["data_quality"] = findings_json(&findings);
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     let mut out = format!("thermal error model of `{error}` (um) from {rows} rows of {}\n", args.data.display());
     match model {
@@ -201,7 +201,7 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
     for (run, s) in &fitted.validation {
         out += &stats_line(run, s);
     }
-    out += &crate::iso230_2::data_quality_text(&findings);
+    out += &crate::output::data_quality_text(&findings);
     print(&out)
 }
 
@@ -270,7 +270,7 @@ fn print_taus(args: &FitArgs, taus: &TimeConstantsFit, findings: &[Finding]) -> 
     if args.json {
         let mut doc = taus.to_json();
         doc["data_quality"] = findings_json(findings);
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     let mut out = format!(
         "shared time constants of {} records: {} min\nresidual RMS {:.4} degC\n",
@@ -281,6 +281,6 @@ fn print_taus(args: &FitArgs, taus: &TimeConstantsFit, findings: &[Finding]) -> 
     for ((r, s), (a, b)) in labels.iter().zip(fit.amplitudes.iter().zip(&fit.offsets)) {
         out += &format!("  {r:<10} {s:<10} T0 {b:.3}  A {:?}\n", a.iter().map(|v| (v * 1e4).round() / 1e4).collect::<Vec<_>>());
     }
-    out += &crate::iso230_2::data_quality_text(findings);
+    out += &crate::output::data_quality_text(findings);
     print(&out)
 }

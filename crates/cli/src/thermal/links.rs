@@ -2,7 +2,7 @@
 //! the kinematic chain, written into an error-values file for `predict`, `compensate` and `nc`.
 
 use super::failure;
-use crate::iso230_2::print;
+use crate::output::{self, print};
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::write_atomically;
@@ -33,8 +33,8 @@ pub struct LinksArgs {
     #[arg(long)]
     errors_in: Option<PathBuf>,
     /// Write the error-values file here (atomically); else print it.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Print one JSON document: {"links": [{"name", "terms": [{"parameter", "coefficient", "factors"}]}], "sensors": [..]}.
     #[arg(long)]
     json: bool,
@@ -68,7 +68,7 @@ pub fn links(args: LinksArgs) -> Result<(), Failure> {
             "sensors": model.sensors(),
             "out": args.out.as_ref().map(|p| p.display().to_string()),
         });
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     match &args.out {
         Some(path) => {

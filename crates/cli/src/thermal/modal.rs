@@ -1,7 +1,7 @@
 //! `trueaxis thermal modes` and `trueaxis thermal place`.
 
 use super::{failure, write_plot};
-use crate::iso230_2::print;
+use crate::output::{self, print};
 use crate::Failure;
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -43,8 +43,8 @@ pub struct ModesArgs {
     method: MethodArg,
     /// Write a figure (SVG): the first mode shapes along the structure, the time constants with
     /// their weights and the truncation share.
-    #[arg(long, value_name = "FILE.svg", value_parser = crate::outputs::file)]
-    plot: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_name = "FILE.svg", value_parser = crate::output::file)]
+    plot: Option<crate::output::OutputPath>,
     /// Print one JSON document.
     #[arg(long)]
     json: bool,
@@ -97,8 +97,8 @@ pub struct PlaceArgs {
     #[arg(long, default_value_t = 10.8)]
     expansion: f64,
     /// Write a figure (SVG): the dominant mode shapes along the structure with the sensors.
-    #[arg(long, value_name = "FILE.svg", value_parser = crate::outputs::file)]
-    plot: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_name = "FILE.svg", value_parser = crate::output::file)]
+    plot: Option<crate::output::OutputPath>,
     /// Print one JSON document: the sensors (node, position, modes served), the rank and condition
     /// number of the sensor-mode matrix Phi_s (null when infinite) and an explanation.
     #[arg(long)]
@@ -174,7 +174,7 @@ pub fn modes(args: ModesArgs) -> Result<(), Failure> {
         write_plot(path, modes_svg(&shapes, &time_constants_plot(&model.name, weights, dominant, args.share)))?;
     }
     if args.json {
-        return print(&format!("{}\n", report.to_json()));
+        return output::json(&report.to_json());
     }
     let mut out = format!(
         "thermal modes of {} ({} nodes), weights |xi tau| under the step flux, sorted by decreasing time constant\n{:>5} {:>12} {:>12} {:>8}  dominant\n",
@@ -271,7 +271,7 @@ pub fn place(args: PlaceArgs) -> Result<(), Failure> {
         let doc = json!({"model": model.name, "method": method, "dominant_modes": dominant.iter().map(|m| m + 1).collect::<Vec<_>>(),
                          "sensors": list, "condition_number": cond.condition_number, "rank": cond.rank,
                          "conditioning": cond.explanation(), "scores": scores.as_ref().map(|s| s.0.clone())});
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     let mut out = format!(
         "sensor placement ({method}) for the dominant modes {:?} of {}\n",

@@ -2,10 +2,9 @@
 //! (`trueaxis::thermal::campaign_predict`).
 
 use super::{failure, write_plot};
-use crate::iso230_2::print;
+use crate::output::text_or_file;
 use crate::Failure;
 use std::path::PathBuf;
-use trueaxis::data::write_atomically;
 use trueaxis::thermal::campaign_predict::{predict_campaign, read_model_file};
 use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis_report::{drift_plot, drift_svg};
@@ -27,12 +26,12 @@ pub struct PredictArgs {
     #[arg(long)]
     json: bool,
     /// Write the result here (atomically) instead of stdout.
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Write a figure (SVG): per run the prediction over time against the measured values and the
     /// residual band.
-    #[arg(long, value_name = "FILE.svg", value_parser = crate::outputs::file)]
-    plot: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_name = "FILE.svg", value_parser = crate::output::file)]
+    plot: Option<crate::output::OutputPath>,
 }
 
 pub fn predict(args: PredictArgs) -> Result<(), Failure> {
@@ -43,8 +42,5 @@ pub fn predict(args: PredictArgs) -> Result<(), Failure> {
     if let Some(path) = &args.plot {
         write_plot(path, drift_svg(&drift_plot(&prediction.error, &prediction.evaluated)))?;
     }
-    match &args.out {
-        Some(p) => write_atomically(p, text.as_bytes()).map_err(Failure::input),
-        None => print(&text),
-    }
+    text_or_file(args.out.as_deref(), &text)
 }

@@ -3,7 +3,7 @@
 //! and validated on other runs, or a fitted model evaluated on a campaign.
 
 use super::failure;
-use crate::iso230_2::print;
+use crate::output::{self, print};
 use crate::Failure;
 use serde_json::json;
 use std::fmt::Write;
@@ -43,8 +43,8 @@ pub struct TemperaturesArgs {
     #[arg(long, conflicts_with_all = ["inputs", "outputs", "train_runs"])]
     model: Option<PathBuf>,
     /// Fitting: write the model (TOML). Evaluating: write the predicted temperatures (CSV).
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Print one JSON document.
     #[arg(long)]
     json: bool,
@@ -103,7 +103,7 @@ pub fn temperatures(args: TemperaturesArgs) -> Result<(), Failure> {
                 (run.clone(), json!({"training": trained, "outputs": by_output}))
             })
             .collect();
-        return print(&format!("{}\n", json!({"model": model, "unit": "degC", "residuals": residuals})));
+        return output::json(&json!({"model": model, "unit": "degC", "residuals": residuals}));
     }
     if args.model.is_some() && args.out.is_none() {
         return print(&csv);

@@ -2,7 +2,7 @@
 //! time constants equal measured ones (`thermal::tuning`).
 
 use super::failure;
-use crate::iso230_2::print;
+use crate::output::{self, print};
 use crate::Failure;
 use serde_json::json;
 use std::fmt::Write;
@@ -32,8 +32,8 @@ pub struct TuneArgs {
     #[arg(long, value_delimiter = ',', required = true)]
     tune: Vec<String>,
     /// Write the tuned model file here (comments kept).
-    #[arg(long, value_parser = crate::outputs::file)]
-    out: Option<crate::outputs::OutputPath>,
+    #[arg(long, value_parser = crate::output::file)]
+    out: Option<crate::output::OutputPath>,
     /// Print one JSON document.
     #[arg(long)]
     json: bool,
@@ -55,7 +55,7 @@ pub fn tune(args: TuneArgs) -> Result<(), Failure> {
             "iterations": tuning.iterations,
             "out": args.out.as_ref().map(|p| p.display().to_string()),
         });
-        return print(&format!("{doc}\n"));
+        return output::json(&doc);
     }
     let mut s = format!("boundary conditions of {} tuned to {} measured time constants:\n", args.model.display(), measured.len());
     for ((k, v), (_, start)) in tuning.values.iter().zip(&tuning.start) {

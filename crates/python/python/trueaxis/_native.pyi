@@ -312,6 +312,31 @@ def ballbar_sensitivity(
     error (um/um, urad/um), per um of bar noise, and its combined standard uncertainty (um, urad)
     for setup_u, bar_u and noise (standard uncertainties in um)."""
 
+def ballbar_simulate(
+    machine: Machine,
+    test: str,
+    *,
+    errors: Optional[Errors] = None,
+    method: str = "extended-bar",
+    outer_offset: Optional[float] = None,
+    outer_positions: Optional[Tuple[float, float]] = None,
+    inner_positions: Optional[Tuple[float, float]] = None,
+    normal_length: float = 100.0,
+    extended_length: float = 150.0,
+    plane: str = "xy",
+    radius: float = 100.0,
+    centre: Optional[_Point] = None,
+    dir: str = "both",
+    step: float = 1.0,
+    start: float = 0.0,
+    noise: float = 0.0,
+    seed: int = 1,
+) -> str:
+    """The CSV of `trueaxis ballbar simulate`: simulated bar readings (axis columns in mm and deg,
+    angle in deg, dir, dL in um) of a step a1|a2|c1|c2 of the rotary-axis method (method and bars
+    as in ballbar_identify) or of an ISO 230-4 circle (plane, radius and centre in mm, start deg,
+    dir ccw|cw|both); step in deg, noise in um (standard deviation) drawn from seed."""
+
 _Part = Union[float, Tuple[float, float, float]]
 
 class BudgetProblem:

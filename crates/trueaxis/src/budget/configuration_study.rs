@@ -2,7 +2,8 @@
 //! runs it: the counts of the enumeration (720 / 360 / 432 / 288), the travel (mm) a part (mm)
 //! needs and the space utility per category and order of the rotary axes (Table C.2), and the
 //! budget of every five-degree-of-freedom configuration with the same tolerances (um, urad),
-//! ranked by the root mean square of its root-sum-square volumetric error (um); its JSON document.
+//! ranked by the root mean square of its root-sum-square volumetric error (um); its JSON document;
+//! and the trend of the space utility of a cubic part with its size (Zhu 2008 Fig. C.1).
 
 use super::configurations::{all_sequences, five_axis_configurations, practical_configurations, three_linear_sequences, Pattern};
 use super::ranking::{study_with_progress, ConfigurationBudget, StudyOptions};
@@ -49,6 +50,24 @@ pub fn representative(pattern: Pattern, rotary: &str) -> [char; 5] {
         Pattern::Split => [r[0], 'X', 'Y', 'Z', r[1]],
         _ => ['X', 'Y', 'Z', r[0], r[1]],
     }
+}
+
+/// Edge-to-tool-length ratios of the cubic parts of [`space_utility_trend`].
+pub const TREND_RATIOS: [f64; 7] = [0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0];
+
+/// The space utility of a cubic part of edge `r p` (mm) against `r` ([`TREND_RATIOS`]) with a tool
+/// of length `p` (mm), for the configuration of each category with the rotary axes A, B (ABXYZ,
+/// AXYZB, XYZAB; Zhu 2008 Fig. C.1): per category, its sequence and the points `(r, utility)`.
+pub fn space_utility_trend(tool_length: f64) -> Result<Vec<(Pattern, [char; 5], Vec<(f64, f64)>)>, BudgetError> {
+    let trend = |pattern: Pattern| {
+        let sequence = representative(pattern, "AB");
+        let point = |r: f64| {
+            let part = [r * tool_length; 3];
+            Ok((r, space_utility(part, required_travel(&sequence, part, tool_length)?)))
+        };
+        Ok((pattern, sequence, TREND_RATIOS.into_iter().map(point).collect::<Result<Vec<_>, BudgetError>>()?))
+    };
+    Pattern::PRACTICAL.into_iter().map(trend).collect()
 }
 
 impl ConfigurationStudy {
@@ -106,4 +125,26 @@ fn ranking_row(rank: usize, r: &ConfigurationBudget) -> Value {
         "form_shaping": {"l": f.position[0].to_string(), "m": f.position[1].to_string(), "n": f.position[2].to_string(),
                          "u": f.orientation[0].to_string(), "v": f.orientation[1].to_string(), "w": f.orientation[2].to_string()},
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// With both rotary axes at the tool (XYZAB) the tool axis sweeps the whole sphere, so a cube of
+    /// edge `r p` with a corner on the pivot needs `(r + 1) p` of each linear axis: utility
+    /// `r^3 / (r + 1)^3`. The categories come in the order of the appendix.
+    #[test]
+    fn the_trend_of_rotary_axes_at_the_tool_is_the_closed_form() {
+        let trend = space_utility_trend(150.0).unwrap();
+        let codes: Vec<String> = trend.iter().map(|(_, s, _)| s.iter().collect()).collect();
+        assert_eq!(codes, ["ABXYZ", "AXYZB", "XYZAB"]);
+        let (pattern, _, points) = &trend[2];
+        assert_eq!(*pattern, Pattern::RotaryAtTool);
+        for ((r, utility), ratio) in points.iter().zip(TREND_RATIOS) {
+            assert_eq!(*r, ratio);
+            let expected = (r / (r + 1.0)).powi(3);
+            assert!((utility - expected).abs() < 1e-9 * expected, "r = {r}: {utility} vs {expected}");
+        }
+    }
 }

@@ -7,7 +7,8 @@
 //!   circle radii, and the flat-face disk reversal for straightness and orthogonality (NISTIR 5236
 //!   NISTIR 5236 §3.4, eqs. 3.1-3.8).
 //! - [`ballbar`]: ballbar (DBB) setups and bar readings simulated on the exact chain: ISO 230-4
-//!   planar circles and the rotary-axis tests of Jiang 2014 (ch. 4, 5, 6).
+//!   planar circles and the rotary-axis tests of Jiang 2014 (ch. 4, 5, 6); [`ballbar_simulation`]:
+//!   their readings as `trueaxis ballbar simulate` writes them, with seeded Gaussian noise.
 //! - [`ballbar_raw`]: the capture arc of a raw ballbar stream (overshoot and feed moves stripped,
 //!   sample index to angle, Jiang 2014 §4.2).
 //! - [`steady`]: steady values of a sampled stream (one 3D-ball reading per pose from a 1000 Hz
@@ -24,6 +25,7 @@
 pub mod ball3d;
 pub mod ballbar;
 pub mod ballbar_raw;
+pub mod ballbar_simulation;
 pub mod direct;
 pub mod laser;
 pub mod length;

@@ -1,14 +1,23 @@
-//! The outputs a command names, typed so that they are known before it runs (docs/reliability.md):
-//! every option that names an output takes an [`OutputPath`] (its value parser says whether it is
-//! a file, `-` meaning standard output, a directory replaced whole, or a directory of figures), and
-//! every other path is an input. Before anything runs, [`check`] refuses an output that is the
-//! same file as an input (`report --out m.toml --machine m.toml`, `nc P --out P`), a directory
-//! replaced whole that holds an input, and standard output given to two outputs; and when an
-//! output goes to standard output, what the command prints for the user goes to stderr instead
-//! ([`route_standard_output`]), so that the data on standard output stays clean.
+//! What a command writes, and where: the outputs it names and the text it prints.
+//!
+//! Named outputs (docs/reliability.md): every option that names an output takes an [`OutputPath`]
+//! (its value parser says whether it is a file, `-` meaning standard output, a directory replaced
+//! whole, or a directory of figures), and every other path is an input. Before anything runs,
+//! [`check`] refuses an output that is the same file as an input (`report --out m.toml --machine
+//! m.toml`, `nc P --out P`), a directory replaced whole that holds an input, and standard output
+//! given to two outputs; and when an output goes to standard output, what the command prints for
+//! the user goes to stderr instead ([`route_standard_output`]), so that the data on standard output
+//! stays clean.
+//!
+//! Printing: [`print`] writes a command's text to standard output (a reader that went away, `|
+//! head`, is not an error; any other write error is a failed computation), [`json`] one JSON
+//! document and its newline, [`text_or_file`] a document to its `--out` file (atomically) or else
+//! to standard output; [`warn`] puts warnings on stderr once the command has succeeded, and
+//! [`data_quality_text`] is the section of screening findings that the printed reports share.
 
 use crate::Failure;
 use clap::{ArgMatches, Command};
+use std::io::Write;
 use std::path::{Path, PathBuf};
 use trueaxis::data::is_standard_output;
 use trueaxis::data::overlap::{refuse_overlap, NamedOutput};
@@ -120,7 +129,6 @@ pub fn route_standard_output(outputs: &[NamedOutput]) {
     }
     #[cfg(unix)]
     {
-        use std::io::Write;
         let _ = std::io::stdout().flush();
         // SAFETY: duplicating descriptors 1 and 2, which the process holds open; no other thread
         // writes yet (called before the command runs)
@@ -131,4 +139,45 @@ pub fn route_standard_output(outputs: &[NamedOutput]) {
             }
         }
     }
+}
+
+/// Writes `text` to standard output; a closed pipe (`| head`) is not an error.
+pub fn print(text: &str) -> Result<(), Failure> {
+    let mut stdout = std::io::stdout().lock();
+    match stdout.write_all(text.as_bytes()).and_then(|()| stdout.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(Failure::computation(anyhow::anyhow!("cannot write to stdout: {e}"))),
+        _ => Ok(()),
+    }
+}
+
+/// Prints one JSON document and a newline.
+pub fn json(doc: &impl std::fmt::Display) -> Result<(), Failure> {
+    print(&format!("{doc}\n"))
+}
+
+/// Writes `text` to `path` (atomically; `-` standard output), or prints it when no path is given.
+pub fn text_or_file(path: Option<&Path>, text: &str) -> Result<(), Failure> {
+    match path {
+        Some(p) => trueaxis::data::write_atomically(p, text.as_bytes()).map_err(Failure::input),
+        None => print(text),
+    }
+}
+
+/// Prints warnings and notes on stderr.
+pub fn warn(warnings: &[String]) {
+    for w in warnings {
+        eprintln!("trueaxis: warning: {w}");
+    }
+}
+
+/// The screening findings as a section of the printed report (empty when there are none).
+pub fn data_quality_text(findings: &[trueaxis::screen::Finding]) -> String {
+    if findings.is_empty() {
+        return String::new();
+    }
+    let mut out = format!("\ndata quality ({} finding(s), docs/screening.md):\n", findings.len());
+    for f in findings {
+        out += &format!("  {}\n", f.line());
+    }
+    out
 }
