@@ -6,7 +6,7 @@
 //! `predict` (library and command line). The campaign builder of `support/basis_campaign.rs` (also
 //! the way to build the 10^5 x 500 problem) is checked on piecewise bases with 60 unknowns.
 
-#[path = "../../../../trueaxis/tests/support/basis_campaign.rs"]
+#[path = "../../../../trueaxis/tests/it/support/basis_campaign.rs"]
 mod basis_campaign;
 
 use crate::support::{json, root, trueaxis, vmc3};

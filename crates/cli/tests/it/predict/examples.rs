@@ -4,7 +4,6 @@
 use crate::support::{failed, refused, trueaxis, vmc3, Run, ROOT};
 use std::path::Path;
 use std::process::Output;
-use trueaxis::poses::read_poses;
 use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Predictor};

@@ -65,7 +65,11 @@ pub fn assemble<'a, E: From<CalibrationError>>(
     let traceability = Traceability::now(inputs, request.command.clone());
     let issued = certificate.issue_date(&traceability.date);
     let report = CalibrationReport {
-        title: request.title.clone().or_else(|| certificate.certificate.title.clone()).unwrap_or_else(|| format!("Calibration report: {}", machine.name)),
+        title: request
+            .title
+            .clone()
+            .or_else(|| certificate.certificate.title.clone())
+            .unwrap_or_else(|| format!("Calibration report: {}", machine.name)),
         subtitle: format!("Date of issue {issued}; {}", traceability.software),
         machine,
         machine_notes: Vec::new(),
