@@ -102,7 +102,7 @@ pub fn export(
         basic.kind, machine.name
     );
     text.push_str(
-        "; written by trueaxis (docs/compensation.md, Siemens swivel data): the machine file's nominal geometry as the basic\n\
+        "; written by trueaxis (docs/compensation.md, Five-axis machines): the machine file's nominal geometry as the basic\n\
          ; offset vectors (frame of the machine file, its origin the reference point, the tool adapter at its tool point),\n\
          ; the identified rotary axis vectors, and the identified shifts of the axis lines and axis zero offsets as fine\n\
          ; offsets ($TC_CARR41-65, added to the basic values: W1, toolholder with orientation capability, fine offset).\n\

@@ -4,7 +4,7 @@
 //! them (Soons 1993 §4.2, the artefact-free case). Random poses give every axis function many distinct
 //! positions, so a basis of high degree stays identifiable.
 //!
-//! Used by `crates/cli/tests/identify_basis.rs`. A benchmark can include it
+//! Used by `crates/cli/tests/it/identify/basis.rs`. A benchmark can include it
 //! (`#[path = "../tests/it/support/basis_campaign.rs"] mod basis_campaign;`) and build the large problem
 //! of BENCHMARKS.md (targets), 10^5 readings x 501 B-spline and squareness coefficients:
 //!

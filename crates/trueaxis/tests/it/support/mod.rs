@@ -1,5 +1,5 @@
 //! Helpers shared by several tests. `basis_campaign` is also included by path by
-//! `benches/identify.rs` and `crates/cli/tests/identify_basis.rs`.
+//! `benches/identify.rs` and `crates/cli/tests/it/identify/basis.rs`.
 
 pub mod basis_campaign;
 pub mod examples;

@@ -6,7 +6,7 @@
 //!
 //! Tolerances of the arc checks: LinuxCNC `interp_internal.hh`, `CENTER_ARC_RADIUS_TOLERANCE_MM`
 //! = 2 * 0.01 * sqrt 2 mm and `SPIRAL_RELATIVE_TOLERANCE` = 0.001, used by `arc_data_ijk` in
-//! `interp_arc.cc` (crates/trueaxis/src/compensate/nc/arcs.rs).
+//! `interp_arc.cc` (crates/nc/src/arcs.rs).
 
 use trueaxis::compensate::nc::{correct_program, NcOptions};
 use trueaxis::compensate::Corrector;
