@@ -31,7 +31,7 @@ pub enum EvaluateError {
 }
 
 impl EvaluateError {
-    /// True for errors in the input (exit status 2 in the command line), false for failed computations.
+    /// True for bad input, false for a failed computation.
     pub fn is_input(&self) -> bool {
         matches!(self, EvaluateError::Data(_) | EvaluateError::Invalid { .. } | EvaluateError::Input(_))
     }

@@ -28,7 +28,7 @@ pub enum PigeRunError {
 }
 
 impl PigeRunError {
-    /// True for bad input (exit status 2 in the command line), false for a failed computation.
+    /// True for bad input, false for a failed computation.
     pub fn is_input(&self) -> bool {
         matches!(self, PigeRunError::Input(_))
     }
