@@ -6,7 +6,7 @@ use trueaxis::data::checks::deviation_finding;
 use trueaxis::data::{CsvTable, OutputSet};
 use trueaxis::error_model::{set_error_function, BasisSpec, Direction, ErrorModel, PeriodicSpec};
 use trueaxis::geometry::Vec3;
-use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, IdentifyError};
+use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions};
 use trueaxis::instruments::{motion_error_axis, DirectError, DirectInstrument, DirectKind, DirectSetup, LevelBody};
 use trueaxis::io::Dimension;
 use trueaxis::machine::{AxisKind, Machine, ParameterId, Side};
@@ -298,10 +298,7 @@ pub(crate) fn compute(args: &FitArgs) -> Result<FitRun, Failure> {
             options: FitOptions { spec: spec.clone(), stepwise_level: args.stepwise, prediction_level: 0.95 },
             corrections: applied.corrections.clone(),
         };
-        let report = run_direct_fit(&table, &request).map_err(|e| match e {
-            IdentifyError::RankDeficient { .. } => Failure::computation(e),
-            other => Failure::input(other),
-        })?;
+        let report = run_direct_fit(&table, &request).map_err(Failure::of)?;
         if let Some(what) = report.non_finite() {
             return Err(Failure::computation(anyhow::anyhow!(
                 "{}: the fit of {parameter} overflowed: {what} is not a finite number (readings too large?); nothing written",

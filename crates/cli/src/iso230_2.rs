@@ -5,7 +5,6 @@ use std::path::PathBuf;
 use trueaxis::data::write_atomically;
 use trueaxis::evaluate::iso230_2::Iso2302Result;
 use trueaxis::evaluate::positioning_test::evaluate_file;
-use trueaxis::evaluate::EvaluateError;
 use trueaxis::io::plausibility::split_findings;
 
 /// Accuracy and repeatability of positioning of an axis after ISO 230-2:2014 (A, R, E, M, B and
@@ -34,14 +33,6 @@ pub struct Iso2302Args {
     temperature: crate::temperature::TemperatureArgs,
 }
 
-fn failure(e: EvaluateError) -> Failure {
-    if e.is_input() {
-        Failure::input(e)
-    } else {
-        Failure::computation(e)
-    }
-}
-
 /// Sorts the findings of plausibility checks (`io::plausibility::split_findings`): the first
 /// refusal is the error; the warnings (with those of reading the file) are returned, to be printed
 /// with [`warn`] once the command has succeeded (a refused command prints its one line only).
@@ -58,7 +49,7 @@ pub(crate) fn warn(warnings: &[String]) {
 
 pub fn run(args: Iso2302Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
-    let test = evaluate_file(&args.file, &args.temperature.options()).map_err(failure)?;
+    let test = evaluate_file(&args.file, &args.temperature.options()).map_err(Failure::of)?;
     warn(&test.warnings);
     for note in &test.notes {
         eprintln!("trueaxis: {note}");

@@ -3,20 +3,12 @@
 //! and `trueaxis ballbar sensitivity` use.
 
 use crate::convert::typed;
-use crate::exceptions::{computation, input, warn};
+use crate::exceptions::{of, warn};
 use crate::machine::Machine;
 use pyo3::prelude::*;
 use std::path::PathBuf;
-use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, sensitivity_report, PigeRequest, PigeRunError};
+use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, sensitivity_report, PigeRequest};
 use trueaxis::instruments::ballbar::{BarLengths, Method};
-
-fn failure(e: PigeRunError) -> PyErr {
-    if e.is_input() {
-        input(e)
-    } else {
-        computation(e)
-    }
-}
 
 /// The method and the bars of a test, checked as the command line checks them.
 fn method_and_bars(
@@ -27,8 +19,8 @@ fn method_and_bars(
     normal_length: f64,
     extended_length: f64,
 ) -> PyResult<(Method, BarLengths)> {
-    let bars = bar_lengths(normal_length, extended_length).map_err(failure)?;
-    let method = method_of(method, outer_offset, outer_positions, inner_positions).map_err(failure)?;
+    let bars = bar_lengths(normal_length, extended_length).map_err(of)?;
+    let method = method_of(method, outer_offset, outer_positions, inner_positions).map_err(of)?;
     Ok((method, bars))
 }
 
@@ -73,7 +65,7 @@ pub fn ballbar_identify(
         noise_um: noise,
     };
     let m = machine.inner.as_ref();
-    let report = py.detach(|| identify_pige_files(m, &request)).map_err(failure)?;
+    let report = py.detach(|| identify_pige_files(m, &request)).map_err(of)?;
     warn(py, &report.warnings)?;
     typed(py, "BallbarIdentification", &report.to_json())
 }
@@ -103,6 +95,6 @@ pub fn ballbar_sensitivity(
 ) -> PyResult<Py<PyAny>> {
     let (method, bars) = method_and_bars(method, outer_offset, outer_positions, inner_positions, normal_length, extended_length)?;
     let m = machine.inner.as_ref();
-    let report = py.detach(|| sensitivity_report(m, method, bars, setup_u, bar_u, noise)).map_err(failure)?;
+    let report = py.detach(|| sensitivity_report(m, method, bars, setup_u, bar_u, noise)).map_err(of)?;
     typed(py, "BallbarSensitivity", &report.to_json())
 }

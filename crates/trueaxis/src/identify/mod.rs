@@ -54,3 +54,15 @@ pub enum IdentifyError {
     #[error(transparent)]
     Data(#[from] crate::data::DataError),
 }
+
+impl From<IdentifyError> for crate::Error {
+    /// A rank-deficient identification is a failed computation; the rest is bad input (or the
+    /// environment, when the cause of a data error says so).
+    fn from(e: IdentifyError) -> crate::Error {
+        let kind = match e {
+            IdentifyError::RankDeficient { .. } => crate::ErrorKind::Computation,
+            _ => crate::ErrorKind::Input,
+        };
+        crate::Error::new(kind, e.to_string()).caused_by(e)
+    }
+}

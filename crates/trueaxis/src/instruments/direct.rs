@@ -83,6 +83,8 @@ pub enum DirectError {
     Level(#[from] LevelError),
 }
 
+crate::error::error_of_kind!(DirectError, Input);
+
 /// A direct instrument set up on a machine.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum DirectInstrument {
