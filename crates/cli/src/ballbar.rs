@@ -410,7 +410,7 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     }
     if let Some(path) = &a.out {
         let origin = [&a.a1, &a.a2, &a.c1, &a.c2].iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ");
-        let text = report.error_values_text(&origin).map_err(|m| Failure::computation(anyhow!(m)))?;
+        let text = report.error_values_text(&origin).map_err(Failure::of)?;
         write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
     }
     if a.json {

@@ -55,6 +55,13 @@ pub enum IdentifyError {
     Data(#[from] crate::data::DataError),
 }
 
+impl IdentifyError {
+    /// Bad input, with the message of `e`.
+    pub(crate) fn input(e: impl std::fmt::Display) -> IdentifyError {
+        IdentifyError::Input(e.to_string())
+    }
+}
+
 impl From<IdentifyError> for crate::Error {
     /// A rank-deficient identification is a failed computation; the rest is bad input (or the
     /// environment, when the cause of a data error says so).

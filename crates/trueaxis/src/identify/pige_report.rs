@@ -77,14 +77,14 @@ pub const MAX_PIVOT_OFFSET: f64 = 0.1;
 
 /// A step's trace must hold enough of a circle for the fit: `MIN_READINGS` readings over at least
 /// `MIN_SPAN_DEG` of rotation (`identify::pige`).
-pub fn check_trace(angles: &[f64]) -> Result<(), String> {
+pub fn check_trace(angles: &[f64]) -> Result<()> {
     let span = angle_span_deg(angles);
     if angles.len() < MIN_READINGS || span < MIN_SPAN_DEG {
-        return Err(format!(
+        return Err(Error::input(format!(
             "{} readings over {span:.1} deg of rotation; a circle fit needs at least {MIN_READINGS} readings over at least {MIN_SPAN_DEG} deg \
              (is this the file of this step?)",
             angles.len()
-        ));
+        )));
     }
     Ok(())
 }
@@ -160,7 +160,9 @@ impl PigeReport {
     /// (or, over several runs, the larger of it and their standard deviation) in `[uncertainty]`, so
     /// that `compensate`, `predict` and `report` read the identified values and `compensate` states
     /// what their uncertainty leaves.
-    pub fn error_values_text(&self, origin: &str) -> Result<String, String> {
+    pub fn error_values_text(&self, origin: &str) -> Result<String> {
+        // the PIGEs are numbers of the fit: a document that cannot hold them is a failed computation
+        let failed = |e: Error| Error::computation(e.message());
         let mut text = format!(
             "# The PIGEs of the rotary axes identified by `trueaxis ballbar identify` ({} method of Jiang (2014), {} run(s)) from {origin}\n\
              name = \"PIGEs of {}\"\n",
@@ -174,11 +176,12 @@ impl PigeReport {
                 id,
                 None,
                 &crate::error_model::ErrorFunction::Constant(pige_user_value(id, *v).0),
-            )?;
+            )
+            .map_err(failed)?;
             let single = self.single_u.as_ref().map(|s| pige_user_value(id, s[k]).0);
             let spread = self.repeated().then(|| pige_user_value(id, *sd).0);
             if let Some(u) = single.into_iter().chain(spread).reduce(f64::max).filter(|u| u.is_finite()) {
-                text = crate::error_model::set_uncertainty(&text, id, u)?;
+                text = crate::error_model::set_uncertainty(&text, id, u).map_err(failed)?;
             }
         }
         Ok(text)
