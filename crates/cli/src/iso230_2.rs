@@ -37,7 +37,7 @@ pub struct Iso2302Args {
 /// refusal is the error; the warnings (with those of reading the file) are returned, to be printed
 /// with [`warn`] once the command has succeeded (a refused command prints its one line only).
 pub(crate) fn report_findings(findings: Vec<trueaxis::io::Finding>, warnings: &[String]) -> Result<Vec<String>, Failure> {
-    split_findings(findings, warnings).map_err(|m| Failure::input(anyhow::anyhow!(m)))
+    split_findings(findings, warnings).map_err(Failure::of)
 }
 
 /// Prints warnings and notes on stderr.

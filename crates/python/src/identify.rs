@@ -215,7 +215,7 @@ pub fn identify(
 }
 
 fn criterion(text: &str) -> PyResult<Criterion> {
-    Criterion::parse(text).map_err(input_msg)
+    Criterion::parse(text).map_err(of)
 }
 
 /// The records of a campaign as candidates of an optimal design (D, A, E or G) by the exchange

@@ -244,7 +244,7 @@ pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result> {
         return Err(invalid(format!("line {}: target and dev must be finite numbers", r.line)));
     }
     let pu = data.position_unit();
-    let groups = group_targets(data).map_err(invalid)?;
+    let groups = group_targets(data).map_err(|e| invalid(e.to_string()))?;
     let mut positions = Vec::with_capacity(groups.len());
     for group in &groups {
         // The target as first written in the file (the others are within the tolerance).
@@ -326,7 +326,7 @@ pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result> {
 
 /// Groups the readings by target value: sorted, a reading joins the group of the previous one when
 /// the targets differ by at most [`TARGET_TOLERANCE_MM`]; a group spanning more than that is refused.
-fn group_targets(data: &PositioningData) -> Result<Vec<Vec<&Reading>>, String> {
+fn group_targets(data: &PositioningData) -> crate::error::Result<Vec<Vec<&Reading>>> {
     let mut sorted: Vec<&Reading> = data.readings.iter().collect();
     sorted.sort_by(|a, b| a.target.total_cmp(&b.target).then(a.line.cmp(&b.line)));
     let mut groups: Vec<Vec<&Reading>> = Vec::new();
@@ -334,10 +334,10 @@ fn group_targets(data: &PositioningData) -> Result<Vec<Vec<&Reading>>, String> {
         match groups.last_mut() {
             Some(g) if r.target - g.last().map_or(r.target, |p| p.target) <= TARGET_TOLERANCE_MM => {
                 if r.target - g[0].target > TARGET_TOLERANCE_MM {
-                    return Err(format!(
+                    return Err(crate::Error::input(format!(
                         "line {}: targets {} mm (line {}) to {} mm chain together within {TARGET_TOLERANCE_MM} mm; give each target position one value",
                         r.line, g[0].target, g[0].line, r.target
-                    ));
+                    )));
                 }
                 g.push(r);
             }

@@ -57,7 +57,7 @@ pub fn evaluate_file(path: impl AsRef<std::path::Path>, temperature: &Temperatur
 pub fn evaluate_table(table: &CsvTable, temperature: &TemperatureOptions) -> Result<PositioningTest> {
     let name = table.origin().to_string();
     let mut data = runs_of(table)?;
-    let warnings = split_findings(plausibility(table, &data)?, table.warnings()).map_err(Error::input)?;
+    let warnings = split_findings(plausibility(table, &data)?, table.warnings())?;
     let applied = temperature.resolve(&data.metadata, &name).map_err(|e| Error::input(e.to_string()))?;
     if !applied.corrections.is_empty() {
         if data.rotary {

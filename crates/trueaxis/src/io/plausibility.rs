@@ -41,7 +41,7 @@ impl Finding {
 /// Sorts the findings of plausibility checks: the first refusal is the error (its message); the
 /// warnings, after `warnings` (those of reading the file), are returned, to be shown once the
 /// command has succeeded (a refused command shows its one line only).
-pub fn split_findings(findings: Vec<Finding>, warnings: &[String]) -> Result<Vec<String>, String> {
+pub fn split_findings(findings: Vec<Finding>, warnings: &[String]) -> crate::error::Result<Vec<String>> {
     let mut out = warnings.to_vec();
     let mut refusal = None;
     for f in findings {
@@ -53,7 +53,7 @@ pub fn split_findings(findings: Vec<Finding>, warnings: &[String]) -> Result<Vec
         }
     }
     match refusal {
-        Some(m) => Err(m),
+        Some(m) => Err(crate::Error::input(m)),
         None => Ok(out),
     }
 }
