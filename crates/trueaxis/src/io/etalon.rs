@@ -206,13 +206,13 @@ fn is_isg_geometry(name: &str) -> bool {
 
 /// The ISO 230-1 id of an exchange-format name: `X0C` -> `EX0C`, `EXY` -> `EXY`; `None` for ISG's
 /// kinematic parameters.
-pub fn parameter_id(name: &str) -> Result<Option<ParameterId>, String> {
+pub fn parameter_id(name: &str) -> crate::error::Result<Option<ParameterId>> {
     let upper = name.trim().to_ascii_uppercase();
     if is_isg_geometry(&upper) {
         return Ok(None);
     }
     let iso = if upper.len() == 3 && upper.as_bytes()[1] == b'0' { format!("E{upper}") } else { upper };
-    ParameterId::parse(&iso).map(Some)
+    ParameterId::parse(&iso).map(Some).map_err(crate::Error::input)
 }
 
 #[cfg(test)]
