@@ -30,6 +30,8 @@ pub enum BallbarError {
     Setup(String),
 }
 
+crate::error::error_of_kind!(BallbarError, Input);
+
 /// Sense of a circular path seen from the positive normal of its plane (right-handed plane basis).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Rotation {
