@@ -283,7 +283,7 @@ pub fn rtl(data: &[u8]) {
 pub fn etalon(data: &[u8]) {
     let Some(text) = text(data) else { return };
     match etalon::parse(&text, ORIGIN) {
-        Ok(file) => match file.to_error_values(machine("vmc3"), ORIGIN) {
+        Ok(file) => match trueaxis::error_model::from_etalon(&file, machine("vmc3"), ORIGIN) {
             Ok(values) => {
                 if let Ok(e) = ErrorModel::from_toml_str(&values.toml, ORIGIN, machine("vmc3")) {
                     predict_around(machine("vmc3"), &e);

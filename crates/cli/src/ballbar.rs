@@ -291,7 +291,7 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
         pivot_offset_inner: a.pivot_offset_c,
         noise_um: a.noise,
     };
-    let report = identify_pige_files(&m, &request).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
+    let report = identify_pige_files(&m, &request).map_err(Failure::of)?;
     let last = report.last();
     if let Some(dir) = &a.plot_dir {
         // the plots of every step, or none (docs/reliability.md)
@@ -329,7 +329,7 @@ fn identify(a: IdentifyArgs) -> Result<(), Failure> {
     output::warn(&report.warnings);
     if let Some(path) = &a.out {
         let origin = [&a.a1, &a.a2, &a.c1, &a.c2].iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ");
-        let text = report.error_values_text(&origin).map_err(|m| Failure::computation(anyhow!(m)))?;
+        let text = report.error_values_text(&origin).map_err(Failure::of)?;
         write_atomically(path, text.as_bytes()).map_err(Failure::input)?;
     }
     if a.json {
@@ -430,8 +430,7 @@ fn iso230_4(a: Iso2304Args) -> Result<(), Failure> {
         pitch_mm: a.pitch,
         spike_width_deg: a.spike_width,
     };
-    let test =
-        circular_test_file(&a.file, &m, &options).map_err(|e| if e.is_input() { Failure::input(e) } else { Failure::computation(e) })?;
+    let test = circular_test_file(&a.file, &m, &options).map_err(Failure::of)?;
     let (plane, radius, file, result) = (test.plane, test.radius_mm, &test.file, &test.result);
     let runs = &file.runs;
     let (ia, ib, _) = plane.letters();
@@ -489,10 +488,7 @@ pub struct TmbbArgs {
 
 fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
     let setup = TmbbSetup { rx: a.rx, rz: a.rz, l1: a.l1, l2: a.l2 };
-    let report = tmbb_files(&setup, &a.short, &a.long).map_err(|e| match e {
-        trueaxis::identify::IdentifyError::RankDeficient { .. } => Failure::computation(e),
-        _ => Failure::input(e),
-    })?;
+    let report = tmbb_files(&setup, &a.short, &a.long).map_err(Failure::of)?;
     output::warn(&report.warnings());
     if a.json {
         return output::json(&report.to_json());

@@ -5,6 +5,7 @@ use crate::Failure;
 use anyhow::anyhow;
 use std::path::PathBuf;
 use trueaxis::data::{write_atomically, CsvTable};
+use trueaxis::error_model::from_etalon;
 use trueaxis::io::{etalon, read_text, Format};
 use trueaxis::machine::Machine;
 
@@ -41,9 +42,9 @@ pub fn run(args: ConvertArgs) -> Result<(), Failure> {
             let machine_path = args.machine.as_ref().ok_or_else(|| {
                 Failure::input(anyhow!("--to errors needs --machine M.toml: the error parameters are checked against the machine"))
             })?;
-            let machine = Machine::load(machine_path).map_err(Failure::input)?;
-            let file = etalon::parse(&text, &name).map_err(Failure::input)?;
-            let conversion = file.to_error_values(&machine, &name).map_err(Failure::input)?;
+            let machine = Machine::load(machine_path).map_err(Failure::of)?;
+            let file = etalon::parse(&text, &name).map_err(Failure::of)?;
+            let conversion = from_etalon(&file, &machine, &name).map_err(Failure::of)?;
             for w in &conversion.warnings {
                 eprintln!("trueaxis: warning: {name}: {w}");
             }

@@ -10,7 +10,7 @@ use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{criteria_units, CriteriaUnits};
 use trueaxis::identify::{measurement_csv, optimal_design_json, simulate_campaign, Campaign, CampaignCandidates, Criterion, IdentifyError};
-use trueaxis::instruments::{ball_trajectory, Sweep, TrajectoryError};
+use trueaxis::instruments::{ball_trajectory, Sweep};
 use trueaxis::machine::Machine;
 use trueaxis::model::Setup;
 
@@ -137,9 +137,7 @@ pub fn run(args: DesignArgs) -> Result<(), Failure> {
 fn trajectory(args: TrajectoryArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let setup = Setup { tool_point: args.tool_point.unwrap_or(machine.tool_point), work_point: args.work_point };
-    let poses = ball_trajectory(&machine, &setup, &args.sweeps, args.count, Vec3::zeros()).map_err(|e| match e {
-        TrajectoryError::Input(_) | TrajectoryError::Unreachable(_) => Failure::input(e),
-    })?;
+    let poses = ball_trajectory(&machine, &setup, &args.sweeps, args.count, Vec3::zeros()).map_err(Failure::of)?;
     let mut text = format!(
         "# 3D-ball trajectory on `{}`: ball at {:?} mm, head at {:?} mm (in M at home), sweeps {}\n{}\n",
         machine.name,
@@ -155,15 +153,11 @@ fn trajectory(args: TrajectoryArgs) -> Result<(), Failure> {
     text_or_file(args.out.as_deref(), &text)
 }
 
-fn identify_failure(e: IdentifyError) -> Failure {
-    crate::identify::failure(e)
-}
-
 fn simulate(args: SimulateArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let truth = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
-    let campaign = Campaign::load(&args.campaign, &machine).map_err(identify_failure)?;
-    let readings = simulate_campaign(&campaign, &machine, &truth, (!args.noise_free).then_some(args.seed)).map_err(identify_failure)?;
+    let campaign = Campaign::load(&args.campaign, &machine).map_err(Failure::of)?;
+    let readings = simulate_campaign(&campaign, &machine, &truth, (!args.noise_free).then_some(args.seed)).map_err(Failure::of)?;
     let mut text = String::new();
     let mut files = Vec::new();
     // every data file of the campaign, or none (docs/reliability.md)
@@ -184,9 +178,9 @@ fn simulate(args: SimulateArgs) -> Result<(), Failure> {
 
 fn optimal(args: OptimalArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
-    let campaign = Campaign::load(&args.campaign, &machine).map_err(identify_failure)?;
-    let nominal = campaign.nominal_errors(&machine).map_err(identify_failure)?;
-    let candidates = CampaignCandidates::new(&campaign, &machine, &nominal).map_err(identify_failure)?;
+    let campaign = Campaign::load(&args.campaign, &machine).map_err(Failure::of)?;
+    let nominal = campaign.nominal_errors(&machine).map_err(Failure::of)?;
+    let candidates = CampaignCandidates::new(&campaign, &machine, &nominal).map_err(Failure::of)?;
     let set = &candidates.set;
     // a design that cannot determine every unknown is a failed computation (exit 1), named like
     // `identify` names it; a --count too small for the unknowns is bad input (exit 2)
@@ -195,7 +189,7 @@ fn optimal(args: OptimalArgs) -> Result<(), Failure> {
             Failure::computation(anyhow::anyhow!("{}: rank deficient: {message}", args.campaign.display()))
         }
         IdentifyError::Input(message) => Failure::input(anyhow::anyhow!("--count {}: {message}", args.count)),
-        other => identify_failure(other),
+        other => Failure::of(other),
     };
     let (chosen, criteria) = set.exchange(args.count, args.criterion, args.starts, args.seed).map_err(in_campaign)?;
     let all: Vec<usize> = (0..set.len()).collect();

@@ -6,7 +6,7 @@ use trueaxis::data::checks::deviation_finding;
 use trueaxis::data::{CsvTable, OutputSet};
 use trueaxis::error_model::{set_error_function, BasisSpec, Direction, ErrorModel, PeriodicSpec};
 use trueaxis::geometry::Vec3;
-use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, IdentifyError, ResidualPeriod};
+use trueaxis::identify::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel, FitOptions, ResidualPeriod};
 use trueaxis::instruments::{motion_error_axis, AppliedCorrection, DirectError, DirectInstrument, DirectKind, DirectSetup, LevelBody};
 use trueaxis::io::plausibility::split_findings;
 use trueaxis::io::Dimension;
@@ -156,7 +156,7 @@ fn parse_periodic(text: &str) -> Result<PeriodicSpec, String> {
 /// refusal is the error; the warnings (with those of reading the file) are returned, to be printed
 /// with `output::warn` once the command has succeeded (a refused command prints its one line only).
 fn report_findings(findings: Vec<trueaxis::io::Finding>, warnings: &[String]) -> Result<Vec<String>, Failure> {
-    split_findings(findings, warnings).map_err(|m| Failure::input(anyhow::anyhow!(m)))
+    split_findings(findings, warnings).map_err(Failure::of)
 }
 
 fn input(message: impl std::fmt::Display) -> Failure {
@@ -329,10 +329,7 @@ fn fit_each_direction(
     let mut reports = Vec::new();
     for direction in directions {
         let request = DirectFitRequest { direction: direction.map(direction_symbol), ..request.clone() };
-        let report = run_direct_fit(table, &request).map_err(|e| match e {
-            IdentifyError::RankDeficient { .. } => Failure::computation(e),
-            other => Failure::input(other),
-        })?;
+        let report = run_direct_fit(table, &request).map_err(Failure::of)?;
         if let Some(what) = report.non_finite() {
             return Err(Failure::computation(anyhow::anyhow!(
                 "{}: the fit of {} overflowed: {what} is not a finite number (readings too large?); nothing written",

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use trueaxis::data::OutputSet;
 use trueaxis::identify::campaign_screening::{identify_screened, ScreenedIdentification};
 use trueaxis::identify::robust_campaign::identify_robust;
-use trueaxis::identify::{error_values_text, identification_json, Campaign, Identification, IdentifyError, IndirectOptions, Solver};
+use trueaxis::identify::{error_values_text, identification_json, Campaign, Identification, IndirectOptions, Solver};
 use trueaxis::machine::Machine;
 use trueaxis::screen::irls::Weighting;
 
@@ -81,20 +81,13 @@ impl RobustArg {
     }
 }
 
-pub fn failure(e: IdentifyError) -> Failure {
-    match e {
-        IdentifyError::Input(_) | IdentifyError::Data(_) => Failure::input(e),
-        IdentifyError::RankDeficient { .. } => Failure::computation(e),
-    }
-}
-
 pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let bar = crate::progress::spinner(args.json);
     bar.enable_steady_tick(std::time::Duration::from_millis(120));
     bar.set_message(format!("reading {}", args.campaign.display()));
     let loaded = Campaign::load(&args.campaign, &machine).and_then(|c| c.nominal_errors(&machine).map(|n| (c, n)));
-    let (campaign, nominal) = loaded.inspect_err(|_| bar.finish_and_clear()).map_err(failure)?;
+    let (campaign, nominal) = loaded.inspect_err(|_| bar.finish_and_clear()).map_err(Failure::of)?;
     let options = IndirectOptions {
         solver: match args.solver {
             SolverArg::Qr => Solver::Qr,
@@ -111,7 +104,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         None => identify_screened(&campaign, &machine, &nominal, &options, args.exclude_outliers),
     };
     bar.finish_and_clear();
-    let screened = screened.map_err(failure)?;
+    let screened = screened.map_err(Failure::of)?;
     let (result, campaign) = (&screened.result, &screened.campaign);
     // values, standard uncertainties, residuals and their RMS: all finite before anything is written
     let uncertainties = result.std_uncertainty.iter().flatten();
@@ -127,7 +120,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
             Some(p) => trueaxis::files::inputs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", p.display())))?,
             None => String::new(),
         };
-        let text = error_values_text(result, campaign, &nominal, &nominal_text).map_err(failure)?;
+        let text = error_values_text(result, campaign, &nominal, &nominal_text).map_err(Failure::of)?;
         outputs.file(path, text);
     }
     if let Some(path) = &args.residuals {

@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use trueaxis::data::write_atomically;
 use trueaxis::evaluate::iso230_2::Iso2302Result;
 use trueaxis::evaluate::positioning_test::evaluate_file;
-use trueaxis::evaluate::EvaluateError;
 
 /// Accuracy and repeatability of positioning of an axis after ISO 230-2:2014 (A, R, E, M, B and
 /// their unidirectional values, coverage factor 2) from bidirectional runs, e.g. laser readings.
@@ -34,17 +33,9 @@ pub struct Iso2302Args {
     temperature: crate::temperature::TemperatureArgs,
 }
 
-fn failure(e: EvaluateError) -> Failure {
-    if e.is_input() {
-        Failure::input(e)
-    } else {
-        Failure::computation(e)
-    }
-}
-
 pub fn run(args: Iso2302Args) -> Result<(), Failure> {
     let name = args.file.display().to_string();
-    let test = evaluate_file(&args.file, &args.temperature.options()).map_err(failure)?;
+    let test = evaluate_file(&args.file, &args.temperature.options()).map_err(Failure::of)?;
     warn(&test.warnings);
     for note in &test.notes {
         eprintln!("trueaxis: {note}");

@@ -1,7 +1,6 @@
 //! `trueaxis verify`: a re-measurement after compensation against the model's prediction, with the
 //! residuals tested against the repeatability (`trueaxis::evaluate::verification`).
 
-use crate::identify::failure;
 use crate::output::{self, print};
 use crate::Failure;
 use std::fmt::Write;
@@ -64,12 +63,12 @@ pub struct VerifyArgs {
 pub fn run(args: VerifyArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
-    let campaign = Campaign::load_measurements(&args.campaign, &machine).map_err(failure)?;
+    let campaign = Campaign::load_measurements(&args.campaign, &machine).map_err(Failure::of)?;
     let calibration = match &args.calibration {
         Some(path) => {
-            let cal = Campaign::load(path, &machine).map_err(failure)?;
-            let nominal = cal.nominal_errors(&machine).map_err(failure)?;
-            let id = identify(&cal, &machine, &nominal, &IndirectOptions::default()).map_err(failure)?;
+            let cal = Campaign::load(path, &machine).map_err(Failure::of)?;
+            let nominal = cal.nominal_errors(&machine).map_err(Failure::of)?;
+            let id = identify(&cal, &machine, &nominal, &IndirectOptions::default()).map_err(Failure::of)?;
             Some((cal, id))
         }
         None => None,
@@ -80,7 +79,7 @@ pub fn run(args: VerifyArgs) -> Result<(), Failure> {
         level: args.level,
         ignored_channels: args.ignored_channels.clone(),
     };
-    let result = verify(&campaign, &machine, &errors, calibration.as_ref().map(|(c, i)| (c, i)), &options).map_err(failure)?;
+    let result = verify(&campaign, &machine, &errors, calibration.as_ref().map(|(c, i)| (c, i)), &options).map_err(Failure::of)?;
     if result.residuals.iter().chain([&result.chi2]).any(|v| !v.is_finite()) {
         return Err(Failure::computation(anyhow::anyhow!("the verification produced numbers that are not finite")));
     }

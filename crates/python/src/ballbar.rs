@@ -4,23 +4,15 @@
 //! sensitivity` and `trueaxis ballbar simulate` use.
 
 use crate::convert::{point3, typed};
-use crate::exceptions::{computation, input, input_msg, of, warn};
+use crate::exceptions::{input, input_msg, of, warn};
 use crate::machine::{Errors, Machine};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::circular_test::centre_pose;
-use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, sensitivity_report, PigeRequest, PigeRunError};
+use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, sensitivity_report, PigeRequest};
 use trueaxis::instruments::ballbar::{method_step, BarLengths, JiangStep, Method, Plane, RotaryPair, Rotation};
 use trueaxis::instruments::ballbar_simulation::{circle_runs, noise_stream, readings_csv, SimulationSettings};
-
-fn failure(e: PigeRunError) -> PyErr {
-    if e.is_input() {
-        input(e)
-    } else {
-        computation(e)
-    }
-}
 
 /// The method and the bars of a test, checked as the command line checks them.
 fn method_and_bars(
@@ -31,8 +23,8 @@ fn method_and_bars(
     normal_length: f64,
     extended_length: f64,
 ) -> PyResult<(Method, BarLengths)> {
-    let bars = bar_lengths(normal_length, extended_length).map_err(failure)?;
-    let method = method_of(method, outer_offset, outer_positions, inner_positions).map_err(failure)?;
+    let bars = bar_lengths(normal_length, extended_length).map_err(of)?;
+    let method = method_of(method, outer_offset, outer_positions, inner_positions).map_err(of)?;
     Ok((method, bars))
 }
 
@@ -77,7 +69,7 @@ pub fn ballbar_identify(
         noise_um: noise,
     };
     let m = machine.inner.as_ref();
-    let report = py.detach(|| identify_pige_files(m, &request)).map_err(failure)?;
+    let report = py.detach(|| identify_pige_files(m, &request)).map_err(of)?;
     warn(py, &report.warnings)?;
     typed(py, "BallbarIdentification", &report.to_json())
 }
@@ -107,7 +99,7 @@ pub fn ballbar_sensitivity(
 ) -> PyResult<Py<PyAny>> {
     let (method, bars) = method_and_bars(method, outer_offset, outer_positions, inner_positions, normal_length, extended_length)?;
     let m = machine.inner.as_ref();
-    let report = py.detach(|| sensitivity_report(m, method, bars, setup_u, bar_u, noise)).map_err(failure)?;
+    let report = py.detach(|| sensitivity_report(m, method, bars, setup_u, bar_u, noise)).map_err(of)?;
     typed(py, "BallbarSensitivity", &report.to_json())
 }
 

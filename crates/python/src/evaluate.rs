@@ -2,7 +2,7 @@
 //! through the library's entry points that `trueaxis iso230-2` and `trueaxis ballbar iso230-4` use.
 
 use crate::convert::{point3, typed};
-use crate::exceptions::{evaluate as failure, input_msg, warn};
+use crate::exceptions::{input_msg, of, warn};
 use crate::machine::Machine;
 use pyo3::prelude::*;
 use std::path::PathBuf;
@@ -66,7 +66,7 @@ pub fn iso230_2(
     };
     pair(&options.scale_temperature, scale_expansion, ("scale_temperature", "scale_expansion"))?;
     pair(&options.artefact_temperature, artefact_expansion, ("artefact_temperature", "artefact_expansion"))?;
-    let test = py.detach(|| evaluate_file(&path, &options)).map_err(failure)?;
+    let test = py.detach(|| evaluate_file(&path, &options)).map_err(of)?;
     warn(py, &test.warnings)?;
     warn(py, &test.notes)?;
     typed(py, "PositioningTest", &test.to_json())
@@ -114,7 +114,7 @@ pub fn iso230_4(
             &cartesian
         }
     };
-    let test = py.detach(|| circular_test_file(&path, m, &options)).map_err(failure)?;
+    let test = py.detach(|| circular_test_file(&path, m, &options)).map_err(of)?;
     warn(py, &test.file.warnings)?;
     typed(py, "CircularTest", &test.to_json())
 }

@@ -129,25 +129,8 @@ pub fn computation_msg(text: impl Into<String>) -> PyErr {
     ComputationError::new_err(short(&text.into()))
 }
 
-/// An error of the identification: rank deficiency is a failed computation, the rest bad input.
-pub fn identify(e: trueaxis::identify::IdentifyError) -> PyErr {
-    match e {
-        trueaxis::identify::IdentifyError::RankDeficient { .. } => computation(e),
-        other => input(other),
-    }
-}
-
 /// An error of the uncertainty module, by its kind.
 pub fn uncertainty(e: trueaxis::uncertainty::UncertaintyError) -> PyErr {
-    if e.is_input() {
-        input(e)
-    } else {
-        computation(e)
-    }
-}
-
-/// An error of an evaluation (ISO 230-2, ISO 230-4), by its kind.
-pub fn evaluate(e: trueaxis::evaluate::EvaluateError) -> PyErr {
     if e.is_input() {
         input(e)
     } else {

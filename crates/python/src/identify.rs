@@ -3,7 +3,7 @@
 //! §4.3) whose random starts can be spread over processes or machines.
 
 use crate::convert::{dataframe, to_py, toml_text, typed};
-use crate::exceptions::{computation_msg, identify as identify_error, input_msg};
+use crate::exceptions::{computation_msg, input_msg, of};
 use crate::machine::{Errors, Machine};
 use crate::progress::Progress;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
@@ -34,13 +34,13 @@ pub struct Campaign {
 
 impl Campaign {
     fn parse(text: String, origin: &str, dir: &Path, machine: &Machine) -> PyResult<Campaign> {
-        let inner = trueaxis::identify::Campaign::from_toml_str(&text, origin, dir, &machine.inner).map_err(identify_error)?;
+        let inner = trueaxis::identify::Campaign::from_toml_str(&text, origin, dir, &machine.inner).map_err(of)?;
         Ok(Campaign { inner: Arc::new(inner), machine: machine.clone(), source: text, origin: origin.into(), dir: dir.to_path_buf() })
     }
 
     /// The nominal errors of the campaign (`nominal_errors`, else zero).
     pub fn nominal(&self) -> PyResult<ErrorModel> {
-        self.inner.nominal_errors(&self.machine.inner).map_err(identify_error)
+        self.inner.nominal_errors(&self.machine.inner).map_err(of)
     }
 }
 
@@ -171,7 +171,7 @@ impl Identification {
             Some(p) => std::fs::read_to_string(p).map_err(|e| input_msg(format!("{}: {e}", p.display())))?,
             None => String::new(),
         };
-        error_values_text(&self.result, &self.campaign.inner, &self.nominal, &nominal_text).map_err(identify_error)
+        error_values_text(&self.result, &self.campaign.inner, &self.nominal, &nominal_text).map_err(of)
     }
 
     /// The identified error model, ready for `Machine.predict`.
@@ -203,8 +203,7 @@ pub fn identify(
     };
     let nominal = campaign.nominal()?;
     let options = IndirectOptions { solver, allow_rank_deficient, refine, ..IndirectOptions::default() };
-    let screened =
-        py.detach(|| identify_screened(&campaign.inner, &machine.inner, &nominal, &options, exclude_outliers)).map_err(identify_error)?;
+    let screened = py.detach(|| identify_screened(&campaign.inner, &machine.inner, &nominal, &options, exclude_outliers)).map_err(of)?;
     let result = screened.result.clone();
     if result.values.iter().chain(&result.residuals).any(|v| !v.is_finite()) {
         return Err(computation_msg("the identification produced numbers that are not finite"));
@@ -216,7 +215,7 @@ pub fn identify(
 }
 
 fn criterion(text: &str) -> PyResult<Criterion> {
-    Criterion::parse(text).map_err(input_msg)
+    Criterion::parse(text).map_err(of)
 }
 
 /// The records of a campaign as candidates of an optimal design (D, A, E or G) by the exchange
@@ -235,7 +234,7 @@ impl Candidates {
         move |e| match e {
             IdentifyError::RankDeficient { message } => computation_msg(format!("{}: rank deficient: {message}", self.campaign.origin)),
             IdentifyError::Input(message) => input_msg(format!("count {count}: {message}")),
-            other => identify_error(other),
+            other => of(other),
         }
     }
 
@@ -255,7 +254,7 @@ impl Candidates {
     #[new]
     fn new(campaign: &Campaign) -> PyResult<Candidates> {
         let nominal = campaign.nominal()?;
-        let inner = CampaignCandidates::new(&campaign.inner, &campaign.machine.inner, &nominal).map_err(identify_error)?;
+        let inner = CampaignCandidates::new(&campaign.inner, &campaign.machine.inner, &nominal).map_err(of)?;
         Ok(Candidates { inner, campaign: campaign.clone() })
     }
 

@@ -6,7 +6,7 @@
 //! the same numbers (every chunk draws only from its own counter-based random streams).
 
 use crate::convert::{array2, toml_text, typed};
-use crate::exceptions::{identify as identify_error, input_msg, uncertainty as uncertainty_error};
+use crate::exceptions::{input_msg, of, uncertainty as uncertainty_error};
 use crate::identify::{Campaign, Reduced};
 use crate::machine::{parse_frame, Machine};
 use crate::progress::Progress;
@@ -214,9 +214,9 @@ impl UncertaintyPlan {
         budget: bool,
     ) -> PyResult<UncertaintyPlan> {
         let nominal = campaign.nominal()?;
-        let design = campaign.inner.design_matrix(&machine.inner, &nominal).map_err(identify_error)?;
-        let start = campaign.inner.nominal_values(&nominal).map_err(identify_error)?;
-        let identification = solve(&design, &start, &IndirectOptions::default()).map_err(identify_error)?;
+        let design = campaign.inner.design_matrix(&machine.inner, &nominal).map_err(of)?;
+        let start = campaign.inner.nominal_values(&nominal).map_err(of)?;
+        let identification = solve(&design, &start, &IndirectOptions::default()).map_err(of)?;
         let design = from_identification(&design, point_time).map_err(uncertainty_error)?;
         let context = CampaignContext { machine: machine.clone(), campaign: campaign.clone(), identification };
         UncertaintyPlan::build(design, campaign.inner.origin.clone(), sources, seed, budget, Some(Arc::new(context)))

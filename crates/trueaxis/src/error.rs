@@ -193,6 +193,20 @@ macro_rules! ensure {
     };
 }
 
+/// `impl From<$error> for Error` for a module error of one kind: the message is the module error's,
+/// which stays the cause (so that `Error::is_environment` still finds a full disk behind it):
+/// `error_of_kind!(MachineError, Input)`.
+macro_rules! error_of_kind {
+    ($error:ty, $kind:ident) => {
+        impl From<$error> for $crate::Error {
+            fn from(e: $error) -> $crate::Error {
+                $crate::Error::new($crate::ErrorKind::$kind, e.to_string()).caused_by(e)
+            }
+        }
+    };
+}
+pub(crate) use error_of_kind;
+
 #[cfg(test)]
 mod tests {
     use super::*;

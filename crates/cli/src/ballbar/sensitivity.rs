@@ -42,13 +42,7 @@ pub fn run(a: SensitivityArgs) -> Result<(), Failure> {
     let m = Machine::load(&a.machine).map_err(Failure::input)?;
     let method = a.method.method()?;
     let bars = a.bars.lengths()?;
-    let report = sensitivity_report(&m, method, bars, a.setup_u, a.bar_u, a.noise).map_err(|e| {
-        if e.is_input() {
-            Failure::input(e)
-        } else {
-            Failure::computation(e)
-        }
-    })?;
+    let report = sensitivity_report(&m, method, bars, a.setup_u, a.bar_u, a.noise).map_err(Failure::of)?;
     if a.json {
         return output::json(&report.to_json());
     }

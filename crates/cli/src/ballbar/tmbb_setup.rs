@@ -79,14 +79,10 @@ pub fn run(a: TmbbSetupArgs) -> Result<(), Failure> {
             (1..=(top / 5.0) as usize).map(|i| 5.0 * i as f64).chain([a.rx]).collect()
         }
     };
-    let fail = |e: trueaxis::identify::IdentifyError| match e {
-        trueaxis::identify::IdentifyError::Input(_) => Failure::input(e),
-        _ => Failure::computation(e),
-    };
-    let choices = rx_choice(&setup, &angles, &radii, a.noise * 1e-3).map_err(fail)?;
+    let choices = rx_choice(&setup, &angles, &radii, a.noise * 1e-3).map_err(Failure::of)?;
     let arcsec = std::f64::consts::PI / 180.0 / 3600.0;
     let truth = TableErrors { ex: a.ex * arcsec, ey: a.ey * arcsec, dz: a.dz * 1e-3, ..Default::default() };
-    let deviations = setup_dimension_sensitivity(&setup, &angles, &truth, &a.deviations).map_err(fail)?;
+    let deviations = setup_dimension_sensitivity(&setup, &angles, &truth, &a.deviations).map_err(Failure::of)?;
     if a.json {
         let rx: Vec<_> = choices
             .iter()

@@ -80,7 +80,7 @@ pub enum CalibrationError {
     #[error(transparent)]
     Uncertainty(#[from] trueaxis::uncertainty::UncertaintyError),
     #[error(transparent)]
-    Evaluate(#[from] trueaxis::evaluate::EvaluateError),
+    Evaluate(#[from] trueaxis::Error),
     #[error(transparent)]
     Compensate(#[from] trueaxis::compensate::CompensateError),
     #[error(transparent)]
@@ -98,7 +98,7 @@ impl CalibrationError {
             CalibrationError::Machine(_) | CalibrationError::Errors(_) | CalibrationError::Data(_) | CalibrationError::Input(_) => true,
             CalibrationError::Identify(e) => !matches!(e, IdentifyError::RankDeficient { .. }),
             CalibrationError::Uncertainty(e) => e.is_input(),
-            CalibrationError::Evaluate(e) => e.is_input(),
+            CalibrationError::Evaluate(e) => e.kind() == trueaxis::ErrorKind::Input,
             CalibrationError::Compensate(e) => e.is_input(),
             CalibrationError::Plot(_) | CalibrationError::Computation(_) => false,
         }

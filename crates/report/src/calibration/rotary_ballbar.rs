@@ -79,9 +79,9 @@ pub struct RotaryBallbarPart {
 impl RotaryBallbarPart {
     /// Identifies the location errors of `machine`'s rotary axes from the four files of `request`.
     pub fn evaluate(machine: &Machine, request: PigeRequest) -> Result<RotaryBallbarPart, CalibrationError> {
-        let report = identify_pige_files(machine, &request).map_err(|e| match e.is_input() {
-            true => CalibrationError::Input(e.to_string()),
-            false => CalibrationError::Computation(e.to_string()),
+        let report = identify_pige_files(machine, &request).map_err(|e| match e.kind() {
+            trueaxis::ErrorKind::Input => CalibrationError::Input(e.to_string()),
+            _ => CalibrationError::Computation(e.to_string()),
         })?;
         let mut part = RotaryBallbarPart { request, report, plots: Vec::new() };
         part.plots = part.report.steps.iter().map(|s| part.plot(s)).collect::<Result<_, _>>()?;

@@ -42,6 +42,18 @@ pub enum DataError {
     NothingWritten(Box<DataError>),
 }
 
+impl From<DataError> for crate::Error {
+    /// A prediction that is not finite is a failed computation; the rest is bad input (or the
+    /// environment, when the cause says so: a full disk, a permission).
+    fn from(e: DataError) -> crate::Error {
+        let kind = match e {
+            DataError::NotFinite { .. } => crate::ErrorKind::Computation,
+            _ => crate::ErrorKind::Input,
+        };
+        crate::Error::new(kind, e.to_string()).caused_by(e)
+    }
+}
+
 impl From<crate::io::IoError> for DataError {
     fn from(e: crate::io::IoError) -> DataError {
         match e {

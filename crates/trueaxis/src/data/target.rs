@@ -94,7 +94,7 @@ pub(crate) fn target_of(path: &Path) -> Result<Target, DataError> {
 }
 
 /// Refuses to replace an existing file or directory that this user may not write (module
-/// documentation); a permission error (the command line's exit status 3).
+/// documentation); a permission error (a failure of the environment).
 pub(crate) fn refuse_unwritable(given: &Path, path: &Path) -> Result<(), DataError> {
     match writable(path) {
         Ok(()) => Ok(()),

@@ -13,6 +13,7 @@
 //! [`super::ErrorFunction::Basis`].
 
 use super::quadrature::{integrate, legendre};
+use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
 /// What a basis is made of; stored in error-values files as `[basis.NAME]`.
@@ -168,10 +169,10 @@ impl Basis {
     /// Builds the basis of a spec, checking it (knots inside the domain and increasing, wavelengths
     /// positive, ...). Functions that vanish identically (a periodic `w` or `w^2` made continuous) are
     /// dropped.
-    pub fn new(spec: BasisSpec) -> Result<Basis, String> {
+    pub fn new(spec: BasisSpec) -> Result<Basis> {
         let [a, b] = spec.domain;
         if !(a.is_finite() && b.is_finite() && a < b) {
-            return Err(format!("domain [{a}, {b}] must be two finite numbers, the smaller first"));
+            return Err(Error::input(format!("domain [{a}, {b}] must be two finite numbers, the smaller first")));
         }
         let mut raws = Vec::new();
         match spec.family.as_str() {
@@ -180,7 +181,9 @@ impl Basis {
                 let continuity = match spec.continuity.len() {
                     1 => vec![spec.continuity[0]; spec.knots.len()],
                     n if n == spec.knots.len() => spec.continuity.clone(),
-                    n => return Err(format!("`continuity` has {n} values; give one, or one per knot ({})", spec.knots.len())),
+                    n => {
+                        return Err(Error::input(format!("`continuity` has {n} values; give one, or one per knot ({})", spec.knots.len())))
+                    }
                 };
                 let first = if spec.constant { 0 } else { 1 };
                 raws.extend((first..=spec.degree as i32).map(Raw::Power));
@@ -194,7 +197,7 @@ impl Basis {
                 raws.extend((first..=spec.degree).map(|order| Raw::Legendre { order, a, b }));
             }
             "none" => {}
-            other => return Err(format!("unknown basis family `{other}` (piecewise, bspline, legendre, none)")),
+            other => return Err(Error::input(format!("unknown basis family `{other}` (piecewise, bspline, legendre, none)"))),
         }
         for p in &spec.periodic {
             raws.extend(periodic_functions(p)?);
@@ -205,7 +208,7 @@ impl Basis {
                 let correction = constraint_correction(&spec.constraint, &raw, a, b, &spec.knots)?;
                 Ok((raw, correction))
             })
-            .collect::<Result<Vec<_>, String>>()?;
+            .collect::<Result<Vec<_>>>()?;
         let basis = Basis { spec, functions };
         Ok(basis.without_vanishing_functions())
     }
@@ -311,12 +314,12 @@ impl Correction {
 
 /// Interior knots of the piecewise and B-spline families: finite, strictly inside `(a, b)`,
 /// strictly increasing.
-fn check_knots(knots: &[f64], a: f64, b: f64) -> Result<(), String> {
+fn check_knots(knots: &[f64], a: f64, b: f64) -> Result<()> {
     if knots.iter().any(|t| !t.is_finite() || *t <= a || *t >= b) {
-        return Err(format!("knots must lie strictly inside the domain [{a}, {b}]"));
+        return Err(Error::input(format!("knots must lie strictly inside the domain [{a}, {b}]")));
     }
     if knots.windows(2).any(|w| w[1] <= w[0]) {
-        return Err("knots must increase strictly".into());
+        return Err(Error::input("knots must increase strictly"));
     }
     Ok(())
 }
@@ -332,11 +335,11 @@ const BSPLINE_MAX_DEGREE: usize = 7;
 /// the last are left out: the corrected functions satisfy exactly two linear relations (their sum
 /// and their sum weighted by the Greville abscissae are zero), in which the first and last have
 /// independent coefficients, so the rest is a basis of the splines without a linear trend.
-fn bspline_functions(spec: &BasisSpec) -> Result<Vec<Raw>, String> {
+fn bspline_functions(spec: &BasisSpec) -> Result<Vec<Raw>> {
     let [a, b] = spec.domain;
     let k = spec.degree;
     if !(1..=BSPLINE_MAX_DEGREE).contains(&k) {
-        return Err(format!("a B-spline degree must be 1 to {BSPLINE_MAX_DEGREE}, got {k}"));
+        return Err(Error::input(format!("a B-spline degree must be 1 to {BSPLINE_MAX_DEGREE}, got {k}")));
     }
     check_knots(&spec.knots, a, b)?;
     let knots: std::sync::Arc<[f64]> =
@@ -383,18 +386,18 @@ fn bspline(t: &[f64], i: usize, k: usize, x: f64) -> f64 {
 /// omits the derivative of the subtracted polynomial at `w = 0` (`alpha_1`); continuity of the
 /// first derivative requires `2 alpha_2 = g'(1) - g'(0)`. In general, for derivative order `k`,
 /// `sum_c alpha_c (d^k w^c/dw^k)(1) - (d^k w^c/dw^k)(0) = g^(k)(1) - g^(k)(0)`, which is solved here.
-fn periodic_functions(p: &PeriodicSpec) -> Result<Vec<Raw>, String> {
+fn periodic_functions(p: &PeriodicSpec) -> Result<Vec<Raw>> {
     if !(p.wavelength.is_finite() && p.wavelength > 0.0) {
-        return Err(format!("periodic wavelength {} must be a positive number", p.wavelength));
+        return Err(Error::input(format!("periodic wavelength {} must be a positive number", p.wavelength)));
     }
     if !p.phase.is_finite() {
-        return Err("periodic phase must be a finite number".into());
+        return Err(Error::input("periodic phase must be a finite number"));
     }
     if p.knots.iter().any(|t| !(*t > 0.0 && *t < 1.0)) || p.knots.windows(2).any(|w| w[1] <= w[0]) {
-        return Err("periodic knots are fractions of the wavelength, increasing, strictly between 0 and 1".into());
+        return Err(Error::input("periodic knots are fractions of the wavelength, increasing, strictly between 0 and 1"));
     }
     if p.continuity >= p.degree {
-        return Err(format!("periodic continuity {} must be below the degree {}", p.continuity, p.degree));
+        return Err(Error::input(format!("periodic continuity {} must be below the degree {}", p.continuity, p.degree)));
     }
     let nc = p.continuity + 1;
     // matrix M[k][c] = d^k/dw^k (w^(c+1)) at 1 minus at 0, k = 0..nc-1
@@ -423,14 +426,14 @@ fn periodic_functions(p: &PeriodicSpec) -> Result<Vec<Raw>, String> {
 
 /// The correction that removes the linear trend (eq. 3.8) or the once-per-revolution term (eq. 3.9,
 /// the least-squares projection over the domain; eq. 3.10 for a full turn) of `raw` over `[a, b]`.
-fn constraint_correction(constraint: &str, raw: &Raw, a: f64, b: f64, knots: &[f64]) -> Result<Correction, String> {
+fn constraint_correction(constraint: &str, raw: &Raw, a: f64, b: f64, knots: &[f64]) -> Result<Correction> {
     let panels = 64;
     type Weight = Box<dyn Fn(f64) -> f64>;
     let (f1, f2): (Weight, Weight) = match constraint {
         "none" => return Ok(Correction::None),
         "straightness" => (Box::new(|_| 1.0), Box::new(|x| x)),
         "revolution" => (Box::new(|x: f64| x.to_radians().cos()), Box::new(|x: f64| x.to_radians().sin())),
-        other => return Err(format!("unknown constraint `{other}` (none, straightness, revolution)")),
+        other => return Err(Error::input(format!("unknown constraint `{other}` (none, straightness, revolution)"))),
     };
     let i = |f: &dyn Fn(f64) -> f64| integrate(f, a, b, knots, panels);
     let g11 = i(&|x| f1(x) * f1(x));
@@ -440,7 +443,7 @@ fn constraint_correction(constraint: &str, raw: &Raw, a: f64, b: f64, knots: &[f
     let r2 = i(&|x| raw.eval(x) * f2(x));
     let det = g11 * g22 - g12 * g12;
     if det.abs() < 1e-12 * (g11 * g22).abs().max(1e-300) {
-        return Err(format!("the `{constraint}` constraint is undefined over the domain [{a}, {b}]"));
+        return Err(Error::input(format!("the `{constraint}` constraint is undefined over the domain [{a}, {b}]")));
     }
     let a1 = (g22 * r1 - g12 * r2) / det;
     let a2 = (g11 * r2 - g12 * r1) / det;
@@ -543,26 +546,26 @@ mod tests {
     fn bad_specs_are_refused() {
         let mut s = spec("piecewise", "none");
         s.knots = vec![400.0];
-        assert!(Basis::new(s).unwrap_err().contains("inside the domain"));
+        assert!(Basis::new(s).unwrap_err().to_string().contains("inside the domain"));
         let mut s = spec("piecewise", "none");
         s.continuity = vec![1, 1, 1];
-        assert!(Basis::new(s).unwrap_err().contains("one per knot"));
-        assert!(Basis::new(spec("spline", "none")).unwrap_err().contains("unknown basis family"));
-        assert!(Basis::new(spec("piecewise", "flat")).unwrap_err().contains("unknown constraint"));
+        assert!(Basis::new(s).unwrap_err().to_string().contains("one per knot"));
+        assert!(Basis::new(spec("spline", "none")).unwrap_err().to_string().contains("unknown basis family"));
+        assert!(Basis::new(spec("piecewise", "flat")).unwrap_err().to_string().contains("unknown constraint"));
         let mut s = spec("none", "none");
         s.periodic = vec![PeriodicSpec { wavelength: -1.0, phase: 0.0, degree: 2, knots: vec![], continuity: 1 }];
-        assert!(Basis::new(s).unwrap_err().contains("positive"));
+        assert!(Basis::new(s).unwrap_err().to_string().contains("positive"));
         for degree in [0, 8] {
             let mut s = spec("bspline", "none");
             s.degree = degree;
-            assert!(Basis::new(s).unwrap_err().contains("B-spline degree must be 1 to 7"), "degree {degree}");
+            assert!(Basis::new(s).unwrap_err().to_string().contains("B-spline degree must be 1 to 7"), "degree {degree}");
         }
         let mut s = spec("bspline", "none");
         s.knots = vec![50.0, -100.0];
-        assert!(Basis::new(s).unwrap_err().contains("increase strictly"));
+        assert!(Basis::new(s).unwrap_err().to_string().contains("increase strictly"));
         let mut s = spec("bspline", "none");
         s.knots = vec![-300.0];
-        assert!(Basis::new(s).unwrap_err().contains("inside the domain"));
+        assert!(Basis::new(s).unwrap_err().to_string().contains("inside the domain"));
     }
 
     #[test]

@@ -9,6 +9,7 @@ use super::function::ErrorFunction;
 use super::model::Direction;
 use super::model::ErrorModel;
 use super::ErrorModelError;
+use crate::error::Error;
 use crate::io::ranges::{line_of_key, ANGULAR_ERROR_URAD, LINEAR_ERROR_UM, MACHINE_LENGTH_MM, ROTARY_POSITION_DEG};
 use crate::machine::{one_line, Machine, ParameterId};
 use serde::Deserialize;
@@ -137,15 +138,15 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
     for (name, &u) in &file.uncertainty {
         let id = ParameterId::parse(name).map_err(|m| invalid("uncertainty", name, m))?;
         machine.parameter_index(&id).map_err(|m| invalid("uncertainty", name, m))?;
-        model.set_uncertainty(id, u).map_err(|m| invalid("uncertainty", name, m))?;
+        model.set_uncertainty(id, u).map_err(|m| invalid("uncertainty", name, m.to_string()))?;
     }
-    let mut set = |section: &str, name: &str, f: Result<ErrorFunction, String>| -> Result<(), ErrorModelError> {
+    let mut set = |section: &str, name: &str, f: crate::error::Result<ErrorFunction>| -> Result<(), ErrorModelError> {
         let (id, direction) = id_of(section, name)?;
-        let f = f.map_err(|m| invalid(section, name, m))?;
-        model.set_directional(machine, id, direction, f).map_err(|m| invalid(section, name, m))
+        let f = f.map_err(|m| invalid(section, name, m.to_string()))?;
+        model.set_directional(machine, id, direction, f).map_err(|m| invalid(section, name, m.to_string()))
     };
     for (name, &value) in &file.constant {
-        let f = if value.is_finite() { Ok(ErrorFunction::Constant(value)) } else { Err("value must be a finite number".to_string()) };
+        let f = if value.is_finite() { Ok(ErrorFunction::Constant(value)) } else { Err(Error::input("value must be a finite number")) };
         set("constant", name, f)?;
     }
     for (name, t) in &file.table {
@@ -157,7 +158,7 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
             let line = line_of_key(text, name).map_or(String::new(), |l| format!("line {l}: "));
             return Err(invalid(&section, name, format!("{line}position, entry {}: {m}", i + 1)));
         }
-        set(&section, name, ErrorFunction::table(t.position.clone(), t.value.clone(), None))?;
+        set(&section, name, ErrorFunction::table(t.position.clone(), t.value.clone(), None).map_err(Error::input))?;
     }
     for (name, p) in &file.polynomial {
         set(&format!("polynomial.{name}"), name, ErrorFunction::polynomial(p.coefficients.clone()))?;
@@ -191,27 +192,28 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
             let range = t.range.map(|[lo, hi]| (lo, hi));
             model
                 .add_segment_term(machine, id, direction, range, t.coefficient, &axes, &sensors)
-                .map_err(|m| invalid(&section, name, m))?;
+                .map_err(|m| invalid(&section, name, m.to_string()))?;
         }
     }
     for (name, l) in &file.load {
         let section = format!("load.{name}");
         let id = ParameterId::parse(name).map_err(|m| invalid(&section, name, m))?;
         let function = match (&l.position, &l.value, &l.coefficients, l.constant) {
-            (Some(p), Some(v), None, None) => ErrorFunction::table(p.clone(), v.clone(), None),
+            (Some(p), Some(v), None, None) => ErrorFunction::table(p.clone(), v.clone(), None).map_err(Error::input),
             (None, None, Some(c), None) => ErrorFunction::polynomial(c.clone()),
             (None, None, None, Some(c)) if c.is_finite() => Ok(ErrorFunction::Constant(c)),
-            _ => Err("give the change under the reference load as `position` and `value` (a table), `coefficients` (a polynomial) \
-                      or `constant`, exactly one of them"
-                .to_string()),
+            _ => Err(Error::input(
+                "give the change under the reference load as `position` and `value` (a table), `coefficients` (a polynomial) \
+                 or `constant`, exactly one of them",
+            )),
         }
-        .map_err(|m| invalid(&section, name, m))?;
+        .map_err(|m| invalid(&section, name, m.to_string()))?;
         let lever = match (l.lever_mm, &l.lever_at) {
             (Some(mm), Some(at)) => Some((mm, at.as_str())),
             (None, None) => None,
             _ => return Err(invalid(&section, name, "`lever_mm` and `lever_at` go together".into())),
         };
-        model.add_load(machine, id, function, l.reference_n, &l.load, lever).map_err(|m| invalid(&section, name, m))?;
+        model.add_load(machine, id, function, l.reference_n, &l.load, lever).map_err(|m| invalid(&section, name, m.to_string()))?;
     }
     for (name, entries) in &file.drift {
         let section = format!("drift.{name}");
@@ -224,10 +226,10 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
             };
             model
                 .add_drift(machine, id, axis, d.position, &d.sensors, &d.time_constants_s, &d.gains_um_per_degc)
-                .map_err(|m| invalid(&section, name, m))?;
+                .map_err(|m| invalid(&section, name, m.to_string()))?;
         }
     }
-    model.check_directions().map_err(|m| ErrorModelError::Invalid { origin: origin.into(), message: m })?;
+    model.check_directions().map_err(|m| ErrorModelError::Invalid { origin: origin.into(), message: m.to_string() })?;
     check_physical_ranges(&model, machine, text, origin)?;
     Ok(model)
 }
@@ -262,11 +264,11 @@ fn check_physical_ranges(model: &ErrorModel, machine: &Machine, text: &str, orig
 }
 
 /// A `[basis.NAME]` table: the fields of [`BasisSpec`] plus `coefficients`.
-fn basis_function(mut table: toml::Table) -> Result<ErrorFunction, String> {
+fn basis_function(mut table: toml::Table) -> crate::error::Result<ErrorFunction> {
     let coefficients: Vec<f64> = match table.remove("coefficients") {
-        Some(v) => v.try_into().map_err(|e: toml::de::Error| format!("`coefficients`: {}", one_line(&e.to_string())))?,
-        None => return Err("missing field `coefficients`".into()),
+        Some(v) => v.try_into().map_err(|e: toml::de::Error| Error::input(format!("`coefficients`: {}", one_line(&e.to_string()))))?,
+        None => return Err(Error::input("missing field `coefficients`")),
     };
-    let spec: BasisSpec = toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| one_line(&e.to_string()))?;
+    let spec: BasisSpec = toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| Error::input(one_line(&e.to_string())))?;
     ErrorFunction::basis(Basis::new(spec)?, coefficients)
 }

@@ -3,6 +3,7 @@
 //! positions in mm (linear axes) or deg (rotary axes).
 
 use super::basis::Basis;
+use crate::error::{Error, Result};
 
 /// One parametric error as a function of its own axis position.
 #[derive(Clone, Debug, PartialEq)]
@@ -39,28 +40,28 @@ impl ErrorFunction {
     }
 
     /// Builds a polynomial after checking it has finite coefficients.
-    pub fn polynomial(coefficients: Vec<f64>) -> Result<ErrorFunction, String> {
+    pub fn polynomial(coefficients: Vec<f64>) -> Result<ErrorFunction> {
         if coefficients.is_empty() {
-            return Err("`coefficients` must not be empty".into());
+            return Err(Error::input("`coefficients` must not be empty"));
         }
         if coefficients.iter().any(|c| !c.is_finite()) {
-            return Err("`coefficients` must be finite numbers".into());
+            return Err(Error::input("`coefficients` must be finite numbers"));
         }
         Ok(ErrorFunction::Polynomial { coefficients })
     }
 
     /// Builds a basis function after checking the number of coefficients.
-    pub fn basis(basis: Basis, coefficients: Vec<f64>) -> Result<ErrorFunction, String> {
+    pub fn basis(basis: Basis, coefficients: Vec<f64>) -> Result<ErrorFunction> {
         if coefficients.len() != basis.len() {
-            return Err(format!(
+            return Err(Error::input(format!(
                 "the basis has {} functions ({}) but {} coefficients are given",
                 basis.len(),
                 basis.names().join(", "),
                 coefficients.len()
-            ));
+            )));
         }
         if coefficients.iter().any(|c| !c.is_finite()) {
-            return Err("`coefficients` must be finite numbers".into());
+            return Err(Error::input("`coefficients` must be finite numbers"));
         }
         Ok(ErrorFunction::Basis { basis, coefficients })
     }

@@ -15,6 +15,8 @@
 //! drift model: `z[k] = e^(-dt/tau) z[k-1] + (1 - e^(-dt/tau)) (T[k-1] - T[0])`, the input held
 //! over each sample interval).
 
+use crate::error::{Error, Result};
+
 /// What an input is (see the module documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub enum InputKind {
@@ -31,12 +33,12 @@ pub enum InputKind {
 
 impl InputKind {
     /// The kind of an input name; an error explains the names.
-    pub fn parse(name: &str) -> Result<InputKind, String> {
+    pub fn parse(name: &str) -> Result<InputKind> {
         if let Some((sensor, rest)) = name.split_once(" lag ") {
             let tau = rest.strip_suffix(" s").and_then(|t| t.trim().parse::<f64>().ok()).filter(|t| t.is_finite() && *t > 0.0);
             return match (InputKind::parse(sensor), tau) {
                 (Ok(InputKind::Temperature), Some(tau_s)) => Ok(InputKind::Lag { sensor: sensor.to_string(), tau_s }),
-                _ => Err(format!("input `{name}`: a lagged input is `T:<sensor> lag <seconds> s`")),
+                _ => Err(Error::input(format!("input `{name}`: a lagged input is `T:<sensor> lag <seconds> s`"))),
             };
         }
         let kind = match name.split_once(':') {
@@ -45,10 +47,10 @@ impl InputKind {
             Some(("F", n)) if !n.is_empty() => InputKind::Force,
             Some(("P", n)) if !n.is_empty() => InputKind::Position,
             _ => {
-                return Err(format!(
+                return Err(Error::input(format!(
                     "input `{name}` is not a temperature `T:<sensor>` (degC), a spindle speed `S:<name>` (rpm), a force `F:<name>` (N) \
                      or a position `P:<name>` (mm)"
-                ))
+                )))
             }
         };
         Ok(kind)
@@ -97,9 +99,9 @@ pub struct InputSource<'a> {
 /// The values of `inputs` (names as in [`super::ErrorModel::sensors`]) for every row, `inputs.len()`
 /// per row in that order; an error names an input that has neither a column nor a given value, or
 /// a lag input without times.
-pub fn input_values(inputs: &[String], source: &InputSource) -> Result<Vec<f64>, String> {
+pub fn input_values(inputs: &[String], source: &InputSource) -> Result<Vec<f64>> {
     let (mut rows, wanted) = InputRows::new(inputs, &|name| (source.column)(name).is_some(), source.given, source.times.is_some())
-        .map_err(|m| format!("{}: {m}", source.origin))?;
+        .map_err(|m| Error::input(format!("{}: {m}", source.origin)))?;
     let columns: Vec<Vec<f64>> = wanted.iter().map(|name| (source.column)(name).expect("a column the source has")).collect();
     let mut out = Vec::with_capacity(source.rows * inputs.len());
     let mut values = vec![0.0; columns.len()];
@@ -108,17 +110,19 @@ pub fn input_values(inputs: &[String], source: &InputSource) -> Result<Vec<f64>,
             *v = c[k];
         }
         let (time, run) = (source.times.map(|t| t[k]), source.runs.map_or("", |r| r[k].as_str()));
-        rows.push(&values, time, run, &mut out).map_err(|m| format!("{}: row {}: {m}", source.origin, k + 1))?;
+        rows.push(&values, time, run, &mut out).map_err(|m| Error::input(format!("{}: row {}: {m}", source.origin, k + 1)))?;
     }
     Ok(out)
 }
 
 /// The rise of `readings` since the first row of each run through a first-order lag of time
 /// constant `tau_s` (module documentation); rows of a run in time order.
-pub fn lagged_rise(readings: &[f64], times: &[f64], runs: Option<&[String]>, tau_s: f64) -> Result<Vec<f64>, String> {
+pub fn lagged_rise(readings: &[f64], times: &[f64], runs: Option<&[String]>, tau_s: f64) -> Result<Vec<f64>> {
     let mut lag = Lag::new(tau_s);
     (0..readings.len())
-        .map(|k| lag.next(readings[k], times[k], runs.map_or("", |r| r[k].as_str())).map_err(|m| format!("row {}: {m}", k + 1)))
+        .map(|k| {
+            lag.next(readings[k], times[k], runs.map_or("", |r| r[k].as_str())).map_err(|m| Error::input(format!("row {}: {m}", k + 1)))
+        })
         .collect()
 }
 
@@ -137,17 +141,17 @@ impl Lag {
     }
 
     /// The lag at a row with `reading` (degC) at `time` (s) of `run`.
-    fn next(&mut self, reading: f64, time: f64, run: &str) -> Result<f64, String> {
+    fn next(&mut self, reading: f64, time: f64, run: &str) -> Result<f64> {
         let Some((_, first, previous, previous_time, z)) = self.runs.iter_mut().find(|r| r.0 == run) else {
             self.runs.push((run.to_string(), reading, reading, time, 0.0));
             return Ok(0.0);
         };
         let dt = time - *previous_time;
         if dt.is_nan() || dt <= 0.0 {
-            return Err(format!(
+            return Err(Error::input(format!(
                 "the time t = {time} does not follow the previous time {previous_time} of its run; a drift model needs the rows of each \
                  run in time order"
-            ));
+            )));
         }
         let decay = (-dt / self.tau_s).exp();
         *z = decay * *z + (1.0 - decay) * (*previous - *first);
@@ -184,9 +188,9 @@ impl InputRows {
         has_column: &dyn Fn(&str) -> bool,
         given: &dyn Fn(&str) -> Option<f64>,
         has_times: bool,
-    ) -> Result<(InputRows, Vec<String>), String> {
+    ) -> Result<(InputRows, Vec<String>)> {
         let mut wanted: Vec<String> = Vec::new();
-        let mut column_of = |name: &str, kind: &InputKind| -> Result<Source, String> {
+        let mut column_of = |name: &str, kind: &InputKind| -> Result<Source> {
             if has_column(name) {
                 let i = wanted.iter().position(|w| w == name).unwrap_or_else(|| {
                     wanted.push(name.to_string());
@@ -195,11 +199,11 @@ impl InputRows {
                 return Ok(Source::Column(i));
             }
             given(name).map(Source::Given).ok_or_else(|| {
-                format!(
+                Error::input(format!(
                     "missing column `{name}` ({unit}) needed by the error model; add it or give --{} {name}={unit}",
                     if *kind == InputKind::Temperature { "temperature" } else { "input" },
                     unit = kind.unit()
-                )
+                ))
             })
         };
         let mut sources = Vec::with_capacity(inputs.len());
@@ -208,7 +212,9 @@ impl InputRows {
             sources.push(match &kind {
                 InputKind::Lag { sensor, tau_s } => {
                     if !has_times {
-                        return Err(format!("the error model has a drift term (input `{name}`): the rows need the time column `t` (s)"));
+                        return Err(Error::input(format!(
+                            "the error model has a drift term (input `{name}`): the rows need the time column `t` (s)"
+                        )));
                     }
                     match column_of(sensor, &InputKind::Temperature)? {
                         Source::Column(i) => Source::Lag(i, Lag::new(*tau_s)),
@@ -225,7 +231,7 @@ impl InputRows {
     /// Appends the inputs of the next row to `out`: `columns` the row's values of the wanted
     /// columns, `time` its time (s; needed by lags), `run` its run. An error (a time out of order
     /// within a run) does not name the row: the caller does.
-    pub fn push(&mut self, columns: &[f64], time: Option<f64>, run: &str, out: &mut Vec<f64>) -> Result<(), String> {
+    pub fn push(&mut self, columns: &[f64], time: Option<f64>, run: &str, out: &mut Vec<f64>) -> Result<()> {
         for source in &mut self.sources {
             out.push(match source {
                 Source::Column(i) => columns[*i],
@@ -248,9 +254,9 @@ mod tests {
         assert_eq!(InputKind::parse("F:workpiece").unwrap().reference(), 0.0);
         assert_eq!(InputKind::parse("P:workpiece_z").unwrap().unit(), "mm");
         assert_eq!(InputKind::parse(&lag_name("T:34", 1800.0)).unwrap(), InputKind::Lag { sensor: "T:34".into(), tau_s: 1800.0 });
-        assert!(InputKind::parse("Q:x").unwrap_err().contains("spindle speed"));
+        assert!(InputKind::parse("Q:x").unwrap_err().to_string().contains("spindle speed"));
         assert!(InputKind::parse("T:").is_err());
-        assert!(InputKind::parse("S:x lag 10 s").unwrap_err().contains("lagged"));
+        assert!(InputKind::parse("S:x lag 10 s").unwrap_err().to_string().contains("lagged"));
     }
 
     #[test]
@@ -268,6 +274,6 @@ mod tests {
         let runs: Vec<String> = (0..50).map(|k| if k < 25 { "a" } else { "b" }.to_string()).collect();
         let z = lagged_rise(&readings, &times, Some(&runs), 600.0).unwrap();
         assert_eq!(z[25], 0.0);
-        assert!(lagged_rise(&[20.0, 21.0], &[0.0, 0.0], None, 1.0).unwrap_err().contains("time order"));
+        assert!(lagged_rise(&[20.0, 21.0], &[0.0, 0.0], None, 1.0).unwrap_err().to_string().contains("time order"));
     }
 }

@@ -4,6 +4,7 @@
 //! axis position.
 
 mod basis;
+pub mod etalon;
 mod evaluator;
 mod file;
 mod function;
@@ -13,6 +14,7 @@ mod quadrature;
 mod write;
 
 pub use basis::{Basis, BasisSpec, PeriodicSpec};
+pub use etalon::from_etalon;
 pub use function::ErrorFunction;
 pub use inputs::{input_values, InputKind, InputRows, InputSource};
 pub use model::{Direction, DriftTerm, ErrorModel, LoadTerm, MachineState, ProductTerm, REFERENCE_TEMPERATURE};
@@ -32,6 +34,8 @@ pub enum ErrorModelError {
     #[error("{origin}: {message}")]
     Invalid { origin: String, message: String },
 }
+
+crate::error::error_of_kind!(ErrorModelError, Input);
 
 impl ErrorModel {
     /// Parses an error-values TOML for `machine`.

@@ -5,6 +5,7 @@
 use super::evaluator::{Evaluator, PositionFunction};
 use super::function::ErrorFunction;
 use super::inputs::InputKind;
+use crate::error::{Error, Result};
 use crate::machine::{AxisKind, Machine, ParameterId};
 
 /// ISO 1 reference temperature (degC): temperature terms use `T - 20`.
@@ -176,8 +177,9 @@ impl ErrorModel {
     }
 
     /// Sets the function of one parameter for both directions. See [`ErrorModel::set_directional`].
+    /// (The message as text: the writers of `compensate` that call it take text.)
     pub fn set(&mut self, machine: &Machine, id: ParameterId, function: ErrorFunction) -> Result<(), String> {
-        self.set_directional(machine, id, None, function)
+        self.set_directional(machine, id, None, function).map_err(|e| e.to_string())
     }
 
     /// Sets the function of one parameter, for one direction of motion of its axis or for both.
@@ -189,11 +191,11 @@ impl ErrorModel {
         id: ParameterId,
         direction: Option<Direction>,
         function: ErrorFunction,
-    ) -> Result<(), String> {
-        let index = machine.parameter_index(&id)?;
+    ) -> Result<()> {
+        let index = machine.parameter_index(&id).map_err(Error::input)?;
         let motion = matches!(id, ParameterId::Motion { .. });
         if direction.is_some() && !motion {
-            return Err(format!("{id} is a constant (location or setup error); it has no direction of motion"));
+            return Err(Error::input(format!("{id} is a constant (location or setup error); it has no direction of motion")));
         }
         let function = match (id, function) {
             (ParameterId::Motion { axis, .. }, ErrorFunction::Table { positions, values, .. }) => {
@@ -204,15 +206,20 @@ impl ErrorModel {
             }
             (ParameterId::Motion { .. }, f) | (_, f @ ErrorFunction::Constant(_)) => f,
             (id, _) => {
-                return Err(format!("{id} is a constant (location or setup error); give it under [constant], not as a table or polynomial"))
+                return Err(Error::input(format!(
+                    "{id} is a constant (location or setup error); give it under [constant], not as a table or polynomial"
+                )))
             }
         };
         for e in self.entries.iter().filter(|e| e.index == index) {
             if e.direction == direction {
-                return Err(format!("{id}{} is given more than once", direction.map_or(String::new(), |d| d.symbol().to_string())));
+                return Err(Error::input(format!(
+                    "{id}{} is given more than once",
+                    direction.map_or(String::new(), |d| d.symbol().to_string())
+                )));
             }
             if e.direction.is_none() || direction.is_none() {
-                return Err(format!("{id} is given both for both directions and for one direction ({id}+ / {id}-)"));
+                return Err(Error::input(format!("{id} is given both for both directions and for one direction ({id}+ / {id}-)")));
             }
         }
         let own_axis = if motion { id.axis().and_then(|a| machine.axis_index(a)) } else { None };
@@ -225,7 +232,7 @@ impl ErrorModel {
     }
 
     /// The index of input `name` (see [`super::inputs`]), registered on first use.
-    fn input(&mut self, name: &str) -> Result<usize, String> {
+    fn input(&mut self, name: &str) -> Result<usize> {
         if let Some(i) = self.sensors.iter().position(|n| n == name) {
             return Ok(i);
         }
@@ -245,7 +252,7 @@ impl ErrorModel {
         coefficient: f64,
         axes: &[(char, i32)],
         sensors: &[(&str, i32)],
-    ) -> Result<(), String> {
+    ) -> Result<()> {
         self.add_segment_term(machine, id, None, None, coefficient, axes, sensors)
     }
 
@@ -261,26 +268,26 @@ impl ErrorModel {
         coefficient: f64,
         axes: &[(char, i32)],
         sensors: &[(&str, i32)],
-    ) -> Result<(), String> {
-        let index = machine.parameter_index(&id)?;
+    ) -> Result<()> {
+        let index = machine.parameter_index(&id).map_err(Error::input)?;
         if !coefficient.is_finite() {
-            return Err("`coefficient` must be a finite number".into());
+            return Err(Error::input("`coefficient` must be a finite number"));
         }
         let own_axis = self.own_axis(machine, &id);
         if (direction.is_some() || range.is_some()) && own_axis.is_none() {
-            return Err(format!(
+            return Err(Error::input(format!(
                 "{id} is a constant (location or setup error): a term of one direction or position range needs a motion error"
-            ));
+            )));
         }
         if let Some((lo, hi)) = range {
             if lo.is_nan() || hi.is_nan() || lo >= hi {
-                return Err(format!("`range` [{lo}, {hi}] must be [lo, hi] with lo < hi (infinite ends allowed: -inf, inf)"));
+                return Err(Error::input(format!("`range` [{lo}, {hi}] must be [lo, hi] with lo < hi (infinite ends allowed: -inf, inf)")));
             }
         }
         let mut axis_powers = Vec::new();
         for (letter, power) in axes {
             let a = machine.axis_index(*letter).ok_or_else(|| {
-                format!("factor {letter}: machine `{}` has no axis {letter} (axes: {})", machine.name, machine.axis_letters())
+                Error::input(format!("factor {letter}: machine `{}` has no axis {letter} (axes: {})", machine.name, machine.axis_letters()))
             })?;
             axis_powers.push((a, *power));
         }
@@ -289,7 +296,7 @@ impl ErrorModel {
             sensor_powers.push((self.input(name)?, *power));
         }
         if axis_powers.iter().chain(&sensor_powers).any(|(_, p)| *p < 0 || *p > 8) {
-            return Err("factor powers must be integers from 0 to 8".into());
+            return Err(Error::input("factor powers must be integers from 0 to 8"));
         }
         self.terms.push(ProductTerm { id, coefficient, axes: axis_powers, sensors: sensor_powers, direction, range, index, own_axis });
         Ok(())
@@ -311,26 +318,28 @@ impl ErrorModel {
         reference_n: f64,
         load: &str,
         lever: Option<(f64, &str)>,
-    ) -> Result<(), String> {
-        let index = machine.parameter_index(&id)?;
+    ) -> Result<()> {
+        let index = machine.parameter_index(&id).map_err(Error::input)?;
         let own_axis = self.own_axis(machine, &id);
         if own_axis.is_none() && !matches!(function, ErrorFunction::Constant(_)) {
-            return Err(format!("{id} is a constant (location or setup error): give its change under the load as `constant`"));
+            return Err(Error::input(format!(
+                "{id} is a constant (location or setup error): give its change under the load as `constant`"
+            )));
         }
         if !(reference_n.is_finite() && reference_n != 0.0) {
-            return Err("`reference_n` must be the (non-zero) load in N the change was measured under".into());
+            return Err(Error::input("`reference_n` must be the (non-zero) load in N the change was measured under"));
         }
         if !matches!(InputKind::parse(load)?, InputKind::Force) {
-            return Err(format!("`load` = `{load}` must be a force input `F:<name>` (N)"));
+            return Err(Error::input(format!("`load` = `{load}` must be a force input `F:<name>` (N)")));
         }
         let load = self.input(load)?;
         let lever = match lever {
             Some((l, p)) => {
                 if !(l.is_finite() && l != 0.0) {
-                    return Err("`lever_mm` must be a non-zero length in mm".into());
+                    return Err(Error::input("`lever_mm` must be a non-zero length in mm"));
                 }
                 if !matches!(InputKind::parse(p)?, InputKind::Position) {
-                    return Err(format!("`lever_at` = `{p}` must be a position input `P:<name>` (mm)"));
+                    return Err(Error::input(format!("`lever_at` = `{p}` must be a position input `P:<name>` (mm)")));
                 }
                 Some((l, self.input(p)?))
             }
@@ -352,31 +361,31 @@ impl ErrorModel {
         sensors: &[String],
         time_constants_s: &[f64],
         gains: &[Vec<f64>],
-    ) -> Result<(), String> {
-        let index = machine.parameter_index(&id)?;
-        let axis = machine
-            .axis_index(axis)
-            .ok_or_else(|| format!("`axis` {axis}: machine `{}` has no axis {axis} (axes: {})", machine.name, machine.axis_letters()))?;
+    ) -> Result<()> {
+        let index = machine.parameter_index(&id).map_err(Error::input)?;
+        let axis = machine.axis_index(axis).ok_or_else(|| {
+            Error::input(format!("`axis` {axis}: machine `{}` has no axis {axis} (axes: {})", machine.name, machine.axis_letters()))
+        })?;
         if !position.is_finite() {
-            return Err("`position` must be a finite axis position".into());
+            return Err(Error::input("`position` must be a finite axis position"));
         }
         if time_constants_s.is_empty() || time_constants_s.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
-            return Err("`time_constants_s` must be positive numbers of seconds".into());
+            return Err(Error::input("`time_constants_s` must be positive numbers of seconds"));
         }
         if sensors.is_empty()
             || gains.len() != sensors.len()
             || gains.iter().any(|g| g.len() != time_constants_s.len() || g.iter().any(|v| !v.is_finite()))
         {
-            return Err(format!(
+            return Err(Error::input(format!(
                 "`gains_um_per_degc` needs one row per sensor ({}) of one finite gain per time constant ({})",
                 sensors.len(),
                 time_constants_s.len()
-            ));
+            )));
         }
         let mut point = Vec::new();
         for (sensor, row) in sensors.iter().zip(gains) {
             if !matches!(InputKind::parse(sensor)?, InputKind::Temperature) {
-                return Err(format!("sensor `{sensor}` must be a temperature `T:<name>`"));
+                return Err(Error::input(format!("sensor `{sensor}` must be a temperature `T:<name>`")));
             }
             for (tau, g) in time_constants_s.iter().zip(row) {
                 point.push((self.input(&super::inputs::lag_name(sensor, *tau))?, *g));
@@ -390,13 +399,13 @@ impl ErrorModel {
             }
         };
         if existing.axis != axis {
-            return Err(format!(
+            return Err(Error::input(format!(
                 "the drift of {id} is interpolated over one axis; another entry names axis {}",
                 machine.axes()[existing.axis].letter
-            ));
+            )));
         }
         if existing.points.iter().any(|(p, _)| *p == position) {
-            return Err(format!("the drift of {id} is given twice at position {position}"));
+            return Err(Error::input(format!("the drift of {id} is given twice at position {position}")));
         }
         existing.points.push((position, point));
         existing.points.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -404,12 +413,12 @@ impl ErrorModel {
     }
 
     /// Checks that every one-direction function has its counterpart.
-    pub fn check_directions(&self) -> Result<(), String> {
+    pub fn check_directions(&self) -> Result<()> {
         for e in &self.entries {
             if let Some(d) = e.direction {
                 let other = if d == Direction::Positive { Direction::Negative } else { Direction::Positive };
                 if !self.entries.iter().any(|f| f.index == e.index && f.direction == Some(other)) {
-                    return Err(format!("{}{} is given without {}{}", e.id, d.symbol(), e.id, other.symbol()));
+                    return Err(Error::input(format!("{}{} is given without {}{}", e.id, d.symbol(), e.id, other.symbol())));
                 }
             }
         }
@@ -461,9 +470,9 @@ impl ErrorModel {
 
     /// Sets the standard uncertainty (k = 1, um or urad) of the constant value of `id`; an
     /// uncertainty that is negative or not finite is refused.
-    pub fn set_uncertainty(&mut self, id: ParameterId, u: f64) -> Result<(), String> {
+    pub fn set_uncertainty(&mut self, id: ParameterId, u: f64) -> Result<()> {
         if !(u.is_finite() && u >= 0.0) {
-            return Err(format!("the standard uncertainty of {id} must be a finite number >= 0, got {u}"));
+            return Err(Error::input(format!("the standard uncertainty of {id} must be a finite number >= 0, got {u}")));
         }
         self.uncertainties.retain(|(i, _)| *i != id);
         self.uncertainties.push((id, u));
@@ -673,7 +682,7 @@ point = [0, 0, 0]
         let mut model = ErrorModel::zero(&m);
         let exx = ParameterId::parse("EXX").unwrap();
         model.set_directional(&m, exx, Some(Direction::Positive), ErrorFunction::Constant(0.4)).unwrap();
-        assert!(model.check_directions().unwrap_err().contains("EXX+ is given without EXX-"));
+        assert!(model.check_directions().unwrap_err().to_string().contains("EXX+ is given without EXX-"));
         model.set_directional(&m, exx, Some(Direction::Negative), ErrorFunction::Constant(-0.4)).unwrap();
         model.check_directions().unwrap();
         assert!(model.set(&m, exx, ErrorFunction::Constant(1.0)).unwrap_err().contains("both directions"));
@@ -704,6 +713,6 @@ point = [0, 0, 0]
         // at the reference temperature the thermal term vanishes
         model.values_at(&m, &[100.0, 0.0], &mut v);
         assert_eq!(v[m.parameter_index(&exx).unwrap()], 0.0);
-        assert!(model.add_term(&m, exx, 1.0, &[('Q', 1)], &[]).unwrap_err().contains("no axis Q"));
+        assert!(model.add_term(&m, exx, 1.0, &[('Q', 1)], &[]).unwrap_err().to_string().contains("no axis Q"));
     }
 }

@@ -3,6 +3,7 @@
 
 use super::function::ErrorFunction;
 use super::model::Direction;
+use crate::error::{Error, Result};
 use crate::machine::ParameterId;
 use toml_edit::{value, Array, ArrayOfTables, DocumentMut, Item, Table};
 
@@ -13,8 +14,8 @@ const SECTIONS: [&str; 4] = ["constant", "table", "polynomial", "basis"];
 /// With a `direction` the function is that of one direction of motion only (`NAME+` / `NAME-`,
 /// Soons 1993 §3.2.5): the undirected entry and the entry of the same direction are replaced, the
 /// other direction is kept. Without, every entry of the parameter is replaced.
-pub fn set_error_function(text: &str, id: &ParameterId, direction: Option<Direction>, function: &ErrorFunction) -> Result<String, String> {
-    let mut doc: DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| super::super::machine::one_line(&e.to_string()))?;
+pub fn set_error_function(text: &str, id: &ParameterId, direction: Option<Direction>, function: &ErrorFunction) -> Result<String> {
+    let mut doc: DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| Error::input(crate::machine::one_line(&e.to_string())))?;
     let suffix = |d: Option<Direction>| match d {
         Some(Direction::Positive) => "+",
         Some(Direction::Negative) => "-",
@@ -38,7 +39,7 @@ pub fn set_error_function(text: &str, id: &ParameterId, direction: Option<Direct
             }
         }
     }
-    let section = |doc: &mut DocumentMut, s: &str| -> Result<Table, String> {
+    let section = |doc: &mut DocumentMut, s: &str| -> Result<Table> {
         match doc.remove(s) {
             Some(Item::Table(t)) => Ok(t),
             None => {
@@ -46,7 +47,7 @@ pub fn set_error_function(text: &str, id: &ParameterId, direction: Option<Direct
                 t.set_implicit(s != "constant");
                 Ok(t)
             }
-            Some(_) => Err(format!("`{s}` is not a table in the existing file")),
+            Some(_) => Err(Error::input(format!("`{s}` is not a table in the existing file"))),
         }
     };
     let floats = |v: &[f64]| v.iter().copied().collect::<Array>();
@@ -98,13 +99,13 @@ pub fn set_error_function(text: &str, id: &ParameterId, direction: Option<Direct
 
 /// Sets the standard uncertainty (k = 1, um or urad) of `id` in the `[uncertainty]` table of the
 /// error-values document `text`, and returns the new text.
-pub fn set_uncertainty(text: &str, id: &ParameterId, u: f64) -> Result<String, String> {
-    let mut doc: DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| super::super::machine::one_line(&e.to_string()))?;
+pub fn set_uncertainty(text: &str, id: &ParameterId, u: f64) -> Result<String> {
+    let mut doc: DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| Error::input(crate::machine::one_line(&e.to_string())))?;
     let table = doc
         .entry("uncertainty")
         .or_insert(Item::Table(Table::new()))
         .as_table_mut()
-        .ok_or("`uncertainty` is not a table in the existing file")?;
+        .ok_or_else(|| Error::input("`uncertainty` is not a table in the existing file"))?;
     table.insert(&id.to_string(), value(u));
     Ok(doc.to_string())
 }

@@ -8,8 +8,8 @@
 
 use super::ballbar_diagnostics::DiagnosticOptions;
 use super::iso230_4::{evaluate, read_circular_table, CircularFile, Iso2304Result};
-use super::EvaluateError;
 use crate::data::CsvTable;
+use crate::error::{Error, Result};
 use crate::geometry::Vec3;
 use crate::instruments::ballbar::{ballbar_header, Plane};
 use crate::machine::Machine;
@@ -54,11 +54,11 @@ pub struct CircularTestOptions {
 
 impl CircularTestOptions {
     /// A feed, pitch or spike width that is not a positive number is an input error naming its option.
-    pub fn check(&self) -> Result<(), EvaluateError> {
+    pub fn check(&self) -> Result<()> {
         let checked = [("--feed", self.feed_mm_per_min), ("--pitch", self.pitch_mm), ("--spike-width", Some(self.spike_width_deg))];
         for (option, v) in checked {
             if let Some(v) = v.filter(|v| !(*v > 0.0 && v.is_finite())) {
-                return Err(EvaluateError::Input(format!("{option} must be a positive number, got {v}")));
+                return Err(Error::input(format!("{option} must be a positive number, got {v}")));
             }
         }
         Ok(())
@@ -98,13 +98,13 @@ impl CircularTest {
 /// Evaluates the circular test in `table` on `machine` (ISO 230-4 G, F, H and the diagnostics,
 /// `evaluate::iso230_4`). A radius neither given nor in the file, or a feed, pitch or spike width
 /// that is not a positive number, is an input error.
-pub fn circular_test(table: &CsvTable, machine: &Machine, options: &CircularTestOptions) -> Result<CircularTest, EvaluateError> {
+pub fn circular_test(table: &CsvTable, machine: &Machine, options: &CircularTestOptions) -> Result<CircularTest> {
     options.check()?;
     let centre = centre_pose(machine, options.centre_mm);
     let name = table.origin();
     let header = ballbar_header(table)?;
     let radius = options.radius_mm.or(header.radius_mm).ok_or_else(|| {
-        EvaluateError::Input(format!("{name}: give the nominal radius (--radius MM, the bar length); the file does not state it"))
+        Error::input(format!("{name}: give the nominal radius (--radius MM, the bar length); the file does not state it"))
     })?;
     let plane = match (options.plane, header.plane) {
         (Some(p), _) => p,
@@ -129,11 +129,7 @@ pub fn circular_test(table: &CsvTable, machine: &Machine, options: &CircularTest
 }
 
 /// As [`circular_test`], reading the file at `path` (the options checked first).
-pub fn circular_test_file(
-    path: impl AsRef<std::path::Path>,
-    machine: &Machine,
-    options: &CircularTestOptions,
-) -> Result<CircularTest, EvaluateError> {
+pub fn circular_test_file(path: impl AsRef<std::path::Path>, machine: &Machine, options: &CircularTestOptions) -> Result<CircularTest> {
     options.check()?;
     circular_test(&CsvTable::read(path)?, machine, options)
 }
@@ -156,6 +152,9 @@ mod tests {
         let bad = CircularTestOptions { pitch_mm: Some(-5.0), radius_mm: Some(100.0), ..Default::default() };
         assert_eq!(circular_test(&table, &m, &bad).unwrap_err().to_string(), "--pitch must be a positive number, got -5");
         let no_radius = circular_test(&table, &m, &CircularTestOptions::default()).unwrap_err();
-        assert!(no_radius.is_input() && no_radius.to_string().starts_with("c.csv: give the nominal radius"), "{no_radius}");
+        assert!(
+            no_radius.kind() == crate::ErrorKind::Input && no_radius.to_string().starts_with("c.csv: give the nominal radius"),
+            "{no_radius}"
+        );
     }
 }

@@ -11,8 +11,8 @@
 //! accepts any number `n >= 2` per target and direction (the estimator `s` needs two readings) and
 //! reports the smallest count used in [`Iso2302Result::runs`].
 
-use super::EvaluateError;
 use crate::data::CsvTable;
+use crate::error::{Error, Result};
 use crate::io::header::RunDirection;
 use crate::io::units::Dimension;
 use serde_json::{json, Value};
@@ -100,23 +100,23 @@ impl PositioningData {
 /// the wide layout of one column per run and direction; units in the headers honoured; other
 /// columns ignored. Errors name the file, line and column. The grouping into target positions and
 /// the checks of the run counts are done by [`evaluate`].
-pub fn read_runs(path: impl AsRef<std::path::Path>) -> Result<PositioningData, EvaluateError> {
+pub fn read_runs(path: impl AsRef<std::path::Path>) -> Result<PositioningData> {
     runs_of(&CsvTable::read(path)?)
 }
 
 /// As [`read_runs`], from any reader; `origin` names the data in messages.
-pub fn read_runs_from(reader: impl std::io::Read, origin: &str) -> Result<PositioningData, EvaluateError> {
+pub fn read_runs_from(reader: impl std::io::Read, origin: &str) -> Result<PositioningData> {
     runs_of(&CsvTable::from_reader(reader, origin)?)
 }
 
 /// As [`read_runs`], from text; `origin` names the data in messages.
-pub fn read_runs_from_str(text: &str, origin: &str) -> Result<PositioningData, EvaluateError> {
+pub fn read_runs_from_str(text: &str, origin: &str) -> Result<PositioningData> {
     runs_of(&CsvTable::from_text(text, origin)?)
 }
 
 /// The readings of a table already read (see [`read_runs`]). A `target` column in an angle unit
 /// (`target [deg]`, or a Renishaw file of a rotary axis) makes the test rotary.
-pub fn runs_of(table: &CsvTable) -> Result<PositioningData, EvaluateError> {
+pub fn runs_of(table: &CsvTable) -> Result<PositioningData> {
     let origin = table.origin();
     // Check all four columns before any value, so that a missing column is reported as such.
     for name in ["target", "dev", "dir", "run"] {
@@ -128,8 +128,7 @@ pub fn runs_of(table: &CsvTable) -> Result<PositioningData, EvaluateError> {
     let devs = table.numbers_as("dev", dimension)?;
     let dirs = table.directions("dir")?;
     let runs = table.texts("run")?;
-    let invalid =
-        |line: u64, message: String| EvaluateError::Invalid { origin: origin.to_string(), message: format!("line {line}: {message}") };
+    let invalid = |line: u64, message: String| Error::input(message).in_file(origin).at_line(line as usize);
     let run_column = table.column_text("run").unwrap_or("run").to_string();
     let mut readings = Vec::with_capacity(table.len());
     for (k, &line) in table.lines().iter().enumerate() {
@@ -146,7 +145,7 @@ pub fn runs_of(table: &CsvTable) -> Result<PositioningData, EvaluateError> {
 
 /// Findings of the plausibility checks of a positioning table (`io::plausibility`): the size of the
 /// deviations and the targets of every run.
-pub fn plausibility(table: &CsvTable, data: &PositioningData) -> Result<Vec<crate::io::Finding>, EvaluateError> {
+pub fn plausibility(table: &CsvTable, data: &PositioningData) -> Result<Vec<crate::io::Finding>> {
     let devs: Vec<f64> = data.readings.iter().map(|r| r.dev).collect();
     let targets: Vec<f64> = data.readings.iter().map(|r| r.target).collect();
     let mut out: Vec<crate::io::Finding> = crate::data::checks::deviation_finding(table, "dev", &devs).into_iter().collect();
@@ -236,8 +235,8 @@ pub struct Iso2302Result {
 ///   `A = max(x̄_i↑ + 2 s_i↑, x̄_i↓ + 2 s_i↓) - min(x̄_i↑ - 2 s_i↑, x̄_i↓ - 2 s_i↓)` over all i.
 ///
 /// Inputs: targets in mm, deviations in um; all results in um (deg, urad, urad for a rotary axis).
-pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result, EvaluateError> {
-    let invalid = |message: String| EvaluateError::Invalid { origin: data.origin.clone(), message };
+pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result> {
+    let invalid = |message: String| Error::input(message).in_file(&data.origin);
     if data.readings.is_empty() {
         return Err(invalid("no readings".into()));
     }
@@ -245,7 +244,7 @@ pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result, EvaluateError> 
         return Err(invalid(format!("line {}: target and dev must be finite numbers", r.line)));
     }
     let pu = data.position_unit();
-    let groups = group_targets(data).map_err(invalid)?;
+    let groups = group_targets(data).map_err(|e| invalid(e.to_string()))?;
     let mut positions = Vec::with_capacity(groups.len());
     for group in &groups {
         // The target as first written in the file (the others are within the tolerance).
@@ -316,7 +315,7 @@ pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result, EvaluateError> 
         [q.mean_plus, q.mean_minus, q.mean, q.s_plus, q.s_minus, q.reversal, q.r_plus, q.r_minus, q.r].iter().all(|v| v.is_finite())
     });
     if !positions_finite || all.iter().any(|v| !v.is_finite()) {
-        return Err(EvaluateError::NotFinite(format!(
+        return Err(Error::computation(format!(
             "{}: the evaluation overflowed (deviations too large to evaluate in {})",
             data.origin,
             data.unit()
@@ -327,7 +326,7 @@ pub fn evaluate(data: &PositioningData) -> Result<Iso2302Result, EvaluateError> 
 
 /// Groups the readings by target value: sorted, a reading joins the group of the previous one when
 /// the targets differ by at most [`TARGET_TOLERANCE_MM`]; a group spanning more than that is refused.
-fn group_targets(data: &PositioningData) -> Result<Vec<Vec<&Reading>>, String> {
+fn group_targets(data: &PositioningData) -> crate::error::Result<Vec<Vec<&Reading>>> {
     let mut sorted: Vec<&Reading> = data.readings.iter().collect();
     sorted.sort_by(|a, b| a.target.total_cmp(&b.target).then(a.line.cmp(&b.line)));
     let mut groups: Vec<Vec<&Reading>> = Vec::new();
@@ -335,10 +334,10 @@ fn group_targets(data: &PositioningData) -> Result<Vec<Vec<&Reading>>, String> {
         match groups.last_mut() {
             Some(g) if r.target - g.last().map_or(r.target, |p| p.target) <= TARGET_TOLERANCE_MM => {
                 if r.target - g[0].target > TARGET_TOLERANCE_MM {
-                    return Err(format!(
+                    return Err(crate::Error::input(format!(
                         "line {}: targets {} mm (line {}) to {} mm chain together within {TARGET_TOLERANCE_MM} mm; give each target position one value",
                         r.line, g[0].target, g[0].line, r.target
-                    ));
+                    )));
                 }
                 g.push(r);
             }

@@ -13,8 +13,8 @@
 //! equal to the geometric LSC to first order in `dL / R`.
 
 use super::ballbar_diagnostics::{diagnose, CircularRun, DiagnosticOptions, Diagnostics, RESOLUTION_UM};
-use super::EvaluateError;
 use crate::data::{CsvTable, DataError};
+use crate::error::{Error, Result};
 use crate::identify::pige::kasa_fit;
 use crate::instruments::ballbar::{
     angle_column, ballbar_header, bar_readings, check_arc, check_bar_deviations, circle_test, CircleSpec, Plane, Rotation,
@@ -53,14 +53,14 @@ pub struct Iso2304Result {
     pub diagnostics: Diagnostics,
 }
 
-fn invalid(origin: &str, message: String) -> EvaluateError {
-    EvaluateError::Invalid { origin: origin.to_string(), message }
+fn invalid(origin: &str, message: String) -> Error {
+    Error::input(message).in_file(origin)
 }
 
 /// ISO 230-4 values of one run with readings `dl` (mm) at angles (rad), nominal radius (mm).
-pub fn circular_values(rotation: Rotation, angles: &[f64], dl: &[f64], radius: f64) -> Result<CircularValues, EvaluateError> {
+pub fn circular_values(rotation: Rotation, angles: &[f64], dl: &[f64], radius: f64) -> Result<CircularValues> {
     let points: Vec<[f64; 2]> = angles.iter().zip(dl).map(|(t, d)| [(radius + d) * t.cos(), (radius + d) * t.sin()]).collect();
-    let fit = kasa_fit(&points).map_err(|e| EvaluateError::NotFinite(format!("least-squares circle: {e}")))?;
+    let fit = kasa_fit(&points).map_err(|e| Error::computation(format!("least-squares circle: {e}")))?;
     let r: Vec<f64> = points.iter().map(|p| (p[0] - fit.centre[0]).hypot(p[1] - fit.centre[1])).collect();
     let max = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let min = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
@@ -130,9 +130,9 @@ pub fn hysteresis(ccw: &CircularRun, cw: &CircularRun) -> Option<f64> {
 }
 
 /// Evaluates the runs of a circular test (ISO values per run, hysteresis, diagnostics).
-pub fn evaluate(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOptions) -> Result<Iso2304Result, EvaluateError> {
+pub fn evaluate(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOptions) -> Result<Iso2304Result> {
     if runs.is_empty() {
-        return Err(EvaluateError::Invalid { origin: "circular test".into(), message: "no runs".into() });
+        return Err(invalid("circular test", "no runs".into()));
     }
     let values = runs.iter().map(|r| circular_values(r.rotation, &r.test.angles, &r.dl, options.radius)).collect::<Result<Vec<_>, _>>()?;
     let ccw = runs.iter().find(|r| r.rotation == Rotation::Ccw);
@@ -141,7 +141,7 @@ pub fn evaluate(machine: &Machine, runs: &[CircularRun], options: &DiagnosticOpt
         (Some(a), Some(b)) => hysteresis(a, b),
         _ => None,
     };
-    let diagnostics = diagnose(machine, runs, options).map_err(|e| EvaluateError::NotFinite(format!("diagnostics fit: {e}")))?;
+    let diagnostics = diagnose(machine, runs, options).map_err(|e| Error::computation(format!("diagnostics fit: {e}")))?;
     Ok(Iso2304Result { plane: options.plane, radius_mm: options.radius, runs: values, hysteresis_um, diagnostics })
 }
 
@@ -170,7 +170,7 @@ pub fn read_circular(
     plane: Plane,
     radius: f64,
     centre: &[f64],
-) -> Result<CircularFile, EvaluateError> {
+) -> Result<CircularFile> {
     let path = path.as_ref();
     let origin = path.display().to_string();
     let table = CsvTable::read(path)?;
@@ -185,7 +185,7 @@ pub fn read_circular_table(
     plane: Plane,
     radius: f64,
     centre: &[f64],
-) -> Result<CircularFile, EvaluateError> {
+) -> Result<CircularFile> {
     if !(radius.is_finite() && radius > 0.0) {
         return Err(invalid(origin, format!("the radius must be a positive number of mm, got {radius}")));
     }
@@ -229,7 +229,7 @@ pub fn read_circular_table(
     // the plane's axis columns, when they move (a rotary test holds them still), must lie on the
     // circle of the test
     if let Some(f) = crate::evaluate::ballbar_screening::circle_axes(table, origin, a, b) {
-        return Err(EvaluateError::Input(f.line()));
+        return Err(Error::input(f.line()));
     }
     let axis_columns = table.has_column(&a.to_string()) && table.has_column(&b.to_string());
     let positions = if axis_columns {

@@ -8,8 +8,8 @@
 //! factor 2 (ISO 230-2:2014); temperatures in degC, expansion coefficients in um/m/K.
 
 use super::iso230_2::{evaluate, plausibility, runs_of, Iso2302Result, PositioningData};
-use super::EvaluateError;
 use crate::data::CsvTable;
+use crate::error::{Error, Result};
 use crate::instruments::{TableCorrection, TableCorrectionError, TemperatureOptions};
 use crate::io::plausibility::split_findings;
 use serde_json::Value;
@@ -46,7 +46,7 @@ impl PositioningTest {
 
 /// Reads and evaluates the positioning test in `path` (a table or a Renishaw `.rtl` file; see
 /// [`super::iso230_2::read_runs`]) with the correction to 20 degC of `temperature`.
-pub fn evaluate_file(path: impl AsRef<std::path::Path>, temperature: &TemperatureOptions) -> Result<PositioningTest, EvaluateError> {
+pub fn evaluate_file(path: impl AsRef<std::path::Path>, temperature: &TemperatureOptions) -> Result<PositioningTest> {
     evaluate_table(&CsvTable::read(path)?, temperature)
 }
 
@@ -54,25 +54,24 @@ pub fn evaluate_file(path: impl AsRef<std::path::Path>, temperature: &Temperatur
 /// check that refuses the readings (e.g. deviations 1000 times too small: mm written as um) is an
 /// input error; one that warns is returned in [`PositioningTest::warnings`]. A correction to 20
 /// degC applies to linear axes only; its temperature columns are read from `table`.
-pub fn evaluate_table(table: &CsvTable, temperature: &TemperatureOptions) -> Result<PositioningTest, EvaluateError> {
+pub fn evaluate_table(table: &CsvTable, temperature: &TemperatureOptions) -> Result<PositioningTest> {
     let name = table.origin().to_string();
     let mut data = runs_of(table)?;
-    let warnings = split_findings(plausibility(table, &data)?, table.warnings()).map_err(EvaluateError::Input)?;
-    let applied = temperature.resolve(&data.metadata, &name).map_err(|e| EvaluateError::Input(e.to_string()))?;
+    let warnings = split_findings(plausibility(table, &data)?, table.warnings())?;
+    let applied = temperature.resolve(&data.metadata, &name).map_err(|e| Error::input(e.to_string()))?;
     if !applied.corrections.is_empty() {
         if data.rotary {
-            return Err(EvaluateError::Invalid {
-                origin: name,
-                message: "a correction to 20 degC (thermal expansion) applies to linear axes; this test is of a rotary axis (--no-file-temperature)"
-                    .into(),
-            });
+            return Err(Error::input(
+                "a correction to 20 degC (thermal expansion) applies to linear axes; this test is of a rotary axis (--no-file-temperature)",
+            )
+            .in_file(name));
         }
         // the readings are the table's rows in order
         let targets: Vec<f64> = data.readings.iter().map(|r| r.target).collect();
         let devs: Vec<f64> = data.readings.iter().map(|r| r.dev).collect();
         let corrected = TableCorrection::apply_all(&applied.corrections, table, &targets, &devs).map_err(|e| match e {
-            TableCorrectionError::Data(d) => EvaluateError::Data(d),
-            TableCorrectionError::Scale(s) => EvaluateError::Invalid { origin: name.clone(), message: s.to_string() },
+            TableCorrectionError::Data(d) => Error::from(d),
+            TableCorrectionError::Scale(s) => Error::input(s.to_string()).in_file(&name),
         })?;
         for (r, dev) in data.readings.iter_mut().zip(corrected) {
             r.dev = dev;
@@ -80,7 +79,7 @@ pub fn evaluate_table(table: &CsvTable, temperature: &TemperatureOptions) -> Res
     }
     let findings = crate::evaluate::positioning_screening::positioning(&data, Some(table));
     if let Some(f) = findings.iter().find(|f| f.refuse) {
-        return Err(EvaluateError::Input(f.line()));
+        return Err(Error::input(f.line()));
     }
     let result = evaluate(&data)?;
     Ok(PositioningTest { data, result, warnings, notes: applied.notes, temperature_correction: applied.json, findings })

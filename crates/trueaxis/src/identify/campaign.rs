@@ -227,11 +227,11 @@ impl Campaign {
         }
         let mut bases = Vec::new();
         for (name, spec) in &file.basis {
-            let at = |m: String| input(&origin, format!("[basis.{name}]: {m}"));
+            let at = |m: crate::Error| input(&origin, format!("[basis.{name}]: {m}"));
             let basis = Basis::new(spec.clone()).map_err(at)?;
             let (coefficients, mut parameter) = Unknown::basis(machine, name, basis, bases.len()).map_err(at)?;
             if let Some(u) = unknowns.iter().find(|u| u.parameter().map(|(id, _)| id) == Some(parameter.id)) {
-                return Err(at(format!("{} is also in `parameters` ({}); identify it one way", parameter.id, u.name)));
+                return Err(at(crate::Error::input(format!("{} is also in `parameters` ({}); identify it one way", parameter.id, u.name))));
             }
             parameter.first = unknowns.len();
             unknowns.extend(coefficients);
@@ -688,17 +688,16 @@ fn load_measurement(m: &MeasurementFile, i: usize, dir: &Path, origin: &str, mac
 
 /// The sensor-frame calibration of a ball3d measurement: a cube data file (relative to the campaign
 /// file) or a given matrix and offset.
-fn calibration(c: &CalibrationFile, dir: &Path) -> Result<SensorCalibration, String> {
+fn calibration(c: &CalibrationFile, dir: &Path) -> Result<SensorCalibration, crate::Error> {
     match (&c.cube, &c.matrix) {
-        (Some(cube), None) if c.offset_um.is_none() => SensorCalibration::from_cube_file(&dir.join(cube)).map_err(|e| e.to_string()),
+        (Some(cube), None) if c.offset_um.is_none() => SensorCalibration::from_cube_file(&dir.join(cube)),
         (None, Some(rows)) => {
             let a = Matrix3::from_fn(|r, col| rows[r][col]);
             let d = Vec3::from(c.offset_um.unwrap_or([0.0; 3]));
-            SensorCalibration::from_matrix(a, d).map_err(|e| e.to_string())
+            SensorCalibration::from_matrix(a, d)
         }
-        _ => Err(
-            "give either `cube` (a data file with tx,ty,tz,sx,sy,sz in um) or `matrix` (rows of [e1 e2 e3]) with an optional `offset_um`"
-                .into(),
-        ),
+        _ => Err(crate::Error::input(
+            "give either `cube` (a data file with tx,ty,tz,sx,sy,sz in um) or `matrix` (rows of [e1 e2 e3]) with an optional `offset_um`",
+        )),
     }
 }

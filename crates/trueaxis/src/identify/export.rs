@@ -36,7 +36,7 @@ pub fn error_values_text(
     names.sort();
     let header = format!("# Parameters {} identified by `trueaxis identify` from {}\n", names.join(" "), campaign.origin);
     let mut text = nominal_text.to_string();
-    let nominal_file = |m: String| IdentifyError::Input(format!("nominal errors file: {m}"));
+    let nominal_file = |m: crate::Error| IdentifyError::Input(format!("nominal errors file: {m}"));
     for b in &campaign.bases {
         let coefficients = result.values[b.first..b.first + b.basis.len()].to_vec();
         let function = ErrorFunction::basis(b.basis.clone(), coefficients).map_err(nominal_file)?;

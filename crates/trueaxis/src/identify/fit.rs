@@ -223,7 +223,7 @@ pub fn fit_error_function(positions: &[f64], values: &[f64], options: &FitOption
             }
         }
     }
-    let basis = Basis::new(options.spec.clone()).map_err(IdentifyError::Input)?;
+    let basis = Basis::new(options.spec.clone()).map_err(IdentifyError::input)?;
     if basis.is_empty() {
         return Err(IdentifyError::Input("the basis has no functions".into()));
     }
@@ -259,7 +259,7 @@ pub fn fit_error_function(positions: &[f64], values: &[f64], options: &FitOption
         full[*k] = *c;
     }
     Ok(FittedFunction {
-        function: ErrorFunction::basis(basis, full).map_err(IdentifyError::Input)?,
+        function: ErrorFunction::basis(basis, full).map_err(IdentifyError::input)?,
         names: selected.names(),
         selected,
         std_uncertainties: fit.standard_uncertainties(),

@@ -57,3 +57,22 @@ pub enum IdentifyError {
     #[error(transparent)]
     Data(#[from] crate::data::DataError),
 }
+
+impl IdentifyError {
+    /// Bad input, with the message of `e`.
+    pub(crate) fn input(e: impl std::fmt::Display) -> IdentifyError {
+        IdentifyError::Input(e.to_string())
+    }
+}
+
+impl From<IdentifyError> for crate::Error {
+    /// A rank-deficient identification is a failed computation; the rest is bad input (or the
+    /// environment, when the cause of a data error says so).
+    fn from(e: IdentifyError) -> crate::Error {
+        let kind = match e {
+            IdentifyError::RankDeficient { .. } => crate::ErrorKind::Computation,
+            _ => crate::ErrorKind::Input,
+        };
+        crate::Error::new(kind, e.to_string()).caused_by(e)
+    }
+}

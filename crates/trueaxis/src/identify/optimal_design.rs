@@ -50,13 +50,13 @@ pub enum Criterion {
 }
 
 impl Criterion {
-    pub fn parse(text: &str) -> Result<Criterion, String> {
+    pub fn parse(text: &str) -> crate::error::Result<Criterion> {
         match text.to_ascii_lowercase().as_str() {
             "d" => Ok(Criterion::D),
             "a" => Ok(Criterion::A),
             "e" => Ok(Criterion::E),
             "g" => Ok(Criterion::G),
-            _ => Err(format!("criterion `{text}`: expected d, a, e or g")),
+            _ => Err(crate::Error::input(format!("criterion `{text}`: expected d, a, e or g"))),
         }
     }
 }
@@ -102,13 +102,13 @@ pub struct CandidateSet {
 impl CandidateSet {
     /// From blocks of weighted rows, all with the same number of columns `p`. The columns are named
     /// `column 1, ...` until [`CandidateSet::with_names`].
-    pub fn new(blocks: Vec<DMatrix<f64>>) -> Result<CandidateSet, String> {
-        let p = blocks.first().map(|b| b.ncols()).ok_or("the candidate set is empty")?;
+    pub fn new(blocks: Vec<DMatrix<f64>>) -> crate::error::Result<CandidateSet> {
+        let p = blocks.first().map(|b| b.ncols()).ok_or_else(|| crate::Error::input("the candidate set is empty"))?;
         if blocks.iter().any(|b| b.ncols() != p || b.nrows() == 0) {
-            return Err("every candidate must have at least one row and the same number of columns".into());
+            return Err(crate::Error::input("every candidate must have at least one row and the same number of columns"));
         }
         if blocks.iter().any(|b| b.iter().any(|v| !v.is_finite())) {
-            return Err("the candidate rows contain numbers that are not finite".into());
+            return Err(crate::Error::input("the candidate rows contain numbers that are not finite"));
         }
         let information: Vec<DMatrix<f64>> = blocks.iter().map(|b| b.transpose() * b).collect();
         let scale =

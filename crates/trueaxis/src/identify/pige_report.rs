@@ -12,38 +12,21 @@ use super::pige::{
 };
 use super::pige_sensitivity::{method_sensitivity, MethodSensitivity};
 use super::IdentifyError;
+use crate::error::{Error, ErrorKind, Result};
 use crate::instruments::ballbar::{method_step, read_trace, BarLengths, JiangStep, Method, RotaryGeometry, RotaryPair, TraceFile};
 use crate::machine::{Machine, ParameterId};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
-use thiserror::Error;
 
-/// Why a ballbar test could not be evaluated: bad input (a file, an option) or a failed computation.
-#[derive(Debug, Error)]
-pub enum PigeRunError {
-    #[error("{0}")]
-    Input(String),
-    #[error("{0}")]
-    Computation(String),
-}
-
-impl PigeRunError {
-    /// True for bad input (exit status 2 in the command line), false for a failed computation.
-    pub fn is_input(&self) -> bool {
-        matches!(self, PigeRunError::Input(_))
-    }
-}
-
-fn input(e: impl std::fmt::Display) -> PigeRunError {
-    PigeRunError::Input(e.to_string())
+/// Bad input (a file, an option), by its message.
+fn input(e: impl std::fmt::Display) -> Error {
+    Error::input(e.to_string())
 }
 
 /// An error of the identification: bad input stays bad input, the rest failed.
-fn identify_failure(e: IdentifyError) -> PigeRunError {
-    match e {
-        IdentifyError::Input(_) => PigeRunError::Input(e.to_string()),
-        _ => PigeRunError::Computation(e.to_string()),
-    }
+fn identify_failure(e: IdentifyError) -> Error {
+    let kind = if matches!(e, IdentifyError::Input(_)) { ErrorKind::Input } else { ErrorKind::Computation };
+    Error::new(kind, e.to_string())
 }
 
 fn round(v: f64, digits: i32) -> f64 {
@@ -60,7 +43,7 @@ pub fn pige_user_value(id: &ParameterId, v: f64) -> (f64, &'static str) {
 }
 
 /// The bar lengths of a test: normal `R` and extended `L_e` (mm), `L_e > R > 0`.
-pub fn bar_lengths(normal: f64, extended: f64) -> Result<BarLengths, PigeRunError> {
+pub fn bar_lengths(normal: f64, extended: f64) -> Result<BarLengths> {
     if !(normal > 0.0 && extended > normal) {
         return Err(input("--extended-length must exceed --normal-length > 0 (mm)"));
     }
@@ -75,7 +58,7 @@ pub fn method_of(
     outer_offset: Option<f64>,
     outer_positions: Option<[f64; 2]>,
     inner_positions: Option<[f64; 2]>,
-) -> Result<Method, PigeRunError> {
+) -> Result<Method> {
     let need = |what: &str| input(format!("this --method needs {what}"));
     Ok(match name {
         "extended-bar" => Method::ExtendedBar,
@@ -94,14 +77,14 @@ pub const MAX_PIVOT_OFFSET: f64 = 0.1;
 
 /// A step's trace must hold enough of a circle for the fit: `MIN_READINGS` readings over at least
 /// `MIN_SPAN_DEG` of rotation (`identify::pige`).
-pub fn check_trace(angles: &[f64]) -> Result<(), String> {
+pub fn check_trace(angles: &[f64]) -> Result<()> {
     let span = angle_span_deg(angles);
     if angles.len() < MIN_READINGS || span < MIN_SPAN_DEG {
-        return Err(format!(
+        return Err(Error::input(format!(
             "{} readings over {span:.1} deg of rotation; a circle fit needs at least {MIN_READINGS} readings over at least {MIN_SPAN_DEG} deg \
              (is this the file of this step?)",
             angles.len()
-        ));
+        )));
     }
     Ok(())
 }
@@ -177,7 +160,9 @@ impl PigeReport {
     /// (or, over several runs, the larger of it and their standard deviation) in `[uncertainty]`, so
     /// that `compensate`, `predict` and `report` read the identified values and `compensate` states
     /// what their uncertainty leaves.
-    pub fn error_values_text(&self, origin: &str) -> Result<String, String> {
+    pub fn error_values_text(&self, origin: &str) -> Result<String> {
+        // the PIGEs are numbers of the fit: a document that cannot hold them is a failed computation
+        let failed = |e: Error| Error::computation(e.message());
         let mut text = format!(
             "# The PIGEs of the rotary axes identified by `trueaxis ballbar identify` ({} method of Jiang (2014), {} run(s)) from {origin}\n\
              name = \"PIGEs of {}\"\n",
@@ -191,11 +176,12 @@ impl PigeReport {
                 id,
                 None,
                 &crate::error_model::ErrorFunction::Constant(pige_user_value(id, *v).0),
-            )?;
+            )
+            .map_err(failed)?;
             let single = self.single_u.as_ref().map(|s| pige_user_value(id, s[k]).0);
             let spread = self.repeated().then(|| pige_user_value(id, *sd).0);
             if let Some(u) = single.into_iter().chain(spread).reduce(f64::max).filter(|u| u.is_finite()) {
-                text = crate::error_model::set_uncertainty(&text, id, u)?;
+                text = crate::error_model::set_uncertainty(&text, id, u).map_err(failed)?;
             }
         }
         Ok(text)
@@ -235,7 +221,7 @@ impl PigeReport {
 /// fits, the axis lines, the start-angle correction of Eq. 4.1), for every run of the files;
 /// their repeatability over runs, the single-run uncertainty of the last run, and its simulated
 /// compensation residual per step.
-pub fn identify_pige_files(machine: &Machine, request: &PigeRequest) -> Result<PigeReport, PigeRunError> {
+pub fn identify_pige_files(machine: &Machine, request: &PigeRequest) -> Result<PigeReport> {
     let m = machine;
     let pair = RotaryPair::of_machine(m).map_err(input)?;
     let bars = request.bars;
@@ -275,8 +261,7 @@ pub fn identify_pige_files(machine: &Machine, request: &PigeRequest) -> Result<P
             let axis = if step.is_outer() { pair.outer } else { pair.inner };
             check_trace(&angles)
                 .map_err(|why| input(format!("{}: step {} (axis {axis}), run {run}: {why}", path.display(), step.name())))?;
-            let geometry =
-                test.rotary.ok_or_else(|| PigeRunError::Computation(format!("step {} is not a rotary-axis test", step.name())))?;
+            let geometry = test.rotary.ok_or_else(|| Error::computation(format!("step {} is not a rotary-axis test", step.name())))?;
             let offset = if step.is_outer() { request.pivot_offset_outer } else { request.pivot_offset_inner };
             let start_angle = offset.map_or(0.0, |o| start_angle_error(o[0], o[1], bars.normal));
             let t = DbbTrace { geometry, angles, dl, bar_length: test.nominal_length, start_angle };
@@ -293,8 +278,8 @@ pub fn identify_pige_files(machine: &Machine, request: &PigeRequest) -> Result<P
         return Err(input(format!("{}: no readings", steps[0].1.display())));
     };
     // the standard uncertainty of the last run's PIGEs from the scatter of its traces
-    let single_u = pige_uncertainty(m, pair, &last_traces.0, &last_traces.1).map_err(|e| PigeRunError::Computation(e.to_string()))?;
-    let stats = repeatability(&results, 1e-3, (1.0f64 / 3600.0).to_radians()).map_err(|e| PigeRunError::Computation(e.to_string()))?;
+    let single_u = pige_uncertainty(m, pair, &last_traces.0, &last_traces.1).map_err(|e| Error::computation(e.to_string()))?;
+    let stats = repeatability(&results, 1e-3, (1.0f64 / 3600.0).to_radians()).map_err(|e| Error::computation(e.to_string()))?;
     // the plausibility warnings of the files, then those of the residuals
     let mut warnings: Vec<String> = steps.iter().flat_map(|s| s.2.warnings.clone()).collect();
     let mut residuals = Vec::new();
@@ -303,7 +288,7 @@ pub fn identify_pige_files(machine: &Machine, request: &PigeRequest) -> Result<P
         let (angles, dl) = trace.run(last_run);
         let mut t = test.clone();
         let n = m.axis_count();
-        let geometry = test.rotary.ok_or_else(|| PigeRunError::Computation(format!("step {} is not a rotary-axis test", step.name())))?;
+        let geometry = test.rotary.ok_or_else(|| Error::computation(format!("step {} is not a rotary-axis test", step.name())))?;
         let axis = geometry.axis;
         t.poses = angles.iter().flat_map(|&q| (0..n).map(move |k| if k == axis { q } else { 0.0 })).collect();
         t.angles = angles.clone();
@@ -390,7 +375,7 @@ pub fn sensitivity_report(
     setup_u_um: f64,
     bar_u_um: f64,
     noise_um: f64,
-) -> Result<SensitivityReport, PigeRunError> {
+) -> Result<SensitivityReport> {
     for (flag, v) in [("--setup-u", setup_u_um), ("--bar-u", bar_u_um), ("--noise", noise_um)] {
         if !(v.is_finite() && (0.0..=1000.0).contains(&v)) {
             return Err(input(format!("{flag} {v}: give a standard uncertainty in um between 0 and 1000")));
@@ -400,7 +385,7 @@ pub fn sensitivity_report(
     let steps = [JiangStep::A1, JiangStep::A2, JiangStep::C1, JiangStep::C2]
         .into_iter()
         .map(|s| Ok((s, method_step(machine, pair, method, s, bars, 1.0).map_err(input)?)))
-        .collect::<Result<Vec<_>, PigeRunError>>()?;
+        .collect::<Result<Vec<_>>>()?;
     let sensitivity = method_sensitivity(machine, pair, &steps).map_err(identify_failure)?;
     let combined = sensitivity.combined(setup_u_um * 1e-3, bar_u_um * 1e-3, noise_um * 1e-3);
     Ok(SensitivityReport { machine: machine.name.clone(), method, bars, setup_u_um, bar_u_um, noise_um, sensitivity, combined })

@@ -10,6 +10,7 @@
 //! function `l` (Soons 1993 eq. 3.1 / 4.2: `E(x) = sum_l beta_l p_l(x)`); so the design-matrix column
 //! of an unknown is the Jacobian column of its parameter times that factor.
 
+use crate::error::{Error, Result};
 use crate::error_model::{Basis, ErrorFunction, ErrorModel};
 use crate::machine::{Machine, ParameterId};
 
@@ -62,23 +63,25 @@ const PLATE_COMPONENTS: [&str; 6] = ["tx", "ty", "tz", "wx", "wy", "wz"];
 impl Unknown {
     /// Parses an error-parameter name for `machine`: an ISO name (`EC0Y`, `EXOC`, `WX`) or a motion
     /// error with a power in brackets (`EXX[1]`, `EBC[2]`).
-    pub fn parse(machine: &Machine, text: &str) -> Result<Unknown, String> {
+    pub fn parse(machine: &Machine, text: &str) -> Result<Unknown> {
         let (stem, power) = match text.trim().split_once('[') {
             Some((stem, rest)) => {
-                let digits = rest.strip_suffix(']').ok_or_else(|| format!("`{text}`: expected NAME[POWER], e.g. EXX[1]"))?;
-                let power: u32 = digits.trim().parse().map_err(|_| format!("`{text}`: the power must be an integer 0..8"))?;
+                let digits = rest.strip_suffix(']').ok_or_else(|| Error::input(format!("`{text}`: expected NAME[POWER], e.g. EXX[1]")))?;
+                let power: u32 = digits.trim().parse().map_err(|_| Error::input(format!("`{text}`: the power must be an integer 0..8")))?;
                 if power > 8 {
-                    return Err(format!("`{text}`: the power must be an integer 0..8"));
+                    return Err(Error::input(format!("`{text}`: the power must be an integer 0..8")));
                 }
                 (stem, power)
             }
             None => (text.trim(), 0),
         };
-        let (id, index) = machine.parse_parameter(stem)?;
+        let (id, index) = machine.parse_parameter(stem).map_err(Error::input)?;
         let own_axis = match id {
             ParameterId::Motion { axis, .. } => machine.axis_index(axis),
             _ if power > 0 => {
-                return Err(format!("`{text}`: only motion errors (EXX, EBC, ...) are functions of a position; {id} is a constant"))
+                return Err(Error::input(format!(
+                    "`{text}`: only motion errors (EXX, EBC, ...) are functions of a position; {id} is a constant"
+                )))
             }
             _ => None,
         };
@@ -94,14 +97,17 @@ impl Unknown {
     /// The coefficients of the basis `basis` of motion error `name` (a campaign's `[basis.NAME]`),
     /// named `NAME#1 ...`; `basis_index` is the position of the [`BasisParameter`] in the campaign.
     /// Returns the unknowns and the parameter (with `first` = 0; the campaign sets it).
-    pub fn basis(machine: &Machine, name: &str, basis: Basis, basis_index: usize) -> Result<(Vec<Unknown>, BasisParameter), String> {
-        let (id, index) = machine.parse_parameter(name)?;
+    pub fn basis(machine: &Machine, name: &str, basis: Basis, basis_index: usize) -> Result<(Vec<Unknown>, BasisParameter)> {
+        let (id, index) = machine.parse_parameter(name).map_err(Error::input)?;
         let ParameterId::Motion { axis, .. } = id else {
-            return Err(format!("{id} is a constant (location or setup error); only motion errors (EXX, EBC, ...) have a basis"));
+            return Err(Error::input(format!(
+                "{id} is a constant (location or setup error); only motion errors (EXX, EBC, ...) have a basis"
+            )));
         };
-        let own_axis = machine.axis_index(axis).ok_or_else(|| format!("{id}: machine `{}` has no axis {axis}", machine.name))?;
+        let own_axis =
+            machine.axis_index(axis).ok_or_else(|| Error::input(format!("{id}: machine `{}` has no axis {axis}", machine.name)))?;
         if basis.is_empty() {
-            return Err(format!("{id}: the basis has no functions"));
+            return Err(Error::input(format!("{id}: the basis has no functions")));
         }
         let position = machine.axes()[own_axis].position_unit();
         let powers = basis.position_powers();
@@ -154,13 +160,13 @@ impl Unknown {
     /// The value of a model unknown in `nominal` (user units): a constant, the coefficient of a
     /// polynomial, or the coefficient of a basis that is the campaign's basis; an error when the
     /// nominal function of that parameter is of another kind, or is given per direction of motion.
-    pub fn nominal_value(&self, nominal: &ErrorModel, bases: &[BasisParameter]) -> Result<f64, String> {
+    pub fn nominal_value(&self, nominal: &ErrorModel, bases: &[BasisParameter]) -> Result<f64> {
         let Some((id, _)) = self.parameter() else { return Ok(0.0) };
         if nominal.directional_entries().any(|(i, d, _)| *i == id && d.is_some()) {
-            return Err(format!(
+            return Err(Error::input(format!(
                 "{}: the nominal errors give {id} per direction of motion; it cannot be identified as one function",
                 self.name
-            ));
+            )));
         }
         let existing = nominal.entries().find(|(i, _)| **i == id).map(|(_, f)| f);
         match (self.kind, existing) {
@@ -172,14 +178,14 @@ impl Unknown {
             (UnknownKind::Basis { basis, function, .. }, Some(ErrorFunction::Basis { basis: b, coefficients })) if *b == bases[basis].basis => {
                 Ok(coefficients[function])
             }
-            (UnknownKind::Basis { .. }, Some(_)) => Err(format!(
+            (UnknownKind::Basis { .. }, Some(_)) => Err(Error::input(format!(
                 "{}: the nominal errors give {id} as another function than the campaign's [basis.{id}]; give it there with the same basis, or not at all",
                 self.name
-            )),
-            _ => Err(format!(
+            ))),
+            _ => Err(Error::input(format!(
                 "{}: the nominal errors give {id} as a table or basis; identify it as constants or polynomial powers only when it is a constant or a polynomial there",
                 self.name
-            )),
+            ))),
         }
     }
 }
@@ -235,9 +241,9 @@ mod tests {
         assert!((f[0] - 100.0 * 1e-3).abs() < 1e-15);
         assert_eq!(Unknown::parse(&m, "EBC[1]").unwrap().unit, "urad/deg");
         assert_eq!(Unknown::parse(&m, "exoc").unwrap().name, "EX0C");
-        assert!(Unknown::parse(&m, "EX0C[1]").unwrap_err().contains("constant"));
-        assert!(Unknown::parse(&m, "EXX[1").unwrap_err().contains("NAME[POWER]"));
-        assert!(Unknown::parse(&m, "EXB").unwrap_err().contains("axis B"));
+        assert!(Unknown::parse(&m, "EX0C[1]").unwrap_err().to_string().contains("constant"));
+        assert!(Unknown::parse(&m, "EXX[1").unwrap_err().to_string().contains("NAME[POWER]"));
+        assert!(Unknown::parse(&m, "EXB").unwrap_err().to_string().contains("axis B"));
     }
 
     #[test]
@@ -266,6 +272,6 @@ mod tests {
         for l in 0..basis.len() {
             assert!((f[1 + l] - values[l] * 1e-6).abs() < 1e-18);
         }
-        assert!(Unknown::basis(&m, "EX0C", basis, 0).unwrap_err().contains("only motion errors"));
+        assert!(Unknown::basis(&m, "EX0C", basis, 0).unwrap_err().to_string().contains("only motion errors"));
     }
 }

@@ -3,13 +3,14 @@
 //! actual minus nominal (Andolfatto et al. 2011 §3.1, eq. 2), and the sensor-frame calibration of a 3D head from a
 //! programmed cube (Andolfatto et al. 2011 §3.3, eqs. 6-10), given as a matrix or fitted from a cube data file.
 
+use crate::bail;
 use crate::data::CsvTable;
+use crate::error::{Error, Result};
 use crate::geometry::Vec3;
 use crate::machine::Machine;
 use crate::model::{volumetric_error, Frame, Setup};
 use nalgebra::{DMatrix, Matrix3, Matrix4};
 use std::path::Path;
-use thiserror::Error;
 
 /// A 3D ball measurement setup.
 ///
@@ -33,11 +34,9 @@ impl Ball3d {
     }
 }
 
-/// Errors of the sensor-frame calibration.
-#[derive(Debug, Error, PartialEq)]
-pub enum SensorCalibrationError {
-    #[error("sensor calibration: {0}")]
-    Input(String),
+/// Bad input to the sensor-frame calibration: `sensor calibration: {message}`.
+fn refused(message: impl std::fmt::Display) -> Error {
+    Error::input(format!("sensor calibration: {message}"))
 }
 
 /// The affine map from sensor readings to machine-frame displacements of a 3D head:
@@ -68,13 +67,18 @@ impl SensorCalibration {
 
     /// `M_s->t = Delta_t Delta_s^+` (Andolfatto et al. 2011 eqs. 6-9). `programmed[i]` is the displacement
     /// commanded in M, `readings[i]` what the sensors read. Needs at least 4 points not in a plane.
-    pub fn fit(programmed: &[Vec3], readings: &[Vec3]) -> Result<SensorCalibration, SensorCalibrationError> {
+    pub fn fit(programmed: &[Vec3], readings: &[Vec3]) -> Result<SensorCalibration> {
+        Self::fit_points(programmed, readings).map_err(|e| refused(e.message()))
+    }
+
+    /// [`SensorCalibration::fit`], its message not yet prefixed.
+    fn fit_points(programmed: &[Vec3], readings: &[Vec3]) -> Result<SensorCalibration> {
         let n = programmed.len();
         if readings.len() != n {
-            return Err(SensorCalibrationError::Input(format!("{n} programmed points but {} readings", readings.len())));
+            bail!(input, "{n} programmed points but {} readings", readings.len());
         }
         if programmed.iter().chain(readings).any(|v| !v.iter().all(|x| x.is_finite())) {
-            return Err(SensorCalibrationError::Input("points and readings must be finite numbers".into()));
+            bail!(input, "points and readings must be finite numbers");
         }
         let homogeneous = |v: &[Vec3]| DMatrix::from_fn(4, n, |r, c| if r < 3 { v[c][r] } else { 1.0 });
         let delta_t = homogeneous(programmed);
@@ -82,56 +86,53 @@ impl SensorCalibration {
         let svd = delta_s.clone().svd(true, true);
         let largest = svd.singular_values.max();
         if n < 4 || svd.singular_values.min() <= 1e-12 * largest {
-            return Err(SensorCalibrationError::Input(format!(
-                "the {n} readings do not span three dimensions (a cube of at least 2 x 2 x 2 points is needed)"
-            )));
+            bail!(input, "the {n} readings do not span three dimensions (a cube of at least 2 x 2 x 2 points is needed)");
         }
-        let pinv = svd.pseudo_inverse(1e-12 * largest).map_err(|e| SensorCalibrationError::Input(e.to_string()))?;
+        let pinv = svd.pseudo_inverse(1e-12 * largest).map_err(Error::input)?;
         let m = delta_t * pinv;
         SensorCalibration { matrix: Matrix4::from_fn(|r, c| m[(r, c)]) }.checked()
     }
 
     /// From a given sensor map: the columns `e1 e2 e3` of `a` (machine-frame displacement per unit
     /// of each sensor reading) and the offset `d` (um): `M = [a d; 0 1]` (Andolfatto et al. 2011 eq. 10).
-    pub fn from_matrix(a: Matrix3<f64>, d: Vec3) -> Result<SensorCalibration, SensorCalibrationError> {
+    pub fn from_matrix(a: Matrix3<f64>, d: Vec3) -> Result<SensorCalibration> {
         let mut matrix = Matrix4::identity();
         matrix.fixed_view_mut::<3, 3>(0, 0).copy_from(&a);
         matrix.fixed_view_mut::<3, 1>(0, 3).copy_from(&d);
-        SensorCalibration { matrix }.checked()
+        SensorCalibration { matrix }.checked().map_err(|e| refused(e.message()))
     }
 
     /// Fitted from a cube data file (CSV, `#` comments): one row per programmed point with the
     /// programmed displacement `tx,ty,tz` and the sensor readings `sx,sy,sz`, all in um (Andolfatto et al. 2011:
     /// 125 points on a 0.2 mm cube). Errors name the file.
-    pub fn from_cube_file(path: &Path) -> Result<SensorCalibration, SensorCalibrationError> {
+    pub fn from_cube_file(path: &Path) -> Result<SensorCalibration> {
         let origin = path.display().to_string();
-        let table = CsvTable::read(path).map_err(|e| SensorCalibrationError::Input(e.to_string()))?;
-        let column = |name: &str| {
-            table.numbers(name).map_err(|e| SensorCalibrationError::Input(format!("{e} (a cube file has columns tx,ty,tz,sx,sy,sz in um)")))
-        };
-        let points = |x: &str, y: &str, z: &str| -> Result<Vec<Vec3>, SensorCalibrationError> {
+        let table = CsvTable::read(path).map_err(refused)?;
+        let column =
+            |name: &str| table.numbers(name).map_err(|e| refused(format!("{e} (a cube file has columns tx,ty,tz,sx,sy,sz in um)")));
+        let points = |x: &str, y: &str, z: &str| -> Result<Vec<Vec3>> {
             let (x, y, z) = (column(x)?, column(y)?, column(z)?);
             Ok((0..x.len()).map(|i| Vec3::new(x[i], y[i], z[i])).collect())
         };
         let programmed = points("tx", "ty", "tz")?;
         let readings = points("sx", "sy", "sz")?;
-        SensorCalibration::fit(&programmed, &readings)
-            .map_err(|SensorCalibrationError::Input(m)| SensorCalibrationError::Input(format!("{origin}: {m}")))
+        SensorCalibration::fit_points(&programmed, &readings).map_err(|e| refused(format!("{origin}: {}", e.message())))
     }
 
     /// Refuses a map that is not finite or whose sensor axes are (nearly) dependent, so that
     /// [`SensorCalibration::reading_of`] exists.
-    fn checked(self) -> Result<SensorCalibration, SensorCalibrationError> {
+    fn checked(self) -> Result<SensorCalibration> {
         if self.matrix.iter().any(|v| !v.is_finite()) {
-            return Err(SensorCalibrationError::Input("the sensor map must be finite numbers".into()));
+            bail!(input, "the sensor map must be finite numbers");
         }
         let singular = self.linear().singular_values();
         if singular.min() <= 1e-6 * singular.max() {
-            return Err(SensorCalibrationError::Input(format!(
+            bail!(
+                input,
                 "the sensor axes e1 e2 e3 are (nearly) dependent (singular values {:.3e} .. {:.3e})",
                 singular.min(),
                 singular.max()
-            )));
+            );
         }
         Ok(self)
     }

@@ -30,6 +30,8 @@ pub enum BallbarError {
     Setup(String),
 }
 
+crate::error::error_of_kind!(BallbarError, Input);
+
 /// Sense of a circular path seen from the positive normal of its plane (right-handed plane basis).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Rotation {
@@ -641,7 +643,8 @@ fn sort_finding(table: &CsvTable, f: Option<Finding>, warnings: &mut Vec<String>
 /// The test parameters in the header of a ballbar file (`io::ballbar`); an unreadable value is an
 /// error naming the file.
 pub fn ballbar_header(table: &CsvTable) -> Result<BallbarHeader, DataError> {
-    BallbarHeader::from_metadata(table.metadata()).map_err(|m| DataError::Invalid { origin: table.origin().to_string(), message: m })
+    BallbarHeader::from_metadata(table.metadata())
+        .map_err(|m| DataError::Invalid { origin: table.origin().to_string(), message: m.to_string() })
 }
 
 /// The bar deviations (um, actual minus nominal length) of a ballbar table: the `dL` column (or a
@@ -760,7 +763,7 @@ pub fn sample_angles(table: &CsvTable, header: &BallbarHeader, runs: &[i64], ccw
                 .collect()
         }
     };
-    let bad = |m: String| DataError::Invalid { origin: table.origin().to_string(), message: m };
+    let bad = |m: crate::Error| DataError::Invalid { origin: table.origin().to_string(), message: m.to_string() };
     let unit_ccw = header.sample_angles(2, true).map_err(bad)?;
     let unit_cw = header.sample_angles(2, false).map_err(bad)?;
     let start = header.start_deg.unwrap_or(0.0);

@@ -21,14 +21,6 @@
 use super::ballbar::sample_angles;
 use crate::data::{CsvTable, DataError};
 use crate::io::ballbar::BallbarHeader;
-use thiserror::Error;
-
-/// Why a raw capture cannot be reduced. Every variant is bad input.
-#[derive(Debug, Error, PartialEq)]
-pub enum RawBallbarError {
-    #[error("{0}")]
-    Invalid(String),
-}
 
 /// What the test programme was: the arc and how it was run.
 #[derive(Clone, Debug, PartialEq)]
@@ -93,8 +85,8 @@ pub struct CapturedArc {
 
 /// Finds the capture arc in `samples` (bar-length deviations in um, in recording order) and gives
 /// each capture sample its angle, `theta_i = i Theta / N` (Jiang 2014 §4.2).
-pub fn capture_arc(samples: &[f64], programme: &ArcProgramme) -> Result<CapturedArc, RawBallbarError> {
-    let bad = |m: String| Err(RawBallbarError::Invalid(m));
+pub fn capture_arc(samples: &[f64], programme: &ArcProgramme) -> crate::error::Result<CapturedArc> {
+    let bad = |m: String| Err(crate::Error::input(m));
     let p = programme;
     if !(p.capture_arc_deg.is_finite() && p.capture_arc_deg > 0.0 && p.capture_arc_deg <= 720.0) {
         return bad(format!("capture arc {} deg: give an arc in (0, 720] deg", p.capture_arc_deg));

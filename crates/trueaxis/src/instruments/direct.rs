@@ -26,13 +26,13 @@ impl DirectKind {
     pub const NAMES: [&'static str; 4] = ["laser-linear", "laser-straightness", "laser-angular", "level"];
 
     /// Parses a command-line name (see [`DirectKind::NAMES`]).
-    pub fn parse(name: &str) -> Result<DirectKind, String> {
+    pub fn parse(name: &str) -> crate::error::Result<DirectKind> {
         match name {
             "laser-linear" => Ok(DirectKind::LaserLinear),
             "laser-straightness" => Ok(DirectKind::LaserStraightness),
             "laser-angular" => Ok(DirectKind::LaserAngular),
             "level" => Ok(DirectKind::Level),
-            other => Err(format!("unknown instrument `{other}` (expected one of: {})", Self::NAMES.join(", "))),
+            other => Err(crate::Error::input(format!("unknown instrument `{other}` (expected one of: {})", Self::NAMES.join(", ")))),
         }
     }
 
@@ -82,6 +82,8 @@ pub enum DirectError {
     #[error(transparent)]
     Level(#[from] LevelError),
 }
+
+crate::error::error_of_kind!(DirectError, Input);
 
 /// A direct instrument set up on a machine.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -179,17 +181,16 @@ impl DirectInstrument {
     /// their bodies (M at home). The offsets are the Abbe offsets of the reading: the angular
     /// errors move the optics through the chain. Angular optics and levels read rotations, which do
     /// not depend on position: refused.
-    pub fn with_optics_offset(self, machine: &Machine, q: &[f64], offset: [f64; 2]) -> Result<DirectInstrument, String> {
+    pub fn with_optics_offset(self, machine: &Machine, q: &[f64], offset: [f64; 2]) -> crate::error::Result<DirectInstrument> {
         let DirectInstrument::Laser(mut laser) = self else {
-            return Err("an optics offset applies to laser linear and straightness optics; a level reads a rotation, the same everywhere on its body".into());
+            return Err(crate::Error::input("an optics offset applies to laser linear and straightness optics; a level reads a rotation, the same everywhere on its body"));
         };
         let beam =
             match laser.optics {
                 LaserOptics::Linear { beam } | LaserOptics::Straightness { beam, .. } => beam,
-                LaserOptics::Angular { .. } => return Err(
-                    "an optics offset applies to laser linear and straightness optics; angular optics read a rotation, the same everywhere"
-                        .into(),
-                ),
+                LaserOptics::Angular { .. } => return Err(crate::Error::input(
+                    "an optics offset applies to laser linear and straightness optics; angular optics read a rotation, the same everywhere",
+                )),
             };
         let tool = nominal_chain(machine, machine.tool_chain(), q, None);
         let work = nominal_chain(machine, machine.work_chain(), q, None);

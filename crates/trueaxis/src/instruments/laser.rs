@@ -53,6 +53,8 @@ pub enum LaserError {
     NotPerpendicular { angle_deg: f64 },
 }
 
+crate::error::error_of_kind!(LaserError, Input);
+
 fn unit(what: &'static str, v: Vec3) -> Result<Vec3, LaserError> {
     let n = v.norm();
     if n.is_finite() && n > 0.0 {

@@ -52,6 +52,8 @@ pub enum LevelError {
     SameBody,
 }
 
+crate::error::error_of_kind!(LevelError, Input);
+
 impl Level {
     /// A level with sensitive `axis` perpendicular to `up` (both in M, normalised here; within
     /// 0.01 deg of horizontal), on body `on`, read against a reference level on `reference`.

@@ -38,8 +38,8 @@ pub mod scale_options;
 pub mod steady;
 pub mod trajectory;
 
-pub use ball3d::{Ball3d, SensorCalibration, SensorCalibrationError};
-pub use ballbar_raw::{capture_arc, ArcProgramme, CapturedArc, RawBallbarError};
+pub use ball3d::{Ball3d, SensorCalibration};
+pub use ballbar_raw::{capture_arc, ArcProgramme, CapturedArc};
 pub use direct::{motion_error_axis, DirectError, DirectInstrument, DirectKind, DirectSetup};
 pub use laser::{Laser, LaserError, LaserOptics};
 pub use length::{Length, PointLength};
@@ -56,8 +56,8 @@ pub use scale::{
     REFERENCE_TEMPERATURE_DEGC,
 };
 pub use scale_options::{AppliedCorrection, TemperatureOptions};
-pub use steady::{plateaus, steady_values, Plateau, SteadyError, SteadySettings};
-pub use trajectory::{ball_trajectory, Sweep, TrajectoryError};
+pub use steady::{plateaus, steady_values, Plateau, SteadySettings};
+pub use trajectory::{ball_trajectory, Sweep};
 
 /// Unweighted least-squares line `y = intercept + slope * x`, returned as `(slope, intercept)`.
 /// `None` when all `x` are equal (no line through them is defined). The caller checks lengths and

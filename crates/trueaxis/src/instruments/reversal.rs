@@ -35,6 +35,8 @@ pub enum ReversalError {
     InvalidDistance(f64),
 }
 
+crate::error::error_of_kind!(ReversalError, Input);
+
 /// A least-squares line through deviations (um) against positions (mm):
 /// `value(x) = intercept_um + slope_urad * 1e-3 * x`.
 #[derive(Clone, Copy, Debug, PartialEq)]

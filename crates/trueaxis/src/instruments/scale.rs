@@ -69,6 +69,8 @@ pub enum ScaleError {
     ImplausibleFileTemperature { message: String },
 }
 
+crate::error::error_of_kind!(ScaleError, Input);
+
 /// The temperature of the expanding body during a run.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ScaleTemperature<'a> {
@@ -242,6 +244,8 @@ pub enum TableCorrectionError {
     #[error(transparent)]
     Scale(#[from] ScaleError),
 }
+
+crate::error::error_of_kind!(TableCorrectionError, Input);
 
 impl TableCorrection {
     /// The deviations (um) of `table`'s rows at `positions_mm` corrected to 20 degC by

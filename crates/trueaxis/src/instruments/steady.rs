@@ -13,14 +13,6 @@
 //! Units: whatever the channels carry (um for 3D-ball sensors); sample counts for durations.
 
 use std::collections::VecDeque;
-use thiserror::Error;
-
-/// Why a stream cannot be reduced. Every variant is bad input.
-#[derive(Debug, Error, PartialEq)]
-pub enum SteadyError {
-    #[error("{0}")]
-    Invalid(String),
-}
 
 /// How steady a dwell must be.
 #[derive(Clone, Debug, PartialEq)]
@@ -58,8 +50,8 @@ pub struct Plateau {
 }
 
 /// The plateaus of a stream of channels of equal length (e.g. dx, dy, dz), in recording order.
-pub fn plateaus(channels: &[&[f64]], settings: &SteadySettings) -> Result<Vec<Plateau>, SteadyError> {
-    let bad = |m: String| Err(SteadyError::Invalid(m));
+pub fn plateaus(channels: &[&[f64]], settings: &SteadySettings) -> crate::error::Result<Vec<Plateau>> {
+    let bad = |m: String| Err(crate::Error::input(m));
     let Some(n) = channels.first().map(|c| c.len()) else { return bad("no channel given".into()) };
     if channels.iter().any(|c| c.len() != n) {
         return bad("the channels have different lengths".into());
@@ -116,7 +108,7 @@ pub fn plateaus(channels: &[&[f64]], settings: &SteadySettings) -> Result<Vec<Pl
 
 /// The plateaus of a stream that must hold exactly one dwell per pose: `poses` of them, else an
 /// error that says how many were found and what to change.
-pub fn steady_values(channels: &[&[f64]], settings: &SteadySettings, poses: usize) -> Result<Vec<Plateau>, SteadyError> {
+pub fn steady_values(channels: &[&[f64]], settings: &SteadySettings, poses: usize) -> crate::error::Result<Vec<Plateau>> {
     let found = plateaus(channels, settings)?;
     if found.len() == poses {
         return Ok(found);
@@ -131,7 +123,7 @@ pub fn steady_values(channels: &[&[f64]], settings: &SteadySettings, poses: usiz
             settings.max_range_um, settings.window
         )
     };
-    Err(SteadyError::Invalid(format!(
+    Err(crate::Error::input(format!(
         "{} steady stretches found for {poses} poses (from {shortest} to {longest} samples long): {advice}",
         found.len()
     )))

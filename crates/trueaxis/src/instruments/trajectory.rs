@@ -6,18 +6,15 @@
 //! linear axes are found exactly by one small linear solve per pose.
 
 use super::measurement::nominal_vector;
+use crate::error::{Error, Result};
 use crate::geometry::Vec3;
 use crate::machine::{AxisKind, Machine};
 use crate::model::Setup;
 use nalgebra::DMatrix;
-use thiserror::Error;
 
-#[derive(Debug, Error, PartialEq)]
-pub enum TrajectoryError {
-    #[error("trajectory: {0}")]
-    Input(String),
-    #[error("trajectory: {0}")]
-    Unreachable(String),
+/// Bad input to a trajectory (a sweep, a count, a pose out of range): `trajectory: {message}`.
+fn refused(message: impl std::fmt::Display) -> Error {
+    Error::input(format!("trajectory: {message}"))
 }
 
 /// One axis moving linearly from `from` to `to` (mm or deg) over the trajectory.
@@ -30,8 +27,8 @@ pub struct Sweep {
 
 impl Sweep {
     /// Parses `A=0:90` (axis letter, start and end in mm or deg).
-    pub fn parse(text: &str) -> Result<Sweep, String> {
-        let bad = || format!("`{text}` is not a sweep AXIS=FROM:TO, e.g. C=0:720 (deg for rotary axes)");
+    pub fn parse(text: &str) -> Result<Sweep> {
+        let bad = || Error::input(format!("`{text}` is not a sweep AXIS=FROM:TO, e.g. C=0:720 (deg for rotary axes)"));
         let (axis, range) = text.split_once('=').ok_or_else(bad)?;
         let mut letters = axis.trim().chars();
         let (Some(letter), None) = (letters.next(), letters.next()) else { return Err(bad()) };
@@ -49,29 +46,18 @@ impl Sweep {
 /// axes stay at 0, and the linear axes keep the nominal vector from `setup.work_point` to
 /// `setup.tool_point` equal to `offset` (mm, workpiece frame; zero for a ball test). Every pose is
 /// checked against the axis ranges.
-pub fn ball_trajectory(
-    machine: &Machine,
-    setup: &Setup,
-    sweeps: &[Sweep],
-    count: usize,
-    offset: Vec3,
-) -> Result<Vec<f64>, TrajectoryError> {
+pub fn ball_trajectory(machine: &Machine, setup: &Setup, sweeps: &[Sweep], count: usize, offset: Vec3) -> Result<Vec<f64>> {
     let n = machine.axis_count();
     let linear: Vec<usize> = (0..n).filter(|&k| machine.axes()[k].kind == AxisKind::Linear).collect();
     if count == 0 {
-        return Err(TrajectoryError::Input("the number of poses must be at least 1".into()));
+        return Err(refused("the number of poses must be at least 1"));
     }
     for s in sweeps {
         let k = machine.axis_index(s.axis).ok_or_else(|| {
-            TrajectoryError::Input(format!(
-                "sweep of axis {}: machine `{}` has no such axis (axes: {})",
-                s.axis,
-                machine.name,
-                machine.axis_letters()
-            ))
+            refused(format!("sweep of axis {}: machine `{}` has no such axis (axes: {})", s.axis, machine.name, machine.axis_letters()))
         })?;
         if machine.axes()[k].kind == AxisKind::Linear {
-            return Err(TrajectoryError::Input(format!("sweep of axis {}: linear axes follow the ball; sweep rotary axes only", s.axis)));
+            return Err(refused(format!("sweep of axis {}: linear axes follow the ball; sweep rotary axes only", s.axis)));
         }
     }
     let mut user = vec![0.0; n * count];
@@ -96,15 +82,14 @@ pub fn ball_trajectory(
         }
         let svd = columns.svd(true, true);
         if linear.len() < 3 || svd.singular_values.iter().filter(|s| **s > 1e-9).count() < 3 {
-            return Err(TrajectoryError::Input("the linear axes of this machine cannot move the tool point in three directions".into()));
+            return Err(refused("the linear axes of this machine cannot move the tool point in three directions"));
         }
         let target = offset - base;
-        let solution =
-            svd.solve(&DMatrix::from_column_slice(3, 1, target.as_slice()), 1e-9).map_err(|e| TrajectoryError::Input(e.to_string()))?;
+        let solution = svd.solve(&DMatrix::from_column_slice(3, 1, target.as_slice()), 1e-9).map_err(refused)?;
         for (c, &k) in linear.iter().enumerate() {
             pose[k] = solution[(c, 0)];
         }
-        machine.check_range(pose).map_err(|m| TrajectoryError::Unreachable(format!("pose {} of {count}: {m}", i + 1)))?;
+        machine.check_range(pose).map_err(|m| refused(format!("pose {} of {count}: {m}", i + 1)))?;
     }
     Ok(user)
 }

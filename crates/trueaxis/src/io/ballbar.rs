@@ -80,16 +80,16 @@ pub fn is_test_key(key: &str) -> bool {
 
 /// A number with an optional unit in the value or the key (`Radius (mm): 100`), converted to
 /// `want`; the dimension must match.
-fn quantity(key: &str, value: &str, want: Unit) -> Result<f64, String> {
-    let (v, unit) = number_with_unit(value).ok_or_else(|| format!("`{key}: {value}` is not a number with a unit"))?;
+fn quantity(key: &str, value: &str, want: Unit) -> crate::error::Result<f64> {
+    let (v, unit) = number_with_unit(value).ok_or_else(|| crate::Error::input(format!("`{key}: {value}` is not a number with a unit")))?;
     let key_unit = key.rfind(['(', '[']).and_then(|i| Unit::parse(key[i + 1..].trim_end_matches([')', ']'])));
     let unit = unit.or(key_unit).unwrap_or(want);
     if unit.dimension != want.dimension {
-        return Err(format!("`{key}: {value}`: {} is not {}", unit.symbol, want.dimension.name()));
+        return Err(crate::Error::input(format!("`{key}: {value}`: {} is not {}", unit.symbol, want.dimension.name())));
     }
     let v = unit.convert(v, want);
     if !v.is_finite() {
-        return Err(format!("`{key}: {value}` is not a finite number"));
+        return Err(crate::Error::input(format!("`{key}: {value}` is not a finite number")));
     }
     Ok(v)
 }
@@ -108,7 +108,7 @@ pub fn sense_of(text: &str) -> Option<Sense> {
 impl BallbarHeader {
     /// Reads the test parameters from the `Key: value` pairs of a file's header (kept in
     /// [`Metadata::other`]). A value that cannot be read is an error naming the key.
-    pub fn from_metadata(m: &Metadata) -> Result<BallbarHeader, String> {
+    pub fn from_metadata(m: &Metadata) -> crate::error::Result<BallbarHeader> {
         let mut h = BallbarHeader::default();
         for (key, value) in &m.other {
             let Some(k) = key_of(key) else { continue };
@@ -120,20 +120,20 @@ impl BallbarHeader {
                 Key::Overshoot => h.overshoot_deg = Some(quantity(key, value, Unit::DEG)?),
                 Key::Start => h.start_deg = Some(quantity(key, value, Unit::DEG)?),
                 Key::Sense => {
-                    h.sense = Some(sense_of(value).ok_or_else(|| format!("`{key}: {value}` is not CCW, CW or both"))?);
+                    h.sense = Some(sense_of(value).ok_or_else(|| crate::Error::input(format!("`{key}: {value}` is not CCW, CW or both")))?);
                 }
                 Key::Plane => {
                     h.plane = Some(match normalised(value).as_str() {
                         "xy" | "g17" | "yx" => "xy",
                         "yz" | "g19" | "zy" => "yz",
                         "zx" | "xz" | "g18" => "zx",
-                        _ => return Err(format!("`{key}: {value}` is not a plane (XY, YZ, ZX)")),
+                        _ => return Err(crate::Error::input(format!("`{key}: {value}` is not a plane (XY, YZ, ZX)"))),
                     })
                 }
             }
         }
         if let Some(r) = h.radius_mm.filter(|r| !(r.is_finite() && *r > 0.0)) {
-            return Err(format!("the radius {r} mm must be positive"));
+            return Err(crate::Error::input(format!("the radius {r} mm must be positive")));
         }
         Ok(h)
     }
@@ -146,7 +146,7 @@ impl BallbarHeader {
     /// The angles (deg) of `n` samples taken at a fixed rate along the circle (see the module
     /// documentation), counter-clockwise (`ccw`) or clockwise. Needs the radius, feed rate and
     /// sample rate; an error names what is missing.
-    pub fn sample_angles(&self, n: usize, ccw: bool) -> Result<Vec<f64>, String> {
+    pub fn sample_angles(&self, n: usize, ccw: bool) -> crate::error::Result<Vec<f64>> {
         let (Some(r), Some(feed), Some(rate)) = (self.radius_mm, self.feed_mm_per_min, self.sample_rate_hz) else {
             let missing: Vec<&str> = [
                 (self.radius_mm.is_none(), "Radius"),
@@ -157,13 +157,13 @@ impl BallbarHeader {
             .filter(|x| x.0)
             .map(|x| x.1)
             .collect();
-            return Err(format!(
+            return Err(crate::Error::input(format!(
                 "the readings have no angle column; their angles follow from the header's radius, feed rate and sample rate, but it lacks {}",
                 missing.join(", ")
-            ));
+            )));
         };
         if !(feed > 0.0 && rate > 0.0 && r > 0.0) {
-            return Err("the radius, feed rate and sample rate must be positive".into());
+            return Err(crate::Error::input("the radius, feed rate and sample rate must be positive"));
         }
         let step_deg = (feed / 60.0 / r / rate).to_degrees();
         let s = if ccw { 1.0 } else { -1.0 };
@@ -201,7 +201,7 @@ mod tests {
         // 1000 mm/min on R 100: 1/6 rad/s; at 250 Hz 2/3 mrad per sample
         let a = h.sample_angles(3, true).unwrap();
         assert!((a[2] - 2.0 * (1000.0f64 / 60.0 / 100.0 / 250.0).to_degrees()).abs() < 1e-12);
-        let e = BallbarHeader::from_metadata(&Metadata::from_pairs([("Feed rate", "1 kHz")])).unwrap_err();
+        let e = BallbarHeader::from_metadata(&Metadata::from_pairs([("Feed rate", "1 kHz")])).unwrap_err().to_string();
         assert!(e.contains("not a feed rate"), "{e}");
     }
 }

@@ -21,11 +21,9 @@
 //! as for the ISG CSV format of the same controller. ISG's own kinematic parameters (`P0X`, `N0X`,
 //! `PXA`, `VXX`, ...) are nominal geometry, not errors, and are not converted.
 
-use super::plausibility;
 use super::text::{clip, numbered_lines, parse_number};
 use super::IoError;
-use crate::error_model::{set_error_function, ErrorFunction, ErrorModel};
-use crate::machine::{Machine, ParameterId};
+use crate::machine::ParameterId;
 
 /// The value of one parameter block.
 #[derive(Clone, Debug, PartialEq)]
@@ -208,97 +206,13 @@ fn is_isg_geometry(name: &str) -> bool {
 
 /// The ISO 230-1 id of an exchange-format name: `X0C` -> `EX0C`, `EXY` -> `EXY`; `None` for ISG's
 /// kinematic parameters.
-pub fn parameter_id(name: &str) -> Result<Option<ParameterId>, String> {
+pub fn parameter_id(name: &str) -> crate::error::Result<Option<ParameterId>> {
     let upper = name.trim().to_ascii_uppercase();
     if is_isg_geometry(&upper) {
         return Ok(None);
     }
     let iso = if upper.len() == 3 && upper.as_bytes()[1] == b'0' { format!("E{upper}") } else { upper };
-    ParameterId::parse(&iso).map(Some)
-}
-
-/// The result of converting an exchange file into an error-values file.
-#[derive(Clone, Debug)]
-pub struct Conversion {
-    /// The error-values TOML (um, urad; positions mm, deg), checked against the machine.
-    pub toml: String,
-    /// The parameters written, by ISO name.
-    pub written: Vec<String>,
-    /// Blocks not converted and suspicious values, each naming the line.
-    pub warnings: Vec<String>,
-}
-
-impl EtalonFile {
-    /// Converts the parameters into an error-values file (docs/design.md, Files) for `machine`:
-    /// position errors become `[constant]` entries, component errors `[table.NAME]` (positions in
-    /// mm or deg as in the file, values scaled from mm to um and rad to urad). A parameter of an
-    /// axis the machine does not have, a lookup table of a position error, and values far outside
-    /// what a machine tool can have (a sign of another unit) are refused with the line named.
-    pub fn to_error_values(&self, machine: &Machine, origin: &str) -> Result<Conversion, IoError> {
-        let bad = |line: u64, message: String| IoError::Invalid { origin: origin.to_string(), message: format!("line {line}: {message}") };
-        let mut text = format!(
-            "# Converted by trueaxis from the Etalon exchange file {origin} for machine `{}`.\n\
-             # Values: mm and rad in the file, um and urad here; positions in mm (linear) and deg (rotary).\n",
-            machine.name
-        );
-        let mut written = Vec::new();
-        let mut warnings: Vec<String> = self.warnings.clone();
-        for p in &self.parameters {
-            let id = match parameter_id(&p.name) {
-                Ok(Some(id)) => id,
-                Ok(None) => {
-                    warnings.push(format!(
-                        "line {}: [{}] is a kinematic parameter of the ISG model (nominal geometry), not converted",
-                        p.line, p.name
-                    ));
-                    continue;
-                }
-                Err(e) => return Err(bad(p.line, format!("[{}]: {e}", p.name))),
-            };
-            machine
-                .parameter_index(&id)
-                .map_err(|e| bad(p.line, format!("[{}]: {e}; give the machine the file was measured on", p.name)))?;
-            let component = id.component();
-            let factor = if component.is_rotation() { 1e6 } else { 1e3 };
-            // rounded to 1e-9 um or urad (the file's 1e-12 mm or rad) to drop binary noise of the scaling
-            let scale = |v: f64| (v * factor * 1e9).round() / 1e9;
-            let values: Vec<f64> = match &p.value {
-                EtalonValue::Constant(v) => vec![*v],
-                EtalonValue::Table(pairs) => pairs.iter().map(|x| x.1).collect(),
-            };
-            let largest = values.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            if let Some(f) = plausibility::error_parameter_scale(largest, component.is_rotation(), &format!("[{}]", p.name)) {
-                match f.severity {
-                    super::Severity::Refuse => return Err(bad(p.line, f.message)),
-                    super::Severity::Warn => warnings.push(format!("line {}: {}", p.line, f.message)),
-                }
-            }
-            let function = match (&p.value, id) {
-                (EtalonValue::Constant(v), _) => ErrorFunction::Constant(scale(*v)),
-                (EtalonValue::Table(pairs), ParameterId::Motion { .. }) => {
-                    let mut sorted = pairs.clone();
-                    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
-                    if let Some(w) = sorted.windows(2).find(|w| w[0].0 == w[1].0) {
-                        return Err(bad(p.line, format!("[{}]: the argument {} is given twice", p.name, w[0].0)));
-                    }
-                    let positions = sorted.iter().map(|x| x.0).collect();
-                    let values = sorted.iter().map(|x| scale(x.1)).collect();
-                    ErrorFunction::table(positions, values, None).map_err(|e| bad(p.line, format!("[{}]: {e}", p.name)))?
-                }
-                (EtalonValue::Table(_), _) => {
-                    return Err(bad(p.line, format!("[{}] ({id}) is a position error, a constant: give it as `VALUE =`", p.name)))
-                }
-            };
-            text = set_error_function(&text, &id, None, &function).map_err(|e| bad(p.line, e))?;
-            written.push(id.to_string());
-        }
-        if written.is_empty() {
-            return Err(IoError::Invalid { origin: origin.into(), message: "no error parameter to convert".into() });
-        }
-        ErrorModel::from_toml_str(&text, origin, machine)
-            .map_err(|e| IoError::Invalid { origin: origin.into(), message: e.to_string() })?;
-        Ok(Conversion { toml: text, written, warnings })
-    }
+    ParameterId::parse(&iso).map(Some).map_err(crate::Error::input)
 }
 
 #[cfg(test)]

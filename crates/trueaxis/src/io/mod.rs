@@ -33,6 +33,8 @@ pub enum IoError {
     Invalid { origin: String, message: String },
 }
 
+crate::error::error_of_kind!(IoError, Input);
+
 /// The kind of an instrument file, detected from its contents.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {

@@ -2,7 +2,7 @@
 //! than the column claims (mm where um are expected, radians where degrees are expected), targets
 //! that are not repeated in every run, a ballbar radius that disagrees with the readings, sample
 //! angles that do not cover the arc a test claims. A check returns a [`Finding`] that refuses the
-//! file where the result would be meaningless (exit status 2 in the command line) and warns where
+//! file where the result would be meaningless (bad input) and warns where
 //! it is only suspicious; each message names the file, the column and the likely fix.
 //!
 //! The limits are physical: deviations of a machine tool from a laser, a ballbar or a probe are
@@ -17,7 +17,7 @@ use super::units::Unit;
 pub enum Severity {
     /// Suspicious: the command goes on and prints the message on stderr.
     Warn,
-    /// Meaningless: the command refuses the input (exit status 2).
+    /// Meaningless: the command refuses the input (bad input).
     Refuse,
 }
 
@@ -41,7 +41,7 @@ impl Finding {
 /// Sorts the findings of plausibility checks: the first refusal is the error (its message); the
 /// warnings, after `warnings` (those of reading the file), are returned, to be shown once the
 /// command has succeeded (a refused command shows its one line only).
-pub fn split_findings(findings: Vec<Finding>, warnings: &[String]) -> Result<Vec<String>, String> {
+pub fn split_findings(findings: Vec<Finding>, warnings: &[String]) -> crate::error::Result<Vec<String>> {
     let mut out = warnings.to_vec();
     let mut refusal = None;
     for f in findings {
@@ -53,7 +53,7 @@ pub fn split_findings(findings: Vec<Finding>, warnings: &[String]) -> Result<Vec
         }
     }
     match refusal {
-        Some(m) => Err(m),
+        Some(m) => Err(crate::Error::input(m)),
         None => Ok(out),
     }
 }

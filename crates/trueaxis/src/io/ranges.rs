@@ -2,7 +2,7 @@
 //! (machine file, error-values file, campaigns, ballbar and laser tables, thermal data). A value
 //! outside its range is not a measurement of a machine tool: it is a unit slip (um for nm, mm for
 //! um), a corrupted file, or a number such as 1e200 that would overflow the computation into inf
-//! or NaN. Readers refuse it as bad input (exit status 2) naming the file, the line or parameter,
+//! or NaN. Readers refuse it as bad input naming the file, the line or parameter,
 //! and the range (docs/limits.md). The ranges are deliberately wide: they catch what no machine
 //! can produce, and the unit-scale checks of [`super::plausibility`] catch the subtler slips.
 

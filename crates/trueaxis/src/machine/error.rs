@@ -13,3 +13,5 @@ pub enum MachineError {
     #[error("{origin}: unknown parameter: {message}")]
     Parameter { origin: String, message: String },
 }
+
+crate::error::error_of_kind!(MachineError, Input);

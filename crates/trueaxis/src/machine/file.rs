@@ -6,6 +6,7 @@ use super::limits::CorrectionLimits;
 use super::parameter::is_rotary_letter;
 use super::structure::Structure;
 use super::Machine;
+use crate::error::{Error, Result};
 use crate::geometry::Vec3;
 use crate::io::ranges::{line_of_key, MACHINE_LENGTH_MM, ROTARY_POSITION_DEG};
 use serde::Deserialize;
@@ -74,7 +75,7 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
             return Err(invalid(format!("[axes] has an unknown axis `{key}`: axes are named X Y Z U V W A B C")));
         }
     }
-    let structure = Structure::parse(&file.structure).map_err(invalid)?;
+    let structure = Structure::parse(&file.structure).map_err(|e| invalid(e.to_string()))?;
     if structure.letters().next().is_none() {
         return Err(invalid(format!("structure `{}` has no axes; a machine needs at least one", file.structure)));
     }
@@ -100,7 +101,7 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
         };
         axes.push(axis(letter, side, spec).map_err(|m| invalid(format!("{}axis {letter}: {m}", at_line(text, key))))?);
     }
-    super::independence::refuse_dependent_linear_axes(&axes).map_err(invalid)?;
+    super::independence::refuse_dependent_linear_axes(&axes).map_err(|e| invalid(e.to_string()))?;
     let tool_point = finite_vector(file.tool.point).ok_or_else(|| invalid("[tool] point must be finite numbers (mm)".into()))?;
     if let Some((i, m)) = MACHINE_LENGTH_MM.first_outside(&file.tool.point) {
         let line = text
@@ -116,58 +117,58 @@ pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
         correction_um: l.correction_um,
         correction_urad: l.correction_urad,
     });
-    limits.validate().map_err(invalid)?;
+    limits.validate().map_err(|e| invalid(e.to_string()))?;
     let mut machine = Machine::assemble(file.name, file.source, structure, axes, tool_point);
     machine.correction_limits = limits;
     Ok(machine)
 }
 
-fn axis(letter: char, side: Side, spec: &AxisFile) -> Result<Axis, String> {
+fn axis(letter: char, side: Side, spec: &AxisFile) -> Result<Axis> {
     let kind = match spec.kind {
         KindFile::Linear => AxisKind::Linear,
         KindFile::Rotary => AxisKind::Rotary,
     };
     if is_rotary_letter(letter) != (kind == AxisKind::Rotary) {
         let expected = if is_rotary_letter(letter) { "rotary" } else { "linear" };
-        return Err(format!(
+        return Err(Error::input(format!(
             "ISO 841 names {letter} a {expected} axis, but kind = \"{}\"",
             if kind == AxisKind::Rotary { "rotary" } else { "linear" }
-        ));
+        )));
     }
-    let direction = finite_vector(spec.direction).ok_or("direction must be finite numbers")?;
+    let direction = finite_vector(spec.direction).ok_or_else(|| Error::input("direction must be finite numbers"))?;
     let norm = direction.norm();
     if norm == 0.0 {
-        return Err("direction is the zero vector; give a unit vector such as [1, 0, 0]".into());
+        return Err(Error::input("direction is the zero vector; give a unit vector such as [1, 0, 0]"));
     }
     if (norm - 1.0).abs() > DIRECTION_NORM_TOLERANCE {
-        return Err(format!(
+        return Err(Error::input(format!(
             "direction [{}, {}, {}] is not a unit vector (norm {norm:.6}); divide it by its norm",
             spec.direction[0], spec.direction[1], spec.direction[2]
-        ));
+        )));
     }
     let point = match (kind, spec.point) {
         (_, Some(p)) => {
-            let point = finite_vector(p).ok_or("point must be finite numbers (mm)")?;
+            let point = finite_vector(p).ok_or_else(|| Error::input("point must be finite numbers (mm)"))?;
             if let Some((i, m)) = MACHINE_LENGTH_MM.first_outside(&p) {
-                return Err(format!("point, component {}: {m}", i + 1));
+                return Err(Error::input(format!("point, component {}: {m}", i + 1)));
             }
             point
         }
         (AxisKind::Linear, None) => Vec3::zeros(),
-        (AxisKind::Rotary, None) => return Err("missing field `point`: a rotary axis needs a point on its axis line (mm)".into()),
+        (AxisKind::Rotary, None) => return Err(Error::input("missing field `point`: a rotary axis needs a point on its axis line (mm)")),
     };
     let range = match (kind, spec.range) {
         (_, Some([lo, hi])) => {
             if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-                return Err(format!("range [{lo}, {hi}] must be two finite numbers, the smaller first"));
+                return Err(Error::input(format!("range [{lo}, {hi}] must be two finite numbers, the smaller first")));
             }
             let physical = if kind == AxisKind::Rotary { ROTARY_POSITION_DEG } else { MACHINE_LENGTH_MM };
             if let Some((_, m)) = physical.first_outside(&[lo, hi]) {
-                return Err(format!("range [{lo}, {hi}]: {m}"));
+                return Err(Error::input(format!("range [{lo}, {hi}]: {m}")));
             }
             Some([lo, hi])
         }
-        (AxisKind::Linear, None) => return Err("missing field `range`: a linear axis needs its travel [min, max] (mm)".into()),
+        (AxisKind::Linear, None) => return Err(Error::input("missing field `range`: a linear axis needs its travel [min, max] (mm)")),
         (AxisKind::Rotary, None) => None,
     };
     Ok(Axis { letter, kind, side, direction: direction / norm, point, range })

@@ -11,23 +11,24 @@
 //! independent in space.
 
 use super::{Axis, AxisKind};
+use crate::error::{Error, Result};
 use nalgebra::DMatrix;
 
 /// Smallest volume spanned by the unit directions of the linear axes (module documentation).
 pub const MIN_INDEPENDENCE: f64 = 0.01;
 
 /// Refuses linear axes that are parallel or dependent, naming them.
-pub(super) fn refuse_dependent_linear_axes(axes: &[Axis]) -> Result<(), String> {
+pub(super) fn refuse_dependent_linear_axes(axes: &[Axis]) -> Result<()> {
     let mut linear: Vec<&Axis> = axes.iter().filter(|a| a.kind == AxisKind::Linear).collect();
     linear.sort_by_key(|a| "XYZUVW".find(a.letter));
     let letters = |set: &[&Axis]| set.iter().map(|a| a.letter.to_string()).collect::<Vec<_>>();
     if linear.len() > 3 {
-        return Err(format!(
+        return Err(Error::input(format!(
             "{} linear axes ({}): at most three can move in independent directions; trueaxis models machines whose linear axes are \
              independent",
             linear.len(),
             letters(&linear).join(" ")
-        ));
+        )));
     }
     // the smallest dependent set: a pair first, then all three
     for size in 2..=linear.len() {
@@ -41,10 +42,10 @@ pub(super) fn refuse_dependent_linear_axes(axes: &[Axis]) -> Result<(), String> 
                 } else {
                     format!("linear axes {} lie in one plane (they span a volume of {v:.1e} of a cube)", names.join(", "))
                 };
-                return Err(format!(
+                return Err(Error::input(format!(
                     "{what}: a correction could not tell their motions apart; the linear axes of a machine must be independent \
                      (at least {MIN_INDEPENDENCE} apart as a sine or a volume)"
-                ));
+                )));
             }
         }
     }
@@ -76,28 +77,30 @@ fn subsets<T: Copy>(items: &[T], size: usize) -> Vec<Vec<T>> {
 mod tests {
     use crate::machine::Machine;
 
-    fn machine(directions: &[(char, [f64; 3])]) -> Result<Machine, String> {
+    fn machine(directions: &[(char, [f64; 3])]) -> Result<Machine, crate::machine::MachineError> {
         let structure: String = directions.iter().map(|(l, _)| *l).collect();
         let axes: String = directions
             .iter()
             .map(|(l, d)| format!("{l} = {{ kind = \"linear\", direction = [{}, {}, {}], range = [-100, 100] }}\n", d[0], d[1], d[2]))
             .collect();
         let text = format!("name = \"m\"\nstructure = \"wb{structure}t\"\n[axes]\n{axes}[tool]\npoint = [0, 0, 0]\n");
-        Machine::from_toml_str(&text, "m.toml").map_err(|e| e.to_string())
+        Machine::from_toml_str(&text, "m.toml")
     }
 
     #[test]
     fn parallel_and_coplanar_linear_axes_are_refused_and_tilted_ones_kept() {
-        let e = machine(&[('X', [1.0, 0.0, 0.0]), ('Y', [0.0, 1.0, 0.0]), ('Z', [0.0, 0.0, 1.0]), ('W', [0.0, 0.0, 1.0])]).unwrap_err();
+        let e = machine(&[('X', [1.0, 0.0, 0.0]), ('Y', [0.0, 1.0, 0.0]), ('Z', [0.0, 0.0, 1.0]), ('W', [0.0, 0.0, 1.0])])
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("4 linear axes (X Y Z W)"), "{e}");
-        let e = machine(&[('X', [1.0, 0.0, 0.0]), ('Y', [0.0, 1.0, 0.0]), ('U', [1.0, 0.0, 0.0])]).unwrap_err();
+        let e = machine(&[('X', [1.0, 0.0, 0.0]), ('Y', [0.0, 1.0, 0.0]), ('U', [1.0, 0.0, 0.0])]).unwrap_err().to_string();
         assert!(e.contains("linear axes X and U are parallel (0.00 deg apart)"), "{e}");
         // 0.3 deg apart: within the bound
         let t = 0.3f64.to_radians();
-        let e = machine(&[('X', [1.0, 0.0, 0.0]), ('U', [t.cos(), t.sin(), 0.0])]).unwrap_err();
+        let e = machine(&[('X', [1.0, 0.0, 0.0]), ('U', [t.cos(), t.sin(), 0.0])]).unwrap_err().to_string();
         assert!(e.contains("0.30 deg apart"), "{e}");
         let s = 0.5f64.sqrt();
-        let e = machine(&[('X', [1.0, 0.0, 0.0]), ('Y', [0.0, 1.0, 0.0]), ('U', [s, s, 0.0])]).unwrap_err();
+        let e = machine(&[('X', [1.0, 0.0, 0.0]), ('Y', [0.0, 1.0, 0.0]), ('U', [s, s, 0.0])]).unwrap_err().to_string();
         assert!(e.contains("linear axes X, Y, U lie in one plane"), "{e}");
         // a 45-degree slide and a few degrees of tilt are independent
         machine(&[('X', [1.0, 0.0, 0.0]), ('Y', [0.0, s, s]), ('Z', [0.0, 0.0, 1.0])]).unwrap();

@@ -18,6 +18,8 @@
 //! `io::ranges`) for a rotary one. A correction beyond them is not of a quasi-static error but of
 //! a wrong nominal geometry, or a value in mm read as um: a limit of `1e308` would let it through.
 
+use crate::error::{Error, Result};
+
 /// Default largest correction of a linear axis (um).
 pub const DEFAULT_CORRECTION_UM: f64 = 1000.0;
 /// Default largest correction of a rotary axis (urad).
@@ -65,12 +67,12 @@ impl CorrectionLimits {
     }
 
     /// Checks the values of a `[limits]` table ([`check_limit_value`]).
-    pub(super) fn validate(&self) -> Result<(), String> {
+    pub(super) fn validate(&self) -> Result<()> {
         for (name, v, rotary) in
             [("[limits] correction_um", self.correction_um, false), ("[limits] correction_urad", self.correction_urad, true)]
         {
             if let Some(v) = v {
-                check_limit_value(name, v, rotary)?;
+                check_limit_value(name, v, rotary).map_err(Error::input)?;
             }
         }
         Ok(())

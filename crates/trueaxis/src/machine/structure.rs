@@ -2,6 +2,7 @@
 //! up to the tool, `t`) and the equivalent `WCAYFXZT` (`F` = frame = base). docs/design.md, Conventions.
 
 use super::parameter::is_axis_letter;
+use crate::error::{Error, Result};
 use std::fmt;
 
 /// The two serial chains of a machine, each listed from the base outward.
@@ -15,7 +16,7 @@ pub struct Structure {
 
 impl Structure {
     /// Parses either accepted form; the error says what is wrong with the code.
-    pub fn parse(code: &str) -> Result<Structure, String> {
+    pub fn parse(code: &str) -> Result<Structure> {
         let code = code.trim();
         let chars: Vec<char> = code.chars().collect();
         let (work, tool): (&[char], &[char]) = match (chars.first(), chars.last()) {
@@ -23,7 +24,7 @@ impl Structure {
                 let inner = &chars[1..chars.len() - 1];
                 let splits: Vec<usize> = inner.iter().enumerate().filter(|(_, c)| **c == 'b').map(|(i, _)| i).collect();
                 if splits.len() != 1 {
-                    return Err(format!("structure `{code}` must contain exactly one `b` (base) between `w` and `t`"));
+                    return Err(Error::input(format!("structure `{code}` must contain exactly one `b` (base) between `w` and `t`")));
                 }
                 (&inner[..splits[0]], &inner[splits[0] + 1..])
             }
@@ -31,23 +32,23 @@ impl Structure {
                 let inner = &chars[1..chars.len() - 1];
                 let splits: Vec<usize> = inner.iter().enumerate().filter(|(_, c)| **c == 'F').map(|(i, _)| i).collect();
                 if splits.len() != 1 {
-                    return Err(format!("structure `{code}` must contain exactly one `F` (frame) between `W` and `T`"));
+                    return Err(Error::input(format!("structure `{code}` must contain exactly one `F` (frame) between `W` and `T`")));
                 }
                 (&inner[..splits[0]], &inner[splits[0] + 1..])
             }
             _ => {
-                return Err(format!(
+                return Err(Error::input(format!(
                     "structure `{code}` must read workpiece to tool, as `wCAbYXZt` (w ... b ... t) or `WCAYFXZT` (W ... F ... T)"
-                ))
+                )))
             }
         };
         let mut seen = Vec::new();
         for &c in work.iter().chain(tool) {
             if !is_axis_letter(c) {
-                return Err(format!("structure `{code}`: `{c}` is not an axis letter (X Y Z U V W A B C)"));
+                return Err(Error::input(format!("structure `{code}`: `{c}` is not an axis letter (X Y Z U V W A B C)")));
             }
             if seen.contains(&c) {
-                return Err(format!("structure `{code}`: axis {c} appears twice"));
+                return Err(Error::input(format!("structure `{code}`: axis {c} appears twice")));
             }
             seen.push(c);
         }

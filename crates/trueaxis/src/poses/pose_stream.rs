@@ -117,7 +117,7 @@ impl<'m, R: BufRead> PoseStream<'m, R> {
         };
         let value = |name: &str| given.iter().find(|(n, _)| n == name).map(|(_, v)| *v);
         let (plan, wanted) = InputRows::new(errors.sensors(), &|name| find(name).is_some(), &value, find("t").is_some())
-            .map_err(|m| DataError::Invalid { origin: origin.clone(), message: m })?;
+            .map_err(|m| DataError::Invalid { origin: origin.clone(), message: m.to_string() })?;
         let wanted = wanted.iter().map(|name| numbers(find(name).expect("a column the table has"))).collect();
         self.inputs = Some(RowInputs { plan, wanted, time: find("t").map(numbers), run: find("run"), values: Vec::new() });
         Ok(self)

@@ -35,7 +35,7 @@ impl PoseTable {
 
     /// Temperatures of `sensors` (names `T:<sensor>`), `sensors.len()` per pose; an error names a
     /// sensor without a column.
-    pub fn temperatures_of(&self, sensors: &[String]) -> Result<Vec<f64>, String> {
+    pub fn temperatures_of(&self, sensors: &[String]) -> crate::error::Result<Vec<f64>> {
         let columns = sensors
             .iter()
             .map(|s| {
@@ -43,7 +43,7 @@ impl PoseTable {
                     .iter()
                     .find(|(n, _)| n == s)
                     .map(|(_, v)| v)
-                    .ok_or_else(|| format!("missing column `{s}` (degC) needed by the error model"))
+                    .ok_or_else(|| crate::Error::input(format!("missing column `{s}` (degC) needed by the error model")))
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok((0..self.len()).flat_map(|i| columns.iter().map(move |c| c[i])).collect())

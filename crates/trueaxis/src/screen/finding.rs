@@ -1,7 +1,7 @@
 //! The one result type of screening: a [`Finding`] names the kind of damage, the file, where in it
 //! (run, column, rows), what was seen, and what it means for the result. A finding either flags the
 //! data (the command goes on and prints it, and `--json` carries it under `data_quality`) or
-//! refuses it (exit status 2 in the command line: a result from it would be meaningless).
+//! refuses it as bad input (a result from it would be meaningless).
 
 use serde_json::{json, Value};
 

@@ -119,7 +119,7 @@ fn drift_between_tested_positions_is_the_linear_interpolation_of_the_two_models(
     assert!(value(&model, &m, "TZ", [0.0, 0.0, 300.0], None, late).abs() > 1.0);
     // a lag needs the time column
     let source = InputSource { rows: 60, column: &column, given: &|_| None, times: None, runs: None, origin: "poses.csv" };
-    assert!(input_values(model.sensors(), &source).unwrap_err().contains("time column `t`"));
+    assert!(input_values(model.sensors(), &source).unwrap_err().to_string().contains("time column `t`"));
 }
 
 #[test]

@@ -279,7 +279,7 @@ fn instruments_that_cannot_measure_the_parameter_are_refused() {
     assert!(refused("EXX", Some(DirectKind::Level)).contains("not a displacement"));
     assert!(refused("EBX", Some(DirectKind::LaserLinear)).contains("read a displacement"));
     let angular = DirectInstrument::for_parameter(&m, &id("EBX"), None, &setup).unwrap();
-    assert!(angular.with_optics_offset(&m, &[0.0; 3], [1.0, 2.0]).unwrap_err().contains("rotation"));
+    assert!(angular.with_optics_offset(&m, &[0.0; 3], [1.0, 2.0]).unwrap_err().to_string().contains("rotation"));
     // an explicit set-up reads the tool point
     let explicit = Laser { optics: LaserOptics::linear(Vec3::x()).unwrap(), setup: Setup::of_machine(&m), beam_on: Side::Workpiece };
     assert!(LaserOptics::straightness(Vec3::x(), Vec3::new(1.0, 1.0, 0.0)).is_err());

@@ -3,7 +3,7 @@
 //! parameter values (um, urad) at every position and the same volumetric errors as the errors
 //! written directly; the shipped example against examples/errors/vmc3.toml; refusals naming the line.
 
-use trueaxis::error_model::ErrorModel;
+use trueaxis::error_model::{from_etalon, ErrorModel};
 use trueaxis::io::etalon::parse;
 use trueaxis::machine::Machine;
 use trueaxis::model::{volumetric_error, Frame, Setup};
@@ -28,7 +28,7 @@ fn exchange() -> String {
 #[test]
 fn converted_errors_equal_the_known_ones_everywhere() {
     let m = vmc3();
-    let conversion = parse(&exchange(), "known.exc").unwrap().to_error_values(&m, "known.exc").unwrap();
+    let conversion = from_etalon(&parse(&exchange(), "known.exc").unwrap(), &m, "known.exc").unwrap();
     assert_eq!(conversion.written, vec!["EBY", "EC0X", "EB0Z", "EXX"]);
     let converted = ErrorModel::from_toml_str(&conversion.toml, "converted", &m).unwrap();
     let known = ErrorModel::from_toml_str(KNOWN_TOML, "known", &m).unwrap();
@@ -54,7 +54,7 @@ fn converted_errors_equal_the_known_ones_everywhere() {
 fn the_shipped_example_is_the_vmc3_example_errors() {
     let m = vmc3();
     let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/data/vmc3_etalon.exc")).unwrap();
-    let conversion = parse(&text, "vmc3_etalon.exc").unwrap().to_error_values(&m, "vmc3_etalon.exc").unwrap();
+    let conversion = from_etalon(&parse(&text, "vmc3_etalon.exc").unwrap(), &m, "vmc3_etalon.exc").unwrap();
     assert_eq!(conversion.written.len(), 21);
     assert!(conversion.warnings.iter().any(|w| w.contains("[P0Z]") && w.contains("not converted")), "{:?}", conversion.warnings);
     let converted = ErrorModel::from_toml_str(&conversion.toml, "converted", &m).unwrap();
@@ -86,7 +86,7 @@ fn bad_blocks_are_refused_naming_the_line() {
         ("[EQX]\nVALUE = 0.0\n", "is not an ISO 230 parameter name"),
     ];
     for (text, expected) in cases {
-        let e = parse(text, "bad.exc").and_then(|f| f.to_error_values(&m, "bad.exc")).unwrap_err().to_string();
+        let e = parse(text, "bad.exc").map_err(trueaxis::Error::from).and_then(|f| from_etalon(&f, &m, "bad.exc")).unwrap_err().to_string();
         assert!(e.starts_with("bad.exc: line ") && e.contains(expected), "expected `{expected}` in: {e}");
     }
     let e = parse("[EXX]\nVALUE = 0.001\n[EXX]\nVALUE = 0.002\n", "dup.exc").unwrap_err().to_string();

@@ -30,7 +30,7 @@ fn read_everything(text: &str) {
     }
     match etalon::parse(text, origin) {
         Ok(f) => {
-            if let Err(e) = f.to_error_values(&machine, origin) {
+            if let Err(e) = trueaxis::error_model::from_etalon(&f, &machine, origin) {
                 assert!(e.to_string().starts_with(origin), "{e}");
             }
         }
