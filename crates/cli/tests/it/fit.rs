@@ -314,7 +314,7 @@ fn known_angular_errors_have_their_abbe_term_removed() {
     let (with, without) = (dir.path().join("with.toml"), dir.path().join("without.toml"));
     for (out_file, extra) in [(&with, vec!["--errors-in", arg(&known)]), (&without, vec![])] {
         let mut args = FIT.to_vec();
-        args.extend(["--machine", "examples/machines/vmc3.toml", "--at", "Z=-200", "--errors-out", arg(&out_file)]);
+        args.extend(["--machine", "examples/machines/vmc3.toml", "--at", "Z=-200", "--errors-out", arg(out_file)]);
         args.extend(extra);
         let out = trueaxis(&args);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));

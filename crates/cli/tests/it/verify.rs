@@ -106,7 +106,7 @@ fn run_verify(campaign: &Path, extra: &[&str]) -> serde_json::Value {
         "--errors",
         "examples/verification/vmc3/model.toml",
         "--campaign",
-        arg(&campaign),
+        arg(campaign),
         "--ignore-channel",
         "plate_yz:dx",
         "--json",

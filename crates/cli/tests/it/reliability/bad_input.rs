@@ -221,7 +221,7 @@ fn every_bad_input_is_refused_with_its_file_line_and_cause_and_nothing_is_writte
         std::fs::write(&file, &c.text).unwrap();
         let out = d.join("out");
         let args: Vec<String> =
-            c.args.iter().map(|a| a.replace("{f}", arg(&file)).replace("{out}", arg(&out)).replace("{dir}", arg(&d))).collect();
+            c.args.iter().map(|a| a.replace("{f}", arg(&file)).replace("{out}", arg(&out)).replace("{dir}", arg(d))).collect();
         let o = Run::new(&args).output();
         let stderr = String::from_utf8_lossy(&o.stderr).to_string();
         let message = stderr.lines().find(|l| l.starts_with("trueaxis: error:")).unwrap_or("").to_string();

@@ -19,7 +19,7 @@ const RTL: &str = "examples/data/laser_x.rtl";
 fn run_report(certificate: &str, out: &std::path::Path) -> Output {
     trueaxis(&vmc3(
         &["report", "--json"],
-        &["--errors", "examples/errors/vmc3.toml", "--positioning", RTL, "--certificate", certificate, "--out", arg(&out)],
+        &["--errors", "examples/errors/vmc3.toml", "--positioning", RTL, "--certificate", certificate, "--out", arg(out)],
     ))
 }
 

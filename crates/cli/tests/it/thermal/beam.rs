@@ -25,7 +25,7 @@ fn values(errors: &ErrorModel, m: &Machine, x: f64, readings: &[(&str, f64)]) ->
 
 fn write_terms(beam: &Path, dir: &Path) -> ErrorModel {
     let out = dir.join("beam_terms.toml");
-    crate::support::ok(&trueaxis(&vmc3(&["thermal", "beam"], &["--beam", arg(&beam), "--out", arg(&out)])));
+    crate::support::ok(&trueaxis(&vmc3(&["thermal", "beam"], &["--beam", arg(beam), "--out", arg(&out)])));
     ErrorModel::load(&out, &Machine::load(Path::new(ROOT).join("examples/machines/vmc3.toml")).unwrap()).unwrap()
 }
 
