@@ -1,6 +1,6 @@
 //! `trueaxis compensate` end to end: files written, JSON summaries, exit codes (`trueaxis nc`: nc.rs).
 
-use crate::support::{outcome, read, vmc3};
+use crate::support::{arg, outcome, read, vmc3};
 
 /// `trueaxis COMMAND --machine examples/machines/vmc3.toml --errors ERRORS REST...`
 fn on_vmc3(command: &str, errors: &str, rest: &[&str]) -> (i32, String, String) {
@@ -34,7 +34,7 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
             "--format",
             format,
             "--out",
-            out.to_str().unwrap(),
+            arg(&out),
             "--points",
             "21",
             "--grid",
@@ -79,7 +79,7 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
         "--poses",
         "examples/poses/c600u.csv",
         "--out",
-        out.to_str().unwrap(),
+        arg(&out),
         "--json",
     ]);
     assert_eq!(code, 0, "{stderr}");
@@ -91,14 +91,14 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     let out = dir.path().join("limited");
     let (code, _, stderr) = outcome(&vmc3(
         &["compensate"],
-        &["--errors", "examples/errors/vmc3.toml", "--format", "linuxcnc", "--limit-um", "5", "--out", out.to_str().unwrap()],
+        &["--errors", "examples/errors/vmc3.toml", "--format", "linuxcnc", "--limit-um", "5", "--out", arg(&out)],
     ));
     assert_eq!(code, 2);
     assert!(stderr.contains("beyond the limit of 5 um"), "{stderr}");
     assert!(!out.exists());
     let (code, _, stderr) = outcome(&vmc3(
         &["compensate"],
-        &["--errors", "examples/errors/vmc3.toml", "--format", "csv", "--reference", "Q=1", "--out", out.to_str().unwrap()],
+        &["--errors", "examples/errors/vmc3.toml", "--format", "csv", "--reference", "Q=1", "--out", arg(&out)],
     ));
     assert_eq!(code, 2);
     assert!(stderr.contains("no axis Q"), "{stderr}");
@@ -110,8 +110,7 @@ fn the_summary_covers_what_is_written() {
     // along the axis lines through home are smaller, 13.4 um)
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("fanuc");
-    let (code, stdout, stderr) =
-        on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "fanuc3d", "--out", out.to_str().unwrap(), "--json"]);
+    let (code, stdout, stderr) = on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "fanuc3d", "--out", arg(&out), "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     let lattice = std::fs::read_to_string(out.join("lattice3d.txt")).unwrap();
@@ -128,7 +127,7 @@ fn the_summary_covers_what_is_written() {
 fn an_output_directory_with_other_files_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("comp");
-    let run = |format: &str| on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", format, "--out", out.to_str().unwrap()]);
+    let run = |format: &str| on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", format, "--out", arg(&out)]);
     assert_eq!(run("heidenhain").0, 0);
     // the same run again overwrites its own files
     assert_eq!(run("heidenhain").0, 0);
@@ -153,13 +152,12 @@ fn compensate_poses_uses_the_temperature_columns_and_cancels_what_predict_report
     let dir = tempfile::tempdir().unwrap();
     let errors = gt_model(dir.path());
     let poses = "examples/thermal/poses_with_T.csv";
-    let errors = errors.to_str().unwrap();
+    let errors = arg(&errors);
     let (code, stdout, stderr) = on_vmc3("predict", errors, &["--poses", poses, "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let predicted: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     let out = dir.path().join("comp");
-    let (code, stdout, stderr) =
-        on_vmc3("compensate", errors, &["--poses", poses, "--format", "csv", "--out", out.to_str().unwrap(), "--json"]);
+    let (code, stdout, stderr) = on_vmc3("compensate", errors, &["--poses", poses, "--format", "csv", "--out", arg(&out), "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     assert!(doc["poses"]["max_residual_um"].as_f64().unwrap() < 0.01);
@@ -196,8 +194,7 @@ fn compensate_poses_uses_the_temperature_columns_and_cancels_what_predict_report
         .collect();
     std::fs::write(&cold, rewritten.join("\n") + "\n").unwrap();
     let out_cold = dir.path().join("comp_cold");
-    let (code, _, stderr) =
-        on_vmc3("compensate", errors, &["--poses", cold.to_str().unwrap(), "--format", "csv", "--out", out_cold.to_str().unwrap()]);
+    let (code, _, stderr) = on_vmc3("compensate", errors, &["--poses", arg(&cold), "--format", "csv", "--out", arg(&out_cold)]);
     assert_eq!(code, 0, "{stderr}");
     let csv = std::fs::read_to_string(out_cold.join("corrections.csv")).unwrap();
     let dz_cold: f64 = csv.lines().nth(3).unwrap().split(',').nth(5).unwrap().parse().unwrap();
@@ -208,7 +205,7 @@ fn compensate_poses_uses_the_temperature_columns_and_cancels_what_predict_report
 fn compensate_poses_without_a_needed_temperature_column_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("comp");
-    let mut args = vec!["--poses", "examples/poses/vmc3.csv", "--format", "csv", "--out", out.to_str().unwrap()];
+    let mut args = vec!["--poses", "examples/poses/vmc3.csv", "--format", "csv", "--out", arg(&out)];
     let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3_backlash.toml", &args);
     assert_eq!(code, 2);
     assert!(
@@ -228,7 +225,7 @@ fn files_that_leave_more_than_they_remove_are_refused() {
     // would leave more than they remove (docs/compensation.md, "Never worse")
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("joint");
-    let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", out.to_str().unwrap()]);
+    let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", arg(&out)]);
     assert_eq!(code, 2, "{stderr}");
     assert!(
         stderr.contains("more than they remove") && stderr.contains("--format linuxcnc-hal") && stderr.contains("nothing was written"),
@@ -236,7 +233,7 @@ fn files_that_leave_more_than_they_remove_are_refused() {
     );
     assert!(!out.exists());
     let (code, stdout, stderr) =
-        on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", out.to_str().unwrap(), "--force", "--json"]);
+        on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", arg(&out), "--force", "--json"]);
     assert_eq!(code, 0, "{stderr}");
     let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
     let r = &doc["format_residual"];
@@ -254,7 +251,7 @@ fn files_that_leave_more_than_they_remove_are_refused() {
         "--format",
         "siemens",
         "--out",
-        five.to_str().unwrap(),
+        arg(&five),
         "--json",
     ]);
     assert_eq!(code, 0, "{stderr}");
@@ -283,7 +280,7 @@ fn ballbar_identify_writes_error_values_that_compensate_reads_with_their_uncerta
         "--c2",
         &files[3],
         "--out",
-        piges.to_str().unwrap(),
+        arg(&piges),
         "--json",
     ]);
     assert_eq!(code, 0, "{stderr}");
@@ -302,11 +299,11 @@ fn ballbar_identify_writes_error_values_that_compensate_reads_with_their_uncerta
         "--machine",
         "examples/machines/c600u.toml",
         "--errors",
-        piges.to_str().unwrap(),
+        arg(&piges),
         "--format",
         "heidenhain",
         "--out",
-        out.to_str().unwrap(),
+        arg(&out),
         "--json",
     ]);
     assert_eq!(code, 0, "{stderr}");

@@ -5,7 +5,7 @@
 //! line naming the file, the column and the fix) and warnings (exit 0, stderr) of the plausibility
 //! checks; a `fit` range error names the file, line and column.
 
-use crate::support::{failed, json_of, read, trueaxis, vmc3};
+use crate::support::{arg, failed, json_of, read, trueaxis, vmc3};
 use serde_json::Value;
 
 fn close(name: &str, a: &Value, b: &Value, tol: f64) {
@@ -46,11 +46,11 @@ fn iso230_2_of_the_rtl_equals_its_csv_with_and_without_the_file_temperature() {
 fn convert_writes_canonical_csv_that_reads_to_the_same_results() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("laser_x_from_rtl.csv");
-    let status = trueaxis(&["convert", "examples/data/laser_x.rtl", "--to", "csv", "--out", out.to_str().unwrap()]);
+    let status = trueaxis(&["convert", "examples/data/laser_x.rtl", "--to", "csv", "--out", arg(&out)]);
     assert!(status.status.success(), "{}", String::from_utf8_lossy(&status.stderr));
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.contains("# Machine: VMC3 example machine") && text.contains("target [mm],dev [um],dir,run\n"), "{text}");
-    let a = json_of(&["iso230-2", out.to_str().unwrap(), "--json"]);
+    let a = json_of(&["iso230-2", arg(&out), "--json"]);
     let b = json_of(&["iso230-2", "examples/data/laser_x.rtl", "--json"]);
     for k in KEYS {
         close(k, &a[k], &b[k], 1e-9);
@@ -119,7 +119,7 @@ fn fit_and_reversal_read_rtl_files() {
     // the second scan listed in the same order: both runs + (a straightness scan, not a positioning run)
     let path = dir.path().join("arbor.rtl");
     std::fs::write(&path, rtl).unwrap();
-    let a = json_of(&["reversal", "arbor", path.to_str().unwrap(), "--json"]);
+    let a = json_of(&["reversal", "arbor", arg(&path), "--json"]);
     let b = json_of(&["reversal", "arbor", "examples/data/reversal_arbor.csv", "--json"]);
     for (x, y) in a["straightness_um"].as_array().unwrap().iter().zip(b["straightness_um"].as_array().unwrap()) {
         close("straightness", x, y, 1e-9);
@@ -158,14 +158,14 @@ fn ballbar_exports_and_inspect() {
             "--seed",
             "7",
             "--out",
-            sim.to_str().unwrap(),
+            arg(&sim),
         ],
     ));
     assert!(out.status.success());
     let csv = json_of(&[
         "ballbar",
         "iso230-4",
-        sim.to_str().unwrap(),
+        arg(&sim),
         "--radius",
         "100",
         "--machine",
@@ -200,14 +200,14 @@ fn ballbar_exports_and_inspect() {
 fn etalon_files_convert_to_errors_that_predict_reads() {
     let dir = tempfile::tempdir().unwrap();
     let errors = dir.path().join("vmc3_etalon.toml");
-    let out = trueaxis(&vmc3(&["convert", "examples/data/vmc3_etalon.exc", "--to", "errors"], &["--out", errors.to_str().unwrap()]));
+    let out = trueaxis(&vmc3(&["convert", "examples/data/vmc3_etalon.exc", "--to", "errors"], &["--out", arg(&errors)]));
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(String::from_utf8_lossy(&out.stderr).contains("[P0Z]"), "the skipped ISG parameter is named");
     // at poses on the 50 mm grid the converted tables equal the example's polynomials
     let poses = dir.path().join("grid.csv");
     std::fs::write(&poses, "X,Y,Z\n-400,-250,-400\n-150,100,-200\n200,-50,-50\n400,250,0\n").unwrap();
-    let run = |e: &str| json_of(&vmc3(&["predict"], &["--errors", e, "--poses", poses.to_str().unwrap(), "--json"]));
-    let (a, b) = (run(errors.to_str().unwrap()), run("examples/errors/vmc3.toml"));
+    let run = |e: &str| json_of(&vmc3(&["predict"], &["--errors", e, "--poses", arg(&poses), "--json"]));
+    let (a, b) = (run(arg(&errors)), run("examples/errors/vmc3.toml"));
     for (p, q) in a["poses"].as_array().unwrap().iter().zip(b["poses"].as_array().unwrap()) {
         for k in ["dx", "dy", "dz", "drx", "dry", "drz"] {
             close(k, &p[k], &q[k], 2e-4);
@@ -235,7 +235,7 @@ fn implausible_files_are_refused_and_suspicious_ones_warned() {
     let write = |name: &str, text: &str| {
         let p = dir.path().join(name);
         std::fs::write(&p, text).unwrap();
-        p.to_str().unwrap().to_string()
+        arg(&p).to_string()
     };
     let mut mm = String::from("target,dev,dir,run\n");
     let mut um = String::from("target,dev,dir,run\n");
@@ -293,7 +293,7 @@ fn a_fit_range_error_names_the_file_line_and_column() {
     let data = dir.path().join("long.csv");
     std::fs::write(&data, "# beyond the X range of vmc3\ntarget,dev\n0,1.5\n200,2.5\n450,3.5\n").unwrap();
     refused(
-        &["fit", "--data", data.to_str().unwrap(), "--parameter", "EXX", "--machine", "examples/machines/vmc3.toml"],
+        &["fit", "--data", arg(&data), "--parameter", "EXX", "--machine", "examples/machines/vmc3.toml"],
         &["long.csv: line 5: column target", "450", "outside its range"],
     );
 }

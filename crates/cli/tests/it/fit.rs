@@ -2,7 +2,7 @@
 //! known pitch error, backlash, drift and noise), the sign of a workpiece-carrying slide, the Abbe
 //! subtraction of known angular errors, and bad input.
 
-use crate::support::{failed, json_of, root, trueaxis, vmc3};
+use crate::support::{arg, failed, json_of, root, trueaxis, vmc3};
 
 /// The positioning error the example data were generated with (um, x in mm): the laser reading
 /// (tool relative to workpiece, actual minus target) without backlash, drift and noise.
@@ -52,7 +52,7 @@ fn fit_with_the_machine_recovers_the_error_with_the_sign_of_a_table_axis() {
     std::fs::copy(root().join("examples/errors/vmc3.toml"), &errors).unwrap();
     let plot = dir.path().join("exx.svg");
     let mut args = FIT.to_vec();
-    let (e, p) = (errors.to_str().unwrap(), plot.to_str().unwrap());
+    let (e, p) = (arg(&errors), arg(&plot));
     args.extend(["--machine", "examples/machines/vmc3.toml", "--at", "Z=-200", "--errors-out", e, "--plot", p, "--json"]);
     let out = trueaxis(&args);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -113,7 +113,7 @@ fn without_a_machine_the_readings_are_the_values() {
     let dir = tempfile::tempdir().unwrap();
     let errors = dir.path().join("new.toml");
     let mut args = FIT.to_vec();
-    args.extend(["--errors-out", errors.to_str().unwrap()]);
+    args.extend(["--errors-out", arg(&errors)]);
     let out = trueaxis(&args);
     failed(&out, 2, &["--errors-out needs --machine"]);
     assert!(!errors.exists());
@@ -125,7 +125,7 @@ fn only_motion_errors_are_fitted_with_or_without_a_machine() {
     // and nothing is written
     let dir = tempfile::tempdir().unwrap();
     let errors = dir.path().join("e.toml");
-    let e = errors.to_str().unwrap();
+    let e = arg(&errors);
     for (parameter, machine, fragment) in [
         ("EC0Y", false, "EC0Y is not a motion error"),
         ("EC0Y", true, "EC0Y is not a motion error"),
@@ -156,8 +156,8 @@ fn readings_too_large_to_be_deviations_are_refused_with_status_2_and_nothing_wri
     std::fs::write(&data, format!("target,dev\n{text}")).unwrap();
     let (errors, plot) = (dir.path().join("e.toml"), dir.path().join("p.svg"));
     for json in [false, true] {
-        let mut args = vec!["fit", "--data", data.to_str().unwrap(), "--parameter", "EXX", "--machine", "examples/machines/vmc3.toml"];
-        args.extend(["--errors-out", errors.to_str().unwrap(), "--plot", plot.to_str().unwrap()]);
+        let mut args = vec!["fit", "--data", arg(&data), "--parameter", "EXX", "--machine", "examples/machines/vmc3.toml"];
+        args.extend(["--errors-out", arg(&errors), "--plot", arg(&plot)]);
         if json {
             args.push("--json");
         }
@@ -201,7 +201,7 @@ fn an_aliased_screw_wave_is_flagged_with_its_alias_family() {
         })
         .collect();
     std::fs::write(&data, format!("target,dev\n{text}")).unwrap();
-    let args = ["fit", "--data", data.to_str().unwrap(), "--parameter", "EXX", "--family", "legendre", "--degree", "1"];
+    let args = ["fit", "--data", arg(&data), "--parameter", "EXX", "--family", "legendre", "--degree", "1"];
     let mut json_args = args.to_vec();
     json_args.push("--json");
     let doc = json_of(&json_args);
@@ -235,7 +235,7 @@ fn temperature_options_correct_the_readings_to_20c() {
     }
     std::fs::write(&corrected, text).unwrap();
     let base = ["--parameter", "EXX", "--machine", "examples/machines/vmc3.toml", "--knot-spacing", "200", "--direction=+", "--json"];
-    let mut by_hand = vec!["fit", "--data", corrected.to_str().unwrap()];
+    let mut by_hand = vec!["fit", "--data", arg(&corrected)];
     by_hand.extend(base);
     let mut with_options = vec!["fit", "--data", "examples/data/laser_x.csv", "--scale-temperature", "21.3", "--scale-expansion", "11.5"];
     with_options.extend(base);
@@ -278,7 +278,7 @@ fn the_instrument_description_puts_the_abbe_terms_into_the_chain() {
         args.extend(extra);
         coefficients(&json_of(&args)["plus"])
     };
-    let (with, without) = (fitted(&["--errors-in", known.to_str().unwrap()]), fitted(&[]));
+    let (with, without) = (fitted(&["--errors-in", arg(&known)]), fitted(&[]));
     assert!((with[0] - without[0] + 3.5).abs() < 1e-6, "constant: {} vs {}", with[0], without[0]);
     for k in 1..with.len() {
         assert!((with[k] - without[k]).abs() < 1e-9, "term {k}: {} vs {}", with[k], without[k]);
@@ -312,9 +312,9 @@ fn known_angular_errors_have_their_abbe_term_removed() {
     let known = dir.path().join("known.toml");
     std::fs::write(&known, "[constant]\nEBX = 10.0\n").unwrap();
     let (with, without) = (dir.path().join("with.toml"), dir.path().join("without.toml"));
-    for (out_file, extra) in [(&with, vec!["--errors-in", known.to_str().unwrap()]), (&without, vec![])] {
+    for (out_file, extra) in [(&with, vec!["--errors-in", arg(&known)]), (&without, vec![])] {
         let mut args = FIT.to_vec();
-        args.extend(["--machine", "examples/machines/vmc3.toml", "--at", "Z=-200", "--errors-out", out_file.to_str().unwrap()]);
+        args.extend(["--machine", "examples/machines/vmc3.toml", "--at", "Z=-200", "--errors-out", arg(out_file)]);
         args.extend(extra);
         let out = trueaxis(&args);
         assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
@@ -365,7 +365,7 @@ fn one_direction_alone_is_refused_with_a_hint_and_no_file() {
     let errors = dir.path().join("one.toml");
     let out = trueaxis(&vmc3(
         &["fit", "--data", "examples/data/laser_x.csv", "--parameter", "EXX"],
-        &["--direction=+", "--errors-out", errors.to_str().unwrap()],
+        &["--direction=+", "--errors-out", arg(&errors)],
     ));
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);

@@ -2,7 +2,7 @@
 //! (1) a hand-calculated data set, (2) synthetic data with a known line, backlash and bounded noise,
 //! (3) bad input through the binary, (4) the JSON contract, (5) the SVG plot; plus the shipped example.
 
-use crate::support::{failed, trueaxis, ROOT};
+use crate::support::{arg, failed, trueaxis, ROOT};
 use std::path::Path;
 use trueaxis::evaluate::iso230_2::{evaluate, read_runs, read_runs_from, Iso2302Result};
 
@@ -194,12 +194,12 @@ fn synthetic_with_noise_follows_the_known_line_and_backlash() {
 fn refuse(dir: &Path, name: &str, text: &str, expected: &[&str]) {
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
-    let out = trueaxis(&["iso230-2", path.to_str().unwrap()]);
+    let out = trueaxis(&["iso230-2", arg(&path)]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{name}: {stderr}");
     assert!(out.stdout.is_empty(), "{name}: printed {}", String::from_utf8_lossy(&out.stdout));
     assert_eq!(stderr.trim_end().lines().count(), 1, "{name}: not one line: {stderr}");
-    assert!(stderr.contains(path.to_str().unwrap()), "{name}: file not named: {stderr}");
+    assert!(stderr.contains(arg(&path)), "{name}: file not named: {stderr}");
     for e in expected {
         assert!(stderr.contains(e), "{name}: `{e}` not in: {stderr}");
     }
@@ -246,7 +246,7 @@ fn readings_too_large_to_be_deviations_are_bad_input_with_status_2() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("huge.csv");
     std::fs::write(&path, "target,dev,dir,run\n0,1e308,+,1\n0,1e308,+,2\n0,0,-,1\n0,1,-,2\n").unwrap();
-    let out = trueaxis(&["iso230-2", path.to_str().unwrap(), "--json"]);
+    let out = trueaxis(&["iso230-2", arg(&path), "--json"]);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(
@@ -260,7 +260,7 @@ fn fewer_than_five_runs_are_evaluated_with_a_note() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("hand.csv");
     std::fs::write(&path, HAND).unwrap();
-    let out = trueaxis(&["iso230-2", path.to_str().unwrap()]);
+    let out = trueaxis(&["iso230-2", arg(&path)]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(text.contains("3 target positions from 0.000 to 200.000 mm, 3 runs in each direction"), "{text}");
@@ -341,7 +341,7 @@ fn the_table_lists_every_position_and_the_axis_results() {
 fn plot_is_written_with_axis_labels() {
     let dir = tempfile::tempdir().unwrap();
     let svg = dir.path().join("x.svg");
-    let out = trueaxis(&["iso230-2", EXAMPLE, "--json", "--plot", svg.to_str().unwrap()]);
+    let out = trueaxis(&["iso230-2", EXAMPLE, "--json", "--plot", arg(&svg)]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap();
     let text = std::fs::read_to_string(&svg).unwrap();
@@ -391,11 +391,11 @@ fn temperature_options_correct_the_deviations_to_20c() {
     let (u, p, c) = (write("u.csv", uniform), write("p.csv", per_point), write("c.csv", with_column));
     same(
         &json(&["iso230-2", EXAMPLE, "--json", "--scale-temperature", "23.4", "--scale-expansion", "11.5"]),
-        &json(&["iso230-2", u.to_str().unwrap(), "--json"]),
+        &json(&["iso230-2", arg(&u), "--json"]),
     );
     same(
-        &json(&["iso230-2", c.to_str().unwrap(), "--json", "--scale-temperature", "T:scale", "--scale-expansion", "11.5"]),
-        &json(&["iso230-2", p.to_str().unwrap(), "--json"]),
+        &json(&["iso230-2", arg(&c), "--json", "--scale-temperature", "T:scale", "--scale-expansion", "11.5"]),
+        &json(&["iso230-2", arg(&p), "--json"]),
     );
     // a warm step gauge instead of a warm scale: the opposite sign, so both together cancel
     let both = json(&[
@@ -414,7 +414,7 @@ fn temperature_options_correct_the_deviations_to_20c() {
     same(&both, &json(&["iso230-2", EXAMPLE, "--json"]));
     // the correction changes the result: 11.5 * 3.4 um/m over 500 mm is 19.55 um of slope
     let raw = json(&["iso230-2", EXAMPLE, "--json"]);
-    let corrected = json(&["iso230-2", u.to_str().unwrap(), "--json"]);
+    let corrected = json(&["iso230-2", arg(&u), "--json"]);
     assert!((raw["E"].as_f64().unwrap() - corrected["E"].as_f64().unwrap()).abs() > 5.0);
     // bad input: a missing column, an expansion without a temperature
     let out = trueaxis(&["iso230-2", EXAMPLE, "--scale-temperature", "T:scale", "--scale-expansion", "11.5"]);
@@ -446,7 +446,7 @@ fn a_run_in_mm_is_reported_next_to_the_standard_result() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("run4_mm.csv");
     std::fs::write(&path, &damaged).unwrap();
-    let p = path.to_str().unwrap();
+    let p = arg(&path);
     let out = trueaxis(&["iso230-2", p]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let printed = String::from_utf8(out.stdout).unwrap();

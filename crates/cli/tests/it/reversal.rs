@@ -3,7 +3,7 @@
 //! artefact errors with the seed's sign conventions, reduce them, recover the known values; the
 //! thermal worked examples are computed by hand in the comments.
 
-use crate::support::{json_of, trueaxis, ROOT};
+use crate::support::{arg, json_of, trueaxis, ROOT};
 use std::f64::consts::PI;
 use trueaxis::instruments::{
     apparent_expansion_coefficient, best_fit_radius, correct_to_20c, flat_face_reversal, parallelism_urad, straightness_reversal,
@@ -538,7 +538,7 @@ fn reversal_parallelism_and_disk_commands_give_the_simulated_values() {
 fn reversal_command_text_plot_and_bad_input() {
     let dir = tempfile::tempdir().unwrap();
     let plot = dir.path().join("arbor.svg");
-    let out = trueaxis(&["reversal", "arbor", "examples/data/reversal_arbor.csv", "--remove-line", "--plot", plot.to_str().unwrap()]);
+    let out = trueaxis(&["reversal", "arbor", "examples/data/reversal_arbor.csv", "--remove-line", "--plot", arg(&plot)]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("slope 4.000 urad") && text.contains("straightness deviation"), "{text}");
@@ -550,11 +550,11 @@ fn reversal_command_text_plot_and_bad_input() {
     let huge = dir.path().join("huge.csv");
     std::fs::write(&huge, "position,m1,m2\n0,1e308,-1e308\n10,-1e308,1e308\n").unwrap();
     let cases: Vec<(Vec<&str>, i32, &str)> = vec![
-        (vec!["reversal", "arbor", bad.to_str().unwrap()], 2, "missing column `m2`"),
+        (vec!["reversal", "arbor", arg(&bad)], 2, "missing column `m2`"),
         (vec!["reversal", "disk", "examples/data/reversal_arbor.csv", "--position", "x"], 2, "missing column `x`"),
         (vec!["reversal", "parallelism", "examples/data/reversal_parallelism.csv", "--dz", "0"], 2, "distance dz"),
         (vec!["reversal", "parallelism", "examples/data/reversal_arbor.csv", "--dz", "10"], 2, "missing column `probe1_location1`"),
-        (vec!["reversal", "arbor", huge.to_str().unwrap(), "--json"], 1, "overflowed"),
+        (vec!["reversal", "arbor", arg(&huge), "--json"], 1, "overflowed"),
         (vec!["reversal", "disk", "missing.csv"], 2, "missing.csv"),
     ];
     for (args, code, fragment) in cases {

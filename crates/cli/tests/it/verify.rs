@@ -6,7 +6,7 @@
 //! critical values against the Wilson-Hilferty approximation, compensated = off-line, the rejection
 //! rate of a correct model, the model's uncertainty from the calibration campaign.
 
-use crate::support::{json, trueaxis, vmc3, ROOT};
+use crate::support::{arg, json, trueaxis, vmc3, ROOT};
 use std::fmt::Write;
 use std::path::{Path, PathBuf};
 use trueaxis::error_model::ErrorModel;
@@ -106,7 +106,7 @@ fn run_verify(campaign: &Path, extra: &[&str]) -> serde_json::Value {
         "--errors",
         "examples/verification/vmc3/model.toml",
         "--campaign",
-        campaign.to_str().unwrap(),
+        arg(campaign),
         "--ignore-channel",
         "plate_yz:dx",
         "--json",
@@ -138,7 +138,7 @@ fn worn_squareness_fails_the_test_and_is_found() {
     let dir = tempfile::tempdir().unwrap();
     let path = simulate(dir.path(), "", WEAR_URAD, 5, true);
     let residuals = dir.path().join("residuals.csv");
-    let doc = run_verify(&path, &["--compensated", "--residuals", residuals.to_str().unwrap()]);
+    let doc = run_verify(&path, &["--compensated", "--residuals", arg(&residuals)]);
     assert_eq!(doc["consistent"], false);
     assert_eq!(doc["test"], "chi-square");
     // Soons 1993 Fig. 5.9 (YZ plane): 109 um before compensation, 11 um after, the worn squareness.
@@ -207,7 +207,7 @@ fn correct_model_passes_and_offline_equals_compensated() {
     let text = String::from_utf8(
         trueaxis(&vmc3(
             &["verify"],
-            &["--errors", "examples/verification/vmc3/model.toml", "--campaign", path.to_str().unwrap(), "--ignore-channel", "plate_yz:dx"],
+            &["--errors", "examples/verification/vmc3/model.toml", "--campaign", arg(&path), "--ignore-channel", "plate_yz:dx"],
         ))
         .stdout,
     )
@@ -263,7 +263,7 @@ fn model_uncertainty_from_the_calibration_widens_the_expected_residual() {
     std::fs::write(dir.path().join("cal.csv"), measurement_csv(&m, &planned.measurements[0], &readings[0])).unwrap();
     let plate = simulate(dir.path(), "", 0.0, 7, true);
     let without = run_verify(&plate, &["--compensated"]);
-    let with = run_verify(&plate, &["--compensated", "--calibration", cal.to_str().unwrap()]);
+    let with = run_verify(&plate, &["--compensated", "--calibration", arg(&cal)]);
     assert_eq!(with["with_model_uncertainty"], true);
     let calibration = Campaign::load(&cal, &m).unwrap();
     let id = trueaxis::identify::identify(&calibration, &m, &model(), &Default::default()).unwrap();

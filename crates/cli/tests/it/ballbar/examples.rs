@@ -2,7 +2,7 @@
 //! (`examples/ballbar/`, the commands of docs/ballbar.md): JSON values against the error files the
 //! examples were simulated from, exit status 2 with a one-line message for bad input.
 
-use crate::support::{json, trueaxis, vmc3, ROOT};
+use crate::support::{arg, json, trueaxis, vmc3, ROOT};
 
 #[test]
 fn identify_recovers_the_piges_the_examples_were_simulated_with() {
@@ -111,7 +111,7 @@ fn tmbb_example_recovers_table_5_2_values() {
 fn simulate_writes_a_trace_that_identify_reads() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("c1.csv");
-    let p = path.to_str().unwrap();
+    let p = arg(&path);
     let out = trueaxis(&[
         "ballbar",
         "simulate",
@@ -145,7 +145,7 @@ fn iso230_4_on_a_partial_arc_leaves_out_what_it_cannot_separate() {
     let quarter: Vec<&str> = text.lines().take(2 + 90).collect();
     let path = std::env::temp_dir().join(format!("trueaxis-quarter-{}.csv", std::process::id()));
     std::fs::write(&path, quarter.join("\n") + "\n").unwrap();
-    let doc = json(&trueaxis(&["ballbar", "iso230-4", path.to_str().unwrap(), "--radius", "100", "--json"]));
+    let doc = json(&trueaxis(&["ballbar", "iso230-4", arg(&path), "--radius", "100", "--json"]));
     let _ = std::fs::remove_file(&path);
     assert!((doc["runs"][0]["arc_deg"].as_f64().unwrap() - 89.0).abs() < 1e-9, "{}", doc["runs"][0]["arc_deg"]);
     assert!(doc["omitted"].as_array().unwrap().iter().any(|o| o.as_str().unwrap().contains("not separable")));

@@ -3,7 +3,7 @@
 //! pair (table-tilting c600u, spindle-tilting head5, the KX8-Five's 45 deg A axis); independence of
 //! the simulated noise; the input checks of `identify`; ISO 230-4 significance and shares.
 
-use crate::support::{json, refused, trueaxis, vmc3};
+use crate::support::{arg, json, refused, trueaxis, vmc3};
 use std::path::Path;
 
 /// Simulates the four steps of `method` (extra CLI arguments) into `dir` and identifies them.
@@ -71,7 +71,7 @@ fn a_spindle_tilting_head_and_a_tilted_axis_round_trip() {
         "[constant]\nEX0C = 12.0\nEY0C = -8.0\nEA0C = 30.0\nEB0C = -20.0\nEX0B = 5.0\nEZ0B = -7.0\nEA0B = 15.0\nEC0B = 25.0\n",
     )
     .unwrap();
-    let doc = round_trip(dir.path(), "examples/machines/head5.toml", head.to_str().unwrap(), &[], "0");
+    let doc = round_trip(dir.path(), "examples/machines/head5.toml", arg(&head), &[], "0");
     let truth =
         [("EX0C", 12.0), ("EY0C", -8.0), ("EA0C", 30.0), ("EB0C", -20.0), ("EX0B", 5.0), ("EZ0B", -7.0), ("EA0B", 15.0), ("EC0B", 25.0)];
     assert_truth(&doc, &truth, "head5");
@@ -84,7 +84,7 @@ fn a_spindle_tilting_head_and_a_tilted_axis_round_trip() {
         format!("[constant]\nEY0A = {s}\nEZ0A = {}\nEA0A = 20.0\nEB0A = 10.0\nEC0A = -10.0\nEX0C = 4.0\nEY0C = -3.0\nEA0C = 12.0\nEB0C = -9.0\n", -s),
     )
     .unwrap();
-    let doc = round_trip(dir.path(), "examples/machines/kx8five.toml", kx.to_str().unwrap(), &[], "0");
+    let doc = round_trip(dir.path(), "examples/machines/kx8five.toml", arg(&kx), &[], "0");
     let truth = [
         ("EX0A", 0.0),
         ("EY0A", s),
@@ -116,7 +116,7 @@ fn one_rotary_axis_on_each_side_simulates_but_is_not_identified() {
          C = { kind = \"rotary\", direction = [0, 0, 1], point = [0, 0, 0] }\n[tool]\npoint = [0, 0, 200]\n",
     )
     .unwrap();
-    let m = machine.to_str().unwrap();
+    let m = arg(&machine);
     let mut files = Vec::new();
     for step in ["a1", "a2", "c1", "c2"] {
         let path = dir.path().join(format!("{step}.csv")).to_str().unwrap().to_string();
@@ -206,13 +206,9 @@ fn identify_refuses_what_it_cannot_fit() {
     };
     let [a1, a2, c1, c2] = ["A1", "A2", "C1", "C2"].map(|s| format!("examples/ballbar/{s}.csv"));
     let steps = |first: &str| identify([first, &a2, &c1, &c2], &[]);
-    refused(
-        &steps(three.to_str().unwrap()),
-        2,
-        &["a1_3.csv", "step A1", "3 readings over 20.0 deg", "at least 8 readings over at least 45 deg"],
-    );
+    refused(&steps(arg(&three)), 2, &["a1_3.csv", "step A1", "3 readings over 20.0 deg", "at least 8 readings over at least 45 deg"]);
     refused(&steps(&c1), 2, &["C1.csv", "step A1", "over 0.0 deg"]);
-    refused(&steps(empty.to_str().unwrap()), 2, &["empty.csv", "the file is empty"]);
+    refused(&steps(arg(&empty)), 2, &["empty.csv", "the file is empty"]);
     refused(&identify([&a1, &a2, &c1, &c2], &["--pivot-offset-a", "0,100"]), 2, &["--pivot-offset-a", "100.000 mm", "below 10 mm"]);
     refused(&identify([&a1, &a2, &c1, &c2], &["--method", "two-pivot"]), 2, &["--outer-offset"]);
     // swapped C files: accepted (each is a full circle) but warned about, with the residual
@@ -271,7 +267,7 @@ fn iso230_4_reports_only_significant_resolved_terms() {
     // the rest is listed as not significant.
     let errors = dir.path().join("sq.toml");
     std::fs::write(&errors, "[constant]\nEC0X = 25.0\n").unwrap();
-    let arc = sim(&["--errors", errors.to_str().unwrap(), "--dir", "ccw", "--start", "10", "--noise", "0.1", "--seed", "5"], "full.csv");
+    let arc = sim(&["--errors", arg(&errors), "--dir", "ccw", "--start", "10", "--noise", "0.1", "--seed", "5"], "full.csv");
     let text = std::fs::read_to_string(&arc).unwrap();
     let kept: Vec<&str> = text
         .lines()
@@ -279,7 +275,7 @@ fn iso230_4_reports_only_significant_resolved_terms() {
         .collect();
     let partial = dir.path().join("arc.csv");
     std::fs::write(&partial, kept.join("\n")).unwrap();
-    let doc = iso(partial.to_str().unwrap());
+    let doc = iso(arg(&partial));
     for d in doc["diagnostics"].as_array().unwrap() {
         if d["effect_um"].as_f64().unwrap() > 0.0 {
             assert!(d["value"].as_f64().unwrap().abs() >= d["std_uncertainty"].as_f64().unwrap(), "{d}");

@@ -2,7 +2,7 @@
 //! `ballbar iso230-4` as its capture arc, `design steady` on a 3D-ball recording, the single-run
 //! PIGE uncertainty of `ballbar identify`, `ballbar sensitivity` and `ballbar tmbb-setup`.
 
-use crate::support::{json_of, trueaxis, utf8, ROOT};
+use crate::support::{arg, json_of, trueaxis, utf8, ROOT};
 use trueaxis::identify::pige_sensitivity::method_sensitivity;
 use trueaxis::instruments::ballbar::{method_step, BarLengths, JiangStep, Method, RotaryPair};
 use trueaxis::machine::Machine;
@@ -31,22 +31,13 @@ fn raw_capture_gives_the_circle_of_its_capture_arc() {
     // without the capture arc in the header: refused, naming the key
     let no_arc = dir.path().join("no_arc.txt");
     std::fs::write(&no_arc, text.replace("Arc: 360 deg\n", "")).unwrap();
-    let out =
-        trueaxis(&["ballbar", "iso230-4", no_arc.to_str().unwrap(), "--machine", "examples/machines/vmc3.toml", "--centre", "0,0,-200"]);
+    let out = trueaxis(&["ballbar", "iso230-4", arg(&no_arc), "--machine", "examples/machines/vmc3.toml", "--centre", "0,0,-200"]);
     assert_eq!(out.status.code(), Some(2), "{}", utf8(&out.stderr));
     assert!(utf8(&out.stderr).contains("`Arc: <deg>`"), "{}", utf8(&out.stderr));
     // without the overshoot: every sample is taken, and the feed moves are pointed out
     let no_overshoot = dir.path().join("no_overshoot.txt");
     std::fs::write(&no_overshoot, text.lines().filter(|l| !l.starts_with("Overshoot")).collect::<Vec<_>>().join("\n")).unwrap();
-    let out = trueaxis(&[
-        "ballbar",
-        "iso230-4",
-        no_overshoot.to_str().unwrap(),
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--centre",
-        "0,0,-200",
-    ]);
+    let out = trueaxis(&["ballbar", "iso230-4", arg(&no_overshoot), "--machine", "examples/machines/vmc3.toml", "--centre", "0,0,-200"]);
     assert!(utf8(&out.stderr).contains("state `Overshoot: <deg>`"), "{}", utf8(&out.stderr));
 }
 
@@ -61,7 +52,7 @@ fn design_steady_reduces_a_recording_to_the_readings_of_its_poses() {
         "--poses",
         "examples/campaigns/kx8five/poses_20.csv",
         "--out",
-        out_path.to_str().unwrap(),
+        arg(&out_path),
     ]);
     assert!(out.status.success(), "{}", utf8(&out.stderr));
     assert!(utf8(&out.stderr).contains("20 dwells for 20 poses"), "{}", utf8(&out.stderr));
@@ -82,7 +73,7 @@ fn design_steady_reduces_a_recording_to_the_readings_of_its_poses() {
     let poses = std::fs::read_to_string(format!("{ROOT}/examples/campaigns/kx8five/poses_20.csv")).unwrap();
     let extra = dir.path().join("poses_21.csv");
     std::fs::write(&extra, format!("{poses}151,0,-200,1,2\n")).unwrap();
-    let out = trueaxis(&["design", "steady", "examples/campaigns/kx8five/stream_20.csv", "--poses", extra.to_str().unwrap()]);
+    let out = trueaxis(&["design", "steady", "examples/campaigns/kx8five/stream_20.csv", "--poses", arg(&extra)]);
     assert_eq!(out.status.code(), Some(2));
     assert!(utf8(&out.stderr).contains("20 steady stretches found for 21 poses"), "{}", utf8(&out.stderr));
     let out =

@@ -9,7 +9,7 @@
 #[path = "../../../../trueaxis/tests/it/support/basis_campaign.rs"]
 mod basis_campaign;
 
-use crate::support::{json, root, trueaxis, vmc3};
+use crate::support::{arg, json, root, trueaxis, vmc3};
 use basis_campaign::{bspline_bases, piecewise_bases, random_poses, simulate_into, write_campaign, SQUARENESS, STATIONS};
 
 use trueaxis::error_model::{ErrorFunction, ErrorModel};
@@ -88,14 +88,13 @@ fn piecewise_legendre_and_periodic_motion_errors_round_trip() {
 
     // the same from the command line: identify --out, then predict on the station 1 poses
     let cli = d.join("cli.toml");
-    let cli = cli.to_str().unwrap();
-    let doc = json(&trueaxis(&vmc3(&["identify"], &["--campaign", path.to_str().unwrap(), "--json", "--out", cli])));
+    let cli = arg(&cli);
+    let doc = json(&trueaxis(&vmc3(&["identify"], &["--campaign", arg(&path), "--json", "--out", cli])));
     assert_eq!(doc["parameters"]["EXX#6"]["function"], "(x-200)_+^3");
     assert_eq!(doc["parameters"]["EYY#1"]["unit"], "um");
     let station = format!("{},{},{}", STATIONS[0][0], STATIONS[0][1], STATIONS[0][2]);
     let poses = root().join(EXAMPLE).join("station1.csv");
-    let predicted =
-        json(&trueaxis(&vmc3(&["predict"], &["--errors", cli, "--poses", poses.to_str().unwrap(), "--work-point", &station, "--json"])));
+    let predicted = json(&trueaxis(&vmc3(&["predict"], &["--errors", cli, "--poses", arg(&poses), "--work-point", &station, "--json"])));
     let first = &campaign.measurements[0];
     for r in [0, 100, 299] {
         let dl = predicted["poses"][r]["dL"].as_f64().unwrap();

@@ -2,7 +2,7 @@
 //! contract of docs/design.md, Command line, the error-values output accepted by `predict`, exit statuses,
 //! and trajectory + simulation + identification from the command line.
 
-use crate::support::{failed, json, read, trueaxis, ROOT};
+use crate::support::{arg, failed, json, read, trueaxis, ROOT};
 use std::path::Path;
 
 const MACHINE: &str = "examples/machines/kx8five.toml";
@@ -55,13 +55,13 @@ fn rank_deficiency_is_exit_1_unless_allowed_and_bad_input_is_exit_2() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.toml");
     std::fs::write(&bad, "parameters = [\"EX0Q\"]\n[[measurement]]\ninstrument = \"ball3d\"\ndata = \"x.csv\"\nsigma_um = 1\n").unwrap();
-    let out = trueaxis(&["identify", "--machine", MACHINE, "--campaign", bad.to_str().unwrap()]);
+    let out = trueaxis(&["identify", "--machine", MACHINE, "--campaign", arg(&bad)]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("bad.toml") && err.contains("EX0Q"), "{err}");
     std::fs::write(&bad, "parameters = [\"EX0C\"]\n[[measurement]]\ninstrument = \"ball3d\"\ndata = \"missing.csv\"\nsigma_um = 1\n")
         .unwrap();
-    let out = trueaxis(&["identify", "--machine", MACHINE, "--campaign", bad.to_str().unwrap()]);
+    let out = trueaxis(&["identify", "--machine", MACHINE, "--campaign", arg(&bad)]);
     failed(&out, 2, &["missing.csv"]);
 }
 
@@ -84,7 +84,7 @@ fn trajectory_simulate_identify_and_predict_from_the_command_line() {
         "--count",
         "200",
         "--out",
-        poses.to_str().unwrap(),
+        arg(&poses),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let campaign = read(CAMPAIGN);
@@ -96,23 +96,14 @@ fn trajectory_simulate_identify_and_predict_from_the_command_line() {
         "--machine",
         MACHINE,
         "--campaign",
-        c.to_str().unwrap(),
+        arg(&c),
         "--errors",
         "examples/errors/kx8five_table1.toml",
         "--noise-free",
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let identified = d.join("identified.toml");
-    let doc = json(&trueaxis(&[
-        "identify",
-        "--machine",
-        MACHINE,
-        "--campaign",
-        c.to_str().unwrap(),
-        "--json",
-        "--out",
-        identified.to_str().unwrap(),
-    ]));
+    let doc = json(&trueaxis(&["identify", "--machine", MACHINE, "--campaign", arg(&c), "--json", "--out", arg(&identified)]));
     // noise-free: the separable Table 1 values come back to the first-order model accuracy (1e-3)
     assert!((doc["parameters"]["EA0Z"]["value"].as_f64().unwrap() - 138.3).abs() < 0.05);
     assert!(doc["residual_rms_um"].as_f64().unwrap() < 0.01);
@@ -124,9 +115,9 @@ fn trajectory_simulate_identify_and_predict_from_the_command_line() {
         "--machine",
         MACHINE,
         "--errors",
-        identified.to_str().unwrap(),
+        arg(&identified),
         "--poses",
-        poses.to_str().unwrap(),
+        arg(&poses),
         "--tool-point",
         "0,0,300",
         "--work-point",
@@ -143,19 +134,8 @@ fn trajectory_simulate_identify_and_predict_from_the_command_line() {
         assert!((p - fields[5 + k]).abs() < 0.01, "{key}: predicted {p} vs simulated {}", fields[5 + k]);
     }
     // an optimal subset of 30 poses out of 200
-    let opt = json(&trueaxis(&[
-        "design",
-        "optimal",
-        "--machine",
-        MACHINE,
-        "--campaign",
-        c.to_str().unwrap(),
-        "--count",
-        "30",
-        "--starts",
-        "1",
-        "--json",
-    ]));
+    let opt =
+        json(&trueaxis(&["design", "optimal", "--machine", MACHINE, "--campaign", arg(&c), "--count", "30", "--starts", "1", "--json"]));
     assert_eq!(opt["chosen"].as_array().unwrap().len(), 30);
     let (chosen, all) = (opt["criteria"]["d"].as_f64().unwrap(), opt["all_candidates"]["d"].as_f64().unwrap());
     // per-record D of the chosen 30 is better than that of all 200 poses taken together

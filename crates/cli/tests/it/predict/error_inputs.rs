@@ -3,7 +3,7 @@
 //! two axis positions (Soons 1993 §3.4.4) through `predict` against `thermal predict` of the fitted
 //! model, and `compensate --poses` with load and spindle-speed columns against `predict`.
 
-use crate::support::{failed, json, ok, read, trueaxis, vmc3};
+use crate::support::{arg, failed, json, ok, read, trueaxis, vmc3};
 
 fn poses_json(errors: &str, poses: &str, extra: &[&str]) -> Vec<serde_json::Value> {
     let mut args = vec!["predict", "--machine", "examples/machines/vmc3.toml", "--errors", errors, "--poses", poses, "--json"];
@@ -24,8 +24,8 @@ fn load_error_from_the_command_line_equals_the_scaled_table() {
     let f = 2600.0 / 4900.0 * (375.0 - 208.0) / 375.0;
     let scaled = dir.path().join("scaled.toml");
     std::fs::write(&scaled, format!("[table.EAX]\nposition = [-400, 0, 400]\nvalue = [{}, 0.0, {}]\n", 12.0 * f, 13.0 * f)).unwrap();
-    let a = poses_json(load.to_str().unwrap(), "examples/poses/vmc3.csv", &["--input", "F:workpiece=2600", "--input", "P:workpiece_z=208"]);
-    let b = poses_json(scaled.to_str().unwrap(), "examples/poses/vmc3.csv", &[]);
+    let a = poses_json(arg(&load), "examples/poses/vmc3.csv", &["--input", "F:workpiece=2600", "--input", "P:workpiece_z=208"]);
+    let b = poses_json(arg(&scaled), "examples/poses/vmc3.csv", &[]);
     let mut largest = 0.0f64;
     for (p, q) in a.iter().zip(&b) {
         for k in ["dx", "dy", "dz", "drx", "dry", "drz"] {
@@ -36,15 +36,14 @@ fn load_error_from_the_command_line_equals_the_scaled_table() {
     }
     assert!(largest > 1.0, "the load error is seen: {largest}");
     // a load column in the poses file takes precedence over nothing given; a missing one is named
-    let out = trueaxis(&vmc3(&["predict"], &["--errors", load.to_str().unwrap(), "--poses", "examples/poses/vmc3.csv"]));
+    let out = trueaxis(&vmc3(&["predict"], &["--errors", arg(&load), "--poses", "examples/poses/vmc3.csv"]));
     assert_eq!(out.status.code(), Some(2));
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(
         stderr.contains("missing column `F:workpiece` (N) needed by the error model; add it or give --input F:workpiece=N"),
         "{stderr}"
     );
-    let out =
-        trueaxis(&vmc3(&["predict"], &["--errors", load.to_str().unwrap(), "--poses", "examples/poses/vmc3.csv", "--input", "F:other=1"]));
+    let out = trueaxis(&vmc3(&["predict"], &["--errors", arg(&load), "--poses", "examples/poses/vmc3.csv", "--input", "F:other=1"]));
     failed(&out, 2, &["the error model has no input `F:other` (inputs: F:workpiece, P:workpiece_z)"]);
 }
 
@@ -66,7 +65,7 @@ fn interpolated_drift_through_predict_equals_thermal_predict_of_the_models() {
         "--train-runs",
         "warmup",
         "--out",
-        model.to_str().unwrap(),
+        arg(&model),
     ]));
     let fitted = std::fs::read_to_string(&model).unwrap();
     let body: String = fitted.lines().filter(|l| !l.starts_with('#')).map(|l| format!("{l}\n")).collect();
@@ -99,9 +98,8 @@ fn interpolated_drift_through_predict_equals_thermal_predict_of_the_models() {
     }
     let poses_path = dir.path().join("poses.csv");
     std::fs::write(&poses_path, poses).unwrap();
-    let predicted = poses_json(errors.to_str().unwrap(), poses_path.to_str().unwrap(), &[]);
-    let thermal =
-        json(&trueaxis(&["thermal", "predict", "--model", model.to_str().unwrap(), "--data", "examples/thermal/campaign.csv", "--json"]));
+    let predicted = poses_json(arg(&errors), arg(&poses_path), &[]);
+    let thermal = json(&trueaxis(&["thermal", "predict", "--model", arg(&model), "--data", "examples/thermal/campaign.csv", "--json"]));
     let samples = thermal["samples"].as_array().unwrap();
     assert_eq!(samples.len(), predicted.len());
     let mut largest = 0.0f64;
@@ -125,22 +123,11 @@ fn compensate_poses_use_load_and_spindle_columns() {
     .unwrap();
     let poses = dir.path().join("p.csv");
     std::fs::write(&poses, "X,Y,Z,F:workpiece,S:spindle\n100,0,-100,3000,6000\n-200,50,-300,500,1000\n").unwrap();
-    let predicted = poses_json(errors.to_str().unwrap(), poses.to_str().unwrap(), &[]);
+    let predicted = poses_json(arg(&errors), arg(&poses), &[]);
     let out_dir = dir.path().join("comp");
     ok(&trueaxis(&vmc3(
         &["compensate"],
-        &[
-            "--errors",
-            errors.to_str().unwrap(),
-            "--format",
-            "csv",
-            "--poses",
-            poses.to_str().unwrap(),
-            "--out",
-            out_dir.to_str().unwrap(),
-            "--input",
-            "S:spindle=0",
-        ],
+        &["--errors", arg(&errors), "--format", "csv", "--poses", arg(&poses), "--out", arg(&out_dir), "--input", "S:spindle=0"],
     )));
     let corrections = std::fs::read_to_string(out_dir.join("corrections.csv")).unwrap();
     let mut rows = corrections.lines();

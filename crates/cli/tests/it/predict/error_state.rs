@@ -2,7 +2,7 @@
 //! the error-values file through `predict` with `dir:<axis>` and `T:<sensor>` columns
 //! (Soons 1993 §3.2.5 and eq. 3.19; NISTIR 5236 §3.6).
 
-use crate::support::{failed, root, trueaxis, vmc3};
+use crate::support::{arg, failed, root, trueaxis, vmc3};
 
 const ERRORS: &str = r#"
 [constant]
@@ -25,7 +25,7 @@ fn predict_uses_directions_and_temperatures() {
     std::fs::write(&errors, ERRORS).unwrap();
     let poses = dir.path().join("poses.csv");
     std::fs::write(&poses, "X,Y,Z,dir:X,T:scale\n200,100,0,+,25\n200,100,0,-,25\n200,100,0,,20\n-300,-200,0,+,18\n").unwrap();
-    let out = trueaxis(&vmc3(&["predict"], &["--errors", errors.to_str().unwrap(), "--poses", poses.to_str().unwrap(), "--json"]));
+    let out = trueaxis(&vmc3(&["predict"], &["--errors", arg(&errors), "--poses", arg(&poses), "--json"]));
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     // vmc3's X and Y carry the table (directions -x, -y): the tool moves opposite to the table
@@ -49,11 +49,11 @@ fn missing_state_columns_and_bad_state_files_are_refused() {
     let dir = tempfile::tempdir().unwrap();
     let errors = dir.path().join("errors.toml");
     std::fs::write(&errors, ERRORS).unwrap();
-    let e = errors.to_str().unwrap();
+    let e = arg(&errors);
     let run = |poses: &str| {
         let p = dir.path().join("p.csv");
         std::fs::write(&p, poses).unwrap();
-        trueaxis(&vmc3(&["predict"], &["--errors", e, "--poses", p.to_str().unwrap()]))
+        trueaxis(&vmc3(&["predict"], &["--errors", e, "--poses", arg(&p)]))
     };
     let out = run("X,Y,Z\n0,0,0\n");
     failed(&out, 2, &["missing column `T:scale`"]);

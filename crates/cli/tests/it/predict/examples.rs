@@ -1,7 +1,7 @@
 //! The command line end to end: `predict` on all five example machines (CSV and JSON agree with the
 //! library), exit status 2 with a one-line message for bad input, `demo` output files.
 
-use crate::support::{failed, refused, trueaxis, vmc3, Run, ROOT};
+use crate::support::{arg, failed, refused, trueaxis, vmc3, Run, ROOT};
 use std::path::Path;
 use std::process::Output;
 use trueaxis::error_model::ErrorModel;
@@ -110,7 +110,7 @@ fn bad_input_exits_with_status_2_and_one_line() {
     let dir = tempfile::tempdir().unwrap();
     let bad_machine = dir.path().join("bad.toml");
     std::fs::write(&bad_machine, "name = \"x\"\nstructure = \"wXbt\"\n[axes]\nX = { kind = \"linear\", direction = [0, 0, 0], range = [0, 1] }\n[tool]\npoint = [0, 0, 0]\n").unwrap();
-    let bad = bad_machine.to_str().unwrap();
+    let bad = arg(&bad_machine);
     let out = trueaxis(&["predict", "--machine", bad, "--errors", "examples/errors/vmc3.toml", "--poses", "examples/poses/vmc3.csv"]);
     assert_bad_input(&out, &["bad.toml", "zero vector"]);
 
@@ -140,7 +140,7 @@ fn bad_input_exits_with_status_2_and_one_line() {
 fn out_file_is_written_whole_and_not_on_failure() {
     let dir = tempfile::tempdir().unwrap();
     let target = dir.path().join("pred.csv");
-    let t = target.to_str().unwrap();
+    let t = arg(&target);
     let ok = predict("head5", &["--out", t]);
     assert!(ok.status.success());
     let text = std::fs::read_to_string(&target).unwrap();
@@ -202,7 +202,7 @@ fn a_closed_pipe_ends_the_command_quietly() {
     std::fs::write(dir.path().join("poses.csv"), poses).unwrap();
     let machine = root.join("examples/machines/vmc3.toml");
     let errors = root.join("examples/errors/vmc3.toml");
-    let (m, e) = (machine.to_str().unwrap(), errors.to_str().unwrap());
+    let (m, e) = (arg(&machine), arg(&errors));
     let quiet = |status: std::process::ExitStatus, stderr: &str, what: &str| {
         assert!(!stderr.contains("panicked") && !stderr.contains("Broken pipe"), "{what}: {stderr}");
         assert_ne!(status.code(), Some(101), "{what}");
@@ -242,10 +242,10 @@ fn output_files_have_the_usual_permissions() {
     std::fs::File::create(&probe).unwrap();
     let usual = mode(&probe);
     let target = dir.path().join("pred.csv");
-    assert!(predict("vmc3", &["--out", target.to_str().unwrap()]).status.success());
+    assert!(predict("vmc3", &["--out", arg(&target)]).status.success());
     assert_eq!(mode(&target), usual, "a new file: {:o} vs {:o}", mode(&target), usual);
     std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o640)).unwrap();
-    assert!(predict("vmc3", &["--out", target.to_str().unwrap()]).status.success());
+    assert!(predict("vmc3", &["--out", arg(&target)]).status.success());
     assert_eq!(mode(&target), 0o640, "a replaced file keeps its mode");
 }
 
@@ -266,13 +266,13 @@ fn error_messages_name_the_cause_once() {
     assert_eq!(String::from_utf8_lossy(&out.stderr).matches("(os error 2)").count(), 1, "{}", String::from_utf8_lossy(&out.stderr));
 
     let missing = dir.path().join("no/folder/pred.csv");
-    let out = predict("vmc3", &["--out", missing.to_str().unwrap()]);
+    let out = predict("vmc3", &["--out", arg(&missing)]);
     assert_bad_input(&out, &["no/folder/pred.csv: cannot write: "]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!err.contains("at path") && err.matches("(os error 2)").count() == 1, "no temporary file named: {err}");
 
     let afile = dir.path().join("afile");
     std::fs::write(&afile, "x").unwrap();
-    let out = trueaxis(&["demo", "--out", afile.to_str().unwrap()]);
+    let out = trueaxis(&["demo", "--out", arg(&afile)]);
     assert_bad_input(&out, &["afile: exists and is not a directory; give the path of a directory; nothing was written"]);
 }

@@ -6,7 +6,7 @@
 //! and the line or parameter and the cause, and that no output file was written. Fixtures are the
 //! shipped examples with one value changed, written to a temporary directory.
 
-use crate::support::{alone, read as example, vmc3, Run, ROOT};
+use crate::support::{alone, arg, read as example, vmc3, Run, ROOT};
 use std::path::Path;
 use std::time::Duration;
 
@@ -220,11 +220,8 @@ fn every_bad_input_is_refused_with_its_file_line_and_cause_and_nothing_is_writte
         let file = d.join(c.name);
         std::fs::write(&file, &c.text).unwrap();
         let out = d.join("out");
-        let args: Vec<String> = c
-            .args
-            .iter()
-            .map(|a| a.replace("{f}", file.to_str().unwrap()).replace("{out}", out.to_str().unwrap()).replace("{dir}", d.to_str().unwrap()))
-            .collect();
+        let args: Vec<String> =
+            c.args.iter().map(|a| a.replace("{f}", arg(&file)).replace("{out}", arg(&out)).replace("{dir}", arg(d))).collect();
         let o = Run::new(&args).output();
         let stderr = String::from_utf8_lossy(&o.stderr).to_string();
         let message = stderr.lines().find(|l| l.starts_with("trueaxis: error:")).unwrap_or("").to_string();
@@ -232,7 +229,7 @@ fn every_bad_input_is_refused_with_its_file_line_and_cause_and_nothing_is_writte
         if o.status.code() != Some(2) {
             problems.push(format!("exit {:?}", o.status.code()));
         }
-        let names_file = message.contains(file.to_str().unwrap())
+        let names_file = message.contains(arg(&file))
             || (c.name.starts_with("station") && message.contains("station1.csv"))
             || message.contains("p.ngc");
         if !names_file {

@@ -3,7 +3,7 @@
 //! the temporaries it leaves are ignored by the next run, which succeeds and removes them; a set
 //! whose last output cannot be written writes nothing.
 
-use crate::support::{alone, root, utf8, vmc3, Run};
+use crate::support::{alone, arg, root, utf8, vmc3, Run};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
@@ -110,14 +110,14 @@ fn a_killed_compensate_leaves_the_old_or_the_new_tables_and_the_next_run_succeed
     let tmp = tempfile::tempdir().unwrap();
     let old_errors = scaled_errors(tmp.path(), 1.0);
     let new_errors = scaled_errors(tmp.path(), 2.0);
-    let (old_errors, new_errors) = (old_errors.to_str().unwrap(), new_errors.to_str().unwrap());
+    let (old_errors, new_errors) = (arg(&old_errors), arg(&new_errors));
     let parent = tmp.path().join("cell");
     std::fs::create_dir(&parent).unwrap();
     let out = parent.join("comp");
-    let out_s = out.to_str().unwrap();
+    let out_s = arg(&out);
     // the complete new set, written once into another directory
     let reference = tmp.path().join("reference");
-    let (code, err) = run(&compensate_args(new_errors, reference.to_str().unwrap()));
+    let (code, err) = run(&compensate_args(new_errors, arg(&reference)));
     assert_eq!(code, 0, "{err}");
     let new_set = contents(&reference);
     let start = Instant::now();
@@ -188,7 +188,7 @@ fn a_killed_single_file_output_is_the_old_or_the_new_file() {
     let errors = [scaled_errors(tmp.path(), 1.0), scaled_errors(tmp.path(), 3.0)];
     let out = tmp.path().join("out").join("prediction.csv");
     std::fs::create_dir(out.parent().unwrap()).unwrap();
-    let (poses_s, out_s) = (poses_path.to_str().unwrap(), out.to_str().unwrap());
+    let (poses_s, out_s) = (arg(&poses_path), arg(&out));
     let args =
         |e: &'static str| vec!["predict", "--machine", "examples/machines/vmc3.toml", "--errors", e, "--poses", poses_s, "--out", out_s];
     let leak = |p: &Path| -> &'static str { Box::leak(p.display().to_string().into_boxed_str()) };
@@ -220,14 +220,7 @@ fn identify_writes_nothing_when_the_residuals_cannot_be_written() {
     let out = tmp.path().join("ok.toml");
     let (code, err) = run(&vmc3(
         &["identify"],
-        &[
-            "--campaign",
-            "examples/campaigns/vmc3_tracer/campaign.toml",
-            "--out",
-            out.to_str().unwrap(),
-            "--residuals",
-            "/nonexistent/r.csv",
-        ],
+        &["--campaign", "examples/campaigns/vmc3_tracer/campaign.toml", "--out", arg(&out), "--residuals", "/nonexistent/r.csv"],
     ));
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("/nonexistent/r.csv") && err.contains("nothing was written"), "{err}");
@@ -249,7 +242,7 @@ fn temporaries_in_the_output_directory_do_not_block_the_next_run() {
         "linuxcnc",
         "--force",
     ];
-    let out_s = out.to_str().unwrap();
+    let out_s = arg(&out);
     let with_out = || args.iter().copied().chain(["--out", out_s]).collect::<Vec<_>>();
     assert_eq!(run(&with_out()).0, 0);
     // what a killed earlier version left (`tempfile`'s name) and a killed run of this one left
@@ -275,10 +268,8 @@ fn a_symbolic_link_to_the_output_directory_stays_a_link() {
     std::fs::create_dir(&real).unwrap();
     let link = tmp.path().join("link");
     std::os::unix::fs::symlink(&real, &link).unwrap();
-    let (code, err) = run(&vmc3(
-        &["compensate"],
-        &["--errors", "examples/errors/vmc3.toml", "--format", "fanuc", "--force", "--out", link.to_str().unwrap()],
-    ));
+    let (code, err) =
+        run(&vmc3(&["compensate"], &["--errors", "examples/errors/vmc3.toml", "--format", "fanuc", "--force", "--out", arg(&link)]));
     assert_eq!(code, 0, "{err}");
     assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
     assert_eq!(names_in(&real), ["pitch_error.nc"]);

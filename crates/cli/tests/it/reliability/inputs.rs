@@ -2,6 +2,7 @@
 //! the line or the option, and nothing written.
 
 use super::{example, run, vmc3_compensate};
+use crate::support::arg;
 
 /// `(what, file name, contents, arguments with {f} for the file and {out} for the output, what
 /// the message must hold)`.
@@ -120,12 +121,10 @@ fn bad_inputs_of_round_two_are_refused_with_their_place() {
         let dir = tempfile::tempdir().unwrap();
         let (file, out) = (dir.path().join(name), dir.path().join("out"));
         std::fs::write(&file, text).unwrap();
-        let args: Vec<String> =
-            args.iter().map(|a| a.replace("{f}", file.to_str().unwrap()).replace("{out}", out.to_str().unwrap())).collect();
+        let args: Vec<String> = args.iter().map(|a| a.replace("{f}", arg(&file)).replace("{out}", arg(&out))).collect();
         let args: Vec<&str> = args.iter().map(String::as_str).collect();
         let (code, _, err) = run(&args);
-        let ok =
-            code == Some(2) && err.lines().count() == 1 && err.contains(file.to_str().unwrap()) && expect.iter().all(|e| err.contains(e));
+        let ok = code == Some(2) && err.lines().count() == 1 && err.contains(arg(&file)) && expect.iter().all(|e| err.contains(e));
         if !ok || out.exists() {
             failures.push(format!("{what}: exit {code:?}, output written {}: {err}", out.exists()));
         }
@@ -141,13 +140,13 @@ fn correction_limits_beyond_ten_times_the_default_are_refused() {
     ] {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("comp");
-        let (code, _, err) = run(&vmc3_compensate(&[option, value, "--out", out.to_str().unwrap()]));
+        let (code, _, err) = run(&vmc3_compensate(&[option, value, "--out", arg(&out)]));
         assert!(code == Some(2) && err.contains(expect), "{option} {value}: {code:?} {err}");
         assert!(!out.exists());
     }
     // the bound itself is allowed
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("comp");
-    let (code, _, err) = run(&vmc3_compensate(&["--limit-um", "10000", "--out", out.to_str().unwrap()]));
+    let (code, _, err) = run(&vmc3_compensate(&["--limit-um", "10000", "--out", arg(&out)]));
     assert_eq!(code, Some(0), "{err}");
 }

@@ -4,6 +4,7 @@
 //! be met ends the run with a message and exit status 3, not an abort.
 
 use super::trueaxis;
+use crate::support::arg;
 use std::io::{BufRead, BufReader, Write};
 use std::process::{Command, Stdio};
 
@@ -90,11 +91,11 @@ fn predict_and_compensate_poses_run_on_ten_times_their_memory() {
     let dir = tempfile::tempdir().unwrap();
     let few = dir.path().join("few.csv");
     std::fs::write(&few, ["X,Y,Z,note\n".to_string(), (0..3).map(row).collect()].concat()).unwrap();
-    let whole = trueaxis(&[&["predict"][..], &machine, &["--poses", few.to_str().unwrap()]].concat()).output().unwrap();
+    let whole = trueaxis(&[&["predict"][..], &machine, &["--poses", arg(&few)]].concat()).output().unwrap();
     assert_eq!(String::from_utf8(whole.stdout).unwrap().lines().collect::<Vec<_>>(), run.head);
     // compensate --poses streams corrections.csv into its output directory
     let out = dir.path().join("comp");
-    let compensate = super::vmc3_compensate(&["--grid", "3,3,3", "--points", "5", "--poses", "/dev/stdin", "--out", out.to_str().unwrap()]);
+    let compensate = super::vmc3_compensate(&["--grid", "3,3,3", "--points", "5", "--poses", "/dev/stdin", "--out", arg(&out)]);
     let run = under_limit(&compensate, ten_times);
     assert_eq!(run.code, Some(0), "{}", run.err);
     let corrections = BufReader::new(std::fs::File::open(out.join("corrections.csv")).unwrap()).lines().count() as u64;
@@ -110,7 +111,7 @@ fn an_allocation_that_cannot_be_met_is_reported() {
     let command = format!("ulimit -v {}; exec \"$0\" \"$@\"", 3 * limit_kib());
     let o = Command::new("sh")
         .args(["-c", &command, crate::support::BIN])
-        .args(super::vmc3_compensate(&["--grid", "100,100,100", "--points", "2", "--out", out.to_str().unwrap()]))
+        .args(super::vmc3_compensate(&["--grid", "100,100,100", "--points", "2", "--out", arg(&out)]))
         .current_dir(super::ROOT)
         .output()
         .unwrap();
@@ -159,7 +160,7 @@ fn nc_corrects_a_program_of_ten_times_its_memory() {
         let o = Command::new("sh")
             .args(["-c", &command, crate::support::BIN, "nc"])
             .args(machine)
-            .args([program.to_str().unwrap(), "--out", out.to_str().unwrap()])
+            .args([arg(&program), "--out", arg(&out)])
             .current_dir(super::ROOT)
             .output()
             .unwrap();

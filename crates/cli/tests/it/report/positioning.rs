@@ -4,7 +4,7 @@
 //! each result rounded by its U; the conformity decisions under the guard band follow from value,
 //! U and tolerance; the certificate takes the serial number from the file.
 
-use crate::support::{trueaxis, vmc3, ROOT};
+use crate::support::{arg, trueaxis, vmc3, ROOT};
 use std::process::Output;
 use trueaxis::evaluate::iso230_2::{evaluate, Iso2302Result};
 use trueaxis::evaluate::positioning_test::evaluate_file;
@@ -19,7 +19,7 @@ const RTL: &str = "examples/data/laser_x.rtl";
 fn run_report(certificate: &str, out: &std::path::Path) -> Output {
     trueaxis(&vmc3(
         &["report", "--json"],
-        &["--errors", "examples/errors/vmc3.toml", "--positioning", RTL, "--certificate", certificate, "--out", out.to_str().unwrap()],
+        &["--errors", "examples/errors/vmc3.toml", "--positioning", RTL, "--certificate", certificate, "--out", arg(out)],
     ))
 }
 
@@ -121,7 +121,7 @@ fn tolerances_made_to_pass_fail_and_sit_on_the_limit_are_decided_so() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("report.toml");
     std::fs::write(&path, text).unwrap();
-    let (_, summary) = report(path.to_str().unwrap());
+    let (_, summary) = report(arg(&path));
     let decision = |symbol: &str| {
         summary["conformity"]
             .as_array()
@@ -139,7 +139,7 @@ fn tolerances_made_to_pass_fail_and_sit_on_the_limit_are_decided_so() {
     // a tolerance on a result ISO 230-2 does not define is refused with the file named
     std::fs::write(&path, format!("{base}[tolerances.positioning]\nQ = 3\n")).unwrap();
     let out = dir.path().join("bad.html");
-    let o = run_report(path.to_str().unwrap(), &out);
+    let o = run_report(arg(&path), &out);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("report.toml") && err.contains("tolerances.positioning.Q"), "{err}");

@@ -3,7 +3,7 @@
 //! alone (`identify`, `ballbar iso230-4`), every inline SVG parses, no NaN, no external reference,
 //! the inputs are listed with their size and SHA-256; bad input exits 2 and writes no file.
 
-use crate::support::{trueaxis, ROOT};
+use crate::support::{arg, trueaxis, ROOT};
 use std::path::Path;
 
 const KX8: [&str; 4] = ["--machine", "examples/machines/kx8five.toml", "--campaign", "examples/campaigns/kx8five/campaign.toml"];
@@ -39,7 +39,7 @@ const SECTIONS: [&str; 13] = [
 fn report(args: &[&str]) -> (String, serde_json::Value) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.html");
-    let mut all = vec!["report", "--json", "--out", out.to_str().unwrap()];
+    let mut all = vec!["report", "--json", "--out", arg(&out)];
     all.extend_from_slice(args);
     let o = trueaxis(&all);
     assert!(o.status.success(), "{args:?}: {}", String::from_utf8_lossy(&o.stderr));
@@ -174,7 +174,7 @@ fn error_values_and_a_circle_give_maps_ballbar_and_compensation_only() {
 fn thermal_inputs_give_the_modes_and_the_drift_of_the_thermal_commands() {
     let dir = tempfile::tempdir().unwrap();
     let fitted = dir.path().join("dz.toml");
-    let fitted = fitted.to_str().unwrap();
+    let fitted = arg(&fitted);
     let campaign = "examples/thermal/campaign.csv";
     let fit = trueaxis(&["thermal", "fit", "--data", campaign, "--error", "dz", "--train-runs", "warmup", "--out", fitted]);
     assert!(fit.status.success(), "{}", String::from_utf8_lossy(&fit.stderr));
@@ -215,13 +215,13 @@ fn thermal_inputs_give_the_modes_and_the_drift_of_the_thermal_commands() {
         (vec!["--thermal-error", fitted, "--thermal-data", "examples/thermal/elongation.toml"], "elongation.toml"),
         (vec!["--thermal-model", model, "--thermal-modes", "0"], "at least 1"),
     ] {
-        let o = trueaxis(&[&["report", "--out", out.to_str().unwrap()][..], &VMC3[..4], &args].concat());
+        let o = trueaxis(&[&["report", "--out", arg(&out)][..], &VMC3[..4], &args].concat());
         let err = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
         assert!(err.contains(fragment), "{args:?}: `{fragment}` not in {err}");
         assert!(!out.exists());
     }
-    let o = trueaxis(&[&["report", "--out", out.to_str().unwrap()][..], &VMC3[..4], &["--thermal-error", fitted]].concat());
+    let o = trueaxis(&[&["report", "--out", arg(&out)][..], &VMC3[..4], &["--thermal-error", fitted]].concat());
     assert_eq!(o.status.code(), Some(2), "--thermal-error needs --thermal-data");
 }
 
@@ -237,7 +237,7 @@ fn a_campaign_without_sources_has_no_uncertainty_and_a_deficient_one_names_its_c
     let deficient = ["--machine", "examples/machines/kx8five.toml", "--campaign", "examples/campaigns/kx8five/paper14.toml"];
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.html");
-    let o = trueaxis(&[&["report", "--out", out.to_str().unwrap()][..], &deficient].concat());
+    let o = trueaxis(&[&["report", "--out", arg(&out)][..], &deficient].concat());
     assert_eq!(o.status.code(), Some(1), "rank deficient: a failed computation, as identify");
     assert!(String::from_utf8_lossy(&o.stderr).contains("EY0C"), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(!out.exists());
@@ -250,7 +250,7 @@ fn a_campaign_without_sources_has_no_uncertainty_and_a_deficient_one_names_its_c
 fn bad_input_exits_2_with_one_line_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("r.html");
-    let o = out.to_str().unwrap();
+    let o = arg(&out);
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["--machine", "missing.toml", "--errors", "examples/errors/vmc3.toml"], "missing.toml"),
         (vec!["--machine", "examples/machines/vmc3.toml", "--campaign", "missing_campaign.toml"], "missing_campaign.toml"),

@@ -4,7 +4,7 @@
 //! independent numerical integration of eqs. 3.58-3.62 (Simpson, 1 mm steps). Both through the
 //! written error terms, read back as an error model of the machine.
 
-use crate::support::{json, trueaxis, vmc3, ROOT};
+use crate::support::{arg, json, trueaxis, vmc3, ROOT};
 use std::fmt::Write;
 use std::path::Path;
 use trueaxis::error_model::{ErrorModel, MachineState};
@@ -25,7 +25,7 @@ fn values(errors: &ErrorModel, m: &Machine, x: f64, readings: &[(&str, f64)]) ->
 
 fn write_terms(beam: &Path, dir: &Path) -> ErrorModel {
     let out = dir.join("beam_terms.toml");
-    crate::support::ok(&trueaxis(&vmc3(&["thermal", "beam"], &["--beam", beam.to_str().unwrap(), "--out", out.to_str().unwrap()])));
+    crate::support::ok(&trueaxis(&vmc3(&["thermal", "beam"], &["--beam", arg(beam), "--out", arg(&out)])));
     ErrorModel::load(&out, &Machine::load(Path::new(ROOT).join("examples/machines/vmc3.toml")).unwrap()).unwrap()
 }
 
@@ -129,7 +129,7 @@ fn beam_input_errors() {
     let bad = |text: &str, fragment: &str| {
         let p = dir.path().join("b.toml");
         std::fs::write(&p, text).unwrap();
-        let out = trueaxis(&vmc3(&["thermal", "beam"], &["--beam", p.to_str().unwrap()]));
+        let out = trueaxis(&vmc3(&["thermal", "beam"], &["--beam", arg(&p)]));
         assert_eq!(out.status.code(), Some(2));
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(stderr.contains(fragment), "expected `{fragment}` in {stderr}");

@@ -2,7 +2,7 @@
 //! fit -> model file -> predict, error terms read by `trueaxis predict`, and bad input.
 
 use crate::support::thermal::fit_dz;
-use crate::support::{failed, json, read, refused, trueaxis, vmc3, ROOT};
+use crate::support::{arg, failed, json, read, refused, trueaxis, vmc3, ROOT};
 
 #[test]
 fn modes_json_is_sorted_by_decreasing_time_constant() {
@@ -45,31 +45,20 @@ fn fit_writes_a_model_that_predict_and_the_chain_evaluate() {
     let terms = dir.path().join("terms.toml");
     let doc = json(&fit_dz(
         "warmup",
-        &[
-            "--out",
-            model.to_str().unwrap(),
-            "--parameter",
-            "EZZ",
-            "--terms-out",
-            terms.to_str().unwrap(),
-            "--machine",
-            "examples/machines/vmc3.toml",
-            "--json",
-        ],
+        &["--out", arg(&model), "--parameter", "EZZ", "--terms-out", arg(&terms), "--machine", "examples/machines/vmc3.toml", "--json"],
     ));
     // validated on the three other runs, RMS below 4 % of the 63 um peak
     for run in ["short", "long", "cycle"] {
         assert!(doc["validation"][run]["rms"].as_f64().unwrap() < 2.5, "{run}");
     }
     let c = doc["model"]["coefficients"][0].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect::<Vec<_>>();
-    let pred =
-        json(&trueaxis(&["thermal", "predict", "--model", model.to_str().unwrap(), "--data", "examples/thermal/campaign.csv", "--json"]));
+    let pred = json(&trueaxis(&["thermal", "predict", "--model", arg(&model), "--data", "examples/thermal/campaign.csv", "--json"]));
     let first_cycle = pred["samples"].as_array().unwrap().iter().find(|s| s["run"] == "cycle" && s["t"] == 3600.0).unwrap();
     assert!((pred["residuals"]["short"]["rms"].as_f64().unwrap() - doc["validation"]["short"]["rms"].as_f64().unwrap()).abs() < 1e-12);
     // the error terms give the same dz through the kinematic chain (Z carries the tool: dz = EZZ)
     let poses = dir.path().join("poses.csv");
     std::fs::write(&poses, "X,Y,Z,T:p1,T:p5\n10,20,-100,31.5,24.25\n").unwrap();
-    let out = trueaxis(&vmc3(&["predict"], &["--errors", terms.to_str().unwrap(), "--poses", poses.to_str().unwrap(), "--json"]));
+    let out = trueaxis(&vmc3(&["predict"], &["--errors", arg(&terms), "--poses", arg(&poses), "--json"]));
     let dz = json(&out)["poses"][0]["dz"].as_f64().unwrap();
     let want = c[0] + c[1] * 31.5 + c[2] * 24.25;
     assert!((dz - want).abs() < 1e-4, "{dz} vs {want}");
@@ -81,7 +70,7 @@ fn bad_input_is_reported_with_exit_status_2() {
     let dir = tempfile::tempdir().unwrap();
     let bad = dir.path().join("bad.toml");
     std::fs::write(&bad, "kind = \"bar1d\"\nlength_m = 1.0\n").unwrap();
-    let out = trueaxis(&["thermal", "modes", "--model", bad.to_str().unwrap()]);
+    let out = trueaxis(&["thermal", "modes", "--model", arg(&bad)]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("bad.toml") && err.contains("missing key `conductivity_w_mk`"), "{err}");
@@ -93,7 +82,7 @@ fn bad_input_is_reported_with_exit_status_2() {
             .replace("convection_w_m2k = 20.0", "convection_w_m2k = 0.0"),
     )
     .unwrap();
-    let out = trueaxis(&["thermal", "modes", "--model", bad.to_str().unwrap()]);
+    let out = trueaxis(&["thermal", "modes", "--model", arg(&bad)]);
     failed(&out, 2, &["loses no heat"]);
     let out = trueaxis(&["thermal", "fit", "--data", "examples/thermal/campaign.csv", "--error", "dq"]);
     failed(&out, 2, &["missing column `dq`"]);
@@ -146,16 +135,7 @@ fn non_finite_predictions_and_rank_deficient_fits_are_failed_computations() {
     )
     .unwrap();
     let out_file = dir.path().join("dz.csv");
-    let out = trueaxis(&[
-        "thermal",
-        "predict",
-        "--model",
-        model.to_str().unwrap(),
-        "--data",
-        "examples/thermal/campaign.csv",
-        "--out",
-        out_file.to_str().unwrap(),
-    ]);
+    let out = trueaxis(&["thermal", "predict", "--model", arg(&model), "--data", "examples/thermal/campaign.csv", "--out", arg(&out_file)]);
     refused(&out, 1, &["not a finite number", "data row 1 in warmup"]);
     assert!(!out_file.exists() && out.stdout.is_empty());
     // a sensor that reads a constant cannot be separated from the intercept: exit 1, as identify
@@ -175,7 +155,7 @@ fn non_finite_predictions_and_rank_deficient_fits_are_failed_computations() {
         .join("\n");
     let data = dir.path().join("constant.csv");
     std::fs::write(&data, constant).unwrap();
-    refused(&trueaxis(&["thermal", "fit", "--data", data.to_str().unwrap(), "--error", "dz"]), 1, &["rank deficient", "T:c"]);
+    refused(&trueaxis(&["thermal", "fit", "--data", arg(&data), "--error", "dz"]), 1, &["rank deficient", "T:c"]);
 }
 
 /// Screening (docs/screening.md): a blank cell (a logger dropout) refuses the file naming its
@@ -192,7 +172,7 @@ fn a_blank_cell_is_refused_or_skipped_on_request() {
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("dropout.csv");
     std::fs::write(&path, lines.join("\n") + "\n").unwrap();
-    let p = path.to_str().unwrap();
+    let p = arg(&path);
     let refused = trueaxis(&["thermal", "fit", "--data", p, "--error", "dz", "--train-runs", "warmup"]);
     assert_eq!(refused.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&refused.stderr).contains("line 103"), "{}", String::from_utf8_lossy(&refused.stderr));

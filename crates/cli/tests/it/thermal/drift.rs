@@ -5,7 +5,7 @@
 //! the model file read back, and bad input.
 
 use crate::support::thermal::fit_dz;
-use crate::support::{json, root, trueaxis};
+use crate::support::{arg, json, root, trueaxis};
 use trueaxis::thermal::drift_model::{fit_drift_model, record, DriftModel};
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::thermal_campaign::Campaign;
@@ -100,7 +100,7 @@ fn a_lag_model_predicts_the_duty_cycle_better_than_the_static_regression() {
         json(&trueaxis(&args))
     };
     let regression = fit(&[]);
-    let drift = fit(&["--model", "state-space", "--rates", "1", "--out", model.to_str().unwrap()]);
+    let drift = fit(&["--model", "state-space", "--rates", "1", "--out", arg(&model)]);
     assert_eq!(drift["model"]["kind"], "state_space");
     let tau = drift["model"]["time_constants_s"][0].as_f64().unwrap();
     assert!(tau > 120.0 && tau < 1800.0, "{tau}");
@@ -111,8 +111,7 @@ fn a_lag_model_predicts_the_duty_cycle_better_than_the_static_regression() {
         assert!(rms(&drift, run) < rms(&regression, run), "{run}");
     }
     // predict reads the state-space model file back: the same residuals
-    let predicted =
-        json(&trueaxis(&["thermal", "predict", "--model", model.to_str().unwrap(), "--data", "examples/thermal/campaign.csv", "--json"]));
+    let predicted = json(&trueaxis(&["thermal", "predict", "--model", arg(&model), "--data", "examples/thermal/campaign.csv", "--json"]));
     for run in ["short", "long", "cycle"] {
         let a = predicted["residuals"][run]["rms"].as_f64().unwrap();
         assert!((a - rms(&drift, run)).abs() < 1e-12, "{run}: {a} vs {}", rms(&drift, run));
@@ -145,5 +144,5 @@ fn bad_drift_input_is_refused() {
         "kind = \"state_space\"\nerror = \"dz\"\nsensors = [\"T:p1\"]\ntime_constants_s = [600.0, 60.0]\ngains_um_per_degc = [[1.0]]\n",
     )
     .unwrap();
-    check(&["thermal", "predict", "--model", model.to_str().unwrap(), "--data", "examples/thermal/campaign.csv"], 2, "bad.toml");
+    check(&["thermal", "predict", "--model", arg(&model), "--data", "examples/thermal/campaign.csv"], 2, "bad.toml");
 }

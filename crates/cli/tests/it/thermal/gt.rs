@@ -7,7 +7,7 @@
 //! predict`. And the geometric/thermal split alone (Zhu 2008 §4.4.2): a cubic geometric part with a
 //! linear thermal part.
 
-use crate::support::{json, ok, trueaxis, vmc3};
+use crate::support::{arg, json, ok, trueaxis, vmc3};
 use std::fmt::Write;
 
 /// Truth of the segment (direction, range): geometric quadratic [a0, a1, a2] (um, um/mm, um/mm^2)
@@ -58,7 +58,7 @@ fn gt_segments_are_recovered_and_enter_the_chain() {
         "thermal",
         "fit",
         "--data",
-        data.to_str().unwrap(),
+        arg(&data),
         "--error",
         "dx",
         "--sensors",
@@ -75,11 +75,11 @@ fn gt_segments_are_recovered_and_enter_the_chain() {
         "--train-runs",
         "s1000,s3000,s5000",
         "--out",
-        model.to_str().unwrap(),
+        arg(&model),
         "--parameter",
         "EXX",
         "--terms-out",
-        terms.to_str().unwrap(),
+        arg(&terms),
         "--machine",
         "examples/machines/vmc3.toml",
         "--json",
@@ -115,15 +115,14 @@ fn gt_segments_are_recovered_and_enter_the_chain() {
     }
     let poses_path = dir.path().join("poses.csv");
     std::fs::write(&poses_path, poses).unwrap();
-    let predicted =
-        json(&trueaxis(&vmc3(&["predict"], &["--errors", terms.to_str().unwrap(), "--poses", poses_path.to_str().unwrap(), "--json"])));
+    let predicted = json(&trueaxis(&vmc3(&["predict"], &["--errors", arg(&terms), "--poses", arg(&poses_path), "--json"])));
     for ((x, plus, bed, s), p) in states.iter().zip(predicted["poses"].as_array().unwrap()) {
         let want = error(*x, *plus, *bed, *s);
         let dx = p["dx"].as_f64().unwrap();
         assert!((dx.abs() - want.abs()).abs() < 1e-4 && dx * want <= 0.0, "X {x}: dx {dx} vs EXX {want}");
     }
     // thermal predict of the model file reads the dir column and the segments
-    let back = json(&trueaxis(&["thermal", "predict", "--model", model.to_str().unwrap(), "--data", data.to_str().unwrap(), "--json"]));
+    let back = json(&trueaxis(&["thermal", "predict", "--model", arg(&model), "--data", arg(&data), "--json"]));
     assert!(back["residuals"]["s4000"]["max_abs"].as_f64().unwrap() < 1e-4);
 }
 
@@ -184,7 +183,7 @@ fn geometric_thermal_split_has_its_own_degrees() {
         "thermal",
         "fit",
         "--data",
-        data.to_str().unwrap(),
+        arg(&data),
         "--error",
         "dx",
         "--position",
@@ -206,24 +205,11 @@ fn geometric_thermal_split_has_its_own_degrees() {
         }
     }
     assert!(doc["validation"]["b"]["max_abs"].as_f64().unwrap() < 1e-5);
-    ok(&trueaxis(&[
-        "thermal",
-        "fit",
-        "--data",
-        data.to_str().unwrap(),
-        "--error",
-        "dx",
-        "--position",
-        "X",
-        "--degree",
-        "1",
-        "--train-runs",
-        "a",
-    ]));
+    ok(&trueaxis(&["thermal", "fit", "--data", arg(&data), "--error", "dx", "--position", "X", "--degree", "1", "--train-runs", "a"]));
     // refusals: split without a position, segments of a state-space model
-    let out = trueaxis(&["thermal", "fit", "--data", data.to_str().unwrap(), "--error", "dx", "--geometric-degree", "3"]);
+    let out = trueaxis(&["thermal", "fit", "--data", arg(&data), "--error", "dx", "--geometric-degree", "3"]);
     assert_eq!(out.status.code(), Some(2));
-    let out = trueaxis(&["thermal", "fit", "--data", data.to_str().unwrap(), "--error", "dx", "--position", "X", "--by-direction"]);
+    let out = trueaxis(&["thermal", "fit", "--data", arg(&data), "--error", "dx", "--position", "X", "--by-direction"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("need the column `dir`"), "{}", String::from_utf8_lossy(&out.stderr));
 }

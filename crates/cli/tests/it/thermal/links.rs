@@ -7,7 +7,7 @@
 //! 100 times smaller at a tenth of the deformations). And the vmc3 example file against its closed
 //! form.
 
-use crate::support::{json, read, trueaxis, vmc3};
+use crate::support::{arg, json, read, trueaxis, vmc3};
 use std::fmt::Write;
 
 const MACHINE: &str = r#"
@@ -128,17 +128,7 @@ fn largest_difference(scale: f64) -> (f64, f64) {
     let links = dir.path().join("links.toml");
     std::fs::write(&links, links_file(scale)).unwrap();
     let errors = dir.path().join("errors.toml");
-    let out = trueaxis(&[
-        "thermal",
-        "links",
-        "--machine",
-        machine.to_str().unwrap(),
-        "--links",
-        links.to_str().unwrap(),
-        "--out",
-        errors.to_str().unwrap(),
-        "--json",
-    ]);
+    let out = trueaxis(&["thermal", "links", "--machine", arg(&machine), "--links", arg(&links), "--out", arg(&errors), "--json"]);
     let doc = json(&out);
     assert_eq!(doc["links"].as_array().unwrap().len(), 5);
     assert_eq!(doc["sensors"].as_array().unwrap().len(), 0, "constant links need no inputs");
@@ -154,16 +144,8 @@ fn largest_difference(scale: f64) -> (f64, f64) {
     }
     let poses_path = dir.path().join("poses.csv");
     std::fs::write(&poses_path, poses).unwrap();
-    let predicted = json(&trueaxis(&[
-        "predict",
-        "--machine",
-        machine.to_str().unwrap(),
-        "--errors",
-        errors.to_str().unwrap(),
-        "--poses",
-        poses_path.to_str().unwrap(),
-        "--json",
-    ]));
+    let predicted =
+        json(&trueaxis(&["predict", "--machine", arg(&machine), "--errors", arg(&errors), "--poses", arg(&poses_path), "--json"]));
     let (mut worst, mut largest) = (0.0f64, 0.0f64);
     for ((x, y, c, config), p) in states.iter().zip(predicted["poses"].as_array().unwrap()) {
         let (actual, a1) = chain(*x, *y, *c, *config, scale, true);
@@ -219,7 +201,7 @@ fn vmc3_links_example_is_its_closed_form() {
     let out = dir.path().join("vmc3_links.toml");
     crate::support::ok(&trueaxis(&vmc3(
         &["thermal", "links"],
-        &["--links", "examples/thermal/links_vmc3.toml", "--errors-in", "examples/errors/vmc3.toml", "--out", out.to_str().unwrap()],
+        &["--links", "examples/thermal/links_vmc3.toml", "--errors-in", "examples/errors/vmc3.toml", "--out", arg(&out)],
     )));
     let text = std::fs::read_to_string(&out).unwrap();
     assert!(text.starts_with(&read("examples/errors/vmc3.toml")));
@@ -230,7 +212,7 @@ fn vmc3_links_example_is_its_closed_form() {
         "[[link]]\nname = \"ram\"\ntarget = \"tool\"\nfree_end_mm = [0, 0, 400]\nalong = [0, 0, 1]\nacross = [1, 0, 0]\ntheta = 3.0\n",
     )
     .unwrap();
-    let o = trueaxis(&vmc3(&["thermal", "links"], &["--links", bad.to_str().unwrap()]));
+    let o = trueaxis(&vmc3(&["thermal", "links"], &["--links", arg(&bad)]));
     assert_eq!(o.status.code(), Some(2));
     assert!(
         String::from_utf8_lossy(&o.stderr).contains("link `ram`: a slope theta cannot be given to the tool"),

@@ -4,7 +4,7 @@
 //! sensor noise 0.02 K) the far sensor predicted from the near one within the noise on the runs not
 //! trained on; the model file evaluated again equals the fit.
 
-use crate::support::{failed, json, trueaxis};
+use crate::support::{arg, failed, json, trueaxis};
 use std::fmt::Write;
 use trueaxis::thermal::temperature_model::TemperatureModel;
 
@@ -45,7 +45,7 @@ fn known_model_is_recovered() {
         "thermal",
         "temperatures",
         "--data",
-        data.to_str().unwrap(),
+        arg(&data),
         "--inputs",
         "T:spindle,T:ram",
         "--outputs",
@@ -55,7 +55,7 @@ fn known_model_is_recovered() {
         "--train-runs",
         "train1,train2",
         "--out",
-        out.to_str().unwrap(),
+        arg(&out),
         "--json",
     ]));
     let taus: Vec<f64> = serde_json::from_value(doc["model"]["time_constants_s"].clone()).unwrap();
@@ -69,7 +69,7 @@ fn known_model_is_recovered() {
     assert_eq!(doc["residuals"]["check"]["training"], false);
     assert!(doc["residuals"]["check"]["outputs"]["T:table"]["max_abs"].as_f64().unwrap() < 1e-6);
     // the written model evaluated again
-    let back = json(&trueaxis(&["thermal", "temperatures", "--model", out.to_str().unwrap(), "--data", data.to_str().unwrap(), "--json"]));
+    let back = json(&trueaxis(&["thermal", "temperatures", "--model", arg(&out), "--data", arg(&data), "--json"]));
     assert!(back["residuals"]["check"]["outputs"]["T:column"]["max_abs"].as_f64().unwrap() < 1e-6);
 }
 

@@ -4,7 +4,7 @@
 //! recovered from the two time constants of a model made with known values; the written file keeps
 //! its comments and has the tuned time constants.
 
-use crate::support::{json, read, trueaxis};
+use crate::support::{arg, json, read, trueaxis};
 
 #[test]
 fn uniform_mode_of_the_fin_gives_h_in_closed_form() {
@@ -36,7 +36,7 @@ fn two_coefficients_are_recovered_from_two_time_constants() {
         text.replace("convection_w_m2k = 20.0", "convection_w_m2k = 12.5").replace("right_end = 20.0", "right_end = 60.0"),
     )
     .unwrap();
-    let modes = json(&trueaxis(&["thermal", "modes", "--model", truth.to_str().unwrap(), "--count", "2", "--json"]));
+    let modes = json(&trueaxis(&["thermal", "modes", "--model", arg(&truth), "--count", "2", "--json"]));
     let taus: Vec<String> = modes["modes"].as_array().unwrap().iter().map(|m| format!("{:.12}", m["tau_min"].as_f64().unwrap())).collect();
     let out = dir.path().join("tuned.toml");
     let doc = json(&trueaxis(&[
@@ -49,7 +49,7 @@ fn two_coefficients_are_recovered_from_two_time_constants() {
         "--tune",
         "convection_w_m2k,right_end",
         "--out",
-        out.to_str().unwrap(),
+        arg(&out),
         "--json",
     ]));
     let tuned: Vec<f64> = doc["coefficients"].as_array().unwrap().iter().map(|c| c["tuned_w_m2k"].as_f64().unwrap()).collect();
@@ -62,7 +62,7 @@ fn two_coefficients_are_recovered_from_two_time_constants() {
     let h: f64 =
         written.lines().find_map(|l| l.strip_prefix("convection_w_m2k = ")).unwrap().split('#').next().unwrap().trim().parse().unwrap();
     assert!((h / 12.5 - 1.0).abs() < 1e-6, "{written}");
-    let again = json(&trueaxis(&["thermal", "modes", "--model", out.to_str().unwrap(), "--count", "2", "--json"]));
+    let again = json(&trueaxis(&["thermal", "modes", "--model", arg(&out), "--count", "2", "--json"]));
     for (a, b) in again["modes"].as_array().unwrap().iter().zip(modes["modes"].as_array().unwrap()) {
         assert!((a["tau_min"].as_f64().unwrap() / b["tau_min"].as_f64().unwrap() - 1.0).abs() < 1e-8);
     }

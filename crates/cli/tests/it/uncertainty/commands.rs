@@ -1,7 +1,7 @@
 //! `trueaxis uncertainty` end to end: the shipped Andolfatto et al. 2011 example against the library, JSON keys,
 //! reproducibility with a seed, plots, exit codes and messages for bad input.
 
-use crate::support::{trueaxis, utf8, ROOT};
+use crate::support::{arg, trueaxis, utf8, ROOT};
 use trueaxis::uncertainty::{run_budget, DesignMatrix, Evaluation, IdentificationMap, Sources};
 
 const DESIGN: &str = "examples/uncertainty/kx8five_design.csv";
@@ -53,7 +53,7 @@ fn statistical_intervals_are_narrower_and_plots_are_written() {
     let dir = tempfile::tempdir().unwrap();
     let plots = dir.path().join("plots");
     let cyc = json(&["uncertainty", "--design", DESIGN, "--sources", CYCLIC, "--json", "--no-budget"]);
-    let stat = json(&["uncertainty", "--design", DESIGN, "--sources", STATISTICAL, "--json", "--plots", plots.to_str().unwrap()]);
+    let stat = json(&["uncertainty", "--design", DESIGN, "--sources", STATISTICAL, "--json", "--plots", arg(&plots)]);
     for name in ["EC0Y", "EA0Z", "EB0Z", "EB0A", "EA0A", "EA0C", "EB0C", "EX0C"] {
         let width = |d: &serde_json::Value| {
             let i = &d["parameters"][name]["interval"];
@@ -77,7 +77,7 @@ fn bad_input_exits_2_with_one_line_naming_the_problem() {
     let write = |name: &str, text: &str| {
         let p = dir.path().join(name);
         std::fs::write(&p, text).unwrap();
-        p.to_str().unwrap().to_string()
+        arg(&p).to_string()
     };
     let design = write("d.csv", "channel,t,a,b\nx,1,1,0\ny,2,0,1\nx,3,1,1\ny,4,1,-1\n");
     let good = "[[source]]\nname = \"s\"\nkind = \"noise\"\nchannels.x = { distribution = \"normal\", u = 0.3 }\n";
