@@ -8,9 +8,10 @@ use std::path::Path;
 
 /// The summary of `report`, written to `out` (`bytes` of HTML) and to `pdf` if given.
 pub fn summary_json(out: &Path, report: &CalibrationReport, sections: &[String], bytes: usize, pdf: Option<&Path>) -> Value {
-    let parameters = report.identification.as_ref().map(|id| {
-        id.parameter_rows(report.uncertainty.as_ref()).into_iter().map(|p| (p.name.clone(), p.json())).collect::<Map<_, _>>()
-    });
+    let parameters = report
+        .identification
+        .as_ref()
+        .map(|id| id.parameter_rows(report.uncertainty.as_ref()).into_iter().map(|p| (p.name.clone(), p.json())).collect::<Map<_, _>>());
     let conformity: Vec<_> = report
         .conformity_items()
         .iter()

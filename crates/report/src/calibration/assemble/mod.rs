@@ -20,6 +20,7 @@ use request::bad;
 use std::path::Path;
 use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
+use trueaxis::screen::Finding;
 use trueaxis::uncertainty::Sources;
 
 /// Computes every part the request allows, on `machine` (loaded from `request.machine`).
@@ -54,18 +55,16 @@ pub fn assemble<'a, E: From<CalibrationError>>(
         None => Vec::new(),
     };
     let mut data_quality = DataQualityPart::of_parts(&positioning, &circles, identification.as_ref())?;
-    for f in &fits {
-        let role = format!("direct measurement ({})", f.name());
-        data_quality.add(&f.file.display().to_string(), &role, f.report.findings.clone())?;
-    }
-    if let (Some(path), Some(findings)) = (&request.thermal_data, thermal_findings) {
-        data_quality.add(&path.display().to_string(), "thermal campaign", findings)?;
-    }
+    add_findings(&mut data_quality, &fits, request.thermal_data.as_deref().zip(thermal_findings))?;
     let inputs = input_files::input_files(request, identification.as_ref(), &fits)?;
     let traceability = Traceability::now(inputs, request.command.clone());
     let issued = certificate.issue_date(&traceability.date);
     let report = CalibrationReport {
-        title: request.title.clone().or_else(|| certificate.certificate.title.clone()).unwrap_or_else(|| format!("Calibration report: {}", machine.name)),
+        title: request
+            .title
+            .clone()
+            .or_else(|| certificate.certificate.title.clone())
+            .unwrap_or_else(|| format!("Calibration report: {}", machine.name)),
         subtitle: format!("Date of issue {issued}; {}", traceability.software),
         machine,
         machine_notes: Vec::new(),
@@ -90,6 +89,22 @@ pub fn assemble<'a, E: From<CalibrationError>>(
         report.check_tolerances(&path.display().to_string())?;
     }
     Ok(report)
+}
+
+/// The screening findings of the direct measurements and of the thermal campaign.
+fn add_findings(
+    data_quality: &mut DataQualityPart,
+    fits: &[FitPart],
+    thermal: Option<(&Path, Vec<Finding>)>,
+) -> Result<(), CalibrationError> {
+    for f in fits {
+        let role = format!("direct measurement ({})", f.name());
+        data_quality.add(&f.file.display().to_string(), &role, f.report.findings.clone())?;
+    }
+    if let Some((path, findings)) = thermal {
+        data_quality.add(&path.display().to_string(), "thermal campaign", findings)?;
+    }
+    Ok(())
 }
 
 /// report.toml (or the default certificate), and a known controller format.
