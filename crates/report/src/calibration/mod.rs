@@ -42,7 +42,7 @@ mod tmbb;
 mod uncertainty;
 mod volume;
 
-pub use assemble::{assemble, ReportRequest};
+pub use assemble::{assemble, FitTables, ReportRequest};
 pub use ballbar::{section as ballbar_section, CircleInput, CirclePart, SPIKE_WIDTH_DEG};
 pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances, SPECIMEN};
 pub use compensation::{controller_name, CompensationPart, ControllerPart, CONTROLLER_FORMATS, GRID_NODES, POINTS};

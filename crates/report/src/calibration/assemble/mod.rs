@@ -23,14 +23,17 @@ use trueaxis::machine::Machine;
 use trueaxis::screen::Finding;
 use trueaxis::uncertainty::Sources;
 
+/// Fits the `[[fit]]` tables of report.toml (given the certificate and its path) by the
+/// definition of `trueaxis fit`, which the caller holds.
+pub type FitTables<'f, E> = dyn FnMut(&CertificateFile, &Path) -> Result<Vec<FitPart>, E> + 'f;
+
 /// Computes every part the request allows, on `machine` (loaded from `request.machine`).
-/// `progress` is told what is being computed; `fits` fits the `[[fit]]` tables of report.toml (the
-/// certificate and its path) by the definition of `trueaxis fit`, which the caller holds.
+/// `progress` is told what is being computed; `fits` fits the `[[fit]]` tables of report.toml.
 pub fn assemble<'a, E: From<CalibrationError>>(
     request: &ReportRequest,
     machine: &'a Machine,
     progress: &mut dyn FnMut(&str),
-    fits: &mut dyn FnMut(&CertificateFile, &Path) -> Result<Vec<FitPart>, E>,
+    fits: &mut FitTables<'_, E>,
 ) -> Result<CalibrationReport<'a>, E> {
     let circle_inputs = request.circles()?;
     if !(request.point_time.is_finite() && request.point_time >= 0.0) {
