@@ -353,37 +353,13 @@ fn the_library_assembles_the_report_the_command_writes() {
     let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
     let file = |relative: &str| root.join(relative);
     let request = ReportRequest {
-        machine: file("examples/machines/vmc3.toml"),
         errors: Some(file("examples/errors/vmc3.toml")),
-        campaign: None,
-        allow_rank_deficient: false,
-        sources: None,
-        point_time: 0.75,
         ballbar: vec![file("examples/ballbar/vmc3_xy.csv")],
-        ballbar_plane: Vec::new(),
         ballbar_radius: vec![100.0],
         ballbar_centre: vec![trueaxis::geometry::Vec3::new(0.0, 0.0, -200.0)],
-        positioning: Vec::new(),
-        rotary_ballbar: Vec::new(),
-        rotary_method: "extended-bar".into(),
-        rotary_outer_offset: None,
-        rotary_outer_positions: None,
-        rotary_inner_positions: None,
-        rotary_pivot_offset_a: None,
-        rotary_pivot_offset_c: None,
-        rotary_bars: vec![100.0, 150.0],
-        tmbb: Vec::new(),
-        tmbb_setup: vec![71.842, 0.0, 90.85, 217.952],
-        thermal_model: None,
-        thermal_modes: 6,
-        thermal_share: trueaxis::thermal::DEFAULT_SHARE,
-        thermal_error: None,
-        thermal_data: None,
-        points: trueaxis_report::calibration::POINTS,
         certificate: Some(file("examples/report/vmc3.toml")),
         controller: Some("heidenhain".into()),
-        title: None,
-        command: None,
+        ..ReportRequest::new(file("examples/machines/vmc3.toml"))
     };
     let machine = trueaxis::machine::Machine::load(&request.machine).unwrap();
     let mut no_fits = |_: &CertificateFile, _: &Path| Ok::<_, CalibrationError>(Vec::new());

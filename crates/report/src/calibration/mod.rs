@@ -22,7 +22,7 @@
 //! [`assemble`] builds it from a [`ReportRequest`] (a user's files and the options of `trueaxis
 //! report`); `trueaxis demo` from the files it simulates.
 
-mod assemble;
+pub mod assemble;
 mod ballbar;
 mod certificate;
 mod compensation;

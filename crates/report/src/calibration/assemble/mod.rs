@@ -10,7 +10,7 @@ mod request;
 mod rotary;
 mod thermal_parts;
 
-pub use request::ReportRequest;
+pub use request::{ReportRequest, POINT_TIME_S, ROTARY_BARS_MM, THERMAL_MODES, TMBB_SETUP_MM};
 
 use super::{
     CalibrationError, CalibrationReport, CertificateFile, CircleInput, CirclePart, CompensationPart, ControllerPart, DataQualityPart,
