@@ -5,7 +5,7 @@
 use super::super::{CalibrationError, ThermalDriftPart, ThermalModesPart};
 use super::request::{bad, ReportRequest};
 use std::path::Path;
-use trueaxis::screen::thermal::read_screened;
+use trueaxis::thermal::thermal_screening::read_screened;
 use trueaxis::screen::Finding;
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::model_file::load_model;
@@ -44,7 +44,7 @@ fn modes(request: &ReportRequest, path: &Path, progress: &mut dyn FnMut(&str)) -
 
 fn drift(model_path: &Path, data_path: &Path) -> Result<(ThermalDriftPart, Vec<Finding>), CalibrationError> {
     let text =
-        trueaxis::data::inputs::read_to_string(model_path).map_err(|e| bad(format!("{}: cannot read: {e}", model_path.display())))?;
+        trueaxis::files::inputs::read_to_string(model_path).map_err(|e| bad(format!("{}: cannot read: {e}", model_path.display())))?;
     let model_origin = model_path.display().to_string();
     let model = ThermalErrorModel::from_toml_str(&text, &model_origin)?;
     let (campaign, findings) = read_screened(data_path, false, false)?;
