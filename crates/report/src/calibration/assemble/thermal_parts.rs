@@ -5,10 +5,10 @@
 use super::super::{CalibrationError, ThermalDriftPart, ThermalModesPart};
 use super::request::{bad, ReportRequest};
 use std::path::Path;
-use trueaxis::thermal::thermal_screening::read_screened;
 use trueaxis::screen::Finding;
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::model_file::load_model;
+use trueaxis::thermal::thermal_screening::read_screened;
 use trueaxis::thermal::LanczosProgress;
 
 /// The thermal modes, the drift against the prediction, and the findings of the thermal campaign.
