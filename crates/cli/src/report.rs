@@ -60,7 +60,7 @@ pub struct ReportArgs {
     #[arg(long, requires = "campaign")]
     sources: Option<PathBuf>,
     /// Time per measured point of the campaign (s), for the drift sources.
-    #[arg(long, default_value_t = 0.75)]
+    #[arg(long, default_value_t = assemble::POINT_TIME_S)]
     point_time: f64,
     /// An ISO 230-4 circle (CSV as `ballbar iso230-4` reads it); repeatable.
     #[arg(long = "ballbar")]
@@ -109,16 +109,16 @@ pub struct ReportArgs {
     tmbb: Vec<PathBuf>,
     /// The setup of the two-length test RX,RZ,L1,L2 (mm): table-ball radius and height, short and
     /// long bar (default: the setup of Zhu (2008)).
-    #[arg(long, value_name = "RX,RZ,L1,L2", value_delimiter = ',', allow_hyphen_values = true, default_values_t = [71.842, 0.0, 90.85, 217.952], requires = "tmbb")]
+    #[arg(long, value_name = "RX,RZ,L1,L2", value_delimiter = ',', allow_hyphen_values = true, default_values_t = assemble::TMBB_SETUP_MM, requires = "tmbb")]
     tmbb_setup: Vec<f64>,
     /// Normal and extended bar lengths R,L_e of the rotary-axis test (mm).
-    #[arg(long, value_name = "R,LE", value_delimiter = ',', default_values_t = [100.0, 150.0], requires = "rotary_ballbar")]
+    #[arg(long, value_name = "R,LE", value_delimiter = ',', default_values_t = assemble::ROTARY_BARS_MM, requires = "rotary_ballbar")]
     rotary_bars: Vec<f64>,
     /// Thermal conduction model (TOML or Matrix Market, as `thermal modes` reads it): its modes.
     #[arg(long, value_name = "MODEL.toml")]
     thermal_model: Option<PathBuf>,
     /// Number of thermal modes to compute and plot.
-    #[arg(long, default_value_t = 6, requires = "thermal_model")]
+    #[arg(long, default_value_t = assemble::THERMAL_MODES, requires = "thermal_model")]
     thermal_modes: usize,
     /// Cumulative weight share of the dominant thermal modes (0 < share <= 1).
     #[arg(long, default_value_t = DEFAULT_SHARE, requires = "thermal_model")]

@@ -22,7 +22,7 @@
 //! [`assemble`] builds it from a [`ReportRequest`] (a user's files and the options of `trueaxis
 //! report`); `trueaxis demo` from the files it simulates.
 
-mod assemble;
+pub mod assemble;
 mod ballbar;
 mod certificate;
 mod compensation;
@@ -42,7 +42,7 @@ mod tmbb;
 mod uncertainty;
 mod volume;
 
-pub use assemble::{assemble, ReportRequest};
+pub use assemble::{assemble, FitTables, ReportRequest};
 pub use ballbar::{section as ballbar_section, CircleInput, CirclePart, SPIKE_WIDTH_DEG};
 pub use certificate::{Certificate, CertificateFile, Instrument, Tolerances, SPECIMEN};
 pub use compensation::{controller_name, CompensationPart, ControllerPart, CONTROLLER_FORMATS, GRID_NODES, POINTS};

@@ -342,3 +342,59 @@ fn a_length_campaign_is_reported_with_the_numbers_of_identify() {
         assert!(html.contains(p["reported"].as_str().unwrap()), "{name}: `{}` not in the report", p["reported"]);
     }
 }
+
+#[test]
+fn the_library_assembles_the_report_the_command_writes() {
+    use trueaxis_report::calibration::{assemble, summary_json, CalibrationError, CertificateFile, ReportRequest};
+    let root = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
+    let file = |relative: &str| root.join(relative);
+    let request = ReportRequest {
+        errors: Some(file("examples/errors/vmc3.toml")),
+        ballbar: vec![file("examples/ballbar/vmc3_xy.csv")],
+        ballbar_radius: vec![100.0],
+        ballbar_centre: vec![trueaxis::geometry::Vec3::new(0.0, 0.0, -200.0)],
+        certificate: Some(file("examples/report/vmc3.toml")),
+        controller: Some("heidenhain".into()),
+        ..ReportRequest::new(file("examples/machines/vmc3.toml"))
+    };
+    let machine = trueaxis::machine::Machine::load(&request.machine).unwrap();
+    let mut no_fits = |_: &CertificateFile, _: &Path| Ok::<_, CalibrationError>(Vec::new());
+    let assembled = assemble(&request, &machine, &mut |_: &str| {}, &mut no_fits).unwrap();
+    let sections: Vec<String> = assembled.sections().iter().map(|s| s.id.clone()).collect();
+    let out = Path::new("r.html");
+    let mut library = summary_json(out, &assembled, &sections, 0, None);
+    // the command on the same files, with the same options
+    let path = |p: &Path| p.to_str().unwrap().to_string();
+    let mut args: Vec<String> = ["--machine", "--errors", "--ballbar", "--certificate"]
+        .iter()
+        .zip([&request.machine, request.errors.as_ref().unwrap(), &request.ballbar[0], request.certificate.as_ref().unwrap()])
+        .flat_map(|(option, p)| [option.to_string(), path(p)])
+        .collect();
+    args.extend(["--ballbar-radius", "100", "--ballbar-centre", "0,0,-200", "--controller", "heidenhain"].map(String::from));
+    let (_, mut command) = report(&args.iter().map(String::as_str).collect::<Vec<_>>());
+    for key in ["out", "bytes"] {
+        library[key] = serde_json::Value::Null;
+        command[key] = serde_json::Value::Null;
+    }
+    assert_same(&library, &command, "summary");
+}
+
+/// The same document, numbers to the last bits (the two runs may sum in another order).
+fn assert_same(a: &serde_json::Value, b: &serde_json::Value, place: &str) {
+    use serde_json::Value;
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            assert!((x - y).abs() <= 1e-12 * x.abs().max(y.abs()), "{place}: {x} vs {y}");
+        }
+        (Value::Array(x), Value::Array(y)) => {
+            assert_eq!(x.len(), y.len(), "{place}");
+            x.iter().zip(y).enumerate().for_each(|(i, (x, y))| assert_same(x, y, &format!("{place}[{i}]")));
+        }
+        (Value::Object(x), Value::Object(y)) => {
+            assert_eq!(x.keys().collect::<Vec<_>>(), y.keys().collect::<Vec<_>>(), "{place}");
+            x.iter().for_each(|(k, v)| assert_same(v, &y[k], &format!("{place}.{k}")));
+        }
+        _ => assert_eq!(a, b, "{place}"),
+    }
+}

@@ -10,7 +10,7 @@ mod request;
 mod rotary;
 mod thermal_parts;
 
-pub use request::ReportRequest;
+pub use request::{ReportRequest, POINT_TIME_S, ROTARY_BARS_MM, THERMAL_MODES, TMBB_SETUP_MM};
 
 use super::{
     CalibrationError, CalibrationReport, CertificateFile, CircleInput, CirclePart, CompensationPart, ControllerPart, DataQualityPart,
@@ -20,16 +20,20 @@ use request::bad;
 use std::path::Path;
 use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
+use trueaxis::screen::Finding;
 use trueaxis::uncertainty::Sources;
 
+/// Fits the `[[fit]]` tables of report.toml (given the certificate and its path) by the
+/// definition of `trueaxis fit`, which the caller holds.
+pub type FitTables<'f, E> = dyn FnMut(&CertificateFile, &Path) -> Result<Vec<FitPart>, E> + 'f;
+
 /// Computes every part the request allows, on `machine` (loaded from `request.machine`).
-/// `progress` is told what is being computed; `fits` fits the `[[fit]]` tables of report.toml (the
-/// certificate and its path) by the definition of `trueaxis fit`, which the caller holds.
+/// `progress` is told what is being computed; `fits` fits the `[[fit]]` tables of report.toml.
 pub fn assemble<'a, E: From<CalibrationError>>(
     request: &ReportRequest,
     machine: &'a Machine,
     progress: &mut dyn FnMut(&str),
-    fits: &mut dyn FnMut(&CertificateFile, &Path) -> Result<Vec<FitPart>, E>,
+    fits: &mut FitTables<'_, E>,
 ) -> Result<CalibrationReport<'a>, E> {
     let circle_inputs = request.circles()?;
     if !(request.point_time.is_finite() && request.point_time >= 0.0) {
@@ -54,13 +58,7 @@ pub fn assemble<'a, E: From<CalibrationError>>(
         None => Vec::new(),
     };
     let mut data_quality = DataQualityPart::of_parts(&positioning, &circles, identification.as_ref())?;
-    for f in &fits {
-        let role = format!("direct measurement ({})", f.name());
-        data_quality.add(&f.file.display().to_string(), &role, f.report.findings.clone())?;
-    }
-    if let (Some(path), Some(findings)) = (&request.thermal_data, thermal_findings) {
-        data_quality.add(&path.display().to_string(), "thermal campaign", findings)?;
-    }
+    add_findings(&mut data_quality, &fits, request.thermal_data.as_deref().zip(thermal_findings))?;
     let inputs = input_files::input_files(request, identification.as_ref(), &fits)?;
     let traceability = Traceability::now(inputs, request.command.clone());
     let issued = certificate.issue_date(&traceability.date);
@@ -94,6 +92,22 @@ pub fn assemble<'a, E: From<CalibrationError>>(
         report.check_tolerances(&path.display().to_string())?;
     }
     Ok(report)
+}
+
+/// The screening findings of the direct measurements and of the thermal campaign.
+fn add_findings(
+    data_quality: &mut DataQualityPart,
+    fits: &[FitPart],
+    thermal: Option<(&Path, Vec<Finding>)>,
+) -> Result<(), CalibrationError> {
+    for f in fits {
+        let role = format!("direct measurement ({})", f.name());
+        data_quality.add(&f.file.display().to_string(), &role, f.report.findings.clone())?;
+    }
+    if let Some((path, findings)) = thermal {
+        data_quality.add(&path.display().to_string(), "thermal campaign", findings)?;
+    }
+    Ok(())
 }
 
 /// report.toml (or the default certificate), and a known controller format.

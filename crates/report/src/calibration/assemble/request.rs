@@ -3,10 +3,24 @@
 //! script or the Python package gives them. The per-circle options of the ballbar circles are
 //! given once for all circles or once per circle, in order.
 
-use super::super::{CalibrationError, CircleInput};
+use super::super::{CalibrationError, CircleInput, POINTS};
 use std::path::PathBuf;
 use trueaxis::geometry::Vec3;
+use trueaxis::identify::tmbb::TmbbSetup;
 use trueaxis::instruments::ballbar::Plane;
+use trueaxis::thermal::DEFAULT_SHARE;
+
+/// Time per measured point of a campaign (s) when none is given.
+pub const POINT_TIME_S: f64 = 0.75;
+/// Normal and extended bar lengths R, L_e of the rotary-axis test (mm) when none are given.
+pub const ROTARY_BARS_MM: [f64; 2] = [100.0, 150.0];
+/// The setup RX, RZ, L1, L2 (mm) of the two-length test when none is given: Zhu 2008 Table 5.1.
+pub const TMBB_SETUP_MM: [f64; 4] = {
+    let s = TmbbSetup::ZHU_TABLE_5_1;
+    [s.rx, s.rz, s.l1, s.l2]
+};
+/// Thermal modes computed when no number is given.
+pub const THERMAL_MODES: usize = 6;
 
 /// The report's inputs (the options of `trueaxis report`, docs/report.md).
 #[derive(Clone, Debug)]
@@ -61,6 +75,43 @@ pub struct ReportRequest {
 }
 
 impl ReportRequest {
+    /// The request of the machine alone, every option at its default.
+    pub fn new(machine: PathBuf) -> ReportRequest {
+        ReportRequest {
+            machine,
+            errors: None,
+            campaign: None,
+            allow_rank_deficient: false,
+            sources: None,
+            point_time: POINT_TIME_S,
+            ballbar: Vec::new(),
+            ballbar_plane: Vec::new(),
+            ballbar_radius: Vec::new(),
+            ballbar_centre: Vec::new(),
+            positioning: Vec::new(),
+            rotary_ballbar: Vec::new(),
+            rotary_method: "extended-bar".into(),
+            rotary_outer_offset: None,
+            rotary_outer_positions: None,
+            rotary_inner_positions: None,
+            rotary_pivot_offset_a: None,
+            rotary_pivot_offset_c: None,
+            rotary_bars: ROTARY_BARS_MM.to_vec(),
+            tmbb: Vec::new(),
+            tmbb_setup: TMBB_SETUP_MM.to_vec(),
+            thermal_model: None,
+            thermal_modes: THERMAL_MODES,
+            thermal_share: DEFAULT_SHARE,
+            thermal_error: None,
+            thermal_data: None,
+            points: POINTS,
+            certificate: None,
+            controller: None,
+            title: None,
+            command: None,
+        }
+    }
+
     /// The circles with their plane, radius and centre.
     pub fn circles(&self) -> Result<Vec<CircleInput>, CalibrationError> {
         let n = self.ballbar.len();

@@ -200,3 +200,31 @@ fn a_deliberately_rank_deficient_campaign_names_the_combination() {
     let ratio = combo.coefficients[1] / combo.coefficients[0];
     assert!((ratio + 1e-3 * BALL[0]).abs() < 1e-9, "WY per EC0C {ratio}");
 }
+
+/// The built-in machine of the demo (`trueaxis::simulation`): the shipped files, its errors without
+/// the campaign's set-up those of the machine alone, and its ballbar circle on the machine without
+/// errors nothing but the stated noise: mean 0 and standard deviation 0.3 um over 2 x 361 readings.
+#[test]
+fn the_demo_simulation_is_the_shipped_machine_and_its_circle_reads_its_noise() {
+    use trueaxis::simulation::{circle, kx8five};
+    let machine = kx8five::machine().unwrap();
+    assert_eq!(machine.name, self::machine().name);
+    let truth = kx8five::true_errors(&machine).unwrap();
+    assert_eq!(value_of(&truth, "EA0Z"), value_of(&table1(&machine), "EA0Z"));
+    let alone = ErrorModel::from_toml_str(&kx8five::machine_errors_toml(), "alone", &machine).unwrap();
+    for setup in ["TX", "TY", "TZ", "WX", "WY", "WZ"] {
+        assert_eq!(value_of(&alone, setup), 0.0, "{setup}");
+    }
+    assert_eq!(value_of(&alone, "EC0Y"), -8.8);
+    let none = ErrorModel::from_toml_str("", "no errors", &machine).unwrap();
+    let centre = circle::centre(&machine);
+    let pose: Vec<f64> = machine.axes().iter().map(|a| "XYZ".find(a.letter).map_or(0.0, |k| centre[k])).collect();
+    let csv = circle::simulate(&machine, &none, centre, pose).unwrap();
+    let dl: Vec<f64> = csv.lines().skip(3).map(|l| l.split(',').nth(1).unwrap().parse().unwrap()).collect();
+    assert_eq!(dl.len(), 2 * 361);
+    let n = dl.len() as f64;
+    let mean = dl.iter().sum::<f64>() / n;
+    let sd = (dl.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+    assert!(mean.abs() < 4.0 * circle::NOISE_UM / n.sqrt(), "mean {mean} um");
+    assert!((sd / circle::NOISE_UM - 1.0).abs() < 0.1, "standard deviation {sd} um");
+}
