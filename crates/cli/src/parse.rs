@@ -98,6 +98,6 @@ mod tests {
         assert_eq!(interval("-5,5").unwrap(), [-5.0, 5.0]);
         assert_eq!(interval("5,5").unwrap_err(), "`5,5` is not MIN,MAX with MIN < MAX");
         assert!(matches!(plane("zx"), Ok(Plane::Zx)));
-        assert_eq!(plane("xz").unwrap_err(), "`xz` is not a plane (xy, yz, zx)");
+        assert_eq!(plane("xx").unwrap_err(), "`xx` is not a plane (xy, yz, zx)");
     }
 }

@@ -86,10 +86,7 @@ fn write_figures(dir: &Path, args: &ConfigurationsArgs, study: &ConfigurationStu
     let series: Vec<Series> = space_utility_trend(args.tool_length)
         .map_err(failure)?
         .into_iter()
-        .map(|(pattern, sequence, points)| Series {
-            name: format!("{} ({})", pattern.notation(), sequence.iter().collect::<String>()),
-            points,
-        })
+        .map(|c| Series { name: format!("{} ({})", c.pattern.notation(), c.sequence.iter().collect::<String>()), points: c.points })
         .collect();
     let svg = trends_svg("Space utility of a cubic part", "part edge / tool length", &[("part volume / travel volume".into(), series)])
         .map_err(Failure::computation)?;

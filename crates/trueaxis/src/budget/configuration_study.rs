@@ -55,17 +55,26 @@ pub fn representative(pattern: Pattern, rotary: &str) -> [char; 5] {
 /// Edge-to-tool-length ratios of the cubic parts of [`space_utility_trend`].
 pub const TREND_RATIOS: [f64; 7] = [0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0];
 
+/// One curve of [`space_utility_trend`]: a category, its configuration with the rotary axes A, B,
+/// and the points `(r, space utility)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrendCurve {
+    pub pattern: Pattern,
+    pub sequence: [char; 5],
+    pub points: Vec<(f64, f64)>,
+}
+
 /// The space utility of a cubic part of edge `r p` (mm) against `r` ([`TREND_RATIOS`]) with a tool
 /// of length `p` (mm), for the configuration of each category with the rotary axes A, B (ABXYZ,
-/// AXYZB, XYZAB; Zhu 2008 Fig. C.1): per category, its sequence and the points `(r, utility)`.
-pub fn space_utility_trend(tool_length: f64) -> Result<Vec<(Pattern, [char; 5], Vec<(f64, f64)>)>, BudgetError> {
+/// AXYZB, XYZAB; Zhu 2008 Fig. C.1), one curve per category.
+pub fn space_utility_trend(tool_length: f64) -> Result<Vec<TrendCurve>, BudgetError> {
     let trend = |pattern: Pattern| {
         let sequence = representative(pattern, "AB");
         let point = |r: f64| {
             let part = [r * tool_length; 3];
             Ok((r, space_utility(part, required_travel(&sequence, part, tool_length)?)))
         };
-        Ok((pattern, sequence, TREND_RATIOS.into_iter().map(point).collect::<Result<Vec<_>, BudgetError>>()?))
+        Ok(TrendCurve { pattern, sequence, points: TREND_RATIOS.into_iter().map(point).collect::<Result<Vec<_>, BudgetError>>()? })
     };
     Pattern::PRACTICAL.into_iter().map(trend).collect()
 }
@@ -137,11 +146,10 @@ mod tests {
     #[test]
     fn the_trend_of_rotary_axes_at_the_tool_is_the_closed_form() {
         let trend = space_utility_trend(150.0).unwrap();
-        let codes: Vec<String> = trend.iter().map(|(_, s, _)| s.iter().collect()).collect();
+        let codes: Vec<String> = trend.iter().map(|c| c.sequence.iter().collect()).collect();
         assert_eq!(codes, ["ABXYZ", "AXYZB", "XYZAB"]);
-        let (pattern, _, points) = &trend[2];
-        assert_eq!(*pattern, Pattern::RotaryAtTool);
-        for ((r, utility), ratio) in points.iter().zip(TREND_RATIOS) {
+        assert_eq!(trend[2].pattern, Pattern::RotaryAtTool);
+        for ((r, utility), ratio) in trend[2].points.iter().zip(TREND_RATIOS) {
             assert_eq!(*r, ratio);
             let expected = (r / (r + 1.0)).powi(3);
             assert!((utility - expected).abs() < 1e-9 * expected, "r = {r}: {utility} vs {expected}");
