@@ -15,13 +15,14 @@ use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 use trueaxis::compensate::nc::{correct_program, NcOptions};
 use trueaxis::compensate::Corrector;
-use trueaxis::data::{poses_of, read_poses_from, CsvTable};
+use trueaxis::data::CsvTable;
 use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::iso230_2::{evaluate, plausibility, read_runs_from_str, runs_of};
 use trueaxis::instruments::ballbar::{ballbar_header, trace_of};
 use trueaxis::io::{etalon, rtl, text_of};
 use trueaxis::machine::{AxisKind, Machine};
 use trueaxis::model::Predictor;
+use trueaxis::poses::{poses_of, read_poses_from};
 use trueaxis_nc::params::read_parameter_file;
 use trueaxis_nc::{Controller, Dialect, ToolTable};
 

@@ -8,7 +8,7 @@
 //! | 3 | the environment: a full disk or quota, a permission, a read-only file system, a device error, memory that cannot be had, an interruption (SIGINT, SIGTERM, SIGHUP) |
 //!
 //! A command says whether it failed on its input or in its computation ([`Failure`]); an error
-//! whose chain holds a system error of the environment (`trueaxis::data::is_environment`) is
+//! whose chain holds a system error of the environment (`trueaxis::files::is_environment`) is
 //! status 3 whichever it said, so that a script can tell "fix the input" from "fix the machine it
 //! runs on". Signals and memory exhaustion end the process from their own handlers
 //! (`signals`, `memory`) with [`ENVIRONMENT`].
@@ -57,7 +57,7 @@ impl Failure {
             Failure::Environment(e) => (e, ENVIRONMENT),
         };
         let error: &(dyn std::error::Error + 'static) = error.as_ref();
-        if trueaxis::data::environment_cause(error).is_some() {
+        if trueaxis::files::environment_cause(error).is_some() {
             ENVIRONMENT
         } else {
             said

@@ -3,10 +3,10 @@
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::OutputSet;
+use trueaxis::identify::campaign_screening::{identify_screened, ScreenedIdentification};
+use trueaxis::identify::robust_campaign::identify_robust;
 use trueaxis::identify::{error_values_text, identification_json, Campaign, Identification, IdentifyError, IndirectOptions, Solver};
 use trueaxis::machine::Machine;
-use trueaxis::screen::campaign::{identify_screened, ScreenedIdentification};
-use trueaxis::screen::campaign_robust::identify_robust;
 use trueaxis::screen::irls::Weighting;
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -123,7 +123,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     let mut outputs = OutputSet::new();
     if let Some(path) = &args.out {
         let nominal_text = match &campaign.nominal_errors {
-            Some(p) => trueaxis::data::inputs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", p.display())))?,
+            Some(p) => trueaxis::files::inputs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", p.display())))?,
             None => String::new(),
         };
         let text = error_values_text(result, campaign, &nominal, &nominal_text).map_err(failure)?;

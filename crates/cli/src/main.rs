@@ -108,7 +108,7 @@ fn main() -> ExitCode {
         return failure.report();
     }
     outputs::route_standard_output(&outputs);
-    trueaxis::data::inputs::track();
+    trueaxis::files::inputs::track();
     // a stop of the live service by its supervisor is its normal end
     signals::install(matches.subcommand_name() == Some("live"));
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());

@@ -10,8 +10,8 @@
 use crate::Failure;
 use clap::{ArgMatches, Command};
 use std::path::{Path, PathBuf};
-use trueaxis::data::inputs::{refuse_overlap, NamedOutput};
 use trueaxis::data::is_standard_output;
+use trueaxis::data::overlap::{refuse_overlap, NamedOutput};
 
 /// What an output option names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -2,11 +2,12 @@
 
 use crate::Failure;
 use std::path::{Path, PathBuf};
-use trueaxis::data::{output_name, predict_poses, write_streamed, DataError, PoseStream, PredictionFormat};
+use trueaxis::data::{output_name, write_streamed, DataError};
 use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Predictor, Setup};
+use trueaxis::poses::{predict_poses, PoseStream, PredictionFormat};
 
 #[derive(Clone, Copy, clap::ValueEnum)]
 enum FrameArg {

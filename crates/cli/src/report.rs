@@ -13,9 +13,9 @@ use trueaxis::identify::pige_report::{bar_lengths, method_of, PigeRequest};
 use trueaxis::identify::tmbb::TmbbSetup;
 use trueaxis::instruments::ballbar::Plane;
 use trueaxis::machine::Machine;
-use trueaxis::screen::thermal::read_screened;
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::model_file::load_model;
+use trueaxis::thermal::thermal_screening::read_screened;
 use trueaxis::thermal::{LanczosProgress, DEFAULT_SHARE};
 use trueaxis::uncertainty::Sources;
 use trueaxis_report::calibration::CertificateFile;
@@ -520,7 +520,7 @@ fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<ThermalParts, F
     let drift = match (&args.thermal_error, &args.thermal_data) {
         (Some(model_path), Some(data_path)) => {
             bar.set_message("thermal error model");
-            let text = trueaxis::data::inputs::read_to_string(model_path)
+            let text = trueaxis::files::inputs::read_to_string(model_path)
                 .map_err(|e| bad(format!("{}: cannot read: {e}", model_path.display())))?;
             let model_origin = model_path.display().to_string();
             let model = ThermalErrorModel::from_toml_str(&text, &model_origin).map_err(|e| failure(e.into()))?;

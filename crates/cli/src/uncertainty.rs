@@ -3,12 +3,12 @@
 use crate::predict::parse_point;
 use crate::Failure;
 use std::path::PathBuf;
-use trueaxis::data::read_poses;
 use trueaxis::data::OutputSet;
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::{solve, Campaign, Identification, IdentifyError, IndirectOptions};
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Setup};
+use trueaxis::poses::read_poses;
 use trueaxis::uncertainty::{
     budget_json, run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, IntervalKind, PoseUncertainty, Sources, UncertaintyError,
 };

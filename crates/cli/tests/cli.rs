@@ -3,10 +3,10 @@
 
 use std::path::Path;
 use std::process::{Command, Output};
-use trueaxis::data::read_poses;
 use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Predictor};
+use trueaxis::poses::read_poses;
 
 const EXAMPLES: [&str; 5] = ["vmc3", "lathe2", "c600u", "kx8five", "head5"];
 
@@ -44,7 +44,7 @@ fn predict_answers_for_every_example_machine_and_matches_the_library() {
         assert_eq!(rows.len(), expected.len(), "{name}");
         let mut largest: f64 = 0.0;
         for (row, e) in rows.iter().zip(&expected) {
-            for ((key, _), v) in trueaxis::data::PREDICTION_COLUMNS.iter().zip(e.to_user_units()) {
+            for ((key, _), v) in trueaxis::poses::PREDICTION_COLUMNS.iter().zip(e.to_user_units()) {
                 let got = row[*key].as_f64().unwrap();
                 // JSON values are rounded to 1e-4 um / urad
                 assert!((got - v).abs() <= 0.6e-4, "{name} {key}: {got} vs {v}");

@@ -2,7 +2,7 @@
 //! command line's exit status 2), `ComputationError` for a failed computation (exit status 1) and
 //! `ResourceError` for the environment (a full disk, a permission, memory: exit status 3). The kind
 //! is decided here ([`input`], [`computation`]): an error whose chain holds a system error of the
-//! environment (`trueaxis::data::environment_cause`) is a `ResourceError` whichever the caller
+//! environment (`trueaxis::files::environment_cause`) is a `ResourceError` whichever the caller
 //! said, as the command line decides in one place (`exit.rs`). The message is the command line's,
 //! without its `trueaxis: error: ` prefix. Warnings and notes the command line prints on stderr are
 //! `TrueaxisWarning`s.
@@ -105,7 +105,7 @@ pub fn of(error: impl Into<trueaxis::Error>) -> PyErr {
 
 /// Bad input from a library error (or the environment, when its chain says so).
 pub fn input(error: impl std::error::Error + 'static) -> PyErr {
-    match trueaxis::data::environment_cause(&error) {
+    match trueaxis::files::environment_cause(&error) {
         Some(_) => ResourceError::new_err(message(&error)),
         None => InputError::new_err(message(&error)),
     }
@@ -118,7 +118,7 @@ pub fn input_msg(text: impl Into<String>) -> PyErr {
 
 /// A failed computation from a library error (or the environment, when its chain says so).
 pub fn computation(error: impl std::error::Error + 'static) -> PyErr {
-    match trueaxis::data::environment_cause(&error) {
+    match trueaxis::files::environment_cause(&error) {
         Some(_) => ResourceError::new_err(message(&error)),
         None => ComputationError::new_err(message(&error)),
     }

@@ -11,11 +11,11 @@ use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use trueaxis::error_model::ErrorModel;
+use trueaxis::identify::campaign_screening::identify_screened;
 use trueaxis::identify::{
     error_values_text, identification_json, optimal_design_json, CampaignCandidates, Criterion, ExchangeOutcome, IdentifyError,
     IndirectOptions, Solver,
 };
-use trueaxis::screen::campaign::identify_screened;
 
 /// What `__reduce__` returns: the constructor and its arguments (pickling).
 pub type Reduced<T> = (Py<PyAny>, T);

@@ -29,8 +29,8 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("TrueaxisWarning", py.get_type::<exceptions::TrueaxisWarning>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     // the columns of `Machine.predict`: 6 by default, 7 (dL last) with `with_dl=True`
-    let columns: Vec<&str> = trueaxis::data::PREDICTION_COLUMNS.iter().map(|(c, _)| *c).collect();
-    let units: Vec<&str> = trueaxis::data::PREDICTION_COLUMNS.iter().map(|(_, u)| *u).collect();
+    let columns: Vec<&str> = trueaxis::poses::PREDICTION_COLUMNS.iter().map(|(c, _)| *c).collect();
+    let units: Vec<&str> = trueaxis::poses::PREDICTION_COLUMNS.iter().map(|(_, u)| *u).collect();
     m.add("PREDICTION_COLUMNS", columns[..6].to_vec())?;
     m.add("PREDICTION_COLUMNS_WITH_DL", columns)?;
     m.add("PREDICTION_UNITS", units[..6].to_vec())?;

@@ -7,10 +7,10 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
-use trueaxis::data::{predictions_json, read_poses};
 use trueaxis::error_model::{Direction, ErrorModel};
 use trueaxis::geometry::Vec3;
 use trueaxis::model::{Frame, Predictor, Setup};
+use trueaxis::poses::{predictions_json, read_poses};
 
 fn read_text(path: &std::path::Path, what: &str) -> PyResult<String> {
     std::fs::read_to_string(path).map_err(|e| input_msg(format!("{}: cannot read {what}: {e}", path.display())))

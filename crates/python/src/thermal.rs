@@ -105,7 +105,7 @@ pub fn thermal_fit(
         robust,
         terms: terms_out.is_some(),
     };
-    let (campaign, findings) = trueaxis::screen::thermal::read_screened(&data, skip_missing, split_gaps).map_err(failure)?;
+    let (campaign, findings) = trueaxis::thermal::thermal_screening::read_screened(&data, skip_missing, split_gaps).map_err(failure)?;
     let name = data.display().to_string();
     let fitted = py.detach(|| fit_campaign(&campaign, &name, &request)).map_err(failure)?;
     if let CampaignFit::Model(m) = &fitted {

@@ -121,7 +121,7 @@ impl Error {
         self
     }
     /// The same error, caused by `source` (kept in the chain, e.g. for the environment test of
-    /// `data::environment_cause`).
+    /// `files::environment_cause`).
     pub fn caused_by(mut self, source: impl std::error::Error + Send + Sync + 'static) -> Error {
         self.source = Some(Box::new(source));
         self
@@ -140,7 +140,7 @@ impl Error {
     /// Whether the environment failed: said so, or a system error of the environment in the chain
     /// (a full disk, a permission, memory), whatever the kind said.
     pub fn is_environment(&self) -> bool {
-        self.kind == ErrorKind::Environment || crate::data::environment_cause(self).is_some()
+        self.kind == ErrorKind::Environment || crate::files::environment_cause(self).is_some()
     }
 }
 
@@ -165,10 +165,10 @@ impl std::error::Error for Error {
 }
 
 impl From<std::io::Error> for Error {
-    /// A system error: the environment when it is one (`data::is_environment`), else bad input
+    /// A system error: the environment when it is one (`files::is_environment`), else bad input
     /// (a file that is not there, a name that is a directory).
     fn from(e: std::io::Error) -> Error {
-        let kind = if crate::data::is_environment(&e) { ErrorKind::Environment } else { ErrorKind::Input };
+        let kind = if crate::files::is_environment(&e) { ErrorKind::Environment } else { ErrorKind::Input };
         Error::new(kind, e.to_string()).caused_by(e)
     }
 }

@@ -44,7 +44,7 @@ pub struct BeamArgs {
 
 pub fn beam(args: BeamArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
-    let text = trueaxis::data::inputs::read_to_string(&args.beam)
+    let text = trueaxis::files::inputs::read_to_string(&args.beam)
         .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.beam.display())))?;
     let origin = args.beam.display().to_string();
     let file = read_beam(&text, &origin).map_err(failure)?;

@@ -8,11 +8,11 @@ use std::path::PathBuf;
 use trueaxis::data::OutputSet;
 use trueaxis::machine::Machine;
 use trueaxis::screen::irls::Weighting;
-use trueaxis::screen::thermal::read_screened;
 use trueaxis::screen::{findings_json, Finding};
 use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm as FitForm, RobustSummary, TimeConstantsFit};
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::regression::RegressionModel;
+use trueaxis::thermal::thermal_screening::read_screened;
 use trueaxis::thermal::validation::ResidualStats;
 use trueaxis_report::{drift_plot, drift_svg, step_fit_plot};
 

@@ -42,7 +42,7 @@ pub struct LinksArgs {
 
 pub fn links(args: LinksArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
-    let text = trueaxis::data::inputs::read_to_string(&args.links)
+    let text = trueaxis::files::inputs::read_to_string(&args.links)
         .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.links.display())))?;
     let dir = args.links.parent().map(PathBuf::from).unwrap_or_default();
     let links = read_links(&text, &args.links.display().to_string(), &dir).map_err(failure)?;
@@ -96,7 +96,7 @@ pub fn write_terms(
 ) -> Result<(ErrorModel, String), Failure> {
     let base = match errors_in {
         Some(p) => {
-            trueaxis::data::inputs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", p.display())))?
+            trueaxis::files::inputs::read_to_string(p).map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", p.display())))?
         }
         None => String::new(),
     };

@@ -56,7 +56,7 @@ pub fn temperatures(args: TemperaturesArgs) -> Result<(), Failure> {
     let rows_of = |run: &String| campaign.rows_of(std::slice::from_ref(run)).map_err(failure);
     let (model, training) = match &args.model {
         Some(path) => {
-            let text = trueaxis::data::inputs::read_to_string(path)
+            let text = trueaxis::files::inputs::read_to_string(path)
                 .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", path.display())))?;
             (TemperatureModel::from_toml_str(&text, &path.display().to_string()).map_err(failure)?, Vec::new())
         }

@@ -40,7 +40,7 @@ pub struct TuneArgs {
 }
 
 pub fn tune(args: TuneArgs) -> Result<(), Failure> {
-    let text = trueaxis::data::inputs::read_to_string(&args.model)
+    let text = trueaxis::files::inputs::read_to_string(&args.model)
         .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.model.display())))?;
     let dir = args.model.parent().map(PathBuf::from).unwrap_or_default();
     let measured: Vec<f64> = args.tau_min.iter().map(|t| t * 60.0).collect();

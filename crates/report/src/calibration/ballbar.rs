@@ -67,7 +67,7 @@ pub struct CirclePart {
     pub metadata: trueaxis::io::Metadata,
     /// Paragraphs on how the test was done.
     pub description: Vec<String>,
-    /// Spikes away from the axis reversals (`trueaxis::screen::ballbar::spikes`).
+    /// Spikes away from the axis reversals (`trueaxis::evaluate::ballbar_screening::spikes`).
     pub findings: Vec<trueaxis::screen::Finding>,
 }
 
@@ -110,7 +110,7 @@ impl CirclePart {
         ];
         let title = format!("Circular test (ISO 230-4): {}", file_name(&input.path));
         let svg = circle_svg(&title, (&format!("+{ia}"), &format!("+{ib}")), &runs, None, &[], &conditions)?;
-        let findings = trueaxis::screen::ballbar::spikes(&input.path.display().to_string(), &runs, input.radius);
+        let findings = trueaxis::evaluate::ballbar_screening::spikes(&input.path.display().to_string(), &runs, input.radius);
         Ok(CirclePart {
             input,
             result,

@@ -214,7 +214,7 @@ impl CertificateFile {
 
     /// Reads and checks `report.toml`; errors name the file.
     pub fn load(path: &Path) -> Result<CertificateFile, String> {
-        let text = trueaxis::data::inputs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
+        let text = trueaxis::files::inputs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
         CertificateFile::from_toml_str(&text, &path.display().to_string())
     }
 

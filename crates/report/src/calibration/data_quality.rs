@@ -50,7 +50,7 @@ impl DataQualityPart {
             part.add(&c.input.path.display().to_string(), "ISO 230-4 circular test", c.findings.clone())?;
         }
         if let Some(id) = identification {
-            use trueaxis::screen::campaign::{after_fit, before_fit};
+            use trueaxis::identify::campaign_screening::{after_fit, before_fit};
             let campaign = &id.campaign;
             let mut findings = before_fit(campaign);
             if campaign.measurements.iter().all(|m| m.readings.is_some()) && id.design.rows() == id.result.residuals.len() {

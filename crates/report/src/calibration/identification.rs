@@ -100,7 +100,7 @@ impl IdentificationPart {
             )));
         }
         let nominal_text = match &campaign.nominal_errors {
-            Some(p) => trueaxis::data::inputs::read_to_string(p)
+            Some(p) => trueaxis::files::inputs::read_to_string(p)
                 .map_err(|source| trueaxis::data::DataError::Read { path: p.display().to_string(), source })?,
             None => String::new(),
         };

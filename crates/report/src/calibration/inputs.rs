@@ -25,7 +25,7 @@ pub struct InputFile {
 impl InputFile {
     /// The file at `path`, read to hash it.
     pub fn read(role: &str, path: &Path) -> Result<InputFile, DataError> {
-        let bytes = trueaxis::data::inputs::read(path).map_err(|source| DataError::Read { path: path.display().to_string(), source })?;
+        let bytes = trueaxis::files::inputs::read(path).map_err(|source| DataError::Read { path: path.display().to_string(), source })?;
         Ok(InputFile::of_bytes(role, &path.display().to_string(), &bytes))
     }
 

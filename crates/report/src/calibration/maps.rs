@@ -6,9 +6,9 @@
 
 use super::CalibrationError;
 use crate::{heatmap_svg_scaled, MapSlice};
-use trueaxis::data::predictions_csv;
 use trueaxis::machine::{AxisKind, Machine};
 use trueaxis::model::VolumetricError;
+use trueaxis::poses::predictions_csv;
 
 /// Nodes per axis of each plane.
 pub const GRID: usize = 21;

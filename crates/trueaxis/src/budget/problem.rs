@@ -10,9 +10,9 @@ use super::poses::{part_grid, to_internal, volume_grid};
 use super::sensitivity::{sensitivity, Sensitivity};
 use super::spec::{BudgetSpec, KindValues};
 use super::{analyse, Analysis, BudgetError};
-use crate::data::read_poses;
 use crate::machine::{AxisKind, Machine};
 use crate::model::{Frame, Setup};
+use crate::poses::read_poses;
 use std::path::Path;
 
 /// Where the poses of a budget come from.

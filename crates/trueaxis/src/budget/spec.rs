@@ -95,7 +95,7 @@ impl BudgetSpec {
     pub fn load(path: impl AsRef<std::path::Path>, machine: &Machine, defaults: KindValues) -> Result<BudgetSpec, BudgetError> {
         let path = path.as_ref();
         let origin = path.display().to_string();
-        let text = crate::data::inputs::read_to_string(path)
+        let text = crate::files::inputs::read_to_string(path)
             .map_err(|e| BudgetError::Spec { origin: origin.clone(), message: format!("cannot read budget file: {e}") })?;
         Self::from_toml_str(&text, &origin, machine, defaults)
     }

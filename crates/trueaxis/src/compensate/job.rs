@@ -16,9 +16,10 @@ use super::{
     axis_tables, compensation_json, correct_batch, kinematics_json, residual_of_format, round4, volumetric_grid, CompensateError,
     Corrector, ExportFormat, FormatResidual, TableSet, TableSpec, VolumetricGrid,
 };
-use crate::data::{push_fixed, OutputSet, PoseStream, CHUNK};
+use crate::data::{push_fixed, OutputSet};
 use crate::error_model::ErrorModel;
 use crate::machine::{Machine, ParameterId};
+use crate::poses::{PoseStream, CHUNK};
 use serde_json::{json, Value};
 use std::io::Write;
 use std::path::{Path, PathBuf};

@@ -45,7 +45,7 @@ pub enum CompensateError {
     #[error("{0}")]
     Computation(String),
     /// A file could not be read or written (bad input, or the environment: a full disk, a
-    /// permission; `data::environment_cause` tells).
+    /// permission; `files::environment_cause` tells).
     #[error(transparent)]
     Data(#[from] crate::data::DataError),
 }

@@ -43,7 +43,7 @@ pub enum Layout {
 pub struct CsvTable {
     origin: String,
     headers: Vec<Header>,
-    pub(super) rows: Vec<Vec<String>>,
+    pub(crate) rows: Vec<Vec<String>>,
     lines: Vec<u64>,
     decimal_comma: bool,
     separator: u8,
@@ -57,7 +57,7 @@ pub struct CsvTable {
 
 /// True for the names of columns that hold positions (mm, deg) rather than error values or readings
 /// (um, urad): `target`, `position`, `angle` and axis letters (`X`, `C`, `X2`).
-pub(super) fn is_position_column(name: &str) -> bool {
+pub(crate) fn is_position_column(name: &str) -> bool {
     let n = name.trim();
     let mut c = n.chars();
     let axis = match (c.next(), c.as_str()) {

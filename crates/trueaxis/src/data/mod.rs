@@ -1,36 +1,27 @@
-//! Data files: tables in (read forgivingly, `columns`), pose CSVs in, prediction tables out, and
-//! the output layer (docs/design.md sections 3-4: never a partially written output; docs/reliability.md):
-//! output sets written all or none (`output_set`, `staging`, `commit`), what an output path is
-//! (`target`), the inputs a run read (`inputs`), its temporaries (`temporaries`), and which
-//! failures are the environment's (`environment`).
+//! Data files: tables in (read forgivingly, `columns`, with their checks), and the output layer
+//! (docs/design.md, Conventions: never a partially written output; docs/reliability.md): output sets
+//! written all or none (`output_set`, `staging`, `commit`), what an output path is (`target`), an
+//! output that would destroy an input refused (`overlap`), a run's temporaries (`temporaries`).
+//! Pose files and prediction tables are the module `poses`, above the model; the inputs a run reads
+//! and the environment's failures are the module `files`, below everything.
 
 pub mod checks;
-mod columns;
+pub(crate) mod columns;
 mod commit;
-mod environment;
-pub mod inputs;
-mod lines;
-mod output;
+mod decimal;
+pub(crate) mod lines;
 mod output_set;
-mod pose_columns;
-mod pose_stream;
-mod poses;
-mod prediction;
+pub mod overlap;
 mod staging;
-mod table_head;
+pub(crate) mod table_head;
 mod target;
 pub mod temporaries;
-mod value_column;
+pub(crate) mod value_column;
 mod working_directory;
 
 pub use columns::{CsvTable, Layout};
-pub use environment::{environment_cause, is_environment};
-pub(crate) use output::push_fixed;
-pub use output::{predictions_csv, predictions_json, PredictionFormat, PredictionWriter, PREDICTION_COLUMNS};
+pub(crate) use decimal::push_fixed;
 pub use output_set::{write_atomically, write_streamed, OutputSet, PreparedSet};
-pub use pose_stream::{PoseChunk, PoseStream, MAX_PREAMBLE};
-pub use poses::{poses_of, read_poses, read_poses_from, PoseTable};
-pub use prediction::{predict_poses, CHUNK};
 pub use target::{is_standard_output, output_name, set_standard_output_descriptor, STANDARD_OUTPUT};
 pub use working_directory::WorkingDirectory;
 

@@ -4,11 +4,11 @@
 //! a failure drops the temporaries, and directories made for the run are removed again.
 
 use super::commit::{PreparedSet, Sink, StagedDirectory, StagedFile};
-use super::inputs::{input_at, FileIdentity};
 use super::output_set::{Contents, DirectoryOutput, OutputSet};
 use super::target::{keep_owner, open_standard_output, open_stream, refuse_unwritable, target_of, Target};
 use super::temporaries::{affixes, clean_abandoned, is_temporary_name, LiveTemporary};
 use super::DataError;
+use crate::files::inputs::{input_at, FileIdentity};
 use std::collections::BTreeSet;
 use std::io::Write;
 use std::path::{Component, Path, PathBuf};
@@ -323,7 +323,8 @@ fn without_temporary_path(e: std::io::Error) -> std::io::Error {
 
 #[cfg(test)]
 mod tests {
-    use super::super::{inputs, write_atomically, OutputSet};
+    use super::super::{write_atomically, OutputSet};
+    use crate::files::inputs;
 
     #[test]
     fn an_input_of_the_run_is_never_an_output() {
@@ -358,7 +359,7 @@ mod tests {
         std::fs::set_permissions(&file, std::fs::Permissions::from_mode(0o444)).unwrap();
         let e = write_atomically(&file, b"new").unwrap_err();
         assert!(e.to_string().contains("this user may not write it (mode 0444"), "{e}");
-        assert!(super::super::environment_cause(&e).is_some(), "a permission error: {e}");
+        assert!(crate::files::environment_cause(&e).is_some(), "a permission error: {e}");
         assert_eq!(std::fs::read_to_string(&file).unwrap(), "old");
     }
 }

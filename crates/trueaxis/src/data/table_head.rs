@@ -12,19 +12,19 @@ use crate::io::text::{key_value, separator_of};
 
 /// The header of a table and what was learned with it.
 #[derive(Clone, Debug)]
-pub(super) struct TableHead {
-    pub(super) origin: String,
-    pub(super) headers: Vec<Header>,
-    pub(super) header_line: u64,
-    pub(super) separator: u8,
+pub(crate) struct TableHead {
+    pub(crate) origin: String,
+    pub(crate) headers: Vec<Header>,
+    pub(crate) header_line: u64,
+    pub(crate) separator: u8,
     /// True when numbers may have a decimal comma (the separator is not a comma).
-    pub(super) decimal_comma: bool,
-    pub(super) metadata: Metadata,
+    pub(crate) decimal_comma: bool,
+    pub(crate) metadata: Metadata,
 }
 
 impl TableHead {
     /// The head from the lines up to and including the header line (the last of `lines`).
-    pub(super) fn parse(lines: &[(u64, &str)], origin: &str) -> Result<TableHead, DataError> {
+    pub(crate) fn parse(lines: &[(u64, &str)], origin: &str) -> Result<TableHead, DataError> {
         let invalid = |message: String| DataError::Invalid { origin: origin.to_string(), message };
         let ((header_line, header_text), preamble) = lines.split_last().ok_or_else(|| invalid("no data: the file is empty".into()))?;
         // before the header: `Key: value` lines, and `# Key: value` comments whose key is one of the
@@ -70,13 +70,13 @@ impl TableHead {
         })
     }
 
-    pub(super) fn invalid(&self, message: String) -> DataError {
+    pub(crate) fn invalid(&self, message: String) -> DataError {
         DataError::Invalid { origin: self.origin.clone(), message }
     }
 
     /// The fields of data line `number`; `None` for a blank or comment line. A line with another
     /// number of fields than the header is refused.
-    pub(super) fn fields(&self, number: u64, line: &str) -> Result<Option<Vec<String>>, DataError> {
+    pub(crate) fn fields(&self, number: u64, line: &str) -> Result<Option<Vec<String>>, DataError> {
         if line.trim().is_empty() || is_comment(line) {
             return Ok(None);
         }
@@ -104,7 +104,7 @@ impl TableHead {
 /// The index of the column that answers to `name`: the same name, else the same name without
 /// regard to case, spaces and underscores, else a synonym; two columns answering at the same level
 /// are an error, and so is none (the message lists the header).
-pub(super) fn find_column(headers: &[Header], name: &str, origin: &str) -> Result<usize, DataError> {
+pub(crate) fn find_column(headers: &[Header], name: &str, origin: &str) -> Result<usize, DataError> {
     let invalid = |message: String| DataError::Invalid { origin: origin.to_string(), message };
     if let Some(i) = headers.iter().position(|h| h.name == name) {
         return Ok(i);
@@ -133,7 +133,7 @@ pub(super) fn find_column(headers: &[Header], name: &str, origin: &str) -> Resul
 
 /// Splits one line into fields at `sep`, honouring double quotes (`""` inside quotes is a quote);
 /// fields trimmed.
-pub(super) fn split_fields(line: &str, sep: u8) -> Vec<String> {
+pub(crate) fn split_fields(line: &str, sep: u8) -> Vec<String> {
     let sep = sep as char;
     let mut out = Vec::new();
     let mut field = String::new();
@@ -165,7 +165,7 @@ pub(super) fn split_fields(line: &str, sep: u8) -> Vec<String> {
     out
 }
 
-pub(super) fn is_comment(line: &str) -> bool {
+pub(crate) fn is_comment(line: &str) -> bool {
     let t = line.trim_start();
     t.starts_with('#') || t.starts_with("//")
 }
@@ -188,7 +188,7 @@ fn field_count(line: &str, sep: u8) -> usize {
 /// (blank and comment lines skipped) has as many fields at the same separator; lines before it are
 /// the file's preamble (a ballbar export's `Key: value` header, prose). Without such a pair, the
 /// first line of at least two fields, else the first line.
-pub(super) fn header_index(lines: &[(u64, &str)]) -> Option<usize> {
+pub(crate) fn header_index(lines: &[(u64, &str)]) -> Option<usize> {
     let content: Vec<usize> = (0..lines.len()).filter(|&k| is_content(lines[k].1)).collect();
     for w in content.windows(2) {
         if is_header_pair(lines[w[0]].1, lines[w[1]].1) {
@@ -199,13 +199,13 @@ pub(super) fn header_index(lines: &[(u64, &str)]) -> Option<usize> {
 }
 
 /// A line that is neither blank nor a comment.
-pub(super) fn is_content(line: &str) -> bool {
+pub(crate) fn is_content(line: &str) -> bool {
     !line.trim().is_empty() && !is_comment(line)
 }
 
 /// Whether the content line `first` is a header that the next content line `next` repeats: at
 /// least two fields, as many in both at the header's separator.
-pub(super) fn is_header_pair(first: &str, next: &str) -> bool {
+pub(crate) fn is_header_pair(first: &str, next: &str) -> bool {
     let sep = separator_of(first);
     let n = field_count(first, sep);
     n >= 2 && field_count(next, sep) == n

@@ -10,8 +10,8 @@ use crate::io::units::{Dimension, Unit};
 
 /// Column `column` of a table: how to read and convert its cells.
 #[derive(Clone, Debug)]
-pub(super) struct ValueColumn {
-    pub(super) column: usize,
+pub(crate) struct ValueColumn {
+    pub(crate) column: usize,
     /// The header as written, for messages.
     text: String,
     /// The header's unit and the unit returned; `None` when the header names no unit (the value as
@@ -23,19 +23,19 @@ pub(super) struct ValueColumn {
 
 impl ValueColumn {
     /// Column `column` of `headers`, returned in `to` (when its header names a unit).
-    pub(super) fn new(headers: &[Header], column: usize, to: Option<Unit>) -> ValueColumn {
+    pub(crate) fn new(headers: &[Header], column: usize, to: Option<Unit>) -> ValueColumn {
         let h = &headers[column];
         ValueColumn { column, text: h.text.clone(), conversion: h.unit.zip(to), subject: String::new() }
     }
 
     /// Names what the values are in messages (`axis C at `).
-    pub(super) fn named(self, subject: String) -> ValueColumn {
+    pub(crate) fn named(self, subject: String) -> ValueColumn {
         ValueColumn { subject, ..self }
     }
 
     /// As [`ValueColumn::new`], refusing a header whose unit is not of `dimension` (`dev [mm]` where
     /// an angle is expected); `expected` names the unit in the message.
-    pub(super) fn of_dimension(
+    pub(crate) fn of_dimension(
         headers: &[Header],
         column: usize,
         dimension: Dimension,
@@ -59,12 +59,12 @@ impl ValueColumn {
     }
 
     /// The header as written.
-    pub(super) fn text(&self) -> &str {
+    pub(crate) fn text(&self) -> &str {
         &self.text
     }
 
     /// The value of this column in `row` (line `line` of `origin`): a finite number, converted.
-    pub(super) fn value(&self, row: &[String], line: u64, decimal_comma: bool, origin: &str) -> Result<f64, DataError> {
+    pub(crate) fn value(&self, row: &[String], line: u64, decimal_comma: bool, origin: &str) -> Result<f64, DataError> {
         let raw = &row[self.column];
         let refuse = |what: String| DataError::Invalid {
             origin: origin.to_string(),

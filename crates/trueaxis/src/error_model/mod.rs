@@ -45,7 +45,7 @@ impl ErrorModel {
     /// commands that add terms to an optional base start from it.)
     pub fn load(path: impl AsRef<std::path::Path>, machine: &Machine) -> Result<ErrorModel, ErrorModelError> {
         let path = path.as_ref();
-        let text = crate::data::inputs::read_to_string(path)
+        let text = crate::files::inputs::read_to_string(path)
             .map_err(|source| ErrorModelError::Read { path: path.display().to_string(), source })?;
         let model = Self::from_toml_str(&text, &path.display().to_string(), machine)?;
         if model.is_empty() {

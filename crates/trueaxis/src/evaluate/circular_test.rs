@@ -79,7 +79,7 @@ pub struct CircularTest {
     /// The runs read, the file's metadata and header, warnings of reading it.
     pub file: CircularFile,
     pub result: Iso2304Result,
-    /// What screening found suspect in the readings (`screen::ballbar::spikes`), each with G of its
+    /// What screening found suspect in the readings (`evaluate::ballbar_screening::spikes`), each with G of its
     /// run without it; the result above is of every reading.
     pub findings: Vec<crate::screen::Finding>,
 }
@@ -124,7 +124,7 @@ pub fn circular_test(table: &CsvTable, machine: &Machine, options: &CircularTest
         feed: options.feed_mm_per_min,
     };
     let result = evaluate(machine, &file.runs, &diagnostic)?;
-    let findings = crate::screen::ballbar::spikes(name, &file.runs, radius);
+    let findings = crate::evaluate::ballbar_screening::spikes(name, &file.runs, radius);
     Ok(CircularTest { plane, radius_mm: radius, file, result, findings })
 }
 

@@ -228,7 +228,7 @@ pub fn read_circular_table(
     };
     // the plane's axis columns, when they move (a rotary test holds them still), must lie on the
     // circle of the test
-    if let Some(f) = crate::screen::ballbar::circle_axes(table, origin, a, b) {
+    if let Some(f) = crate::evaluate::ballbar_screening::circle_axes(table, origin, a, b) {
         return Err(EvaluateError::Input(f.line()));
     }
     let axis_columns = table.has_column(&a.to_string()) && table.has_column(&b.to_string());

@@ -4,9 +4,11 @@
 //! compensation by a re-measurement.
 
 pub mod ballbar_diagnostics;
+pub mod ballbar_screening;
 pub mod circular_test;
 pub mod iso230_2;
 pub mod iso230_4;
+pub mod positioning_screening;
 pub mod positioning_test;
 pub mod positioning_uncertainty;
 pub mod verification;

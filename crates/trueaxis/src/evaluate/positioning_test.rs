@@ -1,7 +1,7 @@
 //! An ISO 230-2 positioning test from its file, end to end: the table read forgivingly (CSV or a
 //! Renishaw `.rtl`), the plausibility checks of its readings, the correction to 20 degC (the
 //! options given, else the file's recorded environment), the evaluation, and the document of
-//! `trueaxis iso230-2 --json`, with the screening of the readings (`screen::positioning`). The command line and the Python package both call [`evaluate_file`],
+//! `trueaxis iso230-2 --json`, with the screening of the readings (`evaluate::positioning_screening`). The command line and the Python package both call [`evaluate_file`],
 //! so that they give the same result, warnings and document.
 //!
 //! Units: targets in mm (deg for a rotary axis), deviations and results in um (urad), coverage
@@ -27,7 +27,7 @@ pub struct PositioningTest {
     pub notes: Vec<String>,
     /// Where the correction to 20 degC came from (`AppliedCorrection::json`): null for none.
     pub temperature_correction: Value,
-    /// What screening found suspect in the readings (`screen::positioning`), each with the result
+    /// What screening found suspect in the readings (`evaluate::positioning_screening`), each with the result
     /// without it; the evaluation above is ISO 230-2's, of all readings.
     pub findings: Vec<crate::screen::Finding>,
 }
@@ -78,7 +78,7 @@ pub fn evaluate_table(table: &CsvTable, temperature: &TemperatureOptions) -> Res
             r.dev = dev;
         }
     }
-    let findings = crate::screen::positioning::positioning(&data, Some(table));
+    let findings = crate::evaluate::positioning_screening::positioning(&data, Some(table));
     if let Some(f) = findings.iter().find(|f| f.refuse) {
         return Err(EvaluateError::Input(f.line()));
     }

@@ -18,7 +18,7 @@
 
 use super::unknowns::{parameter_factors, BasisParameter, Unknown, UnknownKind};
 use super::IdentifyError;
-use crate::data::{read_poses, CsvTable};
+use crate::data::CsvTable;
 use crate::error_model::{Basis, BasisSpec, ErrorModel};
 use crate::geometry::Vec3;
 use crate::instruments::{
@@ -26,6 +26,7 @@ use crate::instruments::{
 };
 use crate::machine::{one_line, Machine};
 use crate::model::{jacobian, Frame, JacobianWorkspace, Setup, JACOBIAN_ROWS};
+use crate::poses::read_poses;
 use nalgebra::{DMatrix, Matrix3};
 use rayon::prelude::*;
 use serde::Deserialize;
@@ -200,7 +201,7 @@ impl Campaign {
 
     fn load_with(path: &Path, machine: &Machine, require_unknowns: bool) -> Result<Campaign, IdentifyError> {
         let origin = path.display().to_string();
-        let text = crate::data::inputs::read_to_string(path).map_err(|e| input(&origin, format!("cannot read campaign file: {e}")))?;
+        let text = crate::files::inputs::read_to_string(path).map_err(|e| input(&origin, format!("cannot read campaign file: {e}")))?;
         Campaign::parse_toml(&text, &origin, path.parent().unwrap_or(Path::new("")), machine, require_unknowns)
     }
 

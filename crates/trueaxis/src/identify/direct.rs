@@ -7,11 +7,11 @@ use super::fit::{fit_error_function, refine_wavelength, residual_period, FitOpti
 use super::IdentifyError;
 use crate::data::CsvTable;
 use crate::error_model::{Direction, ErrorModel, MachineState};
+use crate::identify::direct_screening::{fit_outliers, DirectObservations};
 use crate::instruments::{motion_error_axis, DirectInstrument, TableCorrection, TableCorrectionError};
 use crate::io::header::RunDirection;
 use crate::io::units::Dimension;
 use crate::machine::{Machine, ParameterId};
-use crate::screen::direct::{fit_outliers, DirectObservations};
 use serde_json::json;
 
 /// What to fit and how.
@@ -124,7 +124,7 @@ pub struct DirectFitReport {
     pub wavelengths: Vec<f64>,
     /// Strongest sinusoid left in the residuals, above the sampling limit.
     pub residual_period: Option<ResidualPeriod>,
-    /// Readings the fit does not explain (`screen::direct`); the fit is of every reading.
+    /// Readings the fit does not explain (`identify::direct_screening`); the fit is of every reading.
     pub findings: Vec<crate::screen::Finding>,
 }
 

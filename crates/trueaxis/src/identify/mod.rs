@@ -2,10 +2,12 @@
 //! removal, and fitting of parametric error functions to direct measurements (Soons 1993 §3.2).
 
 pub mod campaign;
+pub mod campaign_screening;
 mod candidates;
 mod cycle_drift;
 pub mod design_units;
 mod direct;
+pub mod direct_screening;
 pub mod export;
 mod fit;
 mod gram;
@@ -17,6 +19,7 @@ pub mod pige;
 pub mod pige_report;
 pub mod pige_sensitivity;
 mod reduction;
+pub mod robust_campaign;
 pub mod simulate;
 mod stepwise;
 pub mod tmbb;

@@ -69,7 +69,7 @@ pub fn detect(text: &str) -> Format {
 
 /// Reads a file as text (see [`text_of`]).
 pub fn read_text(path: &std::path::Path) -> Result<String, IoError> {
-    let bytes = crate::data::inputs::read(path).map_err(|source| IoError::Read { path: path.display().to_string(), source })?;
+    let bytes = crate::files::inputs::read(path).map_err(|source| IoError::Read { path: path.display().to_string(), source })?;
     text_of(bytes, &path.display().to_string())
 }
 

@@ -56,7 +56,7 @@ impl Machine {
     pub fn load(path: impl AsRef<std::path::Path>) -> Result<Machine, MachineError> {
         let path = path.as_ref();
         let text =
-            crate::data::inputs::read_to_string(path).map_err(|source| MachineError::Read { path: path.display().to_string(), source })?;
+            crate::files::inputs::read_to_string(path).map_err(|source| MachineError::Read { path: path.display().to_string(), source })?;
         Self::from_toml_str(&text, &path.display().to_string())
     }
 

@@ -16,15 +16,9 @@
 //!
 //! Units: deviations and readings in um, temperatures in degC, time in s, positions in mm / deg.
 
-pub mod ballbar;
-pub mod campaign;
-pub mod campaign_robust;
-pub mod direct;
 pub mod finding;
 pub mod irls;
-pub mod positioning;
 pub mod robust;
 pub mod series;
-pub mod thermal;
 
 pub use finding::{findings_json, Finding, Kind};

@@ -292,9 +292,9 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
                 ));
             }
             // a state-space record starts from the state at the start of its run; after a gap
-            // (`screen::thermal::split_at_gaps`) that state is unknown, so such segments are not
+            // (`thermal::thermal_screening::split_at_gaps`) that state is unknown, so such segments are not
             // fitted (they are still evaluated, from a zero state)
-            let known_start = |s: &&&Segment| !s.name.contains(crate::screen::thermal::AFTER_GAP);
+            let known_start = |s: &&&Segment| !s.name.contains(crate::thermal::thermal_screening::AFTER_GAP);
             let records = training
                 .iter()
                 .filter(known_start)

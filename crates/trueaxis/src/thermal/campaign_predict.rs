@@ -32,7 +32,7 @@ pub struct CampaignPrediction {
 /// Reads a model file (TOML, `kind = "regression"` or `"state_space"`, as `thermal fit --out`
 /// writes it).
 pub fn read_model_file(path: &std::path::Path) -> Result<ThermalErrorModel, ThermalError> {
-    let text = crate::data::inputs::read_to_string(path).map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
+    let text = crate::files::inputs::read_to_string(path).map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
     ThermalErrorModel::from_toml_str(&text, &path.display().to_string())
 }
 

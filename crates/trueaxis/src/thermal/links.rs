@@ -266,7 +266,7 @@ pub fn read_links(text: &str, origin: &str, dir: &std::path::Path) -> Result<Vec
                 toml::Value::Table(t) if t.contains_key("model") => {
                     let path = t.get("model").and_then(|v| v.as_str()).ok_or_else(|| at(format!("`{key}.model` must be a file name")))?;
                     let path = dir.join(path);
-                    let text = crate::data::inputs::read_to_string(&path)
+                    let text = crate::files::inputs::read_to_string(&path)
                         .map_err(|e| at(format!("`{key}`: {}: cannot read: {e}", path.display())))?;
                     RegressionModel::from_toml_str(&text, &path.display().to_string())?
                 }

@@ -35,6 +35,7 @@ pub mod state_space;
 pub mod stepping;
 pub mod temperature_model;
 pub mod thermal_campaign;
+pub mod thermal_screening;
 pub mod time_constants;
 pub mod tuning;
 pub mod validation;

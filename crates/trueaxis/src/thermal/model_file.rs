@@ -76,7 +76,7 @@ pub struct ThermalModel {
 pub fn load_model(path: impl AsRef<Path>) -> Result<ThermalModel, ThermalError> {
     let path = path.as_ref();
     let origin = path.display().to_string();
-    let text = crate::data::inputs::read_to_string(path).map_err(|e| input(format!("{origin}: cannot read thermal model: {e}")))?;
+    let text = crate::files::inputs::read_to_string(path).map_err(|e| input(format!("{origin}: cannot read thermal model: {e}")))?;
     parse_model(&text, &origin, path.parent().unwrap_or(Path::new(".")))
 }
 
@@ -151,7 +151,7 @@ pub fn parse_model(text: &str, origin: &str, dir: &Path) -> Result<ThermalModel,
             let read = |key: &str, file: &Option<String>| -> Result<String, ThermalError> {
                 let name = file.as_ref().ok_or_else(|| bad(format!("missing key `{key}` (a Matrix Market file)")))?;
                 let p = dir.join(name);
-                crate::data::inputs::read_to_string(&p).map_err(|e| bad(format!("`{key}`: cannot read {}: {e}", p.display())))
+                crate::files::inputs::read_to_string(&p).map_err(|e| bad(format!("`{key}`: cannot read {}: {e}", p.display())))
             };
             let c = read_matrix(&read("capacity", &f.capacity)?, &dir.join(f.capacity.as_deref().unwrap_or("")).display().to_string())?;
             let k = read_matrix(

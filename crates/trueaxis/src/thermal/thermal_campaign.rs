@@ -38,7 +38,7 @@ impl Campaign {
     /// Reads a campaign CSV (`#` comments allowed).
     pub fn read(path: impl AsRef<std::path::Path>) -> Result<Campaign, ThermalError> {
         let path = path.as_ref();
-        let text = crate::data::inputs::read_to_string(path).map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
+        let text = crate::files::inputs::read_to_string(path).map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
         Self::parse(&text, &path.display().to_string())
     }
 
@@ -55,7 +55,7 @@ impl Campaign {
     pub fn read_skipping_missing(path: impl AsRef<std::path::Path>) -> Result<(Campaign, Vec<u64>), ThermalError> {
         let path = path.as_ref();
         let origin = path.display().to_string();
-        let text = crate::data::inputs::read_to_string(path).map_err(|e| input(format!("{origin}: cannot read: {e}")))?;
+        let text = crate::files::inputs::read_to_string(path).map_err(|e| input(format!("{origin}: cannot read: {e}")))?;
         let table = crate::data::CsvTable::from_text(&text, &origin).map_err(|e| input(e.to_string()))?;
         let (kept, dropped) = table.without_blank_rows();
         Ok((Self::from_table(&kept, &origin)?, dropped))
@@ -131,7 +131,7 @@ impl Campaign {
     }
 
     /// Row indices of the named runs (with the segments of a run split at its gaps,
-    /// `screen::thermal::split_at_gaps`).
+    /// `thermal::thermal_screening::split_at_gaps`).
     pub fn rows_of(&self, runs: &[String]) -> Result<Vec<usize>, ThermalError> {
         for r in runs {
             if !self.runs.iter().any(|x| Self::is_of_run(x, r)) {
@@ -144,7 +144,7 @@ impl Campaign {
     /// Whether the rows of run `row_run` belong to the run named `name`: the same name, or a
     /// segment of it after a gap (`name [after gap k]`).
     pub fn is_of_run(row_run: &str, name: &str) -> bool {
-        row_run == name || row_run.strip_prefix(name).is_some_and(|rest| rest.starts_with(crate::screen::thermal::AFTER_GAP))
+        row_run == name || row_run.strip_prefix(name).is_some_and(|rest| rest.starts_with(crate::thermal::thermal_screening::AFTER_GAP))
     }
 
     /// The named columns restricted to `rows`: `[column][row]`.

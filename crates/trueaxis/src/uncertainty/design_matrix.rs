@@ -106,7 +106,7 @@ impl DesignMatrix {
     /// Reads the CSV form described in the module documentation.
     pub fn read_csv(path: impl AsRef<std::path::Path>) -> Result<DesignMatrix, UncertaintyError> {
         let path = path.as_ref();
-        let file = crate::data::inputs::open(path).map_err(|source| DataError::Read { path: path.display().to_string(), source })?;
+        let file = crate::files::inputs::open(path).map_err(|source| DataError::Read { path: path.display().to_string(), source })?;
         Self::from_csv_reader(file, &path.display().to_string())
     }
 

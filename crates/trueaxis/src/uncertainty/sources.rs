@@ -218,7 +218,7 @@ impl Sources {
     /// Reads a sources file.
     pub fn load(path: impl AsRef<std::path::Path>) -> Result<Sources, UncertaintyError> {
         let path = path.as_ref();
-        let text = crate::data::inputs::read_to_string(path)
+        let text = crate::files::inputs::read_to_string(path)
             .map_err(|source| crate::data::DataError::Read { path: path.display().to_string(), source })?;
         Self::from_toml_str(&text, &path.display().to_string())
     }

@@ -1,9 +1,9 @@
 //! Every input error gets a clear one-line message naming the file and what is wrong
 //! (docs/design.md, Command line), never a panic.
 
-use trueaxis::data::read_poses_from;
 use trueaxis::error_model::ErrorModel;
 use trueaxis::machine::Machine;
+use trueaxis::poses::read_poses_from;
 
 const GOOD: &str = r#"
 name = "m"

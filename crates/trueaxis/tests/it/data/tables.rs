@@ -4,9 +4,10 @@
 //! the same ISO 230-2 results, poses, thermal campaign and design matrix; errors name the file, the
 //! line and the column.
 
-use trueaxis::data::{read_poses_from, CsvTable, Layout};
+use trueaxis::data::{CsvTable, Layout};
 use trueaxis::evaluate::iso230_2::{evaluate, read_runs_from_str, Iso2302Result};
 use trueaxis::machine::Machine;
+use trueaxis::poses::read_poses_from;
 use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis::uncertainty::DesignMatrix;
 

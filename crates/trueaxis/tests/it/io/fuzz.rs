@@ -5,11 +5,12 @@
 //! naming the file.
 
 use proptest::prelude::*;
-use trueaxis::data::{poses_of, CsvTable};
+use trueaxis::data::CsvTable;
 use trueaxis::evaluate::iso230_2::{evaluate, plausibility, runs_of};
 use trueaxis::instruments::ballbar::trace_of;
 use trueaxis::io::{etalon, rtl, text_of};
 use trueaxis::machine::Machine;
+use trueaxis::poses::poses_of;
 
 const EXAMPLES: [&str; 6] = [
     include_str!("../../../../../examples/data/laser_x.rtl"),

@@ -5,9 +5,9 @@
 
 use super::damage::{example, example_path, Csv};
 use trueaxis::error_model::ErrorModel;
+use trueaxis::identify::campaign_screening::{identify_screened, ScreenedIdentification};
 use trueaxis::identify::{Campaign, IdentifyError, IndirectOptions};
 use trueaxis::machine::Machine;
-use trueaxis::screen::campaign::{identify_screened, ScreenedIdentification};
 use trueaxis::screen::Kind;
 
 pub const DATA: &str = "examples/campaigns/kx8five/capball.csv";

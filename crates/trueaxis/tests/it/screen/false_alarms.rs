@@ -9,7 +9,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use trueaxis::evaluate::iso230_2::{Direction, PositioningData, Reading};
-use trueaxis::screen::positioning::positioning;
+use trueaxis::evaluate::positioning_screening::positioning;
 use trueaxis::screen::series::{neighbour_outliers, steps, stuck_runs};
 
 const SETS: usize = 1000;
@@ -70,7 +70,12 @@ fn spikes_stuck_readings_and_steps_rarely_flag_clean_series() {
             })
             .collect();
         spikes += usize::from(
-            !neighbour_outliers(&circle, trueaxis::screen::ballbar::SPIKE_LIMIT, trueaxis::screen::ballbar::SPIKE_FLOOR_UM).is_empty(),
+            !neighbour_outliers(
+                &circle,
+                trueaxis::evaluate::ballbar_screening::SPIKE_LIMIT,
+                trueaxis::evaluate::ballbar_screening::SPIKE_FLOOR_UM,
+            )
+            .is_empty(),
         );
         // a 3D-ball channel along a trajectory: smooth tens of um, noise 0.2 ... 0.5 um, 4 decimals
         let noise = Normal::new(0.0, rng.gen_range(0.2..0.5)).unwrap();
@@ -88,7 +93,10 @@ fn spikes_stuck_readings_and_steps_rarely_flag_clean_series() {
                     / 1e3
             })
             .collect();
-        jumps += usize::from(!steps(&t, &x, trueaxis::screen::thermal::STEP_LIMIT, trueaxis::screen::thermal::STEP_FLOOR_DEGC).is_empty());
+        jumps += usize::from(
+            !steps(&t, &x, trueaxis::thermal::thermal_screening::STEP_LIMIT, trueaxis::thermal::thermal_screening::STEP_FLOOR_DEGC)
+                .is_empty(),
+        );
     }
     eprintln!("false alarms: ballbar spikes {spikes}, stuck 3D-ball channels {stuck}, thermal steps {jumps} of {SETS}");
     assert!(spikes <= ALLOWED, "{spikes} of {SETS} clean circles flagged with a spike");
@@ -96,7 +104,7 @@ fn spikes_stuck_readings_and_steps_rarely_flag_clean_series() {
     assert!(jumps <= ALLOWED, "{jumps} of {SETS} clean warm-ups flagged with a step");
 }
 
-/// The outlier check of `trueaxis fit` (`screen::direct`) on the readings of the same simulated
+/// The outlier check of `trueaxis fit` (`identify::direct_screening`) on the readings of the same simulated
 /// ISO 230-2 tests, written as the test's CSV: a data set counts as flagged when the fit of both
 /// directions or that of the + direction gives a finding.
 #[test]

@@ -8,9 +8,9 @@
 
 use super::campaign::{value, with_capball, DATA};
 use super::damage::{example, Csv};
+use trueaxis::identify::campaign_screening::{identify_screened, ScreenedIdentification};
+use trueaxis::identify::robust_campaign::identify_robust;
 use trueaxis::identify::IndirectOptions;
-use trueaxis::screen::campaign::{identify_screened, ScreenedIdentification};
-use trueaxis::screen::campaign_robust::identify_robust;
 use trueaxis::screen::irls::Weighting;
 
 const CHANNELS: [(&str, f64); 3] = [("dx", 0.28), ("dy", 0.28), ("dz", 0.40)];

@@ -2,11 +2,11 @@
 //! dz) with one damage each: a re-seated sensor (a step), degF, a 2-hour gap, a blank cell.
 
 use super::damage::{example, of_run, Csv};
-use trueaxis::screen::thermal::read_screened;
 use trueaxis::screen::{Finding, Kind};
 use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm};
 use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::thermal_campaign::Campaign;
+use trueaxis::thermal::thermal_screening::read_screened;
 
 const FILE: &str = "examples/thermal/campaign.csv";
 

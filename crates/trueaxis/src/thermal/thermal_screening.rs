@@ -13,8 +13,8 @@
 //! A series split at its gaps ([`split_at_gaps`]) is fitted segment by segment: the state-space
 //! model starts again from the first sample after each gap.
 
-use super::finding::{lines_text, Finding, Kind};
-use super::series::{duplicate_rows, gaps, steps, stuck_runs};
+use crate::screen::finding::{lines_text, Finding, Kind};
+use crate::screen::series::{duplicate_rows, gaps, steps, stuck_runs};
 use crate::thermal::thermal_campaign::Campaign;
 
 /// A temperature step beyond this many robust sigmas of all jumps (and the floor) is flagged.

@@ -44,9 +44,9 @@ mod tests {
 
     #[test]
     fn environment_errors_are_found_in_a_chain() {
-        let full = super::super::DataError::Write { path: "t.csv".into(), source: std::io::Error::from(ErrorKind::StorageFull) };
+        let full = crate::data::DataError::Write { path: "t.csv".into(), source: std::io::Error::from(ErrorKind::StorageFull) };
         assert!(environment_cause(&full).is_some());
-        let missing = super::super::DataError::Write { path: "d/t.csv".into(), source: std::io::Error::from(ErrorKind::NotFound) };
+        let missing = crate::data::DataError::Write { path: "d/t.csv".into(), source: std::io::Error::from(ErrorKind::NotFound) };
         assert!(environment_cause(&missing).is_none());
         assert!(is_environment(&std::io::Error::from_raw_os_error(EIO)));
         assert!(!is_environment(&std::io::Error::from(ErrorKind::InvalidData)));

@@ -5,8 +5,9 @@
 //! temperatures (degC, within the physical range). A column of an axis the machine does not have
 //! is refused, as `nc` refuses a word of such an axis: the poses are for another machine.
 
-use super::value_column::ValueColumn;
-use super::{DataError, PoseTable};
+use super::PoseTable;
+use crate::data::value_column::ValueColumn;
+use crate::data::DataError;
 use crate::error_model::Direction;
 use crate::io::header::{normalised, Header, RunDirection};
 use crate::io::ranges::TEMPERATURE_DEGC;
@@ -30,7 +31,7 @@ impl PoseColumns {
     /// The columns of a table with `headers` for `machine`; `origin` names the table in messages.
     pub(super) fn new(headers: &[Header], origin: &str, decimal_comma: bool, machine: &Machine) -> Result<PoseColumns, DataError> {
         let invalid = |message: String| DataError::Invalid { origin: origin.to_string(), message };
-        let find = |name: &str| super::table_head::find_column(headers, name, origin);
+        let find = |name: &str| crate::data::table_head::find_column(headers, name, origin);
         for h in headers {
             let name = normalised(&h.name);
             let name = name.strip_prefix("dir:").unwrap_or(&name);

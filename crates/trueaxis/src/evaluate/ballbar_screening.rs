@@ -11,11 +11,11 @@
 //!   transient of the test (a feed-rate overshoot, a knock on the bar). Each finding states G of
 //!   its run without the spike.
 
-use super::finding::{Finding, Kind};
-use super::series::neighbour_outliers;
 use crate::data::CsvTable;
 use crate::evaluate::ballbar_diagnostics::CircularRun;
 use crate::evaluate::iso230_4::circular_values;
+use crate::screen::finding::{Finding, Kind};
+use crate::screen::series::neighbour_outliers;
 
 /// A reading this many robust sigmas from its neighbours' median is a spike.
 pub const SPIKE_LIMIT: f64 = 8.0;

@@ -4,7 +4,7 @@
 //! commas, units in headers), whole; [`super::PoseStream`] reads one in bounded memory.
 
 use super::pose_columns::PoseColumns;
-use super::{CsvTable, DataError};
+use crate::data::{CsvTable, DataError};
 use crate::error_model::Direction;
 use crate::machine::Machine;
 use std::io::Read;

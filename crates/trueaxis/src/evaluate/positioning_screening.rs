@@ -18,10 +18,10 @@
 //! The evaluation itself stays as ISO 230-2 defines it: each finding states the result without the
 //! suspect run or reading beside it ("R would be 4.1 um without run 4"), nothing is removed.
 
-use super::finding::{lines_text, Finding, Kind};
-use super::robust::{mad_sigma, median};
 use crate::data::CsvTable;
 use crate::evaluate::iso230_2::{evaluate, Direction, PositioningData, Reading};
+use crate::screen::finding::{lines_text, Finding, Kind};
+use crate::screen::robust::{mad_sigma, median};
 use std::collections::BTreeMap;
 
 /// The floor of the robust scale (um): below it, readings are at the resolution of the laser.

@@ -16,10 +16,10 @@
 //! t_i = sqrt(w_i) r_i / (s sqrt(1 - h_i)), and Cook's distance D_i = t_i^2 h_i / (p (1 - h_i))
 //! (Cook 1977). A row with |t_i| > `STUDENTIZED_LIMIT` or D_i > `COOK_LIMIT` is flagged.
 
-use super::finding::{lines_text, Finding, Kind};
-use super::robust::{difference_sigma, mad_sigma, median};
-use super::series::{duplicate_rows, stuck_runs};
 use crate::identify::{Campaign, DesignMatrix, Identification};
+use crate::screen::finding::{lines_text, Finding, Kind};
+use crate::screen::robust::{difference_sigma, mad_sigma, median};
+use crate::screen::series::{duplicate_rows, stuck_runs};
 use std::collections::BTreeSet;
 
 /// A studentized residual beyond this is an outlier (false alarm of a clean 2,400-row campaign
@@ -237,7 +237,7 @@ pub struct ScreenedIdentification {
     pub excluded_records: usize,
     /// The robust fit's weights when `result` is robust (`campaign_robust::identify_robust`);
     /// `other` is then the least-squares fit.
-    pub robust: Option<super::campaign_robust::RobustFit>,
+    pub robust: Option<super::robust_campaign::RobustFit>,
 }
 
 /// The findings before the fit (a refusing one is an input error), the least-squares fit of every
@@ -330,7 +330,7 @@ impl ScreenedIdentification {
     /// findings), `excluded_records`, and the values of the other fit, `with_all_readings` (after
     /// `--exclude-outliers` left records out) or `without_suspect_readings` (flag only).
     pub fn add_to_json(&self, doc: &mut serde_json::Value) {
-        doc["data_quality"] = super::findings_json(&self.findings);
+        doc["data_quality"] = crate::screen::findings_json(&self.findings);
         doc["excluded_records"] = self.excluded_records.into();
         if let Some(robust) = &self.robust {
             doc["robust"] = robust.json();

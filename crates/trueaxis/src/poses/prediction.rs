@@ -4,7 +4,8 @@
 //! ([`PredictionWriter`]), so that memory does not grow with the number of poses (10^7 poses in a
 //! few tens of MB, BENCHMARKS.md). The table equals the one written whole.
 
-use super::{DataError, PoseStream, PredictionFormat, PredictionWriter};
+use super::{PoseStream, PredictionFormat, PredictionWriter};
+use crate::data::DataError;
 use crate::model::Predictor;
 use std::io::{BufRead, Write};
 
@@ -14,7 +15,7 @@ pub const CHUNK: usize = 1 << 16;
 /// Predicts every pose of `poses` with `predictor` and writes the table to `out` (named `name` in
 /// messages); returns the number of poses. A bad row is refused with its line, a prediction that
 /// is not finite with the line of its pose; what was written before stays (the output layer
-/// discards it for a file, [`super::OutputSet`]).
+/// discards it for a file, [`crate::data::OutputSet`]).
 pub fn predict_poses<R: BufRead>(
     predictor: &Predictor,
     mut poses: PoseStream<R>,

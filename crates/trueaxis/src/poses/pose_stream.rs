@@ -1,6 +1,6 @@
 //! A pose table read as a stream, chunk by chunk, in memory independent of its length
 //! (docs/reliability.md: `predict` and `compensate --poses` on 10^7 poses): the same forgiving
-//! reading as the table read whole ([`super::CsvTable`], [`super::poses_of`]) through the shared
+//! reading as the table read whole ([`crate::data::CsvTable`], [`super::poses_of`]) through the shared
 //! head, row splitting and pose columns, and the inputs of an error model per pose
 //! (`error_model::InputRows`: columns `T:` `S:` `F:` `P:`, given values, drift lags over `t` and `run`).
 //!
@@ -8,11 +8,12 @@
 //! lines before it are kept to find it (at most [`MAX_PREAMBLE`] bytes). A file of another kind (a
 //! Renishaw laser file, an Etalon exchange file) is refused from its first lines.
 
-use super::lines::Lines;
 use super::pose_columns::PoseColumns;
-use super::table_head::{find_column, header_index, is_content, is_header_pair, TableHead};
-use super::value_column::ValueColumn;
-use super::{DataError, PoseTable};
+use super::PoseTable;
+use crate::data::lines::Lines;
+use crate::data::table_head::{find_column, header_index, is_content, is_header_pair, TableHead};
+use crate::data::value_column::ValueColumn;
+use crate::data::DataError;
 use crate::error_model::{ErrorModel, InputRows};
 use crate::io::units::canonical;
 use crate::machine::Machine;
@@ -53,9 +54,9 @@ pub struct PoseStream<'m, R> {
 }
 
 impl<'m> PoseStream<'m, std::io::BufReader<std::fs::File>> {
-    /// Opens the pose file `path` for `machine` (recorded as an input of the run, [`super::inputs`]).
+    /// Opens the pose file `path` for `machine` (recorded as an input of the run, [`crate::files::inputs`]).
     pub fn open(path: &Path, machine: &'m Machine) -> Result<Self, DataError> {
-        let file = super::inputs::open(path).map_err(|source| DataError::Read { path: path.display().to_string(), source })?;
+        let file = crate::files::inputs::open(path).map_err(|source| DataError::Read { path: path.display().to_string(), source })?;
         PoseStream::new(std::io::BufReader::with_capacity(1 << 16, file), &path.display().to_string(), machine)
     }
 }
@@ -111,7 +112,7 @@ impl<'m, R: BufRead> PoseStream<'m, R> {
             ValueColumn::new(
                 headers,
                 i,
-                headers[i].unit.map(|u| canonical(u.dimension, super::columns::is_position_column(&headers[i].name))),
+                headers[i].unit.map(|u| canonical(u.dimension, crate::data::columns::is_position_column(&headers[i].name))),
             )
         };
         let value = |name: &str| given.iter().find(|(n, _)| n == name).map(|(_, v)| *v);

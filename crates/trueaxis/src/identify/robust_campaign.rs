@@ -11,11 +11,11 @@
 //! are listed by file, line and channel. Linear solution only: the refinement on the exact chain
 //! is a least-squares step of its own and is not combined with robust weights.
 
-use super::campaign::{screen_and_fit, ScreenedIdentification};
-use super::irls::{irls, RobustWeights, Weighting};
+use super::campaign_screening::{screen_and_fit, ScreenedIdentification};
 use crate::error_model::ErrorModel;
 use crate::identify::{solve, Campaign, DesignMatrix, Identification, IdentifyError, IndirectOptions};
 use crate::machine::Machine;
+use crate::screen::irls::{irls, RobustWeights, Weighting};
 
 /// One reading the robust fit as good as left out.
 #[derive(Clone, Debug, PartialEq)]

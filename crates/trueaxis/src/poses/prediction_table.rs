@@ -5,7 +5,7 @@
 //! ([`PredictionWriter`]: the same bytes, in memory independent of the number of poses). No
 //! output holds a number that is not finite.
 
-use super::DataError;
+use crate::data::{push_fixed, DataError};
 use crate::machine::Machine;
 use crate::model::VolumetricError;
 use rayon::prelude::*;
@@ -28,31 +28,6 @@ pub enum PredictionFormat {
 /// Index of the first prediction that holds a number that is not finite.
 fn first_not_finite(errors: &[VolumetricError]) -> Option<usize> {
     errors.iter().position(|e| e.to_user_units().iter().any(|v| !v.is_finite()))
-}
-
-/// Appends `v` with `decimals` digits after the point, the same text as `format!("{v:.decimals$}")`
-/// (the exact binary value rounded half to even) at a fraction of its cost: `v * 10^decimals`
-/// rounded to an integer is that rounding whenever the product (off by at most 1.1e-7 below 1e9)
-/// is not within 1e-6 of a half; near a half, and for larger values, the standard formatting is
-/// used. Tables of millions of rows spend most of their time here otherwise.
-pub(crate) fn push_fixed(out: &mut String, v: f64, decimals: usize) {
-    use std::fmt::Write;
-    const POWERS: [f64; 7] = [1.0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6];
-    let scaled = v * POWERS[decimals.min(6)];
-    let rounded = scaled.round();
-    // a value that is not finite, or beyond 1e9 scaled, goes to the standard formatting too
-    let within = rounded.abs() < 1e9;
-    if decimals > 6 || !within || (scaled - rounded).abs() > 0.5 - 1e-6 {
-        let _ = write!(out, "{v:.decimals$}");
-        return;
-    }
-    let n = rounded.abs() as u64;
-    let unit = 10u64.pow(decimals as u32);
-    let sign = if v.is_sign_negative() { "-" } else { "" };
-    let _ = match decimals {
-        0 => write!(out, "{sign}{n}"),
-        _ => write!(out, "{sign}{}.{:0decimals$}", n / unit, n % unit),
-    };
 }
 
 /// One CSV row: positions as given, errors to 0.1 nm / 0.1 nrad.

@@ -14,11 +14,11 @@
 //! (`dir`), and the finding states the fit without the flagged readings: its residual standard
 //! deviation and the largest change of the fitted function at the observed positions.
 
-use super::campaign::STUDENTIZED_LIMIT;
-use super::finding::{lines_text, Finding, Kind};
-use super::robust::mad_sigma;
+use super::campaign_screening::STUDENTIZED_LIMIT;
 use crate::data::CsvTable;
 use crate::identify::{fit_error_function, FitOptions, FittedFunction, IdentifyError};
+use crate::screen::finding::{lines_text, Finding, Kind};
+use crate::screen::robust::mad_sigma;
 
 /// Cook's distance beyond this flags an influential reading (Cook and Weisberg 1982).
 pub const COOK_LIMIT: f64 = 1.0;
