@@ -173,6 +173,14 @@ impl From<std::io::Error> for Error {
     }
 }
 
+impl From<crate::data::DataError> for Error {
+    /// A file that cannot be read, written or parsed: bad input, the [`crate::data::DataError`]
+    /// kept as the cause (a full disk in its chain is still the environment).
+    fn from(e: crate::data::DataError) -> Error {
+        Error::new(ErrorKind::Input, e.to_string()).caused_by(e)
+    }
+}
+
 /// Returns early with an [`Error`] of a kind: `bail!(input, "{name}: no such axis")`,
 /// `bail!(computation, "...")`, `bail!(environment, "...")`.
 #[macro_export]
