@@ -137,15 +137,6 @@ pub fn identify(e: trueaxis::identify::IdentifyError) -> PyErr {
     }
 }
 
-/// An error of the uncertainty module, by its kind.
-pub fn uncertainty(e: trueaxis::uncertainty::UncertaintyError) -> PyErr {
-    if e.is_input() {
-        input(e)
-    } else {
-        computation(e)
-    }
-}
-
 /// An error of an evaluation (ISO 230-2, ISO 230-4), by its kind.
 pub fn evaluate(e: trueaxis::evaluate::EvaluateError) -> PyErr {
     if e.is_input() {

@@ -1,6 +1,5 @@
 //! `trueaxis budget configurations`: the five-axis configuration study.
 
-use super::failure;
 use crate::Failure;
 use std::fmt::Write;
 use trueaxis::budget::configuration_study::ConfigurationStudy;
@@ -67,7 +66,7 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
     let progress = crate::progress::spinner(args.json);
     progress.set_message("budgets of the five-axis configurations");
     let report = |done: usize, total: usize| progress.set_message(format!("budgets of the configurations: {done} of {total}"));
-    let study = ConfigurationStudy::run(&options, &report).map_err(failure)?;
+    let study = ConfigurationStudy::run(&options, &report).map_err(Failure::of)?;
     progress.finish_and_clear();
     let ConfigurationStudy { counts, travel: travel_rows, ranked, .. } = &study;
     if let Some(dir) = &args.plots {
@@ -82,7 +81,7 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
             let mut points = Vec::new();
             for r in ratios {
                 let part = [r * args.tool_length; 3];
-                let travel = required_travel(&sequence, part, args.tool_length).map_err(failure)?;
+                let travel = required_travel(&sequence, part, args.tool_length).map_err(Failure::of)?;
                 points.push((r, space_utility(part, travel)));
             }
             series.push(Series { name: format!("{} ({code})", pattern.notation()), points });

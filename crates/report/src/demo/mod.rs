@@ -31,7 +31,6 @@ use trueaxis::error_model::{ErrorModel, ErrorModelError};
 use trueaxis::identify::{identification_json, IdentifyError};
 use trueaxis::instruments::ballbar::BallbarError;
 use trueaxis::machine::{Machine, MachineError};
-use trueaxis::uncertainty::UncertaintyError;
 
 /// The built-in machine (`examples/machines/kx8five.toml`).
 pub const MACHINE_TOML: &str = include_str!("../../../../examples/machines/kx8five.toml");
@@ -61,7 +60,7 @@ pub enum DemoError {
     #[error(transparent)]
     Identify(#[from] IdentifyError),
     #[error(transparent)]
-    Uncertainty(#[from] UncertaintyError),
+    Uncertainty(#[from] trueaxis::Error),
     #[error(transparent)]
     Ballbar(#[from] BallbarError),
     #[error(transparent)]
