@@ -145,7 +145,7 @@ fn given_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<Optio
     let mut values = vec![None; errors.sensors().len()];
     for g in given {
         let (name, value) = g.rsplit_once('=').ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}` is not T:name=degC")))?;
-        let i = sensor_index(errors, name).map_err(failure)?;
+        let i = sensor_index(errors, name).map_err(Failure::of)?;
         values[i] = Some(
             value
                 .trim()
@@ -166,15 +166,7 @@ pub fn limits(machine: &Machine, max_um: Option<f64>, max_urad: Option<f64>) -> 
             trueaxis::machine::check_limit_value(name, v, rotary).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
         }
     }
-    Limits::with_overrides(machine, max_um, max_urad).map_err(failure)
-}
-
-pub fn failure(e: CompensateError) -> Failure {
-    if e.is_input() {
-        Failure::input(e)
-    } else {
-        Failure::computation(e)
-    }
+    Limits::with_overrides(machine, max_um, max_urad).map_err(Failure::of)
 }
 
 pub fn run(args: CompensateArgs) -> Result<(), Failure> {
@@ -190,7 +182,7 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
         max_cec_tables: args.max_cec_tables,
         hal_component: args.hal_component.clone(),
     };
-    let format = ExportFormat::parse(&format_name(args.format), &options).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
+    let format = ExportFormat::parse(&format_name(args.format), &options).map_err(Failure::of)?;
     let request = CompensationRequest {
         format,
         points: args.points,
@@ -204,11 +196,11 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let corrector = Corrector::new(&machine, &errors);
     // an error table that does not cover the travel: the message names the error file
     let named = |e: CompensateError| match e {
-        CompensateError::Coverage(m) => Failure::input(anyhow::anyhow!("{}: {m}", args.errors.display())),
-        e => failure(e),
+        CompensateError::Coverage(m) => Failure::of(trueaxis::Error::input(m).in_file(args.errors.display().to_string())),
+        e => Failure::of(e),
     };
     let mut job = compensation(&corrector, &request).map_err(named)?;
-    job.write(&corrector, &args.out).map_err(failure)?;
+    job.write(&corrector, &args.out).map_err(Failure::of)?;
     let (names, tables, grid, extent, left_out, residual) =
         (job.file_names(), &job.tables, &job.grid, &job.extent, &job.left_out, &job.residual);
     let largest = |rotary: bool| if rotary { extent.max_urad } else { extent.max_um };

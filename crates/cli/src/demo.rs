@@ -1,8 +1,7 @@
 //! `trueaxis demo`.
 
 use crate::Failure;
-use trueaxis::data::DataError;
-use trueaxis_report::demo::{self, DemoError};
+use trueaxis_report::demo;
 
 /// Run the main job on the built-in 5-axis machine (the KX8-Five of Andolfatto et al. (2011)) with known errors: simulate
 /// a 3D-ball campaign with noise and cyclic drift and ballbar circles, identify, Monte Carlo
@@ -28,12 +27,7 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
     };
     let result = demo::run(&args.out, &mut progress);
     bar.finish_and_clear();
-    let summary = result.map_err(|e| match e {
-        // an output directory that cannot be written is a bad --out (or the environment: a full
-        // disk, a permission; `exit`)
-        DemoError::Output(_) | DemoError::Data(DataError::Write { .. }) => Failure::input(e),
-        other => Failure::computation(other),
-    })?;
+    let summary = result.map_err(Failure::of)?;
     let pose: Vec<String> = summary.max_pose.iter().map(|(l, v)| format!("{l}={v}")).collect();
     if args.json {
         let files: Vec<String> = summary.files.iter().map(|p| p.display().to_string()).collect();

@@ -1,6 +1,6 @@
 //! `trueaxis nc`.
 
-use crate::compensate::{failure, parse_axis_values, parse_temperatures};
+use crate::compensate::{parse_axis_values, parse_temperatures};
 use crate::Failure;
 use std::path::{Path, PathBuf};
 use trueaxis::compensate::nc::params::read_parameter_file;
@@ -216,13 +216,13 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     let result = match (&args.out, args.json) {
         (None, true) => {
             let mut text = Vec::new();
-            let r = correct(&mut text).map_err(failure)?;
+            let r = correct(&mut text).map_err(Failure::of)?;
             NcResult { program: text, ..r }
         }
         (out, _) => {
             let out = out.as_deref().unwrap_or(Path::new(trueaxis::data::STANDARD_OUTPUT));
             let mut result = None;
-            write_streamed(out, |w| correct(w).map(|r| result = Some(r))).map_err(failure)?;
+            write_streamed(out, |w| correct(w).map(|r| result = Some(r))).map_err(Failure::of)?;
             result.expect("written")
         }
     };

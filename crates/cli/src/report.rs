@@ -178,14 +178,6 @@ fn parse_pair(text: &str) -> Result<[f64; 2], String> {
     }
 }
 
-fn failure(e: CalibrationError) -> Failure {
-    if e.is_input() {
-        Failure::input(e)
-    } else {
-        Failure::computation(e)
-    }
-}
-
 fn bad(message: String) -> Failure {
     Failure::input(anyhow::anyhow!(message))
 }
@@ -298,7 +290,7 @@ fn rotary_ballbar(args: &ReportArgs, machine: &Machine) -> Result<Option<RotaryB
         CalibrationError::Input(m) => CalibrationError::Input(m.replace("--pivot-offset-", "--rotary-pivot-offset-")),
         other => other,
     });
-    Ok(Some(part.map_err(failure)?))
+    Ok(Some(part.map_err(Failure::of)?))
 }
 
 /// The two-length rotary-table test of --tmbb, if given.
@@ -312,7 +304,7 @@ fn tmbb(args: &ReportArgs) -> Result<Option<TmbbPart>, Failure> {
         &[rx, rz, l1, l2] => TmbbSetup { rx, rz, l1, l2 },
         other => return Err(bad(format!("--tmbb-setup takes RX,RZ,L1,L2 in mm, got {} numbers", other.len()))),
     };
-    Ok(Some(TmbbPart::evaluate(&setup, short, long).map_err(|e| failure(prefixed("--tmbb", e)))?))
+    Ok(Some(TmbbPart::evaluate(&setup, short, long).map_err(|e| Failure::of(prefixed("--tmbb", e)))?))
 }
 
 /// A bad input of an option's files, named by the option.
@@ -340,11 +332,11 @@ pub fn run(args: ReportArgs) -> Result<(), Failure> {
     bar.finish_and_clear();
     let report = result?;
     if let Some(path) = &args.certificate {
-        report.check_tolerances(&path.display().to_string()).map_err(failure)?;
+        report.check_tolerances(&path.display().to_string()).map_err(Failure::of)?;
     }
     let html = report.to_html();
     let pdf = match &args.pdf {
-        Some(_) => Some(report.to_pdf().map_err(failure)?),
+        Some(_) => Some(report.to_pdf().map_err(Failure::of)?),
         None => None,
     };
     write_atomically(&args.out, html.as_bytes()).map_err(Failure::input)?;
@@ -396,11 +388,11 @@ fn build<'a>(
     let mut identification = None;
     if let Some(path) = &args.campaign {
         bar.set_message("identification");
-        identification = Some(IdentificationPart::identify(machine, path, args.allow_rank_deficient).map_err(failure)?);
+        identification = Some(IdentificationPart::identify(machine, path, args.allow_rank_deficient).map_err(Failure::of)?);
     }
     let mut uncertainty = None;
     if let (Some(path), Some(id)) = (&args.sources, &identification) {
-        let sources = Sources::load(path).map_err(|e| failure(e.into()))?;
+        let sources = Sources::load(path).map_err(|e| Failure::of(e))?;
         let origin = path.display().to_string();
         let mut progress = |stage: Option<&str>, sequence: usize| {
             bar.set_message(format!(
@@ -409,14 +401,14 @@ fn build<'a>(
             ));
             bar.tick();
         };
-        uncertainty = Some(UncertaintyPart::evaluate(id, sources, &origin, args.point_time, &mut progress).map_err(failure)?);
+        uncertainty = Some(UncertaintyPart::evaluate(id, sources, &origin, args.point_time, &mut progress).map_err(Failure::of)?);
     }
     bar.set_message("positioning tests");
     let positioning =
-        args.positioning.iter().map(|p| PositioningPart::evaluate(p, &certificate)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
+        args.positioning.iter().map(|p| PositioningPart::evaluate(p, &certificate)).collect::<Result<Vec<_>, _>>().map_err(Failure::of)?;
     bar.set_message("ballbar circles");
     let mut circles =
-        circle_inputs.into_iter().map(|c| CirclePart::evaluate(machine, c)).collect::<Result<Vec<_>, _>>().map_err(failure)?;
+        circle_inputs.into_iter().map(|c| CirclePart::evaluate(machine, c)).collect::<Result<Vec<_>, _>>().map_err(Failure::of)?;
     for c in &mut circles {
         c.reading_u_um = certificate.reading_uncertainty_um("ballbar");
     }
@@ -434,13 +426,13 @@ fn build<'a>(
         (None, None) => return Err(bad("give --errors or --campaign".into())),
     };
     bar.set_message("compensation tables and volumetric error");
-    let compensation = CompensationPart::compute(machine, errors, &origin, args.points, GRID_NODES).map_err(failure)?;
+    let compensation = CompensationPart::compute(machine, errors, &origin, args.points, GRID_NODES).map_err(Failure::of)?;
     let controller = match &args.controller {
-        Some(format) => Some(compensation.controller(machine, errors, format, None).map_err(failure)?),
+        Some(format) => Some(compensation.controller(machine, errors, format, None).map_err(Failure::of)?),
         None => None,
     };
     let volume = {
-        VolumePart::compute(machine, errors, errors, &compensation, None).map_err(failure)?.map(|mut v| {
+        VolumePart::compute(machine, errors, errors, &compensation, None).map_err(Failure::of)?.map(|mut v| {
             v.description.push(format!(
                 "The machine is taken to have {origin}, and the corrections are computed from them. {} How well the errors themselves are known is the uncertainty of their measurement or identification.",
                 match &args.controller {
@@ -460,13 +452,13 @@ fn build<'a>(
         Some(path) => fits::fit_parts(&certificate, &args.machine, path)?,
         None => Vec::new(),
     };
-    let mut data_quality = DataQualityPart::of_parts(&positioning, &circles, identification.as_ref()).map_err(failure)?;
+    let mut data_quality = DataQualityPart::of_parts(&positioning, &circles, identification.as_ref()).map_err(Failure::of)?;
     for f in &fits {
         let role = format!("direct measurement ({})", f.name());
-        data_quality.add(&f.file.display().to_string(), &role, f.report.findings.clone()).map_err(failure)?;
+        data_quality.add(&f.file.display().to_string(), &role, f.report.findings.clone()).map_err(Failure::of)?;
     }
     if let (Some(path), Some(findings)) = (&args.thermal_data, thermal_findings) {
-        data_quality.add(&path.display().to_string(), "thermal campaign", findings).map_err(failure)?;
+        data_quality.add(&path.display().to_string(), "thermal campaign", findings).map_err(Failure::of)?;
     }
     let traceability = Traceability::now(input_files(args, identification.as_ref(), &fits)?, Some(command_line()));
     let issued = certificate.issue_date(&traceability.date);
@@ -506,14 +498,14 @@ fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<ThermalParts, F
     let modes = match &args.thermal_model {
         Some(path) => {
             bar.set_message("thermal modes");
-            let model = load_model(path).map_err(|e| failure(e.into()))?;
+            let model = load_model(path).map_err(|e| Failure::of(e))?;
             let mut progress = |p: LanczosProgress| {
                 if let LanczosProgress::Iterating { converged, wanted, .. } | LanczosProgress::Refining { converged, wanted, .. } = p {
                     bar.set_message(format!("thermal modes: {converged} of {wanted} converged"));
                 }
             };
             let origin = path.display().to_string();
-            Some(ThermalModesPart::compute(&model, &origin, args.thermal_modes, args.thermal_share, &mut progress).map_err(failure)?)
+            Some(ThermalModesPart::compute(&model, &origin, args.thermal_modes, args.thermal_share, &mut progress).map_err(Failure::of)?)
         }
         None => None,
     };
@@ -523,9 +515,10 @@ fn thermal_parts(args: &ReportArgs, bar: &ProgressBar) -> Result<ThermalParts, F
             let text = trueaxis::data::inputs::read_to_string(model_path)
                 .map_err(|e| bad(format!("{}: cannot read: {e}", model_path.display())))?;
             let model_origin = model_path.display().to_string();
-            let model = ThermalErrorModel::from_toml_str(&text, &model_origin).map_err(|e| failure(e.into()))?;
-            let (campaign, findings) = read_screened(data_path, false, false).map_err(|e| failure(e.into()))?;
-            let part = ThermalDriftPart::compute(&model, &model_origin, &campaign, &data_path.display().to_string()).map_err(failure)?;
+            let model = ThermalErrorModel::from_toml_str(&text, &model_origin).map_err(|e| Failure::of(e))?;
+            let (campaign, findings) = read_screened(data_path, false, false).map_err(|e| Failure::of(e))?;
+            let part =
+                ThermalDriftPart::compute(&model, &model_origin, &campaign, &data_path.display().to_string()).map_err(Failure::of)?;
             Some((part, findings))
         }
         _ => None,

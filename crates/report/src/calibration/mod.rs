@@ -94,7 +94,7 @@ impl CalibrationError {
             CalibrationError::Machine(_) | CalibrationError::Errors(_) | CalibrationError::Data(_) | CalibrationError::Input(_) => true,
             CalibrationError::Identify(e) => !matches!(e, IdentifyError::RankDeficient { .. }),
             CalibrationError::Evaluate(e) => e.is_input(),
-            CalibrationError::Compensate(e) => e.is_input(),
+            CalibrationError::Compensate(e) => e.kind() == trueaxis::ErrorKind::Input,
             CalibrationError::Core(e) => e.kind() != trueaxis::ErrorKind::Computation,
             CalibrationError::Plot(_) | CalibrationError::Computation(_) => false,
         }

@@ -70,6 +70,19 @@ pub enum DemoError {
     Output(#[source] DataError),
 }
 
+impl From<DemoError> for trueaxis::Error {
+    /// An output directory that cannot be written is bad input (a bad `--out`, or the environment:
+    /// a full disk, a permission, found in the cause); anything else is a failed computation, since
+    /// the demo's inputs are built in.
+    fn from(e: DemoError) -> trueaxis::Error {
+        let kind = match e {
+            DemoError::Output(_) | DemoError::Data(DataError::Write { .. }) => trueaxis::ErrorKind::Input,
+            _ => trueaxis::ErrorKind::Computation,
+        };
+        trueaxis::Error::new(kind, e.to_string()).caused_by(e)
+    }
+}
+
 /// What the demo found, for the command line summary.
 #[derive(Clone, Debug)]
 pub struct DemoSummary {
