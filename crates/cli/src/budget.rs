@@ -8,7 +8,6 @@ mod inputs;
 mod miniaturisation;
 
 use crate::Failure;
-use trueaxis::budget::BudgetError;
 
 /// Error budget for design: sensitivity, stack-up, tolerance allocation, five-axis configurations.
 #[derive(clap::Args)]
@@ -34,14 +33,5 @@ pub fn run(args: BudgetArgs) -> Result<(), Failure> {
         BudgetCommand::Allocate(a) => allocate::run(*a),
         BudgetCommand::Configurations(a) => configurations::run(a),
         BudgetCommand::Miniaturisation(a) => miniaturisation::run(a),
-    }
-}
-
-/// Bad input (exit 2) or a failed computation (exit 1).
-fn failure(e: BudgetError) -> Failure {
-    if e.is_input() {
-        Failure::input(e)
-    } else {
-        Failure::computation(e)
     }
 }

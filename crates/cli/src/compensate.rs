@@ -120,14 +120,6 @@ fn parse_counts(text: &str) -> Result<[usize; 3], String> {
     <[usize; 3]>::try_from(v).map_err(|_| format!("`{text}` is not three counts NX,NY,NZ"))
 }
 
-pub fn failure(e: CompensateError) -> Failure {
-    if e.is_input() {
-        Failure::input(e)
-    } else {
-        Failure::computation(e)
-    }
-}
-
 pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let machine = Machine::load(&args.machine).map_err(Failure::input)?;
     let errors = ErrorModel::load(&args.errors, &machine).map_err(Failure::input)?;
@@ -141,7 +133,7 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
         max_cec_tables: args.max_cec_tables,
         hal_component: args.hal_component.clone(),
     };
-    let format = ExportFormat::parse(&format_name(args.format), &options).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
+    let format = ExportFormat::parse(&format_name(args.format), &options).map_err(Failure::of)?;
     let request = CompensationRequest {
         format,
         points: args.points,
@@ -155,11 +147,11 @@ pub fn run(args: CompensateArgs) -> Result<(), Failure> {
     let corrector = Corrector::new(&machine, &errors);
     // an error table that does not cover the travel: the message names the error file
     let named = |e: CompensateError| match e {
-        CompensateError::Coverage(m) => Failure::input(anyhow::anyhow!("{}: {m}", args.errors.display())),
-        e => failure(e),
+        CompensateError::Coverage(m) => Failure::of(trueaxis::Error::input(m).in_file(args.errors.display().to_string())),
+        e => Failure::of(e),
     };
     let mut job = compensation(&corrector, &request).map_err(named)?;
-    job.write(&corrector, &args.out).map_err(failure)?;
+    job.write(&corrector, &args.out).map_err(Failure::of)?;
     let (names, tables, grid, extent, left_out, residual) =
         (job.file_names(), &job.tables, &job.grid, &job.extent, &job.left_out, &job.residual);
     let largest = |rotary: bool| if rotary { extent.max_urad } else { extent.max_um };

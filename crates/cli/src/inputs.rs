@@ -52,7 +52,7 @@ pub fn given_temperatures(errors: &ErrorModel, given: &[String]) -> Result<Vec<O
     let mut values = vec![None; errors.sensors().len()];
     for g in given {
         let (name, value) = g.rsplit_once('=').ok_or_else(|| Failure::input(anyhow::anyhow!("--temperature `{g}` is not T:name=degC")))?;
-        let i = sensor_index(errors, name).map_err(crate::compensate::failure)?;
+        let i = sensor_index(errors, name).map_err(Failure::of)?;
         values[i] = Some(
             value
                 .trim()

@@ -5,7 +5,6 @@
 use crate::Failure;
 use std::path::PathBuf;
 use trueaxis_live::run::{run as run_live, Options};
-use trueaxis_live::LiveError;
 
 /// Live thermal compensation: reads the machine's temperature sensors as they change, predicts
 /// the drift with a model of `thermal fit`, writes the offsets that cancel it to the controller.
@@ -97,10 +96,5 @@ pub fn run(a: LiveArgs) -> Result<(), Failure> {
         no_sync: a.no_sync,
         give_up_after_s: a.give_up_after,
     };
-    match run_live(&options) {
-        Ok(_) => Ok(()),
-        Err(e @ LiveError::Input(_)) => Err(Failure::input(e)),
-        Err(e @ LiveError::Computation(_)) => Err(Failure::computation(e)),
-        Err(e @ LiveError::Environment(_)) => Err(Failure::Environment(e.into())),
-    }
+    run_live(&options).map(|_| ()).map_err(Failure::of)
 }

@@ -1,6 +1,5 @@
 //! `trueaxis nc`.
 
-use crate::compensate::failure;
 use crate::inputs::temperatures;
 use crate::parse::{axis_values, correction_limits};
 use crate::Failure;
@@ -218,13 +217,13 @@ pub fn run(args: NcArgs) -> Result<(), Failure> {
     let result = match (&args.out, args.json) {
         (None, true) => {
             let mut text = Vec::new();
-            let r = correct(&mut text).map_err(failure)?;
+            let r = correct(&mut text).map_err(Failure::of)?;
             NcResult { program: text, ..r }
         }
         (out, _) => {
             let out = out.as_deref().unwrap_or(Path::new(trueaxis::data::STANDARD_OUTPUT));
             let mut result = None;
-            write_streamed(out, |w| correct(w).map(|r| result = Some(r))).map_err(failure)?;
+            write_streamed(out, |w| correct(w).map(|r| result = Some(r))).map_err(Failure::of)?;
             result.expect("written")
         }
     };

@@ -77,7 +77,7 @@ pub fn correction_limits(machine: &Machine, max_um: Option<f64>, max_urad: Optio
             trueaxis::machine::check_limit_value(name, v, rotary).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
         }
     }
-    Limits::with_overrides(machine, max_um, max_urad).map_err(crate::compensate::failure)
+    Limits::with_overrides(machine, max_um, max_urad).map_err(Failure::of)
 }
 
 #[cfg(test)]

@@ -165,17 +165,9 @@ fn parse_pair(text: &str) -> Result<[f64; 2], String> {
     }
 }
 
-fn failure(e: CalibrationError) -> Failure {
-    if e.is_input() {
-        Failure::input(e)
-    } else {
-        Failure::computation(e)
-    }
-}
-
 impl From<CalibrationError> for Failure {
     fn from(e: CalibrationError) -> Failure {
-        failure(e)
+        Failure::of(e)
     }
 }
 
@@ -237,7 +229,7 @@ pub fn run(args: ReportArgs) -> Result<(), Failure> {
     let report = result?;
     let html = report.to_html();
     let pdf = match &pdf_path {
-        Some(_) => Some(report.to_pdf().map_err(failure)?),
+        Some(_) => Some(report.to_pdf().map_err(Failure::of)?),
         None => None,
     };
     write_atomically(&out, html.as_bytes()).map_err(Failure::input)?;

@@ -14,7 +14,6 @@ mod tune;
 use crate::Failure;
 use std::path::Path;
 use trueaxis::data::write_atomically;
-use trueaxis::thermal::ThermalError;
 use trueaxis_report::ReportError;
 
 /// Thermal modal analysis, sensor placement and thermal error models (Zhu (2008)).
@@ -52,14 +51,6 @@ pub fn run(args: ThermalArgs) -> Result<(), Failure> {
         ThermalCommand::Temperatures(a) => temperatures::temperatures(a),
         ThermalCommand::Tune(a) => tune::tune(a),
         ThermalCommand::Beam(a) => beam::beam(a),
-    }
-}
-
-/// A computation that failed on valid input exits 1, everything else 2.
-fn failure(e: ThermalError) -> Failure {
-    match e {
-        ThermalError::Computation(_) => Failure::computation(e),
-        _ => Failure::input(e),
     }
 }
 

@@ -6,12 +6,12 @@ use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::data::OutputSet;
 use trueaxis::geometry::Vec3;
-use trueaxis::identify::{solve, Campaign, Identification, IdentifyError, IndirectOptions};
+use trueaxis::identify::{solve, Campaign, Identification, IndirectOptions};
 use trueaxis::machine::Machine;
 use trueaxis::model::{Frame, Setup};
 use trueaxis::poses::read_poses;
 use trueaxis::uncertainty::{
-    budget_json, run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, IntervalKind, PoseUncertainty, Sources, UncertaintyError,
+    budget_json, run_budget, Budget, DesignMatrix, Evaluation, IdentificationMap, IntervalKind, PoseUncertainty, Sources,
 };
 use trueaxis_report::{interval_of, uncertainty_figures};
 
@@ -79,13 +79,6 @@ enum FrameArg {
     Machine,
 }
 
-fn identify_failure(e: IdentifyError) -> Failure {
-    match e {
-        IdentifyError::RankDeficient { .. } => Failure::computation(e),
-        other => Failure::input(other),
-    }
-}
-
 /// A campaign and its identification (the same as `trueaxis identify` solves).
 struct CampaignContext {
     machine: Machine,
@@ -96,12 +89,12 @@ struct CampaignContext {
 
 fn campaign_context(machine: &std::path::Path, campaign: &std::path::Path, point_time: f64) -> Result<CampaignContext, Failure> {
     let machine = Machine::load(machine).map_err(Failure::input)?;
-    let campaign = Campaign::load(campaign, &machine).map_err(identify_failure)?;
-    let nominal = campaign.nominal_errors(&machine).map_err(identify_failure)?;
-    let design = campaign.design_matrix(&machine, &nominal).map_err(identify_failure)?;
-    let start = campaign.nominal_values(&nominal).map_err(identify_failure)?;
-    let identification = solve(&design, &start, &IndirectOptions::default()).map_err(identify_failure)?;
-    let design = trueaxis::uncertainty::from_identification(&design, point_time).map_err(failure)?;
+    let campaign = Campaign::load(campaign, &machine).map_err(Failure::of)?;
+    let nominal = campaign.nominal_errors(&machine).map_err(Failure::of)?;
+    let design = campaign.design_matrix(&machine, &nominal).map_err(Failure::of)?;
+    let start = campaign.nominal_values(&nominal).map_err(Failure::of)?;
+    let identification = solve(&design, &start, &IndirectOptions::default()).map_err(Failure::of)?;
+    let design = trueaxis::uncertainty::from_identification(&design, point_time).map_err(Failure::of)?;
     Ok(CampaignContext { machine, campaign, identification, design })
 }
 
@@ -122,7 +115,7 @@ fn pose_uncertainties(
         FrameArg::Machine => Frame::Machine,
     };
     trueaxis::uncertainty::pose_uncertainties(m, &ctx.campaign, &ctx.identification, budget, &poses.user, &setup, frame, level)
-        .map_err(failure)
+        .map_err(Failure::of)
 }
 
 /// Where the design came from, for the outputs.
@@ -131,14 +124,6 @@ fn design_origin(args: &UncertaintyArgs) -> String {
         (Some(d), _) => d.display().to_string(),
         (None, Some(c)) => c.display().to_string(),
         _ => String::new(),
-    }
-}
-
-fn failure(e: UncertaintyError) -> Failure {
-    if e.is_input() {
-        Failure::input(e)
-    } else {
-        Failure::computation(e)
     }
 }
 
@@ -151,16 +136,16 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
         return Err(Failure::input(anyhow::anyhow!("--poses needs --machine and --campaign (the parameters' effect on dx dy dz)")));
     }
     let design = match (&args.design, &context) {
-        (Some(path), _) => DesignMatrix::read_csv(path).map_err(failure)?,
+        (Some(path), _) => DesignMatrix::read_csv(path).map_err(Failure::of)?,
         (None, Some(ctx)) => ctx.design.clone(),
         _ => return Err(Failure::input(anyhow::anyhow!("give --design, or --machine and --campaign"))),
     };
-    let mut sources = Sources::load(&args.sources).map_err(failure)?;
+    let mut sources = Sources::load(&args.sources).map_err(Failure::of)?;
     if let Some(seed) = args.seed {
         sources.settings.seed = seed;
     }
-    sources.check_channels(&design).map_err(|e| failure(UncertaintyError::Input(format!("{}: {e}", args.sources.display()))))?;
-    let map = IdentificationMap::new(design).map_err(failure)?;
+    sources.check_channels(&design).map_err(|e| Failure::of(trueaxis::Error::input(format!("{}: {e}", args.sources.display()))))?;
+    let map = IdentificationMap::new(design).map_err(Failure::of)?;
     let bar = crate::progress::spinner(args.json);
     let settings = &sources.settings;
     let mut report = |stage: Option<&str>, h: usize, c: Option<&trueaxis::uncertainty::ControlVariables>| {
@@ -173,7 +158,7 @@ pub fn run(args: UncertaintyArgs) -> Result<(), Failure> {
     };
     let budget = run_budget(&map, &sources.sources, settings, Evaluation::Reduced, !args.no_budget, &mut report);
     bar.finish_and_clear();
-    let budget = budget.map_err(failure)?;
+    let budget = budget.map_err(Failure::of)?;
     let poses = match (&args.poses, &context) {
         (Some(path), Some(ctx)) => pose_uncertainties(&args, path, ctx, &budget, settings.coverage)?,
         _ => Vec::new(),

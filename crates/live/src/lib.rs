@@ -37,14 +37,14 @@ use thiserror::Error;
 /// Why live compensation cannot start or go on.
 #[derive(Debug, Error)]
 pub enum LiveError {
-    /// Bad input: a file, a key, a node id, a pin, an option (exit status 2).
+    /// Bad input: a file, a key, a node id, a pin, an option.
     #[error("{0}")]
     Input(String),
-    /// A computation failed on valid input (exit status 1).
+    /// A computation failed on valid input.
     #[error("{0}")]
     Computation(String),
     /// The environment: a server that cannot be reached, a program that is missing, a file that
-    /// cannot be written (exit status 3).
+    /// cannot be written.
     #[error("{0}")]
     Environment(String),
 }
@@ -57,11 +57,23 @@ pub(crate) fn environment(message: impl Into<String>) -> LiveError {
     LiveError::Environment(message.into())
 }
 
-impl From<trueaxis::thermal::ThermalError> for LiveError {
-    fn from(e: trueaxis::thermal::ThermalError) -> Self {
-        match e {
-            trueaxis::thermal::ThermalError::Computation(m) => LiveError::Computation(m),
-            other => LiveError::Input(other.to_string()),
+impl From<trueaxis::Error> for LiveError {
+    fn from(e: trueaxis::Error) -> Self {
+        match e.kind() {
+            trueaxis::ErrorKind::Computation => LiveError::Computation(e.to_string()),
+            _ => LiveError::Input(e.to_string()),
         }
+    }
+}
+
+impl From<LiveError> for trueaxis::Error {
+    /// The kind of each variant, the message unchanged.
+    fn from(e: LiveError) -> trueaxis::Error {
+        let kind = match e {
+            LiveError::Input(_) => trueaxis::ErrorKind::Input,
+            LiveError::Computation(_) => trueaxis::ErrorKind::Computation,
+            LiveError::Environment(_) => trueaxis::ErrorKind::Environment,
+        };
+        trueaxis::Error::new(kind, e.to_string()).caused_by(e)
     }
 }

@@ -6,7 +6,7 @@
 //! and travel in mm, rotary positions and tilts in deg.
 
 use crate::convert::{typed, with_array2};
-use crate::exceptions::{computation, input, input_msg};
+use crate::exceptions::{self, input, input_msg};
 use crate::identify::Reduced;
 use crate::machine::{parse_frame, Machine};
 use crate::progress::Progress;
@@ -21,16 +21,7 @@ use trueaxis::budget::global::GeneticOptions;
 use trueaxis::budget::problem::{budget_spec, pose_sets, rotary_positions, BudgetProblem as Problem, PoseSource};
 use trueaxis::budget::ranking::StudyOptions;
 use trueaxis::budget::spec::KindValues;
-use trueaxis::budget::BudgetError;
 use trueaxis::data::write_atomically;
-
-fn failure(e: BudgetError) -> PyErr {
-    if e.is_input() {
-        input(e)
-    } else {
-        computation(e)
-    }
-}
 
 /// A part size: one number (a cube) or three (x, y, z), in mm.
 fn part_size(obj: &Bound<'_, PyAny>) -> PyResult<[f64; 3]> {
@@ -108,10 +99,10 @@ impl BudgetProblem {
         kwargs.set_item("work_point", work_point)?;
         kwargs.set_item("frame", frame)?;
         let m = machine.inner.as_ref().clone();
-        let spec = budget_spec(&m, budget.as_deref(), KindValues([linear_um, angular_urad, squareness_urad])).map_err(failure)?;
+        let spec = budget_spec(&m, budget.as_deref(), KindValues([linear_um, angular_urad, squareness_urad])).map_err(exceptions::of)?;
         let setup = machine.setup(tool_point, work_point)?;
         let given: Vec<(char, f64)> = rotary.iter().flatten().map(|(c, v)| (c.to_ascii_uppercase(), *v)).collect();
-        let rotary = rotary_positions(&m, &given).map_err(failure)?;
+        let rotary = rotary_positions(&m, &given).map_err(exceptions::of)?;
         let sizes: Vec<[f64; 3]> = parts.iter().flatten().map(part_size).collect::<PyResult<_>>()?;
         let (path, given) = match poses {
             Some(p) if p.is_instance_of::<PyString>() || p.hasattr("__fspath__")? => (Some(p.extract::<PathBuf>()?), None),
@@ -125,7 +116,7 @@ impl BudgetProblem {
             (None, None, true, grid) => PoseSource::Grid(grid.unwrap_or(5)),
             _ => return Err(input_msg("poses, parts and grid: give one of them (default: a grid of 5 points per axis)")),
         };
-        let sets = pose_sets(&m, &setup, &source, &rotary).map_err(failure)?;
+        let sets = pose_sets(&m, &setup, &source, &rotary).map_err(exceptions::of)?;
         let inner = Problem { machine: m, spec, setup, frame: parse_frame(frame)?, sets };
         Ok(BudgetProblem { inner, machine: machine.clone(), kwargs: kwargs.unbind() })
     }
@@ -158,7 +149,7 @@ impl BudgetProblem {
     #[pyo3(signature = (*, out = None, sensitivity = None))]
     fn analyse(&self, py: Python<'_>, out: Option<PathBuf>, sensitivity: Option<PathBuf>) -> PyResult<Py<PyAny>> {
         let problem = &self.inner;
-        let analyses = py.detach(|| problem.analyse()).map_err(failure)?;
+        let analyses = py.detach(|| problem.analyse()).map_err(exceptions::of)?;
         if let Some(path) = &out {
             write_atomically(path, problem.poses_csv(&analyses).as_bytes()).map_err(input)?;
         }
@@ -196,7 +187,7 @@ impl BudgetProblem {
         let target = target(target_um, target_xyz)?;
         let options = AllocationOptions { stack, target, genetic: GeneticOptions { generations, seed, ..GeneticOptions::default() } };
         let problem = &self.inner;
-        let (a, s) = py.detach(|| problem.allocate(&options)).map_err(failure)?;
+        let (a, s) = py.detach(|| problem.allocate(&options)).map_err(exceptions::of)?;
         if let Some(path) = &out {
             write_atomically(path, problem.allocation_toml(&a, &options, s.poses()).as_bytes()).map_err(input)?;
         }
@@ -248,5 +239,5 @@ pub fn budget_configurations(
     let progress = Progress::new(progress)?;
     let study = py.detach(|| ConfigurationStudy::run(&options, &|done, total| progress.report(done, total)));
     progress.finish()?;
-    typed(py, "BudgetConfigurations", &study.map_err(failure)?.to_json())
+    typed(py, "BudgetConfigurations", &study.map_err(exceptions::of)?.to_json())
 }

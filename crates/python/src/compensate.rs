@@ -1,25 +1,15 @@
 //! Compensation tables for controllers and the correction of NC programs, on the exact chain.
 
 use crate::convert::typed;
-use crate::exceptions::{computation, input, input_msg};
+use crate::exceptions::{self, input, input_msg};
 use crate::machine::{Errors, Machine};
 use pyo3::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
 use trueaxis::compensate::export::Limits;
 use trueaxis::compensate::nc::{correct_program, Controller, FileId, Header, NcOptions};
-use trueaxis::compensate::{
-    compensation, nc_json, sensor_temperatures, CompensateError, CompensationRequest, Corrector, ExportFormat, FormatOptions,
-};
+use trueaxis::compensate::{compensation, nc_json, sensor_temperatures, CompensationRequest, Corrector, ExportFormat, FormatOptions};
 use trueaxis::data::write_atomically;
-
-fn failure(e: CompensateError) -> PyErr {
-    if e.is_input() {
-        input(e)
-    } else {
-        computation(e)
-    }
-}
 
 /// Correction limits (um, urad): the machine file's `[limits]` (or the defaults), replaced by
 /// `limit_um` / `limit_urad` when given (each positive), as the command line.
@@ -29,7 +19,7 @@ fn limits(machine: &trueaxis::machine::Machine, max_um: Option<f64>, max_urad: O
             trueaxis::machine::check_limit_value(name, v, rotary).map_err(input_msg)?;
         }
     }
-    Limits::with_overrides(machine, max_um, max_urad).map_err(failure)
+    Limits::with_overrides(machine, max_um, max_urad).map_err(exceptions::of)
 }
 
 /// Sensor temperatures (degC) in the model's order from a dict `{"T:name": degC}` (`None`: not
@@ -37,7 +27,7 @@ fn limits(machine: &trueaxis::machine::Machine, max_um: Option<f64>, max_urad: O
 fn given_temperatures(errors: &Errors, given: Option<HashMap<String, f64>>) -> PyResult<Vec<Option<f64>>> {
     let mut pairs: Vec<(String, f64)> = given.unwrap_or_default().into_iter().collect();
     pairs.sort_by(|a, b| a.0.cmp(&b.0));
-    sensor_temperatures(&errors.inner, &pairs).map_err(failure)
+    sensor_temperatures(&errors.inner, &pairs).map_err(exceptions::of)
 }
 
 /// Sensor inputs in the model's order, each input's reference (20 degC, 0 rpm, ...) when not given.
@@ -107,11 +97,11 @@ pub fn compensate(
     let reference = reference.map(|r| axis_values(machine, &r, "reference")).transpose()?;
     let limits = limits(&machine.inner, limit_um, limit_urad)?;
     let options = FormatOptions { comp_type, max_lattice_points, max_table_points, max_cec_tables, hal_component };
-    let format = ExportFormat::parse(format, &options).map_err(input_msg)?;
+    let format = ExportFormat::parse(format, &options).map_err(exceptions::of)?;
     let request = CompensationRequest { format, points, grid, reference, limits, temperatures, poses, force };
     let corrector = Corrector::new(&machine.inner, &errors.inner);
-    let mut job = py.detach(|| compensation(&corrector, &request)).map_err(failure)?;
-    job.write(&corrector, &out).map_err(failure)?;
+    let mut job = py.detach(|| compensation(&corrector, &request)).map_err(exceptions::of)?;
+    job.write(&corrector, &out).map_err(exceptions::of)?;
     typed(py, "Compensation", &job.to_json(&machine.inner, &out.display().to_string(), points))
 }
 
@@ -165,7 +155,7 @@ pub fn correct_nc(
     options.force = force;
     let corrector = Corrector::new(&machine.inner, &errors.inner);
     let origin = program.display().to_string();
-    let result = py.detach(|| correct_program(&corrector, &text, &origin, &options, &temperatures)).map_err(failure)?;
+    let result = py.detach(|| correct_program(&corrector, &text, &origin, &options, &temperatures)).map_err(exceptions::of)?;
     if let Some(path) = &out {
         write_atomically(path, &result.program).map_err(input)?;
     }

@@ -128,12 +128,3 @@ pub fn computation(error: impl std::error::Error + 'static) -> PyErr {
 pub fn computation_msg(text: impl Into<String>) -> PyErr {
     ComputationError::new_err(short(&text.into()))
 }
-
-/// An error of the uncertainty module, by its kind.
-pub fn uncertainty(e: trueaxis::uncertainty::UncertaintyError) -> PyErr {
-    if e.is_input() {
-        input(e)
-    } else {
-        computation(e)
-    }
-}

@@ -2,7 +2,7 @@
 //! points that `trueaxis thermal fit` and `trueaxis thermal predict` use.
 
 use crate::convert::typed;
-use crate::exceptions::{computation, input, input_msg};
+use crate::exceptions::{self, input, input_msg};
 use crate::machine::Machine;
 use crate::progress::Progress;
 use pyo3::prelude::*;
@@ -14,14 +14,7 @@ use trueaxis::thermal::campaign_predict::{predict_campaign, read_model_file};
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::modes_report::ModesReport;
 use trueaxis::thermal::thermal_campaign::Campaign;
-use trueaxis::thermal::{LanczosProgress, SpectrumMethod, ThermalError, DEFAULT_SHARE};
-
-fn failure(e: ThermalError) -> PyErr {
-    match e {
-        ThermalError::Computation(_) => computation(e),
-        _ => input(e),
-    }
-}
+use trueaxis::thermal::{LanczosProgress, SpectrumMethod, DEFAULT_SHARE};
 
 /// Fits a thermal error model to a campaign CSV (columns `t` in s, `run`, `T:<sensor>` in degC,
 /// the error in um): the document of `trueaxis thermal fit --json` (`model`, `kept`, residual
@@ -105,15 +98,16 @@ pub fn thermal_fit(
         robust,
         terms: terms_out.is_some(),
     };
-    let (campaign, findings) = trueaxis::thermal::thermal_screening::read_screened(&data, skip_missing, split_gaps).map_err(failure)?;
+    let (campaign, findings) =
+        trueaxis::thermal::thermal_screening::read_screened(&data, skip_missing, split_gaps).map_err(exceptions::of)?;
     let name = data.display().to_string();
-    let fitted = py.detach(|| fit_campaign(&campaign, &name, &request)).map_err(failure)?;
+    let fitted = py.detach(|| fit_campaign(&campaign, &name, &request)).map_err(exceptions::of)?;
     if let CampaignFit::Model(m) = &fitted {
         if let Some(path) = &out {
             write_atomically(path, m.model.to_toml().as_bytes()).map_err(input)?;
         }
         if let (Some(path), Some(parameter)) = (&terms_out, &parameter) {
-            if let Some(text) = m.terms_text(parameter, machine.map(|m| m.inner.as_ref())).map_err(failure)? {
+            if let Some(text) = m.terms_text(parameter, machine.map(|m| m.inner.as_ref())).map_err(exceptions::of)? {
                 write_atomically(path, text.as_bytes()).map_err(input)?;
             }
         }
@@ -129,9 +123,9 @@ pub fn thermal_fit(
 /// measured value and the residual; residual statistics per run in um).
 #[pyfunction]
 pub fn thermal_predict(py: Python<'_>, model: PathBuf, data: PathBuf) -> PyResult<Py<PyAny>> {
-    let model = read_model_file(&model).map_err(failure)?;
-    let campaign = Campaign::read(&data).map_err(failure)?;
-    let prediction = py.detach(|| predict_campaign(&model, &campaign)).map_err(failure)?;
+    let model = read_model_file(&model).map_err(exceptions::of)?;
+    let campaign = Campaign::read(&data).map_err(exceptions::of)?;
+    let prediction = py.detach(|| predict_campaign(&model, &campaign)).map_err(exceptions::of)?;
     typed(py, "ThermalPrediction", &prediction.to_json())
 }
 
@@ -157,7 +151,7 @@ pub fn thermal_modes(
         "lobpcg" => SpectrumMethod::Lobpcg,
         other => return Err(input_msg(format!("method `{other}`: expected auto, dense, lanczos or lobpcg"))),
     };
-    let model = load_model(&model).map_err(failure)?;
+    let model = load_model(&model).map_err(exceptions::of)?;
     let total = count.min(model.system.node_count());
     let progress = Progress::new(progress)?;
     let report = py.detach(|| {
@@ -170,5 +164,5 @@ pub fn thermal_modes(
     });
     progress.report(total, total);
     progress.finish()?;
-    typed(py, "ThermalModes", &report.map_err(failure)?.to_json())
+    typed(py, "ThermalModes", &report.map_err(exceptions::of)?.to_json())
 }

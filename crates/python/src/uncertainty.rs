@@ -6,7 +6,7 @@
 //! the same numbers (every chunk draws only from its own counter-based random streams).
 
 use crate::convert::{array2, toml_text, typed};
-use crate::exceptions::{input_msg, of, uncertainty as uncertainty_error};
+use crate::exceptions::{input_msg, of};
 use crate::identify::{Campaign, Reduced};
 use crate::machine::{parse_frame, Machine};
 use crate::progress::Progress;
@@ -31,7 +31,7 @@ pub struct Sources {
 
 impl Sources {
     fn parse(text: String, origin: &str) -> PyResult<Sources> {
-        let inner = trueaxis::uncertainty::Sources::from_toml_str(&text, origin).map_err(uncertainty_error)?;
+        let inner = trueaxis::uncertainty::Sources::from_toml_str(&text, origin).map_err(of)?;
         Ok(Sources { inner, source: text, origin: origin.into() })
     }
 }
@@ -41,7 +41,7 @@ impl Sources {
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<Sources> {
         let origin = path.display().to_string();
-        trueaxis::uncertainty::Sources::load(&path).map_err(uncertainty_error)?;
+        trueaxis::uncertainty::Sources::load(&path).map_err(of)?;
         let text = std::fs::read_to_string(&path).map_err(|e| input_msg(format!("{origin}: cannot read: {e}")))?;
         Sources::parse(text, &origin)
     }
@@ -116,11 +116,8 @@ impl UncertaintyPlan {
         if let Some(seed) = seed {
             settings.seed = seed;
         }
-        sources
-            .inner
-            .check_channels(&design)
-            .map_err(|e| uncertainty_error(trueaxis::uncertainty::UncertaintyError::Input(format!("{}: {e}", sources.origin))))?;
-        let map = IdentificationMap::new(design).map_err(uncertainty_error)?;
+        sources.inner.check_channels(&design).map_err(|e| of(trueaxis::Error::input(format!("{}: {e}", sources.origin))))?;
+        let map = IdentificationMap::new(design).map_err(of)?;
         let plan = UncertaintyPlan {
             map,
             sources: sources.inner.sources.clone(),
@@ -136,7 +133,7 @@ impl UncertaintyPlan {
     }
 
     fn plan(&self) -> PyResult<BudgetPlan<'_>> {
-        BudgetPlan::new(&self.map, &self.sources, &self.settings, Evaluation::Reduced, self.alone).map_err(uncertainty_error)
+        BudgetPlan::new(&self.map, &self.sources, &self.settings, Evaluation::Reduced, self.alone).map_err(of)
     }
 
     fn check_stage(&self, stage: usize) -> PyResult<()> {
@@ -158,7 +155,7 @@ impl UncertaintyPlan {
         work_point: Option<&Bound<'_, PyAny>>,
         frame: &str,
     ) -> PyResult<Py<PyAny>> {
-        let budget = self.plan()?.assemble(runs).map_err(uncertainty_error)?;
+        let budget = self.plan()?.assemble(runs).map_err(of)?;
         let poses = match (poses, &self.context) {
             (None, _) => Vec::new(),
             (Some(_), None) => {
@@ -180,7 +177,7 @@ impl UncertaintyPlan {
                     parse_frame(frame)?,
                     self.settings.coverage,
                 )
-                .map_err(uncertainty_error)?
+                .map_err(of)?
             }
         };
         typed(py, "UncertaintyBudget", &budget_json(&self.design_origin, &self.map, &budget, &self.settings, &poses))
@@ -197,7 +194,7 @@ impl UncertaintyPlan {
     #[staticmethod]
     #[pyo3(signature = (path, sources, *, seed = None, budget = true))]
     fn from_design(path: PathBuf, sources: &Sources, seed: Option<u64>, budget: bool) -> PyResult<UncertaintyPlan> {
-        let design = DesignMatrix::read_csv(&path).map_err(uncertainty_error)?;
+        let design = DesignMatrix::read_csv(&path).map_err(of)?;
         UncertaintyPlan::build(design, path.display().to_string(), sources, seed, budget, None)
     }
 
@@ -217,7 +214,7 @@ impl UncertaintyPlan {
         let design = campaign.inner.design_matrix(&machine.inner, &nominal).map_err(of)?;
         let start = campaign.inner.nominal_values(&nominal).map_err(of)?;
         let identification = solve(&design, &start, &IndirectOptions::default()).map_err(of)?;
-        let design = from_identification(&design, point_time).map_err(uncertainty_error)?;
+        let design = from_identification(&design, point_time).map_err(of)?;
         let context = CampaignContext { machine: machine.clone(), campaign: campaign.clone(), identification };
         UncertaintyPlan::build(design, campaign.inner.origin.clone(), sources, seed, budget, Some(Arc::new(context)))
     }
@@ -231,7 +228,7 @@ impl UncertaintyPlan {
         seed: Option<u64>,
         budget: bool,
     ) -> PyResult<UncertaintyPlan> {
-        let design = DesignMatrix::from_csv_reader(design_csv.as_bytes(), &design_origin).map_err(uncertainty_error)?;
+        let design = DesignMatrix::from_csv_reader(design_csv.as_bytes(), &design_origin).map_err(of)?;
         UncertaintyPlan::build(design, design_origin, &sources, seed, budget, None)
     }
 
@@ -299,7 +296,7 @@ impl UncertaintyPlan {
             )));
         }
         let plan = self.plan()?;
-        let model = plan.model(stage).map_err(uncertainty_error)?;
+        let model = plan.model(stage).map_err(of)?;
         let values = py.detach(|| run_chunk(&model, &self.settings, &chunk));
         let n = self.map.parameter_count();
         let rows = values.len() / n;
@@ -310,10 +307,8 @@ impl UncertaintyPlan {
     fn start(slf: &Bound<'_, Self>) -> PyResult<BudgetRun> {
         let p = slf.get();
         let stages = p.plan()?.stages();
-        let runs = (0..stages)
-            .map(|_| AdaptiveRun::new(p.map.parameter_count(), &p.settings, None))
-            .collect::<Result<Vec<_>, _>>()
-            .map_err(uncertainty_error)?;
+        let runs =
+            (0..stages).map(|_| AdaptiveRun::new(p.map.parameter_count(), &p.settings, None)).collect::<Result<Vec<_>, _>>().map_err(of)?;
         Ok(BudgetRun { plan: slf.clone().unbind(), runs: runs.into_iter().map(Some).collect() })
     }
 
@@ -347,10 +342,10 @@ impl UncertaintyPlan {
                 let mut report = |h: usize, _: Option<&_>| progress.report(k * most + h, total);
                 runs.push(trueaxis::uncertainty::run_adaptive(&plan.model(k)?, &self.settings, &mut report)?);
             }
-            Ok::<_, trueaxis::uncertainty::UncertaintyError>(runs)
+            Ok::<_, trueaxis::Error>(runs)
         });
         progress.finish()?;
-        let runs = runs.map_err(uncertainty_error)?;
+        let runs = runs.map_err(of)?;
         self.document(py, runs, poses, tool_point, work_point, frame)
     }
 }
@@ -397,7 +392,7 @@ impl BudgetRun {
             }
             pieces.push((chunk_of(*c), values));
         }
-        run.push_chunks(&pieces).map_err(uncertainty_error)?;
+        run.push_chunks(&pieces).map_err(of)?;
         Ok(run.next_sequence().is_none())
     }
 

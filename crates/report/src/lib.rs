@@ -33,10 +33,22 @@ pub use uncertainty_figures::{interval_of, uncertainty_figures};
 
 use thiserror::Error;
 
+/// Why a figure could not be drawn: the data given to it (bad input) or the drawing itself (a
+/// failed computation).
 #[derive(Debug, Error)]
 pub enum ReportError {
     #[error("cannot draw plot: {0}")]
     Draw(String),
     #[error("cannot draw plot: {0}")]
     Input(String),
+}
+
+impl From<ReportError> for trueaxis::Error {
+    fn from(e: ReportError) -> trueaxis::Error {
+        let kind = match e {
+            ReportError::Input(_) => trueaxis::ErrorKind::Input,
+            ReportError::Draw(_) => trueaxis::ErrorKind::Computation,
+        };
+        trueaxis::Error::new(kind, e.to_string()).caused_by(e)
+    }
 }

@@ -1,6 +1,5 @@
 //! `trueaxis budget allocate`: cost-optimal tolerances for a target volumetric error.
 
-use super::failure;
 use super::inputs::BudgetInputs;
 use crate::Failure;
 use std::fmt::Write;
@@ -78,7 +77,7 @@ pub fn run(args: AllocateArgs) -> Result<(), Failure> {
         target,
         genetic: GeneticOptions { generations: args.generations, seed: args.seed, ..GeneticOptions::default() },
     };
-    let (a, s) = problem.allocate(&options).map_err(failure)?;
+    let (a, s) = problem.allocate(&options).map_err(Failure::of)?;
     if let Some(path) = &args.out {
         write_atomically(path, problem.allocation_toml(&a, &options, s.poses()).as_bytes()).map_err(Failure::input)?;
     }

@@ -1,6 +1,5 @@
 //! `trueaxis budget analyse`: the forward analysis of a budget.
 
-use super::failure;
 use super::inputs::BudgetInputs;
 use crate::Failure;
 use std::fmt::Write;
@@ -47,7 +46,7 @@ pub struct AnalyseArgs {
 
 pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
     let problem = args.inputs.load()?;
-    let analyses = problem.analyse().map_err(failure)?;
+    let analyses = problem.analyse().map_err(Failure::of)?;
     let BudgetProblem { machine, spec, sets, .. } = &problem;
     let suffix = |set: &PoseSet| if sets.len() > 1 { format!("_{}", set.label.replace('.', "p")) } else { String::new() };
     // tables, plots and report together, or none of them (docs/reliability.md)
@@ -122,7 +121,7 @@ fn volume_map(problem: &BudgetProblem) -> Result<Option<String>, Failure> {
         }
     }
     map.poses_internal = to_internal(machine, &map.poses_user);
-    let a = analyse(machine, &problem.spec, &map.poses_internal, &problem.setup, problem.frame).map_err(failure)?;
+    let a = analyse(machine, &problem.spec, &map.poses_internal, &problem.setup, problem.frame).map_err(Failure::of)?;
     let values: Vec<f64> = a.poses.iter().map(|p| p.stack.rss_total).collect();
     Ok(Some(map.heatmap("Root-sum-square volumetric error (um)", &values, None).map_err(|e| Failure::computation(anyhow::anyhow!("{e}")))?))
 }

@@ -1,6 +1,5 @@
 //! `trueaxis budget configurations`: the five-axis configuration study.
 
-use super::failure;
 use crate::{output, Failure};
 use std::fmt::Write;
 use std::path::Path;
@@ -67,7 +66,7 @@ pub fn run(args: ConfigurationsArgs) -> Result<(), Failure> {
     let progress = crate::progress::spinner(args.json);
     progress.set_message("budgets of the five-axis configurations");
     let report = |done: usize, total: usize| progress.set_message(format!("budgets of the configurations: {done} of {total}"));
-    let study = ConfigurationStudy::run(&options, &report).map_err(failure)?;
+    let study = ConfigurationStudy::run(&options, &report).map_err(Failure::of)?;
     progress.finish_and_clear();
     if let Some(dir) = &args.plots {
         write_figures(dir, &args, &study)?;
@@ -84,7 +83,7 @@ fn write_figures(dir: &Path, args: &ConfigurationsArgs, study: &ConfigurationStu
     let mut plots = OutputSet::new();
     plots.create_directory(dir);
     let series: Vec<Series> = space_utility_trend(args.tool_length)
-        .map_err(failure)?
+        .map_err(Failure::of)?
         .into_iter()
         .map(|c| Series { name: format!("{} ({})", c.pattern.notation(), c.sequence.iter().collect::<String>()), points: c.points })
         .collect();

@@ -2,7 +2,6 @@
 //! kind, and the poses (a file, part sizes or a grid over the work volume), parsed into the
 //! library's budget problem.
 
-use super::failure;
 use crate::{parse, Failure};
 use std::path::PathBuf;
 use trueaxis::budget::problem::{budget_spec, pose_sets, rotary_positions, BudgetProblem, PoseSource};
@@ -85,7 +84,7 @@ impl BudgetInputs {
     pub fn load(&self) -> Result<BudgetProblem, Failure> {
         let machine = Machine::load(&self.machine).map_err(Failure::input)?;
         let defaults = KindValues([self.linear_um, self.angular_urad, self.squareness_urad]);
-        let spec = budget_spec(&machine, self.budget.as_deref(), defaults).map_err(failure)?;
+        let spec = budget_spec(&machine, self.budget.as_deref(), defaults).map_err(Failure::of)?;
         let setup =
             Setup { tool_point: self.tool_point.unwrap_or(machine.tool_point), work_point: self.work_point.unwrap_or_else(Vec3::zeros) };
         let frame = match self.frame {
@@ -102,13 +101,13 @@ impl BudgetInputs {
             .iter()
             .map(|p| parse_part(p).map_err(|m| Failure::input(anyhow::anyhow!("--part: {m}"))))
             .collect::<Result<_, _>>()?;
-        let rotary = rotary_positions(&machine, &given).map_err(failure)?;
+        let rotary = rotary_positions(&machine, &given).map_err(Failure::of)?;
         let source = match (&self.poses, parts.is_empty()) {
             (Some(path), _) => PoseSource::File(path),
             (None, false) => PoseSource::Parts { sizes: &parts, nodes: self.part_nodes },
             (None, true) => PoseSource::Grid(self.grid.unwrap_or(5)),
         };
-        let sets = pose_sets(&machine, &setup, &source, &rotary).map_err(failure)?;
+        let sets = pose_sets(&machine, &setup, &source, &rotary).map_err(Failure::of)?;
         Ok(BudgetProblem { machine, spec, setup, frame, sets })
     }
 }

@@ -1,6 +1,5 @@
 //! `trueaxis budget miniaturisation`: the three-axis miniaturisation case.
 
-use super::failure;
 use crate::Failure;
 use serde_json::{json, Value};
 use std::fmt::Write;
@@ -66,7 +65,7 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
     }
     let tolerances = KindValues([args.linear_um, args.angular_urad, args.angular_urad]);
     let cases = run_case(&args.sizes, tolerances, args.relative_accuracy, GeneticOptions { seed: args.seed, ..GeneticOptions::default() })
-        .map_err(failure)?;
+        .map_err(Failure::of)?;
     if let Some(dir) = &args.plots {
         // both figures or neither (docs/reliability.md)
         let mut plots = OutputSet::new();

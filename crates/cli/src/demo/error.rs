@@ -7,7 +7,6 @@ use trueaxis::error_model::ErrorModelError;
 use trueaxis::identify::IdentifyError;
 use trueaxis::instruments::ballbar::BallbarError;
 use trueaxis::machine::MachineError;
-use trueaxis::uncertainty::UncertaintyError;
 use trueaxis_report::calibration::CalibrationError;
 
 #[derive(Debug, Error)]
@@ -21,7 +20,7 @@ pub enum DemoError {
     #[error(transparent)]
     Identify(#[from] IdentifyError),
     #[error(transparent)]
-    Uncertainty(#[from] UncertaintyError),
+    Core(#[from] trueaxis::Error),
     #[error(transparent)]
     Ballbar(#[from] BallbarError),
     #[error(transparent)]

@@ -1,7 +1,6 @@
 //! `trueaxis thermal beam`: the stress-free beam model of a guideway or scale (Soons 1993 §3.4.3) as
 //! error terms of the axis's motion errors (`thermal::beam`).
 
-use super::failure;
 use super::links::write_terms;
 use crate::output::{self, print};
 use crate::Failure;
@@ -47,8 +46,8 @@ pub fn beam(args: BeamArgs) -> Result<(), Failure> {
     let text = trueaxis::files::inputs::read_to_string(&args.beam)
         .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.beam.display())))?;
     let origin = args.beam.display().to_string();
-    let file = read_beam(&text, &origin).map_err(failure)?;
-    let beam = Beam::new(&file, &machine, &origin).map_err(failure)?;
+    let file = read_beam(&text, &origin).map_err(Failure::of)?;
+    let beam = Beam::new(&file, &machine, &origin).map_err(Failure::of)?;
     let terms = beam.terms();
     let header = format!("stress-free beam {} (trueaxis thermal beam): thermal motion errors of axis {}", args.beam.display(), file.axis);
     let name = file.name.clone().unwrap_or_else(|| "beam".into());

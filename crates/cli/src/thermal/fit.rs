@@ -1,7 +1,7 @@
 //! `trueaxis thermal fit`: PITE/PDTE regression models validated on other runs, and the shared
 //! time constants of eq. 3.17 (fitted by `trueaxis::thermal::campaign_fit`).
 
-use super::{failure, plot_text, write_plot};
+use super::{plot_text, write_plot};
 use crate::output::{self, print};
 use crate::Failure;
 use std::path::PathBuf;
@@ -126,7 +126,7 @@ enum ModelForm {
 }
 
 pub fn fit(args: FitArgs) -> Result<(), Failure> {
-    let (campaign, findings) = read_screened(&args.data, args.skip_missing, args.split_gaps).map_err(failure)?;
+    let (campaign, findings) = read_screened(&args.data, args.skip_missing, args.split_gaps).map_err(Failure::of)?;
     let request = FitRequest {
         error: args.error.clone(),
         model: match args.model {
@@ -149,7 +149,7 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
         robust: args.robust.as_deref().and_then(Weighting::parse),
         terms: args.terms_out.is_some(),
     };
-    let fitted = match fit_campaign(&campaign, &args.data.display().to_string(), &request).map_err(failure)? {
+    let fitted = match fit_campaign(&campaign, &args.data.display().to_string(), &request).map_err(Failure::of)? {
         CampaignFit::Model(m) => m,
         CampaignFit::TimeConstants(t) => return print_taus(&args, &t, &findings),
     };
@@ -161,7 +161,7 @@ pub fn fit(args: FitArgs) -> Result<(), Failure> {
     }
     if let (Some(path), Some(parameter)) = (&args.terms_out, &args.parameter) {
         let machine = args.machine.as_ref().map(Machine::load).transpose().map_err(Failure::input)?;
-        if let Some(text) = fitted.terms_text(parameter, machine.as_ref()).map_err(failure)? {
+        if let Some(text) = fitted.terms_text(parameter, machine.as_ref()).map_err(Failure::of)? {
             outputs.file(path, text);
         }
     }

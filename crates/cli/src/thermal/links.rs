@@ -1,7 +1,6 @@
 //! `trueaxis thermal links`: thermal links of the structural loop (Zhu 2008 ch. 4) as error terms of
 //! the kinematic chain, written into an error-values file for `predict`, `compensate` and `nc`.
 
-use super::failure;
 use crate::output::{self, print};
 use crate::Failure;
 use std::path::PathBuf;
@@ -45,7 +44,7 @@ pub fn links(args: LinksArgs) -> Result<(), Failure> {
     let text = trueaxis::files::inputs::read_to_string(&args.links)
         .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.links.display())))?;
     let dir = args.links.parent().map(PathBuf::from).unwrap_or_default();
-    let links = read_links(&text, &args.links.display().to_string(), &dir).map_err(failure)?;
+    let links = read_links(&text, &args.links.display().to_string(), &dir).map_err(Failure::of)?;
     let mut all: Vec<(String, Vec<ErrorTerm>)> = Vec::new();
     for link in &links {
         let terms = link_terms(link, &machine).map_err(|e| Failure::input(anyhow::anyhow!("{}: {e}", args.links.display())))?;
@@ -112,7 +111,7 @@ pub fn write_terms(
     let origin = errors_in.map_or("--errors-in".to_string(), |p| p.display().to_string());
     let mut model = ErrorModel::from_toml_str(&base, &origin, machine).map_err(Failure::input)?;
     for (_, terms) in groups {
-        add_terms(&mut model, machine, terms).map_err(failure)?;
+        add_terms(&mut model, machine, terms).map_err(Failure::of)?;
     }
     ErrorModel::from_toml_str(&out, "the written error values", machine).map_err(Failure::computation)?;
     if let Some(path) = out_path {

@@ -1,6 +1,6 @@
 //! `trueaxis thermal modes` and `trueaxis thermal place`.
 
-use super::{failure, write_plot};
+use super::write_plot;
 use crate::output::{self, print};
 use crate::Failure;
 use serde_json::{json, Value};
@@ -138,7 +138,7 @@ impl From<MethodArg> for SpectrumMethod {
 fn with_bar<T>(
     count: usize,
     quiet: bool,
-    solve: impl FnOnce(&mut dyn FnMut(LanczosProgress)) -> Result<T, trueaxis::thermal::ThermalError>,
+    solve: impl FnOnce(&mut dyn FnMut(LanczosProgress)) -> Result<T, trueaxis::Error>,
 ) -> Result<T, Failure> {
     let bar = crate::progress::steps(count, quiet);
     let mut progress = |p: LanczosProgress| match p {
@@ -159,12 +159,12 @@ fn with_bar<T>(
     };
     let result = solve(&mut progress);
     bar.finish_and_clear();
-    result.map_err(failure)
+    result.map_err(Failure::of)
 }
 
 pub fn modes(args: ModesArgs) -> Result<(), Failure> {
     check_fraction("--share", args.share)?;
-    let model = load_model(&args.model).map_err(failure)?;
+    let model = load_model(&args.model).map_err(Failure::of)?;
     let count = args.count.min(model.system.node_count());
     let report = with_bar(count, args.json, |progress| ModesReport::new(&model, args.count, args.method.into(), args.share, progress))?;
     let (basis, weights, dominant) = (&report.basis, &report.weights, &report.dominant);
@@ -203,7 +203,7 @@ pub fn modes(args: ModesArgs) -> Result<(), Failure> {
 pub fn place(args: PlaceArgs) -> Result<(), Failure> {
     check_fraction("--share", args.share)?;
     check_fraction("--reuse", args.reuse)?;
-    let model = load_model(&args.model).map_err(failure)?;
+    let model = load_model(&args.model).map_err(Failure::of)?;
     let basis = analyse(&model, args.count, MethodArg::Auto, args.json)?;
     let weights = mode_weights(&basis, &model.system.load);
     let dominant = dominant_modes(&weights, args.share);
@@ -221,11 +221,11 @@ pub fn place(args: PlaceArgs) -> Result<(), Failure> {
     let count = args.sensors.unwrap_or(dominant.len());
     let (sensors, served): (Vec<usize>, Vec<Vec<usize>>) = match args.method {
         PlaceMethod::Modal => {
-            let placed = modal_rule(&basis, &dominant, &model.candidates, args.reuse, distance).map_err(failure)?;
+            let placed = modal_rule(&basis, &dominant, &model.candidates, args.reuse, distance).map_err(Failure::of)?;
             placed.into_iter().map(|p| (p.node, p.modes)).unzip()
         }
         PlaceMethod::Efi => {
-            let s = effective_independence(&basis, &dominant, &model.candidates, count).map_err(failure)?;
+            let s = effective_independence(&basis, &dominant, &model.candidates, count).map_err(Failure::of)?;
             let n = s.len();
             (s, vec![Vec::new(); n])
         }
@@ -236,12 +236,12 @@ pub fn place(args: PlaceArgs) -> Result<(), Failure> {
                     dominant.len()
                 )));
             }
-            let (s, _) = exhaustive(&model.candidates, count, |s| log_det_information(&basis, &dominant, s)).map_err(failure)?;
+            let (s, _) = exhaustive(&model.candidates, count, |s| log_det_information(&basis, &dominant, s)).map_err(Failure::of)?;
             let n = s.len();
             (s, vec![Vec::new(); n])
         }
         PlaceMethod::Gauss => {
-            let s = gauss_points(&model, count).map_err(failure)?;
+            let s = gauss_points(&model, count).map_err(Failure::of)?;
             let n = s.len();
             (s, vec![Vec::new(); n])
         }

@@ -1,7 +1,7 @@
 //! `trueaxis thermal predict`: a fitted thermal error model evaluated on a campaign
 //! (`trueaxis::thermal::campaign_predict`).
 
-use super::{failure, write_plot};
+use super::write_plot;
 use crate::output::text_or_file;
 use crate::Failure;
 use std::path::PathBuf;
@@ -35,9 +35,9 @@ pub struct PredictArgs {
 }
 
 pub fn predict(args: PredictArgs) -> Result<(), Failure> {
-    let model = read_model_file(&args.model).map_err(failure)?;
-    let campaign = Campaign::read(&args.data).map_err(failure)?;
-    let prediction = predict_campaign(&model, &campaign).map_err(failure)?;
+    let model = read_model_file(&args.model).map_err(Failure::of)?;
+    let campaign = Campaign::read(&args.data).map_err(Failure::of)?;
+    let prediction = predict_campaign(&model, &campaign).map_err(Failure::of)?;
     let text = if args.json { format!("{}\n", prediction.to_json()) } else { prediction.to_csv() };
     if let Some(path) = &args.plot {
         write_plot(path, drift_svg(&drift_plot(&prediction.error, &prediction.evaluated)))?;

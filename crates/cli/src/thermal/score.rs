@@ -2,7 +2,6 @@
 //! error of the elongation model it leads to (`thermal::placement_score`), Gauss points as the
 //! baseline and the exhaustive search for the smallest training error as the yardstick.
 
-use super::failure;
 use crate::Failure;
 use serde_json::{json, Value};
 use std::fmt::Write;
@@ -35,21 +34,24 @@ pub fn score_methods(
         )));
     }
     let all = modal_analysis(&model.system, &ModalOptions { count: None, method: SpectrumMethod::Dense, ..Default::default() })
-        .map_err(failure)?;
-    let cycles = simulate_cycles(model, &all, alpha).map_err(failure)?;
+        .map_err(Failure::of)?;
+    let cycles = simulate_cycles(model, &all, alpha).map_err(Failure::of)?;
     let mut rows: Vec<(String, PlacementScore)> = Vec::new();
     let modal: Vec<usize> =
-        modal_rule(basis, dominant, &model.candidates, reuse, distance).map_err(failure)?.into_iter().map(|p| p.node).collect();
-    rows.push(("modal".into(), score_placement(&cycles, &modal).map_err(failure)?));
+        modal_rule(basis, dominant, &model.candidates, reuse, distance).map_err(Failure::of)?.into_iter().map(|p| p.node).collect();
+    rows.push(("modal".into(), score_placement(&cycles, &modal).map_err(Failure::of)?));
     // effective independence needs at least one sensor per dominant mode
     if count >= dominant.len() {
         rows.push((
             "efi".into(),
-            score_placement(&cycles, &effective_independence(basis, dominant, &model.candidates, count).map_err(failure)?)
-                .map_err(failure)?,
+            score_placement(&cycles, &effective_independence(basis, dominant, &model.candidates, count).map_err(Failure::of)?)
+                .map_err(Failure::of)?,
         ));
     }
-    rows.push(("gauss (baseline)".into(), score_placement(&cycles, &gauss_points(model, count).map_err(failure)?).map_err(failure)?));
+    rows.push((
+        "gauss (baseline)".into(),
+        score_placement(&cycles, &gauss_points(model, count).map_err(Failure::of)?).map_err(Failure::of)?,
+    ));
     // the yardstick: every subset of `count` candidates, the smallest training error
     let n = model.candidates.len() as u64;
     let subsets = (0..count as u64).fold(1u64, |acc, k| acc.saturating_mul(n - k) / (k + 1));

@@ -2,7 +2,6 @@
 //! temperatures of output sensors from a few input sensors, `thermal::temperature_model`): fitted
 //! and validated on other runs, or a fitted model evaluated on a campaign.
 
-use super::failure;
 use crate::output::{self, print};
 use crate::Failure;
 use serde_json::json;
@@ -51,19 +50,19 @@ pub struct TemperaturesArgs {
 }
 
 pub fn temperatures(args: TemperaturesArgs) -> Result<(), Failure> {
-    let campaign = Campaign::read(&args.data).map_err(failure)?;
+    let campaign = Campaign::read(&args.data).map_err(Failure::of)?;
     let runs = campaign.run_names();
-    let rows_of = |run: &String| campaign.rows_of(std::slice::from_ref(run)).map_err(failure);
+    let rows_of = |run: &String| campaign.rows_of(std::slice::from_ref(run)).map_err(Failure::of);
     let (model, training) = match &args.model {
         Some(path) => {
             let text = trueaxis::files::inputs::read_to_string(path)
                 .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", path.display())))?;
-            (TemperatureModel::from_toml_str(&text, &path.display().to_string()).map_err(failure)?, Vec::new())
+            (TemperatureModel::from_toml_str(&text, &path.display().to_string()).map_err(Failure::of)?, Vec::new())
         }
         None => {
             let training: Vec<String> = match &args.train_runs {
                 Some(r) => {
-                    campaign.rows_of(r).map_err(failure)?;
+                    campaign.rows_of(r).map_err(Failure::of)?;
                     r.clone()
                 }
                 None => runs.clone(),
@@ -71,7 +70,7 @@ pub fn temperatures(args: TemperaturesArgs) -> Result<(), Failure> {
             let records = training.iter().map(rows_of).collect::<Result<Vec<_>, _>>()?;
             let inputs = args.inputs.clone().expect("clap requires --inputs");
             let outputs = args.outputs.clone().expect("clap requires --outputs");
-            let (model, _) = fit_temperature_model(&campaign, &records, &inputs, &outputs, args.rates).map_err(failure)?;
+            let (model, _) = fit_temperature_model(&campaign, &records, &inputs, &outputs, args.rates).map_err(Failure::of)?;
             if let Some(out) = &args.out {
                 write_atomically(out, model.to_toml().as_bytes()).map_err(Failure::input)?;
             }
@@ -80,10 +79,10 @@ pub fn temperatures(args: TemperaturesArgs) -> Result<(), Failure> {
     };
     let mut per_run: Vec<(String, bool, Vec<Option<ResidualStats>>)> = Vec::new();
     let mut csv = format!("run,t,{}\n", model.outputs.iter().map(|o| format!("{o}_predicted")).collect::<Vec<_>>().join(","));
-    let t = campaign.column("t").map_err(failure)?;
+    let t = campaign.column("t").map_err(Failure::of)?;
     for run in &runs {
         let rows = rows_of(run)?;
-        let (predicted, stats) = predict_run(&campaign, &model, &rows).map_err(failure)?;
+        let (predicted, stats) = predict_run(&campaign, &model, &rows).map_err(Failure::of)?;
         for (k, &r) in rows.iter().enumerate() {
             let _ = writeln!(csv, "{run},{},{}", t[r], predicted[k].iter().map(|v| format!("{v:.4}")).collect::<Vec<_>>().join(","));
         }

@@ -1,7 +1,6 @@
 //! `trueaxis thermal tune`: the convection coefficients of a heat-conduction model tuned so that its
 //! time constants equal measured ones (`thermal::tuning`).
 
-use super::failure;
 use crate::output::{self, print};
 use crate::Failure;
 use serde_json::json;
@@ -44,7 +43,7 @@ pub fn tune(args: TuneArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::input(anyhow::anyhow!("{}: cannot read: {e}", args.model.display())))?;
     let dir = args.model.parent().map(PathBuf::from).unwrap_or_default();
     let measured: Vec<f64> = args.tau_min.iter().map(|t| t * 60.0).collect();
-    let tuning = tune_boundaries(&text, &args.model.display().to_string(), &dir, &args.tune, &measured).map_err(failure)?;
+    let tuning = tune_boundaries(&text, &args.model.display().to_string(), &dir, &args.tune, &measured).map_err(Failure::of)?;
     if let Some(out) = &args.out {
         write_atomically(out, tuning.text.as_bytes()).map_err(Failure::input)?;
     }

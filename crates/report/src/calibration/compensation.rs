@@ -125,7 +125,7 @@ impl CompensationPart {
         }
         let request = CompensationRequest {
             format: ExportFormat::parse(format, &FormatOptions { comp_type: 0, ..FormatOptions::default() })
-                .map_err(CalibrationError::Input)?,
+                .map_err(|e| CalibrationError::Input(e.to_string()))?,
             points: self.points,
             grid: self.grid_nodes,
             reference: None,

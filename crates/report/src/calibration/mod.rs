@@ -65,8 +65,8 @@ use super::html::{HtmlReport, Section};
 use thiserror::Error;
 use trueaxis::machine::{AxisKind, Machine};
 
-/// Why a part of a report could not be made. [`CalibrationError::is_input`] tells bad input
-/// (exit status 2 in the command line) from a failed computation (1).
+/// Why a part of a report could not be made. [`CalibrationError::is_input`] tells bad input from
+/// a failed computation; the command line rewrites the messages of [`CalibrationError::Input`].
 #[derive(Debug, Error)]
 pub enum CalibrationError {
     #[error(transparent)]
@@ -78,13 +78,12 @@ pub enum CalibrationError {
     #[error(transparent)]
     Identify(#[from] trueaxis::identify::IdentifyError),
     #[error(transparent)]
-    Uncertainty(#[from] trueaxis::uncertainty::UncertaintyError),
-    #[error(transparent)]
-    Evaluate(#[from] trueaxis::Error),
-    #[error(transparent)]
     Compensate(#[from] trueaxis::compensate::CompensateError),
     #[error(transparent)]
     Plot(#[from] super::ReportError),
+    /// An error of the core that is not one of the above (uncertainty, the thermal parts).
+    #[error(transparent)]
+    Core(#[from] trueaxis::Error),
     #[error("{0}")]
     Input(String),
     #[error("{0}")]
@@ -97,11 +96,19 @@ impl CalibrationError {
         match self {
             CalibrationError::Machine(_) | CalibrationError::Errors(_) | CalibrationError::Data(_) | CalibrationError::Input(_) => true,
             CalibrationError::Identify(e) => !matches!(e, IdentifyError::RankDeficient { .. }),
-            CalibrationError::Uncertainty(e) => e.is_input(),
-            CalibrationError::Evaluate(e) => e.kind() == trueaxis::ErrorKind::Input,
-            CalibrationError::Compensate(e) => e.is_input(),
+            CalibrationError::Compensate(e) => e.kind() == trueaxis::ErrorKind::Input,
+            CalibrationError::Core(e) => e.kind() != trueaxis::ErrorKind::Computation,
             CalibrationError::Plot(_) | CalibrationError::Computation(_) => false,
         }
+    }
+}
+
+impl From<CalibrationError> for trueaxis::Error {
+    /// Bad input or a failed computation ([`CalibrationError::is_input`]), the message unchanged
+    /// and the error kept as the cause (a full disk in its chain is still the environment).
+    fn from(e: CalibrationError) -> trueaxis::Error {
+        let kind = if e.is_input() { trueaxis::ErrorKind::Input } else { trueaxis::ErrorKind::Computation };
+        trueaxis::Error::new(kind, e.to_string()).caused_by(e)
     }
 }
 

@@ -11,19 +11,7 @@ use trueaxis::thermal::error_model::ThermalErrorModel;
 use trueaxis::thermal::model_file::ThermalModel;
 use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis::thermal::validation::{evaluate_segments, prediction_segments, ResidualStats};
-use trueaxis::thermal::{
-    dominant_modes, modal_analysis_with_progress, mode_weights, LanczosProgress, ModalOptions, ModeWeight, ThermalError,
-};
-
-impl From<ThermalError> for CalibrationError {
-    fn from(e: ThermalError) -> Self {
-        match e {
-            ThermalError::Computation(m) => CalibrationError::Computation(m),
-            ThermalError::Input(m) => CalibrationError::Input(m),
-            ThermalError::Data(d) => CalibrationError::Data(d),
-        }
-    }
-}
+use trueaxis::thermal::{dominant_modes, modal_analysis_with_progress, mode_weights, LanczosProgress, ModalOptions, ModeWeight};
 
 /// The modes of a thermal conduction model.
 pub struct ThermalModesPart {

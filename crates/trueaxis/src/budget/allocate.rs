@@ -17,7 +17,7 @@ use super::global::{genetic, GeneticOptions};
 use super::sensitivity::Sensitivity;
 use super::spec::BudgetSpec;
 use super::stackup::worst_case;
-use super::BudgetError;
+use crate::error::Error;
 use crate::geometry::Vec3;
 use nalgebra::{DMatrix, DVector};
 
@@ -88,20 +88,20 @@ struct Key {
 }
 
 /// Allocates tolerances to `spec`'s components for the sensitivity `s` (poses of the budget).
-pub fn allocate(spec: &BudgetSpec, s: &Sensitivity, options: &AllocationOptions) -> Result<Allocation, BudgetError> {
+pub fn allocate(spec: &BudgetSpec, s: &Sensitivity, options: &AllocationOptions) -> Result<Allocation, Error> {
     let targets = match options.target {
         Target::Total(v) => [v; 3],
         Target::PerDirection(v) => v,
     };
     if targets.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-        return Err(BudgetError::Input(format!("target {targets:?} um: a target volumetric error must be positive")));
+        return Err(Error::input(format!("target {targets:?} um: a target volumetric error must be positive")));
     }
     let n_all = spec.components.len();
     let poses = s.poses();
     let allocated: Vec<bool> = (0..n_all).map(|j| (0..poses).any(|p| s.column(p, j).norm() > 1e-12)).collect();
     let free: Vec<usize> = (0..n_all).filter(|&j| allocated[j]).collect();
     if free.is_empty() {
-        return Err(BudgetError::Input("no component of the budget moves the tool point at these poses".into()));
+        return Err(Error::input("no component of the budget moves the tool point at these poses"));
     }
     let n = free.len();
     // homogenised gains (um per um/m or urad) of the free components, per pose
@@ -148,7 +148,7 @@ pub fn allocate(spec: &BudgetSpec, s: &Sensitivity, options: &AllocationOptions)
         let v = value_of(key, &lower);
         if v >= 1.0 {
             let target = targets[key.direction.unwrap_or(0)];
-            return Err(BudgetError::Infeasible(format!(
+            return Err(Error::computation(format!(
                 "the lower limits alone give {:.4} um {} at pose {}, not less than the target {target} um: raise the target or lower the limits",
                 v.powf(1.0 / power) * target,
                 direction_text(key.direction),
@@ -197,12 +197,11 @@ pub fn allocate(spec: &BudgetSpec, s: &Sensitivity, options: &AllocationOptions)
     let mut gap;
     loop {
         rounds += 1;
-        let start =
-            problem.interior(&z).ok_or_else(|| BudgetError::Computation("no strictly feasible start for the local stage".into()))?;
+        let start = problem.interior(&z).ok_or_else(|| Error::computation("no strictly feasible start for the local stage"))?;
         if global_cost.is_none() {
             global_cost = Some(problem.objective(&start));
         }
-        let result = solve(&problem, &start, 1e-11).map_err(BudgetError::Computation)?;
+        let result = solve(&problem, &start, 1e-11)?;
         z = result.z;
         steps += result.newton_steps;
         gap = result.duality_gap;
@@ -216,7 +215,7 @@ pub fn allocate(spec: &BudgetSpec, s: &Sensitivity, options: &AllocationOptions)
             break;
         }
         if rounds > 200 {
-            return Err(BudgetError::Computation("the cutting-plane loop of the allocation did not converge in 200 rounds".into()));
+            return Err(Error::computation("the cutting-plane loop of the allocation did not converge in 200 rounds"));
         }
         violated.sort_by(|a, b| b.0.total_cmp(&a.0));
         for &(_, key) in violated.iter().take(20) {
@@ -245,7 +244,7 @@ pub fn allocate(spec: &BudgetSpec, s: &Sensitivity, options: &AllocationOptions)
     }
     let rhs = -DVector::from_vec(grad.clone());
     let multipliers = if unknowns > 0 {
-        m.clone().svd(true, true).solve(&rhs, 1e-12).map_err(|e| BudgetError::Computation(format!("KKT solve: {e}")))?
+        m.clone().svd(true, true).solve(&rhs, 1e-12).map_err(|e| Error::computation(format!("KKT solve: {e}")))?
     } else {
         DVector::zeros(0)
     };

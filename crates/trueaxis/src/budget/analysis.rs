@@ -7,7 +7,7 @@ use super::measures::{condition_number, homogenised_norm, mean_square_gains, sin
 use super::sensitivity::{sensitivity, Sensitivity};
 use super::spec::BudgetSpec;
 use super::stackup::{stack_up, worst_case, StackUp};
-use super::BudgetError;
+use crate::error::Error;
 use crate::geometry::Vec3;
 use crate::machine::{AxisKind, Machine};
 use crate::model::{volumetric_error, Frame, Setup};
@@ -110,10 +110,10 @@ fn largest(values: impl Iterator<Item = f64>) -> (usize, f64) {
 }
 
 /// Analyses `spec` at `poses` (internal units, `machine.axis_count()` per pose).
-pub fn analyse(machine: &Machine, spec: &BudgetSpec, poses: &[f64], setup: &Setup, frame: Frame) -> Result<Analysis, BudgetError> {
+pub fn analyse(machine: &Machine, spec: &BudgetSpec, poses: &[f64], setup: &Setup, frame: Frame) -> Result<Analysis, Error> {
     let count = poses.len() / machine.axis_count().max(1);
     if count == 0 {
-        return Err(BudgetError::Input("no poses to analyse".into()));
+        return Err(Error::input("no poses to analyse"));
     }
     let s = sensitivity(machine, &spec.components, poses, setup, frame);
     Ok(analyse_sensitivity(machine, spec, s, poses, setup, frame))

@@ -10,6 +10,7 @@
 //! convex and the point it converges to is the global optimum; the duality gap `(m + n) / t` bounds
 //! how far its cost is from the optimum.
 
+use crate::error::Error;
 use nalgebra::{DMatrix, DVector};
 
 /// The convex allocation problem in the variables `z` (squared or plain homogenised tolerances).
@@ -74,7 +75,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 /// Solves `problem` from a strictly feasible `start`; stops when the duality gap is below
 /// `relative_gap` times the objective.
-pub fn solve(problem: &ConvexProblem, start: &[f64], relative_gap: f64) -> Result<BarrierResult, String> {
+pub fn solve(problem: &ConvexProblem, start: &[f64], relative_gap: f64) -> Result<BarrierResult, Error> {
     let n = start.len();
     let m = problem.rows.len();
     let slack = |z: &[f64]| -> Option<(Vec<f64>, Vec<f64>)> {
@@ -88,7 +89,7 @@ pub fn solve(problem: &ConvexProblem, start: &[f64], relative_gap: f64) -> Resul
     };
     let mut z = start.to_vec();
     if slack(&z).is_none() {
-        return Err("the start of the interior-point method is not strictly feasible".into());
+        return Err(Error::computation("the start of the interior-point method is not strictly feasible"));
     }
     let f0 = problem.objective(&z).max(f64::MIN_POSITIVE);
     let mut t = (m + n) as f64 / f0;
@@ -112,7 +113,7 @@ pub fn solve(problem: &ConvexProblem, start: &[f64], relative_gap: f64) -> Resul
                 h.syger(1.0 / (s * s), &cv, &cv, 1.0);
             }
             let Some(chol) = h.clone().cholesky() else {
-                return Err("the Newton system of the interior-point method is not positive definite".into());
+                return Err(Error::computation("the Newton system of the interior-point method is not positive definite"));
             };
             let delta = -chol.solve(&g);
             let decrement = -g.dot(&delta);
@@ -144,7 +145,9 @@ pub fn solve(problem: &ConvexProblem, start: &[f64], relative_gap: f64) -> Resul
             return Ok(BarrierResult { z, objective, newton_steps: steps, duality_gap: gap });
         }
         if steps > 5000 {
-            return Err(format!("the interior-point method did not converge (duality gap {gap:.3e} after {steps} Newton steps)"));
+            return Err(Error::computation(format!(
+                "the interior-point method did not converge (duality gap {gap:.3e} after {steps} Newton steps)"
+            )));
         }
         t *= 10.0;
     }

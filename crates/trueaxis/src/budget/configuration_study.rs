@@ -8,7 +8,7 @@
 use super::configurations::{all_sequences, five_axis_configurations, practical_configurations, three_linear_sequences, Pattern};
 use super::ranking::{study_with_progress, ConfigurationBudget, StudyOptions};
 use super::travel::{required_travel, space_utility};
-use super::BudgetError;
+use crate::error::Error;
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
 
@@ -27,16 +27,16 @@ pub struct ConfigurationStudy {
 }
 
 /// Checks the options as the command line does (names of its options in the messages).
-fn check(options: &StudyOptions) -> Result<(), BudgetError> {
+fn check(options: &StudyOptions) -> Result<(), Error> {
     let t = options.tolerances.0;
     let lengths = [("--tool-length", options.tool_length), ("--linear-um", t[0]), ("--angular-urad", t[1]), ("--squareness-urad", t[2])];
     for (name, v) in lengths {
         if !(v.is_finite() && v > 0.0) {
-            return Err(BudgetError::Input(format!("{name} {v}: must be a positive number")));
+            return Err(Error::input(format!("{name} {v}: must be a positive number")));
         }
     }
     if options.nodes < 2 || !(options.tilt_deg.is_finite() && options.tilt_deg.abs() < 90.0) {
-        return Err(BudgetError::Input("--nodes must be at least 2 and --tilt-deg within (-90, 90) deg".into()));
+        return Err(Error::input("--nodes must be at least 2 and --tilt-deg within (-90, 90) deg"));
     }
     Ok(())
 }
@@ -67,21 +67,21 @@ pub struct TrendCurve {
 /// The space utility of a cubic part of edge `r p` (mm) against `r` ([`TREND_RATIOS`]) with a tool
 /// of length `p` (mm), for the configuration of each category with the rotary axes A, B (ABXYZ,
 /// AXYZB, XYZAB; Zhu 2008 Fig. C.1), one curve per category.
-pub fn space_utility_trend(tool_length: f64) -> Result<Vec<TrendCurve>, BudgetError> {
+pub fn space_utility_trend(tool_length: f64) -> Result<Vec<TrendCurve>, crate::Error> {
     let trend = |pattern: Pattern| {
         let sequence = representative(pattern, "AB");
         let point = |r: f64| {
             let part = [r * tool_length; 3];
             Ok((r, space_utility(part, required_travel(&sequence, part, tool_length)?)))
         };
-        Ok(TrendCurve { pattern, sequence, points: TREND_RATIOS.into_iter().map(point).collect::<Result<Vec<_>, BudgetError>>()? })
+        Ok(TrendCurve { pattern, sequence, points: TREND_RATIOS.into_iter().map(point).collect::<Result<Vec<_>, crate::Error>>()? })
     };
     Pattern::PRACTICAL.into_iter().map(trend).collect()
 }
 
 impl ConfigurationStudy {
     /// Runs the study; `progress(done, total)` after each configuration's budget.
-    pub fn run(options: &StudyOptions, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<ConfigurationStudy, BudgetError> {
+    pub fn run(options: &StudyOptions, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<ConfigurationStudy, Error> {
         check(options)?;
         let five = five_axis_configurations();
         let counts = [all_sequences().len(), three_linear_sequences().len(), practical_configurations().len(), five.len()];
@@ -96,7 +96,7 @@ impl ConfigurationStudy {
         }
         let ranked = study_with_progress(&five, options, progress)?;
         if ranked.iter().any(|r| !(r.rss_rms.is_finite() && r.worst_max.is_finite())) {
-            return Err(BudgetError::Computation("a configuration's stack-up is not finite".into()));
+            return Err(Error::computation("a configuration's stack-up is not finite"));
         }
         Ok(ConfigurationStudy { options: *options, counts, travel, ranked })
     }

@@ -3,6 +3,7 @@
 //! component (eq. B.8) below which a tolerance is not allocated.
 
 use super::components::{BudgetComponent, ErrorKind};
+use crate::error::Error;
 use serde::Serialize;
 
 /// Cost of one component: `a / e^k` with `e` its homogenised tolerance; `lower` is the smallest
@@ -45,17 +46,17 @@ impl CostModel {
     }
 
     /// Checks the terms: `a > 0`, `k > 0`, `lower >= 0`, all finite; the error names the component.
-    pub fn check(&self, components: &[BudgetComponent]) -> Result<(), String> {
+    pub fn check(&self, components: &[BudgetComponent]) -> Result<(), Error> {
         for (term, c) in self.terms.iter().zip(components) {
             if !(term.a.is_finite() && term.a > 0.0 && term.k.is_finite() && term.k > 0.0 && term.lower.is_finite() && term.lower >= 0.0) {
-                return Err(format!(
+                return Err(Error::input(format!(
                     "cost of {}: a = {}, k = {}, lower = {} {}; a and k must be positive and the lower limit zero or positive",
                     c.id,
                     term.a,
                     term.k,
                     term.lower,
                     c.kind.unit()
-                ));
+                )));
             }
         }
         Ok(())

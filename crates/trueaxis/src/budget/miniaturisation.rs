@@ -18,7 +18,7 @@ use super::cost::CostModel;
 use super::global::GeneticOptions;
 use super::poses::volume_grid;
 use super::spec::{BudgetSpec, KindValues};
-use super::BudgetError;
+use crate::error::Error;
 use crate::machine::Machine;
 use crate::model::{Frame, Setup};
 
@@ -60,11 +60,11 @@ pub struct SizeCase {
 
 /// Runs the case for `sizes` (mm) with the errors `tolerances` and a relative accuracy (target
 /// per direction over part size).
-pub fn run(sizes: &[f64], tolerances: KindValues, relative_accuracy: f64, genetic: GeneticOptions) -> Result<Vec<SizeCase>, BudgetError> {
+pub fn run(sizes: &[f64], tolerances: KindValues, relative_accuracy: f64, genetic: GeneticOptions) -> Result<Vec<SizeCase>, Error> {
     let mut out = Vec::new();
     for &size in sizes {
         if !(size.is_finite() && size > 0.0) {
-            return Err(BudgetError::Input(format!("part size {size} mm must be a positive length")));
+            return Err(Error::input(format!("part size {size} mm must be a positive length")));
         }
         let m = machine(size);
         let spec = spec(&m, tolerances);

@@ -46,28 +46,3 @@ pub use analysis::{analyse, Analysis, PoseResult};
 pub use components::{default_components, BudgetComponent, ErrorKind};
 pub use cost::{CostModel, CostTerm};
 pub use spec::BudgetSpec;
-
-use thiserror::Error;
-
-/// Why a budget could not be computed. [`BudgetError::is_input`] tells bad input (exit status 2)
-/// from a failed computation (1).
-#[derive(Debug, Error)]
-pub enum BudgetError {
-    #[error("{origin}: {message}")]
-    Spec { origin: String, message: String },
-    #[error("{0}")]
-    Input(String),
-    #[error("{0}")]
-    Infeasible(String),
-    #[error("{0}")]
-    Computation(String),
-    /// A pose file that cannot be read (its cause kept: a full disk is not bad input).
-    #[error(transparent)]
-    Data(#[from] crate::data::DataError),
-}
-
-impl BudgetError {
-    pub fn is_input(&self) -> bool {
-        matches!(self, BudgetError::Spec { .. } | BudgetError::Input(_) | BudgetError::Data(_))
-    }
-}

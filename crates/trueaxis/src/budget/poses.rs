@@ -1,7 +1,7 @@
 //! Pose sets of a budget: a grid over the travel of the linear axes (the work volume), or the poses
 //! that put the tool point on a grid over a part (the part size of Zhu 2008 B.2).
 
-use super::BudgetError;
+use crate::error::Error;
 use crate::geometry::Vec3;
 use crate::machine::{AxisKind, Machine};
 use crate::model::{nominal_chain, Setup};
@@ -18,10 +18,10 @@ pub fn linspace(lo: f64, hi: f64, nodes: usize) -> Vec<f64> {
 
 /// Poses (user units, canonical axis order) of a grid with `nodes` points along the travel of every
 /// linear axis; rotary axes at `rotary` (deg, one per rotary axis in canonical order; zero if empty).
-pub fn volume_grid(machine: &Machine, nodes: usize, rotary: &[f64]) -> Result<Vec<f64>, BudgetError> {
+pub fn volume_grid(machine: &Machine, nodes: usize, rotary: &[f64]) -> Result<Vec<f64>, Error> {
     let rotary_axes: Vec<usize> = (0..machine.axis_count()).filter(|&k| machine.axes()[k].kind == AxisKind::Rotary).collect();
     if !rotary.is_empty() && rotary.len() != rotary_axes.len() {
-        return Err(BudgetError::Input(format!(
+        return Err(Error::input(format!(
             "{} rotary positions given, machine `{}` has {} rotary axes",
             rotary.len(),
             machine.name,
@@ -63,17 +63,17 @@ pub fn nominal_relative(machine: &Machine, q: &[f64], setup: &Setup) -> Vec3 {
 /// rotary axes at `rotary` (deg, canonical order of the rotary axes; zero if empty). The linear
 /// axes follow by the inverse of the nominal chain, which is affine in them once the rotary axes are
 /// fixed; it needs exactly three linear axes. A node outside the travel is an error naming the axis.
-pub fn part_grid(machine: &Machine, setup: &Setup, size: [f64; 3], nodes: usize, rotary: &[f64]) -> Result<Vec<f64>, BudgetError> {
+pub fn part_grid(machine: &Machine, setup: &Setup, size: [f64; 3], nodes: usize, rotary: &[f64]) -> Result<Vec<f64>, Error> {
     let linear: Vec<usize> = (0..machine.axis_count()).filter(|&k| machine.axes()[k].kind == AxisKind::Linear).collect();
     if linear.len() != 3 {
-        return Err(BudgetError::Input(format!(
+        return Err(Error::input(format!(
             "a part size needs a machine with three linear axes; `{}` has {} (give poses instead)",
             machine.name,
             linear.len()
         )));
     }
     if size.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
-        return Err(BudgetError::Input(format!("part size {:?} mm: every edge must be a positive length", size)));
+        return Err(Error::input(format!("part size {:?} mm: every edge must be a positive length", size)));
     }
     let base_user = volume_grid(machine, 1, rotary)?;
     let mut base_user: Vec<f64> = base_user[..machine.axis_count()].to_vec();
@@ -89,7 +89,7 @@ pub fn part_grid(machine: &Machine, setup: &Setup, size: [f64; 3], nodes: usize,
         q[k] += 1.0;
         m.set_column(i, &(nominal_relative(machine, &q, setup) - r0));
     }
-    let inverse = m.try_inverse().ok_or_else(|| BudgetError::Input("the linear axes do not span three directions".into()))?;
+    let inverse = m.try_inverse().ok_or_else(|| Error::input("the linear axes do not span three directions"))?;
     let mut poses = Vec::new();
     for z in linspace(0.0, size[2], nodes) {
         for y in linspace(-0.5 * size[1], 0.5 * size[1], nodes) {
@@ -100,7 +100,7 @@ pub fn part_grid(machine: &Machine, setup: &Setup, size: [f64; 3], nodes: usize,
                     pose[k] = lin[i];
                 }
                 machine.check_range(&pose).map_err(|m| {
-                    BudgetError::Input(format!(
+                    Error::input(format!(
                         "a part of {} x {} x {} mm does not fit machine `{}`: the tool point at ({x:.1}, {y:.1}, {z:.1}) mm of the part puts {m}",
                         size[0], size[1], size[2], machine.name
                     ))

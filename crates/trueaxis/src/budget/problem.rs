@@ -9,7 +9,8 @@ use super::allocate::{allocate, Allocation, AllocationOptions};
 use super::poses::{part_grid, to_internal, volume_grid};
 use super::sensitivity::{sensitivity, Sensitivity};
 use super::spec::{BudgetSpec, KindValues};
-use super::{analyse, Analysis, BudgetError};
+use super::{analyse, Analysis};
+use crate::error::Error;
 use crate::machine::{AxisKind, Machine};
 use crate::model::{Frame, Setup};
 use crate::poses::read_poses;
@@ -50,11 +51,11 @@ pub struct BudgetProblem {
 
 /// The budget of a machine: the budget file if given (its defaults `defaults`), else the standard
 /// components with the tolerances `defaults` (linear um, angular urad, squareness urad).
-pub fn budget_spec(machine: &Machine, budget: Option<&Path>, defaults: KindValues) -> Result<BudgetSpec, BudgetError> {
+pub fn budget_spec(machine: &Machine, budget: Option<&Path>, defaults: KindValues) -> Result<BudgetSpec, Error> {
     let names = ["--linear-um", "--angular-urad", "--squareness-urad"];
     for (name, v) in names.iter().zip(defaults.0) {
         if !(v.is_finite() && v > 0.0) {
-            return Err(BudgetError::Input(format!("{name} {v}: a tolerance must be a positive number")));
+            return Err(Error::input(format!("{name} {v}: a tolerance must be a positive number")));
         }
     }
     match budget {
@@ -65,17 +66,17 @@ pub fn budget_spec(machine: &Machine, budget: Option<&Path>, defaults: KindValue
 
 /// The positions (deg) of the machine's rotary axes in canonical order from `(letter, deg)` pairs;
 /// an axis not named is at 0, a letter that is not a rotary axis of the machine is an error.
-pub fn rotary_positions(machine: &Machine, given: &[(char, f64)]) -> Result<Vec<f64>, BudgetError> {
+pub fn rotary_positions(machine: &Machine, given: &[(char, f64)]) -> Result<Vec<f64>, Error> {
     for (c, v) in given {
         if !machine.axes().iter().any(|a| a.letter == *c && a.kind == AxisKind::Rotary) {
-            return Err(BudgetError::Input(format!(
+            return Err(Error::input(format!(
                 "--rotary {c}=...: machine `{}` has no rotary axis {c} (axes: {})",
                 machine.name,
                 machine.axis_letters()
             )));
         }
         if !v.is_finite() {
-            return Err(BudgetError::Input(format!("--rotary {c}={v}: a position must be a finite number of deg")));
+            return Err(Error::input(format!("--rotary {c}={v}: a position must be a finite number of deg")));
         }
     }
     let rotary = machine.axes().iter().filter(|a| a.kind == AxisKind::Rotary);
@@ -84,22 +85,22 @@ pub fn rotary_positions(machine: &Machine, given: &[(char, f64)]) -> Result<Vec<
 
 /// The pose sets of `source`, the rotary axes at `rotary` (deg, canonical order) for parts and
 /// grids; every pose of a file within the travel.
-pub fn pose_sets(machine: &Machine, setup: &Setup, source: &PoseSource<'_>, rotary: &[f64]) -> Result<Vec<PoseSet>, BudgetError> {
+pub fn pose_sets(machine: &Machine, setup: &Setup, source: &PoseSource<'_>, rotary: &[f64]) -> Result<Vec<PoseSet>, Error> {
     let set = |label: String, part: Option<[f64; 3]>, user: Vec<f64>| PoseSet { label, part, internal: to_internal(machine, &user), user };
     match source {
         PoseSource::File(path) => {
             let table = read_poses(path, machine)?;
             if table.is_empty() {
-                return Err(BudgetError::Input(format!("{}: no poses", path.display())));
+                return Err(Error::input(format!("{}: no poses", path.display())));
             }
             for (i, pose) in table.user.chunks(machine.axis_count()).enumerate() {
-                machine.check_range(pose).map_err(|m| BudgetError::Input(format!("{}: line {}: {m}", path.display(), table.lines[i])))?;
+                machine.check_range(pose).map_err(|m| Error::input(format!("{}: line {}: {m}", path.display(), table.lines[i])))?;
             }
             Ok(vec![set(path.display().to_string(), None, table.user)])
         }
         PoseSource::Parts { sizes, nodes } => {
             if *nodes < 2 {
-                return Err(BudgetError::Input(format!("--part-nodes {nodes}: at least 2 points per edge")));
+                return Err(Error::input(format!("--part-nodes {nodes}: at least 2 points per edge")));
             }
             let label = |s: &[f64; 3]| format!("{}x{}x{}", s[0], s[1], s[2]);
             sizes.iter().map(|s| Ok(set(label(s), Some(*s), part_grid(machine, setup, *s, *nodes, rotary)?))).collect()
@@ -107,20 +108,20 @@ pub fn pose_sets(machine: &Machine, setup: &Setup, source: &PoseSource<'_>, rota
         PoseSource::Given { label, user } => {
             let n = machine.axis_count();
             if user.is_empty() || user.len() % n != 0 {
-                return Err(BudgetError::Input(format!(
+                return Err(Error::input(format!(
                     "{label}: expected poses of {n} axis positions ({}), got {} values",
                     machine.axis_letters(),
                     user.len()
                 )));
             }
             for (i, pose) in user.chunks(n).enumerate() {
-                machine.check_range(pose).map_err(|m| BudgetError::Input(format!("{label}: pose {}: {m}", i + 1)))?;
+                machine.check_range(pose).map_err(|m| Error::input(format!("{label}: pose {}: {m}", i + 1)))?;
             }
             Ok(vec![set(label.to_string(), None, user.to_vec())])
         }
         PoseSource::Grid(nodes) => {
             if *nodes < 2 {
-                return Err(BudgetError::Input(format!("--grid {nodes}: at least 2 points per axis")));
+                return Err(Error::input(format!("--grid {nodes}: at least 2 points per axis")));
             }
             Ok(vec![set("work volume".into(), None, volume_grid(machine, *nodes, rotary)?)])
         }
@@ -130,16 +131,13 @@ pub fn pose_sets(machine: &Machine, setup: &Setup, source: &PoseSource<'_>, rota
 impl BudgetProblem {
     /// The forward analysis of every pose set; a stack-up that is not finite is a failed
     /// computation naming the set.
-    pub fn analyse(&self) -> Result<Vec<Analysis>, BudgetError> {
+    pub fn analyse(&self) -> Result<Vec<Analysis>, Error> {
         let mut out = Vec::with_capacity(self.sets.len());
         for set in &self.sets {
             let a = analyse(&self.machine, &self.spec, &set.internal, &self.setup, self.frame)?;
             let finite = a.poses.iter().all(|p| p.stack.rss_total.is_finite() && p.stack.worst_total.is_finite()) && a.rss_rms.is_finite();
             if !finite {
-                return Err(BudgetError::Computation(format!(
-                    "{}: the stack-up is not finite (check the machine and tolerances)",
-                    set.label
-                )));
+                return Err(Error::computation(format!("{}: the stack-up is not finite (check the machine and tolerances)", set.label)));
             }
             out.push(a);
         }
@@ -147,14 +145,14 @@ impl BudgetProblem {
     }
 
     /// The cost-optimal allocation on the (single) pose set, with the sensitivity it used.
-    pub fn allocate(&self, options: &AllocationOptions) -> Result<(Allocation, Sensitivity), BudgetError> {
+    pub fn allocate(&self, options: &AllocationOptions) -> Result<(Allocation, Sensitivity), Error> {
         let [set] = &self.sets[..] else {
-            return Err(BudgetError::Input("allocate takes one pose set: give one --part (or --poses, --grid)".into()));
+            return Err(Error::input("allocate takes one pose set: give one --part (or --poses, --grid)"));
         };
         let s = sensitivity(&self.machine, &self.spec.components, &set.internal, &self.setup, self.frame);
         let a = allocate(&self.spec, &s, options)?;
         if !(a.cost.is_finite() && a.tolerances.iter().all(|t| t.is_finite())) {
-            return Err(BudgetError::Computation("the allocation is not finite".into()));
+            return Err(Error::computation("the allocation is not finite"));
         }
         Ok((a, s))
     }

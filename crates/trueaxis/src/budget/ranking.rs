@@ -10,7 +10,7 @@ use super::form_shaping::{form_shaping, FormShaping};
 use super::poses::{linspace, to_internal};
 use super::spec::{BudgetSpec, KindValues};
 use super::travel::{linear_positions, required_travel, space_utility};
-use super::BudgetError;
+use crate::error::Error;
 use crate::geometry::{rotation_about_axis, Vec3};
 use crate::machine::Machine;
 use crate::model::{Frame, Setup};
@@ -116,7 +116,7 @@ pub fn study_poses(configuration: &Configuration, machine: &Machine, options: &S
 
 /// The budgets of `configurations`, ranked by the root mean square of the root-sum-square error
 /// (smallest first; ties by axes and bed).
-pub fn study(configurations: &[Configuration], options: &StudyOptions) -> Result<Vec<ConfigurationBudget>, BudgetError> {
+pub fn study(configurations: &[Configuration], options: &StudyOptions) -> Result<Vec<ConfigurationBudget>, Error> {
     study_with_progress(configurations, options, &|_, _| {})
 }
 
@@ -126,9 +126,9 @@ pub fn study_with_progress(
     configurations: &[Configuration],
     options: &StudyOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<Vec<ConfigurationBudget>, BudgetError> {
+) -> Result<Vec<ConfigurationBudget>, Error> {
     if options.part.iter().chain([&options.tool_length]).any(|v| !(v.is_finite() && *v > 0.0)) {
-        return Err(BudgetError::Input(format!(
+        return Err(Error::input(format!(
             "part {:?} mm and tool length {} mm must be positive lengths",
             options.part, options.tool_length
         )));
@@ -144,7 +144,7 @@ pub fn study_with_progress(
     let done = std::sync::atomic::AtomicUsize::new(0);
     let mut out: Vec<ConfigurationBudget> = configurations
         .par_iter()
-        .map(|c| -> Result<ConfigurationBudget, BudgetError> {
+        .map(|c| -> Result<ConfigurationBudget, Error> {
             let travel = travels[&key(c)];
             let margin = travel.map(|t| t * (1.0 + 1e-6) + 1e-6);
             let machine = c.machine(margin, options.tool_length);

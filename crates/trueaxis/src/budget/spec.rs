@@ -26,7 +26,7 @@
 
 use super::components::{bind, default_components, default_lengths, BudgetComponent, ErrorKind};
 use super::cost::{CostModel, CostTerm, DEFAULT_A, DEFAULT_K, DEFAULT_LOWER};
-use super::BudgetError;
+use crate::error::Error;
 use crate::machine::{Machine, ParameterId};
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -92,20 +92,20 @@ impl BudgetSpec {
     }
 
     /// Reads a budget file; `defaults` fills the tolerances the file does not give.
-    pub fn load(path: impl AsRef<std::path::Path>, machine: &Machine, defaults: KindValues) -> Result<BudgetSpec, BudgetError> {
+    pub fn load(path: impl AsRef<std::path::Path>, machine: &Machine, defaults: KindValues) -> Result<BudgetSpec, Error> {
         let path = path.as_ref();
         let origin = path.display().to_string();
-        let text = crate::files::inputs::read_to_string(path)
-            .map_err(|e| BudgetError::Spec { origin: origin.clone(), message: format!("cannot read budget file: {e}") })?;
+        let text =
+            crate::files::inputs::read_to_string(path).map_err(|e| Error::input(format!("{origin}: cannot read budget file: {e}")))?;
         Self::from_toml_str(&text, &origin, machine, defaults)
     }
 
     /// Parses a budget file; every error names `origin` and the key at fault.
-    pub fn from_toml_str(text: &str, origin: &str, machine: &Machine, defaults: KindValues) -> Result<BudgetSpec, BudgetError> {
-        let fail = |message: String| BudgetError::Spec { origin: origin.to_string(), message };
+    pub fn from_toml_str(text: &str, origin: &str, machine: &Machine, defaults: KindValues) -> Result<BudgetSpec, Error> {
+        let fail = |message: String| Error::input(format!("{origin}: {message}"));
         crate::io::toml_numbers::refuse_underflow(text).map_err(fail)?;
         let file: SpecFile = toml::from_str(text).map_err(|e| fail(crate::machine::one_line(&e.to_string())))?;
-        let parse = |name: &str, key: &str| -> Result<ParameterId, BudgetError> {
+        let parse = |name: &str, key: &str| -> Result<ParameterId, Error> {
             machine.parse_parameter(name).map(|(id, _)| id).map_err(|m| fail(format!("{key}: {m}")))
         };
         let mut ids = match &file.components {

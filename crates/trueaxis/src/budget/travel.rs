@@ -15,7 +15,7 @@
 //! `sqrt(m^2 + n^2) + p` with `b = 180 deg`). The tests check all 36 entries.
 
 use super::configurations::{ideal_pose, Pattern};
-use super::BudgetError;
+use crate::error::Error;
 use crate::geometry::Vec3;
 use nalgebra::Matrix3;
 use std::f64::consts::PI;
@@ -59,12 +59,9 @@ fn inner(sequence: &[char; 5], first: f64, corners: &[Vec3], p: f64, k: usize) -
 
 /// The travel (mm) of X, Y and Z a configuration of one of the three categories needs for a part of
 /// `l x m x n` mm with a tool of length `p` mm.
-pub fn required_travel(sequence: &[char; 5], part: [f64; 3], tool_length: f64) -> Result<[f64; 3], BudgetError> {
+pub fn required_travel(sequence: &[char; 5], part: [f64; 3], tool_length: f64) -> Result<[f64; 3], Error> {
     if Pattern::of(sequence) == Pattern::Mixed {
-        return Err(BudgetError::Input(format!(
-            "{}: travel is computed for the three categories only",
-            sequence.iter().collect::<String>()
-        )));
+        return Err(Error::input(format!("{}: travel is computed for the three categories only", sequence.iter().collect::<String>())));
     }
     let corners: Vec<Vec3> =
         (0..8).map(|i| Vec3::new(part[0] * (i & 1) as f64, part[1] * (i >> 1 & 1) as f64, part[2] * (i >> 2 & 1) as f64)).collect();

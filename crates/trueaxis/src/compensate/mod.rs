@@ -26,10 +26,13 @@ pub use realtime::RealtimeCorrector;
 pub use summary::{compensation_json, kinematics_json, nc_json, round4, ExportFormat, FormatOptions};
 pub use tables::{axis_tables, line_tables, volumetric_grid, AxisTable, TableSet, TableSpec, VolumetricGrid};
 
-use thiserror::Error;
+use crate::error::{Error, ErrorKind};
 
-/// Why a compensation could not be produced.
-#[derive(Debug, Error)]
+/// Why a compensation could not be produced. Kept as a typed error because callers match on it:
+/// a refused export ([`CompensateError::Limit`], the tests of the controller limits) and an error
+/// table that does not cover the travel ([`CompensateError::Coverage`], which the command line
+/// names by its error file).
+#[derive(Debug, thiserror::Error)]
 pub enum CompensateError {
     /// Bad input: a parameter, a file, a pose outside the travel.
     #[error("{0}")]
@@ -51,8 +54,20 @@ pub enum CompensateError {
 }
 
 impl CompensateError {
-    /// Whether the cause is the input (exit status 2) rather than the computation (exit status 1).
-    pub fn is_input(&self) -> bool {
-        matches!(self, CompensateError::Input(_) | CompensateError::Limit(_) | CompensateError::Coverage(_) | CompensateError::Data(_))
+    /// Bad input (a parameter, a file, a limit, an error table that does not cover the travel) or
+    /// a failed computation.
+    pub fn kind(&self) -> ErrorKind {
+        match self {
+            CompensateError::Computation(_) => ErrorKind::Computation,
+            _ => ErrorKind::Input,
+        }
+    }
+}
+
+impl From<CompensateError> for Error {
+    /// Its [`CompensateError::kind`], the message unchanged and the error kept as the cause (a
+    /// full disk in its chain is still the environment).
+    fn from(e: CompensateError) -> Error {
+        Error::new(e.kind(), e.to_string()).caused_by(e)
     }
 }

@@ -64,11 +64,11 @@ impl Default for FormatOptions {
 impl ExportFormat {
     /// The format of a name (`linuxcnc`, `linuxcnc-hal`, `isg`, `heidenhain`, `siemens`, `fanuc`,
     /// `lattice` (also `fanuc3d`, its former name), `csv`, `json`).
-    pub fn parse(name: &str, options: &FormatOptions) -> Result<ExportFormat, String> {
+    pub fn parse(name: &str, options: &FormatOptions) -> Result<ExportFormat, crate::error::Error> {
         let comp_type = match options.comp_type {
             0 => CompType::Positions,
             1 => CompType::Trims,
-            other => return Err(format!("comp type {other}: expected 0 (positions) or 1 (trims)")),
+            other => crate::bail!(input, "comp type {other}: expected 0 (positions) or 1 (trims)"),
         };
         Ok(match name {
             "linuxcnc" => ExportFormat::Linuxcnc(comp_type),
@@ -87,9 +87,10 @@ impl ExportFormat {
             "csv" => ExportFormat::Csv,
             "json" => ExportFormat::Json,
             other => {
-                return Err(format!(
+                crate::bail!(
+                    input,
                     "format `{other}`: expected linuxcnc, linuxcnc-hal, isg, heidenhain, siemens, fanuc, lattice, csv or json"
-                ))
+                )
             }
         })
     }

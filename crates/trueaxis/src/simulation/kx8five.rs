@@ -6,7 +6,7 @@
 
 use crate::error_model::{ErrorModel, ErrorModelError};
 use crate::machine::{Machine, MachineError};
-use crate::uncertainty::{Sources, UncertaintyError};
+use crate::uncertainty::Sources;
 
 /// The built-in machine (`examples/machines/kx8five.toml`).
 pub const MACHINE_TOML: &str = include_str!("../../../../examples/machines/kx8five.toml");
@@ -32,7 +32,7 @@ pub fn true_errors(machine: &Machine) -> Result<ErrorModel, ErrorModelError> {
 }
 
 /// The uncertainty sources, with the cyclic drift the campaign is simulated with.
-pub fn sources() -> Result<Sources, UncertaintyError> {
+pub fn sources() -> Result<Sources, crate::Error> {
     Sources::from_toml_str(SOURCES_TOML, "built-in kx8five_cyclic.toml")
 }
 

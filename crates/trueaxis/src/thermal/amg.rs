@@ -23,7 +23,7 @@
 
 use super::assembly::diagonal;
 use super::sparse_rows::{from_rows, to_rows, transpose_times_rows};
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use faer::linalg::solvers::{Llt, Solve};
 use faer::sparse::linalg::matmul::sparse_sparse_matmul;
 use faer::sparse::{SparseColMat, Triplet};
@@ -58,7 +58,7 @@ pub struct SmoothedAggregation {
 
 impl SmoothedAggregation {
     /// Builds the hierarchy of `a` (symmetric positive definite; both triangles stored).
-    pub fn new(a: &SparseColMat<usize, f64>) -> Result<SmoothedAggregation, ThermalError> {
+    pub fn new(a: &SparseColMat<usize, f64>) -> Result<SmoothedAggregation, Error> {
         let mut levels = Vec::new();
         let mut current = a.clone();
         let mut near_null = vec![1.0; a.nrows()];
@@ -85,7 +85,7 @@ impl SmoothedAggregation {
         let dense = Mat::from_fn(coarsest_nodes, coarsest_nodes, |i, j| 0.5 * (dense[(i, j)] + dense[(j, i)]));
         let coarsest = dense
             .llt(Side::Lower)
-            .map_err(|_| computation("the coarsest multigrid matrix is not positive definite: the conductivity matrix must be (convection or fixed temperatures somewhere)"))?;
+            .map_err(|_| Error::computation("the coarsest multigrid matrix is not positive definite: the conductivity matrix must be (convection or fixed temperatures somewhere)"))?;
         Ok(SmoothedAggregation { levels, coarsest, coarsest_nodes })
     }
 
@@ -176,12 +176,12 @@ fn rows_zip(x: &mut [f64], y: &[f64], p: usize, f: impl Fn(usize, &mut [f64], &[
     x.par_chunks_mut(p).with_min_len(1024).zip(y.par_chunks(p)).enumerate().for_each(|(i, (x, y))| f(i, x, y));
 }
 
-fn memory(e: faer::sparse::FaerError) -> ThermalError {
-    computation(format!("the multigrid hierarchy needs more memory than this machine has ({e:?})"))
+fn memory(e: faer::sparse::FaerError) -> Error {
+    Error::computation(format!("the multigrid hierarchy needs more memory than this machine has ({e:?})"))
 }
 
 /// `1 / A_ii`; an error for a diagonal entry that is not positive.
-fn inverse_diagonal(a: &SparseColMat<usize, f64>) -> Result<Vec<f64>, ThermalError> {
+fn inverse_diagonal(a: &SparseColMat<usize, f64>) -> Result<Vec<f64>, Error> {
     diagonal(a)
         .into_iter()
         .enumerate()
@@ -189,7 +189,7 @@ fn inverse_diagonal(a: &SparseColMat<usize, f64>) -> Result<Vec<f64>, ThermalErr
             if d > 0.0 && d.is_finite() {
                 Ok(1.0 / d)
             } else {
-                Err(input(format!("the conductivity matrix has a diagonal entry {d:e} at node {}, not positive", j + 1)))
+                Err(Error::input(format!("the conductivity matrix has a diagonal entry {d:e} at node {}, not positive", j + 1)))
             }
         })
         .collect()
@@ -277,7 +277,7 @@ fn aggregate(a: &SparseColMat<usize, f64>) -> Vec<usize> {
 
 /// T (nodes x aggregates) with the near-null-space vector `b` on each aggregate, normalised; the
 /// norms are the coarse near-null-space vector.
-fn tentative_prolongator(aggregates: &[usize], count: usize, b: &[f64]) -> Result<(SparseColMat<usize, f64>, Vec<f64>), ThermalError> {
+fn tentative_prolongator(aggregates: &[usize], count: usize, b: &[f64]) -> Result<(SparseColMat<usize, f64>, Vec<f64>), Error> {
     let mut norms = vec![0.0f64; count];
     for (&k, v) in aggregates.iter().zip(b) {
         norms[k] += v * v;
@@ -290,7 +290,7 @@ fn tentative_prolongator(aggregates: &[usize], count: usize, b: &[f64]) -> Resul
         .filter(|(_, (&k, _))| norms[k] > 0.0)
         .map(|(i, (&k, v))| Triplet::new(i, k, v / norms[k]))
         .collect();
-    let t = SparseColMat::try_new_from_triplets(aggregates.len(), count, &triplets).map_err(|e| computation(format!("{e:?}")))?;
+    let t = SparseColMat::try_new_from_triplets(aggregates.len(), count, &triplets).map_err(|e| Error::computation(format!("{e:?}")))?;
     Ok((t, norms))
 }
 
@@ -300,7 +300,7 @@ fn smoothed_prolongator(
     inverse_diagonal: &[f64],
     omega: f64,
     t: &SparseColMat<usize, f64>,
-) -> Result<SparseColMat<usize, f64>, ThermalError> {
+) -> Result<SparseColMat<usize, f64>, Error> {
     let at = sparse_sparse_matmul(a.as_ref(), t.as_ref(), 1.0, Par::rayon(0)).map_err(memory)?;
     let (tcp, tri, tval) = (t.symbolic().col_ptr(), t.symbolic().row_idx(), t.val());
     let (cp, ri, val) = (at.symbolic().col_ptr(), at.symbolic().row_idx(), at.val());
@@ -315,11 +315,11 @@ fn smoothed_prolongator(
         }
     }
     // duplicates (T's entries inside A T's pattern) are summed
-    SparseColMat::try_new_from_triplets(t.nrows(), t.ncols(), &triplets).map_err(|e| computation(format!("{e:?}")))
+    SparseColMat::try_new_from_triplets(t.nrows(), t.ncols(), &triplets).map_err(|e| Error::computation(format!("{e:?}")))
 }
 
 /// The transpose of a sparse matrix, stored by columns.
-fn transpose(a: &SparseColMat<usize, f64>) -> Result<SparseColMat<usize, f64>, ThermalError> {
+fn transpose(a: &SparseColMat<usize, f64>) -> Result<SparseColMat<usize, f64>, Error> {
     a.as_ref().transpose().to_col_major().map_err(memory)
 }
 

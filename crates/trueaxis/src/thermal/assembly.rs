@@ -9,7 +9,7 @@
 //! "film" matrix); temperatures are rises over the ambient (Zhu 2008 §3.4: over 20 degC).
 
 use super::mesh::StructuredMesh;
-use super::{input, ThermalError};
+use crate::error::Error;
 use faer::sparse::{SparseColMat, SymbolicSparseColMat, Triplet};
 
 /// Conductivity k (W/m/K), density rho (kg/m^3), specific heat c_p (J/kg/K).
@@ -104,10 +104,10 @@ impl ThermalSystem {
         capacity: SparseColMat<usize, f64>,
         conductivity: SparseColMat<usize, f64>,
         load: Vec<f64>,
-    ) -> Result<ThermalSystem, ThermalError> {
+    ) -> Result<ThermalSystem, Error> {
         let n = capacity.nrows();
         if capacity.ncols() != n || conductivity.nrows() != n || conductivity.ncols() != n {
-            return Err(input(format!(
+            return Err(Error::input(format!(
                 "C is {}x{} and K is {}x{}: both must be square of the same size",
                 capacity.nrows(),
                 capacity.ncols(),
@@ -116,7 +116,7 @@ impl ThermalSystem {
             )));
         }
         if load.len() != n {
-            return Err(input(format!("the load has {} entries for {n} nodes", load.len())));
+            return Err(Error::input(format!("the load has {} entries for {n} nodes", load.len())));
         }
         Ok(ThermalSystem { capacity, conductivity, load, coordinates: None })
     }
@@ -169,8 +169,8 @@ pub(crate) fn uniform_decay_rate(k: &SparseColMat<usize, f64>, c: &SparseColMat<
 }
 
 /// A sparse matrix from triplets (duplicates summed).
-pub fn from_triplets(n: usize, triplets: &[Triplet<usize, usize, f64>]) -> Result<SparseColMat<usize, f64>, ThermalError> {
-    SparseColMat::try_new_from_triplets(n, n, triplets).map_err(|e| input(format!("cannot build a sparse matrix: {e:?}")))
+pub fn from_triplets(n: usize, triplets: &[Triplet<usize, usize, f64>]) -> Result<SparseColMat<usize, f64>, Error> {
+    SparseColMat::try_new_from_triplets(n, n, triplets).map_err(|e| Error::input(format!("cannot build a sparse matrix: {e:?}")))
 }
 
 /// The 1D linear-element matrices: stiffness `[[1,-1],[-1,1]]/h` and mass `h [[2,1],[1,2]]/6`.
@@ -179,11 +179,11 @@ fn line_matrices(h: f64) -> ([[f64; 2]; 2], [[f64; 2]; 2]) {
 }
 
 /// Assembles C, K (conduction, lateral and boundary convection) and the step load Q.
-pub fn assemble(problem: &ThermalProblem) -> Result<ThermalSystem, ThermalError> {
+pub fn assemble(problem: &ThermalProblem) -> Result<ThermalSystem, Error> {
     let mesh = &problem.mesh;
     let dim = mesh.dimensions();
     if problem.section.dimensions() != dim {
-        return Err(input(format!("a {dim}D mesh needs a {dim}D section (bar, plate or solid)")));
+        return Err(Error::input(format!("a {dim}D mesh needs a {dim}D section (bar, plate or solid)")));
     }
     let m = &problem.material;
     for (name, v) in [
@@ -193,20 +193,20 @@ pub fn assemble(problem: &ThermalProblem) -> Result<ThermalSystem, ThermalError>
         ("section", problem.section.measure()),
     ] {
         if !(v.is_finite() && v > 0.0) {
-            return Err(input(format!("`{name}` must be a positive finite number (got {v})")));
+            return Err(Error::input(format!("`{name}` must be a positive finite number (got {v})")));
         }
     }
     let h_lat = problem.lateral_convection_w_m2k;
     if !(h_lat.is_finite() && h_lat >= 0.0) || problem.section.lateral() < 0.0 {
-        return Err(input(format!("the lateral convection coefficient must be finite and >= 0 (got {h_lat})")));
+        return Err(Error::input(format!("the lateral convection coefficient must be finite and >= 0 (got {h_lat})")));
     }
     if problem.boundaries.len() != dim {
-        return Err(input(format!("{} boundary pairs for a {dim}D mesh", problem.boundaries.len())));
+        return Err(Error::input(format!("{} boundary pairs for a {dim}D mesh", problem.boundaries.len())));
     }
     for b in problem.boundaries.iter().flatten() {
         if let Boundary::Convection(h) = b {
             if !(h.is_finite() && *h >= 0.0) {
-                return Err(input(format!("a convection coefficient must be finite and >= 0 (got {h})")));
+                return Err(Error::input(format!("a convection coefficient must be finite and >= 0 (got {h})")));
             }
         }
     }
@@ -273,10 +273,10 @@ pub fn assemble(problem: &ThermalProblem) -> Result<ThermalSystem, ThermalError>
     let mut load = vec![0.0; n];
     for &(node, w) in &problem.fluxes {
         if node >= n {
-            return Err(input(format!("flux node {node} does not exist (the mesh has nodes 0..{})", n - 1)));
+            return Err(Error::input(format!("flux node {node} does not exist (the mesh has nodes 0..{})", n - 1)));
         }
         if !w.is_finite() {
-            return Err(input("a heat flux must be a finite number of W"));
+            return Err(Error::input("a heat flux must be a finite number of W"));
         }
         load[node] += w;
     }

@@ -24,7 +24,7 @@
 //! Units: positions mm, alpha um/m/K, errors um and urad.
 
 use super::links::ErrorTerm;
-use super::{input, ThermalError};
+use crate::error::Error;
 use crate::machine::{AxisKind, Machine};
 use nalgebra::DMatrix;
 use serde::Deserialize;
@@ -98,8 +98,8 @@ pub struct Beam {
 
 impl Beam {
     /// Builds the beam of `file` on `machine`.
-    pub fn new(file: &BeamFile, machine: &Machine, origin: &str) -> Result<Beam, ThermalError> {
-        let bad = |m: String| input(format!("{origin}: {m}"));
+    pub fn new(file: &BeamFile, machine: &Machine, origin: &str) -> Result<Beam, Error> {
+        let bad = |m: String| Error::input(format!("{origin}: {m}"));
         let mut letters = file.axis.trim().chars();
         let letter = match (letters.next(), letters.next()) {
             (Some(c), None) => c.to_ascii_uppercase(),
@@ -285,7 +285,7 @@ impl Beam {
 }
 
 /// Reads a beam file's text.
-pub fn read_beam(text: &str, origin: &str) -> Result<BeamFile, ThermalError> {
-    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(format!("{origin}: {m}")))?;
-    toml::from_str(text).map_err(|e| input(format!("{origin}: {}", e.to_string().split_whitespace().collect::<Vec<_>>().join(" "))))
+pub fn read_beam(text: &str, origin: &str) -> Result<BeamFile, Error> {
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+    toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", e.to_string().split_whitespace().collect::<Vec<_>>().join(" "))))
 }

@@ -15,7 +15,7 @@ use super::segmented::{fit_segmented, Segmentation};
 use super::thermal_campaign::Campaign;
 use super::time_constants::{fit_time_constants, Series, TimeConstantFit};
 use super::validation::{evaluate_segments, residual_stats, segments, Evaluated, ResidualStats, Role, Segment};
-use super::{input, ThermalError};
+use crate::error::Error;
 use crate::error_model::ErrorModel;
 use crate::machine::Machine;
 use crate::screen::irls::{RobustWeights, Weighting};
@@ -204,7 +204,7 @@ impl ModelFit {
 
     /// The model as `[[term.NAME]]` error terms (factors T - 20 degC) of ISO parameter `parameter`
     /// for `trueaxis predict`, checked against `machine` when given; none for a state-space model.
-    pub fn terms_text(&self, parameter: &str, machine: Option<&Machine>) -> Result<Option<String>, ThermalError> {
+    pub fn terms_text(&self, parameter: &str, machine: Option<&Machine>) -> Result<Option<String>, Error> {
         let terms = match &self.model {
             ThermalErrorModel::Regression(regression) => model_terms(parameter, regression, 1.0)?,
             ThermalErrorModel::Segmented(segmented) => segmented.terms(parameter)?,
@@ -236,24 +236,24 @@ impl TimeConstantsFit {
 }
 
 /// Fits `request` to `campaign`; `data` names the campaign in messages.
-pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Result<CampaignFit, ThermalError> {
+pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Result<CampaignFit, Error> {
     let rows: Vec<usize> = match &request.train_runs {
         Some(runs) => campaign.rows_of(runs)?,
         None => (0..campaign.len()).collect(),
     };
     let sensors = request.sensors.clone().unwrap_or_else(|| campaign.sensors());
     if sensors.is_empty() {
-        return Err(input(format!("{data}: no temperature columns T:<sensor>")));
+        return Err(Error::input(format!("{data}: no temperature columns T:<sensor>")));
     }
     if let Some(n) = request.time_constants {
         return Ok(CampaignFit::TimeConstants(fit_taus(request, campaign, &rows, &sensors, n)?));
     }
-    let error = request.error.clone().ok_or_else(|| input("--error: name the error column (um) to model"))?;
+    let error = request.error.clone().ok_or_else(|| Error::input("--error: name the error column (um) to model"))?;
     let split = match request.validate.as_deref() {
         None => None,
         Some(v) => match v.strip_prefix("time-split:").map(str::parse::<f64>) {
             Some(Ok(f)) if f > 0.0 && f < 1.0 => Some(f),
-            _ => return Err(input(format!("--validate {v}: expected time-split:F with 0 < F < 1"))),
+            _ => return Err(Error::input(format!("--validate {v}: expected time-split:F with 0 < F < 1"))),
         },
     };
     let segments = segments(campaign, request.train_runs.as_deref(), split)?;
@@ -262,13 +262,15 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
     let segmented = request.by_direction || request.ranges.is_some();
     let plain_regression = matches!(request.model, ModelForm::Regression) && request.select.is_none() && request.geometric_degree.is_none();
     if request.robust.is_some() && (segmented || !plain_regression) {
-        return Err(input("--robust applies to a regression model without --select, --geometric-degree, --by-direction or --ranges"));
+        return Err(Error::input(
+            "--robust applies to a regression model without --select, --geometric-degree, --by-direction or --ranges",
+        ));
     }
     let mut robust = None;
     let (model, kept) = match request.model {
         ModelForm::Regression if segmented => {
             if request.select.is_some() || request.no_intercept {
-                return Err(input("--select and --no-intercept do not apply to a segmented G-T model (--by-direction, --ranges)"));
+                return Err(Error::input("--select and --no-intercept do not apply to a segmented G-T model (--by-direction, --ranges)"));
             }
             let segmentation = Segmentation {
                 by_direction: request.by_direction,
@@ -277,7 +279,7 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
                 thermal_degree: request.degree,
             };
             let position =
-                request.position.as_deref().ok_or_else(|| input("--by-direction and --ranges need --position (the axis column)"))?;
+                request.position.as_deref().ok_or_else(|| Error::input("--by-direction and --ranges need --position (the axis column)"))?;
             (ThermalErrorModel::Segmented(fit_segmented(campaign, &rows, &error, &sensors, position, &segmentation)?), None)
         }
         ModelForm::Regression => {
@@ -287,7 +289,7 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
         }
         ModelForm::StateSpace => {
             if request.select.is_some() || request.position.is_some() || request.no_intercept || request.terms || segmented {
-                return Err(input(
+                return Err(Error::input(
                     "--select, --position, --no-intercept, --by-direction, --ranges and --terms-out apply to regression models, not to --model state-space",
                 ));
             }
@@ -305,9 +307,7 @@ pub fn fit_campaign(campaign: &Campaign, data: &str, request: &FitRequest) -> Re
     };
     let evaluated = evaluate_segments(campaign, &model, &segments)?;
     if evaluated.iter().any(|e| e.predicted.iter().any(|v| !v.is_finite())) {
-        return Err(ThermalError::Computation(format!(
-            "{data}: the fitted model predicts numbers that are not finite; nothing was written"
-        )));
+        return Err(Error::computation(format!("{data}: the fitted model predicts numbers that are not finite; nothing was written")));
     }
     let (measured, predicted): (Vec<f64>, Vec<f64>) = evaluated
         .iter()
@@ -331,7 +331,7 @@ fn fit_regression_model(
     rows: &[usize],
     sensors: &[String],
     error: &str,
-) -> Result<RegressionFit, ThermalError> {
+) -> Result<RegressionFit, Error> {
     let temps = campaign.select(sensors, rows)?;
     let measured = campaign.select(&[error.to_string()], rows)?.remove(0);
     let positions = match &request.position {
@@ -341,9 +341,9 @@ fn fit_regression_model(
     let position = request.position.as_deref().zip(positions.as_deref());
     let intercept = !request.no_intercept;
     if let Some(g) = request.geometric_degree {
-        let position = position.ok_or_else(|| input("--geometric-degree needs --position (the axis column)"))?;
+        let position = position.ok_or_else(|| Error::input("--geometric-degree needs --position (the axis column)"))?;
         if request.select.is_some() || !intercept {
-            return Err(input("--geometric-degree does not combine with --select or --no-intercept"));
+            return Err(Error::input("--geometric-degree does not combine with --select or --no-intercept"));
         }
         return Ok((fit_split(error, sensors, &temps, position, g, request.degree, &measured)?.0, None, None));
     }
@@ -364,7 +364,7 @@ fn fit_regression_model(
             let n = match s["correlation:".len()..].parse::<usize>() {
                 Ok(n) if n >= 1 => n,
                 _ => {
-                    return Err(input(format!(
+                    return Err(Error::input(format!(
                         "--select {s}: expected correlation:N with N >= 1, the number of sensors to keep (of {})",
                         sensors.len()
                     )))
@@ -376,21 +376,15 @@ fn fit_regression_model(
             let (m, _) = fit_regression(error, &names, &t, position, request.degree, intercept, &measured)?;
             Ok((m, Some(names), None))
         }
-        Some(other) => Err(input(format!("--select {other}: expected correlation:N or stepwise"))),
+        Some(other) => Err(Error::input(format!("--select {other}: expected correlation:N or stepwise"))),
     }
 }
 
 /// Shared time constants (eq. 3.17) of the temperature records of each run and sensor, each from
 /// the start of its run (up to `until` seconds).
-fn fit_taus(
-    request: &FitRequest,
-    campaign: &Campaign,
-    rows: &[usize],
-    sensors: &[String],
-    n: usize,
-) -> Result<TimeConstantsFit, ThermalError> {
+fn fit_taus(request: &FitRequest, campaign: &Campaign, rows: &[usize], sensors: &[String], n: usize) -> Result<TimeConstantsFit, Error> {
     if let Some(u) = request.until.filter(|u| !(u.is_finite() && *u > 0.0)) {
-        return Err(input(format!("--until {u}: expected a positive number of seconds from the start of each run")));
+        return Err(Error::input(format!("--until {u}: expected a positive number of seconds from the start of each run")));
     }
     let t = campaign.column("t")?;
     let mut series = Vec::new();

@@ -8,7 +8,7 @@
 use super::error_model::ThermalErrorModel;
 use super::thermal_campaign::Campaign;
 use super::validation::{evaluate_segments, prediction_segments, Evaluated, ResidualStats};
-use super::{input, ThermalError};
+use crate::error::Error;
 use serde_json::{json, Value};
 
 /// The prediction of a model on every row of a campaign, in file order.
@@ -31,13 +31,13 @@ pub struct CampaignPrediction {
 
 /// Reads a model file (TOML, `kind = "regression"` or `"state_space"`, as `thermal fit --out`
 /// writes it).
-pub fn read_model_file(path: &std::path::Path) -> Result<ThermalErrorModel, ThermalError> {
-    let text = crate::files::inputs::read_to_string(path).map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
+pub fn read_model_file(path: &std::path::Path) -> Result<ThermalErrorModel, Error> {
+    let text = crate::files::inputs::read_to_string(path).map_err(|e| Error::input(format!("{}: cannot read: {e}", path.display())))?;
     ThermalErrorModel::from_toml_str(&text, &path.display().to_string())
 }
 
 /// Evaluates `model` on every run of `campaign`.
-pub fn predict_campaign(model: &ThermalErrorModel, campaign: &Campaign) -> Result<CampaignPrediction, ThermalError> {
+pub fn predict_campaign(model: &ThermalErrorModel, campaign: &Campaign) -> Result<CampaignPrediction, Error> {
     let evaluated = evaluate_segments(campaign, model, &prediction_segments(campaign))?;
     // back in file order
     let mut predicted = vec![0.0; campaign.len()];

@@ -11,7 +11,7 @@
 
 use super::state_space::{identify_state_space, Record, StateSpaceModel};
 use super::thermal_campaign::Campaign;
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
 
 /// A fitted state-space drift model; its TOML form (`kind = "state_space"`) is written by
@@ -31,24 +31,24 @@ pub struct DriftModel {
 
 impl DriftModel {
     /// Checks shapes and numbers.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Error> {
         if self.sensors.is_empty() || self.time_constants_s.is_empty() {
-            return Err("a drift model needs at least one sensor and one time constant".into());
+            return Err(Error::input("a drift model needs at least one sensor and one time constant"));
         }
         if self.time_constants_s.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
-            return Err("`time_constants_s` must be positive finite numbers of seconds".into());
+            return Err(Error::input("`time_constants_s` must be positive finite numbers of seconds"));
         }
         if self.gains_um_per_degc.len() != self.sensors.len()
             || self.gains_um_per_degc.iter().any(|g| g.len() != self.time_constants_s.len() || g.iter().any(|v| !v.is_finite()))
         {
-            return Err(format!(
+            return Err(Error::input(format!(
                 "`gains_um_per_degc` needs one row per sensor ({}) of one finite gain per time constant ({})",
                 self.sensors.len(),
                 self.time_constants_s.len()
-            ));
+            )));
         }
         if let Some(s) = self.sensors.iter().find(|s| !s.starts_with("T:") || s.len() < 3) {
-            return Err(format!("sensor `{s}` must be named `T:<name>`"));
+            return Err(Error::input(format!("sensor `{s}` must be named `T:<name>`")));
         }
         Ok(())
     }
@@ -56,7 +56,7 @@ impl DriftModel {
     /// The drift (um) at `times_s` (increasing, from the reference state at the first time) for
     /// sensor readings `temperatures[sample][sensor]` (degC): the samples one by one through
     /// [`DriftModel::step`], as a live compensation takes them.
-    pub fn simulate(&self, times_s: &[f64], temperatures: &[Vec<f64>]) -> Result<Vec<f64>, ThermalError> {
+    pub fn simulate(&self, times_s: &[f64], temperatures: &[Vec<f64>]) -> Result<Vec<f64>, Error> {
         let mut state = super::stepping::StepState::default();
         times_s.iter().zip(temperatures).map(|(t, readings)| self.step(&mut state, *t, readings)).collect()
     }
@@ -78,11 +78,11 @@ pub(crate) fn rises(temperatures: &[Vec<f64>]) -> Vec<Vec<f64>> {
 
 /// One record of a campaign for the drift model: the rows of one run (or the first part of it), in
 /// time order.
-pub fn record(campaign: &Campaign, sensors: &[String], error: Option<&str>, rows: &[usize]) -> Result<Record, ThermalError> {
+pub fn record(campaign: &Campaign, sensors: &[String], error: Option<&str>, rows: &[usize]) -> Result<Record, Error> {
     let t = campaign.column("t")?;
     let times: Vec<f64> = rows.iter().map(|&i| t[i]).collect();
     if times.windows(2).any(|w| w[1] <= w[0]) {
-        return Err(input(format!("{}: the times of a run must increase from row to row (column t)", campaign.origin)));
+        return Err(Error::input(format!("{}: the times of a run must increase from row to row (column t)", campaign.origin)));
     }
     let columns = campaign.select(sensors, rows)?;
     let temperatures: Vec<Vec<f64>> = (0..rows.len()).map(|k| columns.iter().map(|c| c[k]).collect()).collect();
@@ -95,7 +95,7 @@ pub fn record(campaign: &Campaign, sensors: &[String], error: Option<&str>, rows
 
 /// Fits `rates` shared time constants and the gains to records (each a run from its reference
 /// state, where the error is zero), by [`identify_state_space`].
-pub fn fit_drift_model(error: &str, sensors: &[String], records: &[Record], rates: usize) -> Result<(DriftModel, f64), ThermalError> {
+pub fn fit_drift_model(error: &str, sensors: &[String], records: &[Record], rates: usize) -> Result<(DriftModel, f64), Error> {
     let prepared: Vec<Record> = records.iter().map(|(t, temps, y)| (t.clone(), rises(temps), y.clone())).collect();
     let (model, rms) = identify_lags(&prepared, rates)?;
     let m = model.gammas.len();
@@ -108,9 +108,9 @@ pub fn fit_drift_model(error: &str, sensors: &[String], records: &[Record], rate
 
 /// [`identify_state_space`] of `rates` (1 to 4) shared time constants from records of rises, each
 /// from its reference state, refusing time constants the data do not determine.
-pub(crate) fn identify_lags(records: &[Record], rates: usize) -> Result<(StateSpaceModel, f64), ThermalError> {
+pub(crate) fn identify_lags(records: &[Record], rates: usize) -> Result<(StateSpaceModel, f64), Error> {
     if !(1..=4).contains(&rates) {
-        return Err(input(format!("the number of time constants must be 1 to 4 (got {rates})")));
+        return Err(Error::input(format!("the number of time constants must be 1 to 4 (got {rates})")));
     }
     let (model, rms) = identify_state_space(records, rates, None)?;
     // a time constant far beyond the records acts as an integrator, one far below the sampling
@@ -118,7 +118,7 @@ pub(crate) fn identify_lags(records: &[Record], rates: usize) -> Result<(StateSp
     let step = records.iter().flat_map(|r| r.0.windows(2).map(|w| w[1] - w[0])).fold(f64::INFINITY, f64::min);
     let span = records.iter().map(|r| r.0.last().unwrap_or(&0.0) - r.0.first().unwrap_or(&0.0)).fold(0.0, f64::max);
     if let Some(tau) = model.time_constants_s().into_iter().find(|t| *t > 10.0 * span || *t < 0.1 * step) {
-        return Err(computation(format!(
+        return Err(Error::computation(format!(
             "the fitted time constant {tau:.4e} s lies outside [0.1 x sampling step, 10 x longest record] = [{:.1}, {:.1}] s: the data do not determine {rates} time constants; use fewer --rates",
             0.1 * step,
             10.0 * span

@@ -6,7 +6,7 @@ use super::drift_model::{record, DriftModel};
 use super::regression::RegressionModel;
 use super::segmented::SegmentedModel;
 use super::thermal_campaign::Campaign;
-use super::{input, ThermalError};
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
 
 /// A thermal error model (um) of sensor readings (degC).
@@ -28,31 +28,34 @@ impl From<RegressionModel> for ThermalErrorModel {
 
 impl ThermalErrorModel {
     /// Reads a model file's text; `origin` names it in messages.
-    pub fn from_toml_str(text: &str, origin: &str) -> Result<ThermalErrorModel, ThermalError> {
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<ThermalErrorModel, Error> {
         #[derive(Deserialize)]
         struct Kind {
             kind: Option<String>,
         }
         let one_line = |e: &dyn std::fmt::Display| e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
-        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(format!("{origin}: {m}")))?;
-        let kind: Kind = toml::from_str::<toml::Table>(text)
-            .map_err(|e| input(format!("{origin}: {}", one_line(&e))))
-            .and_then(|t| toml::Value::Table(t).try_into().map_err(|e: toml::de::Error| input(format!("{origin}: {}", one_line(&e)))))?;
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+        let kind: Kind =
+            toml::from_str::<toml::Table>(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e)))).and_then(|t| {
+                toml::Value::Table(t).try_into().map_err(|e: toml::de::Error| Error::input(format!("{origin}: {}", one_line(&e))))
+            })?;
         match kind.kind.as_deref() {
             Some("segmented") => {
-                let mut table: toml::Table = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e))))?;
+                let mut table: toml::Table = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e))))?;
                 table.remove("kind");
-                let model: SegmentedModel =
-                    toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| input(format!("{origin}: {}", one_line(&e))))?;
-                model.validate().map_err(|m| input(format!("{origin}: {m}")))?;
+                let model: SegmentedModel = toml::Value::Table(table)
+                    .try_into()
+                    .map_err(|e: toml::de::Error| Error::input(format!("{origin}: {}", one_line(&e))))?;
+                model.validate().map_err(|m| Error::input(format!("{origin}: {m}")))?;
                 Ok(ThermalErrorModel::Segmented(model))
             }
             Some("state_space") => {
-                let mut table: toml::Table = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e))))?;
+                let mut table: toml::Table = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e))))?;
                 table.remove("kind");
-                let model: DriftModel =
-                    toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| input(format!("{origin}: {}", one_line(&e))))?;
-                model.validate().map_err(|m| input(format!("{origin}: {m}")))?;
+                let model: DriftModel = toml::Value::Table(table)
+                    .try_into()
+                    .map_err(|e: toml::de::Error| Error::input(format!("{origin}: {}", one_line(&e))))?;
+                model.validate().map_err(|m| Error::input(format!("{origin}: {m}")))?;
                 Ok(ThermalErrorModel::Drift(model))
             }
             _ => RegressionModel::from_toml_str(text, origin).map(ThermalErrorModel::Regression),
@@ -80,7 +83,7 @@ impl ThermalErrorModel {
     /// The prediction (um) at `rows` of a campaign. The regression is evaluated row by row; the
     /// drift model simulates each run from its first row in `rows` (its reference state), so `rows`
     /// should hold whole runs, in time order.
-    pub fn predict(&self, campaign: &Campaign, rows: &[usize]) -> Result<Vec<f64>, ThermalError> {
+    pub fn predict(&self, campaign: &Campaign, rows: &[usize]) -> Result<Vec<f64>, Error> {
         match self {
             ThermalErrorModel::Regression(model) => {
                 let temps = campaign.select(&model.sensors, rows)?;

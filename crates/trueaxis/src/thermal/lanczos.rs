@@ -30,7 +30,7 @@
 use super::assembly::{diagonal, from_triplets, uniform_decay_rate};
 use super::sparse_cholesky::SparseCholesky;
 use super::sparse_rows::{from_rows, to_rows, transpose_times_rows};
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::solve_lower_triangular_in_place;
 use faer::prelude::{Reborrow, ReborrowMut};
@@ -81,7 +81,7 @@ pub fn smallest_eigenpairs(
     c: &SparseColMat<usize, f64>,
     count: usize,
     options: &LanczosOptions,
-) -> Result<(Vec<f64>, Mat<f64>), ThermalError> {
+) -> Result<(Vec<f64>, Mat<f64>), Error> {
     smallest_eigenpairs_with(k, c, None, count, options, &mut |_| {})
 }
 
@@ -94,20 +94,20 @@ pub fn smallest_eigenpairs_with(
     count: usize,
     options: &LanczosOptions,
     progress: &mut dyn FnMut(LanczosProgress),
-) -> Result<(Vec<f64>, Mat<f64>), ThermalError> {
+) -> Result<(Vec<f64>, Mat<f64>), Error> {
     let n = k.nrows();
     let p = options.block.max(1);
     if count == 0 || count > n {
-        return Err(input(format!("cannot compute {count} modes of a model with {n} nodes")));
+        return Err(Error::input(format!("cannot compute {count} modes of a model with {n} nodes")));
     }
     let max_basis = options.max_basis.unwrap_or((10 * count).max(200)).min(n.saturating_sub(p));
     if max_basis < count + 2 * p {
-        return Err(input(format!("{n} nodes are too few for the sparse solver with {count} modes: use the dense solver")));
+        return Err(Error::input(format!("{n} nodes are too few for the sparse solver with {count} modes: use the dense solver")));
     }
     // shift below the spectrum: a small fraction of the smallest diagonal ratio K_ii / C_ii
     let (kd, cd) = (diagonal(k), diagonal(c));
     if cd.iter().any(|v| v.is_nan() || *v <= 0.0) {
-        return Err(input("the capacity matrix C has a diagonal entry that is not positive"));
+        return Err(Error::input("the capacity matrix C has a diagonal entry that is not positive"));
     }
     let sigma = shift(k, c, &kd, &cd);
     progress(LanczosProgress::Factorising { nodes: n });
@@ -163,7 +163,7 @@ pub fn smallest_eigenpairs_with(
             return Ok((lambda, shapes));
         }
         if m + 2 * p > max_basis {
-            return Err(computation(format!(
+            return Err(Error::computation(format!(
                 "shift-invert Lanczos did not converge to {count} modes within a basis of {max_basis} vectors; ask for fewer modes or a larger basis"
             )));
         }
@@ -191,7 +191,7 @@ fn shift(k: &SparseColMat<usize, f64>, c: &SparseColMat<usize, f64>, kd: &[f64],
 
 /// `K - sigma C`: directly on the values when both matrices have the same sparsity pattern (a
 /// mesh), else summed from triplets.
-fn shifted(k: &SparseColMat<usize, f64>, c: &SparseColMat<usize, f64>, sigma: f64) -> Result<SparseColMat<usize, f64>, ThermalError> {
+fn shifted(k: &SparseColMat<usize, f64>, c: &SparseColMat<usize, f64>, sigma: f64) -> Result<SparseColMat<usize, f64>, Error> {
     let same = k.symbolic().col_ptr() == c.symbolic().col_ptr() && k.symbolic().row_idx() == c.symbolic().row_idx();
     if same {
         let mut a = k.clone();

@@ -17,7 +17,7 @@
 //! product terms `[[term.NAME]] coefficient, factors = {P = k, "T:s" = 1}`.
 
 use super::regression::RegressionModel;
-use super::{input, ThermalError};
+use crate::error::Error;
 use crate::error_model::{Direction, ErrorModel, InputKind, REFERENCE_TEMPERATURE};
 use crate::machine::{AxisKind, Machine, ParameterId};
 use std::fmt::Write;
@@ -40,11 +40,11 @@ pub struct ErrorTerm {
 }
 
 /// The terms of `scale * model` on `parameter`, with the temperatures referred to 20 degC.
-pub fn model_terms(parameter: &str, model: &RegressionModel, scale: f64) -> Result<Vec<ErrorTerm>, ThermalError> {
-    model.validate().map_err(input)?;
+pub fn model_terms(parameter: &str, model: &RegressionModel, scale: f64) -> Result<Vec<ErrorTerm>, Error> {
+    model.validate()?;
     let axis = match &model.position {
         Some(a) if a.chars().count() == 1 => a.chars().next(),
-        Some(a) => return Err(input(format!("position `{a}` is not an axis letter"))),
+        Some(a) => return Err(Error::input(format!("position `{a}` is not an axis letter"))),
         None => None,
     };
     let mut terms = Vec::new();
@@ -120,8 +120,8 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// The error terms of a link on `machine` (see the module documentation).
-pub fn link_terms(link: &ThermalLink, machine: &Machine) -> Result<Vec<ErrorTerm>, ThermalError> {
-    let bad = |m: String| input(format!("link `{}`: {m}", link.name));
+pub fn link_terms(link: &ThermalLink, machine: &Machine) -> Result<Vec<ErrorTerm>, Error> {
+    let bad = |m: String| Error::input(format!("link `{}`: {m}", link.name));
     let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
     let (u, v) = (link.along, link.across);
     if (norm(u) - 1.0).abs() > 1e-6 || (norm(v) - 1.0).abs() > 1e-6 || (u[0] * v[0] + u[1] * v[1] + u[2] * v[2]).abs() > 1e-6 {
@@ -178,9 +178,9 @@ pub fn link_terms(link: &ThermalLink, machine: &Machine) -> Result<Vec<ErrorTerm
 }
 
 /// Adds terms to an error model (the parameters must exist on `machine`).
-pub fn add_terms(model: &mut ErrorModel, machine: &Machine, terms: &[ErrorTerm]) -> Result<(), ThermalError> {
+pub fn add_terms(model: &mut ErrorModel, machine: &Machine, terms: &[ErrorTerm]) -> Result<(), Error> {
     for t in terms {
-        let id = ParameterId::parse(&t.parameter).map_err(input)?;
+        let id = ParameterId::parse(&t.parameter).map_err(Error::input)?;
         let sensors: Vec<(&str, i32)> = t.sensors.iter().map(|(s, p)| (s.as_str(), *p)).collect();
         let direction = match t.direction {
             Some('+') => Some(Direction::Positive),
@@ -189,7 +189,7 @@ pub fn add_terms(model: &mut ErrorModel, machine: &Machine, terms: &[ErrorTerm])
         };
         model
             .add_segment_term(machine, id, direction, t.range.map(|[lo, hi]| (lo, hi)), t.coefficient, &t.axes, &sensors)
-            .map_err(|m| input(format!("{}: {m}", t.parameter)))?;
+            .map_err(|m| Error::input(format!("{}: {m}", t.parameter)))?;
     }
     Ok(())
 }
@@ -224,7 +224,7 @@ fn toml_number(x: f64) -> String {
 /// (um), `theta` (urad), each a number (a constant), a table `{ model = "FILE.toml" }` (a model file
 /// of `thermal fit --out`, relative to the links file) or an inline model
 /// `{ sensors = [..], coefficients = [[..]] }` (optionally `position`, `intercept`).
-pub fn read_links(text: &str, origin: &str, dir: &std::path::Path) -> Result<Vec<ThermalLink>, ThermalError> {
+pub fn read_links(text: &str, origin: &str, dir: &std::path::Path) -> Result<Vec<ThermalLink>, Error> {
     #[derive(serde::Deserialize)]
     #[serde(deny_unknown_fields)]
     struct File {
@@ -245,18 +245,18 @@ pub fn read_links(text: &str, origin: &str, dir: &std::path::Path) -> Result<Vec
         theta: Option<toml::Value>,
     }
     let one_line = |e: &dyn std::fmt::Display| e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
-    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(format!("{origin}: {m}")))?;
-    let file: File = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e))))?;
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+    let file: File = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e))))?;
     let mut links = Vec::new();
     for l in file.link {
-        let at = |m: String| input(format!("{origin}: link `{}`: {m}", l.name));
+        let at = |m: String| Error::input(format!("{origin}: link `{}`: {m}", l.name));
         let target = match l.target.trim() {
             "tool" => LinkTarget::Tool,
             "workpiece" => LinkTarget::Workpiece,
             t if t.chars().count() == 1 => LinkTarget::Axis(t.chars().next().expect("one").to_ascii_uppercase()),
             t => return Err(at(format!("target `{t}` is not an axis letter, `tool` or `workpiece`"))),
         };
-        let model = |key: &str, value: &Option<toml::Value>| -> Result<Option<RegressionModel>, ThermalError> {
+        let model = |key: &str, value: &Option<toml::Value>| -> Result<Option<RegressionModel>, Error> {
             let Some(value) = value else { return Ok(None) };
             let m = match value {
                 toml::Value::Float(_) | toml::Value::Integer(_) => {

@@ -24,7 +24,7 @@
 use super::amg::SmoothedAggregation;
 use super::lanczos::{random_value, LanczosProgress};
 use super::sparse_rows::transpose_times_rows;
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use faer::linalg::matmul::matmul;
 use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
 use faer::prelude::ReborrowMut;
@@ -256,11 +256,11 @@ pub fn smallest_eigenpairs_lobpcg(
     count: usize,
     options: &LobpcgOptions,
     progress: &mut dyn FnMut(LanczosProgress),
-) -> Result<(Vec<f64>, Mat<f64>), ThermalError> {
+) -> Result<(Vec<f64>, Mat<f64>), Error> {
     let n = k.nrows();
     let m = (count + (count / 5).max(4)).min(n / 3);
     if count == 0 || count > m {
-        return Err(input(format!("cannot compute {count} modes of a model with {n} nodes by LOBPCG: use the dense solver")));
+        return Err(Error::input(format!("cannot compute {count} modes of a model with {n} nodes by LOBPCG: use the dense solver")));
     }
     progress(LanczosProgress::Preconditioning { nodes: n });
     let amg = SmoothedAggregation::new(k)?;
@@ -270,10 +270,10 @@ pub fn smallest_eigenpairs_lobpcg(
     let mut seed = 0x9e37_79b9_7f4a_7c15u64;
     let mut start = Triple { v: Block { data: (0..n * m).map(|_| random_value(&mut seed)).collect(), p: m }, ..Default::default() };
     start.cv.product(c, &start.v);
-    c_orthonormalise(&mut start).ok_or_else(|| computation("LOBPCG: the starting block is rank deficient"))?;
+    c_orthonormalise(&mut start).ok_or_else(|| Error::computation("LOBPCG: the starting block is rank deficient"))?;
     start.kv.product(k, &start.v);
     let (theta, y) = rayleigh_ritz(&gram(&start.v, &start.kv), &gram(&start.v, &start.cv))
-        .ok_or_else(|| computation("LOBPCG: the capacity matrix C is not positive definite"))?;
+        .ok_or_else(|| Error::computation("LOBPCG: the capacity matrix C is not positive definite"))?;
     let mut lambda = theta;
     let mut x = Triple::default();
     for (to, from) in x.parts_mut().into_iter().zip([&start.v, &start.kv, &start.cv]) {
@@ -312,7 +312,7 @@ pub fn smallest_eigenpairs_lobpcg(
         combine(&mut w.kv, &[(&x.v, h.as_ref())], a); // X (C X)^T W, in a spare block
         w.v.add(-1.0, &w.kv);
         w.cv.product(c, &w.v);
-        c_orthonormalise(&mut w).ok_or_else(|| computation("LOBPCG: the preconditioned residuals are rank deficient"))?;
+        c_orthonormalise(&mut w).ok_or_else(|| Error::computation("LOBPCG: the preconditioned residuals are rank deficient"))?;
         w.kv.product(k, &w.v);
         // the previous directions of the active columns, C-orthonormalised (dropped if dependent)
         let mut with_p = has_directions && {
@@ -326,7 +326,7 @@ pub fn smallest_eigenpairs_lobpcg(
             match rayleigh_ritz(&ga, &gb) {
                 Some(pair) => break pair,
                 None if with_p => with_p = false,
-                None => return Err(computation("LOBPCG: the Rayleigh-Ritz basis is rank deficient")),
+                None => return Err(Error::computation("LOBPCG: the Rayleigh-Ritz basis is rank deficient")),
             }
         };
         lambda = theta[..m].to_vec();
@@ -350,7 +350,7 @@ pub fn smallest_eigenpairs_lobpcg(
         std::mem::swap(&mut directions, &mut next_directions);
         has_directions = true;
     }
-    Err(computation(format!(
+    Err(Error::computation(format!(
         "LOBPCG did not converge to {count} modes in {} iterations; use the shift-invert Lanczos method",
         options.max_iterations
     )))

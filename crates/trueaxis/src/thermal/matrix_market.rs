@@ -6,27 +6,27 @@
 //! load vector). Indices are 1-based. Write: coordinate real symmetric (lower triangle).
 
 use super::assembly::from_triplets;
-use super::{input, ThermalError};
+use crate::error::Error;
 use faer::sparse::{SparseColMat, Triplet};
 use std::fmt::Write;
 
 /// Reads a square sparse matrix from Matrix Market text; `origin` names the file in messages.
-pub fn read_matrix(text: &str, origin: &str) -> Result<SparseColMat<usize, f64>, ThermalError> {
+pub fn read_matrix(text: &str, origin: &str) -> Result<SparseColMat<usize, f64>, Error> {
     let (header, mut lines) = header(text, origin)?;
     let words: Vec<String> = header.split_whitespace().map(str::to_lowercase).collect();
     if words.len() < 5 || words[1] != "matrix" || words[2] != "coordinate" || !matches!(words[3].as_str(), "real" | "integer") {
-        return Err(input(format!("{origin}: line 1: expected `%%MatrixMarket matrix coordinate real general|symmetric`")));
+        return Err(Error::input(format!("{origin}: line 1: expected `%%MatrixMarket matrix coordinate real general|symmetric`")));
     }
     let symmetric = match words[4].as_str() {
         "symmetric" => true,
         "general" => false,
-        other => return Err(input(format!("{origin}: line 1: symmetry `{other}` is not supported (general or symmetric)"))),
+        other => return Err(Error::input(format!("{origin}: line 1: symmetry `{other}` is not supported (general or symmetric)"))),
     };
-    let (line_no, size) = lines.next().ok_or_else(|| input(format!("{origin}: missing the size line")))?;
+    let (line_no, size) = lines.next().ok_or_else(|| Error::input(format!("{origin}: missing the size line")))?;
     let size = numbers::<usize>(size, 3, origin, line_no)?;
     let (rows, cols, nnz) = (size[0], size[1], size[2]);
     if rows != cols || rows == 0 {
-        return Err(input(format!("{origin}: line {line_no}: the matrix is {rows}x{cols}; C and K must be square")));
+        return Err(Error::input(format!("{origin}: line {line_no}: the matrix is {rows}x{cols}; C and K must be square")));
     }
     // no more entries than lines of at least `i j v` (6 bytes): an absurd count in the size line
     // must not reserve memory before the entries are counted (found by the matrix_market fuzz target)
@@ -36,14 +36,14 @@ pub fn read_matrix(text: &str, origin: &str) -> Result<SparseColMat<usize, f64>,
     for (line_no, line) in lines {
         let parts: Vec<&str> = line.split_whitespace().collect();
         if parts.len() != 3 {
-            return Err(input(format!("{origin}: line {line_no}: expected `row column value`")));
+            return Err(Error::input(format!("{origin}: line {line_no}: expected `row column value`")));
         }
         let (i, j) = (index(parts[0], rows, origin, line_no)?, index(parts[1], cols, origin, line_no)?);
         let v: f64 = parts[2]
             .parse()
             .ok()
             .filter(|v: &f64| v.is_finite())
-            .ok_or_else(|| input(format!("{origin}: line {line_no}: `{}` is not a finite number", parts[2])))?;
+            .ok_or_else(|| Error::input(format!("{origin}: line {line_no}: `{}` is not a finite number", parts[2])))?;
         triplets.push(Triplet::new(i, j, v));
         if symmetric && i != j {
             triplets.push(Triplet::new(j, i, v));
@@ -51,29 +51,29 @@ pub fn read_matrix(text: &str, origin: &str) -> Result<SparseColMat<usize, f64>,
         count += 1;
     }
     if count != nnz {
-        return Err(input(format!("{origin}: the size line announces {nnz} entries but the file has {count}")));
+        return Err(Error::input(format!("{origin}: the size line announces {nnz} entries but the file has {count}")));
     }
     from_triplets(rows, &triplets)
 }
 
 /// Reads a dense vector (`array` format, one column) from Matrix Market text.
-pub fn read_vector(text: &str, origin: &str) -> Result<Vec<f64>, ThermalError> {
+pub fn read_vector(text: &str, origin: &str) -> Result<Vec<f64>, Error> {
     let (header, mut lines) = header(text, origin)?;
     let words: Vec<String> = header.split_whitespace().map(str::to_lowercase).collect();
     if words.len() < 4 || words[1] != "matrix" || words[2] != "array" {
-        return Err(input(format!("{origin}: line 1: expected `%%MatrixMarket matrix array real general`")));
+        return Err(Error::input(format!("{origin}: line 1: expected `%%MatrixMarket matrix array real general`")));
     }
-    let (line_no, size) = lines.next().ok_or_else(|| input(format!("{origin}: missing the size line")))?;
+    let (line_no, size) = lines.next().ok_or_else(|| Error::input(format!("{origin}: missing the size line")))?;
     let size = numbers::<usize>(size, 2, origin, line_no)?;
     if size[1] != 1 {
-        return Err(input(format!("{origin}: line {line_no}: a load vector has one column, not {}", size[1])));
+        return Err(Error::input(format!("{origin}: line {line_no}: a load vector has one column, not {}", size[1])));
     }
     let mut v = Vec::with_capacity(size[0]);
     for (line_no, line) in lines {
         v.push(numbers::<f64>(line, 1, origin, line_no)?[0]);
     }
     if v.len() != size[0] || v.iter().any(|x| !x.is_finite()) {
-        return Err(input(format!("{origin}: expected {} finite values, found {}", size[0], v.len())));
+        return Err(Error::input(format!("{origin}: expected {} finite values, found {}", size[0], v.len())));
     }
     Ok(v)
 }
@@ -107,31 +107,31 @@ pub fn write_vector(v: &[f64]) -> String {
 
 type Lines<'a> = Box<dyn Iterator<Item = (usize, &'a str)> + 'a>;
 
-fn header<'a>(text: &'a str, origin: &str) -> Result<(&'a str, Lines<'a>), ThermalError> {
+fn header<'a>(text: &'a str, origin: &str) -> Result<(&'a str, Lines<'a>), Error> {
     let mut all = text.lines().enumerate().map(|(i, l)| (i + 1, l.trim()));
-    let (_, first) = all.next().ok_or_else(|| input(format!("{origin}: the file is empty")))?;
+    let (_, first) = all.next().ok_or_else(|| Error::input(format!("{origin}: the file is empty")))?;
     if !first.to_lowercase().starts_with("%%matrixmarket") {
-        return Err(input(format!("{origin}: line 1: not a Matrix Market file (it must start with %%MatrixMarket)")));
+        return Err(Error::input(format!("{origin}: line 1: not a Matrix Market file (it must start with %%MatrixMarket)")));
     }
     Ok((first, Box::new(all.filter(|(_, l)| !l.is_empty() && !l.starts_with('%')))))
 }
 
-fn numbers<T: std::str::FromStr>(line: &str, count: usize, origin: &str, line_no: usize) -> Result<Vec<T>, ThermalError> {
+fn numbers<T: std::str::FromStr>(line: &str, count: usize, origin: &str, line_no: usize) -> Result<Vec<T>, Error> {
     let v: Vec<T> = line
         .split_whitespace()
         .map(|w| w.parse::<T>())
         .collect::<Result<_, _>>()
-        .map_err(|_| input(format!("{origin}: line {line_no}: `{line}` is not {count} number(s)")))?;
+        .map_err(|_| Error::input(format!("{origin}: line {line_no}: `{line}` is not {count} number(s)")))?;
     if v.len() != count {
-        return Err(input(format!("{origin}: line {line_no}: expected {count} number(s), found {}", v.len())));
+        return Err(Error::input(format!("{origin}: line {line_no}: expected {count} number(s), found {}", v.len())));
     }
     Ok(v)
 }
 
-fn index(text: &str, size: usize, origin: &str, line_no: usize) -> Result<usize, ThermalError> {
+fn index(text: &str, size: usize, origin: &str, line_no: usize) -> Result<usize, Error> {
     match text.parse::<usize>() {
         Ok(i) if (1..=size).contains(&i) => Ok(i - 1),
-        _ => Err(input(format!("{origin}: line {line_no}: index `{text}` is not in 1..{size}"))),
+        _ => Err(Error::input(format!("{origin}: line {line_no}: index `{text}` is not in 1..{size}"))),
     }
 }
 

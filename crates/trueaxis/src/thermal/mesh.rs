@@ -2,7 +2,7 @@
 //! elements), a plate (2D, bilinear quadrilaterals) or a block (3D, trilinear hexahedra), all on a
 //! rectangular grid of equal cells. Lengths in m.
 
-use super::{input, ThermalError};
+use crate::error::Error;
 
 /// A rectangular grid of `cells[d]` equal cells over `size_m[d]` along each dimension d.
 /// Nodes are numbered `i0 + n0 (i1 + n1 i2)` with `n_d = cells[d] + 1`.
@@ -14,29 +14,29 @@ pub struct StructuredMesh {
 
 impl StructuredMesh {
     /// A mesh of 1 to 3 dimensions; every size positive and finite, every cell count at least 1.
-    pub fn new(cells: Vec<usize>, size_m: Vec<f64>) -> Result<StructuredMesh, ThermalError> {
+    pub fn new(cells: Vec<usize>, size_m: Vec<f64>) -> Result<StructuredMesh, Error> {
         if cells.is_empty() || cells.len() > 3 || cells.len() != size_m.len() {
-            return Err(input(format!(
+            return Err(Error::input(format!(
                 "a structured mesh needs 1 to 3 dimensions with one size per cell count (got {} cell counts, {} sizes)",
                 cells.len(),
                 size_m.len()
             )));
         }
         if cells.contains(&0) {
-            return Err(input("every cell count must be at least 1"));
+            return Err(Error::input("every cell count must be at least 1"));
         }
         if size_m.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
-            return Err(input("every size must be a positive finite length in m"));
+            return Err(Error::input("every size must be a positive finite length in m"));
         }
         let nodes: usize = cells.iter().map(|c| c + 1).product();
         if nodes > 50_000_000 {
-            return Err(input(format!("{nodes} nodes is more than the 50 million this mesher accepts")));
+            return Err(Error::input(format!("{nodes} nodes is more than the 50 million this mesher accepts")));
         }
         Ok(StructuredMesh { cells, size_m })
     }
 
     /// A bar of `length_m` with `elements` equal elements (Zhu 2008 Table 3.1: 22 elements).
-    pub fn bar(length_m: f64, elements: usize) -> Result<StructuredMesh, ThermalError> {
+    pub fn bar(length_m: f64, elements: usize) -> Result<StructuredMesh, Error> {
         Self::new(vec![elements], vec![length_m])
     }
 

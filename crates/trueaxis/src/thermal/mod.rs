@@ -46,26 +46,3 @@ pub use lanczos::LanczosProgress;
 pub use mesh::StructuredMesh;
 pub use modal::{modal_analysis, modal_analysis_with_progress, ModalBasis, ModalOptions, SpectrumMethod};
 pub use weights::{dominant_modes, mode_weights, ModeWeight, DEFAULT_SHARE};
-
-use thiserror::Error;
-
-/// Errors of the thermal module; every message is one line and names what is wrong.
-#[derive(Debug, Error)]
-pub enum ThermalError {
-    /// Bad input: a file, a key, a column, a parameter.
-    #[error("{0}")]
-    Input(String),
-    /// A computation that failed on valid input (no convergence, singular matrix).
-    #[error("{0}")]
-    Computation(String),
-    #[error(transparent)]
-    Data(#[from] crate::data::DataError),
-}
-
-pub(crate) fn input(message: impl Into<String>) -> ThermalError {
-    ThermalError::Input(message.into())
-}
-
-pub(crate) fn computation(message: impl Into<String>) -> ThermalError {
-    ThermalError::Computation(message.into())
-}

@@ -10,7 +10,7 @@
 use super::assembly::{diagonal, to_dense, uniform_decay_rate, ThermalSystem};
 use super::lanczos::{smallest_eigenpairs_with, LanczosOptions, LanczosProgress};
 use super::lobpcg::{smallest_eigenpairs_lobpcg, LobpcgOptions};
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
 use faer::{Mat, Par, Side};
 
@@ -92,7 +92,7 @@ impl ModalBasis {
 /// largest magnitude is positive).
 /// A model that loses no heat (no convection anywhere) has a mode with an infinite time constant
 /// and is refused.
-pub fn modal_analysis(system: &ThermalSystem, options: &ModalOptions) -> Result<ModalBasis, ThermalError> {
+pub fn modal_analysis(system: &ThermalSystem, options: &ModalOptions) -> Result<ModalBasis, Error> {
     modal_analysis_with_progress(system, options, &mut |_| {})
 }
 
@@ -103,13 +103,13 @@ pub fn modal_analysis_with_progress(
     system: &ThermalSystem,
     options: &ModalOptions,
     progress: &mut dyn FnMut(LanczosProgress),
-) -> Result<ModalBasis, ThermalError> {
+) -> Result<ModalBasis, Error> {
     let n = system.node_count();
     if n == 0 {
-        return Err(input("the thermal model has no nodes"));
+        return Err(Error::input("the thermal model has no nodes"));
     }
     if loses_no_heat(system) {
-        return Err(input(
+        return Err(Error::input(
             "the model loses no heat (no convection and no fixed temperature anywhere): a uniform temperature rise would never decay, so its time constant is infinite; add convection",
         ));
     }
@@ -121,7 +121,7 @@ pub fn modal_analysis_with_progress(
         SpectrumMethod::Auto => SpectrumMethod::Lobpcg,
         method => method,
     };
-    let count = || options.count.ok_or_else(|| input("the sparse solver needs a number of modes"));
+    let count = || options.count.ok_or_else(|| Error::input("the sparse solver needs a number of modes"));
     let (mut lambda, mut shapes) = match method {
         SpectrumMethod::Lanczos => smallest_eigenpairs_with(
             &system.conductivity,
@@ -140,7 +140,7 @@ pub fn modal_analysis_with_progress(
     };
     let largest = lambda.iter().fold(0.0f64, |a, b| a.max(b.abs()));
     if let Some(i) = lambda.iter().position(|l| l.is_nan() || *l <= 1e-12 * largest) {
-        return Err(input(format!(
+        return Err(Error::input(format!(
             "mode {} has eigenvalue {:.3e} 1/s: the model loses no heat (add convection), so its time constant is infinite",
             i + 1,
             lambda[i]
@@ -170,14 +170,14 @@ fn loses_no_heat(system: &ThermalSystem) -> bool {
 }
 
 /// All eigenpairs (ascending) by dense Cholesky of C and the eigendecomposition of `L^-1 K L^-T`.
-pub fn dense_eigenpairs(system: &ThermalSystem) -> Result<(Vec<f64>, Mat<f64>), ThermalError> {
+pub fn dense_eigenpairs(system: &ThermalSystem) -> Result<(Vec<f64>, Mat<f64>), Error> {
     let n = system.node_count();
     if n > 20_000 {
-        return Err(input(format!("{n} nodes are too many for the dense eigensolver: ask for a number of modes")));
+        return Err(Error::input(format!("{n} nodes are too many for the dense eigensolver: ask for a number of modes")));
     }
     let c = to_dense(&system.capacity);
     let k = to_dense(&system.conductivity);
-    let llt = c.llt(Side::Lower).map_err(|_| input("the capacity matrix C is not positive definite"))?;
+    let llt = c.llt(Side::Lower).map_err(|_| Error::input("the capacity matrix C is not positive definite"))?;
     let l = llt.L();
     // A = L^-1 K L^-T: X = L^-1 K, then A = L^-1 X^T (= A^T = A)
     let mut x = k;
@@ -185,7 +185,7 @@ pub fn dense_eigenpairs(system: &ThermalSystem) -> Result<(Vec<f64>, Mat<f64>), 
     let mut a = x.transpose().to_owned();
     solve_lower_triangular_in_place(l, a.as_mut(), Par::Seq);
     let a = Mat::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-    let evd = a.self_adjoint_eigen(Side::Lower).map_err(|e| computation(format!("the eigensolver failed: {e:?}")))?;
+    let evd = a.self_adjoint_eigen(Side::Lower).map_err(|e| Error::computation(format!("the eigensolver failed: {e:?}")))?;
     let lambda: Vec<f64> = (0..n).map(|i| evd.S().column_vector()[i]).collect();
     let mut phi = evd.U().to_owned();
     solve_upper_triangular_in_place(l.transpose(), phi.as_mut(), Par::Seq);

@@ -25,7 +25,7 @@
 use super::assembly::{assemble, Boundary, Material, Section, ThermalProblem, ThermalSystem};
 use super::matrix_market::{read_matrix, read_vector};
 use super::mesh::StructuredMesh;
-use super::{input, ThermalError};
+use crate::error::Error;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -73,19 +73,19 @@ pub struct ThermalModel {
 }
 
 /// Reads a thermal model file.
-pub fn load_model(path: impl AsRef<Path>) -> Result<ThermalModel, ThermalError> {
+pub fn load_model(path: impl AsRef<Path>) -> Result<ThermalModel, Error> {
     let path = path.as_ref();
     let origin = path.display().to_string();
-    let text = crate::files::inputs::read_to_string(path).map_err(|e| input(format!("{origin}: cannot read thermal model: {e}")))?;
+    let text = crate::files::inputs::read_to_string(path).map_err(|e| Error::input(format!("{origin}: cannot read thermal model: {e}")))?;
     parse_model(&text, &origin, path.parent().unwrap_or(Path::new(".")))
 }
 
 /// Parses a thermal model; `origin` names it in messages, `dir` resolves relative matrix paths.
-pub fn parse_model(text: &str, origin: &str, dir: &Path) -> Result<ThermalModel, ThermalError> {
-    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(format!("{origin}: {m}")))?;
-    let f: ModelFile = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e.to_string()))))?;
-    let bad = |m: String| input(format!("{origin}: {m}"));
-    let need = |key: &str, v: Option<f64>| -> Result<f64, ThermalError> {
+pub fn parse_model(text: &str, origin: &str, dir: &Path) -> Result<ThermalModel, Error> {
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+    let f: ModelFile = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e.to_string()))))?;
+    let bad = |m: String| Error::input(format!("{origin}: {m}"));
+    let need = |key: &str, v: Option<f64>| -> Result<f64, Error> {
         match v {
             Some(x) if x.is_finite() && x > 0.0 => Ok(x),
             Some(x) => Err(bad(format!("`{key}` must be a positive finite number (got {x})"))),
@@ -102,7 +102,7 @@ pub fn parse_model(text: &str, origin: &str, dir: &Path) -> Result<ThermalModel,
         Some(h) => h,
         None => 0.0,
     };
-    let material = || -> Result<Material, ThermalError> {
+    let material = || -> Result<Material, Error> {
         Ok(Material {
             conductivity_w_mk: need("conductivity_w_mk", f.conductivity_w_mk)?,
             density_kg_m3: need("density_kg_m3", f.density_kg_m3)?,
@@ -148,7 +148,7 @@ pub fn parse_model(text: &str, origin: &str, dir: &Path) -> Result<ThermalModel,
             (assemble(&problem).map_err(|e| bad(e.to_string()))?, Some(mesh), Some(material), vec![flux_node])
         }
         "matrix_market" => {
-            let read = |key: &str, file: &Option<String>| -> Result<String, ThermalError> {
+            let read = |key: &str, file: &Option<String>| -> Result<String, Error> {
                 let name = file.as_ref().ok_or_else(|| bad(format!("missing key `{key}` (a Matrix Market file)")))?;
                 let p = dir.join(name);
                 crate::files::inputs::read_to_string(&p).map_err(|e| bad(format!("`{key}`: cannot read {}: {e}", p.display())))
@@ -192,22 +192,22 @@ pub fn parse_model(text: &str, origin: &str, dir: &Path) -> Result<ThermalModel,
     Ok(ThermalModel { name: f.name.unwrap_or_else(|| origin.to_string()), system, mesh, material, candidates, flux_nodes })
 }
 
-fn end(v: &Option<toml::Value>, key: &str, origin: &str) -> Result<Boundary, ThermalError> {
+fn end(v: &Option<toml::Value>, key: &str, origin: &str) -> Result<Boundary, Error> {
     boundary(v.as_ref(), &format!("{origin}: `{key}`"))
 }
 
-fn boundary(v: Option<&toml::Value>, what: &str) -> Result<Boundary, ThermalError> {
+fn boundary(v: Option<&toml::Value>, what: &str) -> Result<Boundary, Error> {
     match v {
         None => Ok(Boundary::Insulated),
         Some(toml::Value::String(s)) if s == "insulated" => Ok(Boundary::Insulated),
         Some(v) => match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
             Some(h) if h.is_finite() && h >= 0.0 => Ok(Boundary::Convection(h)),
-            _ => Err(input(format!("{what} must be \"insulated\" or a convection coefficient >= 0 in W/m^2/K"))),
+            _ => Err(Error::input(format!("{what} must be \"insulated\" or a convection coefficient >= 0 in W/m^2/K"))),
         },
     }
 }
 
-fn faces(map: Option<&BTreeMap<String, toml::Value>>, dim: usize, origin: &str) -> Result<Vec<[Boundary; 2]>, ThermalError> {
+fn faces(map: Option<&BTreeMap<String, toml::Value>>, dim: usize, origin: &str) -> Result<Vec<[Boundary; 2]>, Error> {
     let names = ["x", "y", "z"];
     let mut out = vec![[Boundary::Insulated; 2]; dim];
     for (key, v) in map.into_iter().flatten() {
@@ -221,24 +221,24 @@ fn faces(map: Option<&BTreeMap<String, toml::Value>>, dim: usize, origin: &str) 
             (Some(d), Some(s)) => out[d][s] = boundary(Some(v), &format!("{origin}: `boundary.{key}`"))?,
             _ => {
                 let valid: Vec<String> = names[..dim].iter().flat_map(|n| [format!("{n}min"), format!("{n}max")]).collect();
-                return Err(input(format!("{origin}: `boundary.{key}` is not a face ({})", valid.join(", "))));
+                return Err(Error::input(format!("{origin}: `boundary.{key}` is not a face ({})", valid.join(", "))));
             }
         }
     }
     Ok(out)
 }
 
-fn grid_node(v: &toml::Value, mesh: &StructuredMesh) -> Result<usize, String> {
+fn grid_node(v: &toml::Value, mesh: &StructuredMesh) -> Result<usize, Error> {
     let ijk: Vec<usize> = match v {
-        toml::Value::Integer(i) if mesh.dimensions() == 1 => vec![usize::try_from(*i).map_err(|_| "must not be negative".to_string())?],
+        toml::Value::Integer(i) if mesh.dimensions() == 1 => vec![usize::try_from(*i).map_err(|_| Error::input("must not be negative"))?],
         toml::Value::Array(a) => a
             .iter()
-            .map(|x| x.as_integer().and_then(|i| usize::try_from(i).ok()).ok_or_else(|| "grid indices must be integers >= 0".to_string()))
+            .map(|x| x.as_integer().and_then(|i| usize::try_from(i).ok()).ok_or_else(|| Error::input("grid indices must be integers >= 0")))
             .collect::<Result<_, _>>()?,
-        _ => return Err(format!("expected {} grid indices", mesh.dimensions())),
+        _ => return Err(Error::input(format!("expected {} grid indices", mesh.dimensions()))),
     };
     if ijk.len() != mesh.dimensions() || ijk.iter().zip(mesh.cells()).any(|(i, c)| i > c) {
-        return Err(format!("{ijk:?} is not a node of a grid with {:?} cells", mesh.cells()));
+        return Err(Error::input(format!("{ijk:?} is not a node of a grid with {:?} cells", mesh.cells())));
     }
     Ok(mesh.node_index(&ijk))
 }

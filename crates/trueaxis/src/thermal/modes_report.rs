@@ -6,8 +6,9 @@
 //! approach to sensor placement).
 
 use super::model_file::ThermalModel;
-use super::{dominant_modes, input, modal_analysis_with_progress, mode_weights, LanczosProgress, ModalBasis, ModalOptions};
-use super::{ModeWeight, SpectrumMethod, ThermalError};
+use super::{dominant_modes, modal_analysis_with_progress, mode_weights, LanczosProgress, ModalBasis, ModalOptions};
+use super::{ModeWeight, SpectrumMethod};
+use crate::error::Error;
 use serde_json::{json, Value};
 
 /// The modes of a model, their weights and the dominant ones.
@@ -32,12 +33,12 @@ impl ModesReport {
         method: SpectrumMethod,
         share: f64,
         progress: &mut dyn FnMut(LanczosProgress),
-    ) -> Result<ModesReport, ThermalError> {
+    ) -> Result<ModesReport, Error> {
         if !(share > 0.0 && share <= 1.0) {
-            return Err(input(format!("the share {share} of the weight must lie in (0, 1]")));
+            return Err(Error::input(format!("the share {share} of the weight must lie in (0, 1]")));
         }
         if count == 0 {
-            return Err(input("the number of modes must be at least 1"));
+            return Err(Error::input("the number of modes must be at least 1"));
         }
         let nodes = model.system.node_count();
         let options = ModalOptions { count: Some(count.min(nodes)), method, ..Default::default() };

@@ -14,7 +14,7 @@
 
 use super::modal::ModalBasis;
 use super::time_constants::combinations;
-use super::{input, ThermalError};
+use crate::error::Error;
 use nalgebra::DMatrix;
 
 /// A placed sensor and the dominant modes it serves.
@@ -32,9 +32,9 @@ pub fn modal_rule(
     candidates: &[usize],
     reuse: f64,
     distance: impl Fn(usize) -> f64,
-) -> Result<Vec<PlacedSensor>, ThermalError> {
+) -> Result<Vec<PlacedSensor>, Error> {
     if candidates.is_empty() {
-        return Err(input("no sensor candidates"));
+        return Err(Error::input("no sensor candidates"));
     }
     let mut placed: Vec<PlacedSensor> = Vec::new();
     for &mode in modes {
@@ -62,9 +62,9 @@ pub fn modal_rule(
 }
 
 /// Effective independence: keeps `count` of `candidates` for the modes `modes`.
-pub fn effective_independence(basis: &ModalBasis, modes: &[usize], candidates: &[usize], count: usize) -> Result<Vec<usize>, ThermalError> {
+pub fn effective_independence(basis: &ModalBasis, modes: &[usize], candidates: &[usize], count: usize) -> Result<Vec<usize>, Error> {
     if count < modes.len() || count > candidates.len() {
-        return Err(input(format!(
+        return Err(Error::input(format!(
             "effective independence needs between {} (the modes) and {} (the candidates) sensors",
             modes.len(),
             candidates.len()
@@ -74,7 +74,7 @@ pub fn effective_independence(basis: &ModalBasis, modes: &[usize], candidates: &
     while kept.len() > count {
         let phi = mode_matrix(basis, modes, &kept);
         let fisher = phi.transpose() * &phi;
-        let inv = fisher.try_inverse().ok_or_else(|| input("the dominant modes are not independent at the candidates"))?;
+        let inv = fisher.try_inverse().ok_or_else(|| Error::input("the dominant modes are not independent at the candidates"))?;
         let ed: Vec<f64> = (0..kept.len()).map(|r| (phi.row(r) * &inv * phi.row(r).transpose())[(0, 0)]).collect();
         let worst = (0..kept.len()).min_by(|&a, &b| ed[a].total_cmp(&ed[b]).then(kept[b].cmp(&kept[a]))).expect("non-empty");
         kept.remove(worst);
@@ -96,14 +96,14 @@ pub fn log_det_information(basis: &ModalBasis, modes: &[usize], sensors: &[usize
 
 /// Exhaustive search: the subset of `count` candidates with the largest `score` (ties: the first
 /// in lexicographic order). At most 10^7 subsets.
-pub fn exhaustive(candidates: &[usize], count: usize, mut score: impl FnMut(&[usize]) -> f64) -> Result<(Vec<usize>, f64), ThermalError> {
+pub fn exhaustive(candidates: &[usize], count: usize, mut score: impl FnMut(&[usize]) -> f64) -> Result<(Vec<usize>, f64), Error> {
     let n = candidates.len();
     if count == 0 || count > n {
-        return Err(input(format!("cannot choose {count} of {n} candidates")));
+        return Err(Error::input(format!("cannot choose {count} of {n} candidates")));
     }
     let subsets = (0..count).fold(1.0f64, |acc, i| acc * (n - i) as f64 / (i + 1) as f64);
     if subsets > 1e7 {
-        return Err(input(format!("{subsets:.0} subsets are too many for exhaustive search; restrict the candidates")));
+        return Err(Error::input(format!("{subsets:.0} subsets are too many for exhaustive search; restrict the candidates")));
     }
     let mut best = (Vec::new(), f64::NEG_INFINITY);
     let mut idx = vec![0usize; count];

@@ -16,7 +16,7 @@
 use super::modal::ModalBasis;
 use super::model_file::ThermalModel;
 use super::response::{modal_history, LoadHistory};
-use super::{input, ThermalError};
+use crate::error::Error;
 use crate::error_model::gauss_legendre;
 use crate::identify::fit_linear;
 use nalgebra::{DMatrix, DVector};
@@ -42,16 +42,16 @@ impl PlacementScore {
 }
 
 /// Node coordinates along the bar (m) of a `bar1d` model.
-fn bar_positions(model: &ThermalModel) -> Result<Vec<f64>, ThermalError> {
+fn bar_positions(model: &ThermalModel) -> Result<Vec<f64>, Error> {
     match (&model.mesh, &model.system.coordinates) {
         (Some(mesh), Some(c)) if mesh.dimensions() == 1 => Ok(c.iter().map(|p| p[0]).collect()),
-        _ => Err(input("scoring placements by the elongation needs a bar (kind = \"bar1d\")")),
+        _ => Err(Error::input("scoring placements by the elongation needs a bar (kind = \"bar1d\")")),
     }
 }
 
 /// Weights `w_n` (m) with `int T dx = sum_n w_n T_n` for the linear elements of a bar (exact for
 /// the finite-element field).
-pub fn elongation_weights(model: &ThermalModel) -> Result<Vec<f64>, ThermalError> {
+pub fn elongation_weights(model: &ThermalModel) -> Result<Vec<f64>, Error> {
     let x = bar_positions(model)?;
     let mut w = vec![0.0; x.len()];
     for e in 0..x.len() - 1 {
@@ -64,10 +64,10 @@ pub fn elongation_weights(model: &ThermalModel) -> Result<Vec<f64>, ThermalError
 
 /// The candidate nodes nearest the `count` Gauss-Legendre points of the bar (distinct; a point
 /// whose nearest candidate is taken goes to the next nearest free one).
-pub fn gauss_points(model: &ThermalModel, count: usize) -> Result<Vec<usize>, ThermalError> {
+pub fn gauss_points(model: &ThermalModel, count: usize) -> Result<Vec<usize>, Error> {
     let x = bar_positions(model)?;
     if count == 0 || count > model.candidates.len() {
-        return Err(input(format!("{count} Gauss points cannot be placed on {} candidates", model.candidates.len())));
+        return Err(Error::input(format!("{count} Gauss points cannot be placed on {} candidates", model.candidates.len())));
     }
     let (a, b) = (x.iter().copied().fold(f64::INFINITY, f64::min), x.iter().copied().fold(f64::NEG_INFINITY, f64::max));
     let mut chosen: Vec<usize> = Vec::new();
@@ -92,7 +92,7 @@ fn cycle(model: &ThermalModel, period_s: f64, duration_s: f64, step_s: f64) -> L
 
 /// The simulated campaign of the scoring protocol: per cycle (name, node temperatures per sample,
 /// elongation per sample in um). `basis` should hold every mode.
-pub fn simulate_cycles(model: &ThermalModel, basis: &ModalBasis, alpha_um_per_m_k: f64) -> Result<Vec<SimulatedCycle>, ThermalError> {
+pub fn simulate_cycles(model: &ThermalModel, basis: &ModalBasis, alpha_um_per_m_k: f64) -> Result<Vec<SimulatedCycle>, Error> {
     let w = elongation_weights(model)?;
     let nodes: Vec<usize> = (0..w.len()).collect();
     [("training 20 min", 1200.0), ("validation 10 min", 600.0), ("validation 40 min", 2400.0)]
@@ -107,12 +107,12 @@ pub fn simulate_cycles(model: &ThermalModel, basis: &ModalBasis, alpha_um_per_m_
 }
 
 /// Scores the placement `sensors` on the simulated cycles (module documentation).
-pub fn score_placement(cycles: &[SimulatedCycle], sensors: &[usize]) -> Result<PlacementScore, ThermalError> {
+pub fn score_placement(cycles: &[SimulatedCycle], sensors: &[usize]) -> Result<PlacementScore, Error> {
     let design =
         |temps: &[Vec<f64>]| DMatrix::from_fn(temps.len(), sensors.len() + 1, |r, c| if c == 0 { 1.0 } else { temps[r][sensors[c - 1]] });
     let (_, train_temps, train_e) = &cycles[0];
     let names: Vec<String> = std::iter::once("intercept".to_string()).chain(sensors.iter().map(|s| format!("node {s}"))).collect();
-    let fit = fit_linear(&design(train_temps), train_e, None, &names).map_err(|e| input(format!("sensors {sensors:?}: {e}")))?;
+    let fit = fit_linear(&design(train_temps), train_e, None, &names).map_err(|e| Error::input(format!("sensors {sensors:?}: {e}")))?;
     let beta = DVector::from_column_slice(&fit.coefficients);
     let stats = |temps: &[Vec<f64>], e: &[f64]| -> (f64, f64) {
         let p = design(temps) * &beta;

@@ -11,7 +11,7 @@
 //! Least squares by QR with unit-length scaling (`identify::fit_linear`, eq. 3.15 without the
 //! normal equations).
 
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use crate::identify::{fit_linear, stepwise, LinearFit};
 use nalgebra::DMatrix;
 use serde::{Deserialize, Serialize};
@@ -41,30 +41,30 @@ impl RegressionModel {
     }
 
     /// Checks shapes and numbers.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Error> {
         if self.coefficients.is_empty() {
-            return Err("`coefficients` must have at least one row".into());
+            return Err(Error::input("`coefficients` must have at least one row"));
         }
         if let Some(k) = self.coefficients.iter().position(|row| row.len() != self.sensors.len() + 1) {
-            return Err(format!(
+            return Err(Error::input(format!(
                 "coefficient row {} has {} entries; expected 1 + {} sensors",
                 k + 1,
                 self.coefficients[k].len(),
                 self.sensors.len()
-            ));
+            )));
         }
         if self.coefficients.iter().flatten().any(|c| !c.is_finite()) {
-            return Err("coefficients must be finite numbers".into());
+            return Err(Error::input("coefficients must be finite numbers"));
         }
         if self.degree() > 0 && self.position.is_none() {
-            return Err("a model with powers of the position needs `position` (the axis letter)".into());
+            return Err(Error::input("a model with powers of the position needs `position` (the axis letter)"));
         }
         for s in &self.sensors {
             match crate::error_model::InputKind::parse(s) {
                 Ok(crate::error_model::InputKind::Lag { .. }) | Err(_) => {
-                    return Err(format!(
+                    return Err(Error::input(format!(
                         "input `{s}` must be a temperature `T:<name>` (degC) or another input column: a spindle speed `S:<name>` (rpm), a force `F:<name>` (N)"
-                    ))
+                    )))
                 }
                 Ok(_) => {}
             }
@@ -86,22 +86,22 @@ impl RegressionModel {
     }
 
     /// Reads the TOML form; `origin` names it in messages.
-    pub fn from_toml_str(text: &str, origin: &str) -> Result<RegressionModel, ThermalError> {
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<RegressionModel, Error> {
         #[derive(Deserialize)]
         struct File {
             kind: String,
             #[serde(flatten)]
             model: toml::Table,
         }
-        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(format!("{origin}: {m}")))?;
-        let file: File = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e.to_string()))))?;
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+        let file: File = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e.to_string()))))?;
         if file.kind != "regression" {
-            return Err(input(format!("{origin}: kind `{}` is not a thermal error model (kind = \"regression\")", file.kind)));
+            return Err(Error::input(format!("{origin}: kind `{}` is not a thermal error model (kind = \"regression\")", file.kind)));
         }
         let model: RegressionModel = toml::Value::Table(file.model)
             .try_into()
-            .map_err(|e: toml::de::Error| input(format!("{origin}: {}", one_line(&e.to_string()))))?;
-        model.validate().map_err(|m| input(format!("{origin}: {m}")))?;
+            .map_err(|e: toml::de::Error| Error::input(format!("{origin}: {}", one_line(&e.to_string()))))?;
+        model.validate().map_err(|m| Error::input(format!("{origin}: {m}")))?;
         Ok(model)
     }
 
@@ -137,7 +137,7 @@ pub fn fit_regression(
     degree: usize,
     intercept: bool,
     error: &[f64],
-) -> Result<(RegressionModel, LinearFit), ThermalError> {
+) -> Result<(RegressionModel, LinearFit), Error> {
     check_series(sensors, temperatures, position, degree, error)?;
     let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
     let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
@@ -162,7 +162,7 @@ pub fn fit_regression_robust(
     intercept: bool,
     error: &[f64],
     weighting: crate::screen::irls::Weighting,
-) -> Result<(RegressionModel, LinearFit, crate::screen::irls::RobustWeights), ThermalError> {
+) -> Result<(RegressionModel, LinearFit, crate::screen::irls::RobustWeights), Error> {
     check_series(sensors, temperatures, position, degree, error)?;
     let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
     let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
@@ -170,7 +170,7 @@ pub fn fit_regression_robust(
     let (mut fit, weights) = crate::screen::irls::irls(weighting, &vec![1.0; error.len()], |extra| {
         let fit = fit_linear(&design, error, Some(extra), &names).map_err(|e| fit_failure(error_name, e))?;
         let (c, r) = (fit.coefficients.clone(), fit.residuals.clone());
-        Ok::<_, ThermalError>((fit, c, r))
+        Ok::<_, Error>((fit, c, r))
     })?;
     fit.covariance = &unweighted.unscaled_covariance * weights.covariance_factor(names.len());
     fit.unscaled_covariance = unweighted.unscaled_covariance;
@@ -194,7 +194,7 @@ pub fn fit_split(
     geometric_degree: usize,
     thermal_degree: usize,
     error: &[f64],
-) -> Result<(RegressionModel, LinearFit), ThermalError> {
+) -> Result<(RegressionModel, LinearFit), Error> {
     let degree = geometric_degree.max(thermal_degree);
     check_series(sensors, temperatures, Some(position), degree, error)?;
     let design = design_matrix(temperatures, Some(position.1), degree, true);
@@ -216,31 +216,31 @@ fn check_series(
     position: Option<(&str, &[f64])>,
     degree: usize,
     error: &[f64],
-) -> Result<(), ThermalError> {
+) -> Result<(), Error> {
     if degree > 0 && position.is_none() {
-        return Err(input("a position-dependent model (degree >= 1) needs the position column"));
+        return Err(Error::input("a position-dependent model (degree >= 1) needs the position column"));
     }
     if temperatures.is_empty() || sensors.len() != temperatures.len() {
-        return Err(input("a thermal error model needs at least one temperature sensor (one series per sensor name)"));
+        return Err(Error::input("a thermal error model needs at least one temperature sensor (one series per sensor name)"));
     }
     let n = error.len();
     if let Some(i) = temperatures.iter().position(|t| t.len() != n) {
-        return Err(input(format!("sensor {} has {} samples for {n} error values", sensors[i], temperatures[i].len())));
+        return Err(Error::input(format!("sensor {} has {} samples for {n} error values", sensors[i], temperatures[i].len())));
     }
     if position.is_some_and(|p| p.1.len() != n) {
-        return Err(input(format!("the position column has a length other than the {n} error values")));
+        return Err(Error::input(format!("the position column has a length other than the {n} error values")));
     }
     Ok(())
 }
 
 /// A rank-deficient design (a sensor constant or proportional to another) is a failed computation
-/// (exit status 1, as in `identify`); anything else is bad input.
-fn fit_failure(error_name: &str, e: crate::identify::IdentifyError) -> ThermalError {
+/// (as in `identify`); anything else is bad input.
+fn fit_failure(error_name: &str, e: crate::identify::IdentifyError) -> Error {
     match e {
         crate::identify::IdentifyError::RankDeficient { .. } => {
-            computation(format!("{error_name}: {e}; leave that sensor out (--sensors) or select sensors (--select)"))
+            Error::computation(format!("{error_name}: {e}; leave that sensor out (--sensors) or select sensors (--select)"))
         }
-        e => input(format!("{error_name}: {e}")),
+        e => Error::input(format!("{error_name}: {e}")),
     }
 }
 
@@ -336,7 +336,7 @@ pub fn fit_stepwise(
     intercept: bool,
     error: &[f64],
     level: f64,
-) -> Result<(RegressionModel, LinearFit, Vec<String>), ThermalError> {
+) -> Result<(RegressionModel, LinearFit, Vec<String>), Error> {
     check_series(sensors, temperatures, position, degree, error)?;
     let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
     let names = column_names(sensors, position.map(|p| p.0), degree, intercept);

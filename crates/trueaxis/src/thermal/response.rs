@@ -8,7 +8,7 @@
 
 use super::assembly::{from_triplets, sparse_mul, ThermalSystem};
 use super::modal::ModalBasis;
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use faer::linalg::solvers::Solve;
 use faer::sparse::Triplet;
 use faer::{MatMut, Side};
@@ -25,15 +25,15 @@ pub struct LoadHistory {
 }
 
 impl LoadHistory {
-    fn check(&self, nodes: usize) -> Result<(), ThermalError> {
+    fn check(&self, nodes: usize) -> Result<(), Error> {
         if self.times_s.is_empty() || self.inputs.len() != self.times_s.len() {
-            return Err(input("a load history needs one input row per time"));
+            return Err(Error::input("a load history needs one input row per time"));
         }
         if self.times_s.windows(2).any(|w| w[1].is_nan() || w[1] <= w[0]) || self.times_s.iter().any(|t| !t.is_finite()) {
-            return Err(input("the times of a load history must be finite and increase strictly"));
+            return Err(Error::input("the times of a load history must be finite and increase strictly"));
         }
         if self.loads.iter().any(|q| q.len() != nodes) || self.inputs.iter().any(|u| u.len() != self.loads.len()) {
-            return Err(input("every load needs one value per node and every input row one value per load"));
+            return Err(Error::input("every load needs one value per node and every input row one value per load"));
         }
         Ok(())
     }
@@ -57,7 +57,7 @@ pub fn step_response(basis: &ModalBasis, q: &[f64], times_s: &[f64], nodes: &[us
 /// Temperatures at `nodes` at every time of `history` by modal superposition with the exact
 /// solution of eq. 3.9 over each interval: `theta_i <- e^(-lambda dt) theta_i + (1 - e^(-lambda dt))
 /// / lambda * xi_i`.
-pub fn modal_history(basis: &ModalBasis, history: &LoadHistory, nodes: &[usize]) -> Result<Vec<Vec<f64>>, ThermalError> {
+pub fn modal_history(basis: &ModalBasis, history: &LoadHistory, nodes: &[usize]) -> Result<Vec<Vec<f64>>, Error> {
     history.check(basis.shapes.nrows())?;
     let xis: Vec<Vec<f64>> = history.loads.iter().map(|q| basis.modal_load(q)).collect();
     let mut theta = vec![0.0; basis.len()];
@@ -86,11 +86,11 @@ pub fn time_stepping(
     nodes: &[usize],
     theta: f64,
     substeps: usize,
-) -> Result<Vec<Vec<f64>>, ThermalError> {
+) -> Result<Vec<Vec<f64>>, Error> {
     let n = system.node_count();
     history.check(n)?;
     if !(0.5..=1.0).contains(&theta) || substeps == 0 {
-        return Err(input("theta must lie in [0.5, 1] and substeps be at least 1"));
+        return Err(Error::input("theta must lie in [0.5, 1] and substeps be at least 1"));
     }
     let mut t = vec![0.0; n];
     let mut out = vec![nodes.iter().map(|&r| t[r]).collect::<Vec<f64>>()];
@@ -109,7 +109,8 @@ pub fn time_stepping(
                 }
             }
             let a = from_triplets(n, &trip)?;
-            let llt = a.sp_cholesky(Side::Lower).map_err(|e| computation(format!("C/dt + theta K is not positive definite: {e:?}")))?;
+            let llt =
+                a.sp_cholesky(Side::Lower).map_err(|e| Error::computation(format!("C/dt + theta K is not positive definite: {e:?}")))?;
             factor = Some((dt, llt));
         }
         let llt = &factor.as_ref().expect("factored").1;

@@ -13,7 +13,7 @@
 use super::links::{model_terms, ErrorTerm};
 use super::regression::{fit_split, RegressionModel};
 use super::thermal_campaign::Campaign;
-use super::{input, ThermalError};
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
 
 /// One segment: a direction of motion and / or a position range, and its model's coefficients.
@@ -56,20 +56,20 @@ impl SegmentedModel {
     }
 
     /// Checks every segment and that the segments do not overlap.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Error> {
         if self.segments.is_empty() {
-            return Err("a segmented model needs at least one [[segment]]".into());
+            return Err(Error::input("a segmented model needs at least one [[segment]]"));
         }
         for (k, s) in self.segments.iter().enumerate() {
-            self.segment_model(k).validate().map_err(|m| format!("segment {}: {m}", k + 1))?;
+            self.segment_model(k).validate().map_err(|m| Error::input(format!("segment {}: {m}", k + 1)))?;
             if let Some(d) = &s.direction {
                 if d != "+" && d != "-" {
-                    return Err(format!("segment {}: direction `{d}` is not + or -", k + 1));
+                    return Err(Error::input(format!("segment {}: direction `{d}` is not + or -", k + 1)));
                 }
             }
             if let Some([lo, hi]) = s.range {
                 if lo.is_nan() || hi.is_nan() || lo >= hi {
-                    return Err(format!("segment {}: range [{lo}, {hi}] needs lo < hi", k + 1));
+                    return Err(Error::input(format!("segment {}: range [{lo}, {hi}] needs lo < hi", k + 1)));
                 }
             }
         }
@@ -85,12 +85,12 @@ impl SegmentedModel {
 
     /// The prediction (um) at `rows` of a campaign: each row by its segment (columns `dir` when
     /// the segments are directional, the position column, the inputs).
-    pub fn predict(&self, campaign: &Campaign, rows: &[usize]) -> Result<Vec<f64>, ThermalError> {
+    pub fn predict(&self, campaign: &Campaign, rows: &[usize]) -> Result<Vec<f64>, Error> {
         let inputs = campaign.select(&self.sensors, rows)?;
         let positions = campaign.select(std::slice::from_ref(&self.position), rows)?.remove(0);
         let directional = self.segments.iter().any(|s| s.direction.is_some());
         if directional && !campaign.has_directions() {
-            return Err(input(format!(
+            return Err(Error::input(format!(
                 "{}: the model has a segment per direction of motion: the data need the column `dir` (+ or -)",
                 campaign.origin
             )));
@@ -102,7 +102,7 @@ impl SegmentedModel {
             .map(|(i, &row)| {
                 let direction = directional.then(|| campaign.dirs[row].as_str());
                 let k = self.segment_of(positions[i], direction).ok_or_else(|| {
-                    input(format!(
+                    Error::input(format!(
                         "{}: row {}: no segment holds position {} moving `{}`",
                         campaign.origin,
                         row + 1,
@@ -118,7 +118,7 @@ impl SegmentedModel {
 
     /// The model as error terms of `parameter` (a motion error of the position axis): each
     /// segment's terms with its direction and range.
-    pub fn terms(&self, parameter: &str) -> Result<Vec<ErrorTerm>, ThermalError> {
+    pub fn terms(&self, parameter: &str) -> Result<Vec<ErrorTerm>, Error> {
         let mut out = Vec::new();
         for (k, s) in self.segments.iter().enumerate() {
             for mut t in model_terms(parameter, &self.segment_model(k), 1.0)? {
@@ -159,13 +159,13 @@ pub fn fit_segmented(
     sensors: &[String],
     position: &str,
     segmentation: &Segmentation,
-) -> Result<SegmentedModel, ThermalError> {
+) -> Result<SegmentedModel, Error> {
     let (geometric_degree, thermal_degree) = (segmentation.geometric_degree, segmentation.thermal_degree);
     if segmentation.breakpoints.windows(2).any(|w| w[1] <= w[0]) || segmentation.breakpoints.iter().any(|b| !b.is_finite()) {
-        return Err(input("the position breakpoints of the ranges must be finite and increase strictly"));
+        return Err(Error::input("the position breakpoints of the ranges must be finite and increase strictly"));
     }
     if segmentation.by_direction && !campaign.has_directions() {
-        return Err(input(format!("{}: segments by direction of motion need the column `dir` (+ or -)", campaign.origin)));
+        return Err(Error::input(format!("{}: segments by direction of motion need the column `dir` (+ or -)", campaign.origin)));
     }
     let p = campaign.column(position)?;
     let mut bounds = vec![f64::NEG_INFINITY];
@@ -183,7 +183,7 @@ pub fn fit_segmented(
             let measured = campaign.select(&[error.to_string()], &seg_rows)?.remove(0);
             let needed = geometric_degree + 1 + sensors.len() * (thermal_degree + 1);
             if seg_rows.len() <= needed {
-                return Err(input(format!(
+                return Err(Error::input(format!(
                     "{name}: {} rows cannot determine {needed} coefficients; use fewer segments or lower degrees",
                     seg_rows.len()
                 )));

@@ -4,7 +4,7 @@
 //! L once instead of p times).
 
 use super::ordering::nested_dissection;
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
@@ -22,16 +22,16 @@ pub struct SparseCholesky {
 impl SparseCholesky {
     /// Factors `a` (only its lower triangle is read). With `coordinates` (one point per node), the
     /// ordering is nested dissection ([`nested_dissection`]); without, approximate minimum degree.
-    pub fn factor(a: &SparseColMat<usize, f64>, coordinates: Option<&[[f64; 3]]>) -> Result<SparseCholesky, ThermalError> {
+    pub fn factor(a: &SparseColMat<usize, f64>, coordinates: Option<&[[f64; 3]]>) -> Result<SparseCholesky, Error> {
         let symbolic = analyse(a, coordinates)?;
         let mut values = Vec::new();
-        values
-            .try_reserve_exact(symbolic.len_val())
-            .map_err(|_| input(format!("the Cholesky factor needs {} nonzeros, more than this machine's memory", symbolic.len_val())))?;
+        values.try_reserve_exact(symbolic.len_val()).map_err(|_| {
+            Error::input(format!("the Cholesky factor needs {} nonzeros, more than this machine's memory", symbolic.len_val()))
+        })?;
         values.resize(symbolic.len_val(), 0.0);
         let par = Par::rayon(0);
         let mut scratch = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
-            .map_err(|_| input("not enough memory for the Cholesky factorisation"))?;
+            .map_err(|_| Error::input("not enough memory for the Cholesky factorisation"))?;
         symbolic
             .factorize_numeric_llt::<f64>(
                 &mut values,
@@ -43,7 +43,7 @@ impl SparseCholesky {
                 Default::default(),
             )
             .map_err(|e| {
-                computation(format!(
+                Error::computation(format!(
                     "the shifted matrix K - sigma C is not positive definite ({e:?}): K must be positive semi-definite and C positive definite"
                 ))
             })?;
@@ -80,7 +80,7 @@ impl SparseCholesky {
 
 /// The ordering (nested dissection with `coordinates`, else approximate minimum degree) and the
 /// symbolic factorisation of `a` (only its pattern is read).
-fn analyse(a: &SparseColMat<usize, f64>, coordinates: Option<&[[f64; 3]]>) -> Result<SymbolicCholesky<usize>, ThermalError> {
+fn analyse(a: &SparseColMat<usize, f64>, coordinates: Option<&[[f64; 3]]>) -> Result<SymbolicCholesky<usize>, Error> {
     let n = a.nrows();
     let order = coordinates.filter(|c| c.len() == n).map(|c| nested_dissection(a.symbolic(), c));
     let inverse = order.as_ref().map(|fwd| {
@@ -95,7 +95,7 @@ fn analyse(a: &SparseColMat<usize, f64>, coordinates: Option<&[[f64; 3]]>) -> Re
         _ => SymmetricOrdering::Amd,
     };
     factorize_symbolic_cholesky(a.symbolic(), Side::Lower, ordering, CholeskySymbolicParams::default())
-        .map_err(|e| computation(format!("symbolic Cholesky factorisation failed: {e:?}")))
+        .map_err(|e| Error::computation(format!("symbolic Cholesky factorisation failed: {e:?}")))
 }
 
 /// The size of the Cholesky factor of a matrix with the pattern of `a` in the ordering
@@ -103,7 +103,7 @@ fn analyse(a: &SparseColMat<usize, f64>, coordinates: Option<&[[f64; 3]]>) -> Re
 /// numeric factorisation, `sum_j c_j^2` over the columns (c_j nonzeros below the diagonal of column
 /// j: c_j^2 / 2 multiply-add pairs for the updates it makes; George & Liu 1981, sec. 2.2), without
 /// factorising. For the hardware limit in BENCHMARKS.md.
-pub fn factorisation_work(a: &SparseColMat<usize, f64>, coordinates: Option<&[[f64; 3]]>) -> Result<(usize, f64), ThermalError> {
+pub fn factorisation_work(a: &SparseColMat<usize, f64>, coordinates: Option<&[[f64; 3]]>) -> Result<(usize, f64), Error> {
     let symbolic = analyse(a, coordinates)?;
     let flops = match symbolic.raw() {
         SymbolicCholeskyRaw::Supernodal(s) => (0..s.n_supernodes())

@@ -11,7 +11,7 @@
 
 use super::levenberg_marquardt::{levenberg_marquardt, LmOptions};
 use super::time_constants::combinations;
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use nalgebra::DMatrix;
 
 /// `m` decay rates shared by every input, and the output matrix.
@@ -75,25 +75,25 @@ pub type Record = (Vec<f64>, Vec<Vec<f64>>, Vec<Vec<f64>>);
 /// Identifies `m` shared decay rates and C from records `(times_s, u[k][i], y[k][o])` (several
 /// experiments, each from the zero state). `initial_tau_s` gives the start (m values), or `None`
 /// for a log-spaced grid search.
-pub fn identify_state_space(records: &[Record], m: usize, initial_tau_s: Option<&[f64]>) -> Result<(StateSpaceModel, f64), ThermalError> {
-    let first = records.first().ok_or_else(|| input("no records to identify a state-space model"))?;
+pub fn identify_state_space(records: &[Record], m: usize, initial_tau_s: Option<&[f64]>) -> Result<(StateSpaceModel, f64), Error> {
+    let first = records.first().ok_or_else(|| Error::input("no records to identify a state-space model"))?;
     let inputs = first.1.first().map_or(0, Vec::len);
     let outputs = first.2.first().map_or(0, Vec::len);
     if m == 0 || inputs == 0 || outputs == 0 {
-        return Err(input("a state-space model needs at least one rate, one input and one output"));
+        return Err(Error::input("a state-space model needs at least one rate, one input and one output"));
     }
     let mut samples = 0;
     for (t, u, y) in records {
         if t.len() != u.len() || t.len() != y.len() || u.iter().any(|r| r.len() != inputs) || y.iter().any(|r| r.len() != outputs) {
-            return Err(input("every record needs one input row and one output row per time, all of the same widths"));
+            return Err(Error::input("every record needs one input row and one output row per time, all of the same widths"));
         }
         if t.windows(2).any(|w| w[1].is_nan() || w[1] <= w[0]) {
-            return Err(input("times must increase strictly within a record"));
+            return Err(Error::input("times must increase strictly within a record"));
         }
         samples += t.len();
     }
     if samples <= inputs * m + m {
-        return Err(input(format!("{samples} samples cannot determine {} parameters per output", inputs * m)));
+        return Err(Error::input(format!("{samples} samples cannot determine {} parameters per output", inputs * m)));
     }
     let y_all = DMatrix::from_fn(samples, outputs, |r, o| {
         let mut r = r;
@@ -140,7 +140,7 @@ pub fn identify_state_space(records: &[Record], m: usize, initial_tau_s: Option<
     };
     let start: Vec<f64> = match initial_tau_s {
         Some(t) if t.len() == m && t.iter().all(|v| *v > 0.0) => t.iter().map(|v| -(v.ln())).collect(),
-        Some(_) => return Err(input(format!("give {m} positive initial time constants"))),
+        Some(_) => return Err(Error::input(format!("give {m} positive initial time constants"))),
         None => {
             let (dt, span) = records.iter().fold((f64::INFINITY, 0.0f64), |(d, s), (t, _, _)| {
                 (t.windows(2).map(|w| w[1] - w[0]).fold(d, f64::min), s.max(t[t.len() - 1] - t[0]))
@@ -160,7 +160,7 @@ pub fn identify_state_space(records: &[Record], m: usize, initial_tau_s: Option<
             };
             combinations(grid.len(), m, 0, 0, &mut idx, &mut visit);
             if best.1.is_empty() {
-                return Err(computation("no start point for the state-space identification: the inputs do not excite the model"));
+                return Err(Error::computation("no start point for the state-space identification: the inputs do not excite the model"));
             }
             best.1
         }
@@ -168,7 +168,7 @@ pub fn identify_state_space(records: &[Record], m: usize, initial_tau_s: Option<
     let lm = levenberg_marquardt(residuals, &start, samples * outputs, &LmOptions::default());
     let mut gammas: Vec<f64> = lm.x.iter().map(|v| v.exp()).collect();
     gammas.sort_by(|a, b| a.total_cmp(b));
-    let (ct, _) = solve(&gammas).ok_or_else(|| computation("the identified decay rates are not separable"))?;
+    let (ct, _) = solve(&gammas).ok_or_else(|| Error::computation("the identified decay rates are not separable"))?;
     let rms = (lm.cost / (samples * outputs) as f64).sqrt();
     Ok((StateSpaceModel { gammas, inputs, c: ct.transpose() }, rms))
 }

@@ -15,7 +15,7 @@
 use super::drift_model::DriftModel;
 use super::error_model::ThermalErrorModel;
 use super::state_space::advance;
-use super::{input, ThermalError};
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
 
 /// What a model remembers between samples of one run.
@@ -57,14 +57,14 @@ impl ThermalErrorModel {
     /// Refuses models that need more than readings at a time: position-dependent (PDTE) and
     /// segmented G-T models depend on where the axis is, which only the controller knows at its
     /// servo rate; they belong in the error terms of the chain (`thermal fit --terms-out`).
-    pub fn check_steppable(&self) -> Result<(), ThermalError> {
+    pub fn check_steppable(&self) -> Result<(), Error> {
         let position = match self {
             ThermalErrorModel::Regression(m) => m.position.clone(),
             ThermalErrorModel::Segmented(m) => Some(m.position.clone()),
             ThermalErrorModel::Drift(_) => None,
         };
         match position {
-            Some(p) => Err(input(format!(
+            Some(p) => Err(Error::input(format!(
                 "the model of `{}` depends on the position of axis {p}: a live offset cannot follow the axis; write it as error terms (thermal fit --terms-out) for compensate",
                 self.error()
             ))),
@@ -74,7 +74,7 @@ impl ThermalErrorModel {
 
     /// The error (um) at time `t_s` (s) for `readings` in the order of [`Self::inputs`], advancing
     /// `state` to this sample. Times within a run must increase.
-    pub fn step(&self, state: &mut StepState, t_s: f64, readings: &[f64]) -> Result<f64, ThermalError> {
+    pub fn step(&self, state: &mut StepState, t_s: f64, readings: &[f64]) -> Result<f64, Error> {
         self.check_steppable()?;
         match self {
             ThermalErrorModel::Regression(m) => Ok(m.evaluate(0.0, readings)),
@@ -86,7 +86,7 @@ impl ThermalErrorModel {
 
 impl DriftModel {
     /// One sample of the drift model: see the module documentation.
-    pub fn step(&self, state: &mut StepState, t_s: f64, readings: &[f64]) -> Result<f64, ThermalError> {
+    pub fn step(&self, state: &mut StepState, t_s: f64, readings: &[f64]) -> Result<f64, Error> {
         let gammas: Vec<f64> = self.time_constants_s.iter().map(|t| 1.0 / t).collect();
         match state.time_s {
             None => {
@@ -99,7 +99,7 @@ impl DriftModel {
             }
             Some(previous) => {
                 if t_s.is_nan() || t_s <= previous {
-                    return Err(input(format!("sample time {t_s} s does not follow the previous sample at {previous} s")));
+                    return Err(Error::input(format!("sample time {t_s} s does not follow the previous sample at {previous} s")));
                 }
                 advance(&gammas, t_s - previous, &state.rises, &mut state.lags);
                 state.time_s = Some(t_s);

@@ -14,7 +14,7 @@ use super::drift_model::{identify_lags, rises};
 use super::state_space::{states, Record};
 use super::thermal_campaign::Campaign;
 use super::validation::{residual_stats, ResidualStats};
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use serde::{Deserialize, Serialize};
 
 /// A fitted temperature model; its TOML form (`kind = "temperature_state_space"`).
@@ -33,43 +33,43 @@ pub struct TemperatureModel {
 }
 
 impl TemperatureModel {
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), Error> {
         if self.inputs.is_empty() || self.outputs.is_empty() || self.time_constants_s.is_empty() {
-            return Err("a temperature model needs at least one input, one output and one time constant".into());
+            return Err(Error::input("a temperature model needs at least one input, one output and one time constant"));
         }
         if self.time_constants_s.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
-            return Err("`time_constants_s` must be positive finite numbers of seconds".into());
+            return Err(Error::input("`time_constants_s` must be positive finite numbers of seconds"));
         }
         let width = self.inputs.len() * self.time_constants_s.len();
         if self.gains.len() != self.outputs.len() || self.gains.iter().any(|g| g.len() != width || g.iter().any(|v| !v.is_finite())) {
-            return Err(format!(
+            return Err(Error::input(format!(
                 "`gains` needs one row per output ({}) of {width} finite gains (inputs x time constants)",
                 self.outputs.len()
-            ));
+            )));
         }
         if let Some(s) = self.inputs.iter().chain(&self.outputs).find(|s| !s.starts_with("T:") || s.len() < 3) {
-            return Err(format!("sensor `{s}` must be named `T:<name>`"));
+            return Err(Error::input(format!("sensor `{s}` must be named `T:<name>`")));
         }
         Ok(())
     }
 
     /// Reads the TOML form; `origin` names it in messages.
-    pub fn from_toml_str(text: &str, origin: &str) -> Result<TemperatureModel, ThermalError> {
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<TemperatureModel, Error> {
         let one_line = |e: &dyn std::fmt::Display| e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
-        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| input(format!("{origin}: {m}")))?;
-        let mut table: toml::Table = toml::from_str(text).map_err(|e| input(format!("{origin}: {}", one_line(&e))))?;
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+        let mut table: toml::Table = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e))))?;
         match table.remove("kind").as_ref().and_then(|k| k.as_str()) {
             Some("temperature_state_space") => {}
             other => {
-                return Err(input(format!(
+                return Err(Error::input(format!(
                     "{origin}: kind `{}` is not a temperature model (kind = \"temperature_state_space\")",
                     other.unwrap_or("")
                 )))
             }
         }
         let model: TemperatureModel =
-            toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| input(format!("{origin}: {}", one_line(&e))))?;
-        model.validate().map_err(|m| input(format!("{origin}: {m}")))?;
+            toml::Value::Table(table).try_into().map_err(|e: toml::de::Error| Error::input(format!("{origin}: {}", one_line(&e))))?;
+        model.validate().map_err(|m| Error::input(format!("{origin}: {m}")))?;
         Ok(model)
     }
 
@@ -100,13 +100,13 @@ impl TemperatureModel {
 }
 
 /// The rows of one run of a campaign: times, input readings and output readings.
-fn run_record(campaign: &Campaign, inputs: &[String], outputs: &[String], rows: &[usize]) -> Result<Record, ThermalError> {
+fn run_record(campaign: &Campaign, inputs: &[String], outputs: &[String], rows: &[usize]) -> Result<Record, Error> {
     let t = campaign.column("t")?;
     let times: Vec<f64> = rows.iter().map(|&i| t[i]).collect();
     if times.windows(2).any(|w| w[1] <= w[0]) {
-        return Err(input(format!("{}: the times of a run must increase from row to row (column t)", campaign.origin)));
+        return Err(Error::input(format!("{}: the times of a run must increase from row to row (column t)", campaign.origin)));
     }
-    let by_row = |names: &[String]| -> Result<Vec<Vec<f64>>, ThermalError> {
+    let by_row = |names: &[String]| -> Result<Vec<Vec<f64>>, Error> {
         let columns = campaign.select(names, rows)?;
         Ok((0..rows.len()).map(|k| columns.iter().map(|c| c[k]).collect()).collect())
     };
@@ -121,9 +121,9 @@ pub fn fit_temperature_model(
     inputs: &[String],
     outputs: &[String],
     rates: usize,
-) -> Result<(TemperatureModel, f64), ThermalError> {
+) -> Result<(TemperatureModel, f64), Error> {
     if let Some(s) = outputs.iter().find(|o| inputs.contains(o)) {
-        return Err(input(format!("`{s}` is both an input and an output")));
+        return Err(Error::input(format!("`{s}` is both an input and an output")));
     }
     let records: Vec<Record> = runs
         .iter()
@@ -131,7 +131,7 @@ pub fn fit_temperature_model(
             let (t, u, y) = run_record(campaign, inputs, outputs, rows)?;
             Ok((t, rises(&u), rises(&y)))
         })
-        .collect::<Result<_, ThermalError>>()?;
+        .collect::<Result<_, Error>>()?;
     let (model, rms) = identify_lags(&records, rates)?;
     let m = model.gammas.len();
     let gains = (0..outputs.len()).map(|o| (0..inputs.len() * m).map(|s| model.c[(o, s)] / model.gammas[s % m]).collect()).collect();
@@ -145,7 +145,7 @@ pub type RunPrediction = (Vec<Vec<f64>>, Vec<Option<ResidualStats>>);
 
 /// The predicted output temperatures at `rows` (one run, in time order) and, per output, the
 /// residual statistics `measured - predicted` (degC) when the campaign has the output columns.
-pub fn predict_run(campaign: &Campaign, model: &TemperatureModel, rows: &[usize]) -> Result<RunPrediction, ThermalError> {
+pub fn predict_run(campaign: &Campaign, model: &TemperatureModel, rows: &[usize]) -> Result<RunPrediction, Error> {
     let t = campaign.column("t")?;
     let times: Vec<f64> = rows.iter().map(|&i| t[i]).collect();
     let inputs = campaign.select(&model.inputs, rows)?;
@@ -154,7 +154,7 @@ pub fn predict_run(campaign: &Campaign, model: &TemperatureModel, rows: &[usize]
         model.outputs.iter().map(|o| campaign.select(std::slice::from_ref(o), rows).ok().map(|mut c| c.remove(0))).collect();
     let start: Vec<f64> = measured.iter().map(|m| m.as_ref().map_or(0.0, |m| m[0])).collect();
     if measured.iter().any(Option::is_none) {
-        return Err(input(format!(
+        return Err(Error::input(format!(
             "{}: the output columns {} are needed for the temperatures at the start of each run (the reference state)",
             campaign.origin,
             model.outputs.join(", ")
@@ -162,7 +162,7 @@ pub fn predict_run(campaign: &Campaign, model: &TemperatureModel, rows: &[usize]
     }
     let predicted = model.simulate(&times, &inputs, &start);
     if predicted.iter().flatten().any(|v| !v.is_finite()) {
-        return Err(computation(format!("{}: the predicted temperatures are not finite numbers", campaign.origin)));
+        return Err(Error::computation(format!("{}: the predicted temperatures are not finite numbers", campaign.origin)));
     }
     let stats = measured
         .iter()

@@ -2,7 +2,7 @@
 //! (s), optionally `run` (the duty cycle or test the row belongs to), temperature columns
 //! `T:<sensor>` (degC), error columns (um, e.g. `dz` or `EZZ`) and axis positions (mm, deg).
 
-use super::{input, ThermalError};
+use crate::error::Error;
 use crate::io::ranges;
 use std::collections::BTreeMap;
 
@@ -36,43 +36,43 @@ pub struct Campaign {
 
 impl Campaign {
     /// Reads a campaign CSV (`#` comments allowed).
-    pub fn read(path: impl AsRef<std::path::Path>) -> Result<Campaign, ThermalError> {
+    pub fn read(path: impl AsRef<std::path::Path>) -> Result<Campaign, Error> {
         let path = path.as_ref();
-        let text = crate::files::inputs::read_to_string(path).map_err(|e| input(format!("{}: cannot read: {e}", path.display())))?;
+        let text = crate::files::inputs::read_to_string(path).map_err(|e| Error::input(format!("{}: cannot read: {e}", path.display())))?;
         Self::parse(&text, &path.display().to_string())
     }
 
     /// Parses campaign CSV text (forgivingly: `crate::data::CsvTable`, units in headers converted
     /// to degC, s, um, mm, deg); `origin` names it in messages.
-    pub fn parse(text: &str, origin: &str) -> Result<Campaign, ThermalError> {
+    pub fn parse(text: &str, origin: &str) -> Result<Campaign, Error> {
         let table = crate::data::CsvTable::from_text(text, origin)
-            .map_err(|e| input(e.to_string().replace("no data: the file has a header but no rows", "no data rows")))?;
+            .map_err(|e| Error::input(e.to_string().replace("no data: the file has a header but no rows", "no data rows")))?;
         Self::from_table(&table, origin)
     }
 
     /// As [`Campaign::read`], leaving out the rows with a blank cell (a logger dropout): the
     /// campaign and the file lines left out (`--skip-missing`).
-    pub fn read_skipping_missing(path: impl AsRef<std::path::Path>) -> Result<(Campaign, Vec<u64>), ThermalError> {
+    pub fn read_skipping_missing(path: impl AsRef<std::path::Path>) -> Result<(Campaign, Vec<u64>), Error> {
         let path = path.as_ref();
         let origin = path.display().to_string();
-        let text = crate::files::inputs::read_to_string(path).map_err(|e| input(format!("{origin}: cannot read: {e}")))?;
-        let table = crate::data::CsvTable::from_text(&text, &origin).map_err(|e| input(e.to_string()))?;
+        let text = crate::files::inputs::read_to_string(path).map_err(|e| Error::input(format!("{origin}: cannot read: {e}")))?;
+        let table = crate::data::CsvTable::from_text(&text, &origin).map_err(|e| Error::input(e.to_string()))?;
         let (kept, dropped) = table.without_blank_rows();
         Ok((Self::from_table(&kept, &origin)?, dropped))
     }
 
-    fn from_table(table: &crate::data::CsvTable, origin: &str) -> Result<Campaign, ThermalError> {
+    fn from_table(table: &crate::data::CsvTable, origin: &str) -> Result<Campaign, Error> {
         let named = |name: &str| table.headers().iter().find(|h| h.name.eq_ignore_ascii_case(name)).map(|h| h.name.clone());
         let runs = match named("run") {
-            Some(h) => table.texts(&h).map_err(|e| input(e.to_string()))?,
+            Some(h) => table.texts(&h).map_err(|e| Error::input(e.to_string()))?,
             None => vec![String::new(); table.len()],
         };
         // direction of motion per row, for segmented G-T models: `+`, `-` or empty
         let dirs = match named("dir") {
             Some(h) => {
-                let texts = table.texts(&h).map_err(|e| input(e.to_string()))?;
+                let texts = table.texts(&h).map_err(|e| Error::input(e.to_string()))?;
                 if let Some(i) = texts.iter().position(|d| !["+", "-", ""].contains(&d.as_str())) {
-                    return Err(input(table.row_error(i, &format!("column dir: `{}` is not +, - or empty", texts[i])).to_string()));
+                    return Err(Error::input(table.row_error(i, &format!("column dir: `{}` is not +, - or empty", texts[i])).to_string()));
                 }
                 texts
             }
@@ -86,8 +86,8 @@ impl Campaign {
             .collect();
         let mut columns = BTreeMap::new();
         for name in &names {
-            let values = table.numbers(name).map_err(|e| input(e.to_string()))?;
-            crate::data::checks::physical_range(table, name, &values, &physical_range_of(name)).map_err(|e| input(e.to_string()))?;
+            let values = table.numbers(name).map_err(|e| Error::input(e.to_string()))?;
+            crate::data::checks::physical_range(table, name, &values, &physical_range_of(name)).map_err(|e| Error::input(e.to_string()))?;
             columns.insert(name.clone(), values);
         }
         Ok(Campaign { origin: origin.into(), runs, dirs, names, lines: table.lines().to_vec(), columns })
@@ -107,11 +107,11 @@ impl Campaign {
     }
 
     /// A numeric column.
-    pub fn column(&self, name: &str) -> Result<&[f64], ThermalError> {
+    pub fn column(&self, name: &str) -> Result<&[f64], Error> {
         self.columns
             .get(name)
             .map(Vec::as_slice)
-            .ok_or_else(|| input(format!("{}: missing column `{name}`; the header has: {}", self.origin, self.names.join(","))))
+            .ok_or_else(|| Error::input(format!("{}: missing column `{name}`; the header has: {}", self.origin, self.names.join(","))))
     }
 
     /// The temperature columns `T:<sensor>`, in file order.
@@ -132,10 +132,10 @@ impl Campaign {
 
     /// Row indices of the named runs (with the segments of a run split at its gaps,
     /// `thermal::thermal_screening::split_at_gaps`).
-    pub fn rows_of(&self, runs: &[String]) -> Result<Vec<usize>, ThermalError> {
+    pub fn rows_of(&self, runs: &[String]) -> Result<Vec<usize>, Error> {
         for r in runs {
             if !self.runs.iter().any(|x| Self::is_of_run(x, r)) {
-                return Err(input(format!("{}: no rows of run `{r}` (runs: {})", self.origin, self.run_names().join(", "))));
+                return Err(Error::input(format!("{}: no rows of run `{r}` (runs: {})", self.origin, self.run_names().join(", "))));
             }
         }
         Ok((0..self.len()).filter(|&i| runs.iter().any(|r| Self::is_of_run(&self.runs[i], r))).collect())
@@ -148,7 +148,7 @@ impl Campaign {
     }
 
     /// The named columns restricted to `rows`: `[column][row]`.
-    pub fn select(&self, names: &[String], rows: &[usize]) -> Result<Vec<Vec<f64>>, ThermalError> {
+    pub fn select(&self, names: &[String], rows: &[usize]) -> Result<Vec<Vec<f64>>, Error> {
         names.iter().map(|n| self.column(n).map(|c| rows.iter().map(|&i| c[i]).collect())).collect()
     }
 }

@@ -191,7 +191,7 @@ pub fn read_screened(
     path: &std::path::Path,
     skip_missing: bool,
     split_gaps: bool,
-) -> Result<(Campaign, Vec<Finding>), crate::thermal::ThermalError> {
+) -> Result<(Campaign, Vec<Finding>), crate::error::Error> {
     let (c, dropped) = if skip_missing { Campaign::read_skipping_missing(path)? } else { (Campaign::read(path)?, Vec::new()) };
     let mut findings = Vec::new();
     if !dropped.is_empty() {
@@ -207,7 +207,7 @@ pub fn read_screened(
     }
     findings.extend(campaign(&c));
     if let Some(f) = findings.iter().find(|f| f.refuse) {
-        return Err(crate::thermal::ThermalError::Input(f.line()));
+        return Err(crate::error::Error::input(f.line()));
     }
     let c = if split_gaps { split_at_gaps(&c) } else { c };
     Ok((c, findings))

@@ -8,7 +8,7 @@
 //! longest record.
 
 use super::levenberg_marquardt::{levenberg_marquardt, LmOptions};
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use nalgebra::{DMatrix, DVector};
 
 /// One temperature record: times since the start of the step (s) and temperatures (degC or K).
@@ -40,19 +40,19 @@ impl TimeConstantFit {
 
 /// Fits `count` shared time constants to `series` (eq. 3.17); `offset` adds a constant per series
 /// (the temperature at t = 0 when the records are not rises from zero).
-pub fn fit_time_constants(series: &[Series], count: usize, offset: bool) -> Result<TimeConstantFit, ThermalError> {
+pub fn fit_time_constants(series: &[Series], count: usize, offset: bool) -> Result<TimeConstantFit, Error> {
     if count == 0 || count > 6 {
-        return Err(input(format!("the number of time constants must be 1 to 6 (got {count})")));
+        return Err(Error::input(format!("the number of time constants must be 1 to 6 (got {count})")));
     }
     let mut samples = 0;
     let mut t_min = f64::INFINITY;
     let mut t_max = 0.0f64;
     for (k, s) in series.iter().enumerate() {
         if s.times_s.len() != s.values.len() || s.values.len() < count + 2 {
-            return Err(input(format!("series {}: needs as many times as values and more than {} samples", k + 1, count + 1)));
+            return Err(Error::input(format!("series {}: needs as many times as values and more than {} samples", k + 1, count + 1)));
         }
         if s.times_s.iter().chain(&s.values).any(|v| !v.is_finite()) || s.times_s.iter().any(|t| *t < 0.0) {
-            return Err(input(format!("series {}: times must be finite and >= 0, values finite", k + 1)));
+            return Err(Error::input(format!("series {}: times must be finite and >= 0, values finite", k + 1)));
         }
         samples += s.values.len();
         for w in s.times_s.windows(2) {
@@ -63,7 +63,7 @@ pub fn fit_time_constants(series: &[Series], count: usize, offset: bool) -> Resu
         t_max = t_max.max(s.times_s.iter().copied().fold(0.0, f64::max));
     }
     if series.is_empty() || !t_min.is_finite() || t_max <= 0.0 {
-        return Err(input("no usable series: each needs increasing times"));
+        return Err(Error::input("no usable series: each needs increasing times"));
     }
     let residuals = |log_tau: &[f64], r: &mut [f64]| -> bool {
         if log_tau.iter().any(|v| !v.is_finite() || *v > 50.0 || *v < -20.0) {
@@ -98,7 +98,7 @@ pub fn fit_time_constants(series: &[Series], count: usize, offset: bool) -> Resu
     };
     combinations(grid.len(), count, 0, 0, &mut choose, &mut combo);
     if best.1.is_empty() {
-        return Err(computation("no start point for the time-constant fit: the records are degenerate"));
+        return Err(Error::computation("no start point for the time-constant fit: the records are degenerate"));
     }
     let lm = levenberg_marquardt(residuals, &best.1, samples, &LmOptions::default());
     let mut tau: Vec<f64> = lm.x.iter().map(|v| v.exp()).collect();
@@ -106,12 +106,12 @@ pub fn fit_time_constants(series: &[Series], count: usize, offset: bool) -> Resu
     let mut amplitudes = Vec::new();
     let mut offsets = Vec::new();
     for s in series {
-        let (coef, _) = project(s, &tau, offset).ok_or_else(|| computation("the fitted time constants are not separable"))?;
+        let (coef, _) = project(s, &tau, offset).ok_or_else(|| Error::computation("the fitted time constants are not separable"))?;
         offsets.push(if offset { coef[0] } else { 0.0 });
         amplitudes.push(coef[usize::from(offset)..].to_vec());
     }
     if tau.iter().any(|t| !t.is_finite()) || tau.windows(2).any(|w| w[1] > 0.99 * w[0]) {
-        return Err(computation(format!(
+        return Err(Error::computation(format!(
             "the {count} time constants are not separable in these records (the fit merges them); fit fewer, or only the response to a step"
         )));
     }

@@ -13,7 +13,7 @@
 use super::levenberg_marquardt::{levenberg_marquardt, LmOptions};
 use super::modal::{modal_analysis, ModalOptions};
 use super::model_file::parse_model;
-use super::{computation, input, ThermalError};
+use crate::error::Error;
 use std::path::Path;
 use toml_edit::{value, DocumentMut, Item};
 
@@ -44,35 +44,35 @@ fn item_mut<'d>(doc: &'d mut DocumentMut, key: &str) -> Option<&'d mut Item> {
 
 /// Tunes the convection coefficients `keys` of the model file `text` so that its largest time
 /// constants equal `measured_tau_s` (s, any order); `dir` resolves the paths of the file.
-pub fn tune_boundaries(text: &str, origin: &str, dir: &Path, keys: &[String], measured_tau_s: &[f64]) -> Result<Tuning, ThermalError> {
+pub fn tune_boundaries(text: &str, origin: &str, dir: &Path, keys: &[String], measured_tau_s: &[f64]) -> Result<Tuning, Error> {
     let mut doc: DocumentMut =
-        text.parse().map_err(|e: toml_edit::TomlError| input(format!("{origin}: {}", e.to_string().replace('\n', " "))))?;
+        text.parse().map_err(|e: toml_edit::TomlError| Error::input(format!("{origin}: {}", e.to_string().replace('\n', " "))))?;
     if keys.is_empty() {
-        return Err(input("name at least one convection coefficient to tune (--tune KEY)"));
+        return Err(Error::input("name at least one convection coefficient to tune (--tune KEY)"));
     }
     if measured_tau_s.len() < keys.len() {
-        return Err(input(format!(
+        return Err(Error::input(format!(
             "{} measured time constants cannot determine {} coefficients; give at least as many time constants as coefficients",
             measured_tau_s.len(),
             keys.len()
         )));
     }
     if measured_tau_s.iter().any(|t| !(t.is_finite() && *t > 0.0)) {
-        return Err(input("the measured time constants must be positive numbers of seconds"));
+        return Err(Error::input("the measured time constants must be positive numbers of seconds"));
     }
     let mut measured = measured_tau_s.to_vec();
     measured.sort_by(|a, b| b.total_cmp(a));
     let mut start = Vec::new();
     for key in keys {
         let item = item_mut(&mut doc, key)
-            .ok_or_else(|| input(format!("{origin}: no key `{key}` to tune (e.g. convection_w_m2k, right_end, boundary.xmin)")))?;
+            .ok_or_else(|| Error::input(format!("{origin}: no key `{key}` to tune (e.g. convection_w_m2k, right_end, boundary.xmin)")))?;
         let v = item.as_float().or_else(|| item.as_integer().map(|i| i as f64)).filter(|h| h.is_finite() && *h > 0.0).ok_or_else(|| {
-            input(format!("{origin}: `{key}` must be a positive convection coefficient to start from (an insulated face cannot be tuned; give it a value)"))
+            Error::input(format!("{origin}: `{key}` must be a positive convection coefficient to start from (an insulated face cannot be tuned; give it a value)"))
         })?;
         start.push((key.clone(), v));
     }
     let n = measured.len();
-    let model_taus = |doc: &mut DocumentMut, h: &[f64]| -> Result<Vec<f64>, ThermalError> {
+    let model_taus = |doc: &mut DocumentMut, h: &[f64]| -> Result<Vec<f64>, Error> {
         for (key, v) in keys.iter().zip(h) {
             *item_mut(doc, key).expect("checked") = value(*v);
         }
@@ -103,7 +103,7 @@ pub fn tune_boundaries(text: &str, origin: &str, dir: &Path, keys: &[String], me
     let h: Vec<f64> = lm.x.iter().map(|v| v.exp()).collect();
     let taus = model_taus(&mut doc, &h)?;
     if taus.iter().any(|t| !t.is_finite()) {
-        return Err(computation("the tuned model has no finite time constants"));
+        return Err(Error::computation("the tuned model has no finite time constants"));
     }
     Ok(Tuning {
         values: keys.iter().cloned().zip(h).collect(),

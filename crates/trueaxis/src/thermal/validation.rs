@@ -4,7 +4,7 @@
 
 use super::error_model::ThermalErrorModel;
 use super::thermal_campaign::Campaign;
-use super::{computation, ThermalError};
+use crate::error::Error;
 use serde::Serialize;
 
 /// Statistics of the residuals `measured - predicted` (units of the error, um).
@@ -89,9 +89,9 @@ pub fn prediction_segments(campaign: &Campaign) -> Vec<Segment> {
 /// validate (other duty cycles, altered warm-up; Zhu 2008 §3.5); with `split = Some(f)`, each
 /// training run trains on the samples before `t0 + f (t1 - t0)` and validates on the rest (Zhu 2008
 /// §3.4.3: the first hour trains, the second verifies).
-pub fn segments(campaign: &Campaign, train_runs: Option<&[String]>, split: Option<f64>) -> Result<Vec<Segment>, ThermalError> {
+pub fn segments(campaign: &Campaign, train_runs: Option<&[String]>, split: Option<f64>) -> Result<Vec<Segment>, Error> {
     if let Some(f) = split.filter(|f| !(*f > 0.0 && *f < 1.0)) {
-        return Err(super::input(format!("time-split:{f}: the training fraction must lie strictly between 0 and 1")));
+        return Err(Error::input(format!("time-split:{f}: the training fraction must lie strictly between 0 and 1")));
     }
     if let Some(runs) = train_runs {
         campaign.rows_of(runs)?;
@@ -105,11 +105,11 @@ pub fn segments(campaign: &Campaign, train_runs: Option<&[String]>, split: Optio
         let training = train_runs.is_none_or(|r| r.iter().any(|name| Campaign::is_of_run(&run, name)));
         match (training, split) {
             (true, Some(f)) => {
-                let t = t.ok_or_else(|| super::input(format!("{}: a time split needs the column t", campaign.origin)))?;
+                let t = t.ok_or_else(|| Error::input(format!("{}: a time split needs the column t", campaign.origin)))?;
                 let times: Vec<f64> = run_rows.iter().map(|&i| t[i]).collect();
                 let cut = time_split(&times, f);
                 if cut < 2 || cut + 1 > run_rows.len() {
-                    return Err(super::input(format!("time-split:{f}: run `{name}` has no samples on one side of the split")));
+                    return Err(Error::input(format!("time-split:{f}: run `{name}` has no samples on one side of the split")));
                 }
                 let percent = 100.0 * f;
                 out.push(Segment {
@@ -153,7 +153,7 @@ impl Evaluated {
 /// Evaluates `model` on each segment: on its whole run (the drift model needs the run from its
 /// start), kept at the segment's rows. A prediction that is not a finite number (coefficients too
 /// large for the temperatures) is a failed computation.
-pub fn evaluate_segments(campaign: &Campaign, model: &ThermalErrorModel, segments: &[Segment]) -> Result<Vec<Evaluated>, ThermalError> {
+pub fn evaluate_segments(campaign: &Campaign, model: &ThermalErrorModel, segments: &[Segment]) -> Result<Vec<Evaluated>, Error> {
     let t = campaign.column("t").ok();
     let measured_column = campaign.names.iter().any(|n| n == model.error());
     segments
@@ -163,7 +163,7 @@ pub fn evaluate_segments(campaign: &Campaign, model: &ThermalErrorModel, segment
             let at = |row: usize| segment.run_rows.iter().position(|&r| r == row).expect("a segment's rows are rows of its run");
             let predicted: Vec<f64> = segment.rows.iter().map(|&r| run_prediction[at(r)]).collect();
             if let Some(k) = predicted.iter().position(|v| !v.is_finite()) {
-                return Err(computation(format!(
+                return Err(Error::computation(format!(
                     "{}: the prediction of `{}` at data row {} in {} is not a finite number: the model's coefficients are too large for these temperatures",
                     campaign.origin,
                     model.error(),

@@ -6,7 +6,7 @@ use super::gum::normal_coverage_factor;
 use super::linear_map::{Evaluation, IdentificationMap, LinearModel};
 use super::monte_carlo::{run_adaptive, ControlVariables, IntervalKind, McResult, McSettings};
 use super::sources::Source;
-use super::UncertaintyError;
+use crate::error::Error;
 use nalgebra::DMatrix;
 
 /// One parameter's line of the budget.
@@ -66,9 +66,9 @@ impl<'a> BudgetPlan<'a> {
         settings: &'a McSettings,
         evaluation: Evaluation,
         alone: bool,
-    ) -> Result<BudgetPlan<'a>, UncertaintyError> {
+    ) -> Result<BudgetPlan<'a>, Error> {
         if sources.is_empty() {
-            return Err(UncertaintyError::Input("no uncertainty source given".into()));
+            return Err(Error::input("no uncertainty source given"));
         }
         settings.validate()?;
         Ok(BudgetPlan { map, sources, settings, evaluation, alone })
@@ -90,7 +90,7 @@ impl<'a> BudgetPlan<'a> {
     }
 
     /// The Monte Carlo model of stage `k`.
-    pub fn model(&self, k: usize) -> Result<LinearModel<'a>, UncertaintyError> {
+    pub fn model(&self, k: usize) -> Result<LinearModel<'a>, Error> {
         let sources: Vec<&Source> = match self.stage(k) {
             Some(_) => vec![&self.sources[k]],
             None => self.sources.iter().collect(),
@@ -99,9 +99,9 @@ impl<'a> BudgetPlan<'a> {
     }
 
     /// Andolfatto et al. 2011 Table 5 from the results of the stages, in stage order.
-    pub fn assemble(&self, mut runs: Vec<McResult>) -> Result<Budget, UncertaintyError> {
+    pub fn assemble(&self, mut runs: Vec<McResult>) -> Result<Budget, Error> {
         if runs.len() != self.stages() {
-            return Err(UncertaintyError::Input(format!("{} Monte Carlo results for a budget of {} runs", runs.len(), self.stages())));
+            return Err(Error::input(format!("{} Monte Carlo results for a budget of {} runs", runs.len(), self.stages())));
         }
         let (map, sources, settings) = (self.map, self.sources, self.settings);
         let total = runs.pop().expect("at least one stage");
@@ -159,7 +159,7 @@ pub fn run_budget(
     evaluation: Evaluation,
     alone: bool,
     progress: &mut dyn FnMut(Stage, usize, Option<&ControlVariables>),
-) -> Result<Budget, UncertaintyError> {
+) -> Result<Budget, Error> {
     let plan = BudgetPlan::new(map, sources, settings, evaluation, alone)?;
     let runs = (0..plan.stages())
         .map(|k| run_adaptive(&plan.model(k)?, settings, &mut |h, c| progress(plan.stage(k), h, c)))

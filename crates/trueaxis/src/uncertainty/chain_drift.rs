@@ -2,7 +2,7 @@
 //! ISO/TR 230-9 and the cyclic method (a periodic drift function of time, a random start time per
 //! sequence, each point measured at `t0 + (n - 1) t_m + k t_i`).
 
-use super::UncertaintyError;
+use crate::error::Error;
 use std::f64::consts::PI;
 
 /// ISO/TR 230-9 (Andolfatto et al. 2011 eq. 11): the standard uncertainty `u_EVE = E_VE / (2 sqrt 3)` of a drift
@@ -61,23 +61,23 @@ pub struct PeriodicDrift {
 }
 
 impl PeriodicDrift {
-    fn checked(period: f64, cos: Vec<f64>, sin: Vec<f64>) -> Result<PeriodicDrift, UncertaintyError> {
+    fn checked(period: f64, cos: Vec<f64>, sin: Vec<f64>) -> Result<PeriodicDrift, Error> {
         if !(period > 0.0 && period.is_finite()) {
-            return Err(UncertaintyError::Input(format!("drift period {period} s must be a positive number")));
+            return Err(Error::input(format!("drift period {period} s must be a positive number")));
         }
         if cos.iter().chain(&sin).any(|v| !v.is_finite()) {
-            return Err(UncertaintyError::Input("drift amplitudes must be finite numbers".into()));
+            return Err(Error::input("drift amplitudes must be finite numbers"));
         }
         Ok(PeriodicDrift { period, cos, sin })
     }
 
     /// `D(t) = (peak_to_valley / 2) sin(2 pi t / T + phase)`, phase in deg.
-    pub fn sine(period: f64, peak_to_valley: f64, phase_deg: f64) -> Result<PeriodicDrift, UncertaintyError> {
+    pub fn sine(period: f64, peak_to_valley: f64, phase_deg: f64) -> Result<PeriodicDrift, Error> {
         Self::harmonics(period, &[(0.5 * peak_to_valley, phase_deg)])
     }
 
     /// `D(t) = sum_k A_k sin(2 pi k t / T + phi_k)` from `(A_k, phi_k in deg)`, k = 1, 2, ...
-    pub fn harmonics(period: f64, terms: &[(f64, f64)]) -> Result<PeriodicDrift, UncertaintyError> {
+    pub fn harmonics(period: f64, terms: &[(f64, f64)]) -> Result<PeriodicDrift, Error> {
         let cos = terms.iter().map(|(a, phi)| a * phi.to_radians().sin()).collect();
         let sin = terms.iter().map(|(a, phi)| a * phi.to_radians().cos()).collect();
         Self::checked(period, cos, sin)
@@ -85,10 +85,10 @@ impl PeriodicDrift {
 
     /// The trigonometric interpolant of `N >= 2` samples equally spaced over one period, the first at
     /// `t = 0`, after removing their mean: it passes through every (centred) sample.
-    pub fn from_samples(period: f64, samples: &[f64]) -> Result<PeriodicDrift, UncertaintyError> {
+    pub fn from_samples(period: f64, samples: &[f64]) -> Result<PeriodicDrift, Error> {
         let n = samples.len();
         if n < 2 {
-            return Err(UncertaintyError::Input("a drift cycle needs at least 2 samples".into()));
+            return Err(Error::input("a drift cycle needs at least 2 samples"));
         }
         let nf = n as f64;
         let (mut cos, mut sin) = (Vec::new(), Vec::new());

@@ -6,8 +6,8 @@
 //! (um, the measured value; default 0), optional `weight` (`1/sigma^2`; default 1), and one column per
 //! parameter with the sensitivities in um per parameter unit (um or urad for ISO 230 names).
 
-use super::UncertaintyError;
 use crate::data::DataError;
+use crate::error::Error;
 use crate::machine::ParameterId;
 use nalgebra::DMatrix;
 
@@ -45,9 +45,9 @@ impl DesignMatrix {
         weight: Option<Vec<f64>>,
         measured: Option<Vec<f64>>,
         x: DMatrix<f64>,
-    ) -> Result<DesignMatrix, UncertaintyError> {
+    ) -> Result<DesignMatrix, Error> {
         let (n, p) = x.shape();
-        let bad = |m: String| Err(UncertaintyError::Input(m));
+        let bad = |m: String| Err(Error::input(m));
         if parameters.len() != p || channel_names.len() != n || time.len() != n {
             return bad(format!(
                 "design matrix {n}x{p} with {} parameter names, {} channels and {} times",
@@ -104,17 +104,17 @@ impl DesignMatrix {
     }
 
     /// Reads the CSV form described in the module documentation.
-    pub fn read_csv(path: impl AsRef<std::path::Path>) -> Result<DesignMatrix, UncertaintyError> {
+    pub fn read_csv(path: impl AsRef<std::path::Path>) -> Result<DesignMatrix, Error> {
         let path = path.as_ref();
         let file = crate::files::inputs::open(path).map_err(|source| DataError::Read { path: path.display().to_string(), source })?;
         Self::from_csv_reader(file, &path.display().to_string())
     }
 
     /// Reads CSV text (forgivingly: `crate::data::CsvTable`); `origin` names it in messages.
-    pub fn from_csv_reader(reader: impl std::io::Read, origin: &str) -> Result<DesignMatrix, UncertaintyError> {
-        let fail = |m: String| UncertaintyError::Input(format!("{origin}: {m}"));
-        let table = crate::data::CsvTable::from_reader(reader, origin).map_err(|e| UncertaintyError::Input(e.to_string()))?;
-        let data = |e: DataError| UncertaintyError::Input(e.to_string());
+    pub fn from_csv_reader(reader: impl std::io::Read, origin: &str) -> Result<DesignMatrix, Error> {
+        let fail = |m: String| Error::input(format!("{origin}: {m}"));
+        let table = crate::data::CsvTable::from_reader(reader, origin).map_err(|e| Error::input(e.to_string()))?;
+        let data = |e: DataError| Error::input(e.to_string());
         let headers = table.headers();
         let reserved = |name: &str| RESERVED_COLUMNS.iter().any(|r| r.eq_ignore_ascii_case(name.trim()));
         if !(table.has_column("channel") && table.has_column("t")) {
@@ -163,9 +163,9 @@ impl DesignMatrix {
 /// measurement is taken at `k point_time_s` (Andolfatto et al. 2011 eq. 12 with `t_i = point_time_s`). Channels
 /// are named by the reading without its `d` (`x`, `y`, `z`, `L`) when the campaign has one
 /// measurement, else `<measurement>:<x>` — the names the sources file uses.
-pub fn from_identification(design: &crate::identify::DesignMatrix, point_time_s: f64) -> Result<DesignMatrix, UncertaintyError> {
+pub fn from_identification(design: &crate::identify::DesignMatrix, point_time_s: f64) -> Result<DesignMatrix, Error> {
     if !(point_time_s.is_finite() && point_time_s >= 0.0) {
-        return Err(UncertaintyError::Input(format!("the time per point must be a non-negative number of seconds, got {point_time_s}")));
+        return Err(Error::input(format!("the time per point must be a non-negative number of seconds, got {point_time_s}")));
     }
     let single = design.records.iter().all(|(m, _)| *m == design.records.first().map_or(0, |r| r.0));
     let short = |name: &str| -> String {

@@ -2,7 +2,7 @@
 //! standard uncertainty and sampling. Quantities known only by their limits are rectangular
 //! (Soons 1993 App. A, WECC 19-1990).
 
-use super::UncertaintyError;
+use crate::error::Error;
 use nalgebra::{DMatrix, DVector};
 use rand::Rng;
 use rand_distr::{Distribution as _, StandardNormal, StudentT};
@@ -28,20 +28,20 @@ pub enum Distribution {
 impl Distribution {
     /// Symmetric distribution of `kind` (`normal`, `rectangular`, `triangular`, `arcsine`) about `mean`
     /// with the given standard uncertainty `u`; the form the tests and budgets use to compare shapes.
-    pub fn with_uncertainty(kind: &str, mean: f64, u: f64) -> Result<Distribution, UncertaintyError> {
+    pub fn with_uncertainty(kind: &str, mean: f64, u: f64) -> Result<Distribution, Error> {
         let d = match kind {
             "normal" => Distribution::Normal { mean, u },
             "rectangular" => Distribution::Rectangular { low: mean - u * 3f64.sqrt(), high: mean + u * 3f64.sqrt() },
             "triangular" => Distribution::Triangular { low: mean - u * 6f64.sqrt(), mode: mean, high: mean + u * 6f64.sqrt() },
             "arcsine" => Distribution::Arcsine { low: mean - u * 2f64.sqrt(), high: mean + u * 2f64.sqrt() },
-            other => return Err(UncertaintyError::Input(format!("unknown distribution `{other}`"))),
+            other => return Err(Error::input(format!("unknown distribution `{other}`"))),
         };
         d.validated()
     }
 
     /// Checks the parameters: finite, positive widths, `low <= mode <= high`, `dof > 2`.
-    pub fn validated(self) -> Result<Distribution, UncertaintyError> {
-        let bad = |m: &str| Err(UncertaintyError::Input(format!("{m} (in {self:?})")));
+    pub fn validated(self) -> Result<Distribution, Error> {
+        let bad = |m: &str| Err(Error::input(format!("{m} (in {self:?})")));
         let finite = match self {
             Distribution::Normal { mean, u } => mean.is_finite() && u.is_finite(),
             Distribution::Rectangular { low, high } | Distribution::Arcsine { low, high } => low.is_finite() && high.is_finite(),
@@ -136,19 +136,19 @@ pub struct MultivariateNormal {
 impl MultivariateNormal {
     /// `covariance` must be symmetric positive semidefinite (eigenvalues below `-1e-10` times the
     /// largest are refused; smaller negative ones from rounding are set to zero).
-    pub fn new(mean: DVector<f64>, covariance: &DMatrix<f64>) -> Result<MultivariateNormal, UncertaintyError> {
+    pub fn new(mean: DVector<f64>, covariance: &DMatrix<f64>) -> Result<MultivariateNormal, Error> {
         let n = mean.len();
         if covariance.shape() != (n, n) {
-            return Err(UncertaintyError::Input(format!("covariance is {:?} for a mean of {n} values", covariance.shape())));
+            return Err(Error::input(format!("covariance is {:?} for a mean of {n} values", covariance.shape())));
         }
         if covariance.iter().chain(mean.iter()).any(|v| !v.is_finite()) {
-            return Err(UncertaintyError::Input("mean and covariance must be finite".into()));
+            return Err(Error::input("mean and covariance must be finite"));
         }
         let symmetric = (covariance + covariance.transpose()) * 0.5;
         let eigen = symmetric.symmetric_eigen();
         let largest = eigen.eigenvalues.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
         if eigen.eigenvalues.iter().any(|&l| l < -1e-10 * largest) {
-            return Err(UncertaintyError::Input("covariance matrix is not positive semidefinite".into()));
+            return Err(Error::input("covariance matrix is not positive semidefinite"));
         }
         let mut factor = eigen.eigenvectors;
         for (j, l) in eigen.eigenvalues.iter().enumerate() {

@@ -1,16 +1,16 @@
 //! The GUM law of propagation for linear(ised) models (JCGM 100 §5; Soons 1993 App. A eq. A.4):
 //! `Cov{y} = F Cov{x} F^T`, principal axes of a covariance and chi-square confidence ellipsoids.
 
-use super::UncertaintyError;
+use crate::error::Error;
 use nalgebra::{DMatrix, DVector};
 use statrs::distribution::{ChiSquared, ContinuousCDF, Normal};
 
 /// `F Cov F^T` (Soons 1993 eq. A.4): the covariance of `y = F x` when `x` has covariance `cov`.
 /// E.g. the identified parameters (`F` the pseudo-inverse, um per um) or predicted volumetric
 /// errors (`F` the Jacobian rows, um per parameter unit).
-pub fn propagate(f: &DMatrix<f64>, cov: &DMatrix<f64>) -> Result<DMatrix<f64>, UncertaintyError> {
+pub fn propagate(f: &DMatrix<f64>, cov: &DMatrix<f64>) -> Result<DMatrix<f64>, Error> {
     if f.ncols() != cov.nrows() || !cov.is_square() {
-        return Err(UncertaintyError::Input(format!(
+        return Err(Error::input(format!(
             "cannot propagate a {}x{} covariance through a {}x{} sensitivity matrix",
             cov.nrows(),
             cov.ncols(),
@@ -78,20 +78,20 @@ impl Ellipsoid {
 
 /// The `level` confidence ellipsoid of a Gaussian with mean `centre` and covariance `cov`.
 /// Eigenvalues below `1e-12` times the largest count as zero.
-pub fn confidence_ellipsoid(centre: &[f64], cov: &DMatrix<f64>, level: f64) -> Result<Ellipsoid, UncertaintyError> {
+pub fn confidence_ellipsoid(centre: &[f64], cov: &DMatrix<f64>, level: f64) -> Result<Ellipsoid, Error> {
     if cov.nrows() != centre.len() || !cov.is_square() {
-        return Err(UncertaintyError::Input(format!("covariance is {}x{} for {} values", cov.nrows(), cov.ncols(), centre.len())));
+        return Err(Error::input(format!("covariance is {}x{} for {} values", cov.nrows(), cov.ncols(), centre.len())));
     }
     if !(level > 0.0 && level < 1.0) {
-        return Err(UncertaintyError::Input(format!("confidence level {level} must lie strictly between 0 and 1")));
+        return Err(Error::input(format!("confidence level {level} must lie strictly between 0 and 1")));
     }
     let axes = principal_axes(cov);
     let largest = axes.variances.first().copied().unwrap_or(0.0);
     let dof = axes.variances.iter().filter(|&&l| l > 1e-12 * largest && l > 0.0).count();
     if dof == 0 {
-        return Err(UncertaintyError::Computation("the covariance matrix is zero: no ellipsoid".into()));
+        return Err(Error::computation("the covariance matrix is zero: no ellipsoid"));
     }
-    let chi2 = ChiSquared::new(dof as f64).map(|c| c.inverse_cdf(level)).map_err(|e| UncertaintyError::Computation(e.to_string()))?;
+    let chi2 = ChiSquared::new(dof as f64).map(|c| c.inverse_cdf(level)).map_err(|e| Error::computation(e.to_string()))?;
     let semi_axes = axes.variances.iter().take(dof).map(|l| (l * chi2).sqrt()).collect();
     Ok(Ellipsoid { centre: DVector::from_column_slice(centre), level, dof, chi2, semi_axes, axes })
 }

@@ -16,7 +16,8 @@ use super::chain_drift::{measurement_time, reduce_to_period, statistical_drift_u
 use super::distributions::{Distribution, MultivariateNormal};
 use super::monte_carlo::{trials_one_by_one, TrialModel};
 use super::sources::{Source, SourceKind};
-use super::{DesignMatrix, UncertaintyError};
+use super::DesignMatrix;
+use crate::error::Error;
 use crate::identify::{fit_linear, IdentifyError};
 use nalgebra::{DMatrix, DVector};
 use rand::Rng;
@@ -48,10 +49,10 @@ pub struct IdentificationMap {
     pub condition_number: f64,
 }
 
-fn identify_error(e: IdentifyError) -> UncertaintyError {
+fn identify_error(e: IdentifyError) -> Error {
     match e {
-        IdentifyError::RankDeficient { .. } => UncertaintyError::Computation(e.to_string()),
-        other => UncertaintyError::Input(other.to_string()),
+        IdentifyError::RankDeficient { .. } => Error::computation(e.to_string()),
+        other => Error::input(other.to_string()),
     }
 }
 
@@ -59,7 +60,7 @@ impl IdentificationMap {
     /// Checks the rank (a rank-deficient design names the inseparable parameters, a failed
     /// computation) and computes `P` by the SVD of the column-scaled `W^1/2 X`:
     /// `P = D^-1 V S^-1 U^T W^1/2`.
-    pub fn new(design: DesignMatrix) -> Result<IdentificationMap, UncertaintyError> {
+    pub fn new(design: DesignMatrix) -> Result<IdentificationMap, Error> {
         fit_linear(&design.x, &design.measured, Some(&design.weight), &design.parameters).map_err(identify_error)?;
         let (n, p) = design.x.shape();
         let sqrt_w: Vec<f64> = design.weight.iter().map(|w| w.sqrt()).collect();
@@ -73,7 +74,7 @@ impl IdentificationMap {
         }
         let svd = a.svd(true, true);
         let (Some(u), Some(v_t)) = (svd.u.as_ref(), svd.v_t.as_ref()) else {
-            return Err(UncertaintyError::Computation("singular value decomposition failed".into()));
+            return Err(Error::computation("singular value decomposition failed"));
         };
         let mut order: Vec<usize> = (0..p).collect();
         order.sort_by(|&i, &j| svd.singular_values[j].total_cmp(&svd.singular_values[i]));
@@ -113,7 +114,7 @@ impl IdentificationMap {
 
     /// Parameters from observations `y` (um) by re-solving the weighted least squares (QR):
     /// the brute-force reference.
-    pub fn solve_least_squares(&self, y: &[f64]) -> Result<Vec<f64>, UncertaintyError> {
+    pub fn solve_least_squares(&self, y: &[f64]) -> Result<Vec<f64>, Error> {
         let d = &self.design;
         fit_linear(&d.x, y, Some(&d.weight), &d.parameters).map(|f| f.coefficients).map_err(identify_error)
     }
@@ -121,7 +122,7 @@ impl IdentificationMap {
     /// GUM covariance of the parameters due to `source` (JCGM 100 §5.2, Soons 1993 eq. A.4):
     /// `P Sigma P^T` for sources independent per observation; for the cyclic drift, with `tau`
     /// uniform over the period, `sum_k (g_k g_k^T + h_k h_k^T) / 2`.
-    pub fn gum_covariance(&self, source: &Source) -> Result<DMatrix<f64>, UncertaintyError> {
+    pub fn gum_covariance(&self, source: &Source) -> Result<DMatrix<f64>, Error> {
         let compiled = CompiledSource::new(self, source)?;
         Ok(match &compiled {
             CompiledSource::PerObservation { rows, .. } => {
@@ -154,7 +155,7 @@ impl IdentificationMap {
     }
 
     /// Expectation of the parameters with `sources` (GUM, first order): `p0 + P E{e}`.
-    pub fn gum_estimate(&self, sources: &[&Source]) -> Result<Vec<f64>, UncertaintyError> {
+    pub fn gum_estimate(&self, sources: &[&Source]) -> Result<Vec<f64>, Error> {
         let mut out = self.estimate.clone();
         for source in sources {
             if let CompiledSource::PerObservation { rows, .. } = CompiledSource::new(self, source)? {
@@ -166,7 +167,7 @@ impl IdentificationMap {
     }
 
     /// The Monte Carlo model of the identification with `sources` acting together.
-    pub fn model(&self, sources: &[&Source], evaluation: Evaluation) -> Result<LinearModel<'_>, UncertaintyError> {
+    pub fn model(&self, sources: &[&Source], evaluation: Evaluation) -> Result<LinearModel<'_>, Error> {
         LinearModel::new(self, sources, evaluation)
     }
 }
@@ -208,12 +209,12 @@ impl CyclicMap {
 }
 
 impl CompiledSource {
-    fn new(map: &IdentificationMap, source: &Source) -> Result<CompiledSource, UncertaintyError> {
+    fn new(map: &IdentificationMap, source: &Source) -> Result<CompiledSource, Error> {
         let design = &map.design;
         let channel_of = |name: &str| {
             design
                 .channel_index(name)
-                .ok_or_else(|| UncertaintyError::Input(format!("source `{}`: channel `{name}` is not in the design", source.name)))
+                .ok_or_else(|| Error::input(format!("source `{}`: channel `{name}` is not in the design", source.name)))
         };
         let per_channel = |list: Vec<(usize, Distribution)>| {
             let rows: Vec<Option<Distribution>> =
@@ -223,14 +224,14 @@ impl CompiledSource {
         };
         match &source.kind {
             SourceKind::Noise { channels } => {
-                let list = channels.iter().map(|(c, d)| Ok((channel_of(c)?, d.clone()))).collect::<Result<Vec<_>, UncertaintyError>>()?;
+                let list = channels.iter().map(|(c, d)| Ok((channel_of(c)?, d.clone()))).collect::<Result<Vec<_>, Error>>()?;
                 Ok(per_channel(list))
             }
             SourceKind::StatisticalDrift { channels } => {
                 let list = channels
                     .iter()
                     .map(|(c, e)| Ok((channel_of(c)?, Distribution::Normal { mean: 0.0, u: statistical_drift_uncertainty(*e) })))
-                    .collect::<Result<Vec<_>, UncertaintyError>>()?;
+                    .collect::<Result<Vec<_>, Error>>()?;
                 Ok(per_channel(list))
             }
             SourceKind::Correlated { channels, covariance } => {
@@ -247,7 +248,7 @@ impl CompiledSource {
                         }
                     };
                     if groups[slot].1[k].replace(row).is_some() {
-                        return Err(UncertaintyError::Input(format!(
+                        return Err(Error::input(format!(
                             "source `{}`: channel `{}` has two observations at t = {t} s; a correlated source draws one value per channel and point \
                              (give each point its own time)",
                             source.name, channels[k]
@@ -255,13 +256,13 @@ impl CompiledSource {
                     }
                 }
                 let normal = MultivariateNormal::new(DVector::zeros(channels.len()), covariance)
-                    .map_err(|e| UncertaintyError::Input(format!("source `{}`: {e}", source.name)))?;
+                    .map_err(|e| Error::input(format!("source `{}`: {e}", source.name)))?;
                 Ok(CompiledSource::Correlated { groups: groups.into_iter().map(|g| g.1).collect(), normal })
             }
             SourceKind::CyclicDrift(cyclic) => {
                 let period = cyclic.period();
                 if cyclic.channels.iter().any(|(_, d)| (d.period() - period).abs() > 1e-12 * period) {
-                    return Err(UncertaintyError::Input(format!("source `{}`: all channels need the same period", source.name)));
+                    return Err(Error::input(format!("source `{}`: all channels need the same period", source.name)));
                 }
                 let mut functions = Vec::new();
                 let mut index = vec![None; design.channels.len()];
@@ -272,7 +273,7 @@ impl CompiledSource {
                 let rows: Vec<Option<usize>> = design.channel.iter().map(|&c| index[c]).collect();
                 let run_duration = cyclic.run_duration.unwrap_or_else(|| design.time.iter().copied().fold(0.0, f64::max));
                 if run_duration <= 0.0 {
-                    return Err(UncertaintyError::Input(format!(
+                    return Err(Error::input(format!(
                         "source `{}`: the run duration t_m is zero: give run_duration_s or measurement times t > 0",
                         source.name
                     )));
@@ -335,7 +336,7 @@ pub struct LinearWorkspace {
 }
 
 impl<'a> LinearModel<'a> {
-    fn new(map: &'a IdentificationMap, sources: &[&Source], evaluation: Evaluation) -> Result<LinearModel<'a>, UncertaintyError> {
+    fn new(map: &'a IdentificationMap, sources: &[&Source], evaluation: Evaluation) -> Result<LinearModel<'a>, Error> {
         let compiled = sources.iter().map(|s| CompiledSource::new(map, s)).collect::<Result<Vec<_>, _>>()?;
         let n = map.parameter_count();
         let mut constant = map.estimate.clone();

@@ -41,24 +41,3 @@ pub use monte_carlo::{
 pub use prediction::VolumetricUncertainty;
 pub use report::{budget_json, pose_uncertainties, PoseUncertainty};
 pub use sources::{CyclicDrift, Source, SourceKind, Sources};
-
-use thiserror::Error;
-
-#[derive(Debug, Error)]
-pub enum UncertaintyError {
-    /// Bad input: a file, a parameter or a setting (exit status 2).
-    #[error("{0}")]
-    Input(String),
-    /// A failed computation (exit status 1).
-    #[error("{0}")]
-    Computation(String),
-    #[error(transparent)]
-    Data(#[from] crate::data::DataError),
-}
-
-impl UncertaintyError {
-    /// True for bad input (exit 2), false for a failed computation (exit 1).
-    pub fn is_input(&self) -> bool {
-        !matches!(self, UncertaintyError::Computation(_))
-    }
-}

@@ -11,7 +11,7 @@
 //! [`AdaptiveRun`]: a run distributed over processes or machines equals one process bit for bit.
 
 use super::intervals::{in_fours, moments, shortest_interval_of_unsorted, symmetric_interval_of, Moments, SampleSummary};
-use super::UncertaintyError;
+use crate::error::Error;
 use nalgebra::DMatrix;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -114,8 +114,8 @@ impl McSettings {
         }
     }
 
-    pub fn validate(&self) -> Result<(), UncertaintyError> {
-        let bad = |m: String| Err(UncertaintyError::Input(m));
+    pub fn validate(&self) -> Result<(), Error> {
+        let bad = |m: String| Err(Error::input(m));
         if !(self.coverage > 0.0 && self.coverage < 1.0) {
             return bad(format!("coverage probability {} must lie strictly between 0 and 1", self.coverage));
         }
@@ -200,13 +200,13 @@ pub fn run_adaptive<M: TrialModel>(
     model: &M,
     settings: &McSettings,
     progress: &mut dyn FnMut(usize, Option<&ControlVariables>),
-) -> Result<McResult, UncertaintyError> {
+) -> Result<McResult, Error> {
     run(model, settings, None, progress)
 }
 
 /// Exactly `sequences` sequences of `M` trials, without the stability test (the control variables
 /// are still recorded).
-pub fn run_sequences<M: TrialModel>(model: &M, settings: &McSettings, sequences: usize) -> Result<McResult, UncertaintyError> {
+pub fn run_sequences<M: TrialModel>(model: &M, settings: &McSettings, sequences: usize) -> Result<McResult, Error> {
     run(model, settings, Some(sequences), &mut |_, _| {})
 }
 
@@ -215,7 +215,7 @@ fn run<M: TrialModel>(
     settings: &McSettings,
     fixed: Option<usize>,
     progress: &mut dyn FnMut(usize, Option<&ControlVariables>),
-) -> Result<McResult, UncertaintyError> {
+) -> Result<McResult, Error> {
     let mut state = AdaptiveRun::new(model.outputs(), settings, fixed)?;
     let mut buffer = Vec::new();
     while let Some(h) = state.next_sequence() {
@@ -322,16 +322,16 @@ pub struct AdaptiveRun {
 impl AdaptiveRun {
     /// A run of `outputs` outputs: adaptive (`fixed` = `None`, at most `settings.max_sequences`),
     /// or exactly `fixed` sequences. Checks the settings and the memory the kept values need.
-    pub fn new(outputs: usize, settings: &McSettings, fixed: Option<usize>) -> Result<AdaptiveRun, UncertaintyError> {
+    pub fn new(outputs: usize, settings: &McSettings, fixed: Option<usize>) -> Result<AdaptiveRun, Error> {
         settings.validate()?;
         if outputs == 0 {
-            return Err(UncertaintyError::Input("the model has no outputs".into()));
+            return Err(Error::input("the model has no outputs"));
         }
         let m = settings.trials_per_sequence;
         let limit = fixed.unwrap_or(settings.max_sequences);
         let kept = m.saturating_mul(limit).saturating_mul(outputs);
         if kept > MAX_KEPT_VALUES {
-            return Err(UncertaintyError::Input(format!(
+            return Err(Error::input(format!(
                 "trials_per_sequence {m} x max_sequences {limit} x {outputs} outputs = {kept} trial values to keep, more than {MAX_KEPT_VALUES} \
                  (2 GB): lower max_sequences or trials_per_sequence"
             )));
@@ -368,13 +368,13 @@ impl AdaptiveRun {
     /// Takes the trial values of the next sequence (`M x outputs`, trial-major); returns the
     /// control variables from the second sequence on. An error when a value is not finite, the
     /// length is not that of one sequence, or the run is over.
-    pub fn push_sequence(&mut self, values: &[f64]) -> Result<Option<ControlVariables>, UncertaintyError> {
+    pub fn push_sequence(&mut self, values: &[f64]) -> Result<Option<ControlVariables>, Error> {
         let Some(h) = self.next_sequence() else {
-            return Err(UncertaintyError::Input("the Monte Carlo run is already complete".into()));
+            return Err(Error::input("the Monte Carlo run is already complete"));
         };
         let n_out = self.outputs;
         if values.len() != self.settings.trials_per_sequence * n_out {
-            return Err(UncertaintyError::Input(format!(
+            return Err(Error::input(format!(
                 "sequence {} has {} values; expected {} trials x {n_out} outputs",
                 h + 1,
                 values.len(),
@@ -386,9 +386,9 @@ impl AdaptiveRun {
 
     /// [`AdaptiveRun::push_sequence`] for values laid out block by block, each block of [`BLOCK`]
     /// trials (the last maybe fewer) output-major, as [`run_blocks_into`] writes them.
-    fn push_blocks(&mut self, values: &[f64]) -> Result<Option<ControlVariables>, UncertaintyError> {
+    fn push_blocks(&mut self, values: &[f64]) -> Result<Option<ControlVariables>, Error> {
         let Some(h) = self.next_sequence() else {
-            return Err(UncertaintyError::Input("the Monte Carlo run is already complete".into()));
+            return Err(Error::input("the Monte Carlo run is already complete"));
         };
         let n_out = self.outputs;
         debug_assert_eq!(values.len(), self.settings.trials_per_sequence * n_out);
@@ -402,11 +402,7 @@ impl AdaptiveRun {
 
     /// Appends sequence `h` to the columns (`extend(j, column)` appends output `j`), then its
     /// statistics and control variables.
-    fn push_columns(
-        &mut self,
-        h: usize,
-        extend: impl Fn(usize, &mut Vec<f64>) + Sync,
-    ) -> Result<Option<ControlVariables>, UncertaintyError> {
+    fn push_columns(&mut self, h: usize, extend: impl Fn(usize, &mut Vec<f64>) + Sync) -> Result<Option<ControlVariables>, Error> {
         let m = self.settings.trials_per_sequence;
         // the outputs in parallel, each into its own column; the first output (in order) that is
         // not finite is the error
@@ -424,7 +420,7 @@ impl AdaptiveRun {
             for column in &mut self.columns {
                 column.truncate(h * m);
             }
-            return Err(UncertaintyError::Computation(format!("output {} is not finite in sequence {}", j + 1, h + 1)));
+            return Err(Error::computation(format!("output {} is not finite in sequence {}", j + 1, h + 1)));
         }
         let settings = &self.settings;
         let statistics: Vec<[f64; 4]> = self
@@ -452,12 +448,12 @@ impl AdaptiveRun {
 
     /// Takes the next sequence as its chunks with their values ([`run_chunk`]), which must cover
     /// that sequence from its first block, in order.
-    pub fn push_chunks(&mut self, chunks: &[(Chunk, Vec<f64>)]) -> Result<Option<ControlVariables>, UncertaintyError> {
+    pub fn push_chunks(&mut self, chunks: &[(Chunk, Vec<f64>)]) -> Result<Option<ControlVariables>, Error> {
         let h = self.next_sequence().unwrap_or(self.sequences);
         let mut next_block = 0;
         for (c, _) in chunks {
             if c.sequence != h || c.first_block != next_block {
-                return Err(UncertaintyError::Input(format!(
+                return Err(Error::input(format!(
                     "chunk of sequence {} from block {} out of order: expected sequence {} from block {next_block}",
                     c.sequence + 1,
                     c.first_block,

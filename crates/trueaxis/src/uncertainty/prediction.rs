@@ -7,7 +7,7 @@
 //! exactly `F Cov_MC F^T`.
 
 use super::gum::{confidence_ellipsoid, propagate, Ellipsoid};
-use super::UncertaintyError;
+use crate::error::Error;
 use nalgebra::{DMatrix, Matrix3};
 
 /// The uncertainty of `dx dy dz` at one pose.
@@ -25,9 +25,9 @@ pub struct VolumetricUncertainty {
 
 impl VolumetricUncertainty {
     /// From the covariance of `dx dy dz` (um^2) and the predicted error `centre` (um).
-    pub fn from_covariance(covariance: Matrix3<f64>, centre: [f64; 3], level: f64) -> Result<VolumetricUncertainty, UncertaintyError> {
+    pub fn from_covariance(covariance: Matrix3<f64>, centre: [f64; 3], level: f64) -> Result<VolumetricUncertainty, Error> {
         if covariance.iter().any(|v| !v.is_finite()) {
-            return Err(UncertaintyError::Computation("the covariance of the predicted error is not finite".into()));
+            return Err(Error::computation("the covariance of the predicted error is not finite"));
         }
         let cov = DMatrix::from_fn(3, 3, |i, j| covariance[(i, j)]);
         let ellipsoid = confidence_ellipsoid(&centre, &cov, level)?;
@@ -36,14 +36,9 @@ impl VolumetricUncertainty {
 
     /// `F Cov F^T` for `F` the `3 x p` effect of the parameters on `dx dy dz` (um per parameter
     /// unit) and `cov` their `p x p` covariance (parameter units squared).
-    pub fn propagated(
-        f: &DMatrix<f64>,
-        cov: &DMatrix<f64>,
-        centre: [f64; 3],
-        level: f64,
-    ) -> Result<VolumetricUncertainty, UncertaintyError> {
+    pub fn propagated(f: &DMatrix<f64>, cov: &DMatrix<f64>, centre: [f64; 3], level: f64) -> Result<VolumetricUncertainty, Error> {
         if f.nrows() != 3 {
-            return Err(UncertaintyError::Input(format!("the sensitivity of dx dy dz has {} rows, not 3", f.nrows())));
+            return Err(Error::input(format!("the sensitivity of dx dy dz has {} rows, not 3", f.nrows())));
         }
         let c = propagate(f, cov)?;
         Self::from_covariance(Matrix3::from_fn(|i, j| c[(i, j)]), centre, level)

@@ -5,7 +5,8 @@
 //! Units: parameters in their own units (um, urad), volumetric errors in um, covariances in the
 //! squares of those units.
 
-use super::{Budget, IdentificationMap, McSettings, UncertaintyError, VolumetricUncertainty};
+use super::{Budget, IdentificationMap, McSettings, VolumetricUncertainty};
+use crate::error::Error;
 use crate::identify::{Campaign, Identification};
 use crate::machine::Machine;
 use crate::model::{Frame, Setup};
@@ -35,7 +36,7 @@ pub fn pose_uncertainties(
     setup: &Setup,
     frame: Frame,
     level: f64,
-) -> Result<Vec<PoseUncertainty>, UncertaintyError> {
+) -> Result<Vec<PoseUncertainty>, Error> {
     let mut gum_identification = identification.clone();
     gum_identification.covariance = budget.gum_covariance.clone();
     let n = machine.axis_count().max(1);

@@ -25,7 +25,8 @@
 use super::chain_drift::{PeriodicDrift, StartPhase};
 use super::distributions::Distribution;
 use super::monte_carlo::{IntervalKind, McSettings};
-use super::{DesignMatrix, UncertaintyError};
+use super::DesignMatrix;
+use crate::error::Error;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 
@@ -171,8 +172,8 @@ enum RawDistribution {
 }
 
 impl RawDistribution {
-    fn build(self) -> Result<Distribution, UncertaintyError> {
-        let half = |h: f64| if h >= 0.0 { Ok(h) } else { Err(UncertaintyError::Input(format!("half_width {h} must not be negative"))) };
+    fn build(self) -> Result<Distribution, Error> {
+        let half = |h: f64| if h >= 0.0 { Ok(h) } else { Err(Error::input(format!("half_width {h} must not be negative"))) };
         match self {
             RawDistribution::Normal { u, mean } => Distribution::Normal { mean, u },
             RawDistribution::Rectangular { half_width, mean } => {
@@ -200,15 +201,15 @@ struct RawCycle {
 }
 
 impl RawCycle {
-    fn build(self, period: f64) -> Result<PeriodicDrift, UncertaintyError> {
+    fn build(self, period: f64) -> Result<PeriodicDrift, Error> {
         match (self.peak_to_valley, self.harmonics, self.samples) {
             (Some(pv), None, None) => PeriodicDrift::sine(period, pv, self.phase_deg.unwrap_or(0.0)),
             (None, Some(h), None) if self.phase_deg.is_none() && !h.is_empty() => {
                 PeriodicDrift::harmonics(period, &h.iter().map(|[a, p]| (*a, *p)).collect::<Vec<_>>())
             }
             (None, None, Some(s)) if self.phase_deg.is_none() => PeriodicDrift::from_samples(period, &s),
-            _ => Err(UncertaintyError::Input(
-                "give exactly one of peak_to_valley (with optional phase_deg), harmonics = [[amplitude, phase_deg], ...] or samples = [...]".into(),
+            _ => Err(Error::input(
+                "give exactly one of peak_to_valley (with optional phase_deg), harmonics = [[amplitude, phase_deg], ...] or samples = [...]",
             )),
         }
     }
@@ -216,7 +217,7 @@ impl RawCycle {
 
 impl Sources {
     /// Reads a sources file.
-    pub fn load(path: impl AsRef<std::path::Path>) -> Result<Sources, UncertaintyError> {
+    pub fn load(path: impl AsRef<std::path::Path>) -> Result<Sources, Error> {
         let path = path.as_ref();
         let text = crate::files::inputs::read_to_string(path)
             .map_err(|source| crate::data::DataError::Read { path: path.display().to_string(), source })?;
@@ -224,8 +225,8 @@ impl Sources {
     }
 
     /// Parses the TOML text; `origin` names it in messages.
-    pub fn from_toml_str(text: &str, origin: &str) -> Result<Sources, UncertaintyError> {
-        let fail = |m: String| UncertaintyError::Input(format!("{origin}: {m}"));
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<Sources, Error> {
+        let fail = |m: String| Error::input(format!("{origin}: {m}"));
         crate::io::toml_numbers::refuse_underflow(text).map_err(fail)?;
         let raw: RawFile = toml::from_str(text).map_err(|e| fail(e.to_string().trim().replace('\n', " ")))?;
         let coverage = raw.coverage.unwrap_or(0.95);
@@ -260,11 +261,11 @@ impl Sources {
 
     /// Checks that every channel a source names exists in the design (channels a source does not
     /// name receive nothing from it).
-    pub fn check_channels(&self, design: &DesignMatrix) -> Result<(), UncertaintyError> {
+    pub fn check_channels(&self, design: &DesignMatrix) -> Result<(), Error> {
         for source in &self.sources {
             for name in source.channel_names() {
                 if design.channel_index(name).is_none() {
-                    return Err(UncertaintyError::Input(format!(
+                    return Err(Error::input(format!(
                         "source `{}`: channel `{name}` is not in the design (channels: {})",
                         source.name,
                         design.channels.join(", ")
@@ -276,8 +277,8 @@ impl Sources {
     }
 }
 
-fn build_source(raw: RawSource) -> Result<Source, (String, UncertaintyError)> {
-    let input = |m: String| UncertaintyError::Input(m);
+fn build_source(raw: RawSource) -> Result<Source, (String, Error)> {
+    let input = |m: String| Error::input(m);
     match raw {
         RawSource::Noise { name, channels } => {
             let mut built = Vec::new();

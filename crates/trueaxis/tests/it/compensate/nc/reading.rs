@@ -81,7 +81,7 @@ fn refusal(bytes: &[u8], dialect: Dialect) -> String {
     match correct_program(&Corrector::new(&m, &zero), bytes, "t.nc", &options, &[]) {
         Ok(r) => panic!("accepted: {}", r.text()),
         Err(e) => {
-            assert!(e.is_input());
+            assert_eq!(e.kind(), trueaxis::ErrorKind::Input);
             e.to_string()
         }
     }

@@ -229,7 +229,7 @@ fn what_cannot_be_corrected_is_refused_with_the_line() {
         ("%\nO1001\nG0 X1\nM98 P2001001\nM30\n%\n", "line 4: more than 10 nested subroutine calls"),
     ] {
         let err = correct_program(&corrector, text, "bad.ngc", &options, &[]).unwrap_err();
-        assert!(err.is_input(), "{text}");
+        assert_eq!(err.kind(), trueaxis::ErrorKind::Input, "{text}");
         assert!(err.to_string().starts_with("bad.ngc: ") && err.to_string().contains(needle), "{text}: {err}");
     }
     // --strict-tools: a tool the table lacks is refused
