@@ -163,7 +163,7 @@ fn etalon_doc(text: &str, name: &str) -> Result<Value, Failure> {
         .parameters
         .iter()
         .map(|p| {
-            let iso = etalon::parameter_id(&p.name).ok().flatten().map(|id| id.to_string());
+            let iso = trueaxis::error_model::etalon::parameter_id(&p.name).ok().flatten().map(|id| id.to_string());
             match &p.value {
                 etalon::EtalonValue::Constant(v) => json!({"name": p.name, "iso": iso, "line": p.line, "value": v}),
                 etalon::EtalonValue::Table(points) => json!({"name": p.name, "iso": iso, "line": p.line, "points": points.len(),

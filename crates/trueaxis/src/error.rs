@@ -1,7 +1,7 @@
 //! The error vocabulary of the core (docs/design.md, Errors): every failure the library reports is
 //! an [`Error`] with a kind (bad input, a failed computation, the environment), the origin (a file
 //! with its line and column, or a parameter) and the one-line message a user reads. The library
-//! never decides what a kind means to a program: the command line maps kinds to exit statuses in
+//! never decides what a kind means to a program: the command line decides what each kind means to a shell in
 //! `crates/cli/src/exit.rs`, the Python package to exceptions in `crates/python/src/exceptions.rs`.
 //!
 //! Modules whose callers match on what went wrong keep an error of their own that carries typed

@@ -161,7 +161,7 @@ impl VolumePart {
             Some(name) => warn(
                 format!("Compensation with the {} files", controller_name(name)),
                 self.after_um.0,
-                "trueaxis compensate refuses to write them (exit status 2) and names the better option.",
+                "trueaxis compensate refuses to write them and names the better option.",
             ),
             None => warn(
                 "The exact correction at each pose".into(),

@@ -7,7 +7,7 @@
 
 use super::{set_error_function, ErrorFunction, ErrorModel};
 use crate::error::{Error, Result};
-use crate::io::etalon::{parameter_id, EtalonFile, EtalonParameter, EtalonValue};
+use crate::io::etalon::{EtalonFile, EtalonParameter, EtalonValue};
 use crate::io::{plausibility, Severity};
 use crate::machine::{Machine, ParameterId};
 
@@ -91,5 +91,38 @@ fn error_function(p: &EtalonParameter, id: ParameterId, warnings: &mut Vec<Strin
         (EtalonValue::Table(_), _) => {
             Err(Error::input(format!("[{}] ({id}) is a position error, a constant: give it as `VALUE =`", p.name)))
         }
+    }
+}
+
+/// ISG's kinematic parameters (nominal geometry, not errors): `P0X`, `N0X`, `PXA`, `VXX`.
+fn is_isg_geometry(name: &str) -> bool {
+    let c: Vec<char> = name.chars().collect();
+    match c.as_slice() {
+        ['P' | 'N', '0', a] => "XYZ".contains(*a),
+        ['P', d, a] => "XYZ".contains(*d) && "ABC".contains(*a),
+        ['V', d, a] => "XYZ".contains(*d) && "XYZABC".contains(*a),
+        _ => false,
+    }
+}
+
+/// The ISO 230-1 id of an exchange-format name: `X0C` -> `EX0C`, `EXY` -> `EXY`; `None` for ISG's
+/// kinematic parameters.
+pub fn parameter_id(name: &str) -> crate::error::Result<Option<ParameterId>> {
+    let upper = name.trim().to_ascii_uppercase();
+    if is_isg_geometry(&upper) {
+        return Ok(None);
+    }
+    let iso = if upper.len() == 3 && upper.as_bytes()[1] == b'0' { format!("E{upper}") } else { upper };
+    ParameterId::parse(&iso).map(Some).map_err(crate::Error::input)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exchange_names_are_iso_names() {
+        assert_eq!(parameter_id("C0B").unwrap().unwrap().to_string(), "EC0B");
+        assert_eq!(parameter_id("P0X").unwrap(), None);
     }
 }

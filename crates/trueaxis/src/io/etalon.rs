@@ -23,7 +23,6 @@
 
 use super::text::{clip, numbered_lines, parse_number};
 use super::IoError;
-use crate::machine::ParameterId;
 
 /// The value of one parameter block.
 #[derive(Clone, Debug, PartialEq)]
@@ -193,28 +192,6 @@ pub fn parse(text: &str, origin: &str) -> Result<EtalonFile, IoError> {
     Ok(EtalonFile { parameters, warnings })
 }
 
-/// ISG's kinematic parameters (nominal geometry, not errors): `P0X`, `N0X`, `PXA`, `VXX`.
-fn is_isg_geometry(name: &str) -> bool {
-    let c: Vec<char> = name.chars().collect();
-    match c.as_slice() {
-        ['P' | 'N', '0', a] => "XYZ".contains(*a),
-        ['P', d, a] => "XYZ".contains(*d) && "ABC".contains(*a),
-        ['V', d, a] => "XYZ".contains(*d) && "XYZABC".contains(*a),
-        _ => false,
-    }
-}
-
-/// The ISO 230-1 id of an exchange-format name: `X0C` -> `EX0C`, `EXY` -> `EXY`; `None` for ISG's
-/// kinematic parameters.
-pub fn parameter_id(name: &str) -> crate::error::Result<Option<ParameterId>> {
-    let upper = name.trim().to_ascii_uppercase();
-    if is_isg_geometry(&upper) {
-        return Ok(None);
-    }
-    let iso = if upper.len() == 3 && upper.as_bytes()[1] == b'0' { format!("E{upper}") } else { upper };
-    ParameterId::parse(&iso).map(Some).map_err(crate::Error::input)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -228,8 +205,6 @@ mod tests {
         assert_eq!(f.parameters[0].value, EtalonValue::Constant(0.000022355737));
         assert_eq!(f.parameters[1].value, EtalonValue::Table(vec![(-280.0, -0.001358635132), (-270.0, -0.000240680764)]));
         assert_eq!(f.parameters[2].value, EtalonValue::Table(vec![(0.0, 0.001), (10.0, 0.002)]));
-        assert_eq!(parameter_id("C0B").unwrap().unwrap().to_string(), "EC0B");
-        assert_eq!(parameter_id("P0X").unwrap(), None);
         assert!(looks_like(text));
     }
 
