@@ -64,7 +64,8 @@ impl fmt::Display for Origin {
 #[derive(Debug)]
 pub struct Error {
     kind: ErrorKind,
-    origin: Origin,
+    /// Boxed, so that an `Error` stays small in every `Result` that carries it.
+    origin: Box<Origin>,
     message: String,
     source: Option<Box<dyn std::error::Error + Send + Sync + 'static>>,
 }
@@ -75,7 +76,7 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 impl Error {
     /// An error of `kind` with `message` and no origin apart from it.
     pub fn new(kind: ErrorKind, message: impl Into<String>) -> Error {
-        Error { kind, origin: Origin::Unstated, message: message.into(), source: None }
+        Error { kind, origin: Box::new(Origin::Unstated), message: message.into(), source: None }
     }
     /// Bad input.
     pub fn input(message: impl Into<String>) -> Error {
@@ -92,32 +93,32 @@ impl Error {
 
     /// The same error, from the file `path`.
     pub fn in_file(mut self, path: impl Into<String>) -> Error {
-        let (line, column) = match self.origin {
+        let (line, column) = match *self.origin {
             Origin::File { line, column, .. } => (line, column),
             _ => (None, None),
         };
-        self.origin = Origin::File { path: path.into(), line, column };
+        *self.origin = Origin::File { path: path.into(), line, column };
         self
     }
     /// The same error, at `line` (from 1) of its file.
     pub fn at_line(mut self, line: usize) -> Error {
-        match &mut self.origin {
+        match &mut *self.origin {
             Origin::File { line: l, .. } => *l = Some(line),
-            _ => self.origin = Origin::File { path: String::new(), line: Some(line), column: None },
+            other => *other = Origin::File { path: String::new(), line: Some(line), column: None },
         }
         self
     }
     /// The same error, at `column` (from 1) of its line.
     pub fn at_column(mut self, column: usize) -> Error {
-        match &mut self.origin {
+        match &mut *self.origin {
             Origin::File { column: c, .. } => *c = Some(column),
-            _ => self.origin = Origin::File { path: String::new(), line: None, column: Some(column) },
+            other => *other = Origin::File { path: String::new(), line: None, column: Some(column) },
         }
         self
     }
     /// The same error, of the parameter or option `name`.
     pub fn for_parameter(mut self, name: impl Into<String>) -> Error {
-        self.origin = Origin::Parameter(name.into());
+        *self.origin = Origin::Parameter(name.into());
         self
     }
     /// The same error, caused by `source` (kept in the chain, e.g. for the environment test of
@@ -146,7 +147,7 @@ impl Error {
 
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match &self.origin {
+        match &*self.origin {
             Origin::Unstated => write!(f, "{}", self.message),
             Origin::File { path, line: None, column: None } if path.is_empty() => write!(f, "{}", self.message),
             Origin::File { path, .. } if path.is_empty() => {
@@ -187,7 +188,8 @@ macro_rules! bail {
 #[macro_export]
 macro_rules! ensure {
     ($condition:expr, $kind:ident, $($message:tt)+) => {
-        if !$condition {
+        let holds: bool = $condition;
+        if !holds {
             $crate::bail!($kind, $($message)+);
         }
     };
