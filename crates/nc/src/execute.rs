@@ -11,7 +11,7 @@
 //! `G51`/`G68`), 5-axis tool-centre-point and tilted-plane modes, polar coordinate mode (Fanuc `G16`).
 
 use crate::dialect::Dialect;
-use crate::dialects::{Group, Unknown};
+use crate::dialects::{gcode_text, Group, Unknown};
 use crate::expr::{evaluate, parameter_number, ParamRef};
 use crate::interpret::{Exec, Flow};
 use crate::lexer::{Line, Operand};
@@ -92,15 +92,6 @@ impl Words {
         for &l in AXIS_LETTERS.iter().chain(b"@^") {
             self.take(l);
         }
-    }
-}
-
-/// `G59.3`, `G1`.
-pub fn gcode_text(code: u16) -> String {
-    if code % 10 == 0 {
-        format!("{}", code / 10)
-    } else {
-        format!("{}.{}", code / 10, code % 10)
     }
 }
 

@@ -7,7 +7,8 @@
 //! position when an offset changes.
 
 use crate::dialect::Dialect;
-use crate::execute::{gcode_text, Words};
+use crate::dialects::gcode_text;
+use crate::execute::Words;
 use crate::interpret::Exec;
 use crate::modal::AXES;
 use crate::tools::AXIS_LETTERS;

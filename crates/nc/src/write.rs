@@ -9,7 +9,7 @@
 
 use crate::axes::MachineAxes;
 use crate::dialect::{format_number, Dialect};
-use crate::execute::gcode_text;
+use crate::dialects::gcode_text;
 use crate::lexer::Line;
 use crate::modal::{is_linear, Frame, Vec9, AXES};
 use crate::path::{arc_geometry, point_at, Pieces};

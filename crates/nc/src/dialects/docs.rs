@@ -3,7 +3,7 @@
 //! axis words, its numbers, comments and unknown codes.
 
 use super::{Comments, Controller, DialectTable, Group, Meaning, Unknown};
-use crate::execute::gcode_text;
+use crate::dialects::gcode_text;
 
 /// The groups in the order of the tables, with their names.
 const GROUPS: [(Group, &str); 15] = [

@@ -173,7 +173,7 @@ impl DialectTable {
     pub fn group(&self, code: u16) -> Result<Group, String> {
         match self.g_meaning(code) {
             Meaning::In(group) => Ok(group),
-            Meaning::Refused(why) => Err(format!("G{} {why}", crate::execute::gcode_text(code))),
+            Meaning::Refused(why) => Err(format!("G{} {why}", gcode_text(code))),
         }
     }
 
@@ -281,6 +281,15 @@ impl From<Dialect> for Controller {
 }
 
 mod detect;
+
+/// The text of a G code held in tenths (`593` -> `59.3`, `10` -> `1`), as the tables key them.
+pub fn gcode_text(code: u16) -> String {
+    if code % 10 == 0 {
+        format!("{}", code / 10)
+    } else {
+        format!("{}.{}", code / 10, code % 10)
+    }
+}
 
 pub use docs::markdown;
 

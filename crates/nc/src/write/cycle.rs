@@ -155,7 +155,7 @@ impl Writer<'_> {
         let mut words = vec![
             "G90".to_string(),
             if hole.retract_to_r { "G99" } else { "G98" }.to_string(),
-            format!("G{}", crate::execute::gcode_text(hole.code)),
+            format!("G{}", crate::dialects::gcode_text(hole.code)),
         ];
         let mut taken = [0.0; 4];
         for (d, letter) in [AXIS_LETTERS[a], AXIS_LETTERS[b], AXIS_LETTERS[c], b'R'].into_iter().enumerate() {

@@ -305,7 +305,7 @@ pub fn nc_json(result: &NcResult, out: Option<&str>) -> Value {
         "max_uncorrectable_urad": result.max_uncorrectable_urad,
         "holes": result.holes.iter().map(|h| json!({
             "line": h.line,
-            "cycle": format!("G{}", trueaxis_nc::execute::gcode_text(h.code)),
+            "cycle": format!("G{}", trueaxis_nc::dialects::gcode_text(h.code)),
             "axis": AXIS_NAMES[h.axis.min(2)],
             "lean_um": round4(h.lean_um),
             "clearance_um": round4(h.clearance_um),

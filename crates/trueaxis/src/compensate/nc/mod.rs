@@ -259,7 +259,7 @@ pub(super) fn hole_warnings(holes: &[write::HoleReport], origin: &str, resolutio
             format!(
                 "{origin}: line {}: G{} kept as a cycle, its bottom and R corrected at the hole; the plunge from R leans {:.2} um across the hole (the correction's change between R and the bottom), its clearance moves stand up to {:.2} um off",
                 h.line,
-                trueaxis_nc::execute::gcode_text(h.code),
+                trueaxis_nc::dialects::gcode_text(h.code),
                 h.lean_um,
                 h.clearance_um
             )
