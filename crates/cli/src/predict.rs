@@ -2,7 +2,7 @@
 
 use crate::{parse, Failure};
 use std::path::{Path, PathBuf};
-use trueaxis::data::{output_name, write_streamed, DataError};
+use trueaxis::data::{output_name, write_streamed};
 use trueaxis::error_model::ErrorModel;
 use trueaxis::geometry::Vec3;
 use trueaxis::machine::Machine;
@@ -71,8 +71,5 @@ pub fn run(args: PredictArgs) -> Result<(), Failure> {
     let format = if args.json { PredictionFormat::Json { frame: frame_name.into() } } else { PredictionFormat::Csv };
     let out = args.out.as_deref().unwrap_or(Path::new(trueaxis::data::STANDARD_OUTPUT));
     let origin = args.poses.display().to_string();
-    write_streamed(out, |w| predict_poses(&predictor, poses, &origin, format, w, &output_name(out)).map(drop)).map_err(|e| match e {
-        DataError::NotFinite { .. } => Failure::computation(e),
-        e => Failure::input(e),
-    })
+    write_streamed(out, |w| predict_poses(&predictor, poses, &origin, format, w, &output_name(out)).map(drop)).map_err(Failure::of)
 }

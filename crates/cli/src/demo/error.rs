@@ -29,3 +29,16 @@ pub enum DemoError {
     #[error("{0}; nothing was written")]
     Output(#[source] DataError),
 }
+
+impl From<DemoError> for trueaxis::Error {
+    /// An output directory that cannot be written is bad input (a bad `--out`, or the environment: a
+    /// full disk, a permission, found in the cause); anything else is a failed computation, since the
+    /// demo's inputs are built in.
+    fn from(e: DemoError) -> trueaxis::Error {
+        let kind = match e {
+            DemoError::Output(_) | DemoError::Data(DataError::Write { .. }) => trueaxis::ErrorKind::Input,
+            _ => trueaxis::ErrorKind::Computation,
+        };
+        trueaxis::Error::new(kind, e.to_string()).caused_by(e)
+    }
+}

@@ -27,8 +27,6 @@ mod specimen;
 mod summary;
 
 use crate::Failure;
-use error::DemoError;
-use trueaxis::data::DataError;
 
 /// Run the main job on the built-in 5-axis machine (the KX8-Five of Andolfatto et al. (2011)) with known errors: simulate
 /// a 3D-ball campaign with noise and cyclic drift and ballbar circles, identify, Monte Carlo
@@ -54,12 +52,7 @@ pub fn run(args: DemoArgs) -> Result<(), Failure> {
     };
     let result = job::run(&args.out, &mut progress);
     bar.finish_and_clear();
-    let summary = result.map_err(|e| match e {
-        // an output directory that cannot be written is a bad --out (or the environment: a full
-        // disk, a permission; `exit`)
-        DemoError::Output(_) | DemoError::Data(DataError::Write { .. }) => Failure::input(e),
-        other => Failure::computation(other),
-    })?;
+    let summary = result.map_err(Failure::of)?;
     if args.json {
         println!("{}", summary.json());
     } else {
