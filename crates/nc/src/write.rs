@@ -894,7 +894,8 @@ impl<'a> Writer<'a> {
         for (k, plan) in self.plan.lines.iter().enumerate() {
             let keep_first =
                 |l: &Result<Line, String>| matches!(l, Ok(l) if l.percent || l.program_number.is_some() && self.dialect == Dialect::Fanuc);
-            if !(noted || k < file.body.start || keep_first(&file.lines[k])) {
+            let siemens_head = self.program.controller == crate::Controller::Siemens && crate::siemens::is_file_header(file.line_text(k));
+            if !(noted || k < file.body.start || keep_first(&file.lines[k]) || siemens_head) {
                 at = Some(out.len());
                 noted = true;
             }
@@ -966,6 +967,10 @@ fn letter_start(text: &str, value_start: usize) -> usize {
     while i > 0 {
         i -= 1;
         if b[i].is_ascii_alphabetic() || matches!(b[i], b'@' | b'^') {
+            // a SINUMERIK address of several letters before `=` (`CR=5`)
+            while b.get(i + 1) == Some(&b'=') && i > 0 && b[i - 1].is_ascii_alphabetic() {
+                i -= 1;
+            }
             return i;
         }
     }

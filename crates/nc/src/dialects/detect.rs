@@ -37,11 +37,6 @@ pub(super) fn controller(text: &str) -> Controller {
     best(&marks).or_else(|| best(&named)).unwrap_or(Controller::of_family(family))
 }
 
-/// The first line (1-based) whose code marks `controller`.
-pub(super) fn first_line(text: &str, controller: Controller) -> Option<usize> {
-    text.lines().position(|raw| marker(&split_comment(&raw.trim().to_ascii_uppercase()).0) == Some(controller)).map(|k| k + 1)
-}
-
 /// The code part of an upper-case line and its comments (`( )`, and what follows `;`).
 fn split_comment(line: &str) -> (String, String) {
     let (mut code, mut comment) = (String::new(), String::new());
