@@ -137,6 +137,11 @@ impl Exec<'_> {
         self.trace.steps[step].writes.end = self.trace.writes.len() as u32;
         self.comments(file, pc.1, line)?;
         let flow = self.actions(&mut w, step)?;
+        if let Some(call) = &line.siemens_call {
+            crate::siemens::cycles::call(self, file, call, step)?;
+        } else if self.siemens_mcall.is_some() && w.any_axis_or_polar() {
+            crate::siemens::cycles::modal(self, step)?;
+        }
         if self.rs274_tool_change && w.ms().iter().any(|&m| m == 6 || m == 61) {
             self.rs274_resync(step);
         }

@@ -120,6 +120,8 @@ pub struct Line {
     pub program_number: Option<u32>,
     /// Byte offset after the last item (before a trailing comment): where new words go.
     pub end_of_items: usize,
+    /// A SINUMERIK cycle call or `MCALL` ([`crate::siemens`]).
+    pub siemens_call: Option<Box<crate::siemens::Call>>,
 }
 
 impl Line {
@@ -130,7 +132,11 @@ impl Line {
 
     /// Whether the line has nothing to execute (blank, comments only, `%`).
     pub fn is_empty(&self) -> bool {
-        self.words.is_empty() && self.assignments.is_empty() && self.statement.is_none() && self.program_number.is_none()
+        self.words.is_empty()
+            && self.assignments.is_empty()
+            && self.statement.is_none()
+            && self.program_number.is_none()
+            && self.siemens_call.is_none()
     }
 }
 

@@ -647,7 +647,10 @@ impl<'a> Writer<'a> {
             first.push(m.clone());
         }
         if let Some(m) = semicolons.first() {
-            first.push(format!("({})", m[1..].replace(['(', ')'], "")));
+            match self.program.controller {
+                crate::Controller::Siemens => first.push(m.to_string()),
+                _ => first.push(format!("({})", m[1..].replace(['(', ')'], ""))),
+            }
         }
         if !first.is_empty() {
             out.push(first.join(" "));
@@ -802,6 +805,8 @@ impl<'a> Writer<'a> {
         let sequence = self.program.files[0].lines[k].as_ref().ok().and_then(|l| l.sequence);
         self.region_changed = false;
         let mut lines = self.expanded(step, pieces, sequence);
+        // a SINUMERIK cycle call never stays: the controller would drill again at the moves
+        self.region_changed |= step.has(crate::trace::flags::SIEMENS_CYCLE);
         let text = self.program.files[0].line_text(k).to_string();
         let nurbs = step.has(crate::trace::flags::NURBS);
         if nurbs && !step.has(crate::trace::flags::SPLINE) {
@@ -825,7 +830,11 @@ impl<'a> Writer<'a> {
             self.notes.push(format!("line {}, {what}", k + 1 + self.line_offset as usize));
             self.changed_lines += 1 + control_points.len();
             self.inserted_lines += lines.len().saturating_sub(1);
-            if let Some(c) = comment_of(&text) {
+            let comment = match self.program.controller {
+                crate::Controller::Siemens => text.find(';').map(|i| text[i..].to_string()),
+                _ => comment_of(&text),
+            };
+            if let Some(c) = comment {
                 if let Some(first) = lines.first_mut() {
                     if !first.contains(&c) {
                         first.push_str(&format!(" {c}"));
@@ -907,7 +916,10 @@ impl<'a> Writer<'a> {
             match &self.out[k] {
                 Some(lines) => {
                     for (i, l) in lines.iter().enumerate() {
-                        encode_line(l, bytewise, out);
+                        match self.program.controller {
+                            crate::Controller::Siemens => encode_line(&crate::siemens::write::spell(l), bytewise, out),
+                            _ => encode_line(l, bytewise, out),
+                        }
                         out.extend_from_slice(if i + 1 == lines.len() { ending.bytes() } else { self.eol.bytes() });
                     }
                 }

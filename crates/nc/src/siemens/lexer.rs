@@ -12,6 +12,7 @@
 //! scaled and mirrored frames, 5-axis transformations, probing, cycles, subprogram calls, control
 //! flow), is refused with its line and the reason.
 
+use super::cycles::Call;
 use super::expr::Parser;
 use super::{R_BASE, R_COUNT};
 use crate::dialect::Dialect;
@@ -64,7 +65,6 @@ const REFUSED: &[(&str, &str)] = &[
     ("TRANSMIT", "(face-end transformation) is not supported"),
     ("TRACYL", "(cylinder surface transformation) is not supported"),
     ("CYCLE800", "(swivel plane) with parameters is not supported: correct the program in machine axes"),
-    ("MCALL", "(modal cycle call) is not read yet"),
     ("CIP", "(circle through an intermediate point) is not read yet: write G2/G3 with I J or CR="),
     ("CT", "(tangential circle) is not read yet: write G2/G3 with I J or CR="),
     ("DEF", "(local variable definition) is not read yet: use R parameters"),
@@ -289,8 +289,24 @@ impl Block {
                 }
                 p.skip_arguments()
             }
+            "MCALL" => {
+                let call = match p.peek_raw() {
+                    0 | b';' => Call::ModalOff,
+                    _ => match p.name().as_str() {
+                        c @ ("CYCLE81" | "CYCLE82") => cycle_call(c, true, p, arena)?,
+                        other => return Err(format!("MCALL {other}: a modal call of CYCLE81 or CYCLE82 is read")),
+                    },
+                };
+                line.siemens_call = Some(Box::new(call));
+                Ok(())
+            }
+            c @ ("CYCLE81" | "CYCLE82") => {
+                line.siemens_call = Some(Box::new(cycle_call(c, false, p, arena)?));
+                Ok(())
+            }
+            "CYCLE83" => Err("CYCLE83 (deep-hole drilling) is not read yet: its anticipation distance is computed inside the cycle".into()),
             n if n.starts_with("CYCLE") => {
-                Err(format!("{n} is not read: CYCLE81-CYCLE83 are not read yet; other cycles make moves of their own"))
+                Err(format!("{n} is not read: of the cycles, CYCLE81 and CYCLE82 are read; others make moves of their own"))
             }
             n if n.starts_with('L') && n[1..].bytes().all(|c| c.is_ascii_digit()) && n.len() > 1 => {
                 Err(format!("{n} (subprogram call) is not read yet"))
@@ -395,6 +411,30 @@ impl Block {
     }
 }
 
+/// `CYCLE8x(a, , c)`: the parameters, each an expression or left empty.
+fn cycle_call(name: &str, modal: bool, p: &mut Parser, arena: &mut Vec<Node>) -> Result<Call, String> {
+    let number = name[5..].parse().expect("CYCLE and digits");
+    if p.peek_raw() != b'(' {
+        return Err(format!("{name} without its parameters in ( )"));
+    }
+    p.i += 1;
+    let mut args = Vec::new();
+    loop {
+        args.push(match p.peek_raw() {
+            b',' | b')' => None,
+            _ => Some(p.expression(arena)?),
+        });
+        match p.peek_raw() {
+            b',' => p.i += 1,
+            b')' => {
+                p.i += 1;
+                return Ok(Call::Cycle { number, args, modal });
+            }
+            _ => return Err(format!("`,` or `)` expected in the parameters of {name} at column {}", p.i + 1)),
+        }
+    }
+}
+
 fn refusal(name: &str) -> &'static str {
     REFUSED.iter().find(|(k, _)| *k == name).map_or("is not read", |(_, why)| why)
 }
@@ -466,6 +506,8 @@ mod tests {
             ("TRAORI", "TRAORI (5-axis"),
             ("CYCLE800(0,\"TC1\",200000,57,0,0,0,0,45,0,0,0,0,1)", "CYCLE800 (swivel plane)"),
             ("CYCLE977(101,1,,1,50,,,3,1,1,,,1)", "CYCLE977 is not read"),
+            ("MCALL CYCLE84(10,0,2,-12)", "MCALL CYCLE84: a modal call of CYCLE81 or CYCLE82"),
+            ("CYCLE81(10,0,2,-5", "`,` or `)` expected"),
             ("G1 X=IC(5)", "`IC(...)`"),
             ("G2 X10 Y0 AR=90", "AR= (an arc by its opening angle)"),
             ("T=\"FACE MILL 50\"", "T=\"name\""),
@@ -479,5 +521,24 @@ mod tests {
             let message = refused(text);
             assert!(message.contains(says), "{text}: {message}");
         }
+    }
+}
+
+#[cfg(test)]
+mod cycle_tests {
+    use super::*;
+
+    #[test]
+    fn cycle_calls_with_empty_parameters_and_mcall_on_and_off() {
+        let mut arena = Vec::new();
+        let l = parse_line("N50 MCALL CYCLE81(10, 0, 2, , R5*2) ; modal", 1, Dialect::LinuxCnc, &mut arena, false).unwrap();
+        let Some(call) = l.siemens_call.as_deref() else { panic!("a call") };
+        let Call::Cycle { number: 81, args, modal: true } = call else { panic!("{call:?}") };
+        assert_eq!(args.iter().map(Option::is_some).collect::<Vec<_>>(), vec![true, true, true, false, true]);
+        assert!(!l.is_empty());
+        let l = parse_line("CYCLE82(15,0,1,-8,,0.5)", 1, Dialect::LinuxCnc, &mut arena, false).unwrap();
+        assert!(matches!(l.siemens_call.as_deref(), Some(Call::Cycle { number: 82, modal: false, .. })));
+        let l = parse_line("N90 MCALL", 1, Dialect::LinuxCnc, &mut arena, false).unwrap();
+        assert_eq!(l.siemens_call.as_deref(), Some(&Call::ModalOff));
     }
 }

@@ -10,9 +10,12 @@
 //!
 //! R parameters `R0`-`R999` are kept as the numbered parameters `#1000`-`#1999` of the run.
 
+pub mod cycles;
 pub mod expr;
 pub mod lexer;
+pub mod write;
 
+pub use cycles::Call;
 pub use lexer::{is_file_header, parse_line};
 
 /// The first numbered parameter that holds `R0`.

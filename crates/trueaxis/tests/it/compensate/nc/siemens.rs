@@ -93,7 +93,7 @@ fn same_kind(a: &Kind, b: &Kind) -> bool {
 
 fn options(m: &Machine) -> NcOptions {
     let mut options = NcOptions::new(m);
-    options.setup.tools = ToolTable::parse("T1 Z100\n", "tools").unwrap();
+    options.setup.tools = ToolTable::parse("T1 Z100\nT2 Z120\n", "tools").unwrap();
     let mut offset = vec![0.0; m.axis_count()];
     offset[2] = G54_Z;
     options.setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(m), 1, &offset);
@@ -101,44 +101,101 @@ fn options(m: &Machine) -> NcOptions {
     options
 }
 
-#[test]
-fn a_hand_written_840d_program_is_read_and_corrected_in_its_language() {
+/// Reads `text` (as the expansion, 1e-9 mm), corrects it, reads the correction back through the
+/// erroneous machine (half the written increment); the corrected text.
+fn check(name: &str, text: &str, expected: &Expansion) -> String {
     let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
     let e = ErrorModel::load("../../examples/errors/vmc3.toml", &m).unwrap();
     let mut options = options(&m);
     let id = |name: &str| trueaxis::compensate::nc::FileId::of(name, name.as_bytes());
     options.header = Some(trueaxis::compensate::nc::Header { machine: id("vmc3.toml"), errors: id("vmc3 errors") });
-    let expected = plate_expansion();
-    let original = read(&m, PLATE, &options);
-    assert_eq!(original.len(), expected.moves.len(), "{original:#?}");
+    let original = read(&m, text, &options);
+    assert_eq!(original.len(), expected.moves.len(), "{name}: {original:#?}");
     for (i, (o, x)) in original.iter().zip(&expected.moves).enumerate() {
         let same = o.end.iter().zip(&x.end).all(|(a, b)| (a - b).abs() < 1e-9) && o.tool == x.tool && same_kind(&o.kind, &x.kind);
-        assert!(same, "move {}: read {o:?}, expected {x:?}", i + 1);
+        assert!(same, "{name}: move {}: read {o:?}, expected {x:?}", i + 1);
     }
     let corrector = Corrector::new(&m, &e);
-    let r = correct_program(&corrector, PLATE, "plate.mpf", &options, &[]).unwrap_or_else(|e| panic!("{e}"));
-    let text = r.text();
+    let r = correct_program(&corrector, text, name, &options, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let corrected_text = r.text();
     assert_eq!(r.dialect, Controller::Siemens);
-    assert!(r.expanded.is_empty(), "{:?}", r.expanded);
-    // the file header first, the trueaxis header after it in `;` comments, no parentheses
-    let lines: Vec<&str> = text.lines().collect();
-    assert_eq!(&lines[..2], &["%_N_PLATE_MPF", ";$PATH=/_N_WKS_DIR/_N_PLATE_WPD"]);
-    assert!(lines[2].starts_with(";trueaxis ") && lines[5].starts_with(";trueaxis dialect siemens"), "{text}");
-    assert!(text.contains("N20 MSG(\"PLATE 1 (POCKET)\")\n") && text.contains("N70 R4=R1/2+SQRT(POT(3)+POT(4))-2*3 ; 19\n"));
-    assert!(!text.contains("CR=10\n") && text.contains("CR=-10 ; over 180") == text.contains("N160 G3 X30 Y45 "), "{text}");
-    for l in text.lines().filter(|l| !l.starts_with(';') && !l.contains("MSG(")) {
-        assert!(!l.contains('(') || l.contains("POT("), "a parenthesis outside a comment or an expression: {l}");
-    }
-    let corrected = read(&m, &text, &options);
+    // the file header first, the trueaxis header after it in `;` comments
+    let lines: Vec<&str> = corrected_text.lines().collect();
+    assert!(lines[0].starts_with("%_N_") && lines[1].starts_with(";$PATH=/_N_WKS_DIR/"), "{name}: {corrected_text}");
+    assert!(lines[2].starts_with(";trueaxis ") && lines[5].starts_with(";trueaxis dialect siemens"), "{name}: {corrected_text}");
+    let corrected = read(&m, &corrected_text, &options);
     let oracle = Oracle { machine: &m, errors: &e, temperatures: vec![] };
     let mut start = vec![0.0; m.axis_count()];
     start[2] = START_Z;
     let report = oracle
-        .compare(&expected.moves, &corrected, &start, TOLERANCE_UM, 1.0 + TOLERANCE_UM, &homes(&m, PLATE, &options))
-        .unwrap_or_else(|err| panic!("{err}\n{text}"));
+        .compare(&expected.moves, &corrected, &start, TOLERANCE_UM, 1.0 + TOLERANCE_UM, &homes(&m, text, &options))
+        .unwrap_or_else(|err| panic!("{name}: {err}\n{corrected_text}"));
     println!(
-        "840D plate: {} moves, {} pieces, ends within {:.4} um, path within {:.3} um\n{text}",
+        "{name}: {} moves, {} pieces, ends within {:.4} um, path within {:.3} um\n{corrected_text}",
         report.moves, report.pieces, report.worst_end_um, report.worst_path_um
     );
-    assert!(r.changed_lines > 10);
+    assert!(r.changed_lines > 5);
+    corrected_text.to_string()
+}
+
+#[test]
+fn a_hand_written_840d_program_is_read_and_corrected_in_its_language() {
+    let text = check("plate.mpf", PLATE, &plate_expansion());
+    assert!(text.contains("N20 MSG(\"PLATE 1 (POCKET)\")\n") && text.contains("N70 R4=R1/2+SQRT(POT(3)+POT(4))-2*3 ; 19\n"));
+    // CR= arcs whose ends move are written with their centres
+    assert!(!text.contains("CR=10\n") && text.contains("CR=-10 ; over 180") == text.contains("N160 G3 X30 Y45 "), "{text}");
+    for l in text.lines().filter(|l| !l.starts_with(';') && !l.contains("MSG(")) {
+        assert!(!l.contains('(') || l.contains("POT("), "a parenthesis outside a comment or an expression: {l}");
+    }
+}
+
+/// Drilling as the 840D's cycles do it: `MCALL CYCLE81` over three positions, a direct
+/// `CYCLE82` whose DPR counts over its DP.
+const DRILL: &str = "\
+%_N_DRILL_MPF
+;$PATH=/_N_WKS_DIR/_N_DRILL_WPD
+N10 G17 G90 G40 G71 G94
+N20 T2 D1
+N30 M6
+N40 G54 S2000 M3
+N50 G0 X20 Y20 Z15
+N60 F150
+N70 MCALL CYCLE81(15, 0, 2, -12) ; holes
+N80 X20 Y20
+N90 X40
+N100 Y40
+N110 MCALL
+N120 G0 X60 Y60
+N130 CYCLE82(15, 0, 2, -30, 8, 0.5)
+N140 G0 Z50
+N150 M30
+";
+
+/// DRILL's moves from the manual's sequence: G0 to RFP + SDIS, G1 to the depth, G0 to RTP.
+fn drill_expansion() -> Expansion {
+    let mut e = Expansion::new();
+    e.tool = 120.0;
+    let hole = |e: &mut Expansion, x: f64, y: f64, depth: f64| {
+        e.go(true, [x, y, 2.0]);
+        e.go(false, [x, y, depth]);
+        e.go(true, [x, y, 15.0]);
+    };
+    e.go(true, [20.0, 20.0, 15.0]);
+    e.go(true, [20.0, 20.0, 15.0]);
+    hole(&mut e, 20.0, 20.0, -12.0);
+    e.go(true, [40.0, 20.0, 15.0]);
+    hole(&mut e, 40.0, 20.0, -12.0);
+    e.go(true, [40.0, 40.0, 15.0]);
+    hole(&mut e, 40.0, 40.0, -12.0);
+    e.go(true, [60.0, 60.0, 15.0]);
+    hole(&mut e, 60.0, 60.0, -8.0);
+    e.go(true, [60.0, 60.0, 50.0]);
+    e
+}
+
+#[test]
+fn drilling_cycles_called_modally_and_directly_become_corrected_moves() {
+    let text = check("drill.mpf", DRILL, &drill_expansion());
+    // the calls are taken out (the SINUMERIK would drill again at the corrected moves)
+    assert!(!text.contains("CYCLE8") && text.contains("\nN70 ; holes\n") && text.contains("\nG4 F0.5\n"), "{text}");
 }
