@@ -510,6 +510,11 @@ impl Exec<'_> {
                     self.state.set_inch(code == 200);
                     setup(self, b'G', f64::from(code) / 10.0);
                 }
+                // the SINUMERIK's inch and metric: G70/G700, G71/G710
+                700 | 710 | 7000 | 7100 if self.table.group(code) == Ok(Group::Units) => {
+                    self.state.set_inch(matches!(code, 700 | 7000));
+                    setup(self, b'G', f64::from(code) / 10.0);
+                }
                 400 => setup(self, b'G', 40.0),
                 _ => {}
             }

@@ -818,7 +818,9 @@ impl<'a> Writer<'a> {
         }
         let control_points = std::mem::take(&mut self.nurbs_lines);
         if self.region_changed {
-            let what = if nurbs {
+            let what = if step.has(crate::trace::flags::SIEMENS_CYCLE) {
+                "SINUMERIK drilling cycle as moves"
+            } else if nurbs {
                 "NURBS (G5.2-G5.3) as lines within 1 um of the curve"
             } else if step.has(crate::trace::flags::SPLINE) {
                 "spline as lines within 1 um of the curve"

@@ -10,7 +10,9 @@
 //! - `G0` to the retraction plane RTP.
 //!
 //! Parameters: `CYCLE81(RTP, RFP, SDIS, DP, DPR)`, `CYCLE82(RTP, RFP, SDIS, DP, DPR, DTB)`, each
-//! may be left empty (0, as the cycle takes it; DP or DPR must give the depth). The holes are written
+//! may be left empty (0, as the cycle takes it; DP or DPR must give the depth); the 840D sl's
+//! trailing `_GMODE, _DMODE, _AMODE` are read when `_GMODE` and `_AMODE` are empty or 0 (`_DMODE`
+//! only sets the display). The holes are written
 //! as plain moves (each point corrected), the cycle call taken out of the corrected program.
 
 use crate::expr::ExprId;
@@ -44,11 +46,17 @@ impl Drilling {
     /// From the values of `CYCLE<number>(...)`.
     fn of(number: u16, v: &[Option<f64>]) -> Result<Drilling, String> {
         let name = format!("CYCLE{number}");
-        let most = if number == 81 { 5 } else { 6 };
-        if v.len() > most {
-            return Err(format!("{name} takes {most} parameters, not {}", v.len()));
+        // the 840D sl's mode parameters _GMODE, _DMODE (display only), _AMODE after the others
+        let modes = if number == 81 { 5 } else { 6 };
+        if v.len() > modes + 3 {
+            return Err(format!("{name} takes {} parameters, not {}", modes + 3, v.len()));
         }
         let get = |k: usize| v.get(k).copied().flatten();
+        for (k, mode) in [(modes, "_GMODE"), (modes + 2, "_AMODE")] {
+            if let Some(m) = get(k).filter(|&m| m != 0.0) {
+                return Err(format!("{name}: {mode} {m} (a mode of the 840D sl's cycle) is not read: leave it empty or 0"));
+            }
+        }
         let (rtp, rfp, sdis) = (get(0).unwrap_or(0.0), get(1).unwrap_or(0.0), get(2).unwrap_or(0.0).abs());
         let depth = match (get(3), get(4)) {
             (_, Some(dpr)) if dpr != 0.0 => rfp - dpr.abs(),
@@ -112,4 +120,26 @@ fn drill(exec: &mut Exec, d: &Drilling, step: usize) -> Result<(), String> {
     }
     p[2] = d.rtp;
     exec.straight(true, p, Role::Generated, false, 0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn depth_from_dp_or_dpr_and_the_mode_parameters() {
+        let d = Drilling::of(81, &[Some(15.0), Some(0.0), Some(2.0), Some(-12.0), None]).unwrap();
+        assert_eq!((d.rtp, d.start, d.depth, d.dwell), (15.0, 2.0, -12.0, 0.0));
+        // DPR (without sign) counts over DP
+        let d = Drilling::of(82, &[Some(15.0), Some(1.0), Some(2.0), Some(-30.0), Some(-8.0), Some(0.5)]).unwrap();
+        assert_eq!((d.start, d.depth, d.dwell), (3.0, -7.0, 0.5));
+        let sl = [Some(10.0), Some(0.0), Some(2.0), Some(-4.0), None, Some(0.0), Some(1.0), None];
+        assert_eq!(Drilling::of(81, &sl).unwrap().depth, -4.0);
+        let mut amode = sl;
+        amode[7] = Some(10.0);
+        assert!(Drilling::of(81, &amode).unwrap_err().contains("_AMODE 10"));
+        assert!(Drilling::of(81, &[Some(10.0), Some(0.0), Some(2.0)]).unwrap_err().contains("without its final depth"));
+        assert!(Drilling::of(81, &[Some(1.0), Some(0.0), Some(2.0), Some(-4.0)]).unwrap_err().contains("RTP 1 is below"));
+        assert!(Drilling::of(82, &[Some(10.0), Some(0.0), Some(2.0), Some(-4.0), None, Some(-2.0)]).unwrap_err().contains("revolutions"));
+    }
 }

@@ -376,8 +376,16 @@ impl Block {
             for (k, l) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
                 match line.words.iter_mut().find(|w| w.letter == l) {
                     Some(w) if additive => {
-                        // ATRANS: the shift so far (LinuxCNC keeps the G52 shift in #5211...) plus the value
-                        let shift = push(arena, Node::Param(ParamRef::Numbered(5211 + k as u32)));
+                        // ATRANS: the shift so far plus the value; LinuxCNC keeps the G52 shift in
+                        // #5211... in machine units (mm): / 25.4 in G70 (#<_metric> 0)
+                        let stored = push(arena, Node::Param(ParamRef::Numbered(5211 + k as u32)));
+                        let metric = push(arena, Node::Param(ParamRef::Named("_metric".into())));
+                        let one = push(arena, Node::Const(1.0));
+                        let inch = push(arena, Node::Binary(Op::Minus, one, metric));
+                        let step = push(arena, Node::Const(crate::MM_PER_INCH - 1.0));
+                        let more = push(arena, Node::Binary(Op::Times, inch, step));
+                        let factor = push(arena, Node::Binary(Op::Plus, one, more));
+                        let shift = push(arena, Node::Binary(Op::Divide, stored, factor));
                         let value = match w.value {
                             Operand::Number(v) => push(arena, Node::Const(v)),
                             Operand::Expr(e) => e,
@@ -488,7 +496,8 @@ mod tests {
         // ATRANS: the shift kept in #5211... plus the value
         let (l, a) = read("ATRANS Z-2");
         let Operand::Expr(e) = l.word(b'Z').unwrap().value else { panic!("an expression") };
-        assert!(matches!(&a[e as usize], Node::Binary(Op::Plus, s, _) if a[*s as usize] == Node::Param(ParamRef::Numbered(5213))));
+        let Node::Binary(Op::Plus, shift, _) = &a[e as usize] else { panic!("a sum") };
+        assert!(matches!(&a[*shift as usize], Node::Binary(Op::Divide, s, _) if a[*s as usize] == Node::Param(ParamRef::Numbered(5213))));
         assert!(l.word(b'X').is_none());
         let g = |t: &str| read(t).0.words.iter().filter(|w| w.letter == b'G').map(|w| w.value).collect::<Vec<_>>();
         assert_eq!(g("T1 D1"), vec![Operand::Number(43.0)]);

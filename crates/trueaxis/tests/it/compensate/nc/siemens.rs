@@ -199,3 +199,16 @@ fn drilling_cycles_called_modally_and_directly_become_corrected_moves() {
     // the calls are taken out (the SINUMERIK would drill again at the corrected moves)
     assert!(!text.contains("CYCLE8") && text.contains("\nN70 ; holes\n") && text.contains("\nG4 F0.5\n"), "{text}");
 }
+
+#[test]
+fn g70_is_inch_and_g71_mm() {
+    let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
+    let mut options = options(&m);
+    options.dialect = Some(Controller::Siemens);
+    let moves = read(&m, "N10 G17 G90 G70\nN20 G0 X1 Y2\nN30 G710 G1 X1 F100\nN40 G700 Y1\nN50 M30\n", &options);
+    let xy: Vec<[f64; 2]> = moves.iter().map(|c| [c.end[0], c.end[1]]).collect();
+    for (got, want) in xy.iter().zip([[25.4, 50.8], [1.0, 50.8], [1.0, 25.4]]) {
+        assert!((got[0] - want[0]).abs() < 1e-9 && (got[1] - want[1]).abs() < 1e-9, "{xy:?}");
+    }
+    assert_eq!(xy.len(), 3);
+}
