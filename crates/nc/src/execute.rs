@@ -136,9 +136,11 @@ impl Exec<'_> {
         }
         self.trace.steps[step].writes.end = self.trace.writes.len() as u32;
         self.comments(file, pc.1, line)?;
-        let flow = self.actions(&mut w, step)?;
+        let mut flow = self.actions(&mut w, step)?;
         if let Some(call) = &line.siemens_call {
-            crate::siemens::cycles::call(self, file, call, step)?;
+            if let Some(f) = crate::siemens::cycles::call(self, file, call, step)? {
+                flow = f;
+            }
         } else if self.siemens_mcall.is_some() && w.any_axis_or_polar() {
             crate::siemens::cycles::modal(self, step)?;
         }
@@ -449,6 +451,11 @@ impl Exec<'_> {
                     self.trace.steps[step].flags |= flags::CALL;
                     continue;
                 }
+                // SINUMERIK: M17 ends a subprogram (Fundamentals, "Subprogram technique")
+                17 if self.table.name == "siemens" && !self.calls.is_empty() => {
+                    flow = Flow::Return { value: None, sequence: None };
+                    continue;
+                }
                 99 if fanuc => {
                     let p = w.take(b'P');
                     flow = Flow::Return { value: None, sequence: p.map(|v| v.round() as u32) };
@@ -672,7 +679,10 @@ impl Exec<'_> {
         }
         // stops
         for &m in w.ms() {
-            if matches!(m, 0 | 1 | 2 | 30 | 60) {
+            if matches!(m, 2 | 30) && self.table.name == "siemens" && !self.calls.is_empty() {
+                // SINUMERIK: M2/M30 in a subprogram ends it as M17 does
+                flow = Flow::Return { value: None, sequence: None };
+            } else if matches!(m, 0 | 1 | 2 | 30 | 60) {
                 self.stop_words.push((b'M', f64::from(m)));
                 if matches!(m, 2 | 30) {
                     flow = Flow::End;

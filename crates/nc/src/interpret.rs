@@ -40,6 +40,12 @@ pub(crate) enum Flow {
         repeat: u32,
         args: Option<Vec<f64>>,
     },
+    /// SINUMERIK `L10 P3`, `NAME`, `CALL "NAME"`: the subprogram file run `passes` times (the R
+    /// parameters are global: no new level).
+    CallFile {
+        name: String,
+        passes: u32,
+    },
     /// `endsub`/`return` (with a value) or Fanuc `M99` (with a `P` sequence number to return to).
     Return {
         value: Option<f64>,
@@ -237,7 +243,7 @@ impl<'m> Runner<'m> {
                 return Err(NcError {
                     file: file.name.clone(),
                     line: file.first_line + file.lines.len(),
-                    message: "the subroutine file ends inside a subroutine (no endsub / M99)".into(),
+                    message: "the subroutine file ends inside a subroutine (no endsub / M99; SINUMERIK: M17, RET, M2 or M30)".into(),
                 });
             }
             let here_line = file.first_line + pc.1 + 1;
@@ -263,7 +269,7 @@ impl<'m> Runner<'m> {
                 Flow::End => return ended(exec, program),
                 _ if self.in_parts => return Ok(Progress::NeedsWhole(here_line)),
                 Flow::Jump(k) => self.pc.1 = k,
-                Flow::Call(..) | Flow::CallProgram { .. } if exec.calls.len() >= MAX_CALL_LEVELS => {
+                Flow::Call(..) | Flow::CallProgram { .. } | Flow::CallFile { .. } if exec.calls.len() >= MAX_CALL_LEVELS => {
                     return Err(at(format!("more than {MAX_CALL_LEVELS} nested subroutine calls (a call of itself?)"), program));
                 }
                 Flow::Call(label, args) => {
@@ -281,9 +287,15 @@ impl<'m> Runner<'m> {
                     exec.enter(pc, (f, k + 1), repeat - 1, locals, args.as_deref().unwrap_or(&[]));
                     self.pc = (f, k + 1);
                 }
+                Flow::CallFile { name, passes } => {
+                    let (f, k) = program.find_siemens_sub(&name).map_err(|m| at(m, program))?;
+                    exec.enter(pc, (f, k), passes - 1, false, &[]);
+                    self.pc = (f, k);
+                }
                 Flow::Return { value, sequence } => {
                     let Some(call) = exec.calls.last_mut() else {
                         let m = match dialect {
+                            _ if program.controller == crate::Controller::Siemens => "RET or M17 outside a subprogram".into(),
                             Dialect::Fanuc => "M99 in the main program restarts it endlessly".into(),
                             Dialect::LinuxCnc => "return outside a subroutine call".into(),
                         };

@@ -261,7 +261,12 @@ impl Planner<'_> {
                                 }
                             }
                             (None, Some(Statement::O(label, _))) => format!("{label} call (a subroutine file)"),
-                            (None, _) => "a subprogram call".into(),
+                            (None, _) => match self.program.files[0].lines[k].as_ref().ok().and_then(|l| l.siemens_call.as_deref()) {
+                                Some(crate::siemens::Call::Sub { name, passes }) => {
+                                    format!("{name}, a subprogram file run {passes} time{}", if *passes > 1 { "s" } else { "" })
+                                }
+                                _ => "a subprogram call".into(),
+                            },
                         };
                         self.region(k..k + 1, level, format!("line {}, {what}", k + 1));
                     }

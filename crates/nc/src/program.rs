@@ -368,6 +368,29 @@ impl Program {
         Ok((self.files.len() - 1, k))
     }
 
+    /// The file and first line of SINUMERIK subprogram `name` (`L10`, `PLATE`): a file loaded
+    /// before, or `NAME.SPF`, `NAME.spf`, `_N_NAME_SPF` on the search path, read in the
+    /// SINUMERIK's language.
+    pub fn find_siemens_sub(&mut self, name: &str) -> Result<(usize, usize), String> {
+        let candidates = [format!("{name}.SPF"), format!("{name}.spf"), format!("_N_{name}_SPF")];
+        let loaded = |f: &SourceFile| {
+            let base = std::path::Path::new(&f.name).file_name().map(|b| b.to_string_lossy().to_string());
+            base.is_some_and(|b| candidates.contains(&b))
+        };
+        if let Some(f) = self.files.iter().skip(1).position(loaded) {
+            return Ok((f + 1, self.files[f + 1].body.start));
+        }
+        let (path, text) = self.read_on_path(&candidates).ok_or_else(|| {
+            format!("subprogram {name} is not a file {name}.SPF, {name}.spf or _N_{name}_SPF on the search path ({})", self.search_list())
+        })?;
+        let read = self.controller.line_reader();
+        let file = SourceFile::load_part_with(&path, &text, self.dialect, &mut PartState::default(), true, read)
+            .map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
+        let start = file.body.start;
+        self.files.push(file);
+        Ok((self.files.len() - 1, start))
+    }
+
     fn read_on_path(&self, candidates: &[String]) -> Option<(String, Vec<u8>)> {
         for dir in &self.search.0 {
             for c in candidates {

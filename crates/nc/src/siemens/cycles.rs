@@ -16,7 +16,7 @@
 //! as plain moves (each point corrected), the cycle call taken out of the corrected program.
 
 use crate::expr::ExprId;
-use crate::interpret::Exec;
+use crate::interpret::{Exec, Flow};
 use crate::modal::PlaneSelect;
 use crate::program::SourceFile;
 use crate::trace::{flags, Role};
@@ -28,6 +28,10 @@ pub enum Call {
     Cycle { number: u16, args: Vec<Option<ExprId>>, modal: bool },
     /// `MCALL` alone: the modal call off.
     ModalOff,
+    /// A subprogram call (`L10`, `NAME`, `CALL "NAME"`) run `passes` times (`P`).
+    Sub { name: String, passes: u32 },
+    /// `RET` (`M17` is read at run time, as an M code).
+    Return,
 }
 
 /// A drilling cycle's values (program units, along Z).
@@ -78,13 +82,15 @@ impl Drilling {
     }
 }
 
-/// Runs the cycle call of a block, or sets or ends the modal call.
-pub(crate) fn call(exec: &mut Exec, file: &SourceFile, call: &Call, step: usize) -> Result<(), String> {
+/// Runs the cycle call of a block, or sets or ends the modal call; a subprogram call or return
+/// is the flow after the block ([`super::subprograms`]).
+pub(crate) fn call(exec: &mut Exec, file: &SourceFile, call: &Call, step: usize) -> Result<Option<Flow>, String> {
     let (number, args, modal) = match call {
         Call::ModalOff => {
             exec.siemens_mcall = None;
-            return Ok(());
+            return Ok(None);
         }
+        Call::Sub { .. } | Call::Return => return super::subprograms::flow(exec, call, step).map(Some),
         Call::Cycle { number, args, modal } => (*number, args, *modal),
     };
     let values = args.iter().map(|a| a.map(|e| exec.eval(file, e)).transpose()).collect::<Result<Vec<_>, _>>()?;
@@ -93,9 +99,9 @@ pub(crate) fn call(exec: &mut Exec, file: &SourceFile, call: &Call, step: usize)
     exec.trace.steps[step].flags |= flags::EXPAND | flags::SIEMENS_CYCLE;
     if modal {
         exec.siemens_mcall = Some(drilling);
-        return Ok(());
+        return Ok(None);
     }
-    drill(exec, &drilling, step)
+    drill(exec, &drilling, step).map(|()| None)
 }
 
 /// The modal cycle after a block that programmed a position.

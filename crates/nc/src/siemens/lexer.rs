@@ -8,9 +8,11 @@
 //! interpreter's terms (the `G52` of a `TRANS`, the `G43` of a `D1`) is added as words with an
 //! empty span, which the writer never changes.
 //!
-//! A file header `%_N_NAME_MPF` is read as a comment. What is not read yet, or never (rotated,
-//! scaled and mirrored frames, 5-axis transformations, probing, cycles, subprogram calls, control
-//! flow), is refused with its line and the reason.
+//! A file header `%_N_NAME_MPF` or `;$PATH=...` is read as an empty line (the writer keeps the
+//! main file's). What is not read yet, or never (rotated,
+//! scaled and mirrored frames, 5-axis transformations, probing, cycles, subprograms with
+//! parameters, control flow), is refused with its line and the reason. A subprogram call (`L10 P3`,
+//! `NAME`, `CALL "NAME"`) and `RET` are read as a [`Call`] ([`super::subprograms`]).
 
 use super::cycles::Call;
 use super::expr::Parser;
@@ -76,9 +78,6 @@ const REFUSED: &[(&str, &str)] = &[
     ("REPEAT", "(loop) is not read yet"),
     ("FOR", "(loop) is not read yet"),
     ("LOOP", "(loop) is not read yet"),
-    ("CALL", "(subprogram call) is not read yet"),
-    ("PROC", "(subprogram definition) is not read yet"),
-    ("RET", "(subprogram return) is not read yet"),
     ("MEAS", "(measuring) stops where the probe touches: the moves after it are not known beforehand"),
 ];
 
@@ -87,17 +86,13 @@ pub fn parse_line(text: &str, number: usize, _dialect: Dialect, arena: &mut Vec<
     let mut line = Line { number, ..Line::default() };
     let s = text.as_bytes();
     let mut p = Parser::new(s, 0);
-    match p.peek_raw() {
-        b'%' => {
-            line.comments.push(p.i + 1..text.len());
-            line.end_of_items = p.i;
-            return Ok(line);
-        }
-        b'/' => {
-            p.i += 1;
-            line.delete = true;
-        }
-        _ => {}
+    if is_file_header(text) {
+        // read as nothing: a subprogram file's header does not go into the expanded call
+        return Ok(line);
+    }
+    if p.peek_raw() == b'/' {
+        p.i += 1;
+        line.delete = true;
     }
     if p.peek_raw() == b'N' && s.get(p.i + 1).is_some_and(u8::is_ascii_digit) {
         p.i += 1;
@@ -297,26 +292,46 @@ impl Block {
                         other => return Err(format!("MCALL {other}: a modal call of CYCLE81 or CYCLE82 is read")),
                     },
                 };
-                line.siemens_call = Some(Box::new(call));
-                Ok(())
+                set_call(line, call)
             }
             c @ ("CYCLE81" | "CYCLE82") => {
-                line.siemens_call = Some(Box::new(cycle_call(c, false, p, arena)?));
-                Ok(())
+                let call = cycle_call(c, false, p, arena)?;
+                set_call(line, call)
             }
             "CYCLE83" => Err("CYCLE83 (deep-hole drilling) is not read yet: its anticipation distance is computed inside the cycle".into()),
             n if n.starts_with("CYCLE") => {
                 Err(format!("{n} is not read: of the cycles, CYCLE81 and CYCLE82 are read; others make moves of their own"))
             }
-            n if n.starts_with('L') && n[1..].bytes().all(|c| c.is_ascii_digit()) && n.len() > 1 => {
-                Err(format!("{n} (subprogram call) is not read yet"))
+            "RET" => set_call(line, Call::Return),
+            "PROC" => {
+                let sub = p.name();
+                match p.peek_raw() {
+                    0 | b';' => Ok(()),
+                    b'(' => Err(format!("PROC {sub}(...): a subprogram with parameters is not read yet")),
+                    _ => Err(format!("PROC {sub} {}: only PROC and the name are read (SAVE, DISPLOF... are not)", p.name())),
+                }
             }
-            n => match REFUSED.iter().find(|(k, _)| *k == n) {
-                Some(_) => Err(format!("{n} {}", refusal(n))),
-                None => Err(format!(
-                    "`{n}` is not read: not a SINUMERIK address or command this reader knows (a subprogram call by name is not read yet)"
-                )),
-            },
+            "CALL" => {
+                if p.peek_raw() != b'"' {
+                    return Err("CALL with a variable is not read: CALL \"NAME\" with the name in quotes is".into());
+                }
+                let start = p.i + 1;
+                let end = start + p.s[start..].iter().position(|&c| c == b'"').ok_or("a `\"` is never closed")?;
+                p.i = end + 1;
+                let name = String::from_utf8_lossy(&p.s[start..end]).trim().to_ascii_uppercase();
+                if !super::subprograms::is_name(&name) {
+                    return Err(format!("CALL \"{name}\": not a subprogram name"));
+                }
+                set_call(line, Call::Sub { name, passes: 1 })
+            }
+            n if REFUSED.iter().any(|(k, _)| *k == n) => Err(format!("{n} {}", refusal(n))),
+            n if super::subprograms::is_name(n) => {
+                if p.peek_raw() == b'(' {
+                    return Err(format!("{n}(...): a subprogram call with parameters is not read yet"));
+                }
+                set_call(line, Call::Sub { name: n.to_string(), passes: 1 })
+            }
+            n => Err(format!("`{n}` is not read: not a SINUMERIK address, command or subprogram name")),
         }
     }
 
@@ -401,6 +416,17 @@ impl Block {
         if self.supa {
             gs.push(virtual_word(b'G', 53.0));
         }
+        if let Some(Call::Sub { name, passes }) = line.siemens_call.as_deref_mut() {
+            if let Some(w) = line.words.iter().find(|w| w.letter != b'P') {
+                return Err(format!("{name} is a subprogram call: write {} on a block of its own", w.letter as char));
+            }
+            if let Some(w) = line.words.pop() {
+                *passes = match w.value {
+                    Operand::Number(v) if (1.0..=9999.0).contains(&v) && v.fract() == 0.0 => v as u32,
+                    _ => return Err(format!("{name} P: the number of passes is a whole number from 1 to 9999")),
+                };
+            }
+        }
         let tool_change = line.words.iter().any(|w| w.letter == b'M' && w.value == Operand::Number(6.0));
         match self.cutting_edge {
             Some(false) => gs.push(virtual_word(b'G', 49.0)),
@@ -441,6 +467,15 @@ fn cycle_call(name: &str, modal: bool, p: &mut Parser, arena: &mut Vec<Node>) ->
             _ => return Err(format!("`,` or `)` expected in the parameters of {name} at column {}", p.i + 1)),
         }
     }
+}
+
+/// A block holds one call.
+fn set_call(line: &mut Line, call: Call) -> Result<(), String> {
+    if line.siemens_call.is_some() {
+        return Err("two calls on one block".into());
+    }
+    line.siemens_call = Some(Box::new(call));
+    Ok(())
 }
 
 fn refusal(name: &str) -> &'static str {
@@ -525,7 +560,13 @@ mod tests {
             ("X1 X2", "two X words"),
             ("R1000=1", "R0-R999"),
             ("CIP X10 Y10 I1=5 J1=5", "CIP (circle through an intermediate point)"),
-            ("FOO", "`FOO` is not read"),
+            ("FOO(1, 2)", "FOO(...): a subprogram call with parameters"),
+            ("L10 X5", "L10 is a subprogram call: write X on a block of its own"),
+            ("L10 P0", "passes is a whole number from 1 to 9999"),
+            ("PROC CONTOUR(REAL DEPTH)", "a subprogram with parameters"),
+            ("CALL R10", "CALL with a variable"),
+            ("L10 L20", "two calls on one block"),
+            ("3X", "unexpected `3`"),
         ] {
             let message = refused(text);
             assert!(message.contains(says), "{text}: {message}");
@@ -549,5 +590,27 @@ mod cycle_tests {
         assert!(matches!(l.siemens_call.as_deref(), Some(Call::Cycle { number: 82, modal: false, .. })));
         let l = parse_line("N90 MCALL", 1, Dialect::LinuxCnc, &mut arena, false).unwrap();
         assert_eq!(l.siemens_call.as_deref(), Some(&Call::ModalOff));
+    }
+}
+
+#[cfg(test)]
+mod subprogram_tests {
+    use super::*;
+
+    fn call(text: &str) -> Option<Call> {
+        let line = parse_line(text, 1, Dialect::LinuxCnc, &mut Vec::new(), false).unwrap_or_else(|e| panic!("{text}: {e}"));
+        line.siemens_call.map(|c| *c)
+    }
+
+    #[test]
+    fn calls_by_number_name_and_call_with_passes() {
+        let sub = |name: &str, passes| Some(Call::Sub { name: name.into(), passes });
+        assert_eq!(call("N40 L10"), sub("L10", 1));
+        assert_eq!(call("L10 P3 ; three passes"), sub("L10", 3));
+        assert_eq!(call("POCKET1 P2"), sub("POCKET1", 2));
+        assert_eq!(call("N50 CALL \"plate_2\""), sub("PLATE_2", 1));
+        assert_eq!(call("RET"), Some(Call::Return));
+        assert_eq!(call("PROC L10 ; header of the file"), None);
+        assert_eq!(call("M17"), None);
     }
 }

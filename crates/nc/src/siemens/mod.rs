@@ -1,7 +1,8 @@
 //! The SINUMERIK 840D sl native language, read into the interpreter's lines (SINUMERIK 840D sl
 //! Programming Manual Fundamentals, the chapters cited in each file): [`lexer`] reads a block
 //! (addresses with a number or `=` and an expression, `CR=` arcs, R parameters, `TRANS`/`ATRANS`,
-//! text calls that move nothing), [`expr`] its arithmetic. What the 840D does that LinuxCNC's
+//! text calls that move nothing), [`expr`] its arithmetic, [`cycles`] the drilling cycles,
+//! [`subprograms`] the calls of subprogram files. What the 840D does that LinuxCNC's
 //! interpreter does the same way is run by it: a `CR=` arc is an R arc (negative: the arc over
 //! 180 degrees, as LinuxCNC's negative R), `TRANS X Y Z` is the `G52` shift of every axis named or
 //! not (the programmable frame replaced), `ATRANS` adds to it, `SUPA` is `G53`, `D1`... switch the
@@ -13,6 +14,7 @@
 pub mod cycles;
 pub mod expr;
 pub mod lexer;
+pub mod subprograms;
 pub mod write;
 
 pub use cycles::Call;

@@ -1,7 +1,10 @@
 //! Lines the writer makes (the moves of expanded parts, the dwells of cycles) in the SINUMERIK's
 //! spelling (Programming Manual Fundamentals, "Dwell time (G4)", "Exact stop (G60, G9)"): a dwell
-//! `G4 P2` is `G4 F2` (F seconds), the exact-path mode `G61` of an expanded cycle is `G60`, and a
-//! comment in parentheses runs from `;` instead.
+//! `G4 P2` is `G4 F2` (F seconds), the exact-path mode `G61` of an expanded cycle is `G60`, a
+//! comment in parentheses runs from `;` instead, and the R parameters an expanded subprogram call
+//! leaves set (`#1001=40`) are `R1=40` ("Arithmetic parameters (R)").
+
+use super::{R_BASE, R_COUNT};
 
 /// `line` as a SINUMERIK block.
 pub fn spell(line: &str) -> String {
@@ -12,7 +15,12 @@ pub fn spell(line: &str) -> String {
     let mut words: Vec<String> = line.split(' ').map(str::to_string).collect();
     let dwell = words.iter().any(|w| w == "G4");
     for w in &mut words {
-        if dwell && w.starts_with('P') {
+        // the R parameters an expanded part leaves set: #1001=3 is R1=3
+        if let Some((n, v)) = w.strip_prefix('#').and_then(|a| a.split_once('=')) {
+            if let Some(r) = n.parse::<u32>().ok().filter(|n| (R_BASE..R_BASE + R_COUNT).contains(n)) {
+                *w = format!("R{}={v}", r - R_BASE);
+            }
+        } else if dwell && w.starts_with('P') {
             w.replace_range(..1, "F");
         } else if w == "G61" {
             *w = "G60".into();
@@ -32,5 +40,6 @@ mod tests {
         assert_eq!(spell("G1 X1 P2"), "G1 X1 P2");
         assert_eq!(spell("(DRILL 8)"), ";DRILL 8");
         assert_eq!(spell("G0 X5.0001 Y2"), "G0 X5.0001 Y2");
+        assert_eq!(spell("#1001=40 #1999=-2.5"), "R1=40 R999=-2.5");
     }
 }

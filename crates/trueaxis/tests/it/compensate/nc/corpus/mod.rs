@@ -164,6 +164,8 @@ fn check_fanuc(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
     let mut options = NcOptions::new(machine);
     options.dialect = Some(s.dialect);
     options.setup.tools = ToolTable::parse(FANUC_TOOLS, "tools").unwrap();
+    let subprograms = subprogram_dir(s);
+    options.setup.search_path = SearchPath(subprograms.iter().map(|d| d.path().to_path_buf()).collect());
     let text = String::from_utf8_lossy(&s.bytes).into_owned();
     let result = match correct_program(corrector, &s.bytes, &s.name, &options, &[]) {
         Ok(r) => r,
@@ -198,6 +200,18 @@ fn check_fanuc(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
     }
 }
 
+/// The SINUMERIK subprogram files a SINUMERIK sample may call, in a directory of their own.
+fn subprogram_dir(s: &Sample) -> Option<tempfile::TempDir> {
+    if s.dialect != Controller::Siemens {
+        return None;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in styles::siemens_subprograms() {
+        std::fs::write(dir.path().join(name), text).unwrap();
+    }
+    Some(dir)
+}
+
 /// Where a corrected point of a Fanuc-family program may land: half the written increment on each
 /// axis (3 decimals in mm, 4 in inch), plus the solve.
 fn fanuc_tolerance_um(bytes: &[u8]) -> f64 {
@@ -216,6 +230,8 @@ fn corrected_without_tools(s: &Sample, machine: &Machine, corrector: &Corrector)
     let mut options = NcOptions::new(machine);
     options.dialect = Some(s.dialect);
     options.setup.machine_inch = s.rs274;
+    let subprograms = subprogram_dir(s);
+    options.setup.search_path = SearchPath(subprograms.iter().map(|d| d.path().to_path_buf()).collect());
     correct_program(corrector, &s.bytes, &s.name, &options, &[]).is_ok()
 }
 

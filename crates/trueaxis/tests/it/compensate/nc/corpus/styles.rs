@@ -779,8 +779,34 @@ fn fusion_siemens(k: usize) -> Vec<u8> {
     w.out.into_bytes()
 }
 
+/// The plate's contour of [`siemens_hand`] from the R parameters: inline (from its third line),
+/// or as the subprogram files L10.SPF and CONTOUR.spf (the depth R10 grows by R6/2 at each pass).
+const SIEMENS_CONTOUR: [&str; 11] = [
+    "G1 Z=-R10 F=R8",
+    "X=R3-R5 F=R9",
+    "G3 X=R3 Y=R5 CR=R5",
+    "G1 Y=R4-R5",
+    "G3 X=R3-R5 Y=R4 CR=R5",
+    "G1 X=R5",
+    "G3 X0 Y=R4-R5 I0 J=-R5",
+    "G1 Y=R5",
+    "G3 X=R5 Y0 CR=R5",
+    "G1 X=R3/2",
+    "G0 Z=R11",
+];
+
+/// The subprogram files the corpus's SINUMERIK programs call (written on their search path).
+pub fn siemens_subprograms() -> Vec<(&'static str, String)> {
+    let body = SIEMENS_CONTOUR.join("\n");
+    vec![
+        ("L10.SPF", format!("%_N_L10_SPF\n;$PATH=/_N_SPF_DIR\nN10 R10=R10+R6/2\n{body}\nM17\n")),
+        ("CONTOUR.spf", format!("PROC CONTOUR ; the plate's contour\nR10=R10+R6/2\n{body}\nRET\n")),
+    ]
+}
+
 /// A hand-written 840D program: the plate's corner and size in R parameters, `TRANS` to its corner,
-/// `X=`/`Y=` values and `CR=R5` arcs computed from them, the holes from the plate's middle after
+/// `X=`/`Y=` values and `CR=R5` arcs computed from them (inline, or in a subprogram file `L10` or
+/// `CONTOUR` run twice), the holes from the plate's middle after
 /// `ATRANS` in a modal `CYCLE82` whose depth is DPR from the surface, `G4 F` dwells, Latin-1 or
 /// UTF-8 comments, CR LF line ends in some.
 fn siemens_hand(k: usize) -> Vec<u8> {
@@ -794,23 +820,24 @@ fn siemens_hand(k: usize) -> Vec<u8> {
     w.seq = if k % 3 == 1 { None } else { Some((10, 10)) };
     w.line(&format!("G17 {} G90 G40 G94", siemens_units(&p)));
     w.line(&format!("R1={} R2={} R3={} R4={}", w.num(p.x0), w.num(p.y0), w.num(p.w), w.num(p.h)));
-    w.line(&format!("R5={} R6={} R7={}", w.num(p.r), w.num(p.depth), w.num(p.hole_depth)));
+    w.line(&format!("R5={} R6={} R7={} R11={}", w.num(p.r), w.num(p.depth), w.num(p.hole_depth), w.num(p.safe)));
     w.line("T1 D1 M6");
     w.line(&format!("G54 S{} M3", p.spindle));
     w.line("TRANS X=R1 Y=R2 ; corner of the plate");
     w.line(&format!("G0 X=R3/2 Y0 Z{}", w.num(p.clear)));
     w.line(&format!("Z{}", w.num(p.safe)));
     let (f, plunge) = (w.num(p.feed), w.num(p.plunge));
-    w.line(&format!("G1 Z=-R6 F{plunge}"));
-    w.line(&format!("X=R3-R5 F{f}"));
-    w.line("G3 X=R3 Y=R5 CR=R5");
-    w.line("G1 Y=R4-R5");
-    w.line("G3 X=R3-R5 Y=R4 CR=R5");
-    w.line("G1 X=R5");
-    w.line("G3 X0 Y=R4-R5 I0 J=-R5");
-    w.line("G1 Y=R5");
-    w.line("G3 X=R5 Y0 CR=R5");
-    w.line("G1 X=R3/2");
+    if k % 3 == 2 {
+        w.line(&format!("G1 Z=-R6 F{plunge}"));
+        w.line(&format!("X=R3-R5 F{f}"));
+        for l in &SIEMENS_CONTOUR[2..] {
+            w.line(l);
+        }
+    } else {
+        // the contour in a subprogram file, in two passes of half the depth
+        w.line(&format!("R8={plunge} R9={f} R10=0"));
+        w.line(if k % 3 == 0 { "L10 P2 ; contour" } else { "CONTOUR P2" });
+    }
     w.line(&format!("G0 Z{}", w.num(p.clear)));
     w.line("G4 F1 ; chips");
     w.line("T2 D1 M6");
