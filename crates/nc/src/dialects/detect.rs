@@ -64,7 +64,9 @@ fn marker(code: &str) -> Option<Controller> {
         Some(rest) => rest.trim_start_matches(|c: char| c.is_ascii_digit()),
         None => after_n,
     };
-    let siemens = ["CYCLE81(", "CYCLE82(", "CYCLE83(", "CYCLE800(", "CYCLE832(", "MCALL", "CR=", "AR="].iter().any(|k| compact.contains(k))
+    let siemens = ["CYCLE81(", "CYCLE82(", "CYCLE83(", "CYCLE800(", "CYCLE832(", "MCALL", "CR=", "AR=", "=IC(", "=AC("]
+        .iter()
+        .any(|k| compact.contains(k))
         || ["TRANS", "ATRANS", "MSG(", "DEFREAL", "DEFINT"].iter().any(|k| after_n.starts_with(k))
         || r_assignment(after_n);
     if siemens {
@@ -136,6 +138,7 @@ mod tests {
         assert_eq!(controller("G21 G90\nG0 X1 Y1\nM2\n"), Controller::LinuxCnc);
         let siemens = "; SINUMERIK\nN10 G17 G90 G54\nR1=5\nN20 G2 X10 Y10 CR=5\nMCALL CYCLE81(10,0,2,-5)\nM30\n";
         assert_eq!(controller(siemens), Controller::Siemens);
+        assert_eq!(controller("N10 G90\nN20 G1 X=IC(5) Y=AC(3)\nM30\n"), Controller::Siemens);
         assert_eq!(controller("N10 G0 X10 Y10\nN20 TRANS X5\nM30\n"), Controller::Siemens);
         // a Fanuc macro variable `#100 = 2` and a LinuxCNC `#<x>` are no Fadal macro statements
         assert_eq!(controller("%\nO1\n#100 = 2\nG0 X#100\nM30\n%\n"), Controller::Fanuc);

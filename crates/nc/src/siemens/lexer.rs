@@ -137,6 +137,8 @@ struct Block {
     /// `D0` (false), `D1`... (true).
     cutting_edge: Option<bool>,
     supa: bool,
+    /// A value with `IC(...)` or `AC(...)`.
+    one_value_mode: bool,
     /// R parameters assigned so far on the line.
     assigned: Vec<u32>,
 }
@@ -175,14 +177,23 @@ impl Parser<'_> {
     }
 
     /// A word's value: `=` and an expression, or a signed number. The operand and its span.
-    fn value(&mut self, arena: &mut Vec<Node>) -> Result<(Operand, std::ops::Range<usize>, Vec<u32>), String> {
+    fn value(&mut self, letter: u8, arena: &mut Vec<Node>) -> Result<(Operand, std::ops::Range<usize>, Vec<u32>), String> {
         if self.peek_raw() == b'=' {
             self.i += 1;
             let start = {
                 self.peek_raw();
                 self.i
             };
-            if matches!(self.upcoming_name().as_str(), "IC" | "AC" | "DC" | "ACP" | "ACN" | "CAC" | "CIC") {
+            let mode = self.upcoming_name();
+            if matches!(mode.as_str(), "IC" | "AC") && self.s.get(self.i + 2) == Some(&b'(') {
+                self.i += 2;
+                self.reads.clear();
+                let v = self.expression(arena)?;
+                let e = one_value_mode(letter, mode == "IC", v, arena)?;
+                let end = self.i;
+                return Ok((Operand::Expr(e), start..end, std::mem::take(&mut self.reads)));
+            }
+            if matches!(mode.as_str(), "DC" | "ACP" | "ACN" | "CAC" | "CIC") {
                 return Err(format!(
                     "`{}(...)` (a distance mode for one value) is not read yet: write the value in the block's mode (G90/G91)",
                     self.upcoming_name()
@@ -252,7 +263,7 @@ impl Block {
                 return Err("AR= (an arc by its opening angle) is not read yet: write G2/G3 with I J or CR=".into());
             }
             p.i += 2;
-            let (value, span, _) = p.value(arena)?;
+            let (value, span, _) = p.value(b'R', arena)?;
             line.words.push(Word { letter: b'R', value, span, decimal_point: true });
             return Ok(());
         }
@@ -336,7 +347,9 @@ impl Block {
     }
 
     fn word(&mut self, letter: u8, p: &mut Parser, line: &mut Line, arena: &mut Vec<Node>) -> Result<(), String> {
-        let (value, span, reads) = p.value(arena)?;
+        let (value, span, reads) = p.value(letter, arena)?;
+        let mode = p.s[span.clone()].get(..3).map(|m| m.to_ascii_uppercase());
+        self.one_value_mode |= matches!(mode.as_deref(), Some(b"IC(" | b"AC("));
         if let Some(r) = reads.iter().find(|r| self.assigned.contains(r)) {
             return Err(format!("R{r} is assigned and read on one block: assign it on a block of its own"));
         }
@@ -346,6 +359,9 @@ impl Block {
         match letter {
             b'D' => {
                 let Operand::Number(v) = value else { return Err("D takes a number".into()) };
+                if v != 0.0 && v != 1.0 {
+                    return Err(format!("D{v}: cutting edges other than D1 are not read yet (one length per tool, from the tool table)"));
+                }
                 self.cutting_edge = Some(v != 0.0);
                 return Ok(());
             }
@@ -427,6 +443,10 @@ impl Block {
                 };
             }
         }
+        let distance = line.words.iter().any(|w| w.letter == b'G' && matches!(w.value, Operand::Number(v) if v == 90.0 || v == 91.0));
+        if self.one_value_mode && distance {
+            return Err("IC(...)/AC(...) with G90 or G91 on the same block: set the mode on a block before".into());
+        }
         let tool_change = line.words.iter().any(|w| w.letter == b'M' && w.value == Operand::Number(6.0));
         match self.cutting_edge {
             Some(false) => gs.push(virtual_word(b'G', 49.0)),
@@ -467,6 +487,33 @@ fn cycle_call(name: &str, modal: bool, p: &mut Parser, arena: &mut Vec<Node>) ->
             _ => return Err(format!("`,` or `)` expected in the parameters of {name} at column {}", p.i + 1)),
         }
     }
+}
+
+/// `X=IC(v)`, `X=AC(v)` (Fundamentals, "Absolute dimensions (G90, AC)", "Incremental dimensions
+/// (G91, IC)"): the value of one axis in the other distance mode, stated in the block's mode from
+/// the current position in program coordinates (`#5420`...): IC in G90 is v + position, AC in G91
+/// v - position. The centre `I=AC(v)` is absolute (v - position; I J K are incremental from the
+/// start by default), `I=IC(v)` the default.
+fn one_value_mode(letter: u8, incremental: bool, v: u32, arena: &mut Vec<Node>) -> Result<u32, String> {
+    let (k, centre) = match letter {
+        b'X' | b'Y' | b'Z' => ((letter - b'X') as u32, false),
+        b'A' | b'B' | b'C' => ((letter - b'A') as u32 + 3, false),
+        b'I' | b'J' | b'K' => ((letter - b'I') as u32, true),
+        _ => return Err(format!("{}=IC(...)/AC(...) is read for axes and I J K", letter as char)),
+    };
+    if centre && incremental {
+        return Ok(v);
+    }
+    let position = push(arena, Node::Param(ParamRef::Numbered(5420 + k)));
+    let offset = match centre {
+        true => position,
+        false => {
+            // the value counts from the position when the block's mode is the other one
+            let mode = push(arena, Node::Param(ParamRef::Named(if incremental { "_absolute" } else { "_incremental" }.into())));
+            push(arena, Node::Binary(Op::Times, mode, position))
+        }
+    };
+    Ok(push(arena, Node::Binary(if incremental { Op::Plus } else { Op::Minus }, v, offset)))
 }
 
 /// A block holds one call.
@@ -552,12 +599,15 @@ mod tests {
             ("CYCLE977(101,1,,1,50,,,3,1,1,,,1)", "CYCLE977 is not read"),
             ("MCALL CYCLE84(10,0,2,-12)", "MCALL CYCLE84: a modal call of CYCLE81 or CYCLE82"),
             ("CYCLE81(10,0,2,-5", "`,` or `)` expected"),
-            ("G1 X=IC(5)", "`IC(...)`"),
+            ("G1 X=DC(5)", "`DC(...)`"),
+            ("G1 F=AC(5)", "F=IC(...)/AC(...) is read for axes"),
+            ("G91 X=AC(5)", "with G90 or G91 on the same block"),
             ("G2 X10 Y0 AR=90", "AR= (an arc by its opening angle)"),
             ("T=\"FACE MILL 50\"", "T=\"name\""),
             ("G43 H1", "G43 is not a SINUMERIK G function"),
             ("R1=5 R2=R1", "R1 is assigned and read on one block"),
             ("X1 X2", "two X words"),
+            ("T1 D2", "D2: cutting edges other than D1"),
             ("R1000=1", "R0-R999"),
             ("CIP X10 Y10 I1=5 J1=5", "CIP (circle through an intermediate point)"),
             ("FOO(1, 2)", "FOO(...): a subprogram call with parameters"),

@@ -303,3 +303,44 @@ fn subprogram_calls_that_cannot_run_are_refused_with_the_file_and_line() {
         assert!(message.contains(says), "{text}: {message}");
     }
 }
+
+/// `X=IC(..)`, `X=AC(..)` (Fundamentals, "Absolute dimensions (G90, AC)", "Incremental
+/// dimensions (G91, IC)") and the absolute centre `I=AC(..)`, against the positions worked out by
+/// hand: from (10, 10) in G90, `X=IC(5) Y=AC(3)` is (15, 3); in G91 `X=AC(20) Y=IC(1)` is (20, 4);
+/// `G2 X30 Y4 I=AC(25) J=AC(4)` in G90 turns round (25, 4), `G3 X20 Y4 I=IC(-5) J0` round (25, 4).
+#[test]
+fn one_value_in_the_other_distance_mode_and_the_absolute_centre() {
+    let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
+    let mut options = options(&m);
+    options.dialect = Some(Controller::Siemens);
+    let text = "N10 G17 G71 G90 G0 X10 Y10 Z0\nN20 G1 X=IC(5) Y=AC(3) F100\nN30 G91\nN40 X=AC(20) Y=IC(1)\nN50 G90\n\
+                N60 G2 X30 Y4 I=AC(25) J=AC(4)\nN70 G3 X20 Y4 I=IC(-5) J0\nN80 M30\n";
+    let moves = read(&m, text, &options);
+    let xy: Vec<[f64; 2]> = moves.iter().map(|c| [c.end[0], c.end[1]]).collect();
+    for (got, want) in xy.iter().zip([[10.0, 10.0], [15.0, 3.0], [20.0, 4.0], [30.0, 4.0], [20.0, 4.0]]) {
+        assert!((got[0] - want[0]).abs() < 1e-9 && (got[1] - want[1]).abs() < 1e-9, "{xy:?}");
+    }
+    assert_eq!(xy.len(), 5);
+    for c in &moves[3..] {
+        let Kind::Arc { centre, .. } = c.kind else { panic!("an arc: {c:?}") };
+        assert!((centre[0] - 25.0).abs() < 1e-9 && (centre[1] - 4.0).abs() < 1e-9, "{c:?}");
+    }
+}
+
+#[test]
+fn values_in_the_other_distance_mode_are_corrected() {
+    let text = "%_N_VALUES_MPF\n;$PATH=/_N_WKS_DIR/_N_VALUES_WPD\nN10 G17 G71 G90\nN20 T1 D1 M6\nN30 G0 X10 Y10 Z5\n\
+                N40 G1 X=IC(5) Y=AC(3) F100\nN50 G91\nN60 X=AC(20) Y=IC(1)\nN70 G90\nN80 G2 X30 Y4 I=AC(25) J=AC(4)\n\
+                N90 G3 X20 Y4 I=IC(-5) J0\nN100 G0 Z50\nN110 M30\n";
+    let mut e = Expansion::new();
+    e.tool = 100.0;
+    e.go(true, [10.0, 10.0, 5.0]);
+    e.go(false, [15.0, 3.0, 5.0]);
+    e.go(false, [20.0, 4.0, 5.0]);
+    e.arc([30.0, 4.0, 5.0], [25.0, 4.0], -1);
+    e.arc([20.0, 4.0, 5.0], [25.0, 4.0], 1);
+    e.go(true, [20.0, 4.0, 50.0]);
+    let corrected = check("values.mpf", text, &e);
+    // a value counted from the current position is not kept as text: the correction moves it
+    assert!(!corrected.contains("IC(") && !corrected.contains("AC("), "{corrected}");
+}
