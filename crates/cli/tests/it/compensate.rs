@@ -1,6 +1,6 @@
 //! `trueaxis compensate` end to end: files written, JSON summaries, exit codes (`trueaxis nc`: nc.rs).
 
-use crate::support::{arg, json_of, outcome, read, vmc3, VMC3};
+use crate::support::{arg, identify_c600u, json_of, outcome, read, vmc3, VMC3};
 use serde_json::Value;
 use std::path::Path;
 
@@ -217,11 +217,7 @@ fn files_that_leave_more_than_they_remove_are_refused() {
 fn ballbar_identify_writes_error_values_that_compensate_reads_with_their_uncertainty() {
     let dir = tempfile::tempdir().unwrap();
     let piges = dir.path().join("piges.toml");
-    let files = ["A1", "A2", "C1", "C2"].map(|s| format!("examples/ballbar/{s}.csv"));
-    let steps = ["--a1", &files[0], "--a2", &files[1], "--c1", &files[2], "--c2", &files[3]];
-    let doc = json_of(
-        &[&["ballbar", "identify", "--machine", "examples/machines/c600u.toml"][..], &steps, &["--out", arg(&piges), "--json"]].concat(),
-    );
+    let doc = json_of(&identify_c600u(&["--out", arg(&piges), "--json"]));
     let text = std::fs::read_to_string(&piges).unwrap();
     let file: toml::Table = text.parse().unwrap();
     for (name, p) in doc["parameters"].as_object().unwrap() {
