@@ -25,9 +25,10 @@ fn example(path: &str) -> String {
     root().join(path).display().to_string()
 }
 
-fn required(variable: &str) -> bool {
-    std::env::var(variable).is_ok_and(|v| v == "1")
-}
+#[path = "../../../../trueaxis/tests/it/support/tools.rs"]
+mod tools;
+
+use tools::required;
 
 /// Whether asyncua is importable; without it the OPC UA tests are skipped unless required.
 fn asyncua() -> bool {
@@ -544,17 +545,17 @@ fn halcmd(args: &[&str]) -> String {
 
 #[test]
 fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
-    let available = Command::new("halcompile").arg("--help").output().is_ok() && Command::new("halrun").arg("-h").output().is_ok();
-    if !available || !Path::new("/usr/lib/linuxcnc/modules").exists() {
+    if !tools::linuxcnc_found() {
+        return;
+    }
+    if !Path::new("/usr/lib/linuxcnc/modules").exists() {
         assert!(!required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile / halrun are required but not found");
         eprintln!("SKIPPED: halcompile / halrun (Debian linuxcnc-uspace-dev) not installed");
         return;
     }
     let _real_time = real_time();
     let dir = tempfile::tempdir().unwrap();
-    let mut perms = std::fs::metadata(dir.path()).unwrap().permissions();
-    std::os::unix::fs::PermissionsExt::set_mode(&mut perms, 0o777);
-    std::fs::set_permissions(dir.path(), perms).unwrap();
+    tools::open_to_all(dir.path());
     // the HAL component of compensate for vmc3 without geometric errors: its output is the thermal offset
     let name = format!("ta_live_{}", std::process::id());
     let hal_name = name.replace('_', "-");
@@ -574,15 +575,7 @@ fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
         &hal_dir.display().to_string(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let build = Command::new("halcompile").arg("--install").arg(format!("{name}.comp")).current_dir(&hal_dir).output().unwrap();
-    let log = String::from_utf8_lossy(&build.stdout).into_owned() + &String::from_utf8_lossy(&build.stderr);
-    if !build.status.success() {
-        assert!(!required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile --install failed: {log}");
-        eprintln!("SKIPPED: halcompile --install failed (not root?): {log}");
-        return;
-    }
-    let installed =
-        log.lines().find_map(|l| l.strip_prefix(&format!("cp {name}.so ")).map(|d| Path::new(d.trim()).join(format!("{name}.so"))));
+    let Some(installed) = tools::halcompile_install(&hal_dir, &format!("{name}.comp")) else { return };
     // LinuxCNC's motion module, the component wired by its own HAL file, two sensor pins (sum2 inputs)
     let hal_file = std::fs::read_to_string(hal_dir.join(format!("{name}.hal"))).unwrap();
     // halrun runs until the test creates the stop file, then unloads what it loaded
