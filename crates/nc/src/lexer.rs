@@ -191,7 +191,10 @@ fn parse_items(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node
     if cur.peek() == b'o' || cur.peek() == b':' && dialect == Dialect::Fanuc {
         cur.bump();
         match dialect {
-            Dialect::LinuxCnc => line.statement = Some(cur.o_statement(arena)?),
+            Dialect::LinuxCnc => match cur.program_number_alone() {
+                Some(n) => line.program_number = Some(n),
+                None => line.statement = Some(cur.o_statement(arena)?),
+            },
             Dialect::Fanuc => {
                 let (v, _, _) = cur.number()?;
                 line.program_number = Some(v as u32);
@@ -248,6 +251,11 @@ fn parse_items(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node
         line.end_of_items = text.trim_end().len().min(line.comments.first().map_or(usize::MAX, |c| c.start.saturating_sub(1)));
     }
     Ok(line)
+}
+
+/// The refusal of an O-word without its keyword (`o100` alone: LinuxCNC's rs274 refuses it too).
+pub(crate) fn o_word_without_keyword(label: &Label) -> String {
+    format!("`{label}` is not followed by sub, endsub, call, return, if, elseif, else, endif, while, endwhile, do, repeat, endrepeat, break or continue")
 }
 
 struct Cursor<'a> {
@@ -632,6 +640,19 @@ impl Cursor<'_> {
         }
     }
 
+    /// After `o`: a whole number alone on its line (comments aside), `O1234` as Mach3 and Mach4
+    /// number a subprogram, which is no O-word statement; else nothing is consumed.
+    fn program_number_alone(&mut self) -> Option<u32> {
+        let (start, last) = (self.i, self.last);
+        match self.number() {
+            Ok((v, _, false)) if v >= 0.0 && v <= f64::from(u32::MAX) && matches!(self.peek(), 0 | b'(' | b';') => Some(v as u32),
+            _ => {
+                (self.i, self.last) = (start, last);
+                None
+            }
+        }
+    }
+
     /// After `o`: the label, the keyword and its arguments.
     fn o_statement(&mut self, arena: &mut Vec<Node>) -> Result<Statement, String> {
         let label = if self.peek() == b'<' {
@@ -695,7 +716,7 @@ impl Cursor<'_> {
         } else if self.keyword("continue") {
             OKind::Continue
         } else {
-            return Err(format!("`{label}` is not followed by sub, endsub, call, return, if, elseif, else, endif, while, endwhile, do, repeat, endrepeat, break or continue"));
+            return Err(o_word_without_keyword(&label));
         };
         Ok(Statement::O(label, kind))
     }

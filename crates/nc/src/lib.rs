@@ -38,6 +38,7 @@ pub mod plan;
 pub mod program;
 pub mod source;
 pub mod splines;
+mod subprograms;
 pub mod system;
 pub mod tools;
 pub mod trace;
