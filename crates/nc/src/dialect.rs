@@ -205,7 +205,8 @@ mod tests {
         assert_eq!(Dialect::detect(eob), Dialect::Fanuc);
         assert_eq!(Dialect::detect("G21 ; mm\nG0 X1 ; rapid\nM2\n"), Dialect::LinuxCnc);
         // a Haas program typed at the machine: `;` ending each block, a comment after it
-        let haas = "G20 G90 G17; (SAFE START)\nG54; (OFFSET)\nG00; (RAPID)\nX1. Y1.;\nM97 P1000 L2; (FACE)\nM30;\nN1000 G91 Z-0.1;\nG90 M99;\n";
+        let haas =
+            "G20 G90 G17; (SAFE START)\nG54; (OFFSET)\nG00; (RAPID)\nX1. Y1.;\nM97 P1000 L2; (FACE)\nM30;\nN1000 G91 Z-0.1;\nG90 M99;\n";
         assert_eq!(Dialect::detect(haas), Dialect::Fanuc);
         assert_eq!(format_number(10.0, 4, Dialect::Fanuc), "10.");
         assert_eq!(format_number(10.0, 4, Dialect::LinuxCnc), "10");

@@ -110,12 +110,15 @@ impl Exec<'_> {
             }
         }
         let step = self.begin_step(pc, 0);
-        let flow = self.block_steps(file, pc, line, step);
+        let flow = match line.system {
+            Some(_) => crate::grbl_system::run(self, file, pc, line, step),
+            None => self.block_steps(file, pc, line, step),
+        };
         self.end_step(step);
         flow
     }
 
-    fn block_steps(&mut self, file: &SourceFile, pc: (usize, usize), line: &Line, step: usize) -> Result<Flow, String> {
+    pub(crate) fn block_steps(&mut self, file: &SourceFile, pc: (usize, usize), line: &Line, step: usize) -> Result<Flow, String> {
         self.setup_words.clear();
         self.setting_words.clear();
         self.stop_words.clear();

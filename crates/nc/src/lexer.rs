@@ -120,6 +120,9 @@ pub struct Line {
     pub program_number: Option<u32>,
     /// Byte offset after the last item (before a trailing comment): where new words go.
     pub end_of_items: usize,
+    /// A grbl system command (`$H`, `$J=G91 X10 F500`, `$32=1`): the byte range of its text, to
+    /// the end of the line, or of `$J=` before the words of a jog ([`crate::grbl_system`]).
+    pub system: Option<Range<usize>>,
 }
 
 impl Line {
@@ -130,7 +133,11 @@ impl Line {
 
     /// Whether the line has nothing to execute (blank, comments only, `%`).
     pub fn is_empty(&self) -> bool {
-        self.words.is_empty() && self.assignments.is_empty() && self.statement.is_none() && self.program_number.is_none()
+        self.words.is_empty()
+            && self.assignments.is_empty()
+            && self.statement.is_none()
+            && self.program_number.is_none()
+            && self.system.is_none()
     }
 }
 
@@ -204,6 +211,17 @@ fn parse_items(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node
         cur.comments_only(&mut line.comments)?;
         return Ok(line);
     }
+    if dialect == Dialect::LinuxCnc && cur.peek() == b'$' {
+        if let Some(system) = grbl_system_command(text, cur.i) {
+            let jog = text[system.clone()].to_ascii_uppercase().starts_with("$J=");
+            line.end_of_items = system.end;
+            cur.i = system.end;
+            line.system = Some(system);
+            if !jog {
+                return Ok(line);
+            }
+        }
+    }
     if dialect == Dialect::Fanuc {
         if let Some(s) = cur.fanuc_statement(arena)? {
             line.statement = Some(s);
@@ -251,6 +269,26 @@ fn parse_items(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node
         line.end_of_items = text.trim_end().len().min(line.comments.first().map_or(usize::MAX, |c| c.start.saturating_sub(1)));
     }
     Ok(line)
+}
+
+/// A grbl system command starting at `at` (a `$`): `$` and a letter, `$`, or `#`, or `$` and
+/// digits followed by `=` (a setting); not LinuxCNC's spindle word `$1`. Its text to the end of
+/// the line, or `$J=` alone (the words of the jog follow).
+fn grbl_system_command(text: &str, at: usize) -> Option<Range<usize>> {
+    let rest = &text.as_bytes()[at + 1..];
+    let digits = rest.iter().take_while(|c| c.is_ascii_digit()).count();
+    let command = match rest.first() {
+        Some(c) if c.is_ascii_alphabetic() || matches!(c, b'$' | b'#') => true,
+        Some(c) if c.is_ascii_digit() => rest.get(digits) == Some(&b'='),
+        _ => false,
+    };
+    if !command {
+        return None;
+    }
+    if rest.len() >= 2 && rest[..2].eq_ignore_ascii_case(b"J=") {
+        return Some(at..at + 3);
+    }
+    Some(at..text.trim_end().len())
 }
 
 /// The refusal of an O-word without its keyword (`o100` alone: LinuxCNC's rs274 refuses it too).

@@ -26,6 +26,7 @@ pub mod dialect;
 pub mod dialects;
 pub mod execute;
 pub mod expr;
+mod grbl_system;
 pub mod interpret;
 pub mod lexer;
 pub mod modal;

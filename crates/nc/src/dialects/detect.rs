@@ -68,7 +68,8 @@ fn integer_dimension(code: &str) -> bool {
     let compact: Vec<u8> = code.bytes().filter(|c| !c.is_ascii_whitespace()).collect();
     compact.iter().enumerate().any(|(i, &b)| {
         let word = b"XYZIJKR".contains(&b) && (i == 0 || !compact[i - 1].is_ascii_alphabetic());
-        let value: Vec<u8> = compact[i + 1..].iter().copied().take_while(|c| c.is_ascii_digit() || matches!(c, b'.' | b'-' | b'+')).collect();
+        let value: Vec<u8> =
+            compact[i + 1..].iter().copied().take_while(|c| c.is_ascii_digit() || matches!(c, b'.' | b'-' | b'+')).collect();
         word && value.iter().any(u8::is_ascii_digit) && !value.contains(&b'.')
     })
 }
