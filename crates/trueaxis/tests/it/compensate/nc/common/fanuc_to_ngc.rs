@@ -85,6 +85,31 @@ pub fn mach_to_ngc(text: &str) -> Option<String> {
     Some(head + &subs + &main + &tail)
 }
 
+/// A grbl stream with system commands (grbl wiki, "Grbl v1.1 Commands" and "Grbl v1.1 Jogging")
+/// rewritten as RS274/NGC for a program in `G90 G21` (the corpus writes them so): a jog `$J=<words>`
+/// becomes `G1 <words>` followed by `G90 G21` (a jog's distance mode and units hold for the jog
+/// only; its feed does not change the positions); any other `$` line becomes a comment. `None`
+/// when the program leaves `G90 G21`.
+pub fn grbl_to_ngc(text: &str) -> Option<String> {
+    let mut out = String::new();
+    for raw in text.lines() {
+        let code = raw.trim();
+        let upper = code.to_ascii_uppercase();
+        if ["G91", "G20"].iter().any(|k| upper.contains(k)) && !upper.starts_with("$J=") {
+            return None;
+        }
+        if let Some(words) = upper.strip_prefix("$J=") {
+            out.push_str(&format!("G1 {words}\nG90 G21\n"));
+        } else if upper.starts_with('$') {
+            out.push_str(&format!("(grbl {code})\n"));
+        } else {
+            out.push_str(raw);
+            out.push('\n');
+        }
+    }
+    Some(out)
+}
+
 /// The RS274/NGC text of a Fanuc-family program, or `None`.
 pub fn translate(text: &str) -> Option<String> {
     let mut t = Translator { inch: false, group01: "G0", cycle: false, out: String::new(), first: true };

@@ -23,7 +23,7 @@ pub struct Sample {
 /// A style: post, controller, its dialect, whether rs274 reads it, the program of variant k.
 pub type Style = (&'static str, &'static str, Controller, bool, fn(usize) -> Vec<u8>);
 
-pub const STYLES: [Style; 20] = [
+pub const STYLES: [Style; 21] = [
     ("Fusion 360 haas.cps", "Haas NGC", Controller::Haas, false, fusion_haas),
     ("Fusion 360 fanuc.cps", "Fanuc 0i", Controller::Fanuc, false, fusion_fanuc),
     ("Mastercam MPFAN", "Fanuc 0i", Controller::Fanuc, false, mastercam),
@@ -44,6 +44,7 @@ pub const STYLES: [Style; 20] = [
     ("hand-written LinuxCNC (O-words)", "LinuxCNC 2.9", Controller::LinuxCnc, true, linuxcnc_hand),
     ("Fusion 360 mach3mill.cps (subroutines)", "Mach3", Controller::Mach3, true, fusion_mach3_subs),
     ("hand-written Haas (M97 local subprograms)", "Haas NGC", Controller::Haas, false, haas_m97),
+    ("grbl sender stream ($H, $X, $J=)", "grbl 1.1", Controller::Grbl, true, grbl_stream),
 ];
 
 /// The whole corpus: `per_style` variants of each style.
@@ -831,4 +832,37 @@ fn haas_m97(k: usize) -> Vec<u8> {
         s = s.replace(";\n", "\n").replace("; (", " (");
     }
     s.into_bytes()
+}
+
+/// A grbl job as a sender streams it (Universal G-code Sender, CNCjs and bCNC macros; the senders'
+/// jog commands as published, `$J=G91 G21 X1.250 F300` and `$J=G91X10F100` without blanks): `$X`
+/// (unlock) and `$H` (homing) first, the `$G`/`$#` reports, a jog to the part in `G90`, the Fusion
+/// 360 grbl program, an incremental jog up at the end.
+fn grbl_stream(k: usize) -> Vec<u8> {
+    let p = Part::new(k, false);
+    let mut w = W::new(Digits::Trim(3, false), " ");
+    if k % 2 == 0 {
+        w.raw("$X");
+    }
+    w.raw("$H");
+    if k % 3 == 0 {
+        w.raw("$G");
+        w.raw("$#");
+    }
+    w.raw("G21 G90 G94");
+    let (x, y) = (w.num(p.x0), w.num(p.y0));
+    w.raw(&if k % 2 == 0 { format!("$J=G90 G21 X{x} Y{y} F3000") } else { format!("$J=G21G90X{x}Y{y}F3000") });
+    w.raw("G17");
+    w.raw(&format!("S{} M3", p.spindle));
+    w.reset();
+    w.rapid(None, None, Some(p.clear));
+    if k % 2 == 1 {
+        w.facing(&p);
+    }
+    w.contour(&p);
+    w.holes_expanded(&p);
+    w.raw("M5");
+    w.raw(&if k % 2 == 0 { "$J=G91 G21 Z10 F1000".to_string() } else { "$J=G91G21Z10F1000".to_string() });
+    w.raw("M30");
+    w.out.into_bytes()
 }
