@@ -121,7 +121,7 @@ pub struct Line {
     /// Byte offset after the last item (before a trailing comment): where new words go.
     pub end_of_items: usize,
     /// A grbl system command (`$H`, `$J=G91 X10 F500`, `$32=1`): the byte range of its text, to
-    /// the end of the line, or of `$J=` before the words of a jog ([`crate::grbl_system`]).
+    /// the end of the line, or of `$J=` before the words of a jog (read in `grbl_system.rs`).
     pub system: Option<Range<usize>>,
 }
 

@@ -15,6 +15,7 @@
 //! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
 //! [`arcs`], [`splines`] and [`nurbs`] (as chords), [`cycles`], [`tools`] (tool table), [`dialect`] (the two
 //! families of grammar), [`dialects`] (each controller's codes, as data), [`trace`] (what a run did),
+//! `subprograms` (Mach3/Mach4 `M98` and Haas `M97` calls), `grbl_system` (grbl's `$` lines),
 //! [`plan`] (what stays, what is expanded), [`path`] (points along moves, split points),
 //! [`write`] (the text with moved points), [`parts`] (a file read in parts, for programs of any
 //! length).

@@ -1,6 +1,7 @@
 //! Mach3 and Mach4 (Artsoft/Newfangled Solutions): RS274/NGC-based ("Using Mach3Mill", chapter 10
 //! "G- and M-code language reference"; "Mach4 Mill G and M code reference"). Their programs are
-//! read as RS274/NGC: a number without a decimal point is in mm or inch.
+//! read as RS274/NGC: a number without a decimal point is in mm or inch. Their subprograms are a
+//! Fanuc's (`M98 P.. L..`, `O` after `M30`, `M99`: [`crate::subprograms`]).
 
 use super::linuxcnc::{AXIS_CODES, COMMON, PROBING, RS274_NUMBERS};
 use super::Group::*;
