@@ -373,17 +373,7 @@ fn fadal(k: usize) -> Vec<u8> {
 fn fusion_mach3(k: usize) -> Vec<u8> {
     let p = Part::new(k, k % 3 == 1);
     let mut w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, false), " ");
-    w.raw("%");
-    w.raw(&format!("({})", 1000 + k));
-    w.raw("(T1 D=6 CR=0 - ZMIN=-3 - FLAT END MILL)");
-    w.line("G90 G94 G91.1 G40 G49 G17");
-    w.line(units(&p));
-    w.line("G28 G91 Z0.");
-    w.line("G90");
-    w.raw("(2D CONTOUR1)");
-    w.line("T1 M6");
-    w.line(&format!("S{} M3", p.spindle));
-    w.line("G54");
+    fusion_mach3_start(&mut w, &p, 1000 + k);
     w.rapid(Some(p.x0 + p.w / 2.0), Some(p.y0), None);
     w.line(&format!("G43 Z{} H1", w.num(p.clear)));
     w.reset();
@@ -404,6 +394,22 @@ fn fusion_mach3(k: usize) -> Vec<u8> {
     w.line("M30");
     w.raw("%");
     w.out.into_bytes()
+}
+
+/// The start of a Fusion 360 program for Mach3: `%`, the program name as a comment, the tool, the
+/// safety block, the reference return, the first tool change, `G54`.
+fn fusion_mach3_start(w: &mut W, p: &Part, name: usize) {
+    w.raw("%");
+    w.raw(&format!("({name})"));
+    w.raw("(T1 D=6 CR=0 - ZMIN=-3 - FLAT END MILL)");
+    w.line("G90 G94 G91.1 G40 G49 G17");
+    w.line(units(p));
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.raw("(2D CONTOUR1)");
+    w.line("T1 M6");
+    w.line(&format!("S{} M3", p.spindle));
+    w.line("G54");
 }
 
 /// CamBam's default Mach3 post: `( Made using CamBam - ... )`, the drawing name and date, `G21 G90
@@ -724,17 +730,7 @@ fn fusion_mach3_subs(k: usize) -> Vec<u8> {
     let mut w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, false), " ");
     let step = -p.depth / p.passes as f64;
     let (x0, y0, x1, y1) = (p.x0, p.y0, p.x0 + p.w, p.y0 + p.h);
-    w.raw("%");
-    w.raw(&format!("({})", 2000 + k));
-    w.raw("(T1 D=6 CR=0 - ZMIN=-3 - FLAT END MILL)");
-    w.line("G90 G94 G91.1 G40 G49 G17");
-    w.line(units(&p));
-    w.line("G28 G91 Z0.");
-    w.line("G90");
-    w.raw("(2D CONTOUR1)");
-    w.line("T1 M6");
-    w.line(&format!("S{} M3", p.spindle));
-    w.line("G54");
+    fusion_mach3_start(&mut w, &p, 2000 + k);
     w.rapid(Some(x0), Some(y0), None);
     w.line(&format!("G43 Z{} H1", w.num(p.clear)));
     w.reset();
