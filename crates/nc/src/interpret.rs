@@ -40,6 +40,11 @@ pub(crate) enum Flow {
         repeat: u32,
         args: Option<Vec<f64>>,
     },
+    /// Haas `M97 P<label> L<repeats>`: the block `N<label>` of the same program (shares the locals).
+    CallLocal {
+        label: u32,
+        repeat: u32,
+    },
     /// `endsub`/`return` (with a value) or Fanuc `M99` (with a `P` sequence number to return to).
     Return {
         value: Option<f64>,
@@ -261,7 +266,7 @@ impl<'m> Runner<'m> {
                 Flow::End => return ended(exec, program),
                 _ if self.in_parts => return Ok(Progress::NeedsWhole(here_line)),
                 Flow::Jump(k) => self.pc.1 = k,
-                Flow::Call(..) | Flow::CallProgram { .. } if exec.calls.len() >= MAX_CALL_LEVELS => {
+                Flow::Call(..) | Flow::CallProgram { .. } | Flow::CallLocal { .. } if exec.calls.len() >= MAX_CALL_LEVELS => {
                     return Err(at(format!("more than {MAX_CALL_LEVELS} nested subroutine calls (a call of itself?)"), program));
                 }
                 Flow::Call(label, args) => {
@@ -278,6 +283,15 @@ impl<'m> Runner<'m> {
                     let locals = args.is_some();
                     exec.enter(pc, (f, k + 1), repeat - 1, locals, args.as_deref().unwrap_or(&[]));
                     self.pc = (f, k + 1);
+                }
+                Flow::CallLocal { label, repeat } => {
+                    let k = crate::subprograms::local_label(&program.files[pc.0], pc.1, label).map_err(|m| at(m, program))?;
+                    if repeat == 0 {
+                        self.pc.1 += 1;
+                        continue;
+                    }
+                    exec.enter(pc, (pc.0, k), repeat - 1, false, &[]);
+                    self.pc = (pc.0, k);
                 }
                 Flow::Return { value, sequence } => {
                     let Some(call) = exec.calls.last_mut() else {

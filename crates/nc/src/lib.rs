@@ -15,6 +15,7 @@
 //! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
 //! [`arcs`], [`splines`] and [`nurbs`] (as chords), [`cycles`], [`tools`] (tool table), [`dialect`] (the two
 //! families of grammar), [`dialects`] (each controller's codes, as data), [`trace`] (what a run did),
+//! `subprograms` (Mach3/Mach4 `M98` and Haas `M97` calls), `grbl_system` (grbl's `$` lines),
 //! [`plan`] (what stays, what is expanded), [`path`] (points along moves, split points),
 //! [`write`] (the text with moved points), [`parts`] (a file read in parts, for programs of any
 //! length).
@@ -26,6 +27,7 @@ pub mod dialect;
 pub mod dialects;
 pub mod execute;
 pub mod expr;
+mod grbl_system;
 pub mod interpret;
 pub mod lexer;
 pub mod modal;
@@ -38,6 +40,7 @@ pub mod plan;
 pub mod program;
 pub mod source;
 pub mod splines;
+mod subprograms;
 pub mod system;
 pub mod tools;
 pub mod trace;

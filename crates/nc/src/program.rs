@@ -139,6 +139,7 @@ impl SourceFile {
             first_line,
             leading_percent,
         };
+        file.index_numbers()?;
         match dialect {
             Dialect::LinuxCnc => file.index_owords()?,
             Dialect::Fanuc => file.index_fanuc()?,
@@ -256,8 +257,8 @@ impl SourceFile {
         Ok(())
     }
 
-    fn index_fanuc(&mut self) -> Result<(), (usize, String)> {
-        let mut stack: Vec<(u32, usize)> = Vec::new();
+    /// The `N` numbers and `O` program numbers (Fanuc family; Mach3/Mach4 subprograms).
+    fn index_numbers(&mut self) -> Result<(), (usize, String)> {
         for k in self.body.clone() {
             let Ok(line) = &self.lines[k] else { continue };
             if let Some(n) = line.sequence {
@@ -268,6 +269,14 @@ impl SourceFile {
                     return Err((k, format!("program O{o} appears twice")));
                 }
             }
+        }
+        Ok(())
+    }
+
+    fn index_fanuc(&mut self) -> Result<(), (usize, String)> {
+        let mut stack: Vec<(u32, usize)> = Vec::new();
+        for k in self.body.clone() {
+            let Ok(line) = &self.lines[k] else { continue };
             match line.statement {
                 Some(Statement::While(_, m)) | Some(Statement::Do(m)) => stack.push((m, k)),
                 Some(Statement::End(m)) => match stack.pop() {
