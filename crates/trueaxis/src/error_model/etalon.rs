@@ -113,7 +113,7 @@ pub fn parameter_id(name: &str) -> crate::error::Result<Option<ParameterId>> {
         return Ok(None);
     }
     let iso = if upper.len() == 3 && upper.as_bytes()[1] == b'0' { format!("E{upper}") } else { upper };
-    ParameterId::parse(&iso).map(Some).map_err(crate::Error::input)
+    ParameterId::parse(&iso).map(Some)
 }
 
 #[cfg(test)]

@@ -227,7 +227,7 @@ impl Sources {
     /// Parses the TOML text; `origin` names it in messages.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<Sources, Error> {
         let fail = |m: String| Error::input(format!("{origin}: {m}"));
-        crate::io::toml_numbers::refuse_underflow(text).map_err(fail)?;
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|e| e.in_file(origin))?;
         let raw: RawFile = toml::from_str(text).map_err(|e| fail(e.to_string().trim().replace('\n', " ")))?;
         let coverage = raw.coverage.unwrap_or(0.95);
         let mut settings = McSettings::new(coverage, raw.tolerance.unwrap_or(0.05));
