@@ -37,7 +37,7 @@ pub fn fit_plot_svg(plot: &FitPlot) -> Result<String, ReportError> {
     {
         let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 560)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| text(&e))?;
-        style::title(&root, plot.title, 8).map_err(ReportError::Draw)?;
+        style::title(&root, plot.title, 8)?;
         let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
         let (_, strip) = top.split_vertically(44);
         let entries = [
@@ -45,7 +45,7 @@ pub fn fit_plot_svg(plot: &FitPlot) -> Result<String, ReportError> {
             ("fit".to_string(), Swatch::Line(fit, 3)),
             (plot.band_label.to_string(), Swatch::Band(band)),
         ];
-        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
+        style::legend(&strip, &entries)?;
         let mut chart = ChartBuilder::on(&root)
             .margin(12)
             .margin_right(30)

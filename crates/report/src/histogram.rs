@@ -41,7 +41,7 @@ pub fn histograms_svg(title: &str, panels: &[HistogramPanel], bins: usize) -> Re
         let head = 44 + style::LEGEND_HEIGHT;
         let root = SVGBackend::with_string(&mut svg, (style::WIDTH, PANEL_H * rows as u32 + head)).into_drawing_area();
         root.fill(&WHITE).map_err(draw)?;
-        style::title(&root, title, 8).map_err(ReportError::Draw)?;
+        style::title(&root, title, 8)?;
         let (top, root) = root.split_vertically(head);
         let (_, strip) = top.split_vertically(44);
         let mut entries =
@@ -49,7 +49,7 @@ pub fn histograms_svg(title: &str, panels: &[HistogramPanel], bins: usize) -> Re
         if panels.iter().any(|p| p.gaussian.is_some()) {
             entries.push(("GUM (Gaussian)".to_string(), Swatch::Line(BLACK, 2)));
         }
-        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
+        style::legend(&strip, &entries)?;
         let _ = columns;
         for (area, panel) in root.split_evenly((rows, COLUMNS)).iter().zip(panels) {
             panel_chart(area, panel, bins)?;
@@ -154,13 +154,13 @@ pub fn convergence_svg(title: &str, history: &ConvergenceSeries) -> Result<Strin
     {
         let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(draw)?;
-        style::title(&root, title, 8).map_err(ReportError::Draw)?;
+        style::title(&root, title, 8)?;
         let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
         let (_, strip) = top.split_vertically(44);
         let mut entries: Vec<(String, Swatch)> =
             history.series.iter().enumerate().map(|(k, (name, _))| (format!("2 {name}"), Swatch::Line(style::colour(k), 3))).collect();
         entries.push(("tolerance".into(), Swatch::Line(BLACK, 2)));
-        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
+        style::legend(&strip, &entries)?;
         // a linear axis from zero: the few sequences of an adaptive run span less than a decade
         let _ = lo;
         let mut chart = ChartBuilder::on(&root)

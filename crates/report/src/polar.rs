@@ -65,7 +65,6 @@ fn circle(radius: f64) -> Vec<(f64, f64)> {
 
 /// Title, conditions, legend, the square plot centred, the scale and the lines of text below.
 fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), ReportError> {
-    let e = |e: String| ReportError::Draw(e);
     let t = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
     let head = 10 + 34 + LINE * plot.conditions.len() as u32 + style::LEGEND_HEIGHT;
     let mut below = vec![format!("scale: {} um / division; rings every division, the nominal circle in black", trim(scale))];
@@ -73,16 +72,16 @@ fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), ReportErro
     let height = head + PLOT + 12 + LINE * below.len() as u32 + 8;
     let root = SVGBackend::with_string(svg, (style::WIDTH, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|x| t(&x))?;
-    style::title(&root, plot.title, 10).map_err(e)?;
+    style::title(&root, plot.title, 10)?;
     for (i, c) in plot.conditions.iter().enumerate() {
-        style::centred(&root, c, 44 + (LINE * i as u32) as i32, style::TICK).map_err(e)?;
+        style::centred(&root, c, 44 + (LINE * i as u32) as i32, style::TICK)?;
     }
     let (top, rest) = root.split_vertically(head);
     let (_, legend_strip) = top.split_vertically(head - style::LEGEND_HEIGHT);
     let mut entries: Vec<(String, Swatch)> =
         plot.series.iter().enumerate().map(|(k, s)| (s.label.clone(), Swatch::Line(style::colour(k), 3))).collect();
     entries.push(("nominal circle".into(), Swatch::Line(BLACK, 2)));
-    style::legend(&legend_strip, &entries).map_err(e)?;
+    style::legend(&legend_strip, &entries)?;
     let (plot_row, text_area) = rest.split_vertically(PLOT);
     let side = (style::WIDTH - PLOT) / 2;
     let (_, right) = plot_row.split_horizontally(side);
@@ -123,7 +122,7 @@ fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), ReportErro
         chart.draw_series(std::iter::once(PathElement::new(points, style::colour(k).stroke_width(2)))).map_err(|x| t(&x))?;
     }
     for (i, line) in below.iter().enumerate() {
-        style::centred(&text_area, line, 12 + (LINE * i as u32) as i32, style::TICK).map_err(e)?;
+        style::centred(&text_area, line, 12 + (LINE * i as u32) as i32, style::TICK)?;
     }
     root.present().map_err(|x| t(&x))?;
     Ok(())

@@ -37,12 +37,12 @@ pub fn profiles_svg(plot: &Profiles) -> Result<String, ReportError> {
     {
         let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 520)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| text(&e))?;
-        style::title(&root, plot.title, 8).map_err(ReportError::Draw)?;
+        style::title(&root, plot.title, 8)?;
         let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
         let (_, strip) = top.split_vertically(44);
         let entries: Vec<(String, Swatch)> =
             series.iter().enumerate().map(|(k, (name, _))| (name.clone(), Swatch::Line(style::colour(k), 3))).collect();
-        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
+        style::legend(&strip, &entries)?;
         let mut chart = ChartBuilder::on(&root)
             .margin(12)
             .margin_right(30)
