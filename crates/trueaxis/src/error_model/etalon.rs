@@ -86,7 +86,7 @@ fn error_function(p: &EtalonParameter, id: ParameterId, warnings: &mut Vec<Strin
             }
             let positions = sorted.iter().map(|x| x.0).collect();
             let values = sorted.iter().map(|x| scale(x.1)).collect();
-            ErrorFunction::table(positions, values, None).map_err(|e| Error::input(format!("[{}]: {e}", p.name)))
+            ErrorFunction::table(positions, values, None).map_err(|e| e.context(format!("[{}]", p.name)))
         }
         (EtalonValue::Table(_), _) => {
             Err(Error::input(format!("[{}] ({id}) is a position error, a constant: give it as `VALUE =`", p.name)))
