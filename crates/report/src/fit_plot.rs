@@ -31,12 +31,11 @@ pub fn fit_plot_svg(plot: &FitPlot) -> Result<String, ReportError> {
     let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| (a.min(y), b.max(y)));
     let pad = 0.08 * (y1 - y0).max(1e-6);
     let xpad = 0.02 * (x1 - x0).max(1e-6);
-    let text = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
     let (band, fit, dots) = (style::PALETTE[0], style::PALETTE[1], style::GREY);
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 560)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| text(&e))?;
+        root.fill(&WHITE).map_err(style::not_drawn)?;
         style::title(&root, plot.title, 8)?;
         let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
         let (_, strip) = top.split_vertically(44);
@@ -52,7 +51,7 @@ pub fn fit_plot_svg(plot: &FitPlot) -> Result<String, ReportError> {
             .x_label_area_size(64)
             .y_label_area_size(90)
             .build_cartesian_2d((x0 - xpad)..(x1 + xpad), (y0 - pad)..(y1 + pad))
-            .map_err(|e| text(&e))?;
+            .map_err(style::not_drawn)?;
         chart
             .configure_mesh()
             .x_desc(plot.x_label)
@@ -63,13 +62,13 @@ pub fn fit_plot_svg(plot: &FitPlot) -> Result<String, ReportError> {
             .axis_desc_style(style::font(style::TICK))
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
-            .map_err(|e| text(&e))?;
+            .map_err(style::not_drawn)?;
         let outline: Vec<(f64, f64)> =
             plot.curve.iter().map(|c| (c.0, c.1 + c.2)).chain(plot.curve.iter().rev().map(|c| (c.0, c.1 - c.2))).collect();
-        chart.draw_series(std::iter::once(Polygon::new(outline, band.mix(0.3).filled()))).map_err(|e| text(&e))?;
-        chart.draw_series(plot.points.iter().map(|p| Circle::new(*p, 3, dots.filled()))).map_err(|e| text(&e))?;
-        chart.draw_series(LineSeries::new(plot.curve.iter().map(|c| (c.0, c.1)), fit.stroke_width(3))).map_err(|e| text(&e))?;
-        root.present().map_err(|e| text(&e))?;
+        chart.draw_series(std::iter::once(Polygon::new(outline, band.mix(0.3).filled()))).map_err(style::not_drawn)?;
+        chart.draw_series(plot.points.iter().map(|p| Circle::new(*p, 3, dots.filled()))).map_err(style::not_drawn)?;
+        chart.draw_series(LineSeries::new(plot.curve.iter().map(|c| (c.0, c.1)), fit.stroke_width(3))).map_err(style::not_drawn)?;
+        root.present().map_err(style::not_drawn)?;
     }
     Ok(svg)
 }

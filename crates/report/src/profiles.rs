@@ -32,11 +32,10 @@ pub fn profiles_svg(plot: &Profiles) -> Result<String, ReportError> {
     }
     let ypad = if plot.symmetric { 0.0 } else { 0.08 * (y1 - y0).max(1e-3) };
     let xpad = 0.02 * (x1 - x0).max(1e-6);
-    let text = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 520)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| text(&e))?;
+        root.fill(&WHITE).map_err(style::not_drawn)?;
         style::title(&root, plot.title, 8)?;
         let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
         let (_, strip) = top.split_vertically(44);
@@ -49,7 +48,7 @@ pub fn profiles_svg(plot: &Profiles) -> Result<String, ReportError> {
             .x_label_area_size(64)
             .y_label_area_size(90)
             .build_cartesian_2d((x0 - xpad)..(x1 + xpad), (y0 - ypad)..(y1 + ypad))
-            .map_err(|e| text(&e))?;
+            .map_err(style::not_drawn)?;
         chart
             .configure_mesh()
             .x_desc(plot.x_label)
@@ -60,17 +59,17 @@ pub fn profiles_svg(plot: &Profiles) -> Result<String, ReportError> {
             .axis_desc_style(style::font(style::TICK))
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
-            .map_err(|e| text(&e))?;
+            .map_err(style::not_drawn)?;
         for (k, (_, p)) in series.iter().enumerate() {
             let colour = style::colour(k);
             let mut sorted = p.clone();
             sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
-            chart.draw_series(LineSeries::new(sorted.iter().copied(), colour.stroke_width(2))).map_err(|e| text(&e))?;
+            chart.draw_series(LineSeries::new(sorted.iter().copied(), colour.stroke_width(2))).map_err(style::not_drawn)?;
             if plot.markers {
-                chart.draw_series(sorted.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(|e| text(&e))?;
+                chart.draw_series(sorted.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(style::not_drawn)?;
             }
         }
-        root.present().map_err(|e| text(&e))?;
+        root.present().map_err(style::not_drawn)?;
     }
     Ok(svg)
 }
