@@ -217,7 +217,7 @@ pub(crate) fn compute(args: &FitArgs) -> Result<FitRun, Failure> {
 /// The parameter of `--parameter`: only a motion error is a function of its axis position, the
 /// others are refused before anything is read.
 fn motion_error(name: &str) -> Result<ParameterId, Failure> {
-    let parameter = ParameterId::parse(name).map_err(|m| input(format!("--parameter: {m}")))?;
+    let parameter = ParameterId::parse(name).map_err(|e| Failure::of(e.for_parameter("--parameter")))?;
     if !matches!(parameter, ParameterId::Motion { .. }) {
         return Err(input(format!("--parameter: {}", DirectError::NotMotion(parameter))));
     }

@@ -32,7 +32,6 @@ pub fn fit_plot_svg(plot: &FitPlot) -> Result<String, ReportError> {
     let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| (a.min(y), b.max(y)));
     let pad = 0.08 * (y1 - y0).max(1e-6);
     let xpad = 0.02 * (x1 - x0).max(1e-6);
-    let text = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
     let (band, fit, dots) = (style::PALETTE[0], style::PALETTE[1], style::GREY);
     let legend = [
         ("measured".to_string(), Swatch::Dot(dots)),
@@ -51,9 +50,9 @@ pub fn fit_plot_svg(plot: &FitPlot) -> Result<String, ReportError> {
     framed_svg(&frame, |chart| {
         let outline: Vec<(f64, f64)> =
             plot.curve.iter().map(|c| (c.0, c.1 + c.2)).chain(plot.curve.iter().rev().map(|c| (c.0, c.1 - c.2))).collect();
-        chart.draw_series(std::iter::once(Polygon::new(outline, band.mix(0.3).filled()))).map_err(|e| text(&e))?;
-        chart.draw_series(plot.points.iter().map(|p| Circle::new(*p, 3, dots.filled()))).map_err(|e| text(&e))?;
-        chart.draw_series(LineSeries::new(plot.curve.iter().map(|c| (c.0, c.1)), fit.stroke_width(3))).map_err(|e| text(&e))?;
+        chart.draw_series(std::iter::once(Polygon::new(outline, band.mix(0.3).filled()))).map_err(style::not_drawn)?;
+        chart.draw_series(plot.points.iter().map(|p| Circle::new(*p, 3, dots.filled()))).map_err(style::not_drawn)?;
+        chart.draw_series(LineSeries::new(plot.curve.iter().map(|c| (c.0, c.1)), fit.stroke_width(3))).map_err(style::not_drawn)?;
         Ok(())
     })
 }

@@ -25,22 +25,21 @@ pub struct Frame<'a> {
 
 /// The SVG of `frame` with what `draw` puts into its chart.
 pub fn framed_svg(frame: &Frame, draw: impl FnOnce(&mut Chart) -> Result<(), ReportError>) -> Result<String, ReportError> {
-    let text = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (style::WIDTH, frame.height)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| text(&e))?;
-        style::title(&root, frame.title, 8).map_err(ReportError::Draw)?;
+        root.fill(&WHITE).map_err(style::not_drawn)?;
+        style::title(&root, frame.title, 8)?;
         let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
         let (_, strip) = top.split_vertically(44);
-        style::legend(&strip, frame.legend).map_err(ReportError::Draw)?;
+        style::legend(&strip, frame.legend)?;
         let mut chart = ChartBuilder::on(&root)
             .margin(12)
             .margin_right(30)
             .x_label_area_size(64)
             .y_label_area_size(90)
             .build_cartesian_2d(frame.x.clone(), frame.y.clone())
-            .map_err(|e| text(&e))?;
+            .map_err(style::not_drawn)?;
         chart
             .configure_mesh()
             .x_desc(frame.x_label)
@@ -51,9 +50,9 @@ pub fn framed_svg(frame: &Frame, draw: impl FnOnce(&mut Chart) -> Result<(), Rep
             .axis_desc_style(style::font(style::TICK))
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
-            .map_err(|e| text(&e))?;
+            .map_err(style::not_drawn)?;
         draw(&mut chart)?;
-        root.present().map_err(|e| text(&e))?;
+        root.present().map_err(style::not_drawn)?;
     }
     Ok(svg)
 }

@@ -33,7 +33,6 @@ pub fn profiles_svg(plot: &Profiles) -> Result<String, ReportError> {
     }
     let ypad = if plot.symmetric { 0.0 } else { 0.08 * (y1 - y0).max(1e-3) };
     let xpad = 0.02 * (x1 - x0).max(1e-6);
-    let text = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
     let legend: Vec<(String, Swatch)> =
         series.iter().enumerate().map(|(k, (name, _))| (name.clone(), Swatch::Line(style::colour(k), 3))).collect();
     let frame = Frame {
@@ -50,9 +49,9 @@ pub fn profiles_svg(plot: &Profiles) -> Result<String, ReportError> {
             let colour = style::colour(k);
             let mut sorted = p.clone();
             sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
-            chart.draw_series(LineSeries::new(sorted.iter().copied(), colour.stroke_width(2))).map_err(|e| text(&e))?;
+            chart.draw_series(LineSeries::new(sorted.iter().copied(), colour.stroke_width(2))).map_err(style::not_drawn)?;
             if plot.markers {
-                chart.draw_series(sorted.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(|e| text(&e))?;
+                chart.draw_series(sorted.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(style::not_drawn)?;
             }
         }
         Ok(())

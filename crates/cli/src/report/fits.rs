@@ -19,7 +19,7 @@ pub fn fit_parts(certificate: &CertificateFile, machine: &Path, origin: &Path) -
     let mut parts = Vec::new();
     for (k, table) in certificate.fits.iter().enumerate() {
         let place = format!("{}: [[fit]] {}", origin.display(), k + 1);
-        let options = fit_arguments(table, folder).map_err(|m| Failure::input(anyhow::anyhow!("{place}: {m}")))?;
+        let options = fit_arguments(table, folder).map_err(|e| Failure::of(e.context(&place)))?;
         let argv = ["fit".to_string(), "--machine".into(), machine.display().to_string()].into_iter().chain(options);
         let args = <FitCommand as clap::Parser>::try_parse_from(argv).map_err(|e| {
             let first = e.to_string().lines().next().unwrap_or_default().trim_start_matches("error: ").to_string();

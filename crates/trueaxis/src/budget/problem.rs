@@ -94,7 +94,7 @@ pub fn pose_sets(machine: &Machine, setup: &Setup, source: &PoseSource<'_>, rota
                 return Err(Error::input(format!("{}: no poses", path.display())));
             }
             for (i, pose) in table.user.chunks(machine.axis_count()).enumerate() {
-                machine.check_range(pose).map_err(|m| Error::input(format!("{}: line {}: {m}", path.display(), table.lines[i])))?;
+                machine.check_range(pose).map_err(|e| e.in_file(path.display().to_string()).at_line(table.lines[i] as usize))?;
             }
             Ok(vec![set(path.display().to_string(), None, table.user)])
         }
@@ -115,7 +115,7 @@ pub fn pose_sets(machine: &Machine, setup: &Setup, source: &PoseSource<'_>, rota
                 )));
             }
             for (i, pose) in user.chunks(n).enumerate() {
-                machine.check_range(pose).map_err(|m| Error::input(format!("{label}: pose {}: {m}", i + 1)))?;
+                machine.check_range(pose).map_err(|e| e.context(format!("{label}: pose {}", i + 1)))?;
             }
             Ok(vec![set(label.to_string(), None, user.to_vec())])
         }

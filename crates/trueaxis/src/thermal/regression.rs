@@ -93,7 +93,7 @@ impl RegressionModel {
             #[serde(flatten)]
             model: toml::Table,
         }
-        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|e| e.in_file(origin))?;
         let file: File = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e.to_string()))))?;
         if file.kind != "regression" {
             return Err(Error::input(format!("{origin}: kind `{}` is not a thermal error model (kind = \"regression\")", file.kind)));
