@@ -144,6 +144,23 @@ impl BudgetProblem {
         Ok(out)
     }
 
+    /// The root-sum-square 3D error (um) at each of `poses_user` (mm, deg; `machine.axis_count()`
+    /// per pose) with every rotary axis where the first pose set has it: the map of `trueaxis
+    /// budget analyse --plots` over the mid-planes of the travel.
+    pub fn rss_at(&self, poses_user: &[f64]) -> Result<Vec<f64>, Error> {
+        let n = self.machine.axis_count();
+        let mut poses = poses_user.to_vec();
+        if let Some(base) = self.sets.first().and_then(|set| set.user.get(..n)) {
+            for (k, axis) in self.machine.axes().iter().enumerate() {
+                if axis.kind == AxisKind::Rotary {
+                    poses.chunks_mut(n).for_each(|pose| pose[k] = base[k]);
+                }
+            }
+        }
+        let a = analyse(&self.machine, &self.spec, &to_internal(&self.machine, &poses), &self.setup, self.frame)?;
+        Ok(a.poses.iter().map(|p| p.stack.rss_total).collect())
+    }
+
     /// The cost-optimal allocation on the (single) pose set, with the sensitivity it used.
     pub fn allocate(&self, options: &AllocationOptions) -> Result<(Allocation, Sensitivity), Error> {
         let [set] = &self.sets[..] else {
