@@ -432,7 +432,7 @@ impl<'m> Exec<'m> {
     }
 
     /// The work offsets of `system` (program units; Fanuc: plus the external offset #5201).
-    pub fn system_offsets(&self, system: u8) -> Result<Vec9, String> {
+    pub(crate) fn system_offsets(&self, system: u8) -> Result<Vec9, String> {
         let base = self.system_base(system);
         let mut out = [0.0; AXES];
         for (k, o) in out.iter_mut().enumerate() {
@@ -520,7 +520,7 @@ impl<'m> Exec<'m> {
 
     /// Tool `n` of the table; a tool the table lacks takes the assumed length of
     /// [`ProgramSetup::unknown_tools`] (recorded in the trace), or is refused.
-    pub fn tool_entry(&mut self, n: u32) -> Result<crate::tools::Tool, String> {
+    pub(crate) fn tool_entry(&mut self, n: u32) -> Result<crate::tools::Tool, String> {
         if let Some(t) = self.tools.get(n) {
             return Ok(t.clone());
         }
@@ -555,13 +555,13 @@ impl<'m> Exec<'m> {
     }
 
     /// Evaluates expression `id` of `file`.
-    pub fn eval(&mut self, file: &SourceFile, id: ExprId) -> Result<f64, String> {
+    pub(crate) fn eval(&mut self, file: &SourceFile, id: ExprId) -> Result<f64, String> {
         let dialect = self.dialect;
         evaluate(&file.arena, id, self, dialect)
     }
 
     /// Writes a parameter and records it in the trace.
-    pub fn assign(&mut self, target: &ParamRef, index: Option<u32>, value: f64) -> Result<(), String> {
+    pub(crate) fn assign(&mut self, target: &ParamRef, index: Option<u32>, value: f64) -> Result<(), String> {
         let key = match target {
             ParamRef::Named(name) => {
                 if self.dialect == Dialect::LinuxCnc && name.starts_with('_') && is_predefined(name) {
@@ -893,7 +893,7 @@ impl<'m> Exec<'m> {
 
 impl Exec<'_> {
     /// The plane's axes must be on the machine.
-    pub fn plane_axes(&self, plane: PlaneSelect) -> Result<[usize; 3], String> {
+    pub(crate) fn plane_axes(&self, plane: PlaneSelect) -> Result<[usize; 3], String> {
         let axes = plane.axes();
         let mut out = [0; 3];
         for (o, &k) in out.iter_mut().zip(&axes) {

@@ -159,7 +159,7 @@ pub const MAX_NESTING: usize = 64;
 /// Reads one line; `arena` receives its expression nodes. An error says what is wrong (the caller
 /// adds file and line). `bytewise`: the line was read byte for byte (not UTF-8), its characters
 /// above U+007F are bytes.
-pub fn parse_line(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node>, bytewise: bool) -> Result<Line, String> {
+pub(crate) fn parse_line(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node>, bytewise: bool) -> Result<Line, String> {
     let length = if bytewise { text.chars().count() } else { text.len() };
     if dialect == Dialect::LinuxCnc && length > LINUXCNC_MAX_LINE {
         return Err(format!("a line of {length} characters: LinuxCNC reads at most {LINUXCNC_MAX_LINE} (rs274: Command too long)"));

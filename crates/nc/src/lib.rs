@@ -162,11 +162,7 @@ pub fn run(
         let line = dialects::siemens_line(&String::from_utf8_lossy(bytes));
         return Err(NcError { file: origin.to_string(), line, message: dialects::SIEMENS_NOT_READ.into() });
     }
-    let mut program = Program::new(origin, bytes, controller.family(), setup.search_path.clone()).map_err(|(k, m)| NcError {
-        file: origin.to_string(),
-        line: k + 1,
-        message: m,
-    })?;
+    let mut program = Program::new(origin, bytes, controller.family(), setup.search_path.clone())?;
     program.controller = controller;
     interpret::run(axes, program, setup)
 }

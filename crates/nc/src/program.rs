@@ -8,6 +8,7 @@ use crate::dialect::Dialect;
 use crate::expr::Node;
 use crate::lexer::{parse_line, Label, Line, OKind, Statement};
 use crate::source::{decode_part, Ending, SourceText};
+use crate::NcError;
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::PathBuf;
@@ -44,7 +45,7 @@ pub struct SourceFile {
     /// Byte range of each line in `text`.
     pub ranges: Vec<Range<usize>>,
     /// Each line read, or why it cannot be read (an error only if the line is executed).
-    pub lines: Vec<Result<Line, String>>,
+    pub(crate) lines: Vec<Result<Line, String>>,
     pub arena: Vec<Node>,
     pub links: Vec<Link>,
     /// LinuxCNC subroutines of this file: label -> (`sub` line, `endsub` line).
@@ -75,9 +76,14 @@ pub struct PartState {
 }
 
 impl SourceFile {
+    /// How many lines the file (or part) has.
+    pub fn line_count(&self) -> usize {
+        self.lines.len()
+    }
+
     /// Reads and indexes a file; an error names the line of a control structure that does not
     /// close or match.
-    pub fn load(name: &str, bytes: &[u8], dialect: Dialect) -> Result<SourceFile, (usize, String)> {
+    pub fn load(name: &str, bytes: &[u8], dialect: Dialect) -> Result<SourceFile, NcError> {
         let mut whole = PartState::default();
         Self::load_part(name, bytes, dialect, &mut whole, true)
     }
@@ -85,7 +91,12 @@ impl SourceFile {
     /// Reads and indexes the part of a file that follows the parts `state` has seen (`last`: it
     /// ends the file); line numbers of an error are those of the part. The body of a part runs
     /// from its first line, or after the file's leading `%`, to a closing `%` or its end.
-    pub fn load_part(name: &str, bytes: &[u8], dialect: Dialect, state: &mut PartState, last: bool) -> Result<SourceFile, (usize, String)> {
+    pub fn load_part(name: &str, bytes: &[u8], dialect: Dialect, state: &mut PartState, last: bool) -> Result<SourceFile, NcError> {
+        Self::read_part(name, bytes, dialect, state, last).map_err(|(k, message)| NcError { file: name.to_string(), line: k + 1, message })
+    }
+
+    /// [`SourceFile::load_part`], the error at the index of its line.
+    fn read_part(name: &str, bytes: &[u8], dialect: Dialect, state: &mut PartState, last: bool) -> Result<SourceFile, (usize, String)> {
         let SourceText { text, bom, endings, bytewise } = decode_part(bytes, state.lines == 0)?;
         let mut ranges = Vec::with_capacity(endings.len());
         let mut start = 0;
@@ -313,7 +324,7 @@ pub struct Program {
 
 impl Program {
     /// The main file; an error names its line.
-    pub fn new(name: &str, bytes: &[u8], dialect: Dialect, search: SearchPath) -> Result<Program, (usize, String)> {
+    pub fn new(name: &str, bytes: &[u8], dialect: Dialect, search: SearchPath) -> Result<Program, NcError> {
         let main = SourceFile::load(name, bytes, dialect)?;
         Ok(Program { dialect, controller: crate::Controller::of_family(dialect), files: vec![main], search })
     }
@@ -321,7 +332,7 @@ impl Program {
     /// The file holding subroutine `label`: the main file, a file loaded before, or `<name>.ngc`
     /// on the search path (LinuxCNC `o<name> call`); a Fanuc program number `O1234` is looked for
     /// in the loaded files, then as `O1234`, `O1234.nc`, `O1234.ngc` on the search path.
-    pub fn find_sub(&mut self, label: &Label) -> Result<(usize, usize, usize), String> {
+    pub(crate) fn find_sub(&mut self, label: &Label) -> Result<(usize, usize, usize), String> {
         for (f, file) in self.files.iter().enumerate() {
             if let Some(&(start, end)) = file.subs.get(label) {
                 return Ok((f, start, end));
@@ -334,14 +345,14 @@ impl Program {
         let (path, text) = self.read_on_path(&candidates).ok_or_else(|| {
             format!("subroutine `{label}` is neither in the program nor a file {name}.ngc on the search path ({})", self.search_list())
         })?;
-        let file = SourceFile::load(&path, &text, self.dialect).map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
+        let file = SourceFile::load(&path, &text, self.dialect).map_err(|e| e.to_string())?;
         let &(start, end) = file.subs.get(label).ok_or_else(|| format!("{path} does not define `{label} sub`"))?;
         self.files.push(file);
         Ok((self.files.len() - 1, start, end))
     }
 
     /// The file and line of Fanuc program `O<number>`.
-    pub fn find_program(&mut self, number: u32) -> Result<(usize, usize), String> {
+    pub(crate) fn find_program(&mut self, number: u32) -> Result<(usize, usize), String> {
         for (f, file) in self.files.iter().enumerate() {
             if let Some(&k) = file.programs.get(&number) {
                 return Ok((f, k));
@@ -355,7 +366,7 @@ impl Program {
                 self.search_list()
             )
         })?;
-        let file = SourceFile::load(&path, &text, self.dialect).map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
+        let file = SourceFile::load(&path, &text, self.dialect).map_err(|e| e.to_string())?;
         let &k = file.programs.get(&number).ok_or_else(|| format!("{path} does not start with O{number}"))?;
         self.files.push(file);
         Ok((self.files.len() - 1, k))
@@ -398,7 +409,7 @@ mod tests {
         assert_eq!(f.links[9], Link::LoopJump { start: 8, end: 10 });
         assert_eq!(f.body, 0..13);
         let bad = SourceFile::load("t.ngc", b"o1 if [1]\nG0 X1\n", Dialect::LinuxCnc).unwrap_err();
-        assert_eq!(bad, (0, "`o1 if` is never closed".into()));
+        assert_eq!((bad.line, bad.message.as_str()), (1, "`o1 if` is never closed"));
         assert!(SourceFile::load("t.ngc", b"o1 endwhile\n", Dialect::LinuxCnc).is_err());
         let fanuc = "%\nO0001\nN10 #1=0\nWHILE [#1 LT 2] DO 1\n#1=#1+1\nEND 1\nM30\nO2000\nM99\n%\nignored\n";
         let f = SourceFile::load("t.nc", fanuc.as_bytes(), Dialect::Fanuc).unwrap();
