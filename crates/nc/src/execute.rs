@@ -146,6 +146,11 @@ impl Exec<'_> {
         self.trace.steps[step].writes.end = self.trace.writes.len() as u32;
         self.comments(file, pc.1, line)?;
         let flow = self.actions(&mut w, step)?;
+        if let Some(call) = &line.siemens_call {
+            crate::siemens::cycles::call(self, file, call, step)?;
+        } else if self.siemens_mcall.is_some() && w.any_axis_or_polar() {
+            crate::siemens::cycles::modal(self, step)?;
+        }
         if self.rs274_tool_change && w.ms().iter().any(|&m| m == 6 || m == 61) {
             self.rs274_resync(step);
         }
@@ -517,6 +522,11 @@ impl Exec<'_> {
             match code {
                 200 | 210 => {
                     self.state.set_inch(code == 200);
+                    setup(self, b'G', f64::from(code) / 10.0);
+                }
+                // the SINUMERIK's inch and metric: G70/G700, G71/G710
+                700 | 710 | 7000 | 7100 if self.table.group(code) == Ok(Group::Units) => {
+                    self.state.set_inch(matches!(code, 700 | 7000));
                     setup(self, b'G', f64::from(code) / 10.0);
                 }
                 400 => setup(self, b'G', 40.0),

@@ -90,6 +90,8 @@ pub(crate) struct Exec<'m> {
     pub spline_pq: Option<(f64, f64)>,
     /// The NURBS being collected between `G5.2` and `G5.3`.
     pub nurbs: Option<crate::nurbs::Pending>,
+    /// The SINUMERIK drilling cycle called modally (`MCALL CYCLE81(...)`) with its values.
+    pub siemens_mcall: Option<crate::siemens::cycles::Drilling>,
     pub dialect: Dialect,
     /// The controller's codes.
     pub table: &'static crate::dialects::DialectTable,
@@ -357,6 +359,7 @@ impl<'m> Exec<'m> {
             tool_at_last_move: [0.0; AXES],
             spline_pq: None,
             nurbs: None,
+            siemens_mcall: None,
             unknown_tools: setup.unknown_tools,
         };
         let n = machine.axis_count();

@@ -123,6 +123,8 @@ pub struct Line {
     /// A grbl system command (`$H`, `$J=G91 X10 F500`, `$32=1`): the byte range of its text, to
     /// the end of the line, or of `$J=` before the words of a jog (read in `grbl_system.rs`).
     pub system: Option<Range<usize>>,
+    /// A SINUMERIK cycle call or `MCALL` ([`crate::siemens`]).
+    pub siemens_call: Option<Box<crate::siemens::Call>>,
 }
 
 impl Line {
@@ -138,6 +140,7 @@ impl Line {
             && self.statement.is_none()
             && self.program_number.is_none()
             && self.system.is_none()
+            && self.siemens_call.is_none()
     }
 }
 

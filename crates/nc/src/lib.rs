@@ -14,7 +14,8 @@
 //! scopes), [`program`] (files and their control structures), [`interpret`] (control flow),
 //! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
 //! [`arcs`], [`splines`] and [`nurbs`] (as chords), [`cycles`], [`tools`] (tool table), [`dialect`] (the two
-//! families of grammar), [`dialects`] (each controller's codes, as data), [`trace`] (what a run did),
+//! families of grammar), [`dialects`] (each controller's codes, as data), [`siemens`] (the
+//! SINUMERIK 840D's own language, read into the same lines), [`trace`] (what a run did),
 //! `subprograms` (Mach3/Mach4 `M98` and Haas `M97` calls), `grbl_system` (grbl's `$` lines),
 //! [`plan`] (what stays, what is expanded), [`path`] (points along moves, split points),
 //! [`write`] (the text with moved points), [`parts`] (a file read in parts, for programs of any
@@ -38,6 +39,7 @@ pub mod parts;
 pub mod path;
 pub mod plan;
 pub mod program;
+pub mod siemens;
 pub mod source;
 pub mod splines;
 mod subprograms;
@@ -158,11 +160,8 @@ pub fn run(
     setup: &ProgramSetup,
 ) -> Result<(Trace, Program), NcError> {
     let controller = controller.unwrap_or_else(|| Controller::detect(&String::from_utf8_lossy(bytes)));
-    if controller == Controller::Siemens {
-        let line = dialects::siemens_line(&String::from_utf8_lossy(bytes));
-        return Err(NcError { file: origin.to_string(), line, message: dialects::SIEMENS_NOT_READ.into() });
-    }
-    let mut program = Program::new(origin, bytes, controller.family(), setup.search_path.clone())?;
-    program.controller = controller;
+    let (dialect, read) = (controller.family(), controller.line_reader());
+    let main = program::SourceFile::load_part_with(origin, bytes, dialect, &mut Default::default(), true, read)?;
+    let program = Program { dialect, controller, files: vec![main], search: setup.search_path.clone() };
     interpret::run(axes, program, setup)
 }

@@ -32,6 +32,9 @@ pub enum Link {
     SubEnd { start: usize },
 }
 
+/// Reads one line of a file (text, 1-based number, family, expression arena, read byte for byte).
+pub type LineReader = fn(&str, usize, Dialect, &mut Vec<Node>, bool) -> Result<Line, String>;
+
 /// One file of the program.
 #[derive(Clone, Debug)]
 pub struct SourceFile {
@@ -92,11 +95,35 @@ impl SourceFile {
     /// ends the file); line numbers of an error are those of the part. The body of a part runs
     /// from its first line, or after the file's leading `%`, to a closing `%` or its end.
     pub fn load_part(name: &str, bytes: &[u8], dialect: Dialect, state: &mut PartState, last: bool) -> Result<SourceFile, NcError> {
-        Self::read_part(name, bytes, dialect, state, last).map_err(|(k, message)| NcError { file: name.to_string(), line: k + 1, message })
+        Self::load_part_with(name, bytes, dialect, state, last, parse_line)
     }
 
-    /// [`SourceFile::load_part`], the error at the index of its line.
-    fn read_part(name: &str, bytes: &[u8], dialect: Dialect, state: &mut PartState, last: bool) -> Result<SourceFile, (usize, String)> {
+    /// [`SourceFile::load_part`] with the lines read by `read` (the SINUMERIK's own language is
+    /// read by [`crate::siemens::parse_line`] into the same lines).
+    pub fn load_part_with(
+        name: &str,
+        bytes: &[u8],
+        dialect: Dialect,
+        state: &mut PartState,
+        last: bool,
+        read: LineReader,
+    ) -> Result<SourceFile, NcError> {
+        Self::read_part(name, bytes, dialect, state, last, read).map_err(|(k, message)| NcError {
+            file: name.to_string(),
+            line: k + 1,
+            message,
+        })
+    }
+
+    /// [`SourceFile::load_part_with`], the error at the index of its line.
+    fn read_part(
+        name: &str,
+        bytes: &[u8],
+        dialect: Dialect,
+        state: &mut PartState,
+        last: bool,
+        read: LineReader,
+    ) -> Result<SourceFile, (usize, String)> {
         let SourceText { text, bom, endings, bytewise } = decode_part(bytes, state.lines == 0)?;
         let mut ranges = Vec::with_capacity(endings.len());
         let mut start = 0;
@@ -108,7 +135,7 @@ impl SourceFile {
         let lines: Vec<Result<Line, String>> = ranges
             .iter()
             .enumerate()
-            .map(|(i, r)| parse_line(&text[r.clone()], i + 1, dialect, &mut arena, bytewise.binary_search(&i).is_ok()))
+            .map(|(i, r)| read(&text[r.clone()], i + 1, dialect, &mut arena, bytewise.binary_search(&i).is_ok()))
             .collect();
         let percent = |k: usize| matches!(&lines[k], Ok(l) if l.percent);
         let closing = |from: usize| (from..lines.len()).find(|&k| percent(k));

@@ -104,6 +104,9 @@ pub mod flags {
     /// A line of a NURBS (`G5.2` control points, `G5.3` running it as chords): always written
     /// as its chords.
     pub const NURBS: u16 = 64;
+    /// A SINUMERIK cycle call (`CYCLE81(...)`, `MCALL CYCLE81(...)`) or a block drilling under
+    /// `MCALL`: always written as its moves, the call taken out.
+    pub const SIEMENS_CYCLE: u16 = 128;
 }
 
 /// One executed line.

@@ -648,7 +648,10 @@ impl<'a> Writer<'a> {
             first.push(m.clone());
         }
         if let Some(m) = semicolons.first() {
-            first.push(format!("({})", m[1..].replace(['(', ')'], "")));
+            match self.program.controller {
+                crate::Controller::Siemens => first.push(m.to_string()),
+                _ => first.push(format!("({})", m[1..].replace(['(', ')'], ""))),
+            }
         }
         if !first.is_empty() {
             out.push(first.join(" "));
@@ -803,6 +806,8 @@ impl<'a> Writer<'a> {
         let sequence = self.program.files[0].lines[k].as_ref().ok().and_then(|l| l.sequence);
         self.region_changed = false;
         let mut lines = self.expanded(step, pieces, sequence);
+        // a SINUMERIK cycle call never stays: the controller would drill again at the moves
+        self.region_changed |= step.has(crate::trace::flags::SIEMENS_CYCLE);
         let text = self.program.files[0].line_text(k).to_string();
         let nurbs = step.has(crate::trace::flags::NURBS);
         if nurbs && !step.has(crate::trace::flags::SPLINE) {
@@ -814,7 +819,9 @@ impl<'a> Writer<'a> {
         }
         let control_points = std::mem::take(&mut self.nurbs_lines);
         if self.region_changed {
-            let what = if nurbs {
+            let what = if step.has(crate::trace::flags::SIEMENS_CYCLE) {
+                "SINUMERIK drilling cycle as moves"
+            } else if nurbs {
                 "NURBS (G5.2-G5.3) as lines within 1 um of the curve"
             } else if step.has(crate::trace::flags::SPLINE) {
                 "spline as lines within 1 um of the curve"
@@ -826,7 +833,11 @@ impl<'a> Writer<'a> {
             self.notes.push(format!("line {}, {what}", k + 1 + self.line_offset as usize));
             self.changed_lines += 1 + control_points.len();
             self.inserted_lines += lines.len().saturating_sub(1);
-            if let Some(c) = comment_of(&text) {
+            let comment = match self.program.controller {
+                crate::Controller::Siemens => text.find(';').map(|i| text[i..].to_string()),
+                _ => comment_of(&text),
+            };
+            if let Some(c) = comment {
                 if let Some(first) = lines.first_mut() {
                     if !first.contains(&c) {
                         first.push_str(&format!(" {c}"));
@@ -895,7 +906,8 @@ impl<'a> Writer<'a> {
         for (k, plan) in self.plan.lines.iter().enumerate() {
             let keep_first =
                 |l: &Result<Line, String>| matches!(l, Ok(l) if l.percent || l.program_number.is_some() && self.dialect == Dialect::Fanuc);
-            if !(noted || k < file.body.start || keep_first(&file.lines[k])) {
+            let siemens_head = self.program.controller == crate::Controller::Siemens && crate::siemens::is_file_header(file.line_text(k));
+            if !(noted || k < file.body.start || keep_first(&file.lines[k]) || siemens_head) {
                 at = Some(out.len());
                 noted = true;
             }
@@ -907,7 +919,10 @@ impl<'a> Writer<'a> {
             match &self.out[k] {
                 Some(lines) => {
                     for (i, l) in lines.iter().enumerate() {
-                        encode_line(l, bytewise, out);
+                        match self.program.controller {
+                            crate::Controller::Siemens => encode_line(&crate::siemens::write::spell(l), bytewise, out),
+                            _ => encode_line(l, bytewise, out),
+                        }
                         out.extend_from_slice(if i + 1 == lines.len() { ending.bytes() } else { self.eol.bytes() });
                     }
                 }
@@ -967,6 +982,10 @@ fn letter_start(text: &str, value_start: usize) -> usize {
     while i > 0 {
         i -= 1;
         if b[i].is_ascii_alphabetic() || matches!(b[i], b'@' | b'^') {
+            // a SINUMERIK address of several letters before `=` (`CR=5`)
+            while b.get(i + 1) == Some(&b'=') && i > 0 && b[i - 1].is_ascii_alphabetic() {
+                i -= 1;
+            }
             return i;
         }
     }

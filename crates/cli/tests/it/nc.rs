@@ -156,12 +156,12 @@ fn refusals_name_the_line_and_write_nothing() {
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[grbl.to_str().unwrap(), "--dialect", "grbl"]);
     assert_eq!(code, 2);
     assert!(stderr.ends_with("drill.gcode: line 3: G81 is not a code of grbl 1.1: grbl 1.1 stops here with error:20 (unsupported or invalid g-code command)\n"), "{stderr}");
-    // a Siemens program: recognised, refused with the line of its first native construct
+    // a Siemens program: read; a frame rotation refused with its line
     let siemens = dir.path().join("part.mpf");
-    std::fs::write(&siemens, "; SINUMERIK 840D\nN10 G17 G90 G54\nN20 G0 X10 Y10\nN30 G2 X20 Y20 CR=10\nM30\n").unwrap();
+    std::fs::write(&siemens, "; SINUMERIK 840D\nN10 G17 G90 G54\nN20 G0 X10 Y10\nN30 AROT Z30\nN40 G2 X20 Y20 CR=10\nM30\n").unwrap();
     let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[siemens.to_str().unwrap()]);
     assert_eq!(code, 2);
-    assert!(stderr.contains("part.mpf: line 4: the program is in the SINUMERIK 840D native language"), "{stderr}");
+    assert!(stderr.contains("part.mpf: line 4: AROT (additive programmable rotation) is not supported"), "{stderr}");
 }
 
 #[test]

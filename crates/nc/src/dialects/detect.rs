@@ -74,11 +74,6 @@ fn integer_dimension(code: &str) -> bool {
     })
 }
 
-/// The first line (1-based) whose code marks `controller`.
-pub(super) fn first_line(text: &str, controller: Controller) -> Option<usize> {
-    text.lines().position(|raw| marker(&split_comment(&raw.trim().to_ascii_uppercase()).0) == Some(controller)).map(|k| k + 1)
-}
-
 /// The code part of an upper-case line and its comments (`( )`, and what follows `;`).
 fn split_comment(line: &str) -> (String, String) {
     let (mut code, mut comment) = (String::new(), String::new());

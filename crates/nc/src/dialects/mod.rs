@@ -236,6 +236,14 @@ impl Controller {
         self.table().family
     }
 
+    /// What reads its lines: the family's lexer, or the SINUMERIK's own.
+    pub fn line_reader(self) -> crate::program::LineReader {
+        match self {
+            Controller::Siemens => crate::siemens::parse_line,
+            _ => crate::lexer::parse_line,
+        }
+    }
+
     /// The controller that stands for a family when none is named (LinuxCNC, Fanuc).
     pub fn of_family(family: Dialect) -> Controller {
         match family {
@@ -292,11 +300,3 @@ pub fn gcode_text(code: u16) -> String {
 }
 
 pub use docs::markdown;
-
-/// Why a program in Siemens's native language is refused.
-pub const SIEMENS_NOT_READ: &str = "the program is in the SINUMERIK 840D native language (R parameters, CR= arcs, CYCLE81, MCALL, TRANS), which is not read yet; a program in ISO dialect mode (G291) reads with --dialect fanuc";
-
-/// The first line (1-based) holding a construct of Siemens's native language (1 when none).
-pub fn siemens_line(text: &str) -> usize {
-    detect::first_line(text, Controller::Siemens).unwrap_or(1)
-}

@@ -1,8 +1,8 @@
 //! Siemens SINUMERIK 840D sl, native language (SINUMERIK 840D sl Programming Manual Fundamentals:
-//! the list of G functions; `;` comments; R parameters; `CR=`/`AR=` arcs; frames `TRANS`/`ATRANS`;
-//! cycles `CYCLE81`-`CYCLE83`, `MCALL`; subprograms). Programs in this language are recognised
-//! (docs/nc.md, "Which dialect") and refused with the line: they are not read yet. A program in
-//! the ISO dialect mode (`G291`) is a Fanuc program (`--dialect fanuc`).
+//! the list of G functions). Its blocks are read by [`crate::siemens`], which states `TRANS` and
+//! `ATRANS` as the `G52` shift, `SUPA` as `G53` and the cutting edge `D` as `G43`/`G49` (codes a
+//! SINUMERIK program itself may not write: the reader refuses them in its text). A program in the
+//! ISO dialect mode (`G291`) is a Fanuc program (`--dialect fanuc`).
 
 use super::linuxcnc::{CUTTER_COMP, PROBING, SPINDLE_SYNC};
 use super::Group::*;
@@ -23,6 +23,9 @@ const CODES: &[GCodes] = &[
     g(180, Plane),
     g(190, Plane),
     g(400, CutterComp),
+    g(430, ToolLength),
+    g(490, ToolLength),
+    g(520, NonModal),
     refused(410, 420, CUTTER_COMP),
     g(530, NonModal),
     g(540, System),
@@ -31,8 +34,15 @@ const CODES: &[GCodes] = &[
     g(570, System),
     g(600, Path),
     g(640, Path),
+    g(6010, Other),
+    g(6020, Other),
+    g(6030, Other),
+    g(6410, Path),
+    g(6420, Path),
     g(700, Units),
     g(710, Units),
+    g(7000, Units),
+    g(7100, Units),
     g(900, Distance),
     g(910, Distance),
     g(940, FeedMode),
@@ -62,7 +72,7 @@ pub static SIEMENS: DialectTable = DialectTable {
     m_codes: None,
     m_refused: &[],
     m_groups: &[&[0, 1, 2, 17, 30], &[3, 4, 5]],
-    axis_codes: &[1530],
+    axis_codes: &[520, 1530],
     refused_words: &[],
     numbers: Numbers { integers_are_increments: false, decimals_mm: 4, decimals_inch: 5 },
     comments: Comments::Semicolon,

@@ -20,7 +20,7 @@ use trueaxis_nc::parts::{Part, PartReader};
 use trueaxis_nc::program::{PartState, Program, SourceFile};
 use trueaxis_nc::source::Ending;
 use trueaxis_nc::trace::Warning;
-use trueaxis_nc::{dialects, Controller, Dialect, Progress, Runner};
+use trueaxis_nc::{Controller, Progress, Runner};
 
 /// Lines the dialect detection reads (`Dialect::detect`): it is given as many from the start of
 /// the file, so that it sees what it sees on the whole text.
@@ -104,10 +104,11 @@ impl<R: Read> Source<R> {
     }
 
     /// Reads `part` as the next part of the main file.
-    fn load(&mut self, part: &Part, dialect: Dialect) -> Result<SourceFile, PartError> {
+    fn load(&mut self, part: &Part, controller: Controller) -> Result<SourceFile, PartError> {
         let first = self.state.lines == 0;
         let before = self.state;
-        SourceFile::load_part(&self.origin, &part.bytes, dialect, &mut self.state, part.last).map_err(|e| {
+        let (dialect, read) = (controller.family(), controller.line_reader());
+        SourceFile::load_part_with(&self.origin, &part.bytes, dialect, &mut self.state, part.last, read).map_err(|e| {
             // a line the byte reader refuses is refused wherever it stands; an unmatched structure
             // may be matched in another part
             let whole = first && part.last;
@@ -148,15 +149,9 @@ pub fn correct_streamed(
         header::check_uncorrected(head, origin).map_err(input_error)?;
     }
     let controller = options.dialect.unwrap_or_else(|| Controller::detect(&String::from_utf8_lossy(head)));
-    if controller == Controller::Siemens {
-        // not read yet: refused with the line of its first native construct
-        let text = String::from_utf8_lossy(head);
-        let (line, message) = (dialects::siemens_line(&text), dialects::SIEMENS_NOT_READ.to_string());
-        return Err(input_error(trueaxis_nc::NcError { file: origin.to_string(), line, message }));
-    }
     let dialect = controller.family();
     let Some(first) = source.next(options.part_lines)? else { unreachable!("a first part, empty or not") };
-    let file = match source.load(&first, dialect) {
+    let file = match source.load(&first, controller) {
         Ok(f) => f,
         Err(PartError::Input(e)) => return Err(e),
         Err(PartError::Whole) => return Ok(Streamed::NeedsWhole("a control structure spans parts".into())),
@@ -191,7 +186,7 @@ pub fn correct_streamed(
             break;
         }
         part = source.next(source.part_lines)?.expect("a part after one that is not the last");
-        program.files[0] = match source.load(&part, dialect) {
+        program.files[0] = match source.load(&part, controller) {
             Ok(f) => f,
             Err(PartError::Input(e)) => return Err(e),
             Err(PartError::Whole) => return Ok(Streamed::NeedsWhole("a control structure spans parts".into())),
@@ -311,6 +306,10 @@ impl<'a, 'b> PartsRun<'a, 'b> {
             notes.push(header::assumed_tools_line(&self.assumed_tools, &self.options.setup, per_100, dialect));
         }
         notes.extend(write::notes(&carry.notes, dialect));
+        if controller == Controller::Siemens {
+            // a SINUMERIK comment runs from `;` to the end of the block (parentheses group values)
+            notes.iter_mut().for_each(|n| *n = format!(";{}", n.trim_start_matches('(').trim_end_matches(')')));
+        }
         let mut text = Vec::new();
         if self.notes_at.is_none() && last_open && !notes.is_empty() {
             text.extend_from_slice(carry.eol.bytes());

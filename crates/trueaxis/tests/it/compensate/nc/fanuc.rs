@@ -17,8 +17,8 @@ use trueaxis::machine::Machine;
 
 /// G54 of the tests: program zero 300 mm below the spindle's home on vmc3; the machine starts
 /// 100 mm below the top of its travel (program Z 200).
-const G54_Z: f64 = -300.0;
-const START_Z: f64 = -100.0;
+pub(crate) const G54_Z: f64 = -300.0;
+pub(crate) const START_Z: f64 = -100.0;
 /// Where a corrected point may land with 3 decimals: each linear axis within half the 1 um
 /// increment (sqrt 3 x 0.5 um), plus the solve (0.01 um).
 const TOLERANCE_UM: f64 = 0.866 + 0.01;
@@ -26,13 +26,13 @@ const TOLERANCE_UM: f64 = 0.866 + 0.01;
 const TOOLS: &str = "T1 Z100\nT2 Z120\n";
 
 /// Canonical moves of an expansion: machine positions X Y Z (A C for c600u in the A B C slots).
-struct Expansion {
-    moves: Vec<Canon>,
-    tool: f64,
+pub(crate) struct Expansion {
+    pub(crate) moves: Vec<Canon>,
+    pub(crate) tool: f64,
 }
 
 impl Expansion {
-    fn new() -> Self {
+    pub(crate) fn new() -> Self {
         Expansion { moves: Vec::new(), tool: 0.0 }
     }
 
@@ -45,7 +45,7 @@ impl Expansion {
     }
 
     /// A straight move to program point `p` (G54, tool offset in force).
-    fn go(&mut self, rapid: bool, p: [f64; 3]) {
+    pub(crate) fn go(&mut self, rapid: bool, p: [f64; 3]) {
         self.go5(rapid, p, [self.last()[3], self.last()[5]]);
     }
 
@@ -55,14 +55,14 @@ impl Expansion {
     }
 
     /// A move in machine coordinates (the return to the reference position).
-    fn machine(&mut self, end: [f64; 3]) {
+    pub(crate) fn machine(&mut self, end: [f64; 3]) {
         let mut e = self.last();
         e[..3].copy_from_slice(&end);
         self.moves.push(Canon { kind: Kind::Traverse, end: e, tool: [0.0, 0.0, self.tool], inch: false });
     }
 
     /// An XY arc to `p` around program centre `c` (+1 counterclockwise).
-    fn arc(&mut self, p: [f64; 3], c: [f64; 2], turns: i32) {
+    pub(crate) fn arc(&mut self, p: [f64; 3], c: [f64; 2], turns: i32) {
         let end = self.at(p, [self.last()[3], self.last()[5]]);
         self.moves.push(Canon { kind: Kind::Arc { axes: [0, 1, 2], centre: c, turns }, end, tool: [0.0, 0.0, self.tool], inch: false });
     }
@@ -77,7 +77,7 @@ impl Expansion {
     /// A G83 hole as the Fanuc manual describes it: to R, pecks of Q each followed by a rapid
     /// back to R and down to `d` above the last depth, the last feed to the bottom, back to the
     /// initial level (G98).
-    fn g83(&mut self, xy: [f64; 2], initial: f64, r: f64, bottom: f64, q: f64, d: f64) {
+    pub(crate) fn g83(&mut self, xy: [f64; 2], initial: f64, r: f64, bottom: f64, q: f64, d: f64) {
         self.go(true, [xy[0], xy[1], initial]);
         self.go(true, [xy[0], xy[1], r]);
         let mut depth = r - q;
@@ -106,7 +106,7 @@ impl Expansion {
     }
 
     /// A G81 hole with G99 or G98 retraction.
-    fn g81(&mut self, xy: [f64; 2], level: f64, r: f64, bottom: f64, retract: f64) {
+    pub(crate) fn g81(&mut self, xy: [f64; 2], level: f64, r: f64, bottom: f64, retract: f64) {
         self.go(true, [xy[0], xy[1], level]);
         if level > r {
             self.go(true, [xy[0], xy[1], r]);

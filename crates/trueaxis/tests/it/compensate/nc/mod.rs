@@ -2,7 +2,8 @@
 //! the pose corrector, checked against LinuxCNC's rs274 and readers written here.
 //!
 //! [`linuxcnc_samples`]: LinuxCNC's own sample programs; [`rs274`]: programs written for this, run
-//! by rs274; [`fanuc`]: Fanuc-style CAM and macro programs; [`roundtrip`]: examples read back
+//! by rs274; [`fanuc`]: Fanuc-style CAM and macro programs; [`siemens`]: SINUMERIK 840D programs in
+//! its own language; [`roundtrip`]: examples read back
 //! through the erroneous machine, closed forms; [`bad_programs`]: refusals.
 
 mod bad_programs;
@@ -15,4 +16,5 @@ mod posts;
 mod reading;
 mod roundtrip;
 mod rs274;
+mod siemens;
 mod splines;

@@ -10,8 +10,9 @@
 //! the original's within 0.05 um (path within 1.05 um: the 1 um split tolerance), as for LinuxCNC's
 //! samples, or within half the last written increment on each axis for the Fanuc family (sqrt 3 x
 //! 0.5 um in mm, sqrt 3 x 1.27 um in inch, + 0.01 um). A Fanuc-family program the rewriting does not
-//! take (subprogram calls, `IF`/`GOTO`, tapping) is read again after correction by the library (a
-//! second run of the interpreter on the written text) with the same bound. The share corrected or
+//! take (subprogram calls, `IF`/`GOTO`, tapping), and every SINUMERIK program (its own language is
+//! not rewritten for rs274 yet; half its 4-decimal increment), is read again after correction by
+//! the library (a second run of the interpreter on the written text) with the same bound. The share corrected or
 //! refused by design (cutter radius compensation, probing, threading) must be at least 90 %, in all
 //! and in every dialect; the outcome of every style and dialect is printed (docs/nc.md reports it).
 
@@ -86,7 +87,10 @@ fn refused(message: String) -> Outcome {
 /// subprograms rewritten as O-word subroutines, grbl's `$` system commands as moves and comments), a Fanuc-family one rewritten as RS274/NGC
 /// ([`fanuc_to_ngc`]; `None` when it uses what that does not rewrite).
 fn as_ngc(s: &Sample, bytes: &[u8]) -> Option<Vec<u8>> {
-    if s.dialect.family() == Dialect::Fanuc {
+    if s.dialect == Controller::Siemens {
+        // the SINUMERIK's own language is not rewritten for rs274 yet: the second reading
+        None
+    } else if s.dialect.family() == Dialect::Fanuc {
         fanuc_to_ngc::translate(&String::from_utf8_lossy(bytes)).map(String::into_bytes)
     } else if let Some(mach) = std::str::from_utf8(bytes).ok().filter(|t| t.contains("M98")) {
         fanuc_to_ngc::mach_to_ngc(mach).map(String::into_bytes)
@@ -165,18 +169,18 @@ fn check_fanuc(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
     let mut options = NcOptions::new(machine);
     options.dialect = Some(s.dialect);
     options.setup.tools = ToolTable::parse(FANUC_TOOLS, "tools").unwrap();
-    let text = String::from_utf8(s.bytes.clone()).unwrap();
+    let text = String::from_utf8_lossy(&s.bytes).into_owned();
     let result = match correct_program(corrector, &s.bytes, &s.name, &options, &[]) {
         Ok(r) => r,
         Err(e) => return refused(e.to_string()),
     };
     dump(s, &result.program);
-    if result.dialect.family() != Dialect::Fanuc {
+    if result.dialect.family() != Dialect::Fanuc && result.dialect != Controller::Siemens {
         return Outcome::Failed(format!("detected as {}", result.dialect));
     }
     let original = super::fanuc::read(machine, &text, &options);
     let corrected = super::fanuc::read(machine, &result.text(), &options);
-    let tolerance = fanuc_tolerance_um(&s.bytes);
+    let tolerance = if s.dialect == Controller::Siemens { siemens_tolerance_um(&s.bytes) } else { fanuc_tolerance_um(&s.bytes) };
     let homes = super::fanuc::homes(machine, &text, &options);
     if let Some(dir) = std::env::var_os("TRUEAXIS_CORPUS_DIR") {
         let list = |c: &[super::common::rs274::Canon]| {
@@ -204,6 +208,12 @@ fn check_fanuc(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
 fn fanuc_tolerance_um(bytes: &[u8]) -> f64 {
     let inch = String::from_utf8_lossy(bytes).contains("G20");
     3f64.sqrt() * if inch { 1.27 } else { 0.5 } + 0.01
+}
+
+/// The same for a SINUMERIK program: 4 decimals in mm, 5 in inch (G70).
+fn siemens_tolerance_um(bytes: &[u8]) -> f64 {
+    let inch = String::from_utf8_lossy(bytes).contains("G70");
+    3f64.sqrt() * if inch { 0.127 } else { 0.05 } + 0.01
 }
 
 /// Whether the program is corrected without a tool table (each tool at the assumed length).

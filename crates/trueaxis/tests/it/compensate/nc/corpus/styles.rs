@@ -23,7 +23,7 @@ pub struct Sample {
 /// A style: post, controller, its dialect, whether rs274 reads it, the program of variant k.
 pub type Style = (&'static str, &'static str, Controller, bool, fn(usize) -> Vec<u8>);
 
-pub const STYLES: [Style; 21] = [
+pub const STYLES: [Style; 23] = [
     ("Fusion 360 haas.cps", "Haas NGC", Controller::Haas, false, fusion_haas),
     ("Fusion 360 fanuc.cps", "Fanuc 0i", Controller::Fanuc, false, fusion_fanuc),
     ("Mastercam MPFAN", "Fanuc 0i", Controller::Fanuc, false, mastercam),
@@ -45,6 +45,8 @@ pub const STYLES: [Style; 21] = [
     ("Fusion 360 mach3mill.cps (subroutines)", "Mach3", Controller::Mach3, true, fusion_mach3_subs),
     ("hand-written Haas (M97 local subprograms)", "Haas NGC", Controller::Haas, false, haas_m97),
     ("grbl sender stream ($H, $X, $J=)", "grbl 1.1", Controller::Grbl, true, grbl_stream),
+    ("Fusion 360 siemens-840d.cps", "SINUMERIK 840D sl", Controller::Siemens, false, fusion_siemens),
+    ("hand-written 840D (R parameters, frames)", "SINUMERIK 840D sl", Controller::Siemens, false, siemens_hand),
 ];
 
 /// The whole corpus: `per_style` variants of each style.
@@ -861,4 +863,123 @@ fn grbl_stream(k: usize) -> Vec<u8> {
     w.raw(&if k % 2 == 0 { "$J=G91 G21 Z10 F1000".to_string() } else { "$J=G91G21Z10F1000".to_string() });
     w.raw("M30");
     w.out.into_bytes()
+}
+
+/// The SINUMERIK's unit codes: G70 inch, G71 mm.
+fn siemens_units(p: &Part) -> &'static str {
+    if p.inch {
+        "G70"
+    } else {
+        "G71"
+    }
+}
+
+/// Fusion 360 for the SINUMERIK 840D: the archive header `%_N_.._MPF` and `;$PATH=`, `;` tool
+/// comments, `T1 D1` then `M6`, `CR=` arcs (or I J), `MCALL CYCLE81(RTP, RFP, SDIS, DP, )` over
+/// the holes and `MCALL`, or one direct `CYCLE82(...)` per hole with its dwell, `G0 SUPA Z0 D0`
+/// and `M30` at the end.
+fn fusion_siemens(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 4 == 3);
+    let mut w = W::new(Digits::Trim(if p.inch { 5 } else { 4 }, false), " ");
+    w.arcs = if k % 3 == 2 { ArcWords::Ij } else { ArcWords::Cr };
+    w.raw(&format!("%_N_PART{k}_MPF"));
+    w.raw(&format!(";$PATH=/_N_WKS_DIR/_N_PART{k}_WPD"));
+    w.raw(&format!("; T1 D=6 CR=0 - ZMIN=-{} - FLAT END MILL", w.num(p.depth)));
+    w.seq = Some((10, 2));
+    w.line("G90 G94 G17 G40");
+    w.line(siemens_units(&p));
+    w.raw("; CONTOUR2D");
+    w.line("T1 D1");
+    w.line("M6");
+    w.line(&format!("S{} M3", p.spindle));
+    w.line("G54");
+    w.line("M8");
+    if k % 2 == 1 {
+        w.line("CYCLE832(0.01,_ORI_ROUGH,1)");
+    }
+    w.rapid(Some(p.x0 + p.w / 2.0), Some(p.y0), None);
+    w.rapid(None, None, Some(p.clear));
+    w.contour(&p);
+    w.line("M9");
+    w.line("M5");
+    w.reset();
+    w.raw("; DRILL1");
+    w.line("T2 D1");
+    w.line("M6");
+    w.line(&format!("S{} M3", p.spindle / 2));
+    w.line("G54");
+    let first = p.holes[0];
+    w.rapid(Some(first[0]), Some(first[1]), None);
+    w.rapid(None, None, Some(p.clear));
+    w.line(&format!("F{}", w.num(p.plunge)));
+    let (rtp, sdis, dp) = (w.num(p.clear), w.num(p.safe), w.num(-p.hole_depth));
+    if k % 2 == 0 {
+        w.line(&format!("MCALL CYCLE81({rtp}, 0, {sdis}, {dp}, )"));
+        for h in &p.holes {
+            w.line(&format!("X{} Y{}", w.num(h[0]), w.num(h[1])));
+        }
+        w.line("MCALL");
+    } else {
+        for h in &p.holes {
+            w.line(&format!("G0 X{} Y{}", w.num(h[0]), w.num(h[1])));
+            w.line(&format!("CYCLE82({rtp}, 0, {sdis}, {dp}, , 0.2)"));
+        }
+    }
+    w.line("M5");
+    w.line("G0 SUPA Z0 D0");
+    w.line("M30");
+    w.out.into_bytes()
+}
+
+/// A hand-written 840D program: the plate's corner and size in R parameters, `TRANS` to its corner,
+/// `X=`/`Y=` values and `CR=R5` arcs computed from them, the holes from the plate's middle after
+/// `ATRANS` in a modal `CYCLE82` whose depth is DPR from the surface, `G4 F` dwells, Latin-1 or
+/// UTF-8 comments, CR LF line ends in some.
+fn siemens_hand(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 5 == 4);
+    let mut w = W::new(Digits::Trim(if p.inch { 5 } else { 4 }, false), " ");
+    if k % 2 == 0 {
+        w.raw(&format!("%_N_PLATTE{k}_MPF"));
+        w.raw(&format!(";$PATH=/_N_WKS_DIR/_N_PLATTE{k}_WPD"));
+    }
+    w.raw(&format!("; Platte {k} - Fräser Ø6, Bohrer Ø5"));
+    w.seq = if k % 3 == 1 { None } else { Some((10, 10)) };
+    w.line(&format!("G17 {} G90 G40 G94", siemens_units(&p)));
+    w.line(&format!("R1={} R2={} R3={} R4={}", w.num(p.x0), w.num(p.y0), w.num(p.w), w.num(p.h)));
+    w.line(&format!("R5={} R6={} R7={}", w.num(p.r), w.num(p.depth), w.num(p.hole_depth)));
+    w.line("T1 D1 M6");
+    w.line(&format!("G54 S{} M3", p.spindle));
+    w.line("TRANS X=R1 Y=R2 ; corner of the plate");
+    w.line(&format!("G0 X=R3/2 Y0 Z{}", w.num(p.clear)));
+    w.line(&format!("Z{}", w.num(p.safe)));
+    let (f, plunge) = (w.num(p.feed), w.num(p.plunge));
+    w.line(&format!("G1 Z=-R6 F{plunge}"));
+    w.line(&format!("X=R3-R5 F{f}"));
+    w.line("G3 X=R3 Y=R5 CR=R5");
+    w.line("G1 Y=R4-R5");
+    w.line("G3 X=R3-R5 Y=R4 CR=R5");
+    w.line("G1 X=R5");
+    w.line("G3 X0 Y=R4-R5 I0 J=-R5");
+    w.line("G1 Y=R5");
+    w.line("G3 X=R5 Y0 CR=R5");
+    w.line("G1 X=R3/2");
+    w.line(&format!("G0 Z{}", w.num(p.clear)));
+    w.line("G4 F1 ; chips");
+    w.line("T2 D1 M6");
+    w.line("ATRANS X=R3/2 Y=R4/2 ; the middle");
+    w.line(&format!("F{plunge}"));
+    w.line(&format!("MCALL CYCLE82({}, 0, {}, , R7, 0.5)", w.num(p.clear), w.num(p.safe)));
+    let (mx, my) = (p.x0 + p.w / 2.0, p.y0 + p.h / 2.0);
+    for h in &p.holes {
+        w.line(&format!("G0 X{} Y{}", w.num(h[0] - mx), w.num(h[1] - my)));
+    }
+    w.line("MCALL");
+    w.line("TRANS");
+    w.line("G0 SUPA Z0 D0");
+    w.line("M30");
+    match k % 4 {
+        1 => latin1(&w.out),
+        3 => crlf(w.out),
+        _ => w.out.into_bytes(),
+    }
 }

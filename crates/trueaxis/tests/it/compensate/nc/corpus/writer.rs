@@ -19,6 +19,8 @@ pub enum Digits {
 pub enum ArcWords {
     Ij,
     R,
+    /// SINUMERIK `CR=`.
+    Cr,
 }
 
 /// A canned cycle of the hole pattern.
@@ -225,6 +227,7 @@ impl W {
         let words = match self.arcs {
             ArcWords::Ij => format!("I{}{}J{}", self.num(c[0] - px), self.sep, self.num(c[1] - py)),
             ArcWords::R => format!("R{}", self.num((c[0] - px).hypot(c[1] - py))),
+            ArcWords::Cr => format!("CR={}", self.num((c[0] - px).hypot(c[1] - py))),
         };
         self.motion(if cw { 2 } else { 3 }, [Some(x), Some(y), None], &words, Some(f));
     }

@@ -1,0 +1,553 @@
+//! One block of a SINUMERIK 840D sl program (Programming Manual Fundamentals, "Fundamentals of
+//! NC programming": block structure, addresses with a value or `=` and an expression, `;`
+//! comments; "Arithmetic parameters (R)"; "Circular interpolation with radius" (`CR=`); "Frames"
+//! (`TRANS`/`ATRANS`, `SUPA`); "Tool offsets" (`D`)), read into the interpreter's [`Line`]: every
+//! word keeps the byte span of its value text (after the `=` when there is one), so that the
+//! writer replaces a value and leaves the rest of the block, its text calls (`MSG("...")`,
+//! `WORKPIECE(...)`, `CYCLE832(...)`) and its comments as they were. What the block means in the
+//! interpreter's terms (the `G52` of a `TRANS`, the `G43` of a `D1`) is added as words with an
+//! empty span, which the writer never changes.
+//!
+//! A file header `%_N_NAME_MPF` is read as a comment. What is not read yet, or never (rotated,
+//! scaled and mirrored frames, 5-axis transformations, probing, cycles, subprogram calls, control
+//! flow), is refused with its line and the reason.
+
+use super::cycles::Call;
+use super::expr::Parser;
+use super::{R_BASE, R_COUNT};
+use crate::dialect::Dialect;
+use crate::expr::{Node, Op, ParamRef};
+use crate::lexer::{push, Assignment, Line, Operand, Word};
+
+/// Addresses that take a value: `X10`, `X=R1+2`, `F=200`.
+const ADDRESSES: &[u8] = b"XYZABCIJKFSGMTDP";
+
+/// Commands that move nothing and change no position, passed through (with their parenthesised
+/// arguments when they have some): messages, the blank description of the simulation, the
+/// high-speed settings, acceleration and feed-forward modes, feed correction modes.
+const PASSED: &[&str] = &[
+    "MSG",
+    "WORKPIECE",
+    "CYCLE832",
+    "SOFT",
+    "BRISK",
+    "FFWON",
+    "FFWOF",
+    "CFTCP",
+    "CFC",
+    "CFIN",
+    "COMPOF",
+    "COMPON",
+    "COMPCAD",
+    "COMPCURV",
+    "UPATH",
+    "SPATH",
+    "STOPRE",
+    "ORIWKS",
+    "ORIAXES",
+    "TRAFOOF",
+    "DIAMOF",
+    "SPOS",
+    "ADIS",
+    "ADISPOS",
+    "SETMS",
+];
+
+/// Commands refused, and why.
+const REFUSED: &[(&str, &str)] = &[
+    ("ROT", "(programmable rotation) is not supported: 3-axis frames are TRANS and ATRANS"),
+    ("AROT", "(additive programmable rotation) is not supported: 3-axis frames are TRANS and ATRANS"),
+    ("SCALE", "(programmable scaling) is not supported"),
+    ("ASCALE", "(additive programmable scaling) is not supported"),
+    ("MIRROR", "(programmable mirroring) is not supported"),
+    ("AMIRROR", "(additive programmable mirroring) is not supported"),
+    ("TRAORI", "(5-axis transformation, tool centre point) is not supported: correct the program in machine axes"),
+    ("TRANSMIT", "(face-end transformation) is not supported"),
+    ("TRACYL", "(cylinder surface transformation) is not supported"),
+    ("CYCLE800", "(swivel plane) with parameters is not supported: correct the program in machine axes"),
+    ("CIP", "(circle through an intermediate point) is not read yet: write G2/G3 with I J or CR="),
+    ("CT", "(tangential circle) is not read yet: write G2/G3 with I J or CR="),
+    ("DEF", "(local variable definition) is not read yet: use R parameters"),
+    ("GOTOF", "(jump) is not read yet"),
+    ("GOTOB", "(jump) is not read yet"),
+    ("GOTO", "(jump) is not read yet"),
+    ("IF", "(condition) is not read yet"),
+    ("WHILE", "(loop) is not read yet"),
+    ("REPEAT", "(loop) is not read yet"),
+    ("FOR", "(loop) is not read yet"),
+    ("LOOP", "(loop) is not read yet"),
+    ("CALL", "(subprogram call) is not read yet"),
+    ("PROC", "(subprogram definition) is not read yet"),
+    ("RET", "(subprogram return) is not read yet"),
+    ("MEAS", "(measuring) stops where the probe touches: the moves after it are not known beforehand"),
+];
+
+/// Reads one block (same contract as [`crate::lexer::parse_line`]; `_dialect` is the family).
+pub fn parse_line(text: &str, number: usize, _dialect: Dialect, arena: &mut Vec<Node>, _bytewise: bool) -> Result<Line, String> {
+    let mut line = Line { number, ..Line::default() };
+    let s = text.as_bytes();
+    let mut p = Parser::new(s, 0);
+    match p.peek_raw() {
+        b'%' => {
+            line.comments.push(p.i + 1..text.len());
+            line.end_of_items = p.i;
+            return Ok(line);
+        }
+        b'/' => {
+            p.i += 1;
+            line.delete = true;
+        }
+        _ => {}
+    }
+    if p.peek_raw() == b'N' && s.get(p.i + 1).is_some_and(u8::is_ascii_digit) {
+        p.i += 1;
+        line.sequence = Some(p.number()? as u32);
+    }
+    let mut block = Block::default();
+    loop {
+        let c = p.peek_raw();
+        match c {
+            0 => break,
+            b';' => {
+                line.comments.push(p.i + 1..text.len());
+                break;
+            }
+            c if c.is_ascii_alphabetic() || c == b'_' || c == b'$' => {
+                block.item(&mut p, &mut line, arena)?;
+                line.end_of_items = s[..p.i].iter().rposition(|c| !matches!(c, b' ' | b'\t' | b'\r')).map_or(0, |k| k + 1);
+            }
+            _ => return Err(format!("unexpected `{}` at column {}", text[p.i..].chars().next().unwrap_or(' '), p.i + 1)),
+        }
+    }
+    let at = line.end_of_items;
+    block.finish(&mut line, at, arena)?;
+    if line.words.is_empty() && line.assignments.is_empty() && line.end_of_items == 0 {
+        line.end_of_items = line.comments.first().map_or(text.trim_end().len(), |c| c.start.saturating_sub(1));
+    }
+    Ok(line)
+}
+
+/// Whether a line is part of a file's header (`%_N_NAME_MPF`, `;$PATH=/_N_WKS_DIR/...`), which
+/// stays first in the file.
+pub fn is_file_header(text: &str) -> bool {
+    let t = text.trim_start();
+    t.starts_with('%') || t.starts_with(";$PATH")
+}
+
+/// What a block says beyond its words, known when it is read to its end.
+#[derive(Default)]
+struct Block {
+    /// `TRANS` (false) or `ATRANS` (true), with the byte after the keyword.
+    frame: Option<(bool, usize)>,
+    /// `D0` (false), `D1`... (true).
+    cutting_edge: Option<bool>,
+    supa: bool,
+    /// R parameters assigned so far on the line.
+    assigned: Vec<u32>,
+}
+
+impl Parser<'_> {
+    /// The next non-blank character, upper case; 0 at the end.
+    fn peek_raw(&mut self) -> u8 {
+        while self.i < self.s.len() && matches!(self.s[self.i], b' ' | b'\t' | b'\r') {
+            self.i += 1;
+        }
+        self.s.get(self.i).map_or(0, |c| c.to_ascii_uppercase())
+    }
+
+    /// Skips a parenthesised argument list (strings in `"` may hold any character).
+    fn skip_arguments(&mut self) -> Result<(), String> {
+        if self.peek_raw() != b'(' {
+            return Ok(());
+        }
+        let (mut depth, mut quoted) = (0usize, false);
+        while self.i < self.s.len() {
+            let c = self.s[self.i];
+            self.i += 1;
+            match c {
+                b'"' => quoted = !quoted,
+                b'(' if !quoted => depth += 1,
+                b')' if !quoted => {
+                    depth -= 1;
+                    if depth == 0 {
+                        return Ok(());
+                    }
+                }
+                _ => {}
+            }
+        }
+        Err("a `(` is never closed".into())
+    }
+
+    /// A word's value: `=` and an expression, or a signed number. The operand and its span.
+    fn value(&mut self, arena: &mut Vec<Node>) -> Result<(Operand, std::ops::Range<usize>, Vec<u32>), String> {
+        if self.peek_raw() == b'=' {
+            self.i += 1;
+            let start = {
+                self.peek_raw();
+                self.i
+            };
+            if matches!(self.upcoming_name().as_str(), "IC" | "AC" | "DC" | "ACP" | "ACN" | "CAC" | "CIC") {
+                return Err(format!(
+                    "`{}(...)` (a distance mode for one value) is not read yet: write the value in the block's mode (G90/G91)",
+                    self.upcoming_name()
+                ));
+            }
+            self.reads.clear();
+            let e = self.expression(arena)?;
+            let end = start + self.s[start..self.i].iter().rposition(|c| !matches!(c, b' ' | b'\t' | b'\r')).map_or(0, |k| k + 1);
+            let value = match arena[e as usize] {
+                Node::Const(v) => Operand::Number(v),
+                Node::Neg(c) => match arena[c as usize] {
+                    Node::Const(v) => Operand::Number(-v),
+                    _ => Operand::Expr(e),
+                },
+                _ => Operand::Expr(e),
+            };
+            return Ok((value, start..end, std::mem::take(&mut self.reads)));
+        }
+        let start = {
+            self.peek_raw();
+            self.i
+        };
+        let negative = match self.peek_raw() {
+            b'-' => {
+                self.i += 1;
+                true
+            }
+            b'+' => {
+                self.i += 1;
+                false
+            }
+            _ => false,
+        };
+        let v = self.number()?;
+        Ok((Operand::Number(if negative { -v } else { v }), start..self.i, Vec::new()))
+    }
+
+    /// The name that starts at the cursor, without reading it.
+    fn upcoming_name(&self) -> String {
+        let mut j = self.i;
+        while j < self.s.len() && self.s[j].is_ascii_alphabetic() {
+            j += 1;
+        }
+        String::from_utf8_lossy(&self.s[self.i..j]).to_ascii_uppercase()
+    }
+}
+
+impl Block {
+    /// One item from a letter on: a word, an R assignment, a command.
+    fn item(&mut self, p: &mut Parser, line: &mut Line, arena: &mut Vec<Node>) -> Result<(), String> {
+        let start = p.i;
+        let letters = p.upcoming_name();
+        let next = p.s.get(start + letters.len()).copied().unwrap_or(0);
+        if letters == "T" && p.s[start + 1..].iter().find(|c| !matches!(c, b' ' | b'=')) == Some(&b'"') {
+            return Err("T=\"name\": a tool by its name is not read yet: write T with its number (T1)".into());
+        }
+        // an address letter and its value
+        if letters.len() == 1
+            && ADDRESSES.contains(&letters.as_bytes()[0])
+            && (next.is_ascii_digit() || matches!(next, b'.' | b'-' | b'+' | b'=' | b' '))
+        {
+            p.i += 1;
+            return self.word(letters.as_bytes()[0], p, line, arena);
+        }
+        if (letters == "CR" || letters == "AR") && p.s[start + 2..].iter().find(|c| !matches!(c, b' ' | b'\t')) == Some(&b'=') {
+            if letters == "AR" {
+                return Err("AR= (an arc by its opening angle) is not read yet: write G2/G3 with I J or CR=".into());
+            }
+            p.i += 2;
+            let (value, span, _) = p.value(arena)?;
+            line.words.push(Word { letter: b'R', value, span, decimal_point: true });
+            return Ok(());
+        }
+        let name = p.name();
+        if let Some(n) = name.strip_prefix('R').and_then(|d| d.parse::<u32>().ok()) {
+            return self.assignment(n, p, line, arena);
+        }
+        match name.as_str() {
+            "TRANS" | "ATRANS" => {
+                self.frame = Some((name == "ATRANS", p.i));
+                Ok(())
+            }
+            "SUPA" => {
+                self.supa = true;
+                Ok(())
+            }
+            "CYCLE800" => {
+                let at = p.i;
+                p.skip_arguments()?;
+                if p.s[at..p.i].iter().any(|c| !matches!(c, b'(' | b')' | b' ')) {
+                    return Err(format!("CYCLE800 {}", refusal("CYCLE800")));
+                }
+                Ok(())
+            }
+            n if PASSED.contains(&n) => {
+                if p.peek_raw() == b'=' {
+                    p.i += 1;
+                    p.expression(&mut Vec::new())?;
+                }
+                p.skip_arguments()
+            }
+            "MCALL" => {
+                let call = match p.peek_raw() {
+                    0 | b';' => Call::ModalOff,
+                    _ => match p.name().as_str() {
+                        c @ ("CYCLE81" | "CYCLE82") => cycle_call(c, true, p, arena)?,
+                        other => return Err(format!("MCALL {other}: a modal call of CYCLE81 or CYCLE82 is read")),
+                    },
+                };
+                line.siemens_call = Some(Box::new(call));
+                Ok(())
+            }
+            c @ ("CYCLE81" | "CYCLE82") => {
+                line.siemens_call = Some(Box::new(cycle_call(c, false, p, arena)?));
+                Ok(())
+            }
+            "CYCLE83" => Err("CYCLE83 (deep-hole drilling) is not read yet: its anticipation distance is computed inside the cycle".into()),
+            n if n.starts_with("CYCLE") => {
+                Err(format!("{n} is not read: of the cycles, CYCLE81 and CYCLE82 are read; others make moves of their own"))
+            }
+            n if n.starts_with('L') && n[1..].bytes().all(|c| c.is_ascii_digit()) && n.len() > 1 => {
+                Err(format!("{n} (subprogram call) is not read yet"))
+            }
+            n => match REFUSED.iter().find(|(k, _)| *k == n) {
+                Some(_) => Err(format!("{n} {}", refusal(n))),
+                None => Err(format!(
+                    "`{n}` is not read: not a SINUMERIK address or command this reader knows (a subprogram call by name is not read yet)"
+                )),
+            },
+        }
+    }
+
+    fn word(&mut self, letter: u8, p: &mut Parser, line: &mut Line, arena: &mut Vec<Node>) -> Result<(), String> {
+        let (value, span, reads) = p.value(arena)?;
+        if let Some(r) = reads.iter().find(|r| self.assigned.contains(r)) {
+            return Err(format!("R{r} is assigned and read on one block: assign it on a block of its own"));
+        }
+        if letter != b'G' && letter != b'M' && line.words.iter().any(|w| w.letter == letter) {
+            return Err(format!("two {} words on one block", letter as char));
+        }
+        match letter {
+            b'D' => {
+                let Operand::Number(v) = value else { return Err("D takes a number".into()) };
+                self.cutting_edge = Some(v != 0.0);
+                return Ok(());
+            }
+            b'G' => {
+                let Operand::Number(v) = value else { return Err("G takes a number".into()) };
+                if matches!(v as u32, 43 | 44 | 49 | 52 | 92) && v.fract() == 0.0 {
+                    return Err(format!("G{v} is not a SINUMERIK G function (tool offsets come with D, shifts with TRANS)"));
+                }
+            }
+            _ => {}
+        }
+        line.words.push(Word { letter, value, span, decimal_point: true });
+        Ok(())
+    }
+
+    fn assignment(&mut self, n: u32, p: &mut Parser, line: &mut Line, arena: &mut Vec<Node>) -> Result<(), String> {
+        if n >= R_COUNT {
+            return Err(format!("R{n}: R parameters R0-R{} are read", R_COUNT - 1));
+        }
+        if p.peek_raw() != b'=' {
+            return Err(format!("R{n} without `=`: an R parameter is assigned with R{n}=..."));
+        }
+        p.i += 1;
+        p.reads.clear();
+        let value = p.expression(arena)?;
+        if let Some(r) = p.reads.iter().find(|r| self.assigned.contains(r)) {
+            return Err(format!("R{r} is assigned and read on one block: assign it on a block of its own"));
+        }
+        self.assigned.push(n);
+        line.assignments.push(Assignment { target: ParamRef::Numbered(R_BASE + n), value });
+        Ok(())
+    }
+
+    /// The words that say what the block's commands mean to the interpreter.
+    fn finish(&mut self, line: &mut Line, at: usize, arena: &mut Vec<Node>) -> Result<(), String> {
+        let virtual_word = |letter: u8, v: f64| Word { letter, value: Operand::Number(v), span: at..at, decimal_point: true };
+        let mut gs = Vec::new();
+        if let Some((additive, _)) = self.frame {
+            if line.words.iter().any(|w| !matches!(w.letter, b'X' | b'Y' | b'Z')) {
+                return Err("TRANS and ATRANS take X Y Z on a block of their own".into());
+            }
+            gs.push(virtual_word(b'G', 52.0));
+            for (k, l) in [b'X', b'Y', b'Z'].into_iter().enumerate() {
+                match line.words.iter_mut().find(|w| w.letter == l) {
+                    Some(w) if additive => {
+                        // ATRANS: the shift so far plus the value; LinuxCNC keeps the G52 shift in
+                        // #5211... in machine units (mm): / 25.4 in G70 (#<_metric> 0)
+                        let stored = push(arena, Node::Param(ParamRef::Numbered(5211 + k as u32)));
+                        let metric = push(arena, Node::Param(ParamRef::Named("_metric".into())));
+                        let one = push(arena, Node::Const(1.0));
+                        let inch = push(arena, Node::Binary(Op::Minus, one, metric));
+                        let step = push(arena, Node::Const(crate::MM_PER_INCH - 1.0));
+                        let more = push(arena, Node::Binary(Op::Times, inch, step));
+                        let factor = push(arena, Node::Binary(Op::Plus, one, more));
+                        let shift = push(arena, Node::Binary(Op::Divide, stored, factor));
+                        let value = match w.value {
+                            Operand::Number(v) => push(arena, Node::Const(v)),
+                            Operand::Expr(e) => e,
+                        };
+                        w.value = Operand::Expr(push(arena, Node::Binary(Op::Plus, shift, value)));
+                    }
+                    Some(_) => {}
+                    None if additive => {}
+                    None => line.words.push(virtual_word(l, 0.0)),
+                }
+            }
+        }
+        if self.supa {
+            gs.push(virtual_word(b'G', 53.0));
+        }
+        let tool_change = line.words.iter().any(|w| w.letter == b'M' && w.value == Operand::Number(6.0));
+        match self.cutting_edge {
+            Some(false) => gs.push(virtual_word(b'G', 49.0)),
+            Some(true) => gs.push(virtual_word(b'G', 43.0)),
+            None if tool_change => gs.push(virtual_word(b'G', 43.0)),
+            None => {}
+        }
+        if line.words.iter().any(|w| w.letter == b'G' && w.value == Operand::Number(4.0)) {
+            // G4 F.. dwells F seconds (LinuxCNC's G4 P..)
+            if let Some(f) = line.words.iter_mut().find(|w| w.letter == b'F') {
+                f.letter = b'P';
+            }
+        }
+        line.words.extend(gs);
+        Ok(())
+    }
+}
+
+/// `CYCLE8x(a, , c)`: the parameters, each an expression or left empty.
+fn cycle_call(name: &str, modal: bool, p: &mut Parser, arena: &mut Vec<Node>) -> Result<Call, String> {
+    let number = name[5..].parse().expect("CYCLE and digits");
+    if p.peek_raw() != b'(' {
+        return Err(format!("{name} without its parameters in ( )"));
+    }
+    p.i += 1;
+    let mut args = Vec::new();
+    loop {
+        args.push(match p.peek_raw() {
+            b',' | b')' => None,
+            _ => Some(p.expression(arena)?),
+        });
+        match p.peek_raw() {
+            b',' => p.i += 1,
+            b')' => {
+                p.i += 1;
+                return Ok(Call::Cycle { number, args, modal });
+            }
+            _ => return Err(format!("`,` or `)` expected in the parameters of {name} at column {}", p.i + 1)),
+        }
+    }
+}
+
+fn refusal(name: &str) -> &'static str {
+    REFUSED.iter().find(|(k, _)| *k == name).map_or("is not read", |(_, why)| why)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> (Line, Vec<Node>) {
+        let mut arena = Vec::new();
+        let line = parse_line(text, 1, Dialect::LinuxCnc, &mut arena, false).unwrap_or_else(|e| panic!("{text}: {e}"));
+        (line, arena)
+    }
+
+    fn refused(text: &str) -> String {
+        parse_line(text, 1, Dialect::LinuxCnc, &mut Vec::new(), false).expect_err(text)
+    }
+
+    #[test]
+    fn words_equals_forms_spans_and_comments() {
+        let text = "N30 G1 X10.5 Y=R1+5 Z=-R3 CR=-12.5 F=200 ; finish";
+        let (l, _) = read(text);
+        assert_eq!(l.sequence, Some(30));
+        let letters: String = l.words.iter().map(|w| w.letter as char).collect();
+        assert_eq!(letters, "GXYZRF");
+        assert_eq!(&text[l.word(b'X').unwrap().span.clone()], "10.5");
+        assert_eq!(&text[l.word(b'Y').unwrap().span.clone()], "R1+5");
+        assert_eq!(&text[l.word(b'Z').unwrap().span.clone()], "-R3");
+        assert_eq!(l.word(b'R').unwrap().value, Operand::Number(-12.5));
+        assert_eq!(&text[l.comments[0].clone()], " finish");
+        assert_eq!(&text[..l.end_of_items], "N30 G1 X10.5 Y=R1+5 Z=-R3 CR=-12.5 F=200");
+        let (l, _) = read("%_N_PLATE_MPF");
+        assert!(l.is_empty() && !l.percent);
+        assert!(is_file_header(";$PATH=/_N_WKS_DIR/_N_PLATE_WPD") && !is_file_header("; $PATH is a comment"));
+        let (l, _) = read("N20 MSG(\"DRILL; (8 mm)\") ; text call");
+        assert!(l.words.is_empty() && l.comments.len() == 1);
+        let (l, _) = read("WORKPIECE(,\"\",,\"BOX\",112,0,-10,80,0,0,100,60)");
+        assert!(l.is_empty());
+    }
+
+    #[test]
+    fn r_parameters_trans_atrans_and_tool_offsets() {
+        let (l, _) = read("R1=5 R2=-2.5*R7");
+        assert_eq!(l.assignments.len(), 2);
+        assert_eq!(l.assignments[1].target, ParamRef::Numbered(R_BASE + 2));
+        // TRANS: the G52 shift of every axis, named or not
+        let (l, _) = read("TRANS X10 Y=R4");
+        let g: Vec<_> = l.words.iter().map(|w| (w.letter as char, w.span.is_empty())).collect();
+        assert_eq!(g, vec![('X', false), ('Y', false), ('Z', true), ('G', true)]);
+        assert_eq!(l.word(b'Z').unwrap().value, Operand::Number(0.0));
+        // ATRANS: the shift kept in #5211... plus the value
+        let (l, a) = read("ATRANS Z-2");
+        let Operand::Expr(e) = l.word(b'Z').unwrap().value else { panic!("an expression") };
+        let Node::Binary(Op::Plus, shift, _) = &a[e as usize] else { panic!("a sum") };
+        assert!(matches!(&a[*shift as usize], Node::Binary(Op::Divide, s, _) if a[*s as usize] == Node::Param(ParamRef::Numbered(5213))));
+        assert!(l.word(b'X').is_none());
+        let g = |t: &str| read(t).0.words.iter().filter(|w| w.letter == b'G').map(|w| w.value).collect::<Vec<_>>();
+        assert_eq!(g("T1 D1"), vec![Operand::Number(43.0)]);
+        assert_eq!(g("M6"), vec![Operand::Number(43.0)]);
+        assert_eq!(g("G0 SUPA Z0 D0"), vec![Operand::Number(0.0), Operand::Number(53.0), Operand::Number(49.0)]);
+        // G4 F2: two seconds
+        assert_eq!(read("G4 F2").0.word(b'P').unwrap().value, Operand::Number(2.0));
+    }
+
+    #[test]
+    fn what_is_not_read_is_refused_saying_what() {
+        for (text, says) in [
+            ("AROT Z45", "AROT (additive programmable rotation)"),
+            ("ROT Z30", "ROT (programmable rotation)"),
+            ("TRAORI", "TRAORI (5-axis"),
+            ("CYCLE800(0,\"TC1\",200000,57,0,0,0,0,45,0,0,0,0,1)", "CYCLE800 (swivel plane)"),
+            ("CYCLE977(101,1,,1,50,,,3,1,1,,,1)", "CYCLE977 is not read"),
+            ("MCALL CYCLE84(10,0,2,-12)", "MCALL CYCLE84: a modal call of CYCLE81 or CYCLE82"),
+            ("CYCLE81(10,0,2,-5", "`,` or `)` expected"),
+            ("G1 X=IC(5)", "`IC(...)`"),
+            ("G2 X10 Y0 AR=90", "AR= (an arc by its opening angle)"),
+            ("T=\"FACE MILL 50\"", "T=\"name\""),
+            ("G43 H1", "G43 is not a SINUMERIK G function"),
+            ("R1=5 R2=R1", "R1 is assigned and read on one block"),
+            ("X1 X2", "two X words"),
+            ("R1000=1", "R0-R999"),
+            ("CIP X10 Y10 I1=5 J1=5", "CIP (circle through an intermediate point)"),
+            ("FOO", "`FOO` is not read"),
+        ] {
+            let message = refused(text);
+            assert!(message.contains(says), "{text}: {message}");
+        }
+    }
+}
+
+#[cfg(test)]
+mod cycle_tests {
+    use super::*;
+
+    #[test]
+    fn cycle_calls_with_empty_parameters_and_mcall_on_and_off() {
+        let mut arena = Vec::new();
+        let l = parse_line("N50 MCALL CYCLE81(10, 0, 2, , R5*2) ; modal", 1, Dialect::LinuxCnc, &mut arena, false).unwrap();
+        let Some(call) = l.siemens_call.as_deref() else { panic!("a call") };
+        let Call::Cycle { number: 81, args, modal: true } = call else { panic!("{call:?}") };
+        assert_eq!(args.iter().map(Option::is_some).collect::<Vec<_>>(), vec![true, true, true, false, true]);
+        assert!(!l.is_empty());
+        let l = parse_line("CYCLE82(15,0,1,-8,,0.5)", 1, Dialect::LinuxCnc, &mut arena, false).unwrap();
+        assert!(matches!(l.siemens_call.as_deref(), Some(Call::Cycle { number: 82, modal: false, .. })));
+        let l = parse_line("N90 MCALL", 1, Dialect::LinuxCnc, &mut arena, false).unwrap();
+        assert_eq!(l.siemens_call.as_deref(), Some(&Call::ModalOff));
+    }
+}

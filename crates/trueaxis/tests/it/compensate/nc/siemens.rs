@@ -1,0 +1,214 @@
+//! The SINUMERIK 840D's own language (SINUMERIK 840D sl Programming Manual Fundamentals) on a
+//! program written as shop programs for the 840D are written (`%_N_..._MPF` and `;$PATH=` header,
+//! `MSG`, R parameters with arithmetic, `X=` values, `CR=` arcs of both signs and `I J` arcs,
+//! `TRANS`/`ATRANS`/`TRANS`, `T1 D1`/`M6`, `G0 SUPA Z0 D0`), checked against its moves written
+//! here from the manual: the `CR=` centres from the closed form (the centre on the left of the
+//! chord for G3 and a positive CR, on the right for a negative one, at sqrt(CR^2 - c^2/4) from
+//! the chord's middle), `TRANS` a shift of the program zero, `ATRANS` added to it. trueaxis reads
+//! the program as those moves (1e-9 mm); the corrected program, read back, pushed through the
+//! erroneous machine, lands on them within half the written increment (4 decimals: 0.1 um, each
+//! axis within 0.05 um) and is written in the 840D's language (the header in `;` comments after
+//! the file header, `CR=` arcs whose ends move rewritten with `I J`).
+
+use super::common::oracle::Oracle;
+use super::common::rs274::Kind;
+use super::fanuc::{homes, read, Expansion, G54_Z, START_Z};
+use trueaxis::compensate::nc::{correct_program, Controller, NcOptions, ToolTable};
+use trueaxis::compensate::Corrector;
+use trueaxis::error_model::ErrorModel;
+use trueaxis::machine::Machine;
+
+/// 4 decimals: each linear axis within half the 0.1 um increment, plus the solve (0.01 um).
+const TOLERANCE_UM: f64 = 0.0866 + 0.01;
+
+const PLATE: &str = "\
+%_N_PLATE_MPF
+;$PATH=/_N_WKS_DIR/_N_PLATE_WPD
+; PLATE 1 - hand-written
+N10 G17 G90 G40 G71 G94
+N20 MSG(\"PLATE 1 (POCKET)\")
+N30 T1 D1
+N40 M6
+N50 G54
+N60 R1=40 R2=25 R3=-2.5
+N70 R4=R1/2+SQRT(POT(3)+POT(4))-2*3 ; 19
+N80 S3000 M3
+N90 TRANS X10 Y5
+N100 G0 X0 Y0 Z5
+N110 G1 Z=R3 F=200
+N120 X=R1 Y0
+N130 G3 X=R1+10 Y10 CR=10
+N140 G1 Y=R2
+N150 G3 X40 Y=R2+10 I-10 J0
+N160 G3 X30 Y45 CR=-10 ; over 180 degrees
+N170 G2 X=R4+1 Y=R4+25 CR=10
+N180 ATRANS X5 Y-5
+N190 ATRANS Y2
+N200 G1 X0 Y0
+N210 G0 Z50
+N220 TRANS
+N230 G0 SUPA Z0 D0
+N240 M30
+";
+
+/// PLATE's moves, from the manual: program zero at G54 + TRANS, the tool T1 100 mm long.
+fn plate_expansion() -> Expansion {
+    let mut e = Expansion::new();
+    e.tool = 100.0;
+    let t = |x: f64, y: f64, z: f64| [x + 10.0, y + 5.0, z];
+    e.go(true, t(0.0, 0.0, 5.0));
+    e.go(false, t(0.0, 0.0, -2.5));
+    e.go(false, t(40.0, 0.0, -2.5));
+    // G3 CR=10 from (40,0) to (50,10): centre (40,10), on the left of the chord
+    e.arc(t(50.0, 10.0, -2.5), [50.0, 15.0], 1);
+    e.go(false, t(50.0, 25.0, -2.5));
+    e.arc(t(40.0, 35.0, -2.5), [50.0, 30.0], 1);
+    // G3 CR=-10 from (40,35) to (30,45): the arc over 180 degrees, centre (40,45) on the right
+    e.arc(t(30.0, 45.0, -2.5), [50.0, 50.0], 1);
+    // G2 CR=10 from (30,45) to (20,44): the centre on the right of the chord
+    let (s, f): ([f64; 2], [f64; 2]) = ([30.0, 45.0], [20.0, 44.0]);
+    let (mx, my, dx, dy) = ((s[0] + f[0]) / 2.0, (s[1] + f[1]) / 2.0, f[0] - s[0], f[1] - s[1]);
+    let c = (dx * dx + dy * dy).sqrt();
+    let h = (100.0 - c * c / 4.0).sqrt();
+    e.arc(t(20.0, 44.0, -2.5), [mx + h * dy / c + 10.0, my - h * dx / c + 5.0], -1);
+    // ATRANS X5 Y-5, ATRANS Y2: the zero at (15, 2) from TRANS's
+    e.go(false, t(5.0, -3.0, -2.5));
+    e.go(true, t(5.0, -3.0, 50.0));
+    // SUPA Z0 D0: machine Z 0, no tool length
+    let last = e.moves.last().unwrap().end;
+    e.tool = 0.0;
+    e.machine([last[0], last[1], 0.0]);
+    e
+}
+
+/// The same kind of move; arcs the same way round the same centre (1e-9 mm).
+fn same_kind(a: &Kind, b: &Kind) -> bool {
+    match (a, b) {
+        (Kind::Arc { centre: c, turns: t, .. }, Kind::Arc { centre: d, turns: u, .. }) => {
+            t == u && (c[0] - d[0]).abs() < 1e-9 && (c[1] - d[1]).abs() < 1e-9
+        }
+        (a, b) => a == b,
+    }
+}
+
+fn options(m: &Machine) -> NcOptions {
+    let mut options = NcOptions::new(m);
+    options.setup.tools = ToolTable::parse("T1 Z100\nT2 Z120\n", "tools").unwrap();
+    let mut offset = vec![0.0; m.axis_count()];
+    offset[2] = G54_Z;
+    options.setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(m), 1, &offset);
+    options.setup.start[2] = START_Z;
+    options
+}
+
+/// Reads `text` (as the expansion, 1e-9 mm), corrects it, reads the correction back through the
+/// erroneous machine (half the written increment); the corrected text.
+fn check(name: &str, text: &str, expected: &Expansion) -> String {
+    let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
+    let e = ErrorModel::load("../../examples/errors/vmc3.toml", &m).unwrap();
+    let mut options = options(&m);
+    let id = |name: &str| trueaxis::compensate::nc::FileId::of(name, name.as_bytes());
+    options.header = Some(trueaxis::compensate::nc::Header { machine: id("vmc3.toml"), errors: id("vmc3 errors") });
+    let original = read(&m, text, &options);
+    assert_eq!(original.len(), expected.moves.len(), "{name}: {original:#?}");
+    for (i, (o, x)) in original.iter().zip(&expected.moves).enumerate() {
+        let same = o.end.iter().zip(&x.end).all(|(a, b)| (a - b).abs() < 1e-9) && o.tool == x.tool && same_kind(&o.kind, &x.kind);
+        assert!(same, "{name}: move {}: read {o:?}, expected {x:?}", i + 1);
+    }
+    let corrector = Corrector::new(&m, &e);
+    let r = correct_program(&corrector, text, name, &options, &[]).unwrap_or_else(|e| panic!("{name}: {e}"));
+    let corrected_text = r.text();
+    assert_eq!(r.dialect, Controller::Siemens);
+    // the file header first, the trueaxis header after it in `;` comments
+    let lines: Vec<&str> = corrected_text.lines().collect();
+    assert!(lines[0].starts_with("%_N_") && lines[1].starts_with(";$PATH=/_N_WKS_DIR/"), "{name}: {corrected_text}");
+    assert!(lines[2].starts_with(";trueaxis ") && lines[5].starts_with(";trueaxis dialect siemens"), "{name}: {corrected_text}");
+    let corrected = read(&m, &corrected_text, &options);
+    let oracle = Oracle { machine: &m, errors: &e, temperatures: vec![] };
+    let mut start = vec![0.0; m.axis_count()];
+    start[2] = START_Z;
+    let report = oracle
+        .compare(&expected.moves, &corrected, &start, TOLERANCE_UM, 1.0 + TOLERANCE_UM, &homes(&m, text, &options))
+        .unwrap_or_else(|err| panic!("{name}: {err}\n{corrected_text}"));
+    println!(
+        "{name}: {} moves, {} pieces, ends within {:.4} um, path within {:.3} um\n{corrected_text}",
+        report.moves, report.pieces, report.worst_end_um, report.worst_path_um
+    );
+    assert!(r.changed_lines > 5);
+    corrected_text.to_string()
+}
+
+#[test]
+fn a_hand_written_840d_program_is_read_and_corrected_in_its_language() {
+    let text = check("plate.mpf", PLATE, &plate_expansion());
+    assert!(text.contains("N20 MSG(\"PLATE 1 (POCKET)\")\n") && text.contains("N70 R4=R1/2+SQRT(POT(3)+POT(4))-2*3 ; 19\n"));
+    // CR= arcs whose ends move are written with their centres
+    assert!(!text.contains("CR=10\n") && text.contains("CR=-10 ; over 180") == text.contains("N160 G3 X30 Y45 "), "{text}");
+    for l in text.lines().filter(|l| !l.starts_with(';') && !l.contains("MSG(")) {
+        assert!(!l.contains('(') || l.contains("POT("), "a parenthesis outside a comment or an expression: {l}");
+    }
+}
+
+/// Drilling as the 840D's cycles do it: `MCALL CYCLE81` over three positions, a direct
+/// `CYCLE82` whose DPR counts over its DP.
+const DRILL: &str = "\
+%_N_DRILL_MPF
+;$PATH=/_N_WKS_DIR/_N_DRILL_WPD
+N10 G17 G90 G40 G71 G94
+N20 T2 D1
+N30 M6
+N40 G54 S2000 M3
+N50 G0 X20 Y20 Z15
+N60 F150
+N70 MCALL CYCLE81(15, 0, 2, -12) ; holes
+N80 X20 Y20
+N90 X40
+N100 Y40
+N110 MCALL
+N120 G0 X60 Y60
+N130 CYCLE82(15, 0, 2, -30, 8, 0.5)
+N140 G0 Z50
+N150 M30
+";
+
+/// DRILL's moves from the manual's sequence: G0 to RFP + SDIS, G1 to the depth, G0 to RTP.
+fn drill_expansion() -> Expansion {
+    let mut e = Expansion::new();
+    e.tool = 120.0;
+    let hole = |e: &mut Expansion, x: f64, y: f64, depth: f64| {
+        e.go(true, [x, y, 2.0]);
+        e.go(false, [x, y, depth]);
+        e.go(true, [x, y, 15.0]);
+    };
+    e.go(true, [20.0, 20.0, 15.0]);
+    e.go(true, [20.0, 20.0, 15.0]);
+    hole(&mut e, 20.0, 20.0, -12.0);
+    e.go(true, [40.0, 20.0, 15.0]);
+    hole(&mut e, 40.0, 20.0, -12.0);
+    e.go(true, [40.0, 40.0, 15.0]);
+    hole(&mut e, 40.0, 40.0, -12.0);
+    e.go(true, [60.0, 60.0, 15.0]);
+    hole(&mut e, 60.0, 60.0, -8.0);
+    e.go(true, [60.0, 60.0, 50.0]);
+    e
+}
+
+#[test]
+fn drilling_cycles_called_modally_and_directly_become_corrected_moves() {
+    let text = check("drill.mpf", DRILL, &drill_expansion());
+    // the calls are taken out (the SINUMERIK would drill again at the corrected moves)
+    assert!(!text.contains("CYCLE8") && text.contains("\nN70 ; holes\n") && text.contains("\nG4 F0.5\n"), "{text}");
+}
+
+#[test]
+fn g70_is_inch_and_g71_mm() {
+    let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
+    let mut options = options(&m);
+    options.dialect = Some(Controller::Siemens);
+    let moves = read(&m, "N10 G17 G90 G70\nN20 G0 X1 Y2\nN30 G710 G1 X1 F100\nN40 G700 Y1\nN50 M30\n", &options);
+    let xy: Vec<[f64; 2]> = moves.iter().map(|c| [c.end[0], c.end[1]]).collect();
+    for (got, want) in xy.iter().zip([[25.4, 50.8], [1.0, 50.8], [1.0, 25.4]]) {
+        assert!((got[0] - want[0]).abs() < 1e-9 && (got[1] - want[1]).abs() < 1e-9, "{xy:?}");
+    }
+    assert_eq!(xy.len(), 3);
+}
