@@ -160,8 +160,7 @@ pub fn run(
     setup: &ProgramSetup,
 ) -> Result<(Trace, Program), NcError> {
     let controller = controller.unwrap_or_else(|| Controller::detect(&String::from_utf8_lossy(bytes)));
-    let (dialect, read) = (controller.family(), controller.line_reader());
-    let main = program::SourceFile::load_part_with(origin, bytes, dialect, &mut Default::default(), true, read)?;
-    let program = Program { dialect, controller, files: vec![main], search: setup.search_path.clone() };
+    let main = program::SourceFile::load_part(origin, bytes, controller, &mut Default::default(), true)?;
+    let program = Program { dialect: controller.family(), controller, files: vec![main], search: setup.search_path.clone() };
     interpret::run(axes, program, setup)
 }

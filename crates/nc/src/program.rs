@@ -8,7 +8,7 @@ use crate::dialect::Dialect;
 use crate::expr::Node;
 use crate::lexer::{parse_line, Label, Line, OKind, Statement};
 use crate::source::{decode_part, Ending, SourceText};
-use crate::NcError;
+use crate::{Controller, NcError};
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::PathBuf;
@@ -33,7 +33,7 @@ pub enum Link {
 }
 
 /// Reads one line of a file (text, 1-based number, family, expression arena, read byte for byte).
-pub type LineReader = fn(&str, usize, Dialect, &mut Vec<Node>, bool) -> Result<Line, String>;
+pub(crate) type LineReader = fn(&str, usize, Dialect, &mut Vec<Node>, bool) -> Result<Line, String>;
 
 /// One file of the program.
 #[derive(Clone, Debug)]
@@ -78,44 +78,33 @@ pub struct PartState {
     pub lines: usize,
 }
 
+/// An error at index `k` of the lines of file `name`, located at its line.
+fn located(name: &str) -> impl Fn((usize, String)) -> NcError + '_ {
+    move |(k, message)| NcError { file: name.to_string(), line: k + 1, message }
+}
+
 impl SourceFile {
     /// How many lines the file (or part) has.
     pub fn line_count(&self) -> usize {
         self.lines.len()
     }
 
-    /// Reads and indexes a file; an error names the line of a control structure that does not
-    /// close or match.
+    /// Reads and indexes a file with the lexer of `dialect`'s family; an error names the line of a
+    /// control structure that does not close or match.
     pub fn load(name: &str, bytes: &[u8], dialect: Dialect) -> Result<SourceFile, NcError> {
-        let mut whole = PartState::default();
-        Self::load_part(name, bytes, dialect, &mut whole, true)
+        Self::read_part(name, bytes, dialect, &mut PartState::default(), true, parse_line).map_err(located(name))
     }
 
     /// Reads and indexes the part of a file that follows the parts `state` has seen (`last`: it
-    /// ends the file); line numbers of an error are those of the part. The body of a part runs
-    /// from its first line, or after the file's leading `%`, to a closing `%` or its end.
-    pub fn load_part(name: &str, bytes: &[u8], dialect: Dialect, state: &mut PartState, last: bool) -> Result<SourceFile, NcError> {
-        Self::load_part_with(name, bytes, dialect, state, last, parse_line)
+    /// ends the file), its lines read as `controller` reads them (the SINUMERIK's own language by
+    /// [`crate::siemens::parse_line`] into the same lines); line numbers of an error are those of
+    /// the part. The body of a part runs from its first line, or after the file's leading `%`, to
+    /// a closing `%` or its end.
+    pub fn load_part(name: &str, bytes: &[u8], controller: Controller, state: &mut PartState, last: bool) -> Result<SourceFile, NcError> {
+        Self::read_part(name, bytes, controller.family(), state, last, controller.line_reader()).map_err(located(name))
     }
 
-    /// [`SourceFile::load_part`] with the lines read by `read` (the SINUMERIK's own language is
-    /// read by [`crate::siemens::parse_line`] into the same lines).
-    pub fn load_part_with(
-        name: &str,
-        bytes: &[u8],
-        dialect: Dialect,
-        state: &mut PartState,
-        last: bool,
-        read: LineReader,
-    ) -> Result<SourceFile, NcError> {
-        Self::read_part(name, bytes, dialect, state, last, read).map_err(|(k, message)| NcError {
-            file: name.to_string(),
-            line: k + 1,
-            message,
-        })
-    }
-
-    /// [`SourceFile::load_part_with`], the error at the index of its line.
+    /// [`SourceFile::load_part`], the error at the index of its line.
     fn read_part(
         name: &str,
         bytes: &[u8],

@@ -237,7 +237,7 @@ impl Controller {
     }
 
     /// What reads its lines: the family's lexer, or the SINUMERIK's own.
-    pub fn line_reader(self) -> crate::program::LineReader {
+    pub(crate) fn line_reader(self) -> crate::program::LineReader {
         match self {
             Controller::Siemens => crate::siemens::parse_line,
             _ => crate::lexer::parse_line,

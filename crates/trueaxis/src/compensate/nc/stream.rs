@@ -107,8 +107,7 @@ impl<R: Read> Source<R> {
     fn load(&mut self, part: &Part, controller: Controller) -> Result<SourceFile, PartError> {
         let first = self.state.lines == 0;
         let before = self.state;
-        let (dialect, read) = (controller.family(), controller.line_reader());
-        SourceFile::load_part_with(&self.origin, &part.bytes, dialect, &mut self.state, part.last, read).map_err(|e| {
+        SourceFile::load_part(&self.origin, &part.bytes, controller, &mut self.state, part.last).map_err(|e| {
             // a line the byte reader refuses is refused wherever it stands; an unmatched structure
             // may be matched in another part
             let whole = first && part.last;
