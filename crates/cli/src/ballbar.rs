@@ -7,11 +7,12 @@ use crate::output::{self, print, text_or_file};
 use crate::{parse, Failure};
 use anyhow::anyhow;
 use std::path::{Path, PathBuf};
+use tmbb_setup::SetupDimensions;
 use trueaxis::data::{write_atomically, OutputSet};
 use trueaxis::error_model::ErrorModel;
 use trueaxis::evaluate::circular_test::{cartesian_machine, centre_pose, circular_test_file, CircularTestOptions};
 use trueaxis::identify::pige_report::{bar_lengths, identify_pige_files, method_of, pige_user_value, PigeRequest};
-use trueaxis::identify::tmbb::{observability, TmbbSetup, UNIDENTIFIABLE};
+use trueaxis::identify::tmbb::{observability, UNIDENTIFIABLE};
 use trueaxis::identify::tmbb_report::tmbb_files;
 use trueaxis::instruments::ballbar::{method_step, BarLengths, JiangStep, Method, Plane, RotaryPair, Rotation};
 use trueaxis::instruments::ballbar_simulation::{circle_runs, noise_stream, readings_csv, SimulationSettings};
@@ -474,20 +475,14 @@ pub struct TmbbArgs {
     short: PathBuf,
     #[arg(long)]
     long: PathBuf,
-    #[arg(long, default_value_t = 71.8420)]
-    rx: f64,
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    rz: f64,
-    #[arg(long, default_value_t = 90.850)]
-    l1: f64,
-    #[arg(long, default_value_t = 217.952)]
-    l2: f64,
+    #[command(flatten)]
+    dimensions: SetupDimensions,
     #[arg(long)]
     json: bool,
 }
 
 fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
-    let setup = TmbbSetup { rx: a.rx, rz: a.rz, l1: a.l1, l2: a.l2 };
+    let setup = a.dimensions.setup();
     let report = tmbb_files(&setup, &a.short, &a.long).map_err(Failure::of)?;
     output::warn(&report.warnings());
     if a.json {
@@ -499,9 +494,9 @@ fn tmbb(a: TmbbArgs) -> Result<(), Failure> {
     let (h1, h2) = setup.heights().map_err(Failure::input)?;
     let mut out = format!(
         "Two-length TMBB test of a rotary table (Zhu (2008)): R_x = {} mm, L1 = {} mm, L2 = {} mm, H2 - H1 = {:.3} mm, {} angles\n",
-        a.rx,
-        a.l1,
-        a.l2,
+        a.dimensions.rx,
+        a.dimensions.l1,
+        a.dimensions.l2,
         h2 - h1,
         angles.len()
     );

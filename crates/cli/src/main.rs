@@ -10,6 +10,7 @@ mod demo;
 mod design;
 mod exit;
 mod fit;
+mod fit_options;
 mod identify;
 mod inputs;
 mod inspect;

@@ -157,10 +157,10 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
         other => return Err(bad(format!("--machine-units `{other}` is not mm or inch"))),
     };
     if let Some(path) = &args.tool_table {
-        setup.tools = ToolTable::parse(&read(path)?, &path.display().to_string()).map_err(bad)?;
+        setup.tools = ToolTable::parse(&read(path)?, &path.display().to_string()).map_err(Failure::of)?;
     }
     if let Some(path) = &args.parameters {
-        setup.parameters = read_parameter_file(&read(path)?, &path.display().to_string()).map_err(bad)?;
+        setup.parameters = read_parameter_file(&read(path)?, &path.display().to_string()).map_err(Failure::of)?;
     }
     for o in &args.offsets {
         let (code, values) = o.split_once('=').ok_or_else(|| bad(format!("--offset `{o}` is not G54=X..,Y..")))?;

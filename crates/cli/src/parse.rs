@@ -74,7 +74,7 @@ pub fn axis_values(machine: &Machine, text: &str, what: &str) -> Result<Vec<f64>
 pub fn correction_limits(machine: &Machine, max_um: Option<f64>, max_urad: Option<f64>) -> Result<Limits, Failure> {
     for (name, v, rotary) in [("--limit-um", max_um, false), ("--limit-urad", max_urad, true)] {
         if let Some(v) = v {
-            trueaxis::machine::check_limit_value(name, v, rotary).map_err(|m| Failure::input(anyhow::anyhow!(m)))?;
+            trueaxis::machine::check_limit_value(name, v, rotary).map_err(Failure::of)?;
         }
     }
     Limits::with_overrides(machine, max_um, max_urad).map_err(Failure::of)

@@ -2,9 +2,7 @@
 //! recorded environment (material temperature, expansion coefficient) when no option is given
 //! (`trueaxis::instruments::scale_options` resolves them).
 
-use crate::Failure;
-use trueaxis::instruments::{AppliedCorrection, TemperatureOptions, TemperatureSource};
-use trueaxis::io::Metadata;
+use trueaxis::instruments::{TemperatureOptions, TemperatureSource};
 
 /// Correction of positioning readings to 20 degC (ISO 1).
 #[derive(clap::Args, Clone, Debug)]
@@ -45,11 +43,5 @@ impl TemperatureArgs {
             datum_mm: self.temperature_datum,
             no_file_temperature: self.no_file_temperature,
         }
-    }
-
-    /// The corrections asked for, or else the one the file's environment records
-    /// (`TemperatureOptions::resolve`).
-    pub fn applied(&self, metadata: &Metadata, file: &str) -> Result<AppliedCorrection, Failure> {
-        self.options().resolve(metadata, file).map_err(Failure::input)
     }
 }

@@ -57,19 +57,11 @@ pub fn wall_time() -> String {
     utc(d.as_secs_f64())
 }
 
-/// Seconds since the Unix epoch as UTC (days to civil date: Hinnant's algorithm).
+/// Seconds since the Unix epoch as UTC (days to civil date: `trueaxis::io::calendar`).
 pub fn utc(seconds: f64) -> String {
     let ms = (seconds * 1e3).round() as i64;
     let (days, rem) = (ms.div_euclid(86_400_000), ms.rem_euclid(86_400_000));
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + i64::from(month <= 2);
+    let (year, month, day) = trueaxis::io::calendar::civil_from_days(days);
     format!("{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}.{:03}Z", rem / 3_600_000, rem / 60_000 % 60, rem / 1000 % 60, rem % 1000)
 }
 

@@ -24,7 +24,7 @@ fn radius_tolerance(inch: bool) -> f64 {
 }
 
 /// The centre of an R-format arc from `start` to `end` (program units).
-pub fn centre_from_radius(clockwise: bool, start: [f64; 2], end: [f64; 2], r: f64, inch: bool) -> Result<[f64; 2], String> {
+pub(crate) fn centre_from_radius(clockwise: bool, start: [f64; 2], end: [f64; 2], r: f64, inch: bool) -> Result<[f64; 2], String> {
     if start == end {
         return Err("an R-format arc cannot end where it starts (a full circle needs centre words)".into());
     }
@@ -45,7 +45,7 @@ pub fn centre_from_radius(clockwise: bool, start: [f64; 2], end: [f64; 2], r: f6
 
 /// Checks a centre-format arc: radius not zero, start and end radii equal within LinuxCNC's
 /// tolerances.
-pub fn check_centre(start: [f64; 2], end: [f64; 2], centre: [f64; 2], inch: bool) -> Result<(), String> {
+pub(crate) fn check_centre(start: [f64; 2], end: [f64; 2], centre: [f64; 2], inch: bool) -> Result<(), String> {
     let r1 = (centre[0] - start[0]).hypot(centre[1] - start[1]);
     let r2 = (centre[0] - end[0]).hypot(centre[1] - end[1]);
     if r1 < radius_tolerance(inch) || r2 < radius_tolerance(inch) {

@@ -2,6 +2,8 @@
 //! machine's canonical order, whether each is linear (mm) or rotary (deg), and their travel. The
 //! interpreter knows nothing else of the machine (no kinematics, no errors).
 
+use std::fmt;
+
 /// Most machine axes (X Y Z A B C U V W).
 pub const MAX_AXES: usize = 9;
 
@@ -62,17 +64,35 @@ impl MachineAxes {
 
     /// Whether every position (mm, deg, canonical order) is finite and within its axis's travel;
     /// the first that is not, named.
-    pub fn check_range(&self, positions: &[f64]) -> Result<(), String> {
-        for (axis, &u) in self.axes.iter().zip(positions) {
-            if !u.is_finite() {
-                return Err(format!("axis {} position is not a finite number", axis.letter));
-            }
-            if !axis.in_range(u) {
-                let [lo, hi] = axis.range.expect("in_range is true without a range");
-                let unit = axis.unit();
-                return Err(format!("axis {} at {u} {unit} is outside its range [{lo}, {hi}] {unit}", axis.letter));
+    pub fn check_range(&self, positions: &[f64]) -> Result<(), OutsideTravel> {
+        for (axis, &position) in self.axes.iter().zip(positions) {
+            if !position.is_finite() || !axis.in_range(position) {
+                return Err(OutsideTravel { axis: axis.clone(), position });
             }
         }
         Ok(())
     }
 }
+
+/// A machine position that is not a finite number, or lies outside its axis's travel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OutsideTravel {
+    pub axis: AxisSpec,
+    /// The position asked for (mm or deg; NaN or infinite when not a number).
+    pub position: f64,
+}
+
+impl fmt::Display for OutsideTravel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (letter, u) = (self.axis.letter, self.position);
+        match self.axis.range {
+            Some([lo, hi]) if u.is_finite() => {
+                let unit = self.axis.unit();
+                write!(f, "axis {letter} at {u} {unit} is outside its range [{lo}, {hi}] {unit}")
+            }
+            _ => write!(f, "axis {letter} position is not a finite number"),
+        }
+    }
+}
+
+impl std::error::Error for OutsideTravel {}

@@ -61,7 +61,7 @@ impl Dialect {
                 || after_n.starts_with("GOTO")
                 || after_n.starts_with("WHILE[") && compact.contains("DO")
                 || after_n.starts_with("END") && after_n[3..].chars().next().is_some_and(|c| c.is_ascii_digit())
-                || has_code(&compact, 'M', &[98, 99])
+                || has_code(&compact, 'M', &[97, 98, 99])
                 || has_code(&compact, 'G', &[65, 66, 103, 154, 187])
             {
                 fanuc += 1;
@@ -119,14 +119,16 @@ fn strip_comments(line: &str) -> String {
     out
 }
 
-/// Whether the line has a `;` outside `( )` comments with more than blanks after it.
+/// Whether the line has a `;` outside `( )` comments with more than blanks after it, other than
+/// `( )` comments (`G54; (WORK OFFSET)`: a Fanuc's end of block and a comment after it, as Haas
+/// programs are written at the machine).
 fn text_after_semicolon(line: &str) -> bool {
     let mut depth = 0;
     for (i, c) in line.char_indices() {
         match c {
             '(' => depth += 1,
             ')' if depth > 0 => depth -= 1,
-            ';' if depth == 0 => return !line[i + 1..].trim().is_empty(),
+            ';' if depth == 0 => return !strip_comments(&line[i + 1..]).trim().is_empty(),
             _ => {}
         }
     }
@@ -202,6 +204,10 @@ mod tests {
         let eob = "%\nO6000 (SLOTS)\nG21 G90;\n#1 = 0;\nN10 IF [#1 GE 3] GOTO 20;\nG0 X1.;\nN20 M30;\n%\n";
         assert_eq!(Dialect::detect(eob), Dialect::Fanuc);
         assert_eq!(Dialect::detect("G21 ; mm\nG0 X1 ; rapid\nM2\n"), Dialect::LinuxCnc);
+        // a Haas program typed at the machine: `;` ending each block, a comment after it
+        let haas =
+            "G20 G90 G17; (SAFE START)\nG54; (OFFSET)\nG00; (RAPID)\nX1. Y1.;\nM97 P1000 L2; (FACE)\nM30;\nN1000 G91 Z-0.1;\nG90 M99;\n";
+        assert_eq!(Dialect::detect(haas), Dialect::Fanuc);
         assert_eq!(format_number(10.0, 4, Dialect::Fanuc), "10.");
         assert_eq!(format_number(10.0, 4, Dialect::LinuxCnc), "10");
         assert_eq!(format_number(-0.00001, 4, Dialect::Fanuc), "0.");

@@ -17,6 +17,7 @@ use crate::interpret::{Exec, Flow};
 use crate::lexer::{Line, Operand};
 use crate::modal::{FeedMode, Motion, PlaneSelect, Spindle, Vec9, AXES};
 use crate::program::SourceFile;
+use crate::subprograms;
 use crate::tools::AXIS_LETTERS;
 use crate::trace::{flags, Move, MoveKind, Plane, Relative, Role};
 
@@ -103,13 +104,21 @@ fn is_dimension(letter: u8) -> bool {
 impl Exec<'_> {
     /// Executes the block `line` of `file` at `pc`.
     pub(crate) fn block(&mut self, file: &SourceFile, pc: (usize, usize), line: &Line) -> Result<Flow, String> {
+        if let (Some(n), Dialect::LinuxCnc) = (line.program_number, self.dialect) {
+            if !subprograms::runs_m98(self.table) {
+                return Err(crate::lexer::o_word_without_keyword(&crate::lexer::Label::Number(n)));
+            }
+        }
         let step = self.begin_step(pc, 0);
-        let flow = self.block_steps(file, pc, line, step);
+        let flow = match line.system {
+            Some(_) => crate::grbl_system::run(self, file, pc, line, step),
+            None => self.block_steps(file, pc, line, step),
+        };
         self.end_step(step);
         flow
     }
 
-    fn block_steps(&mut self, file: &SourceFile, pc: (usize, usize), line: &Line, step: usize) -> Result<Flow, String> {
+    pub(crate) fn block_steps(&mut self, file: &SourceFile, pc: (usize, usize), line: &Line, step: usize) -> Result<Flow, String> {
         self.setup_words.clear();
         self.setting_words.clear();
         self.stop_words.clear();
@@ -439,15 +448,10 @@ impl Exec<'_> {
                     let modes = self.saved_modes.ok_or("M72 without modes saved by M70")?;
                     self.restore_modes(&modes);
                 }
-                98 if fanuc => {
+                98 if subprograms::runs_m98(self.table) => {
                     let p = w.take(b'P').ok_or("M98 needs the program number P")?;
-                    let l = w.take(b'L');
-                    let (mut number, mut repeat) = (p.round() as u64, l.map_or(1, |v| v.round() as u32));
-                    if l.is_none() && number > 9999 {
-                        repeat = (number / 10_000) as u32;
-                        number %= 10_000;
-                    }
-                    flow = Flow::CallProgram { number: number as u32, repeat, args: None };
+                    let (number, repeat) = subprograms::m98_call(p, w.take(b'L'));
+                    flow = Flow::CallProgram { number, repeat, args: None };
                     self.trace.steps[step].flags |= flags::CALL;
                     continue;
                 }
@@ -456,7 +460,17 @@ impl Exec<'_> {
                     flow = Flow::Return { value: None, sequence: None };
                     continue;
                 }
-                99 if fanuc => {
+                97 if subprograms::runs_m97(self.table) => {
+                    let p = w.take(b'P').ok_or("M97 needs the N number of the local subprogram in P")?;
+                    let repeat = w.take(b'L').map_or(1, |v| v.round() as u32);
+                    flow = Flow::CallLocal { label: p.round() as u32, repeat };
+                    self.trace.steps[step].flags |= flags::CALL;
+                    continue;
+                }
+                99 if subprograms::runs_m98(self.table) => {
+                    if self.calls.is_empty() {
+                        return Err("M99 in the main program restarts it endlessly".into());
+                    }
                     let p = w.take(b'P');
                     flow = Flow::Return { value: None, sequence: p.map(|v| v.round() as u32) };
                     continue;

@@ -129,7 +129,7 @@ pub enum Node {
 }
 
 /// Where an expression reads parameters from.
-pub trait Environment {
+pub(crate) trait Environment {
     /// The value of a parameter (NaN: vacant, Fanuc only); an error names what is wrong.
     fn read(&mut self, param: &ParamRef, index: Option<u32>) -> Result<f64, String>;
     /// Whether the named parameter is defined (`EXISTS`).
@@ -140,7 +140,7 @@ pub trait Environment {
 const TOLERANCE_EQUAL: f64 = 1e-4;
 
 /// Evaluates node `id` of `arena`. A vacant value (Fanuc) is NaN; an error names the cause.
-pub fn evaluate(arena: &[Node], id: ExprId, env: &mut dyn Environment, dialect: Dialect) -> Result<f64, String> {
+pub(crate) fn evaluate(arena: &[Node], id: ExprId, env: &mut dyn Environment, dialect: Dialect) -> Result<f64, String> {
     let value = match &arena[id as usize] {
         Node::Const(v) => *v,
         Node::Vacant => f64::NAN,
@@ -185,7 +185,7 @@ fn number(v: f64) -> f64 {
 }
 
 /// A parameter number from a computed value: an integer (within 1e-4, as LinuxCNC reads integers).
-pub fn parameter_number(v: f64) -> Result<u32, String> {
+pub(crate) fn parameter_number(v: f64) -> Result<u32, String> {
     let r = v.round();
     if (v - r).abs() > 1e-4 || !(0.0..=1e6).contains(&r) {
         return Err(format!("parameter number {v} is not a non-negative integer"));

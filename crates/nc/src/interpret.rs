@@ -46,6 +46,11 @@ pub(crate) enum Flow {
         name: String,
         passes: u32,
     },
+    /// Haas `M97 P<label> L<repeats>`: the block `N<label>` of the same program (shares the locals).
+    CallLocal {
+        label: u32,
+        repeat: u32,
+    },
     /// `endsub`/`return` (with a value) or Fanuc `M99` (with a `P` sequence number to return to).
     Return {
         value: Option<f64>,
@@ -269,7 +274,9 @@ impl<'m> Runner<'m> {
                 Flow::End => return ended(exec, program),
                 _ if self.in_parts => return Ok(Progress::NeedsWhole(here_line)),
                 Flow::Jump(k) => self.pc.1 = k,
-                Flow::Call(..) | Flow::CallProgram { .. } | Flow::CallFile { .. } if exec.calls.len() >= MAX_CALL_LEVELS => {
+                Flow::Call(..) | Flow::CallProgram { .. } | Flow::CallFile { .. } | Flow::CallLocal { .. }
+                    if exec.calls.len() >= MAX_CALL_LEVELS =>
+                {
                     return Err(at(format!("more than {MAX_CALL_LEVELS} nested subroutine calls (a call of itself?)"), program));
                 }
                 Flow::Call(label, args) => {
@@ -291,6 +298,15 @@ impl<'m> Runner<'m> {
                     let (f, k) = program.find_siemens_sub(&name).map_err(|m| at(m, program))?;
                     exec.enter(pc, (f, k), passes - 1, false, &[]);
                     self.pc = (f, k);
+                }
+                Flow::CallLocal { label, repeat } => {
+                    let k = crate::subprograms::local_label(&program.files[pc.0], pc.1, label).map_err(|m| at(m, program))?;
+                    if repeat == 0 {
+                        self.pc.1 += 1;
+                        continue;
+                    }
+                    exec.enter(pc, (pc.0, k), repeat - 1, false, &[]);
+                    self.pc = (pc.0, k);
                 }
                 Flow::Return { value, sequence } => {
                     let Some(call) = exec.calls.last_mut() else {
@@ -433,7 +449,7 @@ impl<'m> Exec<'m> {
     }
 
     /// The work offsets of `system` (program units; Fanuc: plus the external offset #5201).
-    pub fn system_offsets(&self, system: u8) -> Result<Vec9, String> {
+    pub(crate) fn system_offsets(&self, system: u8) -> Result<Vec9, String> {
         let base = self.system_base(system);
         let mut out = [0.0; AXES];
         for (k, o) in out.iter_mut().enumerate() {
@@ -521,7 +537,7 @@ impl<'m> Exec<'m> {
 
     /// Tool `n` of the table; a tool the table lacks takes the assumed length of
     /// [`ProgramSetup::unknown_tools`] (recorded in the trace), or is refused.
-    pub fn tool_entry(&mut self, n: u32) -> Result<crate::tools::Tool, String> {
+    pub(crate) fn tool_entry(&mut self, n: u32) -> Result<crate::tools::Tool, String> {
         if let Some(t) = self.tools.get(n) {
             return Ok(t.clone());
         }
@@ -556,13 +572,13 @@ impl<'m> Exec<'m> {
     }
 
     /// Evaluates expression `id` of `file`.
-    pub fn eval(&mut self, file: &SourceFile, id: ExprId) -> Result<f64, String> {
+    pub(crate) fn eval(&mut self, file: &SourceFile, id: ExprId) -> Result<f64, String> {
         let dialect = self.dialect;
         evaluate(&file.arena, id, self, dialect)
     }
 
     /// Writes a parameter and records it in the trace.
-    pub fn assign(&mut self, target: &ParamRef, index: Option<u32>, value: f64) -> Result<(), String> {
+    pub(crate) fn assign(&mut self, target: &ParamRef, index: Option<u32>, value: f64) -> Result<(), String> {
         let key = match target {
             ParamRef::Named(name) => {
                 if self.dialect == Dialect::LinuxCnc && name.starts_with('_') && is_predefined(name) {
@@ -894,7 +910,7 @@ impl<'m> Exec<'m> {
 
 impl Exec<'_> {
     /// The plane's axes must be on the machine.
-    pub fn plane_axes(&self, plane: PlaneSelect) -> Result<[usize; 3], String> {
+    pub(crate) fn plane_axes(&self, plane: PlaneSelect) -> Result<[usize; 3], String> {
         let axes = plane.axes();
         let mut out = [0; 3];
         for (o, &k) in out.iter_mut().zip(&axes) {

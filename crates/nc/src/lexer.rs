@@ -120,6 +120,9 @@ pub struct Line {
     pub program_number: Option<u32>,
     /// Byte offset after the last item (before a trailing comment): where new words go.
     pub end_of_items: usize,
+    /// A grbl system command (`$H`, `$J=G91 X10 F500`, `$32=1`): the byte range of its text, to
+    /// the end of the line, or of `$J=` before the words of a jog (read in `grbl_system.rs`).
+    pub system: Option<Range<usize>>,
     /// A SINUMERIK cycle call or `MCALL` ([`crate::siemens`]).
     pub siemens_call: Option<Box<crate::siemens::Call>>,
 }
@@ -136,6 +139,7 @@ impl Line {
             && self.assignments.is_empty()
             && self.statement.is_none()
             && self.program_number.is_none()
+            && self.system.is_none()
             && self.siemens_call.is_none()
     }
 }
@@ -158,7 +162,7 @@ pub const MAX_NESTING: usize = 64;
 /// Reads one line; `arena` receives its expression nodes. An error says what is wrong (the caller
 /// adds file and line). `bytewise`: the line was read byte for byte (not UTF-8), its characters
 /// above U+007F are bytes.
-pub fn parse_line(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node>, bytewise: bool) -> Result<Line, String> {
+pub(crate) fn parse_line(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node>, bytewise: bool) -> Result<Line, String> {
     let length = if bytewise { text.chars().count() } else { text.len() };
     if dialect == Dialect::LinuxCnc && length > LINUXCNC_MAX_LINE {
         return Err(format!("a line of {length} characters: LinuxCNC reads at most {LINUXCNC_MAX_LINE} (rs274: Command too long)"));
@@ -197,7 +201,10 @@ fn parse_items(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node
     if cur.peek() == b'o' || cur.peek() == b':' && dialect == Dialect::Fanuc {
         cur.bump();
         match dialect {
-            Dialect::LinuxCnc => line.statement = Some(cur.o_statement(arena)?),
+            Dialect::LinuxCnc => match cur.program_number_alone() {
+                Some(n) => line.program_number = Some(n),
+                None => line.statement = Some(cur.o_statement(arena)?),
+            },
             Dialect::Fanuc => {
                 let (v, _, _) = cur.number()?;
                 line.program_number = Some(v as u32);
@@ -206,6 +213,17 @@ fn parse_items(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node
         line.end_of_items = cur.last;
         cur.comments_only(&mut line.comments)?;
         return Ok(line);
+    }
+    if dialect == Dialect::LinuxCnc && cur.peek() == b'$' {
+        if let Some(system) = grbl_system_command(text, cur.i) {
+            let jog = text[system.clone()].to_ascii_uppercase().starts_with("$J=");
+            line.end_of_items = system.end;
+            cur.i = system.end;
+            line.system = Some(system);
+            if !jog {
+                return Ok(line);
+            }
+        }
     }
     if dialect == Dialect::Fanuc {
         if let Some(s) = cur.fanuc_statement(arena)? {
@@ -254,6 +272,31 @@ fn parse_items(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node
         line.end_of_items = text.trim_end().len().min(line.comments.first().map_or(usize::MAX, |c| c.start.saturating_sub(1)));
     }
     Ok(line)
+}
+
+/// A grbl system command starting at `at` (a `$`): `$` and a letter, `$`, or `#`, or `$` and
+/// digits followed by `=` (a setting); not LinuxCNC's spindle word `$1`. Its text to the end of
+/// the line, or `$J=` alone (the words of the jog follow).
+fn grbl_system_command(text: &str, at: usize) -> Option<Range<usize>> {
+    let rest = &text.as_bytes()[at + 1..];
+    let digits = rest.iter().take_while(|c| c.is_ascii_digit()).count();
+    let command = match rest.first() {
+        Some(c) if c.is_ascii_alphabetic() || matches!(c, b'$' | b'#') => true,
+        Some(c) if c.is_ascii_digit() => rest.get(digits) == Some(&b'='),
+        _ => false,
+    };
+    if !command {
+        return None;
+    }
+    if rest.len() >= 2 && rest[..2].eq_ignore_ascii_case(b"J=") {
+        return Some(at..at + 3);
+    }
+    Some(at..text.trim_end().len())
+}
+
+/// The refusal of an O-word without its keyword (`o100` alone: LinuxCNC's rs274 refuses it too).
+pub(crate) fn o_word_without_keyword(label: &Label) -> String {
+    format!("`{label}` is not followed by sub, endsub, call, return, if, elseif, else, endif, while, endwhile, do, repeat, endrepeat, break or continue")
 }
 
 struct Cursor<'a> {
@@ -638,6 +681,19 @@ impl Cursor<'_> {
         }
     }
 
+    /// After `o`: a whole number alone on its line (comments aside), `O1234` as Mach3 and Mach4
+    /// number a subprogram, which is no O-word statement; else nothing is consumed.
+    fn program_number_alone(&mut self) -> Option<u32> {
+        let (start, last) = (self.i, self.last);
+        match self.number() {
+            Ok((v, _, false)) if v >= 0.0 && v <= f64::from(u32::MAX) && matches!(self.peek(), 0 | b'(' | b';') => Some(v as u32),
+            _ => {
+                (self.i, self.last) = (start, last);
+                None
+            }
+        }
+    }
+
     /// After `o`: the label, the keyword and its arguments.
     fn o_statement(&mut self, arena: &mut Vec<Node>) -> Result<Statement, String> {
         let label = if self.peek() == b'<' {
@@ -701,7 +757,7 @@ impl Cursor<'_> {
         } else if self.keyword("continue") {
             OKind::Continue
         } else {
-            return Err(format!("`{label}` is not followed by sub, endsub, call, return, if, elseif, else, endif, while, endwhile, do, repeat, endrepeat, break or continue"));
+            return Err(o_word_without_keyword(&label));
         };
         Ok(Statement::O(label, kind))
     }

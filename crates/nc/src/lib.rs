@@ -14,7 +14,9 @@
 //! scopes), [`program`] (files and their control structures), [`interpret`] (control flow),
 //! [`execute`] (blocks, the modal state of [`modal`]), [`offsets`], [`system`] (computed parameters),
 //! [`arcs`], [`splines`] and [`nurbs`] (as chords), [`cycles`], [`tools`] (tool table), [`dialect`] (the two
-//! families of grammar), [`dialects`] (each controller's codes, as data), [`siemens`] (the SINUMERIK 840D's own language, read into the same lines), [`trace`] (what a run did),
+//! families of grammar), [`dialects`] (each controller's codes, as data), [`siemens`] (the
+//! SINUMERIK 840D's own language, read into the same lines), [`trace`] (what a run did),
+//! `subprograms` (Mach3/Mach4 `M98` and Haas `M97` calls), `grbl_system` (grbl's `$` lines),
 //! [`plan`] (what stays, what is expanded), [`path`] (points along moves, split points),
 //! [`write`] (the text with moved points), [`parts`] (a file read in parts, for programs of any
 //! length).
@@ -26,6 +28,7 @@ pub mod dialect;
 pub mod dialects;
 pub mod execute;
 pub mod expr;
+mod grbl_system;
 pub mod interpret;
 pub mod lexer;
 pub mod modal;
@@ -39,6 +42,7 @@ pub mod program;
 pub mod siemens;
 pub mod source;
 pub mod splines;
+mod subprograms;
 pub mod system;
 pub mod tools;
 pub mod trace;
@@ -156,9 +160,7 @@ pub fn run(
     setup: &ProgramSetup,
 ) -> Result<(Trace, Program), NcError> {
     let controller = controller.unwrap_or_else(|| Controller::detect(&String::from_utf8_lossy(bytes)));
-    let (dialect, read) = (controller.family(), controller.line_reader());
-    let main = program::SourceFile::load_part_with(origin, bytes, dialect, &mut Default::default(), true, read)
-        .map_err(|(k, m)| NcError { file: origin.to_string(), line: k + 1, message: m })?;
-    let program = Program { dialect, controller, files: vec![main], search: setup.search_path.clone() };
+    let main = program::SourceFile::load_part(origin, bytes, controller, &mut Default::default(), true)?;
+    let program = Program { dialect: controller.family(), controller, files: vec![main], search: setup.search_path.clone() };
     interpret::run(axes, program, setup)
 }

@@ -119,7 +119,7 @@ pub(crate) fn finish(exec: &mut Exec, w: &Words) -> Result<(), String> {
 
 /// The chord vertices after the first control point of the NURBS of `points` (X, Y, weight) and
 /// `order`, each chord within `tolerance` of the curve; the last is the last control point.
-pub fn chords(points: &[[f64; 3]], order: usize, tolerance: f64) -> Result<Vec<[f64; 2]>, String> {
+pub(crate) fn chords(points: &[[f64; 3]], order: usize, tolerance: f64) -> Result<Vec<[f64; 2]>, String> {
     let mut out = Vec::new();
     for segment in bezier_segments(points, order) {
         halve(&segment, tolerance, 0, &mut out)?;

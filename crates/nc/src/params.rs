@@ -8,6 +8,7 @@
 //! `#500`-`#999`, all vacant until set.
 
 use crate::dialect::Dialect;
+use crate::NcError;
 use std::collections::HashMap;
 
 /// Number of numbered parameters LinuxCNC keeps (`RS274NGC_MAX_PARAMETERS`).
@@ -83,7 +84,7 @@ impl Params {
     }
 
     /// Sets a numbered parameter; an error when it does not exist.
-    pub fn set_numbered(&mut self, n: u32, value: f64) -> Result<(), String> {
+    pub(crate) fn set_numbered(&mut self, n: u32, value: f64) -> Result<(), String> {
         if !self.holds(n) {
             return Err(format!("parameter #{n} does not exist (1 to {})", self.numbered.len() - 1));
         }
@@ -158,21 +159,21 @@ impl Params {
 
 /// Reads a LinuxCNC parameter file (`.var`: one `number value` per line, in machine units) into
 /// `(number, value)` pairs; an error names the line.
-pub fn read_parameter_file(text: &str, origin: &str) -> Result<Vec<(u32, f64)>, String> {
+pub fn read_parameter_file(text: &str, origin: &str) -> Result<Vec<(u32, f64)>, NcError> {
     let mut out = Vec::new();
     for (i, line) in text.lines().enumerate() {
+        let at = |message: String| NcError { file: origin.to_string(), line: i + 1, message };
         let mut fields = line.split_whitespace();
         let (Some(n), Some(v)) = (fields.next(), fields.next()) else {
             if line.trim().is_empty() {
                 continue;
             }
-            return Err(format!("{origin}: line {}: expected `number value`, found `{}`", i + 1, line.trim()));
+            return Err(at(format!("expected `number value`, found `{}`", line.trim())));
         };
-        let number: u32 = n.parse().map_err(|_| format!("{origin}: line {}: `{n}` is not a parameter number", i + 1))?;
-        let value: f64 =
-            v.parse().ok().filter(|v: &f64| v.is_finite()).ok_or_else(|| format!("{origin}: line {}: `{v}` is not a number", i + 1))?;
+        let number: u32 = n.parse().map_err(|_| at(format!("`{n}` is not a parameter number")))?;
+        let value: f64 = v.parse().ok().filter(|v: &f64| v.is_finite()).ok_or_else(|| at(format!("`{v}` is not a number")))?;
         if number == 0 || number as usize >= LINUXCNC_PARAMETERS {
-            return Err(format!("{origin}: line {}: parameter #{number} is outside 1 to {}", i + 1, LINUXCNC_PARAMETERS - 1));
+            return Err(at(format!("parameter #{number} is outside 1 to {}", LINUXCNC_PARAMETERS - 1)));
         }
         out.push((number, value));
     }
@@ -212,6 +213,6 @@ mod tests {
         assert_eq!(f.numbered(1), Some(1.0));
         let pairs = read_parameter_file("5161 1.5\n\n5221\t-10.000000\n", "p.var").unwrap();
         assert_eq!(pairs, vec![(5161, 1.5), (5221, -10.0)]);
-        assert!(read_parameter_file("5161 x\n", "p.var").unwrap_err().contains("p.var: line 1"));
+        assert!(read_parameter_file("5161 x\n", "p.var").unwrap_err().to_string().starts_with("p.var: line 1: "));
     }
 }

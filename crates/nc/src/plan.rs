@@ -143,16 +143,17 @@ impl Planner<'_> {
             return None;
         }
         let main = &self.program.files[0];
-        match self.program.dialect {
-            Dialect::LinuxCnc => main
-                .subs
-                .iter()
-                .find(|(_, &(start, end))| (start..=end).contains(&(next.line as usize)))
-                .map(|(l, _)| SubKey::Label(l.clone())),
-            Dialect::Fanuc => {
-                let start = main.programs.iter().filter(|(_, &k)| k <= next.line as usize).max_by_key(|(_, &k)| k)?;
-                Some(SubKey::Program(*start.0))
-            }
+        // the `O` program holding a line (Fanuc family; Mach3/Mach4 subprograms)
+        let program_of = |line: u32| main.programs.iter().filter(|(_, &k)| k <= line as usize).max_by_key(|(_, &k)| k).map(|(&o, _)| o);
+        let label = match self.program.dialect {
+            Dialect::LinuxCnc => main.subs.iter().find(|(_, &(start, end))| (start..=end).contains(&(next.line as usize))),
+            Dialect::Fanuc => None,
+        };
+        match (label, program_of(next.line)) {
+            (Some((l, _)), _) => Some(SubKey::Label(l.clone())),
+            // a Haas `M97` local call stays in the caller's program: its body has no `O` of its own
+            (None, Some(o)) if program_of(s.line) != Some(o) => Some(SubKey::Program(o)),
+            _ => None,
         }
     }
 

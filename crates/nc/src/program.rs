@@ -8,6 +8,7 @@ use crate::dialect::Dialect;
 use crate::expr::Node;
 use crate::lexer::{parse_line, Label, Line, OKind, Statement};
 use crate::source::{decode_part, Ending, SourceText};
+use crate::{Controller, NcError};
 use std::collections::HashMap;
 use std::ops::Range;
 use std::path::PathBuf;
@@ -32,7 +33,7 @@ pub enum Link {
 }
 
 /// Reads one line of a file (text, 1-based number, family, expression arena, read byte for byte).
-pub type LineReader = fn(&str, usize, Dialect, &mut Vec<Node>, bool) -> Result<Line, String>;
+pub(crate) type LineReader = fn(&str, usize, Dialect, &mut Vec<Node>, bool) -> Result<Line, String>;
 
 /// One file of the program.
 #[derive(Clone, Debug)]
@@ -47,7 +48,7 @@ pub struct SourceFile {
     /// Byte range of each line in `text`.
     pub ranges: Vec<Range<usize>>,
     /// Each line read, or why it cannot be read (an error only if the line is executed).
-    pub lines: Vec<Result<Line, String>>,
+    pub(crate) lines: Vec<Result<Line, String>>,
     pub arena: Vec<Node>,
     pub links: Vec<Link>,
     /// LinuxCNC subroutines of this file: label -> (`sub` line, `endsub` line).
@@ -77,24 +78,34 @@ pub struct PartState {
     pub lines: usize,
 }
 
+/// An error at index `k` of the lines of file `name`, located at its line.
+fn located(name: &str) -> impl Fn((usize, String)) -> NcError + '_ {
+    move |(k, message)| NcError { file: name.to_string(), line: k + 1, message }
+}
+
 impl SourceFile {
-    /// Reads and indexes a file; an error names the line of a control structure that does not
-    /// close or match.
-    pub fn load(name: &str, bytes: &[u8], dialect: Dialect) -> Result<SourceFile, (usize, String)> {
-        let mut whole = PartState::default();
-        Self::load_part(name, bytes, dialect, &mut whole, true)
+    /// How many lines the file (or part) has.
+    pub fn line_count(&self) -> usize {
+        self.lines.len()
+    }
+
+    /// Reads and indexes a file with the lexer of `dialect`'s family; an error names the line of a
+    /// control structure that does not close or match.
+    pub fn load(name: &str, bytes: &[u8], dialect: Dialect) -> Result<SourceFile, NcError> {
+        Self::read_part(name, bytes, dialect, &mut PartState::default(), true, parse_line).map_err(located(name))
     }
 
     /// Reads and indexes the part of a file that follows the parts `state` has seen (`last`: it
-    /// ends the file); line numbers of an error are those of the part. The body of a part runs
-    /// from its first line, or after the file's leading `%`, to a closing `%` or its end.
-    pub fn load_part(name: &str, bytes: &[u8], dialect: Dialect, state: &mut PartState, last: bool) -> Result<SourceFile, (usize, String)> {
-        Self::load_part_with(name, bytes, dialect, state, last, parse_line)
+    /// ends the file), its lines read as `controller` reads them (the SINUMERIK's own language by
+    /// [`crate::siemens::parse_line`] into the same lines); line numbers of an error are those of
+    /// the part. The body of a part runs from its first line, or after the file's leading `%`, to
+    /// a closing `%` or its end.
+    pub fn load_part(name: &str, bytes: &[u8], controller: Controller, state: &mut PartState, last: bool) -> Result<SourceFile, NcError> {
+        Self::read_part(name, bytes, controller.family(), state, last, controller.line_reader()).map_err(located(name))
     }
 
-    /// [`SourceFile::load_part`] with the lines read by `read` (the SINUMERIK's own language is
-    /// read by [`crate::siemens::parse_line`] into the same lines).
-    pub fn load_part_with(
+    /// [`SourceFile::load_part`], the error at the index of its line.
+    fn read_part(
         name: &str,
         bytes: &[u8],
         dialect: Dialect,
@@ -155,6 +166,7 @@ impl SourceFile {
             first_line,
             leading_percent,
         };
+        file.index_numbers()?;
         match dialect {
             Dialect::LinuxCnc => file.index_owords()?,
             Dialect::Fanuc => file.index_fanuc()?,
@@ -272,8 +284,8 @@ impl SourceFile {
         Ok(())
     }
 
-    fn index_fanuc(&mut self) -> Result<(), (usize, String)> {
-        let mut stack: Vec<(u32, usize)> = Vec::new();
+    /// The `N` numbers and `O` program numbers (Fanuc family; Mach3/Mach4 subprograms).
+    fn index_numbers(&mut self) -> Result<(), (usize, String)> {
         for k in self.body.clone() {
             let Ok(line) = &self.lines[k] else { continue };
             if let Some(n) = line.sequence {
@@ -284,6 +296,14 @@ impl SourceFile {
                     return Err((k, format!("program O{o} appears twice")));
                 }
             }
+        }
+        Ok(())
+    }
+
+    fn index_fanuc(&mut self) -> Result<(), (usize, String)> {
+        let mut stack: Vec<(u32, usize)> = Vec::new();
+        for k in self.body.clone() {
+            let Ok(line) = &self.lines[k] else { continue };
             match line.statement {
                 Some(Statement::While(_, m)) | Some(Statement::Do(m)) => stack.push((m, k)),
                 Some(Statement::End(m)) => match stack.pop() {
@@ -320,7 +340,7 @@ pub struct Program {
 
 impl Program {
     /// The main file; an error names its line.
-    pub fn new(name: &str, bytes: &[u8], dialect: Dialect, search: SearchPath) -> Result<Program, (usize, String)> {
+    pub fn new(name: &str, bytes: &[u8], dialect: Dialect, search: SearchPath) -> Result<Program, NcError> {
         let main = SourceFile::load(name, bytes, dialect)?;
         Ok(Program { dialect, controller: crate::Controller::of_family(dialect), files: vec![main], search })
     }
@@ -328,7 +348,7 @@ impl Program {
     /// The file holding subroutine `label`: the main file, a file loaded before, or `<name>.ngc`
     /// on the search path (LinuxCNC `o<name> call`); a Fanuc program number `O1234` is looked for
     /// in the loaded files, then as `O1234`, `O1234.nc`, `O1234.ngc` on the search path.
-    pub fn find_sub(&mut self, label: &Label) -> Result<(usize, usize, usize), String> {
+    pub(crate) fn find_sub(&mut self, label: &Label) -> Result<(usize, usize, usize), String> {
         for (f, file) in self.files.iter().enumerate() {
             if let Some(&(start, end)) = file.subs.get(label) {
                 return Ok((f, start, end));
@@ -341,14 +361,14 @@ impl Program {
         let (path, text) = self.read_on_path(&candidates).ok_or_else(|| {
             format!("subroutine `{label}` is neither in the program nor a file {name}.ngc on the search path ({})", self.search_list())
         })?;
-        let file = SourceFile::load(&path, &text, self.dialect).map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
+        let file = SourceFile::load(&path, &text, self.dialect).map_err(|e| e.to_string())?;
         let &(start, end) = file.subs.get(label).ok_or_else(|| format!("{path} does not define `{label} sub`"))?;
         self.files.push(file);
         Ok((self.files.len() - 1, start, end))
     }
 
     /// The file and line of Fanuc program `O<number>`.
-    pub fn find_program(&mut self, number: u32) -> Result<(usize, usize), String> {
+    pub(crate) fn find_program(&mut self, number: u32) -> Result<(usize, usize), String> {
         for (f, file) in self.files.iter().enumerate() {
             if let Some(&k) = file.programs.get(&number) {
                 return Ok((f, k));
@@ -362,7 +382,7 @@ impl Program {
                 self.search_list()
             )
         })?;
-        let file = SourceFile::load(&path, &text, self.dialect).map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
+        let file = SourceFile::load(&path, &text, self.dialect).map_err(|e| e.to_string())?;
         let &k = file.programs.get(&number).ok_or_else(|| format!("{path} does not start with O{number}"))?;
         self.files.push(file);
         Ok((self.files.len() - 1, k))
@@ -371,7 +391,7 @@ impl Program {
     /// The file and first line of SINUMERIK subprogram `name` (`L10`, `PLATE`): a file loaded
     /// before, or `NAME.SPF`, `NAME.spf`, `_N_NAME_SPF` on the search path, read in the
     /// SINUMERIK's language.
-    pub fn find_siemens_sub(&mut self, name: &str) -> Result<(usize, usize), String> {
+    pub(crate) fn find_siemens_sub(&mut self, name: &str) -> Result<(usize, usize), String> {
         let candidates = [format!("{name}.SPF"), format!("{name}.spf"), format!("_N_{name}_SPF")];
         let loaded = |f: &SourceFile| {
             let base = std::path::Path::new(&f.name).file_name().map(|b| b.to_string_lossy().to_string());
@@ -383,9 +403,7 @@ impl Program {
         let (path, text) = self.read_on_path(&candidates).ok_or_else(|| {
             format!("subprogram {name} is not a file {name}.SPF, {name}.spf or _N_{name}_SPF on the search path ({})", self.search_list())
         })?;
-        let read = self.controller.line_reader();
-        let file = SourceFile::load_part_with(&path, &text, self.dialect, &mut PartState::default(), true, read)
-            .map_err(|(k, m)| format!("{path}: line {}: {m}", k + 1))?;
+        let file = SourceFile::load_part(&path, &text, self.controller, &mut PartState::default(), true).map_err(|e| e.to_string())?;
         let start = file.body.start;
         self.files.push(file);
         Ok((self.files.len() - 1, start))
@@ -428,7 +446,7 @@ mod tests {
         assert_eq!(f.links[9], Link::LoopJump { start: 8, end: 10 });
         assert_eq!(f.body, 0..13);
         let bad = SourceFile::load("t.ngc", b"o1 if [1]\nG0 X1\n", Dialect::LinuxCnc).unwrap_err();
-        assert_eq!(bad, (0, "`o1 if` is never closed".into()));
+        assert_eq!((bad.line, bad.message.as_str()), (1, "`o1 if` is never closed"));
         assert!(SourceFile::load("t.ngc", b"o1 endwhile\n", Dialect::LinuxCnc).is_err());
         let fanuc = "%\nO0001\nN10 #1=0\nWHILE [#1 LT 2] DO 1\n#1=#1+1\nEND 1\nM30\nO2000\nM99\n%\nignored\n";
         let f = SourceFile::load("t.nc", fanuc.as_bytes(), Dialect::Fanuc).unwrap();

@@ -3,6 +3,8 @@
 //! Fanuc program's `H` and `D` numbers are looked up as tool numbers of the same table (the tool
 //! offset memory). Source: LinuxCNC 2.9 manual, "Tool Table Format".
 
+use crate::NcError;
+
 /// Offsets of one tool, machine units, in the interpreter's axis order X Y Z A B C U V W.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Tool {
@@ -21,15 +23,15 @@ pub struct ToolTable {
 pub const AXIS_LETTERS: [u8; 9] = *b"XYZABCUVW";
 
 impl ToolTable {
-    /// Reads a table; an error names the line and the field.
-    pub fn parse(text: &str, origin: &str) -> Result<ToolTable, String> {
+    /// Reads a table; an error names the file (`origin`), the line and the field.
+    pub fn parse(text: &str, origin: &str) -> Result<ToolTable, NcError> {
         let mut tools: Vec<Tool> = Vec::new();
         for (i, raw) in text.lines().enumerate() {
             let line = raw.split(';').next().unwrap_or("").trim();
             if line.is_empty() {
                 continue;
             }
-            let at = |m: String| format!("{origin}: line {}: {m}", i + 1);
+            let at = |message: String| NcError { file: origin.to_string(), line: i + 1, message };
             let mut tool = Tool { number: 0, offset: [0.0; 9], diameter: 0.0 };
             let mut has_number = false;
             for field in line.split_whitespace() {
@@ -96,11 +98,11 @@ mod tests {
         assert_eq!(t.get(1).unwrap().offset[2], 0.511);
         assert_eq!(t.get(7).unwrap().offset[0], 0.2);
         assert_eq!(t.get(1).unwrap().diameter, 0.125);
-        assert!(ToolTable::parse("T1 Zx\n", "t").unwrap_err().contains("t: line 1"));
-        assert!(ToolTable::parse("P1 Z1\n", "t").unwrap_err().contains("no tool number"));
-        assert!(ToolTable::parse("T1\nT1\n", "t").unwrap_err().contains("twice"));
+        assert!(ToolTable::parse("T1 Zx\n", "t").unwrap_err().to_string().contains("t: line 1"));
+        assert!(ToolTable::parse("P1 Z1\n", "t").unwrap_err().message.contains("no tool number"));
+        assert!(ToolTable::parse("T1\nT1\n", "t").unwrap_err().message.contains("twice"));
         // a field that starts with a multi-byte character: once a panic, found by fuzzing
         let e = ToolTable::parse("T1 Z1\n\u{ff}T1\n", "t").unwrap_err();
-        assert_eq!(e, "t: line 2: `\u{ff}T1` is not a letter and a number");
+        assert_eq!(e.to_string(), "t: line 2: `\u{ff}T1` is not a letter and a number");
     }
 }

@@ -379,7 +379,8 @@ impl<'a> Writer<'a> {
                         let (target, _, _) = targets.remove(0);
                         if let Some(l) = self.piece_line(m, &frame_before, &target, None, 0.0, 0) {
                             before.push(l);
-                            if !has_motion_word(line) {
+                            // (a grbl jog `$J=` is a linear move without one, and refuses one)
+                            if !has_motion_word(line) && line.system.is_none() {
                                 appended.insert(0, motion_word(m, self.dialect));
                             }
                         }

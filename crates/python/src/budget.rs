@@ -1,7 +1,7 @@
-//! The error budget for machine design (Zhu 2008 appendices B and C), `trueaxis.BudgetProblem` and
-//! `trueaxis.budget_configurations`, through the library's entry points that `trueaxis budget
-//! analyse`, `allocate` and `configurations` use
-//! (`trueaxis::budget::problem`, `documents`, `configuration_study`): tolerances in um (linear
+//! The error budget for machine design (Zhu 2008 appendices B and C), `trueaxis.BudgetProblem`,
+//! `trueaxis.budget_configurations` and `trueaxis.budget_miniaturisation`, through the library's
+//! entry points that `trueaxis budget analyse`, `allocate`, `configurations` and `miniaturisation`
+//! use (`trueaxis::budget::problem`, `documents`, `configuration_study`, `miniaturisation_study`): tolerances in um (linear
 //! errors) and urad (angular and squareness errors), volumetric errors in um, part sizes, points
 //! and travel in mm, rotary positions and tilts in deg.
 
@@ -18,6 +18,8 @@ use std::path::PathBuf;
 use trueaxis::budget::allocate::{AllocationOptions, Stack, Target};
 use trueaxis::budget::configuration_study::ConfigurationStudy;
 use trueaxis::budget::global::GeneticOptions;
+use trueaxis::budget::miniaturisation::{ARCSEC_URAD, SIZES};
+use trueaxis::budget::miniaturisation_study::{MiniaturisationOptions, MiniaturisationStudy};
 use trueaxis::budget::problem::{budget_spec, pose_sets, rotary_positions, BudgetProblem as Problem, PoseSource};
 use trueaxis::budget::ranking::StudyOptions;
 use trueaxis::budget::spec::KindValues;
@@ -194,6 +196,23 @@ impl BudgetProblem {
         typed(py, "BudgetAllocation", &problem.allocation_json(&a, &options, s.poses()))
     }
 
+    /// The root-sum-square 3D error (um) at each pose of `poses` (an array (poses, axes), mm and
+    /// deg) with every rotary axis where the problem's first pose set has it: the values of the
+    /// map `trueaxis budget analyse --plots` draws over the mid-planes of the travel. The GIL is
+    /// released.
+    fn rss_at<'py>(&self, py: Python<'py>, poses: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let n = self.inner.machine.axis_count();
+        let user = with_array2(poses, "poses", |values, shape| {
+            if shape[1] != n {
+                return Err(input_msg(format!("poses: {} columns, the machine has {n} axes", shape[1])));
+            }
+            Ok(values.to_vec())
+        })?;
+        let problem = &self.inner;
+        let values = py.detach(|| problem.rss_at(&user)).map_err(exceptions::of)?;
+        Ok(PyArray1::from_vec(py, values))
+    }
+
     /// Rebuilds a problem from its machine and keyword arguments (pickling; files read again).
     #[staticmethod]
     fn _from_kwargs(py: Python<'_>, machine: &Bound<'_, PyAny>, kwargs: Bound<'_, PyDict>) -> PyResult<Py<PyAny>> {
@@ -240,4 +259,26 @@ pub fn budget_configurations(
     let study = py.detach(|| ConfigurationStudy::run(&options, &|done, total| progress.report(done, total)));
     progress.finish()?;
     typed(py, "BudgetConfigurations", &study.map_err(exceptions::of)?.to_json())
+}
+
+/// The miniaturisation case (Zhu 2008 appendix B.2): the document of `trueaxis budget
+/// miniaturisation --json`: a three-axis machine scaled to cubic parts of `sizes` mm with equal
+/// errors (`linear_um` um, `angular_urad` urad, default 1 arcsec), per size the part sensitivities
+/// and robustness indices (mm), the shares by axis and kind (%) and the cost-optimal allocation
+/// for a root-sum-square target of `relative_accuracy` times the part size per direction (um),
+/// its genetic stage seeded by `seed`. The GIL is released.
+#[pyfunction]
+#[pyo3(signature = (*, sizes = None, linear_um = 1.0, angular_urad = ARCSEC_URAD, relative_accuracy = 1e-4, seed = 1))]
+pub fn budget_miniaturisation(
+    py: Python<'_>,
+    sizes: Option<Vec<f64>>,
+    linear_um: f64,
+    angular_urad: f64,
+    relative_accuracy: f64,
+    seed: u64,
+) -> PyResult<Py<PyAny>> {
+    let options =
+        MiniaturisationOptions { sizes: sizes.unwrap_or_else(|| SIZES.to_vec()), linear_um, angular_urad, relative_accuracy, seed };
+    let study = py.detach(|| MiniaturisationStudy::run(&options)).map_err(exceptions::of)?;
+    typed(py, "BudgetMiniaturisation", &study.to_json())
 }

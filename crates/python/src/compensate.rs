@@ -16,7 +16,7 @@ use trueaxis::data::write_atomically;
 fn limits(machine: &trueaxis::machine::Machine, max_um: Option<f64>, max_urad: Option<f64>) -> PyResult<Limits> {
     for (name, v, rotary) in [("limit_um", max_um, false), ("limit_urad", max_urad, true)] {
         if let Some(v) = v {
-            trueaxis::machine::check_limit_value(name, v, rotary).map_err(input_msg)?;
+            trueaxis::machine::check_limit_value(name, v, rotary).map_err(exceptions::of)?;
         }
     }
     Limits::with_overrides(machine, max_um, max_urad).map_err(exceptions::of)

@@ -31,6 +31,30 @@ fn pair(temperature: &Option<TemperatureSource>, expansion: Option<f64>, names: 
     Ok(())
 }
 
+/// The correction of positioning readings to 20 degC as `iso230_2` and `fit` take it: the scale's
+/// and the artefact's temperature (degC or a column) each with its expansion (um/m/K), the datum
+/// (mm), and whether to ignore the file's recorded environment.
+pub(crate) fn temperature_options(
+    scale_temperature: Option<&Bound<'_, PyAny>>,
+    scale_expansion: Option<f64>,
+    artefact_temperature: Option<&Bound<'_, PyAny>>,
+    artefact_expansion: Option<f64>,
+    temperature_datum: f64,
+    no_file_temperature: bool,
+) -> PyResult<TemperatureOptions> {
+    let options = TemperatureOptions {
+        scale_temperature: temperature_source(scale_temperature, "scale_temperature")?,
+        scale_expansion,
+        artefact_temperature: temperature_source(artefact_temperature, "artefact_temperature")?,
+        artefact_expansion,
+        datum_mm: temperature_datum,
+        no_file_temperature,
+    };
+    pair(&options.scale_temperature, scale_expansion, ("scale_temperature", "scale_expansion"))?;
+    pair(&options.artefact_temperature, artefact_expansion, ("artefact_temperature", "artefact_expansion"))?;
+    Ok(options)
+}
+
 /// ISO 230-2:2014 accuracy and repeatability of positioning from a table of bidirectional runs
 /// (columns target in mm, dev in um, dir `+`/`-`, run; or one column per run and direction) or a
 /// Renishaw `.rtl` file: the document of `trueaxis iso230-2 --json` (A, R, E, M, B and their
@@ -56,16 +80,14 @@ pub fn iso230_2(
     temperature_datum: f64,
     no_file_temperature: bool,
 ) -> PyResult<Py<PyAny>> {
-    let options = TemperatureOptions {
-        scale_temperature: temperature_source(scale_temperature, "scale_temperature")?,
+    let options = temperature_options(
+        scale_temperature,
         scale_expansion,
-        artefact_temperature: temperature_source(artefact_temperature, "artefact_temperature")?,
+        artefact_temperature,
         artefact_expansion,
-        datum_mm: temperature_datum,
+        temperature_datum,
         no_file_temperature,
-    };
-    pair(&options.scale_temperature, scale_expansion, ("scale_temperature", "scale_expansion"))?;
-    pair(&options.artefact_temperature, artefact_expansion, ("artefact_temperature", "artefact_expansion"))?;
+    )?;
     let test = py.detach(|| evaluate_file(&path, &options)).map_err(of)?;
     warn(py, &test.warnings)?;
     warn(py, &test.notes)?;

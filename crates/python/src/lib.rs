@@ -1,9 +1,10 @@
 //! The Python package `trueaxis` (module `trueaxis._native`, wrapped by `python/trueaxis`): the
 //! library's machines, error models, prediction, identification, uncertainty (with the chunks of
 //! a Monte Carlo run for distributed engines), optimal design, compensation, NC correction and
-//! ISO 230 evaluations (positioning, circular tests, the rotary-axis ballbar test), thermal error
-//! models, the error budget for machine design, with numpy arrays in and out and the command line's JSON documents as
-//! dictionaries. Units as everywhere in trueaxis: positions in mm and deg, errors in um and urad.
+//! ISO 230 evaluations (positioning, circular tests, the rotary-axis ballbar test), fits of
+//! parametric error functions to direct measurements, thermal error models and sensor placement,
+//! the error budget for machine design, with numpy arrays in and out and the command line's JSON
+//! documents as dictionaries. Units as everywhere in trueaxis: positions in mm and deg, errors in um and urad.
 
 mod ballbar;
 mod budget;
@@ -11,6 +12,7 @@ mod compensate;
 mod convert;
 mod evaluate;
 mod exceptions;
+mod fit;
 mod identify;
 mod machine;
 mod progress;
@@ -46,6 +48,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<uncertainty::BudgetRun>()?;
     m.add_class::<budget::BudgetProblem>()?;
     m.add_function(wrap_pyfunction!(identify::identify, m)?)?;
+    m.add_function(wrap_pyfunction!(fit::fit, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate::iso230_2, m)?)?;
     m.add_function(wrap_pyfunction!(evaluate::iso230_4, m)?)?;
     m.add_function(wrap_pyfunction!(ballbar::ballbar_identify, m)?)?;
@@ -54,7 +57,9 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(thermal::thermal_fit, m)?)?;
     m.add_function(wrap_pyfunction!(thermal::thermal_predict, m)?)?;
     m.add_function(wrap_pyfunction!(thermal::thermal_modes, m)?)?;
+    m.add_function(wrap_pyfunction!(thermal::thermal_place, m)?)?;
     m.add_function(wrap_pyfunction!(budget::budget_configurations, m)?)?;
+    m.add_function(wrap_pyfunction!(budget::budget_miniaturisation, m)?)?;
     m.add_function(wrap_pyfunction!(compensate::compensate, m)?)?;
     m.add_function(wrap_pyfunction!(compensate::correct_nc, m)?)?;
     Ok(())

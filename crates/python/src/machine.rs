@@ -58,7 +58,7 @@ impl Machine {
         let inside = |pose: &[f64]| pose.iter().zip(&bounds).fold(true, |ok, (&v, &[lo, hi])| ok & (v >= lo) & (v <= hi));
         if !user.chunks_exact(n_axes.max(1)).fold(true, |ok, pose| ok & inside(pose)) {
             for (i, pose) in user.chunks(n_axes.max(1)).enumerate() {
-                self.inner.check_range(pose).map_err(|m| input_msg(format!("poses: row {i}: {m}")))?;
+                self.inner.check_range(pose).map_err(|e| crate::exceptions::of(e.context(format!("poses: row {i}"))))?;
             }
         }
         Ok(shape[0])

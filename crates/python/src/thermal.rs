@@ -1,5 +1,6 @@
-//! Thermal error models fitted to a campaign and evaluated on one, through the library's entry
-//! points that `trueaxis thermal fit` and `trueaxis thermal predict` use.
+//! Thermal error models fitted to a campaign and evaluated on one, the modes of a thermal model and
+//! the placement of its temperature sensors, through the library's entry points that `trueaxis
+//! thermal fit`, `predict`, `modes` and `place` use.
 
 use crate::convert::typed;
 use crate::exceptions::{self, input, input_msg};
@@ -13,6 +14,7 @@ use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, Mod
 use trueaxis::thermal::campaign_predict::{predict_campaign, read_model_file};
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::modes_report::ModesReport;
+use trueaxis::thermal::placement_job::{place_sensors, placement_modes, PlaceMethod, PlacementRequest};
 use trueaxis::thermal::thermal_campaign::Campaign;
 use trueaxis::thermal::{LanczosProgress, SpectrumMethod, DEFAULT_SHARE};
 
@@ -165,4 +167,43 @@ pub fn thermal_modes(
     progress.report(total, total);
     progress.finish()?;
     typed(py, "ThermalModes", &report.map_err(exceptions::of)?.to_json())
+}
+
+/// Temperature-sensor placement for the dominant modes of a model file (Zhu 2008 §3.4): the
+/// document of `trueaxis thermal place --json` (the sensors with their node, position in m and the
+/// dominant modes each serves, numbered from 1; the rank and condition number of the sensor-mode
+/// matrix Phi_s, null when infinite). `count` modes are computed, the dominant ones carry `share`
+/// of the weight; `method` modal | efi | exhaustive | gauss; `sensors` their number (default one
+/// per dominant mode); `reuse` the modal rule's reuse fraction. `score=True` scores every method by
+/// the error of the elongation model it leads to (um, `scores`), with the bar's `expansion`
+/// coefficient in um/m/K. The GIL is released.
+#[pyfunction]
+#[pyo3(signature = (model, *, count = 20, share = DEFAULT_SHARE, method = "modal", sensors = None, reuse = 0.8, score = false, expansion = 10.8))]
+#[allow(clippy::too_many_arguments)]
+pub fn thermal_place(
+    py: Python<'_>,
+    model: PathBuf,
+    count: usize,
+    share: f64,
+    method: &str,
+    sensors: Option<usize>,
+    reuse: f64,
+    score: bool,
+    expansion: f64,
+) -> PyResult<Py<PyAny>> {
+    let request = PlacementRequest {
+        count,
+        share,
+        method: PlaceMethod::parse(method).map_err(exceptions::of)?,
+        sensors,
+        reuse,
+        score: score.then_some(expansion),
+    };
+    request.check().map_err(exceptions::of)?;
+    let model = load_model(&model).map_err(exceptions::of)?;
+    let placement = py.detach(|| {
+        let basis = placement_modes(&model, count, &mut |_| {})?;
+        place_sensors(&model, basis, &request)
+    });
+    typed(py, "ThermalPlacement", &placement.map_err(exceptions::of)?.to_json(&model))
 }

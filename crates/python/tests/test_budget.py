@@ -123,3 +123,31 @@ def test_poses_as_an_array_equal_the_pose_file():
         ta.BudgetProblem(vmc3, poses=far)
     with pytest.raises(ta.InputError, match="poses: expected a 2-dimensional array"):
         ta.BudgetProblem(vmc3, poses=[1.0, 2.0, 3.0])
+
+
+def test_miniaturisation_equals_the_cli():
+    expected = cli_json("budget", "miniaturisation", "--sizes", "10,300")
+    got = ta.budget_miniaturisation(sizes=[10, 300])
+    assert isinstance(got, ta.BudgetMiniaturisation) and got == expected
+    assert got.size_mm.tolist() == [10.0, 300.0]
+    # the target of the allocation is the relative accuracy (1e-4) times the part size, in um
+    assert [s["allocation"]["target_um"] for s in got["sizes"]] == pytest.approx([1.0, 30.0], rel=1e-12)
+    code, message = cli_error("budget", "miniaturisation", "--linear-um", "0")
+    with pytest.raises(ta.InputError) as e:
+        ta.budget_miniaturisation(linear_um=0)
+    assert code == 2 and str(e.value) == message
+
+
+def test_rss_at_equals_the_analysis_with_the_rotary_axes_of_the_set():
+    # at the poses of the set itself, the stack-up of the analysis
+    vmc3 = ta.BudgetProblem(ta.Machine.from_file(VMC3), grid=3)
+    per_pose = vmc3.analyse()["sets"][0]["per_pose"]
+    assert vmc3.rss_at(vmc3.poses[0]) == pytest.approx([p["rss_um"]["total"] for p in per_pose], rel=1e-12)
+    # poses given with A at 0 are evaluated with A where the set has it (45 deg)
+    c600u = ta.BudgetProblem(ta.Machine.from_file(C600U), grid=3, rotary={"A": 45})
+    poses = c600u.poses[0].copy()
+    poses[:, 3] = 0.0
+    expected = [p["rss_um"]["total"] for p in c600u.analyse()["sets"][0]["per_pose"]]
+    assert c600u.rss_at(poses) == pytest.approx(expected, rel=1e-12)
+    with pytest.raises(ta.InputError, match="columns"):
+        c600u.rss_at(np.zeros((2, 3)))

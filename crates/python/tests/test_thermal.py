@@ -176,3 +176,30 @@ def _has_pandas():
 def test_thermal_modes_refuse_bad_input(kwargs, message):
     with pytest.raises(ta.InputError, match=message.replace("(", r"\(").replace(")", r"\)").replace("[", r"\[")):
         ta.thermal_modes(EX / "thermal" / "fin.toml", **kwargs)
+
+
+ELONGATION = ROOT / "examples" / "thermal" / "elongation.toml"
+
+
+def test_thermal_place_with_scores_equals_the_cli():
+    expected = cli_json("thermal", "place", "--model", ELONGATION, "--count", "3", "--share", "1", "--sensors", "2", "--score")
+    got = ta.thermal_place(ELONGATION, count=3, share=1, sensors=2, score=True)
+    assert isinstance(got, ta.ThermalPlacement) and got == expected
+    methods = [s["method"] for s in got["scores"]]
+    assert methods[0] == "modal" and "gauss (baseline)" in methods
+    # the exhaustive yardstick has the smallest training error of all
+    rms = got.column("scores", "training_rms_um")
+    assert methods[-1] == "exhaustive (smallest training error)" and rms[-1] == rms.min()
+
+
+def test_thermal_place_gauss_points_and_bad_input():
+    # Gauss-Legendre points 0.5 -+ 0.5/sqrt(3) = 0.2113, 0.7887 m of the 1 m bar: nodes 6 and 18
+    got = ta.thermal_place(ELONGATION, count=3, share=1, method="gauss", sensors=2)
+    assert got.nodes.tolist() == [6, 18] and got == cli_json("thermal", "place", "--model", ELONGATION, "--count", "3",
+                                                             "--share", "1", "--method", "gauss", "--sensors", "2")
+    code, message = cli_error("thermal", "place", "--model", ELONGATION, "--share", "1.5")
+    with pytest.raises(ta.InputError) as e:
+        ta.thermal_place(ELONGATION, share=1.5)
+    assert code == 2 and str(e.value) == message
+    with pytest.raises(ta.InputError, match="method `best`"):
+        ta.thermal_place(ELONGATION, method="best")

@@ -56,10 +56,10 @@ fn draw(runs: &BTreeMap<String, Vec<Run>>, out: &str) -> Result<(), String> {
     let err = |e: &dyn std::fmt::Display| e.to_string();
     let root = SVGBackend::new(out, (WIDTH, 520)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| err(&e))?;
-    title(&root, "Scaling: time and peak memory against the work", 6)?;
+    title(&root, "Scaling: time and peak memory against the work", 6).map_err(|e| err(&e))?;
     let (strip, plots) = root.split_vertically(40).1.split_vertically(LEGEND_HEIGHT);
     let entries: Vec<(String, Swatch)> = runs.keys().enumerate().map(|(k, name)| (name.clone(), Swatch::Line(colour(k), 3))).collect();
-    legend(&strip, &entries)?;
+    legend(&strip, &entries).map_err(|e| err(&e))?;
     let panels = plots.split_evenly((1, 2));
     let (x0, x1) = decades(runs.values().flatten().map(|r| r.work));
     let all_times = runs.values().flatten().flat_map(|r| [r.wall_s, r.cpu_s]);

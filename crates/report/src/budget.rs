@@ -3,6 +3,7 @@
 //! trends of the miniaturisation case over part sizes, and an HTML section with the tables.
 
 use super::html::Section;
+use super::style;
 use super::ReportError;
 use plotters::prelude::*;
 use trueaxis::budget::analysis::{Analysis, GroupShare};
@@ -20,10 +21,6 @@ pub struct BarPanel {
 const BAR_COLOUR: RGBColor = RGBColor(70, 110, 170);
 const PANEL_WIDTH: u32 = 420;
 
-fn draw(e: impl std::fmt::Display) -> ReportError {
-    ReportError::Draw(e.to_string())
-}
-
 /// Panels of horizontal bars side by side (e.g. shares in % by axis, by kind, by component).
 pub fn bars_svg(title: &str, panels: &[BarPanel]) -> Result<String, ReportError> {
     if panels.is_empty() || panels.iter().any(|p| p.bars.is_empty()) {
@@ -37,8 +34,8 @@ pub fn bars_svg(title: &str, panels: &[BarPanel]) -> Result<String, ReportError>
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (PANEL_WIDTH * panels.len() as u32, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(draw)?;
-        let root = root.titled(title, ("sans-serif", 20)).map_err(draw)?;
+        root.fill(&WHITE).map_err(style::not_drawn)?;
+        let root = root.titled(title, ("sans-serif", 20)).map_err(style::not_drawn)?;
         for (area, panel) in root.split_evenly((1, panels.len())).iter().zip(panels) {
             let n = panel.bars.len();
             let top = panel.bars.iter().map(|b| b.1).fold(0.0, f64::max).max(1e-12) * 1.15;
@@ -50,7 +47,7 @@ pub fn bars_svg(title: &str, panels: &[BarPanel]) -> Result<String, ReportError>
                 .x_label_area_size(35)
                 .y_label_area_size(label_width.clamp(60, 220))
                 .build_cartesian_2d(0.0..top, -0.5..(n as f64 - 0.5))
-                .map_err(draw)?;
+                .map_err(style::not_drawn)?;
             chart
                 .configure_mesh()
                 .disable_y_mesh()
@@ -66,15 +63,15 @@ pub fn bars_svg(title: &str, panels: &[BarPanel]) -> Result<String, ReportError>
                 .x_desc(&panel.unit)
                 .label_style(("sans-serif", 12))
                 .draw()
-                .map_err(draw)?;
+                .map_err(style::not_drawn)?;
             chart
                 .draw_series(panel.bars.iter().enumerate().map(|(i, (_, v))| {
                     let y = (n - 1 - i) as f64;
                     Rectangle::new([(0.0, y - 0.35), (*v, y + 0.35)], BAR_COLOUR.filled())
                 }))
-                .map_err(draw)?;
+                .map_err(style::not_drawn)?;
         }
-        root.present().map_err(draw)?;
+        root.present().map_err(style::not_drawn)?;
     }
     Ok(svg)
 }
@@ -96,8 +93,8 @@ pub fn trends_svg(title: &str, x_label: &str, panels: &[(String, Vec<Series>)]) 
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (420 * panels.len() as u32, 400)).into_drawing_area();
-        root.fill(&WHITE).map_err(draw)?;
-        let root = root.titled(title, ("sans-serif", 20)).map_err(draw)?;
+        root.fill(&WHITE).map_err(style::not_drawn)?;
+        let root = root.titled(title, ("sans-serif", 20)).map_err(style::not_drawn)?;
         for (area, (panel_title, series)) in root.split_evenly((1, panels.len())).iter().zip(panels) {
             let xs = series.iter().flat_map(|s| s.points.iter().map(|p| p.0));
             let (x0, x1) = xs.clone().fold((f64::INFINITY, 0.0_f64), |(a, b), x| (a.min(x), b.max(x)));
@@ -108,7 +105,7 @@ pub fn trends_svg(title: &str, x_label: &str, panels: &[(String, Vec<Series>)]) 
                 .x_label_area_size(35)
                 .y_label_area_size(55)
                 .build_cartesian_2d((x0 * 0.8..x1 * 1.25).log_scale(), 0.0..y1)
-                .map_err(draw)?;
+                .map_err(style::not_drawn)?;
             chart
                 .configure_mesh()
                 .disable_x_mesh()
@@ -118,15 +115,15 @@ pub fn trends_svg(title: &str, x_label: &str, panels: &[(String, Vec<Series>)]) 
                 .x_desc(x_label)
                 .label_style(("sans-serif", 12))
                 .draw()
-                .map_err(draw)?;
+                .map_err(style::not_drawn)?;
             for (k, s) in series.iter().enumerate() {
                 let colour = colours[k % colours.len()];
                 chart
                     .draw_series(LineSeries::new(s.points.clone(), colour.stroke_width(2)))
-                    .map_err(draw)?
+                    .map_err(style::not_drawn)?
                     .label(&s.name)
                     .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
-                chart.draw_series(s.points.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(draw)?;
+                chart.draw_series(s.points.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(style::not_drawn)?;
             }
             chart
                 .configure_series_labels()
@@ -134,9 +131,9 @@ pub fn trends_svg(title: &str, x_label: &str, panels: &[(String, Vec<Series>)]) 
                 .background_style(WHITE.mix(0.8))
                 .border_style(BLACK)
                 .draw()
-                .map_err(draw)?;
+                .map_err(style::not_drawn)?;
         }
-        root.present().map_err(draw)?;
+        root.present().map_err(style::not_drawn)?;
     }
     Ok(svg)
 }

@@ -1,6 +1,7 @@
 //! Plot of a fitted error function: the measured points, the fit and its prediction band
 //! (Soons 1993 Fig. 3.2), as SVG.
 
+use super::framed::{framed_svg, Frame};
 use super::style::{self, Swatch};
 use super::ReportError;
 use plotters::prelude::*;
@@ -31,47 +32,29 @@ pub fn fit_plot_svg(plot: &FitPlot) -> Result<String, ReportError> {
     let (y0, y1) = ys.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| (a.min(y), b.max(y)));
     let pad = 0.08 * (y1 - y0).max(1e-6);
     let xpad = 0.02 * (x1 - x0).max(1e-6);
-    let text = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
     let (band, fit, dots) = (style::PALETTE[0], style::PALETTE[1], style::GREY);
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 560)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| text(&e))?;
-        style::title(&root, plot.title, 8).map_err(ReportError::Draw)?;
-        let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
-        let (_, strip) = top.split_vertically(44);
-        let entries = [
-            ("measured".to_string(), Swatch::Dot(dots)),
-            ("fit".to_string(), Swatch::Line(fit, 3)),
-            (plot.band_label.to_string(), Swatch::Band(band)),
-        ];
-        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
-        let mut chart = ChartBuilder::on(&root)
-            .margin(12)
-            .margin_right(30)
-            .x_label_area_size(64)
-            .y_label_area_size(90)
-            .build_cartesian_2d((x0 - xpad)..(x1 + xpad), (y0 - pad)..(y1 + pad))
-            .map_err(|e| text(&e))?;
-        chart
-            .configure_mesh()
-            .x_desc(plot.x_label)
-            .y_desc(plot.y_label)
-            .x_labels(6)
-            .y_labels(6)
-            .label_style(style::font(style::TICK))
-            .axis_desc_style(style::font(style::TICK))
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(|e| text(&e))?;
+    let legend = [
+        ("measured".to_string(), Swatch::Dot(dots)),
+        ("fit".to_string(), Swatch::Line(fit, 3)),
+        (plot.band_label.to_string(), Swatch::Band(band)),
+    ];
+    let frame = Frame {
+        height: 560,
+        title: plot.title,
+        legend: &legend,
+        x: (x0 - xpad)..(x1 + xpad),
+        y: (y0 - pad)..(y1 + pad),
+        x_label: plot.x_label,
+        y_label: plot.y_label,
+    };
+    framed_svg(&frame, |chart| {
         let outline: Vec<(f64, f64)> =
             plot.curve.iter().map(|c| (c.0, c.1 + c.2)).chain(plot.curve.iter().rev().map(|c| (c.0, c.1 - c.2))).collect();
-        chart.draw_series(std::iter::once(Polygon::new(outline, band.mix(0.3).filled()))).map_err(|e| text(&e))?;
-        chart.draw_series(plot.points.iter().map(|p| Circle::new(*p, 3, dots.filled()))).map_err(|e| text(&e))?;
-        chart.draw_series(LineSeries::new(plot.curve.iter().map(|c| (c.0, c.1)), fit.stroke_width(3))).map_err(|e| text(&e))?;
-        root.present().map_err(|e| text(&e))?;
-    }
-    Ok(svg)
+        chart.draw_series(std::iter::once(Polygon::new(outline, band.mix(0.3).filled()))).map_err(style::not_drawn)?;
+        chart.draw_series(plot.points.iter().map(|p| Circle::new(*p, 3, dots.filled()))).map_err(style::not_drawn)?;
+        chart.draw_series(LineSeries::new(plot.curve.iter().map(|c| (c.0, c.1)), fit.stroke_width(3))).map_err(style::not_drawn)?;
+        Ok(())
+    })
 }
 
 /// The plot of the data, the fit and its 95 % prediction band.

@@ -41,14 +41,14 @@ pub fn heatmap_svg_scaled(title: &str, slices: &[MapSlice], value_label: &str, r
     let (lo, hi) = range.filter(|(a, b)| a.is_finite() && b.is_finite() && b > a).map_or((lo, hi), |(a, b)| (a.min(lo), b.max(hi)));
     let (lo, hi) = if hi - lo > 1e-12 { (lo, hi) } else { (lo - 0.5, hi + 0.5) };
     let mut svg = String::new();
-    draw(&mut svg, title, slices, value_label, lo, hi).map_err(ReportError::Draw)?;
+    draw(&mut svg, title, slices, value_label, lo, hi)?;
     Ok(svg)
 }
 
-fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, lo: f64, hi: f64) -> Result<(), String> {
+fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, lo: f64, hi: f64) -> Result<(), ReportError> {
     let width = style::WIDTH;
     let root = SVGBackend::with_string(svg, (width, HEIGHT)).into_drawing_area();
-    root.fill(&WHITE).map_err(text)?;
+    root.fill(&WHITE).map_err(style::not_drawn)?;
     style::title(&root, title, 8)?;
     let (_, root) = root.split_vertically(44);
     let (panels, bar) = root.split_horizontally(width - BAR_WIDTH);
@@ -62,7 +62,7 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
             .x_label_area_size(62)
             .y_label_area_size(78)
             .build_cartesian_2d(x0..x1, y0..y1)
-            .map_err(text)?;
+            .map_err(style::not_drawn)?;
         chart
             .configure_mesh()
             .disable_mesh()
@@ -75,7 +75,7 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
             .label_style(style::font(style::TICK))
             .axis_desc_style(style::font(style::TICK))
             .draw()
-            .map_err(text)?;
+            .map_err(style::not_drawn)?;
         let nx = slice.xs.len();
         chart
             .draw_series(slice.values.iter().enumerate().map(|(k, v)| {
@@ -84,7 +84,7 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
                 let (ya, yb) = cell(&slice.ys, j);
                 Rectangle::new([(xa, ya), (xb, yb)], ViridisRGB::get_color_normalized(*v, lo, hi).filled())
             }))
-            .map_err(text)?;
+            .map_err(style::not_drawn)?;
     }
     let steps = 50;
     let mut chart = ChartBuilder::on(&bar)
@@ -94,7 +94,7 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
         .margin_right(6)
         .y_label_area_size(66)
         .build_cartesian_2d(0.0..1.0, lo..hi)
-        .map_err(text)?;
+        .map_err(style::not_drawn)?;
     let decimals = if hi - lo >= 20.0 {
         0
     } else if hi - lo >= 2.0 {
@@ -110,20 +110,16 @@ fn draw(svg: &mut String, title: &str, slices: &[MapSlice], value_label: &str, l
         .y_label_formatter(&|v| format!("{v:.decimals$}"))
         .label_style(style::font(style::TICK))
         .draw()
-        .map_err(text)?;
+        .map_err(style::not_drawn)?;
     chart
         .draw_series((0..steps).map(|s| {
             let a = lo + (hi - lo) * s as f64 / steps as f64;
             let b = lo + (hi - lo) * (s + 1) as f64 / steps as f64;
             Rectangle::new([(0.0, a), (1.0, b)], ViridisRGB::get_color_normalized(0.5 * (a + b), lo, hi).filled())
         }))
-        .map_err(text)?;
-    root.present().map_err(text)?;
+        .map_err(style::not_drawn)?;
+    root.present().map_err(style::not_drawn)?;
     Ok(())
-}
-
-fn text(e: impl std::fmt::Display) -> String {
-    e.to_string()
 }
 
 fn bounds(v: &[f64]) -> (f64, f64) {

@@ -40,8 +40,8 @@ pub fn histograms_svg(title: &str, panels: &[HistogramPanel], bins: usize) -> Re
     {
         let head = 44 + style::LEGEND_HEIGHT;
         let root = SVGBackend::with_string(&mut svg, (style::WIDTH, PANEL_H * rows as u32 + head)).into_drawing_area();
-        root.fill(&WHITE).map_err(draw)?;
-        style::title(&root, title, 8).map_err(ReportError::Draw)?;
+        root.fill(&WHITE).map_err(style::not_drawn)?;
+        style::title(&root, title, 8)?;
         let (top, root) = root.split_vertically(head);
         let (_, strip) = top.split_vertically(44);
         let mut entries =
@@ -49,12 +49,12 @@ pub fn histograms_svg(title: &str, panels: &[HistogramPanel], bins: usize) -> Re
         if panels.iter().any(|p| p.gaussian.is_some()) {
             entries.push(("GUM (Gaussian)".to_string(), Swatch::Line(BLACK, 2)));
         }
-        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
+        style::legend(&strip, &entries)?;
         let _ = columns;
         for (area, panel) in root.split_evenly((rows, COLUMNS)).iter().zip(panels) {
             panel_chart(area, panel, bins)?;
         }
-        root.present().map_err(draw)?;
+        root.present().map_err(style::not_drawn)?;
     }
     Ok(svg)
 }
@@ -86,7 +86,7 @@ where
         .x_label_area_size(34)
         .y_label_area_size(6)
         .build_cartesian_2d(lo..hi, 0.0..top.max(1e-12))
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     // the density scale carries no information of its own: no y labels
     let span = hi - lo;
     let decimals = if span >= 20.0 {
@@ -106,22 +106,22 @@ where
         .x_label_formatter(&|v| format!("{v:.decimals$}"))
         .label_style(style::font(style::TICK))
         .draw()
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     chart
         .draw_series(density.iter().enumerate().map(|(i, d)| {
             let a = lo + width * i as f64;
             Rectangle::new([(a, 0.0), (a + width, *d)], BAR.filled())
         }))
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     for x in [panel.interval.0, panel.interval.1] {
-        chart.draw_series(LineSeries::new([(x, 0.0), (x, top)], INTERVAL.stroke_width(2))).map_err(draw)?;
+        chart.draw_series(LineSeries::new([(x, 0.0), (x, top)], INTERVAL.stroke_width(2))).map_err(style::not_drawn)?;
     }
     if let Some(g) = panel.gaussian.filter(|g| g.1 > 0.0) {
         let curve = (0..=200).map(|i| {
             let x = lo + (hi - lo) * i as f64 / 200.0;
             (x, gauss(x, g))
         });
-        chart.draw_series(LineSeries::new(curve, BLACK.stroke_width(1))).map_err(draw)?;
+        chart.draw_series(LineSeries::new(curve, BLACK.stroke_width(1))).map_err(style::not_drawn)?;
     }
     Ok(())
 }
@@ -153,14 +153,14 @@ pub fn convergence_svg(title: &str, history: &ConvergenceSeries) -> Result<Strin
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 520)).into_drawing_area();
-        root.fill(&WHITE).map_err(draw)?;
-        style::title(&root, title, 8).map_err(ReportError::Draw)?;
+        root.fill(&WHITE).map_err(style::not_drawn)?;
+        style::title(&root, title, 8)?;
         let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
         let (_, strip) = top.split_vertically(44);
         let mut entries: Vec<(String, Swatch)> =
             history.series.iter().enumerate().map(|(k, (name, _))| (format!("2 {name}"), Swatch::Line(style::colour(k), 3))).collect();
         entries.push(("tolerance".into(), Swatch::Line(BLACK, 2)));
-        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
+        style::legend(&strip, &entries)?;
         // a linear axis from zero: the few sequences of an adaptive run span less than a decade
         let _ = lo;
         let mut chart = ChartBuilder::on(&root)
@@ -169,7 +169,7 @@ pub fn convergence_svg(title: &str, history: &ConvergenceSeries) -> Result<Strin
             .x_label_area_size(64)
             .y_label_area_size(100)
             .build_cartesian_2d(h0..h1, 0.0..hi * 1.1)
-            .map_err(draw)?;
+            .map_err(style::not_drawn)?;
         chart
             .configure_mesh()
             .x_desc("sequence h")
@@ -181,15 +181,17 @@ pub fn convergence_svg(title: &str, history: &ConvergenceSeries) -> Result<Strin
             .label_style(style::font(style::TICK))
             .axis_desc_style(style::font(style::TICK))
             .draw()
-            .map_err(draw)?;
+            .map_err(style::not_drawn)?;
         for (k, (_, v)) in history.series.iter().enumerate() {
             let colour = style::colour(k);
             chart
                 .draw_series(LineSeries::new(history.sequences.iter().zip(v).map(|(h, s)| (*h as f64, 2.0 * s)), colour.stroke_width(3)))
-                .map_err(draw)?;
+                .map_err(style::not_drawn)?;
         }
-        chart.draw_series(LineSeries::new([(h0, history.tolerance), (h1, history.tolerance)], BLACK.stroke_width(2))).map_err(draw)?;
-        root.present().map_err(draw)?;
+        chart
+            .draw_series(LineSeries::new([(h0, history.tolerance), (h1, history.tolerance)], BLACK.stroke_width(2)))
+            .map_err(style::not_drawn)?;
+        root.present().map_err(style::not_drawn)?;
     }
     Ok(svg)
 }
@@ -209,10 +211,6 @@ fn short(v: f64) -> String {
     } else {
         text
     }
-}
-
-pub(super) fn draw(e: impl std::fmt::Display) -> ReportError {
-    ReportError::Draw(e.to_string())
 }
 
 #[cfg(test)]

@@ -6,6 +6,7 @@ pub mod html;
 pub mod pdf;
 
 mod fit_plot;
+mod framed;
 mod heatmap;
 mod histogram;
 mod polar;

@@ -65,34 +65,32 @@ fn circle(radius: f64) -> Vec<(f64, f64)> {
 
 /// Title, conditions, legend, the square plot centred, the scale and the lines of text below.
 fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), ReportError> {
-    let e = |e: String| ReportError::Draw(e);
-    let t = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
     let head = 10 + 34 + LINE * plot.conditions.len() as u32 + style::LEGEND_HEIGHT;
     let mut below = vec![format!("scale: {} um / division; rings every division, the nominal circle in black", trim(scale))];
     below.extend(plot.lines.iter().cloned());
     let height = head + PLOT + 12 + LINE * below.len() as u32 + 8;
     let root = SVGBackend::with_string(svg, (style::WIDTH, height)).into_drawing_area();
-    root.fill(&WHITE).map_err(|x| t(&x))?;
-    style::title(&root, plot.title, 10).map_err(e)?;
+    root.fill(&WHITE).map_err(style::not_drawn)?;
+    style::title(&root, plot.title, 10)?;
     for (i, c) in plot.conditions.iter().enumerate() {
-        style::centred(&root, c, 44 + (LINE * i as u32) as i32, style::TICK).map_err(e)?;
+        style::centred(&root, c, 44 + (LINE * i as u32) as i32, style::TICK)?;
     }
     let (top, rest) = root.split_vertically(head);
     let (_, legend_strip) = top.split_vertically(head - style::LEGEND_HEIGHT);
     let mut entries: Vec<(String, Swatch)> =
         plot.series.iter().enumerate().map(|(k, s)| (s.label.clone(), Swatch::Line(style::colour(k), 3))).collect();
     entries.push(("nominal circle".into(), Swatch::Line(BLACK, 2)));
-    style::legend(&legend_strip, &entries).map_err(e)?;
+    style::legend(&legend_strip, &entries)?;
     let (plot_row, text_area) = rest.split_vertically(PLOT);
     let side = (style::WIDTH - PLOT) / 2;
     let (_, right) = plot_row.split_horizontally(side);
     let (square, _) = right.split_horizontally(PLOT);
     let extent = NOMINAL + 3.9;
-    let mut chart = ChartBuilder::on(&square).build_cartesian_2d(-extent..extent, -extent..extent).map_err(|x| t(&x))?;
+    let mut chart = ChartBuilder::on(&square).build_cartesian_2d(-extent..extent, -extent..extent).map_err(style::not_drawn)?;
     // rings every division within +-3 of the nominal circle, spokes every 30 deg
     for k in -3i32..=3 {
         let line = if k == 0 { BLACK.stroke_width(2) } else { style::LIGHT.stroke_width(1) };
-        chart.draw_series(std::iter::once(PathElement::new(circle(NOMINAL + f64::from(k)), line))).map_err(|x| t(&x))?;
+        chart.draw_series(std::iter::once(PathElement::new(circle(NOMINAL + f64::from(k)), line))).map_err(style::not_drawn)?;
     }
     for i in 0..12 {
         let a = f64::from(i * 30).to_radians();
@@ -102,7 +100,7 @@ fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), ReportErro
                 vec![(2.0 * c, 2.0 * s), ((NOMINAL + 3.0) * c, (NOMINAL + 3.0) * s)],
                 style::LIGHT,
             )))
-            .map_err(|x| t(&x))?;
+            .map_err(style::not_drawn)?;
     }
     let (pa, pb) = plot.axes;
     let minus = |name: &str| name.replacen('+', "-", 1);
@@ -112,7 +110,7 @@ fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), ReportErro
     let r = NOMINAL + 3.5;
     chart
         .draw_series([label(pa.to_string(), r, 0.0), label(pb.to_string(), 0.0, r), label(minus(pa), -r, 0.0), label(minus(pb), 0.0, -r)])
-        .map_err(|x| t(&x))?;
+        .map_err(style::not_drawn)?;
     for (k, series) in plot.series.iter().enumerate() {
         let points: Vec<(f64, f64)> = series
             .angles
@@ -120,12 +118,12 @@ fn draw(svg: &mut String, plot: &PolarPlot, scale: f64) -> Result<(), ReportErro
             .zip(series.dl_um)
             .map(|(a, d)| ((NOMINAL + d / scale) * a.cos(), (NOMINAL + d / scale) * a.sin()))
             .collect();
-        chart.draw_series(std::iter::once(PathElement::new(points, style::colour(k).stroke_width(2)))).map_err(|x| t(&x))?;
+        chart.draw_series(std::iter::once(PathElement::new(points, style::colour(k).stroke_width(2)))).map_err(style::not_drawn)?;
     }
     for (i, line) in below.iter().enumerate() {
-        style::centred(&text_area, line, 12 + (LINE * i as u32) as i32, style::TICK).map_err(e)?;
+        style::centred(&text_area, line, 12 + (LINE * i as u32) as i32, style::TICK)?;
     }
-    root.present().map_err(|x| t(&x))?;
+    root.present().map_err(style::not_drawn)?;
     Ok(())
 }
 

@@ -57,12 +57,8 @@ pub fn positioning_svg(plot: &PositioningPlot) -> Result<String, ReportError> {
     let (x0, x1, y0, y1) = (x0 - xpad, x1 + xpad, y0 - ypad, y1 + ypad);
 
     let mut svg = String::new();
-    draw(&mut svg, plot, &positions, (x0, x1, y0, y1)).map_err(ReportError::Draw)?;
+    draw(&mut svg, plot, &positions, (x0, x1, y0, y1))?;
     Ok(svg)
-}
-
-fn text(e: impl std::fmt::Display) -> String {
-    e.to_string()
 }
 
 fn draw(
@@ -70,18 +66,18 @@ fn draw(
     plot: &PositioningPlot,
     positions: &[PositionBand],
     (x0, x1, y0, y1): (f64, f64, f64, f64),
-) -> Result<(), String> {
+) -> Result<(), ReportError> {
     let root = SVGBackend::with_string(svg, (WIDTH, HEIGHT)).into_drawing_area();
-    root.fill(&WHITE).map_err(text)?;
+    root.fill(&WHITE).map_err(style::not_drawn)?;
     let head_height = if plot.subtitle.is_empty() { 44 } else { 74 };
     let (head, rest) = root.split_vertically(head_height);
     let (strip, body) = rest.split_vertically(style::LEGEND_HEIGHT);
     let mid = WIDTH as i32 / 2;
     head.draw(&Text::new(plot.title, (mid, 8), TextStyle::from(style::bold(style::TITLE)).pos(Pos::new(HPos::Center, VPos::Top))))
-        .map_err(text)?;
+        .map_err(style::not_drawn)?;
     if !plot.subtitle.is_empty() {
         head.draw(&Text::new(plot.subtitle, (mid, 42), TextStyle::from(style::font(style::TICK)).pos(Pos::new(HPos::Center, VPos::Top))))
-            .map_err(text)?;
+            .map_err(style::not_drawn)?;
     }
     let (plus_colour, minus_colour) = (style::colour(0), style::colour(1));
     style::legend(
@@ -99,7 +95,7 @@ fn draw(
         .x_label_area_size(70)
         .y_label_area_size(100)
         .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(text)?;
+        .map_err(style::not_drawn)?;
     chart
         .configure_mesh()
         .x_desc(plot.x_label)
@@ -111,7 +107,7 @@ fn draw(
         .light_line_style(WHITE.mix(0.0))
         .bold_line_style(style::LIGHT)
         .draw()
-        .map_err(text)?;
+        .map_err(style::not_drawn)?;
 
     type Pick = fn(&PositionBand) -> (f64, f64);
     let directions: [(RGBColor, Pick); 2] = [(plus_colour, |p| (p.mean_plus, p.s_plus)), (minus_colour, |p| (p.mean_minus, p.s_minus))];
@@ -119,15 +115,17 @@ fn draw(
         let upper: Vec<(f64, f64)> = positions.iter().map(|p| (p.target, pick(p).0 + 2.0 * pick(p).1)).collect();
         let lower: Vec<(f64, f64)> = positions.iter().map(|p| (p.target, pick(p).0 - 2.0 * pick(p).1)).collect();
         let outline: Vec<(f64, f64)> = upper.iter().copied().chain(lower.iter().rev().copied()).collect();
-        chart.draw_series(std::iter::once(Polygon::new(outline, colour.mix(0.15).filled()))).map_err(text)?;
+        chart.draw_series(std::iter::once(Polygon::new(outline, colour.mix(0.15).filled()))).map_err(style::not_drawn)?;
         for edge in [upper, lower] {
-            chart.draw_series(DashedLineSeries::new(edge, 6, 4, colour.mix(0.8).stroke_width(2))).map_err(text)?;
+            chart.draw_series(DashedLineSeries::new(edge, 6, 4, colour.mix(0.8).stroke_width(2))).map_err(style::not_drawn)?;
         }
-        chart.draw_series(LineSeries::new(positions.iter().map(|p| (p.target, pick(p).0)), colour.stroke_width(3))).map_err(text)?;
+        chart
+            .draw_series(LineSeries::new(positions.iter().map(|p| (p.target, pick(p).0)), colour.stroke_width(3)))
+            .map_err(style::not_drawn)?;
     }
-    chart.draw_series(plot.plus.iter().map(|p| Circle::new(*p, 4, plus_colour.filled()))).map_err(text)?;
-    chart.draw_series(plot.minus.iter().map(|p| TriangleMarker::new(*p, 5, minus_colour.filled()))).map_err(text)?;
-    root.present().map_err(text)?;
+    chart.draw_series(plot.plus.iter().map(|p| Circle::new(*p, 4, plus_colour.filled()))).map_err(style::not_drawn)?;
+    chart.draw_series(plot.minus.iter().map(|p| TriangleMarker::new(*p, 5, minus_colour.filled()))).map_err(style::not_drawn)?;
+    root.present().map_err(style::not_drawn)?;
     Ok(())
 }
 

@@ -1,6 +1,7 @@
 //! Profiles as SVG: one line per series against a position (e.g. the machine straightness and the
 //! arbor form of a reversal, NISTIR 5236 §3.4) or against the observation index (residuals).
 
+use super::framed::{framed_svg, Frame};
 use super::style::{self, Swatch};
 use super::ReportError;
 use plotters::prelude::*;
@@ -32,45 +33,27 @@ pub fn profiles_svg(plot: &Profiles) -> Result<String, ReportError> {
     }
     let ypad = if plot.symmetric { 0.0 } else { 0.08 * (y1 - y0).max(1e-3) };
     let xpad = 0.02 * (x1 - x0).max(1e-6);
-    let text = |e: &dyn std::fmt::Display| ReportError::Draw(e.to_string());
-    let mut svg = String::new();
-    {
-        let root = SVGBackend::with_string(&mut svg, (style::WIDTH, 520)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| text(&e))?;
-        style::title(&root, plot.title, 8).map_err(ReportError::Draw)?;
-        let (top, root) = root.split_vertically(44 + style::LEGEND_HEIGHT);
-        let (_, strip) = top.split_vertically(44);
-        let entries: Vec<(String, Swatch)> =
-            series.iter().enumerate().map(|(k, (name, _))| (name.clone(), Swatch::Line(style::colour(k), 3))).collect();
-        style::legend(&strip, &entries).map_err(ReportError::Draw)?;
-        let mut chart = ChartBuilder::on(&root)
-            .margin(12)
-            .margin_right(30)
-            .x_label_area_size(64)
-            .y_label_area_size(90)
-            .build_cartesian_2d((x0 - xpad)..(x1 + xpad), (y0 - ypad)..(y1 + ypad))
-            .map_err(|e| text(&e))?;
-        chart
-            .configure_mesh()
-            .x_desc(plot.x_label)
-            .y_desc(plot.y_label)
-            .x_labels(6)
-            .y_labels(6)
-            .label_style(style::font(style::TICK))
-            .axis_desc_style(style::font(style::TICK))
-            .light_line_style(RGBColor(235, 235, 235))
-            .draw()
-            .map_err(|e| text(&e))?;
+    let legend: Vec<(String, Swatch)> =
+        series.iter().enumerate().map(|(k, (name, _))| (name.clone(), Swatch::Line(style::colour(k), 3))).collect();
+    let frame = Frame {
+        height: 520,
+        title: plot.title,
+        legend: &legend,
+        x: (x0 - xpad)..(x1 + xpad),
+        y: (y0 - ypad)..(y1 + ypad),
+        x_label: plot.x_label,
+        y_label: plot.y_label,
+    };
+    framed_svg(&frame, |chart| {
         for (k, (_, p)) in series.iter().enumerate() {
             let colour = style::colour(k);
             let mut sorted = p.clone();
             sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
-            chart.draw_series(LineSeries::new(sorted.iter().copied(), colour.stroke_width(2))).map_err(|e| text(&e))?;
+            chart.draw_series(LineSeries::new(sorted.iter().copied(), colour.stroke_width(2))).map_err(style::not_drawn)?;
             if plot.markers {
-                chart.draw_series(sorted.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(|e| text(&e))?;
+                chart.draw_series(sorted.iter().map(|p| Circle::new(*p, 3, colour.filled()))).map_err(style::not_drawn)?;
             }
         }
-        root.present().map_err(|e| text(&e))?;
-    }
-    Ok(svg)
+        Ok(())
+    })
 }

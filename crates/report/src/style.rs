@@ -9,6 +9,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use crate::ReportError;
+
 /// Canvas width of a full-width figure (SVG units).
 pub const WIDTH: u32 = 960;
 /// Font sizes in SVG units: at the text width of A4 (493 pt / 960 units) 20 units print at 10.3 pt.
@@ -49,6 +51,12 @@ pub fn bold(px: f64) -> FontDesc<'static> {
     (FAMILY, px * 1.24, FontStyle::Bold).into_font()
 }
 
+/// The error of a drawing call: plotters' errors are generic over the backend, so their message is
+/// kept (a figure that cannot be drawn is a failed computation, [`ReportError::Draw`]).
+pub fn not_drawn(e: impl std::fmt::Display) -> ReportError {
+    ReportError::Draw(e.to_string())
+}
+
 /// How a legend entry shows its series.
 #[derive(Clone, Copy, Debug)]
 pub enum Swatch {
@@ -58,7 +66,7 @@ pub enum Swatch {
 }
 
 /// Draws legend entries in a row, centred in `area` (a strip above the plot).
-pub fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[(String, Swatch)]) -> Result<(), String> {
+pub fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[(String, Swatch)]) -> Result<(), ReportError> {
     let (w, h) = area.dim_in_pixel();
     let y = h as i32 / 2;
     // width estimate: 0.55 em per character (Liberation Sans averages about 0.5 em)
@@ -70,24 +78,24 @@ pub fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[(Str
             Swatch::Dot(c) => area.draw(&Circle::new((x + 18, y), 6, c.filled())),
             Swatch::Band(c) => area.draw(&Rectangle::new([(x, y - 8), (x + 36, y + 8)], c.mix(0.35).filled())),
         }
-        .map_err(|e| e.to_string())?;
+        .map_err(not_drawn)?;
         area.draw(&Text::new(text.clone(), (x + 44, y), TextStyle::from(font(TICK)).pos(Pos::new(HPos::Left, VPos::Center))))
-            .map_err(|e| e.to_string())?;
+            .map_err(not_drawn)?;
         x += width;
     }
     Ok(())
 }
 
 /// A title centred at the top of `area`.
-pub fn title<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, text: &str, y: i32) -> Result<(), String> {
+pub fn title<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, text: &str, y: i32) -> Result<(), ReportError> {
     let (w, _) = area.dim_in_pixel();
     area.draw(&Text::new(text.to_string(), (w as i32 / 2, y), TextStyle::from(bold(TITLE)).pos(Pos::new(HPos::Center, VPos::Top))))
-        .map_err(|e| e.to_string())
+        .map_err(not_drawn)
 }
 
 /// A line of text centred at `y` in `area`.
-pub fn centred<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, text: &str, y: i32, px: f64) -> Result<(), String> {
+pub fn centred<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, text: &str, y: i32, px: f64) -> Result<(), ReportError> {
     let (w, _) = area.dim_in_pixel();
     area.draw(&Text::new(text.to_string(), (w as i32 / 2, y), TextStyle::from(font(px)).pos(Pos::new(HPos::Center, VPos::Top))))
-        .map_err(|e| e.to_string())
+        .map_err(not_drawn)
 }

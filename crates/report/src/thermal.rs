@@ -4,7 +4,7 @@
 //! Table 4.3), training and validation runs told apart. Plain data in, SVG text out, so that the
 //! CLI (`trueaxis thermal ... --plot`) and an HTML report draw the same figures.
 
-use super::histogram::draw;
+use super::style;
 use super::ReportError;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -166,7 +166,7 @@ pub fn drift_svg(plot: &DriftPlot) -> Result<String, ReportError> {
     }
     const ROW: u32 = 280;
     svg_document(WIDTH, 50 + ROW * plot.runs.len() as u32, |root| {
-        let root = root.titled(&plot.title, ("sans-serif", 20)).map_err(draw)?;
+        let root = root.titled(&plot.title, ("sans-serif", 20)).map_err(style::not_drawn)?;
         for (row, run) in root.split_evenly((plot.runs.len(), 1)).iter().zip(&plot.runs) {
             match &run.measured {
                 Some(measured) => {
@@ -189,9 +189,9 @@ fn svg_document(
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, (width, height)).into_drawing_area();
-        root.fill(&WHITE).map_err(draw)?;
+        root.fill(&WHITE).map_err(style::not_drawn)?;
         body(&root)?;
-        root.present().map_err(draw)?;
+        root.present().map_err(style::not_drawn)?;
     }
     Ok(svg)
 }
@@ -214,7 +214,7 @@ fn mode_shapes_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &ModeShapesPlo
         .x_label_area_size(45)
         .y_label_area_size(60)
         .build_cartesian_2d(x0..x1, -1.1..1.1)
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     chart
         .configure_mesh()
         .x_desc(plot.x_label.as_str())
@@ -222,11 +222,13 @@ fn mode_shapes_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &ModeShapesPlo
         .y_label_formatter(&|v: &f64| format!("{:.1}", if v.abs() < 1e-9 { 0.0 } else { *v }))
         .label_style(("sans-serif", 12))
         .draw()
-        .map_err(draw)?;
-    chart.draw_series(LineSeries::new([(x0, 0.0), (x1, 0.0)], BLACK.stroke_width(1))).map_err(draw)?;
+        .map_err(style::not_drawn)?;
+    chart.draw_series(LineSeries::new([(x0, 0.0), (x1, 0.0)], BLACK.stroke_width(1))).map_err(style::not_drawn)?;
     for (position, label) in &plot.markers {
-        chart.draw_series(LineSeries::new([(*position, -1.1), (*position, 1.1)], MEASURED.stroke_width(1))).map_err(draw)?;
-        chart.draw_series([Text::new(label.clone(), (*position, 1.05), ("sans-serif", 12).into_font().color(&MEASURED))]).map_err(draw)?;
+        chart.draw_series(LineSeries::new([(*position, -1.1), (*position, 1.1)], MEASURED.stroke_width(1))).map_err(style::not_drawn)?;
+        chart
+            .draw_series([Text::new(label.clone(), (*position, 1.05), ("sans-serif", 12).into_font().color(&MEASURED))])
+            .map_err(style::not_drawn)?;
     }
     // earlier modes drawn wider, so that curves that coincide on this line (modes varying across
     // it) stay visible
@@ -237,11 +239,11 @@ fn mode_shapes_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &ModeShapesPlo
         let width = (1 + plot.modes.len() - k) as u32;
         chart
             .draw_series(LineSeries::new(plot.positions.iter().zip(&mode.values).map(|(x, v)| (*x, v * scale)), colour.stroke_width(width)))
-            .map_err(draw)?
+            .map_err(style::not_drawn)?
             .label(mode.label.as_str())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(width)));
     }
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(draw)
+    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(style::not_drawn)
 }
 
 fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConstantsPlot) -> Result<(), ReportError> {
@@ -251,7 +253,7 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
     {
         return Err(ReportError::Input("a time-constant plot needs modes with positive finite time constants and shares".into()));
     }
-    let area = area.titled(&plot.title, ("sans-serif", 18)).map_err(draw)?;
+    let area = area.titled(&plot.title, ("sans-serif", 18)).map_err(style::not_drawn)?;
     let (left, right) = area.split_horizontally(WIDTH * 3 / 5);
     // stems: share against tau
     let (lo, hi) = plot.modes.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), m| (a.min(m.tau_min), b.max(m.tau_min)));
@@ -261,7 +263,7 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
         .x_label_area_size(45)
         .y_label_area_size(60)
         .build_cartesian_2d((lo / 1.5..hi * 1.5).log_scale(), 0.0..top)
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     chart
         .configure_mesh()
         .x_desc("time constant tau (min)")
@@ -270,7 +272,7 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
         .y_desc("weight |xi tau| / sum")
         .label_style(("sans-serif", 12))
         .draw()
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     for (dominant, colour, label) in [
         (true, COLOURS[0], format!("dominant (first {:.0} % of the weight)", 100.0 * plot.share)),
         (false, TRUNCATED, "truncated".to_string()),
@@ -281,10 +283,10 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
         }
         chart
             .draw_series(modes.iter().map(|m| PathElement::new(vec![(m.tau_min, 0.0), (m.tau_min, m.share)], colour.stroke_width(3))))
-            .map_err(draw)?
+            .map_err(style::not_drawn)?
             .label(label)
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(3)));
-        chart.draw_series(modes.iter().map(|m| Circle::new((m.tau_min, m.share), 3, colour.filled()))).map_err(draw)?;
+        chart.draw_series(modes.iter().map(|m| Circle::new((m.tau_min, m.share), 3, colour.filled()))).map_err(style::not_drawn)?;
         chart
             .draw_series(
                 modes
@@ -292,9 +294,9 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
                     .filter(|m| m.dominant)
                     .map(|m| Text::new(format!("{}", m.mode), (m.tau_min, m.share + 0.04 * top), ("sans-serif", 11).into_font())),
             )
-            .map_err(draw)?;
+            .map_err(style::not_drawn)?;
     }
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(draw)?;
+    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(style::not_drawn)?;
     // cumulative share by decreasing weight, the truncation share and the number of modes kept
     let mut shares: Vec<f64> = plot.modes.iter().map(|m| m.share).collect();
     shares.sort_by(|a, b| b.total_cmp(a));
@@ -315,7 +317,7 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
         .x_label_area_size(45)
         .y_label_area_size(50)
         .build_cartesian_2d(0.5..count + 0.5, 0.0..1.05)
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     chart
         .configure_mesh()
         .x_desc("modes kept (by decreasing weight)")
@@ -323,26 +325,26 @@ fn time_constants_chart(area: &DrawingArea<SVGBackend, Shift>, plot: &TimeConsta
         .x_label_formatter(&|v| format!("{v:.0}"))
         .label_style(("sans-serif", 12))
         .draw()
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     chart
         .draw_series(LineSeries::new(cumulative.iter().copied(), COLOURS[0].stroke_width(2)))
-        .map_err(draw)?
+        .map_err(style::not_drawn)?
         .label("cumulative share")
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], COLOURS[0].stroke_width(2)));
-    chart.draw_series(cumulative.iter().map(|p| Circle::new(*p, 3, COLOURS[0].filled()))).map_err(draw)?;
+    chart.draw_series(cumulative.iter().map(|p| Circle::new(*p, 3, COLOURS[0].filled()))).map_err(style::not_drawn)?;
     chart
         .draw_series(LineSeries::new([(0.5, plot.share), (count + 0.5, plot.share)], COLOURS[1].stroke_width(1)))
-        .map_err(draw)?
+        .map_err(style::not_drawn)?
         .label(format!("truncation share {:.0} %: {} modes", 100.0 * plot.share, kept))
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], COLOURS[1]));
-    chart.draw_series(LineSeries::new([(kept, 0.0), (kept, 1.05)], COLOURS[1].stroke_width(1))).map_err(draw)?;
+    chart.draw_series(LineSeries::new([(kept, 0.0), (kept, 1.05)], COLOURS[1].stroke_width(1))).map_err(style::not_drawn)?;
     chart
         .configure_series_labels()
         .position(SeriesLabelPosition::LowerRight)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .draw()
-        .map_err(draw)
+        .map_err(style::not_drawn)
 }
 
 fn drift_chart(
@@ -361,7 +363,7 @@ fn drift_chart(
         .x_label_area_size(38)
         .y_label_area_size(60)
         .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     chart
         .configure_mesh()
         .x_desc("t (min)")
@@ -369,23 +371,23 @@ fn drift_chart(
         .x_label_formatter(&|v: &f64| format!("{v:.0}"))
         .label_style(("sans-serif", 11))
         .draw()
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     if let Some(m) = measured {
         chart
             .draw_series(minutes.iter().zip(m).map(|(t, v)| Circle::new((*t, *v), 2, MEASURED.filled())))
-            .map_err(draw)?
+            .map_err(style::not_drawn)?
             .label("measured")
             .legend(|(x, y)| Circle::new((x + 9, y), 3, MEASURED.filled()));
     }
     chart
         .draw_series(LineSeries::new(minutes.iter().copied().zip(run.predicted.iter().copied()), colour.stroke_width(2)))
-        .map_err(draw)?
+        .map_err(style::not_drawn)?
         .label(match run.role {
             RunRole::Prediction => plot.model_label.clone(),
             role => format!("{} ({})", plot.model_label, role.name()),
         })
         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2)));
-    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(draw)
+    chart.configure_series_labels().background_style(WHITE.mix(0.8)).border_style(BLACK).draw().map_err(style::not_drawn)
 }
 
 fn residual_chart(area: &DrawingArea<SVGBackend, Shift>, run: &DriftRun, measured: &[f64], quantity: &str) -> Result<(), ReportError> {
@@ -400,7 +402,7 @@ fn residual_chart(area: &DrawingArea<SVGBackend, Shift>, run: &DriftRun, measure
         .x_label_area_size(38)
         .y_label_area_size(55)
         .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(draw)?;
+        .map_err(style::not_drawn)?;
     chart
         .configure_mesh()
         .x_desc("t (min)")
@@ -409,10 +411,12 @@ fn residual_chart(area: &DrawingArea<SVGBackend, Shift>, run: &DriftRun, measure
         .y_label_formatter(&|v: &f64| format!("{}", if v.abs() < 1e-9 { 0.0 } else { (v * 1e6).round() / 1e6 }))
         .label_style(("sans-serif", 11))
         .draw()
-        .map_err(draw)?;
-    chart.draw_series([Rectangle::new([(x0, lo), (x1, hi)], BAND.mix(0.25).filled())]).map_err(draw)?;
-    chart.draw_series(LineSeries::new([(x0, 0.0), (x1, 0.0)], BLACK.stroke_width(1))).map_err(draw)?;
+        .map_err(style::not_drawn)?;
+    chart.draw_series([Rectangle::new([(x0, lo), (x1, hi)], BAND.mix(0.25).filled())]).map_err(style::not_drawn)?;
+    chart.draw_series(LineSeries::new([(x0, 0.0), (x1, 0.0)], BLACK.stroke_width(1))).map_err(style::not_drawn)?;
     let colour = run.role.colour();
-    chart.draw_series(LineSeries::new(minutes.iter().copied().zip(residual.iter().copied()), colour.stroke_width(1))).map_err(draw)?;
+    chart
+        .draw_series(LineSeries::new(minutes.iter().copied().zip(residual.iter().copied()), colour.stroke_width(1)))
+        .map_err(style::not_drawn)?;
     Ok(())
 }

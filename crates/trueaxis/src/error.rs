@@ -121,6 +121,13 @@ impl Error {
         *self.origin = Origin::Parameter(name.into());
         self
     }
+    /// The same error, with `context` (where in the input it arose: a key, a pose, a row) before
+    /// its message: `parse(name).map_err(|e| e.context("exclude").in_file(path))` reads
+    /// `budget.toml: exclude: ...`.
+    pub fn context(mut self, context: impl fmt::Display) -> Error {
+        self.message = format!("{context}: {}", self.message);
+        self
+    }
     /// The same error, caused by `source` (kept in the chain, e.g. for the environment test of
     /// `files::environment_cause`).
     pub fn caused_by(mut self, source: impl std::error::Error + Send + Sync + 'static) -> Error {
@@ -230,6 +237,8 @@ mod tests {
         assert_eq!(e.to_string(), "p.ngc: line 3, column 7: bad");
         assert_eq!(e.origin(), &Origin::File { path: "p.ngc".into(), line: Some(3), column: Some(7) });
         assert_eq!(e.message(), "bad");
+        let e = Error::input("bad").context("pose 3").in_file("poses.csv");
+        assert_eq!((e.to_string(), e.message()), ("poses.csv: pose 3: bad".to_string(), "pose 3: bad"));
     }
 
     #[test]

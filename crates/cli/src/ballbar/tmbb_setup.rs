@@ -7,6 +7,27 @@ use serde_json::json;
 use trueaxis::identify::tmbb::TmbbSetup;
 use trueaxis::identify::tmbb_setup::{rx_choice, setup_dimension_sensitivity, TableErrors};
 
+// The dimensions of the two-length test (mm), the defaults those of Zhu (2008): the table-ball
+// radius R_x and its height R_z, the bar lengths L1 and L2 (`ballbar tmbb` and `ballbar tmbb-setup`).
+#[derive(clap::Args)]
+pub struct SetupDimensions {
+    #[arg(long, default_value_t = 71.8420)]
+    pub rx: f64,
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub rz: f64,
+    #[arg(long, default_value_t = 90.850)]
+    pub l1: f64,
+    #[arg(long, default_value_t = 217.952)]
+    pub l2: f64,
+}
+
+impl SetupDimensions {
+    /// The setup these dimensions give.
+    pub fn setup(&self) -> TmbbSetup {
+        TmbbSetup { rx: self.rx, rz: self.rz, l1: self.l1, l2: self.l2 }
+    }
+}
+
 /// Plan the two-length telescopic ballbar test of a rotary table: for table-ball radii R_x over a
 /// range, the standard uncertainty of the table tilts E_x, E_y and the axial error D_z per bar noise
 /// (and the condition numbers, which depend on units); and how much the estimates move when the
@@ -18,14 +39,8 @@ Defaults: the bars and radius of the published two-length test (L1 = 90.850, L2 
 R_x = 71.842 mm), one turn every 10 deg. The R_x column to choose by is u: it does not depend on units,\n\
 the condition numbers do. The deviation table uses the true errors --ex, --ey (arcsec) and --dz (um).")]
 pub struct TmbbSetupArgs {
-    #[arg(long, default_value_t = 71.8420)]
-    rx: f64,
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    rz: f64,
-    #[arg(long, default_value_t = 90.850)]
-    l1: f64,
-    #[arg(long, default_value_t = 217.952)]
-    l2: f64,
+    #[command(flatten)]
+    dimensions: SetupDimensions,
     /// Table-ball radii FROM:TO:STEP (mm); every radius must stay below L1.
     #[arg(long)]
     rx_scan: Option<String>,
@@ -60,7 +75,7 @@ fn scan(text: &str, l1: f64) -> Result<Vec<f64>, Failure> {
 }
 
 pub fn run(a: TmbbSetupArgs) -> Result<(), Failure> {
-    let setup = TmbbSetup { rx: a.rx, rz: a.rz, l1: a.l1, l2: a.l2 };
+    let setup = a.dimensions.setup();
     setup.heights().map_err(Failure::input)?;
     if !(a.noise.is_finite() && a.noise > 0.0 && a.noise <= 1000.0) {
         return Err(Failure::input(anyhow!("--noise {}: give the bar noise in um, above 0 and at most 1000", a.noise)));
@@ -73,10 +88,10 @@ pub fn run(a: TmbbSetupArgs) -> Result<(), Failure> {
     }
     let angles: Vec<f64> = (0..(360.0 / a.step).round() as usize).map(|i| (i as f64 * a.step).to_radians()).collect();
     let radii = match &a.rx_scan {
-        Some(t) => scan(t, a.l1)?,
+        Some(t) => scan(t, a.dimensions.l1)?,
         None => {
-            let top = (0.95 * a.l1 / 5.0).floor() * 5.0;
-            (1..=(top / 5.0) as usize).map(|i| 5.0 * i as f64).chain([a.rx]).collect()
+            let top = (0.95 * a.dimensions.l1 / 5.0).floor() * 5.0;
+            (1..=(top / 5.0) as usize).map(|i| 5.0 * i as f64).chain([a.dimensions.rx]).collect()
         }
     };
     let choices = rx_choice(&setup, &angles, &radii, a.noise * 1e-3).map_err(Failure::of)?;
@@ -99,13 +114,13 @@ pub fn run(a: TmbbSetupArgs) -> Result<(), Failure> {
                             "ey_urad": round(d.ey * 1e6, 4), "dz_um": round(d.dz * 1e3, 4)})
             })
             .collect();
-        let doc = json!({"l1_mm": a.l1, "l2_mm": a.l2, "rz_mm": a.rz, "noise_um": a.noise, "angles": angles.len(), "rx": rx, "setup_deviations": dev});
+        let doc = json!({"l1_mm": a.dimensions.l1, "l2_mm": a.dimensions.l2, "rz_mm": a.dimensions.rz, "noise_um": a.noise, "angles": angles.len(), "rx": rx, "setup_deviations": dev});
         return output::json(&doc);
     }
     let mut out = format!(
         "Two-length rotary-table test, L1 = {} mm, L2 = {} mm, {} angles, bar noise {} um\n{:>8} {:>9} {:>10} {:>9} {:>9} {:>10} {:>10} {:>9}\n",
-        a.l1,
-        a.l2,
+        a.dimensions.l1,
+        a.dimensions.l2,
         angles.len(),
         a.noise,
         "R_x mm",
@@ -132,7 +147,7 @@ pub fn run(a: TmbbSetupArgs) -> Result<(), Failure> {
     }
     out.push_str(&format!(
         "setup dimensions off (R_x = {} mm; true E_x {} arcsec, E_y {} arcsec, D_z {} um): estimate minus truth\n{:>10} {:>8} {:>12} {:>12} {:>10}\n",
-        a.rx, a.ex, a.ey, a.dz, "dimension", "off mm", "E_x urad", "E_y urad", "D_z um"
+        a.dimensions.rx, a.ex, a.ey, a.dz, "dimension", "off mm", "E_x urad", "E_y urad", "D_z um"
     ));
     for d in &deviations {
         out.push_str(&format!(

@@ -5,9 +5,8 @@ use crate::Failure;
 use std::fmt::Write;
 use std::path::Path;
 use trueaxis::budget::analysis::Analysis;
-use trueaxis::budget::poses::to_internal;
 use trueaxis::budget::problem::{BudgetProblem, PoseSet};
-use trueaxis::budget::{analyse, BudgetSpec};
+use trueaxis::budget::BudgetSpec;
 use trueaxis::data::OutputSet;
 use trueaxis::machine::Machine;
 use trueaxis_report::budget::{budget_section, contribution_svg};
@@ -107,22 +106,11 @@ pub fn run(args: AnalyseArgs) -> Result<(), Failure> {
 }
 
 /// The map of the root-sum-square 3D error over the mid-planes of the travel, with the rotary axes
-/// where the pose options put them; `None` for a machine with fewer than two linear axes.
+/// where the pose options put them (`BudgetProblem::rss_at`); `None` for a machine with fewer than
+/// two linear axes.
 fn volume_map(problem: &BudgetProblem) -> Result<Option<String>, Failure> {
-    let machine = &problem.machine;
-    let Some(mut map) = VolumeMap::new(machine) else { return Ok(None) };
-    let n = machine.axis_count();
-    let base = &problem.sets[0].user[..n];
-    for (k, axis) in machine.axes().iter().enumerate() {
-        if axis.kind == trueaxis::machine::AxisKind::Rotary {
-            for pose in map.poses_user.chunks_mut(n) {
-                pose[k] = base[k];
-            }
-        }
-    }
-    map.poses_internal = to_internal(machine, &map.poses_user);
-    let a = analyse(machine, &problem.spec, &map.poses_internal, &problem.setup, problem.frame).map_err(Failure::of)?;
-    let values: Vec<f64> = a.poses.iter().map(|p| p.stack.rss_total).collect();
+    let Some(map) = VolumeMap::new(&problem.machine) else { return Ok(None) };
+    let values = problem.rss_at(&map.poses_user).map_err(Failure::of)?;
     Ok(Some(map.heatmap("Root-sum-square volumetric error (um)", &values, None).map_err(|e| Failure::computation(anyhow::anyhow!("{e}")))?))
 }
 

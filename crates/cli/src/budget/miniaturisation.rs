@@ -1,13 +1,10 @@
-//! `trueaxis budget miniaturisation`: the three-axis miniaturisation case.
+//! `trueaxis budget miniaturisation`: the three-axis miniaturisation case, run by the library
+//! (`trueaxis::budget::miniaturisation_study`); the figures and the tables printed here.
 
 use crate::Failure;
-use serde_json::{json, Value};
 use std::fmt::Write;
-use trueaxis::budget::analysis::GroupShare;
-use trueaxis::budget::documents::number;
-use trueaxis::budget::global::GeneticOptions;
-use trueaxis::budget::miniaturisation::{run as run_case, ARCSEC_URAD, SIZES};
-use trueaxis::budget::spec::KindValues;
+use trueaxis::budget::miniaturisation::{ARCSEC_URAD, SIZES};
+use trueaxis::budget::miniaturisation_study::{group_sensitivity, group_share, MiniaturisationOptions, MiniaturisationStudy};
 use trueaxis::data::OutputSet;
 use trueaxis_report::budget::{trends_svg, Series};
 
@@ -44,28 +41,16 @@ pub struct MiniaturisationArgs {
     json: bool,
 }
 
-fn share(groups: &[GroupShare], label: &str) -> f64 {
-    groups.iter().find(|g| g.label == label).map_or(0.0, |g| g.share)
-}
-
-fn sm(groups: &[GroupShare], label: &str) -> f64 {
-    groups.iter().find(|g| g.label == label).map_or(0.0, |g| g.sensitivity_mm)
-}
-
 pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
-    for (name, v) in
-        [("--linear-um", args.linear_um), ("--angular-urad", args.angular_urad), ("--relative-accuracy", args.relative_accuracy)]
-    {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Failure::input(anyhow::anyhow!("{name} {v}: must be a positive number")));
-        }
-    }
-    if args.sizes.is_empty() {
-        return Err(Failure::input(anyhow::anyhow!("--sizes: give at least one part size (mm)")));
-    }
-    let tolerances = KindValues([args.linear_um, args.angular_urad, args.angular_urad]);
-    let cases = run_case(&args.sizes, tolerances, args.relative_accuracy, GeneticOptions { seed: args.seed, ..GeneticOptions::default() })
-        .map_err(Failure::of)?;
+    let options = MiniaturisationOptions {
+        sizes: args.sizes.clone(),
+        linear_um: args.linear_um,
+        angular_urad: args.angular_urad,
+        relative_accuracy: args.relative_accuracy,
+        seed: args.seed,
+    };
+    let study = MiniaturisationStudy::run(&options).map_err(Failure::of)?;
+    let cases = &study.cases;
     if let Some(dir) = &args.plots {
         // both figures or neither (docs/reliability.md)
         let mut plots = OutputSet::new();
@@ -101,14 +86,17 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
             "Machine measures over part size",
             "part size (mm)",
             &[
-                ("SM by axis (mm)".into(), ["X", "Y", "Z"].iter().map(|a| series(&|c| sm(&c.analysis.by_axis, a), a)).collect()),
+                (
+                    "SM by axis (mm)".into(),
+                    ["X", "Y", "Z"].iter().map(|a| series(&|c| group_sensitivity(&c.analysis.by_axis, a), a)).collect(),
+                ),
                 (
                     "share by kind (%)".into(),
-                    ["linear", "angular", "squareness"].iter().map(|k| series(&|c| share(&c.analysis.by_kind, k), k)).collect(),
+                    ["linear", "angular", "squareness"].iter().map(|k| series(&|c| group_share(&c.analysis.by_kind, k), k)).collect(),
                 ),
                 (
                     "allocation: share by kind (%)".into(),
-                    ["linear", "angular", "squareness"].iter().map(|k| series(&|c| share(&c.allocated.by_kind, k), k)).collect(),
+                    ["linear", "angular", "squareness"].iter().map(|k| series(&|c| group_share(&c.allocated.by_kind, k), k)).collect(),
                 ),
             ],
         )
@@ -116,30 +104,8 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
         plots.file(dir.join("machine_measures.svg"), machine);
         plots.commit().map_err(Failure::input)?;
     }
-    let groups = |g: &[GroupShare]| -> Value {
-        Value::Array(g.iter().map(|g| json!({"group": g.label, "share_percent": g.share, "sm_mm": g.sensitivity_mm})).collect())
-    };
     if args.json {
-        let rows: Vec<Value> = cases
-            .iter()
-            .map(|c| {
-                let a = &c.analysis;
-                json!({
-                    "size_mm": c.size, "rss_rms_um": a.rss_rms,
-                    "part_sensitivity_mm": {"x": a.part_sensitivity[0], "y": a.part_sensitivity[1], "z": a.part_sensitivity[2]},
-                    "ri1": a.condition.map_or(Value::Null, number), "ri2_mm": a.singular_values[0],
-                    "by_axis": groups(&a.by_axis), "by_kind": groups(&a.by_kind),
-                    "allocation": {
-                        "target_um": args.relative_accuracy * c.size * 1000.0, "cost": c.allocation.cost, "kkt_residual": c.allocation.kkt_residual,
-                        "by_axis": groups(&c.allocated.by_axis), "by_kind": groups(&c.allocated.by_kind),
-                    },
-                })
-            })
-            .collect();
-        println!(
-            "{}",
-            json!({"linear_um": args.linear_um, "angular_urad": args.angular_urad, "relative_accuracy": args.relative_accuracy, "sizes": rows})
-        );
+        println!("{}", study.to_json());
         return Ok(());
     }
     let mut out = String::new();
@@ -150,7 +116,7 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
     );
     let _ =
         writeln!(out, "size (mm)  SP x / y / z (mm)          RI_1    RI_2 (mm)  SM X / Y / Z (mm)         linear/angular/squareness (%)");
-    for c in &cases {
+    for c in cases {
         let a = &c.analysis;
         let _ = writeln!(
             out,
@@ -161,12 +127,12 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
             a.part_sensitivity[2],
             a.condition.unwrap_or(f64::INFINITY),
             a.singular_values[0],
-            sm(&a.by_axis, "X"),
-            sm(&a.by_axis, "Y"),
-            sm(&a.by_axis, "Z"),
-            share(&a.by_kind, "linear"),
-            share(&a.by_kind, "angular"),
-            share(&a.by_kind, "squareness")
+            group_sensitivity(&a.by_axis, "X"),
+            group_sensitivity(&a.by_axis, "Y"),
+            group_sensitivity(&a.by_axis, "Z"),
+            group_share(&a.by_kind, "linear"),
+            group_share(&a.by_kind, "angular"),
+            group_share(&a.by_kind, "squareness")
         );
     }
     let _ = writeln!(
@@ -175,19 +141,19 @@ pub fn run(args: MiniaturisationArgs) -> Result<(), Failure> {
         args.relative_accuracy
     );
     let _ = writeln!(out, "size (mm)  target (um)  X / Y / Z (%)              linear/angular/squareness (%)   KKT residual");
-    for c in &cases {
+    for c in cases {
         let a = &c.allocated;
         let _ = writeln!(
             out,
             "{:>9}  {:>11.3}  {:>5.1} / {:>5.1} / {:>5.1}      {:>5.1} / {:>5.1} / {:>5.1}          {:.1e}",
             c.size,
-            args.relative_accuracy * c.size * 1000.0,
-            share(&a.by_axis, "X"),
-            share(&a.by_axis, "Y"),
-            share(&a.by_axis, "Z"),
-            share(&a.by_kind, "linear"),
-            share(&a.by_kind, "angular"),
-            share(&a.by_kind, "squareness"),
+            study.target_um(c.size),
+            group_share(&a.by_axis, "X"),
+            group_share(&a.by_axis, "Y"),
+            group_share(&a.by_axis, "Z"),
+            group_share(&a.by_kind, "linear"),
+            group_share(&a.by_kind, "angular"),
+            group_share(&a.by_kind, "squareness"),
             c.allocation.kkt_residual
         );
     }

@@ -77,7 +77,7 @@ fn ballbar(machine: &Machine, truth: &ErrorModel, out: &mut Output) -> Result<(C
     let csv = circle::simulate(machine, truth, input.centre, input.centre_pose(machine))?;
     out.write(CIRCLE_FILE, csv.as_bytes())?;
     out.write("report.toml", CERTIFICATE_TOML.as_bytes())?;
-    let certificate = CertificateFile::from_toml_str(CERTIFICATE_TOML, "built-in report.toml").map_err(CalibrationError::Input)?;
+    let certificate = CertificateFile::from_toml_str(CERTIFICATE_TOML, "built-in report.toml")?;
     let mut part = CirclePart::evaluate(machine, input)?;
     part.input.path = out.final_path(CIRCLE_FILE);
     part.reading_u_um = certificate.reading_uncertainty_um("ballbar");

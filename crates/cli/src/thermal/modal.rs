@@ -3,15 +3,11 @@
 use super::write_plot;
 use crate::output::{self, print};
 use crate::Failure;
-use serde_json::{json, Value};
 use std::path::PathBuf;
-use trueaxis::thermal::model_file::{load_model, ThermalModel};
+use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::modes_report::ModesReport;
-use trueaxis::thermal::placement::{conditioning, effective_independence, exhaustive, log_det_information, modal_rule};
-use trueaxis::thermal::placement_score::gauss_points;
-use trueaxis::thermal::{
-    dominant_modes, modal_analysis_with_progress, mode_weights, LanczosProgress, ModalBasis, ModalOptions, SpectrumMethod, DEFAULT_SHARE,
-};
+use trueaxis::thermal::placement_job::{place_sensors, placement_modes, PlaceMethod, PlacementRequest, SensorPlacement};
+use trueaxis::thermal::{LanczosProgress, SpectrumMethod, DEFAULT_SHARE};
 use trueaxis_report::{mode_shapes_plot, mode_shapes_svg, modes_svg, time_constants_plot};
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -51,7 +47,7 @@ pub struct ModesArgs {
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
-pub(super) enum PlaceMethod {
+pub(super) enum PlaceMethodArg {
     Modal,
     Efi,
     Exhaustive,
@@ -81,7 +77,7 @@ pub struct PlaceArgs {
     /// subset of --sensors candidates, largest det(Phi_s^T Phi_s)) or gauss (the candidates nearest
     /// the Gauss-Legendre points of a bar, Gaussian integration).
     #[arg(long, value_enum, default_value = "modal")]
-    method: PlaceMethod,
+    method: PlaceMethodArg,
     /// Number of sensors (efi, exhaustive; default: one per dominant mode).
     #[arg(long)]
     sensors: Option<usize>,
@@ -113,14 +109,15 @@ fn check_fraction(name: &str, value: f64) -> Result<(), Failure> {
     }
 }
 
-/// The modes, with a progress bar on a terminal (not with --json, not when stderr is piped).
-fn analyse(model: &ThermalModel, count: usize, method: MethodArg, quiet: bool) -> Result<ModalBasis, Failure> {
-    if count == 0 {
-        return Err(Failure::input(anyhow::anyhow!("--count must be at least 1")));
+impl From<PlaceMethodArg> for PlaceMethod {
+    fn from(m: PlaceMethodArg) -> PlaceMethod {
+        match m {
+            PlaceMethodArg::Modal => PlaceMethod::Modal,
+            PlaceMethodArg::Efi => PlaceMethod::Efi,
+            PlaceMethodArg::Exhaustive => PlaceMethod::Exhaustive,
+            PlaceMethodArg::Gauss => PlaceMethod::Gauss,
+        }
     }
-    let count = count.min(model.system.node_count());
-    let options = ModalOptions { count: Some(count), method: method.into(), ..Default::default() };
-    with_bar(count, quiet, |progress| modal_analysis_with_progress(&model.system, &options, progress))
 }
 
 impl From<MethodArg> for SpectrumMethod {
@@ -201,93 +198,42 @@ pub fn modes(args: ModesArgs) -> Result<(), Failure> {
 }
 
 pub fn place(args: PlaceArgs) -> Result<(), Failure> {
-    check_fraction("--share", args.share)?;
-    check_fraction("--reuse", args.reuse)?;
+    let request = PlacementRequest {
+        count: args.count,
+        share: args.share,
+        method: args.method.into(),
+        sensors: args.sensors,
+        reuse: args.reuse,
+        score: args.score.then_some(args.expansion),
+    };
+    request.check().map_err(Failure::of)?;
     let model = load_model(&args.model).map_err(Failure::of)?;
-    let basis = analyse(&model, args.count, MethodArg::Auto, args.json)?;
-    let weights = mode_weights(&basis, &model.system.load);
-    let dominant = dominant_modes(&weights, args.share);
-    let coordinates = model.system.coordinates.clone();
-    let distance = |node: usize| -> f64 {
-        model
-            .flux_nodes
-            .iter()
-            .map(|&f| match &coordinates {
-                Some(c) => (0..3).map(|d| (c[node][d] - c[f][d]).powi(2)).sum::<f64>().sqrt(),
-                None => (node as f64 - f as f64).abs(),
-            })
-            .fold(f64::INFINITY, f64::min)
-    };
-    let count = args.sensors.unwrap_or(dominant.len());
-    let (sensors, served): (Vec<usize>, Vec<Vec<usize>>) = match args.method {
-        PlaceMethod::Modal => {
-            let placed = modal_rule(&basis, &dominant, &model.candidates, args.reuse, distance).map_err(Failure::of)?;
-            placed.into_iter().map(|p| (p.node, p.modes)).unzip()
-        }
-        PlaceMethod::Efi => {
-            let s = effective_independence(&basis, &dominant, &model.candidates, count).map_err(Failure::of)?;
-            let n = s.len();
-            (s, vec![Vec::new(); n])
-        }
-        PlaceMethod::Exhaustive => {
-            if count < dominant.len() {
-                return Err(Failure::input(anyhow::anyhow!(
-                    "exhaustive search maximises det(Phi_s^T Phi_s): it needs at least {} sensors (one per dominant mode)",
-                    dominant.len()
-                )));
-            }
-            let (s, _) = exhaustive(&model.candidates, count, |s| log_det_information(&basis, &dominant, s)).map_err(Failure::of)?;
-            let n = s.len();
-            (s, vec![Vec::new(); n])
-        }
-        PlaceMethod::Gauss => {
-            let s = gauss_points(&model, count).map_err(Failure::of)?;
-            let n = s.len();
-            (s, vec![Vec::new(); n])
-        }
-    };
-    let scores = if args.score {
-        Some(super::score::score_methods(&model, &basis, &dominant, count, args.reuse, args.expansion, &distance)?)
-    } else {
-        None
-    };
-    let cond = conditioning(&basis, &dominant, &sensors);
+    let count = args.count.min(model.system.node_count());
+    let basis = with_bar(count, args.json, |progress| placement_modes(&model, args.count, progress))?;
+    let placement = place_sensors(&model, basis, &request).map_err(Failure::of)?;
+    let (dominant, sensors) = (&placement.dominant, &placement.sensors);
     if let Some(path) = &args.plot {
-        write_plot(path, mode_shapes_svg(&mode_shapes_plot(&model, &basis, &dominant, &sensors)))?;
+        write_plot(path, mode_shapes_svg(&mode_shapes_plot(&model, &placement.basis, dominant, sensors)))?;
     }
-    let method = match args.method {
-        PlaceMethod::Modal => "modal",
-        PlaceMethod::Efi => "efi",
-        PlaceMethod::Exhaustive => "exhaustive",
-        PlaceMethod::Gauss => "gauss",
-    };
-    let position = |n: usize| coordinates.as_ref().map(|c| c[n].to_vec());
     if args.json {
-        let list: Vec<Value> = sensors
-            .iter()
-            .zip(&served)
-            .map(|(n, m)| json!({"node": n, "position_m": position(*n), "modes": m.iter().map(|i| i + 1).collect::<Vec<_>>()}))
-            .collect();
-        let doc = json!({"model": model.name, "method": method, "dominant_modes": dominant.iter().map(|m| m + 1).collect::<Vec<_>>(),
-                         "sensors": list, "condition_number": cond.condition_number, "rank": cond.rank,
-                         "conditioning": cond.explanation(), "scores": scores.as_ref().map(|s| s.0.clone())});
-        return output::json(&doc);
+        return output::json(&placement.to_json(&model));
     }
     let mut out = format!(
-        "sensor placement ({method}) for the dominant modes {:?} of {}\n",
+        "sensor placement ({}) for the dominant modes {:?} of {}\n",
+        placement.method.name(),
         dominant.iter().map(|m| m + 1).collect::<Vec<_>>(),
         model.name
     );
-    for (n, m) in sensors.iter().zip(&served) {
-        let at =
-            position(*n).map_or(String::new(), |p| format!(" at {:?} m", p.iter().map(|v| (v * 1e4).round() / 1e4).collect::<Vec<_>>()));
+    for (n, m) in sensors.iter().zip(&placement.served) {
+        let at = SensorPlacement::position(&model, *n)
+            .map_or(String::new(), |p| format!(" at {:?} m", p.iter().map(|v| (v * 1e4).round() / 1e4).collect::<Vec<_>>()));
         let modes = if m.is_empty() { String::new() } else { format!(", serves modes {:?}", m.iter().map(|i| i + 1).collect::<Vec<_>>()) };
         out += &format!("  node {n}{at}{modes}\n");
     }
-    out += &cond.explanation();
+    out += &placement.conditioning.explanation();
     out.push('\n');
-    if let Some((_, text)) = &scores {
-        out += text;
+    if let Some(scores) = &placement.scores {
+        out += &super::score::scores_text(scores);
     }
     print(&out)
 }

@@ -1,12 +1,26 @@
 //! `trueaxis compensate` end to end: files written, JSON summaries, exit codes (`trueaxis nc`: nc.rs).
 
-use crate::support::{arg, outcome, read, vmc3};
+use crate::support::{arg, identify_c600u, json_of, outcome, read, vmc3, VMC3};
+use serde_json::Value;
+use std::path::Path;
 
-/// `trueaxis COMMAND --machine examples/machines/vmc3.toml --errors ERRORS REST...`
-fn on_vmc3(command: &str, errors: &str, rest: &[&str]) -> (i32, String, String) {
-    let mut args = vec![command, "--machine", "examples/machines/vmc3.toml", "--errors", errors];
-    args.extend(rest);
-    outcome(&args)
+/// `trueaxis compensate --machine examples/machines/vmc3.toml --errors ERRORS REST...`
+fn on_vmc3(errors: &str, rest: &[&str]) -> (i32, String, String) {
+    outcome(&vmc3(&["compensate"], &[&["--errors", errors][..], rest].concat()))
+}
+
+/// `trueaxis compensate --machine MACHINE --errors ERRORS --format FORMAT --out OUT REST... --json`,
+/// which must succeed: its summary.
+fn compensate_json(machine: &str, errors: &str, format: &str, out: &Path, rest: &[&str]) -> Value {
+    json_of(
+        &[&["compensate", "--machine", machine, "--errors", errors, "--format", format, "--out", arg(out)][..], rest, &["--json"]].concat(),
+    )
+}
+
+/// The files of a five-axis machine leave at most a tenth of the error before.
+fn leave_a_tenth(doc: &Value) {
+    let r = &doc["format_residual"];
+    assert!(r["worst_um"].as_f64().unwrap() < 0.1 * r["worst_error_um"].as_f64().unwrap(), "{r}");
 }
 
 #[test]
@@ -25,29 +39,10 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
         ("json", vec!["compensation.json"]),
     ] {
         let out = dir.path().join(format);
-        let (code, stdout, stderr) = outcome(&[
-            "compensate",
-            "--machine",
-            "examples/machines/vmc3.toml",
-            "--errors",
-            "examples/errors/vmc3_backlash.toml",
-            "--format",
-            format,
-            "--out",
-            arg(&out),
-            "--points",
-            "21",
-            "--grid",
-            "5,5,3",
-            "--temperature",
-            "T:column=22",
-            "--json",
-            // LinuxCNC's own-axis joint files leave more than half of this model's error (they are
-            // refused without it: files_that_leave_more_than_they_remove_are_refused)
-            "--force",
-        ]);
-        assert_eq!(code, 0, "{format}: {stderr}");
-        let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+        // --force: LinuxCNC's own-axis joint files leave more than half of this model's error (they
+        // are refused without it: files_that_leave_more_than_they_remove_are_refused)
+        let rest = ["--points", "21", "--grid", "5,5,3", "--temperature", "T:column=22", "--force"];
+        let doc = compensate_json(VMC3, "examples/errors/vmc3_backlash.toml", format, &out, &rest);
         assert_eq!(doc["tables"], 9);
         assert!(doc["max_correction_um"].as_f64().unwrap() > 1.0);
         assert!(doc["worst_residual_um"].as_f64().unwrap() < 0.01);
@@ -68,38 +63,18 @@ fn compensate_writes_every_format_and_refuses_beyond_the_limit() {
     }
     // a 5-axis machine with per-pose corrections
     let out = dir.path().join("c600u");
-    let (code, stdout, stderr) = outcome(&[
-        "compensate",
-        "--machine",
-        "examples/machines/c600u.toml",
-        "--errors",
-        "examples/errors/c600u.toml",
-        "--format",
-        "csv",
-        "--poses",
-        "examples/poses/c600u.csv",
-        "--out",
-        arg(&out),
-        "--json",
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let (machine, errors) = ("examples/machines/c600u.toml", "examples/errors/c600u.toml");
+    let doc = compensate_json(machine, errors, "csv", &out, &["--poses", "examples/poses/c600u.csv"]);
     assert!(doc["poses"]["max_residual_um"].as_f64().unwrap() < 0.01);
     let csv = std::fs::read_to_string(out.join("corrections.csv")).unwrap();
     assert!(csv.starts_with("X,Y,Z,A,C,dX,dY,dZ,dA,dC,error_um,residual_um,uncorrectable_urad\n"));
     // beyond the user's limit: refused, exit 2, nothing written
     let out = dir.path().join("limited");
-    let (code, _, stderr) = outcome(&vmc3(
-        &["compensate"],
-        &["--errors", "examples/errors/vmc3.toml", "--format", "linuxcnc", "--limit-um", "5", "--out", arg(&out)],
-    ));
+    let (code, _, stderr) = on_vmc3("examples/errors/vmc3.toml", &["--format", "linuxcnc", "--limit-um", "5", "--out", arg(&out)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("beyond the limit of 5 um"), "{stderr}");
     assert!(!out.exists());
-    let (code, _, stderr) = outcome(&vmc3(
-        &["compensate"],
-        &["--errors", "examples/errors/vmc3.toml", "--format", "csv", "--reference", "Q=1", "--out", arg(&out)],
-    ));
+    let (code, _, stderr) = on_vmc3("examples/errors/vmc3.toml", &["--format", "csv", "--reference", "Q=1", "--out", arg(&out)]);
     assert_eq!(code, 2);
     assert!(stderr.contains("no axis Q"), "{stderr}");
 }
@@ -110,9 +85,7 @@ fn the_summary_covers_what_is_written() {
     // along the axis lines through home are smaller, 13.4 um)
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("fanuc");
-    let (code, stdout, stderr) = on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "fanuc3d", "--out", arg(&out), "--json"]);
-    assert_eq!(code, 0, "{stderr}");
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let doc = compensate_json(VMC3, "examples/errors/vmc3.toml", "fanuc3d", &out, &[]);
     let lattice = std::fs::read_to_string(out.join("lattice3d.txt")).unwrap();
     let written = lattice
         .lines()
@@ -127,7 +100,7 @@ fn the_summary_covers_what_is_written() {
 fn an_output_directory_with_other_files_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("comp");
-    let run = |format: &str| on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", format, "--out", arg(&out)]);
+    let run = |format: &str| on_vmc3("examples/errors/vmc3.toml", &["--format", format, "--out", arg(&out)]);
     assert_eq!(run("heidenhain").0, 0);
     // the same run again overwrites its own files
     assert_eq!(run("heidenhain").0, 0);
@@ -153,13 +126,9 @@ fn compensate_poses_uses_the_temperature_columns_and_cancels_what_predict_report
     let errors = gt_model(dir.path());
     let poses = "examples/thermal/poses_with_T.csv";
     let errors = arg(&errors);
-    let (code, stdout, stderr) = on_vmc3("predict", errors, &["--poses", poses, "--json"]);
-    assert_eq!(code, 0, "{stderr}");
-    let predicted: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let predicted = json_of(&vmc3(&["predict"], &["--errors", errors, "--poses", poses, "--json"]));
     let out = dir.path().join("comp");
-    let (code, stdout, stderr) = on_vmc3("compensate", errors, &["--poses", poses, "--format", "csv", "--out", arg(&out), "--json"]);
-    assert_eq!(code, 0, "{stderr}");
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let doc = compensate_json(VMC3, errors, "csv", &out, &["--poses", poses]);
     assert!(doc["poses"]["max_residual_um"].as_f64().unwrap() < 0.01);
     let csv = std::fs::read_to_string(out.join("corrections.csv")).unwrap();
     let rows: Vec<Vec<f64>> = csv.lines().skip(1).map(|l| l.split(',').map(|v| v.parse().unwrap()).collect()).collect();
@@ -194,7 +163,7 @@ fn compensate_poses_uses_the_temperature_columns_and_cancels_what_predict_report
         .collect();
     std::fs::write(&cold, rewritten.join("\n") + "\n").unwrap();
     let out_cold = dir.path().join("comp_cold");
-    let (code, _, stderr) = on_vmc3("compensate", errors, &["--poses", arg(&cold), "--format", "csv", "--out", arg(&out_cold)]);
+    let (code, _, stderr) = on_vmc3(errors, &["--poses", arg(&cold), "--format", "csv", "--out", arg(&out_cold)]);
     assert_eq!(code, 0, "{stderr}");
     let csv = std::fs::read_to_string(out_cold.join("corrections.csv")).unwrap();
     let dz_cold: f64 = csv.lines().nth(3).unwrap().split(',').nth(5).unwrap().parse().unwrap();
@@ -206,7 +175,7 @@ fn compensate_poses_without_a_needed_temperature_column_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("comp");
     let mut args = vec!["--poses", "examples/poses/vmc3.csv", "--format", "csv", "--out", arg(&out)];
-    let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3_backlash.toml", &args);
+    let (code, _, stderr) = on_vmc3("examples/errors/vmc3_backlash.toml", &args);
     assert_eq!(code, 2);
     assert!(
         stderr.contains("examples/poses/vmc3.csv: missing column `T:column` (degC) needed by the error model; add it or give --temperature T:column=degC"),
@@ -215,7 +184,7 @@ fn compensate_poses_without_a_needed_temperature_column_is_refused() {
     assert!(!out.exists());
     // a temperature given on the command line serves every pose
     args.extend(["--temperature", "T:column=22"]);
-    let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3_backlash.toml", &args);
+    let (code, _, stderr) = on_vmc3("examples/errors/vmc3_backlash.toml", &args);
     assert_eq!(code, 0, "{stderr}");
 }
 
@@ -225,39 +194,22 @@ fn files_that_leave_more_than_they_remove_are_refused() {
     // would leave more than they remove (docs/compensation.md, "Never worse")
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("joint");
-    let (code, _, stderr) = on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", arg(&out)]);
+    let (code, _, stderr) = on_vmc3("examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", arg(&out)]);
     assert_eq!(code, 2, "{stderr}");
     assert!(
         stderr.contains("more than they remove") && stderr.contains("--format linuxcnc-hal") && stderr.contains("nothing was written"),
         "{stderr}"
     );
     assert!(!out.exists());
-    let (code, stdout, stderr) =
-        on_vmc3("compensate", "examples/errors/vmc3.toml", &["--format", "linuxcnc", "--out", arg(&out), "--force", "--json"]);
-    assert_eq!(code, 0, "{stderr}");
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let doc = compensate_json(VMC3, "examples/errors/vmc3.toml", "linuxcnc", &out, &["--force"]);
     let r = &doc["format_residual"];
     assert_eq!(r["leaves_more_than_it_removes"], true);
     assert!(r["worst_um"].as_f64().unwrap() > 0.5 * r["worst_error_um"].as_f64().unwrap(), "{r}");
     assert!(out.join("X.comp").exists());
     // a five-axis machine: the kinematic description and tables leave at most a tenth
     let five = dir.path().join("c600u");
-    let (code, stdout, stderr) = outcome(&[
-        "compensate",
-        "--machine",
-        "examples/machines/c600u.toml",
-        "--errors",
-        "examples/errors/c600u.toml",
-        "--format",
-        "siemens",
-        "--out",
-        arg(&five),
-        "--json",
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    let r = &doc["format_residual"];
-    assert!(r["worst_um"].as_f64().unwrap() < 0.1 * r["worst_error_um"].as_f64().unwrap(), "{r}");
+    let doc = compensate_json("examples/machines/c600u.toml", "examples/errors/c600u.toml", "siemens", &five, &[]);
+    leave_a_tenth(&doc);
     assert!(doc["kinematics"]["axes"]["C"]["tilt_urad"].is_array() && five.join("TC_CARR.INI").exists(), "{doc}");
 }
 
@@ -265,26 +217,7 @@ fn files_that_leave_more_than_they_remove_are_refused() {
 fn ballbar_identify_writes_error_values_that_compensate_reads_with_their_uncertainty() {
     let dir = tempfile::tempdir().unwrap();
     let piges = dir.path().join("piges.toml");
-    let files = ["A1", "A2", "C1", "C2"].map(|s| format!("examples/ballbar/{s}.csv"));
-    let (code, stdout, stderr) = outcome(&[
-        "ballbar",
-        "identify",
-        "--machine",
-        "examples/machines/c600u.toml",
-        "--a1",
-        &files[0],
-        "--a2",
-        &files[1],
-        "--c1",
-        &files[2],
-        "--c2",
-        &files[3],
-        "--out",
-        arg(&piges),
-        "--json",
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
+    let doc = json_of(&identify_c600u(&["--out", arg(&piges), "--json"]));
     let text = std::fs::read_to_string(&piges).unwrap();
     let file: toml::Table = text.parse().unwrap();
     for (name, p) in doc["parameters"].as_object().unwrap() {
@@ -294,22 +227,8 @@ fn ballbar_identify_writes_error_values_that_compensate_reads_with_their_uncerta
         assert!((u - p["std_uncertainty"].as_f64().unwrap()).abs() < 1e-4, "{name}: {u} vs {p}");
     }
     let out = dir.path().join("comp");
-    let (code, stdout, stderr) = outcome(&[
-        "compensate",
-        "--machine",
-        "examples/machines/c600u.toml",
-        "--errors",
-        arg(&piges),
-        "--format",
-        "heidenhain",
-        "--out",
-        arg(&out),
-        "--json",
-    ]);
-    assert_eq!(code, 0, "{stderr}");
-    let doc: serde_json::Value = serde_json::from_str(&stdout).unwrap();
-    let r = &doc["format_residual"];
-    assert!(r["worst_um"].as_f64().unwrap() < 0.1 * r["worst_error_um"].as_f64().unwrap(), "{r}");
+    let doc = compensate_json("examples/machines/c600u.toml", arg(&piges), "heidenhain", &out, &[]);
+    leave_a_tenth(&doc);
     let u = &doc["error_left_uncertainty"];
     assert!(u["expanded_um"].as_f64().unwrap() > 0.1 && u["parameters"] == 8 && u["coverage_factor"] == 2, "{u}");
 }

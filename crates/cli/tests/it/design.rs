@@ -7,7 +7,7 @@ use crate::support::{json, trueaxis};
 
 #[test]
 fn criteria_state_their_units_and_seed_000_values() {
-    let doc = json(&trueaxis(&[
+    let six_bars = [
         "design",
         "optimal",
         "--machine",
@@ -16,8 +16,8 @@ fn criteria_state_their_units_and_seed_000_values() {
         "examples/campaigns/cmm2d/campaign.toml",
         "--count",
         "6",
-        "--json",
-    ]));
+    ];
+    let doc = json(&trueaxis(&[&six_bars[..], &["--json"]].concat()));
     let d = doc["criteria"]["d"].as_f64().unwrap();
     assert!((d / 2.5e-3 - 1.0).abs() < 1e-6, "{d}");
     let units = &doc["units"];
@@ -28,16 +28,7 @@ fn criteria_state_their_units_and_seed_000_values() {
     assert!((units["seed000"]["d_factor"].as_f64().unwrap() - 1e-2).abs() < 1e-15);
     assert!((units["seed000"]["d"].as_f64().unwrap() / 2.5e-5 - 1.0).abs() < 1e-6);
     // the readable output says the same
-    let out = trueaxis(&[
-        "design",
-        "optimal",
-        "--machine",
-        "examples/machines/cmm2d.toml",
-        "--campaign",
-        "examples/campaigns/cmm2d/campaign.toml",
-        "--count",
-        "6",
-    ]);
+    let out = trueaxis(&six_bars);
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("D in (urad^2 (um/mm)^2 (um/mm)^2)^(1/3)") && text.contains("D x 1.0000e-2 = 2.5000e-5"), "{text}");
 }

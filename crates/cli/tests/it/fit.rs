@@ -263,6 +263,15 @@ fn temperature_options_correct_the_readings_to_20c() {
     failed(&out, 2, &["applies to positioning readings along the axis"]);
 }
 
+/// `trueaxis ARGS` is refused with exit status 2 and a one-line message holding `fragment`.
+fn refused_fit(args: &[&str], fragment: &str) {
+    let out = trueaxis(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+    assert!(err.contains(fragment), "{args:?}: expected `{fragment}` in {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: one line: {err}");
+}
+
 #[test]
 fn the_instrument_description_puts_the_abbe_terms_into_the_chain() {
     // laser_x.csv read with linear optics 150 mm above the tool point (z) and the pitch EBX = 10 urad
@@ -293,13 +302,7 @@ fn the_instrument_description_puts_the_abbe_terms_into_the_chain() {
             "--level-reference",
         ),
     ] {
-        let mut all = vec!["fit", "--data", "examples/data/laser_x.csv"];
-        all.extend(args);
-        let out = trueaxis(&all);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{all:?}: {err}");
-        assert!(err.contains(fragment), "{all:?}: {err}");
-        assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+        refused_fit(&[&["fit", "--data", "examples/data/laser_x.csv"][..], &args].concat(), fragment);
     }
 }
 
@@ -351,11 +354,7 @@ fn bad_fit_input_is_refused_with_status_2() {
         (vec!["fit", "--data", "missing.csv", "--parameter", "EXX"], "missing.csv"),
     ];
     for (args, fragment) in cases {
-        let out = trueaxis(&args);
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
-        assert!(err.contains(fragment), "{args:?}: expected `{fragment}` in {err}");
-        assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+        refused_fit(&args, fragment);
     }
 }
 

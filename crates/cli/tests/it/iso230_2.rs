@@ -131,25 +131,20 @@ fn synthetic(noise: f64, seed: u64) -> String {
     text
 }
 
+/// The results the known line and backlash of [`synthetic`] fix whatever the noise: (name, result,
+/// value without noise).
+fn line_and_backlash(r: &Iso2302Result) -> [(&'static str, f64, f64); 6] {
+    [("B", r.b, 3.0), ("B_mean", r.b_mean, 3.0), ("E+", r.e_plus, 10.0), ("E-", r.e_minus, 10.0), ("E", r.e, 13.0), ("M", r.m, 10.0)]
+}
+
 #[test]
 fn synthetic_without_noise_is_exact() {
     let r = evaluate_text(&synthetic(0.0, 1));
     let tol = 1e-9;
     assert_eq!((r.positions.len(), r.runs), (21, 5));
-    for (name, got, want) in [
-        ("B", r.b, 3.0),
-        ("B_mean", r.b_mean, 3.0),
-        ("E+", r.e_plus, 10.0),
-        ("E-", r.e_minus, 10.0),
-        ("E", r.e, 13.0),
-        ("M", r.m, 10.0),
-        ("R", r.r, 3.0),
-        ("R+", r.r_plus, 0.0),
-        ("R-", r.r_minus, 0.0),
-        ("A", r.a, 13.0),
-        ("A+", r.a_plus, 10.0),
-        ("A-", r.a_minus, 10.0),
-    ] {
+    let spread =
+        [("R", r.r, 3.0), ("R+", r.r_plus, 0.0), ("R-", r.r_minus, 0.0), ("A", r.a, 13.0), ("A+", r.a_plus, 10.0), ("A-", r.a_minus, 10.0)];
+    for (name, got, want) in line_and_backlash(&r).into_iter().chain(spread) {
         close(name, got, want, tol);
     }
     for p in &r.positions {
@@ -164,14 +159,7 @@ fn synthetic_with_noise_follows_the_known_line_and_backlash() {
     let slack = 1e-9;
     for seed in [7, 2302, 99991] {
         let r = evaluate_text(&synthetic(a, seed));
-        for (name, got, want) in [
-            ("B", r.b, 3.0),
-            ("B_mean", r.b_mean, 3.0),
-            ("E+", r.e_plus, 10.0),
-            ("E-", r.e_minus, 10.0),
-            ("E", r.e, 13.0),
-            ("M", r.m, 10.0),
-        ] {
+        for (name, got, want) in line_and_backlash(&r) {
             close(name, got, want, 2.0 * a + slack);
         }
         for p in &r.positions {

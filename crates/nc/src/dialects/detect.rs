@@ -9,6 +9,9 @@
 //!   `#:LOOP`, `# IF`, `# CLEAR`, `# PRINT`);
 //! - grbl: its system commands, a line starting `$` (`$H` homing, `$X` unlock, `$J=` jogging,
 //!   `$32=1` a setting);
+//! - Mach3 (Mach4 when a comment names it): a program read as a Fanuc's for its `M98` calls of `O`
+//!   subprograms, but without a program number before its first block and with a dimension word
+//!   without a decimal point (see [`mach_subprograms`]);
 //! - a comment naming HAAS, FADAL, GRBL, MACH3/MACH 3, MACH4/MACH 4, or SINUMERIK/840D.
 
 use super::Controller;
@@ -34,7 +37,41 @@ pub(super) fn controller(text: &str) -> Controller {
     }
     let of_family: Vec<Controller> = Controller::ALL.into_iter().filter(|c| c.family() == family).collect();
     let best = |counts: &[usize; 8]| of_family.iter().copied().filter(|&c| counts[index(c)] > 0).max_by_key(|&c| counts[index(c)]);
+    if family == Dialect::Fanuc && best(&marks).is_none() && mach_subprograms(text) {
+        return if named[index(Controller::Mach4)] > named[index(Controller::Mach3)] { Controller::Mach4 } else { Controller::Mach3 };
+    }
     best(&marks).or_else(|| best(&named)).unwrap_or(Controller::of_family(family))
+}
+
+/// A program that calls `O` subprograms the Fanuc way but is read as RS274/NGC: no program number
+/// before its first block (a Fanuc stores a program under its `O` number) and a dimension word
+/// without a decimal point (`Z0`, `X40`: a Fanuc counts it in least input increments, and a post
+/// for a Fanuc always writes the point). Mach3's and Mach4's CAM posts write such programs.
+fn mach_subprograms(text: &str) -> bool {
+    let mut codes = text.lines().take(20_000).map(|raw| split_comment(&raw.trim().to_ascii_uppercase()).0).filter(|c| {
+        let c = c.trim();
+        !c.is_empty() && c != "%"
+    });
+    let numbered = |c: &str| {
+        let c: String = c.chars().filter(|c| !c.is_whitespace()).collect();
+        let after_n = c.strip_prefix('N').map_or(c.as_str(), |r| r.trim_start_matches(|d: char| d.is_ascii_digit()));
+        after_n.starts_with(['O', ':'])
+    };
+    if codes.next().is_none_or(|first| numbered(&first)) {
+        return false;
+    }
+    codes.any(|c| integer_dimension(&c))
+}
+
+/// Whether a code line has a dimension word (X Y Z I J K R) written without a decimal point.
+fn integer_dimension(code: &str) -> bool {
+    let compact: Vec<u8> = code.bytes().filter(|c| !c.is_ascii_whitespace()).collect();
+    compact.iter().enumerate().any(|(i, &b)| {
+        let word = b"XYZIJKR".contains(&b) && (i == 0 || !compact[i - 1].is_ascii_alphabetic());
+        let value: Vec<u8> =
+            compact[i + 1..].iter().copied().take_while(|c| c.is_ascii_digit() || matches!(c, b'.' | b'-' | b'+')).collect();
+        word && value.iter().any(u8::is_ascii_digit) && !value.contains(&b'.')
+    })
 }
 
 /// The code part of an upper-case line and its comments (`( )`, and what follows `;`).
@@ -143,6 +180,13 @@ mod tests {
         // a Fanuc macro variable `#100 = 2` and a LinuxCNC `#<x>` are no Fadal macro statements
         assert_eq!(controller("%\nO1\n#100 = 2\nG0 X#100\nM30\n%\n"), Controller::Fanuc);
         assert_eq!(controller("#<x> = 2\nG0 X#<x>\nM2\n"), Controller::LinuxCnc);
+        // Mach3 subprograms (`O` after `M30`, numbers without a point, no program number first);
+        // a Fanuc program with its number first, or with decimal points, stays a Fanuc's
+        let mach = "%\n(1001)\nG21 G90\nG0 X10 Y10 Z0\nM98 P1001 L2\nM30\nO1001\nG91 G1 Z-1 F300\nG90 M99\n%\n";
+        assert_eq!(controller(mach), Controller::Mach3);
+        assert_eq!(controller(&mach.replace("(1001)", "(MACH4 POST)")), Controller::Mach4);
+        assert_eq!(controller(&mach.replace("(1001)", "O1000")), Controller::Fanuc);
+        assert_eq!(controller(&mach.replace("X10 Y10 Z0\n", "X10. Y10. Z0.\n").replace("Z-1 ", "Z-1. ")), Controller::Fanuc);
         // a Haas code named in a comment only is no Haas code
         assert_eq!(controller("%\nO1 (NO G187 HERE)\nG0 X1.\nM30\n%\n"), Controller::Fanuc);
     }

@@ -4,7 +4,7 @@
 
 use super::linuxcnc::{AXIS_CODES, COMMON};
 use super::Group::*;
-use super::{g, m_refused, refused, Comments, DialectTable, GCodes, Numbers, Unknown};
+use super::{g, refused, Comments, DialectTable, GCodes, Numbers, Unknown};
 use crate::dialect::Dialect;
 
 /// A Fanuc's own codes (the rest in [`COMMON`]).
@@ -97,7 +97,6 @@ pub static HAAS: DialectTable = DialectTable {
     title: "Haas (NGC and classic control)",
     source: "Haas Mill Operator's Manual (Next Generation Control): G-codes, M-codes, macros",
     g_codes: &[HAAS_OWN, COMMON, OWN],
-    m_refused: &[m_refused(97, 97, "(Haas local subprogram call to an N label) is not supported yet: use M98 with an O program")],
     ..FANUC_BASE
 };
 

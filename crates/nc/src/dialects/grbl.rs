@@ -1,7 +1,8 @@
 //! grbl 1.1 (the grbl wiki, "Grbl v1.1 Commands", and `doc/markdown/commands.md` of gnea/grbl): the
 //! G and M codes it supports and nothing else; any other code stops it with `error:20`
 //! (unsupported or invalid g-code command). Read as RS274/NGC. No canned cycles, no tool length
-//! offset from a table (only `G43.1` dynamic), no `G59.x`, no parameters or subprograms.
+//! offset from a table (only `G43.1` dynamic), no `G59.x`, no parameters or subprograms. Its `$`
+//! system commands and `$J=` jogs: [`crate::grbl_system`].
 
 use super::linuxcnc::{CUTTER_COMP, PROBING, RS274_NUMBERS};
 use super::Group::*;

@@ -1,6 +1,7 @@
 //! Mach3 and Mach4 (Artsoft/Newfangled Solutions): RS274/NGC-based ("Using Mach3Mill", chapter 10
 //! "G- and M-code language reference"; "Mach4 Mill G and M code reference"). Their programs are
-//! read as RS274/NGC: a number without a decimal point is in mm or inch.
+//! read as RS274/NGC: a number without a decimal point is in mm or inch. Their subprograms are a
+//! Fanuc's (`M98 P.. L..`, `O` after `M30`, `M99`: [`crate::subprograms`]).
 
 use super::linuxcnc::{AXIS_CODES, COMMON, PROBING, RS274_NUMBERS};
 use super::Group::*;
@@ -35,16 +36,14 @@ const OWN: &[GCodes] = &[
 /// Mach4's codes beyond Mach3's.
 const MACH4_OWN: &[GCodes] = &[refused(650, 660, "(macro call) is not supported")];
 
-/// M0-M9, M30, M48/M49 (override on/off); M100-M999 are user macros (passed through).
-const M_CODES: &[MCodes] = &[m(0, 9), m(30, 30), m(48, 49), m(100, 999)];
+/// M0-M9, M30, M48/M49 (override on/off), M98/M99 (subprogram call and return); M100-M999 are
+/// user macros (passed through).
+const M_CODES: &[MCodes] = &[m(0, 9), m(30, 30), m(48, 49), m(98, 99), m(100, 999)];
 
 /// M codes of which a line holds one at most.
 const M_GROUPS: &[&[u16]] = &[&[0, 1, 2, 30], &[3, 4, 5], &[48, 49]];
 
-const M_REFUSED: &[MCodes] = &[
-    m_refused(47, 47, "(repeat from the first line) runs the program endlessly"),
-    m_refused(98, 99, "(subprogram call and return) is not supported in the Mach3/Mach4 dialect yet: let the post expand subprograms"),
-];
+const M_REFUSED: &[MCodes] = &[m_refused(47, 47, "(repeat from the first line) runs the program endlessly")];
 
 /// The Mach3 table; Mach4 adds refusals of its own.
 const MACH3_BASE: DialectTable = DialectTable {

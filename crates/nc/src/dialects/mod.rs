@@ -170,7 +170,7 @@ impl DialectTable {
     }
 
     /// The group of G code `code` (x 10), or why it is refused.
-    pub fn group(&self, code: u16) -> Result<Group, String> {
+    pub(crate) fn group(&self, code: u16) -> Result<Group, String> {
         match self.g_meaning(code) {
             Meaning::In(group) => Ok(group),
             Meaning::Refused(why) => Err(format!("G{} {why}", gcode_text(code))),
@@ -178,7 +178,7 @@ impl DialectTable {
     }
 
     /// Whether M code `code` is known (`Ok(false)`: unknown), or why it is refused.
-    pub fn m_known(&self, code: u16) -> Result<bool, String> {
+    pub(crate) fn m_known(&self, code: u16) -> Result<bool, String> {
         if let Some(r) = self.m_refused.iter().find(|e| (e.from..=e.to).contains(&code)) {
             return Err(format!("M{code} {}", r.refused.unwrap_or("is refused")));
         }
@@ -237,7 +237,7 @@ impl Controller {
     }
 
     /// What reads its lines: the family's lexer, or the SINUMERIK's own.
-    pub fn line_reader(self) -> crate::program::LineReader {
+    pub(crate) fn line_reader(self) -> crate::program::LineReader {
         match self {
             Controller::Siemens => crate::siemens::parse_line,
             _ => crate::lexer::parse_line,

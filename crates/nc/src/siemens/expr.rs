@@ -32,7 +32,7 @@ impl<'a> Parser<'a> {
     }
 
     /// A sum of terms.
-    pub fn expression(&mut self, arena: &mut Vec<Node>) -> Result<ExprId, String> {
+    pub(crate) fn expression(&mut self, arena: &mut Vec<Node>) -> Result<ExprId, String> {
         self.depth += 1;
         if self.depth > MAX_NESTING {
             return Err(format!("an expression nested more than {MAX_NESTING} levels deep"));
@@ -168,7 +168,7 @@ impl<'a> Parser<'a> {
     }
 
     /// An unsigned number: digits with at most one decimal point.
-    pub fn number(&mut self) -> Result<f64, String> {
+    pub(crate) fn number(&mut self) -> Result<f64, String> {
         self.peek();
         let start = self.i;
         while self.i < self.s.len() && (self.s[self.i].is_ascii_digit() || self.s[self.i] == b'.') {

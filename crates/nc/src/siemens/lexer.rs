@@ -82,7 +82,7 @@ const REFUSED: &[(&str, &str)] = &[
 ];
 
 /// Reads one block (same contract as [`crate::lexer::parse_line`]; `_dialect` is the family).
-pub fn parse_line(text: &str, number: usize, _dialect: Dialect, arena: &mut Vec<Node>, _bytewise: bool) -> Result<Line, String> {
+pub(crate) fn parse_line(text: &str, number: usize, _dialect: Dialect, arena: &mut Vec<Node>, _bytewise: bool) -> Result<Line, String> {
     let mut line = Line { number, ..Line::default() };
     let s = text.as_bytes();
     let mut p = Parser::new(s, 0);

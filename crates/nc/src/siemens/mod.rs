@@ -18,7 +18,8 @@ pub mod subprograms;
 pub mod write;
 
 pub use cycles::Call;
-pub use lexer::{is_file_header, parse_line};
+pub use lexer::is_file_header;
+pub(crate) use lexer::parse_line;
 
 /// The first numbered parameter that holds `R0`.
 pub const R_BASE: u32 = 1000;

@@ -242,6 +242,48 @@ class BudgetRun:
         frame: str = "workpiece",
     ) -> results.UncertaintyBudget: ...
 
+def fit(
+    data: _Path,
+    parameter: str,
+    *,
+    machine: Optional[Machine] = None,
+    instrument: Optional[str] = None,
+    optics_offset: Optional[Tuple[float, float]] = None,
+    beam_on: Optional[str] = None,
+    level_reference: str = "base",
+    errors_in: Optional[Errors] = None,
+    tool_point: Optional[_Point] = None,
+    work_point: Optional[_Point] = None,
+    at: Optional[Mapping[str, float]] = None,
+    position: Optional[str] = None,
+    value: str = "dev",
+    domain: Optional[Tuple[float, float]] = None,
+    family: str = "piecewise",
+    degree: int = 2,
+    knots: Optional[Sequence[float]] = None,
+    knot_spacing: Optional[float] = None,
+    continuity: int = 1,
+    constant: bool = True,
+    constraint: str = "none",
+    periodic: Optional[Sequence[str]] = None,
+    refine_wavelength: Optional[float] = None,
+    stepwise: Optional[float] = None,
+    direction: Optional[str] = None,
+    drift: bool = False,
+    scale_temperature: Union[float, str, None] = None,
+    scale_expansion: Optional[float] = None,
+    artefact_temperature: Union[float, str, None] = None,
+    artefact_expansion: Optional[float] = None,
+    temperature_datum: float = 0.0,
+    no_file_temperature: bool = False,
+    errors_out: Optional[_Path] = None,
+) -> results.DirectFit:
+    """The document of `trueaxis fit --json`: a parametric error function (piecewise polynomial,
+    B-spline, Legendre, periodic terms) fitted to one motion error measured along its axis
+    (positions in mm or deg, values in um or urad), with stepwise selection; the keyword arguments
+    are the command's options (at: the other axes' positions, e.g. {"Z": -200}); errors_out writes
+    or updates an error-values file (needs machine)."""
+
 def iso230_2(
     path: _Path,
     *,
@@ -369,6 +411,9 @@ class BudgetProblem:
     def analyse(self, *, out: Optional[_Path] = None, sensitivity: Optional[_Path] = None) -> results.BudgetAnalysis:
         """The document of `trueaxis budget analyse --json`: stack-up per pose set (um), singular
         values and part sensitivities (mm), shares (%) of every axis, kind and component."""
+    def rss_at(self, poses: npt.ArrayLike) -> _Array:
+        """The root-sum-square 3D error (um) at each pose (poses, axes; mm and deg) with the rotary
+        axes where the first pose set has them: the map of `budget analyse --plots`."""
     def allocate(
         self,
         *,
@@ -395,6 +440,19 @@ def budget_configurations(
 ) -> results.BudgetConfigurations:
     """The document of `trueaxis budget configurations --json`: the 288 five-axis configurations
     ranked by the RMS of the root-sum-square 3D error (um), travel in mm."""
+
+def budget_miniaturisation(
+    *,
+    sizes: Optional[Sequence[float]] = None,
+    linear_um: float = 1.0,
+    angular_urad: float = 4.84813681109536,
+    relative_accuracy: float = 0.0001,
+    seed: int = 1,
+) -> results.BudgetMiniaturisation:
+    """The document of `trueaxis budget miniaturisation --json`: a three-axis machine scaled to cubic
+    parts of `sizes` mm (default 10 to 300), equal errors in um and urad (default 1 arcsec); per
+    size the sensitivities (mm), shares (%) and the allocation for a target of relative_accuracy
+    times the size (um)."""
 
 def thermal_fit(
     data: _Path,
@@ -445,6 +503,22 @@ def thermal_modes(
     """The document of `trueaxis thermal modes --json` for a model file: per mode (numbered from 1)
     tau_min, tau_s, weight, share, dominant; the dominant modes carry `share` of the weight.
     method: auto | dense | lanczos | lobpcg; progress(done, total) as the modes converge."""
+
+def thermal_place(
+    model: _Path,
+    *,
+    count: int = 20,
+    share: float = 0.9,
+    method: str = "modal",
+    sensors: Optional[int] = None,
+    reuse: float = 0.8,
+    score: bool = False,
+    expansion: float = 10.8,
+) -> results.ThermalPlacement:
+    """The document of `trueaxis thermal place --json`: sensors (node, position in m, modes served)
+    for the dominant modes (method modal | efi | exhaustive | gauss), the rank and condition number
+    of Phi_s; score: every method scored by the error (um) of its elongation model, expansion in
+    um/m/K."""
 
 def compensate(
     machine: Machine,

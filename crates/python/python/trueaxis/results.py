@@ -331,6 +331,21 @@ class BallbarSensitivity(Result):
     _tables = {"parameters": ("parameters", "name")}
 
 
+class DirectFit(Result):
+    """A parametric error function fitted to one error measured along its axis (Soons 1993 §3.2;
+    `trueaxis fit --json`): the functions kept by stepwise selection (table ``terms``: function,
+    coefficient, standard uncertainty), the residual statistics and the 95 % prediction band in
+    ``unit`` (um or urad); with both directions fitted, the fits ``plus`` and ``minus``."""
+
+    __slots__ = ()
+    _tables = {"terms": ("terms", "name")}
+
+    @property
+    def coefficients(self) -> np.ndarray:
+        """The coefficients of the functions kept (one direction), in ``unit`` per function value."""
+        return self.column("terms", "coefficient")
+
+
 class ThermalFit(Result):
     """A thermal error model fitted to a campaign (`trueaxis thermal fit --json`): the model and
     the residual statistics (um) of the training and of each validation part (table
@@ -365,6 +380,22 @@ class ThermalPrediction(Result):
     def predicted(self) -> np.ndarray:
         """Predicted error (um) of every row."""
         return self.column("samples", "predicted")
+
+
+class ThermalPlacement(Result):
+    """Temperature sensors placed for the dominant modes of a thermal model (Zhu 2008 §3.4;
+    `trueaxis thermal place --json`): the sensors (table ``sensors``: node, position in m, the
+    dominant modes each serves, numbered from 1), the rank and condition number of the sensor-mode
+    matrix; with ``score=True`` every method scored by the error of its elongation model (table
+    ``scores``, um)."""
+
+    __slots__ = ()
+    _tables = {"sensors": ("sensors", "name"), "scores": ("scores", "name")}
+
+    @property
+    def nodes(self) -> np.ndarray:
+        """The sensor nodes."""
+        return self.column("sensors", "node")
 
 
 class ThermalModes(Result):
@@ -458,3 +489,18 @@ class BudgetConfigurations(Result):
 
     __slots__ = ()
     _tables = {"ranking": ("ranking", "name"), "travel": ("travel", "name")}
+
+
+class BudgetMiniaturisation(Result):
+    """The miniaturisation case of the error budget (Zhu 2008 appendix B.2; `trueaxis budget
+    miniaturisation --json`): per part size (table ``sizes``, mm) the root-sum-square error (um),
+    part sensitivities and robustness indices (mm), the shares by axis and kind (%) and the
+    allocation for a constant relative accuracy (target in um)."""
+
+    __slots__ = ()
+    _tables = {"sizes": ("sizes", "name")}
+
+    @property
+    def size_mm(self) -> np.ndarray:
+        """The part sizes (mm)."""
+        return self.column("sizes", "size_mm")

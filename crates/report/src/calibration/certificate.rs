@@ -42,6 +42,7 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use trueaxis::evaluate::positioning_uncertainty::PositioningUncertaintyInputs;
 use trueaxis::io::Metadata;
+use trueaxis::Error;
 
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
@@ -212,17 +213,29 @@ impl CertificateFile {
         }
     }
 
-    /// Reads and checks `report.toml`; errors name the file.
-    pub fn load(path: &Path) -> Result<CertificateFile, String> {
-        let text = trueaxis::files::inputs::read_to_string(path).map_err(|e| format!("{}: cannot read: {e}", path.display()))?;
-        CertificateFile::from_toml_str(&text, &path.display().to_string())
+    /// Reads and checks `report.toml`; errors name the file (a file that cannot be read: bad input,
+    /// or the environment when the system says so).
+    pub fn load(path: &Path) -> Result<CertificateFile, Error> {
+        let origin = path.display().to_string();
+        let text = trueaxis::files::inputs::read_to_string(path).map_err(|e| Error::from(e).context("cannot read").in_file(&origin))?;
+        CertificateFile::from_toml_str(&text, &origin)
     }
 
-    pub fn from_toml_str(text: &str, origin: &str) -> Result<CertificateFile, String> {
-        trueaxis::io::toml_numbers::refuse_underflow(text).map_err(|m| format!("{origin}: {m}"))?;
-        let file: CertificateFile =
-            toml::from_str(text).map_err(|e| format!("{origin}: {}", e.to_string().trim_end().replace('\n', " ")))?;
-        let t = &file.tolerances;
+    /// Parses and checks the text of a `report.toml`; `origin` names it in every error.
+    pub fn from_toml_str(text: &str, origin: &str) -> Result<CertificateFile, Error> {
+        let parse = || -> Result<CertificateFile, Error> {
+            trueaxis::io::toml_numbers::refuse_underflow(text)?;
+            let file: CertificateFile = toml::from_str(text).map_err(|e| Error::input(e.to_string().trim_end().replace('\n', " ")))?;
+            file.check()?;
+            Ok(file)
+        };
+        parse().map_err(|e| e.in_file(origin))
+    }
+
+    /// The values a `report.toml` may hold: positive tolerances of known results, instrument
+    /// uncertainties and positioning terms within their ranges, temperatures as [lowest, highest].
+    fn check(&self) -> Result<(), Error> {
+        let t = &self.tolerances;
         let all = t
             .volumetric_um
             .iter()
@@ -232,27 +245,27 @@ impl CertificateFile {
             .chain(t.positioning.iter().map(|(k, v)| (format!("positioning.{k}"), *v)));
         for (name, v) in all {
             if !(v.is_finite() && v > 0.0) {
-                return Err(format!("{origin}: tolerances.{name} must be a positive number, got {v}"));
+                return Err(Error::input(format!("tolerances.{name} must be a positive number, got {v}")));
             }
         }
         if let Some(k) = t.positioning.keys().find(|k| !POSITIONING_RESULTS.contains(&k.as_str())) {
-            return Err(format!(
-                "{origin}: tolerances.positioning.{k}: not an ISO 230-2 result; give one of {}",
+            return Err(Error::input(format!(
+                "tolerances.positioning.{k}: not an ISO 230-2 result; give one of {}",
                 POSITIONING_RESULTS.join(", ")
-            ));
+            )));
         }
-        for i in &file.instruments {
+        for i in &self.instruments {
             for (name, v) in [
                 ("expanded_uncertainty_um", i.expanded_uncertainty_um),
                 ("expanded_uncertainty_um_per_m", i.expanded_uncertainty_um_per_m),
                 ("expanded_uncertainty_k", i.expanded_uncertainty_k),
             ] {
                 if let Some(u) = v.filter(|u| !(u.is_finite() && *u >= 0.0 && *u < 1e3)) {
-                    return Err(format!("{origin}: instrument `{}`: {name} must be a number from 0 to 1000, got {u}", i.name));
+                    return Err(Error::input(format!("instrument `{}`: {name} must be a number from 0 to 1000, got {u}", i.name)));
                 }
             }
         }
-        let p = &file.positioning;
+        let p = &self.positioning;
         for (name, v, hi) in [
             ("expansion_uncertainty_percent", p.expansion_uncertainty_percent, 100.0),
             ("expansion_um_per_m_k", p.expansion_um_per_m_k, 100.0),
@@ -260,20 +273,20 @@ impl CertificateFile {
             ("eve_um", p.eve_um, 1e3),
         ] {
             if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0 && *v <= hi)) {
-                return Err(format!("{origin}: positioning.{name} must be a number from 0 to {hi}, got {v}"));
+                return Err(Error::input(format!("positioning.{name} must be a number from 0 to {hi}, got {v}")));
             }
         }
         for (name, range) in [
-            ("air_temperature_degc", file.environment.air_temperature_degc),
-            ("machine_temperature_degc", file.environment.machine_temperature_degc),
+            ("air_temperature_degc", self.environment.air_temperature_degc),
+            ("machine_temperature_degc", self.environment.machine_temperature_degc),
         ] {
             if let Some([lo, hi]) = range {
                 if !(lo.is_finite() && hi.is_finite() && lo <= hi && (-40.0..=80.0).contains(&lo) && (-40.0..=80.0).contains(&hi)) {
-                    return Err(format!("{origin}: environment.{name} must be [lowest, highest] in degC, got [{lo}, {hi}]"));
+                    return Err(Error::input(format!("environment.{name} must be [lowest, highest] in degC, got [{lo}, {hi}]")));
                 }
             }
         }
-        Ok(file)
+        Ok(())
     }
 }
 
@@ -484,11 +497,11 @@ mod tests {
         assert_eq!(f.decision.rule, DecisionRule::GuardBand);
         assert_eq!(f.tolerances.ballbar["G"], 15.0);
         assert_eq!(f.instruments[0].serial.as_deref(), Some("B1"));
-        let bad = CertificateFile::from_toml_str("[tolerances]\nvolumetric_um = -3\n", "r.toml").unwrap_err();
+        let bad = CertificateFile::from_toml_str("[tolerances]\nvolumetric_um = -3\n", "r.toml").unwrap_err().to_string();
         assert!(bad.contains("r.toml") && bad.contains("volumetric_um"), "{bad}");
-        let unknown = CertificateFile::from_toml_str("[certificate]\nnumbr = \"x\"\n", "r.toml").unwrap_err();
+        let unknown = CertificateFile::from_toml_str("[certificate]\nnumbr = \"x\"\n", "r.toml").unwrap_err().to_string();
         assert!(unknown.contains("r.toml") && unknown.contains("numbr"), "{unknown}");
-        let rule = CertificateFile::from_toml_str("[decision]\nrule = \"strict\"\n", "r.toml").unwrap_err();
+        let rule = CertificateFile::from_toml_str("[decision]\nrule = \"strict\"\n", "r.toml").unwrap_err().to_string();
         assert!(rule.contains("strict"), "{rule}");
     }
 }

@@ -6,6 +6,7 @@
 //! machine is the report's; file names are relative to report.toml.
 
 use std::path::Path;
+use trueaxis::Error;
 
 /// Options a `[[fit]]` table may not set: the report gives the machine, and writes nothing else.
 const REFUSED: [&str; 4] = ["machine", "json", "errors_out", "plot"];
@@ -32,12 +33,12 @@ fn joined(folder: &Path, name: &str) -> String {
 /// The `trueaxis fit` arguments of one table (`--knot-spacing 100` for `knot_spacing = 100`; true
 /// for a flag; a list of texts as a repeated option, a list of numbers joined by commas), file
 /// names joined to `folder`.
-pub fn fit_arguments(table: &toml::Table, folder: &Path) -> Result<Vec<String>, String> {
+pub fn fit_arguments(table: &toml::Table, folder: &Path) -> Result<Vec<String>, Error> {
     let mut argv = Vec::new();
     for (key, value) in table {
         let key = key.replace('-', "_");
         if REFUSED.contains(&key.as_str()) {
-            return Err(format!("`{key}` is not an option of a reported fit (the report gives the machine and writes the results)"));
+            trueaxis::bail!(input, "`{key}` is not an option of a reported fit (the report gives the machine and writes the results)");
         }
         let option = format!("--{}", key.replace('_', "-"));
         let scalar = |v: &toml::Value| match v {
@@ -58,10 +59,10 @@ pub fn fit_arguments(table: &toml::Table, folder: &Path) -> Result<Vec<String>, 
             toml::Value::Array(items) => {
                 let numbers: Option<Vec<String>> =
                     items.iter().all(|v| v.is_integer() || v.is_float()).then(|| items.iter().filter_map(scalar).collect());
-                let numbers = numbers.ok_or_else(|| format!("`{key}`: a list of numbers or of texts"))?;
+                let numbers = numbers.ok_or_else(|| Error::input(format!("`{key}`: a list of numbers or of texts")))?;
                 argv.extend([option, numbers.join(",")]);
             }
-            other => argv.extend([option, scalar(other).ok_or_else(|| format!("`{key}`: a number, a text or true"))?]),
+            other => argv.extend([option, scalar(other).ok_or_else(|| Error::input(format!("`{key}`: a number, a text or true")))?]),
         }
     }
     Ok(argv)

@@ -83,19 +83,10 @@ impl Traceability {
 }
 
 /// `YYYY-MM-DD hh:mm UTC` of a Unix time (s): the proleptic Gregorian calendar from the day count
-/// (H. Hinnant, "chrono-compatible low-level date algorithms", `civil_from_days`).
+/// (`trueaxis::io::calendar`).
 pub fn utc_date_time(unix_seconds: i64) -> String {
-    let days = unix_seconds.div_euclid(86_400);
     let second_of_day = unix_seconds.rem_euclid(86_400);
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let day_of_era = z - era * 146_097;
-    let year_of_era = (day_of_era - day_of_era / 1460 + day_of_era / 36_524 - day_of_era / 146_096) / 365;
-    let day_of_year = day_of_era - (365 * year_of_era + year_of_era / 4 - year_of_era / 100);
-    let mp = (5 * day_of_year + 2) / 153;
-    let day = day_of_year - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = year_of_era + era * 400 + i64::from(month <= 2);
+    let (year, month, day) = trueaxis::io::calendar::civil_from_days(unix_seconds.div_euclid(86_400));
     format!("{year:04}-{month:02}-{day:02} {:02}:{:02} UTC", second_of_day / 3600, second_of_day % 3600 / 60)
 }
 

@@ -143,17 +143,8 @@ impl RotaryBallbarPart {
         let left: Vec<f64> = s.residual.iter().map(|v| v * 1e3).collect();
         let (u1, u2) = plane_labels(&s.geometry);
         let lines = [format!("after removing the identified errors: RMS {}, band {}", um(s.rms_um), um(s.band_um))];
-        Ok(polar_svg(&PolarPlot {
-            title: &format!("Step {} of Jiang (2014): {}", s.step.name(), file_name(&s.path)),
-            axes: (&u1, &u2),
-            series: vec![
-                PolarSeries { label: "measured".into(), angles: &s.angles, dl_um: &raw },
-                PolarSeries { label: "identified errors removed".into(), angles: &s.angles, dl_um: &left },
-            ],
-            um_per_division: None,
-            lines: &lines,
-            conditions: &[],
-        })?)
+        let title = format!("Step {} of Jiang (2014): {}", s.step.name(), file_name(&s.path));
+        before_and_after(&title, (&u1, &u2), &s.angles, &raw, ("identified errors removed", &left), &lines)
     }
 
     pub fn section(&self) -> Section {
@@ -204,4 +195,27 @@ fn plane_labels(g: &RotaryGeometry) -> (String, String) {
         format!("{}{}", if v[k] < 0.0 { '-' } else { '+' }, Component::from_index(k).letter())
     };
     (name(&g.u1), name(&g.u2))
+}
+
+/// The polar plot of a ballbar trace as measured and with what was identified removed (`removed`:
+/// its label and trace, um, at the same `angles`), the RMS and band left in `lines`.
+pub(super) fn before_and_after(
+    title: &str,
+    axes: (&str, &str),
+    angles: &[f64],
+    measured: &[f64],
+    removed: (&str, &[f64]),
+    lines: &[String],
+) -> Result<String, CalibrationError> {
+    Ok(polar_svg(&PolarPlot {
+        title,
+        axes,
+        series: vec![
+            PolarSeries { label: "measured".into(), angles, dl_um: measured },
+            PolarSeries { label: removed.0.into(), angles, dl_um: removed.1 },
+        ],
+        um_per_division: None,
+        lines,
+        conditions: &[],
+    })?)
 }

@@ -10,9 +10,8 @@
 use super::super::html::{Cell, Section};
 use super::conformity::{DecisionRule, Item};
 use super::quantity::{decimals_for, fixed};
-use super::rotary_ballbar::{file_name, identified_conformity, um, IdentifiedError};
+use super::rotary_ballbar::{before_and_after, file_name, identified_conformity, um, IdentifiedError};
 use super::CalibrationError;
-use crate::{polar_svg, PolarPlot, PolarSeries};
 use std::collections::BTreeMap;
 use std::path::Path;
 use trueaxis::identify::tmbb::{TmbbEstimate, TmbbSetup, UNIDENTIFIABLE};
@@ -67,17 +66,9 @@ impl TmbbPart {
 
     fn plot(&self, bar: &TmbbBar) -> Result<String, CalibrationError> {
         let lines = [format!("without the identified errors and the centring: RMS {}, band {}", um(bar.rms_um), um(bar.band_um))];
-        Ok(polar_svg(&PolarPlot {
-            title: &format!("Two-length test of Zhu (2008), {} mm bar: {}", bar.length_mm, file_name(&bar.path)),
-            axes: ("+X", "+Y"),
-            series: vec![
-                PolarSeries { label: "measured".into(), angles: &self.report.angles, dl_um: &bar.trace.dl_um },
-                PolarSeries { label: "identified errors and centring removed".into(), angles: &self.report.angles, dl_um: &bar.left_um },
-            ],
-            um_per_division: None,
-            lines: &lines,
-            conditions: &[],
-        })?)
+        let title = format!("Two-length test of Zhu (2008), {} mm bar: {}", bar.length_mm, file_name(&bar.path));
+        let removed = ("identified errors and centring removed", &bar.left_um[..]);
+        before_and_after(&title, ("+X", "+Y"), &self.report.angles, &bar.trace.dl_um, removed, &lines)
     }
 
     pub fn section(&self) -> Section {

@@ -10,16 +10,21 @@
 //! seeded genetic global stage, [`super::global`], then an interior-point local stage,
 //! [`super::barrier`], from its best point), and the result is checked by the KKT conditions solved
 //! afresh at the optimum. The constraints of all poses are handled by cutting planes: solve with the
-//! binding ones, add those still violated, repeat.
+//! binding ones, add those still violated, repeat. The steps: the constraints (`allocate/constraints.rs`), the
+//! local stage (`allocate/cutting_planes.rs`) and the optimality check (`allocate/kkt.rs`).
 
-use super::barrier::{solve, ConvexProblem};
+mod constraints;
+mod cutting_planes;
+mod kkt;
+
+use super::barrier::ConvexProblem;
 use super::global::{genetic, GeneticOptions};
 use super::sensitivity::Sensitivity;
 use super::spec::BudgetSpec;
-use super::stackup::worst_case;
 use crate::error::Error;
-use crate::geometry::Vec3;
-use nalgebra::{DMatrix, DVector};
+use constraints::Constraints;
+use cutting_planes::cutting_planes;
+use kkt::kkt_check;
 
 /// The stack-up the target applies to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -80,106 +85,46 @@ pub struct Allocation {
     pub cutting_rounds: usize,
 }
 
-/// One stack-up constraint: a pose and a direction (`None`: the 3D error).
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Key {
-    pose: usize,
-    direction: Option<usize>,
+/// Allocates tolerances to `spec`'s components for the sensitivity `s` (poses of the budget):
+/// the constraints of the components that move the tool point, the genetic global stage on the
+/// most demanding ones, the local stage with cutting planes, the KKT check.
+pub fn allocate(spec: &BudgetSpec, s: &Sensitivity, options: &AllocationOptions) -> Result<Allocation, Error> {
+    let poses = s.poses();
+    let allocated: Vec<bool> = (0..spec.components.len()).map(|j| (0..poses).any(|p| s.column(p, j).norm() > 1e-12)).collect();
+    let c = Constraints::new(spec, s, options, &allocated)?;
+    let lower = c.lower();
+    c.check_lower(&lower)?;
+    let (mut problem, mut row_keys) = c.starting_problem(&lower);
+    let (global_z, _) = genetic(&problem, &upper_bounds(&problem, &lower), &options.genetic);
+    let total = matches!(options.target, Target::Total(_));
+    let local = cutting_planes(&c, &mut problem, &mut row_keys, global_z, total)?;
+    let z = local.z;
+    let cost = problem.objective(&z);
+    let kkt = kkt_check(&c, &problem, &row_keys, &z, &lower)?;
+    let mut tolerances = spec.tolerances.clone();
+    for (i, &j) in c.free.iter().enumerate() {
+        tolerances[j] = z[i].powf(1.0 / c.power) * spec.components[j].scale();
+    }
+    Ok(Allocation {
+        tolerances,
+        allocated,
+        cost,
+        global_cost: local.global_cost.unwrap_or(cost).max(cost),
+        achieved: c.achieved(&z, total),
+        kkt_residual: kkt.kkt_residual,
+        smallest_multiplier: kkt.smallest_multiplier,
+        active: kkt.active,
+        at_lower: kkt.at_lower.iter().map(|&i| c.free[i]).collect(),
+        duality_gap: local.duality_gap,
+        newton_steps: local.newton_steps,
+        cutting_rounds: local.rounds,
+    })
 }
 
-/// Allocates tolerances to `spec`'s components for the sensitivity `s` (poses of the budget).
-pub fn allocate(spec: &BudgetSpec, s: &Sensitivity, options: &AllocationOptions) -> Result<Allocation, Error> {
-    let targets = match options.target {
-        Target::Total(v) => [v; 3],
-        Target::PerDirection(v) => v,
-    };
-    if targets.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-        return Err(Error::input(format!("target {targets:?} um: a target volumetric error must be positive")));
-    }
-    let n_all = spec.components.len();
-    let poses = s.poses();
-    let allocated: Vec<bool> = (0..n_all).map(|j| (0..poses).any(|p| s.column(p, j).norm() > 1e-12)).collect();
-    let free: Vec<usize> = (0..n_all).filter(|&j| allocated[j]).collect();
-    if free.is_empty() {
-        return Err(Error::input("no component of the budget moves the tool point at these poses"));
-    }
-    let n = free.len();
-    // homogenised gains (um per um/m or urad) of the free components, per pose
-    let gain = |p: usize, j: usize| -> Vec3 { s.column(p, free[j]) * spec.components[free[j]].scale() };
-    let power = match options.stack {
-        Stack::Rss => 2.0,
-        Stack::WorstCase => 1.0,
-    };
-    let row_of = |key: Key, z: &[f64]| -> Vec<f64> {
-        let p = key.pose;
-        match (options.stack, key.direction) {
-            (Stack::Rss, Some(d)) => (0..n).map(|j| gain(p, j)[d].powi(2) / targets[d].powi(2)).collect(),
-            (Stack::Rss, None) => (0..n).map(|j| gain(p, j).norm_squared() / targets[0].powi(2)).collect(),
-            (Stack::WorstCase, Some(d)) => (0..n).map(|j| gain(p, j)[d].abs() / targets[d]).collect(),
-            (Stack::WorstCase, None) => {
-                // the supporting half-space at the farthest vertex of the zonotope at z
-                let generators: Vec<Vec3> = (0..n).map(|j| gain(p, j) * z[j]).collect();
-                let (_, signs) = worst_case(&generators);
-                let vertex: Vec3 = generators.iter().zip(&signs).map(|(g, s)| g * *s).sum();
-                let u = if vertex.norm() > 0.0 { vertex.normalize() } else { Vec3::x() };
-                (0..n).map(|j| u.dot(&gain(p, j)).abs() / targets[0]).collect()
-            }
-        }
-    };
-    // value of a constraint (1 = on the target) at z
-    let value_of = |key: Key, z: &[f64]| -> f64 {
-        match (options.stack, key.direction) {
-            (Stack::WorstCase, None) => {
-                let generators: Vec<Vec3> = (0..n).map(|j| gain(key.pose, j) * z[j]).collect();
-                worst_case(&generators).0 / targets[0]
-            }
-            _ => row_of(key, z).iter().zip(z).map(|(c, z)| c * z).sum(),
-        }
-    };
-    let directions: Vec<Option<usize>> = match options.target {
-        Target::Total(_) => vec![None],
-        Target::PerDirection(_) => vec![Some(0), Some(1), Some(2)],
-    };
-    let keys: Vec<Key> = (0..poses).flat_map(|pose| directions.iter().map(move |&direction| Key { pose, direction })).collect();
-
-    let terms: Vec<_> = free.iter().map(|&j| spec.cost.terms[j]).collect();
-    let lower: Vec<f64> = free.iter().map(|&j| (spec.cost.terms[j].lower / spec.components[j].scale()).powf(power)).collect();
-    for &key in &keys {
-        let v = value_of(key, &lower);
-        if v >= 1.0 {
-            let target = targets[key.direction.unwrap_or(0)];
-            return Err(Error::computation(format!(
-                "the lower limits alone give {:.4} um {} at pose {}, not less than the target {target} um: raise the target or lower the limits",
-                v.powf(1.0 / power) * target,
-                direction_text(key.direction),
-                key.pose + 1
-            )));
-        }
-    }
-    let mut problem = ConvexProblem {
-        a: terms.iter().map(|t| t.a).collect(),
-        beta: terms.iter().map(|t| t.k / power).collect(),
-        lower: lower.clone(),
-        rows: Vec::new(),
-    };
-    // start with the most demanding constraint of each direction at the upper corner
-    let probe: Vec<f64> = vec![1.0; n];
-    let mut working: Vec<Key> = Vec::new();
-    // the constraint of each row of `problem`
-    let mut row_keys: Vec<Key> = Vec::new();
-    for &d in &directions {
-        let best = keys
-            .iter()
-            .filter(|k| k.direction == d)
-            .max_by(|a, b| value_of(**a, &probe).total_cmp(&value_of(**b, &probe)))
-            .copied()
-            .expect("poses exist");
-        working.push(best);
-        row_keys.push(best);
-        problem.rows.push(row_of(best, &probe));
-    }
-    // the global stage on the starting constraints; each z_j searched up to its value alone on them
-    let upper: Vec<f64> = (0..n)
+/// The box of the global stage: each variable up to its value alone on the starting constraints
+/// (a million times its lower limit, at least 1, where no constraint bounds it).
+fn upper_bounds(problem: &ConvexProblem, lower: &[f64]) -> Vec<f64> {
+    (0..lower.len())
         .map(|j| {
             let limit = problem.rows.iter().filter(|c| c[j] > 0.0).map(|c| 1.0 / c[j]).fold(f64::INFINITY, f64::min);
             if limit.is_finite() {
@@ -188,130 +133,5 @@ pub fn allocate(spec: &BudgetSpec, s: &Sensitivity, options: &AllocationOptions)
                 lower[j].max(1.0) * 1e6
             }
         })
-        .collect();
-    let (global_z, _) = genetic(&problem, &upper, &options.genetic);
-    let mut z = global_z.clone();
-    let mut global_cost = None;
-    let mut rounds = 0;
-    let mut steps = 0;
-    let mut gap;
-    loop {
-        rounds += 1;
-        let start = problem.interior(&z).ok_or_else(|| Error::computation("no strictly feasible start for the local stage"))?;
-        if global_cost.is_none() {
-            global_cost = Some(problem.objective(&start));
-        }
-        let result = solve(&problem, &start, 1e-11)?;
-        z = result.z;
-        steps += result.newton_steps;
-        gap = result.duality_gap;
-        let mut violated: Vec<(f64, Key)> =
-            keys.iter().map(|&k| (value_of(k, &z), k)).filter(|(v, k)| *v > 1.0 + 1e-9 && !working.contains(k)).collect();
-        // a cutting plane of the 3D worst case is refreshed at the new point even for a known pose
-        if options.stack == Stack::WorstCase && options.target == Target::Total(targets[0]) {
-            violated = keys.iter().map(|&k| (value_of(k, &z), k)).filter(|(v, _)| *v > 1.0 + 1e-9).collect();
-        }
-        if violated.is_empty() {
-            break;
-        }
-        if rounds > 200 {
-            return Err(Error::computation("the cutting-plane loop of the allocation did not converge in 200 rounds"));
-        }
-        violated.sort_by(|a, b| b.0.total_cmp(&a.0));
-        for &(_, key) in violated.iter().take(20) {
-            if !working.contains(&key) {
-                working.push(key);
-            }
-            row_keys.push(key);
-            problem.rows.push(row_of(key, &z));
-        }
-    }
-    let cost = problem.objective(&z);
-
-    // KKT conditions solved afresh: constraints within 1e-6 of their bound are active
-    let grad = problem.gradient(&z);
-    let active_rows: Vec<usize> = (0..problem.rows.len()).filter(|&r| dot(&problem.rows[r], &z) >= 1.0 - 1e-6).collect();
-    let at_lower: Vec<usize> = (0..n).filter(|&j| z[j] - lower[j] <= 1e-6 * z[j]).collect();
-    let unknowns = active_rows.len() + at_lower.len();
-    let mut m = DMatrix::zeros(n, unknowns);
-    for (col, &r) in active_rows.iter().enumerate() {
-        for j in 0..n {
-            m[(j, col)] = problem.rows[r][j];
-        }
-    }
-    for (col, &j) in at_lower.iter().enumerate() {
-        m[(j, active_rows.len() + col)] = -1.0;
-    }
-    let rhs = -DVector::from_vec(grad.clone());
-    let multipliers = if unknowns > 0 {
-        m.clone().svd(true, true).solve(&rhs, 1e-12).map_err(|e| Error::computation(format!("KKT solve: {e}")))?
-    } else {
-        DVector::zeros(0)
-    };
-    let residual = if unknowns > 0 { (&m * &multipliers - &rhs).norm() } else { rhs.norm() };
-    let kkt_residual = residual / rhs.norm().max(f64::MIN_POSITIVE);
-    let smallest_multiplier = multipliers.iter().copied().fold(f64::INFINITY, f64::min);
-    let mut active: Vec<ActiveConstraint> = Vec::new();
-    for (col, &r) in active_rows.iter().enumerate() {
-        let key = row_keys[r];
-        let target = targets[key.direction.unwrap_or(0)];
-        let multiplier = multipliers[col];
-        match active.iter_mut().find(|a| a.pose == key.pose && a.direction == key.direction) {
-            Some(a) => {
-                a.multiplier += multiplier;
-                a.marginal_cost_per_um -= multiplier * power / target;
-            }
-            None => active.push(ActiveConstraint {
-                pose: key.pose,
-                direction: key.direction,
-                multiplier,
-                marginal_cost_per_um: -multiplier * power / target,
-            }),
-        }
-    }
-    active.sort_by(|a, b| b.multiplier.total_cmp(&a.multiplier));
-
-    let mut tolerances = spec.tolerances.clone();
-    for (i, &j) in free.iter().enumerate() {
-        tolerances[j] = z[i].powf(1.0 / power) * spec.components[j].scale();
-    }
-    let mut achieved = [0.0; 3];
-    for &key in &keys {
-        let d = key.direction.unwrap_or(0);
-        achieved[d] = f64::max(achieved[d], value_of(key, &z).powf(1.0 / power) * targets[d]);
-    }
-    if key_is_total(options.target) {
-        achieved = [achieved[0]; 3];
-    }
-    Ok(Allocation {
-        tolerances,
-        allocated,
-        cost,
-        global_cost: global_cost.unwrap_or(cost).max(cost),
-        achieved,
-        kkt_residual,
-        smallest_multiplier,
-        active,
-        at_lower: at_lower.iter().map(|&i| free[i]).collect(),
-        duality_gap: gap,
-        newton_steps: steps,
-        cutting_rounds: rounds,
-    })
-}
-
-fn key_is_total(target: Target) -> bool {
-    matches!(target, Target::Total(_))
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-fn direction_text(d: Option<usize>) -> &'static str {
-    match d {
-        Some(0) => "along x",
-        Some(1) => "along y",
-        Some(2) => "along z",
-        _ => "(3D)",
-    }
+        .collect()
 }

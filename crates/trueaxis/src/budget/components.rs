@@ -124,16 +124,14 @@ pub fn default_components(machine: &Machine) -> Vec<ParameterId> {
 /// Binds parameter ids to a machine: index, kind, axis and homogenisation length (`lengths_mm`, one
 /// per axis in canonical order). Setup errors (`TX`, `WZ`) are not components of a machine and are
 /// refused, as are repeated names.
-pub fn bind(machine: &Machine, ids: &[ParameterId], lengths_mm: &[f64]) -> Result<Vec<BudgetComponent>, String> {
+pub fn bind(machine: &Machine, ids: &[ParameterId], lengths_mm: &[f64]) -> crate::error::Result<Vec<BudgetComponent>> {
     let mut out: Vec<BudgetComponent> = Vec::with_capacity(ids.len());
     for id in ids {
         let index = machine.parameter_index(id)?;
         let Some(letter) = id.axis() else {
-            return Err(format!("{id} is a setup error, not a component of the machine; list motion, squareness and location errors"));
+            crate::bail!(input, "{id} is a setup error, not a component of the machine; list motion, squareness and location errors");
         };
-        if out.iter().any(|c| c.index == index) {
-            return Err(format!("{id} is listed twice"));
-        }
+        crate::ensure!(out.iter().all(|c| c.index != index), input, "{id} is listed twice");
         let k = machine.axis_index(letter).expect("parameter_index checked the axis");
         let kind = ErrorKind::of(id);
         let length_mm = if kind == ErrorKind::Linear { lengths_mm[k] } else { 1000.0 };

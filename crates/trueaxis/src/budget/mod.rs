@@ -13,7 +13,8 @@
 //!   local stage on the convex form of the problem, with a KKT check.
 //! - [`configurations`], [`form_shaping`], [`travel`], [`ranking`]: the five-axis configurations of
 //!   appendix C, their ideal form-shaping functions (Table C.1), required travel (Table C.2) and their
-//!   budgets; [`miniaturisation`]: the three-axis case of appendix B.2 (parts 10 to 300 mm);
+//!   budgets; [`miniaturisation`]: the three-axis case of appendix B.2 (parts 10 to 300 mm), run over
+//!   every size with its document by [`miniaturisation_study`];
 //!   [`configuration_study`]: the whole study of `trueaxis budget configurations`.
 //! - [`problem`]: a budget problem (machine, budget, points, frame, pose sets) as the command line
 //!   and the Python package state it; [`documents`]: its JSON documents and CSV tables.
@@ -33,6 +34,7 @@ pub mod form_shaping;
 pub mod global;
 pub mod measures;
 pub mod miniaturisation;
+pub mod miniaturisation_study;
 pub mod poses;
 pub mod problem;
 pub mod ranking;

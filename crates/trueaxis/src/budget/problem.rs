@@ -94,7 +94,7 @@ pub fn pose_sets(machine: &Machine, setup: &Setup, source: &PoseSource<'_>, rota
                 return Err(Error::input(format!("{}: no poses", path.display())));
             }
             for (i, pose) in table.user.chunks(machine.axis_count()).enumerate() {
-                machine.check_range(pose).map_err(|m| Error::input(format!("{}: line {}: {m}", path.display(), table.lines[i])))?;
+                machine.check_range(pose).map_err(|e| e.in_file(path.display().to_string()).at_line(table.lines[i] as usize))?;
             }
             Ok(vec![set(path.display().to_string(), None, table.user)])
         }
@@ -115,7 +115,7 @@ pub fn pose_sets(machine: &Machine, setup: &Setup, source: &PoseSource<'_>, rota
                 )));
             }
             for (i, pose) in user.chunks(n).enumerate() {
-                machine.check_range(pose).map_err(|m| Error::input(format!("{label}: pose {}: {m}", i + 1)))?;
+                machine.check_range(pose).map_err(|e| e.context(format!("{label}: pose {}", i + 1)))?;
             }
             Ok(vec![set(label.to_string(), None, user.to_vec())])
         }
@@ -142,6 +142,23 @@ impl BudgetProblem {
             out.push(a);
         }
         Ok(out)
+    }
+
+    /// The root-sum-square 3D error (um) at each of `poses_user` (mm, deg; `machine.axis_count()`
+    /// per pose) with every rotary axis where the first pose set has it: the map of `trueaxis
+    /// budget analyse --plots` over the mid-planes of the travel.
+    pub fn rss_at(&self, poses_user: &[f64]) -> Result<Vec<f64>, Error> {
+        let n = self.machine.axis_count();
+        let mut poses = poses_user.to_vec();
+        if let Some(base) = self.sets.first().and_then(|set| set.user.get(..n)) {
+            for (k, axis) in self.machine.axes().iter().enumerate() {
+                if axis.kind == AxisKind::Rotary {
+                    poses.chunks_mut(n).for_each(|pose| pose[k] = base[k]);
+                }
+            }
+        }
+        let a = analyse(&self.machine, &self.spec, &to_internal(&self.machine, &poses), &self.setup, self.frame)?;
+        Ok(a.poses.iter().map(|p| p.stack.rss_total).collect())
     }
 
     /// The cost-optimal allocation on the (single) pose set, with the sensitivity it used.

@@ -103,10 +103,10 @@ impl BudgetSpec {
     /// Parses a budget file; every error names `origin` and the key at fault.
     pub fn from_toml_str(text: &str, origin: &str, machine: &Machine, defaults: KindValues) -> Result<BudgetSpec, Error> {
         let fail = |message: String| Error::input(format!("{origin}: {message}"));
-        crate::io::toml_numbers::refuse_underflow(text).map_err(fail)?;
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|e| e.in_file(origin))?;
         let file: SpecFile = toml::from_str(text).map_err(|e| fail(crate::machine::one_line(&e.to_string())))?;
         let parse = |name: &str, key: &str| -> Result<ParameterId, Error> {
-            machine.parse_parameter(name).map(|(id, _)| id).map_err(|m| fail(format!("{key}: {m}")))
+            machine.parse_parameter(name).map(|(id, _)| id).map_err(|e| e.context(key).in_file(origin))
         };
         let mut ids = match &file.components {
             Some(names) => names.iter().map(|n| parse(n, "components")).collect::<Result<Vec<_>, _>>()?,
@@ -133,7 +133,7 @@ impl BudgetSpec {
             }
             lengths[k] = *value;
         }
-        let components = bind(machine, &ids, &lengths).map_err(&fail)?;
+        let components = bind(machine, &ids, &lengths).map_err(|e| e.in_file(origin))?;
 
         let mut by_kind = defaults;
         let mut named = BTreeMap::new();

@@ -86,7 +86,7 @@ fn error_function(p: &EtalonParameter, id: ParameterId, warnings: &mut Vec<Strin
             }
             let positions = sorted.iter().map(|x| x.0).collect();
             let values = sorted.iter().map(|x| scale(x.1)).collect();
-            ErrorFunction::table(positions, values, None).map_err(|e| Error::input(format!("[{}]: {e}", p.name)))
+            ErrorFunction::table(positions, values, None).map_err(|e| e.context(format!("[{}]", p.name)))
         }
         (EtalonValue::Table(_), _) => {
             Err(Error::input(format!("[{}] ({id}) is a position error, a constant: give it as `VALUE =`", p.name)))
@@ -113,7 +113,7 @@ pub fn parameter_id(name: &str) -> crate::error::Result<Option<ParameterId>> {
         return Ok(None);
     }
     let iso = if upper.len() == 3 && upper.as_bytes()[1] == b'0' { format!("E{upper}") } else { upper };
-    ParameterId::parse(&iso).map(Some).map_err(crate::Error::input)
+    ParameterId::parse(&iso).map(Some)
 }
 
 #[cfg(test)]

@@ -118,7 +118,8 @@ struct PolynomialFile {
 
 /// Parses an error-values TOML for `machine`; `origin` names the file in every message.
 pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, ErrorModelError> {
-    crate::io::toml_numbers::refuse_underflow(text).map_err(|message| ErrorModelError::Syntax { origin: origin.into(), message })?;
+    crate::io::toml_numbers::refuse_underflow(text)
+        .map_err(|e| ErrorModelError::Syntax { origin: origin.into(), message: e.to_string() })?;
     let file: ErrorValuesFile =
         toml::from_str(text).map_err(|e| ErrorModelError::Syntax { origin: origin.into(), message: one_line(&e.to_string()) })?;
     let mut model = ErrorModel::zero(machine);
@@ -133,11 +134,11 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
             Some('-') => (&name.trim()[..name.trim().len() - 1], Some(Direction::Negative)),
             _ => (name, None),
         };
-        Ok((ParameterId::parse(stem).map_err(|m| invalid(section, name, m))?, direction))
+        Ok((ParameterId::parse(stem).map_err(|m| invalid(section, name, m.to_string()))?, direction))
     };
     for (name, &u) in &file.uncertainty {
-        let id = ParameterId::parse(name).map_err(|m| invalid("uncertainty", name, m))?;
-        machine.parameter_index(&id).map_err(|m| invalid("uncertainty", name, m))?;
+        let id = ParameterId::parse(name).map_err(|m| invalid("uncertainty", name, m.to_string()))?;
+        machine.parameter_index(&id).map_err(|m| invalid("uncertainty", name, m.to_string()))?;
         model.set_uncertainty(id, u).map_err(|m| invalid("uncertainty", name, m.to_string()))?;
     }
     let mut set = |section: &str, name: &str, f: crate::error::Result<ErrorFunction>| -> Result<(), ErrorModelError> {
@@ -158,7 +159,7 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
             let line = line_of_key(text, name).map_or(String::new(), |l| format!("line {l}: "));
             return Err(invalid(&section, name, format!("{line}position, entry {}: {m}", i + 1)));
         }
-        set(&section, name, ErrorFunction::table(t.position.clone(), t.value.clone(), None).map_err(Error::input))?;
+        set(&section, name, ErrorFunction::table(t.position.clone(), t.value.clone(), None))?;
     }
     for (name, p) in &file.polynomial {
         set(&format!("polynomial.{name}"), name, ErrorFunction::polynomial(p.coefficients.clone()))?;
@@ -197,9 +198,9 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
     }
     for (name, l) in &file.load {
         let section = format!("load.{name}");
-        let id = ParameterId::parse(name).map_err(|m| invalid(&section, name, m))?;
+        let id = ParameterId::parse(name).map_err(|m| invalid(&section, name, m.to_string()))?;
         let function = match (&l.position, &l.value, &l.coefficients, l.constant) {
-            (Some(p), Some(v), None, None) => ErrorFunction::table(p.clone(), v.clone(), None).map_err(Error::input),
+            (Some(p), Some(v), None, None) => ErrorFunction::table(p.clone(), v.clone(), None),
             (None, None, Some(c), None) => ErrorFunction::polynomial(c.clone()),
             (None, None, None, Some(c)) if c.is_finite() => Ok(ErrorFunction::Constant(c)),
             _ => Err(Error::input(
@@ -217,7 +218,7 @@ pub fn parse(text: &str, origin: &str, machine: &Machine) -> Result<ErrorModel, 
     }
     for (name, entries) in &file.drift {
         let section = format!("drift.{name}");
-        let id = ParameterId::parse(name).map_err(|m| invalid(&section, name, m))?;
+        let id = ParameterId::parse(name).map_err(|m| invalid(&section, name, m.to_string()))?;
         for d in entries {
             let mut letters = d.axis.trim().chars();
             let axis = match (letters.next(), letters.next()) {

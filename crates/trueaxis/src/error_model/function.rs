@@ -23,18 +23,15 @@ pub enum ErrorFunction {
 impl ErrorFunction {
     /// Builds a table after checking it: equal lengths, at least two points, finite numbers,
     /// strictly increasing positions.
-    pub fn table(positions: Vec<f64>, values: Vec<f64>, period: Option<f64>) -> Result<ErrorFunction, String> {
-        if positions.len() != values.len() {
-            return Err(format!("`position` has {} entries but `value` has {}", positions.len(), values.len()));
-        }
-        if positions.len() < 2 {
-            return Err("a table needs at least two points".into());
-        }
+    pub fn table(positions: Vec<f64>, values: Vec<f64>, period: Option<f64>) -> Result<ErrorFunction> {
+        let n = positions.len();
+        crate::ensure!(n == values.len(), input, "`position` has {n} entries but `value` has {}", values.len());
+        crate::ensure!(n >= 2, input, "a table needs at least two points");
         if let Some(i) = positions.iter().chain(&values).position(|x| !x.is_finite()) {
-            return Err(format!("entry {} is not a finite number", i % positions.len() + 1));
+            crate::bail!(input, "entry {} is not a finite number", i % n + 1);
         }
         if let Some(i) = positions.windows(2).position(|w| w[1] <= w[0]) {
-            return Err(format!("`position` must increase strictly, but entry {} ({}) follows {}", i + 2, positions[i + 1], positions[i]));
+            crate::bail!(input, "`position` must increase strictly, but entry {} ({}) follows {}", i + 2, positions[i + 1], positions[i]);
         }
         Ok(ErrorFunction::Table { positions, values, period })
     }
@@ -135,8 +132,8 @@ mod tests {
 
     #[test]
     fn bad_tables_are_refused() {
-        assert!(ErrorFunction::table(vec![0.0, 1.0], vec![0.0], None).unwrap_err().contains("2 entries"));
-        assert!(ErrorFunction::table(vec![0.0, 0.0], vec![0.0, 1.0], None).unwrap_err().contains("increase"));
+        assert!(ErrorFunction::table(vec![0.0, 1.0], vec![0.0], None).unwrap_err().to_string().contains("2 entries"));
+        assert!(ErrorFunction::table(vec![0.0, 0.0], vec![0.0, 1.0], None).unwrap_err().to_string().contains("increase"));
         assert!(ErrorFunction::table(vec![0.0], vec![0.0], None).is_err());
         assert!(ErrorFunction::table(vec![0.0, f64::NAN], vec![0.0, 1.0], None).is_err());
         assert!(ErrorFunction::polynomial(vec![]).is_err());

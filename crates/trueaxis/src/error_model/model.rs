@@ -177,9 +177,8 @@ impl ErrorModel {
     }
 
     /// Sets the function of one parameter for both directions. See [`ErrorModel::set_directional`].
-    /// (The message as text: the writers of `compensate` that call it take text.)
-    pub fn set(&mut self, machine: &Machine, id: ParameterId, function: ErrorFunction) -> Result<(), String> {
-        self.set_directional(machine, id, None, function).map_err(|e| e.to_string())
+    pub fn set(&mut self, machine: &Machine, id: ParameterId, function: ErrorFunction) -> Result<()> {
+        self.set_directional(machine, id, None, function)
     }
 
     /// Sets the function of one parameter, for one direction of motion of its axis or for both.
@@ -192,7 +191,7 @@ impl ErrorModel {
         direction: Option<Direction>,
         function: ErrorFunction,
     ) -> Result<()> {
-        let index = machine.parameter_index(&id).map_err(Error::input)?;
+        let index = machine.parameter_index(&id)?;
         let motion = matches!(id, ParameterId::Motion { .. });
         if direction.is_some() && !motion {
             return Err(Error::input(format!("{id} is a constant (location or setup error); it has no direction of motion")));
@@ -269,7 +268,7 @@ impl ErrorModel {
         axes: &[(char, i32)],
         sensors: &[(&str, i32)],
     ) -> Result<()> {
-        let index = machine.parameter_index(&id).map_err(Error::input)?;
+        let index = machine.parameter_index(&id)?;
         if !coefficient.is_finite() {
             return Err(Error::input("`coefficient` must be a finite number"));
         }
@@ -319,7 +318,7 @@ impl ErrorModel {
         load: &str,
         lever: Option<(f64, &str)>,
     ) -> Result<()> {
-        let index = machine.parameter_index(&id).map_err(Error::input)?;
+        let index = machine.parameter_index(&id)?;
         let own_axis = self.own_axis(machine, &id);
         if own_axis.is_none() && !matches!(function, ErrorFunction::Constant(_)) {
             return Err(Error::input(format!(
@@ -362,7 +361,7 @@ impl ErrorModel {
         time_constants_s: &[f64],
         gains: &[Vec<f64>],
     ) -> Result<()> {
-        let index = machine.parameter_index(&id).map_err(Error::input)?;
+        let index = machine.parameter_index(&id)?;
         let axis = machine.axis_index(axis).ok_or_else(|| {
             Error::input(format!("`axis` {axis}: machine `{}` has no axis {axis} (axes: {})", machine.name, machine.axis_letters()))
         })?;
@@ -672,7 +671,7 @@ point = [0, 0, 0]
         model.values_at(&m, &[50.0, 450f64.to_radians()], &mut v);
         assert!((v[m.parameter_index(&exx).unwrap()] - 5e-3).abs() < 1e-15, "5 um in mm");
         assert!((v[m.parameter_index(&ecc).unwrap()] - 9e-6).abs() < 1e-12, "9 urad in rad");
-        assert!(model.set(&m, exx, ErrorFunction::Constant(1.0)).unwrap_err().contains("more than once"));
+        assert!(model.set(&m, exx, ErrorFunction::Constant(1.0)).unwrap_err().to_string().contains("more than once"));
     }
 
     #[test]
@@ -685,7 +684,7 @@ point = [0, 0, 0]
         assert!(model.check_directions().unwrap_err().to_string().contains("EXX+ is given without EXX-"));
         model.set_directional(&m, exx, Some(Direction::Negative), ErrorFunction::Constant(-0.4)).unwrap();
         model.check_directions().unwrap();
-        assert!(model.set(&m, exx, ErrorFunction::Constant(1.0)).unwrap_err().contains("both directions"));
+        assert!(model.set(&m, exx, ErrorFunction::Constant(1.0)).unwrap_err().to_string().contains("both directions"));
         let i = m.parameter_index(&exx).unwrap();
         let mut v = vec![0.0; m.parameter_count()];
         for (dir, want) in [(Some(Direction::Positive), 0.4e-3), (Some(Direction::Negative), -0.4e-3), (None, 0.0)] {

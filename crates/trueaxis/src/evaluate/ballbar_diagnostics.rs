@@ -219,7 +219,7 @@ impl Parameters {
     fn of(machine: &Machine, runs: &[CircularRun], plane: Plane) -> Result<Parameters, IdentifyError> {
         let (a, b, _) = plane.letters();
         let id =
-            |name: &str| -> Result<usize, IdentifyError> { machine.parse_parameter(name).map(|(_, i)| i).map_err(IdentifyError::Input) };
+            |name: &str| -> Result<usize, IdentifyError> { machine.parse_parameter(name).map(|(_, i)| i).map_err(IdentifyError::input) };
         let named = |name: String| id(&name).map(|i| (name, i));
         let own = [named(format!("E{a}{a}"))?, named(format!("E{b}{b}"))?];
         let cross = [named(format!("E{b}{a}"))?, named(format!("E{a}{b}"))?];

@@ -69,7 +69,7 @@ impl DirectModel {
     ) -> Result<Vec<f64>, IdentifyError> {
         let m = &self.machine;
         let axis = motion_error_axis(m, parameter).map_err(|e| IdentifyError::Input(e.to_string()))?;
-        let p = m.parameter_index(parameter).map_err(IdentifyError::Input)?;
+        let p = m.parameter_index(parameter).map_err(IdentifyError::input)?;
         let to_internal = parameter.component().to_internal();
         let mut values = vec![0.0; m.parameter_count()];
         let mut q = vec![0.0; m.axis_count()];
@@ -81,7 +81,7 @@ impl DirectModel {
             .zip(readings)
             .map(|(x, reading)| {
                 user[axis] = *x;
-                m.check_range(&user).map_err(IdentifyError::Input)?;
+                m.check_range(&user).map_err(IdentifyError::input)?;
                 m.pose_to_internal(&user, &mut q);
                 self.known.values_at_state(m, &q, &MachineState { directions: Some(&directions), temperatures: &[] }, &mut values);
                 let mut at = |v: f64| {

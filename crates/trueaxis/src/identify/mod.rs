@@ -7,6 +7,7 @@ mod candidates;
 mod cycle_drift;
 pub mod design_units;
 mod direct;
+pub mod direct_job;
 pub mod direct_screening;
 pub mod export;
 mod fit;
@@ -32,6 +33,7 @@ pub use candidates::{optimal_design_json, CampaignCandidates};
 pub use cycle_drift::{remove_cycle_drift, CycleDrift};
 pub use design_units::{criteria_units, CriteriaUnits};
 pub use direct::{run_direct_fit, DirectFitReport, DirectFitRequest, DirectModel};
+pub use direct_job::{run_direct_job, DirectFitJob, DirectFitRun, Given};
 pub use export::{error_values_text, identification_json};
 pub use fit::{
     alias_wavelength, dominant_period, fit_error_function, refine_wavelength, residual_period, sampling_step, FitOptions, FittedFunction,

@@ -75,7 +75,7 @@ impl Unknown {
             }
             None => (text.trim(), 0),
         };
-        let (id, index) = machine.parse_parameter(stem).map_err(Error::input)?;
+        let (id, index) = machine.parse_parameter(stem)?;
         let own_axis = match id {
             ParameterId::Motion { axis, .. } => machine.axis_index(axis),
             _ if power > 0 => {
@@ -98,7 +98,7 @@ impl Unknown {
     /// named `NAME#1 ...`; `basis_index` is the position of the [`BasisParameter`] in the campaign.
     /// Returns the unknowns and the parameter (with `first` = 0; the campaign sets it).
     pub fn basis(machine: &Machine, name: &str, basis: Basis, basis_index: usize) -> Result<(Vec<Unknown>, BasisParameter)> {
-        let (id, index) = machine.parse_parameter(name).map_err(Error::input)?;
+        let (id, index) = machine.parse_parameter(name)?;
         let ParameterId::Motion { axis, .. } = id else {
             return Err(Error::input(format!(
                 "{id} is a constant (location or setup error); only motion errors (EXX, EBC, ...) have a basis"

@@ -333,7 +333,7 @@ pub fn rotary_test(machine: &Machine, spec: &RotarySpec, angles_deg: &[f64], bas
     let mut q = vec![0.0; n_axes];
     for &a in angles_deg {
         user[k] = a;
-        machine.check_range(&user).map_err(BallbarError::Setup)?;
+        machine.check_range(&user).map_err(|e| BallbarError::Setup(e.to_string()))?;
         machine.pose_to_internal(&user, &mut q);
         poses.extend_from_slice(&q);
     }

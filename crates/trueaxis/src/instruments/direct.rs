@@ -96,7 +96,7 @@ pub enum DirectInstrument {
 /// and returns the axis index.
 pub fn motion_error_axis(machine: &Machine, parameter: &ParameterId) -> Result<usize, DirectError> {
     let ParameterId::Motion { axis, .. } = *parameter else { return Err(DirectError::NotMotion(*parameter)) };
-    machine.parameter_index(parameter).map_err(|message| DirectError::Machine { parameter: *parameter, message })?;
+    machine.parameter_index(parameter).map_err(|e| DirectError::Machine { parameter: *parameter, message: e.to_string() })?;
     Ok(machine.axis_index(axis).expect("checked by parameter_index"))
 }
 

@@ -6,6 +6,7 @@
 //! what is assumed: docs/user-guide.md, "Instrument files".
 
 pub mod ballbar;
+pub mod calendar;
 pub mod etalon;
 pub mod header;
 pub mod metadata;

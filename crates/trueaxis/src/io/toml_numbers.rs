@@ -76,15 +76,16 @@ fn skip_string(bytes: &[u8], at: usize) -> (usize, usize) {
     (i, lines)
 }
 
-/// Refuses a TOML text with a number that underflows to zero: `line N: ...`, for the reader to
-/// prefix with the file.
-pub fn refuse_underflow(text: &str) -> Result<(), String> {
+/// Refuses a TOML text with a number that underflows to zero: bad input at its line, for the
+/// reader to name the file (`Error::in_file`).
+pub fn refuse_underflow(text: &str) -> crate::error::Result<()> {
     match first_underflow(text) {
         None => Ok(()),
-        Some((line, word)) => Err(format!(
-            "line {line}: `{word}` is below the smallest number a double holds (about 4.9e-324) and would be read as 0; write 0, or the \
-             value in its unit"
-        )),
+        Some((line, word)) => Err(crate::Error::input(format!(
+            "`{word}` is below the smallest number a double holds (about 4.9e-324) and would be read as 0; write 0, or the value in \
+             its unit"
+        ))
+        .at_line(line)),
     }
 }
 
@@ -97,7 +98,7 @@ mod tests {
         let text = "name = \"1e-400 in a string\" # and 1e-500 in a comment\n[constant]\nEC0X = 0.0\nEB0C = 1e-300\n\
                     EA0C = '''\nmulti 1e-999\n'''\n[table.EXX]\nposition = [-1e2, 0, 1_0.5]\nvalue = [0, 2.5e-400, 0e-999]\n";
         assert_eq!(first_underflow(text), Some((10, "2.5e-400".to_string())));
-        assert!(refuse_underflow(text).unwrap_err().starts_with("line 10: `2.5e-400` is below"));
+        assert!(refuse_underflow(text).unwrap_err().to_string().starts_with("line 10: `2.5e-400` is below"));
         for fine in ["a = 0\nb = -0.0e-400\nc = 1979-05-27T07:32:00Z\nd = 0x10\ne = 4.9e-324\n", "EX0C = 1\nx1e-400 = 2\n"] {
             assert_eq!(first_underflow(fine), None, "{fine}");
         }

@@ -64,7 +64,8 @@ struct ToolFile {
 pub const DIRECTION_NORM_TOLERANCE: f64 = 1e-4;
 
 pub(super) fn parse(text: &str, origin: &str) -> Result<Machine, MachineError> {
-    crate::io::toml_numbers::refuse_underflow(text).map_err(|message| MachineError::Syntax { origin: origin.to_string(), message })?;
+    crate::io::toml_numbers::refuse_underflow(text)
+        .map_err(|e| MachineError::Syntax { origin: origin.to_string(), message: e.to_string() })?;
     let file: MachineFile =
         toml::from_str(text).map_err(|e| MachineError::Syntax { origin: origin.to_string(), message: one_line(&e.to_string()) })?;
     let invalid = |message: String| MachineError::Invalid { origin: origin.to_string(), message };

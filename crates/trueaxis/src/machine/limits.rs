@@ -18,7 +18,7 @@
 //! `io::ranges`) for a rotary one. A correction beyond them is not of a quasi-static error but of
 //! a wrong nominal geometry, or a value in mm read as um: a limit of `1e308` would let it through.
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 
 /// Default largest correction of a linear axis (um).
 pub const DEFAULT_CORRECTION_UM: f64 = 1000.0;
@@ -31,18 +31,16 @@ pub const MAX_CORRECTION_URAD: f64 = 10.0 * DEFAULT_CORRECTION_URAD;
 
 /// Checks a correction limit (`rotary`: urad, else um) named `name` in messages: a positive
 /// number at most [`MAX_CORRECTION_UM`] or [`MAX_CORRECTION_URAD`].
-pub fn check_limit_value(name: &str, value: f64, rotary: bool) -> Result<(), String> {
+pub fn check_limit_value(name: &str, value: f64, rotary: bool) -> Result<()> {
     let (max, unit) = if rotary { (MAX_CORRECTION_URAD, "urad") } else { (MAX_CORRECTION_UM, "um") };
     let shown = if (1e-3..1e6).contains(&value.abs()) { format!("{value}") } else { format!("{value:e}") };
-    if !(value.is_finite() && value > 0.0) {
-        return Err(format!("{name} = {shown} must be a positive number ({unit})"));
-    }
-    if value > max {
-        return Err(format!(
-            "{name} = {shown} {unit} is more than the {max} {unit} a correction limit may be (ten times the default: a larger \
-             correction is not of a machine's quasi-static errors but of a wrong geometry or unit)"
-        ));
-    }
+    crate::ensure!(value.is_finite() && value > 0.0, input, "{name} = {shown} must be a positive number ({unit})");
+    crate::ensure!(
+        value <= max,
+        input,
+        "{name} = {shown} {unit} is more than the {max} {unit} a correction limit may be (ten times the default: a larger \
+         correction is not of a machine's quasi-static errors but of a wrong geometry or unit)"
+    );
     Ok(())
 }
 
@@ -72,7 +70,7 @@ impl CorrectionLimits {
             [("[limits] correction_um", self.correction_um, false), ("[limits] correction_urad", self.correction_urad, true)]
         {
             if let Some(v) = v {
-                check_limit_value(name, v, rotary).map_err(Error::input)?;
+                check_limit_value(name, v, rotary)?;
             }
         }
         Ok(())

@@ -20,6 +20,7 @@ pub use limits::{
 pub use parameter::{is_axis_letter, is_rotary_letter, Component, ParameterId, SetupSide};
 pub use structure::Structure;
 
+use crate::error::{Error, Result};
 use crate::geometry::Vec3;
 
 /// Number of error components per axis block (motion or location).
@@ -119,10 +120,11 @@ impl Machine {
     }
 
     /// Position of a parameter in the parameter vector; an error names the unknown axis.
-    pub fn parameter_index(&self, id: &ParameterId) -> Result<usize, String> {
+    pub fn parameter_index(&self, id: &ParameterId) -> Result<usize> {
         let axis_of = |letter: char| {
             self.axis_index(letter).ok_or_else(|| {
-                format!("{id} refers to axis {letter}, which machine `{}` does not have (axes: {})", self.name, self.axis_letters())
+                let axes = self.axis_letters();
+                Error::input(format!("{id} refers to axis {letter}, which machine `{}` does not have (axes: {axes})", self.name))
             })
         };
         Ok(match *id {
@@ -133,7 +135,7 @@ impl Machine {
     }
 
     /// Parses an ISO name and checks it against this machine.
-    pub fn parse_parameter(&self, name: &str) -> Result<(ParameterId, usize), String> {
+    pub fn parse_parameter(&self, name: &str) -> Result<(ParameterId, usize)> {
         let id = ParameterId::parse(name)?;
         let index = self.parameter_index(&id)?;
         Ok((id, index))
@@ -168,16 +170,14 @@ impl Machine {
         }
     }
 
-    /// The first axis whose user-unit position lies outside its travel, as a message.
-    pub fn check_range(&self, user: &[f64]) -> Result<(), String> {
+    /// Refuses a pose (user units) with an axis outside its travel: the first such axis, as bad input.
+    pub fn check_range(&self, user: &[f64]) -> Result<()> {
         for (axis, &u) in self.axes.iter().zip(user) {
-            if !u.is_finite() {
-                return Err(format!("axis {} position is not a finite number", axis.letter));
-            }
+            crate::ensure!(u.is_finite(), input, "axis {} position is not a finite number", axis.letter);
             if !axis.in_range(u) {
                 let [lo, hi] = axis.range.expect("in_range is true without a range");
                 let unit = axis.position_unit();
-                return Err(format!("axis {} at {u} {unit} is outside its range [{lo}, {hi}] {unit}", axis.letter));
+                crate::bail!(input, "axis {} at {u} {unit} is outside its range [{lo}, {hi}] {unit}", axis.letter);
             }
         }
         Ok(())
@@ -200,7 +200,7 @@ mod tests {
             assert_eq!(m.parameter_index(&id).unwrap(), i, "{id}");
         }
         assert_eq!(m.parameter_id(m.location_index(4, Component::X)).to_string(), "EX0C");
-        assert!(m.parse_parameter("EX0B").unwrap_err().contains("axis B"));
+        assert!(m.parse_parameter("EX0B").unwrap_err().to_string().contains("axis B"));
     }
 
     #[test]

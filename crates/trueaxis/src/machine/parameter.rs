@@ -3,6 +3,8 @@
 
 use std::fmt;
 
+use crate::error::{Error, Result};
+
 /// One of the six components of a small displacement: translations along x, y, z and rotations
 /// about x, y, z (the `X Y Z A B C` of the ISO names). Translations first, unlike Soons 1993.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -117,10 +119,10 @@ impl ParameterId {
 
     /// Parses an ISO name; accepts lower case and the letter `O` for the zero of location errors
     /// (`EXOC`). Whether the axis exists is checked by [`crate::machine::Machine::parameter_index`].
-    pub fn parse(name: &str) -> Result<ParameterId, String> {
+    pub fn parse(name: &str) -> Result<ParameterId> {
         let upper = name.trim().to_ascii_uppercase();
         let chars: Vec<char> = upper.chars().collect();
-        let bad = |why: &str| Err(format!("`{name}` is not an ISO 230 parameter name: {why}"));
+        let bad = |why: &str| Err(Error::input(format!("`{name}` is not an ISO 230 parameter name: {why}")));
         match chars.as_slice() {
             [side @ ('T' | 'W'), c] => match Component::from_letter(*c) {
                 Some(component) if !component.is_rotation() => {
@@ -179,7 +181,7 @@ mod tests {
     #[test]
     fn malformed_names_are_rejected_with_a_reason() {
         for name in ["EQX", "TA", "E", "EXQ", "EX1C", "XX"] {
-            let err = ParameterId::parse(name).unwrap_err();
+            let err = ParameterId::parse(name).unwrap_err().to_string();
             assert!(err.contains(name), "{err}");
         }
     }

@@ -100,7 +100,7 @@ impl PoseColumns {
         for c in &self.axes {
             poses.user.push(c.value(row, line, self.decimal_comma, &self.origin)?);
         }
-        machine.check_range(&poses.user[start..]).map_err(invalid)?;
+        machine.check_range(&poses.user[start..]).map_err(|e| invalid(e.to_string()))?;
         if let Some(directions) = poses.directions.as_mut() {
             let first = directions.len();
             directions.resize(first + machine.axis_count(), None);

@@ -286,6 +286,6 @@ impl Beam {
 
 /// Reads a beam file's text.
 pub fn read_beam(text: &str, origin: &str) -> Result<BeamFile, Error> {
-    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|e| e.in_file(origin))?;
     toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", e.to_string().split_whitespace().collect::<Vec<_>>().join(" "))))
 }

@@ -34,7 +34,7 @@ impl ThermalErrorModel {
             kind: Option<String>,
         }
         let one_line = |e: &dyn std::fmt::Display| e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
-        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|e| e.in_file(origin))?;
         let kind: Kind =
             toml::from_str::<toml::Table>(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e)))).and_then(|t| {
                 toml::Value::Table(t).try_into().map_err(|e: toml::de::Error| Error::input(format!("{origin}: {}", one_line(&e))))

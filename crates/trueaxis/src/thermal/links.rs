@@ -172,7 +172,7 @@ pub fn link_terms(link: &ThermalLink, machine: &Machine) -> Result<Vec<ErrorTerm
         }
     }
     for t in &terms {
-        machine.parse_parameter(&t.parameter).map_err(&bad)?;
+        machine.parse_parameter(&t.parameter).map_err(|e| e.context(format!("link `{}`", link.name)))?;
     }
     Ok(terms)
 }
@@ -180,7 +180,7 @@ pub fn link_terms(link: &ThermalLink, machine: &Machine) -> Result<Vec<ErrorTerm
 /// Adds terms to an error model (the parameters must exist on `machine`).
 pub fn add_terms(model: &mut ErrorModel, machine: &Machine, terms: &[ErrorTerm]) -> Result<(), Error> {
     for t in terms {
-        let id = ParameterId::parse(&t.parameter).map_err(Error::input)?;
+        let id = ParameterId::parse(&t.parameter)?;
         let sensors: Vec<(&str, i32)> = t.sensors.iter().map(|(s, p)| (s.as_str(), *p)).collect();
         let direction = match t.direction {
             Some('+') => Some(Direction::Positive),
@@ -245,7 +245,7 @@ pub fn read_links(text: &str, origin: &str, dir: &std::path::Path) -> Result<Vec
         theta: Option<toml::Value>,
     }
     let one_line = |e: &dyn std::fmt::Display| e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
-    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|e| e.in_file(origin))?;
     let file: File = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e))))?;
     let mut links = Vec::new();
     for l in file.link {

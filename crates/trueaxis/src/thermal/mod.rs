@@ -25,6 +25,8 @@ pub mod model_file;
 pub mod modes_report;
 pub mod ordering;
 pub mod placement;
+pub mod placement_comparison;
+pub mod placement_job;
 pub mod placement_score;
 pub mod regression;
 pub mod response;

@@ -82,7 +82,7 @@ pub fn load_model(path: impl AsRef<Path>) -> Result<ThermalModel, Error> {
 
 /// Parses a thermal model; `origin` names it in messages, `dir` resolves relative matrix paths.
 pub fn parse_model(text: &str, origin: &str, dir: &Path) -> Result<ThermalModel, Error> {
-    crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+    crate::io::toml_numbers::refuse_underflow(text).map_err(|e| e.in_file(origin))?;
     let f: ModelFile = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e.to_string()))))?;
     let bad = |m: String| Error::input(format!("{origin}: {m}"));
     let need = |key: &str, v: Option<f64>| -> Result<f64, Error> {

@@ -93,7 +93,7 @@ impl RegressionModel {
             #[serde(flatten)]
             model: toml::Table,
         }
-        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|e| e.in_file(origin))?;
         let file: File = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e.to_string()))))?;
         if file.kind != "regression" {
             return Err(Error::input(format!("{origin}: kind `{}` is not a thermal error model (kind = \"regression\")", file.kind)));
@@ -138,9 +138,7 @@ pub fn fit_regression(
     intercept: bool,
     error: &[f64],
 ) -> Result<(RegressionModel, LinearFit), Error> {
-    check_series(sensors, temperatures, position, degree, error)?;
-    let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
-    let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
+    let (design, names) = checked_design(sensors, temperatures, position, degree, intercept, error)?;
     let fit = fit_linear(&design, error, None, &names).map_err(|e| fit_failure(error_name, e))?;
     let model = model_from_columns(error_name, sensors, position.map(|p| p.0), degree, intercept, &fit.coefficients, None);
     Ok((model, fit))
@@ -163,9 +161,7 @@ pub fn fit_regression_robust(
     error: &[f64],
     weighting: crate::screen::irls::Weighting,
 ) -> Result<(RegressionModel, LinearFit, crate::screen::irls::RobustWeights), Error> {
-    check_series(sensors, temperatures, position, degree, error)?;
-    let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
-    let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
+    let (design, names) = checked_design(sensors, temperatures, position, degree, intercept, error)?;
     let unweighted = fit_linear(&design, error, None, &names).map_err(|e| fit_failure(error_name, e))?;
     let (mut fit, weights) = crate::screen::irls::irls(weighting, &vec![1.0; error.len()], |extra| {
         let fit = fit_linear(&design, error, Some(extra), &names).map_err(|e| fit_failure(error_name, e))?;
@@ -196,9 +192,7 @@ pub fn fit_split(
     error: &[f64],
 ) -> Result<(RegressionModel, LinearFit), Error> {
     let degree = geometric_degree.max(thermal_degree);
-    check_series(sensors, temperatures, Some(position), degree, error)?;
-    let design = design_matrix(temperatures, Some(position.1), degree, true);
-    let names = column_names(sensors, Some(position.0), degree, true);
+    let (design, names) = checked_design(sensors, temperatures, Some(position), degree, true, error)?;
     let per = sensors.len() + 1;
     let kept: Vec<usize> =
         (0..design.ncols()).filter(|c| if c % per == 0 { c / per <= geometric_degree } else { c / per <= thermal_degree }).collect();
@@ -209,14 +203,16 @@ pub fn fit_split(
     Ok((model, fit))
 }
 
-/// Shapes of the inputs of a fit: at least one sensor, one value per sample in every series.
-fn check_series(
+/// The design matrix of a fit and the names of its columns, once the shapes of the inputs are
+/// checked: at least one sensor, one value per sample in every series.
+fn checked_design(
     sensors: &[String],
     temperatures: &[Vec<f64>],
     position: Option<(&str, &[f64])>,
     degree: usize,
+    intercept: bool,
     error: &[f64],
-) -> Result<(), Error> {
+) -> Result<(DMatrix<f64>, Vec<String>), Error> {
     if degree > 0 && position.is_none() {
         return Err(Error::input("a position-dependent model (degree >= 1) needs the position column"));
     }
@@ -230,7 +226,8 @@ fn check_series(
     if position.is_some_and(|p| p.1.len() != n) {
         return Err(Error::input(format!("the position column has a length other than the {n} error values")));
     }
-    Ok(())
+    let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
+    Ok((design, column_names(sensors, position.map(|p| p.0), degree, intercept)))
 }
 
 /// A rank-deficient design (a sensor constant or proportional to another) is a failed computation
@@ -337,9 +334,7 @@ pub fn fit_stepwise(
     error: &[f64],
     level: f64,
 ) -> Result<(RegressionModel, LinearFit, Vec<String>), Error> {
-    check_series(sensors, temperatures, position, degree, error)?;
-    let design = design_matrix(temperatures, position.map(|p| p.1), degree, intercept);
-    let names = column_names(sensors, position.map(|p| p.0), degree, intercept);
+    let (design, names) = checked_design(sensors, temperatures, position, degree, intercept, error)?;
     let per = sensors.len() + usize::from(intercept);
     let forced: Vec<usize> = if intercept { (0..=degree).map(|k| k * per).collect() } else { Vec::new() };
     let result = stepwise(&design, error, None, &names, level, &forced).map_err(|e| fit_failure(error_name, e))?;

@@ -56,7 +56,7 @@ impl TemperatureModel {
     /// Reads the TOML form; `origin` names it in messages.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<TemperatureModel, Error> {
         let one_line = |e: &dyn std::fmt::Display| e.to_string().split_whitespace().collect::<Vec<_>>().join(" ");
-        crate::io::toml_numbers::refuse_underflow(text).map_err(|m| Error::input(format!("{origin}: {m}")))?;
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|e| e.in_file(origin))?;
         let mut table: toml::Table = toml::from_str(text).map_err(|e| Error::input(format!("{origin}: {}", one_line(&e))))?;
         match table.remove("kind").as_ref().and_then(|k| k.as_str()) {
             Some("temperature_state_space") => {}

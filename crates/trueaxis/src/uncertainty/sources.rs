@@ -227,7 +227,7 @@ impl Sources {
     /// Parses the TOML text; `origin` names it in messages.
     pub fn from_toml_str(text: &str, origin: &str) -> Result<Sources, Error> {
         let fail = |m: String| Error::input(format!("{origin}: {m}"));
-        crate::io::toml_numbers::refuse_underflow(text).map_err(fail)?;
+        crate::io::toml_numbers::refuse_underflow(text).map_err(|e| e.in_file(origin))?;
         let raw: RawFile = toml::from_str(text).map_err(|e| fail(e.to_string().trim().replace('\n', " ")))?;
         let coverage = raw.coverage.unwrap_or(0.95);
         let mut settings = McSettings::new(coverage, raw.tolerance.unwrap_or(0.05));
@@ -295,7 +295,7 @@ fn build_source(raw: RawSource) -> Result<Source, (String, Error)> {
             Ok(Source { name, kind: SourceKind::StatisticalDrift { channels: e_ve.into_iter().collect() } })
         }
         RawSource::Correlated { name, channels, u, correlation, covariance } => {
-            let covariance = correlated_covariance(&channels, u, correlation, covariance).map_err(|m| (name.clone(), input(m)))?;
+            let covariance = correlated_covariance(&channels, u, correlation, covariance).map_err(|e| (name.clone(), e))?;
             Ok(Source { name, kind: SourceKind::Correlated { channels, covariance } })
         }
         RawSource::DriftCyclic { name, period_s, run_duration_s, start_phase, channels } => {
@@ -328,20 +328,20 @@ fn correlated_covariance(
     u: Option<Vec<f64>>,
     correlation: Option<Vec<Vec<f64>>>,
     covariance: Option<Vec<Vec<f64>>>,
-) -> Result<nalgebra::DMatrix<f64>, String> {
+) -> Result<nalgebra::DMatrix<f64>, Error> {
     let n = channels.len();
     if n == 0 {
-        return Err("no channels given".into());
+        crate::bail!(input, "no channels given");
     }
     if let Some(c) = channels.iter().enumerate().find(|(i, c)| channels[..*i].contains(c)).map(|(_, c)| c) {
-        return Err(format!("channel `{c}` appears twice"));
+        crate::bail!(input, "channel `{c}` appears twice");
     }
-    let square = |what: &str, m: &[Vec<f64>]| -> Result<nalgebra::DMatrix<f64>, String> {
+    let square = |what: &str, m: &[Vec<f64>]| -> Result<nalgebra::DMatrix<f64>, Error> {
         if m.len() != n || m.iter().any(|row| row.len() != n) {
-            return Err(format!("{what} must be {n} x {n} (one row and column per channel: {})", channels.join(", ")));
+            crate::bail!(input, "{what} must be {n} x {n} (one row and column per channel: {})", channels.join(", "));
         }
         if m.iter().flatten().any(|v| !v.is_finite()) {
-            return Err(format!("{what} holds a number that is not finite"));
+            crate::bail!(input, "{what} holds a number that is not finite");
         }
         Ok(nalgebra::DMatrix::from_fn(n, n, |i, j| m[i][j]))
     };
@@ -349,23 +349,23 @@ fn correlated_covariance(
         (None, None, Some(c)) => square("covariance", &c)?,
         (Some(u), Some(r), None) => {
             if u.len() != n || u.iter().any(|v| !(*v >= 0.0 && v.is_finite())) {
-                return Err(format!("u must hold {n} non-negative standard uncertainties (um), one per channel"));
+                crate::bail!(input, "u must hold {n} non-negative standard uncertainties (um), one per channel");
             }
             let r = square("correlation", &r)?;
             if (0..n).any(|i| (r[(i, i)] - 1.0).abs() > 1e-12) || r.iter().any(|v| v.abs() > 1.0 + 1e-12) {
-                return Err("a correlation matrix has 1 on its diagonal and coefficients within [-1, 1]".into());
+                crate::bail!(input, "a correlation matrix has 1 on its diagonal and coefficients within [-1, 1]");
             }
             nalgebra::DMatrix::from_fn(n, n, |i, j| r[(i, j)] * u[i] * u[j])
         }
-        _ => return Err("give either covariance = [[...]] (um^2) or u = [...] (um) with correlation = [[...]]".into()),
+        _ => crate::bail!(input, "give either covariance = [[...]] (um^2) or u = [...] (um) with correlation = [[...]]"),
     };
     if (&v - v.transpose()).abs().max() > 1e-12 * v.abs().max().max(1e-300) {
-        return Err("the matrix must be symmetric".into());
+        crate::bail!(input, "the matrix must be symmetric");
     }
     let eigen = v.clone().symmetric_eigen();
     let largest = eigen.eigenvalues.iter().fold(0.0f64, |a, &b| a.max(b.abs()));
     if eigen.eigenvalues.iter().any(|&l| l < -1e-10 * largest) {
-        return Err("the covariance is not positive semidefinite (no such joint distribution exists)".into());
+        crate::bail!(input, "the covariance is not positive semidefinite (no such joint distribution exists)");
     }
     Ok(v)
 }

@@ -2,7 +2,7 @@
 //! (`examples/ballbar/`, the commands of docs/ballbar.md): JSON values against the error files the
 //! examples were simulated from, exit status 2 with a one-line message for bad input.
 
-use crate::support::{arg, json, trueaxis, vmc3, ROOT};
+use crate::support::{arg, identify_c600u, json, trueaxis, vmc3, ROOT};
 
 #[test]
 fn identify_recovers_the_piges_the_examples_were_simulated_with() {
@@ -11,21 +11,7 @@ fn identify_recovers_the_piges_the_examples_were_simulated_with() {
     // deviations of the Monte Carlo in crates/trueaxis/tests/it/identify/pige.rs (EY0A 0.99, EZ0A 0.51, EX0C 0.08,
     // EY0C 0.99 um; EB0A 8.5, EC0A 16.5, EA0C 1.24, EB0C 8.7 urad): the A-axis orientation from a
     // 90 deg arc is the weakest value, as the thesis found.
-    let out = trueaxis(&[
-        "ballbar",
-        "identify",
-        "--machine",
-        "examples/machines/c600u.toml",
-        "--a1",
-        "examples/ballbar/A1.csv",
-        "--a2",
-        "examples/ballbar/A2.csv",
-        "--c1",
-        "examples/ballbar/C1.csv",
-        "--c2",
-        "examples/ballbar/C2.csv",
-        "--json",
-    ]);
+    let out = trueaxis(&identify_c600u(&["--json"]));
     let doc = json(&out);
     let sd_at_1_um = [
         ("EY0A", 35.3, 0.99),

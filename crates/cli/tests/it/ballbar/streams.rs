@@ -2,7 +2,7 @@
 //! `ballbar iso230-4` as its capture arc, `design steady` on a 3D-ball recording, the single-run
 //! PIGE uncertainty of `ballbar identify`, `ballbar sensitivity` and `ballbar tmbb-setup`.
 
-use crate::support::{arg, json_of, trueaxis, utf8, ROOT};
+use crate::support::{arg, identify_c600u, json_of, trueaxis, utf8, ROOT};
 use trueaxis::identify::pige_sensitivity::method_sensitivity;
 use trueaxis::instruments::ballbar::{method_step, BarLengths, JiangStep, Method, RotaryPair};
 use trueaxis::machine::Machine;
@@ -83,21 +83,7 @@ fn design_steady_reduces_a_recording_to_the_readings_of_its_poses() {
 
 #[test]
 fn single_run_pige_uncertainty_covers_the_simulated_truth() {
-    let doc = json_of(&[
-        "ballbar",
-        "identify",
-        "--machine",
-        "examples/machines/c600u.toml",
-        "--a1",
-        "examples/ballbar/A1.csv",
-        "--a2",
-        "examples/ballbar/A2.csv",
-        "--c1",
-        "examples/ballbar/C1.csv",
-        "--c2",
-        "examples/ballbar/C2.csv",
-        "--json",
-    ]);
+    let doc = json_of(&identify_c600u(&["--json"]));
     // the traces were simulated from c600u_piges.toml with 0.3 um of bar noise
     let truth =
         [("EY0A", 35.3), ("EZ0A", -33.4), ("EB0A", -6.25), ("EC0A", 5.8), ("EX0C", 1.3), ("EY0C", -52.9), ("EA0C", -108.0), ("EB0C", 21.7)];

@@ -14,7 +14,7 @@
 //! holds and ramps on the source's clock at the same speed: the outage test stops the server for
 //! 3 s of wall time, which is 30 min of machine time at 600 times real time.
 
-use crate::support::{alone, root, trueaxis, Alone, Run};
+use crate::support::{alone, arg, root, trueaxis, Alone, Run};
 use serde_json::Value;
 use std::net::TcpListener;
 use std::path::Path;
@@ -25,9 +25,10 @@ fn example(path: &str) -> String {
     root().join(path).display().to_string()
 }
 
-fn required(variable: &str) -> bool {
-    std::env::var(variable).is_ok_and(|v| v == "1")
-}
+#[path = "../../../../trueaxis/tests/it/support/tools.rs"]
+mod tools;
+
+use tools::required;
 
 /// Whether asyncua is importable; without it the OPC UA tests are skipped unless required.
 fn asyncua() -> bool {
@@ -44,6 +45,24 @@ fn asyncua() -> bool {
 /// other of the periods they time (a test that failed while holding it does not fail the others).
 fn real_time() -> Alone {
     alone()
+}
+
+/// What an OPC UA test holds for its whole length: the machine to itself, a free port and the URL
+/// of its test server there.
+struct Opcua {
+    _real_time: Alone,
+    port: u16,
+    url: String,
+}
+
+/// An OPC UA test's setup, or `None` (the test skipped) without asyncua.
+fn opcua() -> Option<Opcua> {
+    if !asyncua() {
+        return None;
+    }
+    let _real_time = real_time();
+    let port = free_port();
+    Some(Opcua { _real_time, port, url: format!("opc.tcp://127.0.0.1:{port}/trueaxis/") })
 }
 
 fn free_port() -> u16 {
@@ -73,7 +92,7 @@ fn server(port: u16, args: &[&str]) -> Child {
 /// messages on a loaded machine) would block the process on its next message.
 static DRAINS: std::sync::Mutex<Vec<(u32, std::thread::JoinHandle<String>)>> = std::sync::Mutex::new(Vec::new());
 
-fn live(args: &[&str]) -> Child {
+fn live<S: AsRef<str>>(args: &[S]) -> Child {
     let mut child = Run::new(live_args(args)).command().stdout(Stdio::null()).stderr(Stdio::piped()).spawn().unwrap();
     let mut pipe = child.stderr.take().unwrap();
     let drain = std::thread::spawn(move || {
@@ -86,8 +105,15 @@ fn live(args: &[&str]) -> Child {
 }
 
 /// `live ARGS`.
-fn live_args<'a>(args: &[&'a str]) -> Vec<&'a str> {
-    [&["live"], args].concat()
+fn live_args<S: AsRef<str>>(args: &[S]) -> Vec<&str> {
+    ["live"].into_iter().chain(args.iter().map(AsRef::as_ref)).collect()
+}
+
+/// `--machine examples/machines/vmc3.toml --thermal-model MODEL REST...`: how every `trueaxis live`
+/// here begins.
+fn on_vmc3(model: &str, rest: &[&str]) -> Vec<String> {
+    let head = ["--machine".to_string(), example("examples/machines/vmc3.toml"), "--thermal-model".into(), model.into()];
+    head.into_iter().chain(rest.iter().map(|a| a.to_string())).collect()
 }
 
 /// What the `trueaxis live` of `pid` wrote on stderr, once it has ended.
@@ -170,44 +196,15 @@ fn log_rows(path: &Path) -> Vec<(String, f64, f64, f64)> {
 
 #[test]
 fn opcua_offsets_equal_thermal_predict_over_the_whole_campaign() {
-    if !asyncua() {
-        return;
-    }
-    let _real_time = real_time();
+    let Some(opcua) = opcua() else { return };
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
-    let url = format!("opc.tcp://127.0.0.1:{port}/trueaxis/");
+    let (port, url) = (opcua.port, &opcua.url);
     // 3000 times real time: a row every 40 ms, two periods of trueaxis live (20 ms) per row, so
     // that a loaded machine (CI on 2 cores) still delivers every row before the next is due
     let srv = server(port, &["--speed", "3000", "--client"]);
-    let log = dir.path().join("live.csv");
+    let (log, state) = (dir.path().join("live.csv"), dir.path().join("state.json"));
     let model = example("examples/live/dz_drift.toml");
-    let state = dir.path().join("state.json");
-    let source = format!("opcua:{url}");
-    let proc = live(&[
-        "--machine",
-        &example("examples/machines/vmc3.toml"),
-        "--thermal-model",
-        &model,
-        "--map",
-        &example("examples/live/vmc3_opcua.toml"),
-        "--source",
-        &source,
-        "--sink",
-        "opcua",
-        "--period",
-        "0.02",
-        "--speed",
-        "3000",
-        "--hold",
-        "86400",
-        "--state",
-        &state.display().to_string(),
-        "--log",
-        &log.display().to_string(),
-        "--log",
-        &dir.path().join("live.jsonl").display().to_string(),
-    ]);
+    let proc = live_opcua(dir.path(), url, "3000", &["--hold", "86400"], &[]);
     let doc = report(srv);
     let (cpu_s, peak_kib) = load(proc.id());
     let stderr = stop(proc);
@@ -276,56 +273,33 @@ fn find(messages: &[String], what: &str, from: usize, stderr: &str) -> usize {
         .unwrap_or_else(|| panic!("no `{what}` after {from} in {messages:#?}\n{stderr}"))
 }
 
-/// The arguments of `trueaxis live` on the test server at 600 times real time, hold 300 s, ramp
-/// 600 s (1.5 s of wall time together), logs in `dir`.
-fn live_600(dir: &Path, url: &str, more: &[&str]) -> Child {
+/// `trueaxis live` of examples/live/dz_drift.toml on the test server at `url` (the mapping
+/// examples/live/vmc3_opcua.toml, a period of 20 ms) at `speed` times real time, with `timing`
+/// (`--hold`, `--ramp`) and `more`; its state and logs (live.csv, live.jsonl) in `dir`.
+fn live_opcua(dir: &Path, url: &str, speed: &str, timing: &[&str], more: &[&str]) -> Child {
     let (state, csv, jsonl) = (dir.join("state.json"), dir.join("live.csv"), dir.join("live.jsonl"));
-    let source = format!("opcua:{url}");
-    let mut args = vec![
-        "--machine".to_string(),
-        example("examples/machines/vmc3.toml"),
-        "--thermal-model".into(),
-        example("examples/live/dz_drift.toml"),
-        "--map".into(),
-        example("examples/live/vmc3_opcua.toml"),
-        "--source".into(),
-        source,
-        "--sink".into(),
-        "opcua".into(),
-        "--period".into(),
-        "0.02".into(),
-        "--speed".into(),
-        "600".into(),
-        "--hold".into(),
-        "300".into(),
-        "--ramp".into(),
-        "600".into(),
-        "--state".into(),
-        state.display().to_string(),
-        "--log".into(),
-        csv.display().to_string(),
-        "--log".into(),
-        jsonl.display().to_string(),
-    ];
-    args.extend(more.iter().map(|a| a.to_string()));
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    live(&args)
+    let (map, source) = (example("examples/live/vmc3_opcua.toml"), format!("opcua:{url}"));
+    let head = ["--map", &map, "--source", &source, "--sink", "opcua", "--period", "0.02", "--speed", speed];
+    let files = ["--state", arg(&state), "--log", arg(&csv), "--log", arg(&jsonl)];
+    live(&on_vmc3(&example("examples/live/dz_drift.toml"), &[&head[..], timing, &files, more].concat()))
+}
+
+/// `trueaxis live` on the test server at 600 times real time, hold 300 s, ramp 600 s (1.5 s of
+/// wall time together), logs in `dir`.
+fn live_600(dir: &Path, url: &str, more: &[&str]) -> Child {
+    live_opcua(dir, url, "600", &["--hold", "300", "--ramp", "600"], more)
 }
 
 #[test]
 fn opcua_faults_outage_held_ramped_resumed_and_a_200_degc_jump_refused() {
-    if !asyncua() {
-        return;
-    }
-    let _real_time = real_time();
+    let Some(opcua) = opcua() else { return };
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
-    let url = format!("opc.tcp://127.0.0.1:{port}/trueaxis/");
+    let (port, url) = (opcua.port, &opcua.url);
     // 120 s rows at 600 times real time: a row every 0.2 s; the outage: 3 s = 1800 s of machine time
     let srv = server(port, &["--speed", "600", "--rows", "100", "--jump-row", "12", "--outage-after", "25", "--outage-s", "3"]);
     let (csv, jsonl) = (dir.path().join("live.csv"), dir.path().join("live.jsonl"));
     let model = example("examples/live/dz_drift.toml");
-    let proc = live_600(dir.path(), &url, &[]);
+    let proc = live_600(dir.path(), url, &[]);
     let doc = report(srv);
     let stderr = stop(proc);
     let ev = events(&jsonl);
@@ -384,18 +358,14 @@ fn played(doc: &Value) -> Vec<(String, f64, f64, f64)> {
 
 #[test]
 fn opcua_server_restarted_twice_each_time_down_longer_than_the_hold_and_the_ramp() {
-    if !asyncua() {
-        return;
-    }
-    let _real_time = real_time();
+    let Some(opcua) = opcua() else { return };
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
-    let url = format!("opc.tcp://127.0.0.1:{port}/trueaxis/");
+    let (port, url) = (opcua.port, &opcua.url);
     // a row every 0.2 s of wall time (120 s at 600 times real time); the outages, 3 s and 4 s of
     // wall time (1800 s and 2400 s of machine time), are longer than the hold and the ramp (900 s)
     let outages = ["--outage-after", "25", "--outage-s", "3", "--outage-after", "60", "--outage-s", "4"];
     let srv = server(port, &[&["--speed", "600", "--rows", "110"][..], &outages].concat());
-    let proc = live_600(dir.path(), &url, &[]);
+    let proc = live_600(dir.path(), url, &[]);
     let doc = report(srv);
     let stderr = stop(proc);
     let ev = events(&dir.path().join("live.jsonl"));
@@ -472,16 +442,12 @@ fn ended_within(mut child: Child, limit: Duration) -> (Option<i32>, String, Dura
 
 #[test]
 fn opcua_server_that_never_comes_back_zero_offsets_attempts_logged_sigterm_and_give_up() {
-    if !asyncua() {
-        return;
-    }
-    let _real_time = real_time();
+    let Some(opcua) = opcua() else { return };
     let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
-    let port = free_port();
-    let url = format!("opc.tcp://127.0.0.1:{port}/trueaxis/");
+    let (port, url) = (opcua.port, &opcua.url);
     let srv = server(port, &["--speed", "600", "--rows", "15", "--end-wait", "0"]);
-    let keeps_trying = live_600(a.path(), &url, &[]);
-    let gives_up = live_600(b.path(), &url, &["--give-up-after", "3"]);
+    let keeps_trying = live_600(a.path(), url, &[]);
+    let gives_up = live_600(b.path(), url, &["--give-up-after", "3"]);
     report(srv);
     // the server is gone for good: the offsets go to zero, the attempts go on (0.5, 1.5, 3.5 s after the loss)
     let jsonl = a.path().join("live.jsonl");
@@ -526,20 +492,8 @@ fn kill_9_and_restart_continue_from_the_state_file() {
     let dir = tempfile::tempdir().unwrap();
     let (state, log) = (dir.path().join("state.json"), dir.path().join("live.csv"));
     let model = example("examples/live/dz_drift.toml");
-    let args = [
-        "--machine",
-        &example("examples/machines/vmc3.toml"),
-        "--thermal-model",
-        &model,
-        "--source",
-        &format!("csv:{}", example("examples/thermal/campaign.csv")),
-        "--speed",
-        "24000",
-        "--state",
-        &state.display().to_string(),
-        "--log",
-        &log.display().to_string(),
-    ];
+    let source = format!("csv:{}", example("examples/thermal/campaign.csv"));
+    let args = on_vmc3(&model, &["--source", &source, "--speed", "24000", "--state", arg(&state), "--log", arg(&log)]);
     let mut first = live(&args);
     std::thread::sleep(Duration::from_millis(1500));
     first.kill().unwrap(); // SIGKILL
@@ -562,50 +516,24 @@ fn kill_9_and_restart_continue_from_the_state_file() {
 
 #[test]
 fn a_node_id_that_does_not_exist_is_refused_with_exit_2() {
-    if !asyncua() {
-        return;
-    }
-    let _real_time = real_time();
+    let Some(opcua) = opcua() else { return };
     let dir = tempfile::tempdir().unwrap();
-    let port = free_port();
+    let port = opcua.port;
     let srv = server(port, &["--rows", "1", "--start-wait", "30", "--end-wait", "0"]);
     let map = dir.path().join("map.toml");
     let text = std::fs::read_to_string(root().join("examples/live/vmc3_opcua.toml")).unwrap().replace("vmc3.T_p5", "vmc3.T_missing");
     std::fs::write(&map, text).unwrap();
-    let out = trueaxis(&[
-        "live",
-        "--machine",
-        &example("examples/machines/vmc3.toml"),
-        "--thermal-model",
-        &example("examples/live/dz_drift.toml"),
-        "--map",
-        &map.display().to_string(),
-        "--source",
-        &format!("opcua:opc.tcp://127.0.0.1:{port}/trueaxis/"),
-        "--sink",
-        "opcua",
-        "--state",
-        &dir.path().join("state.json").display().to_string(),
-    ]);
+    let (model, state) = (example("examples/live/dz_drift.toml"), dir.path().join("state.json"));
+    let source = format!("opcua:opc.tcp://127.0.0.1:{port}/trueaxis/");
+    let out = trueaxis(&live_args(&on_vmc3(&model, &["--map", arg(&map), "--source", &source, "--sink", "opcua", "--state", arg(&state)])));
     stop(srv);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("node `ns=2;s=vmc3.T_missing` (input T:p5) does not exist on the server"), "{stderr}");
     assert!(!dir.path().join("state.json").exists());
     // a server that is not there: exit 3 (the environment)
-    let out = trueaxis(&[
-        "live",
-        "--machine",
-        &example("examples/machines/vmc3.toml"),
-        "--thermal-model",
-        &example("examples/live/dz_drift.toml"),
-        "--map",
-        &example("examples/live/vmc3_opcua.toml"),
-        "--source",
-        &format!("opcua:opc.tcp://127.0.0.1:{}/", free_port()),
-        "--state",
-        &dir.path().join("state.json").display().to_string(),
-    ]);
+    let (map, source) = (example("examples/live/vmc3_opcua.toml"), format!("opcua:opc.tcp://127.0.0.1:{}/", free_port()));
+    let out = trueaxis(&live_args(&on_vmc3(&model, &["--map", &map, "--source", &source, "--state", arg(&state)])));
     assert_eq!(out.status.code(), Some(3), "{}", String::from_utf8_lossy(&out.stderr));
 }
 
@@ -617,17 +545,17 @@ fn halcmd(args: &[&str]) -> String {
 
 #[test]
 fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
-    let available = Command::new("halcompile").arg("--help").output().is_ok() && Command::new("halrun").arg("-h").output().is_ok();
-    if !available || !Path::new("/usr/lib/linuxcnc/modules").exists() {
+    if !tools::linuxcnc_found() {
+        return;
+    }
+    if !Path::new("/usr/lib/linuxcnc/modules").exists() {
         assert!(!required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile / halrun are required but not found");
         eprintln!("SKIPPED: halcompile / halrun (Debian linuxcnc-uspace-dev) not installed");
         return;
     }
     let _real_time = real_time();
     let dir = tempfile::tempdir().unwrap();
-    let mut perms = std::fs::metadata(dir.path()).unwrap().permissions();
-    std::os::unix::fs::PermissionsExt::set_mode(&mut perms, 0o777);
-    std::fs::set_permissions(dir.path(), perms).unwrap();
+    tools::open_to_all(dir.path());
     // the HAL component of compensate for vmc3 without geometric errors: its output is the thermal offset
     let name = format!("ta_live_{}", std::process::id());
     let hal_name = name.replace('_', "-");
@@ -647,15 +575,7 @@ fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
         &hal_dir.display().to_string(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let build = Command::new("halcompile").arg("--install").arg(format!("{name}.comp")).current_dir(&hal_dir).output().unwrap();
-    let log = String::from_utf8_lossy(&build.stdout).into_owned() + &String::from_utf8_lossy(&build.stderr);
-    if !build.status.success() {
-        assert!(!required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile --install failed: {log}");
-        eprintln!("SKIPPED: halcompile --install failed (not root?): {log}");
-        return;
-    }
-    let installed =
-        log.lines().find_map(|l| l.strip_prefix(&format!("cp {name}.so ")).map(|d| Path::new(d.trim()).join(format!("{name}.so"))));
+    let Some(installed) = tools::halcompile_install(&hal_dir, &format!("{name}.comp")) else { return };
     // LinuxCNC's motion module, the component wired by its own HAL file, two sensor pins (sum2 inputs)
     let hal_file = std::fs::read_to_string(hal_dir.join(format!("{name}.hal"))).unwrap();
     // halrun runs until the test creates the stop file, then unloads what it loaded
@@ -697,24 +617,9 @@ fn linuxcnc_external_offsets_that_reach_motion_equal_the_predictions() {
     halcmd(&["setp", "sensors.in1", rows[0][3]]);
     let model = example("examples/live/dz_regression.toml");
     let log = dir.path().join("live.csv");
-    let proc = live(&[
-        "--machine",
-        &example("examples/machines/vmc3.toml"),
-        "--thermal-model",
-        &model,
-        "--map",
-        &map.display().to_string(),
-        "--source",
-        "hal",
-        "--sink",
-        "hal",
-        "--period",
-        "0.05",
-        "--state",
-        &dir.path().join("state.json").display().to_string(),
-        "--log",
-        &log.display().to_string(),
-    ]);
+    let state = dir.path().join("state.json");
+    let hal = ["--map", arg(&map), "--source", "hal", "--sink", "hal", "--period", "0.05", "--state", arg(&state), "--log", arg(&log)];
+    let proc = live(&on_vmc3(&model, &hal));
     // the predictions of thermal predict on the same readings
     let mut data = String::from("run,t,T:p1,T:p5\n");
     for r in &rows {

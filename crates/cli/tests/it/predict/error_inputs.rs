@@ -3,6 +3,7 @@
 //! two axis positions (Soons 1993 §3.4.4) through `predict` against `thermal predict` of the fitted
 //! model, and `compensate --poses` with load and spindle-speed columns against `predict`.
 
+use crate::support::thermal::fit_dz;
 use crate::support::{arg, failed, json, ok, read, trueaxis, vmc3};
 
 fn poses_json(errors: &str, poses: &str, extra: &[&str]) -> Vec<serde_json::Value> {
@@ -51,22 +52,7 @@ fn load_error_from_the_command_line_equals_the_scaled_table() {
 fn interpolated_drift_through_predict_equals_thermal_predict_of_the_models() {
     let dir = tempfile::tempdir().unwrap();
     let model = dir.path().join("dz_drift.toml");
-    ok(&trueaxis(&[
-        "thermal",
-        "fit",
-        "--data",
-        "examples/thermal/campaign.csv",
-        "--error",
-        "dz",
-        "--model",
-        "state-space",
-        "--rates",
-        "1",
-        "--train-runs",
-        "warmup",
-        "--out",
-        arg(&model),
-    ]));
+    ok(&fit_dz("warmup", &["--model", "state-space", "--rates", "1", "--out", arg(&model)]));
     let fitted = std::fs::read_to_string(&model).unwrap();
     let body: String = fitted.lines().filter(|l| !l.starts_with('#')).map(|l| format!("{l}\n")).collect();
     // the model tested at Z = -400 and, with its gains doubled, at Z = 0

@@ -30,6 +30,21 @@ fn with(text: &str, from: &str, to: &str) -> String {
     text.replacen(from, to, 1)
 }
 
+/// One damage of a fixture: what it is, the text replaced, its replacement, what the message must
+/// contain.
+type Damage<'a> = (&'static str, &'a str, &'a str, &'a [&'static str]);
+
+/// Damaged copies of `fixture` written as `name` and read by `args`: each damage is (what, the text
+/// replaced, its replacement, what the message must contain).
+fn damaged(name: &'static str, fixture: &str, args: &[&'static str], damages: &[Damage]) -> Vec<Case> {
+    damages.iter().map(|&(what, from, to, expect)| case(what, name, with(fixture, from, to), args, expect)).collect()
+}
+
+/// Whole files written as `name` and read by `args`: (what, the text, what the message must contain).
+fn written(name: &'static str, args: &[&'static str], files: &[(&'static str, &str, &[&'static str])]) -> Vec<Case> {
+    files.iter().map(|&(what, text, expect)| case(what, name, text.to_string(), args, expect)).collect()
+}
+
 fn cases() -> Vec<Case> {
     let machine = example("examples/machines/vmc3.toml");
     let errors = example("examples/ballbar/vmc3_circle.toml");
@@ -49,133 +64,157 @@ fn cases() -> Vec<Case> {
     let unc = &["uncertainty", "--design", "examples/uncertainty/kx8five_design.csv", "--sources", "{f}", "--plots", "{out}"];
     let identify = &vmc3(&["identify"], &["--campaign", "{dir}/campaign.toml", "--out", "{out}"]);
     let nc = &vmc3(&["nc"], &["--errors", "examples/errors/vmc3.toml", "{f}", "--out", "{out}"]);
-    let mut cases = vec![
-        // machine file
-        case("machine malformed", "m.toml", with(&machine, "structure = \"wXYbZt\"", "structure = "), predict_m, &["line"]),
-        case(
-            "machine huge",
-            "m.toml",
-            with(&machine, "point = [0, 0, 400]", "point = [0, 0, 1e200]"),
-            predict_m,
-            &["line 22", "[tool] point", "physical range"],
-        ),
-        case(
-            "machine 1e308",
-            "m.toml",
-            with(&machine, "range = [-400, 400]", "range = [-400, 1e308]"),
-            predict_m,
-            &["axis X", "physical range"],
-        ),
-        case("machine nan", "m.toml", with(&machine, "point = [0, 0, 400]", "point = [0, 0, nan]"), predict_m, &["[tool] point", "finite"]),
-        case(
-            "machine out of range",
-            "m.toml",
-            with(&machine, "range = [-250, 250]", "range = [-250, 250000000]"),
-            predict_m,
-            &["axis Y", "100 m"],
-        ),
-        case("machine limit", "m.toml", machine.clone() + "\n[limits]\ncorrection_um = -1\n", predict_m, &["[limits] correction_um"]),
-        case("machine empty", "m.toml", String::new(), predict_m, &["missing field"]),
-        // error values
-        case("errors malformed", "e.toml", with(&errors, "EC0X = 25.0", "EC0X = 25.0.0"), predict_e, &["line"]),
-        case(
-            "errors huge",
-            "e.toml",
-            with(&errors, "EC0X = 25.0", "EC0X = 1e200"),
-            predict_e,
-            &["line 7", "EC0X", "physical range of an angular error"],
-        ),
-        case(
-            "errors 1e308",
-            "e.toml",
-            with(&errors, "coefficients = [1.5, -0.012]", "coefficients = [1.5, 1e308]"),
-            predict_e,
-            &["EXX+", "at X", "physical range"],
-        ),
-        case("errors nan", "e.toml", with(&errors, "EC0X = 25.0", "EC0X = nan"), predict_e, &["EC0X", "finite"]),
-        case("errors out of range", "e.toml", with(&errors, "EC0X = 25.0", "EC0X = 2e5"), predict_e, &["EC0X", "0.1 rad"]),
-        case("errors empty", "e.toml", "name = \"nothing\"\n".into(), predict_e, &["defines no error"]),
-        // pose CSV
-        case("poses duplicated column", "p.csv", "X,X,Y,Z\n1,2,3,-4\n".into(), predict_p, &["line 1", "same column `X`"]),
-        case("poses nan", "p.csv", "X,Y,Z\n1,nan,-4\n".into(), predict_p, &["line 2", "finite"]),
-        case("poses missing column", "p.csv", "X,Y\n1,2\n".into(), predict_p, &["Z"]),
-        case("poses huge temperature", "p.csv", "X,Y,Z,T:bed\n1,2,-4,1e200\n".into(), predict_p, &["line 2", "T:bed", "temperature"]),
-        case("poses empty", "p.csv", String::new(), predict_p, &["empty"]),
-        // ballbar table
-        case("ballbar huge", "b.csv", with(&ballbar, ",ccw,1.7906", ",ccw,1e200"), iso4, &["line 3", "dL", "physical range"]),
-        case("ballbar nan", "b.csv", with(&ballbar, ",ccw,1.7906", ",ccw,nan"), iso4, &["line 3", "dL"]),
-        case("ballbar out of range", "b.csv", with(&ballbar, ",ccw,1.7906", ",ccw,250000"), iso4, &["line 3", "dL", "physical range"]),
-        case(
-            "ballbar duplicated column",
-            "b.csv",
-            with(&ballbar, "X,Y,Z,angle,dir,dL", "X,Y,Z,angle,dL,dL"),
-            iso4,
-            &["line 2", "same column"],
-        ),
-        case("ballbar empty", "b.csv", String::new(), iso4, &["empty"]),
-        // laser CSV and .rtl
-        case("laser huge", "l.csv", with(&laser, "-400,-1.914,", "-400,1e200,"), iso2, &["line 5", "dev", "physical range"]),
-        case("laser inf", "l.csv", with(&laser, "-400,-1.914,", "-400,inf,"), iso2, &["line 5", "dev"]),
-        case(
-            "laser duplicated column",
-            "l.csv",
-            with(&laser, "target,dev,dir,run,t", "target,dev,dir,run,dev"),
-            iso2,
-            &["same column `dev`"],
-        ),
-        case("laser missing column", "l.csv", with(&laser, "target,dev,dir,run,t", "target,deviation_x,dir,run,t"), iso2, &["dev"]),
-        case("laser empty", "l.csv", String::new(), iso2, &["empty"]),
-        case("rtl huge", "l.rtl", with(&rtl, "1   1      -0.001914", "1   1      1e200"), iso2, &["physical range"]),
-        case("rtl malformed", "l.rtl", with(&rtl, "1   1      -0.001914", "1   1      minus"), iso2, &["minus"]),
-        // campaign readings (the campaign TOML next to it, copied by the runner)
-        case("campaign huge", "station1.csv", with(&station, "2.1063", "1e200"), identify, &["line 3", "dL", "physical range"]),
-        case("campaign nan", "station1.csv", with(&station, "2.1063", "NaN"), identify, &["line 3", "dL"]),
-        case("campaign duplicated column", "station1.csv", with(&station, "X,Y,Z,dL", "X,X,Z,dL"), identify, &["same column `X`"]),
-        case("campaign missing column", "station1.csv", with(&station, "X,Y,Z,dL", "X,Y,dL"), identify, &["Z"]),
-        case("campaign empty", "station1.csv", String::new(), identify, &["empty"]),
-        // thermal campaign
-        case(
-            "thermal huge temperature",
-            "t.csv",
-            with(&thermal, "warmup,0,20.002,", "warmup,0,1e200,"),
-            tfit,
-            &["line 3", "T:p1", "temperature"],
-        ),
-        case(
-            "thermal out of range",
-            "t.csv",
-            with(&thermal, "warmup,0,20.002,", "warmup,0,500,"),
-            tfit,
-            &["line 3", "T:p1", "temperature"],
-        ),
-        case("thermal huge drift", "t.csv", with(&thermal, "20.009,-0.13", "20.009,1e300"), tfit, &["line 3", "dz", "physical range"]),
-        case("thermal nan", "t.csv", with(&thermal, "20.009,-0.13", "20.009,nan"), tfit, &["line 3", "dz"]),
-        case("thermal duplicated column", "t.csv", with(&thermal, "run,t,T:p1,T:p5,dz", "run,t,T:p1,T:p1,dz"), tfit, &["same column"]),
-        case("thermal empty", "t.csv", String::new(), tfit, &["empty"]),
-        // uncertainty sources
-        case("sources malformed", "s.toml", with(&sources, "coverage = 0.95", "coverage = "), unc, &["line"]),
-        case("sources nan", "s.toml", with(&sources, "tolerance = 0.05", "tolerance = nan"), unc, &["tolerance"]),
-        case(
-            "sources trials",
-            "s.toml",
-            with(&sources, "trials_per_sequence = 10000", "trials_per_sequence = 1000000000000000"),
-            unc,
-            &["trials_per_sequence", "more than"],
-        ),
-        // NC, both dialects (rs274 refuses the same programs: crates/trueaxis/tests/it/compensate/nc/bad_programs.rs)
-        case("nc arc radius", "p.ngc", "G21 G90 G17\nG0 X0 Y0 Z-10\nG2 X10 Y0 I1 J0 F100\nM2\n".into(), nc, &["line 3", "radius"]),
-        case("nc two motion codes", "p.ngc", "G21 G90\nG0 G1 X10 F100\nM2\n".into(), nc, &["line 2", "G0 and G1", "modal group"]),
-        case("nc malformed", "p.ngc", "G21 G90\nG1 X1..2 F100\nM2\n".into(), nc, &["line 2"]),
-        case("nc huge", "p.ngc", "G21 G90\nG1 X1e200 F100\nM2\n".into(), nc, &["line 2", "E word"]),
-        case("fanuc two motion codes", "p.nc", "%\nO1000\nG21 G90\nG00 G01 X10. F100.\nM30\n%\n".into(), nc, &["line 4", "modal group"]),
-        case(
-            "nc correction limit",
-            "p.ngc",
-            "G21 G90\nG0 X-400 Y-250 Z-100\nM2\n".into(),
-            &vmc3(&["nc"], &["--errors", "{dir}/e.toml", "{f}", "--out", "{out}"]),
-            &["line 2", "beyond the limit of 1000 um", "correction_um"],
-        ),
-    ];
+    let mut cases = Vec::new();
+    // machine file
+    cases.extend(damaged(
+        "m.toml",
+        &machine,
+        predict_m,
+        &[
+            ("machine malformed", "structure = \"wXYbZt\"", "structure = ", &["line"]),
+            ("machine huge", "point = [0, 0, 400]", "point = [0, 0, 1e200]", &["line 22", "[tool] point", "physical range"]),
+            ("machine 1e308", "range = [-400, 400]", "range = [-400, 1e308]", &["axis X", "physical range"]),
+            ("machine nan", "point = [0, 0, 400]", "point = [0, 0, nan]", &["[tool] point", "finite"]),
+            ("machine out of range", "range = [-250, 250]", "range = [-250, 250000000]", &["axis Y", "100 m"]),
+        ],
+    ));
+    cases.push(case(
+        "machine limit",
+        "m.toml",
+        machine.clone() + "\n[limits]\ncorrection_um = -1\n",
+        predict_m,
+        &["[limits] correction_um"],
+    ));
+    cases.push(case("machine empty", "m.toml", String::new(), predict_m, &["missing field"]));
+    // error values
+    cases.extend(damaged(
+        "e.toml",
+        &errors,
+        predict_e,
+        &[
+            ("errors malformed", "EC0X = 25.0", "EC0X = 25.0.0", &["line"]),
+            ("errors huge", "EC0X = 25.0", "EC0X = 1e200", &["line 7", "EC0X", "physical range of an angular error"]),
+            ("errors 1e308", "coefficients = [1.5, -0.012]", "coefficients = [1.5, 1e308]", &["EXX+", "at X", "physical range"]),
+            ("errors nan", "EC0X = 25.0", "EC0X = nan", &["EC0X", "finite"]),
+            ("errors out of range", "EC0X = 25.0", "EC0X = 2e5", &["EC0X", "0.1 rad"]),
+        ],
+    ));
+    cases.push(case("errors empty", "e.toml", "name = \"nothing\"\n".into(), predict_e, &["defines no error"]));
+    // pose CSV
+    cases.extend(written(
+        "p.csv",
+        predict_p,
+        &[
+            ("poses duplicated column", "X,X,Y,Z\n1,2,3,-4\n", &["line 1", "same column `X`"]),
+            ("poses nan", "X,Y,Z\n1,nan,-4\n", &["line 2", "finite"]),
+            ("poses missing column", "X,Y\n1,2\n", &["Z"]),
+            ("poses huge temperature", "X,Y,Z,T:bed\n1,2,-4,1e200\n", &["line 2", "T:bed", "temperature"]),
+            ("poses empty", "", &["empty"]),
+        ],
+    ));
+    // ballbar table
+    cases.extend(damaged(
+        "b.csv",
+        &ballbar,
+        iso4,
+        &[
+            ("ballbar huge", ",ccw,1.7906", ",ccw,1e200", &["line 3", "dL", "physical range"]),
+            ("ballbar nan", ",ccw,1.7906", ",ccw,nan", &["line 3", "dL"]),
+            ("ballbar out of range", ",ccw,1.7906", ",ccw,250000", &["line 3", "dL", "physical range"]),
+            ("ballbar duplicated column", "X,Y,Z,angle,dir,dL", "X,Y,Z,angle,dL,dL", &["line 2", "same column"]),
+        ],
+    ));
+    cases.push(case("ballbar empty", "b.csv", String::new(), iso4, &["empty"]));
+    // laser CSV and .rtl
+    cases.extend(damaged(
+        "l.csv",
+        &laser,
+        iso2,
+        &[
+            ("laser huge", "-400,-1.914,", "-400,1e200,", &["line 5", "dev", "physical range"]),
+            ("laser inf", "-400,-1.914,", "-400,inf,", &["line 5", "dev"]),
+            ("laser duplicated column", "target,dev,dir,run,t", "target,dev,dir,run,dev", &["same column `dev`"]),
+            ("laser missing column", "target,dev,dir,run,t", "target,deviation_x,dir,run,t", &["dev"]),
+        ],
+    ));
+    cases.push(case("laser empty", "l.csv", String::new(), iso2, &["empty"]));
+    cases.extend(damaged(
+        "l.rtl",
+        &rtl,
+        iso2,
+        &[
+            ("rtl huge", "1   1      -0.001914", "1   1      1e200", &["physical range"]),
+            ("rtl malformed", "1   1      -0.001914", "1   1      minus", &["minus"]),
+        ],
+    ));
+    // campaign readings (the campaign TOML next to it, copied by the runner)
+    cases.extend(damaged(
+        "station1.csv",
+        &station,
+        identify,
+        &[
+            ("campaign huge", "2.1063", "1e200", &["line 3", "dL", "physical range"]),
+            ("campaign nan", "2.1063", "NaN", &["line 3", "dL"]),
+            ("campaign duplicated column", "X,Y,Z,dL", "X,X,Z,dL", &["same column `X`"]),
+            ("campaign missing column", "X,Y,Z,dL", "X,Y,dL", &["Z"]),
+        ],
+    ));
+    cases.push(case("campaign empty", "station1.csv", String::new(), identify, &["empty"]));
+    // thermal campaign
+    cases.extend(damaged(
+        "t.csv",
+        &thermal,
+        tfit,
+        &[
+            ("thermal huge temperature", "warmup,0,20.002,", "warmup,0,1e200,", &["line 3", "T:p1", "temperature"]),
+            ("thermal out of range", "warmup,0,20.002,", "warmup,0,500,", &["line 3", "T:p1", "temperature"]),
+            ("thermal huge drift", "20.009,-0.13", "20.009,1e300", &["line 3", "dz", "physical range"]),
+            ("thermal nan", "20.009,-0.13", "20.009,nan", &["line 3", "dz"]),
+            ("thermal duplicated column", "run,t,T:p1,T:p5,dz", "run,t,T:p1,T:p1,dz", &["same column"]),
+        ],
+    ));
+    cases.push(case("thermal empty", "t.csv", String::new(), tfit, &["empty"]));
+    // uncertainty sources
+    cases.extend(damaged(
+        "s.toml",
+        &sources,
+        unc,
+        &[
+            ("sources malformed", "coverage = 0.95", "coverage = ", &["line"]),
+            ("sources nan", "tolerance = 0.05", "tolerance = nan", &["tolerance"]),
+            (
+                "sources trials",
+                "trials_per_sequence = 10000",
+                "trials_per_sequence = 1000000000000000",
+                &["trials_per_sequence", "more than"],
+            ),
+        ],
+    ));
+    // NC, both dialects (rs274 refuses the same programs: crates/trueaxis/tests/it/compensate/nc/bad_programs.rs)
+    cases.extend(written(
+        "p.ngc",
+        nc,
+        &[
+            ("nc arc radius", "G21 G90 G17\nG0 X0 Y0 Z-10\nG2 X10 Y0 I1 J0 F100\nM2\n", &["line 3", "radius"]),
+            ("nc two motion codes", "G21 G90\nG0 G1 X10 F100\nM2\n", &["line 2", "G0 and G1", "modal group"]),
+            ("nc malformed", "G21 G90\nG1 X1..2 F100\nM2\n", &["line 2"]),
+            ("nc huge", "G21 G90\nG1 X1e200 F100\nM2\n", &["line 2", "E word"]),
+        ],
+    ));
+    cases.push(case(
+        "fanuc two motion codes",
+        "p.nc",
+        "%\nO1000\nG21 G90\nG00 G01 X10. F100.\nM30\n%\n".into(),
+        nc,
+        &["line 4", "modal group"],
+    ));
+    cases.push(case(
+        "nc correction limit",
+        "p.ngc",
+        "G21 G90\nG0 X-400 Y-250 Z-100\nM2\n".into(),
+        &vmc3(&["nc"], &["--errors", "{dir}/e.toml", "{f}", "--out", "{out}"]),
+        &["line 2", "beyond the limit of 1000 um", "correction_um"],
+    ));
     // an error table shorter than the travel: compensation beyond its ends is refused
     let short = "name = \"short\"\n[table.EXX]\nposition = [-300, 300]\nvalue = [0, 5]\n".to_string();
     cases.push(case(
@@ -252,33 +291,23 @@ fn options_beyond_what_memory_and_time_allow_are_refused_before_allocating() {
     let _alone = alone();
     for (args, expect) in [
         (
-            vec![
-                "compensate",
-                "--machine",
-                "examples/machines/vmc3.toml",
-                "--errors",
-                "examples/errors/vmc3.toml",
-                "--format",
-                "lattice",
-                "--grid",
-                "100000,100000,100000",
-                "--max-lattice-points",
-                "1000",
-            ],
+            vmc3(
+                &["compensate"],
+                &[
+                    "--errors",
+                    "examples/errors/vmc3.toml",
+                    "--format",
+                    "lattice",
+                    "--grid",
+                    "100000,100000,100000",
+                    "--max-lattice-points",
+                    "1000",
+                ],
+            ),
             "at most 1000000",
         ),
         (
-            vec![
-                "compensate",
-                "--machine",
-                "examples/machines/vmc3.toml",
-                "--errors",
-                "examples/errors/vmc3.toml",
-                "--format",
-                "csv",
-                "--points",
-                "10000000",
-            ],
+            vmc3(&["compensate"], &["--errors", "examples/errors/vmc3.toml", "--format", "csv", "--points", "10000000"]),
             "more than the 100000 allowed",
         ),
         (

@@ -232,18 +232,8 @@ fn identify_writes_nothing_when_the_residuals_cannot_be_written() {
 fn temporaries_in_the_output_directory_do_not_block_the_next_run() {
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("comp");
-    let args = [
-        "compensate",
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--errors",
-        "examples/errors/vmc3.toml",
-        "--format",
-        "linuxcnc",
-        "--force",
-    ];
-    let out_s = arg(&out);
-    let with_out = || args.iter().copied().chain(["--out", out_s]).collect::<Vec<_>>();
+    let with_out =
+        || vmc3(&["compensate"], &["--errors", "examples/errors/vmc3.toml", "--format", "linuxcnc", "--force", "--out", arg(&out)]);
     assert_eq!(run(&with_out()).0, 0);
     // what a killed earlier version left (`tempfile`'s name) and a killed run of this one left
     std::fs::write(out.join(".tmpAb12Cd"), "partial").unwrap();

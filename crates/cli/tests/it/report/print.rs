@@ -8,8 +8,7 @@
 //! Chromium and poppler-utils are skipped with a message when missing, unless CI requires them
 //! (TRUEAXIS_REQUIRE_BROWSER, TRUEAXIS_REQUIRE_POPPLER).
 
-use crate::support::trueaxis_in;
-use crate::support::{failed, root};
+use crate::support::{arg, failed, json, root, trueaxis_in};
 use std::path::Path;
 use std::process::Command;
 
@@ -31,6 +30,64 @@ fn chromium() -> Option<String> {
     found.map(String::from)
 }
 
+/// Chromium, when it is installed, once no box of `html` overflows in it.
+fn browser_without_overflow(html: &Path, scratch: &Path) -> Option<String> {
+    let browser = chromium()?;
+    let bad = browser_overflow(&browser, html, scratch);
+    assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+    Some(browser)
+}
+
+/// The text of `pdf` checked by [`check_pdf`] (its pages rendered below `dir`), when poppler is
+/// installed.
+fn checked_pdf_text(pdf: &Path, dir: &Path) -> Option<String> {
+    tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER")?;
+    let scratch = dir.join("pages");
+    std::fs::create_dir(&scratch).unwrap();
+    Some(check_pdf(pdf, &scratch))
+}
+
+/// The text of the HTML document at `path`.
+fn html_text(path: &Path) -> String {
+    text_of(&std::fs::read_to_string(path).unwrap())
+}
+
+/// Each conformity item of a report's JSON summary with its decision.
+fn decisions(summary: &serde_json::Value) -> Vec<(String, String)> {
+    summary["conformity"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|i| (i["item"].as_str().unwrap().to_string(), i["decision"].as_str().unwrap().to_string()))
+        .collect()
+}
+
+/// `report --machine MACHINE --errors ERRORS INPUTS... [--certificate C] --out HTML [--pdf PDF] --json`
+fn report_args<'a>(
+    machine: &'a str,
+    errors: &'a str,
+    inputs: &[&'a str],
+    certificate: Option<&'a Path>,
+    html: &'a Path,
+    pdf: Option<&'a Path>,
+) -> Vec<&'a str> {
+    let mut args = [&["report", "--machine", machine, "--errors", errors][..], inputs].concat();
+    if let Some(c) = certificate {
+        args.extend(["--certificate", arg(c)]);
+    }
+    args.extend(["--out", arg(html)]);
+    if let Some(p) = pdf {
+        args.extend(["--pdf", arg(p)]);
+    }
+    args.push("--json");
+    args
+}
+
+/// The repository's file `p` as an argument.
+fn path(p: &str) -> String {
+    root().join(p).display().to_string()
+}
+
 /// The ballbar report from imported files: the export's header gives the radius, the feed, the
 /// serial number, date and operator; report.toml the particulars and tolerances.
 fn imported_report(dir: &Path, certificate: &Path, extra: &[&str]) -> serde_json::Value {
@@ -39,29 +96,9 @@ fn imported_report(dir: &Path, certificate: &Path, extra: &[&str]) -> serde_json
     let pdf = dir.join("vmc3.pdf");
     let (machine, errors, export) =
         (r.join("examples/machines/vmc3.toml"), r.join("examples/errors/vmc3.toml"), r.join("examples/ballbar/export_xy.txt"));
-    let args = [
-        "report",
-        "--machine",
-        machine.to_str().unwrap(),
-        "--errors",
-        errors.to_str().unwrap(),
-        "--ballbar",
-        export.to_str().unwrap(),
-        "--ballbar-radius",
-        "100",
-        "--ballbar-centre",
-        "0,0,-200",
-        "--certificate",
-        certificate.to_str().unwrap(),
-        "--out",
-        html.to_str().unwrap(),
-        "--pdf",
-        pdf.to_str().unwrap(),
-        "--json",
-    ];
-    let o = trueaxis_in(dir, &[&args[..], extra].concat());
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    serde_json::from_slice(&o.stdout).unwrap()
+    let inputs = ["--ballbar", arg(&export), "--ballbar-radius", "100", "--ballbar-centre", "0,0,-200"];
+    let args = report_args(arg(&machine), arg(&errors), &inputs, Some(certificate), &html, Some(&pdf));
+    json(&trueaxis_in(dir, &[&args[..], extra].concat()))
 }
 
 /// The text of an HTML document without its tags, entities decoded.
@@ -302,8 +339,7 @@ fn print_html(browser: &str, html: &Path, scratch: &Path) -> Vec<String> {
 #[test]
 fn demo_report_reads_well_in_the_browser_and_as_a_pdf() {
     let dir = tempfile::tempdir().unwrap();
-    let o = trueaxis_in(dir.path(), &["demo", "--out", "demo", "--json"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = json(&trueaxis_in(dir.path(), &["demo", "--out", "demo", "--json"]));
     let demo = dir.path().join("demo");
     let html = std::fs::read_to_string(demo.join("report.html")).unwrap();
     let text = text_of(&html);
@@ -314,7 +350,6 @@ fn demo_report_reads_well_in_the_browser_and_as_a_pdf() {
     assert!(values.len() >= 12 + 3 + 6, "{} values with U", values.len());
     numbers_are_readable(&text, "demo HTML");
     // one U per parameter: the report's, in --json and in identification.json, said how obtained
-    let summary: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let written: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(demo.join("identification.json")).unwrap()).unwrap();
     let parameters = summary["parameters"].as_object().unwrap();
     assert_eq!(parameters.len(), 12);
@@ -328,15 +363,10 @@ fn demo_report_reads_well_in_the_browser_and_as_a_pdf() {
     }
     // a specimen, identified on every page as one
     let identification = ["SPECIMEN: simulated data, not a calibration certificate", "Certificate SPECIMEN-0001", "Specimen Customer Ltd"];
-    if let Some(browser) = chromium() {
-        let bad = browser_overflow(&browser, &demo.join("report.html"), dir.path());
-        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+    if let Some(browser) = browser_without_overflow(&demo.join("report.html"), dir.path()) {
         identification_on_every_page(&print_html(&browser, &demo.join("report.html"), dir.path()), &identification, "demo HTML printed");
     }
-    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
-        let scratch = dir.path().join("pages");
-        std::fs::create_dir(&scratch).unwrap();
-        let pdf_text = check_pdf(&demo.join("report.pdf"), &scratch);
+    if let Some(pdf_text) = checked_pdf_text(&demo.join("report.pdf"), dir.path()) {
         identification_on_every_page(&page_texts(&demo.join("report.pdf")), &identification, "demo PDF");
         numbers_are_readable(&pdf_text, "demo PDF");
         for (name, p) in parameters {
@@ -363,8 +393,7 @@ fn imported_files_give_a_certificate_with_values_rounded_by_u_and_equal_to_the_j
         &root().join("examples/report/vmc3.toml"),
         &["--controller", "heidenhain", "--positioning", rtl.to_str().unwrap()],
     );
-    let html = std::fs::read_to_string(dir.path().join("vmc3.html")).unwrap();
-    let text = text_of(&html);
+    let text = html_text(&dir.path().join("vmc3.html"));
     // the particulars: from report.toml and from the export's header (serial, date, operator)
     for expected in [
         "EX-2024-0312",
@@ -450,15 +479,10 @@ fn imported_files_give_a_certificate_with_values_rounded_by_u_and_equal_to_the_j
     assert_eq!(text.matches("UTC").count(), 1, "one date of issue; the file's writing time once, in the inputs");
     numbers_are_readable(&text, "HTML");
     let identification = ["Certificate EX-2024-0312, issued 2024-03-15", "Example Parts Ltd", "serial number 0001"];
-    if let Some(browser) = chromium() {
-        let bad = browser_overflow(&browser, &dir.path().join("vmc3.html"), dir.path());
-        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
+    if let Some(browser) = browser_without_overflow(&dir.path().join("vmc3.html"), dir.path()) {
         identification_on_every_page(&print_html(&browser, &dir.path().join("vmc3.html"), dir.path()), &identification, "HTML printed");
     }
-    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
-        let scratch = dir.path().join("pages");
-        std::fs::create_dir(&scratch).unwrap();
-        let pdf_text = check_pdf(&dir.path().join("vmc3.pdf"), &scratch);
+    if let Some(pdf_text) = checked_pdf_text(&dir.path().join("vmc3.pdf"), dir.path()) {
         identification_on_every_page(&page_texts(&dir.path().join("vmc3.pdf")), &identification, "PDF");
         assert!(pdf_text.contains("Calibration certificate: circular test"), "the title, whole");
         assert_eq!(measured_values(&pdf_text), values, "the PDF shows the HTML's values");
@@ -494,22 +518,16 @@ fn conformity_decisions_on_tolerances_made_to_pass_to_fail_and_to_be_undecided()
         )
         .unwrap();
         let s = imported_report(dir.path(), &file, &[]);
-        let decisions: Vec<(String, String)> = s["conformity"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|i| (i["item"].as_str().unwrap().to_string(), i["decision"].as_str().unwrap().to_string()))
-            .collect();
-        (decisions, std::fs::read_to_string(dir.path().join("vmc3.html")).unwrap())
+        (decisions(&s), std::fs::read_to_string(dir.path().join("vmc3.html")).unwrap())
     };
     assert!(g_min > 0.0);
     let (guard, html) = case("guard-band");
-    let decision = |list: &[(String, String)], what: &str| -> Vec<String> {
+    let decided = |list: &[(String, String)], what: &str| -> Vec<String> {
         list.iter().filter(|(i, _)| i.contains(what)).map(|(_, d)| d.clone()).collect()
     };
-    assert_eq!(decision(&guard, "circular deviation G"), ["pass", "pass"], "{guard:?}");
-    assert_eq!(decision(&guard, "squareness"), ["FAIL"], "{guard:?}");
-    assert_eq!(decision(&guard, "hysteresis"), ["not proven"], "{guard:?}");
+    assert_eq!(decided(&guard, "circular deviation G"), ["pass", "pass"], "{guard:?}");
+    assert_eq!(decided(&guard, "squareness"), ["FAIL"], "{guard:?}");
+    assert_eq!(decided(&guard, "hysteresis"), ["not proven"], "{guard:?}");
     assert!(
         html.contains("<td class=\"fail\">FAIL</td>")
             && html.contains("<td class=\"pass\">pass</td>")
@@ -517,8 +535,8 @@ fn conformity_decisions_on_tolerances_made_to_pass_to_fail_and_to_be_undecided()
     );
     assert!(text_of(&html).contains("does NOT conform: 1 of the 4 items"), "the statement");
     let (simple, html) = case("simple");
-    assert_eq!(decision(&simple, "hysteresis"), ["pass"], "{simple:?}");
-    assert_eq!(decision(&simple, "squareness"), ["FAIL"], "{simple:?}");
+    assert_eq!(decided(&simple, "hysteresis"), ["pass"], "{simple:?}");
+    assert_eq!(decided(&simple, "squareness"), ["FAIL"], "{simple:?}");
     assert!(text_of(&html).contains("Simple acceptance"));
 }
 
@@ -529,44 +547,26 @@ fn conformity_decisions_on_tolerances_made_to_pass_to_fail_and_to_be_undecided()
 #[test]
 fn a_five_axis_rotary_ballbar_job_is_reported_with_u_everywhere() {
     let dir = tempfile::tempdir().unwrap();
-    let r = root();
-    let path = |p: &str| r.join(p).display().to_string();
     let steps = ["A1", "A2", "C1", "C2"].map(|s| path(&format!("examples/ballbar/{s}.csv"))).join(",");
     let certificate = dir.path().join("five.toml");
     let html = dir.path().join("five.html");
     let pdf = dir.path().join("five.pdf");
+    let (machine, errors) = (path("examples/machines/c600u.toml"), path("examples/ballbar/c600u_piges.toml"));
+    let args = report_args(&machine, &errors, &["--rotary-ballbar", &steps], Some(&certificate), &html, Some(&pdf));
     let run = |toml: &str| {
         std::fs::write(&certificate, toml).unwrap();
-        let args = [
-            "report",
-            "--machine",
-            &path("examples/machines/c600u.toml"),
-            "--errors",
-            &path("examples/ballbar/c600u_piges.toml"),
-            "--rotary-ballbar",
-            &steps,
-            "--certificate",
-            certificate.to_str().unwrap(),
-            "--out",
-            html.to_str().unwrap(),
-            "--pdf",
-            pdf.to_str().unwrap(),
-            "--json",
-        ];
         trueaxis_in(dir.path(), &args)
     };
     let head = "[certificate]\nnumber = \"FIVE-1\"\ncustomer = \"Five Axis Ltd\"\n[decision]\nrule = \"guard-band\"\n";
-    let o = run(&format!("{head}[tolerances.parameters]\nEY0A = 15\n"));
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    let errors = s["rotary_ballbar"]["errors"].as_object().unwrap();
-    assert_eq!(errors.len(), 8, "{errors:?}");
-    let text = text_of(&std::fs::read_to_string(&html).unwrap());
+    let s = json(&run(&format!("{head}[tolerances.parameters]\nEY0A = 15\n")));
+    let identified = s["rotary_ballbar"]["errors"].as_object().unwrap();
+    assert_eq!(identified.len(), 8, "{identified:?}");
+    let text = html_text(&html);
     assert!(text.contains("Rotary axes: ballbar test (location errors)") && text.contains("Jiang (2014)"));
     // the files were simulated with c600u_piges.toml: each value within 2 U of it, or within 1 um / 5 urad
-    let truth: toml::Value = toml::from_str(&std::fs::read_to_string(r.join("examples/ballbar/c600u_piges.toml")).unwrap()).unwrap();
+    let truth: toml::Value = toml::from_str(&std::fs::read_to_string(root().join("examples/ballbar/c600u_piges.toml")).unwrap()).unwrap();
     let pdf_pages = if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() { Some(page_texts(&pdf)) } else { None };
-    for (name, e) in errors {
+    for (name, e) in identified {
         let (v, u) = (e["value"].as_f64().unwrap(), e["expanded_uncertainty"].as_f64().unwrap());
         let t = truth["constant"][name.as_str()].as_float().unwrap();
         assert!((v - t).abs() <= (2.0 * u).max(5.0), "{name}: {v} ± {u} vs {t}");
@@ -633,14 +633,8 @@ fn the_data_quality_part_names_each_finding_and_each_clean_file() {
     for expected in ["Data quality", "run4_mm.csv", "run 4", "unit", "without run 4", "export_xy.txt", "no finding"] {
         assert!(section.contains(expected), "`{expected}` not in the data-quality section: {section}");
     }
-    if let Some(browser) = chromium() {
-        let bad = browser_overflow(&browser, &dir.path().join("vmc3.html"), dir.path());
-        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
-    }
-    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
-        let scratch = dir.path().join("pages");
-        std::fs::create_dir(&scratch).unwrap();
-        let pdf_text = check_pdf(&dir.path().join("vmc3.pdf"), &scratch);
+    browser_without_overflow(&dir.path().join("vmc3.html"), dir.path());
+    if let Some(pdf_text) = checked_pdf_text(&dir.path().join("vmc3.pdf"), dir.path()) {
         for expected in ["Data quality", "no finding", "without run 4"] {
             assert!(pdf_text.contains(expected), "`{expected}` not in the PDF");
         }
@@ -675,6 +669,14 @@ fn value_and_u(doc: &serde_json::Value, key: &str, u_key: &str) -> (f64, f64) {
     (doc[key].as_f64().unwrap(), 2.0 * doc[u_key].as_f64().unwrap())
 }
 
+/// A reported error (its JSON entry) equals `(value, U)` of its command, both rounded to 1e-4:
+/// within half that place for the value and one place for U; the reported pair.
+fn same_as_command(e: &serde_json::Value, (v, u): (f64, f64), what: &str) -> (f64, f64) {
+    let (rv, ru) = (e["value"].as_f64().unwrap(), e["expanded_uncertainty"].as_f64().unwrap());
+    assert!((rv - v).abs() <= 0.5e-4 + 1e-9 && (ru - u).abs() <= 1e-4 + 1e-9, "{what}: report {rv} ± {ru}, command {v} ± {u}");
+    (rv, ru)
+}
+
 /// The other ballbar methods (issue 36): the four-setup method of Jiang (2014) ch. 6 and the
 /// two-length rotary-table test of Zhu (2008) in one report, each error with the value and U of
 /// `ballbar identify --json` / `ballbar tmbb --json` (U = 2 u; both documents round to 1e-4),
@@ -684,8 +686,6 @@ fn value_and_u(doc: &serde_json::Value, key: &str, u_key: &str) -> (f64, f64) {
 fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let r = root();
-    let path = |p: &str| r.join(p).display().to_string();
     let machine = path("examples/machines/c600u.toml");
     let simulate = |method: &[&str], prefix: &str| -> Vec<String> {
         ["a1", "a2", "c1", "c2"]
@@ -706,20 +706,16 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
     };
     let identify = |method: &[&str], files: &[String]| -> serde_json::Value {
         let steps = ["--a1", &files[0], "--a2", &files[1], "--c1", &files[2], "--c2", &files[3]];
-        let o = trueaxis_in(d, &[&["ballbar", "identify", "--machine", &machine, "--json"][..], method, &steps].concat());
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        serde_json::from_slice(&o.stdout).unwrap()
+        json(&trueaxis_in(d, &[&["ballbar", "identify", "--machine", &machine, "--json"][..], method, &steps].concat()))
     };
     let four = ["--method", "four-setup", "--outer-positions", "-200,250", "--inner-positions", "0,78"];
     let files = simulate(&four, "six_");
     let expected = identify(&four, &files);
     // the shipped two-length files are noise free: 0.5 um of noise on each bar gives a U to quote
     let (short, long) = (d.join("short.csv"), d.join("long.csv"));
-    with_noise(&r.join("examples/ballbar/tmbb_L1.csv"), &short, 0.5, 1);
-    with_noise(&r.join("examples/ballbar/tmbb_L2.csv"), &long, 0.5, 2);
-    let o = trueaxis_in(d, &["ballbar", "tmbb", "--short", short.to_str().unwrap(), "--long", long.to_str().unwrap(), "--json"]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let table: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    with_noise(&root().join("examples/ballbar/tmbb_L1.csv"), &short, 0.5, 1);
+    with_noise(&root().join("examples/ballbar/tmbb_L2.csv"), &long, 0.5, 2);
+    let table = json(&trueaxis_in(d, &["ballbar", "tmbb", "--short", arg(&short), "--long", arg(&long), "--json"]));
     let certificate = d.join("six.toml");
     std::fs::write(
         &certificate,
@@ -728,14 +724,11 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
     .unwrap();
     let (html, pdf) = (d.join("six.html"), d.join("six.pdf"));
     let tmbb_files = format!("{},{}", short.display(), long.display());
-    let args = [
-        "report",
-        "--machine",
-        &machine,
-        "--errors",
-        &path("examples/ballbar/c600u_piges.toml"),
+    let truth = path("examples/ballbar/c600u_piges.toml");
+    let steps = files.join(",");
+    let inputs = [
         "--rotary-ballbar",
-        &files.join(","),
+        &steps,
         "--rotary-method",
         "four-setup",
         "--rotary-outer-positions",
@@ -744,21 +737,12 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
         "0,78",
         "--tmbb",
         &tmbb_files,
-        "--certificate",
-        certificate.to_str().unwrap(),
-        "--out",
-        html.to_str().unwrap(),
-        "--pdf",
-        pdf.to_str().unwrap(),
-        "--json",
     ];
-    let s = report_json(&args, d);
+    let s = json(&trueaxis_in(d, &report_args(&machine, &truth, &inputs, Some(&certificate), &html, Some(&pdf))));
     assert_eq!(s["rotary_ballbar"]["method"], "four-setup");
     let mut reported = Vec::new();
     for (name, e) in s["rotary_ballbar"]["errors"].as_object().unwrap() {
-        let (v, u) = value_and_u(&expected["parameters"][name], "value", "std_uncertainty");
-        let (rv, ru) = (e["value"].as_f64().unwrap(), e["expanded_uncertainty"].as_f64().unwrap());
-        assert!((rv - v).abs() <= 0.5e-4 + 1e-9 && (ru - u).abs() <= 1e-4 + 1e-9, "{name}: report {rv} ± {ru}, identify {v} ± {u}");
+        same_as_command(e, value_and_u(&expected["parameters"][name], "value", "std_uncertainty"), &format!("{name}: identify"));
         reported.push(e["reported"].as_str().unwrap().to_string());
     }
     let l2 = &table["l2"];
@@ -766,26 +750,20 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
         let u_key = if unit_key == "urad" { "std_uncertainty_urad" } else { "std_uncertainty" };
         let (v, u) = value_and_u(&l2[key], unit_key, u_key);
         let e = &s["tmbb"]["errors"][name];
-        let (rv, ru) = (e["value"].as_f64().unwrap(), e["expanded_uncertainty"].as_f64().unwrap());
-        assert!((rv - v).abs() <= 0.5e-4 + 1e-9 && (ru - u).abs() <= 1e-4 + 1e-9, "{name}: report {rv} ± {ru}, tmbb {v} ± {u}");
+        let (rv, ru) = same_as_command(e, (v, u), &format!("{name}: tmbb"));
         // the noise-free truth (examples/ballbar/tmbb_errors.toml) within U
         let truth = [("EAC", 38.45), ("EBC", 35.78), ("EZC", 2.68)].iter().find(|t| t.0 == name).unwrap().1;
         assert!((rv - truth).abs() <= ru, "{name}: {rv} ± {ru} vs {truth}");
         reported.push(e["reported"].as_str().unwrap().to_string());
     }
     // EY0A (35 um) within 50 passes, EAC (38 urad) beyond 20 fails
-    let decisions: Vec<(String, String)> = s["conformity"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|i| (i["item"].as_str().unwrap().to_string(), i["decision"].as_str().unwrap().to_string()))
-        .collect();
+    let decisions = decisions(&s);
     assert_eq!(decisions.len(), 2, "{decisions:?}");
     assert!(
         decisions.iter().any(|(i, d)| i.ends_with("EY0A") && d == "pass")
             && decisions.iter().any(|(i, d)| i.ends_with("EAC") && d == "FAIL")
     );
-    let text = text_of(&std::fs::read_to_string(&html).unwrap());
+    let text = html_text(&html);
     for expected in
         ["four-setup method of Lee and Yang as in Jiang (2014) ch. 6", "Zhu (2008) ch. 5", "Rotary table: two-length ballbar test"]
     {
@@ -804,29 +782,14 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
     let two = ["--method", "two-pivot", "--outer-offset", "60"];
     let files = simulate(&two, "four_");
     let expected = identify(&two, &files);
-    let args = [
-        "report",
-        "--machine",
-        &machine,
-        "--errors",
-        &path("examples/ballbar/c600u_piges.toml"),
-        "--rotary-ballbar",
-        &files.join(","),
-        "--rotary-method",
-        "two-pivot",
-        "--rotary-outer-offset",
-        "60",
-        "--out",
-        html.to_str().unwrap(),
-        "--json",
-    ];
-    let s = report_json(&args, d);
+    let steps = files.join(",");
+    let inputs = ["--rotary-ballbar", &steps, "--rotary-method", "two-pivot", "--rotary-outer-offset", "60"];
+    let args = report_args(&machine, &truth, &inputs, None, &html, None);
+    let s = json(&trueaxis_in(d, &args));
     for (name, e) in s["rotary_ballbar"]["errors"].as_object().unwrap() {
-        let (v, u) = value_and_u(&expected["parameters"][name], "value", "std_uncertainty");
-        assert!((e["value"].as_f64().unwrap() - v).abs() <= 0.5e-4 + 1e-9, "{name}");
-        assert!((e["expanded_uncertainty"].as_f64().unwrap() - u).abs() <= 1e-4 + 1e-9, "{name}");
+        same_as_command(e, value_and_u(&expected["parameters"][name], "value", "std_uncertainty"), &format!("{name}: identify"));
     }
-    assert!(text_of(&std::fs::read_to_string(&html).unwrap()).contains("two-pivot method of Jiang (2014) ch. 4"));
+    assert!(html_text(&html).contains("two-pivot method of Jiang (2014) ch. 4"));
     // a method without its setup is refused by name, exit status 2
     let o = trueaxis_in(d, &[&args[..7], &["--rotary-method", "four-setup", "--out", html.to_str().unwrap()]].concat());
     failed(&o, 2, &["--rotary-outer-positions"]);
@@ -834,9 +797,7 @@ fn other_ballbar_methods_are_reported_with_the_numbers_of_their_commands() {
 
 /// The documents of `trueaxis fit ... --json` for `args` (both directions: `plus`, `minus`).
 fn fit_json(args: &[&str], dir: &Path) -> serde_json::Value {
-    let o = trueaxis_in(dir, &[&["fit", "--json"][..], args].concat());
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    serde_json::from_slice(&o.stdout).unwrap()
+    json(&trueaxis_in(dir, &[&["fit", "--json"][..], args].concat()))
 }
 
 /// The report's fit (its JSON entry) has the coefficients, U = 2 u and residuals of `trueaxis fit --json`.
@@ -864,8 +825,6 @@ fn same_fit(reported: &serde_json::Value, fit: &serde_json::Value) {
 fn direct_fits_are_reported_with_the_numbers_of_trueaxis_fit() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
-    let r = root();
-    let path = |p: &str| r.join(p).display().to_string();
     let machine = path("examples/machines/vmc3.toml");
     // a straightness of X (EYX) in the style of the shipped level and laser files: a bow of
     // 2e-5 um/mm^2 and a slope (the setup's alignment), read every 20 mm with +-0.05 um of noise
@@ -876,27 +835,15 @@ fn direct_fits_are_reported_with_the_numbers_of_trueaxis_fit() {
         csv.push_str(&format!("{x},{:.4}\n", 2e-5 * x * x + 0.004 * x + if k % 2 == 0 { 0.05 } else { -0.05 }));
     }
     std::fs::write(d.join("straightness_x.csv"), csv).unwrap();
-    let shipped = std::fs::read_to_string(r.join("examples/report/vmc3_fits.toml")).unwrap();
+    let shipped = std::fs::read_to_string(root().join("examples/report/vmc3_fits.toml")).unwrap();
     let certificate = d.join("fits.toml");
     let toml = shipped.replace("../data/", &format!("{}/", path("examples/data"))).replace("EXX = 12", "EXX = 12\nEYX = 2")
         + "\n[[fit]]\ndata = \"straightness_x.csv\"\nparameter = \"EYX\"\nat = \"Z=-200\"\n";
     std::fs::write(&certificate, toml).unwrap();
     let (html, pdf) = (d.join("fits.html"), d.join("fits.pdf"));
-    let args = [
-        "report",
-        "--machine",
-        &machine,
-        "--errors",
-        &path("examples/errors/vmc3.toml"),
-        "--certificate",
-        certificate.to_str().unwrap(),
-        "--out",
-        html.to_str().unwrap(),
-        "--pdf",
-        pdf.to_str().unwrap(),
-        "--json",
-    ];
-    let s = report_json(&args, d);
+    let errors = path("examples/errors/vmc3.toml");
+    let args = report_args(&machine, &errors, &[], Some(&certificate), &html, Some(&pdf));
+    let s = json(&trueaxis_in(d, &args));
     let fits = s["fits"].as_array().unwrap();
     assert_eq!(fits.len(), 4, "EBX, EXX+, EXX-, EYX");
     let level = path("examples/data/level_x.csv");
@@ -950,7 +897,7 @@ fn direct_fits_are_reported_with_the_numbers_of_trueaxis_fit() {
     // EBX 16 urad within 25 and EXX 2.1 um within 12 pass; the straightness 3.2 um beyond 2 fails
     let decisions: Vec<String> = s["conformity"].as_array().unwrap().iter().map(|i| i["decision"].as_str().unwrap().to_string()).collect();
     assert_eq!(decisions, ["pass", "pass", "pass", "FAIL"], "{}", s["conformity"]);
-    let text = text_of(&std::fs::read_to_string(&html).unwrap());
+    let text = html_text(&html);
     assert!(text.contains("Direct measurements: fitted error motions") && text.contains("Soons (1993)"));
     let reported: Vec<String> = fits
         .iter()
@@ -1001,14 +948,8 @@ fn as_printed(p: &Printed) {
     }
     let values = measured_values(p.text);
     numbers_are_readable(p.text, &format!("{} HTML", p.what));
-    if let Some(browser) = chromium() {
-        let bad = browser_overflow(&browser, p.html, p.dir);
-        assert!(bad.is_empty(), "overflowing boxes: {bad:#?}");
-    }
-    if tool("pdftotext", "TRUEAXIS_REQUIRE_POPPLER").is_some() {
-        let scratch = p.dir.join("pages");
-        std::fs::create_dir(&scratch).unwrap();
-        let pdf_text = check_pdf(p.pdf, &scratch);
+    browser_without_overflow(p.html, p.dir);
+    if let Some(pdf_text) = checked_pdf_text(p.pdf, p.dir) {
         numbers_are_readable(&pdf_text, &format!("{} PDF", p.what));
         let pages = page_texts(p.pdf);
         identification_on_every_page(&pages, p.identification, &format!("{} PDF", p.what));
@@ -1017,11 +958,4 @@ fn as_printed(p: &Printed) {
         }
         assert_eq!(measured_values(&pdf_text), values, "the PDF shows the HTML's values");
     }
-}
-
-/// Runs `trueaxis` with `args` (a `report ... --json`), which must succeed; its JSON summary.
-fn report_json(args: &[&str], dir: &Path) -> serde_json::Value {
-    let o = trueaxis_in(dir, args);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    serde_json::from_slice(&o.stdout).unwrap()
 }

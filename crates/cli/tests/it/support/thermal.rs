@@ -12,6 +12,14 @@ pub fn fit_dz(train_runs: &str, extra: &[&str]) -> Output {
     trueaxis(&args)
 }
 
+/// `trueaxis thermal place` of three sensors on the shipped elongation model
+/// (examples/thermal/elongation.toml) over the whole of its modes (`--share 1`), with the further
+/// arguments `extra`.
+pub fn place_elongation(extra: &[&str]) -> Output {
+    let args = ["thermal", "place", "--model", "examples/thermal/elongation.toml", "--count", "3", "--share", "1"];
+    trueaxis(&[&args[..], extra].concat())
+}
+
 /// Reproducible standard normal numbers without a test dependency: Box-Muller on a 64-bit linear
 /// congruential generator seeded with `seed`.
 pub fn normal(seed: u64) -> impl FnMut() -> f64 {

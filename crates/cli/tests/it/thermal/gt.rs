@@ -47,6 +47,15 @@ fn campaign(noise: f64) -> String {
     text
 }
 
+/// `thermal fit` of `data`'s dx on T:bed and S:spindle in four segments (by direction, the ranges
+/// split at X = 200 mm), geometric degree 2 and thermal degree 1, trained on the runs at 1000, 3000
+/// and 5000 rpm; then `more`.
+fn segments_fit<'a>(data: &'a str, more: &[&'a str]) -> Vec<&'a str> {
+    let fit = ["thermal", "fit", "--data", data, "--error", "dx", "--sensors", "T:bed,S:spindle", "--position", "X", "--by-direction"];
+    let degrees = ["--ranges", "200", "--geometric-degree", "2", "--degree", "1", "--train-runs", "s1000,s3000,s5000"];
+    [&fit[..], &degrees, more].concat()
+}
+
 #[test]
 fn gt_segments_are_recovered_and_enter_the_chain() {
     let dir = tempfile::tempdir().unwrap();
@@ -54,36 +63,9 @@ fn gt_segments_are_recovered_and_enter_the_chain() {
     std::fs::write(&data, campaign(0.0)).unwrap();
     let model = dir.path().join("gt.toml");
     let terms = dir.path().join("gt_terms.toml");
-    let doc = json(&trueaxis(&[
-        "thermal",
-        "fit",
-        "--data",
-        arg(&data),
-        "--error",
-        "dx",
-        "--sensors",
-        "T:bed,S:spindle",
-        "--position",
-        "X",
-        "--by-direction",
-        "--ranges",
-        "200",
-        "--geometric-degree",
-        "2",
-        "--degree",
-        "1",
-        "--train-runs",
-        "s1000,s3000,s5000",
-        "--out",
-        arg(&model),
-        "--parameter",
-        "EXX",
-        "--terms-out",
-        arg(&terms),
-        "--machine",
-        "examples/machines/vmc3.toml",
-        "--json",
-    ]));
+    let more =
+        ["--out", arg(&model), "--parameter", "EXX", "--terms-out", arg(&terms), "--machine", "examples/machines/vmc3.toml", "--json"];
+    let doc = json(&trueaxis(&segments_fit(arg(&data), &more)));
     let segments = doc["model"]["segment"].as_array().unwrap();
     assert_eq!(segments.len(), 4);
     for s in segments {
@@ -136,28 +118,7 @@ fn shipped_campaign_is_the_simulation() {
     }
     assert_eq!(std::fs::read_to_string(&path).unwrap(), text);
     // the segments fitted to the noisy file predict the 4000 rpm run to the noise
-    let doc = json(&trueaxis(&[
-        "thermal",
-        "fit",
-        "--data",
-        "examples/thermal/gt_slide.csv",
-        "--error",
-        "dx",
-        "--sensors",
-        "T:bed,S:spindle",
-        "--position",
-        "X",
-        "--by-direction",
-        "--ranges",
-        "200",
-        "--geometric-degree",
-        "2",
-        "--degree",
-        "1",
-        "--train-runs",
-        "s1000,s3000,s5000",
-        "--json",
-    ]));
+    let doc = json(&trueaxis(&segments_fit("examples/thermal/gt_slide.csv", &["--json"])));
     let rms = doc["validation"]["s4000"]["rms"].as_f64().unwrap();
     assert!((0.04..0.07).contains(&rms), "{rms}");
 }

@@ -4,7 +4,8 @@
 //! exhaustive yardstick has the smallest training error of all, and more Gauss sensors predict
 //! better.
 
-use crate::support::{json, trueaxis, ROOT};
+use crate::support::thermal::place_elongation;
+use crate::support::{json, ROOT};
 use std::path::Path;
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::placement_score::{elongation_weights, gauss_points};
@@ -23,20 +24,7 @@ fn weights_and_gauss_points_of_the_elongation_element() {
 }
 
 fn scores(sensors: &str) -> Vec<serde_json::Value> {
-    let doc = json(&trueaxis(&[
-        "thermal",
-        "place",
-        "--model",
-        "examples/thermal/elongation.toml",
-        "--count",
-        "3",
-        "--share",
-        "1",
-        "--sensors",
-        sensors,
-        "--score",
-        "--json",
-    ]));
+    let doc = json(&place_elongation(&["--sensors", sensors, "--score", "--json"]));
     doc["scores"].as_array().unwrap().clone()
 }
 

@@ -3,7 +3,7 @@
 //! stems and the truncation share, measured and predicted drift with the residual band, training
 //! and validation told apart; non-finite data refused; `--plot` on the `thermal` commands.
 
-use crate::support::thermal::fit_dz;
+use crate::support::thermal::{fit_dz, place_elongation};
 use crate::support::{ok, trueaxis};
 use roxmltree::Document;
 use trueaxis_report::{
@@ -182,18 +182,7 @@ fn thermal_commands_write_their_plots() {
     // 23 nodes along the bar
     assert_eq!(svg.lines(BLUE, "7", 23).len(), 1);
     // place: the thesis's two sensors marked on the dominant shapes
-    ok(&trueaxis(&[
-        "thermal",
-        "place",
-        "--model",
-        "examples/thermal/elongation.toml",
-        "--count",
-        "3",
-        "--share",
-        "1",
-        "--plot",
-        &path("place.svg"),
-    ]));
+    ok(&place_elongation(&["--plot", &path("place.svg")]));
     let svg = parse(&std::fs::read_to_string(path("place.svg")).unwrap());
     assert!(svg.has_text("sensor, node 12") && svg.has_text("sensor, node 0") && svg.has_text("mode 3, tau 19.57 min"));
     // fit: training and validation runs; predict: prediction on every run

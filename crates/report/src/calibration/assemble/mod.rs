@@ -113,7 +113,7 @@ fn add_findings(
 /// report.toml (or the default certificate), and a known controller format.
 fn certificate(request: &ReportRequest) -> Result<CertificateFile, CalibrationError> {
     let certificate = match &request.certificate {
-        Some(path) => CertificateFile::load(path).map_err(bad)?,
+        Some(path) => CertificateFile::load(path)?,
         None => CertificateFile::default(),
     };
     if let Some(c) = &request.controller {

@@ -47,7 +47,9 @@ pub fn export<'a>(input: &ExportInput<'a>) -> Result<Export<'a>, CompensateError
     if !input.errors.sensors().is_empty() {
         let _ = writeln!(text, "// the model has temperature terms: values at 20 degC");
     }
-    // the parameters as written, for the correction the controller computes from them
+    // the parameters as written, for the correction the controller computes from them (a table of
+    // the program's own sampling that does not build is a failed computation)
+    let failed = |e: crate::Error| CompensateError::Computation(e.to_string());
     let mut written = ErrorModel::zero(m);
     let mut records = 0;
     for (k, axis) in m.axes().iter().enumerate() {
@@ -71,8 +73,8 @@ pub fn export<'a>(input: &ExportInput<'a>) -> Result<Export<'a>, CompensateError
         }
         for (column, c) in columns.into_iter().zip(Component::ALL) {
             let id = ParameterId::Motion { axis: axis.letter, component: c };
-            let f = ErrorFunction::table(table.positions.clone(), column, None).map_err(CompensateError::Computation)?;
-            written.set(m, id, f).map_err(CompensateError::Computation)?;
+            let f = ErrorFunction::table(table.positions.clone(), column, None).map_err(failed)?;
+            written.set(m, id, f).map_err(failed)?;
         }
     }
     m.pose_to_internal(reference, &mut q);
@@ -96,7 +98,7 @@ pub fn export<'a>(input: &ExportInput<'a>) -> Result<Export<'a>, CompensateError
             let v = values[m.location_index(k, c)];
             if v != 0.0 {
                 let id = ParameterId::Location { axis: axis.letter, component: c };
-                written.set(m, id, ErrorFunction::Constant(v / c.to_internal())).map_err(CompensateError::Computation)?;
+                written.set(m, id, ErrorFunction::Constant(v / c.to_internal())).map_err(failed)?;
             }
         }
     }

@@ -116,7 +116,7 @@ impl Limits {
         let mut limits = Limits::of_machine(machine);
         for (name, v, rotary) in [("the linear correction limit", max_um, false), ("the rotary correction limit", max_urad, true)] {
             if let Some(v) = v {
-                crate::machine::check_limit_value(name, v, rotary).map_err(CompensateError::Input)?;
+                crate::machine::check_limit_value(name, v, rotary).map_err(|e| CompensateError::Input(e.to_string()))?;
             }
         }
         if let Some(v) = max_um {

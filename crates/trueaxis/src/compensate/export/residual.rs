@@ -345,7 +345,9 @@ pub fn uncertainty_of_error_left(corrector: &Corrector, temperatures: &[f64]) ->
         .uncertainties()
         .iter()
         .filter(|(_, u)| *u > 0.0)
-        .map(|(id, u)| m.parameter_index(id).map(|i| (i, u * id.component().to_internal())).map_err(CompensateError::Input))
+        .map(|(id, u)| {
+            m.parameter_index(id).map(|i| (i, u * id.component().to_internal())).map_err(|e| CompensateError::Input(e.to_string()))
+        })
         .collect::<Result<_, _>>()?;
     if uncertain.is_empty() {
         return Ok(None);

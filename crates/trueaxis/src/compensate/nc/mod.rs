@@ -147,6 +147,13 @@ impl NcResult {
     }
 }
 
+/// A program the interpreter cannot run is bad input, at its file and line.
+impl From<NcError> for crate::Error {
+    fn from(e: NcError) -> crate::Error {
+        crate::Error::input(e.message).in_file(e.file).at_line(e.line)
+    }
+}
+
 pub(super) fn input_error(e: NcError) -> CompensateError {
     CompensateError::Input(e.to_string())
 }

@@ -107,13 +107,12 @@ impl<R: Read> Source<R> {
     fn load(&mut self, part: &Part, controller: Controller) -> Result<SourceFile, PartError> {
         let first = self.state.lines == 0;
         let before = self.state;
-        let (dialect, read) = (controller.family(), controller.line_reader());
-        SourceFile::load_part_with(&self.origin, &part.bytes, dialect, &mut self.state, part.last, read).map_err(|(k, m)| {
+        SourceFile::load_part(&self.origin, &part.bytes, controller, &mut self.state, part.last).map_err(|e| {
             // a line the byte reader refuses is refused wherever it stands; an unmatched structure
             // may be matched in another part
             let whole = first && part.last;
             if whole || trueaxis_nc::source::decode_part(&part.bytes, first).is_err() {
-                PartError::Input(input_error(trueaxis_nc::NcError { file: self.origin.clone(), line: before.lines + k + 1, message: m }))
+                PartError::Input(input_error(trueaxis_nc::NcError { line: before.lines + e.line, ..e }))
             } else {
                 PartError::Whole
             }
@@ -266,7 +265,7 @@ impl<'a, 'b> PartsRun<'a, 'b> {
             }
             writer.step(i, &pieces);
         }
-        let mut bytes = Vec::with_capacity(main.text.len() + main.lines.len() + 64);
+        let mut bytes = Vec::with_capacity(main.text.len() + main.line_count() + 64);
         if main.bom {
             bytes.extend_from_slice(b"\xEF\xBB\xBF");
         }

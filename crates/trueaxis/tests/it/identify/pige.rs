@@ -9,7 +9,9 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use trueaxis::geometry::Vec3;
 use trueaxis::identify::pige::{compensation_residual, identify_piges, kasa_fit, repeatability, start_angle_error, DbbTrace, Piges};
-use trueaxis::instruments::ballbar::{jiang_spec, jiang_step, rotary_test, sweep_angles, BallbarTest, BarLengths, JiangStep, RotaryPair};
+use trueaxis::instruments::ballbar::{
+    jiang_spec, jiang_step, rotary_test, sweep_angles, BallbarTest, BarLengths, JiangStep, RotaryPair, RotarySpec,
+};
 use trueaxis::machine::Machine;
 
 /// Table 3.1: position PIGEs 10 um, orientation PIGEs 0.01 deg (mm, rad).
@@ -73,6 +75,15 @@ fn chapter_5(m: &Machine, params: &[f64], step: f64, noise: Option<(&mut ChaCha8
     let outer = vec![run(JiangStep::A1), run(JiangStep::A2)];
     let inner = vec![run(JiangStep::C1), run(JiangStep::C2)];
     Campaign { outer, inner }
+}
+
+/// The test of `spec` (a setup of `step`) simulated on the exact chain every 2 deg, the outer axis
+/// over -20 ... 90 deg and the inner one over a turn: the test and its noise-free readings.
+fn simulated(m: &Machine, params: &[f64], step: JiangStep, spec: &RotarySpec) -> (BallbarTest, Vec<f64>) {
+    let angles = if step.is_outer() { sweep_angles(-20.0, 90.0, 2.0) } else { sweep_angles(0.0, 360.0, 2.0) };
+    let test = rotary_test(m, spec, &angles, &[0.0; 5]).unwrap();
+    let dl = test.simulate_params(m, params);
+    (test, dl)
 }
 
 fn assert_recovered(piges: &Piges, truth: &[f64; 8], what: &str) {
@@ -176,10 +187,8 @@ fn erratum_8_pivot_at_minus_r_gives_the_same_piges() {
     for step in JiangStep::ALL {
         let mut spec = jiang_spec(&m, pair, step, bars, 0.0).unwrap();
         spec.radial = -spec.radial;
-        let angles = if step.is_outer() { sweep_angles(-20.0, 90.0, 2.0) } else { sweep_angles(0.0, 360.0, 2.0) };
-        let test = rotary_test(&m, &spec, &angles, &[0.0; 5]).unwrap();
+        let (test, dl) = simulated(&m, &params, step, &spec);
         assert!((test.setup.work_point.norm() - 100.0).abs() < 1e-12);
-        let dl = test.simulate_params(&m, &params);
         sets[usize::from(!step.is_outer())].push((test, dl));
     }
     let [outer, inner] = sets;
@@ -195,13 +204,7 @@ fn chapter_4_two_pivot_method_with_the_a_pivot_off_centre() {
     let params = parameters(&m, &truth);
     let pair = RotaryPair::of_machine(&m).unwrap();
     let bars = BarLengths::TABLE_3_1;
-    let run = |step: JiangStep, offset: f64| {
-        let spec = jiang_spec(&m, pair, step, bars, offset).unwrap();
-        let angles = if step.is_outer() { sweep_angles(-20.0, 90.0, 2.0) } else { sweep_angles(0.0, 360.0, 2.0) };
-        let test = rotary_test(&m, &spec, &angles, &[0.0; 5]).unwrap();
-        let dl = test.simulate_params(&m, &params);
-        (test, dl)
-    };
+    let run = |step: JiangStep, offset: f64| simulated(&m, &params, step, &jiang_spec(&m, pair, step, bars, offset).unwrap());
     let campaign = Campaign {
         outer: vec![run(JiangStep::A1, 150.0), run(JiangStep::A2, 150.0)],
         inner: vec![run(JiangStep::C1, 0.0), run(JiangStep::C2, 0.0)],
@@ -222,10 +225,7 @@ fn chapter_6(m: &Machine, params: &[f64], x: [f64; 2], dc: f64) -> Campaign {
         let mut spec = jiang_spec(m, pair, step, bars, 0.0).unwrap();
         spec.pivot_position = along;
         spec.spindle_position = along;
-        let angles = if step.is_outer() { sweep_angles(-20.0, 90.0, 2.0) } else { sweep_angles(0.0, 360.0, 2.0) };
-        let test = rotary_test(m, &spec, &angles, &[0.0; 5]).unwrap();
-        let dl = test.simulate_params(m, params);
-        (test, dl)
+        simulated(m, params, step, &spec)
     };
     Campaign {
         outer: vec![run(JiangStep::A1, x[0]), run(JiangStep::A1, x[1])],

@@ -117,7 +117,7 @@ fn the_direct_fit_rarely_flags_clean_tests() {
             for r in &data.readings {
                 text += &format!("{},{},{},{}\n", r.target, r.dev, if r.direction == Direction::Plus { "+" } else { "-" }, r.run);
             }
-            [None, Some('+')].iter().any(|&d| !super::positioning::direct_fit_of(&text, d).findings.is_empty())
+            [None, Some('+')].iter().any(|&d| !crate::identify::direct_screening::direct_fit_of(&text, d).findings.is_empty())
         })
         .count();
     eprintln!("false alarms: fit (studentized residual, Cook's distance) {flagged} of {SETS}");

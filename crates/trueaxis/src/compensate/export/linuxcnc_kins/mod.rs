@@ -88,11 +88,10 @@ pub fn model(machine: &Machine, errors: &ErrorModel, kinematics: &KinematicCorre
             let column = &sampled[c.index() * TABLE_POINTS..(c.index() + 1) * TABLE_POINTS];
             if column.iter().any(|v| *v != 0.0) {
                 let user: Vec<f64> = column.iter().map(|v| v / c.to_internal()).collect();
-                let function =
-                    ErrorFunction::table(positions.clone(), user, periodic.then_some(360.0)).map_err(CompensateError::Computation)?;
-                model
-                    .set(machine, ParameterId::Motion { axis: axis.letter, component: c }, function)
-                    .map_err(CompensateError::Computation)?;
+                // a table of the program's own sampling that does not build is a failed computation
+                let failed = |e: crate::Error| CompensateError::Computation(e.to_string());
+                let function = ErrorFunction::table(positions.clone(), user, periodic.then_some(360.0)).map_err(failed)?;
+                model.set(machine, ParameterId::Motion { axis: axis.letter, component: c }, function).map_err(failed)?;
             }
         }
         tables.push((lo, step, TABLE_POINTS, periodic, sampled));

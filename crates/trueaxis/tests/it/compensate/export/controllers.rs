@@ -17,6 +17,7 @@ use trueaxis::machine::{Machine, ParameterId};
 mod five_axis;
 
 use crate::support::examples::load;
+use crate::support::tools;
 
 fn spec(points: usize) -> TableSpec {
     TableSpec { points, reference: None, temperatures: vec![] }
@@ -42,11 +43,6 @@ fn exact(corrector: &Corrector, user: &[f64], direction: Option<Direction>) -> V
     let dirs = vec![direction; m.axis_count()];
     let state = MachineState { directions: Some(&dirs), temperatures: &[] };
     corrector.correct_state(&q, &state, &mut CorrectionWorkspace::new(m)).dq_user(m)
-}
-
-/// Whether a test that needs `program` must run (CI sets the variable once the tool is installed).
-fn required(variable: &str) -> bool {
-    std::env::var(variable).is_ok_and(|v| v == "1")
 }
 
 fn write_files(dir: &Path, files: &[ExportedFile]) {
@@ -78,7 +74,7 @@ print(json.dumps(out))
     let ok = run.as_ref().is_ok_and(|o| o.status.success());
     if !ok {
         let why = run.map(|o| String::from_utf8_lossy(&o.stderr).into_owned()).unwrap_or_else(|e| e.to_string());
-        assert!(!required("TRUEAXIS_REQUIRE_PYLSV2"), "pyLSV2 is required but failed: {why}");
+        assert!(!tools::required("TRUEAXIS_REQUIRE_PYLSV2"), "pyLSV2 is required but failed: {why}");
         eprintln!("SKIPPED: pyLSV2 (pip install pyLSV2) not available: {}", why.lines().last().unwrap_or(""));
         return;
     }
@@ -394,20 +390,9 @@ fn halrun(script: &Path, fifo_dir: &Path) -> std::process::Output {
     cmd.output().unwrap()
 }
 
-/// Whether halcompile and halrun can be run; when not, the test is skipped with a reason (and fails
-/// where CI requires them).
-fn linuxcnc_tools_found() -> bool {
-    let available = Command::new("halcompile").arg("--help").output().is_ok() && Command::new("halrun").arg("-h").output().is_ok();
-    if !available {
-        assert!(!required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile / halrun are required but not found");
-        eprintln!("SKIPPED: halcompile / halrun (Debian linuxcnc-uspace-dev) not installed");
-    }
-    available
-}
-
 #[test]
 fn hal_component_built_and_run_by_linuxcnc_outputs_the_corrections() {
-    if !linuxcnc_tools_found() {
+    if !tools::linuxcnc_found() {
         return;
     }
     for (machine, errors) in [("vmc3", "vmc3"), ("c600u", "c600u")] {
@@ -420,18 +405,8 @@ fn hal_component_built_and_run_by_linuxcnc_outputs_the_corrections() {
         let out = export::linuxcnc_hal::export(&input(&m, &e, &tables, Some(&grid)), &name).unwrap();
         let dir = std::env::temp_dir().join(format!("trueaxis-hal-{name}"));
         write_files(&dir, &out.files);
-        let mut perms = std::fs::metadata(&dir).unwrap().permissions();
-        std::os::unix::fs::PermissionsExt::set_mode(&mut perms, 0o777);
-        std::fs::set_permissions(&dir, perms).unwrap();
-        let build = Command::new("halcompile").arg("--install").arg(format!("{name}.comp")).current_dir(&dir).output().unwrap();
-        let log = String::from_utf8_lossy(&build.stdout).into_owned() + &String::from_utf8_lossy(&build.stderr);
-        if !build.status.success() {
-            assert!(!required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile --install failed: {log}");
-            eprintln!("SKIPPED: halcompile --install failed (not root?): {log}");
-            return;
-        }
-        let installed =
-            log.lines().find_map(|l| l.strip_prefix(&format!("cp {name}.so ")).map(|d| Path::new(d.trim()).join(format!("{name}.so"))));
+        tools::open_to_all(&dir);
+        let Some(installed) = tools::halcompile_install(&dir, &format!("{name}.comp")) else { return };
         // poses: grid nodes with the rotary axes at the reference, and poses anywhere in the travel
         let n = m.axis_count();
         let mut poses: Vec<Vec<f64>> = Vec::new();

@@ -2,7 +2,7 @@
 //! lines at a time, for programs of any length) is the program corrected whole: the same bytes
 //! and the same summary (every field of `NcResult`: counts, largest correction and residual,
 //! warnings with their lines, holes with their lines and moves), for parts of 1, 3 and 16 lines,
-//! through the spool in memory and in a temporary file. Checked on the 170 programs of the corpus,
+//! through the spool in memory and in a temporary file. Checked on the programs of the corpus,
 //! the shipped examples and two long generated programs written to cross part boundaries
 //! everywhere (arcs, incremental moves, canned cycles kept as cycles, tool changes, an unknown
 //! tool, a backlash model whose direction state goes on across parts, CR LF and CR line ends, a

@@ -150,8 +150,8 @@ fn haas_programs_with_their_macros_and_output_are_read() {
 }
 
 /// Each dialect's own refusals (its table's data), with the line: grbl stops at a code it does not
-/// know (error:20), Mach3 subprograms and Haas `M97` are not read, a Fadal `E` fixture offset is not
-/// read; the same codes pass where the dialect knows them.
+/// know (error:20), LinuxCNC refuses Mach3's `M98`, a Haas `M97` needs its `N` block, a Fadal `E`
+/// fixture offset is not read; the same codes pass where the dialect knows them.
 #[test]
 fn dialects_refuse_what_their_controller_does_not_run() {
     let (m, e) = vmc3();
@@ -167,20 +167,96 @@ fn dialects_refuse_what_their_controller_does_not_run() {
         run(lines, Controller::Grbl),
         Err("p.nc: line 3: M6 is not a code of grbl 1.1: grbl 1.1 stops here with error:20 (unsupported or invalid g-code command)".into())
     );
-    let sub = "G21 G90\nG0 X10 Y10 Z-5\nM98 P100 L2\nM30\n";
-    assert!(run(sub, Controller::Mach3)
-        .unwrap_err()
-        .starts_with("p.nc: line 3: M98 (subprogram call and return) is not supported in the Mach3/Mach4"));
+    let sub = "G21 G90\nG0 X10 Y10 Z-5\nM98 P100 L2\nM30\nO100\nG91 G1 X1 F100\nG90 M99\n";
+    assert!(run(sub, Controller::LinuxCnc).unwrap_err().starts_with("p.nc: line 3: M98 is a Fanuc subprogram call"));
+    assert_eq!(run(sub, Controller::Mach3), Ok(3));
     let fadal = "%\nO1\nG0 G90 G21 E1 X10. Y10. Z-5.\nM30\n%\n";
     assert_eq!(run(fadal, Controller::Fanuc), Ok(1));
     assert_eq!(
         run(fadal, Controller::Fadal),
         Err("p.nc: line 3: E1 (a Fadal fixture offset) is not read yet: select the work offset with G54-G59".into())
     );
-    let haas = "%\nO1\nG0 G90 G21 X10. Y10. Z-5.\nM97 P100\nM30\n%\n";
+    let haas = "%\nO1\nG0 G90 G21 X10. Y10. Z-5.\nM97 P100\nM30\nN100 G91 G1 X1. F100.\nG90 M99\n%\n";
     assert_eq!(run(haas, Controller::Fanuc), Ok(1));
-    assert!(run(haas, Controller::Haas).unwrap_err().starts_with("p.nc: line 4: M97 (Haas local subprogram call"));
+    assert_eq!(run(haas, Controller::Haas), Ok(2));
+    assert_eq!(
+        run(&haas.replace("P100", "P200"), Controller::Haas),
+        Err("p.nc: line 4: M97 P200: no block N200 in this program (a local subprogram starts at its N number)".into())
+    );
     // detection names the controller from its codes
     assert_eq!(Controller::detect(haas), Controller::Haas);
     assert_eq!(Controller::detect("%\nO1\n# V1 = 2\nG0 X1.\nM30\n%\n"), Controller::Fadal);
+}
+
+/// Mach3's `M98 P.. L..` with `O` subprograms after `M30` ("Using Mach3Mill", 10.7): rs274 runs the
+/// program rewritten with O-word subroutines (`common/fanuc_to_ngc.rs`) and makes the moves trueaxis
+/// reads (1e-6 mm); the corrected program, rewritten the same way and run by rs274, lands on them
+/// through the erroneous machine within 0.05 um (5 decimals). The subprogram run three times is
+/// expanded at its call, the one run once is corrected in place.
+#[test]
+fn mach3_subprograms_are_corrected_and_land_through_rs274() {
+    let (m, e) = vmc3();
+    let c = Corrector::new(&m, &e);
+    let text = "%\n(SUBPROGRAMS)\nG21 G90 G94 G17\nG0 X10 Y10 Z-50\nM98 P1001 L3\nG0 X-20 Y30\nM98 P1002\nG0 Z-50\nM30\n\
+                O1001 (STEP DOWN)\nG91 G1 Z-2 F300\nX40 F800\nY5\nX-40\nG90\nM99\nO1002 (SQUARE)\nG1 X60 Y60 F800\nY90\nM99\n%\n";
+    let mut options = NcOptions::new(&m);
+    options.dialect = Some(Controller::Mach3);
+    let read = super::roundtrip::read(&m, text, &options);
+    assert_eq!(read.len(), 1 + 3 * 4 + 1 + 2 + 1);
+    let r = correct_program(&c, text, "p.tap", &options, &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.expanded.len(), 1, "{:?}", r.expanded);
+    assert!(r.expanded[0].contains("M98 P1001 (the subprogram runs 3 times)"), "{:?}", r.expanded);
+    let Some(rs) = super::common::rs274::rs274() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let ngc = |t: &str| super::common::fanuc_to_ngc::mach_to_ngc(t).expect("rewritten");
+    std::fs::write(dir.path().join("p.ngc"), ngc(text)).unwrap();
+    std::fs::write(dir.path().join("c.ngc"), ngc(&r.text())).unwrap();
+    let original = rs.run(dir.path(), "p.ngc", None).unwrap_or_else(|e| panic!("{e}\n{}", ngc(text)));
+    assert_eq!(original.len(), read.len());
+    for (a, b) in original.iter().zip(&read) {
+        assert!(a.end.iter().zip(&b.end).all(|(x, y)| (x - y).abs() < 1e-6), "rs274 {a:?}, trueaxis {b:?}");
+    }
+    let corrected = rs.run(dir.path(), "c.ngc", None).unwrap_or_else(|e| panic!("{e}\n{}", ngc(&r.text())));
+    let oracle = super::common::oracle::Oracle { machine: &m, errors: &e, temperatures: vec![] };
+    let report = oracle
+        .compare(&original, &corrected, &vec![0.0; m.axis_count()], 0.05, 1.05, &[])
+        .unwrap_or_else(|err| panic!("{err}\n{}", r.text()));
+    println!("Mach3 M98: {} moves within {:.4} um", report.moves, report.worst_end_um);
+    assert_eq!(report.moves, read.len());
+}
+
+/// Haas's `M97 P<N> L<repeats>` (Haas mill operator's manual, "M97 Local Sub-Program Call"): trueaxis
+/// reads the expansion written here (1e-9 mm); the corrected program, read again by the library,
+/// lands on it through the erroneous machine within half the written increment (3 decimals:
+/// sqrt 3 x 0.5 um).
+#[test]
+fn haas_local_subprograms_are_corrected() {
+    let (m, e) = vmc3();
+    let c = Corrector::new(&m, &e);
+    let text =
+        "%\nO01000 (M97 FACING)\nG00 G17 G40 G49 G80 G90\nG21\nG00 G54 X-50. Y20.;\nZ-40.;\nM97 P1000 L4; (FACE)\nG00 Z-30.;\nM30;\n\
+                N1000; (ONE PASS)\nG91;\nG00 Z-0.5;\nG90;\nG01 X50. F900.;\nG00 Y-20.;\nG01 X-50.;\nG00 Y20.;\nM99;\n%\n";
+    let mut options = NcOptions::new(&m);
+    options.dialect = Some(Controller::Haas);
+    let mut expected = vec![[-50.0, 20.0, 0.0], [-50.0, 20.0, -40.0]];
+    for pass in 1..=4 {
+        let z = -40.0 - 0.5 * pass as f64;
+        expected.extend([[-50.0, 20.0, z], [50.0, 20.0, z], [50.0, -20.0, z], [-50.0, -20.0, z], [-50.0, 20.0, z]]);
+    }
+    expected.push([-50.0, 20.0, -30.0]);
+    let read = super::fanuc::read(&m, text, &options);
+    assert_eq!(read.len(), expected.len());
+    for (a, b) in read.iter().zip(&expected) {
+        assert!(a.end[..3].iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9), "read {a:?}, expected {b:?}");
+    }
+    let r = correct_program(&c, text, "p.nc", &options, &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(r.expanded.len(), 1, "{:?}", r.expanded);
+    let corrected = super::fanuc::read(&m, &r.text(), &options);
+    let oracle = super::common::oracle::Oracle { machine: &m, errors: &e, temperatures: vec![] };
+    let tolerance = 3f64.sqrt() * 0.5 + 0.01;
+    let report = oracle
+        .compare(&read, &corrected, &vec![0.0; m.axis_count()], tolerance, 1.0 + tolerance, &[])
+        .unwrap_or_else(|err| panic!("{err}\n{}", r.text()));
+    println!("Haas M97: {} moves within {:.4} um", report.moves, report.worst_end_um);
+    assert_eq!(report.moves, expected.len());
 }

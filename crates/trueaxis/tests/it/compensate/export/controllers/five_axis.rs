@@ -14,8 +14,6 @@
 //!   kinematics inverts them; motmod loads it.
 
 use std::collections::HashMap;
-use std::path::Path;
-use std::process::Command;
 use trueaxis::compensate::export::rigid_fit::RigidFit;
 use trueaxis::compensate::export::{linuxcnc_kins, Limits};
 use trueaxis::compensate::kinematic::{Carried, KinematicCorrection, RotaryLayout};
@@ -29,6 +27,7 @@ use trueaxis::machine::{AxisKind, Machine, ParameterId};
 const FIVE_AXIS: [&str; 3] = ["c600u", "kx8five", "head5"];
 
 use crate::support::examples::load;
+use crate::support::tools;
 
 fn request(m: &Machine, format: &str, force: bool) -> CompensationRequest {
     CompensationRequest {
@@ -266,7 +265,7 @@ fn siemens_swivel_data_read_back_give_the_corrected_chain() {
     for name in FIVE_AXIS {
         let (m, e) = load(name, name);
         let c = job(&m, &e, "siemens", false).unwrap();
-        let text = &c.files.iter().find(|f| f.name == "TC_CARR.INI").unwrap().contents;
+        let text = super::file(&c.files, "TC_CARR.INI");
         assert!(text.starts_with("%_N_TC_CARR_INI\n") && text.trim_end().ends_with("M17"), "{name}: {text}");
         let swivel = Swivel::read(text);
         let layout = RotaryLayout::of(&m).unwrap();
@@ -301,7 +300,7 @@ fn heidenhain_kinematics_changes_read_back_give_the_identified_lines() {
     for name in FIVE_AXIS {
         let (m, e) = load(name, name);
         let c = job(&m, &e, "heidenhain", false).unwrap();
-        let text = &c.files.iter().find(|f| f.name == "KINEMATICS.TXT").unwrap().contents;
+        let text = super::file(&c.files, "KINEMATICS.TXT");
         let machine_errors = e.without_setup();
         let k = KinematicCorrection::new(&m, &machine_errors, &[0.0; 5], &[], Carried::ROTARY_AXES);
         for block in text.split("\nROTARY AXIS ").skip(1) {
@@ -340,7 +339,7 @@ fn fanuc_tool_centre_point_parameters_hold_the_positions_and_name_the_tilts() {
     for name in FIVE_AXIS {
         let (m, e) = load(name, name);
         let c = job(&m, &e, "fanuc", true).unwrap();
-        let text = &c.files.iter().find(|f| f.name == "tcp_parameters.nc").unwrap().contents;
+        let text = super::file(&c.files, "tcp_parameters.nc");
         let params: HashMap<u32, f64> = text
             .lines()
             .filter_map(|l| l.strip_prefix('N')?.split_once(" R").map(|(n, v)| (n.parse().unwrap(), v.parse().unwrap())))
@@ -402,26 +401,14 @@ FUNCTION(probe) {
 
 #[test]
 fn generated_kinematics_module_run_by_linuxcnc_commands_the_corrected_set_points() {
-    if !super::linuxcnc_tools_found() {
+    if !tools::linuxcnc_found() {
         return;
     }
     let pid = std::process::id();
     let dir = std::env::temp_dir().join(format!("trueaxis-kins-{pid}"));
     std::fs::create_dir_all(&dir).unwrap();
-    let mut perms = std::fs::metadata(&dir).unwrap().permissions();
-    std::os::unix::fs::PermissionsExt::set_mode(&mut perms, 0o777);
-    std::fs::set_permissions(&dir, perms).unwrap();
-    let install = |file: &str| -> Option<std::path::PathBuf> {
-        let build = Command::new("halcompile").arg("--install").arg(file).current_dir(&dir).output().unwrap();
-        let log = String::from_utf8_lossy(&build.stdout).into_owned() + &String::from_utf8_lossy(&build.stderr);
-        if !build.status.success() {
-            assert!(!super::required("TRUEAXIS_REQUIRE_HALCOMPILE"), "halcompile --install {file} failed: {log}");
-            eprintln!("SKIPPED: halcompile --install failed (not root?): {log}");
-            return None;
-        }
-        let so = file.replace(".comp", ".so");
-        log.lines().find_map(|l| l.strip_prefix(&format!("cp {so} ")).map(|d| Path::new(d.trim()).join(&so)))
-    };
+    tools::open_to_all(&dir);
+    let install = |file: &str| tools::halcompile_install(&dir, file).flatten();
     let probe = format!("taprobe{pid}");
     std::fs::write(dir.join(format!("{probe}.comp")), PROBE.replace("PROBE", &probe)).unwrap();
     let Some(probe_so) = install(&format!("{probe}.comp")) else { return };

@@ -22,9 +22,93 @@
 //!   `[ ]` expressions, `SIN`/`COS` in degrees and `LT`/`GE` mean the same in both languages (an
 //!   assigned expression is bracketed, as RS274/NGC asks).
 //!
-//! A program with what it does not rewrite (`M98`, `G65`, `IF`, `GOTO`, `M99`) gives `None`, and
+//! A program with what it does not rewrite (`M98`, Haas `M97`, `G65`, `IF`, `GOTO`, `M99`) gives `None`, and
 //! so does tapping (`G74`, `G84`): a Fanuc feeds out to R and then, in G98, rapids up to the
 //! initial level, where LinuxCNC's G84 feeds out to the clear level in one move.
+
+/// A Mach3/Mach4 program with subprograms (its blocks RS274/NGC, its subprograms the Fanuc way:
+/// "Using Mach3Mill", 10.7) rewritten with LinuxCNC O-word subroutines, as the LinuxCNC 2.9 manual
+/// ("O Codes") writes them: each `O1234` ... `M99` after the main program's `M30` becomes `o1234
+/// sub` ... `o1234 endsub`, moved before the main program (rs274 knows a subroutine once its
+/// definition has been read); `M98 P1234` becomes `o1234 call`, and with `L n` a call inside `o<..>
+/// repeat [n]`. A program without `M98` is given back as it is; `None` when a call has words
+/// beside `P` and `L`, or `M99` has a `P`. (Mach3's subprograms share the parameters of the main
+/// program and LinuxCNC's do not: the programs rewritten here use none.)
+pub fn mach_to_ngc(text: &str) -> Option<String> {
+    let upper = |l: &str| split(l).0.to_ascii_uppercase().replace([' ', '\t'], "");
+    if !text.lines().any(|l| upper(l).contains("M98")) {
+        return Some(text.to_string());
+    }
+    let (mut head, mut subs, mut main, mut tail) = (String::new(), String::new(), String::new(), String::new());
+    let (mut ended, mut inside, mut repeats) = (false, false, 0);
+    for (k, raw) in text.lines().enumerate() {
+        let code = upper(raw);
+        let number = code.strip_prefix('O').filter(|n| !n.is_empty() && n.bytes().all(|c| c.is_ascii_digit()));
+        let out = if k == 0 && code == "%" {
+            head.push_str("%\n");
+            continue;
+        } else if let Some(n) = number.filter(|_| ended) {
+            inside = true;
+            subs.push_str(&format!("o{} sub\n", n.parse::<u32>().ok()?));
+            continue;
+        } else if inside && code.contains("M99") {
+            if code != "M99" {
+                return None;
+            }
+            inside = false;
+            let label = subs.lines().rev().find(|l| l.ends_with(" sub"))?.trim_end_matches(" sub").to_string();
+            subs.push_str(&format!("{label} endsub\n"));
+            continue;
+        } else if inside {
+            &mut subs
+        } else if ended {
+            &mut tail
+        } else {
+            &mut main
+        };
+        if let Some(call) = code.strip_prefix("M98") {
+            let words = words(call)?;
+            let value = |l: u8| words.iter().find(|(c, _)| *c == l).and_then(|(_, v)| v.parse::<f64>().ok());
+            if words.iter().any(|(l, _)| !matches!(l, b'P' | b'L')) {
+                return None;
+            }
+            let (p, l) = (value(b'P')? as u32, value(b'L').unwrap_or(1.0) as u32);
+            repeats += 1;
+            out.push_str(&format!("o<rep{repeats}> repeat [{l}]\no{p} call\no<rep{repeats}> endrepeat\n"));
+        } else {
+            out.push_str(raw);
+            out.push('\n');
+        }
+        let program_end = |(l, v): &(u8, String)| *l == b'M' && matches!(v.parse::<f64>(), Ok(c) if c == 2.0 || c == 30.0);
+        ended |= !inside && words(&code).is_some_and(|w| w.iter().any(program_end));
+    }
+    Some(head + &subs + &main + &tail)
+}
+
+/// A grbl stream with system commands (grbl wiki, "Grbl v1.1 Commands" and "Grbl v1.1 Jogging")
+/// rewritten as RS274/NGC for a program in `G90 G21` (the corpus writes them so): a jog `$J=<words>`
+/// becomes `G1 <words>` followed by `G90 G21` (a jog's distance mode and units hold for the jog
+/// only; its feed does not change the positions); any other `$` line becomes a comment. `None`
+/// when the program leaves `G90 G21`.
+pub fn grbl_to_ngc(text: &str) -> Option<String> {
+    let mut out = String::new();
+    for raw in text.lines() {
+        let code = raw.trim();
+        let upper = code.to_ascii_uppercase();
+        if ["G91", "G20"].iter().any(|k| upper.contains(k)) && !upper.starts_with("$J=") {
+            return None;
+        }
+        if let Some(words) = upper.strip_prefix("$J=") {
+            out.push_str(&format!("G1 {words}\nG90 G21\n"));
+        } else if upper.starts_with('$') {
+            out.push_str(&format!("(grbl {code})\n"));
+        } else {
+            out.push_str(raw);
+            out.push('\n');
+        }
+    }
+    Some(out)
+}
 
 /// The RS274/NGC text of a Fanuc-family program, or `None`.
 pub fn translate(text: &str) -> Option<String> {
@@ -72,7 +156,7 @@ impl Translator {
         if let Some(n) = body.strip_prefix("END").and_then(|n| n.trim().parse::<u32>().ok()) {
             return self.emit(&format!("o{} endwhile", 100 + n), &comments);
         }
-        if ["IF", "GOTO", "M98", "M99", "G65"].iter().any(|k| body.contains(k)) {
+        if ["IF", "GOTO", "M97", "M98", "M99", "G65"].iter().any(|k| body.contains(k)) {
             return None;
         }
         let words = words(body)?;

@@ -83,14 +83,19 @@ fn refused(message: String) -> Outcome {
     }
 }
 
-/// The program rs274 reads for `bytes`: a LinuxCNC-compatible program as it is, a Fanuc-family
-/// one rewritten as RS274/NGC ([`fanuc_to_ngc`]; `None` when it uses what that does not rewrite).
+/// The program rs274 reads for `bytes`: a LinuxCNC-compatible program as it is (Mach3's `M98`
+/// subprograms rewritten as O-word subroutines, grbl's `$` system commands as moves and comments), a Fanuc-family one rewritten as RS274/NGC
+/// ([`fanuc_to_ngc`]; `None` when it uses what that does not rewrite).
 fn as_ngc(s: &Sample, bytes: &[u8]) -> Option<Vec<u8>> {
     if s.dialect == Controller::Siemens {
         // the SINUMERIK's own language is not rewritten for rs274 yet: the second reading
         None
     } else if s.dialect.family() == Dialect::Fanuc {
         fanuc_to_ngc::translate(&String::from_utf8_lossy(bytes)).map(String::into_bytes)
+    } else if let Some(mach) = std::str::from_utf8(bytes).ok().filter(|t| t.contains("M98")) {
+        fanuc_to_ngc::mach_to_ngc(mach).map(String::into_bytes)
+    } else if let Some(grbl) = std::str::from_utf8(bytes).ok().filter(|t| s.dialect == Controller::Grbl && t.contains('$')) {
+        fanuc_to_ngc::grbl_to_ngc(grbl).map(String::into_bytes)
     } else {
         Some(bytes.to_vec())
     }

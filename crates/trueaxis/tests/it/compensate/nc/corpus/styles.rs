@@ -23,7 +23,7 @@ pub struct Sample {
 /// A style: post, controller, its dialect, whether rs274 reads it, the program of variant k.
 pub type Style = (&'static str, &'static str, Controller, bool, fn(usize) -> Vec<u8>);
 
-pub const STYLES: [Style; 20] = [
+pub const STYLES: [Style; 23] = [
     ("Fusion 360 haas.cps", "Haas NGC", Controller::Haas, false, fusion_haas),
     ("Fusion 360 fanuc.cps", "Fanuc 0i", Controller::Fanuc, false, fusion_fanuc),
     ("Mastercam MPFAN", "Fanuc 0i", Controller::Fanuc, false, mastercam),
@@ -42,6 +42,9 @@ pub const STYLES: [Style; 20] = [
     ("PyCAM", "LinuxCNC 2.9", Controller::LinuxCnc, true, pycam),
     ("HeeksCNC emc2b", "LinuxCNC 2.9", Controller::LinuxCnc, true, heekscnc),
     ("hand-written LinuxCNC (O-words)", "LinuxCNC 2.9", Controller::LinuxCnc, true, linuxcnc_hand),
+    ("Fusion 360 mach3mill.cps (subroutines)", "Mach3", Controller::Mach3, true, fusion_mach3_subs),
+    ("hand-written Haas (M97 local subprograms)", "Haas NGC", Controller::Haas, false, haas_m97),
+    ("grbl sender stream ($H, $X, $J=)", "grbl 1.1", Controller::Grbl, true, grbl_stream),
     ("Fusion 360 siemens-840d.cps", "SINUMERIK 840D sl", Controller::Siemens, false, fusion_siemens),
     ("hand-written 840D (R parameters, frames)", "SINUMERIK 840D sl", Controller::Siemens, false, siemens_hand),
 ];
@@ -372,17 +375,7 @@ fn fadal(k: usize) -> Vec<u8> {
 fn fusion_mach3(k: usize) -> Vec<u8> {
     let p = Part::new(k, k % 3 == 1);
     let mut w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, false), " ");
-    w.raw("%");
-    w.raw(&format!("({})", 1000 + k));
-    w.raw("(T1 D=6 CR=0 - ZMIN=-3 - FLAT END MILL)");
-    w.line("G90 G94 G91.1 G40 G49 G17");
-    w.line(units(&p));
-    w.line("G28 G91 Z0.");
-    w.line("G90");
-    w.raw("(2D CONTOUR1)");
-    w.line("T1 M6");
-    w.line(&format!("S{} M3", p.spindle));
-    w.line("G54");
+    fusion_mach3_start(&mut w, &p, 1000 + k);
     w.rapid(Some(p.x0 + p.w / 2.0), Some(p.y0), None);
     w.line(&format!("G43 Z{} H1", w.num(p.clear)));
     w.reset();
@@ -403,6 +396,22 @@ fn fusion_mach3(k: usize) -> Vec<u8> {
     w.line("M30");
     w.raw("%");
     w.out.into_bytes()
+}
+
+/// The start of a Fusion 360 program for Mach3: `%`, the program name as a comment, the tool, the
+/// safety block, the reference return, the first tool change, `G54`.
+fn fusion_mach3_start(w: &mut W, p: &Part, name: usize) {
+    w.raw("%");
+    w.raw(&format!("({name})"));
+    w.raw("(T1 D=6 CR=0 - ZMIN=-3 - FLAT END MILL)");
+    w.line("G90 G94 G91.1 G40 G49 G17");
+    w.line(units(p));
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.raw("(2D CONTOUR1)");
+    w.line("T1 M6");
+    w.line(&format!("S{} M3", p.spindle));
+    w.line("G54");
 }
 
 /// CamBam's default Mach3 post: `( Made using CamBam - ... )`, the drawing name and date, `G21 G90
@@ -711,6 +720,149 @@ fn linuxcnc_hand(k: usize) -> Vec<u8> {
         3 + k % 5
     )
     .into_bytes()
+}
+
+/// Fusion 360 for Mach3 with its subroutine option (as the Autodesk posts write subprograms: each
+/// operation an `O1001`, `O1002` ... ending with `M99` after the main program's `M30`, called by
+/// `M98 P..`): the contour's depth passes as an incremental step called with `L` (one pass each),
+/// the drilling cycle in a subprogram of its own, called twice in one variant of three (two
+/// parts at the same place: the program is expanded there).
+fn fusion_mach3_subs(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 4 == 3);
+    let mut w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, false), " ");
+    let step = -p.depth / p.passes as f64;
+    let (x0, y0, x1, y1) = (p.x0, p.y0, p.x0 + p.w, p.y0 + p.h);
+    fusion_mach3_start(&mut w, &p, 2000 + k);
+    w.rapid(Some(x0), Some(y0), None);
+    w.line(&format!("G43 Z{} H1", w.num(p.clear)));
+    w.reset();
+    w.rapid(None, None, Some(0.0));
+    w.line(&format!("M98 P1001 L{}", p.passes));
+    w.line(&format!("G0 Z{}", w.num(p.clear)));
+    w.line("M5");
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.raw("(DRILL1)");
+    w.line("T2 M6");
+    w.line(&format!("S{} M3", p.spindle / 2));
+    w.line(&format!("G43 Z{} H2", w.num(p.clear)));
+    w.line(if k % 3 == 0 { "M98 P1002 L2" } else { "M98 P1002" });
+    w.line("M5");
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.line("M30");
+    w.raw("O1001 (2D CONTOUR1)");
+    w.reset();
+    w.line(&format!("G91 G1 Z{} F{}", w.num(step), w.num(p.plunge)));
+    w.line(&format!("G90 X{} F{}", w.num(x1), w.num(p.feed)));
+    w.line(&format!("Y{}", w.num(y1)));
+    w.line(&format!("X{}", w.num(x0)));
+    w.line(&format!("Y{}", w.num(y0)));
+    w.line("M99");
+    w.raw("O1002 (DRILL1)");
+    w.reset();
+    w.cycle(&p, "G98", if matches!(p.cycle, Cycle::Tap) { Cycle::Peck } else { p.cycle });
+    w.line("M99");
+    w.raw("%");
+    w.out.into_bytes()
+}
+
+/// A Haas program written at the machine with `M97` local subprograms (Haas manual, "M97 Local
+/// Sub-Program Call"; hand-written Haas facing programs published in repositories): a comment
+/// after every block's `;`, `G00;`/`G01;` lines that only set the mode, a facing pass as the
+/// subprogram `N1000` stepping down in `G91` and cutting in `G90`, called `L` times, a second
+/// local subprogram `N2000` for a spot-drilled hole pattern.
+fn haas_m97(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 2 == 1);
+    let w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, true), " ");
+    let n = |v: f64| w.num(v);
+    let (x0, x1, y0, y1) = (p.x0, p.x0 + p.w, p.y0, p.y0 + p.h);
+    let stock = if p.inch { 0.02 } else { 0.5 };
+    let passes = 2 + k % 4;
+    let mut lines = vec![
+        "%".to_string(),
+        format!("O{:05} (FACE AND SPOT {k})", 3000 + k),
+        "G20 G90 G17 G40 G80; (SAFE START)".replace("G20", units(&p)),
+        "G54; (WORK OFFSET)".into(),
+        "T1 M06; (FACE MILL)".into(),
+        "G43 H01; (TOOL LENGTH)".into(),
+        format!("M03 S{}; (SPINDLE ON)", p.spindle / 2),
+        "G00; (RAPID)".into(),
+        format!("Z{}; (SAFE Z)", n(p.clear)),
+        format!("X{} Y{};", n(x0), n(y0)),
+        format!("Z{};", n(stock * passes as f64)),
+        format!("M97 P1000 L{passes}; (FACING, {passes} PASSES)"),
+        "G00;".into(),
+        format!("Z{};", n(p.clear)),
+        "T2 M06; (SPOT DRILL)".into(),
+        format!("G43 H02 Z{};", n(p.clear)),
+        format!("M03 S{};", p.spindle),
+        "M97 P2000; (SPOT HOLES)".into(),
+        "G00;".into(),
+        format!("Z{};", n(p.clear)),
+        "M30;".into(),
+        String::new(),
+        "N1000; (FACING SUBROUTINE)".into(),
+        "G91; (INCREMENTAL)".into(),
+        format!("G00 Z-{};", n(stock)),
+        "G90; (ABSOLUTE)".into(),
+        "G01; (FEED)".into(),
+        format!("X{} F{};", n(x1), n(p.feed)),
+        "G00;".into(),
+        format!("Y{};", n(y1)),
+        "G01;".into(),
+        format!("X{};", n(x0)),
+        "G00;".into(),
+        format!("Y{};", n(y0)),
+        "M99;".into(),
+        String::new(),
+        "N2000; (SPOT DRILL PATTERN)".into(),
+    ];
+    let first = p.holes[0];
+    lines.push(format!("G00 X{} Y{};", n(first[0]), n(first[1])));
+    lines.push(format!("G98 G81 Z-{} R{} F{};", n(p.safe / 5.0), n(p.safe), n(p.plunge)));
+    lines.extend(p.holes[1..].iter().map(|h| format!("X{} Y{};", n(h[0]), n(h[1]))));
+    lines.extend(["G80;".to_string(), "M99;".into(), "%".into()]);
+    let mut s = lines.join("\n");
+    s.push('\n');
+    if k % 3 == 2 {
+        // a control that does not want the `;` (typed at a PC)
+        s = s.replace(";\n", "\n").replace("; (", " (");
+    }
+    s.into_bytes()
+}
+
+/// A grbl job as a sender streams it (Universal G-code Sender, CNCjs and bCNC macros; the senders'
+/// jog commands as published, `$J=G91 G21 X1.250 F300` and `$J=G91X10F100` without blanks): `$X`
+/// (unlock) and `$H` (homing) first, the `$G`/`$#` reports, a jog to the part in `G90`, the Fusion
+/// 360 grbl program, an incremental jog up at the end.
+fn grbl_stream(k: usize) -> Vec<u8> {
+    let p = Part::new(k, false);
+    let mut w = W::new(Digits::Trim(3, false), " ");
+    if k % 2 == 0 {
+        w.raw("$X");
+    }
+    w.raw("$H");
+    if k % 3 == 0 {
+        w.raw("$G");
+        w.raw("$#");
+    }
+    w.raw("G21 G90 G94");
+    let (x, y) = (w.num(p.x0), w.num(p.y0));
+    w.raw(&if k % 2 == 0 { format!("$J=G90 G21 X{x} Y{y} F3000") } else { format!("$J=G21G90X{x}Y{y}F3000") });
+    w.raw("G17");
+    w.raw(&format!("S{} M3", p.spindle));
+    w.reset();
+    w.rapid(None, None, Some(p.clear));
+    if k % 2 == 1 {
+        w.facing(&p);
+    }
+    w.contour(&p);
+    w.holes_expanded(&p);
+    w.raw("M5");
+    w.raw(&if k % 2 == 0 { "$J=G91 G21 Z10 F1000".to_string() } else { "$J=G91G21Z10F1000".to_string() });
+    w.raw("M30");
+    w.out.into_bytes()
 }
 
 /// The SINUMERIK's unit codes: G70 inch, G71 mm.

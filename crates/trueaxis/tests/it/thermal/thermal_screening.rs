@@ -1,7 +1,7 @@
 //! Thermal campaign examples/thermal/campaign.csv (runs warmup, short, long, cycle; T:p1, T:p5,
 //! dz) with one damage each: a re-seated sensor (a step), degF, a 2-hour gap, a blank cell.
 
-use super::damage::{example, of_run, Csv};
+use crate::support::damage::{example, of_run, Csv};
 use trueaxis::screen::{Finding, Kind};
 use trueaxis::thermal::campaign_fit::{fit_campaign, CampaignFit, FitRequest, ModelForm};
 use trueaxis::thermal::error_model::ThermalErrorModel;
@@ -45,8 +45,8 @@ fn a_reseated_sensor_is_a_step_at_its_lines() {
 #[test]
 fn degf_temperatures_are_refused() {
     let text = Csv::parse(&example(FILE))
-        .map("T:p1", super::damage::all, |v| v * 1.8 + 32.0)
-        .map("T:p5", super::damage::all, |v| v * 1.8 + 32.0)
+        .map("T:p1", crate::support::damage::all, |v| v * 1.8 + 32.0)
+        .map("T:p5", crate::support::damage::all, |v| v * 1.8 + 32.0)
         .text();
     let e = screened("degf", &text, false, false).unwrap_err();
     assert!(e.contains("column T:p1: temperature:") && e.contains("degF"), "{e}");

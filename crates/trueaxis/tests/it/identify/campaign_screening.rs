@@ -3,7 +3,7 @@
 //! recorded twice, 1 % gross outliers. With --exclude-outliers (`exclude = true`) the damaged
 //! records give the clean values within their uncertainty.
 
-use super::damage::{example, example_path, Csv};
+use crate::support::damage::{example, example_path, Csv};
 use trueaxis::error_model::ErrorModel;
 use trueaxis::identify::campaign_screening::{identify_screened, ScreenedIdentification};
 use trueaxis::identify::{Campaign, IdentifyError, IndirectOptions};
@@ -50,7 +50,7 @@ fn the_clean_campaign_gives_no_finding() {
 #[test]
 fn a_column_in_mm_is_refused() {
     for column in ["dz", "dx"] {
-        let text = Csv::parse(&example(DATA)).map(column, super::damage::all, |v| v / 1000.0).text();
+        let text = Csv::parse(&example(DATA)).map(column, crate::support::damage::all, |v| v / 1000.0).text();
         let e = identify(&format!("mm-{column}"), &text, false).unwrap_err();
         assert!(e.contains(&format!("capball.csv: column {column}: unit:")) && e.contains("mm among um"), "{e}");
     }

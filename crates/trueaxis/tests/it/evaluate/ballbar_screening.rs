@@ -1,7 +1,7 @@
 //! ISO 230-4 circular test examples/ballbar/vmc3_xy.csv (R 100 mm, ccw and cw) with a feed-rate
 //! overshoot spike; the rotary-axis file examples/ballbar/A1.csv evaluated as a circle.
 
-use super::damage::{example, Csv};
+use crate::support::damage::{example, Csv};
 use trueaxis::data::CsvTable;
 use trueaxis::evaluate::circular_test::{cartesian_machine, circular_test, CircularTest, CircularTestOptions};
 use trueaxis::machine::Machine;
@@ -39,7 +39,7 @@ fn a_feed_overshoot_spike_is_named_with_g_without_it() {
 
 #[test]
 fn a_rotary_axis_file_is_refused_as_a_circle() {
-    let machine = Machine::load(super::damage::example_path("examples/machines/c600u.toml")).unwrap();
+    let machine = Machine::load(crate::support::damage::example_path("examples/machines/c600u.toml")).unwrap();
     let e = test_of(&example("examples/ballbar/A1.csv"), &machine).unwrap_err();
     assert!(e.contains("columns X, Y, A: geometry:") && e.contains("rotary-axis ballbar test"), "{e}");
 }

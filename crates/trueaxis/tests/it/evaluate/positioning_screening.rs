@@ -2,13 +2,14 @@
 //! damage each: a run in mm, a run of another axis, a beam-interruption reading, targets in
 //! metres, an air-temperature drift.
 
-use super::damage::{all, example, of_run, Csv};
+use crate::support::damage::{all, example, of_run, Csv};
 use trueaxis::data::CsvTable;
 use trueaxis::evaluate::positioning_test::{evaluate_table, PositioningTest};
 use trueaxis::instruments::TemperatureOptions;
 use trueaxis::screen::Kind;
 
-const FILE: &str = "examples/data/iso230_2_x.csv";
+/// The ISO 230-2 example every damage here starts from.
+pub const FILE: &str = "examples/data/iso230_2_x.csv";
 
 fn test_of(text: &str) -> Result<PositioningTest, String> {
     let table = CsvTable::from_text(text, "damaged.csv").map_err(|e| e.to_string())?;
@@ -16,7 +17,7 @@ fn test_of(text: &str) -> Result<PositioningTest, String> {
 }
 
 /// A number following `key` in `text` ("R would be 4.1 um": key "R would be").
-fn number_after(text: &str, key: &str) -> f64 {
+pub fn number_after(text: &str, key: &str) -> f64 {
     let rest = &text[text.find(key).unwrap_or_else(|| panic!("`{key}` in {text}")) + key.len()..];
     rest.split_whitespace().next().unwrap().trim_end_matches([',', ';']).parse().unwrap()
 }
@@ -104,59 +105,4 @@ fn an_air_temperature_drift_is_reported_with_its_effect() {
     let csv = Csv::parse(&example(FILE));
     let n = csv.rows.len() as f64;
     assert!(test_of(&csv.add_column("T_air", |i| 20.0 + 0.3 * i as f64 / n).text()).unwrap().findings.is_empty());
-}
-
-/// `trueaxis fit` of the test's readings (EXX, piecewise cubic with a knot every 100 mm, the
-/// command's defaults otherwise) of one direction or both, with its screening.
-pub fn direct_fit_of(text: &str, direction: Option<char>) -> trueaxis::identify::DirectFitReport {
-    use trueaxis::error_model::BasisSpec;
-    use trueaxis::identify::{run_direct_fit, DirectFitRequest, FitOptions};
-    let table = CsvTable::from_text(text, "damaged.csv").unwrap();
-    let spec = BasisSpec {
-        family: "piecewise".into(),
-        degree: 3,
-        knots: vec![100.0, 200.0, 300.0, 400.0],
-        continuity: vec![2],
-        constant: true,
-        constraint: "none".into(),
-        domain: [0.0, 500.0],
-        periodic: Vec::new(),
-    };
-    let request = DirectFitRequest {
-        parameter: trueaxis::machine::ParameterId::parse("EXX").unwrap(),
-        position_column: "target".into(),
-        value_column: "dev".into(),
-        direction,
-        remove_drift: false,
-        refine_wavelength: None,
-        options: FitOptions { spec, stepwise_level: None, prediction_level: 0.95 },
-        model: None,
-        corrections: vec![],
-    };
-    run_direct_fit(&table, &request).unwrap()
-}
-
-/// One function fitted to both directions leaves the backlash (2 ... 2.8 um here) in its residuals:
-/// the 50 um interruption is flagged there; 10 and -5 um ones in the fit of their direction
-/// (`--direction`), whose residuals are the 0.25 um noise.
-#[test]
-fn the_direct_fit_names_a_beam_interruption_by_run_and_target() {
-    for (row, size, both) in [(13usize, 50.0, true), (13, 50.0, false), (40, 10.0, false), (77, -5.0, false)] {
-        let mut csv = Csv::parse(&example(FILE));
-        let v = csv.value(row, "dev");
-        csv.set(row, "dev", v + size);
-        let cell = |name: &str| csv.rows[row][csv.col(name)].clone();
-        let (line, run, target, dir) = (csv.line(row), cell("run"), cell("target"), cell("dir"));
-        let direction = (!both).then(|| dir.chars().next().unwrap());
-        let clean = direct_fit_of(&example(FILE), direction);
-        assert!(clean.findings.is_empty(), "{:?}", clean.findings);
-        let report = direct_fit_of(&csv.text(), direction);
-        assert_eq!(report.findings.len(), 1, "{size} um: {:?}", report.findings);
-        let f = &report.findings[0];
-        assert_eq!((f.kind, f.lines.clone()), (Kind::Outlier, vec![line]), "{}", f.line());
-        assert!(f.message.contains(&format!("line {line} (run {run}, target {target}, dir {dir})")), "{}", f.message);
-        // the fit without it has the clean residual standard deviation (within 5 %)
-        let without = number_after(&f.consequence, "would be");
-        assert!((without / clean.fitted.fit.sigma - 1.0).abs() < 0.05, "{without} against clean {}", clean.fitted.fit.sigma);
-    }
 }

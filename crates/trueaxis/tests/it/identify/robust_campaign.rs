@@ -6,8 +6,8 @@
 //! within the spread the 95 % efficiency of both weightings allows, and the robust uncertainty is
 //! sqrt(1 / 0.95) of the least-squares one.
 
-use super::campaign::{value, with_capball, DATA};
-use super::damage::{example, Csv};
+use super::campaign_screening::{value, with_capball, DATA};
+use crate::support::damage::{example, Csv};
 use trueaxis::identify::campaign_screening::{identify_screened, ScreenedIdentification};
 use trueaxis::identify::robust_campaign::identify_robust;
 use trueaxis::identify::IndirectOptions;
