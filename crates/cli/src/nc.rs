@@ -20,13 +20,15 @@ use trueaxis::machine::Machine;
 #[command(
     after_help = "Example:\n  trueaxis nc --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      examples/nc/pocket.ngc --limit-um 50 --out pocket_corrected.ngc\n\n\
 Runs the program as the controller does: parameters and expressions, O-word subroutines and\n\
-loops (LinuxCNC), macro variables, IF/GOTO/WHILE and M98/M99/G65 (Fanuc), tool length offsets\n\
-(G43 H from --tool-table), work offsets (G54-G59.3 from --parameters or --offset, G10 L2/L20),\n\
-G92, G28/G30, G53, canned cycles G73 G81-G89, arcs in G17/G18/G19, G20/G21, G93/G94/G95.\n\
-Refused with the line and the reason: probing (G38.x), spindle-synchronised motion (G33, G76,\n\
-Fanuc rigid tapping), cutter radius compensation (G41/G42). The corrected program starts with\n\
-a header naming the machine and error files and their SHA-256; a program with that header is\n\
-refused (it would be corrected twice) unless --force. See docs/nc.md."
+loops (LinuxCNC), macro variables, IF/GOTO/WHILE and M98/M99/G65 (Fanuc, Haas, Mach3/Mach4),\n\
+Haas M97, grbl $J= jogs, the SINUMERIK 840D's R parameters, CR= arcs, TRANS/ATRANS, L\n\
+subprograms and CYCLE81/CYCLE82, tool length offsets (G43 H or D from --tool-table), work\n\
+offsets (G54-G59.3 from --parameters or --offset, G10 L2/L20), G92, G28/G30, G53, canned cycles\n\
+G73 G81-G89 (kept as cycles in G90), arcs in G17/G18/G19, G20/G21, G93/G94/G95.\n\
+Refused with the line and the reason: probing (G38.x, G31), spindle-synchronised motion (G33,\n\
+LinuxCNC G76), tapping in G91, cutter radius compensation (G41/G42). The corrected program\n\
+starts with a header naming the machine and error files and their SHA-256; a program with that\n\
+header is refused (it would be corrected twice) unless --force. See docs/nc.md."
 )]
 pub struct NcArgs {
     /// Machine description (TOML).
