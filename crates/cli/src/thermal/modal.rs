@@ -6,7 +6,7 @@ use crate::Failure;
 use std::path::PathBuf;
 use trueaxis::thermal::model_file::load_model;
 use trueaxis::thermal::modes_report::ModesReport;
-use trueaxis::thermal::placement_job::{place_sensors, placement_modes, PlaceMethod, PlacementRequest, SensorPlacement};
+use trueaxis::thermal::placement_job::{check_fraction, place_sensors, placement_modes, PlaceMethod, PlacementRequest, SensorPlacement};
 use trueaxis::thermal::{LanczosProgress, SpectrumMethod, DEFAULT_SHARE};
 use trueaxis_report::{mode_shapes_plot, mode_shapes_svg, modes_svg, time_constants_plot};
 
@@ -101,14 +101,6 @@ pub struct PlaceArgs {
     json: bool,
 }
 
-fn check_fraction(name: &str, value: f64) -> Result<(), Failure> {
-    if value > 0.0 && value <= 1.0 {
-        Ok(())
-    } else {
-        Err(Failure::input(anyhow::anyhow!("{name} {value} must lie in (0, 1]")))
-    }
-}
-
 impl From<PlaceMethodArg> for PlaceMethod {
     fn from(m: PlaceMethodArg) -> PlaceMethod {
         match m {
@@ -160,7 +152,7 @@ fn with_bar<T>(
 }
 
 pub fn modes(args: ModesArgs) -> Result<(), Failure> {
-    check_fraction("--share", args.share)?;
+    check_fraction("--share", args.share).map_err(Failure::of)?;
     let model = load_model(&args.model).map_err(Failure::of)?;
     let count = args.count.min(model.system.node_count());
     let report = with_bar(count, args.json, |progress| ModesReport::new(&model, args.count, args.method.into(), args.share, progress))?;

@@ -80,7 +80,8 @@ pub struct SensorPlacement {
     pub scores: Option<PlacementComparison>,
 }
 
-fn check_fraction(name: &str, value: f64) -> Result<(), Error> {
+/// Refuses a share or fraction `value` of option `name` outside (0, 1] (NaN included).
+pub fn check_fraction(name: &str, value: f64) -> Result<(), Error> {
     if value > 0.0 && value <= 1.0 {
         Ok(())
     } else {
