@@ -875,9 +875,7 @@ impl Exec<'_> {
                 if inverse {
                     return Err("canned cycles cannot run in inverse-time feed (G93)".into());
                 }
-                if self.state.feed == 0.0 {
-                    return Err("a canned cycle with zero feed rate".into());
-                }
+                self.check_feed("a canned cycle")?;
                 crate::cycles::cycle(self, c, w, step)
             }
         }
@@ -892,6 +890,23 @@ impl Exec<'_> {
         }
     }
 
+    /// A feed move or cycle before any `F` (`what`): refused, as LinuxCNC and a Fanuc refuse it,
+    /// unless the controller keeps the feed rate of the program before (grbl): then it is
+    /// corrected as written, with a warning.
+    fn check_feed(&mut self, what: &str) -> Result<(), String> {
+        if self.state.feed != 0.0 {
+            return Ok(());
+        }
+        if self.table.keeps_feed {
+            self.warn(format!(
+                "{what} before any F: {} runs it at the feed rate the program before left (after a reset it stops: error:22); corrected as written",
+                self.table.title
+            ));
+            return Ok(());
+        }
+        Err(format!("{what} with zero feed rate ({} stops here; a program written for grbl, which keeps the feed rate of the program before: --dialect grbl)", self.table.title))
+    }
+
     /// The feed of a G1/G2/G3 move: checked like LinuxCNC (not zero; F on the line in G93).
     fn feed_for_move(&mut self, w: &mut Words) -> Result<Option<f64>, String> {
         match self.state.feed_mode {
@@ -903,9 +918,7 @@ impl Exec<'_> {
                 Ok(Some(f))
             }
             FeedMode::PerMinute | FeedMode::PerRevolution => {
-                if self.state.feed == 0.0 {
-                    return Err("a feed move with zero feed rate".into());
-                }
+                self.check_feed("a feed move")?;
                 if self.state.feed_mode == FeedMode::PerRevolution && self.state.speed == 0.0 {
                     return Err("feed per revolution (G95) with zero spindle speed".into());
                 }

@@ -11,6 +11,9 @@
 //!   program does not state. Before the first move of the program it is passed through, the
 //!   machine taken to be at the start position given (`--start`: where homing leaves it); after a
 //!   move it is refused (the moves after it start from a place the corrector cannot know);
+//! - the real-time commands `?` (status), `~` (resume) and `!` (feed hold) on a line of their own
+//!   (grbl picks them out of the stream; the motion goes on as programmed) are passed through with
+//!   a warning;
 //! - `$X` (unlock), `$$`, `$#`, `$G`, `$I`, `$N` (reports), `$Nx=<block>` (a startup block, run at
 //!   the next reset, not here) and settings `$x=<value>` move nothing: passed through unchanged
 //!   with a warning naming the line; the settings that change where the axes go are refused:
@@ -41,9 +44,16 @@ enum Command {
 
 /// What the command `text` (the line from its `$`, trimmed) is.
 fn classify(text: &str) -> Command {
-    let upper = text.to_ascii_uppercase();
+    // grbl reads a line without its blanks
+    let upper: String = text.chars().filter(|c| !c.is_whitespace()).collect::<String>().to_ascii_uppercase();
     let after = &upper[1..];
     let setting = after.split_once('=').and_then(|(n, _)| n.parse::<u32>().ok());
+    match upper.as_str() {
+        "?" => return Command::Passive("asks for a status report (a real-time command: grbl takes it out of the stream)"),
+        "~" => return Command::Passive("resumes a feed hold (a real-time command)"),
+        "!" => return Command::Passive("holds the feed until `~` (a real-time command: the moves go on from where they stopped)"),
+        _ => {}
+    }
     match after {
         _ if after.starts_with("J=") => Command::Jog,
         "H" => Command::Home,
@@ -196,5 +206,25 @@ mod tests {
         assert!(matches!(classify("$RST=#"), Command::Refused(_)));
         assert!(matches!(classify("$SLP"), Command::Refused(_)));
         assert_eq!(classify("$Q"), Command::Refused("is not a grbl 1.1 system command (grbl: error:3)"));
+        assert!(matches!(classify("$ i"), Command::Passive(_)));
+    }
+
+    /// A laser-engraving stream as senders write it: reports with `;` comments after them (grbl
+    /// takes comments and blanks out of a line before it reads a `$` command), and a first cut
+    /// before any `F` (grbl runs it at the feed rate the stream before left): both pass with a
+    /// warning naming the line; LinuxCNC refuses the cut without a feed, as rs274 does.
+    #[test]
+    fn reports_with_comments_and_a_cut_before_any_feed() {
+        let text = "$I  ; View build info\n$G (parser state)\n?  ; View current status\nG21 G90\nG1 X2 Y1\nG1 X3 F800\nM2\n";
+        let t = run(text, Controller::Grbl).unwrap();
+        let warned: Vec<u32> = t.warnings.iter().map(|w| w.line).collect();
+        assert_eq!(warned, vec![1, 2, 3, 5]);
+        assert!(t.warnings[0].message.starts_with("`$I` prints a report"), "{}", t.warnings[0].message);
+        assert!(t.warnings[2].message.starts_with("`?` asks for a status report"), "{}", t.warnings[2].message);
+        assert!(t.warnings[3].message.starts_with("a feed move before any F: grbl 1.1 runs it"), "{}", t.warnings[3].message);
+        let ends: Vec<f64> = t.moves.iter().map(|m| m.end[0]).collect();
+        assert_eq!(ends, vec![2.0, 3.0]);
+        let linuxcnc = run("G21 G90\nG1 X2 Y1\nM2\n", Controller::LinuxCnc).unwrap_err();
+        assert!(linuxcnc.starts_with("line 2: a feed move with zero feed rate (LinuxCNC 2.9 stops here;"), "{linuxcnc}");
     }
 }

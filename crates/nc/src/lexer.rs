@@ -214,13 +214,14 @@ fn parse_items(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node
         cur.comments_only(&mut line.comments)?;
         return Ok(line);
     }
-    if dialect == Dialect::LinuxCnc && cur.peek() == b'$' {
+    if dialect == Dialect::LinuxCnc && matches!(cur.peek(), b'$' | b'?' | b'~' | b'!') {
         if let Some(system) = grbl_system_command(text, cur.i) {
             let jog = text[system.clone()].to_ascii_uppercase().starts_with("$J=");
             line.end_of_items = system.end;
             cur.i = system.end;
             line.system = Some(system);
             if !jog {
+                cur.comments_only(&mut line.comments)?;
                 return Ok(line);
             }
         }
@@ -274,10 +275,17 @@ fn parse_items(text: &str, number: usize, dialect: Dialect, arena: &mut Vec<Node
     Ok(line)
 }
 
-/// A grbl system command starting at `at` (a `$`): `$` and a letter, `$`, or `#`, or `$` and
+/// A grbl system command starting at `at` (a `$`, or a real-time `?`, `~`, `!` alone on its
+/// line): `$` and a letter, `$`, or `#`, or `$` and
 /// digits followed by `=` (a setting); not LinuxCNC's spindle word `$1`. Its text to the end of
-/// the line, or `$J=` alone (the words of the jog follow).
+/// the line or to a comment (`$I ; build info`: grbl takes the comments out of a line before it
+/// reads the command), or `$J=` alone (the words of the jog follow).
 fn grbl_system_command(text: &str, at: usize) -> Option<Range<usize>> {
+    if text.as_bytes()[at] != b'$' {
+        // a real-time command on a line of its own (`?` status, `~` resume, `!` feed hold)
+        let end = text[at + 1..].find([';', '(']).map_or(text.len(), |i| at + 1 + i);
+        return text[at + 1..end].trim().is_empty().then_some(at..at + 1);
+    }
     let rest = &text.as_bytes()[at + 1..];
     let digits = rest.iter().take_while(|c| c.is_ascii_digit()).count();
     let command = match rest.first() {
@@ -291,7 +299,8 @@ fn grbl_system_command(text: &str, at: usize) -> Option<Range<usize>> {
     if rest.len() >= 2 && rest[..2].eq_ignore_ascii_case(b"J=") {
         return Some(at..at + 3);
     }
-    Some(at..text.trim_end().len())
+    let end = text[at..].find([';', '(']).map_or(text.len(), |i| at + i);
+    Some(at..at + text[at..end].trim_end().len())
 }
 
 /// The refusal of an O-word without its keyword (`o100` alone: LinuxCNC's rs274 refuses it too).

@@ -347,7 +347,8 @@ impl Program {
 
     /// The file holding subroutine `label`: the main file, a file loaded before, or `<name>.ngc`
     /// on the search path (LinuxCNC `o<name> call`); a Fanuc program number `O1234` is looked for
-    /// in the loaded files, then as `O1234`, `O1234.nc`, `O1234.ngc` on the search path.
+    /// in the loaded files, then on the search path as `O1234`, `O01234`, `1234` with `.nc`, `.NC`,
+    /// `.ngc`, `.txt` or (for the `O` names) no extension.
     pub(crate) fn find_sub(&mut self, label: &Label) -> Result<(usize, usize, usize), String> {
         for (f, file) in self.files.iter().enumerate() {
             if let Some(&(start, end)) = file.subs.get(label) {
@@ -374,8 +375,14 @@ impl Program {
                 return Ok((f, k));
             }
         }
-        let candidates =
-            [format!("O{number:04}"), format!("O{number:04}.nc"), format!("O{number}.nc"), format!("O{number}.ngc"), format!("O{number}")];
+        // as the program is saved from a control (`O0010`, `O00010` on a 5-digit control) or by a
+        // CAM post or a PC (`O10.nc`, `0010.nc`, `10.NC`)
+        let names = [format!("O{number:04}"), format!("O{number:05}"), format!("O{number}"), format!("{number:04}"), format!("{number}")];
+        let candidates: Vec<String> = names
+            .iter()
+            .flat_map(|n| [n.clone(), format!("{n}.nc"), format!("{n}.NC"), format!("{n}.ngc"), format!("{n}.txt")])
+            .filter(|c| c.starts_with('O') || c.contains('.'))
+            .collect();
         let (path, text) = self.read_on_path(&candidates).ok_or_else(|| {
             format!(
                 "program O{number} is neither in the file (after M30, as `O{number} ... M99`) nor a file O{number} on the search path ({})",
@@ -454,5 +461,25 @@ mod tests {
         assert_eq!(f.links[3], Link::LoopStart { end: 5 });
         assert_eq!(f.programs[&2000], 7);
         assert_eq!(f.sequence[&10], vec![2]);
+    }
+
+    /// A Fanuc `M98 P9001` finds its program saved as the control saves it (`O9001`, `O09001.nc`) or
+    /// as a PC names it (`9001.nc`, `9001.NC`): the first of these on the search path.
+    #[test]
+    fn o_programs_are_found_under_the_names_they_are_saved_as() {
+        let dir = std::env::temp_dir().join(format!("trueaxis-o-names-{}", std::process::id()));
+        for name in ["9001.nc", "O09002.nc", "9003.NC", "O9004"] {
+            std::fs::create_dir_all(&dir).unwrap();
+            let number: u32 = name.chars().filter(char::is_ascii_digit).collect::<String>().parse().unwrap();
+            std::fs::write(dir.join(name), format!("%\nO{number}\nG0 X1.\nM99\n%\n")).unwrap();
+        }
+        let mut program = Program::new("main.nc", b"%\nO1\nM30\n%\n", Dialect::Fanuc, SearchPath(vec![dir.clone()])).unwrap();
+        for number in [9001, 9002, 9003, 9004] {
+            let (f, _) = program.find_program(number).unwrap_or_else(|e| panic!("{e}"));
+            assert!(program.files[f].programs.contains_key(&number));
+        }
+        let missing = program.find_program(9005).unwrap_err();
+        assert!(missing.starts_with("program O9005 is neither in the file"), "{missing}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -11,13 +11,19 @@
 //!   `$32=1` a setting);
 //! - Mach3 (Mach4 when a comment names it): a program read as a Fanuc's for its `M98` calls of `O`
 //!   subprograms, but without a program number before its first block and with a dimension word
-//!   without a decimal point (see [`mach_subprograms`]);
+//!   without a decimal point (see [`mach_subprograms`]); and a program read as RS274/NGC (`;`
+//!   comments after its blocks, as `N1 G21; mm mode`) whose first block is a program number
+//!   (`O0000(MY GCODE)`): LinuxCNC and grbl refuse such a line, Mach3 takes it as the program's
+//!   number ("Using Mach3Mill", the O word), and a Fanuc would read the text after `;` as the next
+//!   block (see [`numbered_first`]);
 //! - a comment naming HAAS, FADAL, GRBL, MACH3/MACH 3, MACH4/MACH 4, or SINUMERIK/840D.
 
 use super::Controller;
 use crate::dialect::Dialect;
 
 pub(super) fn controller(text: &str) -> Controller {
+    // a UTF-8 byte-order mark is no code (Windows editors write one)
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let family = Dialect::detect(text);
     let mut marks = [0usize; 8];
     let mut named = [0usize; 8];
@@ -37,10 +43,36 @@ pub(super) fn controller(text: &str) -> Controller {
     }
     let of_family: Vec<Controller> = Controller::ALL.into_iter().filter(|c| c.family() == family).collect();
     let best = |counts: &[usize; 8]| of_family.iter().copied().filter(|&c| counts[index(c)] > 0).max_by_key(|&c| counts[index(c)]);
-    if family == Dialect::Fanuc && best(&marks).is_none() && mach_subprograms(text) {
+    let mach_sign = match family {
+        Dialect::Fanuc => mach_subprograms(text),
+        Dialect::LinuxCnc => numbered_first(text),
+    };
+    if best(&marks).is_none() && mach_sign {
         return if named[index(Controller::Mach4)] > named[index(Controller::Mach3)] { Controller::Mach4 } else { Controller::Mach3 };
     }
     best(&marks).or_else(|| best(&named)).unwrap_or(Controller::of_family(family))
+}
+
+/// The code lines of a program (upper case, comments and `%` lines left out), as read for detection.
+fn code_lines(text: &str) -> impl Iterator<Item = String> + '_ {
+    text.lines().take(20_000).map(|raw| split_comment(&raw.trim().to_ascii_uppercase()).0).filter(|c| {
+        let c = c.trim();
+        !c.is_empty() && c != "%"
+    })
+}
+
+/// Whether a code line is a program number: `O1234` or ISO `:1234` (after a sequence number), alone.
+fn program_number(code: &str) -> bool {
+    // the name after the number, `O0000(MY GCODE)`, is a comment
+    let c: String = code.split('(').next().unwrap_or("").chars().filter(|c| !c.is_whitespace()).collect();
+    let after_n = c.strip_prefix('N').map_or(c.as_str(), |r| r.trim_start_matches(|d: char| d.is_ascii_digit()));
+    after_n.strip_prefix(['O', ':']).is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// A program read as RS274/NGC whose first block is a program number alone (`O0000`): not a
+/// LinuxCNC or grbl program, which refuse such a line.
+fn numbered_first(text: &str) -> bool {
+    code_lines(text).next().is_some_and(|first| program_number(&first))
 }
 
 /// A program that calls `O` subprograms the Fanuc way but is read as RS274/NGC: no program number
@@ -48,10 +80,7 @@ pub(super) fn controller(text: &str) -> Controller {
 /// without a decimal point (`Z0`, `X40`: a Fanuc counts it in least input increments, and a post
 /// for a Fanuc always writes the point). Mach3's and Mach4's CAM posts write such programs.
 fn mach_subprograms(text: &str) -> bool {
-    let mut codes = text.lines().take(20_000).map(|raw| split_comment(&raw.trim().to_ascii_uppercase()).0).filter(|c| {
-        let c = c.trim();
-        !c.is_empty() && c != "%"
-    });
+    let mut codes = code_lines(text);
     let numbered = |c: &str| {
         let c: String = c.chars().filter(|c| !c.is_whitespace()).collect();
         let after_n = c.strip_prefix('N').map_or(c.as_str(), |r| r.trim_start_matches(|d: char| d.is_ascii_digit()));
@@ -122,7 +151,7 @@ fn marker(code: &str) -> Option<Controller> {
     if fadal_macro {
         return Some(Controller::Fadal);
     }
-    if code.trim_start().starts_with('$') {
+    if code.trim_start().starts_with('$') || ["?", "~", "!"].contains(&code.trim()) {
         return Some(Controller::Grbl);
     }
     None
@@ -187,6 +216,14 @@ mod tests {
         assert_eq!(controller(&mach.replace("(1001)", "(MACH4 POST)")), Controller::Mach4);
         assert_eq!(controller(&mach.replace("(1001)", "O1000")), Controller::Fanuc);
         assert_eq!(controller(&mach.replace("X10 Y10 Z0\n", "X10. Y10. Z0.\n").replace("Z-1 ", "Z-1. ")), Controller::Fanuc);
+        // a program number first, `;` comments after the blocks: read as RS274/NGC, which LinuxCNC
+        // refuses with such a number and Mach3 takes (a hand-written program in this style)
+        let numbered = "%\nO0000(MY GCODE)\nN1 G21; mm mode\nN2 G0 G17 G40 G49 G80 G90; rapid\nN3 X1 Y1\nN4 M30; end\n%\n";
+        assert_eq!(controller(numbered), Controller::Mach3);
+        assert_eq!(controller("; example\nO1000\nT1 M6\nG0 G90 G21\nG1 X-40 F100 ; a cut\nM30\n"), Controller::Mach3);
+        assert_eq!(controller("\u{feff}; example\nO1000\nT1 M6\nG0 G90 G21\nG1 X-40 F100 ; a cut\nM30\n"), Controller::Mach3);
+        assert_eq!(controller(&numbered.replace("O0000(MY GCODE)", "(MY GCODE)")), Controller::LinuxCnc);
+        assert_eq!(controller(&numbered.replace("O0000(MY GCODE)", "o100 sub")), Controller::LinuxCnc);
         // a Haas code named in a comment only is no Haas code
         assert_eq!(controller("%\nO1 (NO G187 HERE)\nG0 X1.\nM30\n%\n"), Controller::Fanuc);
     }

@@ -73,6 +73,7 @@ const FANUC_BASE: DialectTable = DialectTable {
     numbers: FANUC_NUMBERS,
     comments: Comments::ParenthesesSemicolonEndsBlock,
     unknown: Unknown::PassThrough,
+    keeps_feed: false,
 };
 
 pub static FANUC: DialectTable = FANUC_BASE;

@@ -66,4 +66,5 @@ pub static GRBL: DialectTable = DialectTable {
     numbers: RS274_NUMBERS,
     comments: Comments::ParenthesesAndSemicolon,
     unknown: Unknown::Alarm("grbl 1.1 stops here with error:20 (unsupported or invalid g-code command)"),
+    keeps_feed: true,
 };

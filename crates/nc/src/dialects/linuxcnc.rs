@@ -120,4 +120,5 @@ pub static LINUXCNC: DialectTable = DialectTable {
     numbers: RS274_NUMBERS,
     comments: Comments::ParenthesesAndSemicolon,
     unknown: Unknown::PassThrough,
+    keeps_feed: false,
 };

@@ -60,6 +60,7 @@ const MACH3_BASE: DialectTable = DialectTable {
     numbers: RS274_NUMBERS,
     comments: Comments::ParenthesesAndSemicolon,
     unknown: Unknown::PassThrough,
+    keeps_feed: false,
 };
 
 pub static MACH3: DialectTable = MACH3_BASE;

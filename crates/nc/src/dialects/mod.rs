@@ -157,6 +157,11 @@ pub struct DialectTable {
     pub numbers: Numbers,
     pub comments: Comments,
     pub unknown: Unknown,
+    /// Whether a feed move before any `F` runs at the feed rate an earlier program left (grbl keeps
+    /// it until a reset; grbl wiki, error:22 "feed rate has not yet been set"): passed with a
+    /// warning. Otherwise it is refused, as LinuxCNC ("Cannot do G1 with zero feed rate") and a
+    /// Fanuc (alarm PS0011) stop there.
+    pub keeps_feed: bool,
 }
 
 impl DialectTable {

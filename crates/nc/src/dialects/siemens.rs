@@ -77,4 +77,5 @@ pub static SIEMENS: DialectTable = DialectTable {
     numbers: Numbers { integers_are_increments: false, decimals_mm: 4, decimals_inch: 5 },
     comments: Comments::Semicolon,
     unknown: Unknown::Alarm("the SINUMERIK stops with alarm 12470 (unknown G function)"),
+    keeps_feed: false,
 };
