@@ -23,8 +23,10 @@
 //! - `SUPA`, `G53`, `G153` are LinuxCNC's `G53`, taken only without a tool length offset in force
 //!   (with the 840D's default `$MN_G53_TOOLCORR = 0` the offset stays active; LinuxCNC's G53 drops it);
 //! - `T1` selects, `M6` changes and turns on the new tool's length (the 840D's default cutting
-//!   edge D1): `T1 M6 G43 H1` on one line, `G49` with `D0` on that block; `D1` alone is `G43` of the
-//!   tool in the spindle, `D0` is `G49`;
+//!   edge D1): `T1 M6`, then `G43 H1` (`G49` with `D0` on that block) on a line of its own, where
+//!   rs274 keeps the machine where it is as the 840D does (the length on the line of `M6`, it
+//!   re-reads the position as if the machine had moved by the change of length); `D1` alone is
+//!   `G43` of the tool in the spindle, `D0` is `G49`;
 //! - `G4 F2` (seconds) is `G4 P2`; `G70`/`G700` are `G20`, `G71`/`G710` `G21`;
 //! - `CYCLE81(RTP, RFP, SDIS, DP, DPR)`, `CYCLE82(.., DTB)`: `G0` to RFP + |SDIS|, `G1` to DP (or
 //!   RFP - |DPR| when DPR is given), the dwell DTB, `G0` to RTP. Called directly (at the current
@@ -44,6 +46,12 @@
 //! loops, `PROC` with parameters, `CYCLE83`, `G41`/`G42`, `D2`, `T="name"`, an `R` assigned and used
 //! on one block ...), cycles outside G17 or in G91, `IC`/`AC` with `SUPA`, a unit change after a
 //! frame, a position block under `MCALL` with `Z` or not in G0.
+
+mod expr;
+mod words;
+
+use expr::{expr, plain};
+use words::{arguments, closing, comment_line, split_comment, strip_number, words, Word};
 
 /// The RS274/NGC text of a SINUMERIK program whose subprogram files are `files` (name, text), or
 /// `None`.
@@ -95,18 +103,6 @@ struct Rewriter<'a> {
     subs: Vec<Sub>,
     labels: usize,
     depth: usize,
-}
-
-/// A word of a block: an address with a number (`X10.5`, `G0`), an address with `=` and an
-/// expression (`X=R1+5`, `R1=40`, `CR=5`), a name with `( )` (`CYCLE81(..)`), a quoted string,
-/// a name alone (`TRANS`, `MCALL`, a subprogram).
-#[derive(Clone, Debug, PartialEq)]
-enum Word {
-    Letter(u8, String),
-    Assign(String, String),
-    Call(String, String),
-    Quoted(String),
-    Name(String),
 }
 
 /// Settings and texts that move nothing: written as comments.
@@ -611,158 +607,10 @@ fn value_kind(e: &str) -> Option<Value> {
     Some(Value::Expr(e.to_string()))
 }
 
-/// The index of the `)` closing the `(` at `open`.
-fn closing(s: &str, open: usize) -> Option<usize> {
-    let mut depth = 0;
-    for (i, c) in s.char_indices().skip(open) {
-        match c {
-            '(' => depth += 1,
-            ')' => {
-                depth -= 1;
-                if depth == 0 {
-                    return Some(i);
-                }
-            }
-            _ => {}
-        }
-    }
-    None
-}
-
 /// Whether RS274/NGC text `v` reads parameter `#p`.
 fn reads(v: &str, p: u32) -> bool {
     let key = format!("#{p}");
     v.match_indices(&key).any(|(i, _)| !v[i + key.len()..].starts_with(|c: char| c.is_ascii_digit()))
-}
-
-/// The code of a line and its `;` comment (outside quotes).
-fn split_comment(line: &str) -> (String, String) {
-    let mut quoted = false;
-    for (i, c) in line.char_indices() {
-        match c {
-            '"' => quoted = !quoted,
-            ';' if !quoted => return (line[..i].to_string(), line[i + 1..].trim().to_string()),
-            _ => {}
-        }
-    }
-    (line.to_string(), String::new())
-}
-
-/// A comment line rs274 reads as nothing: ASCII, without parentheses, opened by `;`.
-fn comment_line(text: &str) -> String {
-    let clean: String = text
-        .chars()
-        .map(|c| match c {
-            '(' => '[',
-            ')' => ']',
-            c if c.is_ascii_graphic() || c == ' ' => c,
-            _ => '?',
-        })
-        .take(200)
-        .collect();
-    format!("(; {clean})\n")
-}
-
-/// A block without its `N` number.
-fn strip_number(code: &str) -> String {
-    let rest = code.strip_prefix('N').filter(|r| r.starts_with(|c: char| c.is_ascii_digit()));
-    rest.map_or(code, |r| r.trim_start_matches(|c: char| c.is_ascii_digit())).trim().to_string()
-}
-
-/// The words of an upper-case block (see [`Word`]); `None` for what is not one of them.
-fn words(code: &str) -> Option<Vec<Word>> {
-    let b = code.as_bytes();
-    let (mut out, mut i) = (Vec::new(), 0);
-    while i < b.len() {
-        let c = b[i];
-        if c.is_ascii_whitespace() {
-            i += 1;
-        } else if c == b'"' {
-            let end = i + 1 + code[i + 1..].find('"')?;
-            out.push(Word::Quoted(code[i + 1..end].to_string()));
-            i = end + 1;
-        } else if c.is_ascii_alphabetic() || c == b'_' {
-            let start = i;
-            while i < b.len() && (b[i].is_ascii_alphabetic() || b[i] == b'_') {
-                i += 1;
-            }
-            let number = i - start == 1 && i < b.len() && (b[i].is_ascii_digit() || b"+-.".contains(&b[i]));
-            if number {
-                let n0 = i;
-                i += 1;
-                while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.') {
-                    i += 1;
-                }
-                let n = &code[n0..i];
-                if b.get(i) == Some(&b'=') {
-                    // R1=...
-                    let (e, next) = expression_at(code, i + 1)?;
-                    out.push(Word::Assign(format!("{}{n}", c as char), e));
-                    i = next;
-                } else {
-                    n.trim_start_matches('+').parse::<f64>().ok()?;
-                    out.push(Word::Letter(c, n.trim_start_matches('+').to_string()));
-                }
-                continue;
-            }
-            while i < b.len() && (b[i].is_ascii_alphanumeric() || b[i] == b'_') {
-                i += 1;
-            }
-            let name = code[start..i].to_string();
-            match b.get(i) {
-                Some(b'=') => {
-                    let (e, next) = expression_at(code, i + 1)?;
-                    out.push(Word::Assign(name, e));
-                    i = next;
-                }
-                Some(b'(') => {
-                    let end = closing(code, i)?;
-                    out.push(Word::Call(name, code[i + 1..end].to_string()));
-                    i = end + 1;
-                }
-                _ => out.push(Word::Name(name)),
-            }
-        } else {
-            return None;
-        }
-    }
-    Some(out)
-}
-
-/// The expression starting at byte `i` (to the next blank outside parentheses, blanks inside
-/// dropped) and where it ends.
-fn expression_at(code: &str, i: usize) -> Option<(String, usize)> {
-    let (mut depth, mut e) = (0i32, String::new());
-    for (k, c) in code[i..].char_indices() {
-        match c {
-            '(' => depth += 1,
-            ')' => depth -= 1,
-            c if c.is_ascii_whitespace() && depth == 0 => return (!e.is_empty()).then_some((e, i + k)),
-            c if c.is_ascii_whitespace() => continue,
-            _ => {}
-        }
-        e.push(c);
-    }
-    (!e.is_empty() && depth == 0).then_some((e, code.len()))
-}
-
-/// The arguments of a call, split at the commas outside parentheses, blanks dropped.
-fn arguments(args: &str) -> Option<Vec<String>> {
-    let (mut out, mut depth, mut one) = (Vec::new(), 0i32, String::new());
-    for c in args.chars().filter(|c| !c.is_ascii_whitespace()) {
-        match c {
-            '(' => depth += 1,
-            ')' => depth -= 1,
-            ',' if depth == 0 => {
-                out.push(std::mem::take(&mut one));
-                continue;
-            }
-            _ => {}
-        }
-        one.push(c);
-    }
-    out.push(one);
-    Some(out)
 }
 
 /// A value of `TRANS`/`ATRANS`: its axis and text (number or expression, no `IC`/`AC`).
@@ -774,243 +622,5 @@ fn axis_value(w: &Word) -> Option<(u8, String)> {
     }
 }
 
-/// A number as it is, an expression `(..)` translated.
-fn plain(v: &str) -> Option<String> {
-    if v.parse::<f64>().is_ok() {
-        Some(v.to_string())
-    } else {
-        expr(v)
-    }
-}
-
-/// An 840D arithmetic expression as RS274/NGC (bracketed).
-fn expr(e: &str) -> Option<String> {
-    let tokens = tokens(e)?;
-    let mut p = Parser { t: &tokens, i: 0 };
-    let out = p.sum()?;
-    (p.i == tokens.len()).then(|| format!("[{out}]"))
-}
-
-#[derive(Clone, Debug, PartialEq)]
-enum Token {
-    Number(String),
-    Param(u32),
-    Name(String),
-    Op(char),
-}
-
-fn tokens(e: &str) -> Option<Vec<Token>> {
-    let b = e.as_bytes();
-    let (mut out, mut i) = (Vec::new(), 0);
-    while i < b.len() {
-        let start = i;
-        let c = b[i];
-        if c.is_ascii_digit() || c == b'.' {
-            while i < b.len() && (b[i].is_ascii_digit() || b[i] == b'.') {
-                i += 1;
-            }
-            e[start..i].parse::<f64>().ok()?;
-            out.push(Token::Number(e[start..i].to_string()));
-        } else if c.is_ascii_alphabetic() {
-            while i < b.len() && b[i].is_ascii_alphanumeric() {
-                i += 1;
-            }
-            let word = &e[start..i];
-            match word.strip_prefix('R').map(str::parse::<u32>) {
-                Some(Ok(n)) if n < 1000 => out.push(Token::Param(1000 + n)),
-                _ => out.push(Token::Name(word.to_string())),
-            }
-        } else if b"+-*/(),".contains(&c) {
-            out.push(Token::Op(c as char));
-            i += 1;
-        } else {
-            return None;
-        }
-    }
-    Some(out)
-}
-
-/// Recursive descent over `+ -`, `* /`, unary minus, numbers, R parameters, functions, `( )`.
-struct Parser<'a> {
-    t: &'a [Token],
-    i: usize,
-}
-
-impl Parser<'_> {
-    fn peek(&self) -> Option<&Token> {
-        self.t.get(self.i)
-    }
-
-    fn eat(&mut self, op: char) -> bool {
-        let hit = self.peek() == Some(&Token::Op(op));
-        self.i += usize::from(hit);
-        hit
-    }
-
-    fn sum(&mut self) -> Option<String> {
-        let mut out = self.product()?;
-        while let Some(Token::Op(op @ ('+' | '-'))) = self.peek().cloned() {
-            self.i += 1;
-            out = format!("{out}{op}{}", self.product()?);
-        }
-        Some(out)
-    }
-
-    fn product(&mut self) -> Option<String> {
-        let mut out = self.unary()?;
-        while let Some(Token::Op(op @ ('*' | '/'))) = self.peek().cloned() {
-            self.i += 1;
-            out = format!("{out}{op}{}", self.unary()?);
-        }
-        Some(out)
-    }
-
-    fn unary(&mut self) -> Option<String> {
-        if self.eat('-') {
-            return Some(format!("[0-{}]", self.unary()?));
-        }
-        self.eat('+');
-        self.primary()
-    }
-
-    fn primary(&mut self) -> Option<String> {
-        let token = self.peek()?.clone();
-        self.i += 1;
-        match token {
-            Token::Number(n) => Some(n),
-            Token::Param(p) => Some(format!("#{p}")),
-            Token::Op('(') => {
-                let inner = self.sum()?;
-                self.eat(')').then(|| format!("[{inner}]"))
-            }
-            Token::Name(f) => self.function(&f),
-            Token::Op(_) => None,
-        }
-    }
-
-    /// `NAME(args)` in degrees, as LinuxCNC writes it.
-    fn function(&mut self, name: &str) -> Option<String> {
-        if !self.eat('(') {
-            return None;
-        }
-        let a = self.sum()?;
-        let b = if self.eat(',') { Some(self.sum()?) } else { None };
-        if !self.eat(')') {
-            return None;
-        }
-        match (name, b) {
-            ("SIN" | "COS" | "TAN" | "ASIN" | "ACOS" | "SQRT" | "ABS" | "EXP" | "LN" | "ROUND", None) => Some(format!("{name}[{a}]")),
-            ("ATAN2", Some(b)) => Some(format!("ATAN[{a}]/[{b}]")),
-            ("POT", None) => Some(format!("[[{a}]*[{a}]]")),
-            ("TRUNC", None) => Some(format!("[[FIX[{a}]*[[{a}] GE 0]]+[FUP[{a}]*[[{a}] LT 0]]]")),
-            _ => None,
-        }
-    }
-}
-
 #[cfg(test)]
-mod tests {
-    //! A few blocks in, their RS274/NGC out, run by rs274: the positions it reaches against the
-    //! values worked out here from the 840D manual.
-    use super::super::rs274::{rs274, Canon, Kind};
-    use super::siemens_to_ngc;
-
-    /// rs274's moves of the rewriting of `text` (tool 1 one inch long), or `None` without rs274.
-    fn run(text: &str) -> Option<(String, Vec<Canon>)> {
-        let rs = rs274()?;
-        let ngc = siemens_to_ngc(text, &[]).unwrap_or_else(|| panic!("not rewritten: {text}"));
-        let dir = tempfile::tempdir().unwrap();
-        std::fs::write(dir.path().join("p.ngc"), &ngc).unwrap();
-        std::fs::write(dir.path().join("t.tbl"), "T1 P1 Z1\n").unwrap();
-        let moves = rs.run(dir.path(), "p.ngc", Some("t.tbl")).unwrap_or_else(|e| panic!("{e}\n{ngc}"));
-        Some((ngc, moves))
-    }
-
-    /// The moves' ends (machine X Y Z, mm) are `ends` within 1e-9 mm.
-    fn ends(moves: &[Canon], ends: &[[f64; 3]], ngc: &str) {
-        let seen: Vec<[f64; 3]> = moves.iter().map(|m| [m.end[0], m.end[1], m.end[2]]).collect();
-        assert_eq!(seen.len(), ends.len(), "{seen:?}\n{ngc}");
-        for (i, (a, b)) in seen.iter().zip(ends).enumerate() {
-            assert!(a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-9), "move {}: {a:?}, not {b:?}\n{ngc}", i + 1);
-        }
-    }
-
-    /// R parameters and the functions in degrees: R4 = 40/2 + sqrt(9 + 16) - 6 = 19,
-    /// TRUNC(-2.5) = -2 (towards zero), ROUND(-2.5) = -3, ATAN2(1, -1) = 135, SIN(30) * 4 = 2,
-    /// COS(60) + ABS(-1) + EXP(0) + LN(1) + TAN(45) + ASIN(1)/90 + ACOS(0)/90 = 5.5.
-    #[test]
-    fn parameters_and_functions_in_degrees() {
-        let text = "N10 G17 G71 G90\nN20 R1=40 R2=-2.5\nN30 R4=R1/2+SQRT(POT(3)+POT(4))-2*3 ; 19\n\
-                    N40 G0 X=R4 Y=TRUNC(R2) Z=ROUND(R2)\nN50 G1 X=ATAN2(1,-1) Y=-R2*2 Z=SIN(30)*4 F100\n\
-                    N60 X=COS(60)+ABS(-1)+EXP(0)+LN(1)+TAN(45)+ASIN(1)/90+ACOS(0)/90\nN70 M30\n";
-        let Some((ngc, moves)) = run(text) else { return };
-        ends(&moves, &[[19.0, -2.0, -3.0], [135.0, 5.0, 2.0], [5.5, 5.0, 2.0]], &ngc);
-        assert!(ngc.contains("#1004=[#1001/2+SQRT[[[3]*[3]]+[[4]*[4]]]-2*3]\n"), "{ngc}");
-    }
-
-    /// `CR=10` from (0, 0) to (10, 10) in G3 turns round (0, 10), on the left of the chord;
-    /// `CR=-10` from (10, 10) to (0, 20) round (10, 20), on its right (over 180 degrees);
-    /// `X=IC(5) Y=AC(3)` from (0, 20) is (5, 3); `G2 X15 Y3 I=AC(10) J=IC(0)` turns round
-    /// (10, 3); in G91 `X=AC(20) Y=IC(1)` is (20, 4).
-    #[test]
-    fn arcs_by_radius_absolute_centres_and_values_in_the_other_mode() {
-        let text = "N10 G17 G71 G90 G0 X0 Y0 Z0\nN20 G3 X10 Y10 CR=10 F100\nN30 G3 X0 Y20 CR=-10\n\
-                    N40 G1 X=IC(5) Y=AC(3)\nN50 G2 X15 Y3 I=AC(10) J=IC(0)\nN60 G91 G1 X=AC(20) Y=IC(1)\nN70 G90 M30\n";
-        let Some((ngc, moves)) = run(text) else { return };
-        ends(&moves, &[[0.0; 3], [10.0, 10.0, 0.0], [0.0, 20.0, 0.0], [5.0, 3.0, 0.0], [15.0, 3.0, 0.0], [20.0, 4.0, 0.0]], &ngc);
-        for (i, centre, turns) in [(1, [0.0, 10.0], 1), (2, [10.0, 20.0], 1), (4, [10.0, 3.0], -1)] {
-            let Kind::Arc { centre: c, turns: t, .. } = moves[i].kind else { panic!("an arc: {:?}\n{ngc}", moves[i]) };
-            assert!(t == turns && (c[0] - centre[0]).abs() < 1e-9 && (c[1] - centre[1]).abs() < 1e-9, "{:?}\n{ngc}", moves[i]);
-        }
-        assert!(ngc.contains("G3 X0 Y20 R[[0-10]]\n") && ngc.contains("G90.1 G2 X15 Y3 I[10] J[#5421+[0]]\nG91.1\n"), "{ngc}");
-    }
-
-    /// The frame, the tool, the cycles: `TRANS X10 Y5` then `ATRANS X1` puts the zero at (11, 5);
-    /// T1 (25.4 mm) with M6; under `MCALL CYCLE82(30, 0, 2, , 5, 1)` from Z 30 (its RTP) each
-    /// position is LinuxCNC's G98 G82: the move there, G0 to 2, G1 to -5 (DPR 5 under RFP 0), G0
-    /// to 30; a direct `CYCLE81(40, 0, 1, -3)` is G0 to 1, G1 to -3, G0 to 40; under `MCALL
-    /// CYCLE81(20, 0, 1, -3)` from Z 40 the hole runs as the manual's moves (G98 would retract to
-    /// 40); `SUPA Z0 D0` is machine Z 0 without the tool.
-    #[test]
-    fn frames_tools_and_drilling_cycles() {
-        let text = "G17 G71 G90\nT1 D1 M6\nTRANS X10 Y5\nG0 X0 Y0 Z30\nATRANS X1\nG0 X0 Y0\nF100\n\
-                    MCALL CYCLE82(30, 0, 2, , 5, 1)\nX1 Y1\nG0 X2 Y2\nMCALL\nG0 Z50\nCYCLE81(40, 0, 1, -3)\n\
-                    MCALL CYCLE81(20, 0, 1, -3)\nX5\nMCALL\nTRANS\nG0 SUPA Z0 D0\nM30\n";
-        let Some((ngc, moves)) = run(text) else { return };
-        let t = 25.4;
-        let mut want = vec![[10.0, 5.0, 30.0 + t], [11.0, 5.0, 30.0 + t]];
-        for (x, y) in [(12.0, 6.0), (13.0, 7.0)] {
-            want.extend([[x, y, 30.0 + t], [x, y, 2.0 + t], [x, y, -5.0 + t], [x, y, 30.0 + t]]);
-        }
-        want.extend([[13.0, 7.0, 50.0 + t], [13.0, 7.0, 1.0 + t], [13.0, 7.0, -3.0 + t], [13.0, 7.0, 40.0 + t]]);
-        want.extend([[16.0, 7.0, 40.0 + t], [16.0, 7.0, 1.0 + t], [16.0, 7.0, -3.0 + t], [16.0, 7.0, 20.0 + t], [16.0, 7.0, 0.0]]);
-        ends(&moves, &want, &ngc);
-        assert!(moves.last().unwrap().tool == [0.0; 3] && moves[0].tool == [0.0, 0.0, t], "{ngc}");
-        assert!(ngc.contains("G98 G82 X1 Y1 R#2012 Z#2013 P#2014\n") && ngc.contains("T1 M6\nG43 H1\n"), "{ngc}");
-    }
-
-    /// What the rewriting does not take gives `None`, not a wrong program.
-    #[test]
-    fn what_is_not_rewritten_gives_none() {
-        for block in [
-            "G2 X10 Y0 AR=90",
-            "DEF REAL DEPTH",
-            "GOTOF END",
-            "CYCLE83(10, 0, 1, -20, , -5, , 2, 0, 0, 1, 0)",
-            "G41 X0 Y0",
-            "T1 D2 M6",
-            "T=\"MILL6\"",
-            "R1=2 X=R1",
-            "T1 D1 M6\nG0 SUPA Z0",
-            "G18 CYCLE81(10, 0, 1, -5)",
-            "MCALL CYCLE81(10, 0, 1, -5)\nZ5",
-            "PROC PART(REAL X1)",
-            "L20",
-            "/G0 X5",
-            "ROT RPL=30",
-        ] {
-            let text = format!("G17 G71 G90\n{block}\nM30\n");
-            assert_eq!(siemens_to_ngc(&text, &[]), None, "{block}");
-        }
-    }
-}
+mod tests;
