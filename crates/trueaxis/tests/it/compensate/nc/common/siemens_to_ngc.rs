@@ -225,7 +225,8 @@ impl Rewriter<'_> {
             _ => None,
         };
         let (target, rest) = match words {
-            [Word::Letter(b'L', n), rest @ ..] => (format!("L{}", n.parse::<u32>().ok()?), rest),
+            // the digits as written: L7 and L007 are two programs on the 840D
+            [Word::Letter(b'L', n), rest @ ..] if n.bytes().all(|c| c.is_ascii_digit()) => (format!("L{n}"), rest),
             [Word::Name(c), Word::Quoted(n)] if c == "CALL" => (n.clone(), &[][..]),
             [Word::Name(n), rest @ ..] if !KEYWORDS.contains(&n.as_str()) && n.len() >= 2 && n.as_bytes()[1].is_ascii_alphabetic() => {
                 (n.clone(), rest)
