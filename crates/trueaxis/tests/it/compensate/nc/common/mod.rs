@@ -7,6 +7,7 @@
 pub mod fanuc_to_ngc;
 pub mod oracle;
 pub mod rs274;
+pub mod siemens_to_ngc;
 
 use trueaxis::compensate::nc::{Move, MoveKind, Role};
 

@@ -5,14 +5,16 @@
 //!
 //! Each program must run in LinuxCNC's `rs274` (as it is when written for a LinuxCNC-compatible
 //! controller: LinuxCNC, PathPilot, Mach3, grbl; rewritten as RS274/NGC by
-//! [`super::common::fanuc_to_ngc`] when written for a Fanuc, Haas or Fadal), which must run the
+//! [`super::common::fanuc_to_ngc`] when written for a Fanuc, Haas or Fadal, by
+//! [`super::common::siemens_to_ngc`] when written for a SINUMERIK 840D), which must run the
 //! corrected program too; its canonical moves, pushed through the erroneous machine, must land on
 //! the original's within 0.05 um (path within 1.05 um: the 1 um split tolerance), as for LinuxCNC's
 //! samples, or within half the last written increment on each axis for the Fanuc family (sqrt 3 x
-//! 0.5 um in mm, sqrt 3 x 1.27 um in inch, + 0.01 um). A Fanuc-family program the rewriting does not
-//! take (subprogram calls, `IF`/`GOTO`, tapping), and every SINUMERIK program (its own language is
-//! not rewritten for rs274 yet; half its 4-decimal increment), is read again after correction by
-//! the library (a second run of the interpreter on the written text) with the same bound. The share corrected or
+//! 0.5 um in mm, sqrt 3 x 1.27 um in inch, + 0.01 um) and the SINUMERIK (4 decimals in mm, 5 in
+//! inch). A program the rewriting does not take (Fanuc subprogram calls, `IF`/`GOTO`, tapping; a
+//! SINUMERIK construct it does not know, in the original or in the corrected program) is read
+//! again after correction by the library (a second run of the interpreter on the written text)
+//! with the same bound. The share corrected or
 //! refused by design (cutter radius compensation, probing, threading) must be at least 90 %, in all
 //! and in every dialect; the outcome of every style and dialect is printed (docs/nc.md reports it).
 
@@ -22,6 +24,7 @@ mod writer;
 use super::common::fanuc_to_ngc;
 use super::common::oracle::Oracle;
 use super::common::rs274::rs274;
+use super::common::siemens_to_ngc::siemens_to_ngc;
 use styles::{corpus, Sample, STYLES};
 use trueaxis::compensate::nc::{correct_program, program_moves, Controller, Dialect, NcOptions, SearchPath, ToolTable};
 use trueaxis::compensate::Corrector;
@@ -85,11 +88,11 @@ fn refused(message: String) -> Outcome {
 
 /// The program rs274 reads for `bytes`: a LinuxCNC-compatible program as it is (Mach3's `M98`
 /// subprograms rewritten as O-word subroutines, grbl's `$` system commands as moves and comments), a Fanuc-family one rewritten as RS274/NGC
-/// ([`fanuc_to_ngc`]; `None` when it uses what that does not rewrite).
+/// ([`fanuc_to_ngc`]), a SINUMERIK one with its subprogram files too ([`siemens_to_ngc`]);
+/// `None` when it uses what the rewriting does not take.
 fn as_ngc(s: &Sample, bytes: &[u8]) -> Option<Vec<u8>> {
     if s.dialect == Controller::Siemens {
-        // the SINUMERIK's own language is not rewritten for rs274 yet: the second reading
-        None
+        siemens_to_ngc(&String::from_utf8_lossy(bytes), &styles::siemens_subprograms()).map(String::into_bytes)
     } else if s.dialect.family() == Dialect::Fanuc {
         fanuc_to_ngc::translate(&String::from_utf8_lossy(bytes)).map(String::into_bytes)
     } else if let Some(mach) = std::str::from_utf8(bytes).ok().filter(|t| t.contains("M98")) {
@@ -109,6 +112,11 @@ fn check_rs274(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
     let dir = tempfile::tempdir().unwrap();
     let tools = super::linuxcnc_samples::tool_table();
     std::fs::write(dir.path().join("tools.tbl"), &tools).unwrap();
+    if s.dialect == Controller::Siemens {
+        for (file, text) in styles::siemens_subprograms() {
+            std::fs::write(dir.path().join(file), text).unwrap();
+        }
+    }
     let name = s.name.replace(".nc", ".ngc");
     let ngc = as_ngc(s, &s.bytes).expect("checked by the caller");
     if let Some(d) = std::env::var_os("TRUEAXIS_CORPUS_DIR") {
@@ -121,9 +129,15 @@ fn check_rs274(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
         .unwrap_or_else(|e| panic!("{}: the corpus program does not run in rs274: {e}", s.name));
     let mut options = NcOptions::new(machine);
     options.dialect = Some(s.dialect);
-    options.setup.machine_inch = true;
-    options.setup.rs274_tool_change = true;
-    options.setup.tools = ToolTable::parse(&tools, "tools").unwrap();
+    let siemens = s.dialect == Controller::Siemens;
+    // rs274 reads its tool table in inch; a SINUMERIK program is corrected with the same lengths
+    // in mm (the library's ATRANS adds to the G52 shift it keeps as if it were in mm: on an inch
+    // machine the shift so far would count 25.4 times too small)
+    options.setup.machine_inch = !siemens;
+    // the SINUMERIK's rewriting changes the length on a line of its own after `M6`, where rs274
+    // keeps the machine where it is (as the 840D does)
+    options.setup.rs274_tool_change = !siemens;
+    options.setup.tools = ToolTable::parse(&if siemens { in_mm(&tools) } else { tools.clone() }, "tools").unwrap();
     options.setup.search_path = SearchPath(vec![dir.path().to_path_buf()]);
     let result = match correct_program(corrector, &s.bytes, &s.name, &options, &[]) {
         Ok(r) => r,
@@ -131,8 +145,16 @@ fn check_rs274(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
     };
     dump(s, &result.program);
     let Some(corrected) = as_ngc(s, &result.program) else {
+        if s.dialect == Controller::Siemens {
+            // the corrected program uses what the rewriting does not know (a kept cycle...)
+            println!("  {}: the corrected program is not rewritten as RS274/NGC: the second reading", s.name);
+            return check_fanuc(s, machine, corrector, errors);
+        }
         return Outcome::Failed("the corrected program cannot be rewritten as RS274/NGC as the original was".into());
     };
+    if let Some(d) = std::env::var_os("TRUEAXIS_CORPUS_DIR") {
+        std::fs::write(std::path::Path::new(&d).join(format!("corrected_{name}.rewritten")), &corrected).unwrap();
+    }
     std::fs::write(dir.path().join("corrected.ngc"), corrected).unwrap();
     let corrected = match rs.run(dir.path(), "corrected.ngc", Some("tools.tbl")) {
         Ok(m) => m,
@@ -144,7 +166,13 @@ fn check_rs274(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
         return Outcome::Failed(format!("trueaxis reads {count} moves, rs274 {}", original.len()));
     }
     let slack = super::common::hole_slack(&moves, &result.holes);
-    let tolerance = if s.dialect.family() == Dialect::Fanuc { fanuc_tolerance_um(&s.bytes) } else { 0.05 };
+    let tolerance = if s.dialect == Controller::Siemens {
+        siemens_tolerance_um(&s.bytes)
+    } else if s.dialect.family() == Dialect::Fanuc {
+        fanuc_tolerance_um(&s.bytes)
+    } else {
+        0.05
+    };
     let oracle = Oracle { machine, errors, temperatures: vec![] };
     match oracle.compare_with(&original, &corrected, &vec![0.0; machine.axis_count()], tolerance, 1.0 + tolerance, &homes, &slack) {
         Ok(r) => {
@@ -152,6 +180,21 @@ fn check_rs274(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
         }
         Err(e) => Outcome::Failed(e),
     }
+}
+
+/// A tool table in inch written in mm (its Z and D scaled).
+fn in_mm(table: &str) -> String {
+    let scale = |w: &str| match w.split_at(1) {
+        ("Z" | "D", v) => format!("{}{}", &w[..1], v.parse::<f64>().expect("a length") * 25.4),
+        _ => w.to_string(),
+    };
+    table
+        .lines()
+        .map(|l| {
+            let (words, comment) = l.split_once(';').unwrap_or((l, ""));
+            format!("{} ;{comment}\n", words.split_whitespace().map(scale).collect::<Vec<_>>().join(" "))
+        })
+        .collect()
 }
 
 /// With `TRUEAXIS_CORPUS_DIR` set, the program and its correction are written there to be looked at.
@@ -263,8 +306,10 @@ fn corpus_of_posts_and_controllers_is_corrected() {
         })
         .collect();
     let (mut ok, mut design, mut no_table, mut moves, mut worst, mut by_rs274) = (0, 0, 0, 0, 0.0f64, 0);
-    // holes read back by rs274, and by the library's second reading (Fanuc)
-    // rs274 on LinuxCNC-family programs, on Fanuc-family ones rewritten, the second reading
+    // SINUMERIK programs read back by rs274 through their rewriting, and their largest deviation
+    let (mut siemens, mut siemens_worst) = (0, 0.0f64);
+    // holes read back by rs274 on LinuxCNC-family programs, on Fanuc-family and SINUMERIK ones
+    // rewritten, by the second reading
     let mut holes = [Holes::default(); 3];
     let mut failures = Vec::new();
     for (post, controller, _, _, _) in STYLES {
@@ -281,8 +326,12 @@ fn corpus_of_posts_and_controllers_is_corrected() {
                     moves += m;
                     worst = worst.max(*worst_um);
                     by_rs274 += usize::from(*rs274);
-                    let fanuc = s.dialect.family() == Dialect::Fanuc;
-                    holes[if !*rs274 { 2 } else { usize::from(fanuc) }].add(hole_stats);
+                    if *rs274 && s.dialect == Controller::Siemens {
+                        siemens += 1;
+                        siemens_worst = siemens_worst.max(*worst_um);
+                    }
+                    let rewritten = s.dialect.family() == Dialect::Fanuc || s.dialect == Controller::Siemens;
+                    holes[if !*rs274 { 2 } else { usize::from(rewritten) }].add(hole_stats);
                 }
                 Outcome::ByDesign(m) => {
                     design += 1;
@@ -294,8 +343,11 @@ fn corpus_of_posts_and_controllers_is_corrected() {
     }
     let n = samples.len();
     println!(
-        "{by_rs274} corrected programs read back by rs274 (the Fanuc-family ones rewritten as RS274/NGC), {} by the second reading",
+        "{by_rs274} corrected programs read back by rs274 (the Fanuc-family and SINUMERIK ones rewritten as RS274/NGC), {} by the second reading",
         ok - by_rs274
+    );
+    println!(
+        "{siemens} SINUMERIK programs read back by rs274 through their RS274/NGC rewriting, largest end deviation {siemens_worst:.4} um"
     );
     let share = (ok + design) as f64 / n as f64;
     println!(
@@ -305,7 +357,7 @@ fn corpus_of_posts_and_controllers_is_corrected() {
         100.0 * share,
         100.0 * no_table as f64 / n as f64
     );
-    let readers = ["rs274", "rs274 (Fanuc-family programs rewritten as RS274/NGC)", "the second reading"];
+    let readers = ["rs274", "rs274 (Fanuc-family and SINUMERIK programs rewritten as RS274/NGC)", "the second reading"];
     for (h, by) in holes.iter().zip(readers) {
         println!(
             "{} holes kept as canned cycles, read back by {by}: R points within {:.4} um of their level; lean reported up to {:.3} um, clearance points up to {:.3} um",
