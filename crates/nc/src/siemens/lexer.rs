@@ -259,12 +259,14 @@ impl Block {
             return self.word(letters.as_bytes()[0], p, line, arena);
         }
         if (letters == "CR" || letters == "AR") && p.s[start + 2..].iter().find(|c| !matches!(c, b' ' | b'\t')) == Some(&b'=') {
-            if letters == "AR" {
-                return Err("AR= (an arc by its opening angle) is not read yet: write G2/G3 with I J or CR=".into());
+            // CR= is LinuxCNC's R; AR= the opening angle ([`super::arcs`])
+            let letter = if letters == "AR" { super::arcs::AR } else { b'R' };
+            if line.words.iter().any(|w| w.letter == letter) {
+                return Err(format!("two {letters}= words on one block"));
             }
             p.i += 2;
             let (value, span, _) = p.value(b'R', arena)?;
-            line.words.push(Word { letter: b'R', value, span, decimal_point: true });
+            line.words.push(Word { letter, value, span, decimal_point: true });
             return Ok(());
         }
         let name = p.name();
@@ -602,7 +604,6 @@ mod tests {
             ("G1 X=DC(5)", "`DC(...)`"),
             ("G1 F=AC(5)", "F=IC(...)/AC(...) is read for axes"),
             ("G91 X=AC(5)", "with G90 or G91 on the same block"),
-            ("G2 X10 Y0 AR=90", "AR= (an arc by its opening angle)"),
             ("T=\"FACE MILL 50\"", "T=\"name\""),
             ("G43 H1", "G43 is not a SINUMERIK G function"),
             ("R1=5 R2=R1", "R1 is assigned and read on one block"),

@@ -11,6 +11,7 @@
 //!
 //! R parameters `R0`-`R999` are kept as the numbered parameters `#1000`-`#1999` of the run.
 
+pub mod arcs;
 pub mod cycles;
 pub mod expr;
 pub mod lexer;

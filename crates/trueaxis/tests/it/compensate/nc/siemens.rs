@@ -344,3 +344,75 @@ fn values_in_the_other_distance_mode_are_corrected() {
     // a value counted from the current position is not kept as text: the correction moves it
     assert!(!corrected.contains("IC(") && !corrected.contains("AC("), "{corrected}");
 }
+
+/// Arcs by their opening angle (Fundamentals, "Circular interpolation with opening angle and
+/// center point / end point"): `AR=` with the end point (a quarter G3, a G2 of 270 degrees, an
+/// angle from an R parameter), and with the centre `I J` (a helical half circle, a third of a turn).
+const ARCS: &str = "\
+%_N_ARCS_MPF
+;$PATH=/_N_WKS_DIR/_N_ARCS_WPD
+N10 G17 G90 G40 G71 G94
+N20 T1 D1 M6
+N30 G54 S2000 M3
+N40 G0 X20 Y0 Z5
+N50 G1 Z-1 F300
+N60 G3 X40 Y20 AR=90 ; quarter
+N70 G2 X60 Y20 AR=270
+N80 G3 I-10 J0 AR=180 Z-2 ; centre and angle
+N90 R1=30
+N100 G3 X25 Y40 AR=R1*2
+N110 G2 I0 J-10 AR=120
+N120 G0 Z50
+N130 M30
+";
+
+/// The centre of the arc that turns `start` into `end` through `degrees` (positive
+/// counterclockwise): the fixed point of the rotation, (I - R) c = end - R start, a formulation
+/// apart from the chord-and-angle one trueaxis uses.
+fn rotation_centre(start: [f64; 2], end: [f64; 2], degrees: f64) -> [f64; 2] {
+    let (s, c) = degrees.to_radians().sin_cos();
+    // R start
+    let rs = [c * start[0] - s * start[1], s * start[0] + c * start[1]];
+    let rhs = [end[0] - rs[0], end[1] - rs[1]];
+    // I - R = [[1 - c, s], [-s, 1 - c]], determinant (1 - c)^2 + s^2
+    let det = (1.0 - c).powi(2) + s * s;
+    [((1.0 - c) * rhs[0] - s * rhs[1]) / det, (s * rhs[0] + (1.0 - c) * rhs[1]) / det]
+}
+
+fn arcs_expansion() -> Expansion {
+    let mut e = Expansion::new();
+    e.tool = 100.0;
+    e.go(true, [20.0, 0.0, 5.0]);
+    e.go(false, [20.0, 0.0, -1.0]);
+    e.arc([40.0, 20.0, -1.0], rotation_centre([20.0, 0.0], [40.0, 20.0], 90.0), 1);
+    e.arc([60.0, 20.0, -1.0], rotation_centre([40.0, 20.0], [60.0, 20.0], -270.0), -1);
+    // about (50, 20), half a turn: back to (40, 20), Z down 1 mm on the way
+    e.arc([40.0, 20.0, -2.0], [50.0, 20.0], 1);
+    e.arc([25.0, 40.0, -2.0], rotation_centre([40.0, 20.0], [25.0, 40.0], 60.0), 1);
+    // about (25, 30) clockwise 120 degrees from (25, 40): the end at angle 90 - 120 = -30 degrees
+    let t = (-30.0f64).to_radians();
+    e.arc([25.0 + 10.0 * t.cos(), 30.0 + 10.0 * t.sin(), -2.0], [25.0, 30.0], -1);
+    let last = e.moves.last().unwrap().end;
+    e.go(true, [last[0], last[1], 50.0]);
+    e
+}
+
+#[test]
+fn ar_arcs_have_the_centres_of_the_closed_form_and_land() {
+    // the closed form's numbers: the quarter's centre (20, 20), the 270-degree G2's (50, 30)
+    let q = rotation_centre([20.0, 0.0], [40.0, 20.0], 90.0);
+    assert!((q[0] - 20.0).abs() < 1e-12 && (q[1] - 20.0).abs() < 1e-12, "{q:?}");
+    let g2 = rotation_centre([40.0, 20.0], [60.0, 20.0], -270.0);
+    assert!((g2[0] - 50.0).abs() < 1e-12 && (g2[1] - 30.0).abs() < 1e-12, "{g2:?}");
+    let text = check("arcs.mpf", ARCS, &arcs_expansion());
+    // an arc to an end point whose ends move is written with its centre; one about a centre as
+    // its move (G2/G3 X Y I J)
+    let line = |n: &str| text.lines().find(|l| l.starts_with(n)).unwrap_or_else(|| panic!("{n}: {text}")).to_string();
+    assert!(line("N60 ").contains(" I") && !line("N60 ").contains("AR=") && line("N60 ").ends_with("; quarter"), "{text}");
+    assert!(!text.contains("AR=180") && !text.contains("AR=120"), "{text}");
+    assert!(
+        text.contains(";trueaxis: - line 13, SINUMERIK arc by its centre and opening angle AR=, written with its end point\n"),
+        "{text}"
+    );
+    assert!(text.contains("N90 R1=30\n"), "{text}");
+}
