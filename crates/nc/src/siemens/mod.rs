@@ -14,8 +14,11 @@
 pub mod arcs;
 pub mod cycles;
 pub mod expr;
+pub mod flow;
 pub mod lexer;
+pub mod statements;
 pub mod subprograms;
+pub mod variables;
 pub mod write;
 
 pub use cycles::Call;

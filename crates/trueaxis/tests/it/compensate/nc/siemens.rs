@@ -416,3 +416,153 @@ fn ar_arcs_have_the_centres_of_the_closed_form_and_land() {
     );
     assert!(text.contains("N90 R1=30\n"), "{text}");
 }
+
+/// Control structures and local variables (Job Planning, "Flexible NC programming"): DEF
+/// variables of the three types, a FOR loop over three grooves, a WHILE loop, IF-ELSE-ENDIF on a
+/// BOOL, a LOOP left by a conditional GOTOF to a label on a block with a move, an INT that rounds
+/// what it is given (0 + 1.4 is 1, 1 + 1.4 is 2, ...), REPEAT-UNTIL, a GOTOF over a block.
+const FLOW: &str = "\
+%_N_FLOW_MPF
+;$PATH=/_N_WKS_DIR/_N_FLOW_WPD
+DEF INT PASS=0, HOLES
+DEF REAL DEPTH=-1.5, STEP=10 ; mm
+DEF BOOL DEEP=FALSE
+N10 G17 G90 G40 G71 G94
+N20 T1 D1 M6
+N30 G54 S3000 M3
+N40 G0 X0 Y0 Z5
+N50 FOR PASS=1 TO 3 ; three grooves
+N60 G0 X=PASS*STEP Y0
+N70 G1 Z=DEPTH F200
+N80 G1 Y20
+N90 G0 Z5
+N100 ENDFOR
+N110 R1=0
+N120 WHILE R1 < 30
+N130 R1=R1+12.5
+N140 G1 X40 Y=R1 F300
+N150 ENDWHILE
+N160 IF DEEP
+N170 G1 Z-5
+N180 ELSE
+N190 G1 Z=DEPTH*2
+N200 ENDIF
+N210 HOLES=0
+N220 LOOP
+N230 HOLES=HOLES+1.4
+N240 G0 X=50+HOLES*5 Y10
+N250 IF HOLES >= 3 GOTOF DONE
+N260 ENDLOOP
+N270 DONE: G0 Z20
+N280 REPEAT
+N290 R2=R2+1
+N300 G1 X60 Y=R2*5 F100
+N310 UNTIL (R2 == 2) OR (R2 > 5)
+N320 GOTOF N340
+N330 G0 X0 Y0 ; skipped
+N340 G0 Z50
+N350 M30
+";
+
+/// FLOW's moves, worked out by hand from the manual's rules.
+fn flow_expansion() -> Expansion {
+    let mut e = Expansion::new();
+    e.tool = 100.0;
+    e.go(true, [0.0, 0.0, 5.0]);
+    for pass in 1..=3 {
+        let x = 10.0 * f64::from(pass);
+        e.go(true, [x, 0.0, 5.0]);
+        e.go(false, [x, 0.0, -1.5]);
+        e.go(false, [x, 20.0, -1.5]);
+        e.go(true, [x, 20.0, 5.0]);
+    }
+    for y in [12.5, 25.0, 37.5] {
+        e.go(false, [40.0, y, 5.0]);
+    }
+    // DEEP is FALSE: the ELSE branch, Z at twice DEPTH
+    e.go(false, [40.0, 37.5, -3.0]);
+    // HOLES 1, 2, 3 (the INT rounds 1.4, 2.4, 3.4), then the jump out at 3
+    for holes in [1.0, 2.0, 3.0] {
+        e.go(true, [50.0 + holes * 5.0, 10.0, -3.0]);
+    }
+    e.go(true, [65.0, 10.0, 20.0]);
+    e.go(false, [60.0, 5.0, 20.0]);
+    e.go(false, [60.0, 10.0, 20.0]);
+    e.go(true, [60.0, 10.0, 50.0]);
+    e
+}
+
+#[test]
+fn jumps_loops_if_and_def_variables_run_as_the_manual_says_and_land() {
+    let text = check("flow.mpf", FLOW, &flow_expansion());
+    // the loops run more than once: expanded, the variables they leave set written after them
+    // in the 840D's spelling; the IF ran once: kept, its ELSE branch corrected in place
+    for note in ["lines 10-15, FOR loop", "lines 17-20, WHILE loop", "lines 27-31, LOOP: its blocks", "lines 33-36, REPEAT loop"] {
+        assert!(text.contains(note), "{note}: {text}");
+    }
+    assert!(
+        text.contains("\nPASS=4\n") && text.contains("\nR1=37.5\n") && text.contains("\nHOLES=3\n") && text.contains("\nR2=2\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("\nDEF INT PASS=0, HOLES\n") && text.contains("\nN160 IF DEEP\nN170 G1 Z-5\nN180 ELSE\nN190 G1 Z=-3.00"),
+        "{text}"
+    );
+    assert!(text.contains("\nN320 GOTOF N340\nN330 G0 X0 Y0 ; skipped\n"), "{text}");
+}
+
+/// A backward conditional jump as shop programs write spirals (`IF R2<360 GOTOB METKA1`): the
+/// whole program is expanded (the correction differs at each pass).
+const SPIRAL: &str = "\
+%_N_SPIRAL_MPF
+;$PATH=/_N_WKS_DIR/_N_SPIRAL_WPD
+N10 G17 G90 G71 T1 D1 M6
+N20 G54 G0 X0 Y0 Z5
+N30 R2=0
+N40 METKA1:
+N50 R2=R2+90
+N60 G1 X=10*COS(R2) Y=10*SIN(R2) Z=-R2/90 F250
+N70 IF R2<360 GOTOB METKA1
+N80 G0 Z50
+N90 M30
+";
+
+#[test]
+fn a_backward_jump_expands_the_program_and_lands() {
+    let mut e = Expansion::new();
+    e.tool = 100.0;
+    e.go(true, [0.0, 0.0, 5.0]);
+    for (k, angle) in [90.0f64, 180.0, 270.0, 360.0].into_iter().enumerate() {
+        let a = angle.to_radians();
+        e.go(false, [10.0 * a.cos(), 10.0 * a.sin(), -(k as f64) - 1.0]);
+    }
+    e.go(true, [10.0, 0.0, 50.0]);
+    let text = check("spiral.mpf", SPIRAL, &e);
+    assert!(text.contains("the whole program: the program jumps backwards") && !text.contains("GOTOB"), "{text}");
+}
+
+/// What the 840D refuses, or trueaxis does not read, is refused with the file and line.
+#[test]
+fn flow_that_cannot_run_is_refused_with_the_line() {
+    let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
+    let e = ErrorModel::load("../../examples/errors/vmc3.toml", &m).unwrap();
+    let corrector = Corrector::new(&m, &e);
+    let mut options = options(&m);
+    options.dialect = Some(Controller::Siemens);
+    options.setup.max_blocks = 10_000;
+    let head = "N10 G17 G90 G71 T1 D1 M6\nN20 G54 G0 X0 Y0 Z5\n";
+    for (body, line, says) in [
+        ("N30 IF R1==0\nN40 G1 X1 F100\nM30\n", 3, "the IF is never closed (ENDIF)"),
+        ("N30 WHILE R1<3\nN40 R1=R1+1\nN50 ENDIF\nM30\n", 5, "ENDIF closes the WHILE of line 3"),
+        ("N30 GOTOF NOWHERE\nM30\n", 3, "GOTOF NOWHERE: no block NOWHERE after this block (the 840D stops with alarm 14080)"),
+        ("N30 GOTOF INSIDE\nN40 FOR R1=1 TO 2\nINSIDE: G0 X1\nN60 ENDFOR\nM30\n", 3, "a jump into the FOR of lines 4-6"),
+        ("N30 G0 X1\nDEF REAL LATE=1\nM30\n", 4, "DEF after the statements of line 1"),
+        ("N30 OFFN=2\nM30\n", 3, "OFFN is neither a variable defined by DEF"),
+        ("N30 REPEAT START END P=2\nM30\n", 3, "program section repetition"),
+        ("N30 LOOP\nN40 R1=R1+1\nN50 ENDLOOP\nM30\n", 5, "an endless loop?"),
+    ] {
+        let text = format!("{head}{body}");
+        let err = correct_program(&corrector, &text, "bad.mpf", &options, &[]).expect_err(&text).to_string();
+        assert!(err.contains(&format!("bad.mpf: line {line}: ")) && err.contains(says), "{text}: {err}");
+    }
+}
