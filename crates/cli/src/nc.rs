@@ -21,8 +21,9 @@ use trueaxis::machine::Machine;
     after_help = "Example:\n  trueaxis nc --machine examples/machines/vmc3.toml --errors examples/errors/vmc3.toml \\\n      examples/nc/pocket.ngc --limit-um 50 --out pocket_corrected.ngc\n\n\
 Runs the program as the controller does: parameters and expressions, O-word subroutines and\n\
 loops (LinuxCNC), macro variables, IF/GOTO/WHILE and M98/M99/G65 (Fanuc, Haas, Mach3/Mach4),\n\
-Haas M97, grbl $J= jogs, the SINUMERIK 840D's R parameters, CR= arcs, TRANS/ATRANS, L\n\
-subprograms and CYCLE81/CYCLE82, tool length offsets (G43 H or D from --tool-table), work\n\
+Haas M97, grbl $J= jogs, the SINUMERIK 840D's R parameters and DEF variables, CR=/AR= arcs,\n\
+TRANS/ATRANS, GOTOF/GOTOB, IF, WHILE, FOR, LOOP, REPEAT, L subprograms and CYCLE81/CYCLE82,\n\
+tool length offsets (G43 H or D from --tool-table), work\n\
 offsets (G54-G59.3 from --parameters or --offset, G10 L2/L20), G92, G28/G30, G53, canned cycles\n\
 G73 G81-G89 (kept as cycles in G90), arcs in G17/G18/G19, G20/G21, G93/G94/G95.\n\
 Refused with the line and the reason: probing (G38.x, G31), spindle-synchronised motion (G33,\n\

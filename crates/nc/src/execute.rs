@@ -21,14 +21,16 @@ use crate::subprograms;
 use crate::tools::AXIS_LETTERS;
 use crate::trace::{flags, Move, MoveKind, Plane, Relative, Role};
 
-/// Letters of a block: A-Z, then `@` (polar radius), `^` (polar angle), `$` (spindle).
-const LETTERS: usize = 29;
+/// Letters of a block: A-Z, then `@` (polar radius), `^` (polar angle), `$` (spindle), and the
+/// SINUMERIK's opening angle `AR=` ([`crate::siemens::arcs::AR`]).
+const LETTERS: usize = 30;
 
 fn letter_index(letter: u8) -> usize {
     match letter {
         b'@' => 26,
         b'^' => 27,
         b'$' => 28,
+        crate::siemens::arcs::AR => 29,
         l => (l - b'A') as usize,
     }
 }
@@ -38,6 +40,7 @@ fn index_letter(i: usize) -> u8 {
         26 => b'@',
         27 => b'^',
         28 => b'$',
+        29 => crate::siemens::arcs::AR,
         i => b'A' + i as u8,
     }
 }
@@ -86,7 +89,7 @@ impl Words {
     }
 
     pub(crate) fn any_axis_or_polar(&self) -> bool {
-        self.axes().1 || self.has(b'@') || self.has(b'^')
+        self.axes().1 || self.has(b'@') || self.has(b'^') || self.has(crate::siemens::arcs::AR)
     }
 
     pub(crate) fn use_axes(&mut self) {
@@ -974,7 +977,26 @@ impl Exec<'_> {
             return Err(format!("{} word with an arc in G{}", normal_letter as char, plane.gcode()));
         }
         let start = self.state.position;
-        let end = self.end_point(w, false)?;
+        let mut end = self.end_point(w, false)?;
+        if let Some(angle) = w.take(crate::siemens::arcs::AR) {
+            // SINUMERIK AR=: the centre from the end point, or the end point from the centre
+            let on_plane = w.has(AXIS_LETTERS[a]) || w.has(AXIS_LETTERS[b]);
+            let (s, e) = ([start[a], start[b]], [end[a], end[b]]);
+            let centre = match (on_plane, ia.is_some() || ib.is_some(), r.is_some()) {
+                (_, _, true) => return Err("an arc with both AR= and CR=: give one of them".into()),
+                (true, true, _) => return Err("AR= with both the end point and the centre: give one of them".into()),
+                (false, false, _) => return Err(format!("AR= needs the end point or the centre ({}{})", ca as char, cb as char)),
+                (true, false, _) => crate::siemens::arcs::centre_from_end(clockwise, s, e, angle)?,
+                (false, true, _) => {
+                    let c = [start[a] + ia.unwrap_or(0.0), start[b] + ib.unwrap_or(0.0)];
+                    [end[a], end[b]] = crate::siemens::arcs::end_from_centre(clockwise, s, c, angle)?;
+                    // the block has no end point to correct: written as its move
+                    self.trace.steps[step].flags |= flags::EXPAND;
+                    c
+                }
+            };
+            return self.arc_about(clockwise, start, end, centre, turns, words, f, step);
+        }
         if ia.is_none() && ib.is_none() && r.is_none() {
             return Err(format!("an arc needs the centre words {}{} or a radius R", ca as char, cb as char));
         }
@@ -997,6 +1019,25 @@ impl Exec<'_> {
                 c
             }
         };
+        self.arc_about(clockwise, start, end, centre, turns, words, f, step)
+    }
+
+    /// The arc from `start` to `end` about `centre` (program coordinates of the plane) with its
+    /// `turns`.
+    #[allow(clippy::too_many_arguments)]
+    fn arc_about(
+        &mut self,
+        clockwise: bool,
+        start: Vec9,
+        end: Vec9,
+        centre: [f64; 2],
+        turns: u32,
+        words: u16,
+        f: Option<f64>,
+        step: usize,
+    ) -> Result<(), String> {
+        let plane = self.state.plane;
+        let [a, b, _] = plane.axes();
         if self.state.frame.rotation != 0.0 && plane != PlaneSelect::Xy {
             return Err(format!("an arc in G{} with a rotated coordinate system is not supported", plane.gcode()));
         }

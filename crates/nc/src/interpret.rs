@@ -296,7 +296,8 @@ impl<'m> Runner<'m> {
                 }
                 Flow::CallFile { name, passes } => {
                     let (f, k) = program.find_siemens_sub(&name).map_err(|m| at(m, program))?;
-                    exec.enter(pc, (f, k), passes - 1, false, &[]);
+                    // the subprogram's DEF variables are its own (the R parameters are global)
+                    exec.enter(pc, (f, k), passes - 1, true, &[]);
                     self.pc = (f, k);
                 }
                 Flow::CallLocal { label, repeat } => {
@@ -579,6 +580,11 @@ impl<'m> Exec<'m> {
 
     /// Writes a parameter and records it in the trace.
     pub(crate) fn assign(&mut self, target: &ParamRef, index: Option<u32>, value: f64) -> Result<(), String> {
+        let value = match target {
+            // a SINUMERIK DEF variable takes the value as its type makes it
+            ParamRef::Named(name) if self.table.name == "siemens" => crate::siemens::variables::typed(&self.params, name, value)?,
+            _ => value,
+        };
         let key = match target {
             ParamRef::Named(name) => {
                 if self.dialect == Dialect::LinuxCnc && name.starts_with('_') && is_predefined(name) {
@@ -702,7 +708,8 @@ impl<'m> Exec<'m> {
             self.trace.steps[step].flags |= flags::CALL;
         }
         if let Ok(Flow::Jump(target)) = flow {
-            if target <= k && matches!(statement, Statement::Goto(_) | Statement::IfGoto(..)) {
+            let siemens_jump = matches!(statement, Statement::Siemens(crate::siemens::flow::Control::Jump(_)));
+            if target <= k && (siemens_jump || matches!(statement, Statement::Goto(_) | Statement::IfGoto(..))) {
                 self.trace.steps[step].flags |= flags::JUMP_BACK;
             }
         }
@@ -827,6 +834,7 @@ impl<'m> Exec<'m> {
                 }
             }
             Statement::Do(_) | Statement::Output => Flow::Next,
+            Statement::Siemens(c) => crate::siemens::flow::flow(self, file, pc, c)?,
             Statement::End(_) => {
                 let Link::LoopEnd { start } = link else { unreachable!("indexed END") };
                 match &file.lines[start] {

@@ -98,6 +98,8 @@ pub enum Statement {
     /// Fanuc/Haas external output (`POPEN`, `PCLOS`, `DPRNT[...]`, `BPRNT[...]`): data sent to a
     /// serial port, no effect on motion.
     Output,
+    /// A SINUMERIK jump or control structure ([`crate::siemens::flow`]).
+    Siemens(crate::siemens::flow::Control),
 }
 
 /// One line of a program.
@@ -125,6 +127,10 @@ pub struct Line {
     pub system: Option<Range<usize>>,
     /// A SINUMERIK cycle call or `MCALL` ([`crate::siemens`]).
     pub siemens_call: Option<Box<crate::siemens::Call>>,
+    /// A SINUMERIK jump label `NAME:` at the start of the block ([`crate::siemens::flow`]).
+    pub siemens_label: Option<Box<str>>,
+    /// A SINUMERIK `DEF` ([`crate::siemens::variables`]).
+    pub siemens_def: bool,
 }
 
 impl Line {

@@ -209,6 +209,7 @@ impl Planner<'_> {
                     continue;
                 }
                 (Link::Branch { .. }, Some(Statement::O(_, OKind::ElseIf(_) | OKind::Else)))
+                | (Link::Branch { .. }, Some(Statement::Siemens(crate::siemens::flow::Control::Else)))
                 | (Link::LoopEnd { .. } | Link::SubEnd { .. }, _) => {
                     k += 1;
                     continue;
@@ -223,6 +224,7 @@ impl Planner<'_> {
                         let what = match self.statement(k) {
                             Some(Statement::O(label, OKind::If(_))) => format!("{label} if"),
                             Some(Statement::O(label, kind)) => format!("{label} {}", loop_name(kind)),
+                            Some(Statement::Siemens(c)) => c.name(),
                             _ => "WHILE/DO loop".into(),
                         };
                         self.region(k..end + 1, level, format!("lines {}-{}, {what}: its blocks run more than once", k + 1, end + 1));

@@ -168,7 +168,10 @@ impl SourceFile {
         };
         file.index_numbers()?;
         match dialect {
-            Dialect::LinuxCnc => file.index_owords()?,
+            Dialect::LinuxCnc => {
+                file.index_owords()?;
+                crate::siemens::flow::index(&mut file)?;
+            }
             Dialect::Fanuc => file.index_fanuc()?,
         }
         Ok(file)

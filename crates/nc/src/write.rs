@@ -434,7 +434,8 @@ impl<'a> Writer<'a> {
                     let endpoints_changed = !edits.is_empty() || !appended.is_empty();
                     if let (Some(c), MoveKind::Arc { plane, .. }) = (centre, m.kind) {
                         let words = self.centre_words(m, &frame, c, &start);
-                        if let Some(r) = line.word(b'R') {
+                        // an R arc (SINUMERIK CR=, or AR= with its end point) as I J once its ends move
+                        if let Some(r) = line.word(b'R').or_else(|| line.word(crate::siemens::arcs::AR)) {
                             if endpoints_changed || p.len() > 1 {
                                 let t = format!("{}{} {}{}", words[0].0 as char, words[0].2, words[1].0 as char, words[1].2);
                                 edits.push((letter_start(text, r.span.start)..r.span.end, t));
@@ -825,6 +826,9 @@ impl<'a> Writer<'a> {
                 "NURBS (G5.2-G5.3) as lines within 1 um of the curve"
             } else if step.has(crate::trace::flags::SPLINE) {
                 "spline as lines within 1 um of the curve"
+            } else if matches!(self.trace.step_moves(step), [m] if matches!(m.kind, MoveKind::Arc { .. })) {
+                // one arc, expanded: an arc whose end its block does not state
+                "SINUMERIK arc by its centre and opening angle AR=, written with its end point"
             } else if self.trace.step_moves(step).iter().all(|m| matches!(m.kind, MoveKind::Arc { .. })) {
                 "arc of several turns"
             } else {

@@ -69,15 +69,6 @@ const REFUSED: &[(&str, &str)] = &[
     ("CYCLE800", "(swivel plane) with parameters is not supported: correct the program in machine axes"),
     ("CIP", "(circle through an intermediate point) is not read yet: write G2/G3 with I J or CR="),
     ("CT", "(tangential circle) is not read yet: write G2/G3 with I J or CR="),
-    ("DEF", "(local variable definition) is not read yet: use R parameters"),
-    ("GOTOF", "(jump) is not read yet"),
-    ("GOTOB", "(jump) is not read yet"),
-    ("GOTO", "(jump) is not read yet"),
-    ("IF", "(condition) is not read yet"),
-    ("WHILE", "(loop) is not read yet"),
-    ("REPEAT", "(loop) is not read yet"),
-    ("FOR", "(loop) is not read yet"),
-    ("LOOP", "(loop) is not read yet"),
     ("MEAS", "(measuring) stops where the probe touches: the moves after it are not known beforehand"),
 ];
 
@@ -97,6 +88,22 @@ pub(crate) fn parse_line(text: &str, number: usize, _dialect: Dialect, arena: &m
     if p.peek_raw() == b'N' && s.get(p.i + 1).is_some_and(u8::is_ascii_digit) {
         p.i += 1;
         line.sequence = Some(p.number()? as u32);
+    }
+    super::statements::label(&mut p, &mut line);
+    let keyword = p.upcoming_identifier();
+    if keyword == "DEF" || super::statements::KEYWORDS.contains(&keyword.as_str()) {
+        p.name();
+        if keyword == "DEF" {
+            super::variables::definition(&mut p, &mut line, arena)?;
+        } else {
+            let c = super::statements::statement(&keyword, &mut p, arena)?;
+            line.statement = Some(crate::lexer::Statement::Siemens(c));
+        }
+        if let Some(c) = text.find(';') {
+            line.comments.push(c + 1..text.len());
+        }
+        line.end_of_items = text[..line.comments.first().map_or(text.len(), |c| c.start - 1)].trim_end().len();
+        return Ok(line);
     }
     let mut block = Block::default();
     loop {
@@ -139,8 +146,9 @@ struct Block {
     supa: bool,
     /// A value with `IC(...)` or `AC(...)`.
     one_value_mode: bool,
-    /// R parameters assigned so far on the line.
+    /// R parameters and DEF variables assigned so far on the line.
     assigned: Vec<u32>,
+    names: Vec<Box<str>>,
 }
 
 impl Parser<'_> {
@@ -188,6 +196,7 @@ impl Parser<'_> {
             if matches!(mode.as_str(), "IC" | "AC") && self.s.get(self.i + 2) == Some(&b'(') {
                 self.i += 2;
                 self.reads.clear();
+                self.names.clear();
                 let v = self.expression(arena)?;
                 let e = one_value_mode(letter, mode == "IC", v, arena)?;
                 let end = self.i;
@@ -200,6 +209,7 @@ impl Parser<'_> {
                 ));
             }
             self.reads.clear();
+            self.names.clear();
             let e = self.expression(arena)?;
             let end = start + self.s[start..self.i].iter().rposition(|c| !matches!(c, b' ' | b'\t' | b'\r')).map_or(0, |k| k + 1);
             let value = match arena[e as usize] {
@@ -231,6 +241,13 @@ impl Parser<'_> {
         Ok((Operand::Number(if negative { -v } else { v }), start..self.i, Vec::new()))
     }
 
+    /// The identifier (letters, digits, `_`) that starts at the cursor, upper case, not read.
+    fn upcoming_identifier(&mut self) -> String {
+        self.peek_raw();
+        let end = (self.i..self.s.len()).find(|&j| !(self.s[j].is_ascii_alphanumeric() || self.s[j] == b'_')).unwrap_or(self.s.len());
+        String::from_utf8_lossy(&self.s[self.i..end]).to_ascii_uppercase()
+    }
+
     /// The name that starts at the cursor, without reading it.
     fn upcoming_name(&self) -> String {
         let mut j = self.i;
@@ -259,12 +276,14 @@ impl Block {
             return self.word(letters.as_bytes()[0], p, line, arena);
         }
         if (letters == "CR" || letters == "AR") && p.s[start + 2..].iter().find(|c| !matches!(c, b' ' | b'\t')) == Some(&b'=') {
-            if letters == "AR" {
-                return Err("AR= (an arc by its opening angle) is not read yet: write G2/G3 with I J or CR=".into());
+            // CR= is LinuxCNC's R; AR= the opening angle ([`super::arcs`])
+            let letter = if letters == "AR" { super::arcs::AR } else { b'R' };
+            if line.words.iter().any(|w| w.letter == letter) {
+                return Err(format!("two {letters}= words on one block"));
             }
             p.i += 2;
             let (value, span, _) = p.value(b'R', arena)?;
-            line.words.push(Word { letter: b'R', value, span, decimal_point: true });
+            line.words.push(Word { letter, value, span, decimal_point: true });
             return Ok(());
         }
         let name = p.name();
@@ -336,6 +355,7 @@ impl Block {
                 set_call(line, Call::Sub { name, passes: 1 })
             }
             n if REFUSED.iter().any(|(k, _)| *k == n) => Err(format!("{n} {}", refusal(n))),
+            n if p.peek_raw() == b'=' && super::variables::is_variable_name(n) => self.variable(n, p, line, arena),
             n if super::subprograms::is_name(n) => {
                 if p.peek_raw() == b'(' {
                     return Err(format!("{n}(...): a subprogram call with parameters is not read yet"));
@@ -353,6 +373,7 @@ impl Block {
         if let Some(r) = reads.iter().find(|r| self.assigned.contains(r)) {
             return Err(format!("R{r} is assigned and read on one block: assign it on a block of its own"));
         }
+        self.check_names(p)?;
         if letter != b'G' && letter != b'M' && line.words.iter().any(|w| w.letter == letter) {
             return Err(format!("two {} words on one block", letter as char));
         }
@@ -386,13 +407,38 @@ impl Block {
         }
         p.i += 1;
         p.reads.clear();
+        p.names.clear();
         let value = p.expression(arena)?;
         if let Some(r) = p.reads.iter().find(|r| self.assigned.contains(r)) {
             return Err(format!("R{r} is assigned and read on one block: assign it on a block of its own"));
         }
+        self.check_names(p)?;
         self.assigned.push(n);
         line.assignments.push(Assignment { target: ParamRef::Numbered(R_BASE + n), value });
         Ok(())
+    }
+
+    /// A DEF variable given a value on the block: `NAME=expression`.
+    fn variable(&mut self, name: &str, p: &mut Parser, line: &mut Line, arena: &mut Vec<Node>) -> Result<(), String> {
+        p.i += 1;
+        p.reads.clear();
+        p.names.clear();
+        let value = p.expression(arena)?;
+        if let Some(r) = p.reads.iter().find(|r| self.assigned.contains(r)) {
+            return Err(format!("R{r} is assigned and read on one block: assign it on a block of its own"));
+        }
+        self.check_names(p)?;
+        self.names.push(name.into());
+        line.assignments.push(Assignment { target: ParamRef::Named(name.into()), value });
+        Ok(())
+    }
+
+    /// A variable read by the expression just read is not given a value earlier on the block.
+    fn check_names(&self, p: &Parser) -> Result<(), String> {
+        match p.names.iter().find(|n| self.names.contains(n)) {
+            Some(n) => Err(format!("{n} is assigned and read on one block: assign it on a block of its own")),
+            None => Ok(()),
+        }
     }
 
     /// The words that say what the block's commands mean to the interpreter.
@@ -602,7 +648,6 @@ mod tests {
             ("G1 X=DC(5)", "`DC(...)`"),
             ("G1 F=AC(5)", "F=IC(...)/AC(...) is read for axes"),
             ("G91 X=AC(5)", "with G90 or G91 on the same block"),
-            ("G2 X10 Y0 AR=90", "AR= (an arc by its opening angle)"),
             ("T=\"FACE MILL 50\"", "T=\"name\""),
             ("G43 H1", "G43 is not a SINUMERIK G function"),
             ("R1=5 R2=R1", "R1 is assigned and read on one block"),
@@ -610,6 +655,17 @@ mod tests {
             ("T1 D2", "D2: cutting edges other than D1"),
             ("R1000=1", "R0-R999"),
             ("CIP X10 Y10 I1=5 J1=5", "CIP (circle through an intermediate point)"),
+            ("IF R1>0 X10", "IF ... X10: a condition is followed by GOTOF"),
+            ("IF R1>0 AND R2<5 GOTOF END", "two comparisons without parentheses"),
+            ("ENDIF X1", "ENDIF is written on a block of its own"),
+            ("REPEAT BEGIN END P=3", "program section repetition"),
+            ("FOR X=1 TO 3", "the counter is an R parameter or a DEF variable"),
+            ("FOR R1=1 TOO 3", "`TO` expected"),
+            ("GOTOF \"LABEL\"", "a target in a variable is not read"),
+            ("DEF STRING[8] NAME", "REAL, INT and BOOL are read"),
+            ("DEF REAL AB[5]", "arrays are not read yet"),
+            ("DEF INT AA=1, BB=AA+1", "AA is defined and read on one block"),
+            ("COUNT=COUNT+1 X=COUNT", "COUNT is assigned and read on one block"),
             ("FOO(1, 2)", "FOO(...): a subprogram call with parameters"),
             ("L10 X5", "L10 is a subprogram call: write X on a block of its own"),
             ("L10 P0", "passes is a whole number from 1 to 9999"),
@@ -621,6 +677,50 @@ mod tests {
             let message = refused(text);
             assert!(message.contains(says), "{text}: {message}");
         }
+    }
+}
+
+#[cfg(test)]
+mod flow_tests {
+    use super::*;
+    use crate::lexer::Statement;
+    use crate::siemens::flow::{Control, JumpKind, Target};
+
+    fn control(text: &str) -> (Line, Option<Control>) {
+        let mut line = parse_line(text, 1, Dialect::LinuxCnc, &mut Vec::new(), false).unwrap_or_else(|e| panic!("{text}: {e}"));
+        let c = match line.statement.take() {
+            Some(Statement::Siemens(c)) => Some(c),
+            _ => None,
+        };
+        (line, c)
+    }
+
+    #[test]
+    fn labels_jumps_structures_and_definitions() {
+        let (l, c) = control("N28 METKA1: ; the loop");
+        assert_eq!((l.sequence, l.siemens_label.as_deref(), c), (Some(28), Some("METKA1"), None));
+        assert_eq!(l.comments.len(), 1);
+        let (l, _) = control("_MM0:R1=R2+1");
+        assert_eq!((l.siemens_label.as_deref(), l.assignments.len()), (Some("_MM0"), 1));
+        let Some(Control::Jump(j)) = control("N35 IF R20<90 GOTOB METKA1").1 else { panic!("a jump") };
+        assert!(j.condition.is_some() && j.kind == JumpKind::Backward && j.target == Target::Label("METKA1".into()));
+        let Some(Control::Jump(j)) = control("GOTOC N100 ; on").1 else { panic!("a jump") };
+        assert!(j.condition.is_none() && j.kind == JumpKind::NoAlarm && j.target == Target::Block(100));
+        assert!(matches!(control("IF (R1 > 0) AND (R2 < 5) ; both").1, Some(Control::If(_))));
+        assert!(matches!(control("FOR R1 = 1 TO R5*2").1, Some(Control::For { counter: ParamRef::Numbered(1001), .. })));
+        assert!(matches!(control("for count=0 to 3").1, Some(Control::For { counter: ParamRef::Named(_), .. })));
+        for (text, want) in [("ELSE", Control::Else), ("ENDIF", Control::EndIf), ("LOOP", Control::Loop), ("ENDLOOP", Control::EndLoop)] {
+            assert_eq!(control(text).1, Some(want));
+        }
+        assert!(matches!(control("UNTIL R1>=3").1, Some(Control::Until(_))));
+        // DEF: the type mark, then the value, of each name
+        let (l, _) = control("DEF REAL DEPTH=-2.5, WIDTH ; sizes");
+        let targets: Vec<String> = l.assignments.iter().map(|a| format!("{:?}", a.target)).collect();
+        assert_eq!(targets.len(), 4, "{targets:?}");
+        assert!(l.siemens_def && targets[0].contains("DEPTH:REAL") && targets[3].contains("WIDTH"), "{targets:?}");
+        let (l, _) = control("COUNT=COUNT+1 R1=R2*2");
+        assert_eq!(l.assignments.len(), 2);
+        assert_eq!(l.assignments[0].target, ParamRef::Named("COUNT".into()));
     }
 }
 

@@ -11,10 +11,14 @@
 //!
 //! R parameters `R0`-`R999` are kept as the numbered parameters `#1000`-`#1999` of the run.
 
+pub mod arcs;
 pub mod cycles;
 pub mod expr;
+pub mod flow;
 pub mod lexer;
+pub mod statements;
 pub mod subprograms;
+pub mod variables;
 pub mod write;
 
 pub use cycles::Call;

@@ -2,7 +2,8 @@
 //! spelling (Programming Manual Fundamentals, "Dwell time (G4)", "Exact stop (G60, G9)"): a dwell
 //! `G4 P2` is `G4 F2` (F seconds), the exact-path mode `G61` of an expanded cycle is `G60`, a
 //! comment in parentheses runs from `;` instead, and the R parameters an expanded subprogram call
-//! leaves set (`#1001=40`) are `R1=40` ("Arithmetic parameters (R)"); `G43`/`G49`/`G52`/`G53`
+//! leaves set (`#1001=40`) are `R1=40` ("Arithmetic parameters (R)"), the DEF variables
+//! (`#<COUNT>=3`) `COUNT=3`; `G43`/`G49`/`G52`/`G53`
 //! are `D1`/`D0`/`TRANS`/`SUPA` ("Tool offsets", "Frames").
 
 use super::{R_BASE, R_COUNT};
@@ -23,8 +24,11 @@ pub fn spell(line: &str) -> String {
     let mut words: Vec<String> = code.split(' ').map(str::to_string).collect();
     let dwell = words.iter().any(|w| w == "G4");
     for w in &mut words {
-        // the R parameters an expanded part leaves set: #1001=3 is R1=3
-        if let Some((n, v)) = w.strip_prefix('#').and_then(|a| a.split_once('=')) {
+        if let Some((name, v)) = w.strip_prefix("#<").and_then(|a| a.split_once(">=")) {
+            // a DEF variable an expanded part leaves set: #<COUNT>=3 is COUNT=3
+            *w = format!("{name}={v}");
+        } else if let Some((n, v)) = w.strip_prefix('#').and_then(|a| a.split_once('=')) {
+            // the R parameters an expanded part leaves set: #1001=3 is R1=3
             if let Some(r) = n.parse::<u32>().ok().filter(|n| (R_BASE..R_BASE + R_COUNT).contains(n)) {
                 *w = format!("R{}={v}", r - R_BASE);
             }
@@ -52,6 +56,7 @@ mod tests {
         assert_eq!(spell("(DRILL 8)"), ";DRILL 8");
         assert_eq!(spell("G0 X5.0001 Y2"), "G0 X5.0001 Y2");
         assert_eq!(spell("#1001=40 #1999=-2.5"), "R1=40 R999=-2.5");
+        assert_eq!(spell("#1001=4 #<COUNT>=3"), "R1=4 COUNT=3");
         assert_eq!(spell("M6 G43 T1"), "M6 D1 T1");
         assert_eq!(spell("G0 X1 ; G43 G61 P2"), "G0 X1 ; G43 G61 P2");
         assert_eq!(spell("G4 P1;G43"), "G4 F1;G43");

@@ -410,3 +410,225 @@ fn rs274_reads_the_rewritten_programs_as_the_library_does() {
         println!("{name}: rs274 reads the rewriting as the library reads the program, within {worst:.1e} mm");
     }
 }
+
+/// Arcs by their opening angle (Fundamentals, "Circular interpolation with opening angle and
+/// center point / end point"): `AR=` with the end point (a quarter G3, a G2 of 270 degrees, an
+/// angle from an R parameter), and with the centre `I J` (a helical half circle, a third of a turn).
+const ARCS: &str = "\
+%_N_ARCS_MPF
+;$PATH=/_N_WKS_DIR/_N_ARCS_WPD
+N10 G17 G90 G40 G71 G94
+N20 T1 D1 M6
+N30 G54 S2000 M3
+N40 G0 X20 Y0 Z5
+N50 G1 Z-1 F300
+N60 G3 X40 Y20 AR=90 ; quarter
+N70 G2 X60 Y20 AR=270
+N80 G3 I-10 J0 AR=180 Z-2 ; centre and angle
+N90 R1=30
+N100 G3 X25 Y40 AR=R1*2
+N110 G2 I0 J-10 AR=120
+N120 G0 Z50
+N130 M30
+";
+
+/// The centre of the arc that turns `start` into `end` through `degrees` (positive
+/// counterclockwise): the fixed point of the rotation, (I - R) c = end - R start, a formulation
+/// apart from the chord-and-angle one trueaxis uses.
+fn rotation_centre(start: [f64; 2], end: [f64; 2], degrees: f64) -> [f64; 2] {
+    let (s, c) = degrees.to_radians().sin_cos();
+    // R start
+    let rs = [c * start[0] - s * start[1], s * start[0] + c * start[1]];
+    let rhs = [end[0] - rs[0], end[1] - rs[1]];
+    // I - R = [[1 - c, s], [-s, 1 - c]], determinant (1 - c)^2 + s^2
+    let det = (1.0 - c).powi(2) + s * s;
+    [((1.0 - c) * rhs[0] - s * rhs[1]) / det, (s * rhs[0] + (1.0 - c) * rhs[1]) / det]
+}
+
+fn arcs_expansion() -> Expansion {
+    let mut e = Expansion::new();
+    e.tool = 100.0;
+    e.go(true, [20.0, 0.0, 5.0]);
+    e.go(false, [20.0, 0.0, -1.0]);
+    e.arc([40.0, 20.0, -1.0], rotation_centre([20.0, 0.0], [40.0, 20.0], 90.0), 1);
+    e.arc([60.0, 20.0, -1.0], rotation_centre([40.0, 20.0], [60.0, 20.0], -270.0), -1);
+    // about (50, 20), half a turn: back to (40, 20), Z down 1 mm on the way
+    e.arc([40.0, 20.0, -2.0], [50.0, 20.0], 1);
+    e.arc([25.0, 40.0, -2.0], rotation_centre([40.0, 20.0], [25.0, 40.0], 60.0), 1);
+    // about (25, 30) clockwise 120 degrees from (25, 40): the end at angle 90 - 120 = -30 degrees
+    let t = (-30.0f64).to_radians();
+    e.arc([25.0 + 10.0 * t.cos(), 30.0 + 10.0 * t.sin(), -2.0], [25.0, 30.0], -1);
+    let last = e.moves.last().unwrap().end;
+    e.go(true, [last[0], last[1], 50.0]);
+    e
+}
+
+#[test]
+fn ar_arcs_have_the_centres_of_the_closed_form_and_land() {
+    // the closed form's numbers: the quarter's centre (20, 20), the 270-degree G2's (50, 30)
+    let q = rotation_centre([20.0, 0.0], [40.0, 20.0], 90.0);
+    assert!((q[0] - 20.0).abs() < 1e-12 && (q[1] - 20.0).abs() < 1e-12, "{q:?}");
+    let g2 = rotation_centre([40.0, 20.0], [60.0, 20.0], -270.0);
+    assert!((g2[0] - 50.0).abs() < 1e-12 && (g2[1] - 30.0).abs() < 1e-12, "{g2:?}");
+    let text = check("arcs.mpf", ARCS, &arcs_expansion());
+    // an arc to an end point whose ends move is written with its centre; one about a centre as
+    // its move (G2/G3 X Y I J)
+    let line = |n: &str| text.lines().find(|l| l.starts_with(n)).unwrap_or_else(|| panic!("{n}: {text}")).to_string();
+    assert!(line("N60 ").contains(" I") && !line("N60 ").contains("AR=") && line("N60 ").ends_with("; quarter"), "{text}");
+    assert!(!text.contains("AR=180") && !text.contains("AR=120"), "{text}");
+    assert!(
+        text.contains(";trueaxis: - line 13, SINUMERIK arc by its centre and opening angle AR=, written with its end point\n"),
+        "{text}"
+    );
+    assert!(text.contains("N90 R1=30\n"), "{text}");
+}
+
+/// Control structures and local variables (Job Planning, "Flexible NC programming"): DEF
+/// variables of the three types, a FOR loop over three grooves, a WHILE loop, IF-ELSE-ENDIF on a
+/// BOOL, a LOOP left by a conditional GOTOF to a label on a block with a move, an INT that rounds
+/// what it is given (0 + 1.4 is 1, 1 + 1.4 is 2, ...), REPEAT-UNTIL, a GOTOF over a block.
+const FLOW: &str = "\
+%_N_FLOW_MPF
+;$PATH=/_N_WKS_DIR/_N_FLOW_WPD
+DEF INT PASS=0, HOLES
+DEF REAL DEPTH=-1.5, STEP=10 ; mm
+DEF BOOL DEEP=FALSE
+N10 G17 G90 G40 G71 G94
+N20 T1 D1 M6
+N30 G54 S3000 M3
+N40 G0 X0 Y0 Z5
+N50 FOR PASS=1 TO 3 ; three grooves
+N60 G0 X=PASS*STEP Y0
+N70 G1 Z=DEPTH F200
+N80 G1 Y20
+N90 G0 Z5
+N100 ENDFOR
+N110 R1=0
+N120 WHILE R1 < 30
+N130 R1=R1+12.5
+N140 G1 X40 Y=R1 F300
+N150 ENDWHILE
+N160 IF DEEP
+N170 G1 Z-5
+N180 ELSE
+N190 G1 Z=DEPTH*2
+N200 ENDIF
+N210 HOLES=0
+N220 LOOP
+N230 HOLES=HOLES+1.4
+N240 G0 X=50+HOLES*5 Y10
+N250 IF HOLES >= 3 GOTOF DONE
+N260 ENDLOOP
+N270 DONE: G0 Z20
+N280 REPEAT
+N290 R2=R2+1
+N300 G1 X60 Y=R2*5 F100
+N310 UNTIL (R2 == 2) OR (R2 > 5)
+N320 GOTOF N340
+N330 G0 X0 Y0 ; skipped
+N340 G0 Z50
+N350 M30
+";
+
+/// FLOW's moves, worked out by hand from the manual's rules.
+fn flow_expansion() -> Expansion {
+    let mut e = Expansion::new();
+    e.tool = 100.0;
+    e.go(true, [0.0, 0.0, 5.0]);
+    for pass in 1..=3 {
+        let x = 10.0 * f64::from(pass);
+        e.go(true, [x, 0.0, 5.0]);
+        e.go(false, [x, 0.0, -1.5]);
+        e.go(false, [x, 20.0, -1.5]);
+        e.go(true, [x, 20.0, 5.0]);
+    }
+    for y in [12.5, 25.0, 37.5] {
+        e.go(false, [40.0, y, 5.0]);
+    }
+    // DEEP is FALSE: the ELSE branch, Z at twice DEPTH
+    e.go(false, [40.0, 37.5, -3.0]);
+    // HOLES 1, 2, 3 (the INT rounds 1.4, 2.4, 3.4), then the jump out at 3
+    for holes in [1.0, 2.0, 3.0] {
+        e.go(true, [50.0 + holes * 5.0, 10.0, -3.0]);
+    }
+    e.go(true, [65.0, 10.0, 20.0]);
+    e.go(false, [60.0, 5.0, 20.0]);
+    e.go(false, [60.0, 10.0, 20.0]);
+    e.go(true, [60.0, 10.0, 50.0]);
+    e
+}
+
+#[test]
+fn jumps_loops_if_and_def_variables_run_as_the_manual_says_and_land() {
+    let text = check("flow.mpf", FLOW, &flow_expansion());
+    // the loops run more than once: expanded, the variables they leave set written after them
+    // in the 840D's spelling; the IF ran once: kept, its ELSE branch corrected in place
+    for note in ["lines 10-15, FOR loop", "lines 17-20, WHILE loop", "lines 27-31, LOOP: its blocks", "lines 33-36, REPEAT loop"] {
+        assert!(text.contains(note), "{note}: {text}");
+    }
+    assert!(
+        text.contains("\nPASS=4\n") && text.contains("\nR1=37.5\n") && text.contains("\nHOLES=3\n") && text.contains("\nR2=2\n"),
+        "{text}"
+    );
+    assert!(
+        text.contains("\nDEF INT PASS=0, HOLES\n") && text.contains("\nN160 IF DEEP\nN170 G1 Z-5\nN180 ELSE\nN190 G1 Z=-3.00"),
+        "{text}"
+    );
+    assert!(text.contains("\nN320 GOTOF N340\nN330 G0 X0 Y0 ; skipped\n"), "{text}");
+}
+
+/// A backward conditional jump as shop programs write spirals (`IF R2<360 GOTOB METKA1`): the
+/// whole program is expanded (the correction differs at each pass).
+const SPIRAL: &str = "\
+%_N_SPIRAL_MPF
+;$PATH=/_N_WKS_DIR/_N_SPIRAL_WPD
+N10 G17 G90 G71 T1 D1 M6
+N20 G54 G0 X0 Y0 Z5
+N30 R2=0
+N40 METKA1:
+N50 R2=R2+90
+N60 G1 X=10*COS(R2) Y=10*SIN(R2) Z=-R2/90 F250
+N70 IF R2<360 GOTOB METKA1
+N80 G0 Z50
+N90 M30
+";
+
+#[test]
+fn a_backward_jump_expands_the_program_and_lands() {
+    let mut e = Expansion::new();
+    e.tool = 100.0;
+    e.go(true, [0.0, 0.0, 5.0]);
+    for (k, angle) in [90.0f64, 180.0, 270.0, 360.0].into_iter().enumerate() {
+        let a = angle.to_radians();
+        e.go(false, [10.0 * a.cos(), 10.0 * a.sin(), -(k as f64) - 1.0]);
+    }
+    e.go(true, [10.0, 0.0, 50.0]);
+    let text = check("spiral.mpf", SPIRAL, &e);
+    assert!(text.contains("the whole program: the program jumps backwards") && !text.contains("GOTOB"), "{text}");
+}
+
+/// What the 840D refuses, or trueaxis does not read, is refused with the file and line.
+#[test]
+fn flow_that_cannot_run_is_refused_with_the_line() {
+    let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
+    let e = ErrorModel::load("../../examples/errors/vmc3.toml", &m).unwrap();
+    let corrector = Corrector::new(&m, &e);
+    let mut options = options(&m);
+    options.dialect = Some(Controller::Siemens);
+    options.setup.max_blocks = 10_000;
+    let head = "N10 G17 G90 G71 T1 D1 M6\nN20 G54 G0 X0 Y0 Z5\n";
+    for (body, line, says) in [
+        ("N30 IF R1==0\nN40 G1 X1 F100\nM30\n", 3, "the IF is never closed (ENDIF)"),
+        ("N30 WHILE R1<3\nN40 R1=R1+1\nN50 ENDIF\nM30\n", 5, "ENDIF closes the WHILE of line 3"),
+        ("N30 GOTOF NOWHERE\nM30\n", 3, "GOTOF NOWHERE: no block NOWHERE after this block (the 840D stops with alarm 14080)"),
+        ("N30 GOTOF INSIDE\nN40 FOR R1=1 TO 2\nINSIDE: G0 X1\nN60 ENDFOR\nM30\n", 3, "a jump into the FOR of lines 4-6"),
+        ("N30 G0 X1\nDEF REAL LATE=1\nM30\n", 4, "DEF after the statements of line 1"),
+        ("N30 OFFN=2\nM30\n", 3, "OFFN is neither a variable defined by DEF"),
+        ("N30 REPEAT START END P=2\nM30\n", 3, "program section repetition"),
+        ("N30 LOOP\nN40 R1=R1+1\nN50 ENDLOOP\nM30\n", 5, "an endless loop?"),
+    ] {
+        let text = format!("{head}{body}");
+        let err = correct_program(&corrector, &text, "bad.mpf", &options, &[]).expect_err(&text).to_string();
+        assert!(err.contains(&format!("bad.mpf: line {line}: ")) && err.contains(says), "{text}: {err}");
+    }
+}

@@ -23,7 +23,7 @@ pub struct Sample {
 /// A style: post, controller, its dialect, whether rs274 reads it, the program of variant k.
 pub type Style = (&'static str, &'static str, Controller, bool, fn(usize) -> Vec<u8>);
 
-pub const STYLES: [Style; 23] = [
+pub const STYLES: [Style; 24] = [
     ("Fusion 360 haas.cps", "Haas NGC", Controller::Haas, false, fusion_haas),
     ("Fusion 360 fanuc.cps", "Fanuc 0i", Controller::Fanuc, false, fusion_fanuc),
     ("Mastercam MPFAN", "Fanuc 0i", Controller::Fanuc, false, mastercam),
@@ -47,6 +47,7 @@ pub const STYLES: [Style; 23] = [
     ("grbl sender stream ($H, $X, $J=)", "grbl 1.1", Controller::Grbl, true, grbl_stream),
     ("Fusion 360 siemens-840d.cps", "SINUMERIK 840D sl", Controller::Siemens, false, fusion_siemens),
     ("hand-written 840D (R parameters, frames)", "SINUMERIK 840D sl", Controller::Siemens, false, siemens_hand),
+    ("hand-written 840D (loops, DEF, jumps, AR= arcs)", "SINUMERIK 840D sl", Controller::Siemens, false, siemens_flow),
 ];
 
 /// The whole corpus: `per_style` variants of each style.
@@ -1006,6 +1007,84 @@ fn siemens_hand(k: usize) -> Vec<u8> {
     w.line("M30");
     match k % 4 {
         1 => latin1(&w.out),
+        3 => crlf(w.out),
+        _ => w.out.into_bytes(),
+    }
+}
+
+/// A hand-written 840D program in the habits of published shop programs and cycles (docs/nc.md):
+/// `DEF INT`/`REAL`/`BOOL` variables at the top, the pocket's passes in a `FOR` loop over the
+/// depth, a finishing `IF`-`ELSE`-`ENDIF` on a BOOL with an `AR=` arc, a row of holes in a `LOOP`
+/// left by `IF ... GOTOF` to a label, a `WHILE` loop or a `REPEAT`-`UNTIL` loop, a label alone on
+/// its block, a `GOTOF` over a block, R parameters beside the variables.
+fn siemens_flow(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 5 == 4);
+    let mut w = W::new(Digits::Trim(if p.inch { 5 } else { 4 }, false), " ");
+    w.raw(&format!("%_N_FLOW{k}_MPF"));
+    w.raw(&format!(";$PATH=/_N_WKS_DIR/_N_FLOW{k}_WPD"));
+    w.raw(&format!("DEF INT PASS, PASSES={}, HOLE", 2 + k % 2));
+    let (x0, y0, width, height) = (w.num(p.x0), w.num(p.y0), w.num(p.w), w.num(p.h));
+    w.raw(&format!("DEF REAL DEPTH={}, STEP, CX={x0}, CY={y0}, WIDTH={width}, HEIGHT={height}", w.num(p.depth)));
+    w.raw(&format!("DEF BOOL FINISH={}", if k % 2 == 0 { "TRUE" } else { "FALSE" }));
+    w.seq = if k % 3 == 1 { None } else { Some((10, 10)) };
+    w.line(&format!("G17 {} G90 G40 G94", siemens_units(&p)));
+    w.line("T1 D1 M6");
+    w.line(&format!("G54 S{} M3", p.spindle));
+    w.line("STEP=DEPTH/PASSES");
+    w.line(&format!("G0 X=CX Y=CY Z{}", w.num(p.clear)));
+    w.line(&format!("Z{}", w.num(p.safe)));
+    let (f, plunge) = (w.num(p.feed), w.num(p.plunge));
+    w.line("FOR PASS=1 TO PASSES ; depth passes");
+    w.line(&format!("G1 Z=-STEP*PASS F{plunge}"));
+    w.line(&format!("X=CX+WIDTH F{f}"));
+    w.line("Y=CY+HEIGHT");
+    w.line("X=CX");
+    w.line("Y=CY");
+    w.line("ENDFOR");
+    w.line("IF FINISH");
+    w.line("G1 X=CX+WIDTH/2 Y=CY+HEIGHT/4");
+    w.line(&format!("G3 X=CX+WIDTH/2 Y=CY+HEIGHT*3/4 AR={}", 90 + 30 * (k % 4)));
+    w.line("ELSE");
+    w.line(&format!("G0 Z{}", w.num(p.safe)));
+    w.line("ENDIF");
+    w.line(&format!("G0 Z{}", w.num(p.clear)));
+    w.line("T2 D1 M6");
+    let n = p.holes.len();
+    let row = format!("G0 X=CX+WIDTH*(HOLE+1)/{} Y=CY+HEIGHT/2", w.num(n as f64 + 1.0));
+    let drill = [format!("G1 Z=-{} F{plunge}", w.num(p.hole_depth)), format!("G0 Z{}", w.num(p.safe))];
+    w.line("HOLE=0");
+    match k % 3 {
+        0 => {
+            w.line("LOOP");
+            w.line(&format!("IF HOLE >= {n} GOTOF ROW_DONE"));
+            w.line(&row);
+            drill.iter().for_each(|l| w.line(l));
+            w.line("HOLE=HOLE+1");
+            w.line("ENDLOOP");
+            w.line("ROW_DONE:");
+        }
+        1 => {
+            w.line(&format!("WHILE HOLE < {n}"));
+            w.line(&row);
+            drill.iter().for_each(|l| w.line(l));
+            w.line("HOLE=HOLE+1");
+            w.line("ENDWHILE");
+        }
+        _ => {
+            w.line("REPEAT");
+            w.line(&row);
+            drill.iter().for_each(|l| w.line(l));
+            w.line("HOLE=HOLE+1");
+            w.line(&format!("UNTIL (HOLE >= {n}) OR (HOLE > 99)"));
+        }
+    }
+    w.line("R1=1");
+    w.line("IF R1==1 GOTOF SKIP");
+    w.line("G0 X0 Y0 ; never run");
+    w.line(&format!("SKIP: G0 Z{}", w.num(p.clear)));
+    w.line("G0 SUPA Z0 D0");
+    w.line("M30");
+    match k % 4 {
         3 => crlf(w.out),
         _ => w.out.into_bytes(),
     }
