@@ -12,7 +12,7 @@ use crate::tools::AXIS_LETTERS;
 
 /// The named system parameters LinuxCNC 2.9 predefines.
 pub(crate) fn is_predefined(name: &str) -> bool {
-    const NAMES: [&str; 57] = [
+    const NAMES: [&str; 58] = [
         "_vmajor",
         "_vminor",
         "_line",
@@ -20,6 +20,7 @@ pub(crate) fn is_predefined(name: &str) -> bool {
         "_plane",
         "_ccomp",
         "_metric",
+        "_metric_machine",
         "_imperial",
         "_absolute",
         "_incremental",
@@ -219,6 +220,7 @@ impl Exec<'_> {
             "_plane" => s.plane.gcode() * 10.0,
             "_ccomp" => 400.0,
             "_metric" => flag(!s.frame.inch),
+            "_metric_machine" => flag(!self.machine_inch),
             "_imperial" => flag(s.frame.inch),
             "_absolute" => flag(!s.frame.incremental),
             "_incremental" => flag(s.frame.incremental),

@@ -18,7 +18,7 @@ use super::cycles::Call;
 use super::expr::Parser;
 use super::{R_BASE, R_COUNT};
 use crate::dialect::Dialect;
-use crate::expr::{Node, Op, ParamRef};
+use crate::expr::{ExprId, Node, Op, ParamRef};
 use crate::lexer::{push, Assignment, Line, Operand, Word};
 
 /// Addresses that take a value: `X10`, `X=R1+2`, `F=200`.
@@ -454,15 +454,9 @@ impl Block {
                 match line.words.iter_mut().find(|w| w.letter == l) {
                     Some(w) if additive => {
                         // ATRANS: the shift so far plus the value; LinuxCNC keeps the G52 shift in
-                        // #5211... in machine units (mm): / 25.4 in G70 (#<_metric> 0)
+                        // #5211... in machine units
                         let stored = push(arena, Node::Param(ParamRef::Numbered(5211 + k as u32)));
-                        let metric = push(arena, Node::Param(ParamRef::Named("_metric".into())));
-                        let one = push(arena, Node::Const(1.0));
-                        let inch = push(arena, Node::Binary(Op::Minus, one, metric));
-                        let step = push(arena, Node::Const(crate::MM_PER_INCH - 1.0));
-                        let more = push(arena, Node::Binary(Op::Times, inch, step));
-                        let factor = push(arena, Node::Binary(Op::Plus, one, more));
-                        let shift = push(arena, Node::Binary(Op::Divide, stored, factor));
+                        let shift = machine_to_program_units(arena, stored);
                         let value = match w.value {
                             Operand::Number(v) => push(arena, Node::Const(v)),
                             Operand::Expr(e) => e,
@@ -573,6 +567,29 @@ fn set_call(line: &mut Line, call: Call) -> Result<(), String> {
 
 fn refusal(name: &str) -> &'static str {
     REFUSED.iter().find(|(k, _)| *k == name).map_or("is not read", |(_, why)| why)
+}
+
+/// A length `value` kept in machine units as the program's units, by LinuxCNC's `#<_metric>` (the
+/// program's G71/G70) and `#<_metric_machine>`: `value * a / b` with a = 25.4 for a program in mm
+/// on an inch machine, b = 25.4 for a program in inch on a mm machine, else 1.
+fn machine_to_program_units(arena: &mut Vec<Node>, value: ExprId) -> ExprId {
+    let metric = push(arena, Node::Param(ParamRef::Named("_metric".into())));
+    let metric_machine = push(arena, Node::Param(ParamRef::Named("_metric_machine".into())));
+    let one = push(arena, Node::Const(1.0));
+    let step = push(arena, Node::Const(crate::MM_PER_INCH - 1.0));
+    // 1 + m (1 - n) (25.4 - 1) and 1 + (1 - m) n (25.4 - 1)
+    let factor = |arena: &mut Vec<Node>, m: ExprId, n: ExprId| {
+        let not_n = push(arena, Node::Binary(Op::Minus, one, n));
+        let both = push(arena, Node::Binary(Op::Times, m, not_n));
+        let more = push(arena, Node::Binary(Op::Times, both, step));
+        push(arena, Node::Binary(Op::Plus, one, more))
+    };
+    let imperial = push(arena, Node::Binary(Op::Minus, one, metric));
+    let imperial_machine = push(arena, Node::Binary(Op::Minus, one, metric_machine));
+    let a = factor(arena, metric, metric_machine);
+    let b = factor(arena, imperial, imperial_machine);
+    let scaled = push(arena, Node::Binary(Op::Times, value, a));
+    push(arena, Node::Binary(Op::Divide, scaled, b))
 }
 
 #[cfg(test)]
@@ -762,5 +779,32 @@ mod subprogram_tests {
         assert_eq!(call("RET"), Some(Call::Return));
         assert_eq!(call("PROC L10 ; header of the file"), None);
         assert_eq!(call("M17"), None);
+    }
+}
+
+#[cfg(test)]
+mod frame_units_tests {
+    use crate::axes::{AxisSpec, MachineAxes};
+    use crate::{Controller, ProgramSetup};
+
+    /// `TRANS X10` then `ATRANS X5` shifts the program zero by 15 in the program's units, whatever
+    /// the machine's units (LinuxCNC keeps the shift in machine units: an inch machine once counted
+    /// it 25.4 times too small, as rs274 reading the corpus's rewriting showed).
+    #[test]
+    fn atrans_adds_in_the_programs_units_on_mm_and_inch_machines() {
+        let axis = |letter| AxisSpec { letter, rotary: false, range: None };
+        let axes = MachineAxes { name: "mill".into(), axes: vec![axis('X'), axis('Y'), axis('Z')] };
+        for machine_inch in [false, true] {
+            for (units, mm_per_unit) in [("G71", 1.0), ("G70", 25.4)] {
+                let mut setup = ProgramSetup::zero(&axes);
+                setup.machine_inch = machine_inch;
+                let text = format!("N10 {units} G90\nN20 TRANS X10\nN30 ATRANS X5\nN40 G0 X1 Y0 Z0\nN50 M30\n");
+                let (trace, _) = crate::run(&axes, text.as_bytes(), "p.mpf", Some(Controller::Siemens), &setup).unwrap();
+                // the move's end in mm (the trace keeps machine positions in mm)
+                let x = trace.moves.last().unwrap().end[0];
+                let want = 16.0 * mm_per_unit;
+                assert!((x - want).abs() < 1e-9, "machine inch {machine_inch}, {units}: X {x} mm, want {want}");
+            }
+        }
     }
 }
