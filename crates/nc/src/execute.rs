@@ -807,6 +807,7 @@ impl Exec<'_> {
         });
         self.position = machine_end;
         self.state.position = end;
+        self.state.frame.held_tool = None;
         self.tool_at_last_move = self.state.frame.to_mm(&self.state.frame.tool);
         Ok(())
     }
