@@ -124,7 +124,8 @@ mod tests {
         assert_eq!(ends(back, Controller::Mach4), Ok(vec![[0.0, 0.0], [10.0, 0.0], [10.0, 7.0]]));
         assert_eq!(
             ends(back, Controller::Mach3),
-            Err("line 10: M99 P40: Mach3's M99 has no P (\"Using Mach3Mill\", 10.7: it returns to the block after the M98): not supported".into())
+            Err("line 10: M99 P40: Mach3's M99 has no P (\"Using Mach3Mill\", 10.7: it returns to the block after the M98): not supported"
+                .into())
         );
         let linuxcnc = ends(text, Controller::LinuxCnc).unwrap_err();
         assert!(linuxcnc.starts_with("line 3: M98 is a Fanuc subprogram call"), "{linuxcnc}");
