@@ -475,6 +475,11 @@ impl Exec<'_> {
                         return Err("M99 in the main program restarts it endlessly".into());
                     }
                     let p = w.take(b'P');
+                    if let Some(n) = p.filter(|_| !subprograms::m99_returns_to_block(self.table)) {
+                        return Err(format!(
+                            "M99 P{n}: Mach3's M99 has no P (\"Using Mach3Mill\", 10.7: it returns to the block after the M98): not supported"
+                        ));
+                    }
                     flow = Flow::Return { value: None, sequence: p.map(|v| v.round() as u32) };
                     continue;
                 }
@@ -810,6 +815,7 @@ impl Exec<'_> {
         });
         self.position = machine_end;
         self.state.position = end;
+        self.state.frame.held_tool = None;
         self.tool_at_last_move = self.state.frame.to_mm(&self.state.frame.tool);
         Ok(())
     }

@@ -128,6 +128,10 @@ pub struct Frame {
     pub tool: Vec9,
     /// XY rotation of the coordinate system (deg).
     pub rotation: f64,
+    /// The tool offset the controller still counts its program position with (`None`: `tool`). A
+    /// Fanuc applies a tool length offset by moving (`G43`/`G44`/`G49`, parameter TOS = 0): its
+    /// program position stays and the next move takes the machine there with the new offset.
+    pub held_tool: Option<Vec9>,
 }
 
 impl Frame {
@@ -184,6 +188,12 @@ impl Frame {
     /// Program point of a machine position (mm, deg).
     pub fn program_of_machine(&self, m: &Vec9) -> Vec9 {
         self.program(&self.from_mm(m))
+    }
+
+    /// The frame the controller's program position is counted in before this frame's move: its
+    /// tool offset the held one (a Fanuc's after `G43` without a move).
+    pub fn held(&self) -> Frame {
+        Frame { tool: self.held_tool.unwrap_or(self.tool), held_tool: None, ..*self }
     }
 }
 

@@ -4,7 +4,9 @@
 //! and rs274's reading of the position after a tool change. As LinuxCNC 2.9 does them
 //! (`interp_convert.cc`: `convert_coordinate_system`, `convert_tool_length_offset`,
 //! `convert_setup`, `convert_axis_offsets`); the program position is kept at the same machine
-//! position when an offset changes.
+//! position when an offset changes, except a Fanuc's tool length offset, which the controller
+//! applies by moving with the next move (Fanuc 0i-MF operator's manual B-64604EN, "Tool length
+//! compensation", parameter TOS No. 5006#6 = 0): its program position stays.
 
 use crate::dialect::Dialect;
 use crate::dialects::gcode_text;
@@ -120,7 +122,13 @@ impl Exec<'_> {
         }
         let old = self.state.frame;
         self.state.frame.tool = offset;
-        self.refresh_position(&old);
+        if fanuc {
+            // the program position stays: the next move takes the machine to it with the new offset
+            let held = old.held_tool.unwrap_or(old.tool);
+            self.state.frame.held_tool = (held != offset).then_some(held);
+        } else {
+            self.refresh_position(&old);
+        }
         Ok(())
     }
 

@@ -23,6 +23,14 @@ pub(crate) fn runs_m98(table: &DialectTable) -> bool {
         || table.m_codes.is_some_and(|lists| lists.iter().flat_map(|l| l.iter()).any(|e| (e.from..=e.to).contains(&98)))
 }
 
+/// Whether `M99 P<N>` returns to block `N` of the caller (Fanuc 0i operator's manual, "Subprogram":
+/// P the sequence number of the return destination; Haas, Fadal and Mach4 read it so). Mach3's
+/// manual gives `M99` no `P` ("Using Mach3Mill", 10.7: `M99` returns to the block after the
+/// `M98`), so a Mach3 program with one is refused rather than read as a Fanuc's.
+pub(crate) fn m99_returns_to_block(table: &DialectTable) -> bool {
+    !std::ptr::eq(table, Controller::Mach3.table())
+}
+
 /// Whether the controller of `table` runs Haas's `M97 P<N label>` local calls.
 pub(crate) fn runs_m97(table: &DialectTable) -> bool {
     std::ptr::eq(table, Controller::Haas.table())
@@ -111,6 +119,14 @@ mod tests {
             let missing = ends(&text.replace("P1001", "P1002"), mach).unwrap_err();
             assert!(missing.starts_with("line 3: program O1002 is neither in the file"), "{missing}");
         }
+        // M99 P<N>: a Fanuc's return to block N of the caller, which Mach3's manual does not give
+        let back = "G21 G90\nG0 X0 Y0 Z0\nM98 P1001\nG0 X-5\nN40 G0 Y7\nM30\nO1001\nG91 G1 X10 F100\nG90\nM99 P40\n";
+        assert_eq!(ends(back, Controller::Mach4), Ok(vec![[0.0, 0.0], [10.0, 0.0], [10.0, 7.0]]));
+        assert_eq!(
+            ends(back, Controller::Mach3),
+            Err("line 10: M99 P40: Mach3's M99 has no P (\"Using Mach3Mill\", 10.7: it returns to the block after the M98): not supported"
+                .into())
+        );
         let linuxcnc = ends(text, Controller::LinuxCnc).unwrap_err();
         assert!(linuxcnc.starts_with("line 3: M98 is a Fanuc subprogram call"), "{linuxcnc}");
         let bare = "G21 G90\nO1001\nG0 X1\nM2\n";

@@ -216,9 +216,12 @@ impl<'a> Writer<'a> {
     ) -> [Option<String>; AXES] {
         let mut out: [Option<String>; AXES] = Default::default();
         let target_p = self.program_of(frame, target, &m.program_end);
-        let written_p = self.program_of(frame, &self.written, &m.program_end);
+        // where the controller counts itself: a Fanuc after `G43` without a move keeps the program
+        // position of the offset before, and this move takes the new one
+        let held = frame.held();
+        let written_p = self.program_of(&held, &self.written, &m.program_end);
         let target_e = frame.external(&target_p);
-        let written_e = frame.external(&written_p);
+        let written_e = held.external(&written_p);
         let g53 = m.machine_coordinates;
         let incremental = frame.incremental && !g53;
         let mut values = [0.0; AXES];

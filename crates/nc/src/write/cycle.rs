@@ -66,8 +66,10 @@ impl Writer<'_> {
         let targets: Vec<Axes> = moves.iter().zip(pieces).map(|(m, p)| self.targets(m, p).last().expect("a piece").0).collect();
         let bottom = self.program_of(&frame, &targets[hole.bottom_move as usize], &bm.program_end);
         let r = self.program_of(&frame, &targets[hole.r_move as usize], &rm.program_end);
-        let before = self.program_of(&frame, &self.written, &moves[0].program_end);
-        let before_original = self.program_of(&frame, &moves[0].start, &moves[0].program_end)[c];
+        // the level the controller stands at, counted as it counts it (a Fanuc after `G43` alone)
+        let first = self.frame(&moves[0]).held();
+        let before = self.program_of(&first, &self.written, &moves[0].program_end);
+        let before_original = self.program_of(&first, &moves[0].start, &moves[0].program_end)[c];
         Levels { frame, exact: [bottom[a], bottom[b], bottom[c], r[c]], before, before_original, targets }
     }
 

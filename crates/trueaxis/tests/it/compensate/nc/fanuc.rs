@@ -493,3 +493,93 @@ fn macro_b_loops_calls_and_jumps_are_expanded() {
 fn five_axis_positioning_is_corrected_on_the_machine_chain() {
     check("five_axis", "c600u", "c600u", FIVE_AXIS, &five_axis_expansion(), 0);
 }
+
+/// `G43 H..` and `G49` on blocks without a move (as hand-written programs have them), each followed
+/// by a move to the X Y the machine is at: a Fanuc applies a tool length offset by moving, its
+/// program position staying, so that move takes Z to the new offset (LinuxCNC instead keeps the
+/// machine where it is: rs274 reads the rewriting of `fanuc_to_ngc`). Inside a loop (expanded, each
+/// pass at its own correction) and in the main program (corrected in place).
+const TOOL_OFFSET_ALONE: &str = "\
+%
+O1006 (G43 WITHOUT A MOVE)
+G21 G90 G17 G40 G49 G80
+G54 G0 X0. Y0. Z50.
+#1=0
+WHILE [#1 LT 2] DO 1
+G0 X[#1*30.] Y0.
+G43 H02
+G0 X[#1*30.] Y0.
+G1 X[#1*30.+20.] F500.
+G49
+G0 Y10.
+Z50.
+#1=#1+1
+END 1
+G43 H01
+G0 X0. Y0.
+G1 Y20. F500.
+M30
+%
+";
+
+fn tool_offset_alone_expansion() -> Expansion {
+    let mut e = Expansion::new();
+    e.go(true, [0.0, 0.0, 50.0]);
+    for x in [0.0, 30.0] {
+        e.go(true, [x, 0.0, 50.0]);
+        // the rapid to the X Y the machine is at takes Z to the offset of H02
+        e.tool = 120.0;
+        e.go(true, [x, 0.0, 50.0]);
+        e.go(false, [x + 20.0, 0.0, 50.0]);
+        e.tool = 0.0;
+        e.go(true, [x + 20.0, 10.0, 50.0]);
+        e.go(true, [x + 20.0, 10.0, 50.0]);
+    }
+    e.tool = 100.0;
+    e.go(true, [0.0, 0.0, 50.0]);
+    e.go(false, [0.0, 20.0, 50.0]);
+    e
+}
+
+#[test]
+fn tool_length_offset_without_a_move_is_applied_by_the_next_move() {
+    let expected = tool_offset_alone_expansion();
+    check("tool_offset_alone", "vmc3", "vmc3", TOOL_OFFSET_ALONE, &expected, 1);
+    // rs274 on the rewriting (inch machine units: the tool table and G54 in inch)
+    let Some(rs) = super::common::rs274::rs274() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let inch = |mm: f64| format!("{:.12}", mm / 25.4);
+    let tools = format!("T1 P1 Z{}\nT2 P2 Z{}\n", inch(100.0), inch(120.0));
+    let parameters = format!("5223\t{}\n", inch(G54_Z));
+    let ngc = super::common::fanuc_to_ngc::translate(TOOL_OFFSET_ALONE).expect("rewritten as RS274/NGC");
+    std::fs::write(dir.path().join("tools.tbl"), &tools).unwrap();
+    std::fs::write(dir.path().join("original.ngc"), &ngc).unwrap();
+    let original = rs.run_with(dir.path(), "original.ngc", Some("tools.tbl"), Some(&parameters)).unwrap_or_else(|e| panic!("{e}\n{ngc}"));
+    assert_eq!(original.len(), expected.moves.len(), "{original:#?}\n{ngc}");
+    for (i, (o, x)) in original.iter().zip(&expected.moves).enumerate() {
+        let off = o.end.iter().zip(&x.end).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        assert!(off < 1e-6 && (o.tool[2] - x.tool[2]).abs() < 1e-6, "move {}: rs274 {o:?}, expected {x:?}\n{ngc}", i + 1);
+    }
+    let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
+    let errors = ErrorModel::load("../../examples/errors/vmc3.toml", &m).unwrap();
+    let mut options = NcOptions::new(&m);
+    options.setup.machine_inch = true;
+    options.setup.tools = ToolTable::parse(&tools, "tools").unwrap();
+    options.setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(&m), 1, &[0.0, 0.0, G54_Z]);
+    let r = correct_program(&Corrector::new(&m, &errors), TOOL_OFFSET_ALONE, "alone.nc", &options, &[]).unwrap();
+    let corrected_ngc = super::common::fanuc_to_ngc::translate(&r.text()).expect("the corrected program rewritten");
+    std::fs::write(dir.path().join("corrected.ngc"), &corrected_ngc).unwrap();
+    let corrected = rs.run_with(dir.path(), "corrected.ngc", Some("tools.tbl"), Some(&parameters)).unwrap();
+    // every rapid after a G43/G49 line is written, with the Z the new offset gives (moves of zero
+    // length elsewhere may be left out: the oracle allows it)
+    let text = r.text();
+    let lines: Vec<&str> = text.lines().collect();
+    let after: Vec<&str> = lines.windows(2).filter(|w| w[0].starts_with("G43") || w[0] == "G49").map(|w| w[1]).collect();
+    assert_eq!(after.len(), 5, "{text}");
+    assert!(after.iter().all(|l| l.starts_with("G0 X") && l.contains(" Z")), "{text}");
+    let oracle = Oracle { machine: &m, errors: &errors, temperatures: vec![] };
+    let report = oracle
+        .compare_with(&original, &corrected, &[0.0, 0.0, 0.0], TOLERANCE_UM, 1.0 + TOLERANCE_UM, &[], &[])
+        .unwrap_or_else(|err| panic!("{err}\n{}", r.text()));
+    println!("tool_offset_alone through rs274: {} moves, ends within {:.3} um", report.moves, report.worst_end_um);
+}

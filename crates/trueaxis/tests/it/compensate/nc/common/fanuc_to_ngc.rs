@@ -18,6 +18,12 @@
 //! - Haas's `G103` (look-ahead), `G187` (smoothness), `POPEN`, `PCLOS`, `DPRNT[...]` move nothing:
 //!   comments; `M29` (rigid tapping mode) is dropped (rs274's `G84` makes the same moves);
 //!   `G154 P1` becomes `G59.3` (the tests give no work offsets: both zero);
+//! - a Fanuc applies a tool length offset by moving (`G43`, `G44`, `G49` without a Z word): its
+//!   program Z stays until the next move, which goes there with the new offset, where LinuxCNC
+//!   keeps the machine where it is and counts the program Z anew: the program Z is saved around
+//!   such a line (`#<_fanuc_z>=#5422`, then the shift `#<_fanuc_dz>=[#<_fanuc_z>-#5422]`) and the
+//!   next move gets it back (`Z[#5422+#<_fanuc_dz>]` in G90, its Z increment plus
+//!   `#<_fanuc_dz>` in G91); such a line that moves itself is not rewritten;
 //! - `WHILE [...] DOn` / `ENDn` become `o(100+n) while [...]` / `o(100+n) endwhile`; `#i = ...`,
 //!   `[ ]` expressions, `SIN`/`COS` in degrees and `LT`/`GE` mean the same in both languages (an
 //!   assigned expression is bracketed, as RS274/NGC asks).
@@ -112,7 +118,7 @@ pub fn grbl_to_ngc(text: &str) -> Option<String> {
 
 /// The RS274/NGC text of a Fanuc-family program, or `None`.
 pub fn translate(text: &str) -> Option<String> {
-    let mut t = Translator { inch: false, group01: "G0", cycle: false, out: String::new(), first: true };
+    let mut t = Translator { inch: false, group01: "G0", cycle: false, out: String::new(), first: true, incremental: false, held_z: false };
     for raw in text.lines() {
         t.line(raw)?;
     }
@@ -126,6 +132,9 @@ struct Translator {
     cycle: bool,
     out: String,
     first: bool,
+    /// G91, and a tool length offset changed without a move (the program Z held since).
+    incremental: bool,
+    held_z: bool,
 }
 
 /// Letters of dimension words (counted in increments without a decimal point).
@@ -211,6 +220,10 @@ impl Translator {
         }
         let axes = out.iter().any(|(l, _)| b"XYZABC".contains(l));
         let uses_axes = g.iter().any(|c| [10.0, 28.0, 30.0, 52.0, 92.0].contains(c));
+        self.incremental = if g.contains(&91.0) { true } else { self.incremental && !g.contains(&90.0) };
+        let moves = axes && !self.cycle && !uses_axes;
+        let holds = self.holds_tool_z(&g, &out, moves)?;
+        self.give_held_z(&mut out, moves);
         let mut text = String::from(number);
         // every such line, not only the first after G80: inside a loop the text's order is not
         // the order of execution (rs274 takes the repeated code as it is)
@@ -219,7 +232,48 @@ impl Translator {
             text.push(' ');
         }
         text.push_str(&join(&out));
-        self.emit(&text, comments)
+        self.emit(&text, comments)?;
+        if holds {
+            self.held_z = true;
+            self.out.push_str("#<_fanuc_dz>=[#<_fanuc_z>-#5422]\n");
+        }
+        Some(())
+    }
+
+    /// A Fanuc's tool length offset applied by moving: whether this line changes it without a Z
+    /// word (in G91: with one), the program Z then saved before it; `None` when the line also moves.
+    fn holds_tool_z(&mut self, g: &[f64], out: &[(u8, String)], moves: bool) -> Option<bool> {
+        let z = out.iter().any(|(l, _)| *l == b'Z');
+        // a `G28`/`G30` moves with the new offset at once
+        let home = g.contains(&28.0) || g.contains(&30.0);
+        self.held_z &= !home;
+        let holds = g.iter().any(|c| [43.0, 44.0, 49.0].contains(c)) && (!z || self.incremental) && !home;
+        if holds && moves {
+            return None;
+        }
+        if holds && !self.held_z {
+            self.out.push_str("#<_fanuc_z>=#5422 (a Fanuc keeps its program Z until the next move)\n");
+        }
+        Some(holds)
+    }
+
+    /// The next move after the tool length offset changed without a move: its Z the one held.
+    fn give_held_z(&mut self, out: &mut Vec<(u8, String)>, moves: bool) {
+        if !(self.held_z && moves) {
+            return;
+        }
+        self.held_z = false;
+        let z = out.iter().position(|(l, _)| *l == b'Z');
+        let value = match (z, self.incremental) {
+            (Some(_), false) => return,
+            (None, false) => "[#5422+#<_fanuc_dz>]".to_string(),
+            (None, true) => "#<_fanuc_dz>".to_string(),
+            (Some(i), true) => format!("[{}+#<_fanuc_dz>]", out[i].1),
+        };
+        match z {
+            Some(i) => out[i].1 = value,
+            None => out.push((b'Z', value)),
+        }
     }
 
     fn emit(&mut self, code: &str, comments: &str) -> Option<()> {
