@@ -130,14 +130,13 @@ fn check_rs274(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
     let mut options = NcOptions::new(machine);
     options.dialect = Some(s.dialect);
     let siemens = s.dialect == Controller::Siemens;
-    // rs274 reads its tool table in inch; a SINUMERIK program is corrected with the same lengths
-    // in mm (the library's ATRANS adds to the G52 shift it keeps as if it were in mm: on an inch
-    // machine the shift so far would count 25.4 times too small)
-    options.setup.machine_inch = !siemens;
+    // rs274 reads its tool table in inch: the machine units of every correction (a SINUMERIK
+    // `ATRANS` on such a machine once counted the shift so far 25.4 times too small)
+    options.setup.machine_inch = true;
     // the SINUMERIK's rewriting changes the length on a line of its own after `M6`, where rs274
     // keeps the machine where it is (as the 840D does)
     options.setup.rs274_tool_change = !siemens;
-    options.setup.tools = ToolTable::parse(&if siemens { in_mm(&tools) } else { tools.clone() }, "tools").unwrap();
+    options.setup.tools = ToolTable::parse(&tools, "tools").unwrap();
     options.setup.search_path = SearchPath(vec![dir.path().to_path_buf()]);
     let result = match correct_program(corrector, &s.bytes, &s.name, &options, &[]) {
         Ok(r) => r,
@@ -180,21 +179,6 @@ fn check_rs274(s: &Sample, machine: &Machine, corrector: &Corrector, errors: &Er
         }
         Err(e) => Outcome::Failed(e),
     }
-}
-
-/// A tool table in inch written in mm (its Z and D scaled).
-fn in_mm(table: &str) -> String {
-    let scale = |w: &str| match w.split_at(1) {
-        ("Z" | "D", v) => format!("{}{}", &w[..1], v.parse::<f64>().expect("a length") * 25.4),
-        _ => w.to_string(),
-    };
-    table
-        .lines()
-        .map(|l| {
-            let (words, comment) = l.split_once(';').unwrap_or((l, ""));
-            format!("{} ;{comment}\n", words.split_whitespace().map(scale).collect::<Vec<_>>().join(" "))
-        })
-        .collect()
 }
 
 /// With `TRUEAXIS_CORPUS_DIR` set, the program and its correction are written there to be looked at.
