@@ -25,6 +25,18 @@ pub fn system(e: f64) -> Result<u8, String> {
     })
 }
 
+/// The coordinate system a work offset is named by (`--offset NAME=...`): `G54`-`G59` and
+/// `G59.1`-`G59.3` (1-9), or a Fadal fixture offset `E1`-`E48` (`E1`-`E6` the same as `G54`-`G59`).
+pub fn offset_system(name: &str) -> Option<u8> {
+    const SYSTEMS: [&str; 9] = ["G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"];
+    let name = name.trim().to_ascii_uppercase();
+    if let Some(i) = SYSTEMS.iter().position(|s| *s == name) {
+        return Some(i as u8 + 1);
+    }
+    let e: u32 = name.strip_prefix('E')?.parse().ok()?;
+    (1..=E_MAX).contains(&e).then(|| system(f64::from(e)).ok()).flatten()
+}
+
 impl Exec<'_> {
     /// `E<n>` on a Fadal: selects fixture offset `n` (0: none), the program position kept at the
     /// same machine position until the next move.
@@ -35,7 +47,7 @@ impl Exec<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::system;
+    use super::{offset_system, system};
 
     #[test]
     fn e_numbers() {
@@ -46,5 +58,10 @@ mod tests {
         assert_eq!(system(48.0), Ok(57));
         assert!(system(49.0).unwrap_err().contains("E0 (none) or E1-E48"));
         assert!(system(1.5).is_err());
+        assert_eq!(offset_system("g59.1"), Some(7));
+        assert_eq!(offset_system("E1"), Some(1));
+        assert_eq!(offset_system("E48"), Some(57));
+        assert_eq!(offset_system("E0"), None);
+        assert_eq!(offset_system("G60"), None);
     }
 }

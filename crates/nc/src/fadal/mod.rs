@@ -121,7 +121,7 @@ fn code_of(text: &str) -> Vec<u8> {
 }
 
 /// Refuses, with the reason, what a Fadal reads and this reader does not: R parameters in words
-/// (`X+R1`) and subroutines (`L0100` ... `M17`, called `L0102`).
+/// (`X+R1`, `R1+1.`) and subroutines (`L0100` ... `M17`, called `L0102`).
 fn check_block(text: &str) -> Result<(), String> {
     let code = code_of(text);
     for (i, &c) in code.iter().enumerate() {
@@ -134,6 +134,20 @@ fn check_block(text: &str) -> Result<(), String> {
                 "`{word}`: R parameters in words are not read yet (their form is not confirmed here): set the value with a macro statement"
             ));
         }
+    }
+    // `R1+1.` (a fixed subroutine's parameter, `L9101 R1+1.`): R1 set to +1
+    if let Some(i) = (0..code.len().saturating_sub(2)).find(|&i| {
+        (i == 0 || !code[i - 1].is_ascii_uppercase())
+            && code[i] == b'R'
+            && (b'1'..=b'9').contains(&code[i + 1])
+            && matches!(code[i + 2], b'+' | b'-')
+    }) {
+        let word: String = code[i..].iter().take_while(|c| !matches!(c, b' ')).map(|&b| b as char).collect();
+        return Err(format!(
+            "`{word}` sets the R parameter R{} (a Fadal subroutine's parameter): not read yet; write it as `# R{} = ..`",
+            code[i + 1] as char,
+            code[i + 1] as char
+        ));
     }
     let has = |letter: u8| code.iter().enumerate().any(|(i, &c)| c == letter && (i == 0 || !code[i - 1].is_ascii_uppercase()));
     if has(b'L') && !has(b'G') && !has(b'M') {
@@ -174,6 +188,7 @@ mod tests {
         assert_eq!(read("G2 X1. Y1. R5.").unwrap().word(b'R').unwrap().value, crate::lexer::Operand::Number(5.0));
         assert!(read("G1 X+R1 F100.").unwrap_err().contains("`X+R1`: R parameters in words"));
         assert!(read("L0102").unwrap_err().contains("Fadal subroutines"));
+        assert!(read("L9101 R1+1.").unwrap_err().contains("`R1+1.` sets the R parameter R1"));
         assert!(read("G0 X1. (R1 L0100 IN A COMMENT)").is_ok());
         assert_eq!(label_of("# IF V1 GT 3 THEN GOTO :LOOP2"), Some("LOOP2".into()));
         assert_eq!(label_of("#:LOOP2"), Some("LOOP2".into()));

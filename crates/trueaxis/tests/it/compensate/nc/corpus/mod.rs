@@ -85,11 +85,13 @@ fn refused(message: String) -> Outcome {
 
 /// The program rs274 reads for `bytes`: a LinuxCNC-compatible program as it is (Mach3's `M98`
 /// subprograms rewritten as O-word subroutines, grbl's `$` system commands as moves and comments), a Fanuc-family one rewritten as RS274/NGC
-/// ([`fanuc_to_ngc`]; `None` when it uses what that does not rewrite).
+/// ([`fanuc_to_ngc`]; a Fadal one by `fadal_to_ngc`; `None` when it uses what that does not rewrite).
 fn as_ngc(s: &Sample, bytes: &[u8]) -> Option<Vec<u8>> {
     if s.dialect == Controller::Siemens {
         // the SINUMERIK's own language is not rewritten for rs274 yet: the second reading
         None
+    } else if s.dialect == Controller::Fadal {
+        super::common::fadal_to_ngc::translate(&String::from_utf8_lossy(bytes)).map(String::into_bytes)
     } else if s.dialect.family() == Dialect::Fanuc {
         fanuc_to_ngc::translate(&String::from_utf8_lossy(bytes)).map(String::into_bytes)
     } else if let Some(mach) = std::str::from_utf8(bytes).ok().filter(|t| t.contains("M98")) {
