@@ -5,7 +5,8 @@
 //!
 //! Each program must run in LinuxCNC's `rs274` (as it is when written for a LinuxCNC-compatible
 //! controller: LinuxCNC, PathPilot, Mach3, grbl; rewritten as RS274/NGC by
-//! [`super::common::fanuc_to_ngc`] when written for a Fanuc, Haas or Fadal), which must run the
+//! [`super::common::fanuc_to_ngc`] when written for a Fanuc, Haas or Fadal, a Fadal one first by
+//! `fadal_to_ngc`), which must run the
 //! corrected program too; its canonical moves, pushed through the erroneous machine, must land on
 //! the original's within 0.05 um (path within 1.05 um: the 1 um split tolerance), as for LinuxCNC's
 //! samples, or within half the last written increment on each axis for the Fanuc family (sqrt 3 x
