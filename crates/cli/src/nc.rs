@@ -23,9 +23,10 @@ Runs the program as the controller does: parameters and expressions, O-word subr
 loops (LinuxCNC), macro variables, IF/GOTO/WHILE and M98/M99/G65 (Fanuc, Haas, Mach3/Mach4),\n\
 Haas M97, grbl $J= jogs, the SINUMERIK 840D's R parameters and DEF variables, CR=/AR= arcs,\n\
 TRANS/ATRANS, GOTOF/GOTOB, IF, WHILE, FOR, LOOP, REPEAT, L subprograms and CYCLE81/CYCLE82,\n\
-tool length offsets (G43 H or D from --tool-table), work\n\
-offsets (G54-G59.3 from --parameters or --offset, G10 L2/L20), G92, G28/G30, G53, canned cycles\n\
-G73 G81-G89 (kept as cycles in G90), arcs in G17/G18/G19, G20/G21, G93/G94/G95.\n\
+Fadal E fixture offsets, R0+ planes and # macro statements (V and R variables, IF/GOTO to\n\
+labels), tool length offsets (G43 H or D from --tool-table), work offsets (G54-G59.3, Fadal\n\
+E1-E48, from --parameters or --offset, G10 L2/L20), G92, G28/G30, G53, canned cycles G73\n\
+G81-G89 (kept as cycles in G90), arcs in G17/G18/G19, G20/G21, G93/G94/G95.\n\
 Refused with the line and the reason: probing (G38.x, G31), spindle-synchronised motion (G33,\n\
 LinuxCNC G76), tapping in G91, cutter radius compensation (G41/G42). The corrected program\n\
 starts with a header naming the machine and error files and their SHA-256; a program with that\n\
@@ -84,7 +85,8 @@ pub struct NcArgs {
     #[arg(long)]
     decimals: Option<usize>,
     /// A work offset, e.g. `G54=X100,Y50,Z-300` (machine position of the program zero, mm and deg;
-    /// G54 ... G59.3; repeatable; applied after --parameters).
+    /// G54 ... G59.3, or a Fadal fixture offset E1 ... E48 (E1-E6 are G54-G59); repeatable;
+    /// applied after --parameters).
     #[arg(long = "offset")]
     offsets: Vec<String>,
     /// Machine position before the first move, e.g. `X0,Y0,Z0` (default all 0, like rs274).
@@ -167,12 +169,11 @@ fn options(args: &NcArgs, machine: &Machine) -> Result<NcOptions, Failure> {
     }
     for o in &args.offsets {
         let (code, values) = o.split_once('=').ok_or_else(|| bad(format!("--offset `{o}` is not G54=X..,Y..")))?;
-        let systems = ["G54", "G55", "G56", "G57", "G58", "G59", "G59.1", "G59.2", "G59.3"];
         let code = code.trim().to_ascii_uppercase();
-        let system =
-            systems.iter().position(|s| *s == code).ok_or_else(|| bad(format!("--offset: `{code}` is not one of G54 ... G59.3")))?;
+        let system = trueaxis::compensate::nc::fadal::fixture::offset_system(&code)
+            .ok_or_else(|| bad(format!("--offset: `{code}` is not one of G54 ... G59.3 or a Fadal fixture offset E1 ... E48")))?;
         let values = axis_values(machine, &letter_values(values), "--offset")?;
-        setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(machine), system as u8 + 1, &values);
+        setup.set_work_offset(&trueaxis::compensate::nc::machine_axes(machine), system, &values);
     }
     if let Some(s) = &args.start {
         setup.start = axis_values(machine, &letter_values(s), "--start")?;

@@ -572,6 +572,13 @@ impl Exec<'_> {
                 setup(self, b'G', f64::from(code) / 10.0);
             }
         }
+        // a Fadal fixture offset `E1`-`E48`, `E0` (crate::fadal::fixture)
+        if self.table.name == "fadal" {
+            if let Some(e) = w.take(b'E') {
+                self.fadal_fixture(e)?;
+                setup(self, b'E', e);
+            }
+        }
         for &code in &gs {
             match code {
                 610 | 611 | 640 | 620 | 630 => {

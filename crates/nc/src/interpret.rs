@@ -189,6 +189,9 @@ impl<'m> Runner<'m> {
         let main = &program.files[0];
         let mut exec = Exec::new(machine, program.dialect, setup).map_err(|m| NcError { file: main.name.clone(), line: 0, message: m })?;
         exec.table = program.controller.table();
+        if program.controller == crate::Controller::Fadal {
+            crate::fadal::start(&mut exec.params);
+        }
         Ok(Runner { exec, pc: (0, main.body.start), max_blocks: setup.max_blocks, blocks_before: 0, in_parts: false })
     }
 
@@ -451,6 +454,10 @@ impl<'m> Exec<'m> {
 
     /// The work offsets of `system` (program units; Fanuc: plus the external offset #5201).
     pub(crate) fn system_offsets(&self, system: u8) -> Result<Vec9, String> {
+        if system == 0 {
+            // none selected: a Fadal's `E0`
+            return Ok([0.0; AXES]);
+        }
         let base = self.system_base(system);
         let mut out = [0.0; AXES];
         for (k, o) in out.iter_mut().enumerate() {
@@ -887,6 +894,9 @@ impl<'m> Exec<'m> {
             return Err(format!("GOTO {n}: not a sequence number"));
         }
         let n = n as u32;
+        if n >= crate::fadal::LABEL_BASE {
+            return crate::fadal::jump(file, pc.1, n);
+        }
         let section = |k: usize| file.programs.values().filter(|&&p| p <= k).max().copied().unwrap_or(0);
         let here = section(pc.1);
         file.sequence

@@ -28,6 +28,7 @@ pub mod dialect;
 pub mod dialects;
 pub mod execute;
 pub mod expr;
+pub mod fadal;
 mod grbl_system;
 pub mod interpret;
 pub mod lexer;
@@ -136,10 +137,12 @@ impl ProgramSetup {
         }
     }
 
-    /// Sets the work offset of coordinate system `system` (1 = G54 ... 9 = G59.3): the machine
-    /// position of the program zero, `values` per machine axis (mm, deg).
+    /// Sets the work offset of coordinate system `system` (1 = G54 ... 9 = G59.3; in the Fanuc
+    /// family 10 + p - 1 = `G54.1 P<p>`, a Fadal's `E7`-`E48` at p = 7-48): the machine position of the program zero, `values` per machine axis (mm, deg).
     pub fn set_work_offset(&mut self, axes: &MachineAxes, system: u8, values: &[f64]) {
-        let base = 5201 + 20 * u32::from(system);
+        // G54-G59.3 at #5221...; the Fanuc family's additional offsets (G54.1 P, a Fadal's E7-E48)
+        // at #7001...
+        let base = if system > 9 { 7001 + 20 * u32::from(system - 10) } else { 5201 + 20 * u32::from(system) };
         for (axis, v) in axes.axes().iter().zip(values) {
             let k = tools::AXIS_LETTERS.iter().position(|&l| l as char == axis.letter).expect("a machine axis letter");
             let v = if self.machine_inch && modal::is_linear(k) { v / MM_PER_INCH } else { *v };

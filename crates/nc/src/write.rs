@@ -928,6 +928,14 @@ impl<'a> Writer<'a> {
                     for (i, l) in lines.iter().enumerate() {
                         match self.program.controller {
                             crate::Controller::Siemens => encode_line(&crate::siemens::write::spell(l), bytewise, out),
+                            crate::Controller::Fadal => {
+                                for (j, block) in crate::fadal::write::spell(l).iter().enumerate() {
+                                    if j > 0 {
+                                        out.extend_from_slice(self.eol.bytes());
+                                    }
+                                    encode_line(block, bytewise, out);
+                                }
+                            }
                             _ => encode_line(l, bytewise, out),
                         }
                         out.extend_from_slice(if i + 1 == lines.len() { ending.bytes() } else { self.eol.bytes() });

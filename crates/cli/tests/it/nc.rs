@@ -227,3 +227,32 @@ fn a_corrected_program_names_its_files_and_is_not_corrected_twice() {
         assert!(again.exists());
     }
 }
+
+/// A Fadal program (`E7` fixture offset): the offset given as `--offset E7=...` moves the program
+/// on the machine, so its correction differs with the offset; `E49` is refused, on the
+/// command line and in the program.
+#[test]
+fn a_fadal_fixture_offset_is_given_on_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = dir.path().join("e7.nc");
+    std::fs::write(&program, "%\nO1 (FADAL)\nG90 G21 G17\nG0 E7 X10. Y20.\nG0 Z5.\nG1 Z-1. F200.\nM30\n%\n").unwrap();
+    let run = |offset: &str| {
+        let (code, stdout, stderr) = nc("examples/errors/vmc3.toml", &[program.to_str().unwrap(), "--json", "--offset", offset]);
+        assert_eq!(code, 0, "{stderr}");
+        serde_json::from_str::<serde_json::Value>(&stdout).unwrap()
+    };
+    let shifted = run("E7=X100,Y50,Z-310");
+    let other = run("E7=X0,Y0,Z-300");
+    assert_eq!(shifted["dialect"], "fadal");
+    assert_eq!(shifted["moves"], 3);
+    let text = shifted["program"].as_str().unwrap();
+    assert!(text.contains("G0 E7 X"), "{text}");
+    assert_ne!(shifted["program"], other["program"], "the offset moves the points corrected");
+    let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[program.to_str().unwrap(), "--offset", "E49=X1"]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("--offset: `E49` is not one of G54 ... G59.3 or a Fadal fixture offset E1 ... E48"), "{stderr}");
+    std::fs::write(&program, "%\nO1\nG90 G21\nG0 E49 X10.\nM30\n%\n").unwrap();
+    let (code, _, stderr) = nc("examples/errors/vmc3.toml", &[program.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(stderr.contains("e7.nc: line 4: E49: a Fadal fixture offset is E0 (none) or E1-E48"), "{stderr}");
+}

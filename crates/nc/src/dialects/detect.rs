@@ -6,7 +6,7 @@
 //!   line starting `TRANS`/`ATRANS`/`MSG(`, `R1=` assignments, `DEF REAL`/`DEF INT`;
 //! - Haas: `G103`, `G154`, `G187`, `M97`, `POPEN`, `PCLOS`, `DPRNT[`, `BPRNT[`;
 //! - Fadal: its macro statements, a line starting `#` and a blank or a keyword (`# V1 = 2`,
-//!   `#:LOOP`, `# IF`, `# CLEAR`, `# PRINT`);
+//!   `#:LOOP`, `# IF`, `# CLEAR`, `# PRINT`), a fixture offset `E1`-`E48`, the R plane `R0+5.`;
 //! - grbl: its system commands, a line starting `$` (`$H` homing, `$X` unlock, `$J=` jogging,
 //!   `$32=1` a setting);
 //! - Mach3 (Mach4 when a comment names it): a program read as a Fanuc's for its `M98` calls of `O`
@@ -145,16 +145,32 @@ fn marker(code: &str) -> Option<Controller> {
     }
     let fadal_macro = code.trim_start().strip_prefix('#').is_some_and(|rest| {
         rest.starts_with([' ', ':'])
-            || ["IF", "CLEAR", "PRINT", "GOTO", "V", "R"].iter().any(|k| rest.starts_with(k) && !rest[k.len()..].starts_with('['))
+            || ["IF", "CLEAR", "PRINT", "WAIT", "INPUT", "GOTO", "V", "R"]
+                .iter()
+                .any(|k| rest.starts_with(k) && !rest[k.len()..].starts_with('['))
                 && !rest.starts_with(|c: char| c.is_ascii_digit())
     });
-    if fadal_macro {
+    if fadal_macro || fadal_words(&compact) {
         return Some(Controller::Fadal);
     }
     if code.trim_start().starts_with('$') || ["?", "~", "!"].contains(&code.trim()) {
         return Some(Controller::Grbl);
     }
     None
+}
+
+/// A Fadal's words in a compact code line: a fixture offset `E1`-`E48` (a whole number: Haas's
+/// `G187 E0.01` has a point) or the R plane written `R0+5.` / `R0-2.`.
+fn fadal_words(compact: &str) -> bool {
+    let b = compact.as_bytes();
+    (0..b.len()).any(|i| {
+        let word_start = i == 0 || !b[i - 1].is_ascii_alphabetic();
+        let digits: Vec<u8> = b[i + 1..].iter().copied().take_while(u8::is_ascii_digit).collect();
+        let next = b.get(i + 1 + digits.len()).copied().unwrap_or(0);
+        let e_word = b[i] == b'E' && !digits.is_empty() && next != b'.' && digits.len() <= 2;
+        let r0 = b[i] == b'R' && digits == b"0" && matches!(next, b'+' | b'-');
+        word_start && (e_word || r0)
+    })
 }
 
 /// `R12=...`: a Siemens R parameter assignment (an `R` word is never followed by `=` elsewhere).
@@ -198,6 +214,9 @@ mod tests {
         assert_eq!(controller("%\nO1001\nG0 X1.\nM30\n%\n"), Controller::Fanuc);
         assert_eq!(controller("%\nO1001 (POST: FADAL 88HS)\nG0 X1.\nM30\n%\n"), Controller::Fadal);
         assert_eq!(controller("%\nO1\n# V1 = 2\n#:LOOP\nG0 X1.\nM30\n%\n"), Controller::Fadal);
+        assert_eq!(controller("%\nO1\nG90 G0 E1 X1. Y1.\nM30\n%\n"), Controller::Fadal);
+        assert_eq!(controller("%\nO1\nG98 G81 X1. Y1. Z-2. R0+1. F100.\nM30\n%\n"), Controller::Fadal);
+        assert_eq!(controller("%\nO1\n#IF V1 GT 2 THEN GOTO :A\nM30\n%\n"), Controller::Fadal);
         assert_eq!(controller("$H\nG21 G90\nG0 X1 Y1\nM2\n"), Controller::Grbl);
         assert_eq!(controller("(Exported for GRBL)\nG21 G90\nG0 X1 Y1\nM2\n"), Controller::Grbl);
         assert_eq!(controller("(Mach3 post)\nG21 G90\nG0 X1 Y1\nM30\n"), Controller::Mach3);

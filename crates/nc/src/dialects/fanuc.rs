@@ -101,10 +101,33 @@ pub static HAAS: DialectTable = DialectTable {
     ..FANUC_BASE
 };
 
+/// A Fadal's codes where they differ from a Fanuc's (Fadal VMC programming manual, G and M code
+/// summary): `G51` is its ramp slope control and `G51.2` its tool load compensation (feeds only);
+/// `G45`-`G48` expand or reduce a move by the tool's offset; `G84.1`/`G74.1` are its rigid tapping
+/// cycles and `G84.2`/`G74.2` their set-up, not read yet; `M17` ends a Fadal subroutine.
+const FADAL_OWN: &[GCodes] = &[
+    g(510, Other),
+    g(512, Other),
+    refused(450, 450, TOOL_OFFSET_MOVE),
+    refused(460, 460, TOOL_OFFSET_MOVE),
+    refused(470, 470, TOOL_OFFSET_MOVE),
+    refused(480, 480, TOOL_OFFSET_MOVE),
+    refused(511, 511, "(mirror image) is not supported"),
+    refused(741, 742, "(Fadal rigid tapping) is not read yet: write G74 (floating tap)"),
+    refused(841, 842, "(Fadal rigid tapping) is not read yet: write G84 (floating tap)"),
+];
+
+const TOOL_OFFSET_MOVE: &str = "(tool offset single/double expansion or reduction) moves by the tool's offset: not supported";
+
 pub static FADAL: DialectTable = DialectTable {
     name: "fadal",
     title: "Fadal (format 2)",
-    source: "Fadal VMC programming manual: format 2 (Fanuc-compatible codes)",
-    refused_words: &[(b'E', "(a Fadal fixture offset) is not read yet: select the work offset with G54-G59")],
+    source: "Fadal VMC programming manual (format 2), section 1 summary: NC words, G and M codes; macro statements",
+    g_codes: &[FADAL_OWN, COMMON, OWN],
+    m_refused: &[super::m_refused(
+        17,
+        17,
+        "(end of a Fadal subroutine) is not read yet: write the subroutine as an O program called by M98",
+    )],
     ..FANUC_BASE
 };

@@ -245,6 +245,7 @@ impl Controller {
     pub(crate) fn line_reader(self) -> crate::program::LineReader {
         match self {
             Controller::Siemens => crate::siemens::parse_line,
+            Controller::Fadal => crate::fadal::parse_line,
             _ => crate::lexer::parse_line,
         }
     }

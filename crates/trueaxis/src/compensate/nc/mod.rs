@@ -30,7 +30,7 @@ use super::CompensateError;
 use crate::machine::AxisKind;
 use crate::machine::Machine;
 pub use trueaxis_nc::{
-    dialect, dialects, lexer, modal, params, path, plan, program, tools, trace, write, AxisSpec, Controller, Dialect, FanucSettings,
+    dialect, dialects, fadal, lexer, modal, params, path, plan, program, tools, trace, write, AxisSpec, Controller, Dialect, FanucSettings,
     MachineAxes, Move, MoveKind, NcError, ProgramSetup, Role, SearchPath, ToolTable, Trace, UnknownTools, MM_PER_INCH,
 };
 

@@ -59,3 +59,41 @@ fn programs_rs274_refuses_are_refused_with_the_line() {
         }
     }
 }
+
+/// Fadal programs with what the Fadal reader refuses (docs/nc.md, "Fadal format 2"): each refused
+/// with its line and the reason, and the same program with that line written as it is read
+/// corrected.
+#[test]
+fn fadal_constructs_not_read_are_refused_with_the_line() {
+    let m = Machine::load("../../examples/machines/vmc3.toml").unwrap();
+    let e = ErrorModel::load("../../examples/errors/vmc3.toml", &m).unwrap();
+    let corrector = Corrector::new(&m, &e);
+    let mut options = NcOptions::new(&m);
+    options.dialect = Some(trueaxis::compensate::nc::Controller::Fadal);
+    let program = |line: &str| format!("%\nO1 (FADAL)\nG90 G21 G17\n# V1 = 1\n{line}\nG0 E1 X10. Y10. Z-5.\n#:END\nM30\n%\n");
+    // (the line, what is said about it)
+    let cases = [
+        ("# INPUT V2", "`# INPUT` waits for a value typed at the machine"),
+        ("# V2 = AZ", "`AZ` is not read in a Fadal expression"),
+        ("# V2 = SIN(30)", "`SIN( )` is not read in a Fadal expression"),
+        ("# V101 = 2", "V101: the variables read are V1-V100 and R0-R9"),
+        ("# IF V1 GT 0 THEN GOTO :NOWHERE", "GOTO :NOWHERE: no label `#:NOWHERE` in this program"),
+        ("# IF V1 GT 0 GOTO :END", "is read as `# IF <condition> THEN GOTO :LABEL`"),
+        ("# DPRNT", "`# DPRNT` is not a Fadal macro statement read here"),
+        ("G1 X+R1 F100.", "`X+R1`: R parameters in words are not read yet"),
+        ("L9101 R1+1.", "`R1+1.` sets the R parameter R1"),
+        ("L0102", "L words alone (Fadal subroutines"),
+        ("M17", "M17 (end of a Fadal subroutine) is not read yet"),
+        ("G0 E49 X1.", "E49: a Fadal fixture offset is E0 (none) or E1-E48"),
+        ("G98 G84.1 X1. Y1. Z-5. R0+2. F100.", "G84.1 (Fadal rigid tapping) is not read yet"),
+        ("G47 X5.", "G47 (tool offset single/double expansion or reduction)"),
+    ];
+    for (line, why) in cases {
+        let err = correct_program(&corrector, program(line), "fadal.nc", &options, &[]).expect_err(line).to_string();
+        assert!(err.starts_with("fadal.nc: line 5: ") && err.contains(why), "{line}: {err}");
+    }
+    for good in ["# V2 = 2", "# IF V1 GT 0 THEN GOTO :END", "G0 X1. Y1.", "# PRINT \"START\"", "G0 E0 Z-1."] {
+        let r = correct_program(&corrector, program(good), "fadal.nc", &options, &[]);
+        assert!(r.is_ok(), "{good}: {r:?}");
+    }
+}

@@ -151,7 +151,7 @@ fn haas_programs_with_their_macros_and_output_are_read() {
 
 /// Each dialect's own refusals (its table's data), with the line: grbl stops at a code it does not
 /// know (error:20), LinuxCNC refuses Mach3's `M98`, a Haas `M97` needs its `N` block, a Fadal `E`
-/// fixture offset is not read; the same codes pass where the dialect knows them.
+/// fixture offset is E0-E48; the same codes pass where the dialect knows them.
 #[test]
 fn dialects_refuse_what_their_controller_does_not_run() {
     let (m, e) = vmc3();
@@ -172,9 +172,10 @@ fn dialects_refuse_what_their_controller_does_not_run() {
     assert_eq!(run(sub, Controller::Mach3), Ok(3));
     let fadal = "%\nO1\nG0 G90 G21 E1 X10. Y10. Z-5.\nM30\n%\n";
     assert_eq!(run(fadal, Controller::Fanuc), Ok(1));
+    assert_eq!(run(fadal, Controller::Fadal), Ok(1));
     assert_eq!(
-        run(fadal, Controller::Fadal),
-        Err("p.nc: line 3: E1 (a Fadal fixture offset) is not read yet: select the work offset with G54-G59".into())
+        run(&fadal.replace("E1", "E49"), Controller::Fadal),
+        Err("p.nc: line 3: E49: a Fadal fixture offset is E0 (none) or E1-E48".into())
     );
     let haas = "%\nO1\nG0 G90 G21 X10. Y10. Z-5.\nM97 P100\nM30\nN100 G91 G1 X1. F100.\nG90 M99\n%\n";
     assert_eq!(run(haas, Controller::Fanuc), Ok(1));

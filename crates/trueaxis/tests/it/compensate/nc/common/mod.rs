@@ -4,6 +4,7 @@
 //! ([`oracle`]). Each test uses a part.
 #![allow(dead_code)]
 
+pub mod fadal_to_ngc;
 pub mod fanuc_to_ngc;
 pub mod oracle;
 pub mod rs274;

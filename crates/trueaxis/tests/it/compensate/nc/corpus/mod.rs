@@ -5,8 +5,8 @@
 //!
 //! Each program must run in LinuxCNC's `rs274` (as it is when written for a LinuxCNC-compatible
 //! controller: LinuxCNC, PathPilot, Mach3, grbl; rewritten as RS274/NGC by
-//! [`super::common::fanuc_to_ngc`] when written for a Fanuc, Haas or Fadal, by
-//! [`super::common::siemens_to_ngc`] when written for a SINUMERIK 840D), which must run the
+//! [`super::common::fanuc_to_ngc`] when written for a Fanuc, Haas or Fadal (a Fadal one first by
+//! `fadal_to_ngc`), by [`super::common::siemens_to_ngc`] when written for a SINUMERIK 840D), which must run the
 //! corrected program too; its canonical moves, pushed through the erroneous machine, must land on
 //! the original's within 0.05 um (path within 1.05 um: the 1 um split tolerance), as for LinuxCNC's
 //! samples, or within half the last written increment on each axis for the Fanuc family (sqrt 3 x
@@ -88,11 +88,13 @@ fn refused(message: String) -> Outcome {
 
 /// The program rs274 reads for `bytes`: a LinuxCNC-compatible program as it is (Mach3's `M98`
 /// subprograms rewritten as O-word subroutines, grbl's `$` system commands as moves and comments), a Fanuc-family one rewritten as RS274/NGC
-/// ([`fanuc_to_ngc`]), a SINUMERIK one with its subprogram files too ([`siemens_to_ngc`]);
-/// `None` when it uses what the rewriting does not take.
+/// ([`fanuc_to_ngc`]; a Fadal one by `fadal_to_ngc`), a SINUMERIK one with its subprogram files too
+/// ([`siemens_to_ngc`]); `None` when it uses what the rewriting does not take.
 fn as_ngc(s: &Sample, bytes: &[u8]) -> Option<Vec<u8>> {
     if s.dialect == Controller::Siemens {
         siemens_to_ngc(&String::from_utf8_lossy(bytes), &styles::siemens_subprograms()).map(String::into_bytes)
+    } else if s.dialect == Controller::Fadal {
+        super::common::fadal_to_ngc::translate(&String::from_utf8_lossy(bytes)).map(String::into_bytes)
     } else if s.dialect.family() == Dialect::Fanuc {
         fanuc_to_ngc::translate(&String::from_utf8_lossy(bytes)).map(String::into_bytes)
     } else if let Some(mach) = std::str::from_utf8(bytes).ok().filter(|t| t.contains("M98")) {

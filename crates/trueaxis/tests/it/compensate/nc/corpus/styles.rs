@@ -23,7 +23,7 @@ pub struct Sample {
 /// A style: post, controller, its dialect, whether rs274 reads it, the program of variant k.
 pub type Style = (&'static str, &'static str, Controller, bool, fn(usize) -> Vec<u8>);
 
-pub const STYLES: [Style; 24] = [
+pub const STYLES: [Style; 26] = [
     ("Fusion 360 haas.cps", "Haas NGC", Controller::Haas, false, fusion_haas),
     ("Fusion 360 fanuc.cps", "Fanuc 0i", Controller::Fanuc, false, fusion_fanuc),
     ("Mastercam MPFAN", "Fanuc 0i", Controller::Fanuc, false, mastercam),
@@ -48,6 +48,8 @@ pub const STYLES: [Style; 24] = [
     ("Fusion 360 siemens-840d.cps", "SINUMERIK 840D sl", Controller::Siemens, false, fusion_siemens),
     ("hand-written 840D (R parameters, frames)", "SINUMERIK 840D sl", Controller::Siemens, false, siemens_hand),
     ("hand-written 840D (loops, DEF, jumps, AR= arcs)", "SINUMERIK 840D sl", Controller::Siemens, false, siemens_flow),
+    ("Fusion 360 fadal.cps (E fixture offsets)", "Fadal 88HS", Controller::Fadal, false, fusion_fadal),
+    ("hand-written Fadal macro (# V loop, M98)", "Fadal 88HS", Controller::Fadal, false, fadal_macro),
 ];
 
 /// The whole corpus: `per_style` variants of each style.
@@ -1088,4 +1090,123 @@ fn siemens_flow(k: usize) -> Vec<u8> {
         3 => crlf(w.out),
         _ => w.out.into_bytes(),
     }
+}
+
+/// Fusion 360 for Fadal (`fadal.cps`, format 2 with E numbers): `%`, `O1101 (NAME)`, the tool
+/// list, `G90 G94 G17`, the units, a blank line before each operation, `T1 M6`, the dwell of three
+/// spindle turns `G4 P..` (ms), `G90 G0 E.. X.. Y..`, `G0 G43 Z.. H..`, `G17` around operations,
+/// `M1`, a `G0` alone before the cycle, `G98 G90 G81/G83/G73/G85 .. R0+5.000` (the R plane as the
+/// R0 word with its sign, 3 or 4 decimals), `G28 G91 Z0.` / `G90`, `G90 G0` then `G53 X0. Y0.`.
+fn fusion_fadal(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 4 == 3);
+    let decimals = if p.inch { 4 } else { 3 };
+    let mut w = W::new(Digits::Trim(decimals, true), " ");
+    let (e1, e2) = ([1, 2, 3][k % 3], [7, 8, 2, 4][k % 4]);
+    w.raw("%");
+    w.raw(&format!("O{:04} (FADAL {k})", 1100 + k));
+    w.raw(&format!("(T1  D=6. CR=0. - ZMIN=-{} - FLAT END MILL)", w.num(p.depth)));
+    w.raw(&format!("(T2  D=5. CR=0. TAPER=118DEG - ZMIN=-{} - DRILL)", w.num(p.hole_depth)));
+    w.seq = Some((10, 5));
+    w.line("G90 G94 G17");
+    w.line(units(&p));
+    w.raw("");
+    w.raw("(2D CONTOUR1)");
+    w.line("T1 M6");
+    w.line(&format!("S{} M3", p.spindle));
+    w.line(&format!("G4 P{}", (3.0 * 60.0 / f64::from(p.spindle) * 1000.0).round()));
+    w.line("G17");
+    w.line(&format!("G90 G0 E{e1} X{} Y{}", w.num(p.x0 + p.w / 2.0), w.num(p.y0)));
+    w.line(&format!("G0 G43 Z{} H1", w.num(p.clear)));
+    w.line("M8");
+    w.reset();
+    w.rapid(Some(p.x0 + p.w / 2.0), Some(p.y0), Some(p.clear));
+    w.contour(&p);
+    w.line("G17");
+    w.line("M9");
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.reset();
+    w.raw("");
+    w.raw("(DRILL1)");
+    w.line("M1");
+    w.line("T2 M6");
+    w.line(&format!("S{} M3", p.spindle / 2));
+    w.line("G17");
+    w.line(&format!("G90 G0 E{e2} X{} Y{}", w.num(p.holes[0][0]), w.num(p.holes[0][1])));
+    w.line(&format!("G0 G43 Z{} H2", w.num(p.clear)));
+    w.line("M8");
+    w.line("G0");
+    w.reset();
+    let cycle = if p.cycle == Cycle::Tap { Cycle::Drill } else { p.cycle };
+    w.cycle(&p, "G98 G90", cycle);
+    w.line("G17");
+    w.line("M9");
+    w.line("G28 G91 Z0.");
+    w.line("G90");
+    w.line("G90 G0");
+    w.line("G53 X0. Y0.");
+    w.line("M30");
+    w.raw("%");
+    // the R plane as fadal.cps writes it: `R0` and the value with its sign and all its decimals
+    let r = format!(" R{}", w.num(p.safe));
+    let r0 = format!(" R0{:+.decimals$}", p.safe);
+    w.out.replace(&r, &r0).into_bytes()
+}
+
+/// A Fadal program written by hand with macro statements: `E1`, `# CLEAR`, depth passes of an
+/// incremental square made a loop by `#:PASS` ... `# IF V1 LT V2 THEN GOTO :PASS`, `# PRINT`, a
+/// jump forward over a block when there are more than two passes, and in some variants an `M98`
+/// subprogram of incremental moves run twice (its `O` program after `M30`).
+fn fadal_macro(k: usize) -> Vec<u8> {
+    let p = Part::new(k, k % 5 == 4);
+    let mut w = W::new(Digits::Trim(if p.inch { 4 } else { 3 }, true), " ");
+    let step = ((p.depth / p.passes as f64) * 1e4).round() / 1e4;
+    w.raw("%");
+    w.seq = Some((1, 1));
+    w.line(&format!("O{} (FADAL MACRO {k})", 7100 + k));
+    w.line(&format!("G90 G80 G40 G17 {}", units(&p)));
+    w.line("M6 T1");
+    w.line(&format!("G0 E1 X{} Y{} S{} M3", w.num(p.x0), w.num(p.y0), p.spindle));
+    w.line(&format!("G43 H1 Z{} M8", w.num(p.clear)));
+    w.line(&format!("G0 Z{}", w.num(p.safe)));
+    w.line(&format!("G1 Z0. F{}", w.num(p.plunge)));
+    w.seq = None;
+    let lines = [
+        "# CLEAR".to_string(),
+        "# V1 = 0".into(),
+        format!("# V2 = {}", p.passes),
+        "#:PASS".into(),
+        format!("G91 G1 Z-{} F{}", w.num(step), w.num(p.plunge)),
+        format!("X{} F{}", w.num(p.w), w.num(p.feed)),
+        format!("Y{}", w.num(p.h)),
+        format!("X-{}", w.num(p.w)),
+        format!("Y-{}", w.num(p.h)),
+        "G90".into(),
+        "# V1 = V1 + 1".into(),
+        "# IF V1 LT V2 THEN GOTO :PASS".into(),
+        "# PRINT \"PASSES DONE \", V1".into(),
+        format!("G0 Z{}", w.num(p.clear)),
+    ];
+    for l in lines {
+        w.raw(&l);
+    }
+    if k % 3 == 0 {
+        w.raw(&format!("M98 P{} L2", 7200 + k));
+    }
+    w.raw("# IF V2 GT 2 THEN GOTO :SKIP");
+    w.raw(&format!("G0 X{} Y{}", w.num(p.x0 + p.w), w.num(p.y0)));
+    w.raw("#:SKIP");
+    w.raw("G0 G91 G28 Z0.");
+    w.raw("G90");
+    w.raw("M30");
+    if k % 3 == 0 {
+        w.raw(&format!("O{} (STEP)", 7200 + k));
+        w.raw(&format!("G91 G0 X{}", w.num(p.peck)));
+        w.raw(&format!("G1 Z-{} F{}", w.num(p.peck), w.num(p.plunge)));
+        w.raw(&format!("G0 Z{}", w.num(p.peck)));
+        w.raw("G90");
+        w.raw("M99");
+    }
+    w.raw("%");
+    w.out.into_bytes()
 }
