@@ -22,9 +22,10 @@ use trueaxis::machine::Machine;
 Runs the program as the controller does: parameters and expressions, O-word subroutines and\n\
 loops (LinuxCNC), macro variables, IF/GOTO/WHILE and M98/M99/G65 (Fanuc, Haas, Mach3/Mach4),\n\
 Haas M97, grbl $J= jogs, the SINUMERIK 840D's R parameters, CR= arcs, TRANS/ATRANS, L\n\
-subprograms and CYCLE81/CYCLE82, tool length offsets (G43 H or D from --tool-table), work\n\
-offsets (G54-G59.3 from --parameters or --offset, G10 L2/L20), G92, G28/G30, G53, canned cycles\n\
-G73 G81-G89 (kept as cycles in G90), arcs in G17/G18/G19, G20/G21, G93/G94/G95.\n\
+subprograms and CYCLE81-CYCLE83 (called directly or with MCALL), tool length offsets (G43 H or\n\
+D from --tool-table), work offsets (G54-G59.3 from --parameters or --offset, G10 L2/L20), G92,\n\
+G28/G30, G53, canned cycles G73 G81-G89 and CYCLE81-CYCLE83 (kept as cycles in G90), arcs in\n\
+G17/G18/G19, G20/G21, G93/G94/G95.\n\
 Refused with the line and the reason: probing (G38.x, G31), spindle-synchronised motion (G33,\n\
 LinuxCNC G76), tapping in G91, cutter radius compensation (G41/G42). The corrected program\n\
 starts with a header naming the machine and error files and their SHA-256; a program with that\n\
@@ -58,7 +59,7 @@ pub struct NcArgs {
     /// Refuse a tool that is not in the tool table instead (the line named).
     #[arg(long)]
     strict_tools: bool,
-    /// Write drilling and boring cycles (G73 G81-G83 G85 G86 G89) as plain moves, each point
+    /// Write drilling and boring cycles (G73 G81-G83 G85 G86 G89, SINUMERIK CYCLE81-CYCLE83) as plain moves, each point
     /// corrected, instead of keeping them as cycles with the hole position, the bottom and R
     /// corrected at the hole (the default; see docs/nc.md). Tapping stays a cycle.
     #[arg(long)]

@@ -170,14 +170,12 @@ impl Writer<'_> {
         let file = &self.program.files[step.file as usize];
         let text = file.line_text(k).to_string();
         let Ok(line) = &file.lines[k] else { unreachable!("an executed line was read") };
-        let mut out = Vec::new();
-        let (position, block) = if sh.modal {
+        let (position, block, nudge) = if sh.modal {
             let (position, block) = self.hole_words(step, line, &text, &e)?;
-            (position, Some(block))
+            (position, Some(block), None)
         } else {
             let (position, nudge) = self.hole_nudge(&e, sh.linear_motion)?;
-            out.extend(nudge);
-            (position, None)
+            (position, None, nudge)
         };
         let (d, edits) = self.corrected_parameters(&sh.drilling, &e)?;
         let call_file = &self.program.files[sh.drilling.call.0 as usize];
@@ -191,6 +189,9 @@ impl Writer<'_> {
             wanted[*i] = value.clone();
         }
         let call_end = call_end + call.len() - call_text.len();
+        // nothing can fail from here on
+        self.report_siemens(hole, sh, step, &e, position, &d)?;
+        let mut out = Vec::new();
         let new = match block {
             Some(block) => {
                 if self.siemens_mcall != Mcall::On(d.number, wanted.clone()) {
@@ -199,9 +200,16 @@ impl Writer<'_> {
                 }
                 block
             }
-            None => call,
+            None => {
+                if nudge.is_some() && self.siemens_mcall != Mcall::Off {
+                    // the modal call in force would drill at the block that positions the hole
+                    out.push("MCALL".to_string());
+                    self.siemens_mcall = Mcall::Off;
+                }
+                out.extend(nudge);
+                call
+            }
         };
-        self.report_siemens(hole, sh, step, &e, position, &d)?;
         if new != text {
             self.changed_lines += 1;
         }
