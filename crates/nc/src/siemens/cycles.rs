@@ -38,7 +38,7 @@ pub const SIEMENS_CODE: u16 = 10_000;
 /// index of its first stroke among the step's moves (after the block's own positioning move
 /// under `MCALL`), and, for a direct call, whether the modal motion was G0 or G1 (a correction of
 /// the hole position is then written as a move of its own before the call).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Hole {
     pub step: u32,
     pub drilling: Drilling,
@@ -59,8 +59,9 @@ pub(crate) fn call(exec: &mut Exec, file: &SourceFile, call: &Call, step: usize)
         Call::Cycle { number, args, modal } => (*number, args, *modal),
     };
     let values = args.iter().map(|a| a.map(|e| exec.eval(file, e)).transpose()).collect::<Result<Vec<_>, _>>()?;
-    let at = (exec.trace.steps[step].file, exec.trace.steps[step].line);
-    let drilling = Drilling::of(number, &values, exec.state.frame.inch, at)?;
+    let text = file.line_text(exec.trace.steps[step].line as usize);
+    let written = super::kept::call_spans(text).map_or(String::new(), |(start, end, _)| text[start..end].to_string());
+    let drilling = Drilling::of(number, &values, exec.state.frame.inch, written)?;
     if modal {
         // with --expand-cycles the call is not written again: the holes it drills become plain moves
         if exec.expand_cycles {
@@ -74,7 +75,7 @@ pub(crate) fn call(exec: &mut Exec, file: &SourceFile, call: &Call, step: usize)
 
 /// The modal cycle after a block that programmed a position.
 pub(crate) fn modal(exec: &mut Exec, step: usize) -> Result<(), String> {
-    let drilling = exec.siemens_mcall.expect("a modal cycle");
+    let drilling = exec.siemens_mcall.clone().expect("a modal cycle");
     drill(exec, &drilling, step, true)
 }
 
@@ -111,7 +112,7 @@ fn drill(exec: &mut Exec, d: &Drilling, step: usize, modal: bool) -> Result<(), 
     }
     if keep {
         let linear_motion = matches!(exec.state.motion, Motion::Rapid | Motion::Feed);
-        exec.trace.siemens_holes.push(Hole { step: step as u32, drilling: *d, first, modal, linear_motion });
+        exec.trace.siemens_holes.push(Hole { step: step as u32, drilling: d.clone(), first, modal, linear_motion });
         exec.trace.holes.push(CycleHole {
             step: step as u32,
             code: SIEMENS_CODE + 10 * d.number,

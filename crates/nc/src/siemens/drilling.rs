@@ -45,7 +45,7 @@ pub struct Pecking {
 }
 
 /// A drilling cycle's values (program units, along Z).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Drilling {
     pub number: u16,
     /// Retraction plane RTP, reference plane RFP, safety distance SDIS (without sign), final depth.
@@ -58,8 +58,8 @@ pub struct Drilling {
     /// Dwell at the final depth (s).
     pub dwell: f64,
     pub pecking: Option<Pecking>,
-    /// Where the call was written: file and line index.
-    pub call: (u32, u32),
+    /// The call as written, from `MCALL` or `CYCLE` to its `)`.
+    pub call: String,
 }
 
 /// One move (or dwell) of a cycle after its positioning.
@@ -88,7 +88,7 @@ impl Drilling {
     }
 
     /// From the values of `CYCLE<number>(...)` (empty: `None`), in a program in `inch`.
-    pub fn of(number: u16, v: &[Option<f64>], inch: bool, call: (u32, u32)) -> Result<Drilling, String> {
+    pub fn of(number: u16, v: &[Option<f64>], inch: bool, call: String) -> Result<Drilling, String> {
         let name = format!("CYCLE{number}");
         let modes = Self::parameters(number);
         if v.len() > modes + 3 {
@@ -217,7 +217,7 @@ mod tests {
     use super::*;
 
     fn of(number: u16, v: &[Option<f64>]) -> Result<Drilling, String> {
-        Drilling::of(number, v, false, (0, 0))
+        Drilling::of(number, v, false, String::new())
     }
 
     #[test]
@@ -259,7 +259,7 @@ mod tests {
         v[7] = None;
         v[11] = None;
         v[14] = None;
-        let inch = Drilling::of(83, &v, true, (0, 0)).unwrap();
+        let inch = Drilling::of(83, &v, true, String::new()).unwrap();
         assert!((inch.pecking.unwrap().back - 1.0 / 25.4).abs() < 1e-15);
     }
 }

@@ -178,24 +178,15 @@ impl Writer<'_> {
             (position, None, nudge)
         };
         let (d, edits) = self.corrected_parameters(&sh.drilling, &e)?;
-        let call_file = &self.program.files[sh.drilling.call.0 as usize];
-        let call_text = call_file.line_text(sh.drilling.call.1 as usize);
-        let (call_start, call_end, spans) = call_spans(call_text)?;
-        let mut call = call_text.to_string();
-        let mut wanted: Vec<String> = spans.iter().map(|r| call_text[r.clone()].to_string()).collect();
-        for (i, value) in edits.iter().rev() {
-            let range = spans.get(*i)?.clone();
-            call.replace_range(range, value);
-            wanted[*i] = value.clone();
-        }
-        let call_end = call_end + call.len() - call_text.len();
+        // the call with its parameters changed: the modal call as written, or the direct call's line
+        let (call, wanted) = with_parameters(if sh.modal { &sh.drilling.call } else { &text }, &edits)?;
         // nothing can fail from here on
         self.report_siemens(hole, sh, step, &e, position, &d)?;
         let mut out = Vec::new();
         let new = match block {
             Some(block) => {
                 if self.siemens_mcall != Mcall::On(d.number, wanted.clone()) {
-                    out.push(call[call_start..call_end].to_string());
+                    out.push(call);
                     self.siemens_mcall = Mcall::On(d.number, wanted);
                 }
                 block
@@ -282,7 +273,7 @@ impl Writer<'_> {
             edits.push((index, text));
             taken
         };
-        let mut c = *d;
+        let mut c = d.clone();
         c.rtp = level(0, d.rtp, e.rtp, &mut edits);
         c.rfp = level(1, d.rfp, e.start - d.sdis, &mut edits);
         c.depth = if d.relative {
@@ -359,6 +350,19 @@ impl Writer<'_> {
         });
         Some(())
     }
+}
+
+/// `text` with the parameters of its cycle call replaced by `edits` (index, text), and the
+/// parameters it then has; `None` when it has no such parameter.
+fn with_parameters(text: &str, edits: &[(usize, String)]) -> Option<(String, Vec<String>)> {
+    let (_, _, spans) = call_spans(text)?;
+    let mut out = text.to_string();
+    let mut wanted: Vec<String> = spans.iter().map(|r| text[r.clone()].to_string()).collect();
+    for (i, value) in edits.iter().rev() {
+        out.replace_range(spans.get(*i)?.clone(), value);
+        wanted[*i] = value.clone();
+    }
+    Some((out, wanted))
 }
 
 /// The name of a kept cycle's code: `CYCLE81` for a SINUMERIK one, else `G81`, `G73`...
