@@ -353,8 +353,8 @@ fn values_in_the_other_distance_mode_are_corrected() {
     assert!(!corrected.contains("IC(") && !corrected.contains("AC("), "{corrected}");
 }
 
-/// Deep-hole drilling as the 840D's CYCLE83 does it (Programming Guide Cycles, "Deep-hole drilling
-/// - CYCLE83"), in the parameter order Autodesk's 840D post writes (`MCALL CYCLE83(RTP, RFP, SDIS,
+/// Deep-hole drilling as the 840D's CYCLE83 does it (Programming Guide Cycles, "Deep-hole
+/// drilling, CYCLE83"), in the parameter order Autodesk's 840D post writes (`MCALL CYCLE83(RTP, RFP, SDIS,
 /// DP, , FDEP, , DAM, , , FRF, VARI, , _MDEP, _VRT, _DTD, _DIS1)`): chip breaking under `MCALL`
 /// over two holes, swarf removal called directly with DPR, FDPR, DTS, `_DTD` and `_DIS1`.
 const DEEP: &str = "\
