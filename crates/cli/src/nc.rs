@@ -22,11 +22,12 @@ use trueaxis::machine::Machine;
 Runs the program as the controller does: parameters and expressions, O-word subroutines and\n\
 loops (LinuxCNC), macro variables, IF/GOTO/WHILE and M98/M99/G65 (Fanuc, Haas, Mach3/Mach4),\n\
 Haas M97, grbl $J= jogs, the SINUMERIK 840D's R parameters and DEF variables, CR=/AR= arcs,\n\
-TRANS/ATRANS, GOTOF/GOTOB, IF, WHILE, FOR, LOOP, REPEAT, L subprograms and CYCLE81/CYCLE82,\n\
-Fadal E fixture offsets, R0+ planes and # macro statements (V and R variables, IF/GOTO to\n\
-labels), tool length offsets (G43 H or D from --tool-table), work offsets (G54-G59.3, Fadal\n\
-E1-E48, from --parameters or --offset, G10 L2/L20), G92, G28/G30, G53, canned cycles G73\n\
-G81-G89 (kept as cycles in G90), arcs in G17/G18/G19, G20/G21, G93/G94/G95.\n\
+TRANS/ATRANS, GOTOF/GOTOB, IF, WHILE, FOR, LOOP, REPEAT, L subprograms and CYCLE81-CYCLE83\n\
+(called directly or with MCALL), Fadal E fixture offsets, R0+ planes and # macro statements (V\n\
+and R variables, IF/GOTO to labels), tool length offsets (G43 H or D from --tool-table), work\n\
+offsets (G54-G59.3, Fadal E1-E48, from --parameters or --offset, G10 L2/L20), G92, G28/G30,\n\
+G53, canned cycles G73 G81-G89 and CYCLE81-CYCLE83 (kept as cycles in G90), arcs in\n\
+G17/G18/G19, G20/G21, G93/G94/G95.\n\
 Refused with the line and the reason: probing (G38.x, G31), spindle-synchronised motion (G33,\n\
 LinuxCNC G76), tapping in G91, cutter radius compensation (G41/G42). The corrected program\n\
 starts with a header naming the machine and error files and their SHA-256; a program with that\n\
@@ -60,7 +61,7 @@ pub struct NcArgs {
     /// Refuse a tool that is not in the tool table instead (the line named).
     #[arg(long)]
     strict_tools: bool,
-    /// Write drilling and boring cycles (G73 G81-G83 G85 G86 G89) as plain moves, each point
+    /// Write drilling and boring cycles (G73 G81-G83 G85 G86 G89, SINUMERIK CYCLE81-CYCLE83) as plain moves, each point
     /// corrected, instead of keeping them as cycles with the hole position, the bottom and R
     /// corrected at the hole (the default; see docs/nc.md). Tapping stays a cycle.
     #[arg(long)]

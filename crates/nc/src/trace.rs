@@ -172,6 +172,8 @@ pub struct Trace {
     pub assumed_tools: Vec<u32>,
     /// The canned-cycle blocks to be written as cycles (in step order).
     pub holes: Vec<CycleHole>,
+    /// The SINUMERIK holes among them, with their cycles' values (in step order).
+    pub siemens_holes: Vec<crate::siemens::cycles::Hole>,
 }
 
 /// A canned-cycle block kept as a cycle in the corrected program: one hole position in the plane

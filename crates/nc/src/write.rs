@@ -60,6 +60,8 @@ pub struct Writer<'a> {
     cycle_initial: Option<f64>,
     /// The peck depth of the original and the one written for it (program units).
     cycle_q: Option<(f64, f64)>,
+    /// The SINUMERIK modal cycle call (`MCALL CYCLE8x`) the corrected program has in force.
+    pub(crate) siemens_mcall: crate::siemens::kept::Mcall,
     /// The line of the main file that line 0 of the program's main file is, and the moves of the
     /// run before the trace's (a file written in parts); the line end of added lines (the file's
     /// first line's).
@@ -81,6 +83,7 @@ pub struct Carry {
     cycle_valid: bool,
     cycle_initial: Option<f64>,
     cycle_q: Option<(f64, f64)>,
+    siemens_mcall: crate::siemens::kept::Mcall,
     pub eol: Ending,
 }
 
@@ -117,6 +120,7 @@ impl<'a> Writer<'a> {
             cycle_valid: false,
             cycle_initial: None,
             cycle_q: None,
+            siemens_mcall: Default::default(),
             line_offset: 0,
             move_offset: 0,
             eol: match program.files[0].endings.first() {
@@ -139,6 +143,7 @@ impl<'a> Writer<'a> {
             cycle_valid: self.cycle_valid,
             cycle_initial: self.cycle_initial,
             cycle_q: self.cycle_q,
+            siemens_mcall: self.siemens_mcall,
             eol: self.eol,
         }
     }
@@ -155,6 +160,7 @@ impl<'a> Writer<'a> {
         self.cycle_valid = c.cycle_valid;
         self.cycle_initial = c.cycle_initial;
         self.cycle_q = c.cycle_q;
+        self.siemens_mcall = c.siemens_mcall;
         self.eol = c.eol;
     }
 
@@ -167,16 +173,16 @@ impl<'a> Writer<'a> {
     }
 
     /// Half a unit of the last written decimal of axis `k` (program units).
-    fn half(&self, frame: &Frame, k: usize) -> f64 {
+    pub(crate) fn half(&self, frame: &Frame, k: usize) -> f64 {
         0.5 * 10f64.powi(-(self.decimals_of(frame, k) as i32))
     }
 
-    fn axis_text(&self, frame: &Frame, k: usize, v: f64) -> String {
+    pub(crate) fn axis_text(&self, frame: &Frame, k: usize, v: f64) -> String {
         format_number(v, self.decimals_of(frame, k), self.dialect)
     }
 
     /// Program point of machine position `m` in `frame` (axes the machine lacks: `default`).
-    fn program_of(&self, frame: &Frame, m: &Axes, default: &Vec9) -> Vec9 {
+    pub(crate) fn program_of(&self, frame: &Frame, m: &Axes, default: &Vec9) -> Vec9 {
         let mut ext = frame.external(default);
         let s = frame.scale();
         for (k, e) in ext.iter_mut().enumerate() {
@@ -188,7 +194,7 @@ impl<'a> Writer<'a> {
     }
 
     /// Machine position of program point `p` in `frame`.
-    fn machine_of(&self, frame: &Frame, p: &Vec9) -> Axes {
+    pub(crate) fn machine_of(&self, frame: &Frame, p: &Vec9) -> Axes {
         let m = frame.machine(p);
         let mut out = self.written;
         for (k, slot) in self.axis_map.iter().enumerate() {
@@ -295,7 +301,7 @@ impl<'a> Writer<'a> {
     /// The corrected targets of the pieces of `m`, and the arc centres (machine). The
     /// intermediate point of a `G28`/`G30` that does not move (`G28 G91 Z0`) is where the controller
     /// already is: nothing to correct.
-    fn targets(&self, m: &Move, pieces: &Pieces) -> Vec<(Axes, Option<[f64; 2]>, f64)> {
+    pub(crate) fn targets(&self, m: &Move, pieces: &Pieces) -> Vec<(Axes, Option<[f64; 2]>, f64)> {
         if matches!(m.role, Role::Intermediate { .. }) && m.start == m.end {
             return vec![(self.written, None, 1.0)];
         }
@@ -348,7 +354,7 @@ impl<'a> Writer<'a> {
         })
     }
 
-    fn frame(&self, m: &Move) -> Frame {
+    pub(crate) fn frame(&self, m: &Move) -> Frame {
         self.trace.frames[m.frame as usize]
     }
 
@@ -754,6 +760,10 @@ impl<'a> Writer<'a> {
 
     fn write_step(&mut self, index: usize, pieces: &[Pieces]) {
         let step = &self.trace.steps[index];
+        let siemens = self.program.controller == crate::Controller::Siemens;
+        if siemens {
+            self.siemens_track(index);
+        }
         if let Some(r) = self.plan.region_of[index] {
             let region = &self.plan.regions[r as usize];
             if index == region.steps.start {
@@ -771,6 +781,11 @@ impl<'a> Writer<'a> {
                 self.region.extend(lines);
                 self.region_changed = true;
             } else if !step.has(crate::trace::flags::CONTROL) || !step.actions.is_empty() {
+                // a SINUMERIK modal call in force would drill at each expanded move
+                if let Some(off) = self.siemens_call_off(step).filter(|_| siemens) {
+                    self.region.push(off);
+                    self.region_changed = true;
+                }
                 let lines = self.expanded(step, pieces, None);
                 self.region.extend(lines);
             }
@@ -785,6 +800,7 @@ impl<'a> Writer<'a> {
         let k = step.line as usize;
         match self.plan.lines[k] {
             LineOut::InPlace(s) if s as usize == index => match self.trace.hole_of(index) {
+                Some(_) if siemens => self.siemens_hole(index, pieces, k),
                 Some(hole) => match self.kept_cycle(hole, step, pieces) {
                     Some(lines) => self.out[k] = Some(lines),
                     None => self.single(step, pieces, k),
@@ -794,6 +810,7 @@ impl<'a> Writer<'a> {
                     self.out[k] = Some(lines);
                 }
             },
+            LineOut::Single(s) if s as usize == index && siemens => self.siemens_single(index, pieces, k),
             LineOut::Single(s) if s as usize == index => self.single(step, pieces, k),
             _ => {
                 // a step of a line kept as it is (a comment, a block without moves)
@@ -806,7 +823,7 @@ impl<'a> Writer<'a> {
 
     /// A block replaced by its moves where it stands (a canned cycle, an arc of several turns, a
     /// spline), or its text when nothing changes at the written resolution.
-    fn single(&mut self, step: &Step, pieces: &[Pieces], k: usize) {
+    pub(crate) fn single(&mut self, step: &Step, pieces: &[Pieces], k: usize) {
         let sequence = self.program.files[0].lines[k].as_ref().ok().and_then(|l| l.sequence);
         self.region_changed = false;
         let mut lines = self.expanded(step, pieces, sequence);

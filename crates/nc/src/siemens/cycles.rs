@@ -1,30 +1,26 @@
-//! The SINUMERIK drilling cycles (SINUMERIK 840D sl Programming Manual Job Planning / Cycles,
-//! "Drilling, centering - CYCLE81", "Drilling, counterboring - CYCLE82"), called at the current
-//! position (`CYCLE81(...)`) or modally (`MCALL CYCLE81(...)`: after every block that programs a
-//! position, until `MCALL` alone), run as the manual's sequence of moves in G17 along Z:
+//! The SINUMERIK drilling cycles CYCLE81-CYCLE83 run (their values and strokes:
+//! [`super::drilling`]), called at the current position (`CYCLE81(...)`) or modally (`MCALL
+//! CYCLE81(...)`: after every block that programs a position, until `MCALL` alone or another
+//! `MCALL CYCLE..`; SINUMERIK 840D sl Programming Manual Fundamentals, "Modal subprogram call
+//! (MCALL)"), in G17 along Z.
 //!
-//! - `G0` to the reference plane plus the safety distance, RFP + SDIS;
-//! - `G1` at the programmed feed to the final depth: DP (absolute), or RFP - DPR when DPR (the
-//!   depth relative to the reference plane, without sign) is given, which then counts;
-//! - CYCLE82: the dwell DTB (seconds) at the depth;
-//! - `G0` to the retraction plane RTP.
-//!
-//! Parameters: `CYCLE81(RTP, RFP, SDIS, DP, DPR)`, `CYCLE82(RTP, RFP, SDIS, DP, DPR, DTB)`, each
-//! may be left empty (0, as the cycle takes it; DP or DPR must give the depth); the 840D sl's
-//! trailing `_GMODE, _DMODE, _AMODE` are read when `_GMODE` and `_AMODE` are empty or 0 (`_DMODE`
-//! only sets the display). The holes are written
-//! as plain moves (each point corrected), the cycle call taken out of the corrected program.
+//! By default each hole is recorded as a [`crate::trace::CycleHole`] (code
+//! [`SIEMENS_CODE`] + 10 x the cycle number) and a [`Hole`], to be written as a cycle again with
+//! its hole position and levels corrected (`super::kept`); a hole in G91 (its position an
+//! increment) or outside G17, and every hole with `expand_cycles`, is expanded into plain moves
+//! (each point corrected, the call taken out of the corrected program).
 
+pub use super::drilling::{Drilling, Stroke};
 use crate::expr::ExprId;
 use crate::interpret::{Exec, Flow};
-use crate::modal::PlaneSelect;
+use crate::modal::{Motion, PlaneSelect};
 use crate::program::SourceFile;
-use crate::trace::{flags, Role};
+use crate::trace::{flags, CycleHole, Role};
 
 /// A cycle call or the end of a modal one.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Call {
-    /// `CYCLE81(...)`-`CYCLE82(...)`, `modal` after `MCALL`; its parameters as written (empty: `None`).
+    /// `CYCLE81(...)`-`CYCLE83(...)`, `modal` after `MCALL`; its parameters as written (empty: `None`).
     Cycle { number: u16, args: Vec<Option<ExprId>>, modal: bool },
     /// `MCALL` alone: the modal call off.
     ModalOff,
@@ -34,52 +30,21 @@ pub enum Call {
     Return,
 }
 
-/// A drilling cycle's values (program units, along Z).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Drilling {
-    pub number: u16,
-    /// Retraction plane RTP, the plane where the drilling starts (RFP + SDIS), the final depth.
-    pub rtp: f64,
-    pub start: f64,
-    pub depth: f64,
-    /// Dwell at the depth (s).
-    pub dwell: f64,
-}
+/// The code of a SINUMERIK cycle in [`crate::trace::CycleHole::code`]: this plus 10 x its number
+/// (CYCLE81: 10810), apart from the G codes x 10 of the other dialects' cycles.
+pub const SIEMENS_CODE: u16 = 10_000;
 
-impl Drilling {
-    /// From the values of `CYCLE<number>(...)`.
-    fn of(number: u16, v: &[Option<f64>]) -> Result<Drilling, String> {
-        let name = format!("CYCLE{number}");
-        // the 840D sl's mode parameters _GMODE, _DMODE (display only), _AMODE after the others
-        let modes = if number == 81 { 5 } else { 6 };
-        if v.len() > modes + 3 {
-            return Err(format!("{name} takes {} parameters, not {}", modes + 3, v.len()));
-        }
-        let get = |k: usize| v.get(k).copied().flatten();
-        for (k, mode) in [(modes, "_GMODE"), (modes + 2, "_AMODE")] {
-            if let Some(m) = get(k).filter(|&m| m != 0.0) {
-                return Err(format!("{name}: {mode} {m} (a mode of the 840D sl's cycle) is not read: leave it empty or 0"));
-            }
-        }
-        let (rtp, rfp, sdis) = (get(0).unwrap_or(0.0), get(1).unwrap_or(0.0), get(2).unwrap_or(0.0).abs());
-        let depth = match (get(3), get(4)) {
-            (_, Some(dpr)) if dpr != 0.0 => rfp - dpr.abs(),
-            (Some(dp), _) => dp,
-            _ => return Err(format!("{name} without its final depth DP or DPR")),
-        };
-        let dwell = get(5).unwrap_or(0.0);
-        if dwell < 0.0 {
-            return Err(format!("{name}: the dwell DTB in revolutions ({dwell}) is not read: give it in seconds"));
-        }
-        let start = rfp + sdis;
-        if depth >= start {
-            return Err(format!("{name}: the final depth {depth} is not below the reference plane plus the safety distance {start}"));
-        }
-        if rtp < start {
-            return Err(format!("{name}: the retraction plane RTP {rtp} is below the reference plane plus the safety distance {start}"));
-        }
-        Ok(Drilling { number, rtp, start, depth, dwell })
-    }
+/// A SINUMERIK hole recorded for writing as a cycle again: the step, the cycle's values, the
+/// index of its first stroke among the step's moves (after the block's own positioning move
+/// under `MCALL`), and, for a direct call, whether the modal motion was G0 or G1 (a correction of
+/// the hole position is then written as a move of its own before the call).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Hole {
+    pub step: u32,
+    pub drilling: Drilling,
+    pub first: u32,
+    pub modal: bool,
+    pub linear_motion: bool,
 }
 
 /// Runs the cycle call of a block, or sets or ends the modal call; a subprogram call or return
@@ -94,58 +59,75 @@ pub(crate) fn call(exec: &mut Exec, file: &SourceFile, call: &Call, step: usize)
         Call::Cycle { number, args, modal } => (*number, args, *modal),
     };
     let values = args.iter().map(|a| a.map(|e| exec.eval(file, e)).transpose()).collect::<Result<Vec<_>, _>>()?;
-    let drilling = Drilling::of(number, &values)?;
-    // the call is not written again: the holes it drills become plain moves
-    exec.trace.steps[step].flags |= flags::EXPAND | flags::SIEMENS_CYCLE;
+    let text = file.line_text(exec.trace.steps[step].line as usize);
+    let written = super::kept::call_spans(text).map_or(String::new(), |(start, end, _)| text[start..end].to_string());
+    let drilling = Drilling::of(number, &values, exec.state.frame.inch, written)?;
     if modal {
+        // with --expand-cycles the call is not written again: the holes it drills become plain moves
+        if exec.expand_cycles {
+            exec.trace.steps[step].flags |= flags::EXPAND | flags::SIEMENS_CYCLE;
+        }
         exec.siemens_mcall = Some(drilling);
         return Ok(None);
     }
-    drill(exec, &drilling, step).map(|()| None)
+    drill(exec, &drilling, step, false).map(|()| None)
 }
 
 /// The modal cycle after a block that programmed a position.
 pub(crate) fn modal(exec: &mut Exec, step: usize) -> Result<(), String> {
-    let drilling = exec.siemens_mcall.expect("a modal cycle");
-    drill(exec, &drilling, step)
+    let drilling = exec.siemens_mcall.clone().expect("a modal cycle");
+    drill(exec, &drilling, step, true)
 }
 
-/// One hole at the current position.
-fn drill(exec: &mut Exec, d: &Drilling, step: usize) -> Result<(), String> {
+/// One hole at the current position; recorded to be kept as a cycle unless expanded.
+fn drill(exec: &mut Exec, d: &Drilling, step: usize, modal: bool) -> Result<(), String> {
     if exec.state.plane != PlaneSelect::Xy {
         return Err(format!("CYCLE{} is read in G17 only", d.number));
     }
-    exec.trace.steps[step].flags |= flags::EXPAND | flags::SIEMENS_CYCLE;
+    let s = &exec.trace.steps[step];
+    let first = exec.trace.moves.len() as u32 - s.moves.start;
+    let keep = !exec.expand_cycles && !exec.state.frame.incremental;
+    exec.trace.steps[step].flags |= flags::SIEMENS_CYCLE | if keep { 0 } else { flags::EXPAND };
+    let initial = exec.state.position[2];
     let mut p = exec.state.position;
-    p[2] = d.start;
-    exec.straight(true, p, Role::Generated, false, 0)?;
-    p[2] = d.depth;
-    exec.straight(false, p, Role::Generated, false, 0)?;
-    if d.dwell > 0.0 {
-        exec.action(&[(b'G', 4.0), (b'P', d.dwell)]);
+    let (mut r_move, mut bottom_move) = (first, first);
+    for stroke in d.strokes() {
+        let (rapid, level) = match stroke {
+            Stroke::Dwell(t) => {
+                exec.action(&[(b'G', 4.0), (b'P', t)]);
+                continue;
+            }
+            Stroke::Rapid(l) => (true, l),
+            Stroke::Feed(l) => (false, l),
+        };
+        p[2] = level;
+        exec.straight(rapid, p, Role::Generated, false, 0)?;
+        let index = exec.trace.moves.len() as u32 - 1 - exec.trace.steps[step].moves.start;
+        if index == first {
+            r_move = index;
+        }
+        if !rapid && level == d.depth {
+            bottom_move = index;
+        }
     }
-    p[2] = d.rtp;
-    exec.straight(true, p, Role::Generated, false, 0)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn depth_from_dp_or_dpr_and_the_mode_parameters() {
-        let d = Drilling::of(81, &[Some(15.0), Some(0.0), Some(2.0), Some(-12.0), None]).unwrap();
-        assert_eq!((d.rtp, d.start, d.depth, d.dwell), (15.0, 2.0, -12.0, 0.0));
-        // DPR (without sign) counts over DP
-        let d = Drilling::of(82, &[Some(15.0), Some(1.0), Some(2.0), Some(-30.0), Some(-8.0), Some(0.5)]).unwrap();
-        assert_eq!((d.start, d.depth, d.dwell), (3.0, -7.0, 0.5));
-        let sl = [Some(10.0), Some(0.0), Some(2.0), Some(-4.0), None, Some(0.0), Some(1.0), None];
-        assert_eq!(Drilling::of(81, &sl).unwrap().depth, -4.0);
-        let mut amode = sl;
-        amode[7] = Some(10.0);
-        assert!(Drilling::of(81, &amode).unwrap_err().contains("_AMODE 10"));
-        assert!(Drilling::of(81, &[Some(10.0), Some(0.0), Some(2.0)]).unwrap_err().contains("without its final depth"));
-        assert!(Drilling::of(81, &[Some(1.0), Some(0.0), Some(2.0), Some(-4.0)]).unwrap_err().contains("RTP 1 is below"));
-        assert!(Drilling::of(82, &[Some(10.0), Some(0.0), Some(2.0), Some(-4.0), None, Some(-2.0)]).unwrap_err().contains("revolutions"));
+    if keep {
+        let linear_motion = matches!(exec.state.motion, Motion::Rapid | Motion::Feed);
+        exec.trace.siemens_holes.push(Hole { step: step as u32, drilling: d.clone(), first, modal, linear_motion });
+        exec.trace.holes.push(CycleHole {
+            step: step as u32,
+            code: SIEMENS_CODE + 10 * d.number,
+            plane: PlaneSelect::Xy,
+            r: d.start(),
+            bottom: d.depth,
+            clear: d.rtp,
+            initial,
+            retract_to_r: false,
+            first: true,
+            peck: d.pecking.map_or(0.0, |p| p.infeed),
+            dwell: d.dwell,
+            r_move,
+            bottom_move,
+        });
     }
+    Ok(())
 }

@@ -318,19 +318,18 @@ impl Block {
                 let call = match p.peek_raw() {
                     0 | b';' => Call::ModalOff,
                     _ => match p.name().as_str() {
-                        c @ ("CYCLE81" | "CYCLE82") => cycle_call(c, true, p, arena)?,
-                        other => return Err(format!("MCALL {other}: a modal call of CYCLE81 or CYCLE82 is read")),
+                        c @ ("CYCLE81" | "CYCLE82" | "CYCLE83") => cycle_call(c, true, p, arena)?,
+                        other => return Err(format!("MCALL {other}: a modal call of CYCLE81, CYCLE82 or CYCLE83 is read")),
                     },
                 };
                 set_call(line, call)
             }
-            c @ ("CYCLE81" | "CYCLE82") => {
+            c @ ("CYCLE81" | "CYCLE82" | "CYCLE83") => {
                 let call = cycle_call(c, false, p, arena)?;
                 set_call(line, call)
             }
-            "CYCLE83" => Err("CYCLE83 (deep-hole drilling) is not read yet: its anticipation distance is computed inside the cycle".into()),
             n if n.starts_with("CYCLE") => {
-                Err(format!("{n} is not read: of the cycles, CYCLE81 and CYCLE82 are read; others make moves of their own"))
+                Err(format!("{n} is not read: of the cycles, CYCLE81, CYCLE82 and CYCLE83 are read; others make moves of their own"))
             }
             "RET" => set_call(line, Call::Return),
             "PROC" => {
@@ -660,7 +659,7 @@ mod tests {
             ("TRAORI", "TRAORI (5-axis"),
             ("CYCLE800(0,\"TC1\",200000,57,0,0,0,0,45,0,0,0,0,1)", "CYCLE800 (swivel plane)"),
             ("CYCLE977(101,1,,1,50,,,3,1,1,,,1)", "CYCLE977 is not read"),
-            ("MCALL CYCLE84(10,0,2,-12)", "MCALL CYCLE84: a modal call of CYCLE81 or CYCLE82"),
+            ("MCALL CYCLE84(10,0,2,-12)", "MCALL CYCLE84: a modal call of CYCLE81, CYCLE82 or CYCLE83"),
             ("CYCLE81(10,0,2,-5", "`,` or `)` expected"),
             ("G1 X=DC(5)", "`DC(...)`"),
             ("G1 F=AC(5)", "F=IC(...)/AC(...) is read for axes"),

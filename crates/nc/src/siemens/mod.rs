@@ -1,7 +1,8 @@
 //! The SINUMERIK 840D sl native language, read into the interpreter's lines (SINUMERIK 840D sl
 //! Programming Manual Fundamentals, the chapters cited in each file): [`lexer`] reads a block
 //! (addresses with a number or `=` and an expression, `CR=` arcs, R parameters, `TRANS`/`ATRANS`,
-//! text calls that move nothing), [`expr`] its arithmetic, [`cycles`] the drilling cycles,
+//! text calls that move nothing), [`expr`] its arithmetic, [`cycles`] the drilling cycles run
+//! (their values and strokes: [`drilling`]; written as cycles again: [`kept`]),
 //! [`subprograms`] the calls of subprogram files. What the 840D does that LinuxCNC's
 //! interpreter does the same way is run by it: a `CR=` arc is an R arc (negative: the arc over
 //! 180 degrees, as LinuxCNC's negative R), `TRANS X Y Z` is the `G52` shift of every axis named or
@@ -13,8 +14,10 @@
 
 pub mod arcs;
 pub mod cycles;
+pub mod drilling;
 pub mod expr;
 pub mod flow;
+pub mod kept;
 pub mod lexer;
 pub mod statements;
 pub mod subprograms;

@@ -264,9 +264,9 @@ pub(super) fn hole_warnings(holes: &[write::HoleReport], origin: &str, resolutio
         .filter(|h| h.lean_um.max(h.clearance_um) > resolution_um)
         .map(|h| {
             format!(
-                "{origin}: line {}: G{} kept as a cycle, its bottom and R corrected at the hole; the plunge from R leans {:.2} um across the hole (the correction's change between R and the bottom), its clearance moves stand up to {:.2} um off",
+                "{origin}: line {}: {} kept as a cycle, its bottom and R corrected at the hole; the plunge from R leans {:.2} um across the hole (the correction's change between R and the bottom), its clearance moves stand up to {:.2} um off",
                 h.line,
-                trueaxis_nc::dialects::gcode_text(h.code),
+                trueaxis_nc::siemens::kept::cycle_name(h.code),
                 h.lean_um,
                 h.clearance_um
             )

@@ -98,6 +98,13 @@ impl Oracle<'_> {
         Ok(q)
     }
 
+    /// Where the nominal machine and the erroneous machine (no direction of motion: a model
+    /// without backlash) put the tool point of a canonical move's end (workpiece frame, mm).
+    pub fn landing(&self, m: &Canon) -> Result<(Vec3, Vec3), String> {
+        let q = self.axes(&m.end)?;
+        Ok((self.nominal(&q, m.tool), self.actual(&q, m.tool, &vec![None; q.len()])))
+    }
+
     fn paths(&self, moves: &[Canon], start: &[f64]) -> Result<Vec<Path>, String> {
         let mut prev = start.to_vec();
         let mut out = Vec::with_capacity(moves.len());

@@ -878,9 +878,10 @@ fn siemens_units(p: &Part) -> &'static str {
 }
 
 /// Fusion 360 for the SINUMERIK 840D: the archive header `%_N_.._MPF` and `;$PATH=`, `;` tool
-/// comments, `T1 D1` then `M6`, `CR=` arcs (or I J), `MCALL CYCLE81(RTP, RFP, SDIS, DP, )` over
-/// the holes and `MCALL`, or one direct `CYCLE82(...)` per hole with its dwell, `G0 SUPA Z0 D0`
-/// and `M30` at the end.
+/// comments, `T1 D1` then `M6`, `CR=` arcs (or I J), `MCALL CYCLE81(RTP, RFP, SDIS, DP, )` or
+/// `MCALL CYCLE83(...)` (chip breaking or swarf removal, in the post's 17 parameters) over the
+/// holes and `MCALL`, or one direct `CYCLE82(...)` per hole with its dwell, `G0 SUPA Z0 D0` and
+/// `M30` at the end.
 fn fusion_siemens(k: usize) -> Vec<u8> {
     let p = Part::new(k, k % 4 == 3);
     let mut w = W::new(Digits::Trim(if p.inch { 5 } else { 4 }, false), " ");
@@ -916,8 +917,15 @@ fn fusion_siemens(k: usize) -> Vec<u8> {
     w.rapid(None, None, Some(p.clear));
     w.line(&format!("F{}", w.num(p.plunge)));
     let (rtp, sdis, dp) = (w.num(p.clear), w.num(p.safe), w.num(-p.hole_depth));
-    if k % 2 == 0 {
-        w.line(&format!("MCALL CYCLE81({rtp}, 0, {sdis}, {dp}, )"));
+    if k % 2 == 0 || k % 4 == 3 {
+        // the post's chip breaking (VARI 0, _VRT its chip-break distance, _DIS1 0) and deep
+        // drilling (VARI 1, here with the anticipation distance _DIS1 given): FDEP = RFP - peck, DAM 0
+        let (peck, back) = (w.num(p.peck), w.num(p.peck / 5.0));
+        w.line(&match k % 4 {
+            0 => format!("MCALL CYCLE81({rtp}, 0, {sdis}, {dp}, )"),
+            2 => format!("MCALL CYCLE83({rtp}, 0, {sdis}, {dp}, , -{peck}, , 0, , , 1, 0, , {peck}, {back}, 0, 0)"),
+            _ => format!("MCALL CYCLE83({rtp}, 0, {sdis}, {dp}, , -{peck}, , 0, , , 1, 1, , {peck}, 0, 0, {back})"),
+        });
         for h in &p.holes {
             w.line(&format!("X{} Y{}", w.num(h[0]), w.num(h[1])));
         }
