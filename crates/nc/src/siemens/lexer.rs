@@ -641,7 +641,9 @@ mod tests {
         let (l, a) = read("ATRANS Z-2");
         let Operand::Expr(e) = l.word(b'Z').unwrap().value else { panic!("an expression") };
         let Node::Binary(Op::Plus, shift, _) = &a[e as usize] else { panic!("a sum") };
-        assert!(matches!(&a[*shift as usize], Node::Binary(Op::Divide, s, _) if a[*s as usize] == Node::Param(ParamRef::Numbered(5213))));
+        // (the kept shift x a) / b: converted from the machine's units (frame_units_tests below)
+        let Node::Binary(Op::Divide, scaled, _) = &a[*shift as usize] else { panic!("a quotient") };
+        assert!(matches!(&a[*scaled as usize], Node::Binary(Op::Times, s, _) if a[*s as usize] == Node::Param(ParamRef::Numbered(5213))));
         assert!(l.word(b'X').is_none());
         let g = |t: &str| read(t).0.words.iter().filter(|w| w.letter == b'G').map(|w| w.value).collect::<Vec<_>>();
         assert_eq!(g("T1 D1"), vec![Operand::Number(43.0)]);
