@@ -14,7 +14,7 @@ pub const E_MAX: u32 = 48;
 
 /// The coordinate system an `E` word selects: 0 for `E0` (none), 1-6 for `E1`-`E6` (`G54`-`G59`),
 /// the slot of `G54.1 P<n>` for `E7`-`E48`.
-pub fn system(e: f64) -> Result<u8, String> {
+pub(crate) fn system(e: f64) -> Result<u8, String> {
     if !(0.0..=f64::from(E_MAX)).contains(&e) || e.fract() != 0.0 {
         return Err(format!("E{e}: a Fadal fixture offset is E0 (none) or E1-E{E_MAX}"));
     }

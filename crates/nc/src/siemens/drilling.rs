@@ -88,7 +88,7 @@ impl Drilling {
     }
 
     /// From the values of `CYCLE<number>(...)` (empty: `None`), in a program in `inch`.
-    pub fn of(number: u16, v: &[Option<f64>], inch: bool, call: String) -> Result<Drilling, String> {
+    pub(crate) fn of(number: u16, v: &[Option<f64>], inch: bool, call: String) -> Result<Drilling, String> {
         let name = format!("CYCLE{number}");
         let modes = Self::parameters(number);
         if v.len() > modes + 3 {
