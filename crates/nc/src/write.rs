@@ -193,6 +193,15 @@ impl<'a> Writer<'a> {
         frame.program(&ext)
     }
 
+    /// How far (um) the machine position of program point `p` in `frame` stands off the corrected
+    /// machine position `target`, over the linear axes: what a kept cycle's written words leave
+    /// at one of its points.
+    pub(crate) fn stand_off_um(&self, frame: &Frame, p: &Vec9, target: &Axes) -> f64 {
+        let written = self.machine_of(frame, p);
+        let linear = (0..self.machine.axis_count()).filter(|&k| !self.machine.axes()[k].rotary);
+        linear.map(|k| (written[k] - target[k]).powi(2)).sum::<f64>().sqrt() * 1e3
+    }
+
     /// Machine position of program point `p` in `frame`.
     pub(crate) fn machine_of(&self, frame: &Frame, p: &Vec9) -> Axes {
         let m = frame.machine(p);

@@ -321,13 +321,7 @@ impl Writer<'_> {
             let mut p = m.program_end;
             (p[0], p[1]) = (position[0], position[1]);
             p[2] = if i < sh.first as usize { e.before[2] } else { levels[i - sh.first as usize] };
-            let written = self.machine_of(&e.frame, &p);
-            let off = (0..self.machine.axis_count())
-                .filter(|&k| !self.machine.axes()[k].rotary)
-                .map(|k| (written[k] - e.targets[i][k]).powi(2))
-                .sum::<f64>()
-                .sqrt()
-                * 1e3;
+            let off = self.stand_off_um(&e.frame, &p, &e.targets[i]);
             if i as u32 == hole.r_move {
                 lean = off;
             }

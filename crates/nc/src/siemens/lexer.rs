@@ -405,21 +405,15 @@ impl Block {
             return Err(format!("R{n} without `=`: an R parameter is assigned with R{n}=..."));
         }
         p.i += 1;
-        p.reads.clear();
-        p.names.clear();
-        let value = p.expression(arena)?;
-        if let Some(r) = p.reads.iter().find(|r| self.assigned.contains(r)) {
-            return Err(format!("R{r} is assigned and read on one block: assign it on a block of its own"));
-        }
-        self.check_names(p)?;
+        let value = self.assigned_value(p, arena)?;
         self.assigned.push(n);
         line.assignments.push(Assignment { target: ParamRef::Numbered(R_BASE + n), value });
         Ok(())
     }
 
-    /// A DEF variable given a value on the block: `NAME=expression`.
-    fn variable(&mut self, name: &str, p: &mut Parser, line: &mut Line, arena: &mut Vec<Node>) -> Result<(), String> {
-        p.i += 1;
+    /// The expression after the `=` of an assignment; refused when it reads an R parameter or a
+    /// variable the same block assigns before it (the 840D reads the block's values first).
+    fn assigned_value(&mut self, p: &mut Parser, arena: &mut Vec<Node>) -> Result<ExprId, String> {
         p.reads.clear();
         p.names.clear();
         let value = p.expression(arena)?;
@@ -427,6 +421,13 @@ impl Block {
             return Err(format!("R{r} is assigned and read on one block: assign it on a block of its own"));
         }
         self.check_names(p)?;
+        Ok(value)
+    }
+
+    /// A DEF variable given a value on the block: `NAME=expression`.
+    fn variable(&mut self, name: &str, p: &mut Parser, line: &mut Line, arena: &mut Vec<Node>) -> Result<(), String> {
+        p.i += 1;
+        let value = self.assigned_value(p, arena)?;
         self.names.push(name.into());
         line.assignments.push(Assignment { target: ParamRef::Named(name.into()), value });
         Ok(())

@@ -282,13 +282,7 @@ impl Writer<'_> {
             let at_hole = (m.program_end[a] - hole_at[a]).abs() < 1e-9 && (m.program_end[b] - hole_at[b]).abs() < 1e-9;
             let (pa, pb) = if at_hole { (ha, hb) } else { (levels.before[a], levels.before[b]) };
             (p[a], p[b], p[c]) = (pa, pb, level(m.program_end[c]));
-            let written = self.machine_of(&levels.frame, &p);
-            let off = (0..self.machine.axis_count())
-                .filter(|&k| !self.machine.axes()[k].rotary)
-                .map(|k| (written[k] - levels.targets[i][k]).powi(2))
-                .sum::<f64>()
-                .sqrt()
-                * 1e3;
+            let off = self.stand_off_um(&levels.frame, &p, &levels.targets[i]);
             if i as u32 == hole.r_move {
                 lean = off;
             }
