@@ -36,13 +36,17 @@ impl Dialect {
     pub fn detect(text: &str) -> Dialect {
         let (mut fanuc, mut linuxcnc) = (0usize, 0usize);
         for raw in text.lines().take(20_000) {
+            // `;` followed by text is a LinuxCNC comment (on a line of its own too: `; Basic example`);
+            // at the end of the line, a Fanuc end of block
+            if text_after_semicolon(raw) {
+                linuxcnc += 1;
+            }
             let line = strip_comments(raw).to_ascii_uppercase();
             let compact: String = line.chars().filter(|c| !c.is_whitespace()).collect();
             if compact.is_empty() {
                 continue;
             }
-            // `;` followed by text is a LinuxCNC comment; at the end of the line, a Fanuc end of block
-            if compact.contains("#<") || text_after_semicolon(raw) {
+            if compact.contains("#<") {
                 linuxcnc += 1;
             }
             let after_n = skip_sequence_number(&compact);
