@@ -242,7 +242,10 @@ mod tests {
         assert_eq!(controller("; example\nO1000\nT1 M6\nG0 G90 G21\nG1 X-40 F100 ; a cut\nM30\n"), Controller::Mach3);
         assert_eq!(controller("\u{feff}; example\nO1000\nT1 M6\nG0 G90 G21\nG1 X-40 F100 ; a cut\nM30\n"), Controller::Mach3);
         // `;` comments on lines of their own only (a published beginner's example)
-        assert_eq!(controller("; Basic example\n; taken from a web page\n\nO1000\nT1 M6\nG0 G90 G21\nG1 X-40 F100\nM30\n"), Controller::Mach3);
+        assert_eq!(
+            controller("; Basic example\n; taken from a web page\n\nO1000\nT1 M6\nG0 G90 G21\nG1 X-40 F100\nM30\n"),
+            Controller::Mach3
+        );
         assert_eq!(controller(&numbered.replace("O0000(MY GCODE)", "(MY GCODE)")), Controller::LinuxCnc);
         assert_eq!(controller(&numbered.replace("O0000(MY GCODE)", "o100 sub")), Controller::LinuxCnc);
         // a Haas code named in a comment only is no Haas code
