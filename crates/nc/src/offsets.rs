@@ -5,8 +5,9 @@
 //! (`interp_convert.cc`: `convert_coordinate_system`, `convert_tool_length_offset`,
 //! `convert_setup`, `convert_axis_offsets`); the program position is kept at the same machine
 //! position when an offset changes, except a Fanuc's tool length offset, which the controller
-//! applies by moving with the next move (Fanuc 0i-MF operator's manual B-64604EN, "Tool length
-//! compensation", parameter TOS No. 5006#6 = 0): its program position stays.
+//! applies by moving with the next move (the behaviour with the Fanuc parameter TOS, No. 5006#6,
+//! at 0, as secondary sources describe it; not read in the operator's manual here): its program
+//! position stays. Where the axis moves in between, the end of the next move is the same.
 
 use crate::dialect::Dialect;
 use crate::dialects::gcode_text;
